@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Installs every Debian package that lidarscout's build, tests, benchmarks, fuzzers, viewer
+# and training use (idempotent), then configures and builds into build/.
+# Usage: scripts/setup.sh [extra cmake arguments]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config git clang libclang-rt-14-dev
+  # core libraries
+  libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev libspdlog-dev
+  nlohmann-json3-dev libnanoflann-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  liburing-dev libcurl4-openssl-dev libssl-dev libstb-dev libgdal-dev
+  # neural network inference (LibTorch) with the fast OpenMP OpenBLAS
+  libtorch-dev libopenblas0-openmp
+  # viewer: window, GUI, OpenGL loader; Xvfb for headless tests of the window
+  libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth
+  # training (run by /usr/bin/python3)
+  python3 python3-torch python3-numpy
+)
+
+SUDO=""
+[ "$(id -u)" -ne 0 ] && SUDO="sudo"
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# OpenBLAS with OpenMP threads: the reference BLAS that libtorch may pull in is ~5x slower.
+if [ -x /usr/sbin/update-alternatives ] || command -v update-alternatives >/dev/null; then
+  for alt in libblas.so.3-x86_64-linux-gnu liblapack.so.3-x86_64-linux-gnu; do
+    target=$(update-alternatives --list "$alt" 2>/dev/null | grep openblas-openmp | head -n1 || true)
+    [ -n "$target" ] && $SUDO update-alternatives --set "$alt" "$target" >/dev/null || true
+  done
+fi
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release "$@"
+cmake --build build
+echo "setup: built build/lidarscout"

@@ -1,0 +1,19 @@
+// JSON form of a tile's metadata and chunk points (the `info --json` schema, see README).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "dataset/chunk_points.hpp"
+#include "dataset/tile.hpp"
+
+namespace lidarscout::cli {
+
+nlohmann::json tile_to_json(const dataset::Tile& tile);
+nlohmann::json chunks_to_json(const dataset::Tile& tile);
+nlohmann::json chunk_points_to_json(const std::vector<dataset::ChunkPoint>& points, const dataset::Tile& tile);
+// The object of a file that could not be read: every field null but `path` and `error`.
+nlohmann::json failed_tile_json(const std::string& path, const std::string& error);
+
+}  // namespace lidarscout::cli

@@ -1,0 +1,27 @@
+// Formatting of lidarscout::Error messages: "FILE: at byte N: CAUSE".
+#include "core/error.hpp"
+
+namespace lidarscout {
+namespace {
+
+std::string compose(const std::string& file, std::optional<std::uint64_t> offset,
+                    const std::string& cause) {
+    std::string msg;
+    if (!file.empty()) msg += file + ": ";
+    if (offset) msg += "at byte " + std::to_string(*offset) + ": ";
+    return msg + cause;
+}
+
+}  // namespace
+
+Error::Error(std::string file, std::optional<std::uint64_t> offset, std::string cause)
+    : std::runtime_error(compose(file, offset, cause)),
+      file_(std::move(file)),
+      offset_(offset),
+      cause_(std::move(cause)) {}
+
+Error::Error(std::string cause) : Error(std::string(), std::nullopt, std::move(cause)) {}
+
+Error Error::with_file(const std::string& file) const { return Error(file, offset_, cause_); }
+
+}  // namespace lidarscout

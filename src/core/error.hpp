@@ -1,0 +1,31 @@
+// The one error type of the library: a message naming the file, the byte offset (when
+// known) and the cause. Thrown by every stage; caught at the CLI / viewer edge.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace lidarscout {
+
+class Error : public std::runtime_error {
+public:
+    Error(std::string file, std::optional<std::uint64_t> offset, std::string cause);
+    // An error without a file (e.g. a bad command-line value).
+    explicit Error(std::string cause);
+
+    const std::string& file() const noexcept { return file_; }
+    std::optional<std::uint64_t> offset() const noexcept { return offset_; }
+    const std::string& cause() const noexcept { return cause_; }
+
+    // A copy of this error attributed to `file` (used when a lower layer did not know it).
+    Error with_file(const std::string& file) const;
+
+private:
+    std::string file_;
+    std::optional<std::uint64_t> offset_;
+    std::string cause_;
+};
+
+}  // namespace lidarscout

@@ -1,0 +1,31 @@
+// Chunk points: the sparse overview of a tile without decompression. For LAZ, the first
+// point of every chunk is stored raw at the chunk's start; for LAS, every N-th record.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "las/point_format.hpp"
+
+namespace lidarscout::io {
+class File;
+}
+
+namespace lidarscout::dataset {
+
+struct Tile;
+
+// The sampling stride used for uncompressed LAS files (the usual LAZ chunk size).
+inline constexpr std::uint64_t kLasChunkPointStride = 50'000;
+
+struct ChunkPoint {
+    std::uint64_t index = 0;  // index of the point in the file
+    las::Point point;         // decoded, with coordinates in the tile's CRS
+};
+
+// Reads the chunk points of `tile` with one positioned read per point. For LAZ the tile's
+// chunk table must have been read (TileOptions::chunk_table).
+std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile,
+                                          std::uint64_t las_stride = kLasChunkPointStride);
+
+}  // namespace lidarscout::dataset

@@ -1,0 +1,78 @@
+// POSIX implementation of io::File (open O_RDONLY, fstat, pread loop).
+#include "io/file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <utility>
+
+#include "core/error.hpp"
+
+namespace lidarscout::io {
+
+File File::open(const std::string& path) {
+    File f;
+    f.path_ = path;
+    f.fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (f.fd_ < 0) throw Error(path, std::nullopt, std::string("cannot open: ") + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(f.fd_, &st) != 0) throw Error(path, std::nullopt, std::string("cannot stat: ") + std::strerror(errno));
+    if (S_ISDIR(st.st_mode)) throw Error(path, std::nullopt, "is a directory");
+    f.size_ = static_cast<std::uint64_t>(st.st_size);
+    return f;
+}
+
+File::File(File&& other) noexcept { *this = std::move(other); }
+
+File& File::operator=(File&& other) noexcept {
+    if (this != &other) {
+        if (fd_ >= 0) ::close(fd_);
+        path_ = std::move(other.path_);
+        fd_ = std::exchange(other.fd_, -1);
+        size_ = std::exchange(other.size_, 0);
+    }
+    return *this;
+}
+
+File::~File() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+std::size_t File::read_at(std::uint64_t offset, std::span<std::uint8_t> out) const {
+    std::size_t done = 0;
+    while (done < out.size()) {
+        ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            throw Error(path_, offset + done, std::string("read failed: ") + std::strerror(errno));
+        }
+        if (n == 0) break;
+        done += static_cast<std::size_t>(n);
+    }
+    return done;
+}
+
+void File::read_exact(std::uint64_t offset, std::span<std::uint8_t> out, const char* what) const {
+    std::size_t n = read_at(offset, out);
+    if (n != out.size()) {
+        throw Error(path_, offset,
+                    std::string("file ends before the end of the ") + what + " (needed " +
+                        std::to_string(out.size()) + " bytes, file has " + std::to_string(n) + ")");
+    }
+}
+
+std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n, const char* what) const {
+    if (offset > size_ || n > size_ - offset) {
+        throw Error(path_, offset,
+                    std::string("the ") + what + " (" + std::to_string(n) + " bytes) extends beyond the end of the file (" +
+                        std::to_string(size_) + " bytes)");
+    }
+    std::vector<std::uint8_t> v(n);
+    read_exact(offset, v, what);
+    return v;
+}
+
+}  // namespace lidarscout::io

@@ -1,0 +1,56 @@
+// Point data record formats 0-10: sizes, which optional fields each has, where they lie in a
+// record, and the decoding of one raw record into a Point (raw and scaled coordinates).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+
+namespace lidarscout::las {
+
+struct Header;
+
+struct PointFormatInfo {
+    std::uint8_t id = 0;
+    std::uint16_t size = 0;   // minimum record length
+    bool extended = false;    // formats 6-10 (LAS 1.4 "extended" layout)
+    int gps_offset = -1;      // byte offsets in the record, -1 when absent
+    int rgb_offset = -1;
+    int nir_offset = -1;
+    int wave_offset = -1;
+};
+
+inline constexpr std::uint8_t kMaxPointFormat = 10;
+
+// Layout of format `id` (0-10); throws Error for unknown formats.
+const PointFormatInfo& point_format_info(std::uint8_t id);
+bool is_known_point_format(std::uint8_t id);
+
+struct Point {
+    std::int32_t X = 0, Y = 0, Z = 0;  // raw integers as stored
+    double x = 0, y = 0, z = 0;        // X * scale + offset
+    std::uint16_t intensity = 0;
+    std::uint8_t return_number = 0;
+    std::uint8_t number_of_returns = 0;
+    std::uint8_t classification = 0;
+    bool synthetic = false, key_point = false, withheld = false, overlap = false;
+    std::uint8_t scanner_channel = 0;
+    bool scan_direction = false;
+    bool edge_of_flight_line = false;
+    std::int16_t scan_angle_raw = 0;  // formats 0-5: degrees (int8); 6-10: units of 0.006 degrees
+    std::uint8_t user_data = 0;
+    std::uint16_t point_source_id = 0;
+    double gps_time = 0.0;
+    std::array<std::uint16_t, 3> rgb{};
+    std::uint16_t nir = 0;
+
+    double scan_angle_degrees(bool extended) const {
+        return extended ? scan_angle_raw * 0.006 : static_cast<double>(scan_angle_raw);
+    }
+};
+
+// Decodes one record of `format` (record.size() >= format.size); scale/offset from header.
+Point decode_point(std::span<const std::uint8_t> record, const PointFormatInfo& format,
+                   const Header& header);
+
+}  // namespace lidarscout::las
