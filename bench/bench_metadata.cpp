@@ -8,10 +8,11 @@
 #include <atomic>
 #include <chrono>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/parallel.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
 #include "dataset/tile.hpp"
@@ -30,7 +31,8 @@ template <typename Fn>
 RunResult timed(std::size_t n, unsigned threads, Fn&& per_item) {
     std::atomic<std::uint64_t> items{0};
     auto t0 = std::chrono::steady_clock::now();
-    parallel_for(n, threads, [&](std::size_t i) {
+    ThreadPool pool(threads);
+    pool.for_each(n, [&](std::size_t i) {
         try {
             items += per_item(i);
         } catch (const Error&) {
@@ -85,7 +87,7 @@ int main(int argc, char** argv) {
     auto chunk_points = [&](std::size_t i) -> std::uint64_t {
         return dataset::read_chunk_points(handles[i], tiles[i]).size();
     };
-    for (unsigned threads : {1u, default_thread_count()}) {
+    for (unsigned threads : {1u, std::max(1u, std::thread::hardware_concurrency())}) {
         report("headers + VLRs + chunk tables", "files", files.size(), threads, headers);
         report("chunk points (one pread each)", "points", tiles.size(), threads, chunk_points);
     }

@@ -13,7 +13,7 @@
 #include "cli/progress.hpp"
 #include "cli/tile_json.hpp"
 #include "core/error.hpp"
-#include "core/parallel.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
 #include "dataset/tile.hpp"
@@ -119,6 +119,7 @@ void print_text(const FileReport& r, bool chunks) {
     std::printf("  scale %g %g %g, offset %.3f %.3f %.3f\n", h.scale[0], h.scale[1], h.scale[2], h.offset[0], h.offset[1],
                 h.offset[2]);
     std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f\n", h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]);
+    for (const auto& w : t.warnings) std::printf("  warning: %s\n", w.c_str());
     std::printf("  CRS: %s\n", crs_text(t.crs).c_str());
     for (const auto& w : t.crs.warnings) std::printf("  CRS warning: %s\n", w.c_str());
     for (const auto* list : {&t.vlrs, &t.evlrs}) {
@@ -169,7 +170,8 @@ int run_info(const InfoOptions& opt) {
     std::vector<FileReport> reports(found.files.size());
     {
         Progress progress("info", reports.size());
-        parallel_for(reports.size(), opt.threads ? opt.threads : default_thread_count(), [&](std::size_t i) {
+        if (opt.threads) ThreadPool::set_shared_threads(opt.threads);
+        ThreadPool::shared().for_each(reports.size(), [&](std::size_t i) {
             reports[i] = inspect(found.files[i], opt.chunks);
             progress.add();
         });

@@ -84,6 +84,7 @@ json tile_to_json(const dataset::Tile& t) {
             {"crs", crs_json(t.crs)},
             {"laz", laz_json(t)},
             {"copc", copc_json(t)},
+            {"warnings", t.warnings},
             {"error", nullptr}};
 }
 

@@ -31,7 +31,7 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     t.path = file.path();
     t.file_size = file.size();
     t.header = las::read_header(file);
-    t.vlrs = las::read_vlrs(file, t.header);
+    t.vlrs = las::read_vlrs(file, t.header, &t.warnings);
     t.evlrs = las::read_evlrs(file, t.header);
     t.crs = las::read_crs(t.vlrs, t.evlrs, file);
     t.laz = read_laszip(file, t);

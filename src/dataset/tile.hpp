@@ -30,6 +30,7 @@ struct Tile {
     std::optional<las::LaszipVlr> laz;      // set for compressed files
     std::optional<laz::ChunkTable> chunks;  // set for LAZ files (one chunk for compressor 1)
     std::optional<las::CopcInfo> copc;
+    std::vector<std::string> warnings;  // oddities that did not stop reading (shown by `info`)
 
     bool compressed() const { return laz.has_value(); }
 };

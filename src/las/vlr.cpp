@@ -2,6 +2,8 @@
 // point data), with checks that no record overruns its area.
 #include "las/vlr.hpp"
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "io/byte_reader.hpp"
 #include "io/file.hpp"
@@ -33,19 +35,21 @@ std::string describe(const Vlr& v, std::size_t index) {
 
 }  // namespace
 
-std::vector<Vlr> read_vlrs(const io::File& file, const Header& header) {
+std::vector<Vlr> read_vlrs(const io::File& file, const Header& header, std::vector<std::string>* warnings) {
     const std::uint64_t begin = header.header_size;
     const std::uint64_t end = header.offset_to_point_data;
-    if (header.number_of_vlrs > (end - begin) / kVlrHeaderSize) {
-        throw Error(file.path(), begin,
-                    "header announces " + std::to_string(header.number_of_vlrs) + " VLRs but only " +
-                        std::to_string(end - begin) + " bytes lie between the header and the point data");
-    }
     auto area = file.read_vector(begin, end - begin, "VLR area");
     io::ByteReader r(area, begin, file.path());
     std::vector<Vlr> vlrs;
-    vlrs.reserve(header.number_of_vlrs);
+    vlrs.reserve(std::min<std::uint64_t>(header.number_of_vlrs, area.size() / kVlrHeaderSize));
     for (std::uint32_t i = 0; i < header.number_of_vlrs; ++i) {
+        if (r.remaining() < kVlrHeaderSize) {
+            if (warnings) {
+                warnings->push_back("header announces " + std::to_string(header.number_of_vlrs) + " VLRs but only " +
+                                    std::to_string(i) + " fit before the point data; the rest are ignored");
+            }
+            break;
+        }
         Vlr v = parse_record_header(r, false);
         if (v.data_size > r.remaining()) {
             throw Error(file.path(), v.header_offset,

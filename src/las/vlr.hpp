@@ -32,8 +32,10 @@ struct Vlr {
 // Payloads of EVLRs above this size are not loaded eagerly (waveform data, big hierarchies).
 inline constexpr std::uint64_t kEvlrEagerLoadLimit = 4u << 20;
 
-// Reads the VLRs that follow the header; throws Error if one overruns the point data.
-std::vector<Vlr> read_vlrs(const io::File& file, const Header& header);
+// Reads the VLRs that follow the header; throws Error if one overruns the point data. When
+// the header announces more VLRs than there is room for before the point data (a common
+// writer bug), reading stops at the point data and a warning is added to `warnings`.
+std::vector<Vlr> read_vlrs(const io::File& file, const Header& header, std::vector<std::string>* warnings = nullptr);
 // Reads the EVLRs (LAS 1.4) at header.evlr_offset; throws Error if one overruns the file.
 std::vector<Vlr> read_evlrs(const io::File& file, const Header& header);
 

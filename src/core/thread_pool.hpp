@@ -1,0 +1,54 @@
+// The library's thread pool: a fixed set of workers that run index loops (chunk decoding,
+// header reading) with dynamic scheduling. The calling thread helps, so nested or
+// single-thread use cannot dead-lock. The first exception thrown by an iteration stops the
+// loop and is rethrown to the caller.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <exception>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace lidarscout {
+
+class ThreadPool {
+public:
+    // `threads` counts the calling thread: a pool of 1 runs everything on the caller.
+    explicit ThreadPool(unsigned threads);
+    ~ThreadPool();
+    ThreadPool(const ThreadPool&) = delete;
+    ThreadPool& operator=(const ThreadPool&) = delete;
+
+    unsigned size() const noexcept { return static_cast<unsigned>(workers_.size()) + 1; }
+
+    // Runs fn(i) for every i in [0, n); returns when all are done.
+    template <typename Fn>
+    void for_each(std::size_t n, Fn&& fn) {
+        std::function<void(std::size_t)> f = std::forward<Fn>(fn);
+        run_loop(n, f);
+    }
+
+    // The pool shared by the library (created on first use with set_shared_threads' size,
+    // default: all hardware threads).
+    static ThreadPool& shared();
+    // Sets the size of the shared pool; call before its first use (e.g. from --threads).
+    static void set_shared_threads(unsigned threads);
+
+private:
+    struct Loop;
+    void run_loop(std::size_t n, const std::function<void(std::size_t)>& fn);
+    void worker_main();
+
+    std::vector<std::thread> workers_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<Loop*> queue_;
+    bool stopping_ = false;
+};
+
+}  // namespace lidarscout

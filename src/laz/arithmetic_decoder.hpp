@@ -1,0 +1,157 @@
+// The LASzip arithmetic (range) decoder over one in-memory byte stream: one LAZ chunk
+// (compressor 2) or one layer of a chunk (compressor 3). Decodes bits and symbols with the
+// adaptive models of arithmetic_models.hpp, and raw bit fields of up to 64 bits.
+//
+// Bounds: the decoder never reads outside its span. Reads past the end yield zero bytes,
+// which is exactly what a LASzip writer appends when it closes a stream, so a valid stream
+// decodes the same whether or not those trailing zeros are present; overrun() tells how many
+// bytes were made up, so a caller can reject a truncated chunk. Raw reads whose value cannot
+// come from a valid stream throw lidarscout::Error (without a file: callers add it).
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <span>
+
+#include "laz/arithmetic_models.hpp"
+
+namespace lidarscout::laz {
+
+class ArithmeticDecoder {
+public:
+    ArithmeticDecoder() = default;
+    explicit ArithmeticDecoder(std::span<const std::uint8_t> stream) { start(stream); }
+
+    // Begins decoding `stream`: the first four bytes prime the code value. The span must
+    // outlive the decoding.
+    void start(std::span<const std::uint8_t> stream) {
+        data_ = stream.data();
+        size_ = stream.size();
+        pos_ = 0;
+        length_ = kMaxLength;
+        value_ = 0;
+        for (int i = 0; i < 4; ++i) value_ = (value_ << 8) | next_byte();
+    }
+
+    // Bytes taken from the stream so far (including made-up ones past the end).
+    std::size_t bytes_consumed() const { return pos_; }
+    // How many bytes past the end of the stream had to be made up (0 for a valid stream).
+    std::size_t overrun() const { return pos_ > size_ ? pos_ - size_ : 0; }
+
+    // One bit under an adaptive binary model.
+    std::uint32_t decode_bit(BitModel& m) {
+        const std::uint32_t split = m.zero_probability() * (length_ >> kBitProbabilityBits);
+        const std::uint32_t bit = value_ >= split;
+        if (bit == 0) {
+            length_ = split;
+        } else {
+            value_ -= split;
+            length_ -= split;
+        }
+        if (length_ < kMinLength) renormalize();
+        m.record(bit);
+        return bit;
+    }
+
+    // One symbol under an adaptive symbol model.
+    std::uint32_t decode_symbol(SymbolModel& m) {
+        const std::uint32_t full = length_;
+        length_ >>= kSymbolProbabilityBits;
+        std::uint32_t symbol;
+        std::uint32_t low;           // scaled lower end of the symbol's interval
+        std::uint32_t high = full;   // scaled upper end (the whole length for the last symbol)
+        if (m.has_lookup()) {
+            const std::uint32_t scaled = value_ / length_;
+            // The clamp only matters for corrupt streams (code value beyond the interval).
+            const std::uint32_t slot = std::min(scaled >> m.lookup_shift(), m.lookup_size());
+            symbol = m.lookup()[slot];
+            std::uint32_t above = m.lookup()[slot + 1] + 1;
+            while (above > symbol + 1) {  // bisect within the candidates
+                const std::uint32_t mid = (symbol + above) >> 1;
+                if (m.cdf(mid) > scaled) above = mid; else symbol = mid;
+            }
+            low = m.cdf(symbol) * length_;
+            if (symbol != m.last_symbol()) high = m.cdf(symbol + 1) * length_;
+        } else {
+            symbol = 0;
+            low = 0;
+            std::uint32_t above = m.symbols();
+            std::uint32_t mid = above >> 1;
+            do {  // bisect over the whole alphabet
+                const std::uint32_t bound = m.cdf(mid) * length_;
+                if (bound > value_) {
+                    above = mid;
+                    high = bound;
+                } else {
+                    symbol = mid;
+                    low = bound;
+                }
+                mid = (symbol + above) >> 1;
+            } while (mid != symbol);
+        }
+        value_ -= low;
+        length_ = high - low;
+        if (length_ < kMinLength) renormalize();
+        m.record(symbol);
+        return symbol;
+    }
+
+    // Raw (equiprobable) fields.
+    std::uint32_t read_bit() { return read_raw(1); }
+    // 1 to 32 bits.
+    std::uint32_t read_bits(std::uint32_t bits) {
+        if (bits > 19) {  // in two steps, low 16 bits first, to keep the precision
+            const std::uint32_t low = read_raw(16);
+            return (read_bits(bits - 16) << 16) | low;
+        }
+        return read_raw(bits);
+    }
+    std::uint8_t read_byte() { return static_cast<std::uint8_t>(read_raw(8)); }
+    std::uint16_t read_short() { return static_cast<std::uint16_t>(read_raw(16)); }
+    std::uint32_t read_int() {
+        const std::uint32_t low = read_short();
+        return (std::uint32_t{read_short()} << 16) | low;
+    }
+    std::uint64_t read_int64() {
+        const std::uint64_t low = read_int();
+        return (std::uint64_t{read_int()} << 32) | low;
+    }
+
+private:
+    static constexpr std::uint32_t kMinLength = 0x01000000u;  // renormalise below 2^24
+    static constexpr std::uint32_t kMaxLength = 0xFFFFFFFFu;
+
+    std::uint32_t next_byte() {
+        const std::uint32_t b = pos_ < size_ ? data_[pos_] : 0u;
+        ++pos_;
+        return b;
+    }
+
+    void renormalize() {
+        do {
+            value_ = (value_ << 8) | next_byte();
+            length_ <<= 8;
+        } while (length_ < kMinLength);
+    }
+
+    // `bits` (1..19) equiprobable bits in one step.
+    std::uint32_t read_raw(std::uint32_t bits) {
+        length_ >>= bits;
+        const std::uint32_t v = value_ / length_;
+        value_ -= length_ * v;
+        if (length_ < kMinLength) renormalize();
+        if (v >> bits) [[unlikely]] fail_corrupt(bits);
+        return v;
+    }
+
+    [[noreturn]] static void fail_corrupt(std::uint32_t bits);
+
+    const std::uint8_t* data_ = nullptr;
+    std::size_t size_ = 0;
+    std::size_t pos_ = 0;
+    std::uint32_t value_ = 0;
+    std::uint32_t length_ = kMaxLength;
+};
+
+}  // namespace lidarscout::laz

@@ -1,0 +1,105 @@
+// Start states and periodic re-estimation of the adaptive models (see the header).
+#include "laz/arithmetic_models.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "core/error.hpp"
+
+namespace lidarscout::laz {
+namespace {
+
+// 2^31 / total: probabilities are computed in 31-bit fixed point, then shifted down.
+constexpr std::uint32_t kFixedPointOne = 0x80000000u;
+constexpr std::uint32_t kSmallestLookupBits = 3;
+constexpr std::uint32_t kLargestPlainAlphabet = 16;  // larger alphabets get a lookup table
+constexpr std::uint32_t kBitMaxUpdateInterval = 64;
+
+}  // namespace
+
+// ---- BitModel ---------------------------------------------------------------------------
+
+void BitModel::reset() {
+    zero_count_ = 1;
+    total_count_ = 2;
+    zero_probability_ = 1u << (kBitProbabilityBits - 1);
+    update_interval_ = 4;
+    until_update_ = 4;
+}
+
+void BitModel::update() {
+    total_count_ += update_interval_;
+    if (total_count_ > kBitCountLimit) {
+        total_count_ = (total_count_ + 1) >> 1;
+        zero_count_ = (zero_count_ + 1) >> 1;
+        if (zero_count_ == total_count_) ++total_count_;  // keep p(1) above zero
+    }
+    const std::uint32_t scale = kFixedPointOne / total_count_;
+    zero_probability_ = (zero_count_ * scale) >> (31 - kBitProbabilityBits);
+
+    update_interval_ = std::min((5 * update_interval_) >> 2, kBitMaxUpdateInterval);
+    until_update_ = update_interval_;
+}
+
+// ---- SymbolModel ------------------------------------------------------------------------
+
+SymbolModel::SymbolModel(std::uint32_t symbols) : symbols_(symbols) {
+    if (symbols < 2 || symbols > kMaxSymbols) {
+        throw Error("arithmetic symbol model: unsupported alphabet of " + std::to_string(symbols) +
+                    " symbols (2 to " + std::to_string(kMaxSymbols) + " allowed)");
+    }
+    std::size_t lookup_entries = 0;
+    if (symbols > kLargestPlainAlphabet) {
+        std::uint32_t bits = kSmallestLookupBits;
+        while (symbols > (1u << (bits + 2))) ++bits;
+        lookup_size_ = 1u << bits;
+        lookup_shift_ = kSymbolProbabilityBits - bits;
+        lookup_entries = lookup_size_ + 2;
+    }
+    storage_ = std::make_unique<std::uint32_t[]>(2 * std::size_t{symbols} + lookup_entries);
+    cdf_ = storage_.get();
+    counts_ = cdf_ + symbols;
+    lookup_ = lookup_entries ? counts_ + symbols : nullptr;
+    reset();
+}
+
+void SymbolModel::reset() {
+    std::fill(counts_, counts_ + symbols_, 1u);
+    total_count_ = 0;
+    update_interval_ = symbols_;
+    update();
+    update_interval_ = (symbols_ + 6) >> 1;  // the first re-estimation comes early
+    until_update_ = update_interval_;
+}
+
+void SymbolModel::update() {
+    total_count_ += update_interval_;
+    if (total_count_ > kSymbolCountLimit) {
+        total_count_ = 0;
+        for (std::uint32_t s = 0; s < symbols_; ++s) {
+            counts_[s] = (counts_[s] + 1) >> 1;
+            total_count_ += counts_[s];
+        }
+    }
+
+    const std::uint32_t scale = kFixedPointOne / total_count_;
+    std::uint32_t sum = 0;
+    std::uint32_t filled = 0;  // lookup entries 1..filled are set
+    for (std::uint32_t s = 0; s < symbols_; ++s) {
+        cdf_[s] = (scale * sum) >> (31 - kSymbolProbabilityBits);
+        sum += counts_[s];
+        if (lookup_) {
+            const std::uint32_t slot = cdf_[s] >> lookup_shift_;
+            while (filled < slot) lookup_[++filled] = s - 1;
+        }
+    }
+    if (lookup_) {
+        lookup_[0] = 0;
+        while (filled <= lookup_size_) lookup_[++filled] = symbols_ - 1;
+    }
+
+    update_interval_ = std::min((5 * update_interval_) >> 2, (symbols_ + 6) << 3);
+    until_update_ = update_interval_;
+}
+
+}  // namespace lidarscout::laz

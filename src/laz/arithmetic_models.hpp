@@ -1,0 +1,94 @@
+// Adaptive probability models of the LASzip arithmetic coder: a binary model and a
+// multi-symbol model. Their update schedules are part of the LAZ format: a decoder only
+// reproduces a file's points if it adapts exactly as the writer did, so every constant and
+// rounding step below follows the format, not taste. The same models serve the decoder and
+// (later) the encoder; the decoder lookup table is only an accelerator.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+namespace lidarscout::laz {
+
+// Interval length bits dropped before multiplying by a probability.
+inline constexpr std::uint32_t kBitProbabilityBits = 13;     // binary model: p0 in 1/8192
+inline constexpr std::uint32_t kSymbolProbabilityBits = 15;  // symbol model: cdf in 1/32768
+// Counts are halved when their total exceeds these.
+inline constexpr std::uint32_t kBitCountLimit = 1u << kBitProbabilityBits;
+inline constexpr std::uint32_t kSymbolCountLimit = 1u << kSymbolProbabilityBits;
+// Largest alphabet a symbol model accepts.
+inline constexpr std::uint32_t kMaxSymbols = 1u << 11;
+
+// Probability of a 0 bit, re-estimated from counts at growing intervals (4, 5, 6, ... 64).
+class BitModel {
+public:
+    BitModel() { reset(); }
+    // Back to the equiprobable start state (done at the start of every chunk).
+    void reset();
+
+    std::uint32_t zero_probability() const { return zero_probability_; }
+
+    // Records one coded bit; re-estimates the probability when an update is due.
+    void record(std::uint32_t bit) {
+        if (bit == 0) ++zero_count_;
+        if (--until_update_ == 0) update();
+    }
+
+private:
+    void update();
+
+    std::uint32_t zero_count_ = 0;
+    std::uint32_t total_count_ = 0;
+    std::uint32_t zero_probability_ = 0;
+    std::uint32_t update_interval_ = 0;
+    std::uint32_t until_update_ = 0;
+};
+
+// Cumulative distribution over `symbols` symbols (2 .. 2048), re-estimated from counts at
+// growing intervals. Models of more than 16 symbols also keep a lookup table that maps the
+// top bits of a scaled code value to a small range of candidate symbols.
+class SymbolModel {
+public:
+    // Throws lidarscout::Error if `symbols` is outside 2 .. kMaxSymbols.
+    explicit SymbolModel(std::uint32_t symbols);
+    SymbolModel(SymbolModel&&) noexcept = default;
+    SymbolModel& operator=(SymbolModel&&) noexcept = default;
+    SymbolModel(const SymbolModel&) = delete;
+    SymbolModel& operator=(const SymbolModel&) = delete;
+
+    // Back to the uniform start state (done at the start of every chunk).
+    void reset();
+
+    std::uint32_t symbols() const { return symbols_; }
+    std::uint32_t last_symbol() const { return symbols_ - 1; }
+    // Lower end of symbol s in the cumulative distribution, scaled to 2^15 (s < symbols()).
+    std::uint32_t cdf(std::uint32_t s) const { return cdf_[s]; }
+    bool has_lookup() const { return lookup_ != nullptr; }
+    // Lookup table (lookup_size() + 2 entries) and the shift that maps a 15-bit scaled
+    // value to its index.
+    const std::uint32_t* lookup() const { return lookup_; }
+    std::uint32_t lookup_size() const { return lookup_size_; }
+    std::uint32_t lookup_shift() const { return lookup_shift_; }
+
+    // Records one coded symbol; re-estimates the distribution when an update is due.
+    void record(std::uint32_t s) {
+        ++counts_[s];
+        if (--until_update_ == 0) update();
+    }
+
+private:
+    void update();
+
+    std::uint32_t symbols_ = 0;
+    std::unique_ptr<std::uint32_t[]> storage_;  // cdf, counts, lookup table in one block
+    std::uint32_t* cdf_ = nullptr;
+    std::uint32_t* counts_ = nullptr;
+    std::uint32_t* lookup_ = nullptr;
+    std::uint32_t lookup_size_ = 0;
+    std::uint32_t lookup_shift_ = 0;
+    std::uint32_t total_count_ = 0;
+    std::uint32_t update_interval_ = 0;
+    std::uint32_t until_update_ = 0;
+};
+
+}  // namespace lidarscout::laz

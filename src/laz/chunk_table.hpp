@@ -1,0 +1,62 @@
+// The LAZ chunk table: where each chunk of compressed points lies in the file and how many
+// points it holds. Chunks are independently decodable, and the first point of each is stored
+// raw, so the table is what makes random access (and the chunk-point overview) possible.
+//
+// Layout (compressors 2 and 3): at offset_to_point_data an int64 gives the table position
+// (-1: the position is in the last 8 bytes of the file instead); the first chunk starts right
+// after that int64. The table is u32 version (0), u32 chunk count, then per chunk an
+// arithmetic-coded point count (only for variable-size chunks) and byte count, each coded
+// relative to the previous chunk's.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace lidarscout::io {
+class File;
+}
+namespace lidarscout::las {
+struct Header;
+struct LaszipVlr;
+}  // namespace lidarscout::las
+
+namespace lidarscout::laz {
+
+struct Chunk {
+    std::uint64_t first_point = 0;  // index of the chunk's first point in the file
+    std::uint64_t point_count = 0;
+    std::uint64_t byte_offset = 0;  // file offset of the chunk's data
+    std::uint64_t byte_size = 0;
+
+    bool operator==(const Chunk&) const = default;
+};
+
+struct ChunkTable {
+    std::uint64_t table_offset = 0;      // file offset of the table (0: no table)
+    bool offset_from_file_end = false;   // the position came from the file's last 8 bytes
+    std::vector<Chunk> chunks;
+};
+
+// Whether the table stores a point count per chunk. LASzip treats a chunk size of 0 like the
+// "variable" marker 0xFFFFFFFF: its writers then store counts, and its reader expects them.
+bool has_variable_chunks(const las::LaszipVlr& laz);
+
+// Reads and validates the chunk table of a LAZ file whose header and LASzip VLR are given.
+// A point-wise (compressor 1) or uncompressed file has no table: the result is empty (its
+// point data is one stream starting at offset_to_point_data).
+//
+// Validation (every failure is a lidarscout::Error naming the file, offset and cause):
+// - the table position lies between the first chunk and the end of the file; version 0;
+// - the chunk count is possible for the bytes between the first chunk and the table (every
+//   chunk has at least one byte); it is never used to allocate up front;
+// - every chunk has at least one byte and ends at or before the table;
+// - the coded entries do not run past the end of the table's bytes (the end of the file, or
+//   the EVLRs when they follow the table);
+// - point counts: fixed-size chunks hold chunk_size points each but the last, which holds
+//   the rest of the header's point count. When the table covers more points than the header
+//   announces, the surplus is dropped (chunks past the last point go, the straddling one is
+//   shortened), because LASzip's reader stops after the header's count. When it covers
+//   fewer, that is an Error: the missing chunks cannot be located without decoding.
+ChunkTable read_chunk_table(const io::File& file, const las::Header& header, const las::LaszipVlr& laz);
+
+}  // namespace lidarscout::laz

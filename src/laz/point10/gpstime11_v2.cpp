@@ -1,0 +1,128 @@
+// GPSTIME11 v2: the symbol alphabets and the sequence logic.
+#include "laz/point10/gpstime11_v2.hpp"
+
+#include "core/error.hpp"
+
+namespace lidarscout::laz::point10 {
+namespace {
+
+// Symbols of the multiple model: 0 .. kMaxMultiple are multiples (0 stands for "large"),
+// then -1 .. kMinMultiple + 1 (coded as kMaxMultiple - m) and an extreme negative
+// multiple, then "unchanged", "coded in full", and switches to the three other sequences.
+constexpr std::int32_t kMaxMultiple = 500;
+constexpr std::int32_t kMinMultiple = -10;
+constexpr std::uint32_t kUnchanged = kMaxMultiple - kMinMultiple + 1;
+constexpr std::uint32_t kFull = kMaxMultiple - kMinMultiple + 2;
+constexpr std::uint32_t kMultipleSymbols = kMaxMultiple - kMinMultiple + 6;
+
+// Symbols of the model used after a zero delta: 0 unchanged, 1 a 32-bit delta, 2 coded
+// in full, 3..5 switches to the other sequences.
+constexpr std::uint32_t kAfterZeroDelta = 1;
+constexpr std::uint32_t kAfterZeroFull = 2;
+constexpr std::uint32_t kAfterZeroSwitch = 3;
+
+// Sequence switches per point that a valid stream can contain (one); more means corruption.
+constexpr int kMaxSwitches = 4;
+
+// Contexts of the delta coder.
+constexpr std::uint32_t kCtxFirstDelta = 0;
+constexpr std::uint32_t kCtxSameDelta = 1;
+constexpr std::uint32_t kCtxSmallMultiple = 2;
+constexpr std::uint32_t kCtxMultiple = 3;
+constexpr std::uint32_t kCtxMaxMultiple = 4;
+constexpr std::uint32_t kCtxNegativeMultiple = 5;
+constexpr std::uint32_t kCtxMinMultiple = 6;
+constexpr std::uint32_t kCtxLarge = 7;
+constexpr std::uint32_t kCtxUpperHalf = 8;
+
+}  // namespace
+
+GpsTime11DecoderV2::GpsTime11DecoderV2() : multiple_model_(kMultipleSymbols) {}
+
+void GpsTime11DecoderV2::init(const std::uint8_t* first) {
+    time_ = {load<std::uint64_t>(first), 0, 0, 0};
+    delta_.fill(0);
+    extreme_count_.fill(0);
+    current_ = 0;
+    newest_ = 0;
+    multiple_model_.reset();
+    after_zero_model_.reset();
+    delta_coder_.reset();
+}
+
+void GpsTime11DecoderV2::start_new_sequence(ArithmeticDecoder& dec) {
+    newest_ = (newest_ + 1) & 3;
+    const auto upper = static_cast<std::uint32_t>(
+        delta_coder_.decompress(dec, static_cast<std::int32_t>(time_[current_] >> 32), kCtxUpperHalf));
+    time_[newest_] = (std::uint64_t{upper} << 32) | dec.read_int();
+    current_ = newest_;
+    delta_[current_] = 0;
+    extreme_count_[current_] = 0;
+}
+
+void GpsTime11DecoderV2::count_extreme(std::int32_t delta) {
+    if (++extreme_count_[current_] > 3) {
+        delta_[current_] = delta;
+        extreme_count_[current_] = 0;
+    }
+}
+
+[[gnu::flatten]] void GpsTime11DecoderV2::decode_time(ArithmeticDecoder& dec) {
+    for (int switches = 0; switches <= kMaxSwitches; ++switches) {
+        const std::int32_t last_delta = delta_[current_];
+        if (last_delta == 0) {
+            const std::uint32_t s = dec.decode_symbol(after_zero_model_);
+            if (s == kAfterZeroDelta) {
+                delta_[current_] = delta_coder_.decompress(dec, 0, kCtxFirstDelta);
+                time_[current_] += static_cast<std::uint64_t>(std::int64_t{delta_[current_]});
+                extreme_count_[current_] = 0;
+            } else if (s == kAfterZeroFull) {
+                start_new_sequence(dec);
+            } else if (s >= kAfterZeroSwitch) {
+                current_ = (current_ + s - kAfterZeroSwitch + 1) & 3;
+                continue;
+            }
+            return;
+        }
+
+        const std::uint32_t s = dec.decode_symbol(multiple_model_);
+        if (s == kFull) {
+            start_new_sequence(dec);
+            return;
+        }
+        if (s > kFull) {
+            current_ = (current_ + s - kFull) & 3;
+            continue;
+        }
+        if (s == kUnchanged) return;
+
+        std::int32_t delta;
+        const auto m = static_cast<std::int32_t>(s);
+        if (m == 1) {
+            delta = delta_coder_.decompress(dec, last_delta, kCtxSameDelta);
+            extreme_count_[current_] = 0;
+        } else if (m == 0) {
+            delta = delta_coder_.decompress(dec, 0, kCtxLarge);
+            count_extreme(delta);
+        } else if (m < kMaxMultiple) {
+            delta = delta_coder_.decompress(dec, mul_wrapping(m, last_delta),
+                                            m < 10 ? kCtxSmallMultiple : kCtxMultiple);
+        } else if (m == kMaxMultiple) {
+            delta = delta_coder_.decompress(dec, mul_wrapping(kMaxMultiple, last_delta), kCtxMaxMultiple);
+            count_extreme(delta);
+        } else {
+            const std::int32_t negative = kMaxMultiple - m;  // -1 .. kMinMultiple
+            if (negative > kMinMultiple) {
+                delta = delta_coder_.decompress(dec, mul_wrapping(negative, last_delta), kCtxNegativeMultiple);
+            } else {
+                delta = delta_coder_.decompress(dec, mul_wrapping(kMinMultiple, last_delta), kCtxMinMultiple);
+                count_extreme(delta);
+            }
+        }
+        time_[current_] += static_cast<std::uint64_t>(std::int64_t{delta});
+        return;
+    }
+    throw Error("GPS time: too many sequence switches in one point (corrupt chunk)");
+}
+
+}  // namespace lidarscout::laz::point10

@@ -1,0 +1,81 @@
+// POINT10 v2: chunk start state and the (less frequent) attribute updates.
+#include "laz/point10/point10_v2.hpp"
+
+namespace lidarscout::laz::point10 {
+
+// Well-formed pairs (1 <= r <= n <= 5) are numbered 0..14 for the kind and by n - r for
+// the level; the rest of each table spreads the odd pairs over the remaining contexts.
+const std::uint8_t kReturnKind[8][8] = {
+    {15, 14, 13, 12, 11, 10, 9, 8},  {14, 0, 1, 3, 6, 10, 10, 9},    {13, 1, 2, 4, 7, 11, 11, 10},
+    {12, 3, 4, 5, 8, 12, 12, 11},    {11, 6, 7, 8, 9, 13, 13, 12},   {10, 10, 11, 12, 13, 14, 14, 13},
+    {9, 10, 11, 12, 13, 14, 15, 14}, {8, 9, 10, 11, 12, 13, 14, 15},
+};
+
+const std::uint8_t kReturnLevel[8][8] = {
+    {0, 1, 2, 3, 4, 5, 6, 7}, {1, 0, 1, 2, 3, 4, 5, 6}, {2, 1, 0, 1, 2, 3, 4, 5}, {3, 2, 1, 0, 1, 2, 3, 4},
+    {4, 3, 2, 1, 0, 1, 2, 3}, {5, 4, 3, 2, 1, 0, 1, 2}, {6, 5, 4, 3, 2, 1, 0, 1}, {7, 6, 5, 4, 3, 2, 1, 0},
+};
+
+namespace {
+
+// Bits of the change mask.
+constexpr std::uint32_t kChangedPointSource = 1u << 0;
+constexpr std::uint32_t kChangedUserData = 1u << 1;
+constexpr std::uint32_t kChangedScanAngle = 1u << 2;
+constexpr std::uint32_t kChangedClassification = 1u << 3;
+constexpr std::uint32_t kChangedIntensity = 1u << 4;
+constexpr std::uint32_t kChangedReturnFlags = 1u << 5;
+
+}  // namespace
+
+Point10DecoderV2::Point10DecoderV2() = default;
+
+void Point10DecoderV2::init(const std::uint8_t* first) {
+    for (auto& m : x_median_) m.reset();
+    for (auto& m : y_median_) m.reset();
+    last_intensity_.fill(0);
+    last_z_.fill(0);
+
+    changed_mask_.reset();
+    return_flags_models_.reset();
+    classification_models_.reset();
+    user_data_models_.reset();
+    for (auto& m : scan_angle_models_) m.reset();
+    intensity_.reset();
+    point_source_.reset();
+    dx_.reset();
+    dy_.reset();
+    z_.reset();
+
+    last_ = Point10Record::load(first);
+    last_.intensity = 0;  // the format starts every chunk's intensity prediction from zero
+}
+
+[[gnu::flatten]] void Point10DecoderV2::decode_attributes(ArithmeticDecoder& dec, std::uint32_t changed) {
+    if (changed & kChangedReturnFlags) {
+        last_.return_flags = return_flags_models_.decode(dec, last_.return_flags);
+    }
+    const std::uint32_t kind = kReturnKind[last_.number_of_returns()][last_.return_number()];
+    if (changed & kChangedIntensity) {
+        last_.intensity = static_cast<std::uint16_t>(
+            intensity_.decompress(dec, last_intensity_[kind], kind < 3 ? kind : 3));
+        last_intensity_[kind] = last_.intensity;
+    } else {
+        last_.intensity = last_intensity_[kind];
+    }
+    if (changed & kChangedClassification) {
+        last_.classification = classification_models_.decode(dec, last_.classification);
+    }
+    if (changed & kChangedScanAngle) {
+        const std::uint32_t delta = dec.decode_symbol(scan_angle_models_[last_.scan_direction()]);
+        last_.scan_angle = wrap_byte(static_cast<std::int32_t>(delta + last_.scan_angle));
+    }
+    if (changed & kChangedUserData) {
+        last_.user_data = user_data_models_.decode(dec, last_.user_data);
+    }
+    if (changed & kChangedPointSource) {
+        last_.point_source = static_cast<std::uint16_t>(point_source_.decompress(dec, last_.point_source));
+    }
+}
+
+}  // namespace lidarscout::laz::point10

@@ -1,0 +1,60 @@
+// Decoder of the RGB12 item, version 2: a mask says which of the six colour bytes changed;
+// red is coded against the last red, green and blue against the last value moved by red's
+// change (and, for blue, green's), which captures brightness changes shared by channels.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "laz/arithmetic_decoder.hpp"
+#include "laz/point10/item_common.hpp"
+
+namespace lidarscout::laz::point10 {
+
+class Rgb12DecoderV2 {
+public:
+    static constexpr std::size_t kSize = 6;
+
+    Rgb12DecoderV2();
+
+    // Starts a chunk whose first (raw) colour is at `first`.
+    void init(const std::uint8_t* first);
+
+    void decode(ArithmeticDecoder& dec, std::uint8_t* out) {
+        const std::uint32_t mask = dec.decode_symbol(changed_mask_);
+        // Bytes of the colour: [2c] low byte, [2c + 1] high byte of channel c (r, g, b).
+        std::array<std::uint8_t, 6> c;
+        c[0] = next_byte(dec, mask, 0, last_[0]);
+        c[1] = next_byte(dec, mask, 1, last_[1]);
+        if (mask & kNotGrey) {
+            const std::int32_t red_low = c[0] - last_[0];
+            c[2] = next_byte(dec, mask, 2, clamp_byte(red_low + last_[2]));
+            c[4] = next_byte(dec, mask, 4, clamp_byte((red_low + (c[2] - last_[2])) / 2 + last_[4]));
+            const std::int32_t red_high = c[1] - last_[1];
+            c[3] = next_byte(dec, mask, 3, clamp_byte(red_high + last_[3]));
+            c[5] = next_byte(dec, mask, 5, clamp_byte((red_high + (c[3] - last_[3])) / 2 + last_[5]));
+        } else {
+            c[2] = c[4] = c[0];
+            c[3] = c[5] = c[1];
+        }
+        last_ = c;
+        std::memcpy(out, c.data(), kSize);
+    }
+
+private:
+    static constexpr std::uint32_t kNotGrey = 1u << 6;  // green and blue differ from red
+
+    // Byte i: the prediction plus a coded correction if its mask bit is set, else the
+    // last value.
+    std::uint8_t next_byte(ArithmeticDecoder& dec, std::uint32_t mask, int i, std::int32_t prediction) {
+        if (!(mask & (1u << i))) return last_[i];
+        return wrap_byte(static_cast<std::int32_t>(dec.decode_symbol(byte_models_[i])) + prediction);
+    }
+
+    std::array<std::uint8_t, 6> last_{};
+    SymbolModel changed_mask_{128};
+    std::array<SymbolModel, 6> byte_models_{SymbolModel(256), SymbolModel(256), SymbolModel(256),
+                                            SymbolModel(256), SymbolModel(256), SymbolModel(256)};
+};
+
+}  // namespace lidarscout::laz::point10

@@ -1,0 +1,37 @@
+// BYTE14: the per-byte codec and its passes.
+#include "laz/point14/byte14_v3.hpp"
+
+#include "laz/chunk_decoder.hpp"
+#include <cstdio>
+#include <cstdlib>
+
+namespace lidarscout::laz::point14 {
+namespace {
+
+struct ByteCodec {
+    using Value = std::uint8_t;
+    struct Models {
+        SymbolModel difference{256};
+        void begin(Value&) {}
+    };
+    std::size_t offset = 0;  // the byte's position in the item
+
+    Value read(const std::uint8_t* item) const { return item[offset]; }
+    void write(std::uint8_t* item, Value v) const { item[offset] = v; }
+    void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace&) const {
+        auto sym = dec.decode_symbol(m.difference); if (getenv("DBG") && offset == 0) fprintf(stderr, "byte0 last %02x sym %02x -> %02x consumed %zu\n", v, sym, (v+sym)&255, dec.bytes_consumed());
+        v = wrap_byte(static_cast<std::int32_t>(sym + v));
+    }
+};
+
+}  // namespace
+
+void add_byte14_layers(const ItemSetup& setup, std::vector<PlacedLayer>& out) {
+    if (!(setup.fields & fields::kExtraBytes)) return;
+    const bool follow = follows_channel(setup.version);
+    for (std::size_t i = 0; i < setup.layers.size(); ++i) {
+        out.push_back(make_layer(setup.layers[i], setup, ByteCodec{i}, follow, "extra bytes"));
+    }
+}
+
+}  // namespace lidarscout::laz::point14

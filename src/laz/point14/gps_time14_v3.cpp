@@ -1,0 +1,144 @@
+// GPS time layer of POINT14: the sequence bookkeeping and the delta coding.
+#include "laz/point14/gps_time14_v3.hpp"
+
+#include <array>
+
+#include "core/error.hpp"
+#include "laz/integer_decompressor.hpp"
+#include "laz/point14/point14_v3.hpp"
+
+namespace lidarscout::laz::point14 {
+namespace {
+
+// Symbols of the "multiple" model: 0 (a delta coded on its own), 1 .. 500 (that multiple
+// of the reference delta), 501 .. 510 (multiples -1 .. -10), 511 (a new sequence), 512 .. 514
+// (switch to the sequence 1 .. 3 places further).
+constexpr std::uint32_t kLargestMultiple = 500;
+constexpr std::int32_t kSmallestMultiple = -10;
+constexpr std::uint32_t kNewSequence = kLargestMultiple - kSmallestMultiple + 1;  // 511
+constexpr std::uint32_t kMultipleSymbols = kNewSequence + 4;
+// After a zero delta a smaller model: 0 (a coded delta), 1 (new sequence), 2 .. 4 (switch).
+constexpr std::uint32_t kAfterZeroSymbols = 5;
+// Extreme multiples in a row after which the coded delta becomes the reference.
+constexpr std::int32_t kExtremeRunLimit = 3;
+// A valid stream switches sequence at most once per point; a corrupt one could keep going.
+constexpr int kMaxSwitchesPerPoint = 16;
+
+// Integer-coder contexts of the delta coder.
+enum DeltaContext : std::uint32_t {
+    kAfterZero = 0, kSameDelta = 1, kSmallMultiple = 2, kLargeMultiple = 3, kLargestMult = 4,
+    kNegativeMultiple = 5, kSmallestMult = 6, kOwnDelta = 7, kUpperHalf = 8,
+};
+
+struct GpsTimeCodec {
+    using Value = std::uint64_t;  // bit pattern of the double
+    struct Models {
+        SymbolModel multiple{kMultipleSymbols};
+        SymbolModel after_zero{kAfterZeroSymbols};
+        IntegerDecompressor delta{32, 9};
+        std::array<std::uint64_t, 4> time{};
+        std::array<std::int32_t, 4> reference{};  // reference delta per sequence
+        std::array<std::int32_t, 4> extreme_run{};
+        std::uint32_t current = 0;
+        std::uint32_t newest = 0;
+
+        void begin(Value& v) { time[0] = v; }
+    };
+
+    Value read(const std::uint8_t* item) const { return load<std::uint64_t>(item + point14_field::kGpsTime); }
+    void write(std::uint8_t* item, Value v) const { store(item + point14_field::kGpsTime, v); }
+
+    void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace& t) const {
+        if (!t.gps_time_changed()) return;
+        advance(dec, m);
+        v = m.time[m.current];
+    }
+
+private:
+    static void add_delta(Models& m, std::int32_t delta) {
+        m.time[m.current] += static_cast<std::uint64_t>(static_cast<std::int64_t>(delta));
+    }
+
+    // Counts an extreme multiple; a run of them makes `delta` the new reference.
+    static void note_extreme(Models& m, std::int32_t delta) {
+        if (++m.extreme_run[m.current] > kExtremeRunLimit) {
+            m.reference[m.current] = delta;
+            m.extreme_run[m.current] = 0;
+        }
+    }
+
+    // A time coded in full starts the next sequence slot: the upper half predicted from the
+    // current time's, the lower half raw.
+    static void open_sequence(ArithmeticDecoder& dec, Models& m) {
+        const auto upper_prediction = static_cast<std::int32_t>(m.time[m.current] >> 32);
+        const auto upper = static_cast<std::uint32_t>(m.delta.decompress(dec, upper_prediction, kUpperHalf));
+        const std::uint32_t lower = dec.read_int();
+        m.newest = (m.newest + 1) & 3u;
+        m.current = m.newest;
+        m.time[m.current] = (std::uint64_t{upper} << 32) | lower;
+        m.reference[m.current] = 0;
+        m.extreme_run[m.current] = 0;
+    }
+
+    // The delta for a multiple symbol below kNewSequence (other than 1).
+    static std::int32_t multiple_delta(ArithmeticDecoder& dec, Models& m, std::uint32_t symbol) {
+        const std::int32_t reference = m.reference[m.current];
+        std::int32_t delta;
+        if (symbol == 0) {
+            delta = m.delta.decompress(dec, 0, kOwnDelta);
+            note_extreme(m, delta);
+        } else if (symbol < kLargestMultiple) {
+            const auto multiple = static_cast<std::int32_t>(symbol);
+            delta = m.delta.decompress(dec, mul_wrapping(multiple, reference), symbol < 10 ? kSmallMultiple : kLargeMultiple);
+        } else if (symbol == kLargestMultiple) {
+            delta = m.delta.decompress(dec, mul_wrapping(kLargestMultiple, reference), kLargestMult);
+            note_extreme(m, delta);
+        } else {
+            const std::int32_t multiple = static_cast<std::int32_t>(kLargestMultiple) - static_cast<std::int32_t>(symbol);
+            if (multiple > kSmallestMultiple) {
+                delta = m.delta.decompress(dec, mul_wrapping(multiple, reference), kNegativeMultiple);
+            } else {
+                delta = m.delta.decompress(dec, mul_wrapping(kSmallestMultiple, reference), kSmallestMult);
+                note_extreme(m, delta);
+            }
+        }
+        return delta;
+    }
+
+    // Moves the current sequence to the point's time (switching sequences as coded).
+    static void advance(ArithmeticDecoder& dec, Models& m) {
+        for (int switches = 0; switches <= kMaxSwitchesPerPoint; ++switches) {
+            const std::uint32_t s = m.current;
+            if (m.reference[s] == 0) {
+                const std::uint32_t symbol = dec.decode_symbol(m.after_zero);
+                if (symbol == 0) {
+                    m.reference[s] = m.delta.decompress(dec, 0, kAfterZero);
+                    add_delta(m, m.reference[s]);
+                    m.extreme_run[s] = 0;
+                    return;
+                }
+                if (symbol == 1) return open_sequence(dec, m);
+                m.current = (s + symbol - 1) & 3u;
+                continue;
+            }
+            const std::uint32_t symbol = dec.decode_symbol(m.multiple);
+            if (symbol == 1) {
+                add_delta(m, m.delta.decompress(dec, m.reference[s], kSameDelta));
+                m.extreme_run[s] = 0;
+                return;
+            }
+            if (symbol < kNewSequence) return add_delta(m, multiple_delta(dec, m, symbol));
+            if (symbol == kNewSequence) return open_sequence(dec, m);
+            m.current = (s + symbol - kNewSequence) & 3u;
+        }
+        throw Error("corrupt GPS time layer: too many sequence switches for one point");
+    }
+};
+
+}  // namespace
+
+PlacedLayer make_gps_time14_layer(std::span<const std::uint8_t> stream, const ItemSetup& setup) {
+    return make_layer(stream, setup, GpsTimeCodec{}, true, "GPS time");
+}
+
+}  // namespace lidarscout::laz::point14

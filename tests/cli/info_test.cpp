@@ -1,0 +1,93 @@
+// `lidarscout info`: JSON output for the surveys equals the headers, Kentucky tiles report US
+// survey feet, a bad file is one line on stderr and exit status 1 while the others are reported.
+#include <gtest/gtest.h>
+
+#include "dataset/file_search.hpp"
+#include "io/file.hpp"
+#include "las/header.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout {
+namespace {
+
+nlohmann::json info_json(const std::string& args, int& status) {
+    std::string out;
+    status = test::run_command(std::string(LIDARSCOUT_CLI) + " info --json " + args + " 2>/dev/null", out);
+    return nlohmann::json::parse(out);
+}
+
+TEST(InfoCommand, SurveysMatchHeaders) {
+    int status = -1;
+    auto files = info_json(test::surveys_dir().string(), status);
+    EXPECT_EQ(status, 0);
+    auto expected = dataset::find_point_cloud_files({test::surveys_dir().string()}).files;
+    ASSERT_EQ(files.size(), expected.size());
+    ASSERT_GT(files.size(), 100u);  // 9 + 1 + 1 + 8 + 7 + 4 + 77 tiles
+    for (const auto& f : files) {
+        const auto path = f.at("path").get<std::string>();
+        SCOPED_TRACE(path);
+        ASSERT_TRUE(f.at("error").is_null());
+        auto h = las::read_header(io::File::open(path));
+        EXPECT_EQ(f.at("point_count").get<std::uint64_t>(), h.point_count);
+        for (int i = 0; i < 3; ++i) {
+            EXPECT_EQ(f.at("bounds").at("min")[i].get<double>(), h.min[i]);
+            EXPECT_EQ(f.at("bounds").at("max")[i].get<double>(), h.max[i]);
+        }
+        EXPECT_GT(f.at("chunk_point_count").get<std::uint64_t>(), 0u);
+        if (path.find("/ky-") != std::string::npos) {
+            EXPECT_EQ(f.at("crs").at("epsg"), 3089);
+            EXPECT_EQ(f.at("crs").at("horizontal_unit"), "us_survey_foot");
+            EXPECT_DOUBLE_EQ(f.at("crs").at("to_metres").get<double>(), 1200.0 / 3937.0);
+        }
+    }
+}
+
+TEST(InfoCommand, BadFileIsReportedAndOthersStillRead) {
+    const auto good = (test::formats_dir() / "PDAL__PDAL/test__data__laz__autzen_trim.laz").string();
+    const auto bad = (test::formats_dir() / "PDAL__PDAL/test__data__las__permutations__1.2-no-points.las").string();
+    std::string err;
+    int status = test::run_command(std::string(LIDARSCOUT_CLI) + " info " + good + " " + bad + " 2>&1 >/dev/null", err);
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_NE(err.find(bad), std::string::npos);
+    EXPECT_NE(err.find("header announces 1065 points"), std::string::npos) << err;
+
+    auto files = info_json(good + " " + bad, status);
+    EXPECT_EQ(status, 1);
+    ASSERT_EQ(files.size(), 2u);
+    EXPECT_TRUE(files[0].at("error").is_null());
+    EXPECT_EQ(files[0].at("point_count"), 110000);
+    EXPECT_EQ(files[0].at("laz").at("compressor"), 2);
+    EXPECT_TRUE(files[1].at("point_count").is_null());
+    EXPECT_NE(files[1].at("error").get<std::string>().find(bad), std::string::npos);
+}
+
+TEST(InfoCommand, ChunksAndChunkPoints) {
+    const auto path = (test::formats_dir() / "PDAL__PDAL/test__data__laz__autzen_trim.laz").string();
+    int status = -1;
+    auto f = info_json("--chunks " + path, status).at(0);
+    EXPECT_EQ(status, 0);
+    const auto want = test::read_json(test::formats_dir() / "expected/PDAL__PDAL__test__data__laz__autzen_trim.laz.json");
+    ASSERT_EQ(f.at("chunks").size(), want.at("chunks").size());
+    ASSERT_EQ(f.at("chunk_points").size(), want.at("chunk_points").size());
+    for (std::size_t i = 0; i < f.at("chunks").size(); ++i) {
+        for (const char* k : {"first_point", "point_count", "byte_offset", "byte_size"}) EXPECT_EQ(f["chunks"][i][k], want["chunks"][i][k]);
+        for (const char* k : {"X", "Y", "Z", "intensity"}) EXPECT_EQ(f["chunk_points"][i][k], want["chunk_points"][i][k]);
+        EXPECT_EQ(f["chunk_points"][i]["rgb"], want["chunk_points"][i]["rgb"]);
+    }
+}
+
+TEST(InfoCommand, MissingPathFails) {
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info /nonexistent/x.laz 2>&1", out), 1);
+    EXPECT_NE(out.find("/nonexistent/x.laz: no such file or folder"), std::string::npos) << out;
+}
+
+TEST(InfoCommand, Help) {
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --help", out), 0);
+    EXPECT_NE(out.find("--chunks"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace lidarscout

@@ -1,0 +1,50 @@
+// ThreadPool: every index runs exactly once, errors propagate, nesting does not dead-lock.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <vector>
+
+#include "core/thread_pool.hpp"
+
+namespace lidarscout {
+namespace {
+
+TEST(ThreadPool, EveryIndexOnce) {
+    for (unsigned threads : {1u, 2u, 4u}) {
+        ThreadPool pool(threads);
+        EXPECT_EQ(pool.size(), threads);
+        std::vector<std::atomic<int>> hits(10'000);
+        pool.for_each(hits.size(), [&](std::size_t i) { hits[i]++; });
+        for (const auto& h : hits) ASSERT_EQ(h.load(), 1);
+    }
+}
+
+TEST(ThreadPool, FirstErrorIsRethrown) {
+    ThreadPool pool(3);
+    std::atomic<int> ran{0};
+    EXPECT_THROW(pool.for_each(1000, [&](std::size_t i) {
+        ran++;
+        if (i == 10) throw std::runtime_error("boom");
+    }), std::runtime_error);
+    EXPECT_LT(ran.load(), 1000);
+    // The pool is still usable afterwards.
+    std::atomic<int> after{0};
+    pool.for_each(100, [&](std::size_t) { after++; });
+    EXPECT_EQ(after.load(), 100);
+}
+
+TEST(ThreadPool, NestedLoops) {
+    ThreadPool pool(2);
+    std::atomic<int> total{0};
+    pool.for_each(8, [&](std::size_t) { pool.for_each(8, [&](std::size_t) { total++; }); });
+    EXPECT_EQ(total.load(), 64);
+}
+
+TEST(ThreadPool, EmptyLoop) {
+    ThreadPool pool(2);
+    pool.for_each(0, [](std::size_t) { FAIL(); });
+}
+
+}  // namespace
+}  // namespace lidarscout

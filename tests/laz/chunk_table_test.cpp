@@ -1,0 +1,298 @@
+// The LAZ chunk table: every chunked file of the reference set gives LASzip's chunks exactly;
+// point-wise files have none; and hand-damaged copies of real files (table at the end, moved,
+// truncated, garbage counts, header counts that disagree) are read or rejected as documented
+// in chunk_table.hpp.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cctype>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "io/file.hpp"
+#include "las/header.hpp"
+#include "las/laszip_vlr.hpp"
+#include "las/vlr.hpp"
+#include "laz/chunk_table.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout::laz {
+namespace {
+
+using lidarscout::test::Expected;
+namespace fs = std::filesystem;
+
+ChunkTable table_of(const fs::path& path) {
+    auto file = io::File::open(path.string());
+    const auto header = las::read_header(file);
+    const auto vlrs = las::read_vlrs(file, header);
+    const las::Vlr* v = las::find_vlr(vlrs, "laszip encoded", 22204);
+    if (!v) throw Error(path.string(), std::nullopt, "test: no laszip VLR");
+    const auto laz = las::parse_laszip_vlr(v->data, file.path(), v->data_offset);
+    return read_chunk_table(file, header, laz);
+}
+
+// The cause of the Error reading the table throws, or "" when it reads fine.
+std::string rejection(const fs::path& path) {
+    try {
+        table_of(path);
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), path.string());
+        return e.cause();
+    }
+    return "";
+}
+
+std::vector<Chunk> chunks_in(const nlohmann::json& list) {
+    std::vector<Chunk> out;
+    for (const auto& c : list) {
+        out.push_back({c.at("first_point").get<std::uint64_t>(), c.at("point_count").get<std::uint64_t>(),
+                       c.at("byte_offset").get<std::uint64_t>(), c.at("byte_size").get<std::uint64_t>()});
+    }
+    return out;
+}
+
+std::string describe(const std::vector<Chunk>& chunks) {
+    std::string s;
+    for (const auto& c : chunks) {
+        s += "{" + std::to_string(c.first_point) + ", " + std::to_string(c.point_count) + ", " +
+             std::to_string(c.byte_offset) + ", " + std::to_string(c.byte_size) + "} ";
+    }
+    return s;
+}
+
+// ---- the reference set ------------------------------------------------------------------------
+
+// One known error of the reference JSONs. lasR's example.copc.laz has chunk_size 0, which
+// LASzip's reader treats as variable (it only adopts a non-zero chunk size), and the table
+// does store a point count: 30 points in 418 bytes, as the file's COPC hierarchy also says
+// (offset 1449, 418 bytes, 30 points). The JSON was made by reading the table as fixed-size
+// chunks, which takes the point count 30 for the byte count and stops 2 bytes early.
+const char* const kChunkSizeZeroFile = "r-lidar__lasR__inst__extdata__example.copc.laz.json";
+const std::vector<Chunk> kChunkSizeZeroChunks = {{0, 30, 1449, 418}};
+
+std::vector<Expected> files_with_chunk_lists() {
+    std::vector<Expected> out;
+    for (auto& e : lidarscout::test::all_expected()) {
+        if (e.json.contains("chunks") && e.json.at("reference_result") == "decodes") out.push_back(std::move(e));
+    }
+    return out;
+}
+
+std::string readable(const ::testing::TestParamInfo<Expected>& info) {
+    std::string s = info.param.name;
+    for (char& c : s) if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return s;
+}
+
+class ChunkTableMatchesReference : public ::testing::TestWithParam<Expected> {};
+
+TEST_P(ChunkTableMatchesReference, SameChunksAsLaszip) {
+    const auto& e = GetParam();
+    const auto expected = e.name == kChunkSizeZeroFile ? kChunkSizeZeroChunks : chunks_in(e.json.at("chunks"));
+    const auto table = table_of(e.file);
+    EXPECT_EQ(table.chunks, expected) << "got      " << describe(table.chunks) << "\nexpected " << describe(expected);
+    EXPECT_FALSE(table.offset_from_file_end);
+    if (e.json.at("laz").at("compressor") == 1) {
+        EXPECT_EQ(table.table_offset, 0u);  // point-wise: no table at all
+    } else if (!table.chunks.empty()) {
+        EXPECT_EQ(table.table_offset, table.chunks.back().byte_offset + table.chunks.back().byte_size);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, ChunkTableMatchesReference, ::testing::ValuesIn(files_with_chunk_lists()), readable);
+
+TEST(ChunkTableFormats, ReferenceCoversAllChunkedFiles) {
+    const auto files = files_with_chunk_lists();
+    EXPECT_EQ(files.size(), 74u);
+    std::size_t chunked = 0, pointwise = 0;
+    for (const auto& e : files) {
+        chunked += !e.json.at("chunks").empty();
+        pointwise += e.json.at("laz").at("compressor") == 1;
+    }
+    EXPECT_EQ(chunked, 70u);
+    EXPECT_EQ(pointwise, 3u);
+}
+
+TEST(ChunkTableFormats, ChunkSizeZeroMeansVariableChunks) {
+    const auto path = lidarscout::test::formats_dir() / "r-lidar__lasR/inst__extdata__example.copc.laz";
+    EXPECT_EQ(table_of(path).chunks, kChunkSizeZeroChunks);
+    las::LaszipVlr laz;
+    laz.chunk_size = 0;
+    EXPECT_TRUE(has_variable_chunks(laz));
+    laz.chunk_size = las::LaszipVlr::kVariableChunkSize;
+    EXPECT_TRUE(has_variable_chunks(laz));
+    laz.chunk_size = 50000;
+    EXPECT_FALSE(has_variable_chunks(laz));
+}
+
+// ---- damaged copies of real files -------------------------------------------------------------
+
+// autzen_trim.laz: LAS 1.2, fixed chunks of 50,000; 110,000 points in 3 chunks.
+constexpr const char* kAutzen = "PDAL__PDAL/test__data__laz__autzen_trim.laz";
+constexpr std::uint64_t kAutzenPosition = 2144;  // offset_to_point_data
+constexpr std::uint64_t kAutzenTable = 603333;
+constexpr std::uint64_t kLegacyCountField = 107;
+// lone-star.copc.laz: LAS 1.4, variable chunks; 518,862 points in 15 chunks.
+constexpr const char* kLoneStar = "PDAL__PDAL/test__data__copc__lone-star.copc.laz";
+constexpr std::uint64_t kExtendedCountField = 247;
+constexpr std::uint64_t kLoneStarPoints = 518862;
+
+template <typename T>
+void poke(std::vector<std::uint8_t>& bytes, std::uint64_t at, T value) {
+    std::memcpy(bytes.data() + at, &value, sizeof(T));
+}
+
+// A copy of a data file, edited, deleted when the test ends.
+class EditedFile {
+public:
+    EditedFile(const char* name, const std::function<void(std::vector<std::uint8_t>&)>& edit) {
+        std::ifstream in(lidarscout::test::formats_dir() / name, std::ios::binary);
+        std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+        edit(bytes);
+        path_ = fs::temp_directory_path() /
+                ("lidarscout_chunk_table_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".laz");
+        std::ofstream out(path_, std::ios::binary);
+        out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    }
+    ~EditedFile() { fs::remove(path_); }
+    const fs::path& path() const { return path_; }
+
+private:
+    fs::path path_;
+};
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+TEST(ChunkTableDamaged, UnchangedCopyReadsFine) {
+    EditedFile f(kAutzen, [](auto&) {});
+    const auto t = table_of(f.path());
+    ASSERT_EQ(t.chunks.size(), 3u);
+    EXPECT_EQ(t.table_offset, kAutzenTable);
+    EXPECT_EQ(t.chunks[2], (Chunk{100000, 10000, 548074, 55259}));
+}
+
+TEST(ChunkTableDamaged, PositionMinusOneIsReadFromTheFileEnd) {
+    EditedFile f(kAutzen, [](auto& b) {
+        poke<std::int64_t>(b, kAutzenPosition, -1);
+        b.resize(b.size() + 8);
+        poke<std::int64_t>(b, b.size() - 8, kAutzenTable);
+    });
+    const auto t = table_of(f.path());
+    EXPECT_TRUE(t.offset_from_file_end);
+    EXPECT_EQ(t.table_offset, kAutzenTable);
+    EXPECT_EQ(t.chunks, table_of(lidarscout::test::formats_dir() / kAutzen).chunks);
+}
+
+TEST(ChunkTableDamaged, PositionMinusOneWithGarbageAtTheEnd) {
+    EditedFile f(kAutzen, [](auto& b) {
+        poke<std::int64_t>(b, kAutzenPosition, -1);
+        b.resize(b.size() + 8);
+        poke<std::int64_t>(b, b.size() - 8, -1);
+    });
+    EXPECT_TRUE(contains(rejection(f.path()), "position -1 lies outside"));
+}
+
+TEST(ChunkTableDamaged, PositionPointingAtItselfMeansNoTable) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::int64_t>(b, kAutzenPosition, kAutzenPosition); });
+    EXPECT_TRUE(contains(rejection(f.path()), "writer was interrupted"));
+}
+
+TEST(ChunkTableDamaged, PositionBeyondTheFile) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::int64_t>(b, kAutzenPosition, b.size() - 4); });
+    EXPECT_TRUE(contains(rejection(f.path()), "lies outside"));
+}
+
+TEST(ChunkTableDamaged, PositionBeforeTheChunks) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::int64_t>(b, kAutzenPosition, 100); });
+    EXPECT_TRUE(contains(rejection(f.path()), "position 100 lies outside 2152"));
+}
+
+TEST(ChunkTableDamaged, FileEndsBeforeThePosition) {
+    EditedFile f(kAutzen, [](auto& b) { b.resize(kAutzenPosition + 4); });
+    EXPECT_TRUE(contains(rejection(f.path()), "ends before the 8-byte chunk table position"));
+}
+
+TEST(ChunkTableDamaged, UnknownVersion) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kAutzenTable, 1); });
+    EXPECT_TRUE(contains(rejection(f.path()), "unknown version 1"));
+}
+
+TEST(ChunkTableDamaged, GarbageChunkCountIsCaughtBeforeAnyAllocation) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kAutzenTable + 4, 0xFFFFFFFFu); });
+    EXPECT_TRUE(contains(rejection(f.path()), "announces 4294967295 chunks but only 601181 bytes"));
+}
+
+TEST(ChunkTableDamaged, LargeButPossibleCountFailsOnTheEntries) {
+    // 500,000 chunks fit in 601,181 bytes, but the coded bytes end after 3 entries.
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kAutzenTable + 4, 500000u); });
+    const auto why = rejection(f.path());
+    EXPECT_TRUE(contains(why, "truncated") || contains(why, "runs past the table") || contains(why, "size of 0 bytes"))
+        << why;
+}
+
+TEST(ChunkTableDamaged, TruncatedEntries) {
+    EditedFile f(kAutzen, [](auto& b) { b.resize(kAutzenTable + 8 + 4); });
+    EXPECT_TRUE(contains(rejection(f.path()), "truncated: entry"));
+}
+
+TEST(ChunkTableDamaged, MissingTrailingZerosAreHarmless) {
+    EditedFile f(kAutzen, [](auto& b) { b.resize(b.size() - 3); });  // the writer's 3 zero bytes
+    EXPECT_EQ(table_of(f.path()).chunks, table_of(lidarscout::test::formats_dir() / kAutzen).chunks);
+}
+
+TEST(ChunkTableDamaged, ChunkRunningIntoTheTable) {
+    // The same table copied into the middle of the second chunk: that chunk overruns it.
+    EditedFile f(kAutzen, [](auto& b) {
+        std::memcpy(b.data() + 300000, b.data() + kAutzenTable, 20);
+        poke<std::int64_t>(b, kAutzenPosition, 300000);
+    });
+    EXPECT_TRUE(contains(rejection(f.path()), "chunk 1 at byte 285651 with 262423 bytes runs past the table at 300000"));
+}
+
+TEST(ChunkTableDamaged, NoChunksForSomePoints) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kAutzenTable + 4, 0); });
+    EXPECT_TRUE(contains(rejection(f.path()), "its 0 chunks hold 0 points but the header announces 110000"));
+}
+
+TEST(ChunkTableDamaged, FixedChunksCutAtTheHeaderCount) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kLegacyCountField, 60000); });
+    const auto t = table_of(f.path());
+    EXPECT_EQ(t.chunks, (std::vector<Chunk>{{0, 50000, 2152, 283499}, {50000, 10000, 285651, 262423}}));
+}
+
+TEST(ChunkTableDamaged, FixedChunksShortOfTheHeaderCount) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kLegacyCountField, 150001); });
+    const auto why = rejection(f.path());
+    EXPECT_TRUE(contains(why, "its 3 chunks hold 150000 points but the header announces 150001")) << why;
+    EXPECT_TRUE(contains(why, "cannot be located without decoding")) << why;
+}
+
+TEST(ChunkTableDamaged, VariableChunksCutAtTheHeaderCount) {
+    EditedFile f(kLoneStar, [](auto& b) { poke<std::uint64_t>(b, kExtendedCountField, kLoneStarPoints - 1); });
+    const auto t = table_of(f.path());
+    ASSERT_EQ(t.chunks.size(), 15u);
+    EXPECT_EQ(t.chunks.back().point_count, 33646u);
+    EXPECT_EQ(t.chunks.back().first_point + t.chunks.back().point_count, kLoneStarPoints - 1);
+}
+
+TEST(ChunkTableDamaged, VariableChunksDroppedPastTheHeaderCount) {
+    EditedFile f(kLoneStar, [](auto& b) { poke<std::uint64_t>(b, kExtendedCountField, 212 + 100); });
+    const auto t = table_of(f.path());
+    EXPECT_EQ(t.chunks.size(), 2u);
+    EXPECT_EQ(t.chunks[1].point_count, 100u);
+}
+
+TEST(ChunkTableDamaged, VariableChunksShortOfTheHeaderCount) {
+    EditedFile f(kLoneStar, [](auto& b) { poke<std::uint64_t>(b, kExtendedCountField, kLoneStarPoints + 1); });
+    EXPECT_TRUE(contains(rejection(f.path()), "its 15 chunks hold 518862 points but the header announces 518863"));
+}
+
+}  // namespace
+}  // namespace lidarscout::laz
