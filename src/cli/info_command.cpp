@@ -13,9 +13,11 @@
 #include "cli/progress.hpp"
 #include "cli/tile_json.hpp"
 #include "core/error.hpp"
+#include "core/sha256.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 
@@ -26,6 +28,7 @@ struct InfoOptions {
     std::vector<std::string> paths;
     bool json = false;
     bool chunks = false;
+    bool checksum = false;
     unsigned threads = 0;
 };
 
@@ -34,24 +37,27 @@ struct FileReport {
     std::optional<dataset::Tile> tile;
     std::vector<dataset::ChunkPoint> chunk_points;
     std::uint64_t chunk_point_count = 0;
+    std::string points_sha256;  // with --checksum
     std::string error;
 };
 
-std::uint64_t count_chunk_points(const dataset::Tile& t) {
-    if (t.chunks) {
-        return std::count_if(t.chunks->chunks.begin(), t.chunks->chunks.end(), [](const auto& c) { return c.point_count > 0; });
-    }
-    const auto n = t.header.point_count;
-    return (n + dataset::kLasChunkPointStride - 1) / dataset::kLasChunkPointStride;
+
+// SHA-256 over the raw bytes of every point record, in file order, after decoding.
+std::string points_checksum(const io::File& file, const dataset::Tile& tile) {
+    Sha256 sha;
+    dataset::for_each_record_batch(file, tile, ThreadPool::shared(),
+                                   [&](std::uint64_t, std::span<const std::uint8_t> records) { sha.update(records); });
+    return sha.hex_digest();
 }
 
-FileReport inspect(const std::string& path, bool with_chunk_points) {
-    FileReport r{path, std::nullopt, {}, 0, {}};
+FileReport inspect(const std::string& path, const InfoOptions& opt) {
+    FileReport r{path, std::nullopt, {}, 0, {}, {}};
     try {
         auto file = io::File::open(path);
         r.tile = dataset::read_tile(file);
-        r.chunk_point_count = count_chunk_points(*r.tile);
-        if (with_chunk_points) r.chunk_points = dataset::read_chunk_points(file, *r.tile);
+        r.chunk_point_count = dataset::chunk_point_count(*r.tile);
+        if (opt.chunks) r.chunk_points = dataset::read_chunk_points(file, *r.tile);
+        if (opt.checksum) r.points_sha256 = points_checksum(file, *r.tile);
     } catch (const Error& e) {
         r.tile.reset();
         r.error = e.file().empty() ? path + ": " + e.what() : e.what();
@@ -131,6 +137,7 @@ void print_text(const FileReport& r, bool chunks) {
     if (t.laz) print_laz_text(t);
     if (t.copc) std::printf("  COPC: halfsize %g, spacing %g\n", t.copc->halfsize, t.copc->spacing);
     std::printf("  chunk points: %s\n", thousands(r.chunk_point_count).c_str());
+    if (!r.points_sha256.empty()) std::printf("  points_sha256: %s\n", r.points_sha256.c_str());
     if (chunks) print_chunks_text(r);
 }
 
@@ -158,6 +165,7 @@ nlohmann::json report_json(const FileReport& r, bool chunks) {
     if (!r.tile) return failed_tile_json(r.path, r.error);
     auto j = tile_to_json(*r.tile);
     j["chunk_point_count"] = r.chunk_point_count;
+    if (!r.points_sha256.empty()) j["points_sha256"] = r.points_sha256;
     if (chunks) {
         j["chunks"] = chunks_to_json(*r.tile);
         j["chunk_points"] = chunk_points_to_json(r.chunk_points, *r.tile);
@@ -172,7 +180,7 @@ int run_info(const InfoOptions& opt) {
         Progress progress("info", reports.size());
         if (opt.threads) ThreadPool::set_shared_threads(opt.threads);
         ThreadPool::shared().for_each(reports.size(), [&](std::size_t i) {
-            reports[i] = inspect(found.files[i], opt.chunks);
+            reports[i] = inspect(found.files[i], opt);
             progress.add();
         });
     }
@@ -203,6 +211,8 @@ void register_info_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("paths", opt->paths, "LAS/LAZ files or folders (searched recursively)")->required();
     cmd->add_flag("--json", opt->json, "Print one JSON array with an object per file");
     cmd->add_flag("--chunks", opt->chunks, "Add the LAZ chunk table and the chunk points");
+    cmd->add_flag("--checksum", opt->checksum,
+                  "Decode every point and add points_sha256: SHA-256 over the raw point records in file order");
     cmd->add_option("--threads", opt->threads, "Threads for reading files (default: all cores)");
     cmd->callback([opt, &run] { run = [opt] { return run_info(*opt); }; });
 }

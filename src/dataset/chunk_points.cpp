@@ -1,9 +1,12 @@
 // Reading chunk points: one small positioned read per point, no decompression.
 #include "dataset/chunk_points.hpp"
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
+#include "laz/file_decoder.hpp"
 
 namespace lidarscout::dataset {
 namespace {
@@ -22,8 +25,9 @@ std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile
     std::vector<std::uint8_t> buf(tile.header.record_length);
     if (tile.compressed()) {
         if (!tile.chunks) throw Error(file.path(), std::nullopt, "chunk table not read (internal error)");
-        out.reserve(tile.chunks->chunks.size());
-        for (const auto& c : tile.chunks->chunks) {
+        const auto units = laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size);
+        out.reserve(units.size());
+        for (const auto& c : units) {
             if (c.point_count == 0) continue;
             out.push_back(read_one(file, tile, c.first_point, c.byte_offset, buf));
         }
@@ -36,6 +40,20 @@ std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile
         out.push_back(read_one(file, tile, i, h.offset_to_point_data + i * h.record_length, buf));
     }
     return out;
+}
+
+}  // namespace lidarscout::dataset
+
+namespace lidarscout::dataset {
+
+std::uint64_t chunk_point_count(const Tile& tile, std::uint64_t las_stride) {
+    if (tile.compressed()) {
+        if (!tile.chunks) return 0;
+        const auto units = laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size);
+        return static_cast<std::uint64_t>(
+            std::count_if(units.begin(), units.end(), [](const auto& c) { return c.point_count > 0; }));
+    }
+    return (tile.header.point_count + las_stride - 1) / las_stride;
 }
 
 }  // namespace lidarscout::dataset

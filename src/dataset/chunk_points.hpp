@@ -28,4 +28,7 @@ struct ChunkPoint {
 std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile,
                                           std::uint64_t las_stride = kLasChunkPointStride);
 
+// How many chunk points read_chunk_points would return (no point reads).
+std::uint64_t chunk_point_count(const Tile& tile, std::uint64_t las_stride = kLasChunkPointStride);
+
 }  // namespace lidarscout::dataset

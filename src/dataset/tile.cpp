@@ -33,7 +33,7 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     t.header = las::read_header(file);
     t.vlrs = las::read_vlrs(file, t.header, &t.warnings);
     t.evlrs = las::read_evlrs(file, t.header);
-    t.crs = las::read_crs(t.vlrs, t.evlrs, file);
+    t.crs = las::read_crs(t.vlrs, t.evlrs, file, (t.header.global_encoding & 0x10) != 0);
     t.laz = read_laszip(file, t);
     t.copc = las::find_copc_info(t.vlrs, file.path());
     if (t.laz && options.chunk_table) t.chunks = laz::read_chunk_table(file, t.header, *t.laz);

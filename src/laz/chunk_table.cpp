@@ -111,7 +111,7 @@ private:
         }
         loc.table_offset = static_cast<std::uint64_t>(position);
         // EVLRs (LAS 1.4) may follow the table; the entries cannot run into them.
-        if (header_.number_of_evlrs > 0 && header_.evlr_offset > loc.table_offset &&
+        if (header_.number_of_evlrs > 0 && header_.evlr_offset >= loc.table_offset + kTableHeaderSize &&
             header_.evlr_offset < loc.bytes_end) {
             loc.bytes_end = header_.evlr_offset;
         }
@@ -157,10 +157,7 @@ private:
         Entry previous;
         std::uint64_t offset = loc_.chunks_start;
         for (std::uint32_t i = 0; i < count; ++i) {
-            Entry e;
-            if (variable_) e.points = static_cast<std::uint32_t>(ic.decompress(dec, static_cast<std::int32_t>(previous.points), kPointCountContext));
-            e.bytes = static_cast<std::uint32_t>(
-                ic.decompress(dec, static_cast<std::int32_t>(previous.bytes), kByteCountContext));
+            const Entry e = decode_entry(dec, ic, previous, i);
             if (dec.overrun() > 0 && !all_bytes) return std::nullopt;
             if (dec.overrun() > kOverrunSlack) {
                 fail(loc_.table_offset, "truncated: entry " + std::to_string(i) + " of " + std::to_string(count) +
@@ -173,6 +170,22 @@ private:
             previous = e;
         }
         return entries;
+    }
+
+    // The next entry, each number coded relative to the previous entry's.
+    Entry decode_entry(ArithmeticDecoder& dec, IntegerDecompressor& ic, const Entry& previous,
+                       std::uint32_t index) const {
+        auto next = [&](std::uint32_t prediction, std::uint32_t context) {
+            return static_cast<std::uint32_t>(ic.decompress(dec, static_cast<std::int32_t>(prediction), context));
+        };
+        try {
+            Entry e;
+            if (variable_) e.points = next(previous.points, kPointCountContext);
+            e.bytes = next(previous.bytes, kByteCountContext);
+            return e;
+        } catch (const Error& decoding) {  // the decoder knows no file
+            fail(loc_.table_offset, "entry " + std::to_string(index) + " is corrupt: " + decoding.cause());
+        }
     }
 
     void check_entry(const Entry& e, std::uint32_t index, std::uint64_t offset) const {

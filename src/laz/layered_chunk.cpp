@@ -1,6 +1,6 @@
 // Layered chunks: validates the item list, splits the chunk into its layer streams, builds
 // one pass per wanted layer and runs the passes block by block over the points (the
-// returns/XY pass first, since every other layer's contexts depend on it).
+// returns/XY/Z pass first, since every other layer's contexts depend on it).
 #include "laz/layered_chunk.hpp"
 
 #include <algorithm>
@@ -120,9 +120,9 @@ std::vector<std::span<const std::uint8_t>> split_layers(const las::LaszipVlr& la
     return streams;
 }
 
-// The passes of one chunk: returns/XY first, then the other wanted layers.
+// The passes of one chunk: returns/XY/Z first, then the other wanted layers.
 struct ChunkPasses {
-    std::unique_ptr<point14::ReturnsXyLayer> returns_xy;
+    std::unique_ptr<point14::ReturnsXyzLayer> returns_xyz;
     std::vector<PlacedLayer> layers;
 };
 
@@ -138,7 +138,7 @@ ChunkPasses build_passes(const las::LaszipVlr& laz, std::span<const std::span<co
                               std::max<std::uint16_t>(item.version, 3)};
         switch (static_cast<ItemType>(item.type)) {
             case ItemType::Point14:
-                passes.returns_xy = point14::make_returns_xy_layer(setup);
+                passes.returns_xyz = point14::make_returns_xyz_layer(setup);
                 point14::add_point14_layers(setup, passes.layers);
                 break;
             case ItemType::Rgb14: point14::add_rgb14_layers(setup, passes.layers); break;
@@ -152,24 +152,36 @@ ChunkPasses build_passes(const las::LaszipVlr& laz, std::span<const std::span<co
     return passes;
 }
 
-// A stream that needed bytes past its end was truncated (LASzip fails on it as well).
-void check_complete(const ChunkPasses& passes) {
-    if (passes.returns_xy->overrun() > 0) fail(std::nullopt, "the returns/XY layer is truncated or corrupt");
-    for (const auto& layer : passes.layers) {
-        if (layer.decoder->overrun() > 0) fail(std::nullopt, std::string("the ") + layer.name + " layer is truncated or corrupt");
+// Runs one layer's step, naming the layer in any error it raises.
+template <class Step>
+void in_layer(const char* name, Step&& step) {
+    try {
+        step();
+    } catch (const Error& e) {
+        fail(e.offset(), std::string("the ") + name + " layer: " + e.cause());
     }
 }
 
 void run_passes(ChunkPasses& passes, std::uint8_t* out, std::uint64_t point_count, std::size_t record) {
-    passes.returns_xy->write_first(out);
+    passes.returns_xyz->write_first(out);
     for (auto& layer : passes.layers) layer.decoder->write_first(out + layer.item_offset);
 
     std::array<PointTrace, kBlockPoints> trace;
     for (std::uint64_t start = 1; start < point_count; start += kBlockPoints) {
         const auto count = static_cast<std::size_t>(std::min<std::uint64_t>(kBlockPoints, point_count - start));
         std::uint8_t* block = out + start * record;
-        passes.returns_xy->decode(trace.data(), count, block, record);
-        for (auto& layer : passes.layers) layer.decoder->decode(trace.data(), count, block + layer.item_offset, record);
+        in_layer("returns/XY/Z", [&] { passes.returns_xyz->decode(trace.data(), count, block, record); });
+        for (auto& layer : passes.layers) {
+            in_layer(layer.name, [&] { layer.decoder->decode(trace.data(), count, block + layer.item_offset, record); });
+        }
+    }
+}
+
+// A stream that needed bytes past its end was truncated (LASzip fails on it as well).
+void check_complete(const ChunkPasses& passes) {
+    if (passes.returns_xyz->overrun() > 0) fail(std::nullopt, "the returns/XY or Z layer is truncated or corrupt");
+    for (const auto& layer : passes.layers) {
+        if (layer.decoder->overrun() > 0) fail(std::nullopt, std::string("the ") + layer.name + " layer is truncated or corrupt");
     }
 }
 
@@ -187,14 +199,15 @@ void decode_layered_chunk(const las::LaszipVlr& laz, const ChunkDecodeRequest& r
     ChunkPasses passes = build_passes(laz, streams, request.bytes.data(), request.fields);
 
     std::uint8_t* out = request.out.data();
+    // Bytes of unwanted fields stay zero (with every field wanted, every byte is written).
     if ((request.fields & kEveryField) != kEveryField) std::memset(out, 0, request.point_count * record);
     run_passes(passes, out, request.point_count, record);
     check_complete(passes);
 
     stats.layers = static_cast<std::uint32_t>(streams.size());
     for (const auto& s : streams) stats.layer_bytes += s.size();
-    stats.layers_decoded = 1;
-    stats.bytes_consumed = passes.returns_xy->bytes_consumed();
+    stats.layers_decoded = passes.returns_xyz->layers_decoded();
+    stats.bytes_consumed = passes.returns_xyz->bytes_consumed();
     for (const auto& layer : passes.layers) {
         if (layer.decoder->entropy_coded()) ++stats.layers_decoded;
         stats.bytes_consumed += layer.decoder->bytes_consumed();

@@ -7,7 +7,9 @@
 #include <array>
 #include <cstring>
 #include <string>
+#include <span>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>

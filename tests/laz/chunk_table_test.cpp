@@ -10,6 +10,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -60,8 +61,9 @@ std::vector<Chunk> chunks_in(const nlohmann::json& list) {
 std::string describe(const std::vector<Chunk>& chunks) {
     std::string s;
     for (const auto& c : chunks) {
-        s += "{" + std::to_string(c.first_point) + ", " + std::to_string(c.point_count) + ", " +
-             std::to_string(c.byte_offset) + ", " + std::to_string(c.byte_size) + "} ";
+        std::ostringstream one;
+        one << '{' << c.first_point << ", " << c.point_count << ", " << c.byte_offset << ", " << c.byte_size << "} ";
+        s += one.str();
     }
     return s;
 }
@@ -155,9 +157,10 @@ public:
         std::ifstream in(lidarscout::test::formats_dir() / name, std::ios::binary);
         std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
         edit(bytes);
-        path_ = fs::temp_directory_path() /
-                ("lidarscout_chunk_table_" + std::to_string(::getpid()) + "_" +
-                 ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".laz");
+        std::string name_part = std::to_string(::getpid());
+        name_part += '_';
+        name_part += ::testing::UnitTest::GetInstance()->current_test_info()->name();
+        path_ = fs::temp_directory_path() / ("lidarscout_chunk_table_" + name_part + ".laz");
         std::ofstream out(path_, std::ios::binary);
         out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     }

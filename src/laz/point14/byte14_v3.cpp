@@ -2,8 +2,6 @@
 #include "laz/point14/byte14_v3.hpp"
 
 #include "laz/chunk_decoder.hpp"
-#include <cstdio>
-#include <cstdlib>
 
 namespace lidarscout::laz::point14 {
 namespace {
@@ -19,8 +17,7 @@ struct ByteCodec {
     Value read(const std::uint8_t* item) const { return item[offset]; }
     void write(std::uint8_t* item, Value v) const { item[offset] = v; }
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace&) const {
-        auto sym = dec.decode_symbol(m.difference); if (getenv("DBG") && offset == 0) fprintf(stderr, "byte0 last %02x sym %02x -> %02x consumed %zu\n", v, sym, (v+sym)&255, dec.bytes_consumed());
-        v = wrap_byte(static_cast<std::int32_t>(sym + v));
+        v = wrap_byte(static_cast<std::int32_t>(dec.decode_symbol(m.difference) + v));
     }
 };
 
@@ -28,9 +25,9 @@ struct ByteCodec {
 
 void add_byte14_layers(const ItemSetup& setup, std::vector<PlacedLayer>& out) {
     if (!(setup.fields & fields::kExtraBytes)) return;
-    const bool follow = follows_channel(setup.version);
+    const ContextRule rule = item_rule(setup.version);
     for (std::size_t i = 0; i < setup.layers.size(); ++i) {
-        out.push_back(make_layer(setup.layers[i], setup, ByteCodec{i}, follow, "extra bytes"));
+        out.push_back(make_layer(setup.layers[i], setup, ByteCodec{i}, rule, "extra bytes"));
     }
 }
 

@@ -131,14 +131,14 @@ private:
             if (symbol == kNewSequence) return open_sequence(dec, m);
             m.current = (s + symbol - kNewSequence) & 3u;
         }
-        throw Error("corrupt GPS time layer: too many sequence switches for one point");
+        throw Error("too many sequence switches for one point (corrupt data)");
     }
 };
 
 }  // namespace
 
 PlacedLayer make_gps_time14_layer(std::span<const std::uint8_t> stream, const ItemSetup& setup) {
-    return make_layer(stream, setup, GpsTimeCodec{}, true, "GPS time");
+    return make_layer(stream, setup, GpsTimeCodec{}, ContextRule::kPoint14, "GPS time");
 }
 
 }  // namespace lidarscout::laz::point14

@@ -1,7 +1,7 @@
 // Building blocks shared by the item decoders of layered LAZ chunks (compressor 3, LAS 1.4
 // point formats 6-10). In such a chunk every field group has its own arithmetic-coded
 // stream (a "layer"), so each layer is decoded by its own pass over a block of points:
-// the POINT14 returns/XY layer goes first and leaves a PointTrace per point (scanner
+// the POINT14 returns/XY(/Z) pass goes first and leaves a PointTrace per point (scanner
 // channel, which attributes changed, return contexts) that the other layers read.
 //
 // Every item keeps one coding context per scanner channel (0-3). A channel's context comes
@@ -18,7 +18,6 @@
 #include <optional>
 #include <span>
 #include <utility>
-#include <vector>
 
 #include "laz/arithmetic_decoder.hpp"
 #include "laz/arithmetic_models.hpp"
@@ -33,17 +32,20 @@ using point10::mul_wrapping;
 using point10::store;
 using point10::wrap_byte;
 
-// What the returns/XY layer learnt about one point, for the layers decoded after it.
+// What the returns/XY/Z pass learnt about one point, for the layers decoded after it.
+// POINT14 version 4 hands its channel to the other items as their context. Version 3 does
+// so only at a point where the channel changes and hands them context 0 at every other
+// point (the reference reader resets the shared context per point); files written by it
+// depend on this, so it is reproduced.
 struct PointTrace {
     static constexpr std::uint8_t kScanAngleChanged = 1u << 0;
     static constexpr std::uint8_t kGpsTimeChanged = 1u << 1;
     static constexpr std::uint8_t kPointSourceChanged = 1u << 2;
 
-    std::uint8_t channel;      // scanner channel = index of the coding context (0-3)
+    std::uint8_t channel;      // scanner channel: the context of POINT14's own layers (0-3)
+    std::uint8_t item_context; // the context POINT14 hands to the other items (see above)
     std::uint8_t changed;      // k...Changed bits
     std::uint8_t return_kind;  // 2 * first return + last return (3: single return)
-    std::uint8_t level;        // how deep the return is in its pulse, 0-7
-    std::uint8_t z_context;    // integer-coder context of Z, from the X and Y corrector sizes
 
     bool gps_time_changed() const { return (changed & kGpsTimeChanged) != 0; }
 };
@@ -105,25 +107,38 @@ private:
     std::array<std::optional<SymbolModel>, N> models_;
 };
 
-// The per-channel contexts of one layer: Models (everything a context owns, including
-// any running state; created on first use and then given begin(last value)) and the last
-// Value. For POINT14 and for version 4 of the other items, a point is always predicted
-// from its own channel's last value. Version 3 of RGB14, RGBNIR14, BYTE14 and WAVEPACKET14
-// has a quirk that must be reproduced: at a point that returns to a channel already seen
-// in the chunk, the prediction (and the update) still uses the previous channel's value.
+// How a layer picks the context of a point.
+enum class ContextRule {
+    kPoint14,  // POINT14's own layers: the point's scanner channel
+    kItemV3,   // other items, version 3: POINT14's hand-on context, with the quirk below
+    kItemV4,   // other items, version 4: POINT14's hand-on context
+};
+
+// The rule of a non-POINT14 item of this version (2 is read as 3).
+inline ContextRule item_rule(std::uint16_t version) {
+    return version >= 4 ? ContextRule::kItemV4 : ContextRule::kItemV3;
+}
+
+// The per-context state of one layer: Models (everything a context owns, including any
+// running state; created on first use and then given begin(last value)) and the last
+// Value. Normally a point is predicted from its own context's last value. Version 3 of
+// RGB14, RGBNIR14, BYTE14 and WAVEPACKET14 has a quirk that must be reproduced: at a point
+// that moves to a context already used in the chunk, the prediction (and the update) still
+// uses the previous context's value.
 template <class Models, class Value>
 class ChannelContexts {
 public:
-    // Starts a chunk on `channel` with the first point's value.
-    void start(std::uint32_t channel, const Value& first, bool follow_channel) {
-        follow_channel_ = follow_channel;
+    // Starts a chunk in context `channel` with the first point's value; `follow`: whether
+    // a point always takes its own context's value (false: the version 3 quirk).
+    void start(std::uint32_t channel, const Value& first, bool follow) {
+        follow_ = follow;
         current_ = value_slot_ = channel;
         values_[channel] = first;
         models_[channel].emplace();
         models_[channel]->begin(values_[channel]);
     }
 
-    // Makes `channel` current for the next point.
+    // Makes context `channel` current for the next point.
     void select(std::uint32_t channel) {
         value_slot_ = current_;
         if (channel != current_) [[unlikely]] switch_to(channel);
@@ -142,7 +157,7 @@ private:
             models_[channel].emplace();
             models_[channel]->begin(values_[channel]);
             value_slot_ = channel;
-        } else if (follow_channel_) {
+        } else if (follow_) {
             value_slot_ = channel;
         }
     }
@@ -151,7 +166,7 @@ private:
     std::array<Value, 4> values_{};
     std::uint32_t current_ = 0;
     std::uint32_t value_slot_ = 0;
-    bool follow_channel_ = true;
+    bool follow_ = true;
 };
 
 // A layer pass made from a codec, which provides
@@ -162,17 +177,18 @@ private:
 template <class Codec>
 class ContextLayer final : public LayerDecoder {
 public:
-    ContextLayer(std::span<const std::uint8_t> stream, const ItemSetup& setup, Codec codec, bool follow_channel)
-        : codec_(std::move(codec)), decoder_(stream) {
-        contexts_.start(setup.first_channel, codec_.read(setup.first), follow_channel);
+    ContextLayer(std::span<const std::uint8_t> stream, const ItemSetup& setup, Codec codec, ContextRule rule)
+        : codec_(std::move(codec)), decoder_(stream), point14_(rule == ContextRule::kPoint14) {
+        contexts_.start(setup.first_channel, codec_.read(setup.first), rule != ContextRule::kItemV3);
     }
 
     void write_first(std::uint8_t* item) override { codec_.write(item, contexts_.value()); }
 
-    void decode(const PointTrace* trace, std::size_t count, std::uint8_t* item, std::size_t stride) override {
+    [[gnu::flatten]] void decode(const PointTrace* trace, std::size_t count, std::uint8_t* item,
+                                 std::size_t stride) override {
         ArithmeticDecoder dec = decoder_;  // a local copy the compiler can keep in registers
         for (std::size_t i = 0; i < count; ++i, item += stride) {
-            contexts_.select(trace[i].channel);
+            contexts_.select(point14_ ? trace[i].channel : trace[i].item_context);
             auto& value = contexts_.value();
             codec_.decode(dec, contexts_.models(), value, trace[i]);
             codec_.write(item, value);
@@ -188,6 +204,7 @@ private:
     Codec codec_;
     ArithmeticDecoder decoder_;
     ChannelContexts<typename Codec::Models, typename Codec::Value> contexts_;
+    bool point14_;
 };
 
 // Stands in for a layer that is empty in the chunk: its field never changes there, so every
@@ -209,22 +226,18 @@ private:
 };
 
 // The pass for one layer: decoding when the chunk has bytes for it, else constant.
-// (POINT14 always follows the channel; the other items follow it from version 4 on.)
 template <class Codec>
-PlacedLayer make_layer(std::span<const std::uint8_t> stream, const ItemSetup& setup, Codec codec,
-                       bool follow_channel, const char* name) {
+PlacedLayer make_layer(std::span<const std::uint8_t> stream, const ItemSetup& setup, Codec codec, ContextRule rule,
+                       const char* name) {
     PlacedLayer placed;
     placed.item_offset = setup.offset;
     placed.name = name;
     if (stream.empty()) {
         placed.decoder = std::make_unique<ConstantLayer<Codec>>(setup, std::move(codec));
     } else {
-        placed.decoder = std::make_unique<ContextLayer<Codec>>(stream, setup, std::move(codec), follow_channel);
+        placed.decoder = std::make_unique<ContextLayer<Codec>>(stream, setup, std::move(codec), rule);
     }
     return placed;
 }
-
-// Whether the non-POINT14 items of this version predict from the current channel's value.
-inline bool follows_channel(std::uint16_t version) { return version >= 4; }
 
 }  // namespace lidarscout::laz::point14

@@ -72,7 +72,7 @@ struct RgbCodec {
 }  // namespace
 
 PlacedLayer make_rgb_layer(std::span<const std::uint8_t> stream, const ItemSetup& setup) {
-    return make_layer(stream, setup, RgbCodec{}, follows_channel(setup.version), "RGB");
+    return make_layer(stream, setup, RgbCodec{}, item_rule(setup.version), "RGB");
 }
 
 void add_rgb14_layers(const ItemSetup& setup, std::vector<PlacedLayer>& out) {

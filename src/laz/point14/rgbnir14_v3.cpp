@@ -37,7 +37,7 @@ struct NirCodec {
 void add_rgbnir14_layers(const ItemSetup& setup, std::vector<PlacedLayer>& out) {
     if (setup.fields & fields::kRgb) out.push_back(make_rgb_layer(setup.layers[0], setup));
     if (setup.fields & fields::kNir) {
-        out.push_back(make_layer(setup.layers[1], setup, NirCodec{}, follows_channel(setup.version), "NIR"));
+        out.push_back(make_layer(setup.layers[1], setup, NirCodec{}, item_rule(setup.version), "NIR"));
     }
 }
 

@@ -74,7 +74,7 @@ struct WavepacketCodec {
 
 void add_wavepacket14_layers(const ItemSetup& setup, std::vector<PlacedLayer>& out) {
     if (!(setup.fields & fields::kWavepacket)) return;
-    out.push_back(make_layer(setup.layers[0], setup, WavepacketCodec{}, follows_channel(setup.version), "wave packet"));
+    out.push_back(make_layer(setup.layers[0], setup, WavepacketCodec{}, item_rule(setup.version), "wave packet"));
 }
 
 }  // namespace lidarscout::laz::point14
