@@ -12,5 +12,7 @@ namespace lidarscout::cli {
 
 // Registers `info`; sets `run` to the function that executes it once parsed.
 void register_info_command(CLI::App& app, std::function<int()>& run);
+// Registers `convert`.
+void register_convert_command(CLI::App& app, std::function<int()>& run);
 
 }  // namespace lidarscout::cli

@@ -1,6 +1,10 @@
 // Point data record formats 0-10 (LAS 1.4 R15 tables 7-17) and raw record decoding.
 #include "las/point_format.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
 #include "core/error.hpp"
 #include "io/byte_reader.hpp"
 #include "las/header.hpp"
@@ -59,7 +63,74 @@ void decode_extended_bits(const std::uint8_t* r, Point& p) {
     p.point_source_id = load_le<std::uint16_t>(r + 20);
 }
 
+template <typename T>
+void store_le(std::uint8_t* p, T v) {
+    std::memcpy(p, &v, sizeof(T));
+}
+
+void encode_legacy_bits(const Point& p, std::uint8_t* r) {
+    const std::uint8_t ret = std::min<std::uint8_t>(p.return_number, 7);
+    const std::uint8_t nret = std::min<std::uint8_t>(p.number_of_returns, 7);
+    r[14] = static_cast<std::uint8_t>(ret | (nret << 3) | (p.scan_direction << 6) | (p.edge_of_flight_line << 7));
+    r[15] = static_cast<std::uint8_t>(std::min<std::uint8_t>(p.classification, 31) | (p.synthetic << 5) |
+                                      (p.key_point << 6) | (p.withheld << 7));
+    r[16] = static_cast<std::uint8_t>(static_cast<std::int8_t>(std::clamp<int>(p.scan_angle_raw, -128, 127)));
+    r[17] = p.user_data;
+    store_le<std::uint16_t>(r + 18, p.point_source_id);
+}
+
+void encode_extended_bits(const Point& p, std::uint8_t* r) {
+    r[14] = static_cast<std::uint8_t>((p.return_number & 15) | ((p.number_of_returns & 15) << 4));
+    r[15] = static_cast<std::uint8_t>(p.synthetic | (p.key_point << 1) | (p.withheld << 2) | (p.overlap << 3) |
+                                      ((p.scanner_channel & 3) << 4) | (p.scan_direction << 6) |
+                                      (p.edge_of_flight_line << 7));
+    r[16] = p.classification;
+    r[17] = p.user_data;
+    store_le<std::int16_t>(r + 18, p.scan_angle_raw);
+    store_le<std::uint16_t>(r + 20, p.point_source_id);
+}
+
+// The scan angle in the units of the target layout.
+std::int16_t convert_scan_angle(std::int16_t raw, bool from_extended, bool to_extended) {
+    if (from_extended == to_extended) return raw;
+    if (to_extended) return static_cast<std::int16_t>(std::clamp<long>(std::lround(raw / 0.006), -30000, 30000));
+    return static_cast<std::int16_t>(std::clamp<long>(std::lround(raw * 0.006), -128, 127));
+}
+
 }  // namespace
+
+void encode_point(const Point& p, const PointFormatInfo& format, std::span<std::uint8_t> record) {
+    std::uint8_t* r = record.data();
+    std::memset(r, 0, format.size);
+    store_le<std::int32_t>(r, p.X);
+    store_le<std::int32_t>(r + 4, p.Y);
+    store_le<std::int32_t>(r + 8, p.Z);
+    store_le<std::uint16_t>(r + 12, p.intensity);
+    if (format.extended) encode_extended_bits(p, r);
+    else encode_legacy_bits(p, r);
+    if (format.gps_offset >= 0) store_le<double>(r + format.gps_offset, p.gps_time);
+    if (format.rgb_offset >= 0) {
+        for (int c = 0; c < 3; ++c) store_le<std::uint16_t>(r + format.rgb_offset + 2 * c, p.rgb[c]);
+    }
+    if (format.nir_offset >= 0) store_le<std::uint16_t>(r + format.nir_offset, p.nir);
+}
+
+void convert_records(std::span<const std::uint8_t> in, const PointFormatInfo& in_format, std::uint16_t in_record_length,
+                     std::span<std::uint8_t> out, const PointFormatInfo& out_format, std::uint16_t out_record_length,
+                     const Header& header) {
+    const std::size_t n = in.size() / in_record_length;
+    const std::size_t extra = std::min<std::size_t>(in_record_length - in_format.size, out_record_length - out_format.size);
+    if (out.size() != n * out_record_length) throw Error("record conversion: output buffer has the wrong size");
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto src = in.subspan(i * in_record_length, in_record_length);
+        auto dst = out.subspan(i * out_record_length, out_record_length);
+        Point p = decode_point(src, in_format, header);
+        p.scan_angle_raw = convert_scan_angle(p.scan_angle_raw, in_format.extended, out_format.extended);
+        encode_point(p, out_format, dst);
+        std::fill(dst.begin() + out_format.size, dst.end(), 0);
+        std::memcpy(dst.data() + out_format.size, src.data() + in_format.size, extra);
+    }
+}
 
 bool is_known_point_format(std::uint8_t id) { return id <= kMaxPointFormat; }
 

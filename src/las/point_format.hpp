@@ -53,4 +53,15 @@ struct Point {
 Point decode_point(std::span<const std::uint8_t> record, const PointFormatInfo& format,
                    const Header& header);
 
+// Writes `point` as a record of `format` into record[0, format.size) (raw X/Y/Z as stored in
+// the point; fields the format lacks are dropped). Values a legacy format cannot hold
+// (classification > 31, return numbers > 7, scan angles beyond +-127 degrees) are clamped.
+void encode_point(const Point& point, const PointFormatInfo& format, std::span<std::uint8_t> record);
+
+// Converts records of one format to another, keeping the extra bytes that follow the base
+// record (in_record_length - in.size bytes, moved behind the new base record).
+void convert_records(std::span<const std::uint8_t> in, const PointFormatInfo& in_format, std::uint16_t in_record_length,
+                     std::span<std::uint8_t> out, const PointFormatInfo& out_format, std::uint16_t out_record_length,
+                     const Header& header);
+
 }  // namespace lidarscout::las

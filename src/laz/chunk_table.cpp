@@ -25,11 +25,12 @@ constexpr std::uint32_t kTableVersion = 0;
 constexpr std::uint32_t kEntryBits = 32;
 constexpr std::uint32_t kPointCountContext = 0;
 constexpr std::uint32_t kByteCountContext = 1;
-// Upper bound on one coded entry (two integers of at most ~7 bytes each, with margin), used
-// to size the first read window; and the first window's base size.
+// The first read window: room for this many entries at most kMaxEntryBytes each (two
+// integers of at most ~7 bytes each, with margin), plus a base. Larger tables (COPC files
+// can have 10^5 chunks) take a few doubling rounds, each decoding from the start again.
 constexpr std::uint64_t kMaxEntryBytes = 24;
 constexpr std::uint64_t kBaseWindow = 4096;
-constexpr std::uint64_t kEntriesInFirstWindow = 1u << 16;
+constexpr std::uint64_t kEntriesInFirstWindow = 4096;
 // The decoder looks 4 bytes ahead; a table whose writer left out the final zero bytes may
 // make it read that far past the data, with the same result as if the zeros were there.
 constexpr std::size_t kOverrunSlack = 4;

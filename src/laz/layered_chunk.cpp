@@ -69,7 +69,9 @@ std::size_t check_items(const las::LaszipVlr& laz) {
         const std::uint16_t min_version = item.type == static_cast<std::uint16_t>(ItemType::Wavepacket14) ? 3 : 2;
         if (size < 0) fail(std::nullopt, "item " + item_text(item) + " cannot be decoded in a layered chunk");
         if (is_point != (i == 0)) fail(std::nullopt, "POINT14 must be the first item and only the first");
-        if ((size > 0 && item.size != size) || item.size == 0) fail(std::nullopt, "item " + item_text(item) + " has a wrong size");
+        if ((size > 0 && item.size != size) || item.size == 0) {
+            fail(std::nullopt, "item " + item_text(item) + " has a wrong size");
+        }
         if (item.version < min_version || item.version > 4) {
             fail(std::nullopt, "item " + item_text(item) + ": unsupported version (3 and 4 are decoded)");
         }
@@ -95,8 +97,8 @@ std::uint32_t read_u32(std::span<const std::uint8_t> bytes, std::size_t pos) {
 }
 
 // The chunk split into layer streams (in item order, then layer order).
-std::vector<std::span<const std::uint8_t>> split_layers(const las::LaszipVlr& laz, std::span<const std::uint8_t> bytes,
-                                                        std::size_t record) {
+std::vector<std::span<const std::uint8_t>> split_layers(const las::LaszipVlr& laz,
+                                                        std::span<const std::uint8_t> bytes, std::size_t record) {
     std::size_t layers = 0;
     for (const auto& item : laz.items) layers += layer_count(item);
     // The raw first point, then a u32 point count (unused: the chunk table is authoritative,
@@ -111,8 +113,9 @@ std::vector<std::span<const std::uint8_t>> split_layers(const las::LaszipVlr& la
     for (std::size_t i = 0; i < layers; ++i) {
         const std::uint32_t size = read_u32(bytes, sizes_at + 4 * i);
         if (size > bytes.size() - pos) {
-            fail(sizes_at + 4 * i, "layer " + std::to_string(i) + " of " + std::to_string(size) + " bytes runs past the end of the " +
-                                       std::to_string(bytes.size()) + "-byte chunk");
+            fail(sizes_at + 4 * i, "layer " + std::to_string(i) + " of " + std::to_string(size) +
+                                       " bytes runs past the end of the " + std::to_string(bytes.size()) +
+                                       "-byte chunk");
         }
         streams[i] = bytes.subspan(pos, size);
         pos += size;
@@ -172,7 +175,8 @@ void run_passes(ChunkPasses& passes, std::uint8_t* out, std::uint64_t point_coun
         std::uint8_t* block = out + start * record;
         in_layer("returns/XY/Z", [&] { passes.returns_xyz->decode(trace.data(), count, block, record); });
         for (auto& layer : passes.layers) {
-            in_layer(layer.name, [&] { layer.decoder->decode(trace.data(), count, block + layer.item_offset, record); });
+            in_layer(layer.name,
+                     [&] { layer.decoder->decode(trace.data(), count, block + layer.item_offset, record); });
         }
     }
 }
@@ -181,8 +185,23 @@ void run_passes(ChunkPasses& passes, std::uint8_t* out, std::uint64_t point_coun
 void check_complete(const ChunkPasses& passes) {
     if (passes.returns_xyz->overrun() > 0) fail(std::nullopt, "the returns/XY or Z layer is truncated or corrupt");
     for (const auto& layer : passes.layers) {
-        if (layer.decoder->overrun() > 0) fail(std::nullopt, std::string("the ") + layer.name + " layer is truncated or corrupt");
+        if (layer.decoder->overrun() > 0) {
+            fail(std::nullopt, std::string("the ") + layer.name + " layer is truncated or corrupt");
+        }
     }
+}
+
+LayeredChunkStats collect_stats(std::span<const std::span<const std::uint8_t>> streams, const ChunkPasses& passes) {
+    LayeredChunkStats stats;
+    stats.layers = static_cast<std::uint32_t>(streams.size());
+    for (const auto& s : streams) stats.layer_bytes += s.size();
+    stats.layers_decoded = passes.returns_xyz->layers_decoded();
+    stats.bytes_consumed = passes.returns_xyz->bytes_consumed();
+    for (const auto& layer : passes.layers) {
+        if (layer.decoder->entropy_coded()) ++stats.layers_decoded;
+        stats.bytes_consumed += layer.decoder->bytes_consumed();
+    }
+    return stats;
 }
 
 }  // namespace
@@ -193,7 +212,8 @@ void decode_layered_chunk(const las::LaszipVlr& laz, const ChunkDecodeRequest& r
     if (request.point_count == 0) return;
     if (request.out.size() / record < request.point_count) {
         fail(std::nullopt, "output of " + std::to_string(request.out.size()) + " bytes cannot hold " +
-                               std::to_string(request.point_count) + " records of " + std::to_string(record) + " bytes");
+                               std::to_string(request.point_count) + " records of " + std::to_string(record) +
+                               " bytes");
     }
     const auto streams = split_layers(laz, request.bytes, record);
     ChunkPasses passes = build_passes(laz, streams, request.bytes.data(), request.fields);
@@ -204,14 +224,7 @@ void decode_layered_chunk(const las::LaszipVlr& laz, const ChunkDecodeRequest& r
     run_passes(passes, out, request.point_count, record);
     check_complete(passes);
 
-    stats.layers = static_cast<std::uint32_t>(streams.size());
-    for (const auto& s : streams) stats.layer_bytes += s.size();
-    stats.layers_decoded = passes.returns_xyz->layers_decoded();
-    stats.bytes_consumed = passes.returns_xyz->bytes_consumed();
-    for (const auto& layer : passes.layers) {
-        if (layer.decoder->entropy_coded()) ++stats.layers_decoded;
-        stats.bytes_consumed += layer.decoder->bytes_consumed();
-    }
+    stats = collect_stats(streams, passes);
 }
 
 void decode_layered_chunk(const las::LaszipVlr& laz, const ChunkDecodeRequest& request) {

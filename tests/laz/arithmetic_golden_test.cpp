@@ -80,6 +80,23 @@ TEST(ArithGolden, BitsMatchLaszip) {
     EXPECT_EQ(dec.overrun(), 0u);
 }
 
+// Long runs: 30,000 zeros (the counts saturate and are halved with p0 kept below 1), 30,000
+// ones (the model has to swing over), then 20,000 fair coin flips.
+TEST(ArithGolden, BitRunsMatchLaszip) {
+    Sequence r(2);
+    std::vector<std::uint32_t> bits(80000);
+    for (int i = 0; i < 80000; ++i) bits[i] = i < 30000 ? 0 : i < 60000 ? 1 : (r.next() & 1);
+    test::TestEncoder enc;
+    BitModel em;
+    for (auto b : bits) enc.encode_bit(em, b);
+    const auto stream = enc.finish();
+    expect_same_stream(stream, {4769, 0x79d5a3f11408f4f1ull});
+
+    ArithmeticDecoder dec(stream);
+    BitModel dm;
+    for (std::size_t i = 0; i < bits.size(); ++i) ASSERT_EQ(dec.decode_bit(dm), bits[i]) << i;
+}
+
 // ---- symbols: skewed towards 0, with the last symbol every 97th ----------------------------------
 
 std::vector<std::uint32_t> symbol_workload(std::uint32_t n) {

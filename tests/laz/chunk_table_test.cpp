@@ -20,6 +20,8 @@
 #include "las/laszip_vlr.hpp"
 #include "las/vlr.hpp"
 #include "laz/chunk_table.hpp"
+#include "laz/integer_models.hpp"
+#include "laz/test_arithmetic_encoder.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout::laz {
@@ -140,6 +142,7 @@ constexpr const char* kAutzen = "PDAL__PDAL/test__data__laz__autzen_trim.laz";
 constexpr std::uint64_t kAutzenPosition = 2144;  // offset_to_point_data
 constexpr std::uint64_t kAutzenTable = 603333;
 constexpr std::uint64_t kLegacyCountField = 107;
+constexpr std::uint64_t kAutzenChunkSizeField = 2104;  // in the laszip VLR payload (at 2092)
 // lone-star.copc.laz: LAS 1.4, variable chunks; 518,862 points in 15 chunks.
 constexpr const char* kLoneStar = "PDAL__PDAL/test__data__copc__lone-star.copc.laz";
 constexpr std::uint64_t kExtendedCountField = 247;
@@ -240,6 +243,34 @@ TEST(ChunkTableDamaged, LargeButPossibleCountFailsOnTheEntries) {
         << why;
 }
 
+TEST(ChunkTableDamaged, GarbageEntriesNeverEscapeTheChecks) {
+    // Random bytes in place of the coded entries: either an Error, or chunks that respect
+    // every documented invariant.
+    for (std::uint32_t seed = 1; seed <= 50; ++seed) {
+        EditedFile f(kAutzen, [seed](auto& b) {
+            std::uint32_t x = seed * 2654435761u;
+            for (std::uint64_t i = kAutzenTable + 8; i < b.size(); ++i) {
+                x = x * 1664525u + 1013904223u;
+                b[i] = static_cast<std::uint8_t>(x >> 24);
+            }
+        });
+        try {
+            const auto t = table_of(f.path());
+            ASSERT_EQ(t.chunks.size(), 3u) << seed;
+            std::uint64_t end = kAutzenPosition + 8;
+            for (const auto& c : t.chunks) {
+                EXPECT_EQ(c.byte_offset, end);
+                EXPECT_GT(c.byte_size, 0u);
+                end += c.byte_size;
+            }
+            EXPECT_LE(end, kAutzenTable) << seed;
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), f.path().string());
+            EXPECT_EQ(e.offset(), kAutzenTable) << e.what();
+        }
+    }
+}
+
 TEST(ChunkTableDamaged, TruncatedEntries) {
     EditedFile f(kAutzen, [](auto& b) { b.resize(kAutzenTable + 8 + 4); });
     EXPECT_TRUE(contains(rejection(f.path()), "truncated: entry"));
@@ -295,6 +326,100 @@ TEST(ChunkTableDamaged, VariableChunksDroppedPastTheHeaderCount) {
 TEST(ChunkTableDamaged, VariableChunksShortOfTheHeaderCount) {
     EditedFile f(kLoneStar, [](auto& b) { poke<std::uint64_t>(b, kExtendedCountField, kLoneStarPoints + 1); });
     EXPECT_TRUE(contains(rejection(f.path()), "its 15 chunks hold 518862 points but the header announces 518863"));
+}
+
+TEST(ChunkTableDamaged, EntriesStopAtTheEvlrs) {
+    // One chunk more than coded: the 16th entry would have to come from the EVLR that
+    // follows the table.
+    EditedFile f(kLoneStar, [](auto& b) { poke<std::uint32_t>(b, 2704562 + 4, 16); });
+    EXPECT_TRUE(contains(rejection(f.path()), "truncated: entry 15 of 16 runs past the end of the table's bytes at 2704653"));
+}
+
+// ---- tables written by the test encoder ---------------------------------------------------------
+
+struct Entry {
+    std::uint32_t points, bytes;
+};
+
+// The table bytes (version, count, coded entries) for `entries`.
+std::vector<std::uint8_t> encode_table(const std::vector<Entry>& entries, bool variable) {
+    std::vector<std::uint8_t> out(8, 0);
+    poke<std::uint32_t>(out, 4, static_cast<std::uint32_t>(entries.size()));
+    test::TestEncoder enc;
+    IntegerModels models(32, 2, 8, 0);
+    Entry previous{0, 0};
+    for (const auto& e : entries) {
+        auto as_int = [](std::uint32_t v) { return static_cast<std::int32_t>(v); };
+        if (variable) test::encode_integer(enc, models, as_int(previous.points), as_int(e.points), 0);
+        test::encode_integer(enc, models, as_int(previous.bytes), as_int(e.bytes), 1);
+        previous = e;
+    }
+    const auto coded = enc.finish();
+    out.insert(out.end(), coded.begin(), coded.end());
+    return out;
+}
+
+// autzen_trim.laz with its table replaced by `entries` (and variable chunks if asked).
+void replace_autzen_table(std::vector<std::uint8_t>& b, const std::vector<Entry>& entries, bool variable) {
+    if (variable) poke<std::uint32_t>(b, kAutzenChunkSizeField, las::LaszipVlr::kVariableChunkSize);
+    b.resize(kAutzenTable);
+    const auto table = encode_table(entries, variable);
+    b.insert(b.end(), table.begin(), table.end());
+}
+
+TEST(ChunkTableWritten, TestEncoderReproducesLaszipsTable) {
+    std::ifstream in(lidarscout::test::formats_dir() / kAutzen, std::ios::binary);
+    std::vector<std::uint8_t> file((std::istreambuf_iterator<char>(in)), {});
+    const std::vector<std::uint8_t> laszip(file.begin() + kAutzenTable, file.end());
+    EXPECT_EQ(encode_table({{0, 283499}, {0, 262423}, {0, 55259}}, false), laszip);
+}
+
+TEST(ChunkTableWritten, ZeroByteChunk) {
+    EditedFile f(kAutzen, [](auto& b) { replace_autzen_table(b, {{0, 283499}, {0, 0}, {0, 317682}}, false); });
+    EXPECT_TRUE(contains(rejection(f.path()), "chunk 1 at byte 285651 has a size of 0 bytes"));
+}
+
+TEST(ChunkTableWritten, VariableChunks) {
+    EditedFile f(kAutzen, [](auto& b) {
+        replace_autzen_table(b, {{60000, 283499}, {30000, 262423}, {20000, 55259}}, true);
+    });
+    const auto t = table_of(f.path());
+    EXPECT_EQ(t.chunks, (std::vector<Chunk>{{0, 60000, 2152, 283499},
+                                            {60000, 30000, 285651, 262423},
+                                            {90000, 20000, 548074, 55259}}));
+}
+
+TEST(ChunkTableWritten, VariableChunkWithoutPoints) {
+    EditedFile f(kAutzen, [](auto& b) {
+        replace_autzen_table(b, {{60000, 283499}, {0, 262423}, {50000, 55259}}, true);
+    });
+    EXPECT_TRUE(contains(rejection(f.path()), "chunk 1 at byte 285651 holds no points"));
+}
+
+TEST(ChunkTableWritten, LargeTableIsReadInGrowingWindows) {
+    // 60,000 small chunks of random sizes: the coded table is larger than the first read
+    // window, so it is read again with larger ones.
+    std::vector<Entry> entries(60000);
+    std::uint32_t x = 12345;
+    std::uint64_t points = 0;
+    for (auto& e : entries) {
+        x = x * 1664525u + 1013904223u;
+        e = {1 + (x >> 8) % 255, 1 + (x >> 20) % 9};
+        points += e.points;
+    }
+    ASSERT_GT(encode_table(entries, true).size(), 4096u + 24u * 4096u);
+    EditedFile f(kAutzen, [&](auto& b) {
+        replace_autzen_table(b, entries, true);
+        poke<std::uint32_t>(b, kLegacyCountField, static_cast<std::uint32_t>(points));
+    });
+    const auto t = table_of(f.path());
+    ASSERT_EQ(t.chunks.size(), entries.size());
+    std::uint64_t first = 0, offset = kAutzenPosition + 8;
+    for (std::size_t i = 0; i < entries.size(); ++i) {
+        ASSERT_EQ(t.chunks[i], (Chunk{first, entries[i].points, offset, entries[i].bytes})) << i;
+        first += entries[i].points;
+        offset += entries[i].bytes;
+    }
 }
 
 }  // namespace

@@ -2,38 +2,16 @@
 #include "laz/point10/gpstime11_v2.hpp"
 
 #include "core/error.hpp"
+#include "laz/point10/symbols_v2.hpp"
 
 namespace lidarscout::laz::point10 {
+
+using namespace gpstime11_v2;  // the symbols and contexts
+
 namespace {
-
-// Symbols of the multiple model: 0 .. kMaxMultiple are multiples (0 stands for "large"),
-// then -1 .. kMinMultiple + 1 (coded as kMaxMultiple - m) and an extreme negative
-// multiple, then "unchanged", "coded in full", and switches to the three other sequences.
-constexpr std::int32_t kMaxMultiple = 500;
-constexpr std::int32_t kMinMultiple = -10;
-constexpr std::uint32_t kUnchanged = kMaxMultiple - kMinMultiple + 1;
-constexpr std::uint32_t kFull = kMaxMultiple - kMinMultiple + 2;
-constexpr std::uint32_t kMultipleSymbols = kMaxMultiple - kMinMultiple + 6;
-
-// Symbols of the model used after a zero delta: 0 unchanged, 1 a 32-bit delta, 2 coded
-// in full, 3..5 switches to the other sequences.
-constexpr std::uint32_t kAfterZeroDelta = 1;
-constexpr std::uint32_t kAfterZeroFull = 2;
-constexpr std::uint32_t kAfterZeroSwitch = 3;
 
 // Sequence switches per point that a valid stream can contain (one); more means corruption.
 constexpr int kMaxSwitches = 4;
-
-// Contexts of the delta coder.
-constexpr std::uint32_t kCtxFirstDelta = 0;
-constexpr std::uint32_t kCtxSameDelta = 1;
-constexpr std::uint32_t kCtxSmallMultiple = 2;
-constexpr std::uint32_t kCtxMultiple = 3;
-constexpr std::uint32_t kCtxMaxMultiple = 4;
-constexpr std::uint32_t kCtxNegativeMultiple = 5;
-constexpr std::uint32_t kCtxMinMultiple = 6;
-constexpr std::uint32_t kCtxLarge = 7;
-constexpr std::uint32_t kCtxUpperHalf = 8;
 
 }  // namespace
 

@@ -1,6 +1,7 @@
-// Small building blocks shared by the point10-family item decoders (v1 and v2): byte
-// arithmetic of the LAZ predictors, little-endian loads/stores of record fields, and the
-// sets of 256 lazily created symbol models that code a byte given its previous value.
+// Small building blocks shared by the point10-family item decoders (v1 and v2) and the v2
+// encoders: byte arithmetic of the LAZ predictors, little-endian loads/stores of record
+// fields, and the sets of 256 lazily created symbol models that code a byte given its
+// previous value.
 #pragma once
 
 #include <array>
@@ -56,11 +57,16 @@ public:
         }
     }
 
-    // Decodes the byte that follows `previous`.
-    std::uint8_t decode(ArithmeticDecoder& dec, std::uint8_t previous) {
+    // The model of the byte that follows `previous` (created on first use).
+    SymbolModel& model_after(std::uint8_t previous) {
         auto& m = models_[previous];
         if (!m) [[unlikely]] create(previous);
-        return static_cast<std::uint8_t>(dec.decode_symbol(*m));
+        return *m;
+    }
+
+    // Decodes the byte that follows `previous`.
+    std::uint8_t decode(ArithmeticDecoder& dec, std::uint8_t previous) {
+        return static_cast<std::uint8_t>(dec.decode_symbol(model_after(previous)));
     }
 
 private:

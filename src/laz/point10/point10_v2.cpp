@@ -1,6 +1,8 @@
 // POINT10 v2: chunk start state and the (less frequent) attribute updates.
 #include "laz/point10/point10_v2.hpp"
 
+#include "laz/point10/symbols_v2.hpp"
+
 namespace lidarscout::laz::point10 {
 
 // Well-formed pairs (1 <= r <= n <= 5) are numbered 0..14 for the kind and by n - r for
@@ -16,17 +18,7 @@ const std::uint8_t kReturnLevel[8][8] = {
     {4, 3, 2, 1, 0, 1, 2, 3}, {5, 4, 3, 2, 1, 0, 1, 2}, {6, 5, 4, 3, 2, 1, 0, 1}, {7, 6, 5, 4, 3, 2, 1, 0},
 };
 
-namespace {
-
-// Bits of the change mask.
-constexpr std::uint32_t kChangedPointSource = 1u << 0;
-constexpr std::uint32_t kChangedUserData = 1u << 1;
-constexpr std::uint32_t kChangedScanAngle = 1u << 2;
-constexpr std::uint32_t kChangedClassification = 1u << 3;
-constexpr std::uint32_t kChangedIntensity = 1u << 4;
-constexpr std::uint32_t kChangedReturnFlags = 1u << 5;
-
-}  // namespace
+using namespace point10_v2;  // the change mask bits
 
 Point10DecoderV2::Point10DecoderV2() = default;
 

@@ -8,6 +8,7 @@
 
 #include "laz/arithmetic_decoder.hpp"
 #include "laz/point10/item_common.hpp"
+#include "laz/point10/symbols_v2.hpp"
 
 namespace lidarscout::laz::point10 {
 
@@ -42,7 +43,7 @@ public:
     }
 
 private:
-    static constexpr std::uint32_t kNotGrey = 1u << 6;  // green and blue differ from red
+    static constexpr std::uint32_t kNotGrey = rgb12_v2::kNotGrey;  // green and blue differ from red
 
     // Byte i: the prediction plus a coded correction if its mask bit is set, else the
     // last value.

@@ -13,7 +13,7 @@ namespace {
 // Symbols of the "multiple" model: 0 (a delta coded on its own), 1 .. 500 (that multiple
 // of the reference delta), 501 .. 510 (multiples -1 .. -10), 511 (a new sequence), 512 .. 514
 // (switch to the sequence 1 .. 3 places further).
-constexpr std::uint32_t kLargestMultiple = 500;
+constexpr std::int32_t kLargestMultiple = 500;
 constexpr std::int32_t kSmallestMultiple = -10;
 constexpr std::uint32_t kNewSequence = kLargestMultiple - kSmallestMultiple + 1;  // 511
 constexpr std::uint32_t kMultipleSymbols = kNewSequence + 4;
@@ -87,14 +87,15 @@ private:
         if (symbol == 0) {
             delta = m.delta.decompress(dec, 0, kOwnDelta);
             note_extreme(m, delta);
-        } else if (symbol < kLargestMultiple) {
+        } else if (symbol < std::uint32_t{kLargestMultiple}) {
             const auto multiple = static_cast<std::int32_t>(symbol);
-            delta = m.delta.decompress(dec, mul_wrapping(multiple, reference), symbol < 10 ? kSmallMultiple : kLargeMultiple);
-        } else if (symbol == kLargestMultiple) {
+            const DeltaContext context = symbol < 10 ? kSmallMultiple : kLargeMultiple;
+            delta = m.delta.decompress(dec, mul_wrapping(multiple, reference), context);
+        } else if (symbol == std::uint32_t{kLargestMultiple}) {
             delta = m.delta.decompress(dec, mul_wrapping(kLargestMultiple, reference), kLargestMult);
             note_extreme(m, delta);
         } else {
-            const std::int32_t multiple = static_cast<std::int32_t>(kLargestMultiple) - static_cast<std::int32_t>(symbol);
+            const std::int32_t multiple = kLargestMultiple - static_cast<std::int32_t>(symbol);
             if (multiple > kSmallestMultiple) {
                 delta = m.delta.decompress(dec, mul_wrapping(multiple, reference), kNegativeMultiple);
             } else {

@@ -53,14 +53,19 @@ struct LayeredFile {
 
 void PrintTo(const LayeredFile& f, std::ostream* os) { *os << f.name; }
 
+// `text` with every character that is not a letter or digit replaced by '_' (a test name).
+std::string test_name(std::string text) {
+    std::replace_if(text.begin(), text.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+    return text;
+}
+
 std::vector<LayeredFile> layered_files() {
     std::vector<LayeredFile> out;
     for (const auto& e : test::all_expected()) {
         const auto& j = e.json;
         if (j.value("reference_result", "") != "decodes" || !j.contains("laz") || j["laz"].is_null()) continue;
         if (j["laz"].value("compressor", 0) != 3) continue;
-        std::string name = e.name.substr(0, e.name.size() - 5);
-        std::replace_if(name.begin(), name.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
+        const std::string name = test_name(e.name.substr(0, e.name.size() - 5));
         out.push_back({name, e.file.string(), j.at("points_sha256").get<std::string>(),
                        j["header"].at("point_count").get<std::uint64_t>(), j["header"].at("point_format").get<int>()});
     }
@@ -135,7 +140,9 @@ std::vector<std::uint8_t> in_reference_order(const LoadedFile& f, const std::vec
             const std::uint64_t x = std::uint64_t(n.x) << shift, y = std::uint64_t(n.y) << shift,
                                 z = std::uint64_t(n.z) << shift;
             std::uint64_t code = 0;
-            for (int b = depth - 1; b >= 0; --b) code = (code << 3) | ((x >> b & 1) << 2) | ((y >> b & 1) << 1) | (z >> b & 1);
+            for (int b = depth - 1; b >= 0; --b) {
+                code = (code << 3) | ((x >> b & 1) << 2) | ((y >> b & 1) << 1) | (z >> b & 1);
+            }
             return std::pair(code, n.level);
         }
         throw std::runtime_error("chunk without COPC node");
@@ -160,8 +167,10 @@ std::vector<std::uint8_t> in_reference_order(const LoadedFile& f, const std::vec
 // reader written out as LAS gives these bytes).
 const std::map<std::string, std::string>& file_order_hashes() {
     static const std::map<std::string, std::string> hashes = {
-        {"test__data__copc__1.2-with-color.copc.laz", "361eda6829430490b1bba3a2665408642d16211f6c349b2f11edf451c8164422"},
-        {"tests__data__simple_with_page.copc.laz", "361eda6829430490b1bba3a2665408642d16211f6c349b2f11edf451c8164422"},
+        {"test__data__copc__1.2-with-color.copc.laz",
+         "361eda6829430490b1bba3a2665408642d16211f6c349b2f11edf451c8164422"},
+        {"tests__data__simple_with_page.copc.laz",
+         "361eda6829430490b1bba3a2665408642d16211f6c349b2f11edf451c8164422"},
     };
     return hashes;
 }
@@ -254,18 +263,15 @@ TEST_P(LayeredSelective, XyzOnlyDecodesTwoLayers) {
     EXPECT_LT(xyz.bytes_consumed, all.bytes_consumed);
     EXPECT_LE(all.bytes_consumed, all.layer_bytes);
     for (std::size_t i = 0; i < full.size(); i += f.record()) {
-        ASSERT_TRUE(std::equal(full.begin() + i, full.begin() + i + 12, part.begin() + i)) << "record " << i / f.record();
+        ASSERT_TRUE(std::equal(full.begin() + i, full.begin() + i + 12, part.begin() + i))
+            << "record " << i / f.record();
     }
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, LayeredSelective,
                          ::testing::Values("pdrf10-1.4.laz", "pdrf9-1.5.laz", "pdrf7-v4-1.4.laz", "ellipsoid-1.4.laz",
                                            "77055_627755_LA93_IGN69_extra_dims", "lion_takanawa"),
-                         [](const auto& info) {
-                             std::string n = info.param;
-                             std::replace_if(n.begin(), n.end(), [](char c) { return !std::isalnum(static_cast<unsigned char>(c)); }, '_');
-                             return n;
-                         });
+                         [](const auto& info) { return test_name(info.param); });
 
 // ---- corrupt and unsupported input -----------------------------------------------------
 
@@ -335,7 +341,9 @@ TEST(LayeredCorrupt, FlippedBytesFailCleanly) {
         for (int trial = 0; trial < 150; ++trial) {
             std::vector<std::uint8_t> damaged(bytes.begin(), bytes.end());
             const int flips = 1 + static_cast<int>(rng() % 4);
-            for (int k = 0; k < flips; ++k) damaged[rng() % damaged.size()] ^= static_cast<std::uint8_t>(1 + rng() % 255);
+            for (int k = 0; k < flips; ++k) {
+                damaged[rng() % damaged.size()] ^= static_cast<std::uint8_t>(1 + rng() % 255);
+            }
             (try_decode(f.laz(), damaged, c.point_count) ? completions : failures)++;
         }
     }

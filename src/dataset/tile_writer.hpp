@@ -1,0 +1,37 @@
+// Converting a tile to a new LAS or LAZ file: LAS->LAZ, LAZ->LAS, LAZ->LAZ, optionally to
+// another point format, keeping header fields, VLRs and EVLRs. The output appears under its
+// name only when complete (io::AtomicOutputFile); the input is never written.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lidarscout {
+class ThreadPool;
+}
+
+namespace lidarscout::dataset {
+
+struct ConvertOptions {
+    bool compress = true;                     // write LAZ (else LAS)
+    std::optional<std::uint8_t> point_format;  // convert records to this format (0-10)
+    std::uint32_t chunk_size = 50'000;        // points per LAZ chunk
+    bool variable_chunks = false;             // store per-chunk point counts (as COPC does)
+};
+
+struct ConvertResult {
+    std::uint64_t points = 0;
+    std::uint64_t bytes_written = 0;
+    std::uint64_t chunks = 0;
+    std::vector<std::string> notes;  // what was dropped or changed (e.g. COPC records)
+};
+
+using ConvertProgressFn = std::function<void(std::uint64_t points_done)>;
+
+ConvertResult convert_tile(const std::string& in_path, const std::string& out_path, const ConvertOptions& options,
+                           ThreadPool& pool, const ConvertProgressFn& progress = {});
+
+}  // namespace lidarscout::dataset

@@ -1,0 +1,57 @@
+// AtomicOutputFile: temporary file + rename (POSIX).
+#include "io/output_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "core/error.hpp"
+
+namespace lidarscout::io {
+namespace fs = std::filesystem;
+
+AtomicOutputFile::AtomicOutputFile(std::string target, const std::string& protect) : target_(std::move(target)) {
+    std::error_code ec;
+    if (!protect.empty() && fs::exists(target_, ec) && fs::equivalent(target_, protect, ec)) {
+        throw Error(target_, std::nullopt, "refusing to overwrite the input file");
+    }
+    const auto dir = fs::path(target_).parent_path();
+    const auto name = fs::path(target_).filename().string();
+    temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()))).string();
+    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw Error(target_, std::nullopt, std::string("cannot create a temporary file beside it: ") + std::strerror(errno));
+}
+
+AtomicOutputFile::~AtomicOutputFile() {
+    if (fd_ >= 0) ::close(fd_);
+    if (!committed_) ::unlink(temp_.c_str());
+}
+
+void AtomicOutputFile::write_at(std::uint64_t offset, std::span<const std::uint8_t> bytes) {
+    std::size_t done = 0;
+    while (done < bytes.size()) {
+        ssize_t n = ::pwrite(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(offset + done));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw Error(target_, offset + done, std::string("write failed: ") + std::strerror(errno));
+        done += static_cast<std::size_t>(n);
+    }
+    size_ = std::max<std::uint64_t>(size_, offset + bytes.size());
+}
+
+void AtomicOutputFile::write(std::span<const std::uint8_t> bytes) { write_at(size_, bytes); }
+
+void AtomicOutputFile::commit() {
+    if (::fsync(fd_) != 0) throw Error(target_, std::nullopt, std::string("fsync failed: ") + std::strerror(errno));
+    ::close(fd_);
+    fd_ = -1;
+    if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
+        throw Error(target_, std::nullopt, std::string("cannot rename the temporary file: ") + std::strerror(errno));
+    }
+    committed_ = true;
+}
+
+}  // namespace lidarscout::io

@@ -1,0 +1,37 @@
+// A file that appears under its final name only when complete: data goes to a temporary
+// file beside the target, which commit() renames over the target. Without commit() (an
+// error, an interrupted run) the temporary file is removed and the target never sees a
+// half-written file.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+
+namespace lidarscout::io {
+
+class AtomicOutputFile {
+public:
+    // Refuses (lidarscout::Error) when `target` names the same file as `protect` (an input).
+    AtomicOutputFile(std::string target, const std::string& protect = {});
+    ~AtomicOutputFile();
+    AtomicOutputFile(const AtomicOutputFile&) = delete;
+    AtomicOutputFile& operator=(const AtomicOutputFile&) = delete;
+
+    void write(std::span<const std::uint8_t> bytes);      // appends
+    void write_at(std::uint64_t offset, std::span<const std::uint8_t> bytes);  // patches
+    std::uint64_t size() const noexcept { return size_; }
+    const std::string& target() const noexcept { return target_; }
+
+    // Flushes, syncs and renames the temporary file to the target.
+    void commit();
+
+private:
+    std::string target_;
+    std::string temp_;
+    int fd_ = -1;
+    std::uint64_t size_ = 0;
+    bool committed_ = false;
+};
+
+}  // namespace lidarscout::io

@@ -1,0 +1,93 @@
+// `lidarscout convert IN OUT [--threads N] [--format F] [--chunk-size N] [--variable-chunks]`:
+// LAS->LAZ, LAZ->LAS, LAZ->LAZ (by OUT's extension), optionally to another point format.
+// OUT appears only when complete; IN is never written.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "core/error.hpp"
+#include "core/thread_pool.hpp"
+#include "dataset/file_search.hpp"
+#include "dataset/tile.hpp"
+#include "dataset/tile_writer.hpp"
+#include "io/file.hpp"
+
+namespace lidarscout::cli {
+namespace {
+
+struct ConvertCliOptions {
+    std::string in, out;
+    unsigned threads = 0;
+    int format = -1;
+    std::uint32_t chunk_size = 50'000;
+    bool variable_chunks = false;
+    bool json = false;
+};
+
+bool wants_laz(const std::string& out) {
+    std::string ext = out.size() >= 4 ? out.substr(out.size() - 4) : "";
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".laz") return true;
+    if (ext == ".las") return false;
+    throw Error(out, std::nullopt, "output must end in .las or .laz");
+}
+
+int run_convert(const ConvertCliOptions& o) {
+    dataset::ConvertOptions opt;
+    opt.compress = wants_laz(o.out);
+    if (o.format >= 0) opt.point_format = static_cast<std::uint8_t>(o.format);
+    opt.chunk_size = o.chunk_size;
+    opt.variable_chunks = o.variable_chunks;
+    ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
+
+    std::uint64_t total = 0;
+    {
+        auto f = io::File::open(o.in);
+        total = las::read_header(f).point_count;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    Progress progress("convert", total);
+    std::uint64_t last = 0;
+    auto result = dataset::convert_tile(o.in, o.out, opt, pool, [&](std::uint64_t done) {
+        progress.add(done - last);
+        last = done;
+    });
+    progress.finish();
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const auto& n : result.notes) std::fprintf(stderr, "lidarscout: note: %s\n", n.c_str());
+    if (o.json) {
+        nlohmann::json j = {{"input", o.in}, {"output", o.out}, {"points", result.points}, {"chunks", result.chunks},
+                            {"bytes", result.bytes_written}, {"seconds", secs}, {"notes", result.notes}};
+        std::printf("%s\n", j.dump(2).c_str());
+    } else {
+        std::printf("%s: %llu points, %llu bytes%s in %.2f s (%.2f M points/s)\n", o.out.c_str(),
+                    (unsigned long long)result.points, (unsigned long long)result.bytes_written,
+                    opt.compress ? fmt::format(", {} chunks", result.chunks).c_str() : "", secs,
+                    secs > 0 ? result.points / secs / 1e6 : 0.0);
+    }
+    return 0;
+}
+
+}  // namespace
+
+void register_convert_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<ConvertCliOptions>();
+    auto* cmd = app.add_subcommand("convert", "Convert LAS <-> LAZ (by the output's extension), optionally to another point format");
+    cmd->add_option("input", o->in, "Input LAS/LAZ file")->required()->check(CLI::ExistingFile);
+    cmd->add_option("output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)")->required();
+    cmd->add_option("--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
+    cmd->add_option("--format", o->format, "Point data record format of the output (0-10; default: as the input)")
+        ->check(CLI::Range(0, 10));
+    cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(CLI::PositiveNumber);
+    cmd->add_flag("--variable-chunks", o->variable_chunks, "Write a variable-chunk table (per-chunk point counts)");
+    cmd->add_flag("--json", o->json, "Print the result as JSON");
+    cmd->callback([o, &run] { run = [o] { return run_convert(*o); }; });
+}
+
+}  // namespace lidarscout::cli
