@@ -21,8 +21,10 @@ void ArithmeticEncoder::start(std::vector<std::uint8_t>& out) {
 }
 
 void ArithmeticEncoder::grow() {
+    // Growing with the stream (not with all of *out_, which may hold many earlier chunks)
+    // keeps the zero-filling of new room proportional to this stream's length.
     const std::size_t used = static_cast<std::size_t>(next_ - out_->data());
-    out_->resize(std::max(out_->size() * 2, used + kMinGrowth));
+    out_->resize(used + std::max(used - stream_begin_, kMinGrowth));
     next_ = out_->data() + used;
     end_ = out_->data() + out_->size();
 }

@@ -10,6 +10,7 @@
 // reads ahead, so the output is byte-identical to LASzip's.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

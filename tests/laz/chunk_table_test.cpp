@@ -404,7 +404,7 @@ TEST(ChunkTableWritten, LargeTableIsReadInGrowingWindows) {
     std::uint64_t points = 0;
     for (auto& e : entries) {
         x = x * 1664525u + 1013904223u;
-        e = {1 + (x >> 8) % 255, 1 + (x >> 20) % 9};
+        e = {1 + (x >> 8) % 4095, 1 + (x >> 20) % 9};
         points += e.points;
     }
     ASSERT_GT(encode_table(entries, true).size(), 4096u + 24u * 4096u);

@@ -334,7 +334,7 @@ TEST(LayeredCorrupt, TruncatedLayersFailCleanly) {
 TEST(LayeredCorrupt, FlippedBytesFailCleanly) {
     std::mt19937 rng(20250611);
     int failures = 0, completions = 0;
-    for (const char* name : {"pdrf10-1.4.laz", "pdrf7-v4-1.4.laz", "1.2-with-color.copc.laz"}) {
+    for (const char* name : {"pdrf10-1.4.laz", "pdrf9-1.5.laz", "pdrf7-v4-1.4.laz", "1.2-with-color.copc.laz"}) {
         const LoadedFile f = load(corpus_file(name).path);
         const Chunk& c = f.tile.chunks->chunks.front();
         const auto bytes = f.bytes(c);
