@@ -134,7 +134,8 @@ public:
         follow_ = follow;
         current_ = value_slot_ = channel;
         values_[channel] = first;
-        models_[channel].emplace();
+        for (auto& m : models_) m.reset();
+        models_[channel] = std::make_unique<Models>();
         models_[channel]->begin(values_[channel]);
     }
 
@@ -154,7 +155,7 @@ private:
         current_ = channel;
         if (!models_[channel]) {
             values_[channel] = values_[previous];
-            models_[channel].emplace();
+            models_[channel] = std::make_unique<Models>();
             models_[channel]->begin(values_[channel]);
             value_slot_ = channel;
         } else if (follow_) {
@@ -162,7 +163,9 @@ private:
         }
     }
 
-    std::array<std::optional<Models>, 4> models_;
+    // unique_ptr rather than optional: Models are often nested in the class that holds
+    // this, where clang cannot yet see them as default-constructible.
+    std::array<std::unique_ptr<Models>, 4> models_;
     std::array<Value, 4> values_{};
     std::uint32_t current_ = 0;
     std::uint32_t value_slot_ = 0;
