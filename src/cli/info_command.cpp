@@ -69,17 +69,22 @@ FileReport inspect(const std::string& path, const InfoOptions& opt) {
 }
 
 std::string thousands(std::uint64_t v) {
-    std::string s = std::to_string(v);
-    for (int i = static_cast<int>(s.size()) - 3; i > 0; i -= 3) s.insert(static_cast<std::size_t>(i), ",");
-    return s;
+    const std::string digits = std::to_string(v);
+    std::string out;
+    out.reserve(digits.size() + digits.size() / 3);
+    for (std::size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
 }
 
 std::string crs_text(const las::Crs& c) {
-    std::string s = c.epsg ? fmt::format("EPSG:{}", *c.epsg) : std::string("no EPSG code");
-    if (!c.name.empty()) s += " (" + c.name + ")";
-    s += fmt::format(", horizontal unit {}, vertical unit {}", las::unit_name(c.horizontal_unit), las::unit_name(c.vertical_unit));
-    if (c.source == "none") s = "none";
-    return s;
+    if (c.source == "none") return "none";
+    const std::string code = c.epsg ? fmt::format("EPSG:{}", *c.epsg) : "no EPSG code";
+    const std::string name = c.name.empty() ? "" : fmt::format(" ({})", c.name);
+    return fmt::format("{}{}, horizontal unit {}, vertical unit {}", code, name, las::unit_name(c.horizontal_unit),
+                       las::unit_name(c.vertical_unit));
 }
 
 void print_laz_text(const dataset::Tile& t) {

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     std::function<int()> run;
     lidarscout::cli::register_info_command(app, run);
+    lidarscout::cli::register_convert_command(app, run);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -28,7 +28,7 @@ struct Tile {
     std::vector<las::Vlr> evlrs;
     las::Crs crs;
     std::optional<las::LaszipVlr> laz;      // set for compressed files
-    std::optional<laz::ChunkTable> chunks;  // set for LAZ files (one chunk for compressor 1)
+    std::optional<laz::ChunkTable> chunks;  // set for LAZ files (empty for compressor 1: see laz::decode_units)
     std::optional<las::CopcInfo> copc;
     std::vector<std::string> warnings;  // oddities that did not stop reading (shown by `info`)
 

@@ -35,7 +35,9 @@ struct LaszipVlr {
     std::int64_t offset_to_special_evlrs = -1;
     std::vector<LazItem> items;
 
-    bool variable_chunks() const { return chunk_size == kVariableChunkSize; }
+    // Whether the chunk table stores a point count per chunk. LASzip treats a chunk size of 0
+    // like the "variable" marker: its writers then store counts and its reader expects them.
+    bool variable_chunks() const { return chunk_size == kVariableChunkSize || chunk_size == 0; }
     bool chunked() const { return compressor == 2 || compressor == 3; }
     std::uint32_t record_length() const;  // sum of item sizes
 };

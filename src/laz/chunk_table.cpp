@@ -190,13 +190,15 @@ private:
     }
 
     void check_entry(const Entry& e, std::uint32_t index, std::uint64_t offset) const {
-        const std::string chunk = "chunk " + std::to_string(index) + " at byte " + std::to_string(offset);
-        if (e.bytes == 0) fail(loc_.table_offset, chunk + " has a size of 0 bytes");
+        auto fail_chunk = [&](const std::string& what) {
+            fail(loc_.table_offset, "chunk " + std::to_string(index) + " at byte " + std::to_string(offset) + what);
+        };
+        if (e.bytes == 0) fail_chunk(" has a size of 0 bytes");
         if (offset + e.bytes > loc_.table_offset) {
-            fail(loc_.table_offset, chunk + " with " + std::to_string(e.bytes) + " bytes runs past the table at " +
-                                        std::to_string(loc_.table_offset));
+            fail_chunk(" with " + std::to_string(e.bytes) + " bytes runs past the table at " +
+                       std::to_string(loc_.table_offset));
         }
-        if (variable_ && e.points == 0) fail(loc_.table_offset, chunk + " holds no points");
+        if (variable_ && e.points == 0) fail_chunk(" holds no points");
     }
 
     // Point counts per chunk: from the entries (variable) or the chunk size (fixed), cut at
@@ -237,9 +239,7 @@ private:
 
 }  // namespace
 
-bool has_variable_chunks(const las::LaszipVlr& laz) {
-    return laz.chunk_size == las::LaszipVlr::kVariableChunkSize || laz.chunk_size == 0;
-}
+bool has_variable_chunks(const las::LaszipVlr& laz) { return laz.variable_chunks(); }
 
 ChunkTable read_chunk_table(const io::File& file, const las::Header& header, const las::LaszipVlr& laz) {
     if (!laz.chunked()) return {};

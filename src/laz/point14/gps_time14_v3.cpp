@@ -6,29 +6,13 @@
 #include "core/error.hpp"
 #include "laz/integer_decompressor.hpp"
 #include "laz/point14/point14_v3.hpp"
+#include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
 
-// Symbols of the "multiple" model: 0 (a delta coded on its own), 1 .. 500 (that multiple
-// of the reference delta), 501 .. 510 (multiples -1 .. -10), 511 (a new sequence), 512 .. 514
-// (switch to the sequence 1 .. 3 places further).
-constexpr std::int32_t kLargestMultiple = 500;
-constexpr std::int32_t kSmallestMultiple = -10;
-constexpr std::uint32_t kNewSequence = kLargestMultiple - kSmallestMultiple + 1;  // 511
-constexpr std::uint32_t kMultipleSymbols = kNewSequence + 4;
-// After a zero delta a smaller model: 0 (a coded delta), 1 (new sequence), 2 .. 4 (switch).
-constexpr std::uint32_t kAfterZeroSymbols = 5;
-// Extreme multiples in a row after which the coded delta becomes the reference.
-constexpr std::int32_t kExtremeRunLimit = 3;
 // A valid stream switches sequence at most once per point; a corrupt one could keep going.
 constexpr int kMaxSwitchesPerPoint = 16;
-
-// Integer-coder contexts of the delta coder.
-enum DeltaContext : std::uint32_t {
-    kAfterZero = 0, kSameDelta = 1, kSmallMultiple = 2, kLargeMultiple = 3, kLargestMult = 4,
-    kNegativeMultiple = 5, kSmallestMult = 6, kOwnDelta = 7, kUpperHalf = 8,
-};
 
 struct GpsTimeCodec {
     using Value = std::uint64_t;  // bit pattern of the double

@@ -5,39 +5,12 @@
 
 #include "laz/chunk_decoder.hpp"
 #include "laz/point14/gps_time14_v3.hpp"
+#include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
 
 namespace f = point14_field;
-
-// Bits of the returns/XY layer's change symbol.
-constexpr std::uint32_t kReturnStepMask = 3u;  // 0 same, 1 +1, 2 -1, 3 coded
-constexpr std::uint32_t kReturnsChanged = 1u << 2;
-constexpr std::uint32_t kChangedShift = 3;      // bits 3-5: scan angle, GPS time, point source (PointTrace order)
-constexpr std::uint32_t kChannelChanged = 1u << 6;
-
-// Context of the X/Y medians for [number of returns][return number]: six classes that
-// separate single, first, last and intermediate returns (out-of-spec pairs included).
-constexpr std::uint8_t kReturnClass[16][16] = {
-    {0, 1, 2, 3, 4, 5, 3, 4, 4, 5, 5, 5, 5, 5, 5, 5}, {1, 0, 1, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3},
-    {2, 1, 2, 4, 4, 4, 4, 4, 4, 4, 4, 3, 3, 3, 3, 3}, {3, 3, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {4, 3, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4}, {5, 3, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4},
-    {3, 3, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4, 4}, {4, 3, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4, 4},
-    {4, 3, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4, 4}, {5, 3, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4, 4},
-    {5, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 4, 4, 4, 4, 4}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 4, 4, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4, 4}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5, 4},
-    {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5, 5}, {5, 3, 3, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 4, 5, 5},
-};
-
-// Return level (Z context): how many returns separate r from n, capped at 7.
-inline std::uint32_t return_level(std::uint32_t returns, std::uint32_t r) {
-    const std::uint32_t gap = returns > r ? returns - r : r - returns;
-    return gap < 7 ? gap : 7;
-}
-
-// Integer-coder context from a corrector size class: even classes below `cap`, else cap.
-inline std::uint32_t size_context(std::uint32_t k, std::uint32_t cap) { return k < cap ? (k & ~1u) : cap; }
 
 // ---- codecs of the layers after returns/XY/Z ---------------------------------------------
 

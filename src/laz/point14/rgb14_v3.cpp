@@ -4,15 +4,10 @@
 #include <array>
 
 #include "laz/chunk_decoder.hpp"
+#include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
-
-constexpr std::uint32_t kNotGrey = 1u << 6;  // green and blue are coded, not copies of red
-
-// Symbol bits of the six bytes: red low/high, green low/high, blue low/high.
-constexpr std::uint32_t kRedLow = 1u << 0, kRedHigh = 1u << 1, kGreenLow = 1u << 2, kGreenHigh = 1u << 3,
-                        kBlueLow = 1u << 4, kBlueHigh = 1u << 5;
 
 inline std::int32_t low(std::uint16_t v) { return v & 0xFF; }
 inline std::int32_t high(std::uint16_t v) { return v >> 8; }

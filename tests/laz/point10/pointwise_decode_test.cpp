@@ -145,7 +145,9 @@ TEST_P(PointwiseDamage, TruncatedChunkFailsOrDiffers) {
     LoadedFile cut = good;
     for (Stream& s : cut.streams) s.bytes.resize(s.bytes.size() / 2);
     std::string got;
-    if (!decode_throws(cut, &got)) EXPECT_NE(got, want);
+    if (!decode_throws(cut, &got)) {
+        EXPECT_NE(got, want);
+    }
 }
 
 TEST_P(PointwiseDamage, CorruptedChunkFailsOrDiffers) {
@@ -163,7 +165,9 @@ TEST_P(PointwiseDamage, CorruptedChunkFailsOrDiffers) {
             for (int i = 0; i < flips; ++i) s.bytes[pos(rng)] ^= static_cast<std::uint8_t>(1 + rng() % 255);
         }
         std::string got;
-        if (!decode_throws(bad, &got)) EXPECT_NE(got, want) << "trial " << trial;
+        if (!decode_throws(bad, &got)) {
+            EXPECT_NE(got, want) << "trial " << trial;
+        }
     }
 }
 
