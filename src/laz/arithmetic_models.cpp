@@ -51,7 +51,7 @@ SymbolModel::SymbolModel(std::uint32_t symbols) : symbols_(symbols) {
     std::size_t lookup_entries = 0;
     if (symbols > kLargestPlainAlphabet) {
         std::uint32_t bits = kSmallestLookupBits;
-        while (symbols > (1u << (bits + 2))) ++bits;
+        while (symbols > (1u << bits)) ++bits;  // about one entry per symbol: the search after the lookup rarely runs
         lookup_size_ = 1u << bits;
         lookup_shift_ = kSymbolProbabilityBits - bits;
         lookup_entries = lookup_size_ + 2;
