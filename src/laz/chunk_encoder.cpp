@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "laz/layered_chunk_encoder.hpp"
 #include "laz/pointwise_chunk_encoder.hpp"
 
 namespace lidarscout::laz {
@@ -12,7 +13,7 @@ void encode_chunk(const las::LaszipVlr& laz, std::span<const std::uint8_t> recor
                   std::vector<std::uint8_t>& out) {
     switch (laz.compressor) {
         case 2: encode_pointwise_chunk(laz, records, point_count, out); return;
-        case 3: throw Error("LAZ encoder: the layered compressor 3 (point formats 6-10) is not yet supported");
+        case 3: encode_layered_chunk(laz, records, point_count, out); return;
         default:
             throw Error("LAZ encoder: compressor " + std::to_string(laz.compressor) +
                         " cannot be written (2 point-wise chunked, 3 layered chunked)");

@@ -78,17 +78,18 @@ TEST(ArithSymbolModel, LargeAlphabetsGetALookupTable) {
     EXPECT_FALSE(SymbolModel(16).has_lookup());
     SymbolModel m17(17);
     ASSERT_TRUE(m17.has_lookup());
-    EXPECT_EQ(m17.lookup_size(), 8u);  // the smallest table: 3 bits (2^(3+2) >= 17)
-    EXPECT_EQ(m17.lookup_shift(), 12u);
+    EXPECT_EQ(m17.lookup_size(), 32u);  // about one entry per symbol: 2^5 >= 17
+    EXPECT_EQ(m17.lookup_shift(), 10u);
     SymbolModel m256(256);
-    EXPECT_EQ(m256.lookup_size(), 64u);  // 2^(6+2) = 256
-    // Uniform 256 symbols: slot j holds symbols 4j .. 4j+3; entry j (j >= 1) is the last
-    // symbol below slot j, and the two entries past the slots are the last symbol.
+    EXPECT_EQ(m256.lookup_size(), 256u);  // 2^8 = 256
+    // Uniform 256 symbols: slot j holds symbol j; entry j (j >= 1) is the last symbol below
+    // slot j, and the two entries past the slots are the last symbol.
     EXPECT_EQ(m256.lookup()[0], 0u);
-    EXPECT_EQ(m256.lookup()[1], 3u);
-    EXPECT_EQ(m256.lookup()[63], 251u);
-    EXPECT_EQ(m256.lookup()[64], 255u);
-    EXPECT_EQ(m256.lookup()[65], 255u);
+    EXPECT_EQ(m256.lookup()[1], 0u);
+    EXPECT_EQ(m256.lookup()[64], 63u);
+    EXPECT_EQ(m256.lookup()[255], 254u);
+    EXPECT_EQ(m256.lookup()[256], 255u);
+    EXPECT_EQ(m256.lookup()[257], 255u);
 }
 
 TEST(ArithSymbolModel, RejectsImpossibleAlphabets) {

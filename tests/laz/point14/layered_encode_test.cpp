@@ -225,8 +225,9 @@ std::vector<std::uint8_t> hand_made_records(std::size_t n, std::uint32_t seed) {
         if (sometimes(25)) channel = rng() % 4;
         Channel& c = channels[channel];
         c.x += static_cast<std::int32_t>(rng() % 2001) - 1000;
-        c.y += sometimes(50) ? static_cast<std::int32_t>(rng()) : static_cast<std::int32_t>(rng() % 301) - 150;
-        c.z = sometimes(40) ? static_cast<std::int32_t>(rng()) : c.z + static_cast<std::int32_t>(rng() % 41) - 20;
+        const std::uint32_t dy = sometimes(50) ? rng() : static_cast<std::uint32_t>(rng() % 301) - 150u;
+        c.y = static_cast<std::int32_t>(static_cast<std::uint32_t>(c.y) + dy);  // wraps, like the coder
+        c.z = static_cast<std::int32_t>(sometimes(40) ? rng() : static_cast<std::uint32_t>(c.z) + rng() % 41 - 20u);
         const unsigned rk = rng() % 10;
         bool new_pulse = false;
         if (rk < 4) {
