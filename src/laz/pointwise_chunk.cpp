@@ -167,15 +167,6 @@ void decode_points(const ChunkView& chunk, DecodeRecord&& decode_record) {
     }
 }
 
-template <class Item>
-Item make_item(const LazItem& item) {
-    if constexpr (std::is_constructible_v<Item, std::size_t>) {
-        return Item(item.size);
-    } else {
-        return Item();
-    }
-}
-
 // One record of a fixed list of item decoders. Flattened: the arithmetic and integer
 // decoding calls are inlined into the item code, which is where the time goes.
 template <class... Items, std::size_t... I>

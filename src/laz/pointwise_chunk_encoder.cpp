@@ -63,15 +63,6 @@ ItemList check_items(const las::LaszipVlr& laz) {
     return list;
 }
 
-template <class Item>
-Item make_item(const LazItem& item) {
-    if constexpr (std::is_constructible_v<Item, std::size_t>) {
-        return Item(item.size);
-    } else {
-        return Item();
-    }
-}
-
 // One record through a fixed list of item encoders. Flattened: the arithmetic and integer
 // coding calls are inlined into the item code, which is where the time goes.
 template <class... Items, std::size_t... I>

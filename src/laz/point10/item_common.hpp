@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <type_traits>
 
 #include "laz/arithmetic_decoder.hpp"
 #include "laz/arithmetic_models.hpp"
@@ -74,5 +75,16 @@ private:
 
     std::array<std::unique_ptr<SymbolModel>, 256> models_;
 };
+
+// An item coder (decoder or encoder) for one LAZ item: coders of variable-size items (BYTE)
+// take the item size, the others are default-constructed.
+template <class Item, class LazItemT>
+Item make_item(const LazItemT& item) {
+    if constexpr (std::is_constructible_v<Item, std::size_t>) {
+        return Item(item.size);
+    } else {
+        return Item();
+    }
+}
 
 }  // namespace lidarscout::laz::point10
