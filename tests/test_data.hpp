@@ -32,17 +32,21 @@ struct Expected {
     nlohmann::json json;
 };
 
-// All reference results (encode_pairs.json excluded), sorted by name.
+// All reference results (encode_pairs.json excluded), sorted by name. Parsed once per
+// process: every parameterised suite asks for them at start-up.
 inline std::vector<Expected> all_expected() {
-    std::vector<Expected> out;
-    for (const auto& e : std::filesystem::directory_iterator(formats_dir() / "expected")) {
-        auto name = e.path().filename().string();
-        if (e.path().extension() != ".json" || name == "encode_pairs.json") continue;
-        auto j = read_json(e.path());
-        out.push_back({formats_dir() / j.at("file").get<std::string>(), name, std::move(j)});
-    }
-    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
-    return out;
+    static const std::vector<Expected> cache = [] {
+        std::vector<Expected> out;
+        for (const auto& e : std::filesystem::directory_iterator(formats_dir() / "expected")) {
+            auto name = e.path().filename().string();
+            if (e.path().extension() != ".json" || name == "encode_pairs.json") continue;
+            auto j = read_json(e.path());
+            out.push_back({formats_dir() / j.at("file").get<std::string>(), name, std::move(j)});
+        }
+        std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+        return out;
+    }();
+    return cache;
 }
 
 // The expected outcome of every formats/ file as INDEX.md states it: file (relative to
