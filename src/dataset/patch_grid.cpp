@@ -1,0 +1,173 @@
+// The patch grid: binning chunk points into 640 m cells (see patch_grid.hpp), with sharded
+// locks so that many I/O threads can add at once.
+#include "dataset/patch_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace lidarscout::dataset {
+
+namespace {
+
+std::uint64_t mix64(std::uint64_t v) {  // splitmix64 finaliser
+    v ^= v >> 30;
+    v *= 0xbf58476d1ce4e5b9ULL;
+    v ^= v >> 27;
+    v *= 0x94d049bb133111ebULL;
+    return v ^ (v >> 31);
+}
+
+std::int32_t checked_index(double scaled) {
+    const double index = std::floor(scaled);
+    if (!(index >= std::numeric_limits<std::int32_t>::min() &&
+          index <= std::numeric_limits<std::int32_t>::max())) {
+        throw std::out_of_range("PatchGrid: coordinate too far from the grid origin (or NaN)");
+    }
+    return static_cast<std::int32_t>(index);
+}
+
+}  // namespace
+
+Rgb8 rgb8_from_las(std::uint16_t r, std::uint16_t g, std::uint16_t b) {
+    const bool sixteen_bit = r > 255 || g > 255 || b > 255;
+    const auto to8 = [sixteen_bit](std::uint16_t c) {
+        return static_cast<std::uint8_t>(sixteen_bit ? c >> 8 : c);
+    };
+    return {to8(r), to8(g), to8(b)};
+}
+
+std::size_t CellKeyHash::operator()(const CellKey& key) const noexcept {
+    const auto packed = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.ix)) << 32) |
+                        static_cast<std::uint32_t>(key.iy);
+    return static_cast<std::size_t>(mix64(packed));
+}
+
+struct PatchGrid::Shard {
+    mutable std::mutex mutex;
+    std::unordered_map<CellKey, std::vector<GridPoint>, CellKeyHash> cells;
+};
+
+PatchGrid::PatchGrid(double origin_x_m, double origin_y_m, double patch_size_m)
+    : origin_x_(origin_x_m),
+      origin_y_(origin_y_m),
+      patch_size_(patch_size_m),
+      shards_(std::make_unique<Shard[]>(kShardCount)) {
+    if (!(patch_size_m > 0.0) || !std::isfinite(patch_size_m)) {
+        throw std::invalid_argument("PatchGrid: patch size must be positive and finite");
+    }
+}
+
+PatchGrid::~PatchGrid() = default;
+
+PatchGrid::Shard& PatchGrid::shard_for(CellKey cell) const {
+    // High bits pick the shard; the map's buckets use the low bits (modulo its bucket count).
+    return shards_[(CellKeyHash{}(cell) >> 58) % kShardCount];
+}
+
+CellKey PatchGrid::cell_of(double x_m, double y_m) const {
+    return {checked_index((x_m - origin_x_) / patch_size_),
+            checked_index((y_m - origin_y_) / patch_size_)};
+}
+
+GridPoint PatchGrid::make_point(CellKey cell, double x_m, double y_m, double z_m) const {
+    GridPoint p;
+    p.dx = static_cast<float>((x_m - origin_x_) - cell.ix * patch_size_);
+    p.dy = static_cast<float>((y_m - origin_y_) - cell.iy * patch_size_);
+    p.z = static_cast<float>(z_m);
+    return p;
+}
+
+void PatchGrid::add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
+                    std::uint8_t classification, std::uint32_t tile) {
+    const CellKey cell = cell_of(x_m, y_m);
+    GridPoint p = make_point(cell, x_m, y_m, z_m);
+    p.rgb = rgb;
+    p.intensity = intensity;
+    p.classification = classification;
+    p.tile = tile;
+    Shard& shard = shard_for(cell);
+    {
+        std::lock_guard lock(shard.mutex);
+        shard.cells[cell].push_back(p);
+    }
+    size_.fetch_add(1, std::memory_order_relaxed);
+}
+
+std::vector<GridPoint> PatchGrid::points_in(CellKey cell) const {
+    const Shard& shard = shard_for(cell);
+    std::lock_guard lock(shard.mutex);
+    const auto it = shard.cells.find(cell);
+    return it == shard.cells.end() ? std::vector<GridPoint>{} : it->second;
+}
+
+OverviewPoint PatchGrid::to_absolute(CellKey cell, const GridPoint& p) const {
+    return {cell_min_x(cell) + p.dx, cell_min_y(cell) + p.dy, p.z, p.rgb,
+            p.intensity,         p.classification,           p.tile};
+}
+
+void PatchGrid::append_window_part(CellKey centre, CellKey neighbour, double padding_m,
+                                   std::vector<OverviewPoint>& out) const {
+    // Positions relative to the centre cell's min corner: small numbers, no cancellation.
+    const double base_x = (static_cast<std::int64_t>(neighbour.ix) - centre.ix) * patch_size_;
+    const double base_y = (static_cast<std::int64_t>(neighbour.iy) - centre.iy) * patch_size_;
+    const double lo = -padding_m, hi = patch_size_ + padding_m;
+    for (const GridPoint& p : points_in(neighbour)) {
+        const double lx = base_x + p.dx, ly = base_y + p.dy;
+        if (lx >= lo && lx < hi && ly >= lo && ly < hi) out.push_back(to_absolute(neighbour, p));
+    }
+}
+
+std::vector<OverviewPoint> PatchGrid::window(CellKey cell, double padding_m) const {
+    if (!(padding_m >= 0.0) || !std::isfinite(padding_m)) {
+        throw std::invalid_argument("PatchGrid::window: padding must be >= 0 and finite");
+    }
+    const auto ring = static_cast<std::int64_t>(std::ceil(padding_m / patch_size_));
+    std::vector<OverviewPoint> out;
+    for (std::int64_t dy = -ring; dy <= ring; ++dy) {
+        for (std::int64_t dx = -ring; dx <= ring; ++dx) {
+            const std::int64_t ix = cell.ix + dx, iy = cell.iy + dy;
+            if (ix < std::numeric_limits<std::int32_t>::min() ||
+                ix > std::numeric_limits<std::int32_t>::max() ||
+                iy < std::numeric_limits<std::int32_t>::min() ||
+                iy > std::numeric_limits<std::int32_t>::max()) {
+                continue;
+            }
+            append_window_part(cell, {static_cast<std::int32_t>(ix), static_cast<std::int32_t>(iy)},
+                               padding_m, out);
+        }
+    }
+    return out;
+}
+
+std::vector<CellKey> PatchGrid::cells() const {
+    std::vector<CellKey> keys;
+    for (std::size_t i = 0; i < kShardCount; ++i) {
+        std::lock_guard lock(shards_[i].mutex);
+        for (const auto& [key, points] : shards_[i].cells) keys.push_back(key);
+    }
+    std::sort(keys.begin(), keys.end());
+    return keys;
+}
+
+std::size_t PatchGrid::memory_bytes() const {
+    std::size_t bytes = kShardCount * sizeof(Shard);
+    for (std::size_t i = 0; i < kShardCount; ++i) {
+        std::lock_guard lock(shards_[i].mutex);
+        const auto& cells = shards_[i].cells;
+        bytes += cells.bucket_count() * sizeof(void*);
+        bytes += cells.size() * (kCellOverheadBytes - sizeof(void*));  // bucket counted above
+        for (const auto& [key, points] : cells) bytes += points.capacity() * sizeof(GridPoint);
+    }
+    return bytes;
+}
+
+void PatchGrid::shrink_to_fit() {
+    for (std::size_t i = 0; i < kShardCount; ++i) {
+        std::lock_guard lock(shards_[i].mutex);
+        for (auto& [key, points] : shards_[i].cells) points.shrink_to_fit();
+    }
+}
+
+}  // namespace lidarscout::dataset
