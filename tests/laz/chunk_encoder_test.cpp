@@ -35,12 +35,14 @@
 #include "laz/chunk_table_writer.hpp"
 #include "laz/laszip_vlr_writer.hpp"
 #include "laz/point10/gpstime11_v2_encoder.hpp"
+#include "laz/chunk_codec_helpers.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace codec_test;
 
 constexpr std::uint32_t kDefaultChunkSize = 50000;
 
@@ -50,45 +52,6 @@ constexpr std::uint32_t kDefaultChunkSize = 50000;
 std::vector<std::uint8_t> las_records(const io::File& file, const dataset::Tile& tile) {
     const std::size_t bytes = tile.header.point_count * tile.header.record_length;
     return file.read_vector(tile.header.offset_to_point_data, bytes, "point records");
-}
-
-// Encodes `records` in chunks of `chunk_size` points, one after the other (byte offsets are
-// relative to the first chunk).
-struct Encoded {
-    std::vector<std::uint8_t> bytes;
-    std::vector<Chunk> chunks;
-};
-
-Encoded encode_in_chunks(const las::LaszipVlr& laz, std::span<const std::uint8_t> records, std::uint64_t chunk_size) {
-    const std::size_t rl = laz.record_length();
-    const std::uint64_t total = records.size() / rl;
-    Encoded e;
-    for (std::uint64_t first = 0; first < total; first += chunk_size) {
-        const std::uint64_t n = std::min(chunk_size, total - first);
-        const std::size_t at = e.bytes.size();
-        encode_chunk(laz, records.subspan(first * rl, n * rl), n, e.bytes);
-        e.chunks.push_back({first, n, at, e.bytes.size() - at});
-    }
-    return e;
-}
-
-std::vector<std::uint8_t> decode_chunks(const las::LaszipVlr& laz, const Encoded& e) {
-    const std::size_t rl = laz.record_length();
-    std::uint64_t total = 0;
-    for (const Chunk& c : e.chunks) total += c.point_count;
-    std::vector<std::uint8_t> out(total * rl);
-    for (const Chunk& c : e.chunks) {
-        decode_chunk(laz, {std::span(e.bytes).subspan(c.byte_offset, c.byte_size), c.point_count,
-                           std::span(out).subspan(c.first_point * rl, c.point_count * rl)});
-    }
-    return out;
-}
-
-// Index of the first differing record, or -1.
-long first_difference(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b, std::size_t rl) {
-    if (a.size() != b.size()) return -2;
-    const auto m = std::mismatch(a.begin(), a.end(), b.begin());
-    return m.first == a.end() ? -1 : static_cast<long>((m.first - a.begin()) / static_cast<long>(rl));
 }
 
 const las::Vlr& laszip_vlr_of(const dataset::Tile& tile) {

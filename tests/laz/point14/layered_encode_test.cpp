@@ -28,54 +28,19 @@
 #include "laz/layered_chunk.hpp"
 #include "laz/layered_chunk_encoder.hpp"
 #include "laz/laszip_vlr_writer.hpp"
+#include "laz/chunk_codec_helpers.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Encoded {
-    std::vector<std::uint8_t> bytes;
-    std::vector<Chunk> chunks;
-};
-
-Encoded encode_layered(const las::LaszipVlr& laz, std::span<const std::uint8_t> records, std::uint64_t chunk_size) {
-    const std::size_t rl = laz.record_length();
-    const std::uint64_t total = records.size() / rl;
-    Encoded e;
-    for (std::uint64_t first = 0; first < total; first += chunk_size) {
-        const std::uint64_t n = std::min(chunk_size, total - first);
-        const std::size_t at = e.bytes.size();
-        encode_layered_chunk(laz, records.subspan(first * rl, n * rl), n, e.bytes);
-        e.chunks.push_back({first, n, at, e.bytes.size() - at});
-    }
-    return e;
-}
-
-std::vector<std::uint8_t> decode_layered(const las::LaszipVlr& laz, const Encoded& e) {
-    const std::size_t rl = laz.record_length();
-    std::uint64_t total = 0;
-    for (const Chunk& c : e.chunks) total += c.point_count;
-    std::vector<std::uint8_t> out(total * rl);
-    for (const Chunk& c : e.chunks) {
-        decode_layered_chunk(laz, {std::span(e.bytes).subspan(c.byte_offset, c.byte_size), c.point_count,
-                                   std::span(out).subspan(c.first_point * rl, c.point_count * rl)});
-    }
-    return out;
-}
-
-// Index of the first differing record, -1 if none, -2 for different sizes.
-long first_difference(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b, std::size_t rl) {
-    if (a.size() != b.size()) return -2;
-    const auto m = std::mismatch(a.begin(), a.end(), b.begin());
-    return m.first == a.end() ? -1 : static_cast<long>((m.first - a.begin()) / static_cast<long>(rl));
-}
+using namespace codec_test;
 
 void expect_round_trip(const las::LaszipVlr& laz, std::span<const std::uint8_t> records, std::uint64_t chunk_size,
                        const std::string& what) {
-    const Encoded e = encode_layered(laz, records, chunk_size);
-    EXPECT_EQ(first_difference(decode_layered(laz, e), records, laz.record_length()), -1)
+    const Encoded e = encode_in_chunks(laz, records, chunk_size);
+    EXPECT_EQ(first_difference(decode_chunks(laz, e), records, laz.record_length()), -1)
         << what << ", chunks of " << chunk_size;
 }
 
@@ -120,7 +85,7 @@ TEST(LayeredEncode, PairsAreByteIdenticalChunkByChunk) {
         ASSERT_EQ(laz.items.size(), laz_tile.laz->items.size());
         const auto records = las_records(las_file, las_tile);
         const auto& stored_chunks = laz_tile.chunks.value().chunks;
-        const Encoded ours = encode_layered(laz, records, pair.chunk_size);
+        const Encoded ours = encode_in_chunks(laz, records, pair.chunk_size);
         ASSERT_EQ(ours.chunks.size(), stored_chunks.size());
         chunks += ours.chunks.size();
         for (std::size_t i = 0; i < ours.chunks.size(); ++i) {
@@ -189,12 +154,12 @@ TEST(LayeredEncode, SurveyTileAsFormat7RoundTrips) {
         return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
     };
     const double t0 = cpu_seconds();
-    const Encoded e = encode_layered(laz, converted, 50000);
+    const Encoded e = encode_in_chunks(laz, converted, 50000);
     const double seconds = cpu_seconds() - t0;
     std::cout << "[ layered encode ] " << points << " format-7 points in " << seconds << " s of CPU: "
               << static_cast<double>(points) / seconds / 1e6 << " M points/s, " << e.bytes.size() << " bytes ("
               << static_cast<double>(e.bytes.size()) / static_cast<double>(converted.size()) * 100 << "% of LAS)\n";
-    EXPECT_EQ(first_difference(decode_layered(laz, e), converted, f7.size), -1);
+    EXPECT_EQ(first_difference(decode_chunks(laz, e), converted, f7.size), -1);
     EXPECT_LT(e.bytes.size(), converted.size() / 3);
 }
 
@@ -320,7 +285,7 @@ TEST(LayeredEncode, ConstantFieldsGiveEmptyLayers) {
         r[39] = 42;  // second extra byte
     }
     const auto laz = make_laszip_vlr(8, kHandRl, 50000);
-    const Encoded e = encode_layered(laz, records, 500);
+    const Encoded e = encode_in_chunks(laz, records, 500);
     ASSERT_EQ(e.chunks.size(), 1u);
     // Layers: 9 of POINT14, RGB, NIR, 3 bytes.
     std::array<std::uint32_t, 14> sizes{};
@@ -343,7 +308,7 @@ TEST(LayeredEncode, ConstantFieldsGiveEmptyLayers) {
     std::uint64_t total = kHandRl + 4 + sizeof sizes;
     for (auto s : sizes) total += s;
     EXPECT_EQ(total, e.bytes.size());
-    EXPECT_EQ(first_difference(decode_layered(laz, e), records, kHandRl), -1);
+    EXPECT_EQ(first_difference(decode_chunks(laz, e), records, kHandRl), -1);
 }
 
 TEST(LayeredEncode, RejectsWhatItCannotWrite) {
