@@ -1,10 +1,12 @@
-// `lidarscout eval PATH... --methods nearest,linear,cubic,splat [--texel 10] [--patches N]
-// [--seed S] [--stride K|auto] [--json]`: scores heightmap reconstruction methods against
-// ground truth from the full-resolution points, per dataset (each PATH) and overall.
+// `lidarscout eval PATH... --methods nearest,linear,cubic,splat,cnn [--model FILE] [--texel 10]
+// [--patches N] [--seed S] [--stride K|auto] [--split validation] [--offsets N] [--json]`:
+// scores heightmap reconstruction methods against ground truth from the full-resolution
+// points, per dataset (each PATH) and overall.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <thread>
@@ -15,6 +17,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "nn/heightmap_network.hpp"
 #include "recon/evaluation.hpp"
 
 namespace lidarscout::cli {
@@ -29,7 +32,23 @@ struct EvalCliOptions {
     std::string stride = "auto";
     unsigned threads = 0;
     bool json = false;
+    std::string model;  // empty: the default model (only loaded for cnn)
+    std::string split = "all";
+    recon::RegionSplitOptions split_options;
+    int offsets = 1;
+    std::size_t batch = 16;
 };
+
+std::optional<recon::Split> parse_split(const std::string& text) {
+    if (text == "all") return std::nullopt;
+    if (text == "train") return recon::Split::Train;
+    if (text == "validation") return recon::Split::Validation;
+    throw Error("--split must be all, train or validation (not '" + text + "')");
+}
+
+bool has_cnn(const std::vector<recon::Method>& methods) {
+    return std::find(methods.begin(), methods.end(), recon::Method::Cnn) != methods.end();
+}
 
 std::vector<recon::Method> parse_methods(const std::string& list) {
     std::vector<recon::Method> out;
@@ -85,7 +104,18 @@ int run_eval(const EvalCliOptions& o) {
     opt.patches = o.patches;
     opt.seed = o.seed;
     opt.stride = parse_stride(o.stride);
-    ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
+    opt.split = parse_split(o.split);
+    opt.split_options = o.split_options;
+    opt.offsets = o.offsets;
+    opt.batch = o.batch;
+    const unsigned threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    std::string model_path;
+    if (has_cnn(opt.methods)) {
+        model_path = o.model.empty() ? nn::default_model_path() : o.model;
+        auto net = std::make_shared<const nn::HeightmapNetwork>(nn::HeightmapNetwork::load(model_path, static_cast<int>(threads)));
+        opt.network = nn::as_batch_reconstructor(std::move(net), opt.spec.patch_texels);
+    }
+    ThreadPool pool(threads);
 
     nlohmann::json datasets = nlohmann::json::object();
     std::map<recon::Method, recon::MethodScores> all;
@@ -102,16 +132,19 @@ int run_eval(const EvalCliOptions& o) {
         merge_into(all, e);
         datasets[name] = {{"methods", methods_json(e.methods)}, {"stride", e.stride}, {"has_rgb", e.has_rgb},
                           {"points", e.points}, {"candidates", e.candidates}, {"too_few_points", e.too_few_points},
-                          {"low_coverage", e.low_coverage}};
+                          {"low_coverage", e.low_coverage}, {"other_split", e.other_split}};
         if (!o.json) {
-            print_table(fmt::format("{} ({} points, stride {}, {} candidate patches: {} too few chunk points, {} little ground truth)",
-                                    name, e.points, e.stride, e.candidates, e.too_few_points, e.low_coverage),
+            print_table(fmt::format("{} ({} points, stride {}, {} candidate patches: {} too few chunk points, {} little ground "
+                                    "truth, {} outside the split)",
+                                    name, e.points, e.stride, e.candidates, e.too_few_points, e.low_coverage, e.other_split),
                         e.methods);
         }
     }
     if (o.json) {
-        const nlohmann::json j = {{"methods", methods_json(all)}, {"datasets", datasets}, {"texel_m", o.texel},
-                                  {"seed", o.seed}};
+        nlohmann::json j = {{"methods", methods_json(all)}, {"datasets", datasets}, {"texel_m", o.texel},
+                            {"seed", o.seed}, {"split", o.split}};
+        if (!model_path.empty()) j["model"] = model_path;
+        if (opt.split) j["split_options"] = {{"block_m", o.split_options.block_m}, {"val_fraction", o.split_options.val_fraction}, {"seed", o.split_options.seed}};
         std::printf("%s\n", j.dump(2).c_str());
     } else if (o.paths.size() > 1) {
         print_table("overall", all);
@@ -126,7 +159,14 @@ void register_eval_command(CLI::App& app, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("eval", "Score heightmap reconstruction methods against the full-resolution points");
     cmd->add_option("paths", o->paths, "Datasets: each a folder, tile list or file, scored separately and overall")
         ->required();
-    cmd->add_option("--methods", o->methods, "Comma-separated: nearest, linear, cubic, splat (default: all)");
+    cmd->add_option("--methods", o->methods,
+                    "Comma-separated: nearest, linear, cubic, splat, cnn (default: nearest,linear,cubic,splat)");
+    cmd->add_option("--model", o->model, "TorchScript model for cnn (default: the shipped models/heightmap_cnn.pt)");
+    cmd->add_option("--batch", o->batch, "Patches per network batch (default 16)")->check(CLI::PositiveNumber);
+    cmd->add_option("--split", o->split,
+                    "Score only windows of one side of the region split: all (default), train, validation");
+    add_split_options(*cmd, o->split_options);
+    add_offsets_option(*cmd, o->offsets);
     cmd->add_option("--texel", o->texel, "Texel size in metres (default 10; patches are 64 texels)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--patches", o->patches, "Patches per dataset (default 100)")->check(CLI::PositiveNumber);

@@ -1,6 +1,8 @@
 // Parsing of --stride, number lists and dataset names for `eval` and `train-data`.
 #include "cli/recon_options.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -50,6 +52,20 @@ dataset::Dataset open_reported_dataset(const std::string& path) {
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     if (ds.tiles.empty()) throw Error(path, std::nullopt, "no readable tiles");
     return ds;
+}
+
+void add_split_options(CLI::App& cmd, recon::RegionSplitOptions& split) {
+    cmd.add_option("--split-block", split.block_m,
+                   "Side of the square regions of the train/validation split, metres (default 2000)")
+        ->check(CLI::PositiveNumber);
+    cmd.add_option("--val-fraction", split.val_fraction, "Fraction of regions held out for validation (default 0.25)")
+        ->check(CLI::Range(0.0, 1.0));
+    cmd.add_option("--split-seed", split.seed, "Seed of the region split (default 1)");
+}
+
+void add_offsets_option(CLI::App& cmd, int& offsets) {
+    cmd.add_option("--offsets", offsets, "Lattices per texel size, shifted by 1/N of a patch (default 1)")
+        ->check(CLI::Range(1, 64));
 }
 
 }  // namespace lidarscout::cli

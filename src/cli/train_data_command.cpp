@@ -1,5 +1,5 @@
 // `lidarscout train-data PATH... -o FILE [--texel 1,2.5,5,10] [--patches N] [--stride auto]
-// [--seed S] [--split-block M] [--val-fraction F] [--json]`: exports training samples for the
+// [--seed S] [--split-block M] [--val-fraction F] [--split-seed S] [--offsets N] [--json]`: exports training samples for the
 // heightmap network (layout in src/recon/training_data.hpp; python/ reads it with numpy).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -26,8 +26,8 @@ struct TrainDataCliOptions {
     std::size_t patches = 100;
     std::uint64_t seed = 1;
     std::string stride = "auto";
-    double split_block = 4000.0;
-    double val_fraction = 0.2;
+    recon::RegionSplitOptions split;
+    int offsets = 1;
     unsigned threads = 0;
     bool json = false;
 };
@@ -38,8 +38,8 @@ int run_train_data(const TrainDataCliOptions& o) {
     opt.patches = o.patches;
     opt.seed = o.seed;
     opt.stride = parse_stride(o.stride);
-    opt.split_block_m = o.split_block;
-    opt.val_fraction = o.val_fraction;
+    opt.split = o.split;
+    opt.offsets = o.offsets;
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
 
     std::vector<dataset::Dataset> datasets;
@@ -84,12 +84,10 @@ void register_train_data_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("-o,--output", o->out, "Output file (layout: src/recon/training_data.hpp)")->required();
     cmd->add_option("--texel", o->texels, "Texel sizes in metres, comma-separated (default 10)");
     cmd->add_option("--patches", o->patches, "Patches per dataset and texel size (default 100)")->check(CLI::PositiveNumber);
-    cmd->add_option("--seed", o->seed, "Seed of the patch choice and the region split (default 1)");
+    cmd->add_option("--seed", o->seed, "Seed of the patch choice (default 1)");
     cmd->add_option("--stride", o->stride, "Chunk-point stride K or 'auto' (default; see README)");
-    cmd->add_option("--split-block", o->split_block, "Side of the square regions of the train/validation split, metres (default 4000)")
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--val-fraction", o->val_fraction, "Fraction of regions used for validation (default 0.2)")
-        ->check(CLI::Range(0.0, 1.0));
+    add_split_options(*cmd, o->split);
+    add_offsets_option(*cmd, o->offsets);
     cmd->add_option("--threads", o->threads, "Decoding threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the summary as JSON");
     cmd->callback([o, &run] { run = [o] { return run_train_data(*o); }; });

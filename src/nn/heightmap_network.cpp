@@ -1,16 +1,49 @@
-// HeightmapNetwork with LibTorch's TorchScript runtime (torch::jit), inference mode.
+// HeightmapNetwork over the LibTorch runner plugin; the default model's lookup.
 #include "nn/heightmap_network.hpp"
 
-#include <torch/script.h>
+#include <cstdlib>
+#include <filesystem>
 
 #include "core/error.hpp"
 #include "nn/network_io.hpp"
+#include "nn/runner_plugin.hpp"
+
+#ifndef LIDARSCOUT_SOURCE_DIR
+#define LIDARSCOUT_SOURCE_DIR ""
+#endif
 
 namespace lidarscout::nn {
+namespace fs = std::filesystem;
+
+std::vector<std::string> model_candidates() {
+    std::vector<std::string> out;
+    if (const char* env = std::getenv("LIDARSCOUT_MODEL"); env && *env) out.emplace_back(env);
+    if (const std::string dir = executable_dir(); !dir.empty()) {
+        const fs::path d(dir);
+        out.push_back((d / "models" / kDefaultModelName).string());
+        out.push_back((d / ".." / "models" / kDefaultModelName).lexically_normal().string());
+        out.push_back((d / ".." / "share" / "lidarscout" / "models" / kDefaultModelName).lexically_normal().string());
+    }
+    if (*LIDARSCOUT_SOURCE_DIR) out.push_back((fs::path(LIDARSCOUT_SOURCE_DIR) / "models" / kDefaultModelName).string());
+    return out;
+}
+
+std::string default_model_path() {
+    std::string tried;
+    for (const auto& p : model_candidates()) {
+        if (fs::is_regular_file(p)) return p;
+        tried += (tried.empty() ? "" : ", ") + p;
+    }
+    throw Error("no heightmap network model found (give --model PATH or set LIDARSCOUT_MODEL); looked in: " + tried);
+}
 
 struct HeightmapNetwork::Impl {
     std::string path;
-    mutable torch::jit::script::Module module;
+    const LidarscoutRunnerApi* api = nullptr;
+    void* model = nullptr;
+    ~Impl() {
+        if (model) api->close(model);
+    }
 };
 
 HeightmapNetwork::HeightmapNetwork(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -18,39 +51,35 @@ HeightmapNetwork::~HeightmapNetwork() = default;
 HeightmapNetwork::HeightmapNetwork(HeightmapNetwork&&) noexcept = default;
 HeightmapNetwork& HeightmapNetwork::operator=(HeightmapNetwork&&) noexcept = default;
 
-HeightmapNetwork HeightmapNetwork::load(const std::string& path) {
+const std::string& HeightmapNetwork::path() const { return impl_->path; }
+
+HeightmapNetwork HeightmapNetwork::load(const std::string& path, int threads) {
     auto impl = std::make_unique<Impl>();
     impl->path = path;
-    try {
-        impl->module = torch::jit::load(path, torch::kCPU);
-        impl->module.eval();
-    } catch (const std::exception& e) {
-        std::string cause = e.what();
-        cause = cause.substr(0, cause.find('\n'));
-        throw Error(path, std::nullopt, "cannot load the heightmap network: " + cause);
-    }
+    impl->api = &runner_api();
+    if (!fs::is_regular_file(path)) throw Error(path, std::nullopt, "cannot load the heightmap network: no such file");
+    char error[512] = {};
+    impl->model = impl->api->open(path.c_str(), error, sizeof error);
+    if (!impl->model) throw Error(path, std::nullopt, std::string("cannot load the heightmap network: ") + error);
+    impl->api->set_threads(threads);
     return HeightmapNetwork(std::move(impl));
 }
 
 std::vector<float> HeightmapNetwork::run(std::span<const float> input, std::size_t n, int window_texels) const {
     if (input.size() != n * input_size(window_texels)) throw Error(impl_->path, std::nullopt, "network input of the wrong size");
     if (n == 0) return {};
-    c10::InferenceMode guard;
-    // from_blob does not copy; the module does not write to its input.
-    const auto x = torch::from_blob(const_cast<float*>(input.data()),
-                                    {static_cast<long>(n), kInputChannels, window_texels, window_texels}, torch::kFloat32);
-    at::Tensor y;
-    try {
-        y = impl_->module.forward({x}).toTensor().contiguous();
-    } catch (const std::exception& e) {
-        std::string cause = e.what();
-        throw Error(impl_->path, std::nullopt, "heightmap network failed: " + cause.substr(0, cause.find('\n')));
+    float* output = nullptr;
+    long dims[4] = {};
+    char error[512] = {};
+    if (impl_->api->run(impl_->model, input.data(), static_cast<long>(n), kInputChannels, window_texels, &output, dims,
+                        error, sizeof error) != 0) {
+        throw Error(impl_->path, std::nullopt, std::string("heightmap network failed: ") + error);
     }
-    if (y.dim() != 4 || y.size(0) != static_cast<long>(n) || y.size(1) != kOutputChannels || y.size(2) != y.size(3)) {
+    const std::unique_ptr<float, void (*)(float*)> owned(output, impl_->api->free_output);
+    if (dims[0] != static_cast<long>(n) || dims[1] != kOutputChannels || dims[2] != dims[3]) {
         throw Error(impl_->path, std::nullopt, "heightmap network output has an unexpected shape");
     }
-    const float* p = y.data_ptr<float>();
-    return std::vector<float>(p, p + y.numel());
+    return std::vector<float>(output, output + dims[0] * dims[1] * dims[2] * dims[3]);
 }
 
 std::vector<recon::Reconstruction> HeightmapNetwork::infer(std::span<const recon::InterpolatedPatch* const> patches,
@@ -65,9 +94,16 @@ std::vector<recon::Reconstruction> HeightmapNetwork::infer(std::span<const recon
     if (output.size() != patches.size() * out) throw Error(impl_->path, std::nullopt, "heightmap network output size mismatch");
     std::vector<recon::Reconstruction> result;
     for (std::size_t i = 0; i < patches.size(); ++i) {
-        result.push_back(unpack_output(std::span(output).subspan(i * out, out), patch_texels, has_rgb));
+        auto r = unpack_output(std::span(output).subspan(i * out, out), patch_texels, has_rgb);
+        r.method = recon::Method::Cnn;
+        result.push_back(std::move(r));
     }
     return result;
+}
+
+recon::BatchReconstructor as_batch_reconstructor(std::shared_ptr<const HeightmapNetwork> network, int patch_texels) {
+    return [network = std::move(network), patch_texels](std::span<const recon::InterpolatedPatch* const> patches,
+                                                        bool has_rgb) { return network->infer(patches, has_rgb, patch_texels); };
 }
 
 }  // namespace lidarscout::nn

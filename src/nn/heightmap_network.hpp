@@ -1,7 +1,10 @@
 // Running the heightmap network (a TorchScript file exported by python/lidarscout_train) on
-// the CPU with LibTorch: batches of patches in, one reconstruction per patch out. The tensor
-// interface is nn/network_io.hpp's. Thread-safe: several threads may call infer() at once
-// (inference only, no autograd state). LibTorch stays inside the .cpp file.
+// the CPU: batches of patches in, one reconstruction per patch out. The tensor interface is
+// nn/network_io.hpp's. LibTorch lives in a plugin opened on the first load
+// (nn/runner_plugin.hpp), so this header and its users never link it. Thread-safe: several
+// threads may call infer()/run() at once (inference only).
+//
+// The default model: models/heightmap_cnn.pt, found by default_model_path().
 #pragma once
 
 #include <memory>
@@ -14,13 +17,25 @@
 
 namespace lidarscout::nn {
 
+inline constexpr char kDefaultModelName[] = "heightmap_cnn.pt";
+
+// Where the shipped model is looked for, in order: $LIDARSCOUT_MODEL, models/ next to the
+// program and one folder up (the build folder sits in the source tree), share/lidarscout/models
+// of an installation, and the source tree this program was built from.
+std::vector<std::string> model_candidates();
+// The first candidate that exists; throws lidarscout::Error listing them all when none does.
+std::string default_model_path();
+
 class HeightmapNetwork {
 public:
     // Loads a TorchScript model; throws lidarscout::Error (naming the file) when it cannot.
-    static HeightmapNetwork load(const std::string& path);
+    // threads > 0 sets the runtime's intra-op threads (process-wide).
+    static HeightmapNetwork load(const std::string& path, int threads = 0);
     ~HeightmapNetwork();
     HeightmapNetwork(HeightmapNetwork&&) noexcept;
     HeightmapNetwork& operator=(HeightmapNetwork&&) noexcept;
+
+    const std::string& path() const;
 
     // One reconstruction (64 x 64 for the default spec) per patch, in order. `has_rgb` tells
     // whether the survey has colour (else the colour output is NaN).
@@ -36,5 +51,8 @@ private:
     explicit HeightmapNetwork(std::unique_ptr<Impl> impl);
     std::unique_ptr<Impl> impl_;
 };
+
+// The network as a recon::BatchReconstructor (for evaluation); shares ownership.
+recon::BatchReconstructor as_batch_reconstructor(std::shared_ptr<const HeightmapNetwork> network, int patch_texels = 64);
 
 }  // namespace lidarscout::nn

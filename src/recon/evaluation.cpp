@@ -7,7 +7,9 @@
 #include <limits>
 #include <numeric>
 
+#include "core/error.hpp"
 #include "dataset/dataset.hpp"
+#include "recon/interpolation.hpp"
 #include "recon/metrics.hpp"
 #include "recon/survey_samples.hpp"
 
@@ -66,21 +68,90 @@ TimedReconstruction timed_reconstruct(const PatchPoints& points, Method method) 
     return {std::move(r), ms_since(t0)};
 }
 
-void score_patch(const PatchInputs& in, const GroundTruth& truth, std::size_t index, const EvalOptions& opt, bool has_rgb,
-                 DatasetEvaluation& out) {
-    const int n = opt.spec.patch_texels;
-    // Nearest fills the texels other methods leave empty; it is computed once per patch.
-    const TimedReconstruction nearest = timed_reconstruct(in.points, Method::Nearest);
-    const Image truth_h = truth.height_m(index);
-    const Image truth_rgb = has_rgb ? truth.rgb(index) : Image{};
-    for (const Method m : opt.methods) {
-        const TimedReconstruction run = m == Method::Nearest ? nearest : timed_reconstruct(in.points, m);
-        auto& scores = out.methods[m];
-        const Image h = heights_in_metres(patch_of(run.result.height, &nearest.result.height, n), in.points);
-        scores.rmse_m.push_back(height_rmse_m(h, truth_h).value);
-        if (has_rgb) scores.psnr_db.push_back(rgb_psnr_db(patch_of(run.result.rgb, &nearest.result.rgb, n), truth_rgb).value);
-        scores.ms.push_back(run.ms + in.gather_ms);
+// What one patch is scored against.
+struct PatchTruth {
+    Image height_m, rgb;
+};
+
+void add_score(MethodScores& scores, const Reconstruction& r, const Reconstruction& nearest, const PatchPoints& points,
+               const PatchTruth& truth, bool has_rgb, int patch_texels, double ms) {
+    const bool whole_window = r.height.size != patch_texels;  // the classic methods return the window
+    const Image h = whole_window ? patch_of(r.height, &nearest.height, patch_texels) : r.height;
+    scores.rmse_m.push_back(height_rmse_m(heights_in_metres(h, points), truth.height_m).value);
+    if (has_rgb) {
+        const Image c = whole_window ? patch_of(r.rgb, &nearest.rgb, patch_texels) : r.rgb;
+        scores.psnr_db.push_back(rgb_psnr_db(c, truth.rgb).value);
     }
+    scores.ms.push_back(ms);
+}
+
+// Patches waiting for the network: their inputs and what they are scored against.
+struct CnnPending {
+    PatchPoints points;
+    InterpolatedPatch inputs;
+    Reconstruction nearest;
+    PatchTruth truth;
+    double ms = 0;  // gathering + interpolation
+};
+
+class Scorer {
+public:
+    Scorer(const EvalOptions& opt, bool has_rgb, DatasetEvaluation& out) : opt_(opt), has_rgb_(has_rgb), out_(out) {
+        for (const Method m : opt.methods) {
+            if (m == Method::Cnn) {
+                cnn_ = true;
+            } else {
+                classic_.push_back(m);
+            }
+        }
+        if (cnn_ && !opt.network) throw Error("eval: the cnn method needs the heightmap network (none was loaded)");
+    }
+
+    void score(const PatchInputs& in, PatchTruth truth) {
+        const int n = opt_.spec.patch_texels;
+        // Nearest fills the texels other methods leave empty; it is computed once per patch.
+        TimedReconstruction nearest = timed_reconstruct(in.points, Method::Nearest);
+        for (const Method m : classic_) {
+            const TimedReconstruction run = m == Method::Nearest ? nearest : timed_reconstruct(in.points, m);
+            add_score(out_.methods[m], run.result, nearest.result, in.points, truth, has_rgb_, n, run.ms + in.gather_ms);
+        }
+        if (!cnn_) return;
+        const auto t0 = Clock::now();
+        InterpolatedPatch inputs = interpolate_patch(in.points);
+        pending_.push_back({in.points, std::move(inputs), std::move(nearest.result), std::move(truth),
+                            in.gather_ms + ms_since(t0)});
+        if (pending_.size() >= std::max<std::size_t>(1, opt_.batch)) flush();
+    }
+
+    void flush() {
+        if (pending_.empty()) return;
+        std::vector<const InterpolatedPatch*> batch;
+        for (const auto& p : pending_) batch.push_back(&p.inputs);
+        const auto t0 = Clock::now();
+        const std::vector<Reconstruction> results = opt_.network(batch, has_rgb_);
+        const double share = ms_since(t0) / static_cast<double>(batch.size());
+        if (results.size() != batch.size()) throw Error("eval: the network returned a wrong number of patches");
+        for (std::size_t i = 0; i < results.size(); ++i) {
+            const CnnPending& p = pending_[i];
+            add_score(out_.methods[Method::Cnn], results[i], p.nearest, p.points, p.truth, has_rgb_,
+                      opt_.spec.patch_texels, p.ms + share);
+        }
+        pending_.clear();
+    }
+
+private:
+    const EvalOptions& opt_;
+    bool has_rgb_;
+    DatasetEvaluation& out_;
+    std::vector<Method> classic_;
+    bool cnn_ = false;
+    std::vector<CnnPending> pending_;
+};
+
+bool in_split(const RegionSplit& split, Split wanted, const PatchPoints& pp) {
+    const double w = pp.spec.window_m(), r = pp.spec.radius_m();
+    return split.of_window(pp.window_min_x + r, pp.window_min_y + r, pp.window_min_x, pp.window_min_y,
+                           pp.window_min_x + w, pp.window_min_y + w) == wanted;
 }
 
 }  // namespace
@@ -89,30 +160,39 @@ DatasetEvaluation evaluate_dataset(const dataset::Dataset& ds, const std::string
                                    ThreadPool& pool, const EvalProgressFn& progress) {
     DatasetEvaluation out;
     out.name = name;
-    const Lattice lattice = lattice_for(ds, opt.spec);
-    SampleRequest request{lattice, opt.stride.value_or(auto_stride(ds, opt.spec)),
-                          candidate_patches(ds, lattice, 2 * opt.patches + 10, opt.seed)};
-    out.stride = request.stride;
-    out.candidates = request.patches.size();
-    const SurveySamples samples = sample_survey(ds, {request}, pool, progress);
+    std::vector<SampleRequest> requests;
+    const std::uint64_t stride = opt.stride.value_or(auto_stride(ds, opt.spec));
+    for (const Lattice& l : offset_lattices(lattice_for(ds, opt.spec), std::max(1, opt.offsets))) {
+        requests.push_back({l, stride, candidate_patches(ds, l, 2 * opt.patches + 10, opt.seed)});
+        out.candidates += requests.back().patches.size();
+    }
+    out.stride = stride;
+    const SurveySamples samples = sample_survey(ds, requests, pool, progress);
     out.has_rgb = samples.has_rgb;
     out.points = samples.points;
-    const SurveySample& s = samples.samples.front();
+    const RegionSplit split(opt.split_options, name);
+    Scorer scorer(opt, out.has_rgb, out);
     const double texels = static_cast<double>(opt.spec.patch_texels) * opt.spec.patch_texels;
     std::size_t used = 0;
-    for (std::size_t i = 0; i < request.patches.size() && used < opt.patches; ++i) {
-        const auto t0 = Clock::now();
-        PatchInputs in{make_patch_points(*s.chunk_points, request.patches[i], {opt.spec, opt.min_points, out.has_rgb}), 0};
-        in.gather_ms = ms_since(t0);
-        if (in.points.status != PatchStatus::Ok) {
-            ++out.too_few_points;
-        } else if (s.truth->covered_texels(i) < opt.min_coverage * texels) {
-            ++out.low_coverage;
-        } else {
-            score_patch(in, *s.truth, i, opt, out.has_rgb, out);
-            ++used;
+    for (std::size_t r = 0; r < requests.size(); ++r) {
+        const SurveySample& s = samples.samples[r];
+        for (std::size_t i = 0; i < requests[r].patches.size() && used < opt.patches; ++i) {
+            const auto t0 = Clock::now();
+            PatchInputs in{make_patch_points(*s.chunk_points, requests[r].patches[i], {opt.spec, opt.min_points, out.has_rgb}), 0};
+            in.gather_ms = ms_since(t0);
+            if (in.points.status != PatchStatus::Ok) {
+                ++out.too_few_points;
+            } else if (s.truth->covered_texels(i) < opt.min_coverage * texels) {
+                ++out.low_coverage;
+            } else if (opt.split && !in_split(split, *opt.split, in.points)) {
+                ++out.other_split;
+            } else {
+                scorer.score(in, {s.truth->height_m(i), out.has_rgb ? s.truth->rgb(i) : Image{}});
+                ++used;
+            }
         }
     }
+    scorer.flush();
     return out;
 }
 

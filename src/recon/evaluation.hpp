@@ -10,7 +10,12 @@
 //     seed's order until `patches` are used;
 //   - where a method leaves a texel NaN (splatting far from every point), the nearest chunk
 //     point's value is used, so every method is scored on the same texels;
-//   - milliseconds per patch = gathering the window's chunk points + the method, one thread.
+//   - milliseconds per patch = gathering the window's chunk points + the method, one thread;
+//     for cnn, + the interpolated inputs + its share of a batch (`batch` patches at once, the
+//     network's own threads);
+//   - `split` scores only windows wholly inside that side of the region split
+//     (region_split.hpp; the same rule and seed as `train-data`), `offsets` > 1 adds lattices
+//     shifted by k/N of a patch (survey_samples.hpp) for more patches from small surveys.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +27,7 @@
 
 #include "recon/methods.hpp"
 #include "recon/patch_space.hpp"
+#include "recon/region_split.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -40,6 +46,11 @@ struct EvalOptions {
     std::optional<std::uint64_t> stride;  // chunk-point stride; empty: auto_stride
     std::size_t min_points = 25;
     double min_coverage = 0.25;
+    std::optional<Split> split;  // Train or Validation: only that side; empty: everywhere
+    RegionSplitOptions split_options;
+    int offsets = 1;
+    BatchReconstructor network;  // runs Method::Cnn; required when methods has it
+    std::size_t batch = 16;
 };
 
 // Per-patch figures of one method.
@@ -54,7 +65,7 @@ struct DatasetEvaluation {
     std::uint64_t stride = 0;
     bool has_rgb = false;
     std::uint64_t points = 0;
-    std::size_t candidates = 0, too_few_points = 0, low_coverage = 0;
+    std::size_t candidates = 0, too_few_points = 0, low_coverage = 0, other_split = 0;
     std::map<Method, MethodScores> methods;
 };
 

@@ -18,6 +18,7 @@ Image run(Method method, const PatchPoints& patch, const PatchGeometry* geometry
         case Method::Linear: return linear_image(*geometry, values);
         case Method::Cubic: return cubic_image(*geometry, values, patch.spec.grid_extent(), options.cubic);
         case Method::Splat: return splat(grid_positions(patch), values, patch.size(), options.splat).values;
+        case Method::Cnn: break;
     }
     throw Error("recon: unknown method");
 }
@@ -30,6 +31,7 @@ std::string_view method_name(Method method) {
         case Method::Linear: return "linear";
         case Method::Cubic: return "cubic";
         case Method::Splat: return "splat";
+        case Method::Cnn: return "cnn";
     }
     return "?";
 }
@@ -38,7 +40,8 @@ Method method_from_name(std::string_view name) {
     for (const Method m : kAllMethods) {
         if (method_name(m) == name) return m;
     }
-    throw Error("recon: unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat)");
+    if (name == method_name(Method::Cnn)) return Method::Cnn;
+    throw Error("recon: unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat, cnn)");
 }
 
 std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<const Method> methods,
@@ -47,6 +50,7 @@ std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<cons
     std::optional<PatchGeometry> geometry;
     std::optional<PointValues> heights, colours;
     for (const Method method : methods) {
+        if (method == Method::Cnn) throw Error("recon: the cnn method runs in batches through the network, not reconstruct()");
         Reconstruction r;
         r.method = method;
         r.status = patch.status;

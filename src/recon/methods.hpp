@@ -1,6 +1,7 @@
 // The reconstruction methods by name, for evaluation and training data: "nearest", "linear",
-// "cubic" and "splat" (the baselines of the paper's Tables 2 and 3; the network is added by
-// the nn stage). Each turns a window's chunk points into a height image and a colour image
+// "cubic" and "splat" (the baselines of the paper's Tables 2 and 3) and "cnn", the heightmap
+// network, which runs in batches through a BatchReconstructor (nn/heightmap_network.hpp
+// provides one) instead of reconstruct(). Each turns a window's chunk points into a height image and a colour image
 // of the whole window (96 x 96 by default) in normalised units (patch_space.hpp); crop the
 // centre (crop_centre) for the patch itself.
 //
@@ -13,6 +14,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -23,8 +25,9 @@
 
 namespace lidarscout::recon {
 
-enum class Method { Nearest, Linear, Cubic, Splat };
+enum class Method { Nearest, Linear, Cubic, Splat, Cnn };
 
+// The methods reconstruct() runs (all but the network).
 inline constexpr std::array<Method, 4> kAllMethods{Method::Nearest, Method::Linear, Method::Cubic, Method::Splat};
 
 std::string_view method_name(Method method);
@@ -43,9 +46,16 @@ struct MethodOptions {
     SplatOptions splat;
 };
 
+// Throws lidarscout::Error for Method::Cnn (it needs a network: BatchReconstructor).
 Reconstruction reconstruct(const PatchPoints& patch, Method method, const MethodOptions& options = {});
 // Several methods on one patch, sharing the triangulation, face map and nearest map.
 std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<const Method> methods,
                                         const MethodOptions& options = {});
+
+struct InterpolatedPatch;
+// A batched method over interpolated patches (the network): one patch-sized reconstruction per
+// input, heights normalised, colours NaN when `has_rgb` is false.
+using BatchReconstructor =
+    std::function<std::vector<Reconstruction>(std::span<const InterpolatedPatch* const> patches, bool has_rgb)>;
 
 }  // namespace lidarscout::recon

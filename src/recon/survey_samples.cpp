@@ -42,6 +42,15 @@ Lattice lattice_for(const dataset::Dataset& ds, const PatchSpec& spec) {
     return {spec, ox, oy};
 }
 
+std::vector<Lattice> offset_lattices(const Lattice& base, int count) {
+    std::vector<Lattice> out;
+    for (int k = 0; k < count; ++k) {
+        const double shift = base.spec.patch_m() * k / count;
+        out.push_back({base.spec, base.origin_x + shift, base.origin_y + shift});
+    }
+    return out;
+}
+
 std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& ds, const Lattice& lattice, std::size_t count,
                                                std::uint64_t seed) {
     const dataset::PatchGrid keys(lattice.origin_x, lattice.origin_y, lattice.spec.patch_m());

@@ -45,6 +45,8 @@ struct Lattice {
     double origin_x = 0, origin_y = 0;
 };
 Lattice lattice_for(const dataset::Dataset& dataset, const PatchSpec& spec);
+// `count` lattices: `base` shifted diagonally by k/count of a patch, k = 0..count-1.
+std::vector<Lattice> offset_lattices(const Lattice& base, int count);
 
 // Up to `count` patches (cells of the lattice) that hold some of the dataset's real chunk
 // points (so they are inside the data), in a random order that depends only on `seed`.

@@ -79,36 +79,6 @@ private:
     std::vector<std::uint8_t>& out_;
 };
 
-std::uint64_t fnv1a(const std::string& s) {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (unsigned char c : s) h = (h ^ c) * 0x100000001b3ull;
-    return h;
-}
-
-class RegionSplit {
-public:
-    RegionSplit(const TrainingDataOptions& o, const std::string& dataset)
-        : block_(o.split_block_m), fraction_(o.val_fraction), seed_(hash_of(o.seed, fnv1a(dataset))) {}
-
-    // 0 train, 1 validation, or -1 when the window [x0, x1) x [y0, y1) spans both.
-    int of_window(double cx, double cy, double x0, double y0, double x1, double y1) const {
-        const int split = of_block(block(cx), block(cy));
-        for (std::int64_t bx = block(x0); bx <= block(x1); ++bx) {
-            for (std::int64_t by = block(y0); by <= block(y1); ++by) {
-                if (of_block(bx, by) != split) return -1;
-            }
-        }
-        return split;
-    }
-
-private:
-    std::int64_t block(double v) const { return static_cast<std::int64_t>(std::floor(v / block_)); }
-    int of_block(std::int64_t bx, std::int64_t by) const { return unit_of(hash_of(seed_, bx, by)) < fraction_ ? 1 : 0; }
-
-    double block_, fraction_;
-    std::uint64_t seed_;
-};
-
 const std::string& nearest_tile(const dataset::Dataset& ds, double x, double y) {
     std::size_t best = 0;
     double best_d = std::numeric_limits<double>::infinity();
@@ -153,11 +123,12 @@ void write_dataset(Writer& w, const NamedDataset& nd, const TrainingDataOptions&
     for (double texel : o.texels_m) {
         PatchSpec spec;
         spec.texel_m = texel;
-        const Lattice l = lattice_for(ds, spec);
-        requests.push_back({l, o.stride.value_or(auto_stride(ds, spec)), candidate_patches(ds, l, 2 * o.patches + 10, o.seed)});
+        for (const Lattice& l : offset_lattices(lattice_for(ds, spec), o.offsets)) {
+            requests.push_back({l, o.stride.value_or(auto_stride(ds, spec)), candidate_patches(ds, l, 2 * o.patches + 10, o.seed)});
+        }
     }
     const SurveySamples samples = sample_survey(ds, requests, pool, progress);
-    const RegionSplit split(o, nd.name);
+    const RegionSplit split(o.split, nd.name);
     const Method methods[] = {Method::Nearest, Method::Linear};
     for (std::size_t r = 0; r < requests.size(); ++r) {
         const auto& s = samples.samples[r];
@@ -168,17 +139,17 @@ void write_dataset(Writer& w, const NamedDataset& nd, const TrainingDataOptions&
             const PatchPoints pp = make_patch_points(*s.chunk_points, requests[r].patches[i], {spec, o.min_points, samples.has_rgb});
             if (pp.status != PatchStatus::Ok || s.truth->covered_texels(i) < o.min_coverage * texels) continue;
             const double cx = pp.window_min_x + spec.radius_m(), cy = pp.window_min_y + spec.radius_m();
-            const int which = split.of_window(cx, cy, pp.window_min_x, pp.window_min_y, pp.window_min_x + spec.window_m(),
+            const Split which = split.of_window(cx, cy, pp.window_min_x, pp.window_min_y, pp.window_min_x + spec.window_m(),
                                               pp.window_min_y + spec.window_m());
-            if (which < 0) {
+            if (which == Split::Border) {
                 ++w.summary.dropped_at_split_border;
                 continue;
             }
-            write_record(w, pp, reconstruct(pp, methods), *s.truth, i, samples.has_rgb, which);
+            write_record(w, pp, reconstruct(pp, methods), *s.truth, i, samples.has_rgb, static_cast<int>(which));
             w.samples.push_back({{"dataset", nd.name}, {"tile", nearest_tile(ds, cx, cy)}, {"centre_x", cx}, {"centre_y", cy},
                                  {"texel_m", spec.texel_m}, {"centre_z", pp.centre_z}, {"radius_m", spec.radius_m()},
-                                 {"stride", s.stride}, {"split", which}});
-            ++(which ? w.summary.validation : w.summary.train);
+                                 {"stride", s.stride}, {"split", static_cast<int>(which)}});
+            ++(which == Split::Validation ? w.summary.validation : w.summary.train);
             ++used;
         }
     }
@@ -201,13 +172,12 @@ TrainingDataSummary write_training_data(const std::vector<NamedDataset>& dataset
                                         const std::string& out_path, ThreadPool& pool,
                                         const std::function<void(std::size_t, std::uint64_t, std::uint64_t)>& progress) {
     if (o.texels_m.empty()) throw Error("training data: no texel size given");
-    if (!(o.split_block_m > 0) || !(o.val_fraction >= 0 && o.val_fraction <= 1)) {
-        throw Error("training data: split block must be positive and the validation fraction in [0, 1]");
-    }
+    o.split.validate();
+    if (o.offsets < 1) throw Error("training data: offsets must be at least 1");
     io::AtomicOutputFile out(out_path);
     constexpr std::uint64_t kRecordsOffset = 64;
     out.write(std::vector<std::uint8_t>(kRecordsOffset, 0));
-    Writer w{out};
+    Writer w{out, nlohmann::json::array(), {}, {}};
     for (std::size_t d = 0; d < datasets.size(); ++d) {
         write_dataset(w, datasets[d], o, pool, [&](std::uint64_t done, std::uint64_t total) {
             if (progress) progress(d, done, total);

@@ -21,10 +21,12 @@
 // Normalisation is patch_space.hpp's: h' = (z - centre_z) / radius_m, radius = half the window.
 // (Image sizes above are for the default 64-texel patch with 16 texels of padding.)
 //
-// Region split: the plane is cut into square blocks of split_block_m; a block is validation
-// when a hash of (seed, dataset, block) falls below val_fraction. A patch belongs to the split
-// of its centre's block and is dropped when its padded window reaches into a block of the
-// other split, so training and validation windows never share ground.
+// Region split: recon/region_split.hpp (shared with `eval --split`); a patch whose padded
+// window reaches into a block of the other split is dropped, so training and validation
+// windows never share ground.
+//
+// Offsets: with offsets = N > 1, each texel size is sampled on N lattices shifted
+// diagonally by k/N of a patch (k = 0..N-1): more (overlapping) samples from small surveys.
 #pragma once
 
 #include <cstdint>
@@ -34,6 +36,7 @@
 #include <vector>
 
 #include "recon/patch_space.hpp"
+#include "recon/region_split.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -51,8 +54,8 @@ struct TrainingDataOptions {
     std::size_t patches = 100;  // per dataset and texel size
     std::uint64_t seed = 1;
     std::optional<std::uint64_t> stride;  // empty: auto_stride per texel size
-    double split_block_m = 4000.0;
-    double val_fraction = 0.2;
+    RegionSplitOptions split;
+    int offsets = 1;  // lattices per texel size
     std::size_t min_points = 25;
     double min_coverage = 0.25;
 };

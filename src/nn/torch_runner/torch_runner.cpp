@@ -1,0 +1,74 @@
+// liblidarscout_torch.so: the LibTorch side of the heightmap network (TorchScript, inference
+// mode, CPU), behind the C interface of nn/runner_abi.h. Nothing here knows lidarscout's
+// types; the tensor layout is nn/network_io.hpp's.
+#include <ATen/Parallel.h>
+#include <torch/script.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "nn/runner_abi.h"
+
+namespace {
+
+struct Model {
+    torch::jit::script::Module module;
+};
+
+void set_error(char* error, size_t size, const std::string& text) {
+    if (!error || size == 0) return;
+    const std::string line = text.substr(0, text.find('\n'));
+    std::snprintf(error, size, "%s", line.c_str());
+}
+
+void* open_model(const char* path, char* error, size_t error_size) {
+    try {
+        auto m = std::make_unique<Model>();
+        m->module = torch::jit::load(path, torch::kCPU);
+        m->module.eval();
+        return m.release();
+    } catch (const std::exception& e) {
+        set_error(error, error_size, e.what());
+        return nullptr;
+    }
+}
+
+int run_model(void* model, const float* input, long n, long channels, long window, float** output, long out_dims[4],
+              char* error, size_t error_size) {
+    try {
+        c10::InferenceMode guard;
+        // from_blob does not copy; the module does not write to its input.
+        const auto x = torch::from_blob(const_cast<float*>(input), {n, channels, window, window}, torch::kFloat32);
+        auto& module = static_cast<Model*>(model)->module;
+        const at::Tensor y = module.forward({x}).toTensor().to(torch::kFloat32).contiguous();
+        if (y.dim() != 4) {
+            set_error(error, error_size, "the network's output is not a 4-d tensor");
+            return 1;
+        }
+        for (int i = 0; i < 4; ++i) out_dims[i] = y.size(i);
+        const auto count = static_cast<size_t>(y.numel());
+        *output = static_cast<float*>(std::malloc(count * sizeof(float) + 1));
+        if (!*output) {
+            set_error(error, error_size, "out of memory for the network's output");
+            return 1;
+        }
+        std::memcpy(*output, y.data_ptr<float>(), count * sizeof(float));
+        return 0;
+    } catch (const std::exception& e) {
+        set_error(error, error_size, e.what());
+        return 1;
+    }
+}
+
+void free_output(float* output) { std::free(output); }
+void close_model(void* model) { delete static_cast<Model*>(model); }
+void set_threads(int threads) {
+    if (threads > 0) at::set_num_threads(threads);
+}
+
+const LidarscoutRunnerApi kApi{LIDARSCOUT_RUNNER_ABI, open_model, run_model, free_output, close_model, set_threads};
+
+}  // namespace
+
+extern "C" __attribute__((visibility("default"))) const LidarscoutRunnerApi* lidarscout_runner_api(void) { return &kApi; }
