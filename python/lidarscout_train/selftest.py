@@ -3,9 +3,11 @@
     python3 -m lidarscout_train.selftest       # prints "ok" on success, exits non-zero otherwise
 
 Builds both decoder variants, checks output shapes, parameter counts and the colour clip, the
-NaN replacement, the flip/rotation alignment of window and patch, runs one training step on a
-tiny synthetic batch (the loss must be finite and the weights must change), and exports to
-TorchScript, reloads it and compares its output with the eager model.
+NaN replacement, the flip/rotation alignment of window and patch, checks that the untrained
+residual network returns its linear inputs and that the cropped head equals the paper's padded
+one, runs one training step on a tiny synthetic batch (the loss must be finite and the weights
+must change), and exports to TorchScript, reloads it and compares its output with the eager
+model.
 """
 import io
 import sys
@@ -26,8 +28,10 @@ def synthetic_batch(b, gen):
     mask = (torch.rand(b, 64, 64, generator=gen) > 0.2).float()
     return {
         "x": x,
-        "height": x[:, 1, PAD:PAD + PATCH, PAD:PAD + PATCH].clone(),
-        "rgb": x[:, 5:8, PAD:PAD + PATCH, PAD:PAD + PATCH].clone(),
+        # Targets differ from the linear inputs, so that even the residual network at its
+        # zero start has something to learn.
+        "height": x[:, 1, PAD:PAD + PATCH, PAD:PAD + PATCH] + 0.05 * torch.sin(torch.arange(64.0) / 5.0),
+        "rgb": (x[:, 5:8, PAD:PAD + PATCH, PAD:PAD + PATCH] * 0.9 + 0.05).clone(),
         "mask_h": mask,
         "mask_rgb": mask * torch.tensor([1.0] + [0.0] * (b - 1)).view(b, 1, 1),
         "radius": torch.full((b,), 480.0),
@@ -57,11 +61,27 @@ def main():
             b = augment_geometry(win[:, PAD:PAD + PATCH, PAD:PAD + PATCH], k, flip)
             check(np.array_equal(a, b), f"augment_geometry k={k} flip={flip}")
 
+    # The residual network starts as linear interpolation; the padded ('same') and the
+    # cropped ('valid') head agree on the centre.
+    xb = replace_nan(synthetic_batch(2, gen)["x"])
+    with torch.no_grad():
+        start = HeightmapNet(decoder="upsample", width=4, head_kernel=5)(xb)
+    centre = xb[:, :, PAD:PAD + PATCH, PAD:PAD + PATCH]
+    check(bool(torch.equal(start[:, 0], centre[:, 1])), "untrained residual height != h_lin")
+    check(bool(torch.equal(start[:, 1:], centre[:, 5:8].clamp(0, 1))), "untrained residual colour != linear colour")
+    head = HeightmapNet(decoder="upsample", width=4).head_h
+    hx = torch.randn(1, head.net[0].in_channels, 96, 96, generator=gen)
+    ref = hx
+    for layer in head.net:
+        ref = torch.nn.functional.conv2d(ref, layer.weight, layer.bias, padding=4) if isinstance(layer, torch.nn.Conv2d) else torch.relu(ref)
+    with torch.no_grad():
+        check(float((head(hx) - ref[:, :, PAD:PAD + PATCH, PAD:PAD + PATCH]).abs().max()) < 1e-5, "valid head != padded head")
+
     for kind in ("transposed", "upsample"):
         model = HeightmapNet(decoder=kind)
         n = count_parameters(model)
         check(n == EXPECTED_PARAMETERS, f"{kind}: {n} parameters, expected {EXPECTED_PARAMETERS}")
-        small = HeightmapNet(decoder=kind, width=4)
+        small = HeightmapNet(decoder=kind, width=4, head_kernel=5)
         batch = synthetic_batch(2, gen)
         out = small(batch["x"])
         check(tuple(out.shape) == (2, 4, 64, 64), f"{kind}: output shape {tuple(out.shape)}")
@@ -78,6 +98,7 @@ def main():
         opt.step()
         changed = sum(int(not torch.equal(a, p)) for a, p in zip(before, small.parameters()))
         check(changed > 0, f"{kind}: no weight changed")
+        check(float(small.head_h.net[-1].weight.abs().sum()) > 0, f"{kind}: the zero-started height head got no gradient")
 
         # TorchScript export and reload (default width, as shipped).
         model.eval()

@@ -84,6 +84,8 @@ def main(argv=None):
     ap.add_argument("--batch", type=int, default=32)
     ap.add_argument("--decoder", choices=("transposed", "upsample"), default="transposed")
     ap.add_argument("--width", type=int, default=16)
+    ap.add_argument("--head-kernel", type=int, default=9, help="kernel of the three final convolutions")
+    ap.add_argument("--no-residual", action="store_true", help="the paper's plain heads (no correction of h_lin)")
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--lr", type=float, default=1e-4)
     ap.add_argument("--seed", type=int, default=1)
@@ -103,7 +105,8 @@ def main(argv=None):
     train_loader = torch.utils.data.DataLoader(train_set, batch_size=args.batch, shuffle=True, generator=gen, drop_last=False)
     val_loader = torch.utils.data.DataLoader(val_set, batch_size=args.batch, shuffle=False)
 
-    model = HeightmapNet(decoder=args.decoder, width=args.width)
+    model = HeightmapNet(decoder=args.decoder, width=args.width, head_kernel=args.head_kernel,
+                         residual=not args.no_residual)
     n_params = count_parameters(model)
     print(f"model: decoder={args.decoder} width={args.width} parameters={n_params}; "
           f"train {len(train_set)} validation {len(val_set)} samples", flush=True)
@@ -142,7 +145,8 @@ def main(argv=None):
         with open(os.path.join(args.out, "history.json"), "w") as f:
             json.dump(history, f, indent=1)
 
-    torch.save({"state_dict": model.state_dict(), "decoder": args.decoder, "width": args.width},
+    torch.save({"state_dict": model.state_dict(), "decoder": args.decoder, "width": args.width,
+                "head_kernel": args.head_kernel, "residual": not args.no_residual},
                os.path.join(args.out, "state_dict.pt"))
     export_torchscript(model, os.path.join(args.out, "model.pt"))
     print(f"wrote {args.out}/state_dict.pt, {args.out}/model.pt", flush=True)

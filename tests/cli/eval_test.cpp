@@ -3,6 +3,8 @@
 // (linear interpolation beats the nearest chunk point).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "test_data.hpp"
 
 namespace lidarscout {
@@ -42,6 +44,32 @@ TEST(EvalCommand, KentuckyAndIgnAllMethodsDeterministic) {
     }
 }
 
+// --split: the two sides score disjoint patches; the windows that straddle both are in neither.
+TEST(EvalCommand, SplitSidesAreDisjoint) {
+    const std::string ky = (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string();
+    const std::string common = "--methods linear --texel 2.5 --patches 1000 --split-block 700 " + ky;
+    const auto all = eval_json(common);
+    const auto train = eval_json("--split train " + common);
+    const auto val = eval_json("--split validation " + common);
+    const auto patches = [](const nlohmann::json& j) { return j.at("methods").at("linear").at("patches").get<int>(); };
+    const auto& d = [](const nlohmann::json& j) -> const nlohmann::json& { return j.at("datasets").at("ky-jmo335-eastern-kentucky"); };
+    ASSERT_GT(patches(train), 10);
+    ASSERT_GT(patches(val), 10);
+    EXPECT_LT(patches(train) + patches(val), patches(all));  // some windows straddle
+    EXPECT_EQ(d(train).at("other_split").get<int>(), patches(all) - patches(train));
+    EXPECT_EQ(d(val).at("other_split").get<int>(), patches(all) - patches(val));
+    EXPECT_EQ(d(all).at("other_split").get<int>(), 0);
+    EXPECT_EQ(val.at("split"), "validation");
+}
+
+// --offsets adds shifted lattices: more patches from a small survey.
+TEST(EvalCommand, OffsetsAddPatches) {
+    const std::string wf = "--methods nearest --texel 5 --patches 1000 " + (test::surveys_dir() / "ky-woodford-county").string();
+    const auto one = eval_json(wf);
+    const auto four = eval_json("--offsets 4 " + wf);
+    EXPECT_GT(four.at("methods").at("nearest").at("patches").get<int>(), 2 * one.at("methods").at("nearest").at("patches").get<int>());
+}
+
 TEST(EvalCommand, BadArgumentsAreOneLine) {
     std::string out;
     const auto ky = (test::surveys_dir() / "ky-woodford-county").string();
@@ -49,6 +77,11 @@ TEST(EvalCommand, BadArgumentsAreOneLine) {
     EXPECT_NE(out.find("bogus"), std::string::npos);
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " eval --stride 0 " + ky + " 2>&1", out), 1);
     EXPECT_NE(out.find("--stride"), std::string::npos);
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " eval --split test " + ky + " 2>&1", out), 1);
+    EXPECT_NE(out.find("--split"), std::string::npos);
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " eval --methods cnn --model /nonexistent.pt " + ky + " 2>&1", out), 1);
+    EXPECT_NE(out.find("/nonexistent.pt"), std::string::npos);
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }
 
 }  // namespace

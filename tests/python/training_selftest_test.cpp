@@ -1,9 +1,15 @@
 // The Python training package (python/lidarscout_train) in the suite: its self-test builds both
 // decoder variants, checks shapes and parameter counts, runs one training step, exports to
-// TorchScript and reloads it (with /usr/bin/python3 and Debian's python3-torch).
+// TorchScript and reloads it (with /usr/bin/python3 and Debian's python3-torch); and one
+// training step of train.py on a tiny file that `lidarscout train-data` generates.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
+
+#include <cmath>
 
 #include "test_data.hpp"
 
@@ -16,6 +22,33 @@ TEST(PythonTraining, SelfTestPasses) {
     const int status = test::run_command("cd " + dir.string() + " && /usr/bin/python3 -m lidarscout_train.selftest 2>&1", out);
     EXPECT_EQ(status, 0) << out;
     EXPECT_NE(out.find("ok"), std::string::npos) << out;
+}
+
+TEST(PythonTraining, OneStepOnAGeneratedFile) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_train_step_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " train-data " +
+                                    (test::surveys_dir() / "ky-woodford-county").string() + " -o " + (dir / "d.bin").string() +
+                                    " --texel 2.5 --patches 6 --val-fraction 0 2>&1",
+                                out),
+              0)
+        << out;
+    const auto python = std::filesystem::path(LIDARSCOUT_SOURCE_DIR) / "python";
+    ASSERT_EQ(test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_train.train " +
+                                    (dir / "d.bin").string() + " --out " + (dir / "run").string() +
+                                    " --epochs 1 --max-steps 1 --batch 4 --width 4 --head-kernel 3 --decoder upsample 2>&1",
+                                out),
+              0)
+        << out;
+    EXPECT_TRUE(fs::is_regular_file(dir / "run" / "model.pt"));
+    std::ifstream h(dir / "run" / "history.json");
+    const auto history = nlohmann::json::parse(h);
+    ASSERT_EQ(history.at("epochs").size(), 1u);
+    const double loss = history.at("epochs")[0].at("train_loss").get<double>();
+    EXPECT_TRUE(std::isfinite(loss) && loss > 0) << loss;
+    fs::remove_all(dir);
 }
 
 }  // namespace

@@ -44,6 +44,19 @@ TEST(SurveySamples, CandidatesAreDeterministicAndInsideTheData) {
     }
 }
 
+TEST(SurveySamples, OffsetLatticesShiftDiagonallyByFractionsOfAPatch) {
+    const Lattice base = lattice_for(woodford(), PatchSpec{});
+    const auto ls = offset_lattices(base, 4);
+    ASSERT_EQ(ls.size(), 4u);
+    for (int k = 0; k < 4; ++k) {
+        EXPECT_DOUBLE_EQ(ls[k].origin_x, base.origin_x + 160.0 * k);
+        EXPECT_DOUBLE_EQ(ls[k].origin_y, base.origin_y + 160.0 * k);
+        EXPECT_EQ(ls[k].spec.texel_m, base.spec.texel_m);
+    }
+    // A shifted lattice still finds the survey's patches.
+    EXPECT_FALSE(candidate_patches(woodford(), ls[2], 10, 1).empty());
+}
+
 TEST(SurveySamples, EveryKthPointAndAllPointsOfThePatches) {
     const auto& ds = woodford();
     ASSERT_EQ(ds.tiles.size(), 1u);

@@ -1,0 +1,135 @@
+// The point pass: chunked, multi-threaded projection of points with atomic-min writes.
+#include "render/point_pass.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace lidarscout::render {
+namespace {
+
+constexpr int kMaxPointSize = 64;
+
+struct Job {
+    std::size_t batch, begin, end;
+};
+
+// The viewport and depth range of one frame, in float.
+struct Target {
+    Framebuffer* fb;
+    float width, height, near_m, far_m;
+};
+
+// One functor per colour mode, so the mode is chosen once per chunk and not per point.
+struct RgbColour {
+    std::uint32_t operator()(const PointAttr& p) const { return pack_rgba(p.r, p.g, p.b); }
+};
+struct ElevationColour {
+    Palette::ElevationMap map;
+    std::uint32_t operator()(const PointAttr& p) const { return map(p.dz); }
+};
+struct IntensityColour {
+    const Palette* palette;
+    std::uint32_t operator()(const PointAttr& p) const { return palette->intensity(p.intensity); }
+};
+struct ClassColour {
+    const Palette* palette;
+    std::uint32_t operator()(const PointAttr& p) const { return palette->classification(p.classification); }
+};
+
+float row_dot(const std::array<float, 4>& row, const PointAttr& p) {
+    return row[0] * p.dx + row[1] * p.dy + row[2] * p.dz + row[3];
+}
+
+// One pixel per point.
+template <typename Colour>
+void draw_single(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour) {
+    for (const PointAttr& p : points) {
+        const float w = row_dot(s.depth, p);
+        if (!(w >= t.near_m && w <= t.far_m)) continue;
+        const float inv = 1.0f / w;
+        const float x = row_dot(s.sx, p) * inv, y = row_dot(s.sy, p) * inv;
+        if (!(x >= 0.0f && x < t.width && y >= 0.0f && y < t.height)) continue;
+        t.fb->write(static_cast<int>(x), static_cast<int>(y), w, colour(p));
+    }
+}
+
+// An N x N square per point: columns floor(x) - (N-1)/2 .. + N-1 (likewise rows), clipped.
+template <typename Colour>
+void draw_squares(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
+                  int size) {
+    const int half = (size - 1) / 2, last_x = t.fb->width() - 1, last_y = t.fb->height() - 1;
+    const float margin = static_cast<float>(size);
+    for (const PointAttr& p : points) {
+        const float w = row_dot(s.depth, p);
+        if (!(w >= t.near_m && w <= t.far_m)) continue;
+        const float inv = 1.0f / w;
+        const float x = row_dot(s.sx, p) * inv, y = row_dot(s.sy, p) * inv;
+        if (!(x >= -margin && x < t.width + margin && y >= -margin && y < t.height + margin)) continue;
+        const int x0 = static_cast<int>(std::floor(x)) - half, y0 = static_cast<int>(std::floor(y)) - half;
+        const std::uint64_t value = pack_fragment(w, colour(p));
+        for (int py = std::max(y0, 0); py <= std::min(y0 + size - 1, last_y); ++py) {
+            for (int px = std::max(x0, 0); px <= std::min(x0 + size - 1, last_x); ++px) {
+                t.fb->write_packed(px, py, value);
+            }
+        }
+    }
+}
+
+template <typename Colour>
+void draw_chunk(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
+                int size) {
+    if (size == 1) {
+        draw_single(t, s, points, colour);
+    } else {
+        draw_squares(t, s, points, colour, size);
+    }
+}
+
+std::vector<Job> make_jobs(std::span<const PointBatch> batches, std::size_t chunk_points) {
+    std::vector<Job> jobs;
+    for (std::size_t b = 0; b < batches.size(); ++b) {
+        const std::size_t n = batches[b].points.size();
+        for (std::size_t begin = 0; begin < n; begin += chunk_points) {
+            jobs.push_back({b, begin, std::min(n, begin + chunk_points)});
+        }
+    }
+    return jobs;
+}
+
+void check_settings(const Framebuffer& fb, const Camera& camera, const PointPassSettings& settings) {
+    fb.check_size(camera.width, camera.height, "point pass");
+    if (settings.point_size < 1 || settings.point_size > kMaxPointSize) {
+        throw Error("point pass: point size " + std::to_string(settings.point_size) + " is not within 1.." +
+                    std::to_string(kMaxPointSize));
+    }
+}
+
+}  // namespace
+
+void draw_points(Framebuffer& fb, const Camera& camera, std::span<const PointBatch> batches,
+                 const PointPassSettings& settings, ThreadPool& pool) {
+    check_settings(fb, camera, settings);
+    const Palette palette(settings.colour);
+    const Target target{&fb, static_cast<float>(fb.width()), static_cast<float>(fb.height()),
+                        static_cast<float>(camera.near_m), static_cast<float>(camera.far_m)};
+    const std::vector<Job> jobs = make_jobs(batches, std::max<std::size_t>(1, settings.chunk_points));
+    pool.for_each(jobs.size(), [&](std::size_t j) {
+        const PointBatch& batch = batches[jobs[j].batch];
+        const auto points = batch.points.subspan(jobs[j].begin, jobs[j].end - jobs[j].begin);
+        const ScreenTransform s = camera.screen_transform(batch.origin_x, batch.origin_y, batch.origin_z);
+        const int size = settings.point_size;
+        switch (palette.mode()) {
+            case ColourMode::Rgb: return draw_chunk(target, s, points, RgbColour{}, size);
+            case ColourMode::Elevation:
+                return draw_chunk(target, s, points, ElevationColour{palette.elevation_map(batch.origin_z)}, size);
+            case ColourMode::Intensity: return draw_chunk(target, s, points, IntensityColour{&palette}, size);
+            case ColourMode::Classification: return draw_chunk(target, s, points, ClassColour{&palette}, size);
+        }
+    });
+}
+
+}  // namespace lidarscout::render

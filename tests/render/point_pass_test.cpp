@@ -1,0 +1,203 @@
+// Point pass: points land in the expected pixel with their colour, point sizes cover N x N,
+// the nearest point wins, clipping, colour modes, and the result does not depend on threads.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "core/error.hpp"
+#include "render/point_pass.hpp"
+
+namespace lidarscout::render {
+namespace {
+
+// 64 x 48, looking north, level, at survey-sized coordinates. Focal length 41.57 px.
+Camera test_camera() {
+    Camera c;
+    c.x = 654'321.0;
+    c.y = 5'432'100.0;
+    c.z = 250.0;
+    c.width = 64;
+    c.height = 48;
+    return c;
+}
+
+// Metres that move a point `px` pixels at `depth` metres.
+double metres(double px, double depth) { return px * depth / test_camera().focal_px(); }
+
+PointAttr attr(double dx, double dy, double dz, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+    PointAttr p;
+    p.dx = static_cast<float>(dx);
+    p.dy = static_cast<float>(dy);
+    p.dz = static_cast<float>(dz);
+    p.r = r, p.g = g, p.b = b;
+    return p;
+}
+
+// A batch whose origin is a few hundred metres from the camera.
+PointBatch batch_at(const Camera& c, const std::vector<PointAttr>& points) {
+    return PointBatch{c.x - 30.5, c.y + 80.25, c.z - 12.0, points};
+}
+
+// The point `right_px` right of and `down_px` below the image centre at `depth`, relative to
+// batch_at's origin.
+PointAttr on_screen(double right_px, double down_px, double depth, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+    return attr(30.5 + metres(right_px, depth), depth - 80.25, 12.0 - metres(down_px, depth), r, g, b);
+}
+
+int covered(const Framebuffer& fb) {
+    int n = 0;
+    for (int y = 0; y < fb.height(); ++y)
+        for (int x = 0; x < fb.width(); ++x) n += !fb.empty_at(x, y);
+    return n;
+}
+
+TEST(RenderPointPass, SinglePointLandsInItsPixelWithItsColour) {
+    const Camera c = test_camera();
+    const std::vector<PointAttr> points = {on_screen(0.25, 0.25, 100.0, 200, 100, 50),
+                                           on_screen(4.5, -3.5, 300.0, 10, 20, 30)};
+    const PointBatch batch = batch_at(c, points);
+    Framebuffer fb(c.width, c.height);
+    ThreadPool pool(2);
+    draw_points(fb, c, std::span(&batch, 1), {}, pool);
+    EXPECT_EQ(covered(fb), 2);
+    ASSERT_FALSE(fb.empty_at(32, 24));
+    EXPECT_EQ(fragment_rgba(fb.at(32, 24)), pack_rgba(200, 100, 50));
+    EXPECT_NEAR(fragment_depth(fb.at(32, 24)), 100.0f, 1e-3);
+    ASSERT_FALSE(fb.empty_at(36, 20));
+    EXPECT_EQ(fragment_rgba(fb.at(36, 20)), pack_rgba(10, 20, 30));
+    EXPECT_NEAR(fragment_depth(fb.at(36, 20)), 300.0f, 1e-3);
+}
+
+TEST(RenderPointPass, PointSizeCoversASquare) {
+    const Camera c = test_camera();
+    const std::vector<PointAttr> points = {on_screen(0.5, 0.5, 100.0, 255, 0, 0)};
+    const PointBatch batch = batch_at(c, points);
+    ThreadPool pool(1);
+    for (const int size : {3, 4}) {
+        Framebuffer fb(c.width, c.height);
+        PointPassSettings s;
+        s.point_size = size;
+        draw_points(fb, c, std::span(&batch, 1), s, pool);
+        EXPECT_EQ(covered(fb), size * size) << size;
+        const int left = 32 - (size - 1) / 2, top = 24 - (size - 1) / 2;
+        for (int y = top; y < top + size; ++y)
+            for (int x = left; x < left + size; ++x) EXPECT_FALSE(fb.empty_at(x, y)) << size << " " << x << "," << y;
+    }
+    // A large point at the image corner is clipped, not wrapped or dropped.
+    Framebuffer fb(c.width, c.height);
+    const std::vector<PointAttr> corner = {on_screen(-31.5, -23.5, 100.0, 255, 0, 0)};
+    const PointBatch corner_batch = batch_at(c, corner);
+    PointPassSettings s;
+    s.point_size = 5;
+    draw_points(fb, c, std::span(&corner_batch, 1), s, pool);
+    EXPECT_EQ(covered(fb), 9);
+    EXPECT_FALSE(fb.empty_at(2, 2));
+    EXPECT_TRUE(fb.empty_at(3, 3));
+}
+
+TEST(RenderPointPass, NearestOfOverlappingPointsWinsInAnyOrder) {
+    const Camera c = test_camera();
+    const PointAttr near = on_screen(2.5, 2.5, 50.0, 0, 255, 0);
+    const PointAttr far = on_screen(2.5, 2.5, 60.0, 255, 0, 0);
+    ThreadPool pool(2);
+    for (const bool near_first : {true, false}) {
+        // In the same batch and in two batches with different origins.
+        const std::vector<PointAttr> both = near_first ? std::vector{near, far} : std::vector{far, near};
+        PointAttr far_shifted = far;
+        far_shifted.dx -= 1000.0f;
+        const std::vector<PointAttr> only_near = {near}, only_far = {far_shifted};
+        const std::vector<PointBatch> one = {batch_at(c, both)};
+        PointBatch near_batch = batch_at(c, only_near), far_batch = batch_at(c, only_far);
+        far_batch.origin_x += 1000.0;
+        const std::vector<PointBatch> two = near_first ? std::vector{near_batch, far_batch}
+                                                       : std::vector{far_batch, near_batch};
+        for (const auto* batches : {&one, &two}) {
+            Framebuffer fb(c.width, c.height);
+            draw_points(fb, c, *batches, {}, pool);
+            EXPECT_EQ(covered(fb), 1);
+            EXPECT_EQ(fragment_rgba(fb.at(34, 26)), pack_rgba(0, 255, 0)) << near_first;
+        }
+    }
+}
+
+TEST(RenderPointPass, PointsBehindNearFarOrOffScreenAreNotDrawn) {
+    Camera c = test_camera();
+    c.near_m = 1.0;
+    c.far_m = 500.0;
+    const std::vector<PointAttr> points = {
+        attr(30.5, -80.25 - 20.0, 12.0, 1, 1, 1),           // behind the camera
+        attr(30.5, -80.25 + 0.5, 12.0, 2, 2, 2),            // nearer than near
+        attr(30.5, -80.25 + 600.0, 12.0, 3, 3, 3),          // beyond far
+        on_screen(40.0, 0.0, 100.0, 4, 4, 4),               // right of the image
+        on_screen(0.0, -30.0, 100.0, 5, 5, 5),              // above the image
+        on_screen(0.5, 0.5, 499.0, 6, 6, 6),                // just inside
+    };
+    const PointBatch batch = batch_at(c, points);
+    Framebuffer fb(c.width, c.height);
+    ThreadPool pool(1);
+    draw_points(fb, c, std::span(&batch, 1), {}, pool);
+    EXPECT_EQ(covered(fb), 1);
+    EXPECT_EQ(fragment_rgba(fb.at(32, 24)), pack_rgba(6, 6, 6));
+}
+
+TEST(RenderPointPass, ColourModesUseTheAttributes) {
+    const Camera c = test_camera();
+    std::vector<PointAttr> points = {on_screen(0.5, 0.5, 100.0, 1, 2, 3)};
+    points[0].classification = 6;
+    points[0].intensity = 65535;
+    const PointBatch batch = batch_at(c, points);
+    ThreadPool pool(1);
+    const double z = batch.origin_z + points[0].dz;
+    const auto colour_in = [&](ColourMode mode) {
+        Framebuffer fb(c.width, c.height);
+        PointPassSettings s;
+        s.colour.mode = mode;
+        s.colour.z_min = z - 512.5;  // 1 ramp entry per metre; the point in the middle of entry 512
+        s.colour.z_max = z + 511.5;
+        draw_points(fb, c, std::span(&batch, 1), s, pool);
+        return fragment_rgba(fb.at(32, 24));
+    };
+    EXPECT_EQ(colour_in(ColourMode::Rgb), pack_rgba(1, 2, 3));
+    EXPECT_EQ(colour_in(ColourMode::Classification), classification_colour(6));
+    EXPECT_EQ(colour_in(ColourMode::Intensity), pack_rgba(255, 255, 255));
+    const std::uint32_t elevation = colour_in(ColourMode::Elevation);
+    EXPECT_EQ(elevation, elevation_ramp(512.5f / Palette::kRampSize));
+}
+
+TEST(RenderPointPass, ResultDoesNotDependOnThreadsOrChunks) {
+    const Camera c = test_camera();
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> lateral(-60.0f, 60.0f), depth(20.0f, 200.0f);
+    std::vector<PointAttr> points(200'000);
+    for (PointAttr& p : points) {
+        p = attr(30.5 + lateral(rng), depth(rng) - 80.25, 12.0 + 0.5 * lateral(rng), static_cast<std::uint8_t>(rng()),
+                 static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()));
+    }
+    const PointBatch batch = batch_at(c, points);
+    Framebuffer one(c.width, c.height), many(c.width, c.height);
+    ThreadPool single(1), pool(4);
+    PointPassSettings s;
+    draw_points(one, c, std::span(&batch, 1), s, single);
+    s.chunk_points = 1000;
+    draw_points(many, c, std::span(&batch, 1), s, pool);
+    EXPECT_GT(covered(one), c.width * c.height / 2);
+    EXPECT_TRUE(std::equal(one.data(), one.data() + c.width * c.height, many.data()));
+}
+
+TEST(RenderPointPass, RejectsBadSettings) {
+    const Camera c = test_camera();
+    Framebuffer fb(c.width, c.height), other(32, 32);
+    ThreadPool pool(1);
+    PointPassSettings s;
+    EXPECT_THROW(draw_points(other, c, {}, s, pool), Error);
+    s.point_size = 0;
+    EXPECT_THROW(draw_points(fb, c, {}, s, pool), Error);
+    s.point_size = 65;
+    EXPECT_THROW(draw_points(fb, c, {}, s, pool), Error);
+}
+
+}  // namespace
+}  // namespace lidarscout::render
