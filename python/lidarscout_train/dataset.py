@@ -7,6 +7,7 @@ Each item is a dict of float32 tensors:
   mask_h   [64, 64]     1 where the height ground truth exists (mask and finite)
   mask_rgb [64, 64]     mask_h, and 0 everywhere for a survey without colour
   radius   []           radius_m of the sample (normalised height * radius = metres)
+  weight   []           the sample's weight in the height loss (1 unless set_texel_weights)
   index    []           record index in the file
 
 Augmentation (train only, `augment=True`): a random one of the 8 flips / 90-degree rotations
@@ -18,7 +19,7 @@ import math
 import numpy as np
 import torch
 
-from .model import HEIGHT_FILL, RGB_FILL
+from .model import HEIGHT_FILL, PAD, PATCH, RGB_FILL
 from .train_data import load
 
 SPLIT_TRAIN = 0
@@ -37,7 +38,10 @@ class TrainDataset(torch.utils.data.Dataset):
             self.indices = np.arange(len(self.records))
         else:
             self.indices = np.nonzero(np.asarray(self.records["split"]) == split)[0] if len(self.records) else np.zeros(0, int)
-        self.radius = np.array([s["radius_m"] for s in self.meta.get("samples", [])], dtype=np.float32)
+        samples = self.meta.get("samples", [])
+        self.radius = np.array([s["radius_m"] for s in samples], dtype=np.float32)
+        self.texel = np.array([s["texel_m"] for s in samples], dtype=np.float32)
+        self.weight = np.ones(len(samples), dtype=np.float32)
         self.augment = augment
         self.z_range = z_range
         self.rng = np.random.default_rng(seed)
@@ -80,8 +84,37 @@ class TrainDataset(torch.utils.data.Dataset):
             "mask_h": torch.from_numpy(np.ascontiguousarray(tgt[4])),
             "mask_rgb": torch.from_numpy(np.ascontiguousarray(tgt[5])),
             "radius": torch.tensor(float(self.radius[idx]) if len(self.radius) > idx else 1.0),
+            "weight": torch.tensor(float(self.weight[idx]) if len(self.weight) > idx else 1.0),
             "index": torch.tensor(idx),
         }
+
+
+def linear_mse(record):
+    """Mean squared error (normalised units) of the linear input against the ground truth."""
+    lin = np.asarray(record["height_in"][1], dtype=np.float32)[PAD:PAD + PATCH, PAD:PAD + PATCH]
+    gt = np.asarray(record["height_gt"], dtype=np.float32)
+    m = (np.asarray(record["mask"]) != 0) & np.isfinite(gt) & np.isfinite(lin)
+    return float(np.mean((lin[m] - gt[m]) ** 2)) if m.any() else float("nan")
+
+
+def set_texel_weights(dataset):
+    """Weights every texel size equally in the height loss: a sample's weight is the mean
+    linear-interpolation MSE over all samples divided by that of its texel size.
+
+    Normalised heights shrink with the window (h' = z / radius), so without this the 10 m
+    samples (radius 480 m) weigh ~100x less than the 1 m ones (radius 48 m) in a plain MSE
+    and the network barely learns the coarse texels. Returns {texel_m: weight}."""
+    mse = np.array([linear_mse(dataset.records[int(i)]) for i in dataset.indices])
+    tex = dataset.texel[dataset.indices]
+    ok = np.isfinite(mse)
+    overall = float(np.mean(mse[ok]))
+    weights = {}
+    for t in np.unique(tex):
+        group = ok & (tex == t)
+        weights[float(t)] = overall / float(np.mean(mse[group])) if group.any() else 1.0
+    for i in dataset.indices:
+        dataset.weight[int(i)] = weights[float(dataset.texel[int(i)])]
+    return weights
 
 
 def augment_geometry(a, k, flip):

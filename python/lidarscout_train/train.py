@@ -1,13 +1,18 @@
 """Trains the heightmap network on a `lidarscout train-data` file and exports it to TorchScript.
 
     python3 -m lidarscout_train.train DATA.bin --out DIR [--epochs N] [--batch 32]
-        [--decoder transposed|upsample] [--width 16] [--threads 2] [--lr 1e-4] [--seed 1]
-        [--no-augment] [--max-steps N]
+        [--decoder transposed|upsample] [--width 16] [--head-kernel 9] [--no-residual]
+        [--threads 2] [--device cpu|cuda] [--lr 1e-4] [--seed 1] [--no-augment] [--max-steps N]
+
+On a GPU machine (PyTorch 2.x with CUDA there) train with --device cuda and bring back
+state_dict.pt; export it to TorchScript here with `python3 -m lidarscout_train.export`, so that
+the file matches this machine's LibTorch (1.13).
 
 Recipe (after the paper): AdamW (lr 1e-4, eps 1e-5, weight decay 1e-2), MultiStepLR x0.1 at
 1/3 and 2/3 of the epochs; loss = MSE over texels with ground truth: height where mask (and the
 ground truth is finite), colour where mask and the survey has colour; height loss + colour
-loss. Colour predictions are clipped to [0, 1] inside the model (as the reference); height
+loss; the height error of each sample is weighted so that every texel size counts alike
+(dataset.set_texel_weights; --no-texel-weights for the plain MSE). Colour predictions are clipped to [0, 1] inside the model (as the reference); height
 predictions are not clipped (normalised heights are not bounded: steep terrain in a small
 window exceeds 1), the height error is used as is. Validation runs on the file's held-out
 regions (split 1) without augmentation and reports the loss and the height RMSE in metres
@@ -26,27 +31,35 @@ import time
 
 import torch
 
-from .dataset import TrainDataset
+from .dataset import TrainDataset, set_texel_weights
 from .model import PAD, PATCH, HeightmapNet, count_parameters
 
 
 def masked_losses(pred, batch):
-    """Returns (total, height_mse, rgb_mse) averaged over the valid texels of the batch."""
+    """Returns (total, height_mse, rgb_mse) averaged over the valid texels of the batch; the
+    height error of each sample is scaled by its weight (batch["weight"], default 1)."""
     mh = batch["mask_h"]
     mc = batch["mask_rgb"]
     dh = (pred[:, 0] - batch["height"]) ** 2
+    if "weight" in batch:
+        dh = dh * batch["weight"].view(-1, 1, 1)
     lh = (dh * mh).sum() / mh.sum().clamp(min=1.0)
     dc = ((pred[:, 1:4] - batch["rgb"]) ** 2).sum(dim=1)
     lc = (dc * mc).sum() / (3.0 * mc.sum()).clamp(min=1.0)
     return lh + lc, lh, lc
 
 
-def evaluate(model, loader):
+def to_device(batch, device):
+    return {k: v.to(device, non_blocking=True) for k, v in batch.items()}
+
+
+def evaluate(model, loader, device="cpu"):
     """Mean loss per batch and height RMSE in metres / colour PSNR over all valid texels."""
     model.eval()
     total, batches, sq_m, n_h, sq_c, n_c, sq_lin = 0.0, 0, 0.0, 0.0, 0.0, 0.0, 0.0
     with torch.no_grad():
         for batch in loader:
+            batch = to_device(batch, device)
             pred = model(batch["x"])
             loss, _, _ = masked_losses(pred, batch)
             total += float(loss)
@@ -87,10 +100,13 @@ def main(argv=None):
     ap.add_argument("--head-kernel", type=int, default=9, help="kernel of the three final convolutions")
     ap.add_argument("--no-residual", action="store_true", help="the paper's plain heads (no correction of h_lin)")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--device", default="cpu", help="cpu, or cuda on a GPU machine")
     ap.add_argument("--lr", type=float, default=1e-4)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--no-augment", action="store_true")
     ap.add_argument("--max-steps", type=int, default=0, help="stop each epoch after N steps (smoke runs)")
+    ap.add_argument("--no-texel-weights", action="store_true",
+                    help="plain MSE over normalised heights (the coarse texel sizes then weigh ~100x less)")
     args = ap.parse_args(argv)
 
     torch.set_num_threads(args.threads)
@@ -101,12 +117,16 @@ def main(argv=None):
     val_set = TrainDataset(args.data, split="validation", augment=False)
     if len(train_set) == 0:
         raise SystemExit(f"{args.data}: no training samples")
+    texel_weights = {} if args.no_texel_weights else set_texel_weights(train_set)
+    if texel_weights:
+        print("height loss weight per texel size: " + ", ".join(f"{t:g} m: {w:.3g}" for t, w in sorted(texel_weights.items())),
+              flush=True)
     gen = torch.Generator().manual_seed(args.seed)
     train_loader = torch.utils.data.DataLoader(train_set, batch_size=args.batch, shuffle=True, generator=gen, drop_last=False)
     val_loader = torch.utils.data.DataLoader(val_set, batch_size=args.batch, shuffle=False)
 
     model = HeightmapNet(decoder=args.decoder, width=args.width, head_kernel=args.head_kernel,
-                         residual=not args.no_residual)
+                         residual=not args.no_residual).to(args.device)
     n_params = count_parameters(model)
     print(f"model: decoder={args.decoder} width={args.width} parameters={n_params}; "
           f"train {len(train_set)} validation {len(val_set)} samples", flush=True)
@@ -114,12 +134,14 @@ def main(argv=None):
     milestones = sorted({max(1, round(args.epochs / 3)), max(1, round(2 * args.epochs / 3))})
     sched = torch.optim.lr_scheduler.MultiStepLR(opt, milestones=milestones, gamma=0.1)
 
-    history = {"config": vars(args) | {"parameters": n_params, "milestones": milestones}, "epochs": []}
+    history = {"config": vars(args) | {"parameters": n_params, "milestones": milestones,
+                                       "texel_weights": {str(k): v for k, v in texel_weights.items()}}, "epochs": []}
     for epoch in range(args.epochs):
         model.train()
         t0 = time.time()
         total, lh_sum, lc_sum, steps = 0.0, 0.0, 0.0, 0
         for batch in train_loader:
+            batch = to_device(batch, args.device)
             pred = model(batch["x"])
             loss, lh, lc = masked_losses(pred, batch)
             opt.zero_grad(set_to_none=True)
@@ -137,7 +159,7 @@ def main(argv=None):
                "train_height_mse": lh_sum / steps, "train_rgb_mse": lc_sum / steps,
                "seconds": round(time.time() - t0, 2)}
         if len(val_set):
-            v = evaluate(model, val_loader)
+            v = evaluate(model, val_loader, args.device)
             rec |= {"val_loss": v["loss"], "val_height_rmse_m": v["height_rmse_m"], "val_rgb_psnr_db": v["rgb_psnr_db"],
                     "val_linear_height_rmse_m": v["linear_height_rmse_m"]}
         history["epochs"].append(rec)
@@ -145,6 +167,7 @@ def main(argv=None):
         with open(os.path.join(args.out, "history.json"), "w") as f:
             json.dump(history, f, indent=1)
 
+    model = model.cpu()
     torch.save({"state_dict": model.state_dict(), "decoder": args.decoder, "width": args.width,
                 "head_kernel": args.head_kernel, "residual": not args.no_residual},
                os.path.join(args.out, "state_dict.pt"))
