@@ -77,7 +77,7 @@ TEST(ViewerScene, PointsWinOverTheHeightmapTheyLieOn) {
     SceneStyle style;
     style.heightmaps.ambient = 1.0f;  // unshaded: the texture's colour itself
     ThreadPool pool(2);
-    const auto frame = render_scene(scene, above(kOx + 320.0, kOy + 320.0, 600.0), style, pool);
+    const auto frame = render_scene(scene, above(kOx + 320.0, kOy + 320.0, 350.0), style, pool);
     EXPECT_EQ(frame.drawn_pixels, 64u * 48u);  // the patch fills the view
     int reds = 0;  // the point projects to the image centre, on a pixel corner
     for (int y = 23; y <= 24; ++y)

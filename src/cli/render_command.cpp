@@ -1,0 +1,368 @@
+// `lidarscout render PATH... --camera X,Y,Z,YAW,PITCH|auto --size WxH --until overview|heightmaps|full
+// -o out.png`: renders, without a window, what the viewer shows at a camera once a stage is
+// complete for the visible region: the chunk points (overview), plus the patches' heightmaps
+// (linear or the network), plus the full-resolution points of the tiles that are large on
+// screen, within a memory budget. Prints a one-line summary (or JSON) with the time per stage.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <filesystem>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "core/error.hpp"
+#include "dataset/chunk_point_loader.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/patch_grid.hpp"
+#include "nn/heightmap_network.hpp"
+#include "render/camera.hpp"
+#include "render/png_writer.hpp"
+#include "viewer/heightmap_builder.hpp"
+#include "viewer/scene.hpp"
+#include "viewer/visibility.hpp"
+
+namespace lidarscout::cli {
+namespace {
+
+enum class Stage { Overview, Heightmaps, Full };
+
+struct RenderCliOptions {
+    std::vector<std::string> paths;
+    std::string camera = "auto";
+    double fov = 60;
+    std::string size = "1280x720";
+    std::string until = "full";
+    std::string output;
+    std::string colour = "rgb";
+    std::string heightmaps = "linear";
+    std::string model;
+    int point_size = 1;
+    int chunk_point_size = 2;
+    float edl = 0;
+    std::size_t min_points = viewer::kViewerMinPoints;
+    std::string memory;
+    unsigned threads = 0;
+    bool json = false;
+};
+
+// The options checked and parsed (everything that can be wrong before any file is read).
+struct RenderPlan {
+    int width = 0, height = 0;
+    Stage until = Stage::Full;
+    render::ColourMode colour = render::ColourMode::Rgb;
+    bool cnn = false;
+    std::string model_path;          // cnn only
+    std::optional<render::Camera> camera;  // empty: auto
+    std::uint64_t memory_budget = 0;
+    unsigned threads = 1;
+};
+
+struct StageTimes {
+    double headers = 0, chunk_points = 0, heightmaps = 0, full_res = 0, render = 0;
+};
+
+struct RenderReport {
+    std::size_t tiles = 0, skipped = 0, patches = 0, visible_patches = 0;
+    std::uint64_t chunk_points = 0, chunk_points_drawn = 0, full_res_points = 0;
+    std::size_t heightmaps = 0, full_res_tiles = 0, full_res_over_budget = 0, drawn_pixels = 0;
+    bool has_rgb = false;  // the survey has colour (chunk_points_have_rgb)
+    std::vector<std::string> warnings;
+    render::Camera camera;
+    StageTimes seconds;
+};
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+const char* stage_name(Stage s) { return s == Stage::Overview ? "overview" : s == Stage::Heightmaps ? "heightmaps" : "full"; }
+
+Stage parse_stage(const std::string& text) {
+    for (Stage s : {Stage::Overview, Stage::Heightmaps, Stage::Full}) {
+        if (text == stage_name(s)) return s;
+    }
+    throw Error("unknown --until '" + text + "' (overview, heightmaps or full)");
+}
+
+int parse_positive_int(std::string_view text) {
+    int value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value <= 0) return -1;
+    return value;
+}
+
+void parse_size(const std::string& text, RenderPlan& plan) {
+    const auto x = text.find('x');
+    const int w = x == std::string::npos ? -1 : parse_positive_int(std::string_view(text).substr(0, x));
+    const int h = x == std::string::npos ? -1 : parse_positive_int(std::string_view(text).substr(x + 1));
+    if (w <= 0 || h <= 0 || w > 16384 || h > 16384) {
+        throw Error("bad --size '" + text + "': expected WIDTHxHEIGHT in pixels (1..16384), e.g. 1280x720");
+    }
+    plan.width = w, plan.height = h;
+}
+
+std::uint64_t quarter_of_ram() {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * page / 4 : (1ull << 30);
+}
+
+// "512M", "4G", "1.5G", "100000" (bytes); empty = a quarter of the RAM.
+std::uint64_t parse_memory(const std::string& text) {
+    if (text.empty()) return quarter_of_ram();
+    double value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    const std::string unit(end, text.data() + text.size());
+    const double factor = unit.empty() || unit == "B" ? 1.0 : unit == "K" ? 1024.0 : unit == "M" ? 1048576.0
+                          : unit == "G" ? 1073741824.0 : unit == "T" ? 1099511627776.0 : -1.0;
+    if (ec != std::errc() || !(value >= 0) || factor < 0 || !(value * factor < 1e19)) {
+        throw Error("bad --memory '" + text + "': expected a size such as 512M, 4G or a number of bytes");
+    }
+    return static_cast<std::uint64_t>(value * factor);
+}
+
+RenderPlan make_plan(const RenderCliOptions& o) {
+    RenderPlan plan;
+    parse_size(o.size, plan);
+    plan.until = parse_stage(o.until);
+    plan.colour = render::parse_colour_mode(o.colour);
+    if (o.heightmaps != "linear" && o.heightmaps != "cnn") {
+        throw Error("unknown --heightmaps '" + o.heightmaps + "' (linear or cnn)");
+    }
+    if (!(o.fov > 0 && o.fov < 180)) throw Error("bad --fov: the field of view must be within (0, 180) degrees");
+    if (o.camera != "auto") plan.camera = render::parse_camera(o.camera, plan.width, plan.height, o.fov);
+    plan.cnn = o.heightmaps == "cnn" && plan.until != Stage::Overview;
+    if (plan.cnn) plan.model_path = o.model.empty() ? nn::default_model_path() : o.model;
+    if (plan.cnn && !std::filesystem::is_regular_file(plan.model_path)) {
+        throw Error(plan.model_path + ": no such heightmap network model file");
+    }
+    plan.memory_budget = parse_memory(o.memory);
+    plan.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    return plan;
+}
+
+dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
+    const auto t0 = Clock::now();
+    dataset::DatasetOptions opt;
+    Progress progress("headers", 0);
+    opt.progress = [&](std::size_t, std::size_t total) {
+        progress.set_total(total);
+        progress.add();
+    };
+    auto ds = dataset::open_dataset(o.paths, opt);
+    progress.finish();
+    for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
+    if (ds.tiles.empty()) throw Error("render: no readable LAS/LAZ tiles in the given paths");
+    report.tiles = ds.tiles.size();
+    report.skipped = ds.skipped.size();
+    report.warnings = ds.warnings;
+    report.seconds.headers = seconds_since(t0);
+    return ds;
+}
+
+render::Camera make_camera(const RenderPlan& plan, const RenderCliOptions& o, const dataset::Dataset& ds) {
+    if (plan.camera) return *plan.camera;
+    const auto& b = ds.bounds_m;
+    return render::Camera::looking_at_bounds(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, plan.width,
+                                             plan.height, o.fov);
+}
+
+void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, const render::Camera& camera,
+                       RenderReport& report) {
+    const auto t0 = Clock::now();
+    dataset::ChunkPointLoader loader(ds, grid);
+    loader.set_focus(camera.x, camera.y);
+    Progress progress("chunk points", loader.total());
+    std::uint64_t shown = 0;
+    loader.start();
+    while (!loader.wait_for(std::chrono::milliseconds(50))) {
+        const auto now = loader.loaded() + loader.failed();
+        progress.add(now - shown);
+        shown = now;
+    }
+    loader.wait();
+    progress.finish();
+    for (const auto& e : loader.errors()) report.warnings.push_back(e);
+    grid.shrink_to_fit();
+    report.chunk_points = loader.loaded();
+    report.has_rgb = viewer::chunk_points_have_rgb(grid);
+    report.patches = grid.cells().size();
+    report.seconds.chunk_points = seconds_since(t0);
+}
+
+std::vector<viewer::PatchHeightmap> build_heightmaps(const RenderPlan& plan, const RenderCliOptions& o,
+                                                     const dataset::Dataset& ds, const dataset::PatchGrid& grid,
+                                                     std::span<const dataset::CellKey> cells, ThreadPool& pool,
+                                                     RenderReport& report) {
+    const auto t0 = Clock::now();
+    viewer::HeightmapBuildOptions opt;
+    opt.patch.min_points = o.min_points;
+    opt.patch.has_rgb = report.has_rgb;
+    opt.footprints = viewer::tile_footprints(ds);
+    Progress progress("heightmaps", cells.size());
+    opt.progress = [&](std::size_t n) { progress.add(n); };
+    std::vector<viewer::PatchHeightmap> out;
+    if (plan.cnn) {
+        const auto network = nn::HeightmapNetwork::load(plan.model_path, static_cast<int>(plan.threads));
+        out = viewer::build_cnn_heightmaps(grid, cells, network, opt, pool);
+    } else {
+        out = viewer::build_linear_heightmaps(grid, cells, opt, pool);
+    }
+    progress.finish();
+    report.heightmaps = out.size();
+    report.seconds.heightmaps = seconds_since(t0);
+    return out;
+}
+
+std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const dataset::Dataset& ds,
+                                              const render::Camera& camera, ThreadPool& pool, RenderReport& report) {
+    const auto t0 = Clock::now();
+    viewer::FullResOptions opt;
+    opt.memory_budget = plan.memory_budget;
+    const auto choice = viewer::choose_full_res_tiles(ds, camera, opt);
+    std::uint64_t total = 0;
+    for (const auto i : choice.tiles) total += ds.tiles[i].tile.header.point_count;
+    Progress progress("full-res points", total);
+    std::vector<viewer::PointSet> out;
+    for (const auto i : choice.tiles) {
+        out.push_back(viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool, [&](std::uint64_t n) { progress.add(n); }));
+    }
+    progress.finish();
+    report.full_res_tiles = out.size();
+    report.full_res_over_budget = choice.over_budget;
+    report.full_res_points = viewer::point_count(out);
+    report.seconds.full_res = seconds_since(t0);
+    return out;
+}
+
+viewer::SceneStyle scene_style(const RenderPlan& plan, const RenderCliOptions& o, const dataset::Dataset& ds) {
+    viewer::SceneStyle style;
+    style.colour = viewer::colour_settings(plan.colour, ds.bounds_m.min_z, ds.bounds_m.max_z);
+    style.point_size = o.point_size;
+    style.chunk_point_size = o.chunk_point_size;
+    style.resolve.edl_strength = o.edl;
+    return style;
+}
+
+nlohmann::json camera_json(const render::Camera& c) {
+    return {{"x", c.x}, {"y", c.y}, {"z", c.z}, {"yaw_deg", c.yaw_deg}, {"pitch_deg", c.pitch_deg},
+            {"fov_deg", c.fov_deg}, {"near_m", c.near_m}, {"far_m", c.far_m},
+            {"text", fmt::format("{:.2f},{:.2f},{:.2f},{:g},{:g}", c.x, c.y, c.z, c.yaw_deg, c.pitch_deg)}};
+}
+
+void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderReport& r) {
+    const auto& s = r.seconds;
+    nlohmann::json j = {{"output", o.output},
+                        {"width", plan.width},
+                        {"height", plan.height},
+                        {"until", stage_name(plan.until)},
+                        {"colour", render::colour_mode_name(plan.colour)},
+                        {"heightmap_method", plan.cnn ? "cnn" : "linear"},
+                        {"camera", camera_json(r.camera)},
+                        {"tiles", r.tiles},
+                        {"has_rgb", r.has_rgb},
+                        {"skipped", r.skipped},
+                        {"chunk_points", r.chunk_points},
+                        {"patches", r.patches},
+                        {"visible_patches", r.visible_patches},
+                        {"patches_with_heightmaps", r.heightmaps},
+                        {"chunk_points_drawn", r.chunk_points_drawn},
+                        {"full_res_tiles", r.full_res_tiles},
+                        {"full_res_tiles_over_budget", r.full_res_over_budget},
+                        {"full_res_points", r.full_res_points},
+                        {"memory_budget", plan.memory_budget},
+                        {"drawn_pixels", r.drawn_pixels},
+                        {"warnings", r.warnings},
+                        {"seconds", {{"headers", s.headers}, {"chunk_points", s.chunk_points},
+                                     {"heightmaps", s.heightmaps}, {"full_res", s.full_res}, {"render", s.render}}}};
+    if (plan.cnn) j["model"] = plan.model_path;
+    std::printf("%s\n", j.dump(2).c_str());
+}
+
+void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const RenderReport& r) {
+    for (const auto& w : r.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    const auto& s = r.seconds;
+    const std::string budget =
+        r.full_res_over_budget ? fmt::format(", {} over the memory budget", r.full_res_over_budget) : "";
+    std::fprintf(stderr,
+                 "render: %zu tiles, %llu chunk points, %zu of %zu visible patches with heightmaps (%s), %llu full-res "
+                 "points from %zu tiles%s; headers %.3f s, chunk points %.3f s, heightmaps %.3f s, full-res %.3f s, "
+                 "render %.3f s -> %s (camera %s)\n",
+                 r.tiles, (unsigned long long)r.chunk_points, r.heightmaps, r.visible_patches, plan.cnn ? "cnn" : "linear",
+                 (unsigned long long)r.full_res_points, r.full_res_tiles, budget.c_str(), s.headers, s.chunk_points,
+                 s.heightmaps, s.full_res, s.render, o.output.c_str(),
+                 camera_json(r.camera)["text"].get<std::string>().c_str());
+}
+
+int run_render(const RenderCliOptions& o) {
+    const RenderPlan plan = make_plan(o);
+    RenderReport report;
+    const dataset::Dataset ds = read_headers(o, report);
+    report.camera = make_camera(plan, o, ds);
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    dataset::PatchGrid grid(ox, oy);
+    load_chunk_points(ds, grid, report.camera, report);
+    ThreadPool pool(plan.threads);
+    const auto cells = viewer::visible_cells(grid, report.camera, ds.bounds_m.min_z, ds.bounds_m.max_z);
+    report.visible_patches = cells.size();
+    viewer::Scene scene;
+    if (plan.until != Stage::Overview) scene.heightmaps = build_heightmaps(plan, o, ds, grid, cells, pool, report);
+    scene.chunk_points = viewer::overview_point_sets(grid, cells, scene.heightmaps);
+    report.chunk_points_drawn = viewer::point_count(scene.chunk_points);
+    if (plan.until == Stage::Full) scene.full_points = decode_full_res(plan, ds, report.camera, pool, report);
+    if (!report.has_rgb) {
+        viewer::paint_uncoloured(scene.chunk_points);
+        viewer::paint_uncoloured(scene.full_points);
+    }
+    const auto t0 = Clock::now();
+    const auto frame = viewer::render_scene(scene, report.camera, scene_style(plan, o, ds), pool);
+    render::write_png(o.output, frame.image);
+    report.drawn_pixels = frame.drawn_pixels;
+    report.seconds.render = seconds_since(t0);
+    if (o.json) print_json(o, plan, report);
+    else print_summary(o, plan, report);
+    return 0;
+}
+
+}  // namespace
+
+void register_render_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<RenderCliOptions>();
+    auto* cmd = app.add_subcommand("render", "Render a dataset to a PNG without a window, as the viewer shows it once "
+                                             "a stage (overview, heightmaps, full) is complete");
+    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
+        ->required();
+    cmd->add_option("-o,--output", o->output, "The PNG to write")->required();
+    cmd->add_option("--camera", o->camera,
+                    "X,Y,Z,YAW,PITCH (metres; degrees, yaw 0 = north, pitch < 0 = down) or 'auto' (default: the "
+                    "whole dataset from the south, 60 degrees down)");
+    cmd->add_option("--fov", o->fov, "Vertical field of view in degrees (default 60)");
+    cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720)");
+    cmd->add_option("--until", o->until,
+                    "Stage to complete: overview (chunk points), heightmaps, full (plus full-resolution points of "
+                    "the tiles large on screen; default)");
+    cmd->add_option("--colour,--color", o->colour, "rgb (default), elevation, intensity or classification");
+    cmd->add_option("--heightmaps", o->heightmaps, "Heightmap method: linear (default) or cnn (the network)");
+    cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");
+    cmd->add_option("--min-points", o->min_points,
+                    "Chunk points a patch's 960 m window needs for a heightmap (default 6)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--point-size", o->point_size, "Full-resolution point size in pixels (default 1)")
+        ->check(CLI::Range(1, 64));
+    cmd->add_option("--chunk-point-size", o->chunk_point_size, "Chunk point size in pixels (default 2)")
+        ->check(CLI::Range(1, 64));
+    cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")->check(CLI::Range(0.0, 100.0));
+    cmd->add_option("--memory", o->memory, "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
+    cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
+    cmd->add_flag("--json", o->json, "Print the summary as JSON on stdout");
+    cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
+}
+
+}  // namespace lidarscout::cli

@@ -1,0 +1,47 @@
+// The heightmap of one patch as the viewer keeps and draws it: 64 x 64 heights in metres and
+// an RGBA texture over a 640 m cell of the patch grid, built from the cell's chunk points by
+// the linear method (recon) or from the network's output, and masked to the tiles' footprints
+// so that a patch on the edge of the data does not show terrain nobody scanned.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "dataset/dataset.hpp"
+#include "dataset/patch_grid.hpp"
+#include "recon/methods.hpp"
+#include "recon/patch_space.hpp"
+#include "render/heightmap_pass.hpp"
+
+namespace lidarscout::viewer {
+
+struct PatchHeightmap {
+    dataset::CellKey cell;
+    double origin_x = 0, origin_y = 0;  // south-west corner of the patch, world metres
+    double texel_m = 10;
+    int size = 64;                      // texels per side
+    std::vector<float> heights;         // size x size, row 0 = south; metres, NaN = no data
+    std::vector<std::uint32_t> colours; // rgba8 (render/framebuffer.hpp), or empty without colour
+
+    // The heightmap pass's view of this patch (spans into this object).
+    render::HeightmapPatch view() const;
+};
+
+// A heightmap from a patch-sized reconstruction (recon::Reconstruction of size x size texels:
+// normalised heights, colours in [0, 1] or NaN) of the window `points` of `cell`.
+PatchHeightmap heightmap_from_reconstruction(dataset::CellKey cell, const recon::PatchPoints& points,
+                                             const recon::Reconstruction& patch);
+
+// The linear method (barycentric in the chunk points' triangles, nearest outside) on the
+// window of `cell`, cropped to the patch; nullopt when the window has too few chunk points
+// (options.min_points). The grid's patch size must be options.spec.patch_m().
+std::optional<PatchHeightmap> linear_heightmap(const dataset::PatchGrid& grid, dataset::CellKey cell,
+                                               const recon::PatchOptions& options);
+
+// Sets to NaN every texel whose centre lies outside all `footprints` (xy boxes, metres);
+// returns false when no texel is left.
+bool mask_to_footprints(PatchHeightmap& heightmap, std::span<const dataset::Bounds> footprints);
+
+}  // namespace lidarscout::viewer

@@ -1,0 +1,47 @@
+// Points the point pass draws, owned by the viewer: the chunk points of a grid cell (origin =
+// the cell's corner) and the full-resolution points of a tile (origin = the tile's min corner),
+// each as float offsets from a double origin (render/point_batch.hpp).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "core/thread_pool.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/patch_grid.hpp"
+#include "render/point_batch.hpp"
+
+namespace lidarscout::viewer {
+
+struct PointSet {
+    double origin_x = 0, origin_y = 0, origin_z = 0;  // world metres
+    std::vector<render::PointAttr> points;
+
+    render::PointBatch batch() const { return {origin_x, origin_y, origin_z, points}; }
+};
+
+// Batches viewing every set (the sets must outlive them).
+std::vector<render::PointBatch> batches_of(std::span<const PointSet> sets);
+std::uint64_t point_count(std::span<const PointSet> sets);
+
+// The chunk points stored in `cell` of the grid; origin = the cell's min corner at z = 0.
+PointSet cell_point_set(const dataset::PatchGrid& grid, dataset::CellKey cell);
+
+// The grey of surfaces without colour (as the heightmap pass draws untextured patches).
+inline constexpr std::uint8_t kUncolouredGrey = 170;
+// Gives every point the grey above: for surveys without colour (their points load as black),
+// so that RGB mode shows them like their heightmaps.
+void paint_uncoloured(std::span<PointSet> sets);
+
+// Bytes a tile's full-resolution PointSet takes (its point count x sizeof(PointAttr)).
+std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile);
+
+// Every point of the tile, decoded (LAZ chunks in parallel on `pool`), in metres, colour to 8
+// bits by the tile's chunk points (dataset::colour_is_16bit). `progress(points)` is called
+// after each batch of decoded points. Throws lidarscout::Error when the tile cannot be decoded.
+PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
+                        const std::function<void(std::uint64_t)>& progress = {});
+
+}  // namespace lidarscout::viewer

@@ -1,0 +1,266 @@
+// `lidarscout render`: every survey rendered at the auto camera shows terrain in elevation
+// colours; the overview draws less than the heightmaps; full resolution decodes a small
+// survey's tile; golden images at a fixed camera; bad arguments are one-line errors.
+//
+// Golden images live in tests/data/golden/. After an intended change of the rendering, look
+// at the new images and regenerate them with
+//   LIDARSCOUT_UPDATE_GOLDEN=1 build/lidarscout_tests --gtest_filter='RenderCommand.Golden*'
+// (the test then writes the rendered PNGs over the references and passes).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "nn/heightmap_network.hpp"
+#include "render/framebuffer.hpp"
+#include "test_data.hpp"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+namespace lidarscout {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::uint32_t kBackground = render::pack_rgba(24, 26, 32);  // render::ResolveSettings' default
+
+struct Png {
+    int width = 0, height = 0;
+    std::vector<std::uint32_t> pixels;  // rgba8, red in the low byte
+    bool ok() const { return width > 0; }
+};
+
+Png read_png(const fs::path& path) {
+    Png png;
+    int channels = 0;
+    unsigned char* data = stbi_load(path.string().c_str(), &png.width, &png.height, &channels, 4);
+    if (!data) return {};
+    png.pixels.resize(static_cast<std::size_t>(png.width) * png.height);
+    for (std::size_t i = 0; i < png.pixels.size(); ++i) {
+        png.pixels[i] = render::pack_rgba(data[4 * i], data[4 * i + 1], data[4 * i + 2], data[4 * i + 3]);
+    }
+    stbi_image_free(data);
+    return png;
+}
+
+std::size_t drawn_pixels(const Png& png) {
+    return static_cast<std::size_t>(std::count_if(png.pixels.begin(), png.pixels.end(),
+                                                  [](std::uint32_t p) { return (p & 0xffffff) != (kBackground & 0xffffff); }));
+}
+
+// Hue sectors (of 30 degrees) of the drawn, not greyish pixels holding at least `min_share` of
+// them: shading scales a colour and keeps its hue, so several sectors mean several elevations.
+int hue_sectors(const Png& png, double min_share) {
+    std::map<int, std::size_t> sectors;
+    std::size_t drawn = 0;
+    for (const std::uint32_t p : png.pixels) {
+        if ((p & 0xffffff) == (kBackground & 0xffffff)) continue;
+        ++drawn;
+        const double r = render::red(p), g = render::green(p), b = render::blue(p);
+        const double hi = std::max({r, g, b}), lo = std::min({r, g, b}), c = hi - lo;
+        if (c < 12) continue;
+        double h = hi == r ? std::fmod((g - b) / c + 6.0, 6.0) : hi == g ? (b - r) / c + 2.0 : (r - g) / c + 4.0;
+        ++sectors[static_cast<int>(h * 60.0 / 30.0) % 12];
+    }
+    return static_cast<int>(std::count_if(sectors.begin(), sectors.end(),
+                                          [&](const auto& s) { return s.second >= std::max(1.0, min_share * drawn); }));
+}
+
+class RenderCommand : public ::testing::Test {
+protected:
+    fs::path dir_ = fs::temp_directory_path() / ("lidarscout_render_test_" + std::to_string(::getpid()));
+    void SetUp() override { fs::create_directories(dir_); }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    // Runs `lidarscout render ARGS -o DIR/NAME.png`; stdout into `out`, stderr into `err`.
+    int render(const std::string& args, const std::string& name, std::string& out, std::string& err) {
+        const fs::path err_file = dir_ / (name + ".err");
+        const int rc = test::run_command(std::string(LIDARSCOUT_CLI) + " render " + args + " -o " +
+                                             (dir_ / (name + ".png")).string() + " 2>" + err_file.string(),
+                                         out);
+        std::ifstream in(err_file);
+        err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        return rc;
+    }
+    nlohmann::json render_json(const std::string& args, const std::string& name) {
+        std::string out, err;
+        EXPECT_EQ(render(args + " --json", name, out, err), 0) << err;
+        return nlohmann::json::parse(out, nullptr, false);
+    }
+    Png png(const std::string& name) const { return read_png(dir_ / (name + ".png")); }
+};
+
+std::string survey(const std::string& name) { return (test::surveys_dir() / name).string(); }
+
+// Share of the 320 x 240 image the heightmaps stage covers at the auto camera and hue sectors
+// of its elevation colours, with margin (measured: ky-jmo335 0.50 / 7, ky-woodford 0.46 / 3,
+// ky-red-river 0.38 / 7, nc-raleigh 0.14 / 5, lasr-bcts 0.089 / 6, isprs 0.0053 / 2, ign
+// 0.0004 / 6). The IGN tiles lie hundreds of km apart (France from the air, 29 chunk points,
+// no patch with enough of them), the ISPRS sites kilometres apart.
+struct Expect {
+    double min_share;
+    int min_hues;
+};
+const std::map<std::string, Expect> kExpected = {
+    {"ky-jmo335-eastern-kentucky", {0.35, 4}}, {"ky-woodford-county", {0.30, 2}}, {"ky-red-river-gorge", {0.25, 4}},
+    {"nc-raleigh-ept", {0.08, 3}},           {"lasr-bcts-strips", {0.05, 4}},   {"isprs-filter-test-sites", {0.003, 2}},
+    {"ign-lidar-hd-1km", {0.0002, 3}},
+};
+
+TEST_F(RenderCommand, EverySurveyShowsTerrainInElevationColours) {
+    int surveys = 0;
+    for (const auto& entry : fs::directory_iterator(test::surveys_dir())) {
+        if (!entry.is_directory()) continue;
+        const std::string name = entry.path().filename().string();
+        SCOPED_TRACE(name);
+        ++surveys;
+        std::string out, err;
+        ASSERT_EQ(render(entry.path().string() + " --camera auto --until heightmaps --size 320x240 --colour elevation",
+                         name, out, err),
+                  0)
+            << err;
+        EXPECT_NE(err.find("render: "), std::string::npos) << err;  // the one-line summary
+        const Png image = png(name);
+        ASSERT_TRUE(image.ok());
+        EXPECT_EQ(image.width, 320);
+        EXPECT_EQ(image.height, 240);
+        const auto it = kExpected.find(name);
+        const Expect e = it != kExpected.end() ? it->second : Expect{0.0001, 1};
+        const double share = static_cast<double>(drawn_pixels(image)) / (320 * 240);
+        EXPECT_GE(share, e.min_share);
+        EXPECT_GE(hue_sectors(image, 0.02), e.min_hues);
+    }
+    EXPECT_EQ(surveys, 7);
+}
+
+TEST_F(RenderCommand, OverviewDrawsLessThanHeightmaps) {
+    const std::string args = survey("ky-jmo335-eastern-kentucky") + " --size 320x240 --colour elevation";
+    const auto overview = render_json(args + " --until overview", "overview");
+    const auto heightmaps = render_json(args + " --until heightmaps", "heightmaps");
+    EXPECT_EQ(overview.at("patches_with_heightmaps"), 0);
+    EXPECT_EQ(overview.at("chunk_points_drawn"), overview.at("chunk_points"));
+    EXPECT_GT(heightmaps.at("patches_with_heightmaps").get<int>(), 10);
+    EXPECT_EQ(heightmaps.at("full_res_points"), 0);
+    const std::size_t drawn_overview = drawn_pixels(png("overview")), drawn_heightmaps = drawn_pixels(png("heightmaps"));
+    EXPECT_EQ(drawn_overview, overview.at("drawn_pixels").get<std::size_t>());
+    EXPECT_EQ(drawn_heightmaps, heightmaps.at("drawn_pixels").get<std::size_t>());
+    EXPECT_GT(drawn_overview, 100u);
+    EXPECT_GT(drawn_heightmaps, 10 * drawn_overview);
+}
+
+TEST_F(RenderCommand, FullDecodesTheTileOfASmallSurvey) {
+    const std::string args = survey("ky-woodford-county") + " --size 320x240";
+    const auto heightmaps = render_json(args + " --until heightmaps", "heightmaps");
+    const auto full = render_json(args + " --until full --point-size 2", "full");
+    EXPECT_EQ(full.at("tiles"), 1);
+    EXPECT_EQ(full.at("full_res_tiles"), 1);
+    EXPECT_EQ(full.at("full_res_points"), 1'012'412);  // the tile's point count
+    EXPECT_TRUE(full.at("has_rgb").get<bool>());
+    EXPECT_GE(full.at("drawn_pixels").get<std::size_t>(), heightmaps.at("drawn_pixels").get<std::size_t>());
+    for (const char* key : {"headers", "chunk_points", "heightmaps", "full_res", "render"}) {
+        EXPECT_GE(full.at("seconds").at(key).get<double>(), 0.0) << key;
+    }
+    // The full-resolution points change most of what is drawn.
+    const Png a = png("heightmaps"), b = png("full");
+    ASSERT_TRUE(a.ok() && b.ok());
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) changed += a.pixels[i] != b.pixels[i];
+    EXPECT_GT(changed, drawn_pixels(a) / 2);
+
+    const auto budget = render_json(args + " --until full --memory 1M", "budget");  // 20 MB of points do not fit
+    EXPECT_EQ(budget.at("full_res_tiles"), 0);
+    EXPECT_EQ(budget.at("full_res_tiles_over_budget"), 1);
+    EXPECT_EQ(budget.at("full_res_points"), 0);
+}
+
+// Compares the rendered image with tests/data/golden/NAME.png: at most `max_fraction` of the
+// pixels may differ by more than `tolerance` in some channel (float rounding may move an edge
+// or a point by a pixel). With LIDARSCOUT_UPDATE_GOLDEN set, the rendered image becomes the
+// reference instead.
+void expect_golden(const fs::path& rendered, const std::string& name, int tolerance = 24, double max_fraction = 0.01) {
+    const fs::path golden = fs::path(LIDARSCOUT_SOURCE_DIR) / "tests" / "data" / "golden" / (name + ".png");
+    if (std::getenv("LIDARSCOUT_UPDATE_GOLDEN")) {
+        fs::create_directories(golden.parent_path());
+        fs::copy_file(rendered, golden, fs::copy_options::overwrite_existing);
+        std::printf("updated %s\n", golden.string().c_str());
+        return;
+    }
+    const Png got = read_png(rendered);
+    ASSERT_TRUE(got.ok());
+    const Png want = read_png(golden);
+    ASSERT_TRUE(want.ok()) << "missing golden image " << golden;
+    ASSERT_EQ(got.width, want.width);
+    ASSERT_EQ(got.height, want.height);
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < got.pixels.size(); ++i) {
+        const std::uint32_t a = got.pixels[i], b = want.pixels[i];
+        const int d = std::max({std::abs(render::red(a) - render::red(b)), std::abs(render::green(a) - render::green(b)),
+                                std::abs(render::blue(a) - render::blue(b))});
+        differing += d > tolerance;
+    }
+    EXPECT_LE(static_cast<double>(differing) / got.pixels.size(), max_fraction) << differing << " pixels differ";
+}
+
+const char kGoldenCamera[] = "--camera 1587600,1189450,450,20,-30 --size 160x120";
+
+TEST_F(RenderCommand, GoldenHeightmapsInElevationColours) {
+    std::string out, err;
+    ASSERT_EQ(render(survey("ky-woodford-county") + " " + kGoldenCamera + " --until heightmaps --colour elevation",
+                     "golden", out, err),
+              0)
+        << err;
+    expect_golden(dir_ / "golden.png", "woodford_heightmaps_elevation");
+}
+
+TEST_F(RenderCommand, GoldenFullResolutionInRgb) {
+    std::string out, err;
+    ASSERT_EQ(render(survey("ky-woodford-county") + " " + kGoldenCamera + " --until full", "golden", out, err), 0) << err;
+    expect_golden(dir_ / "golden.png", "woodford_full_rgb");
+}
+
+TEST_F(RenderCommand, BadArgumentsAreOneLineErrors) {
+    const std::string s = survey("ky-woodford-county");
+    for (const std::string args : {"--camera 1,2,3", "--camera 1,2,3,4,north", "--camera 1,2,3,4,100", "--size 320",
+                                   "--size 0x240", "--size 320xabc", "--colour purple", "--until everything",
+                                   "--heightmaps magic", "--memory lots", "--heightmaps cnn --model /nonexistent.pt"}) {
+        SCOPED_TRACE(args);
+        std::string out, err;
+        EXPECT_EQ(render(s + " " + args, "bad", out, err), 1);
+        EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+        EXPECT_EQ(err.rfind("lidarscout: ", 0), 0u) << err;
+        EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
+    }
+}
+
+TEST_F(RenderCommand, CnnHeightmapsWhenTheModelExists) {
+    std::string model;
+    try {
+        model = nn::default_model_path();
+    } catch (const std::exception& e) {
+        GTEST_SKIP() << "no trained heightmap network yet: " << e.what();
+    }
+    const auto j = render_json(survey("ky-jmo335-eastern-kentucky") + " --until heightmaps --heightmaps cnn --size " +
+                                   "320x240 --colour elevation --model " + model,
+                               "cnn");
+    EXPECT_EQ(j.at("heightmap_method"), "cnn");
+    EXPECT_GT(j.at("patches_with_heightmaps").get<int>(), 10);
+    EXPECT_GE(static_cast<double>(drawn_pixels(png("cnn"))) / (320 * 240), 0.35);
+}
+
+}  // namespace
+}  // namespace lidarscout
