@@ -22,6 +22,8 @@ void register_eval_command(CLI::App& app, std::function<int()>& run);
 void register_train_data_command(CLI::App& app, std::function<int()>& run);
 // Registers `render` (headless rendering of a dataset to a PNG).
 void register_render_command(CLI::App& app, std::function<int()>& run);
+// Registers `view` (the interactive viewer).
+void register_view_command(CLI::App& app, std::function<int()>& run);
 // Registers `synth` with its subcommands (below), each in its own file.
 void register_synth_command(CLI::App& app, std::function<int()>& run);
 void register_synth_replicate(CLI::App& synth, std::function<int()>& run);

@@ -1,0 +1,120 @@
+// `lidarscout view [PATH...]`: the interactive viewer (src/viewer/app). Without PATH it opens
+// the built-in demo landscape, generated once (synth terrain) into the user's cache folder.
+#include <CLI/CLI.hpp>
+
+#include <charconv>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "core/error.hpp"
+#include "core/thread_pool.hpp"
+#include "synth/terrain_generator.hpp"
+#include "viewer/app/viewer_app.hpp"
+
+namespace lidarscout::cli {
+namespace {
+
+struct ViewCliOptions {
+    std::vector<std::string> paths;
+    std::string size = "1280x720";
+    std::string memory;
+    std::string model;
+    bool no_cnn = false;
+    double demo_km = 2.0;
+    double demo_density = 4.0;
+    std::string screenshot;
+    double quit_after = 0;
+    unsigned threads = 0;
+};
+
+// "512M", "4G", "1.5G", "100000" (bytes); empty = 0 (the scheduler's default).
+std::uint64_t parse_bytes(const std::string& text) {
+    if (text.empty()) return 0;
+    double value = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    const std::string unit(end, text.data() + text.size());
+    const double factor = unit.empty() || unit == "B" ? 1.0 : unit == "K" ? 1024.0 : unit == "M" ? 1048576.0
+                          : unit == "G" ? 1073741824.0 : unit == "T" ? 1099511627776.0 : -1.0;
+    if (ec != std::errc() || !(value > 0) || factor < 0 || !(value * factor < 1e19)) {
+        throw Error("bad --memory '" + text + "': expected a size such as 512M, 4G or a number of bytes");
+    }
+    return static_cast<std::uint64_t>(value * factor);
+}
+
+std::pair<int, int> parse_window_size(const std::string& text) {
+    int w = 0, h = 0;
+    const auto x = text.find('x');
+    if (x != std::string::npos) {
+        std::from_chars(text.data(), text.data() + x, w);
+        std::from_chars(text.data() + x + 1, text.data() + text.size(), h);
+    }
+    if (w < 64 || h < 64 || w > 16384 || h > 16384) {
+        throw Error("bad --size '" + text + "': expected WIDTHxHEIGHT in pixels (64..16384), e.g. 1280x720");
+    }
+    return {w, h};
+}
+
+// $XDG_CACHE_HOME/lidarscout or ~/.cache/lidarscout.
+std::filesystem::path cache_folder() {
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::filesystem::path(xdg) / "lidarscout";
+    if (const char* home = std::getenv("HOME"); home && *home) return std::filesystem::path(home) / ".cache" / "lidarscout";
+    throw Error("view: no cache folder for the demo (neither XDG_CACHE_HOME nor HOME is set); give a PATH");
+}
+
+// The demo's folder, generated on first use (the manifest is written last: its presence says done).
+std::string demo_folder(const ViewCliOptions& o) {
+    synth::TerrainOptions t;
+    t.km = o.demo_km, t.density = o.demo_density;
+    const synth::Area area = synth::terrain_area(t);  // validates
+    const bool standard = o.demo_km == 2.0 && o.demo_density == 4.0;
+    const auto dir = cache_folder() / (standard ? std::string("demo")
+                                                : "demo-" + std::to_string(t.km).substr(0, 4) + "km-" +
+                                                      std::to_string(t.density).substr(0, 4));
+    if (std::filesystem::exists(dir / synth::kTerrainManifest)) return dir.string();
+    std::fprintf(stderr, "lidarscout: generating the demo landscape (%.1f km, %.0f points/m2) into %s\n", t.km,
+                 t.density, dir.c_str());
+    ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
+    Progress progress("demo tiles", std::uint64_t{area.tiles} * area.tiles);
+    synth::generate_terrain(t, dir.string(), pool, [&](const synth::TerrainTile&) { progress.add(1); });
+    progress.finish();
+    return dir.string();
+}
+
+int run_view(const ViewCliOptions& o) {
+    viewer::app::ViewerOptions v;
+    std::tie(v.width, v.height) = parse_window_size(o.size);
+    v.memory_budget = parse_bytes(o.memory);
+    v.cnn = !o.no_cnn;
+    v.model = o.model;
+    v.screenshot = o.screenshot;
+    v.quit_after = o.quit_after;
+    v.threads = o.threads;
+    v.paths = o.paths.empty() ? std::vector<std::string>{demo_folder(o)} : o.paths;
+    return viewer::app::run_viewer(v);
+}
+
+}  // namespace
+
+void register_view_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<ViewCliOptions>();
+    auto* cmd = app.add_subcommand("view", "Open a window on LAS/LAZ tiles (or the built-in demo) and explore them: "
+                                           "chunk points at once, heightmaps, full resolution near the camera");
+    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders or tile lists (none: the demo landscape)");
+    cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
+    cmd->add_option("--memory", o->memory, "Memory budget, e.g. 4G (default: a quarter of the RAM)");
+    cmd->add_option("--model", o->model, "Heightmap network (default: models/heightmap_cnn.pt; none: linear only)");
+    cmd->add_flag("--no-cnn", o->no_cnn, "Linear heightmaps only, no network");
+    cmd->add_option("--demo-km", o->demo_km, "Side of the demo landscape in km (default 2)")->check(CLI::Range(0.5, 20.0));
+    cmd->add_option("--demo-density", o->demo_density, "Points per m2 of the demo (default 4)")->check(CLI::Range(0.5, 50.0));
+    cmd->add_option("--screenshot", o->screenshot, "Write the last frame to this PNG on exit (scripted use)");
+    cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the first frame (scripted use)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", o->threads, "Rendering threads (default: all cores)");
+    cmd->callback([o, &run] { run = [o] { return run_view(*o); }; });
+}
+
+}  // namespace lidarscout::cli

@@ -1,0 +1,61 @@
+// Overlay lines: projection of segment ends, clipping to the image, a DDA line walk.
+#include "viewer/app/overlay.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/framebuffer.hpp"
+#include "viewer/visibility.hpp"
+
+namespace lidarscout::viewer::app {
+namespace {
+
+void plot_line(render::RgbaImage& image, double x0, double y0, double x1, double y1, std::uint32_t rgba) {
+    // Clip the parameter range to the image box (Liang-Barsky).
+    double t0 = 0, t1 = 1;
+    const double dx = x1 - x0, dy = y1 - y0;
+    const double p[4] = {-dx, dx, -dy, dy};
+    const double q[4] = {x0, image.width - 1 - x0, y0, image.height - 1 - y0};
+    for (int i = 0; i < 4; ++i) {
+        if (p[i] == 0) {
+            if (q[i] < 0) return;
+            continue;
+        }
+        const double t = q[i] / p[i];
+        if (p[i] < 0) t0 = std::max(t0, t);
+        else t1 = std::min(t1, t);
+    }
+    if (t0 > t1) return;
+    const double ax = x0 + t0 * dx, ay = y0 + t0 * dy, bx = x0 + t1 * dx, by = y0 + t1 * dy;
+    const int steps = static_cast<int>(std::ceil(std::max(std::abs(bx - ax), std::abs(by - ay)))) + 1;
+    for (int s = 0; s <= steps; ++s) {
+        const double t = static_cast<double>(s) / steps;
+        const int x = static_cast<int>(std::lround(ax + t * (bx - ax))), y = static_cast<int>(std::lround(ay + t * (by - ay)));
+        if (x >= 0 && y >= 0 && x < image.width && y < image.height) image.pixels[static_cast<std::size_t>(y) * image.width + x] = rgba;
+    }
+}
+
+}  // namespace
+
+void draw_segment(render::RgbaImage& image, const render::Camera& camera, double x0, double y0, double z0, double x1,
+                  double y1, double z1, std::uint32_t rgba) {
+    const auto a = camera.project(x0, y0, z0), b = camera.project(x1, y1, z1);
+    if (!a || !b) return;
+    plot_line(image, a->x, a->y, b->x, b->y, rgba);
+}
+
+void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, const dataset::Dataset& dataset,
+                     std::uint32_t rgba, std::optional<std::uint32_t> selected) {
+    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
+        const auto& b = dataset.tiles[i].bounds_m;
+        if (!box_in_view(camera, b)) continue;
+        const std::uint32_t colour = selected == i ? render::pack_rgba(255, 255, 255) : rgba;
+        const double z = b.min_z;
+        draw_segment(image, camera, b.min_x, b.min_y, z, b.max_x, b.min_y, z, colour);
+        draw_segment(image, camera, b.max_x, b.min_y, z, b.max_x, b.max_y, z, colour);
+        draw_segment(image, camera, b.max_x, b.max_y, z, b.min_x, b.max_y, z, colour);
+        draw_segment(image, camera, b.min_x, b.max_y, z, b.min_x, b.min_y, z, colour);
+    }
+}
+
+}  // namespace lidarscout::viewer::app

@@ -1,0 +1,22 @@
+// Lines drawn over a resolved image after the scene: the tiles' outlines on the ground (the
+// "tile boxes" layer), the selected tile highlighted.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "dataset/dataset.hpp"
+#include "render/camera.hpp"
+#include "render/resolve.hpp"
+
+namespace lidarscout::viewer::app {
+
+// Draws a world-space segment (skipped where an end is behind the near plane).
+void draw_segment(render::RgbaImage& image, const render::Camera& camera, double x0, double y0, double z0, double x1,
+                  double y1, double z1, std::uint32_t rgba);
+
+// The xy outline of every tile (at its bounds' lowest height), in `rgba`; `selected` in white.
+void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, const dataset::Dataset& dataset,
+                     std::uint32_t rgba, std::optional<std::uint32_t> selected);
+
+}  // namespace lidarscout::viewer::app

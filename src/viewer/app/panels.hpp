@@ -1,0 +1,41 @@
+// The viewer's Dear ImGui panels: tiles (filter, double-click flies there), stats, progress of
+// each stage, settings (memory budget, point sizes, colour mode, EDL, layers) and a help line.
+// They read the scheduler's stats and write the settings; actions come back as a PanelActions.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "dataset/dataset.hpp"
+#include "viewer/scheduler.hpp"
+#include "viewer/scene.hpp"
+#include "viewer/scheduler_snapshot.hpp"
+
+namespace lidarscout::viewer::app {
+
+struct ViewSettings {
+    SceneStyle style;
+    SceneLayers layers;
+    bool tile_boxes = false;
+    int budget_mb = 0;          // memory budget shown and edited in MiB
+    float render_scale = 1.0f;  // rendered pixels per window pixel (lower = faster)
+};
+
+struct PanelState {
+    std::string filter;
+    std::optional<std::uint32_t> selected;
+    std::string status;  // one line: the last screenshot, an error
+};
+
+struct PanelActions {
+    std::optional<std::uint32_t> fly_to;  // a tile double-clicked
+    bool budget_changed = false;
+    bool screenshot = false;
+};
+
+// Draws the panels for this frame (between ImGui::NewFrame and ImGui::Render).
+PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& stats, double frame_ms,
+                         ViewSettings& settings, PanelState& state);
+
+}  // namespace lidarscout::viewer::app

@@ -1,0 +1,249 @@
+// The viewer's window loop: GLFW + OpenGL (epoxy) for the window and the image, ImGui for the
+// panels, the Scheduler for the data, render_snapshot for the picture.
+#include "viewer/app/viewer_app.hpp"
+
+#include <epoxy/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <memory>
+#include <thread>
+
+#include "core/error.hpp"
+#include "core/thread_pool.hpp"
+#include "dataset/dataset.hpp"
+#include "render/png_writer.hpp"
+#include "viewer/app/camera_controller.hpp"
+#include "viewer/app/gl_presenter.hpp"
+#include "viewer/app/overlay.hpp"
+#include "viewer/app/panels.hpp"
+#include "viewer/scheduler.hpp"
+
+namespace lidarscout::viewer::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string glfw_error;  // the last GLFW error message (GLFW reports errors through a callback)
+
+// Input gathered by GLFW callbacks between frames.
+struct InputEvents {
+    double wheel = 0;
+    std::vector<std::string> dropped;
+};
+
+// An opened dataset and the scheduler working on it.
+struct Session {
+    std::unique_ptr<dataset::Dataset> dataset;
+    std::unique_ptr<Scheduler> scheduler;
+};
+
+Session open_session(const std::vector<std::string>& paths, const ViewerOptions& o, const render::Camera* camera) {
+    Session s;
+    s.dataset = std::make_unique<dataset::Dataset>(dataset::open_dataset(paths));
+    if (s.dataset->tiles.empty()) throw Error("view: no readable LAS/LAZ tiles in the given paths");
+    SchedulerOptions so;
+    so.memory_budget = o.memory_budget;
+    so.cnn = o.cnn;
+    so.model_path = o.model;
+    if (camera) so.camera = *camera;
+    s.scheduler = std::make_unique<Scheduler>(*s.dataset, so);
+    return s;
+}
+
+struct GlfwWindow {
+    GLFWwindow* window = nullptr;
+    GlfwWindow(int width, int height, const char* title) {
+        glfwSetErrorCallback([](int, const char* text) { glfw_error = text ? text : ""; });
+        if (!glfwInit()) {
+            throw Error("view: cannot open a window (no display? set DISPLAY or use xvfb-run): " + glfw_error);
+        }
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+        glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+        glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+        window = glfwCreateWindow(width, height, title, nullptr, nullptr);
+        if (!window) {
+            glfwTerminate();
+            throw Error("view: cannot create an OpenGL 3.3 window: " + glfw_error);
+        }
+        glfwMakeContextCurrent(window);
+        glfwSwapInterval(1);
+    }
+    ~GlfwWindow() {
+        glfwDestroyWindow(window);
+        glfwTerminate();
+    }
+};
+
+struct GuiContext {
+    explicit GuiContext(GLFWwindow* window) {
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr;
+        ImGui::StyleColorsDark();
+        ImGui_ImplGlfw_InitForOpenGL(window, true);  // chains to the callbacks installed before
+        ImGui_ImplOpenGL3_Init("#version 330");
+    }
+    ~GuiContext() {
+        ImGui_ImplOpenGL3_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+    }
+};
+
+void install_callbacks(GLFWwindow* window, InputEvents& events) {
+    glfwSetWindowUserPointer(window, &events);
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+        static_cast<InputEvents*>(glfwGetWindowUserPointer(w))->wheel += dy;
+    });
+    glfwSetDropCallback(window, [](GLFWwindow* w, int count, const char** paths) {
+        auto* e = static_cast<InputEvents*>(glfwGetWindowUserPointer(w));
+        e->dropped.assign(paths, paths + count);
+    });
+}
+
+// Mouse drags, wheel and WASD turned into camera moves (unless the GUI wants the input).
+class MouseKeyboard {
+public:
+    void apply(GLFWwindow* window, InputEvents& events, CameraController& controller, double seconds, int height) {
+        double x = 0, y = 0;
+        glfwGetCursorPos(window, &x, &y);
+        const ImGuiIO& io = ImGui::GetIO();
+        const bool left = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+        const bool right = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+        if ((left || right) && !dragging_) dragging_ = !io.WantCaptureMouse;
+        if (!left && !right) dragging_ = false;
+        if (dragging_ && has_last_) {
+            if (left) controller.orbit(x - last_x_, y - last_y_);
+            else controller.pan(x - last_x_, y - last_y_, height);
+        }
+        last_x_ = x, last_y_ = y, has_last_ = true;
+        if (!io.WantCaptureMouse && events.wheel != 0) controller.zoom(events.wheel);
+        events.wheel = 0;
+        if (io.WantCaptureKeyboard) return;
+        const auto down = [&](int key) { return glfwGetKey(window, key) == GLFW_PRESS; };
+        FlyKeys keys{down(GLFW_KEY_W), down(GLFW_KEY_S), down(GLFW_KEY_A), down(GLFW_KEY_D),
+                     down(GLFW_KEY_E), down(GLFW_KEY_Q), down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT)};
+        controller.fly(keys, seconds);
+    }
+    // True once per press of `key`.
+    bool pressed(GLFWwindow* window, int key) {
+        const bool now = glfwGetKey(window, key) == GLFW_PRESS;
+        const bool edge = now && !key_down_;
+        key_down_ = now;
+        return edge && !ImGui::GetIO().WantCaptureKeyboard;
+    }
+
+private:
+    bool dragging_ = false, has_last_ = false, key_down_ = false;
+    double last_x_ = 0, last_y_ = 0;
+};
+
+std::string screenshot_name() {
+    char text[64];
+    const std::time_t now = std::time(nullptr);
+    std::strftime(text, sizeof text, "lidarscout-%Y%m%d-%H%M%S.png", std::localtime(&now));
+    return text;
+}
+
+ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& stats) {
+    ViewSettings v;
+    v.style.colour = colour_settings(render::ColourMode::Rgb, ds.bounds_m.min_z, ds.bounds_m.max_z);
+    v.budget_mb = static_cast<int>(std::min<std::uint64_t>(stats.memory_budget >> 20, 1u << 30));
+    return v;
+}
+
+// The frame's picture: the snapshot drawn at the render scale, then the tile outlines.
+RenderedScene draw_frame(const Session& s, const CameraController& controller, const ViewSettings& v,
+                         const PanelState& panels, int fb_width, int fb_height, ThreadPool& pool,
+                         render::Camera& camera) {
+    const int w = std::max(1, static_cast<int>(std::lround(fb_width * v.render_scale)));
+    const int h = std::max(1, static_cast<int>(std::lround(fb_height * v.render_scale)));
+    camera = controller.camera(w, h);
+    s.scheduler->set_camera(camera);
+    SceneStyle style = v.style;
+    style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
+    RenderedScene frame = render_snapshot(*s.scheduler->snapshot(), camera, style, pool, v.layers);
+    if (v.tile_boxes) draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);
+    return frame;
+}
+
+}  // namespace
+
+int run_viewer(const ViewerOptions& o) {
+    GlfwWindow win(o.width, o.height, "lidarscout");
+    InputEvents events;
+    install_callbacks(win.window, events);
+    GuiContext gui(win.window);
+    GlPresenter presenter;
+    ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
+
+    Session session = open_session(o.paths, o, nullptr);
+    CameraController controller;
+    controller.frame(session.dataset->bounds_m, o.width, o.height);
+    ViewSettings settings = initial_settings(*session.dataset, session.scheduler->stats());
+    PanelState panels;
+    MouseKeyboard input;
+    RenderedScene last;
+    const auto start = Clock::now();
+    auto previous = start;
+    double frame_ms = 0;
+    while (!glfwWindowShouldClose(win.window)) {
+        glfwPollEvents();
+        const auto now = Clock::now();
+        const double dt = std::chrono::duration<double>(now - previous).count();
+        previous = now;
+        int fb_width = 0, fb_height = 0;
+        glfwGetFramebufferSize(win.window, &fb_width, &fb_height);
+        if (!events.dropped.empty()) {
+            try {
+                Session next = open_session(events.dropped, o, nullptr);
+                session.scheduler.reset();  // it reads the dataset it replaces
+                session = std::move(next);
+                controller.frame(session.dataset->bounds_m, fb_width, fb_height);
+                panels = {};
+            } catch (const Error& e) {
+                panels.status = e.what();
+            }
+            events.dropped.clear();
+        }
+        input.apply(win.window, events, controller, dt, fb_height);
+        render::Camera camera;
+        last = draw_frame(session, controller, settings, panels, std::max(1, fb_width), std::max(1, fb_height), pool, camera);
+        frame_ms = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
+
+        glViewport(0, 0, fb_width, fb_height);
+        glClearColor(0, 0, 0, 1);
+        glClear(GL_COLOR_BUFFER_BIT);
+        presenter.show(last.image, fb_width, fb_height);
+        ImGui_ImplOpenGL3_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        const PanelActions actions = draw_panels(*session.dataset, session.scheduler->stats(), frame_ms, settings, panels);
+        ImGui::Render();
+        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        glfwSwapBuffers(win.window);
+
+        if (actions.fly_to) {
+            controller.frame(session.dataset->tiles[*actions.fly_to].bounds_m, fb_width, fb_height);
+        }
+        if (actions.budget_changed) session.scheduler->set_memory_budget(std::uint64_t(settings.budget_mb) << 20);
+        if (actions.screenshot || input.pressed(win.window, GLFW_KEY_F12)) {
+            const std::string name = screenshot_name();
+            render::write_png(name, last.image);
+            panels.status = "screenshot: " + name;
+        }
+        if (o.quit_after > 0 && std::chrono::duration<double>(Clock::now() - start).count() >= o.quit_after) break;
+    }
+    if (!o.screenshot.empty()) render::write_png(o.screenshot, last.image);
+    return 0;
+}
+
+}  // namespace lidarscout::viewer::app

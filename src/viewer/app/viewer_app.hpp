@@ -1,0 +1,28 @@
+// The interactive viewer (`lidarscout view`): a GLFW window showing the software rasterizer's
+// image of a Scheduler's snapshot every frame, Dear ImGui panels, mouse and keyboard camera
+// controls, drag-and-drop of folders or files, F12 screenshots, and a scripted mode that
+// writes the last frame and quits after a time.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace lidarscout::viewer::app {
+
+struct ViewerOptions {
+    std::vector<std::string> paths;  // what to open (files, folders, tile lists)
+    int width = 1280, height = 720;  // window size
+    std::uint64_t memory_budget = 0; // 0 = a quarter of the RAM
+    bool cnn = true;
+    std::string model;               // empty = the default model lookup
+    std::string screenshot;          // scripted: the last frame's PNG
+    double quit_after = 0;           // scripted: seconds after the first frame (0 = until closed)
+    unsigned threads = 0;            // rendering threads (0 = all cores)
+};
+
+// Opens the window and runs until it is closed (or quit_after). Throws lidarscout::Error
+// when no window can be opened (no display) or nothing readable is in the paths.
+int run_viewer(const ViewerOptions& options);
+
+}  // namespace lidarscout::viewer::app

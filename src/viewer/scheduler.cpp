@@ -1,0 +1,531 @@
+// Scheduler: patch dependencies on tiles, the priority queues of the heightmap workers, the
+// full-resolution loop under the memory budget, and the shared snapshot.
+#include "viewer/scheduler.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <set>
+#include <unordered_map>
+
+#include "core/error.hpp"
+#include "core/thread_pool.hpp"
+#include "las/point_format.hpp"
+#include "nn/heightmap_network.hpp"
+#include "viewer/scheduler_detail.hpp"
+#include "viewer/tile_cache.hpp"
+
+namespace lidarscout::viewer {
+namespace {
+
+using dataset::CellKey;
+using dataset::CellKeyHash;
+
+constexpr auto kFullResPoll = std::chrono::milliseconds(100);
+constexpr std::uint64_t kNoVersion = ~0ull;
+
+struct Patch {
+    bool candidate = false;  // its cell overlaps a tile: it gets a heightmap job
+    int deps = 0;            // tiles overlapping its window whose chunk points are not in yet
+    bool ready = false, linear_tried = false, cnn_tried = false;
+    std::shared_ptr<const PatchHeightmap> base;   // linear or network
+    bool base_is_cnn = false;
+    std::shared_ptr<const PatchHeightmap> shown;  // base with the full-resolution detail laid over
+    std::shared_ptr<const PointSet> chunk;        // its chunk points
+    std::uint64_t key_version = kNoVersion;       // camera version of `key`
+    double key = 0;                               // priority: lower first
+};
+
+std::uint64_t heightmap_bytes(const PatchHeightmap& h) { return h.heights.capacity() * 4 + h.colours.capacity() * 4; }
+
+// Cells [first, last] whose span [origin + i * size, origin + (i + 1) * size) meets [lo - pad, hi + pad].
+std::pair<std::int32_t, std::int32_t> cell_range(double lo, double hi, double origin, double size, double pad) {
+    return {static_cast<std::int32_t>(std::floor((lo - pad - origin) / size)),
+            static_cast<std::int32_t>(std::floor((hi + pad - origin) / size))};
+}
+
+template <typename Fn>
+void for_cells(const dataset::Bounds& b, const dataset::PatchGrid& grid, double pad, Fn&& fn) {
+    const auto [x0, x1] = cell_range(b.min_x, b.max_x, grid.origin_x(), grid.patch_size(), pad);
+    const auto [y0, y1] = cell_range(b.min_y, b.max_y, grid.origin_y(), grid.patch_size(), pad);
+    for (std::int32_t iy = y0; iy <= y1; ++iy) {
+        for (std::int32_t ix = x0; ix <= x1; ++ix) fn(CellKey{ix, iy});
+    }
+}
+
+bool survey_has_rgb(const dataset::Dataset& ds) {
+    std::size_t with = 0;
+    for (const auto& t : ds.tiles) with += las::point_format_info(t.tile.header.point_format).rgb_offset >= 0;
+    return with > 0 && with * 2 >= ds.tiles.size();
+}
+
+}  // namespace
+
+std::uint64_t default_memory_budget() {
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * page / 4 : (1ull << 30);
+}
+
+struct Scheduler::State {
+    mutable std::mutex mutex;
+    std::condition_variable wake;
+    bool stopping = false;
+
+    render::Camera camera;
+    bool has_camera = false;
+    std::uint64_t camera_version = 0;
+
+    std::unordered_map<CellKey, Patch, CellKeyHash> patches;
+    std::vector<std::vector<CellKey>> window_cells;  // per tile: candidate cells whose window it overlaps
+    std::vector<std::vector<CellKey>> own_cells;     // per tile: cells its points may fall in
+    std::vector<CellKey> ready, cnn_ready;           // queues, best at the back once sorted
+    std::uint64_t ready_sorted = kNoVersion, cnn_sorted = kNoVersion;
+    std::size_t candidates = 0, tiles_done = 0, linear_tried = 0, linear_made = 0, cnn_tried = 0;
+    std::size_t in_flight = 0;  // heightmap jobs running
+    bool loader_finish_handled = false;
+
+    std::unique_ptr<nn::HeightmapNetwork> network;
+    bool network_pending = false;  // the cnn worker is still loading it
+
+    PatchDetails details;
+    TileCache cache;
+    std::set<std::uint32_t> full_failed;
+    std::uint64_t tick = 0, budget = 0, decoding_bytes = 0, peak = 0;
+    std::size_t wanted = 0, wanted_resident = 0, released = 0;
+    bool full_res_busy = false;
+    std::uint64_t full_res_checked = kNoVersion;  // camera version the full-res loop last had nothing to do for
+
+    std::vector<std::string> notes, errors;
+    std::uint64_t version = 1;
+    mutable std::shared_ptr<const SceneSnapshot> snapshot;
+
+    HeightmapBuildOptions build;
+    double z_min = 0, z_max = 0;
+
+    void changed() { ++version; }
+
+    // Priority of a cell for the current camera: visible ones first, then by distance.
+    double key_of(Patch& p, CellKey cell, const dataset::PatchGrid& grid) {
+        if (p.key_version == camera_version) return p.key;
+        const auto box = cell_box(grid, cell, z_min, z_max);
+        const double d = has_camera ? distance_to(camera, box) : 0.0;
+        p.key = (has_camera && !box_in_view(camera, box) ? 1e12 : 0.0) + d;
+        p.key_version = camera_version;
+        return p.key;
+    }
+
+    // Sorts `queue` (best last) when the camera or its content changed since the last sort.
+    void sort_queue(std::vector<CellKey>& queue, std::uint64_t& sorted, const dataset::PatchGrid& grid) {
+        if (sorted == camera_version) return;
+        std::vector<std::pair<double, CellKey>> keyed;
+        keyed.reserve(queue.size());
+        for (const auto cell : queue) keyed.emplace_back(key_of(patches[cell], cell, grid), cell);
+        std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a > b; });
+        for (std::size_t i = 0; i < keyed.size(); ++i) queue[i] = keyed[i].second;
+        sorted = camera_version;
+    }
+
+    void push_ready(CellKey cell, Patch& p) {
+        if (p.ready || !p.candidate) return;
+        p.ready = true;
+        ready.push_back(cell);
+        ready_sorted = kNoVersion;
+    }
+
+    // The heightmap shown for a patch: its base with the detail over it.
+    void update_shown(CellKey cell, Patch& p) {
+        if (!p.base) return;
+        const auto it = details.find(cell);
+        p.shown = it == details.end() ? p.base : std::make_shared<const PatchHeightmap>(overlay_detail(*p.base, it->second));
+        changed();
+    }
+
+    std::uint64_t held_bytes(const dataset::PatchGrid& grid) const {
+        std::uint64_t bytes = grid.memory_bytes();
+        for (const auto& [cell, p] : patches) {
+            if (p.base) bytes += heightmap_bytes(*p.base);
+            if (p.shown && p.shown != p.base) bytes += heightmap_bytes(*p.shown);
+            if (p.chunk) bytes += TileCache::bytes_of(*p.chunk);
+        }
+        for (const auto& [cell, d] : details) bytes += d.bytes();
+        return bytes;
+    }
+};
+
+Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
+    : dataset_(dataset), options_(std::move(options)), has_rgb_(survey_has_rgb(dataset)),
+      state_(std::make_unique<State>()) {
+    const auto [ox, oy] = dataset::patch_grid_origin(dataset);
+    grid_ = std::make_unique<dataset::PatchGrid>(ox, oy);
+    State& s = *state_;
+    s.budget = options_.memory_budget ? options_.memory_budget : default_memory_budget();
+    s.build.patch.min_points = options_.min_points;
+    s.build.patch.has_rgb = has_rgb_;
+    s.build.footprints = tile_footprints(dataset);
+    s.build.batch = options_.cnn_batch;
+    s.z_min = dataset.bounds_m.min_z, s.z_max = dataset.bounds_m.max_z;
+    const double pad = s.build.patch.spec.pad_m();
+    s.window_cells.resize(dataset.tiles.size());
+    s.own_cells.resize(dataset.tiles.size());
+    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
+        const auto& t = dataset.tiles[i];
+        if (t.chunk_points == 0 || t.bounds_m.empty()) continue;
+        for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) { s.patches[c].candidate = true; });
+        const double slack = 0.02 * std::max(t.bounds_m.max_x - t.bounds_m.min_x, t.bounds_m.max_y - t.bounds_m.min_y) + 1;
+        for_cells(t.bounds_m, *grid_, slack, [&](CellKey c) { s.own_cells[i].push_back(c); });
+    }
+    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
+        const auto& t = dataset.tiles[i];
+        if (t.chunk_points == 0 || t.bounds_m.empty()) continue;
+        for_cells(t.bounds_m, *grid_, pad, [&](CellKey c) {
+            const auto it = s.patches.find(c);
+            if (it == s.patches.end() || !it->second.candidate) return;
+            ++it->second.deps;
+            s.window_cells[i].push_back(c);
+        });
+    }
+    for (const auto& [c, p] : s.patches) s.candidates += p.candidate;
+    s.network_pending = options_.cnn;
+
+    loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, options_.loader);
+    loader_->on_tile_done([this](std::uint32_t tile) { on_tile_done(tile); });
+    if (options_.camera) set_camera(*options_.camera);
+    loader_->start();
+    for (unsigned i = 0; i < std::max(1u, options_.heightmap_threads); ++i) threads_.emplace_back([this] { heightmap_worker(); });
+    if (options_.cnn) threads_.emplace_back([this] { cnn_worker(); });
+    threads_.emplace_back([this] { full_res_worker(); });
+}
+
+Scheduler::~Scheduler() {
+    loader_->cancel();
+    {
+        std::lock_guard lock(state_->mutex);
+        state_->stopping = true;
+    }
+    state_->wake.notify_all();
+    for (auto& t : threads_) t.join();
+    loader_.reset();  // joins the reader thread (its callback uses the state)
+}
+
+std::pair<double, double> Scheduler::look_at_ground(const render::Camera& camera, const dataset::Bounds& bounds) {
+    const auto f = camera.basis().forward;
+    const double ground = bounds.empty() ? 0.0 : 0.5 * (bounds.min_z + bounds.max_z);
+    const double height = std::max(camera.z - ground, 1.0);
+    const double horizontal = std::hypot(f[0], f[1]);
+    double t = f[2] < -1e-6 ? height / -f[2] : height;  // looking up or level: a camera height ahead
+    if (!bounds.empty()) {
+        const double extent = std::hypot(bounds.max_x - bounds.min_x, bounds.max_y - bounds.min_y) + height;
+        t = std::min(t, 2.0 * extent);
+    }
+    if (horizontal < 1e-9) return {camera.x, camera.y};
+    return {camera.x + f[0] * t, camera.y + f[1] * t};
+}
+
+void Scheduler::set_camera(const render::Camera& camera) {
+    {
+        std::lock_guard lock(state_->mutex);
+        const render::Camera& c = state_->camera;
+        if (state_->has_camera && c.x == camera.x && c.y == camera.y && c.z == camera.z &&
+            c.yaw_deg == camera.yaw_deg && c.pitch_deg == camera.pitch_deg && c.fov_deg == camera.fov_deg &&
+            c.width == camera.width && c.height == camera.height) {
+            return;
+        }
+        state_->camera = camera;
+        state_->has_camera = true;
+        ++state_->camera_version;
+    }
+    const auto [x, y] = look_at_ground(camera, dataset_.bounds_m);
+    loader_->set_focus(x, y);
+    state_->wake.notify_all();
+}
+
+void Scheduler::set_memory_budget(std::uint64_t bytes) {
+    {
+        std::lock_guard lock(state_->mutex);
+        state_->budget = bytes ? bytes : default_memory_budget();
+    }
+    state_->wake.notify_all();
+}
+
+void Scheduler::emit(const SchedulerEvent& event) const {
+    if (options_.on_event) options_.on_event(event);
+}
+
+void Scheduler::on_tile_done(std::uint32_t tile) {
+    State& s = *state_;
+    std::vector<std::pair<CellKey, std::shared_ptr<const PointSet>>> sets;
+    for (const auto cell : s.own_cells[tile]) {
+        auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));
+        if (set->points.empty()) continue;
+        if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
+        sets.emplace_back(cell, std::move(set));
+    }
+    {
+        std::lock_guard lock(s.mutex);
+        for (auto& [cell, set] : sets) s.patches[cell].chunk = std::move(set);
+        for (const auto cell : s.window_cells[tile]) {
+            Patch& p = s.patches[cell];
+            if (--p.deps == 0) s.push_ready(cell, p);
+        }
+        ++s.tiles_done;
+        s.changed();
+    }
+    s.wake.notify_all();
+    emit({SchedulerEvent::Kind::TileDone, tile, {}});
+}
+
+void Scheduler::heightmap_worker() {
+    State& s = *state_;
+    std::unique_lock lock(s.mutex);
+    while (true) {
+        s.wake.wait(lock, [&] { return s.stopping || !s.ready.empty(); });
+        if (s.stopping) return;
+        s.sort_queue(s.ready, s.ready_sorted, *grid_);
+        const CellKey cell = s.ready.back();
+        s.ready.pop_back();
+        ++s.in_flight;
+        lock.unlock();
+        auto h = linear_heightmap(*grid_, cell, s.build.patch);
+        if (h && !mask_to_footprints(*h, s.build.footprints)) h.reset();
+        lock.lock();
+        --s.in_flight;
+        Patch& p = s.patches[cell];
+        p.linear_tried = true;
+        ++s.linear_tried;
+        if (!h) continue;
+        ++s.linear_made;
+        if (!p.base_is_cnn) {
+            p.base = std::make_shared<const PatchHeightmap>(std::move(*h));
+            s.update_shown(cell, p);
+        }
+        if (s.network || s.network_pending) {
+            s.cnn_ready.push_back(cell);
+            s.cnn_sorted = kNoVersion;
+            s.wake.notify_all();
+        }
+        lock.unlock();
+        emit({SchedulerEvent::Kind::LinearHeightmap, 0, cell});
+        lock.lock();
+    }
+}
+
+void Scheduler::cnn_worker() {
+    State& s = *state_;
+    std::unique_ptr<nn::HeightmapNetwork> network;
+    std::string note;
+    try {
+        const std::string path = options_.model_path.empty() ? nn::default_model_path() : options_.model_path;
+        network = std::make_unique<nn::HeightmapNetwork>(nn::HeightmapNetwork::load(path, 1));
+    } catch (const std::exception& e) {
+        note = std::string("no heightmap network, linear heightmaps only: ") + e.what();
+    }
+    std::unique_lock lock(s.mutex);
+    s.network_pending = false;
+    if (!network) {
+        s.notes.push_back(note);
+        s.cnn_ready.clear();
+        return;
+    }
+    s.network = std::move(network);
+    ThreadPool pool(1);
+    while (true) {
+        s.wake.wait(lock, [&] { return s.stopping || !s.cnn_ready.empty(); });
+        if (s.stopping) return;
+        s.sort_queue(s.cnn_ready, s.cnn_sorted, *grid_);
+        std::vector<CellKey> batch;
+        while (!s.cnn_ready.empty() && batch.size() < std::max<std::size_t>(1, options_.cnn_batch)) {
+            batch.push_back(s.cnn_ready.back());
+            s.cnn_ready.pop_back();
+        }
+        ++s.in_flight;
+        lock.unlock();
+        std::vector<PatchHeightmap> built;
+        try {
+            built = build_cnn_heightmaps(*grid_, batch, *s.network, s.build, pool);
+        } catch (const std::exception& e) {
+            lock.lock();
+            s.errors.push_back(std::string("heightmap network: ") + e.what());
+            lock.unlock();
+        }
+        lock.lock();
+        --s.in_flight;
+        s.cnn_tried += batch.size();
+        for (const auto cell : batch) s.patches[cell].cnn_tried = true;
+        for (auto& h : built) {
+            const CellKey cell = h.cell;
+            Patch& p = s.patches[cell];
+            p.base = std::make_shared<const PatchHeightmap>(std::move(h));
+            p.base_is_cnn = true;
+            s.update_shown(cell, p);
+        }
+        lock.unlock();
+        for (const auto& h : built) emit({SchedulerEvent::Kind::CnnHeightmap, 0, h.cell});
+        lock.lock();
+    }
+}
+
+void Scheduler::full_res_worker() {
+    State& s = *state_;
+    ThreadPool pool(options_.decode_threads ? options_.decode_threads : std::max(1u, std::thread::hardware_concurrency()));
+    FullResOptions choose = options_.full_res_choice;
+    choose.memory_budget = std::numeric_limits<std::uint64_t>::max();
+    std::uint64_t seen_version = kNoVersion;
+    std::unique_lock lock(s.mutex);
+    while (true) {
+        s.wake.wait_for(lock, kFullResPoll, [&] { return s.stopping || s.camera_version != seen_version; });
+        if (s.stopping) return;
+        if (!s.loader_finish_handled && loader_->finished()) {  // tiles that never loaded: build what can be
+            s.loader_finish_handled = true;
+            for (auto& [cell, p] : s.patches) s.push_ready(cell, p);
+            for (const auto& e : loader_->errors()) s.errors.push_back(e);
+            s.wake.notify_all();
+        }
+        seen_version = s.camera_version;
+        if (!options_.full_res || !s.has_camera) continue;
+        const render::Camera camera = s.camera;
+        const std::uint64_t tick = ++s.tick;
+        lock.unlock();
+        const std::vector<std::uint32_t> wanted = choose_full_res_tiles(dataset_, camera, choose).tiles;
+        lock.lock();
+        for (const auto t : wanted) s.cache.touch(t, tick);
+        const std::uint64_t other = s.held_bytes(*grid_);
+        // Over budget (the budget shrank or the heightmaps grew): release the least recently seen.
+        if (other + s.cache.bytes() > s.budget) {
+            const auto v = s.cache.victims(0, other, s.budget, {});
+            for (const auto t : v ? *v : s.cache.tiles()) {
+                s.cache.release(t);
+                ++s.released;
+                s.changed();
+                lock.unlock();
+                emit({SchedulerEvent::Kind::FullResReleased, t, {}});
+                lock.lock();
+            }
+        }
+        s.wanted = wanted.size();
+        s.wanted_resident = static_cast<std::size_t>(
+            std::count_if(wanted.begin(), wanted.end(), [&](std::uint32_t t) { return s.cache.contains(t); }));
+        std::optional<std::uint32_t> next;
+        std::vector<std::uint32_t> victims;
+        for (std::size_t k = 0; k < wanted.size() && !next; ++k) {
+            const std::uint32_t t = wanted[k];
+            if (s.cache.contains(t) || s.full_failed.contains(t)) continue;
+            const auto v = s.cache.victims(tile_point_set_bytes(dataset_.tiles[t]), other, s.budget,
+                                           std::span(wanted).first(k));
+            if (!v) break;  // the nearest missing tile does not fit: farther ones must not take its place
+            next = t, victims = *v;
+        }
+        s.full_res_busy = next.has_value();
+        if (!next) {
+            s.full_res_checked = seen_version;
+            continue;
+        }
+        for (const auto t : victims) {
+            s.cache.release(t);
+            ++s.released;
+            s.changed();
+        }
+        s.decoding_bytes = tile_point_set_bytes(dataset_.tiles[*next]);
+        s.peak = std::max(s.peak, other + s.cache.bytes() + s.decoding_bytes);
+        lock.unlock();
+        for (const auto t : victims) emit({SchedulerEvent::Kind::FullResReleased, t, {}});
+        std::shared_ptr<PointSet> set;
+        PatchDetails detail;
+        std::string error;
+        try {
+            set = std::make_shared<PointSet>(tile_point_set(dataset_.tiles[*next], dataset_.las_stride, pool));
+            if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
+            detail = tile_detail(*set, *grid_, s.build.patch.spec.patch_texels);
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        lock.lock();
+        s.decoding_bytes = 0;
+        s.full_res_busy = false;
+        seen_version = kNoVersion;  // look again at once: more tiles may be wanted
+        if (!set) {
+            s.full_failed.insert(*next);
+            s.errors.push_back(error);
+            continue;
+        }
+        for (auto& [cell, d] : detail) {
+            auto [it, inserted] = s.details.try_emplace(cell, std::move(d));
+            if (!inserted) merge_detail(it->second, d);
+            const auto p = s.patches.find(cell);
+            if (p != s.patches.end()) s.update_shown(cell, p->second);
+        }
+        s.cache.insert(*next, std::move(set), tick);
+        s.peak = std::max(s.peak, s.held_bytes(*grid_) + s.cache.bytes());
+        s.changed();
+        const std::uint32_t loaded = *next;
+        lock.unlock();
+        emit({SchedulerEvent::Kind::FullResLoaded, loaded, {}});
+        lock.lock();
+    }
+}
+
+std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
+    State& s = *state_;
+    std::lock_guard lock(s.mutex);
+    if (s.snapshot && s.snapshot->version == s.version) return s.snapshot;
+    auto snap = std::make_shared<SceneSnapshot>();
+    snap->version = s.version;
+    for (const auto& [cell, p] : s.patches) {
+        if (p.shown) snap->heightmaps.push_back(p.shown);
+        else if (p.chunk) snap->chunk_points.push_back(p.chunk);
+    }
+    snap->full_points = s.cache.point_sets();
+    s.snapshot = std::move(snap);
+    return s.snapshot;
+}
+
+std::shared_ptr<const PatchHeightmap> Scheduler::heightmap(dataset::CellKey cell) const {
+    std::lock_guard lock(state_->mutex);
+    const auto it = state_->patches.find(cell);
+    return it == state_->patches.end() ? nullptr : it->second.shown;
+}
+
+SchedulerStats Scheduler::stats() const {
+    const State& s = *state_;
+    SchedulerStats st;
+    st.tiles = dataset_.tiles.size();
+    st.chunk_points = {loader_->loaded() + loader_->failed(), loader_->total()};
+    st.chunk_points_loaded = loader_->loaded();
+    std::lock_guard lock(s.mutex);
+    std::size_t loadable = 0;
+    for (const auto& t : dataset_.tiles) loadable += t.chunk_points > 0;
+    st.tiles_loaded = {s.tiles_done, loadable};
+    st.linear = {s.linear_tried, s.candidates};
+    if (s.network) st.cnn = {s.cnn_tried, s.linear_made};
+    for (const auto& [cell, p] : s.patches) {
+        if (!p.base) continue;
+        (p.base_is_cnn ? st.heightmaps_cnn : st.heightmaps_linear) += 1;
+    }
+    st.heightmap_jobs_pending = s.ready.size() + s.cnn_ready.size() + s.in_flight;
+    st.full_res = {s.wanted_resident, s.wanted};
+    st.full_res_tiles = s.cache.size();
+    st.full_res_points = s.cache.points();
+    st.full_res_released = s.released;
+    st.bytes_full_res = s.cache.bytes();
+    st.bytes_used = s.held_bytes(*grid_) + s.cache.bytes() + s.decoding_bytes;
+    st.peak_bytes_used = std::max(s.peak, st.bytes_used);
+    st.memory_budget = s.budget;
+    st.notes = s.notes;
+    if (s.network) st.notes.push_back("heightmap network: " + s.network->path());
+    st.errors = s.errors.size();
+    return st;
+}
+
+bool Scheduler::idle() const {
+    const State& s = *state_;
+    if (!loader_->finished()) return false;
+    std::lock_guard lock(s.mutex);
+    return s.loader_finish_handled && s.ready.empty() && s.cnn_ready.empty() && s.in_flight == 0 &&
+           !s.network_pending && !s.full_res_busy &&
+           (!options_.full_res || !s.has_camera || s.full_res_checked == s.camera_version);
+}
+
+}  // namespace lidarscout::viewer

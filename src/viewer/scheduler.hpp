@@ -1,0 +1,133 @@
+// The viewer's streaming scheduler: all background work for an opened dataset, re-prioritised
+// as the camera moves.
+//   - chunk points: the ChunkPointLoader, its focus the ground point the camera looks at;
+//   - heightmaps: a patch's heightmap is built as soon as every tile overlapping its window
+//     (the cell +- the recon padding) has its chunk points in the grid, visible and near
+//     patches first; linear first, then the network in batches when a model is loaded (its
+//     heightmap replaces the linear one);
+//   - full resolution: the tiles large on screen (visibility.hpp's choice), nearest first,
+//     within a memory budget that covers everything the scheduler holds; tiles are released
+//     least recently seen first, and every tile's points are first folded into the heightmaps
+//     and textures of the patches it covers (scheduler_detail.hpp), so medium zoom keeps them.
+// snapshot() gives what is ready now, cheap enough to take every frame; stats() the counters.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dataset/chunk_point_loader.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/patch_grid.hpp"
+#include "render/camera.hpp"
+#include "viewer/heightmap_builder.hpp"
+#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/visibility.hpp"
+
+namespace lidarscout::viewer {
+
+// What happened, for hooks and tests (called from worker threads, outside the scheduler's lock).
+struct SchedulerEvent {
+    enum class Kind { TileDone, LinearHeightmap, CnnHeightmap, FullResLoaded, FullResReleased };
+    Kind kind = Kind::TileDone;
+    std::uint32_t tile = 0;     // TileDone, FullRes*
+    dataset::CellKey cell{};    // *Heightmap
+};
+
+struct SchedulerOptions {
+    std::uint64_t memory_budget = 0;  // bytes of everything held (0 = a quarter of the RAM)
+    std::optional<render::Camera> camera;  // the first camera (set before any read starts)
+    bool cnn = true;                  // refine with the network when a model can be loaded
+    std::string model_path;           // empty: nn::default_model_path()
+    std::size_t cnn_batch = 16;
+    bool full_res = true;             // decode tiles large on screen
+    FullResOptions full_res_choice;   // its memory_budget is ignored (memory_budget above rules)
+    std::size_t min_points = kViewerMinPoints;
+    unsigned heightmap_threads = 1;   // linear heightmap workers
+    unsigned decode_threads = 0;      // full-resolution decoding (0 = all cores)
+    dataset::ChunkPointLoaderOptions loader;
+    // Called for every event, from the thread that caused it; may block (tests use this to
+    // hold the loader back).
+    std::function<void(const SchedulerEvent&)> on_event;
+};
+
+struct StageProgress {
+    std::uint64_t done = 0, total = 0;
+};
+
+struct SchedulerStats {
+    std::size_t tiles = 0;
+    StageProgress tiles_loaded;        // tiles whose chunk points are in
+    StageProgress chunk_points;        // chunk points read (loaded or failed) / all
+    std::uint64_t chunk_points_loaded = 0;
+    StageProgress linear;              // patches tried / patches the tiles cover
+    StageProgress cnn;                 // patches refined / patches with a linear heightmap (0 total: no model)
+    std::size_t heightmaps_linear = 0, heightmaps_cnn = 0;  // patches showing each kind
+    std::size_t heightmap_jobs_pending = 0;                   // queued or running (linear and network)
+    StageProgress full_res;            // wanted tiles resident / wanted tiles
+    std::size_t full_res_tiles = 0;
+    std::uint64_t full_res_points = 0;
+    std::size_t full_res_released = 0;  // tiles released so far
+    std::uint64_t bytes_used = 0, bytes_full_res = 0, memory_budget = 0;
+    std::uint64_t peak_bytes_used = 0;  // highest bytes_used seen, a decoding tile included
+    std::vector<std::string> notes;     // e.g. "no heightmap network: linear heightmaps"
+    std::size_t errors = 0;
+};
+
+// A quarter of the machine's RAM (1 GiB when unknown).
+std::uint64_t default_memory_budget();
+
+class Scheduler {
+public:
+    // `dataset` must outlive the scheduler. Starts the background work at once.
+    Scheduler(const dataset::Dataset& dataset, SchedulerOptions options = {});
+    ~Scheduler();  // cancels and joins
+    Scheduler(const Scheduler&) = delete;
+    Scheduler& operator=(const Scheduler&) = delete;
+
+    // Re-prioritises everything for this camera (cheap; call every frame).
+    void set_camera(const render::Camera& camera);
+    // Changes the memory budget (bytes; 0 = the default).
+    void set_memory_budget(std::uint64_t bytes);
+
+    // What is ready now; shares data with the scheduler (no points or heightmaps copied).
+    std::shared_ptr<const SceneSnapshot> snapshot() const;
+    SchedulerStats stats() const;
+
+    const dataset::Dataset& dataset() const { return dataset_; }
+    const dataset::PatchGrid& grid() const { return *grid_; }
+    bool has_rgb() const { return has_rgb_; }
+    // The heightmap shown now for `cell` (null when none).
+    std::shared_ptr<const PatchHeightmap> heightmap(dataset::CellKey cell) const;
+    // True when no work is left for the current camera (chunk points in, every heightmap
+    // built, wanted tiles resident or over budget).
+    bool idle() const;
+
+    // The point on the ground (at the dataset's mean height) the camera looks at.
+    static std::pair<double, double> look_at_ground(const render::Camera& camera, const dataset::Bounds& bounds);
+
+private:
+    struct State;
+    void on_tile_done(std::uint32_t tile);
+    void heightmap_worker();
+    void cnn_worker();
+    void full_res_worker();
+    void emit(const SchedulerEvent& event) const;
+
+    const dataset::Dataset& dataset_;
+    SchedulerOptions options_;
+    bool has_rgb_ = true;
+    std::unique_ptr<dataset::PatchGrid> grid_;
+    std::unique_ptr<State> state_;
+    std::unique_ptr<dataset::ChunkPointLoader> loader_;
+    std::vector<std::thread> threads_;
+};
+
+}  // namespace lidarscout::viewer

@@ -1,0 +1,261 @@
+// The streaming scheduler on real surveys: heightmaps appear before every tile's chunk points
+// are in, the memory budget holds while the camera flies over tiles, released tiles leave
+// their detail in the heightmaps, a camera move re-prioritises the full-resolution loads, and
+// (when the replicated benchmark dataset is present) the process stays within the budget.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "core/thread_pool.hpp"
+#include "dataset/dataset.hpp"
+#include "test_data.hpp"
+#include "viewer/point_sets.hpp"
+#include "viewer/scheduler.hpp"
+#include "viewer/scheduler_detail.hpp"
+
+namespace lidarscout::viewer {
+namespace {
+
+using namespace std::chrono_literals;
+using Kind = SchedulerEvent::Kind;
+
+dataset::Dataset open_survey(const std::string& name) {
+    return dataset::open_dataset({(test::surveys_dir() / name).string()});
+}
+
+std::uint32_t tile_named(const dataset::Dataset& ds, const std::string& stem) {
+    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
+        if (std::filesystem::path(ds.tiles[i].tile.path).stem() == stem) return i;
+    }
+    ADD_FAILURE() << "no tile " << stem;
+    return 0;
+}
+
+// Straight down at the centre of a tile, `height` metres above its top.
+render::Camera above_tile(const dataset::DatasetTile& t, double height) {
+    render::Camera c;
+    c.x = t.bounds_m.centre_x(), c.y = t.bounds_m.centre_y(), c.z = t.bounds_m.max_z + height;
+    c.pitch_deg = -90;
+    c.width = 320, c.height = 240;
+    c.near_m = 1, c.far_m = 1e5;
+    return c;
+}
+
+template <typename Pred>
+bool wait_until(Pred pred, std::chrono::milliseconds timeout = 120s) {
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    while (!pred()) {
+        if (std::chrono::steady_clock::now() > end) return false;
+        std::this_thread::sleep_for(5ms);
+    }
+    return true;
+}
+
+// Events seen by a scheduler's hook, in order.
+struct EventLog {
+    std::mutex mutex;
+    std::vector<SchedulerEvent> events;
+    void add(const SchedulerEvent& e) {
+        std::lock_guard lock(mutex);
+        events.push_back(e);
+    }
+    std::vector<std::uint32_t> tiles(Kind kind) {
+        std::lock_guard lock(mutex);
+        std::vector<std::uint32_t> out;
+        for (const auto& e : events) {
+            if (e.kind == kind) out.push_back(e.tile);
+        }
+        return out;
+    }
+};
+
+TEST(ViewerScheduler, HeightmapsStartBeforeAllChunkPointsAreIn) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    ASSERT_EQ(ds.tiles.size(), 9u);
+    SchedulerOptions o;
+    o.cnn = false, o.full_res = false;
+    o.camera = above_tile(ds.tiles[tile_named(ds, "N119E381")], 2000);  // the south-east corner
+    Scheduler* sched = nullptr;
+    std::atomic<bool> ready{false};
+    std::atomic<long> tiles_at_first_heightmap{-1};
+    // The loader's thread stops after each tile while heightmap work is pending, so the tiles done
+    // when the first heightmap appears are exactly those its window needed.
+    o.on_event = [&](const SchedulerEvent& e) {
+        if (e.kind != Kind::TileDone || tiles_at_first_heightmap >= 0) return;
+        wait_until([&] { return ready.load(); });
+        wait_until([&] {
+            const auto st = sched->stats();
+            return st.heightmaps_linear > 0 || st.heightmap_jobs_pending == 0;
+        });
+        const auto st = sched->stats();
+        if (st.heightmaps_linear > 0) tiles_at_first_heightmap = static_cast<long>(st.tiles_loaded.done);
+    };
+    Scheduler scheduler(ds, o);
+    sched = &scheduler;
+    ready = true;
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    const auto st = scheduler.stats();
+    EXPECT_EQ(st.tiles_loaded.done, 9u);
+    EXPECT_GT(st.heightmaps_linear, 0u);
+    EXPECT_EQ(st.linear.done, st.linear.total);
+    ASSERT_GE(tiles_at_first_heightmap.load(), 1);
+    EXPECT_LT(tiles_at_first_heightmap.load(), 9) << "the first heightmap waited for every tile";
+    const auto snap = scheduler.snapshot();
+    EXPECT_EQ(snap->heightmaps.size(), st.heightmaps_linear);
+    EXPECT_TRUE(snap->full_points.empty());
+}
+
+TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    const std::vector<std::uint32_t> path = {tile_named(ds, "N117E379"), tile_named(ds, "N119E379"),
+                                             tile_named(ds, "N117E381"), tile_named(ds, "N119E381")};
+    std::uint64_t largest = 0;
+    for (const auto t : path) largest = std::max(largest, tile_point_set_bytes(ds.tiles[t]));
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 28ull << 20;  // about two of these tiles besides the heightmaps
+    o.camera = above_tile(ds.tiles[path[0]], 150);
+    EventLog log;
+    std::atomic<Scheduler*> sched{nullptr};
+    std::atomic<std::uint64_t> worst_full_res{0};
+    o.on_event = [&](const SchedulerEvent& e) {
+        log.add(e);
+        if (e.kind == Kind::FullResLoaded && sched) {
+            worst_full_res = std::max(worst_full_res.load(), sched.load()->stats().bytes_full_res);
+        }
+    };
+    Scheduler scheduler(ds, o);
+    sched = &scheduler;
+    for (const auto t : path) {
+        scheduler.set_camera(above_tile(ds.tiles[t], 150));
+        ASSERT_TRUE(wait_until([&] { return scheduler.idle(); })) << ds.tiles[t].tile.path;
+        const auto loaded = log.tiles(Kind::FullResLoaded);
+        EXPECT_NE(std::find(loaded.begin(), loaded.end(), t), loaded.end()) << ds.tiles[t].tile.path;
+        const auto st = scheduler.stats();
+        EXPECT_LE(st.bytes_used, o.memory_budget);
+        EXPECT_LE(st.peak_bytes_used, o.memory_budget + largest);
+    }
+    EXPECT_LE(worst_full_res.load(), o.memory_budget);
+    const auto released = log.tiles(Kind::FullResReleased);
+    ASSERT_FALSE(released.empty()) << "four tiles cannot all stay within the budget";
+
+    // The released tile's points, decoded here: the busiest texel well inside the tile holds
+    // their mean height in the patch's heightmap.
+    const auto& tile = ds.tiles[released.front()];
+    ThreadPool pool(2);
+    const PointSet set = tile_point_set(tile, ds.las_stride, pool);
+    const PatchDetails detail = tile_detail(set, scheduler.grid(), 64);
+    const dataset::CellKey* best_cell = nullptr;
+    std::size_t best_texel = 0;
+    std::uint32_t best_count = 0;
+    for (const auto& [cell, d] : detail) {
+        for (int row = 0; row < d.size; ++row) {
+            for (int col = 0; col < d.size; ++col) {
+                const double x = d.origin_x + (col + 0.5) * d.texel_m, y = d.origin_y + (row + 0.5) * d.texel_m;
+                const auto& b = tile.bounds_m;
+                if (x < b.min_x + 20 || x > b.max_x - 20 || y < b.min_y + 20 || y > b.max_y - 20) continue;
+                const std::size_t t = static_cast<std::size_t>(row) * d.size + col;
+                if (d.count[t] > best_count && scheduler.heightmap(cell)) best_cell = &cell, best_texel = t, best_count = d.count[t];
+            }
+        }
+    }
+    ASSERT_NE(best_cell, nullptr);
+    double sum = 0;
+    std::uint32_t n = 0;
+    const auto& d = detail.at(*best_cell);
+    for (const auto& p : set.points) {
+        const double x = set.origin_x + p.dx, y = set.origin_y + p.dy;
+        const int col = static_cast<int>((x - d.origin_x) / d.texel_m), row = static_cast<int>((y - d.origin_y) / d.texel_m);
+        if (scheduler.grid().cell_of(x, y) == *best_cell && static_cast<std::size_t>(row * d.size + col) == best_texel) {
+            sum += set.origin_z + p.dz;
+            ++n;
+        }
+    }
+    ASSERT_EQ(n, best_count);
+    const auto h = scheduler.heightmap(*best_cell);
+    ASSERT_TRUE(h);
+    EXPECT_NEAR(h->heights[best_texel], sum / n, 0.01);
+}
+
+TEST(ViewerScheduler, MovingTheCameraReprioritisesFullResolution) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    const std::uint32_t a = tile_named(ds, "N117E379"), b = tile_named(ds, "N119E381");
+    SchedulerOptions o;
+    o.cnn = false;
+    o.camera = above_tile(ds.tiles[a], 150);
+    EventLog log;
+    o.on_event = [&](const SchedulerEvent& e) { log.add(e); };
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return !log.tiles(Kind::FullResLoaded).empty(); }));
+    EXPECT_EQ(log.tiles(Kind::FullResLoaded).front(), a);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));  // A's neighbours in view are in too
+    const std::size_t before = log.tiles(Kind::FullResLoaded).size();
+    scheduler.set_camera(above_tile(ds.tiles[b], 150));
+    ASSERT_TRUE(wait_until([&] { return log.tiles(Kind::FullResLoaded).size() > before; }));
+    EXPECT_EQ(log.tiles(Kind::FullResLoaded)[before], b);
+    const auto snap = scheduler.snapshot();
+    EXPECT_GE(snap->full_points.size(), 2u);
+}
+
+std::uint64_t resident_bytes() {
+    std::ifstream in("/proc/self/statm");
+    std::uint64_t size = 0, resident = 0;
+    in >> size >> resident;
+    return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
+    const std::filesystem::path dir = "/work/bench-data/replica-2025";
+    if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " is absent (lidarscout synth replicate)";
+    const auto ds = dataset::open_dataset({dir.string()});
+    ASSERT_GT(ds.tiles.size(), 1000u);
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 1ull << 30;
+    constexpr std::uint64_t kMargin = 300ull << 20;
+    const std::uint64_t rss0 = resident_bytes();
+    const auto& b = ds.bounds_m;
+    // Down from high above the whole dataset to low over a diagonal, 20 s in all.
+    const auto camera_at = [&](double t) {
+        render::Camera c;
+        c.width = 640, c.height = 360;
+        c.x = b.min_x + (0.2 + 0.6 * t) * (b.max_x - b.min_x);
+        c.y = b.min_y + (0.2 + 0.6 * t) * (b.max_y - b.min_y);
+        c.z = b.max_z + 20000 * (1 - t) + 200;
+        c.pitch_deg = -60;
+        c.near_m = 1, c.far_m = 1e6;
+        return c;
+    };
+    o.camera = camera_at(0);
+    Scheduler scheduler(ds, o);
+    std::uint64_t worst = 0;
+    const auto start = std::chrono::steady_clock::now();
+    for (double t = 0; t <= 1.0;) {
+        scheduler.set_camera(camera_at(t));
+        (void)scheduler.snapshot();
+        worst = std::max(worst, resident_bytes());
+        std::this_thread::sleep_for(100ms);
+        t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 20.0;
+    }
+    const auto st = scheduler.stats();
+    RecordProperty("peak_rss_mb", static_cast<int>(worst >> 20));
+    std::printf("replica: peak RSS %llu MB (%llu MB before), scheduler peak %llu MB of %llu MB; %zu heightmaps, "
+                "%zu full-res tiles, %zu released\n",
+                (unsigned long long)(worst >> 20), (unsigned long long)(rss0 >> 20),
+                (unsigned long long)(st.peak_bytes_used >> 20), (unsigned long long)(st.memory_budget >> 20),
+                st.heightmaps_linear, st.full_res_tiles, st.full_res_released);
+    EXPECT_LE(worst, o.memory_budget + kMargin);
+    EXPECT_GT(st.heightmaps_linear, 0u);
+}
+
+}  // namespace
+}  // namespace lidarscout::viewer
