@@ -14,11 +14,14 @@
 #include <filesystem>
 #include <cstdio>
 #include <memory>
+#include <tuple>
 #include <optional>
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/loader_progress.hpp"
 #include "cli/progress.hpp"
+#include "cli/size_options.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
@@ -92,45 +95,17 @@ Stage parse_stage(const std::string& text) {
     throw Error("unknown --until '" + text + "' (overview, heightmaps or full)");
 }
 
-int parse_positive_int(std::string_view text) {
-    int value = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    if (text.empty() || ec != std::errc() || end != text.data() + text.size() || value <= 0) return -1;
-    return value;
-}
-
-void parse_size(const std::string& text, RenderPlan& plan) {
-    const auto x = text.find('x');
-    const int w = x == std::string::npos ? -1 : parse_positive_int(std::string_view(text).substr(0, x));
-    const int h = x == std::string::npos ? -1 : parse_positive_int(std::string_view(text).substr(x + 1));
-    if (w <= 0 || h <= 0 || w > 16384 || h > 16384) {
-        throw Error("bad --size '" + text + "': expected WIDTHxHEIGHT in pixels (1..16384), e.g. 1280x720");
-    }
-    plan.width = w, plan.height = h;
-}
-
 std::uint64_t quarter_of_ram() {
     const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
     return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * page / 4 : (1ull << 30);
 }
 
-// "512M", "4G", "1.5G", "100000" (bytes); empty = a quarter of the RAM.
-std::uint64_t parse_memory(const std::string& text) {
-    if (text.empty()) return quarter_of_ram();
-    double value = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    const std::string unit(end, text.data() + text.size());
-    const double factor = unit.empty() || unit == "B" ? 1.0 : unit == "K" ? 1024.0 : unit == "M" ? 1048576.0
-                          : unit == "G" ? 1073741824.0 : unit == "T" ? 1099511627776.0 : -1.0;
-    if (ec != std::errc() || !(value >= 0) || factor < 0 || !(value * factor < 1e19)) {
-        throw Error("bad --memory '" + text + "': expected a size such as 512M, 4G or a number of bytes");
-    }
-    return static_cast<std::uint64_t>(value * factor);
-}
+// A --memory value; empty = a quarter of the RAM.
+std::uint64_t parse_memory(const std::string& text) { return text.empty() ? quarter_of_ram() : parse_bytes(text); }
 
 RenderPlan make_plan(const RenderCliOptions& o) {
     RenderPlan plan;
-    parse_size(o.size, plan);
+    std::tie(plan.width, plan.height) = parse_pixels(o.size, 1);
     plan.until = parse_stage(o.until);
     plan.colour = render::parse_colour_mode(o.colour);
     if (o.heightmaps != "linear" && o.heightmaps != "cnn") {
@@ -179,16 +154,7 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
     const auto t0 = Clock::now();
     dataset::ChunkPointLoader loader(ds, grid);
     loader.set_focus(camera.x, camera.y);
-    Progress progress("chunk points", loader.total());
-    std::uint64_t shown = 0;
-    loader.start();
-    while (!loader.wait_for(std::chrono::milliseconds(50))) {
-        const auto now = loader.loaded() + loader.failed();
-        progress.add(now - shown);
-        shown = now;
-    }
-    loader.wait();
-    progress.finish();
+    load_with_progress(loader);
     for (const auto& e : loader.errors()) report.warnings.push_back(e);
     grid.shrink_to_fit();
     report.chunk_points = loader.loaded();

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/loader_progress.hpp"
 #include "cli/progress.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
@@ -76,17 +77,7 @@ void load_chunk_points(const ScanOptions& o, ScanResult& r) {
     opt.direct_io = o.direct;
     dataset::ChunkPointLoader loader(r.dataset, grid, opt);
     if (o.focus.size() == 2) loader.set_focus(o.focus[0], o.focus[1]);
-    Progress progress("chunk points", loader.total());
-    std::uint64_t shown = 0;
-    loader.start();
-    while (!loader.wait_for(std::chrono::milliseconds(50))) {
-        const auto now = loader.loaded() + loader.failed();
-        progress.add(now - shown);
-        shown = now;
-    }
-    loader.wait();
-    progress.add(loader.loaded() + loader.failed() - shown);
-    progress.finish();
+    load_with_progress(loader);
     r.chunk_points = loader.loaded();
     r.failed = loader.failed();
     r.errors = loader.errors();

@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "cli/size_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "synth/terrain_generator.hpp"
@@ -30,33 +31,6 @@ struct ViewCliOptions {
     double quit_after = 0;
     unsigned threads = 0;
 };
-
-// "512M", "4G", "1.5G", "100000" (bytes); empty = 0 (the scheduler's default).
-std::uint64_t parse_bytes(const std::string& text) {
-    if (text.empty()) return 0;
-    double value = 0;
-    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-    const std::string unit(end, text.data() + text.size());
-    const double factor = unit.empty() || unit == "B" ? 1.0 : unit == "K" ? 1024.0 : unit == "M" ? 1048576.0
-                          : unit == "G" ? 1073741824.0 : unit == "T" ? 1099511627776.0 : -1.0;
-    if (ec != std::errc() || !(value > 0) || factor < 0 || !(value * factor < 1e19)) {
-        throw Error("bad --memory '" + text + "': expected a size such as 512M, 4G or a number of bytes");
-    }
-    return static_cast<std::uint64_t>(value * factor);
-}
-
-std::pair<int, int> parse_window_size(const std::string& text) {
-    int w = 0, h = 0;
-    const auto x = text.find('x');
-    if (x != std::string::npos) {
-        std::from_chars(text.data(), text.data() + x, w);
-        std::from_chars(text.data() + x + 1, text.data() + text.size(), h);
-    }
-    if (w < 64 || h < 64 || w > 16384 || h > 16384) {
-        throw Error("bad --size '" + text + "': expected WIDTHxHEIGHT in pixels (64..16384), e.g. 1280x720");
-    }
-    return {w, h};
-}
 
 // $XDG_CACHE_HOME/lidarscout or ~/.cache/lidarscout.
 std::filesystem::path cache_folder() {
@@ -86,8 +60,8 @@ std::string demo_folder(const ViewCliOptions& o) {
 
 int run_view(const ViewCliOptions& o) {
     viewer::app::ViewerOptions v;
-    std::tie(v.width, v.height) = parse_window_size(o.size);
-    v.memory_budget = parse_bytes(o.memory);
+    std::tie(v.width, v.height) = parse_pixels(o.size, 64);
+    v.memory_budget = o.memory.empty() ? 0 : parse_bytes(o.memory);
     v.cnn = !o.no_cnn;
     v.model = o.model;
     v.screenshot = o.screenshot;

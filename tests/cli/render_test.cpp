@@ -21,47 +21,19 @@
 
 #include "nn/heightmap_network.hpp"
 #include "render/framebuffer.hpp"
+#include "png_test_util.hpp"
 #include "test_data.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace lidarscout {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::uint32_t kBackground = render::pack_rgba(24, 26, 32);  // render::ResolveSettings' default
-
-struct Png {
-    int width = 0, height = 0;
-    std::vector<std::uint32_t> pixels;  // rgba8, red in the low byte
-    bool ok() const { return width > 0; }
-};
-
-Png read_png(const fs::path& path) {
-    Png png;
-    int channels = 0;
-    unsigned char* data = stbi_load(path.string().c_str(), &png.width, &png.height, &channels, 4);
-    if (!data) return {};
-    png.pixels.resize(static_cast<std::size_t>(png.width) * png.height);
-    for (std::size_t i = 0; i < png.pixels.size(); ++i) {
-        png.pixels[i] = render::pack_rgba(data[4 * i], data[4 * i + 1], data[4 * i + 2], data[4 * i + 3]);
-    }
-    stbi_image_free(data);
-    return png;
-}
-
-std::size_t drawn_pixels(const Png& png) {
-    return static_cast<std::size_t>(std::count_if(png.pixels.begin(), png.pixels.end(),
-                                                  [](std::uint32_t p) { return (p & 0xffffff) != (kBackground & 0xffffff); }));
-}
+using test::drawn_pixels;
+using test::kBackground;
+using test::Png;
+using test::read_png;
 
 // Hue sectors (of 30 degrees) of the drawn, not greyish pixels holding at least `min_share` of
 // them: shading scales a colour and keeps its hue, so several sectors mean several elevations.

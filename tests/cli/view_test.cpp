@@ -11,35 +11,20 @@
 #include <unistd.h>
 
 #include "render/framebuffer.hpp"
+#include "png_test_util.hpp"
 #include "test_data.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace lidarscout {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::uint32_t kBackground = render::pack_rgba(24, 26, 32);  // render::ResolveSettings' default
-
 // The share of pixels of a PNG that are not the background (-1 when it cannot be read).
 double drawn_share(const fs::path& path) {
-    int w = 0, h = 0, channels = 0;
-    unsigned char* data = stbi_load(path.string().c_str(), &w, &h, &channels, 4);
-    if (!data) return -1;
-    std::size_t drawn = 0;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(w) * h; ++i) {
-        drawn += render::pack_rgba(data[4 * i], data[4 * i + 1], data[4 * i + 2]) != (kBackground | 0xff000000u);
-    }
-    stbi_image_free(data);
-    return static_cast<double>(drawn) / (static_cast<double>(w) * h);
+    const test::Png png = test::read_png(path);
+    if (!png.ok()) return -1;
+    return static_cast<double>(test::drawn_pixels(png)) / static_cast<double>(png.pixels.size());
 }
 
 class ViewCommand : public ::testing::Test {

@@ -9,15 +9,8 @@
 #include "core/error.hpp"
 #include "render/png_writer.hpp"
 #include "render/resolve.hpp"
+#include "png_test_util.hpp"
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
-#pragma GCC diagnostic ignored "-Wunused-function"
-#pragma GCC diagnostic ignored "-Wsign-compare"
-#define STB_IMAGE_STATIC
-#define STB_IMAGE_IMPLEMENTATION
-#include <stb/stb_image.h>
-#pragma GCC diagnostic pop
 
 namespace lidarscout::render {
 namespace {
@@ -103,17 +96,12 @@ TEST(RenderPng, WrittenImageReadsBack) {
     const auto path =
         std::filesystem::temp_directory_path() / ("lidarscout_render_" + std::to_string(::getpid()) + ".png");
     write_png(path.string(), image);
-    int w = 0, h = 0, channels = 0;
-    unsigned char* data = stbi_load(path.string().c_str(), &w, &h, &channels, 4);
+    const test::Png png = test::read_png(path);
     std::filesystem::remove(path);
-    ASSERT_NE(data, nullptr);
-    EXPECT_EQ(w, 24);
-    EXPECT_EQ(h, 24);
-    for (int i = 0; i < w * h; ++i) {
-        const std::uint32_t expected = image.pixels[i];
-        ASSERT_EQ(pack_rgba(data[4 * i], data[4 * i + 1], data[4 * i + 2], data[4 * i + 3]), expected) << i;
-    }
-    stbi_image_free(data);
+    ASSERT_TRUE(png.ok());
+    EXPECT_EQ(png.width, 24);
+    EXPECT_EQ(png.height, 24);
+    for (std::size_t i = 0; i < png.pixels.size(); ++i) ASSERT_EQ(png.pixels[i], image.pixels[i]) << i;
 }
 
 TEST(RenderPng, UnwritablePathIsAnError) {
