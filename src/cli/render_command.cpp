@@ -19,7 +19,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
-#include "cli/loader_progress.hpp"
+#include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
 #include "core/error.hpp"
@@ -125,14 +125,7 @@ RenderPlan make_plan(const RenderCliOptions& o) {
 
 dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
     const auto t0 = Clock::now();
-    dataset::DatasetOptions opt;
-    Progress progress("headers", 0);
-    opt.progress = [&](std::size_t, std::size_t total) {
-        progress.set_total(total);
-        progress.add();
-    };
-    auto ds = dataset::open_dataset(o.paths, opt);
-    progress.finish();
+    auto ds = open_with_progress(o.paths, {});
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     if (ds.tiles.empty()) throw Error("render: no readable LAS/LAZ tiles in the given paths");
     report.tiles = ds.tiles.size();

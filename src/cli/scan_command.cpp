@@ -10,8 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
-#include "cli/loader_progress.hpp"
-#include "cli/progress.hpp"
+#include "cli/stage_progress.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
@@ -57,14 +56,7 @@ io::ReadBackend parse_backend(const std::string& name) {
 dataset::Dataset read_headers(const ScanOptions& o) {
     dataset::DatasetOptions opt;
     opt.las_stride = o.stride;
-    Progress progress("headers", 0);
-    opt.progress = [&](std::size_t, std::size_t total) {
-        progress.set_total(total);
-        progress.add();
-    };
-    auto ds = dataset::open_dataset(o.paths, opt);
-    progress.finish();
-    return ds;
+    return open_with_progress(o.paths, opt);
 }
 
 void load_chunk_points(const ScanOptions& o, ScanResult& r) {

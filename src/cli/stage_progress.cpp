@@ -1,11 +1,22 @@
-// load_with_progress (see loader_progress.hpp).
-#include "cli/loader_progress.hpp"
+// open_with_progress, load_with_progress (see stage_progress.hpp).
+#include "cli/stage_progress.hpp"
 
 #include <chrono>
 
 #include "cli/progress.hpp"
 
 namespace lidarscout::cli {
+
+dataset::Dataset open_with_progress(const std::vector<std::string>& paths, dataset::DatasetOptions options) {
+    Progress progress("headers", 0);
+    options.progress = [&](std::size_t, std::size_t total) {
+        progress.set_total(total);
+        progress.add();
+    };
+    auto ds = dataset::open_dataset(paths, options);
+    progress.finish();
+    return ds;
+}
 
 void load_with_progress(dataset::ChunkPointLoader& loader) {
     Progress progress("chunk points", loader.total());
