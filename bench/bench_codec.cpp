@@ -1,7 +1,7 @@
 // Benchmark: LAZ decode and encode speed, warm cache, median of 5 runs.
 //   decode points/s: full records, XYZ only, XYZ + RGB (the latter two skip layers of
 //   layered files), single-threaded and with all threads; encode points/s likewise.
-// Usage: bench_codec FILE.laz... [--runs N]
+// Usage: bench_codec FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode] (default: all modes)
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -35,7 +35,7 @@ double median_rate(int runs, std::uint64_t items, Fn&& fn) {
     return rates[rates.size() / 2];
 }
 
-void bench_file(const std::string& path, int runs) {
+void bench_file(const std::string& path, int runs, const std::string& only) {
     auto file = io::File::open(path);
     auto tile = dataset::read_tile(file);
     if (!tile.laz) {
@@ -56,11 +56,13 @@ void bench_file(const std::string& path, int runs) {
     for (unsigned threads : {1u, all}) {
         ThreadPool pool(threads);
         for (const auto& m : modes) {
+            if (!only.empty() && only != m.name) continue;
             const double rate = median_rate(runs, n, [&] {
                 laz::decode_units_parallel(file, layout, 0, layout.units.size(), records, m.fields, pool);
             });
             fmt::print("  decode {:<8} threads {}: {:8.2f} M points/s\n", m.name, threads, rate / 1e6);
         }
+        if (!only.empty() && only != "encode") continue;
         laz::decode_units_parallel(file, layout, 0, layout.units.size(), records, laz::fields::kAll, pool);
         std::vector<std::vector<std::uint8_t>> encoded(layout.units.size());
         const double rate = median_rate(runs, n, [&] {
@@ -81,18 +83,20 @@ void bench_file(const std::string& path, int runs) {
 
 int main(int argc, char** argv) {
     int runs = 5;
+    std::string only;
     std::vector<std::string> files;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+        else if (std::strcmp(argv[i], "--mode") == 0 && i + 1 < argc) only = argv[++i];
         else files.push_back(argv[i]);
     }
     if (files.empty()) {
-        fmt::print(stderr, "usage: bench_codec FILE.laz... [--runs N]\n");
+        fmt::print(stderr, "usage: bench_codec FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode]\n");
         return 2;
     }
     for (const auto& f : files) {
         try {
-            bench_file(f, runs);
+            bench_file(f, runs, only);
         } catch (const Error& e) {
             fmt::print(stderr, "{}\n", e.what());
             return 1;

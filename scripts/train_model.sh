@@ -21,16 +21,19 @@ surveys=../shared/data/surveys
 mkdir -p "$out"
 
 # 1. Training data: four texel sizes, four shifted lattices each; region split 2 km blocks,
-#    a quarter held out (seed 1), the same split eval --split validation uses.
-build/lidarscout train-data "$surveys"/* -o "$out/data.bin" --texel 1,2.5,5,10 --patches 200 --offsets 4 \
-  --split-block 2000 --val-fraction 0.25 --split-seed 1
+#    a quarter held out (seed 1), the same split eval --split validation uses. A 10 m window
+#    covers 960 m, so these small surveys hold few of them: a second file adds 10 m windows
+#    from sixteen shifted lattices (same split).
+split=(--split-block 2000 --val-fraction 0.25 --split-seed 1)
+build/lidarscout train-data "$surveys"/* -o "$out/data.bin" --texel 1,2.5,5,10 --patches 200 --offsets 4 "${split[@]}"
+build/lidarscout train-data "$surveys"/* -o "$out/data10.bin" --texel 10 --patches 2000 --offsets 16 "${split[@]}"
 
 # 2. Training.
 if [ "$gpu" = 1 ]; then
-  (cd python && /usr/bin/python3 -m lidarscout_train.train "../$out/data.bin" --out "../$out/run" --device cuda \
+  (cd python && /usr/bin/python3 -m lidarscout_train.train "../$out/data.bin" "../$out/data10.bin" --out "../$out/run" --device cuda \
      --decoder upsample --width 16 --head-kernel 9 --epochs 75 --batch 50)
 else
-  (cd python && /usr/bin/python3 -m lidarscout_train.train "../$out/data.bin" --out "../$out/run" --threads 2 \
+  (cd python && /usr/bin/python3 -m lidarscout_train.train "../$out/data.bin" "../$out/data10.bin" --out "../$out/run" --threads 2 \
      --decoder upsample --width 8 --head-kernel 5 --epochs 40 --batch 32)
 fi
 

@@ -15,7 +15,7 @@ import sys
 import numpy as np
 import torch
 
-from .dataset import augment_geometry
+from .dataset import augment_colour, augment_geometry
 from .model import PAD, PATCH, HeightmapNet, count_parameters, replace_nan
 from .train import masked_losses
 
@@ -60,6 +60,18 @@ def main():
             a = augment_geometry(win, k, flip)[:, PAD:PAD + PATCH, PAD:PAD + PATCH]
             b = augment_geometry(win[:, PAD:PAD + PATCH, PAD:PAD + PATCH], k, flip)
             check(np.array_equal(a, b), f"augment_geometry k={k} flip={flip}")
+
+    # A colour change maps equal colours of the input window and the target to equal colours,
+    # keeps missing texels missing and stays in [0, 1].
+    rng = np.random.default_rng(3)
+    c_in = np.full((6, 4, 4), 0.4, dtype=np.float32)
+    c_in[:, 0, 0] = np.nan
+    c_gt = np.full((3, 2, 2), 0.4, dtype=np.float32)
+    changed_in, changed_gt = augment_colour([c_in, c_gt], rng, gain=(1.5, 1.6))
+    check(np.isnan(changed_in[:, 0, 0]).all(), "augment_colour keeps NaN")
+    check(np.allclose(changed_in[0:3, 1, 1], changed_gt[:, 0, 0]) and np.allclose(changed_in[3:6, 1, 1], changed_gt[:, 0, 0]),
+          "augment_colour: the same change for inputs and target")
+    check(not np.allclose(changed_gt, c_gt) and float(np.nanmax(changed_in)) <= 1.0, "augment_colour changes colours within [0, 1]")
 
     # The residual network starts as linear interpolation; the padded ('same') and the
     # cropped ('valid') head agree on the centre.

@@ -1,8 +1,13 @@
 """Trains the heightmap network on a `lidarscout train-data` file and exports it to TorchScript.
 
-    python3 -m lidarscout_train.train DATA.bin --out DIR [--epochs N] [--batch 32]
+    python3 -m lidarscout_train.train DATA.bin [MORE.bin ...] --out DIR [--epochs N] [--batch 32]
         [--decoder transposed|upsample] [--width 16] [--head-kernel 9] [--no-residual]
         [--threads 2] [--device cpu|cuda] [--lr 1e-4] [--seed 1] [--no-augment] [--max-steps N]
+        [--init state_dict.pt]
+
+Several train-data files are trained on together (their train splits, weighted as one set);
+validation runs on all their held-out splits. --init starts from a saved state dict (its
+decoder / width / head kernel / residual override the flags): fine-tuning.
 
 On a GPU machine (PyTorch 2.x with CUDA there) train with --device cuda and bring back
 state_dict.pt; export it to TorchScript here with `python3 -m lidarscout_train.export`, so that
@@ -91,7 +96,7 @@ def export_torchscript(model, path, example=None):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("data")
+    ap.add_argument("data", nargs="+", help="train-data files")
     ap.add_argument("--out", required=True)
     ap.add_argument("--epochs", type=int, default=75)
     ap.add_argument("--batch", type=int, default=32)
@@ -105,6 +110,7 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--no-augment", action="store_true")
     ap.add_argument("--max-steps", type=int, default=0, help="stop each epoch after N steps (smoke runs)")
+    ap.add_argument("--init", help="state_dict.pt to start from (fine-tuning)")
     ap.add_argument("--no-texel-weights", action="store_true",
                     help="plain MSE over normalised heights (the coarse texel sizes then weigh ~100x less)")
     args = ap.parse_args(argv)
@@ -113,11 +119,13 @@ def main(argv=None):
     torch.manual_seed(args.seed)
     os.makedirs(args.out, exist_ok=True)
 
-    train_set = TrainDataset(args.data, split="train", augment=not args.no_augment, seed=args.seed)
-    val_set = TrainDataset(args.data, split="validation", augment=False)
+    train_parts = [TrainDataset(p, split="train", augment=not args.no_augment, seed=args.seed + k)
+                   for k, p in enumerate(args.data)]
+    train_set = torch.utils.data.ConcatDataset(train_parts)
+    val_set = torch.utils.data.ConcatDataset([TrainDataset(p, split="validation", augment=False) for p in args.data])
     if len(train_set) == 0:
-        raise SystemExit(f"{args.data}: no training samples")
-    texel_weights = {} if args.no_texel_weights else set_texel_weights(train_set)
+        raise SystemExit(f"{', '.join(args.data)}: no training samples")
+    texel_weights = {} if args.no_texel_weights else set_texel_weights(train_parts)
     if texel_weights:
         print("height loss weight per texel size: " + ", ".join(f"{t:g} m: {w:.3g}" for t, w in sorted(texel_weights.items())),
               flush=True)
@@ -125,8 +133,15 @@ def main(argv=None):
     train_loader = torch.utils.data.DataLoader(train_set, batch_size=args.batch, shuffle=True, generator=gen, drop_last=False)
     val_loader = torch.utils.data.DataLoader(val_set, batch_size=args.batch, shuffle=False)
 
+    init = torch.load(args.init, map_location="cpu") if args.init else None
+    if init is not None:
+        args.decoder, args.width, args.head_kernel = init["decoder"], init["width"], init["head_kernel"]
+        args.no_residual = not init.get("residual", True)
     model = HeightmapNet(decoder=args.decoder, width=args.width, head_kernel=args.head_kernel,
-                         residual=not args.no_residual).to(args.device)
+                         residual=not args.no_residual)
+    if init is not None:
+        model.load_state_dict(init["state_dict"])
+    model = model.to(args.device)
     n_params = count_parameters(model)
     print(f"model: decoder={args.decoder} width={args.width} parameters={n_params}; "
           f"train {len(train_set)} validation {len(val_set)} samples", flush=True)

@@ -4,20 +4,19 @@
 // (when the replicated benchmark dataset is present) the process stays within the budget.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <thread>
 
+#include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "test_data.hpp"
+#include "viewer/flight_path.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/scheduler_detail.hpp"
@@ -84,6 +83,9 @@ TEST(ViewerScheduler, HeightmapsStartBeforeAllChunkPointsAreIn) {
     SchedulerOptions o;
     o.cnn = false, o.full_res = false;
     o.camera = above_tile(ds.tiles[tile_named(ds, "N119E381")], 2000);  // the south-east corner
+    // One reader thread: tiles complete (and call the hook) one at a time, so holding the hook
+    // holds all loading; with several, the others finished tiles while one thread waited.
+    o.loader.reads.threads = 1;
     Scheduler* sched = nullptr;
     std::atomic<bool> ready{false};
     std::atomic<long> tiles_at_first_heightmap{-1};
@@ -206,13 +208,6 @@ TEST(ViewerScheduler, MovingTheCameraReprioritisesFullResolution) {
     EXPECT_GE(snap->full_points.size(), 2u);
 }
 
-std::uint64_t resident_bytes() {
-    std::ifstream in("/proc/self/statm");
-    std::uint64_t size = 0, resident = 0;
-    in >> size >> resident;
-    return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
-}
-
 TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
     const std::filesystem::path dir = "/work/bench-data/replica-2025";
     if (!std::filesystem::is_directory(dir)) GTEST_SKIP() << dir << " is absent (lidarscout synth replicate)";
@@ -223,18 +218,10 @@ TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
     o.memory_budget = 1ull << 30;
     constexpr std::uint64_t kMargin = 300ull << 20;
     const std::uint64_t rss0 = resident_bytes();
-    const auto& b = ds.bounds_m;
     // Down from high above the whole dataset to low over a diagonal, 20 s in all.
-    const auto camera_at = [&](double t) {
-        render::Camera c;
-        c.width = 640, c.height = 360;
-        c.x = b.min_x + (0.2 + 0.6 * t) * (b.max_x - b.min_x);
-        c.y = b.min_y + (0.2 + 0.6 * t) * (b.max_y - b.min_y);
-        c.z = b.max_z + 20000 * (1 - t) + 200;
-        c.pitch_deg = -60;
-        c.near_m = 1, c.far_m = 1e6;
-        return c;
-    };
+    FlightPath path;
+    path.width = 640, path.height = 360;
+    const auto camera_at = [&](double t) { return flight_camera(ds.bounds_m, t, path); };
     o.camera = camera_at(0);
     Scheduler scheduler(ds, o);
     std::uint64_t worst = 0;
