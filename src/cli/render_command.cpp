@@ -27,6 +27,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
 #include "nn/heightmap_network.hpp"
+#include "render/backend.hpp"
 #include "render/camera.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/heightmap_builder.hpp"
@@ -54,6 +55,7 @@ struct RenderCliOptions {
     std::size_t min_points = viewer::kViewerMinPoints;
     std::string memory;
     unsigned threads = 0;
+    std::string backend = "cpu";
     bool json = false;
 };
 
@@ -67,6 +69,7 @@ struct RenderPlan {
     std::optional<render::Camera> camera;  // empty: auto
     std::uint64_t memory_budget = 0;
     unsigned threads = 1;
+    render::BackendChoice backend;   // resolved: cpu or cuda (with a note when auto fell back)
 };
 
 struct StageTimes {
@@ -120,6 +123,7 @@ RenderPlan make_plan(const RenderCliOptions& o) {
     }
     plan.memory_budget = parse_memory(o.memory);
     plan.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    plan.backend = render::choose_backend(render::parse_backend(o.backend));  // throws for an unavailable cuda
     return plan;
 }
 
@@ -207,6 +211,7 @@ viewer::SceneStyle scene_style(const RenderPlan& plan, const RenderCliOptions& o
     style.point_size = o.point_size;
     style.chunk_point_size = o.chunk_point_size;
     style.resolve.edl_strength = o.edl;
+    style.backend = plan.backend.backend;
     return style;
 }
 
@@ -224,6 +229,7 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"until", stage_name(plan.until)},
                         {"colour", render::colour_mode_name(plan.colour)},
                         {"heightmap_method", plan.cnn ? "cnn" : "linear"},
+                        {"backend", std::string(render::backend_name(plan.backend.backend))},
                         {"camera", camera_json(r.camera)},
                         {"tiles", r.tiles},
                         {"has_rgb", r.has_rgb},
@@ -262,6 +268,7 @@ void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const Rend
 
 int run_render(const RenderCliOptions& o) {
     const RenderPlan plan = make_plan(o);
+    if (!plan.backend.note.empty()) std::fprintf(stderr, "lidarscout: %s; drawing on the CPU\n", plan.backend.note.c_str());
     RenderReport report;
     const dataset::Dataset ds = read_headers(o, report);
     report.camera = make_camera(plan, o, ds);
@@ -320,6 +327,9 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--memory", o->memory, "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
     cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
+    cmd->add_option("--backend", o->backend,
+                    "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
+                    "available, else cpu)");
     cmd->add_flag("--json", o->json, "Print the summary as JSON on stdout");
     cmd->callback([o, &run] { run = [o] { return run_render(*o); }; });
 }

@@ -13,6 +13,7 @@
 #include "cli/size_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
+#include "render/backend.hpp"
 #include "synth/terrain_generator.hpp"
 #include "viewer/app/viewer_app.hpp"
 
@@ -30,6 +31,7 @@ struct ViewCliOptions {
     std::string screenshot;
     double quit_after = 0;
     unsigned threads = 0;
+    std::string backend = "cpu";
 };
 
 // $XDG_CACHE_HOME/lidarscout or ~/.cache/lidarscout.
@@ -58,8 +60,16 @@ std::string demo_folder(const ViewCliOptions& o) {
     return dir.string();
 }
 
+// The --backend option resolved: an error for an unavailable `cuda`, a note when `auto` falls back.
+render::Backend resolve_backend(const std::string& text) {
+    const render::BackendChoice choice = render::choose_backend(render::parse_backend(text));
+    if (!choice.note.empty()) std::fprintf(stderr, "lidarscout: %s; drawing on the CPU\n", choice.note.c_str());
+    return choice.backend;
+}
+
 int run_view(const ViewCliOptions& o) {
     viewer::app::ViewerOptions v;
+    v.backend = resolve_backend(o.backend);
     std::tie(v.width, v.height) = parse_pixels(o.size, 64);
     v.memory_budget = o.memory.empty() ? 0 : parse_bytes(o.memory);
     v.cnn = !o.no_cnn;
@@ -88,6 +98,9 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the first frame (scripted use)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--threads", o->threads, "Rendering threads (default: all cores)");
+    cmd->add_option("--backend", o->backend,
+                    "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
+                    "available, else cpu)");
     cmd->callback([o, &run] { run = [o] { return run_view(*o); }; });
 }
 

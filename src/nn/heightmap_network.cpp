@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/error.hpp"
+#include "core/plugin_paths.hpp"
 #include "nn/network_io.hpp"
 #include "nn/runner_plugin.hpp"
 

@@ -4,34 +4,43 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdlib>
 #include <filesystem>
 #include <mutex>
 
 #include "core/error.hpp"
+#include "core/plugin_paths.hpp"
 
 #ifndef LIDARSCOUT_BUILD_DIR
 #define LIDARSCOUT_BUILD_DIR ""
 #endif
 
+#if defined(__SANITIZE_ADDRESS__)
+#define LIDARSCOUT_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define LIDARSCOUT_ASAN 1
+#endif
+#endif
+
+namespace {
+std::atomic<bool> runner_opened{false};
+}  // namespace
+
+#ifdef LIDARSCOUT_ASAN
+// Sanitizer builds: LeakSanitizer's check at exit stops every thread through a tracer, and
+// with LibTorch's OpenMP workers alive it crashes ("Tracer caught signal 11") instead of
+// reporting. A process that opened the runner therefore skips the leak check (AddressSanitizer's
+// other checks stay on); every other process keeps it.
+extern "C" int __lsan_is_turned_off() { return runner_opened.load() ? 1 : 0; }
+#endif
+
 namespace lidarscout::nn {
 namespace fs = std::filesystem;
 
-std::string executable_dir() {
-    std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    return ec ? std::string() : exe.parent_path().string();
-}
-
 std::vector<std::string> runner_candidates() {
-    std::vector<std::string> out;
-    if (const char* env = std::getenv("LIDARSCOUT_TORCH_RUNNER"); env && *env) out.emplace_back(env);
-    if (const std::string dir = executable_dir(); !dir.empty()) {
-        out.push_back((fs::path(dir) / kRunnerFileName).string());
-        out.push_back((fs::path(dir) / ".." / "lib" / "lidarscout" / kRunnerFileName).lexically_normal().string());
-    }
-    if (*LIDARSCOUT_BUILD_DIR) out.push_back((fs::path(LIDARSCOUT_BUILD_DIR) / kRunnerFileName).string());
-    return out;
+    return plugin_candidates("LIDARSCOUT_TORCH_RUNNER", kRunnerFileName, LIDARSCOUT_BUILD_DIR);
 }
 
 namespace {
@@ -43,6 +52,7 @@ const LidarscoutRunnerApi* open_runner() {
             tried += (tried.empty() ? "" : ", ") + path;
             continue;
         }
+        runner_opened = true;  // before dlopen: LibTorch may start threads while loading
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) throw Error(path, std::nullopt, std::string("cannot open the LibTorch runner: ") + dlerror());
         using Entry = const LidarscoutRunnerApi* (*)();

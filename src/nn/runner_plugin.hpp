@@ -12,9 +12,6 @@ namespace lidarscout::nn {
 
 inline constexpr char kRunnerFileName[] = "liblidarscout_torch.so";
 
-// The folder of the running executable (empty when it cannot be told).
-std::string executable_dir();
-
 // Candidate paths of the plugin, in the order above.
 std::vector<std::string> runner_candidates();
 

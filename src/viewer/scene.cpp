@@ -4,31 +4,19 @@
 #include <algorithm>
 #include <set>
 
-#include "render/framebuffer.hpp"
-#include "render/point_pass.hpp"
-
 namespace lidarscout::viewer {
 namespace {
 
-std::vector<render::PointBatch> all_batches(const Scene& scene) {
-    auto out = batches_of(scene.chunk_points);
-    const auto full = batches_of(scene.full_points);
-    out.insert(out.end(), full.begin(), full.end());
-    return out;
-}
-
-void draw_point_sets(render::Framebuffer& fb, const render::Camera& camera, std::span<const PointSet> sets,
-                     const render::ColourSettings& colour, int point_size, ThreadPool& pool) {
-    if (sets.empty()) return;
-    render::PointPassSettings s;
-    s.colour = colour;
-    s.point_size = point_size;
-    render::draw_points(fb, camera, batches_of(sets), s, pool);
-}
-
-std::size_t drawn_pixels(const render::Framebuffer& fb) {
-    const std::size_t n = static_cast<std::size_t>(fb.width()) * fb.height();
-    return n - static_cast<std::size_t>(std::count(fb.data(), fb.data() + n, render::kEmpty));
+// The colour settings of a frame: the intensity range from its points when asked for.
+render::ColourSettings frame_colours(const SceneStyle& style, std::span<const render::PointBatch> chunk_points,
+                                     std::span<const render::PointBatch> full_points) {
+    render::ColourSettings colour = style.colour;
+    if (colour.mode != render::ColourMode::Intensity || !style.auto_intensity) return colour;
+    std::vector<render::PointBatch> all(chunk_points.begin(), chunk_points.end());
+    all.insert(all.end(), full_points.begin(), full_points.end());
+    const auto range = render::auto_intensity_range(all);
+    colour.intensity_min = range[0], colour.intensity_max = std::max(range[1], range[0] + 1.0f);
+    return colour;
 }
 
 }  // namespace
@@ -51,23 +39,26 @@ render::ColourSettings colour_settings(render::ColourMode mode, double z_min, do
     return c;
 }
 
+RenderedScene draw_scene_frame(const render::Camera& camera, std::span<const render::HeightmapPatch> heightmaps,
+                               std::span<const render::PointBatch> chunk_points,
+                               std::span<const render::PointBatch> full_points, const SceneStyle& style,
+                               ThreadPool& pool) {
+    render::FrameSettings settings;
+    settings.colour = frame_colours(style, chunk_points, full_points);
+    settings.heightmaps = style.heightmaps;
+    settings.resolve = style.resolve;
+    const render::PointLayer layers[] = {{chunk_points, style.chunk_point_size}, {full_points, style.point_size}};
+    auto frame = render::draw_frame(style.backend, camera, heightmaps, layers, settings, pool);
+    return {std::move(frame.image), frame.drawn_pixels};
+}
+
 RenderedScene render_scene(const Scene& scene, const render::Camera& camera, const SceneStyle& style,
                            ThreadPool& pool) {
-    render::ColourSettings colour = style.colour;
-    if (colour.mode == render::ColourMode::Intensity && style.auto_intensity) {
-        const auto range = render::auto_intensity_range(all_batches(scene));
-        colour.intensity_min = range[0], colour.intensity_max = std::max(range[1], range[0] + 1.0f);
-    }
-    render::Framebuffer fb(camera.width, camera.height);
     std::vector<render::HeightmapPatch> patches;
     patches.reserve(scene.heightmaps.size());
     for (const auto& h : scene.heightmaps) patches.push_back(h.view());
-    render::HeightmapPassSettings hs = style.heightmaps;
-    hs.colour = colour;
-    if (!patches.empty()) render::draw_heightmaps(fb, camera, patches, hs, pool);
-    draw_point_sets(fb, camera, scene.chunk_points, colour, style.chunk_point_size, pool);
-    draw_point_sets(fb, camera, scene.full_points, colour, style.point_size, pool);
-    return {render::resolve(fb, style.resolve, pool), drawn_pixels(fb)};
+    return draw_scene_frame(camera, patches, batches_of(scene.chunk_points), batches_of(scene.full_points), style,
+                            pool);
 }
 
 }  // namespace lidarscout::viewer

@@ -11,6 +11,7 @@
 
 #include "core/thread_pool.hpp"
 #include "dataset/patch_grid.hpp"
+#include "render/backend.hpp"
 #include "render/camera.hpp"
 #include "render/colour_modes.hpp"
 #include "render/heightmap_pass.hpp"
@@ -37,6 +38,7 @@ struct SceneStyle {
     int point_size = 1;             // pixels: full-resolution points
     render::HeightmapPassSettings heightmaps;  // its colour settings are replaced by `colour`
     render::ResolveSettings resolve;           // background, eye-dome lighting
+    render::Backend backend = render::Backend::Cpu;  // the rasterizer (render/backend.hpp)
 };
 
 // Elevation colours over [z_min, z_max] (e.g. the dataset's range; widened when empty).
@@ -46,6 +48,14 @@ struct RenderedScene {
     render::RgbaImage image;
     std::size_t drawn_pixels = 0;  // pixels where something was drawn (not background)
 };
+
+// Draws one frame on style.backend: the heightmaps (pushed back by their depth bias), then the
+// chunk points and the full-resolution points, then the resolve. Both render_scene and
+// render_snapshot draw through this.
+RenderedScene draw_scene_frame(const render::Camera& camera, std::span<const render::HeightmapPatch> heightmaps,
+                               std::span<const render::PointBatch> chunk_points,
+                               std::span<const render::PointBatch> full_points, const SceneStyle& style,
+                               ThreadPool& pool);
 
 // Draws the scene at `camera` (heightmaps first, pushed back by their depth bias, then the
 // chunk points and the full-resolution points) and resolves it to an image.

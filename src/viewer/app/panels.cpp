@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "render/backend.hpp"
 #include "render/colour_modes.hpp"
 
 namespace lidarscout::viewer::app {
@@ -107,6 +108,8 @@ void settings_panel(ViewSettings& v, PanelActions& actions) {
         ImGui::EndCombo();
     }
     ImGui::SliderFloat("EDL", &v.style.resolve.edl_strength, 0.0f, 3.0f);
+    const std::string device = v.style.backend == render::Backend::Cuda ? " (" + render::cuda_device_name() + ")" : "";
+    ImGui::Text("rasterizer: %s%s", std::string(render::backend_name(v.style.backend)).c_str(), device.c_str());
     ImGui::SliderFloat("render scale", &v.render_scale, 0.25f, 1.0f);
     ImGui::Checkbox("chunk points", &v.layers.chunk_points);
     ImGui::SameLine();

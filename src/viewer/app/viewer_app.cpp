@@ -153,8 +153,9 @@ std::string screenshot_name() {
     return text;
 }
 
-ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& stats) {
+ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& stats, render::Backend backend) {
     ViewSettings v;
+    v.style.backend = backend;
     v.style.colour = colour_settings(render::ColourMode::Rgb, ds.bounds_m.min_z, ds.bounds_m.max_z);
     v.budget_mb = static_cast<int>(std::min<std::uint64_t>(stats.memory_budget >> 20, 1u << 30));
     return v;
@@ -188,7 +189,7 @@ int run_viewer(const ViewerOptions& o) {
     Session session = open_session(o.paths, o, nullptr);
     CameraController controller;
     controller.frame(session.dataset->bounds_m, o.width, o.height);
-    ViewSettings settings = initial_settings(*session.dataset, session.scheduler->stats());
+    ViewSettings settings = initial_settings(*session.dataset, session.scheduler->stats(), o.backend);
     PanelState panels;
     MouseKeyboard input;
     RenderedScene last;

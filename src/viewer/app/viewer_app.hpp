@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "render/backend.hpp"
+
 namespace lidarscout::viewer::app {
 
 struct ViewerOptions {
@@ -19,6 +21,7 @@ struct ViewerOptions {
     std::string screenshot;          // scripted: the last frame's PNG
     double quit_after = 0;           // scripted: seconds after the first frame (0 = until closed)
     unsigned threads = 0;            // rendering threads (0 = all cores)
+    render::Backend backend = render::Backend::Cpu;  // the rasterizer (resolved: Cpu or Cuda)
 };
 
 // Opens the window and runs until it is closed (or quit_after). Throws lidarscout::Error

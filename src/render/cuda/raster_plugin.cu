@@ -1,0 +1,371 @@
+// liblidarscout_cuda_raster.so: the C entry points of the CUDA rasterizer (raster_abi.h). Per
+// frame it uploads what the host prepared (colour tables, patches with their heights and
+// colours, point batches and the point jobs, one per chunk of points) into a device arena,
+// runs the heightmap kernels, the point kernels per layer and the resolve, and downloads the
+// image. Buffers grow and are kept from frame to frame; nothing is cached between frames yet
+// (every frame uploads its points: a resident point cache is the next step for speed).
+#include <cuda_runtime.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "render/cuda/raster_abi.h"
+#include "render/cuda/raster_kernels.hpp"
+
+namespace lidarscout::render::cuda {
+namespace {
+
+constexpr std::size_t kAlign = 256;
+constexpr std::size_t kSmallCopy = 1 << 20;        // smaller segments go through the pinned staging
+constexpr unsigned int kQueueCapacity = 1 << 18;  // large triangles per frame (more: drawn in place)
+constexpr int kQueueBlocks = 1024;
+
+void check(cudaError_t status, const char* what) {
+    if (status != cudaSuccess) throw std::runtime_error(std::string(what) + ": " + cudaGetErrorString(status));
+}
+
+std::size_t aligned(std::size_t n) { return (n + kAlign - 1) / kAlign * kAlign; }
+
+// Device memory that only grows.
+struct DeviceBuffer {
+    void* ptr = nullptr;
+    std::size_t bytes = 0;
+    void reserve(std::size_t n) {
+        if (n <= bytes) return;
+        const std::size_t want = std::max(n, bytes + bytes / 2);
+        if (ptr) cudaFree(ptr);
+        ptr = nullptr, bytes = 0;
+        check(cudaMalloc(&ptr, want), "cudaMalloc");
+        bytes = want;
+    }
+    template <typename T>
+    T* at(std::size_t offset = 0) const { return reinterpret_cast<T*>(static_cast<char*>(ptr) + offset); }
+    ~DeviceBuffer() { if (ptr) cudaFree(ptr); }
+};
+
+// Pinned host memory that only grows (for the many small uploads of a frame).
+struct PinnedBuffer {
+    char* ptr = nullptr;
+    std::size_t bytes = 0;
+    void reserve(std::size_t n) {
+        if (n <= bytes) return;
+        const std::size_t want = std::max(n, bytes + bytes / 2);
+        if (ptr) cudaFreeHost(ptr);
+        ptr = nullptr, bytes = 0;
+        check(cudaMallocHost(reinterpret_cast<void**>(&ptr), want), "cudaMallocHost");
+        bytes = want;
+    }
+    ~PinnedBuffer() { if (ptr) cudaFreeHost(ptr); }
+};
+
+// A frame's uploads laid out in one device arena: small segments first (copied together
+// through the pinned staging buffer), large ones after (copied straight from their memory).
+// layout() fixes the offsets, so that tables holding offsets can be filled in before copy().
+class Upload {
+public:
+    std::size_t add(const void* data, std::size_t bytes, bool small_region) {
+        segments_.push_back({data, bytes, small_region, 0});
+        return segments_.size() - 1;
+    }
+    // A host table (copied at copy() time, so it may still be changed after layout()).
+    template <typename T>
+    std::size_t add(const std::vector<T>& v) { return add(v.data(), v.size() * sizeof(T), true); }
+
+    void layout() {
+        small_ = 0;
+        for (auto& s : segments_) {
+            if (s.small_region) s.offset = small_, small_ += aligned(s.bytes);
+        }
+        total_ = small_;
+        for (auto& s : segments_) {
+            if (!s.small_region) s.offset = total_, total_ += aligned(s.bytes);
+        }
+    }
+    std::size_t offset(std::size_t segment) const { return segments_[segment].offset; }
+
+    void copy(DeviceBuffer& arena, PinnedBuffer& staging, cudaStream_t stream) const {
+        arena.reserve(std::max(total_, kAlign));
+        staging.reserve(std::max(small_, kAlign));
+        for (const auto& s : segments_) {
+            if (s.small_region && s.bytes) std::memcpy(staging.ptr + s.offset, s.data, s.bytes);
+        }
+        if (small_) check(cudaMemcpyAsync(arena.ptr, staging.ptr, small_, cudaMemcpyHostToDevice, stream), "upload");
+        for (const auto& s : segments_) {
+            if (s.small_region || !s.bytes) continue;
+            check(cudaMemcpyAsync(arena.at<char>(s.offset), s.data, s.bytes, cudaMemcpyHostToDevice, stream),
+                  "upload");
+        }
+    }
+
+private:
+    struct Segment {
+        const void* data;
+        std::size_t bytes;
+        bool small_region;
+        std::size_t offset;
+    };
+    std::vector<Segment> segments_;
+    std::size_t small_ = 0, total_ = 0;
+};
+
+struct Context {
+    int device = 0;
+    std::string name;
+    cudaStream_t stream = nullptr;
+    DeviceBuffer fb, image, log_depth, counters, arena, info, work, grid, drawn, queue;
+    PinnedBuffer staging;
+};
+
+// The host-side tables of a frame (patch descriptions, per layer the batches and the point
+// jobs, one per chunk of points), filled with arena offsets once the upload is laid out.
+struct HostFrame {
+    std::vector<DevicePatch> patches;
+    std::vector<std::vector<DeviceBatch>> batches;  // per layer
+    std::vector<std::vector<PointJob>> jobs;        // per layer, batch-relative until placed
+};
+
+HostFrame describe(const LsrFrame& f) {
+    HostFrame h;
+    for (std::uint32_t i = 0; i < f.heightmaps.patch_count; ++i) {
+        const LsrPatch& p = f.heightmaps.patches[i];
+        h.patches.push_back({p.origin_x, p.origin_y, p.texel_m, p.size, 0, 0, p.colours != nullptr});
+    }
+    const std::uint64_t chunk = std::max<std::uint32_t>(1, f.chunk_points);
+    for (std::uint32_t l = 0; l < f.layer_count; ++l) {
+        const LsrPointLayer& layer = f.layers[l];
+        auto& batches = h.batches.emplace_back();
+        auto& jobs = h.jobs.emplace_back();
+        for (std::uint32_t b = 0; b < layer.batch_count; ++b) {
+            const LsrBatch& batch = layer.batches[b];
+            batches.push_back({batch.screen, batch.elevation_offset, 0});
+            for (std::uint64_t begin = 0; begin < batch.count; begin += chunk) {
+                jobs.push_back({b, begin, std::min(batch.count, begin + chunk)});
+            }
+        }
+    }
+    return h;
+}
+
+// Segment indices of a frame's uploads.
+struct FrameSegments {
+    std::size_t ramp = 0, intensity = 0, classes = 0, patches = 0;
+    std::vector<std::size_t> heights, colours;     // per patch
+    std::vector<std::size_t> points;               // per batch, all layers in order
+    std::vector<std::size_t> batches, jobs;        // per layer
+};
+
+FrameSegments add_segments(const LsrFrame& f, const HostFrame& h, Upload& up) {
+    FrameSegments s;
+    const LsrColours& c = f.colours;
+    s.ramp = up.add(c.ramp, c.ramp ? 1024 * 4 : 0, true);
+    s.intensity = up.add(c.intensity, c.intensity ? 65536 * 4 : 0, true);
+    s.classes = up.add(c.classes, c.classes ? 256 * 4 : 0, true);
+    s.patches = up.add(h.patches);
+    for (std::uint32_t i = 0; i < f.heightmaps.patch_count; ++i) {
+        const LsrPatch& p = f.heightmaps.patches[i];
+        const std::size_t bytes = static_cast<std::size_t>(p.size) * p.size * 4;
+        s.heights.push_back(up.add(p.heights, bytes, bytes < kSmallCopy));
+        s.colours.push_back(up.add(p.colours, p.colours ? bytes : 0, bytes < kSmallCopy));
+    }
+    for (std::uint32_t l = 0; l < f.layer_count; ++l) {
+        for (std::uint32_t b = 0; b < f.layers[l].batch_count; ++b) {
+            const LsrBatch& batch = f.layers[l].batches[b];
+            const std::size_t bytes = batch.count * sizeof(LsrPoint);
+            s.points.push_back(up.add(batch.points, bytes, bytes < kSmallCopy));
+        }
+        s.batches.push_back(up.add(h.batches[l]));
+        s.jobs.push_back(up.add(h.jobs[l]));
+    }
+    return s;
+}
+
+// Heights and colours are addressed as float / uint32 arrays starting at the arena (segments
+// are 256-byte aligned), points by the byte offset of their batch.
+void place(const FrameSegments& s, const Upload& up, HostFrame& h) {
+    for (std::size_t i = 0; i < h.patches.size(); ++i) {
+        h.patches[i].heights = up.offset(s.heights[i]) / 4;
+        h.patches[i].colours = up.offset(s.colours[i]) / 4;
+    }
+    std::size_t k = 0;
+    for (auto& layer : h.batches) {
+        for (auto& b : layer) b.first = up.offset(s.points[k++]);
+    }
+}
+
+DeviceColours device_colours(const LsrFrame& f, const DeviceBuffer& arena, const Upload& up,
+                             const FrameSegments& s) {
+    return DeviceColours{f.colours.mode,
+                         arena.at<std::uint32_t>(up.offset(s.ramp)),
+                         f.colours.ramp_scale,
+                         f.colours.heightmap_offset,
+                         arena.at<std::uint32_t>(up.offset(s.intensity)),
+                         arena.at<std::uint32_t>(up.offset(s.classes))};
+}
+
+HeightmapFrame heightmap_frame(const LsrFrame& f, const DeviceBuffer& arena, const Upload& up,
+                               const FrameSegments& s) {
+    const LsrHeightmapPass& p = f.heightmaps;
+    HeightmapFrame h{};
+    h.patches = arena.at<DevicePatch>(up.offset(s.patches));
+    h.heights = arena.at<float>();
+    h.colours = arena.at<std::uint32_t>();
+    h.screen = p.screen;
+    h.camera_x = p.camera_x, h.camera_y = p.camera_y, h.camera_z = p.camera_z;
+    h.focal_px = p.focal_px, h.near_m = p.near_m;
+    h.depth_scale = p.depth_scale, h.lod_quad_px = p.lod_quad_px, h.skirt_quads = p.skirt_quads;
+    h.ambient = p.ambient, h.fixed_step = p.fixed_step;
+    for (int k = 0; k < 3; ++k) h.sun[k] = p.sun[k];
+    return h;
+}
+
+// The visible patches and where their grids and block flags go (from the first kernel's
+// per-patch decisions, read back).
+std::vector<PatchWork> plan_patches(const std::vector<PatchInfo>& info, std::uint64_t& grid, std::uint64_t& drawn) {
+    std::vector<PatchWork> work;
+    grid = 0, drawn = 0;
+    for (std::uint32_t i = 0; i < info.size(); ++i) {
+        if (!info[i].visible) continue;
+        work.push_back({i, grid, drawn});
+        grid += static_cast<std::uint64_t>(info[i].blocks + 1) * (info[i].blocks + 1);
+        drawn += static_cast<std::uint64_t>(info[i].blocks) * info[i].blocks;
+    }
+    return work;
+}
+
+void draw_heightmaps(Context& ctx, const LsrFrame& f, const Target& t, const DeviceColours& c,
+                     const HeightmapFrame& hf) {
+    const std::uint32_t n = f.heightmaps.patch_count;
+    if (n == 0) return;
+    ctx.info.reserve(n * sizeof(PatchInfo));
+    launch_patch_info(hf, t, n, ctx.info.at<PatchInfo>(), ctx.stream);
+    std::vector<PatchInfo> info(n);
+    check(cudaMemcpyAsync(info.data(), ctx.info.ptr, n * sizeof(PatchInfo), cudaMemcpyDeviceToHost, ctx.stream),
+          "patch info");
+    check(cudaStreamSynchronize(ctx.stream), "heightmap pass");
+    std::uint64_t grid = 0, drawn = 0;
+    const std::vector<PatchWork> work = plan_patches(info, grid, drawn);
+    if (work.empty()) return;
+    ctx.work.reserve(work.size() * sizeof(PatchWork));
+    ctx.grid.reserve(grid * sizeof(GridVertex));
+    ctx.drawn.reserve(std::max<std::uint64_t>(drawn, 1));
+    ctx.queue.reserve(kQueueCapacity * sizeof(QueuedTriangle));
+    check(cudaMemcpyAsync(ctx.work.ptr, work.data(), work.size() * sizeof(PatchWork), cudaMemcpyHostToDevice,
+                          ctx.stream),
+          "patch work");
+    const TriangleQueue queue{ctx.queue.at<QueuedTriangle>(), ctx.counters.at<unsigned int>(8), kQueueCapacity};
+    const auto count = static_cast<std::uint32_t>(work.size());
+    launch_patch_grids(hf, t, c, ctx.info.at<PatchInfo>(), ctx.work.at<PatchWork>(), count,
+                       ctx.grid.at<GridVertex>(), ctx.drawn.at<unsigned char>(), ctx.stream);
+    launch_patch_triangles(hf, t, ctx.info.at<PatchInfo>(), ctx.work.at<PatchWork>(), count,
+                           ctx.grid.at<GridVertex>(), ctx.drawn.at<unsigned char>(), queue, ctx.stream);
+    launch_queued_triangles(t, queue, kQueueBlocks, ctx.stream);
+    // `work` is read by the kernels through ctx.work; the host copy may go once it is copied.
+    check(cudaStreamSynchronize(ctx.stream), "heightmap pass");
+}
+
+void draw_points(Context& ctx, const LsrFrame& f, const Target& t, const DeviceColours& c, const HostFrame& h,
+                 const Upload& up, const FrameSegments& s) {
+    for (std::uint32_t l = 0; l < f.layer_count; ++l) {
+        launch_points(t, c, ctx.arena.at<char>(), ctx.arena.at<DeviceBatch>(up.offset(s.batches[l])),
+                      ctx.arena.at<PointJob>(up.offset(s.jobs[l])), h.jobs[l].size(), f.layers[l].point_size,
+                      ctx.stream);
+    }
+}
+
+void resolve_and_download(Context& ctx, const LsrFrame& f, const Target& t, std::uint32_t* rgba,
+                          std::uint64_t* drawn_pixels) {
+    const std::size_t pixels = static_cast<std::size_t>(f.width) * f.height;
+    if (f.resolve.edl_strength != 0.0f) ctx.log_depth.reserve(pixels * 4);
+    launch_resolve(t, f.resolve, ctx.image.at<std::uint32_t>(), ctx.log_depth.at<float>(),
+                   ctx.counters.at<unsigned long long>(), ctx.stream);
+    check(cudaGetLastError(), "kernel launch");
+    check(cudaMemcpyAsync(rgba, ctx.image.ptr, pixels * 4, cudaMemcpyDeviceToHost, ctx.stream), "download");
+    unsigned long long drawn = 0;
+    check(cudaMemcpyAsync(&drawn, ctx.counters.ptr, 8, cudaMemcpyDeviceToHost, ctx.stream), "download");
+    check(cudaStreamSynchronize(ctx.stream), "frame");
+    *drawn_pixels = drawn;
+}
+
+void draw_frame(Context& ctx, const LsrFrame& f, std::uint32_t* rgba, std::uint64_t* drawn_pixels) {
+    const std::size_t pixels = static_cast<std::size_t>(f.width) * f.height;
+    ctx.fb.reserve(pixels * sizeof(Fragment));
+    ctx.image.reserve(pixels * 4);
+    ctx.counters.reserve(16);
+    check(cudaMemsetAsync(ctx.fb.ptr, 0xff, pixels * sizeof(Fragment), ctx.stream), "clear");
+    check(cudaMemsetAsync(ctx.counters.ptr, 0, 16, ctx.stream), "clear");
+    HostFrame h = describe(f);
+    Upload up;
+    const FrameSegments s = add_segments(f, h, up);
+    up.layout();
+    place(s, up, h);
+    up.copy(ctx.arena, ctx.staging, ctx.stream);
+    const Target t{ctx.fb.at<Fragment>(), f.width, f.height, f.near_m, f.far_m};
+    const DeviceColours c = device_colours(f, ctx.arena, up, s);
+    draw_heightmaps(ctx, f, t, c, heightmap_frame(f, ctx.arena, up, s));
+    draw_points(ctx, f, t, c, h, up, s);
+    resolve_and_download(ctx, f, t, rgba, drawn_pixels);
+}
+
+void set_error(char* error, std::size_t size, const std::string& text) {
+    if (error && size) std::snprintf(error, size, "%s", text.c_str());
+}
+
+void* open_context(char* error, std::size_t error_size) {
+    int count = 0;
+    const cudaError_t status = cudaGetDeviceCount(&count);
+    if (status != cudaSuccess) {
+        set_error(error, error_size, std::string("no usable GPU (") + cudaGetErrorString(status) + ")");
+        return nullptr;
+    }
+    if (count == 0) {
+        set_error(error, error_size, "no GPU found");
+        return nullptr;
+    }
+    try {
+        auto* ctx = new Context;
+        cudaDeviceProp prop{};
+        check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
+        check(cudaSetDevice(0), "cudaSetDevice");
+        check(cudaStreamCreateWithFlags(&ctx->stream, cudaStreamNonBlocking), "cudaStreamCreate");
+        ctx->name = prop.name;
+        return ctx;
+    } catch (const std::exception& e) {
+        set_error(error, error_size, e.what());
+        return nullptr;
+    }
+}
+
+const char* context_device_name(void* context) { return static_cast<Context*>(context)->name.c_str(); }
+
+int draw(void* context, const LsrFrame* frame, std::uint32_t* rgba, std::uint64_t* drawn_pixels, char* error,
+         std::size_t error_size) {
+    try {
+        auto* ctx = static_cast<Context*>(context);
+        check(cudaSetDevice(ctx->device), "cudaSetDevice");
+        draw_frame(*ctx, *frame, rgba, drawn_pixels);
+        return 0;
+    } catch (const std::exception& e) {
+        set_error(error, error_size, e.what());
+        return 1;
+    }
+}
+
+void close_context(void* context) {
+    auto* ctx = static_cast<Context*>(context);
+    if (ctx->stream) cudaStreamDestroy(ctx->stream);
+    delete ctx;
+}
+
+const LidarscoutCudaRasterApi kApi = {LIDARSCOUT_CUDA_RASTER_ABI, open_context, context_device_name, draw,
+                                      close_context};
+
+}  // namespace
+}  // namespace lidarscout::render::cuda
+
+extern "C" __attribute__((visibility("default"))) const LidarscoutCudaRasterApi* lidarscout_cuda_raster_api(void) {
+    return &lidarscout::render::cuda::kApi;
+}
