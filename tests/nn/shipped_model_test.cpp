@@ -87,9 +87,9 @@ TEST(ShippedModel, PlanarInputComesBackPlanar) {
     const double residual = plane_fit_residual(std::span(out).first(4096));
     // Normalised units: 0.002 of the radius is 0.96 m at 10 m texels, on a plane 38 m high.
     EXPECT_LT(residual, 0.002) << "largest distance from the best-fit plane";
-    // The shipped model lifts a bare plane by ~0.005 of the radius (models/README.md, known
-    // flaws): allowed up to 0.01 here, so that a model that moves planes further fails.
-    EXPECT_LT(std::abs(mean_offset), 0.01) << "mean offset from the input plane";
+    // The shipped model lifts a bare plane by ~0.001 of the radius (models/README.md, known
+    // flaws): allowed up to 0.005 here, so that a model that moves planes further fails.
+    EXPECT_LT(std::abs(mean_offset), 0.005) << "mean offset from the input plane";
     EXPECT_LT(worst_colour, 0.05);
 }
 
