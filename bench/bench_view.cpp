@@ -14,6 +14,7 @@
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
 // ../shared/data/surveys).
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <chrono>
@@ -132,6 +133,7 @@ int flight(const Options& o, const dataset::Dataset& ds) {
     viewer::Scheduler scheduler(ds, so);
     ThreadPool pool(pool_threads(o));
     std::vector<double> frame_ms, camera_ms, snapshot_ms;
+    std::vector<std::string> slow;  // frames over 100 ms: when, and how long
     std::uint64_t peak_rss = rss0;
     const auto start = Clock::now();
     for (double t = 0; t < 1.0; t = since(start) / o.flight_s) {
@@ -144,6 +146,7 @@ int flight(const Options& o, const dataset::Dataset& ds) {
         snapshot_ms.push_back(1000 * since(s0));
         viewer::render_snapshot(*snap, camera, viewer::SceneStyle{}, pool);
         frame_ms.push_back(1000 * since(f0));
+        if (frame_ms.back() > 100) slow.push_back(fmt::format("{:.0f} ms at {:.2f} s", frame_ms.back(), since(start)));
         peak_rss = std::max(peak_rss, resident_bytes());
     }
     const auto st = scheduler.stats();
@@ -152,6 +155,7 @@ int flight(const Options& o, const dataset::Dataset& ds) {
                ds.tiles.size(), o.cnn ? "on" : "off", o.memory_mb, frame_ms.size());
     fmt::print("frame ms: median {:.1f}, p95 {:.1f}, worst {:.1f}; frames over 100 ms: {}\n", percentile(frame_ms, 0.5),
                percentile(frame_ms, 0.95), percentile(frame_ms, 1.0), over(frame_ms));
+    if (!slow.empty()) fmt::print("frames over 100 ms: {}\n", fmt::join(slow, ", "));
     fmt::print("waiting for the scheduler, ms: set_camera median {:.3f}, worst {:.3f}; snapshot median {:.3f}, "
                "worst {:.3f}; waits over 100 ms: {}\n",
                percentile(camera_ms, 0.5), percentile(camera_ms, 1.0), percentile(snapshot_ms, 0.5),

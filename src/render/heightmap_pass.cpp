@@ -314,14 +314,13 @@ bool patch_in_view(const Frame& f, const HeightmapPatch& patch, const PatchStats
     return box_in_view(f, lo, hi);
 }
 
-void draw_patch(Framebuffer& fb, const Frame& f, const HeightmapPatch& patch) {
+void draw_patch(Framebuffer& fb, const Frame& f, const HeightmapPatch& patch, Scratch& scratch) {
     const PatchStats stats = patch_stats(patch);
     if (!stats.any_defined() || !patch_in_view(f, patch, stats)) return;
     const HeightmapPassSettings& settings = *f.settings;
     const int step = settings.fixed_step > 0
                          ? std::min(settings.fixed_step, patch.size)
                          : lod_step(patch, stats.z_min, stats.z_max, *f.camera, settings.lod_quad_px);
-    thread_local Scratch scratch;
     build_grid(f, patch, step, scratch.grid);
     mark_blocks(patch, step, stats.all_defined, scratch.block_drawn);
     const int blocks = corner_count(step, patch.size) - 1;
@@ -350,7 +349,16 @@ void draw_heightmaps(Framebuffer& fb, const Camera& camera, std::span<const Heig
     check_settings(fb, camera, settings);
     for (std::size_t i = 0; i < patches.size(); ++i) check_patch(patches[i], i);
     const Frame frame = make_frame(camera, settings);
-    pool.for_each(patches.size(), [&](std::size_t i) { draw_patch(fb, frame, patches[i]); });
+    // Patches go to the pool in runs, each run with its own scratch buffers. (A thread_local
+    // scratch registered its destructor on first use through __cxa_thread_atexit, which takes
+    // the dynamic loader's lock: a frame drawn while LibTorch was being loaded stalled 0.7 s.)
+    const std::size_t runs = std::min<std::size_t>(patches.size(), std::size_t{pool.size()} * 8);
+    pool.for_each(runs, [&](std::size_t r) {
+        Scratch scratch;
+        for (std::size_t i = r * patches.size() / runs; i < (r + 1) * patches.size() / runs; ++i) {
+            draw_patch(fb, frame, patches[i], scratch);
+        }
+    });
 }
 
 }  // namespace lidarscout::render
