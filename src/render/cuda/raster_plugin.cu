@@ -30,37 +30,33 @@ void check(cudaError_t status, const char* what) {
 
 std::size_t aligned(std::size_t n) { return (n + kAlign - 1) / kAlign * kAlign; }
 
-// Device memory that only grows.
-struct DeviceBuffer {
-    void* ptr = nullptr;
-    std::size_t bytes = 0;
-    void reserve(std::size_t n) {
-        if (n <= bytes) return;
-        const std::size_t want = std::max(n, bytes + bytes / 2);
-        if (ptr) cudaFree(ptr);
-        ptr = nullptr, bytes = 0;
-        check(cudaMalloc(&ptr, want), "cudaMalloc");
-        bytes = want;
-    }
-    template <typename T>
-    T* at(std::size_t offset = 0) const { return reinterpret_cast<T*>(static_cast<char*>(ptr) + offset); }
-    ~DeviceBuffer() { if (ptr) cudaFree(ptr); }
-};
+cudaError_t device_alloc(void** p, std::size_t n) { return cudaMalloc(p, n); }
+cudaError_t device_free(void* p) { return cudaFree(p); }
+cudaError_t pinned_alloc(void** p, std::size_t n) { return cudaMallocHost(p, n); }
+cudaError_t pinned_free(void* p) { return cudaFreeHost(p); }
 
-// Pinned host memory that only grows (for the many small uploads of a frame).
-struct PinnedBuffer {
+// Memory from one CUDA allocator that only grows: device memory, or pinned host memory for
+// the many small uploads of a frame.
+template <cudaError_t (*Alloc)(void**, std::size_t), cudaError_t (*Release)(void*)>
+struct GrowingBuffer {
     char* ptr = nullptr;
     std::size_t bytes = 0;
     void reserve(std::size_t n) {
         if (n <= bytes) return;
         const std::size_t want = std::max(n, bytes + bytes / 2);
-        if (ptr) cudaFreeHost(ptr);
+        if (ptr) Release(ptr);
         ptr = nullptr, bytes = 0;
-        check(cudaMallocHost(reinterpret_cast<void**>(&ptr), want), "cudaMallocHost");
+        void* p = nullptr;
+        check(Alloc(&p, want), Alloc == device_alloc ? "cudaMalloc" : "cudaMallocHost");
+        ptr = static_cast<char*>(p);
         bytes = want;
     }
-    ~PinnedBuffer() { if (ptr) cudaFreeHost(ptr); }
+    template <typename T>
+    T* at(std::size_t offset = 0) const { return reinterpret_cast<T*>(ptr + offset); }
+    ~GrowingBuffer() { if (ptr) Release(ptr); }
 };
+using DeviceBuffer = GrowingBuffer<device_alloc, device_free>;
+using PinnedBuffer = GrowingBuffer<pinned_alloc, pinned_free>;
 
 // A frame's uploads laid out in one device arena: small segments first (copied together
 // through the pinned staging buffer), large ones after (copied straight from their memory).
