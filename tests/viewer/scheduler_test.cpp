@@ -240,7 +240,9 @@ TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
                 (unsigned long long)(worst >> 20), (unsigned long long)(rss0 >> 20),
                 (unsigned long long)(st.peak_bytes_used >> 20), (unsigned long long)(st.memory_budget >> 20),
                 st.heightmaps_linear, st.full_res_tiles, st.full_res_released);
-    EXPECT_LE(worst, o.memory_budget + kMargin);
+    // What the process held before the scheduler (the dataset's headers here; in a run of the
+    // whole suite in one process, everything earlier tests left) is not the scheduler's.
+    EXPECT_LE(worst - std::min(worst, rss0), o.memory_budget + kMargin);
     EXPECT_GT(st.heightmaps_linear, 0u);
 }
 
