@@ -2,6 +2,8 @@
 // added to every error.
 #include "laz/file_decoder.hpp"
 
+#include <vector>
+
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "io/file.hpp"
@@ -40,8 +42,11 @@ void decode_units_parallel(const io::File& file, const LazLayout& layout, std::s
     std::uint64_t total = 0;
     for (std::size_t i = first; i < last; ++i) total += layout.units[i].point_count;
     if (out.size() != total * record) throw Error(file.path(), std::nullopt, "decode buffer has the wrong size (internal error)");
+    // A read buffer per chunk (an allocation is nothing next to decoding 50,000 points). Not
+    // thread_local: its first use registers a destructor through __cxa_thread_atexit, which
+    // waits for the dynamic loader's lock, held for ~0.7 s while LibTorch is being loaded.
     pool.for_each(last - first, [&](std::size_t k) {
-        thread_local std::vector<std::uint8_t> scratch;
+        std::vector<std::uint8_t> scratch;
         const Chunk& c = layout.units[first + k];
         decode_unit(file, layout, first + k, out.subspan((c.first_point - base) * record, c.point_count * record), fields,
                     scratch);
