@@ -24,7 +24,7 @@ TEST(PythonTraining, SelfTestPasses) {
     EXPECT_NE(out.find("ok"), std::string::npos) << out;
 }
 
-TEST(PythonTraining, OneStepOnAGeneratedFile) {
+TEST(PythonTraining, OneStepOnAGeneratedFile) {  // then fine-tuning on two files
     namespace fs = std::filesystem;
     const fs::path dir = fs::temp_directory_path() / ("lidarscout_train_step_" + std::to_string(::getpid()));
     fs::create_directories(dir);
@@ -48,6 +48,27 @@ TEST(PythonTraining, OneStepOnAGeneratedFile) {
     ASSERT_EQ(history.at("epochs").size(), 1u);
     const double loss = history.at("epochs")[0].at("train_loss").get<double>();
     EXPECT_TRUE(std::isfinite(loss) && loss > 0) << loss;
+    const auto training_samples = [](const std::string& log) {
+        const auto at = log.find("; train ");
+        return at == std::string::npos ? -1L : std::stol(log.substr(at + 8));
+    };
+    const long one_file = training_samples(out);
+    ASSERT_GT(one_file, 0) << out;
+
+    // Fine-tuning from that state dict on two files (the recipe's second, 10 m file): the saved
+    // configuration overrides the flags, and both files' samples are trained on.
+    ASSERT_EQ(test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_train.train " +
+                                    (dir / "d.bin").string() + " " + (dir / "d.bin").string() + " --init " +
+                                    (dir / "run" / "state_dict.pt").string() + " --out " + (dir / "tuned").string() +
+                                    " --epochs 1 --max-steps 1 --batch 4 2>&1",
+                                out),
+              0)
+        << out;
+    EXPECT_NE(out.find("decoder=upsample width=4"), std::string::npos) << out;
+    EXPECT_EQ(training_samples(out), 2 * one_file) << out;
+    std::ifstream tuned(dir / "tuned" / "history.json");
+    EXPECT_EQ(nlohmann::json::parse(tuned).at("config").at("width").get<int>(), 4);
+    EXPECT_TRUE(fs::is_regular_file(dir / "tuned" / "model.pt"));
     fs::remove_all(dir);
 }
 
