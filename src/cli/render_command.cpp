@@ -6,7 +6,6 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include <algorithm>
 #include <charconv>
@@ -32,6 +31,7 @@
 #include "render/png_writer.hpp"
 #include "viewer/heightmap_builder.hpp"
 #include "viewer/scene.hpp"
+#include "viewer/scheduler.hpp"
 #include "viewer/visibility.hpp"
 
 namespace lidarscout::cli {
@@ -98,13 +98,10 @@ Stage parse_stage(const std::string& text) {
     throw Error("unknown --until '" + text + "' (overview, heightmaps or full)");
 }
 
-std::uint64_t quarter_of_ram() {
-    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
-    return pages > 0 && page > 0 ? static_cast<std::uint64_t>(pages) * page / 4 : (1ull << 30);
+// A --memory value; empty = a quarter of the RAM (the viewer's default budget).
+std::uint64_t parse_memory(const std::string& text) {
+    return text.empty() ? viewer::default_memory_budget() : parse_bytes(text);
 }
-
-// A --memory value; empty = a quarter of the RAM.
-std::uint64_t parse_memory(const std::string& text) { return text.empty() ? quarter_of_ram() : parse_bytes(text); }
 
 RenderPlan make_plan(const RenderCliOptions& o) {
     RenderPlan plan;

@@ -1,8 +1,12 @@
-// The search path of lidarscout's dlopen plugins.
+// The search path of lidarscout's dlopen plugins, and opening one.
 #include "core/plugin_paths.hpp"
+
+#include <dlfcn.h>
 
 #include <cstdlib>
 #include <filesystem>
+
+#include "core/error.hpp"
 
 namespace lidarscout {
 namespace fs = std::filesystem;
@@ -23,6 +27,23 @@ std::vector<std::string> plugin_candidates(const char* env_var, const std::strin
     }
     if (!build_dir.empty()) out.push_back((fs::path(build_dir) / file_name).string());
     return out;
+}
+
+PluginEntry open_plugin_entry(const std::vector<std::string>& candidates, const char* entry, const std::string& what,
+                              std::string& tried, void (*before_dlopen)()) {
+    for (const auto& path : candidates) {
+        if (!fs::exists(path)) {
+            tried += (tried.empty() ? "" : ", ") + path;
+            continue;
+        }
+        if (before_dlopen) before_dlopen();
+        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+        if (!handle) throw Error(path, std::nullopt, "cannot open the " + what + ": " + dlerror());
+        void* symbol = dlsym(handle, entry);
+        if (!symbol) throw Error(path, std::nullopt, "not a " + what + " of this lidarscout version (no " + entry + ")");
+        return {path, symbol};
+    }
+    return {};
 }
 
 }  // namespace lidarscout

@@ -1,12 +1,7 @@
 // Opening the LibTorch runner plugin with dlopen (see runner_plugin.hpp).
 #include "nn/runner_plugin.hpp"
 
-#include <dlfcn.h>
-#include <unistd.h>
-
 #include <atomic>
-#include <cstdlib>
-#include <filesystem>
 #include <mutex>
 
 #include "core/error.hpp"
@@ -37,7 +32,6 @@ extern "C" int __lsan_is_turned_off() { return runner_opened.load() ? 1 : 0; }
 #endif
 
 namespace lidarscout::nn {
-namespace fs = std::filesystem;
 
 std::vector<std::string> runner_candidates() {
     return plugin_candidates("LIDARSCOUT_TORCH_RUNNER", kRunnerFileName, LIDARSCOUT_BUILD_DIR);
@@ -45,26 +39,22 @@ std::vector<std::string> runner_candidates() {
 
 namespace {
 
+void mark_runner_opened() { runner_opened = true; }  // LibTorch may start threads while loading
+
 const LidarscoutRunnerApi* open_runner() {
     std::string tried;
-    for (const auto& path : runner_candidates()) {
-        if (!fs::exists(path)) {
-            tried += (tried.empty() ? "" : ", ") + path;
-            continue;
-        }
-        runner_opened = true;  // before dlopen: LibTorch may start threads while loading
-        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-        if (!handle) throw Error(path, std::nullopt, std::string("cannot open the LibTorch runner: ") + dlerror());
-        using Entry = const LidarscoutRunnerApi* (*)();
-        const auto entry = reinterpret_cast<Entry>(dlsym(handle, "lidarscout_runner_api"));
-        const LidarscoutRunnerApi* api = entry ? entry() : nullptr;
-        if (!api || api->abi != LIDARSCOUT_RUNNER_ABI) {
-            throw Error(path, std::nullopt, "not a LibTorch runner of this lidarscout version (interface mismatch)");
-        }
-        return api;  // never closed: LibTorch does not unload cleanly
+    const PluginEntry p = open_plugin_entry(runner_candidates(), "lidarscout_runner_api", "LibTorch runner", tried,
+                                            mark_runner_opened);
+    if (!p.entry) {
+        throw Error("the heightmap network needs " + std::string(kRunnerFileName) +
+                    " (built with lidarscout; set LIDARSCOUT_TORCH_RUNNER to its path); looked in: " + tried);
     }
-    throw Error("the heightmap network needs " + std::string(kRunnerFileName) +
-                " (built with lidarscout; set LIDARSCOUT_TORCH_RUNNER to its path); looked in: " + tried);
+    using Entry = const LidarscoutRunnerApi* (*)();
+    const LidarscoutRunnerApi* api = reinterpret_cast<Entry>(p.entry)();
+    if (!api || api->abi != LIDARSCOUT_RUNNER_ABI) {
+        throw Error(p.path, std::nullopt, "not a LibTorch runner of this lidarscout version (interface mismatch)");
+    }
+    return api;
 }
 
 }  // namespace

@@ -4,13 +4,11 @@
 // from the CPU Palette), so both backends start from the same numbers.
 #include "render/cuda_plugin.hpp"
 
-#include <dlfcn.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
-#include <filesystem>
 #include <mutex>
 
 #include "core/error.hpp"
@@ -22,7 +20,6 @@
 #endif
 
 namespace lidarscout::render::cuda {
-namespace fs = std::filesystem;
 
 static_assert(sizeof(LsrPoint) == sizeof(PointAttr));
 static_assert(offsetof(LsrPoint, dz) == offsetof(PointAttr, dz));
@@ -40,23 +37,18 @@ struct Plugin {
 
 const LidarscoutCudaRasterApi* open_api() {
     std::string tried;
-    for (const auto& path : plugin_candidates()) {
-        if (!fs::exists(path)) {
-            tried += (tried.empty() ? "" : ", ") + path;
-            continue;
-        }
-        void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
-        if (!handle) throw Error(path + ": cannot open the CUDA rasterizer plugin: " + dlerror());
-        using Entry = const LidarscoutCudaRasterApi* (*)();
-        const auto entry = reinterpret_cast<Entry>(dlsym(handle, "lidarscout_cuda_raster_api"));
-        const LidarscoutCudaRasterApi* api = entry ? entry() : nullptr;
-        if (!api || api->abi != LIDARSCOUT_CUDA_RASTER_ABI) {
-            throw Error(path + ": not a CUDA rasterizer plugin of this lidarscout version (interface mismatch)");
-        }
-        return api;  // never closed: the CUDA runtime does not unload cleanly
+    const PluginEntry p = open_plugin_entry(plugin_candidates(), "lidarscout_cuda_raster_api",
+                                            "CUDA rasterizer plugin", tried);
+    if (!p.entry) {
+        throw Error(std::string(kPluginFileName) + " was not built (no nvcc at build time) or not found; looked in: " +
+                    tried);
     }
-    throw Error(std::string(kPluginFileName) + " was not built (no nvcc at build time) or not found; looked in: " +
-                tried);
+    using Entry = const LidarscoutCudaRasterApi* (*)();
+    const LidarscoutCudaRasterApi* api = reinterpret_cast<Entry>(p.entry)();
+    if (!api || api->abi != LIDARSCOUT_CUDA_RASTER_ABI) {
+        throw Error(p.path + ": not a CUDA rasterizer plugin of this lidarscout version (interface mismatch)");
+    }
+    return api;
 }
 
 void open_plugin(Plugin& p) {
