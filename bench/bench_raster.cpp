@@ -4,8 +4,12 @@
 //     whole by the overview camera, on 1 thread and on all threads, in points per second;
 //   - the heightmap pass: 2,000 patches of 64 x 64 texels (a 50 x 40 grid of 640 m patches)
 //     under the overview camera, with the LOD the pass picks, on 1 thread and all threads;
-//   - the resolve pass, with and without eye-dome lighting, and the framebuffer clear.
-// Usage: bench_raster [--runs N] [--points MILLIONS] [--patches N] [--threads N] [--png PREFIX]
+//   - the resolve pass, with and without eye-dome lighting, and the framebuffer clear;
+//   - with --frames: whole frames as the viewer draws them (draw_frame: clear, pass, resolve with
+//     EDL, the image back in host memory) of the points and of the patches, on the CPU and, when
+//     its plugin and a GPU are there, the CUDA backend: points uploaded with every frame (no
+//     cache key), and kept on the GPU (with keys: the first frame uploads, the median does not).
+// Usage: bench_raster [--runs N] [--points MILLIONS] [--patches N] [--threads N] [--png PREFIX] [--frames]
 //   --png writes PREFIX_points.png and PREFIX_heightmaps.png (EDL on) to look at.
 #include <fmt/format.h>
 
@@ -15,6 +19,7 @@
 #include <cstdlib>
 #include <functional>
 #include <random>
+#include <span>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -22,6 +27,7 @@
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
+#include "render/backend.hpp"
 #include "render/camera.hpp"
 #include "render/framebuffer.hpp"
 #include "render/heightmap_pass.hpp"
@@ -43,12 +49,17 @@ struct Options {
     int patches = 2000;
     unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     std::string png;
+    bool frames = false;
 };
 
 Options parse_options(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
         const std::string_view arg = argv[i];
+        if (arg == "--frames") {
+            o.frames = true;
+            continue;
+        }
         const char* value = i + 1 < argc ? argv[i + 1] : nullptr;
         if (!value) throw Error("bench_raster: " + std::string(arg) + " needs a value");
         if (arg == "--runs") {
@@ -63,7 +74,7 @@ Options parse_options(int argc, char** argv) {
             o.png = value;
         } else {
             throw Error("bench_raster: unknown option " + std::string(arg) +
-                        " (known: --runs --points --patches --threads --png)");
+                        " (known: --runs --points --patches --threads --png --frames)");
         }
         ++i;
     }
@@ -235,6 +246,45 @@ void bench_heightmaps(const Options& o, ThreadPool& single, ThreadPool& all) {
     bench_resolve(o, fb, all);
 }
 
+// Whole frames of one scene on each backend that is available here (the CUDA one with the
+// points' keys given, `keyed`, or not).
+void bench_frame(const Options& o, const std::string& what, const Camera& camera,
+                 std::span<const HeightmapPatch> patches, std::span<const PointLayer> layers, ThreadPool& all,
+                 bool keyed = false) {
+    FrameSettings settings;
+    settings.resolve.edl_strength = 1.0f;
+    for (const Backend backend : {Backend::Cpu, Backend::Cuda}) {
+        if (keyed && backend == Backend::Cpu) continue;  // the CPU ignores the keys
+        if (backend == Backend::Cuda && !cuda_unavailable_reason().empty()) {
+            fmt::print("frame of {:<26} cuda: unavailable ({})\n", what, cuda_unavailable_reason());
+            continue;
+        }
+        std::size_t drawn = 0;
+        const auto frame = [&] { drawn = draw_frame(backend, camera, patches, layers, settings, all).drawn_pixels; };
+        const auto t0 = std::chrono::steady_clock::now();
+        frame();
+        const double first = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double s = median_seconds(o.runs, frame);
+        fmt::print("frame of {:<26} {:<4} {:7.2f} ms, first {:7.2f} ms ({} px drawn){}\n", what,
+                   backend_name(backend), s * 1e3, first * 1e3, drawn,
+                   backend == Backend::Cuda ? " on " + cuda_device_name() : fmt::format(", {} threads", all.size()));
+    }
+}
+
+void bench_frames(const Options& o, ThreadPool& all) {
+    const PointSet points = make_points(static_cast<std::size_t>(o.points_millions * 1e6), 20);
+    const std::string name = fmt::format("{:.0f} M points", o.points_millions);
+    const PointLayer layer{points.batches, 1};
+    bench_frame(o, name, overview_of_points(points), {}, std::span<const PointLayer>(&layer, 1), all);
+    std::vector<PointBatch> keyed = points.batches;
+    for (PointBatch& b : keyed) b.cache_key = new_point_cache_key();
+    const PointLayer kept{keyed, 1};
+    bench_frame(o, name + " (kept on GPU)", overview_of_points(points), {}, std::span<const PointLayer>(&kept, 1),
+                all, true);
+    const PatchSet patches = make_patches(o.patches);
+    bench_frame(o, fmt::format("{} patches", o.patches), overview_of_patches(patches), patches.patches, {}, all);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -245,6 +295,7 @@ int main(int argc, char** argv) {
                    std::thread::hardware_concurrency());
         bench_points(o, single, all);
         bench_heightmaps(o, single, all);
+        if (o.frames) bench_frames(o, all);
     } catch (const Error& e) {
         fmt::print(stderr, "{}\n", e.what());
         return 1;

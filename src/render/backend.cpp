@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <mutex>
 #include <string>
 
@@ -43,7 +44,7 @@ void check_patches(std::span<const HeightmapPatch> patches) {
 // The checks the CPU passes make, made before either backend draws.
 void check_frame(const Camera& camera, std::span<const HeightmapPatch> heightmaps,
                  std::span<const PointLayer> layers, const FrameSettings& s) {
-    Framebuffer(camera.width, camera.height);  // throws on a bad size (cheap next to a frame)
+    Framebuffer::check_dimensions(camera.width, camera.height);
     const Palette palette(s.colour);           // throws on bad colour settings
     const HeightmapPassSettings& h = s.heightmaps;
     if (!(h.depth_bias >= 0.0f) || !(h.lod_quad_px > 0.0f) || h.fixed_step < 0 || !(h.skirt_quads >= 0.0f) ||
@@ -68,9 +69,38 @@ std::size_t count_drawn(const Framebuffer& fb) {
     return n - static_cast<std::size_t>(std::count(fb.data(), fb.data() + n, kEmpty));
 }
 
+// The framebuffer of the last CPU frame, kept for the next one: a fresh 1280 x 720 one is
+// 7 MB of new pages, whose page faults cost more than the heightmap pass on some machines.
+class SpareFramebuffer {
+public:
+    std::unique_ptr<Framebuffer> take(int width, int height) {
+        std::unique_ptr<Framebuffer> fb;
+        {
+            std::lock_guard lock(mutex_);
+            fb = std::move(spare_);
+        }
+        if (fb && fb->width() == width && fb->height() == height) {
+            fb->clear();
+            return fb;
+        }
+        return std::make_unique<Framebuffer>(width, height);
+    }
+    void give_back(std::unique_ptr<Framebuffer> fb) {
+        std::lock_guard lock(mutex_);
+        spare_ = std::move(fb);
+    }
+
+private:
+    std::mutex mutex_;
+    std::unique_ptr<Framebuffer> spare_;
+};
+
+SpareFramebuffer spare_framebuffer;
+
 FrameImage draw_frame_cpu(const Camera& camera, std::span<const HeightmapPatch> heightmaps,
                           std::span<const PointLayer> layers, const FrameSettings& settings, ThreadPool& pool) {
-    Framebuffer fb(camera.width, camera.height);
+    std::unique_ptr<Framebuffer> owned = spare_framebuffer.take(camera.width, camera.height);
+    Framebuffer& fb = *owned;
     if (!heightmaps.empty()) {
         HeightmapPassSettings hs = settings.heightmaps;
         hs.colour = settings.colour;
@@ -84,7 +114,9 @@ FrameImage draw_frame_cpu(const Camera& camera, std::span<const HeightmapPatch> 
         ps.chunk_points = settings.chunk_points;
         draw_points(fb, camera, layer.batches, ps, pool);
     }
-    return {resolve(fb, settings.resolve, pool), count_drawn(fb)};
+    FrameImage frame{resolve(fb, settings.resolve, pool), count_drawn(fb)};
+    spare_framebuffer.give_back(std::move(owned));
+    return frame;
 }
 
 bool cuda_usable() { return !cuda_failed.load() && cuda::unavailable_reason().empty(); }

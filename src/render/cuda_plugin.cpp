@@ -146,7 +146,7 @@ std::vector<std::vector<LsrBatch>> abi_batches(const Camera& camera, const Palet
         for (const PointBatch& b : layer.batches) {
             batches.push_back({reinterpret_cast<const LsrPoint*>(b.points.data()), b.points.size(),
                                to_abi(camera.screen_transform(b.origin_x, b.origin_y, b.origin_z)),
-                               palette.elevation_map(b.origin_z).offset});
+                               palette.elevation_map(b.origin_z).offset, b.cache_key});
         }
     }
     return out;

@@ -15,11 +15,15 @@ namespace {
 constexpr int kMaxSide = 32768;
 }
 
-Framebuffer::Framebuffer(int width, int height) : width_(width), height_(height) {
+void Framebuffer::check_dimensions(int width, int height) {
     if (width <= 0 || height <= 0 || width > kMaxSide || height > kMaxSide) {
         throw Error("framebuffer size " + std::to_string(width) + "x" + std::to_string(height) +
                     " is not within 1.." + std::to_string(kMaxSide));
     }
+}
+
+Framebuffer::Framebuffer(int width, int height) : width_(width), height_(height) {
+    check_dimensions(width, height);
     pixels_.assign(static_cast<std::size_t>(width) * height, kEmpty);
 }
 

@@ -37,6 +37,8 @@ class Framebuffer {
 public:
     // Throws lidarscout::Error unless both sizes are positive (and at most 32768).
     Framebuffer(int width, int height);
+    // The constructor's check alone, without allocating.
+    static void check_dimensions(int width, int height);
 
     int width() const { return width_; }
     int height() const { return height_; }

@@ -18,8 +18,9 @@ namespace lidarscout::viewer {
 struct PointSet {
     double origin_x = 0, origin_y = 0, origin_z = 0;  // world metres
     std::vector<render::PointAttr> points;
+    std::uint64_t cache_key = 0;  // render::PointBatch::cache_key, given to sets shared once complete
 
-    render::PointBatch batch() const { return {origin_x, origin_y, origin_z, points}; }
+    render::PointBatch batch() const { return {origin_x, origin_y, origin_z, points, cache_key}; }
 };
 
 // Batches viewing every set (the sets must outlive them).

@@ -262,6 +262,7 @@ void Scheduler::on_tile_done(std::uint32_t tile) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));
         if (set->points.empty()) continue;
         if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
+        set->cache_key = render::new_point_cache_key();  // complete: shared read-only from here
         sets.emplace_back(cell, std::move(set));
     }
     {
@@ -448,6 +449,7 @@ void Scheduler::full_res_worker() {
         try {
             set = std::make_shared<PointSet>(tile_point_set(dataset_.tiles[*next], dataset_.las_stride, pool));
             if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
+            set->cache_key = render::new_point_cache_key();
             detail = tile_detail(*set, *grid_, s.build.patch.spec.patch_texels);
         } catch (const std::exception& e) {
             error = e.what();

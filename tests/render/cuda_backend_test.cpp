@@ -2,10 +2,12 @@
 // patches with holes, large triangles close to the camera, point layers of two sizes) in every
 // colour mode and with eye-dome lighting, on both backends; at least 99% of the pixels within
 // 2 levels per channel. Skipped, with the reason, where the CUDA backend is unavailable.
+// With LIDARSCOUT_TEST_IMAGES=DIR both images are written there as PPM files to compare by eye.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -81,6 +83,16 @@ double share_close(const RgbaImage& a, const RgbaImage& b) {
     return static_cast<double>(close) / a.pixels.size();
 }
 
+// A binary PPM of the image (alpha dropped), for looking at a failure.
+void write_ppm(const std::string& path, const RgbaImage& image) {
+    std::ofstream out(path, std::ios::binary);
+    out << "P6\n" << image.width << ' ' << image.height << "\n255\n";
+    for (const std::uint32_t p : image.pixels) {
+        const char rgb[3] = {static_cast<char>(red(p)), static_cast<char>(green(p)), static_cast<char>(blue(p))};
+        out.write(rgb, 3);
+    }
+}
+
 class CudaBackend : public ::testing::TestWithParam<ColourMode> {};
 
 TEST_P(CudaBackend, DrawsWhatTheCpuDraws) {
@@ -99,12 +111,41 @@ TEST_P(CudaBackend, DrawsWhatTheCpuDraws) {
     const Camera cam = test_camera();
     const FrameImage cpu = draw_frame(Backend::Cpu, cam, scene.patches, layers, settings, pool);
     const FrameImage gpu = draw_frame(Backend::Cuda, cam, scene.patches, layers, settings, pool);
+    if (const char* dir = std::getenv("LIDARSCOUT_TEST_IMAGES"); dir && *dir) {
+        const std::string mode(colour_mode_name(GetParam()));
+        write_ppm(std::string(dir) + "/cuda_test_" + mode + "_cpu.ppm", cpu.image);
+        write_ppm(std::string(dir) + "/cuda_test_" + mode + "_gpu.ppm", gpu.image);
+    }
     ASSERT_EQ(gpu.image.width, cpu.image.width);
     ASSERT_EQ(gpu.image.pixels.size(), cpu.image.pixels.size());
     EXPECT_GT(cpu.drawn_pixels, cpu.image.pixels.size() / 2);
     EXPECT_NEAR(static_cast<double>(gpu.drawn_pixels), static_cast<double>(cpu.drawn_pixels),
                 0.002 * cpu.image.pixels.size());
     EXPECT_GE(share_close(cpu.image, gpu.image), 0.99) << "on " << cuda_device_name();
+}
+
+// Batches with cache keys are kept on the GPU: the second frame draws them from there, and both
+// frames are the image drawn from batches uploaded with the frame.
+TEST(CudaBackendKept, KeptPointsDrawWhatUploadedPointsDraw) {
+    const std::string reason = cuda_unavailable_reason();
+    if (!reason.empty()) GTEST_SKIP() << "CUDA backend unavailable: " << reason;
+    TestScene scene;
+    add_patches(scene);
+    add_points(scene);
+    std::vector<PointBatch> chunk = scene.chunk, full = scene.full;
+    for (PointBatch& b : chunk) b.cache_key = new_point_cache_key();
+    for (PointBatch& b : full) b.cache_key = new_point_cache_key();
+    const PointLayer uploaded[] = {{scene.chunk, 3}, {scene.full, 1}};
+    const PointLayer kept[] = {{chunk, 3}, {full, 1}};
+    FrameSettings settings;
+    settings.chunk_points = 5'000;
+    ThreadPool pool(2);
+    const Camera cam = test_camera();
+    const FrameImage reference = draw_frame(Backend::Cuda, cam, scene.patches, uploaded, settings, pool);
+    for (int frame = 0; frame < 3; ++frame) {
+        const FrameImage image = draw_frame(Backend::Cuda, cam, scene.patches, kept, settings, pool);
+        EXPECT_EQ(image.image.pixels, reference.image.pixels) << "frame " << frame;
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Modes, CudaBackend,

@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-#define LIDARSCOUT_CUDA_RASTER_ABI 1
+#define LIDARSCOUT_CUDA_RASTER_ABI 2
 
 /* Offsets -> pixels and depth: w = depth . (p, 1), pixel = (sx . (p, 1), sy . (p, 1)) / w. */
 typedef struct LsrTransform {
@@ -35,6 +35,7 @@ typedef struct LsrBatch {
     uint64_t count;
     LsrTransform screen;    /* the camera transform for this batch's origin */
     float elevation_offset; /* elevation ramp index = (dz + elevation_offset) * ramp_scale */
+    uint64_t key;           /* 0, or names these exact points: the plugin may keep them on the GPU */
 } LsrBatch;
 
 typedef struct LsrPointLayer {

@@ -79,11 +79,10 @@ __device__ void draw_point(const Target& t, float x, float y, Fragment value, in
     }
 }
 
-__global__ void points_kernel(Target t, DeviceColours c, const char* arena, const DeviceBatch* batches,
-                              const PointJob* jobs, int size) {
+__global__ void points_kernel(Target t, DeviceColours c, const DeviceBatch* batches, const PointJob* jobs, int size) {
     const PointJob job = jobs[blockIdx.x];
     const DeviceBatch b = batches[job.batch];
-    const LsrPoint* points = reinterpret_cast<const LsrPoint*>(arena + b.first);
+    const LsrPoint* points = b.points;
     for (std::uint64_t i = job.begin + threadIdx.x; i < job.end; i += blockDim.x) {
         const LsrPoint p = points[i];
         const float w = row_dot(b.screen.depth, p.dx, p.dy, p.dz);
@@ -536,11 +535,10 @@ void launch_queued_triangles(const Target& t, TriangleQueue queue, int blocks, c
     queued_triangles_kernel<<<blocks, kThreads, 0, stream>>>(t, queue);
 }
 
-void launch_points(const Target& t, const DeviceColours& c, const char* arena, const DeviceBatch* batches,
-                   const PointJob* jobs, std::uint64_t job_count, int point_size, cudaStream_t stream) {
+void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs,
+                   std::uint64_t job_count, int point_size, cudaStream_t stream) {
     if (job_count) {
-        points_kernel<<<static_cast<unsigned int>(job_count), kThreads, 0, stream>>>(t, c, arena, batches, jobs,
-                                                                                     point_size);
+        points_kernel<<<static_cast<unsigned int>(job_count), kThreads, 0, stream>>>(t, c, batches, jobs, point_size);
     }
 }
 

@@ -28,11 +28,12 @@ struct DeviceColours {
     const std::uint32_t* classes;
 };
 
-// A batch of the point pass: its points start `first` bytes into the frame's upload arena.
+// A batch of the point pass: its points in device memory (the frame's upload arena, or the
+// copy kept from earlier frames).
 struct DeviceBatch {
     LsrTransform screen;
     float elevation_offset;
-    std::uint64_t first;
+    const LsrPoint* points;
 };
 
 // One thread block's work: points [begin, end) of `batch`.
@@ -104,8 +105,7 @@ void launch_patch_triangles(const HeightmapFrame& h, const Target& t, const Patc
                             std::uint32_t count, const GridVertex* grid, const unsigned char* drawn,
                             TriangleQueue queue, cudaStream_t stream);
 void launch_queued_triangles(const Target& t, TriangleQueue queue, int blocks, cudaStream_t stream);
-void launch_points(const Target& t, const DeviceColours& c, const char* arena, const DeviceBatch* batches,
-                   const PointJob* jobs, std::uint64_t job_count, int point_size, cudaStream_t stream);
+void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs, std::uint64_t job_count, int point_size, cudaStream_t stream);
 void launch_resolve(const Target& t, const LsrResolve& r, std::uint32_t* image, float* log_depth,
                     unsigned long long* drawn, cudaStream_t stream);
 

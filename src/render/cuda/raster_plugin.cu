@@ -2,8 +2,8 @@
 // frame it uploads what the host prepared (colour tables, patches with their heights and
 // colours, point batches and the point jobs, one per chunk of points) into a device arena,
 // runs the heightmap kernels, the point kernels per layer and the resolve, and downloads the
-// image. Buffers grow and are kept from frame to frame; nothing is cached between frames yet
-// (every frame uploads its points: a resident point cache is the next step for speed).
+// image. Buffers grow and are kept from frame to frame, and so are point batches that come
+// with a key (ResidentPoints); batches without one are uploaded with every frame.
 #include <cuda_runtime.h>
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "render/cuda/raster_abi.h"
@@ -82,6 +83,7 @@ public:
         }
     }
     std::size_t offset(std::size_t segment) const { return segments_[segment].offset; }
+    std::size_t total() const { return total_; }
 
     void copy(DeviceBuffer& arena, PinnedBuffer& staging, cudaStream_t stream) const {
         arena.reserve(std::max(total_, kAlign));
@@ -108,12 +110,84 @@ private:
     std::size_t small_ = 0, total_ = 0;
 };
 
+// Point batches kept in device memory from frame to frame under the key the host gave them
+// (LsrBatch::key: the same key always names the same points). The least recently drawn go
+// first when a new batch would pass the budget; batches drawn in the current frame stay.
+class ResidentPoints {
+public:
+    void set_budget(std::size_t bytes) { budget_ = bytes; }
+    void begin_frame() { ++frame_; }
+
+    // The device copy of the batch, uploaded on `stream` when it is not there yet; null when it
+    // cannot be kept (the caller then uploads it with the frame).
+    const LsrPoint* get(const LsrBatch& batch, cudaStream_t stream) {
+        const std::size_t bytes = batch.count * sizeof(LsrPoint);
+        if (auto it = entries_.find(batch.key); it != entries_.end()) {
+            if (it->second.bytes == bytes) {
+                it->second.last_frame = frame_;
+                return it->second.points;
+            }
+            release(it);  // not the points this key named before: the host broke the key's promise
+        }
+        if (bytes == 0 || !make_room(bytes)) return nullptr;
+        void* p = nullptr;
+        if (cudaMalloc(&p, bytes) != cudaSuccess) {
+            (void)cudaGetLastError();  // out of memory is not sticky: upload with the frame instead
+            return nullptr;
+        }
+        check(cudaMemcpyAsync(p, batch.points, bytes, cudaMemcpyHostToDevice, stream), "upload");
+        entries_[batch.key] = {static_cast<const LsrPoint*>(p), bytes, frame_};
+        bytes_ += bytes;
+        return static_cast<const LsrPoint*>(p);
+    }
+
+    ~ResidentPoints() {
+        for (auto& [key, e] : entries_) cudaFree(const_cast<LsrPoint*>(e.points));
+    }
+
+private:
+    struct Entry {
+        const LsrPoint* points;
+        std::size_t bytes;
+        std::uint64_t last_frame;
+    };
+    using Iterator = std::unordered_map<std::uint64_t, Entry>::iterator;
+
+    void release(Iterator it) {
+        // Earlier frames are complete (each ends with a stream synchronisation), so no kernel
+        // still reads it; cudaFree waits for the device anyway.
+        cudaFree(const_cast<LsrPoint*>(it->second.points));
+        bytes_ -= it->second.bytes;
+        entries_.erase(it);
+    }
+
+    bool make_room(std::size_t bytes) {
+        while (bytes_ + bytes > budget_) {
+            auto oldest = entries_.end();
+            for (auto it = entries_.begin(); it != entries_.end(); ++it) {
+                if (it->second.last_frame < frame_ &&
+                    (oldest == entries_.end() || it->second.last_frame < oldest->second.last_frame)) {
+                    oldest = it;
+                }
+            }
+            if (oldest == entries_.end()) return false;
+            release(oldest);
+        }
+        return true;
+    }
+
+    std::unordered_map<std::uint64_t, Entry> entries_;
+    std::size_t bytes_ = 0, budget_ = 0;
+    std::uint64_t frame_ = 0;
+};
+
 struct Context {
     int device = 0;
     std::string name;
     cudaStream_t stream = nullptr;
     DeviceBuffer fb, image, log_depth, counters, arena, info, work, grid, drawn, queue;
     PinnedBuffer staging;
+    ResidentPoints resident;
 };
 
 // The host-side tables of a frame (patch descriptions, per layer the batches and the point
@@ -137,7 +211,7 @@ HostFrame describe(const LsrFrame& f) {
         auto& jobs = h.jobs.emplace_back();
         for (std::uint32_t b = 0; b < layer.batch_count; ++b) {
             const LsrBatch& batch = layer.batches[b];
-            batches.push_back({batch.screen, batch.elevation_offset, 0});
+            batches.push_back({batch.screen, batch.elevation_offset, nullptr});
             for (std::uint64_t begin = 0; begin < batch.count; begin += chunk) {
                 jobs.push_back({b, begin, std::min(batch.count, begin + chunk)});
             }
@@ -150,11 +224,15 @@ HostFrame describe(const LsrFrame& f) {
 struct FrameSegments {
     std::size_t ramp = 0, intensity = 0, classes = 0, patches = 0;
     std::vector<std::size_t> heights, colours;     // per patch
-    std::vector<std::size_t> points;               // per batch, all layers in order
+    std::vector<std::size_t> points;               // per batch, all layers in order (kNotUploaded: resident)
     std::vector<std::size_t> batches, jobs;        // per layer
 };
 
-FrameSegments add_segments(const LsrFrame& f, const HostFrame& h, Upload& up) {
+constexpr std::size_t kNotUploaded = ~std::size_t{0};
+
+// Batches with a key come from (or go to) the resident copies; the others join the upload.
+FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, ResidentPoints& resident,
+                           cudaStream_t stream) {
     FrameSegments s;
     const LsrColours& c = f.colours;
     s.ramp = up.add(c.ramp, c.ramp ? 1024 * 4 : 0, true);
@@ -170,6 +248,13 @@ FrameSegments add_segments(const LsrFrame& f, const HostFrame& h, Upload& up) {
     for (std::uint32_t l = 0; l < f.layer_count; ++l) {
         for (std::uint32_t b = 0; b < f.layers[l].batch_count; ++b) {
             const LsrBatch& batch = f.layers[l].batches[b];
+            if (batch.key != 0) {
+                if (const LsrPoint* kept = resident.get(batch, stream)) {
+                    h.batches[l][b].points = kept;
+                    s.points.push_back(kNotUploaded);
+                    continue;
+                }
+            }
             const std::size_t bytes = batch.count * sizeof(LsrPoint);
             s.points.push_back(up.add(batch.points, bytes, bytes < kSmallCopy));
         }
@@ -180,15 +265,18 @@ FrameSegments add_segments(const LsrFrame& f, const HostFrame& h, Upload& up) {
 }
 
 // Heights and colours are addressed as float / uint32 arrays starting at the arena (segments
-// are 256-byte aligned), points by the byte offset of their batch.
-void place(const FrameSegments& s, const Upload& up, HostFrame& h) {
+// are 256-byte aligned); uploaded points by their address in the arena.
+void place(const FrameSegments& s, const Upload& up, const DeviceBuffer& arena, HostFrame& h) {
     for (std::size_t i = 0; i < h.patches.size(); ++i) {
         h.patches[i].heights = up.offset(s.heights[i]) / 4;
         h.patches[i].colours = up.offset(s.colours[i]) / 4;
     }
     std::size_t k = 0;
     for (auto& layer : h.batches) {
-        for (auto& b : layer) b.first = up.offset(s.points[k++]);
+        for (auto& b : layer) {
+            const std::size_t segment = s.points[k++];
+            if (segment != kNotUploaded) b.points = arena.at<LsrPoint>(up.offset(segment));
+        }
     }
 }
 
@@ -266,7 +354,7 @@ void draw_heightmaps(Context& ctx, const LsrFrame& f, const Target& t, const Dev
 void draw_points(Context& ctx, const LsrFrame& f, const Target& t, const DeviceColours& c, const HostFrame& h,
                  const Upload& up, const FrameSegments& s) {
     for (std::uint32_t l = 0; l < f.layer_count; ++l) {
-        launch_points(t, c, ctx.arena.at<char>(), ctx.arena.at<DeviceBatch>(up.offset(s.batches[l])),
+        launch_points(t, c, ctx.arena.at<DeviceBatch>(up.offset(s.batches[l])),
                       ctx.arena.at<PointJob>(up.offset(s.jobs[l])), h.jobs[l].size(), f.layers[l].point_size,
                       ctx.stream);
     }
@@ -295,9 +383,11 @@ void draw_frame(Context& ctx, const LsrFrame& f, std::uint32_t* rgba, std::uint6
     check(cudaMemsetAsync(ctx.counters.ptr, 0, 16, ctx.stream), "clear");
     HostFrame h = describe(f);
     Upload up;
-    const FrameSegments s = add_segments(f, h, up);
+    ctx.resident.begin_frame();
+    const FrameSegments s = add_segments(f, h, up, ctx.resident, ctx.stream);
     up.layout();
-    place(s, up, h);
+    ctx.arena.reserve(std::max(up.total(), kAlign));  // before place(): the arena may move
+    place(s, up, ctx.arena, h);
     up.copy(ctx.arena, ctx.staging, ctx.stream);
     const Target t{ctx.fb.at<Fragment>(), f.width, f.height, f.near_m, f.far_m};
     const DeviceColours c = device_colours(f, ctx.arena, up, s);
@@ -327,6 +417,9 @@ void* open_context(char* error, std::size_t error_size) {
         check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
         check(cudaSetDevice(0), "cudaSetDevice");
         check(cudaStreamCreateWithFlags(&ctx->stream, cudaStreamNonBlocking), "cudaStreamCreate");
+        std::size_t free_bytes = 0, total_bytes = 0;
+        check(cudaMemGetInfo(&free_bytes, &total_bytes), "cudaMemGetInfo");
+        ctx->resident.set_budget(free_bytes / 2);  // the rest for frame buffers and uploads
         ctx->name = prop.name;
         return ctx;
     } catch (const std::exception& e) {
