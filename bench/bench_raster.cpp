@@ -7,8 +7,9 @@
 //   - the resolve pass, with and without eye-dome lighting, and the framebuffer clear;
 //   - with --frames: whole frames as the viewer draws them (draw_frame: clear, pass, resolve with
 //     EDL, the image back in host memory) of the points and of the patches, on the CPU and, when
-//     its plugin and a GPU are there, the CUDA backend: points uploaded with every frame (no
-//     cache key), and kept on the GPU (with keys: the first frame uploads, the median does not).
+//     its plugin and a GPU are there, the CUDA backend: points and patches uploaded with every
+//     frame (no cache key), and kept on the GPU (with keys: the first frame uploads them, the
+//     median frame does not).
 // Usage: bench_raster [--runs N] [--points MILLIONS] [--patches N] [--threads N] [--png PREFIX] [--frames]
 //   --png writes PREFIX_points.png and PREFIX_heightmaps.png (EDL on) to look at.
 #include <fmt/format.h>
@@ -273,16 +274,22 @@ void bench_frame(const Options& o, const std::string& what, const Camera& camera
 
 void bench_frames(const Options& o, ThreadPool& all) {
     const PointSet points = make_points(static_cast<std::size_t>(o.points_millions * 1e6), 20);
-    const std::string name = fmt::format("{:.0f} M points", o.points_millions);
-    const PointLayer layer{points.batches, 1};
-    bench_frame(o, name, overview_of_points(points), {}, std::span<const PointLayer>(&layer, 1), all);
-    std::vector<PointBatch> keyed = points.batches;
-    for (PointBatch& b : keyed) b.cache_key = new_point_cache_key();
-    const PointLayer kept{keyed, 1};
-    bench_frame(o, name + " (kept on GPU)", overview_of_points(points), {}, std::span<const PointLayer>(&kept, 1),
-                all, true);
+    {
+        const std::string name = fmt::format("{:.0f} M points", o.points_millions);
+        const PointLayer layer{points.batches, 1};
+        bench_frame(o, name, overview_of_points(points), {}, std::span<const PointLayer>(&layer, 1), all);
+        std::vector<PointBatch> keyed = points.batches;
+        for (PointBatch& b : keyed) b.cache_key = new_cache_key();
+        const PointLayer kept{keyed, 1};
+        bench_frame(o, name + " (kept on GPU)", overview_of_points(points), {}, std::span<const PointLayer>(&kept, 1),
+                    all, true);
+    }
     const PatchSet patches = make_patches(o.patches);
-    bench_frame(o, fmt::format("{} patches", o.patches), overview_of_patches(patches), patches.patches, {}, all);
+    const std::string name = fmt::format("{} patches", o.patches);
+    bench_frame(o, name, overview_of_patches(patches), patches.patches, {}, all);
+    std::vector<HeightmapPatch> keyed = patches.patches;
+    for (HeightmapPatch& p : keyed) p.cache_key = new_cache_key();
+    bench_frame(o, name + " (kept on GPU)", overview_of_patches(patches), keyed, {}, all, true);
 }
 
 }  // namespace

@@ -114,7 +114,7 @@ std::vector<LsrPatch> abi_patches(std::span<const HeightmapPatch> patches) {
     out.reserve(patches.size());
     for (const HeightmapPatch& p : patches) {
         out.push_back({p.origin_x, p.origin_y, p.texel_m, p.size, p.heights.data(),
-                       p.colours.empty() ? nullptr : p.colours.data()});
+                       p.colours.empty() ? nullptr : p.colours.data(), p.cache_key});
     }
     return out;
 }

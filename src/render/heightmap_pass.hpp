@@ -48,6 +48,7 @@ struct HeightmapPatch {
     // framebuffer.hpp), or empty for an untextured patch.
     std::span<const float> heights;
     std::span<const std::uint32_t> colours;
+    std::uint64_t cache_key = 0;  // 0, or new_cache_key() (cache_key.hpp): kept on the GPU
 };
 
 struct HeightmapPassSettings {

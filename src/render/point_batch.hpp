@@ -3,9 +3,10 @@
 // hundred metres a tile or chunk spans rather than on its ~1e6 m position.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <span>
+
+#include "render/cache_key.hpp"
 
 namespace lidarscout::render {
 
@@ -20,16 +21,7 @@ static_assert(sizeof(PointAttr) == 20);
 struct PointBatch {
     double origin_x = 0, origin_y = 0, origin_z = 0;  // world metres
     std::span<const PointAttr> points;
-    // 0, or a key naming these exact points for as long as the key is used (from
-    // new_point_cache_key, taken once the points no longer change): the CUDA backend then keeps
-    // them on the GPU between frames instead of uploading them with every frame.
-    std::uint64_t cache_key = 0;
+    std::uint64_t cache_key = 0;  // 0, or new_cache_key() (cache_key.hpp): kept on the GPU
 };
-
-// A key no other batch of this process has had.
-inline std::uint64_t new_point_cache_key() {
-    static std::atomic<std::uint64_t> next{1};
-    return next.fetch_add(1, std::memory_order_relaxed);
-}
 
 }  // namespace lidarscout::render

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "render/cache_key.hpp"
 #include "render/framebuffer.hpp"
 
 namespace lidarscout::viewer {
@@ -42,7 +43,12 @@ bool inside_any(std::span<const dataset::Bounds> boxes, double x, double y) {
 }  // namespace
 
 render::HeightmapPatch PatchHeightmap::view() const {
-    return {origin_x, origin_y, texel_m, size, heights, colours};
+    return {origin_x, origin_y, texel_m, size, heights, colours, cache_key};
+}
+
+std::shared_ptr<const PatchHeightmap> share(PatchHeightmap heightmap) {
+    heightmap.cache_key = render::new_cache_key();
+    return std::make_shared<const PatchHeightmap>(std::move(heightmap));
 }
 
 PatchHeightmap heightmap_from_reconstruction(dataset::CellKey cell, const recon::PatchPoints& points,

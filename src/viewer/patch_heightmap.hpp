@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
@@ -24,10 +25,14 @@ struct PatchHeightmap {
     int size = 64;                      // texels per side
     std::vector<float> heights;         // size x size, row 0 = south; metres, NaN = no data
     std::vector<std::uint32_t> colours; // rgba8 (render/framebuffer.hpp), or empty without colour
+    std::uint64_t cache_key = 0;        // render::HeightmapPatch::cache_key (given by share())
 
     // The heightmap pass's view of this patch (spans into this object).
     render::HeightmapPatch view() const;
 };
+
+// The heightmap, complete, shared read-only from now on (with a cache key for the GPU).
+std::shared_ptr<const PatchHeightmap> share(PatchHeightmap heightmap);
 
 // A heightmap from a patch-sized reconstruction (recon::Reconstruction of size x size texels:
 // normalised heights, colours in [0, 1] or NaN) of the window `points` of `cell`.

@@ -140,7 +140,7 @@ struct Scheduler::State {
     void update_shown(CellKey cell, Patch& p) {
         if (!p.base) return;
         const auto it = details.find(cell);
-        p.shown = it == details.end() ? p.base : std::make_shared<const PatchHeightmap>(overlay_detail(*p.base, it->second));
+        p.shown = it == details.end() ? p.base : share(overlay_detail(*p.base, it->second));
         changed();
     }
 
@@ -262,7 +262,7 @@ void Scheduler::on_tile_done(std::uint32_t tile) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));
         if (set->points.empty()) continue;
         if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
-        set->cache_key = render::new_point_cache_key();  // complete: shared read-only from here
+        set->cache_key = render::new_cache_key();  // complete: shared read-only from here
         sets.emplace_back(cell, std::move(set));
     }
     {
@@ -300,7 +300,7 @@ void Scheduler::heightmap_worker() {
         if (!h) continue;
         ++s.linear_made;
         if (!p.base_is_cnn) {
-            p.base = std::make_shared<const PatchHeightmap>(std::move(*h));
+            p.base = share(std::move(*h));
             s.update_shown(cell, p);
         }
         if (s.network || s.network_pending) {
@@ -369,7 +369,7 @@ void Scheduler::cnn_worker() {
         for (auto& h : built) {
             const CellKey cell = h.cell;
             Patch& p = s.patches[cell];
-            p.base = std::make_shared<const PatchHeightmap>(std::move(h));
+            p.base = share(std::move(h));
             p.base_is_cnn = true;
             s.update_shown(cell, p);
         }
@@ -449,7 +449,7 @@ void Scheduler::full_res_worker() {
         try {
             set = std::make_shared<PointSet>(tile_point_set(dataset_.tiles[*next], dataset_.las_stride, pool));
             if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
-            set->cache_key = render::new_point_cache_key();
+            set->cache_key = render::new_cache_key();
             detail = tile_detail(*set, *grid_, s.build.patch.spec.patch_texels);
         } catch (const std::exception& e) {
             error = e.what();

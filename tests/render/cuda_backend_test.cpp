@@ -124,17 +124,19 @@ TEST_P(CudaBackend, DrawsWhatTheCpuDraws) {
     EXPECT_GE(share_close(cpu.image, gpu.image), 0.99) << "on " << cuda_device_name();
 }
 
-// Batches with cache keys are kept on the GPU: the second frame draws them from there, and both
-// frames are the image drawn from batches uploaded with the frame.
-TEST(CudaBackendKept, KeptPointsDrawWhatUploadedPointsDraw) {
+// Batches and patches with cache keys are kept on the GPU: later frames draw them from there,
+// and every frame is the image drawn from data uploaded with the frame.
+TEST(CudaBackendKept, KeptDataDrawsWhatUploadedDataDraws) {
     const std::string reason = cuda_unavailable_reason();
     if (!reason.empty()) GTEST_SKIP() << "CUDA backend unavailable: " << reason;
     TestScene scene;
     add_patches(scene);
     add_points(scene);
     std::vector<PointBatch> chunk = scene.chunk, full = scene.full;
-    for (PointBatch& b : chunk) b.cache_key = new_point_cache_key();
-    for (PointBatch& b : full) b.cache_key = new_point_cache_key();
+    for (PointBatch& b : chunk) b.cache_key = new_cache_key();
+    for (PointBatch& b : full) b.cache_key = new_cache_key();
+    std::vector<HeightmapPatch> patches = scene.patches;
+    for (HeightmapPatch& p : patches) p.cache_key = new_cache_key();
     const PointLayer uploaded[] = {{scene.chunk, 3}, {scene.full, 1}};
     const PointLayer kept[] = {{chunk, 3}, {full, 1}};
     FrameSettings settings;
@@ -143,7 +145,7 @@ TEST(CudaBackendKept, KeptPointsDrawWhatUploadedPointsDraw) {
     const Camera cam = test_camera();
     const FrameImage reference = draw_frame(Backend::Cuda, cam, scene.patches, uploaded, settings, pool);
     for (int frame = 0; frame < 3; ++frame) {
-        const FrameImage image = draw_frame(Backend::Cuda, cam, scene.patches, kept, settings, pool);
+        const FrameImage image = draw_frame(Backend::Cuda, cam, patches, kept, settings, pool);
         EXPECT_EQ(image.image.pixels, reference.image.pixels) << "frame " << frame;
     }
 }

@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-#define LIDARSCOUT_CUDA_RASTER_ABI 2
+#define LIDARSCOUT_CUDA_RASTER_ABI 3
 
 /* Offsets -> pixels and depth: w = depth . (p, 1), pixel = (sx . (p, 1), sy . (p, 1)) / w. */
 typedef struct LsrTransform {
@@ -50,6 +50,7 @@ typedef struct LsrPatch {
     int size;                /* texels per side */
     const float* heights;    /* size x size, host memory, NaN = no data */
     const uint32_t* colours; /* size x size rgba8, or NULL */
+    uint64_t key;            /* 0, or names these exact heights and colours: may be kept on the GPU */
 } LsrPatch;
 
 enum { LSR_COLOUR_RGB = 0, LSR_COLOUR_ELEVATION = 1, LSR_COLOUR_INTENSITY = 2, LSR_COLOUR_CLASSIFICATION = 3 };

@@ -276,7 +276,7 @@ __device__ int corner_count(int step, int size) { return (size + step - 1) / ste
 __global__ void patch_info_kernel(HeightmapFrame h, Target t, PatchInfo* info) {
     __shared__ float s_lo[kThreads], s_hi[kThreads];
     const DevicePatch p = h.patches[blockIdx.x];
-    const float* heights = h.heights + p.heights;
+    const float* heights = p.heights;
     float lo = INFINITY, hi = -INFINITY;
     int defined = 1;
     for (int k = threadIdx.x; k < p.size * p.size; k += blockDim.x) {
@@ -349,8 +349,8 @@ __device__ GridVertex grid_vertex(const HeightmapFrame& h, const Target& t, cons
                                   const DevicePatch& p, int step, int ki, int kj) {
     GridVertex v{};
     const int ci = corner_at(ki, step, p.size), cj = corner_at(kj, step, p.size);
-    const float* heights = h.heights + p.heights;
-    const std::uint32_t* colours = p.textured ? h.colours + p.colours : nullptr;
+    const float* heights = p.heights;
+    const std::uint32_t* colours = p.textured ? p.colours : nullptr;
     float height = 0.0f, rgb[3];
     if (!corner_attributes(heights, colours, p.size, ci, cj, height, rgb)) return v;
     v.x = corner_offset(p.origin_x, h.camera_x, ci, p.texel_m);
@@ -386,7 +386,7 @@ __global__ void patch_grid_kernel(HeightmapFrame h, Target t, DeviceColours c, c
         grid[w.grid + k] = grid_vertex(h, t, c, p, pi.step, k % n, k / n);
     }
     const int blocks = pi.blocks;
-    const float* heights = h.heights + p.heights;
+    const float* heights = p.heights;
     for (int k = threadIdx.x; k < blocks * blocks; k += blockDim.x) {
         const int bi = k % blocks, bj = k / blocks;
         drawn[w.drawn + k] = pi.all_defined ||

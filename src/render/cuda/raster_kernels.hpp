@@ -45,7 +45,8 @@ struct PointJob {
 struct DevicePatch {
     double origin_x, origin_y, texel_m;
     int size;
-    std::uint64_t heights, colours;  // offsets of its texels in the frame's height and colour arrays
+    const float* heights;            // size x size, device memory
+    const std::uint32_t* colours;    // size x size, device memory (used when textured)
     int textured;
 };
 
@@ -81,8 +82,6 @@ struct QueuedTriangle {
 
 struct HeightmapFrame {
     const DevicePatch* patches;
-    const float* heights;
-    const std::uint32_t* colours;
     LsrTransform screen;
     double camera_x, camera_y, camera_z, focal_px, near_m;
     float depth_scale, lod_quad_px, skirt_quads, ambient;

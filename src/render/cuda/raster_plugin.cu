@@ -2,8 +2,8 @@
 // frame it uploads what the host prepared (colour tables, patches with their heights and
 // colours, point batches and the point jobs, one per chunk of points) into a device arena,
 // runs the heightmap kernels, the point kernels per layer and the resolve, and downloads the
-// image. Buffers grow and are kept from frame to frame, and so are point batches that come
-// with a key (ResidentPoints); batches without one are uploaded with every frame.
+// image. Buffers grow and are kept from frame to frame, and so are point batches and patches
+// that come with a key (ResidentData); those without one are uploaded with every frame.
 #include <cuda_runtime.h>
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <initializer_list>
 #include <unordered_map>
 #include <vector>
 
@@ -110,24 +111,32 @@ private:
     std::size_t small_ = 0, total_ = 0;
 };
 
-// Point batches kept in device memory from frame to frame under the key the host gave them
-// (LsrBatch::key: the same key always names the same points). The least recently drawn go
-// first when a new batch would pass the budget; batches drawn in the current frame stay.
-class ResidentPoints {
+// Point batches and patches kept in device memory from frame to frame under the key the host
+// gave them (LsrBatch::key, LsrPatch::key: the same key always names the same data). The least
+// recently drawn go first when new data would pass the budget; what the current frame uses
+// stays.
+class ResidentData {
 public:
+    struct Part {
+        const void* data;
+        std::size_t bytes;
+    };
+
     void set_budget(std::size_t bytes) { budget_ = bytes; }
     void begin_frame() { ++frame_; }
 
-    // The device copy of the batch, uploaded on `stream` when it is not there yet; null when it
-    // cannot be kept (the caller then uploads it with the frame).
-    const LsrPoint* get(const LsrBatch& batch, cudaStream_t stream) {
-        const std::size_t bytes = batch.count * sizeof(LsrPoint);
-        if (auto it = entries_.find(batch.key); it != entries_.end()) {
+    // The device copy of `parts` laid end to end (each 256-byte aligned), uploaded on `stream`
+    // when it is not there yet; null when it cannot be kept (the caller then uploads the parts
+    // with the frame).
+    const char* get(std::uint64_t key, std::initializer_list<Part> parts, cudaStream_t stream) {
+        std::size_t bytes = 0;
+        for (const Part& p : parts) bytes += aligned(p.bytes);
+        if (auto it = entries_.find(key); it != entries_.end()) {
             if (it->second.bytes == bytes) {
                 it->second.last_frame = frame_;
-                return it->second.points;
+                return it->second.data;
             }
-            release(it);  // not the points this key named before: the host broke the key's promise
+            release(it);  // not the data this key named before: the host broke the key's promise
         }
         if (bytes == 0 || !make_room(bytes)) return nullptr;
         void* p = nullptr;
@@ -135,19 +144,23 @@ public:
             (void)cudaGetLastError();  // out of memory is not sticky: upload with the frame instead
             return nullptr;
         }
-        check(cudaMemcpyAsync(p, batch.points, bytes, cudaMemcpyHostToDevice, stream), "upload");
-        entries_[batch.key] = {static_cast<const LsrPoint*>(p), bytes, frame_};
+        char* at = static_cast<char*>(p);
+        for (const Part& part : parts) {
+            if (part.bytes) check(cudaMemcpyAsync(at, part.data, part.bytes, cudaMemcpyHostToDevice, stream), "upload");
+            at += aligned(part.bytes);
+        }
+        entries_[key] = {static_cast<const char*>(p), bytes, frame_};
         bytes_ += bytes;
-        return static_cast<const LsrPoint*>(p);
+        return static_cast<const char*>(p);
     }
 
-    ~ResidentPoints() {
-        for (auto& [key, e] : entries_) cudaFree(const_cast<LsrPoint*>(e.points));
+    ~ResidentData() {
+        for (auto& [key, e] : entries_) cudaFree(const_cast<char*>(e.data));
     }
 
 private:
     struct Entry {
-        const LsrPoint* points;
+        const char* data;
         std::size_t bytes;
         std::uint64_t last_frame;
     };
@@ -156,7 +169,7 @@ private:
     void release(Iterator it) {
         // Earlier frames are complete (each ends with a stream synchronisation), so no kernel
         // still reads it; cudaFree waits for the device anyway.
-        cudaFree(const_cast<LsrPoint*>(it->second.points));
+        cudaFree(const_cast<char*>(it->second.data));
         bytes_ -= it->second.bytes;
         entries_.erase(it);
     }
@@ -187,7 +200,7 @@ struct Context {
     cudaStream_t stream = nullptr;
     DeviceBuffer fb, image, log_depth, counters, arena, info, work, grid, drawn, queue;
     PinnedBuffer staging;
-    ResidentPoints resident;
+    ResidentData resident;
 };
 
 // The host-side tables of a frame (patch descriptions, per layer the batches and the point
@@ -202,7 +215,7 @@ HostFrame describe(const LsrFrame& f) {
     HostFrame h;
     for (std::uint32_t i = 0; i < f.heightmaps.patch_count; ++i) {
         const LsrPatch& p = f.heightmaps.patches[i];
-        h.patches.push_back({p.origin_x, p.origin_y, p.texel_m, p.size, 0, 0, p.colours != nullptr});
+        h.patches.push_back({p.origin_x, p.origin_y, p.texel_m, p.size, nullptr, nullptr, p.colours != nullptr});
     }
     const std::uint64_t chunk = std::max<std::uint32_t>(1, f.chunk_points);
     for (std::uint32_t l = 0; l < f.layer_count; ++l) {
@@ -223,7 +236,7 @@ HostFrame describe(const LsrFrame& f) {
 // Segment indices of a frame's uploads.
 struct FrameSegments {
     std::size_t ramp = 0, intensity = 0, classes = 0, patches = 0;
-    std::vector<std::size_t> heights, colours;     // per patch
+    std::vector<std::size_t> heights, colours;     // per patch (kNotUploaded: resident)
     std::vector<std::size_t> points;               // per batch, all layers in order (kNotUploaded: resident)
     std::vector<std::size_t> batches, jobs;        // per layer
 };
@@ -231,7 +244,7 @@ struct FrameSegments {
 constexpr std::size_t kNotUploaded = ~std::size_t{0};
 
 // Batches with a key come from (or go to) the resident copies; the others join the upload.
-FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, ResidentPoints& resident,
+FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, ResidentData& resident,
                            cudaStream_t stream) {
     FrameSegments s;
     const LsrColours& c = f.colours;
@@ -242,6 +255,15 @@ FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, Resident
     for (std::uint32_t i = 0; i < f.heightmaps.patch_count; ++i) {
         const LsrPatch& p = f.heightmaps.patches[i];
         const std::size_t bytes = static_cast<std::size_t>(p.size) * p.size * 4;
+        if (p.key != 0) {
+            if (const char* kept = resident.get(p.key, {{p.heights, bytes}, {p.colours, p.colours ? bytes : 0}}, stream)) {
+                h.patches[i].heights = reinterpret_cast<const float*>(kept);
+                h.patches[i].colours = reinterpret_cast<const std::uint32_t*>(kept + aligned(bytes));
+                s.heights.push_back(kNotUploaded);
+                s.colours.push_back(kNotUploaded);
+                continue;
+            }
+        }
         s.heights.push_back(up.add(p.heights, bytes, bytes < kSmallCopy));
         s.colours.push_back(up.add(p.colours, p.colours ? bytes : 0, bytes < kSmallCopy));
     }
@@ -249,8 +271,9 @@ FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, Resident
         for (std::uint32_t b = 0; b < f.layers[l].batch_count; ++b) {
             const LsrBatch& batch = f.layers[l].batches[b];
             if (batch.key != 0) {
-                if (const LsrPoint* kept = resident.get(batch, stream)) {
-                    h.batches[l][b].points = kept;
+                const std::size_t bytes = batch.count * sizeof(LsrPoint);
+                if (const char* kept = resident.get(batch.key, {{batch.points, bytes}}, stream)) {
+                    h.batches[l][b].points = reinterpret_cast<const LsrPoint*>(kept);
                     s.points.push_back(kNotUploaded);
                     continue;
                 }
@@ -264,12 +287,12 @@ FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, Resident
     return s;
 }
 
-// Heights and colours are addressed as float / uint32 arrays starting at the arena (segments
-// are 256-byte aligned); uploaded points by their address in the arena.
+// The device addresses of what this frame uploads (resident data already has its own).
 void place(const FrameSegments& s, const Upload& up, const DeviceBuffer& arena, HostFrame& h) {
     for (std::size_t i = 0; i < h.patches.size(); ++i) {
-        h.patches[i].heights = up.offset(s.heights[i]) / 4;
-        h.patches[i].colours = up.offset(s.colours[i]) / 4;
+        if (s.heights[i] == kNotUploaded) continue;
+        h.patches[i].heights = arena.at<float>(up.offset(s.heights[i]));
+        h.patches[i].colours = arena.at<std::uint32_t>(up.offset(s.colours[i]));
     }
     std::size_t k = 0;
     for (auto& layer : h.batches) {
@@ -295,8 +318,6 @@ HeightmapFrame heightmap_frame(const LsrFrame& f, const DeviceBuffer& arena, con
     const LsrHeightmapPass& p = f.heightmaps;
     HeightmapFrame h{};
     h.patches = arena.at<DevicePatch>(up.offset(s.patches));
-    h.heights = arena.at<float>();
-    h.colours = arena.at<std::uint32_t>();
     h.screen = p.screen;
     h.camera_x = p.camera_x, h.camera_y = p.camera_y, h.camera_z = p.camera_z;
     h.focal_px = p.focal_px, h.near_m = p.near_m;
