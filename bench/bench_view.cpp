@@ -10,7 +10,7 @@
 // (median, 95th percentile, worst), the longest wait for the scheduler (taking the camera and
 // the snapshot: what loading could stall), frames over 100 ms, and memory against the budget.
 //
-// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--memory MB] [--threads N]
+// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--memory MB] [--threads N] [--backend cpu|cuda|auto]
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
 // ../shared/data/surveys).
 #include <fmt/format.h>
@@ -42,6 +42,7 @@ struct Options {
     double flight_s = 0;           // 0: the loading benchmark
     std::uint64_t memory_mb = 1024;
     unsigned threads = 0;          // render threads (0: all cores)
+    viewer::SceneStyle style;      // its backend from --backend
 };
 
 Options parse(int argc, char** argv) {
@@ -56,6 +57,7 @@ Options parse(int argc, char** argv) {
         else if (a == "--flight") o.flight_s = std::stod(value());
         else if (a == "--memory") o.memory_mb = std::stoull(value());
         else if (a == "--threads") o.threads = static_cast<unsigned>(std::stoul(value()));
+        else if (a == "--backend") o.style.backend = render::choose_backend(render::parse_backend(value())).backend;
         else if (a.starts_with("--")) throw std::invalid_argument("unknown option " + a);
         else o.paths.push_back(a);
     }
@@ -89,7 +91,7 @@ int loading(const Options& o, const dataset::Dataset& ds, double headers) {
     while (first_frame < 0) {
         const auto snap = scheduler.snapshot();
         if (!snap->chunk_points.empty() || !snap->heightmaps.empty()) {
-            viewer::render_snapshot(*snap, camera, viewer::SceneStyle{}, pool);
+            viewer::render_snapshot(*snap, camera, o.style, pool);
             first_frame = since(t0);
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -110,7 +112,7 @@ int loading(const Options& o, const dataset::Dataset& ds, double headers) {
     std::vector<double> frames;
     for (int i = 0; i < 5; ++i) {
         const auto f0 = Clock::now();
-        viewer::render_snapshot(*snap, camera, viewer::SceneStyle{}, pool);
+        viewer::render_snapshot(*snap, camera, o.style, pool);
         frames.push_back(since(f0));
     }
     fmt::print("{} tiles, {} chunk points, {} patches ({} linear heightmaps, {} CNN heightmaps)\n", ds.tiles.size(),
@@ -144,7 +146,7 @@ int flight(const Options& o, const dataset::Dataset& ds) {
         const auto s0 = Clock::now();
         const auto snap = scheduler.snapshot();
         snapshot_ms.push_back(1000 * since(s0));
-        viewer::render_snapshot(*snap, camera, viewer::SceneStyle{}, pool);
+        viewer::render_snapshot(*snap, camera, o.style, pool);
         frame_ms.push_back(1000 * since(f0));
         if (frame_ms.back() > 100) slow.push_back(fmt::format("{:.0f} ms at {:.2f} s", frame_ms.back(), since(start)));
         peak_rss = std::max(peak_rss, resident_bytes());

@@ -162,9 +162,9 @@ def main(argv=None):
             opt.zero_grad(set_to_none=True)
             loss.backward()
             opt.step()
-            total += float(loss)
-            lh_sum += float(lh)
-            lc_sum += float(lc)
+            total += loss.item()
+            lh_sum += lh.item()
+            lc_sum += lc.item()
             steps += 1
             if args.max_steps and steps >= args.max_steps:
                 break
