@@ -74,21 +74,10 @@ public:
             low = m.cdf(symbol) * length_;
             if (symbol != m.last_symbol()) high = m.cdf(symbol + 1) * length_;
         } else {
-            symbol = 0;
-            low = 0;
-            std::uint32_t above = m.symbols();
-            std::uint32_t mid = above >> 1;
-            do {  // bisect over the whole alphabet
-                const std::uint32_t bound = m.cdf(mid) * length_;
-                if (bound > value_) {
-                    above = mid;
-                    high = bound;
-                } else {
-                    symbol = mid;
-                    low = bound;
-                }
-                mid = (symbol + above) >> 1;
-            } while (mid != symbol);
+            // cdf(s) * length_ <= value_ exactly when cdf(s) <= value_ / length_ (integers).
+            symbol = m.last_at_or_below(value_ / length_);
+            low = m.cdf(symbol) * length_;
+            if (symbol != m.last_symbol()) high = m.cdf(symbol + 1) * length_;
         }
         value_ -= low;
         length_ = high - low;

@@ -69,6 +69,13 @@ public:
     const std::uint32_t* lookup() const { return lookup_; }
     std::uint32_t lookup_size() const { return lookup_size_; }
     std::uint32_t lookup_shift() const { return lookup_shift_; }
+    // The last symbol s with cdf(s) <= scaled, for models without a lookup table (at most 16
+    // symbols): a branch-free count, as the symbol a code value falls in is hard to predict.
+    std::uint32_t last_at_or_below(std::uint32_t scaled) const {
+        std::uint32_t s = 0;
+        for (std::uint32_t i = 1; i < symbols_; ++i) s += cdf_[i] <= scaled ? 1u : 0u;
+        return s;
+    }
 
     // Records one coded symbol; re-estimates the distribution when an update is due.
     void record(std::uint32_t s) {

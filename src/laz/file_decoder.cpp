@@ -2,6 +2,7 @@
 // added to every error.
 #include "laz/file_decoder.hpp"
 
+#include <mutex>
 #include <vector>
 
 #include "core/error.hpp"
@@ -42,14 +43,23 @@ void decode_units_parallel(const io::File& file, const LazLayout& layout, std::s
     std::uint64_t total = 0;
     for (std::size_t i = first; i < last; ++i) total += layout.units[i].point_count;
     if (out.size() != total * record) throw Error(file.path(), std::nullopt, "decode buffer has the wrong size (internal error)");
-    // A read buffer per chunk (an allocation is nothing next to decoding 50,000 points). Not
-    // thread_local: its first use registers a destructor through __cxa_thread_atexit, which
-    // waits for the dynamic loader's lock, held for ~0.7 s while LibTorch is being loaded.
+    // Read buffers shared by the tasks of this call, one per task running at a time: a fresh
+    // buffer per chunk costs page faults worth ~3% of an XYZ-only decode. Not thread_local: its
+    // first use registers a destructor through __cxa_thread_atexit, which waits for the dynamic
+    // loader's lock, held for ~0.7 s while LibTorch is being loaded.
+    std::mutex spare_mutex;
+    std::vector<std::vector<std::uint8_t>> spare;
     pool.for_each(last - first, [&](std::size_t k) {
         std::vector<std::uint8_t> scratch;
+        {
+            std::lock_guard lock(spare_mutex);
+            if (!spare.empty()) scratch = std::move(spare.back()), spare.pop_back();
+        }
         const Chunk& c = layout.units[first + k];
         decode_unit(file, layout, first + k, out.subspan((c.first_point - base) * record, c.point_count * record), fields,
                     scratch);
+        std::lock_guard lock(spare_mutex);
+        spare.push_back(std::move(scratch));
     });
 }
 

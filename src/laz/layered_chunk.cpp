@@ -165,7 +165,11 @@ void in_layer(const char* name, Step&& step) {
     }
 }
 
-void run_passes(ChunkPasses& passes, std::uint8_t* out, std::uint64_t point_count, std::size_t record) {
+// `zero`: clear each block's records first (bytes of unwanted fields stay zero), just before
+// decoding into it, while it is in cache (a memset of the whole chunk up front costs ~4% of an
+// XYZ-only decode).
+void run_passes(ChunkPasses& passes, std::uint8_t* out, std::uint64_t point_count, std::size_t record, bool zero) {
+    if (zero) std::memset(out, 0, record);
     passes.returns_xyz->write_first(out);
     for (auto& layer : passes.layers) layer.decoder->write_first(out + layer.item_offset);
 
@@ -173,6 +177,7 @@ void run_passes(ChunkPasses& passes, std::uint8_t* out, std::uint64_t point_coun
     for (std::uint64_t start = 1; start < point_count; start += kBlockPoints) {
         const auto count = static_cast<std::size_t>(std::min<std::uint64_t>(kBlockPoints, point_count - start));
         std::uint8_t* block = out + start * record;
+        if (zero) std::memset(block, 0, count * record);
         in_layer("returns/XY/Z", [&] { passes.returns_xyz->decode(trace.data(), count, block, record); });
         for (auto& layer : passes.layers) {
             in_layer(layer.name,
@@ -219,9 +224,8 @@ void decode_layered_chunk(const las::LaszipVlr& laz, const ChunkDecodeRequest& r
     ChunkPasses passes = build_passes(laz, streams, request.bytes.data(), request.fields);
 
     std::uint8_t* out = request.out.data();
-    // Bytes of unwanted fields stay zero (with every field wanted, every byte is written).
-    if ((request.fields & kEveryField) != kEveryField) std::memset(out, 0, request.point_count * record);
-    run_passes(passes, out, request.point_count, record);
+    // With every field wanted, every byte is written; else the others are zeroed.
+    run_passes(passes, out, request.point_count, record, (request.fields & kEveryField) != kEveryField);
     check_complete(passes);
 
     stats = collect_stats(streams, passes);
