@@ -94,6 +94,7 @@ void merge_detail(PatchDetail& into, const PatchDetail& from) {
 
 PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& detail) {
     PatchHeightmap out = base;
+    out.cache_key = 0;  // other heights than the base's: share() gives it a key of its own
     if (detail.size != base.size) return out;
     for (std::size_t t = 0; t < out.heights.size(); ++t) {
         if (detail.count[t] == 0) continue;
