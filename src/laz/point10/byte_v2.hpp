@@ -3,20 +3,21 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
 
 #include "laz/arithmetic_decoder.hpp"
+#include "laz/point10/byte_v2_state.hpp"
 #include "laz/point10/item_common.hpp"
 
 namespace lidarscout::laz::point10 {
 
-class ByteDecoderV2 {
+// The state (last bytes, models) is ByteStateV2's, shared with the encoder.
+class ByteDecoderV2 : private ByteStateV2 {
 public:
     // `size`: bytes in the item (at least 1).
-    explicit ByteDecoderV2(std::size_t size);
+    explicit ByteDecoderV2(std::size_t size) : ByteStateV2(size) {}
 
     // Starts a chunk whose first (raw) bytes are at `first`.
-    void init(const std::uint8_t* first);
+    using ByteStateV2::init;
 
     void decode(ArithmeticDecoder& dec, std::uint8_t* out) {
         for (std::size_t i = 0; i < last_.size(); ++i) {
@@ -24,10 +25,6 @@ public:
         }
         std::memcpy(out, last_.data(), last_.size());
     }
-
-private:
-    std::vector<std::uint8_t> last_;
-    std::vector<SymbolModel> models_;
 };
 
 }  // namespace lidarscout::laz::point10

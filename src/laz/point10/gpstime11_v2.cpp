@@ -15,34 +15,13 @@ constexpr int kMaxSwitches = 4;
 
 }  // namespace
 
-GpsTime11DecoderV2::GpsTime11DecoderV2() : multiple_model_(kMultipleSymbols) {}
-
-void GpsTime11DecoderV2::init(const std::uint8_t* first) {
-    time_ = {load<std::uint64_t>(first), 0, 0, 0};
-    delta_.fill(0);
-    extreme_count_.fill(0);
-    current_ = 0;
-    newest_ = 0;
-    multiple_model_.reset();
-    after_zero_model_.reset();
-    delta_coder_.reset();
-}
+GpsTime11DecoderV2::GpsTime11DecoderV2() = default;
 
 void GpsTime11DecoderV2::start_new_sequence(ArithmeticDecoder& dec) {
-    newest_ = (newest_ + 1) & 3;
     const auto upper = static_cast<std::uint32_t>(
         delta_coder_.decompress(dec, static_cast<std::int32_t>(time_[current_] >> 32), kCtxUpperHalf));
-    time_[newest_] = (std::uint64_t{upper} << 32) | dec.read_int();
-    current_ = newest_;
-    delta_[current_] = 0;
-    extreme_count_[current_] = 0;
-}
-
-void GpsTime11DecoderV2::count_extreme(std::int32_t delta) {
-    if (++extreme_count_[current_] > 3) {
-        delta_[current_] = delta;
-        extreme_count_[current_] = 0;
-    }
+    const std::uint32_t lower = dec.read_int();
+    open_sequence((std::uint64_t{upper} << 32) | lower);
 }
 
 [[gnu::flatten]] void GpsTime11DecoderV2::decode_time(ArithmeticDecoder& dec) {

@@ -2,24 +2,10 @@
 #include "laz/point10/gpstime11_v2_encoder.hpp"
 
 #include <limits>
-#include <optional>
 
 namespace lidarscout::laz::point10 {
 
 using namespace gpstime11_v2;  // the symbols and contexts
-
-namespace {
-
-// `difference` as an int32 if it fits.
-std::optional<std::int32_t> as_int32(std::uint64_t difference) {
-    const auto d = static_cast<std::int64_t>(difference);
-    if (d < std::numeric_limits<std::int32_t>::min() || d > std::numeric_limits<std::int32_t>::max()) {
-        return std::nullopt;
-    }
-    return static_cast<std::int32_t>(d);
-}
-
-}  // namespace
 
 std::int32_t gps_delta_multiple(std::int32_t delta, std::int32_t last_delta) {
     const float quotient = static_cast<float>(delta) / static_cast<float>(last_delta);
@@ -32,20 +18,9 @@ std::int32_t gps_delta_multiple(std::int32_t delta, std::int32_t last_delta) {
 
 GpsTime11EncoderV2::GpsTime11EncoderV2() = default;
 
-void GpsTime11EncoderV2::init(const std::uint8_t* first) {
-    time_ = {load<std::uint64_t>(first), 0, 0, 0};
-    delta_.fill(0);
-    extreme_count_.fill(0);
-    current_ = 0;
-    newest_ = 0;
-    multiple_model_.reset();
-    after_zero_model_.reset();
-    delta_coder_.reset();
-}
-
 std::uint32_t GpsTime11EncoderV2::find_other_sequence(std::uint64_t time) const {
     for (std::uint32_t offset = 1; offset < 4; ++offset) {
-        if (as_int32(time - time_[(current_ + offset) & 3])) return offset;
+        if (gps_delta_as_int32(time - time_[(current_ + offset) & 3])) return offset;
     }
     return 0;
 }
@@ -54,18 +29,7 @@ void GpsTime11EncoderV2::start_new_sequence(ArithmeticEncoder& enc, std::uint64_
     delta_coder_.compress(enc, static_cast<std::int32_t>(time_[current_] >> 32), static_cast<std::int32_t>(time >> 32),
                           kCtxUpperHalf);
     enc.write_int(static_cast<std::uint32_t>(time));
-    newest_ = (newest_ + 1) & 3;
-    current_ = newest_;
-    time_[current_] = time;
-    delta_[current_] = 0;
-    extreme_count_[current_] = 0;
-}
-
-void GpsTime11EncoderV2::count_extreme(std::int32_t delta) {
-    if (++extreme_count_[current_] > kMaxExtremeCount) {
-        delta_[current_] = delta;
-        extreme_count_[current_] = 0;
-    }
+    open_sequence(time);
 }
 
 [[gnu::flatten]] void GpsTime11EncoderV2::encode_time(ArithmeticEncoder& enc, std::uint64_t time) {
@@ -77,7 +41,7 @@ void GpsTime11EncoderV2::count_extreme(std::int32_t delta) {
             enc.encode_symbol(model, after_zero ? kAfterZeroUnchanged : kUnchanged);
             return;
         }
-        if (const auto delta = as_int32(time - time_[current_])) {
+        if (const auto delta = gps_delta_as_int32(time - time_[current_])) {
             if (after_zero) {
                 enc.encode_symbol(model, kAfterZeroDelta);
                 delta_coder_.compress(enc, 0, *delta, kCtxFirstDelta);

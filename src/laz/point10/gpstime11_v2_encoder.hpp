@@ -5,15 +5,26 @@
 // time is within 32 bits, or a new sequence coded in full.
 #pragma once
 
-#include <array>
 #include <cstdint>
+#include <limits>
+#include <optional>
 
 #include "laz/arithmetic_encoder.hpp"
 #include "laz/integer_compressor.hpp"
+#include "laz/point10/gpstime11_v2_state.hpp"
 #include "laz/point10/item_common.hpp"
 #include "laz/point10/symbols_v2.hpp"
 
 namespace lidarscout::laz::point10 {
+
+// A difference of two times (bit patterns) as an int32, if it fits: a delta that can be coded.
+inline std::optional<std::int32_t> gps_delta_as_int32(std::uint64_t difference) {
+    const auto d = static_cast<std::int64_t>(difference);
+    if (d < std::numeric_limits<std::int32_t>::min() || d > std::numeric_limits<std::int32_t>::max()) {
+        return std::nullopt;
+    }
+    return static_cast<std::int32_t>(d);
+}
 
 // The multiple of `last_delta` (not 0) that `delta` is, rounded half away from zero the
 // way LASzip does it: the quotient in single precision, the rounding in double, and a
@@ -21,14 +32,15 @@ namespace lidarscout::laz::point10 {
 // from that conversion).
 std::int32_t gps_delta_multiple(std::int32_t delta, std::int32_t last_delta);
 
-class GpsTime11EncoderV2 {
+// The state (sequences, models) is GpsTime11StateV2's, shared with the decoder.
+class GpsTime11EncoderV2 : private GpsTime11StateV2<IntegerCompressor> {
 public:
     static constexpr std::size_t kSize = 8;
 
     GpsTime11EncoderV2();
 
     // Starts a chunk whose first (raw) time is at `first`.
-    void init(const std::uint8_t* first);
+    using GpsTime11StateV2::init;
 
     void encode(ArithmeticEncoder& enc, const std::uint8_t* item) { encode_time(enc, load<std::uint64_t>(item)); }
 
@@ -40,18 +52,6 @@ private:
     void start_new_sequence(ArithmeticEncoder& enc, std::uint64_t time);
     // Offset (1..3) of another sequence whose last time is within 32 bits of `time`; 0 if none.
     std::uint32_t find_other_sequence(std::uint64_t time) const;
-    // Takes `delta` as the sequence's new reference delta after several extreme multiples.
-    void count_extreme(std::int32_t delta);
-
-    std::array<std::uint64_t, 4> time_{};  // bit patterns of the doubles
-    std::array<std::int32_t, 4> delta_{};
-    std::array<std::int32_t, 4> extreme_count_{};
-    std::uint32_t current_ = 0;
-    std::uint32_t newest_ = 0;
-
-    SymbolModel multiple_model_{gpstime11_v2::kMultipleSymbols};
-    SymbolModel after_zero_model_{gpstime11_v2::kAfterZeroSymbols};
-    IntegerCompressor delta_coder_{32, gpstime11_v2::kDeltaContexts};
 };
 
 }  // namespace lidarscout::laz::point10

@@ -1,4 +1,5 @@
-// POINT10 v2: chunk start state and the (less frequent) attribute updates.
+// POINT10 v2 decoder: the context tables, the chunk start and the (less frequent) attribute
+// updates.
 #include "laz/point10/point10_v2.hpp"
 
 #include "laz/point10/symbols_v2.hpp"
@@ -23,24 +24,13 @@ using namespace point10_v2;  // the change mask bits
 Point10DecoderV2::Point10DecoderV2() = default;
 
 void Point10DecoderV2::init(const std::uint8_t* first) {
-    for (auto& m : x_median_) m.reset();
-    for (auto& m : y_median_) m.reset();
-    last_intensity_.fill(0);
-    last_z_.fill(0);
-
-    changed_mask_.reset();
-    return_flags_models_.reset();
-    classification_models_.reset();
-    user_data_models_.reset();
-    for (auto& m : scan_angle_models_) m.reset();
-    intensity_.reset();
-    point_source_.reset();
-    dx_.reset();
-    dy_.reset();
-    z_.reset();
-
-    last_ = Point10Record::load(first);
-    last_.intensity = 0;  // the format starts every chunk's intensity prediction from zero
+    Point10StateV2::init(first);
+    // The decoder starts the chunk's intensity at 0, as LASzip's reader does: at a point
+    // whose change mask is 0 it repeats last_.intensity, and the encoder leaves the mask 0
+    // only where the intensity equals last_intensity_ of the point's kind, which is 0 at
+    // chunk start. The encoder never reads last_.intensity and keeps the raw value there
+    // (as LASzip's writer does); the difference shows in no output.
+    last_.intensity = 0;
 }
 
 [[gnu::flatten]] void Point10DecoderV2::decode_attributes(ArithmeticDecoder& dec, std::uint32_t changed) {

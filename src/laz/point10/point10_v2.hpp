@@ -3,55 +3,18 @@
 // medians kept per return context, Z by the last height per return level.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "laz/arithmetic_decoder.hpp"
 #include "laz/integer_decompressor.hpp"
 #include "laz/point10/item_common.hpp"
 #include "laz/point10/point10_record.hpp"
+#include "laz/point10/point10_v2_state.hpp"
 
 namespace lidarscout::laz::point10 {
 
-// Median of the last five values, updated in the LAZ way: the window is a sorted list of
-// five, and each new value evicts the largest or the smallest, alternating whenever the
-// new value lands on the side being evicted from.
-class RunningMedian5 {
-public:
-    void reset() {
-        sorted_ = {};
-        evict_largest_ = true;
-    }
-    std::int32_t median() const { return sorted_[2]; }
-
-    void add(std::int32_t v) {
-        if (evict_largest_) {
-            const bool upper = v >= sorted_[2];
-            int i = 4;
-            for (; i > 0 && v < sorted_[i - 1]; --i) sorted_[i] = sorted_[i - 1];
-            sorted_[i] = v;
-            if (upper) evict_largest_ = false;
-        } else {
-            const bool lower = v <= sorted_[2];
-            int i = 0;
-            for (; i < 4 && sorted_[i + 1] < v; ++i) sorted_[i] = sorted_[i + 1];
-            sorted_[i] = v;
-            if (lower) evict_largest_ = true;
-        }
-    }
-
-private:
-    std::array<std::int32_t, 5> sorted_{};
-    bool evict_largest_ = true;
-};
-
-// Context tables indexed [number of returns][return number]: a return "kind" (16 values,
-// for intensity and XY medians) and a return "level" (8 values, for Z). Out-of-spec
-// combinations get contexts of their own.
-extern const std::uint8_t kReturnKind[8][8];
-extern const std::uint8_t kReturnLevel[8][8];
-
-class Point10DecoderV2 {
+// The state (last point, medians, models) is Point10StateV2's, shared with the encoder.
+class Point10DecoderV2 : private Point10StateV2<IntegerDecompressor> {
 public:
     Point10DecoderV2();
 
@@ -86,23 +49,6 @@ public:
 private:
     // Everything but XYZ, as flagged in the change mask.
     void decode_attributes(ArithmeticDecoder& dec, std::uint32_t changed);
-
-    Point10Record last_;
-    std::array<RunningMedian5, 16> x_median_;
-    std::array<RunningMedian5, 16> y_median_;
-    std::array<std::uint16_t, 16> last_intensity_{};
-    std::array<std::int32_t, 8> last_z_{};
-
-    SymbolModel changed_mask_{64};
-    ByteModelsByPrevious return_flags_models_;
-    ByteModelsByPrevious classification_models_;
-    ByteModelsByPrevious user_data_models_;
-    std::array<SymbolModel, 2> scan_angle_models_{SymbolModel(256), SymbolModel(256)};
-    IntegerDecompressor intensity_{16, 4};
-    IntegerDecompressor point_source_{16, 1};
-    IntegerDecompressor dx_{32, 2};
-    IntegerDecompressor dy_{32, 22};
-    IntegerDecompressor z_{32, 20};
 };
 
 }  // namespace lidarscout::laz::point10

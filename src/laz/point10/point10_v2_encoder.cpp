@@ -1,4 +1,4 @@
-// POINT10 v2 encoder: chunk start state and the (less frequent) attribute updates.
+// POINT10 v2 encoder: the (less frequent) attribute updates.
 #include "laz/point10/point10_v2_encoder.hpp"
 
 namespace lidarscout::laz::point10 {
@@ -6,26 +6,6 @@ namespace lidarscout::laz::point10 {
 using namespace point10_v2;  // the change mask bits
 
 Point10EncoderV2::Point10EncoderV2() = default;
-
-void Point10EncoderV2::init(const std::uint8_t* first) {
-    for (auto& m : x_median_) m.reset();
-    for (auto& m : y_median_) m.reset();
-    last_intensity_.fill(0);
-    last_z_.fill(0);
-
-    changed_mask_.reset();
-    return_flags_models_.reset();
-    classification_models_.reset();
-    user_data_models_.reset();
-    for (auto& m : scan_angle_models_) m.reset();
-    intensity_.reset();
-    point_source_.reset();
-    dx_.reset();
-    dy_.reset();
-    z_.reset();
-
-    last_ = Point10Record::load(first);
-}
 
 [[gnu::flatten]] void Point10EncoderV2::encode_attributes(ArithmeticEncoder& enc, const Point10Record& point,
                                                           std::uint32_t changed, std::uint32_t kind) {

@@ -1,26 +1,25 @@
 // Encoder of the POINT10 item, version 2: the inverse of Point10DecoderV2, with the same
-// change mask, return contexts, running medians and models (shared with the decoder), so
-// its output is byte-identical to LASzip's.
+// change mask, return contexts, running medians and models (the state is Point10StateV2,
+// shared with the decoder), so its output is byte-identical to LASzip's.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "laz/arithmetic_encoder.hpp"
 #include "laz/integer_compressor.hpp"
 #include "laz/point10/item_common.hpp"
 #include "laz/point10/point10_record.hpp"
-#include "laz/point10/point10_v2.hpp"
+#include "laz/point10/point10_v2_state.hpp"
 #include "laz/point10/symbols_v2.hpp"
 
 namespace lidarscout::laz::point10 {
 
-class Point10EncoderV2 {
+class Point10EncoderV2 : private Point10StateV2<IntegerCompressor> {
 public:
     Point10EncoderV2();
 
     // Starts a chunk whose first (raw) POINT10 item is `first`.
-    void init(const std::uint8_t* first);
+    using Point10StateV2::init;
 
     void encode(ArithmeticEncoder& enc, const std::uint8_t* item) {
         const Point10Record point = Point10Record::load(item);
@@ -70,23 +69,6 @@ private:
     // Everything but XYZ, as flagged in the change mask.
     void encode_attributes(ArithmeticEncoder& enc, const Point10Record& point, std::uint32_t changed,
                            std::uint32_t kind);
-
-    Point10Record last_;
-    std::array<RunningMedian5, 16> x_median_;
-    std::array<RunningMedian5, 16> y_median_;
-    std::array<std::uint16_t, 16> last_intensity_{};
-    std::array<std::int32_t, 8> last_z_{};
-
-    SymbolModel changed_mask_{point10_v2::kChangeMaskSymbols};
-    ByteModelsByPrevious return_flags_models_;
-    ByteModelsByPrevious classification_models_;
-    ByteModelsByPrevious user_data_models_;
-    std::array<SymbolModel, 2> scan_angle_models_{SymbolModel(256), SymbolModel(256)};
-    IntegerCompressor intensity_{16, 4};
-    IntegerCompressor point_source_{16, 1};
-    IntegerCompressor dx_{32, 2};
-    IntegerCompressor dy_{32, 22};
-    IntegerCompressor z_{32, 20};
 };
 
 }  // namespace lidarscout::laz::point10

@@ -8,18 +8,18 @@
 
 #include "laz/arithmetic_decoder.hpp"
 #include "laz/point10/item_common.hpp"
+#include "laz/point10/rgb12_v2_state.hpp"
 #include "laz/point10/symbols_v2.hpp"
 
 namespace lidarscout::laz::point10 {
 
-class Rgb12DecoderV2 {
+// The state (last colour, models) is Rgb12StateV2's, shared with the encoder.
+class Rgb12DecoderV2 : private Rgb12StateV2 {
 public:
-    static constexpr std::size_t kSize = 6;
-
-    Rgb12DecoderV2();
+    using Rgb12StateV2::kSize;
 
     // Starts a chunk whose first (raw) colour is at `first`.
-    void init(const std::uint8_t* first);
+    using Rgb12StateV2::init;
 
     void decode(ArithmeticDecoder& dec, std::uint8_t* out) {
         const std::uint32_t mask = dec.decode_symbol(changed_mask_);
@@ -51,11 +51,6 @@ private:
         if (!(mask & (1u << i))) return last_[i];
         return wrap_byte(static_cast<std::int32_t>(dec.decode_symbol(byte_models_[i])) + prediction);
     }
-
-    std::array<std::uint8_t, 6> last_{};
-    SymbolModel changed_mask_{128};
-    std::array<SymbolModel, 6> byte_models_{SymbolModel(256), SymbolModel(256), SymbolModel(256),
-                                            SymbolModel(256), SymbolModel(256), SymbolModel(256)};
 };
 
 }  // namespace lidarscout::laz::point10

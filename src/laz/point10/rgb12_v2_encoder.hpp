@@ -8,18 +8,18 @@
 
 #include "laz/arithmetic_encoder.hpp"
 #include "laz/point10/item_common.hpp"
+#include "laz/point10/rgb12_v2_state.hpp"
 #include "laz/point10/symbols_v2.hpp"
 
 namespace lidarscout::laz::point10 {
 
-class Rgb12EncoderV2 {
+// The state (last colour, models) is Rgb12StateV2's, shared with the decoder.
+class Rgb12EncoderV2 : private Rgb12StateV2 {
 public:
-    static constexpr std::size_t kSize = 6;
-
-    Rgb12EncoderV2();
+    using Rgb12StateV2::kSize;
 
     // Starts a chunk whose first (raw) colour is at `first`.
-    void init(const std::uint8_t* first);
+    using Rgb12StateV2::init;
 
     void encode(ArithmeticEncoder& enc, const std::uint8_t* item) {
         // Bytes of the colour: [2c] low byte, [2c + 1] high byte of channel c (r, g, b).
@@ -53,11 +53,6 @@ private:
                   std::int32_t prediction) {
         if (mask & (1u << i)) enc.encode_symbol(byte_models_[i], wrap_byte(c[i] - prediction));
     }
-
-    std::array<std::uint8_t, 6> last_{};
-    SymbolModel changed_mask_{rgb12_v2::kMaskSymbols};
-    std::array<SymbolModel, 6> byte_models_{SymbolModel(256), SymbolModel(256), SymbolModel(256),
-                                            SymbolModel(256), SymbolModel(256), SymbolModel(256)};
 };
 
 }  // namespace lidarscout::laz::point10
