@@ -1,11 +1,9 @@
 // GPS time layer of POINT14: the sequence bookkeeping and the delta coding.
 #include "laz/point14/gps_time14_v3.hpp"
 
-#include <array>
-
 #include "core/error.hpp"
 #include "laz/integer_decompressor.hpp"
-#include "laz/point14/point14_v3.hpp"
+#include "laz/point14/gps_time14_v3_state.hpp"
 #include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
@@ -14,22 +12,8 @@ namespace {
 // A valid stream switches sequence at most once per point; a corrupt one could keep going.
 constexpr int kMaxSwitchesPerPoint = 16;
 
-struct GpsTimeCodec {
-    using Value = std::uint64_t;  // bit pattern of the double
-    struct Models {
-        SymbolModel multiple{kMultipleSymbols};
-        SymbolModel after_zero{kAfterZeroSymbols};
-        IntegerDecompressor delta{32, 9};
-        std::array<std::uint64_t, 4> time{};
-        std::array<std::int32_t, 4> reference{};  // reference delta per sequence
-        std::array<std::int32_t, 4> extreme_run{};
-        std::uint32_t current = 0;
-        std::uint32_t newest = 0;
-
-        void begin(Value& v) { time[0] = v; }
-    };
-
-    Value read(const std::uint8_t* item) const { return load<std::uint64_t>(item + point14_field::kGpsTime); }
+// Value, Models (with the sequences) and read() come from the state shared with the encoder.
+struct GpsTimeCodec : GpsTime14State<IntegerDecompressor> {
     void write(std::uint8_t* item, Value v) const { store(item + point14_field::kGpsTime, v); }
 
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace& t) const {
@@ -43,25 +27,13 @@ private:
         m.time[m.current] += static_cast<std::uint64_t>(static_cast<std::int64_t>(delta));
     }
 
-    // Counts an extreme multiple; a run of them makes `delta` the new reference.
-    static void note_extreme(Models& m, std::int32_t delta) {
-        if (++m.extreme_run[m.current] > kExtremeRunLimit) {
-            m.reference[m.current] = delta;
-            m.extreme_run[m.current] = 0;
-        }
-    }
-
     // A time coded in full starts the next sequence slot: the upper half predicted from the
     // current time's, the lower half raw.
     static void open_sequence(ArithmeticDecoder& dec, Models& m) {
         const auto upper_prediction = static_cast<std::int32_t>(m.time[m.current] >> 32);
         const auto upper = static_cast<std::uint32_t>(m.delta.decompress(dec, upper_prediction, kUpperHalf));
         const std::uint32_t lower = dec.read_int();
-        m.newest = (m.newest + 1) & 3u;
-        m.current = m.newest;
-        m.time[m.current] = (std::uint64_t{upper} << 32) | lower;
-        m.reference[m.current] = 0;
-        m.extreme_run[m.current] = 0;
+        m.open_sequence((std::uint64_t{upper} << 32) | lower);
     }
 
     // The delta for a multiple symbol below kNewSequence (other than 1).
@@ -70,21 +42,21 @@ private:
         std::int32_t delta;
         if (symbol == 0) {
             delta = m.delta.decompress(dec, 0, kOwnDelta);
-            note_extreme(m, delta);
+            m.note_extreme(delta);
         } else if (symbol < std::uint32_t{kLargestMultiple}) {
             const auto multiple = static_cast<std::int32_t>(symbol);
             const DeltaContext context = symbol < 10 ? kSmallMultiple : kLargeMultiple;
             delta = m.delta.decompress(dec, mul_wrapping(multiple, reference), context);
         } else if (symbol == std::uint32_t{kLargestMultiple}) {
             delta = m.delta.decompress(dec, mul_wrapping(kLargestMultiple, reference), kLargestMult);
-            note_extreme(m, delta);
+            m.note_extreme(delta);
         } else {
             const std::int32_t multiple = kLargestMultiple - static_cast<std::int32_t>(symbol);
             if (multiple > kSmallestMultiple) {
                 delta = m.delta.decompress(dec, mul_wrapping(multiple, reference), kNegativeMultiple);
             } else {
                 delta = m.delta.decompress(dec, mul_wrapping(kSmallestMultiple, reference), kSmallestMult);
-                note_extreme(m, delta);
+                m.note_extreme(delta);
             }
         }
         return delta;

@@ -1,44 +1,16 @@
 // GPS time layer encoding: the choice of symbol and the sequence bookkeeping.
 #include "laz/point14/gps_time14_v3_encoder.hpp"
 
-#include <array>
-#include <limits>
-#include <optional>
-
 #include "laz/integer_compressor.hpp"
 #include "laz/point10/gpstime11_v2_encoder.hpp"
-#include "laz/point14/point14_v3.hpp"
+#include "laz/point14/gps_time14_v3_state.hpp"
 #include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
 
-// `difference` (of two time bit patterns) as an int32 if it fits.
-std::optional<std::int32_t> as_int32(std::uint64_t difference) {
-    const auto d = static_cast<std::int64_t>(difference);
-    if (d < std::numeric_limits<std::int32_t>::min() || d > std::numeric_limits<std::int32_t>::max()) {
-        return std::nullopt;
-    }
-    return static_cast<std::int32_t>(d);
-}
-
-struct GpsTimeEncoder {
-    using Value = std::uint64_t;  // bit pattern of the double
-    struct Models {
-        SymbolModel multiple{kMultipleSymbols};
-        SymbolModel after_zero{kAfterZeroSymbols};
-        IntegerCompressor delta{32, 9};
-        std::array<std::uint64_t, 4> time{};
-        std::array<std::int32_t, 4> reference{};
-        std::array<std::int32_t, 4> extreme_run{};
-        std::uint32_t current = 0;
-        std::uint32_t newest = 0;
-
-        void begin(Value& v) { time[0] = v; }
-    };
-
-    Value read(const std::uint8_t* item) const { return load<std::uint64_t>(item + point14_field::kGpsTime); }
-
+// Value, Models (with the sequences) and read() come from the state shared with the decoder.
+struct GpsTimeEncoder : GpsTime14State<IntegerCompressor> {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace& t) const {
         if (!t.gps_time_changed()) return false;
         write_time(enc, m, now);
@@ -47,29 +19,21 @@ struct GpsTimeEncoder {
     }
 
 private:
-    static void note_extreme(Models& m, std::int32_t delta) {
-        if (++m.extreme_run[m.current] > kExtremeRunLimit) {
-            m.reference[m.current] = delta;
-            m.extreme_run[m.current] = 0;
-        }
-    }
-
     // Offset (1..3) of another sequence whose last time is within 32 bits of `time`; 0 if none.
     static std::uint32_t other_sequence(const Models& m, std::uint64_t time) {
         for (std::uint32_t offset = 1; offset < 4; ++offset) {
-            if (as_int32(time - m.time[(m.current + offset) & 3u])) return offset;
+            if (point10::gps_delta_as_int32(time - m.time[(m.current + offset) & 3u])) return offset;
         }
         return 0;
     }
 
+    // A new sequence for `time`: the upper half predicted from the current time's, the lower
+    // half raw.
     static void open_sequence(ArithmeticEncoder& enc, Models& m, std::uint64_t time) {
         m.delta.compress(enc, static_cast<std::int32_t>(m.time[m.current] >> 32), static_cast<std::int32_t>(time >> 32),
                          kUpperHalf);
         enc.write_int(static_cast<std::uint32_t>(time));
-        m.newest = (m.newest + 1) & 3u;
-        m.current = m.newest;
-        m.reference[m.current] = 0;
-        m.extreme_run[m.current] = 0;
+        m.open_sequence(time);
     }
 
     // A delta of the current sequence whose reference delta is not 0.
@@ -88,7 +52,7 @@ private:
             } else {
                 enc.encode_symbol(m.multiple, static_cast<std::uint32_t>(kLargestMultiple));
                 m.delta.compress(enc, mul_wrapping(kLargestMultiple, reference), delta, kLargestMult);
-                note_extreme(m, delta);
+                m.note_extreme(delta);
             }
         } else if (multiple < 0) {
             if (multiple > kSmallestMultiple) {
@@ -97,12 +61,12 @@ private:
             } else {
                 enc.encode_symbol(m.multiple, static_cast<std::uint32_t>(kLargestMultiple - kSmallestMultiple));
                 m.delta.compress(enc, mul_wrapping(kSmallestMultiple, reference), delta, kSmallestMult);
-                note_extreme(m, delta);
+                m.note_extreme(delta);
             }
         } else {
             enc.encode_symbol(m.multiple, 0);
             m.delta.compress(enc, 0, delta, kOwnDelta);
-            note_extreme(m, delta);
+            m.note_extreme(delta);
         }
     }
 
@@ -111,7 +75,7 @@ private:
         for (;;) {
             const bool after_zero = m.reference[m.current] == 0;
             SymbolModel& model = after_zero ? m.after_zero : m.multiple;
-            if (const auto delta = as_int32(time - m.time[m.current])) {
+            if (const auto delta = point10::gps_delta_as_int32(time - m.time[m.current])) {
                 if (after_zero) {
                     enc.encode_symbol(model, 0);
                     m.delta.compress(enc, 0, *delta, kAfterZero);
@@ -130,7 +94,6 @@ private:
             }
             enc.encode_symbol(model, after_zero ? 1u : kNewSequence);
             open_sequence(enc, m, time);
-            m.time[m.current] = time;
             return;
         }
     }

@@ -52,6 +52,15 @@ struct ItemEncodeSetup {
     std::uint32_t first_channel = 0;      // scanner channel of the first point
 };
 
+// Leaves `now` in `last` and says whether it differs from the value it replaces: whether a
+// point changes the layer, for most codecs.
+template <class Value>
+bool replace_last(Value& last, const Value& now) {
+    const bool changed = now != last;
+    last = now;
+    return changed;
+}
+
 // A layer encoder made from a codec, which provides
 //   using Models = ...; using Value = ...;      (as for the decoders' ContextLayer)
 //   Value read(const std::uint8_t* item) const;  the value in a raw item

@@ -14,13 +14,10 @@ namespace f = point14_field;
 
 // ---- codecs of the layers after returns/XY/Z ---------------------------------------------
 
-struct ClassificationCodec {
-    using Value = std::uint8_t;
-    struct Models {
-        LazySymbolModels<64, 256> by_last;  // by the last class (5 bits) and "single return"
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return item[f::kClassification]; }
+// Each codec takes its Value, Models and read() from the state it shares with the encoder
+// (point14_v3_state.hpp) and adds how the value is decoded and stored.
+
+struct ClassificationCodec : ClassificationState {
     void write(std::uint8_t* item, Value v) const { item[f::kClassification] = v; }
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace& t) const {
         const std::uint32_t slot = ((v & 0x1Fu) << 1) | (t.return_kind == 3 ? 1u : 0u);
@@ -28,21 +25,10 @@ struct ClassificationCodec {
     }
 };
 
-// Six flag bits as the layer codes them: classification flags (bits 0-3), scan direction
-// (bit 4), edge of flight line (bit 5). In the record the last two sit at bits 6 and 7,
-// around the channel bits that the returns/XY layer writes.
-struct FlagsCodec {
-    using Value = std::uint8_t;
-    struct Models {
-        LazySymbolModels<64, 64> by_last;
-        void begin(Value&) {}
-    };
+// The flag bits go back to their record positions (see FlagsState), only those wanted.
+struct FlagsCodec : FlagsState {
     std::uint8_t record_mask;  // record bits the caller wants from this layer
 
-    Value read(const std::uint8_t* item) const {
-        const std::uint8_t b = item[f::kFlags];
-        return static_cast<Value>((b & 0x0Fu) | ((b >> 2) & 0x30u));
-    }
     void write(std::uint8_t* item, Value v) const {
         const std::uint8_t bits = static_cast<std::uint8_t>((v & 0x0Fu) | ((v & 0x30u) << 2));
         item[f::kFlags] = static_cast<std::uint8_t>((item[f::kFlags] & ~record_mask) | (bits & record_mask));
@@ -52,14 +38,7 @@ struct FlagsCodec {
     }
 };
 
-struct IntensityCodec {
-    using Value = std::uint16_t;
-    struct Models {
-        IntegerDecompressor intensity{16, 4};
-        std::array<std::uint16_t, 8> by_kind{};  // last intensity per return kind and time change
-        void begin(Value& v) { by_kind.fill(v); }
-    };
-    Value read(const std::uint8_t* item) const { return load<std::uint16_t>(item + f::kIntensity); }
+struct IntensityCodec : IntensityState<IntegerDecompressor> {
     void write(std::uint8_t* item, Value v) const { store(item + f::kIntensity, v); }
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace& t) const {
         const std::uint32_t slot = (std::uint32_t{t.return_kind} << 1) | (t.gps_time_changed() ? 1u : 0u);
@@ -68,44 +47,26 @@ struct IntensityCodec {
     }
 };
 
-struct ScanAngleCodec {
-    using Value = std::int16_t;
-    struct Models {
-        IntegerDecompressor angle{16, 2};
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return load<std::int16_t>(item + f::kScanAngle); }
+struct ScanAngleCodec : ScanAngleState<IntegerDecompressor> {
     void write(std::uint8_t* item, Value v) const { store(item + f::kScanAngle, v); }
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace& t) const {
         if (t.changed & PointTrace::kScanAngleChanged) {
-            v = static_cast<Value>(m.angle.decompress(dec, v, t.gps_time_changed() ? 1u : 0u));
+            v = static_cast<Value>(m.coder.decompress(dec, v, t.gps_time_changed() ? 1u : 0u));
         }
     }
 };
 
-struct UserDataCodec {
-    using Value = std::uint8_t;
-    struct Models {
-        LazySymbolModels<64, 256> by_last;  // by the last value / 4
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return item[f::kUserData]; }
+struct UserDataCodec : UserDataState {
     void write(std::uint8_t* item, Value v) const { item[f::kUserData] = v; }
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace&) const {
         v = static_cast<Value>(dec.decode_symbol(m.by_last[v >> 2]));
     }
 };
 
-struct PointSourceCodec {
-    using Value = std::uint16_t;
-    struct Models {
-        IntegerDecompressor source{16, 1};
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return load<std::uint16_t>(item + f::kPointSource); }
+struct PointSourceCodec : PointSourceState<IntegerDecompressor> {
     void write(std::uint8_t* item, Value v) const { store(item + f::kPointSource, v); }
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace& t) const {
-        if (t.changed & PointTrace::kPointSourceChanged) v = static_cast<Value>(m.source.decompress(dec, v));
+        if (t.changed & PointTrace::kPointSourceChanged) v = static_cast<Value>(m.coder.decompress(dec, v));
     }
 };
 
@@ -119,14 +80,7 @@ ReturnsXyzLayer::ReturnsXyzLayer(const ItemSetup& setup, bool write_returns)
       z_coded_(!setup.layers[1].empty()),
       write_returns_(write_returns),
       hand_on_channel_(setup.version >= 4) {
-    const std::uint8_t returns = setup.first[f::kReturns];
-    Value first;
-    first.x = load<std::int32_t>(setup.first + f::kX);
-    first.y = load<std::int32_t>(setup.first + f::kY);
-    first.z = load<std::int32_t>(setup.first + f::kZ);
-    first.return_number = returns & 0x0Fu;
-    first.returns = returns >> 4;
-    contexts_.start(setup.first_channel, first, true);
+    contexts_.start(setup.first_channel, Value::read(setup.first), true);
 }
 
 void ReturnsXyzLayer::store(std::uint8_t* item, const Value& v, std::uint32_t channel) const {
@@ -235,7 +189,7 @@ void add_point14_layers(const ItemSetup& setup, std::vector<PlacedLayer>& out) {
     if (want & fields::kClassification) add(2, ClassificationCodec{}, "classification");
     const std::uint8_t flag_bits = static_cast<std::uint8_t>((want & fields::kReturns ? 0xC0u : 0u) |
                                                              (want & fields::kClassification ? 0x0Fu : 0u));
-    if (flag_bits) add(3, FlagsCodec{flag_bits}, "flags");
+    if (flag_bits) add(3, FlagsCodec{{}, flag_bits}, "flags");
     if (want & fields::kIntensity) add(4, IntensityCodec{}, "intensity");
     if (want & fields::kScanAngle) add(5, ScanAngleCodec{}, "scan angle");
     if (want & fields::kUserData) add(6, UserDataCodec{}, "user data");

@@ -6,37 +6,17 @@
 // source ID and GPS time (see gps_time14_v3.hpp).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "laz/integer_decompressor.hpp"
-#include "laz/point10/point10_v2.hpp"
 #include "laz/point14/layer_common.hpp"
+#include "laz/point14/point14_v3_state.hpp"
 
 namespace lidarscout::laz::point14 {
 
-inline constexpr std::size_t kPoint14Size = 30;
 inline constexpr std::size_t kPoint14Layers = 9;
-
-// Byte offsets of the fields in a POINT14 record.
-namespace point14_field {
-inline constexpr std::size_t kX = 0;
-inline constexpr std::size_t kY = 4;
-inline constexpr std::size_t kZ = 8;
-inline constexpr std::size_t kIntensity = 12;
-inline constexpr std::size_t kReturns = 14;  // return number (low 4 bits), number of returns
-inline constexpr std::size_t kFlags = 15;    // classification flags (0-3), channel (4-5), scan direction, edge
-inline constexpr std::size_t kClassification = 16;
-inline constexpr std::size_t kUserData = 17;
-inline constexpr std::size_t kScanAngle = 18;
-inline constexpr std::size_t kPointSource = 20;
-inline constexpr std::size_t kGpsTime = 22;
-}  // namespace point14_field
-
-// Scanner channel of a raw POINT14 record.
-inline std::uint32_t point14_channel(const std::uint8_t* item) { return (item[point14_field::kFlags] >> 4) & 3u; }
 
 // The returns/XY layer together with the Z layer (both are always decoded): which
 // attributes changed, the scanner channel, the return number and count, the X/Y deltas
@@ -59,32 +39,9 @@ public:
     std::uint32_t layers_decoded() const { return z_coded_ ? 2 : 1; }
 
 private:
-    struct Value {
-        std::int32_t x = 0;
-        std::int32_t y = 0;
-        std::int32_t z = 0;
-        std::uint32_t return_number = 0;
-        std::uint32_t returns = 0;  // number of returns of the pulse
-        bool gps_time_changed = false;
-    };
-    struct Models {
-        std::array<SymbolModel, 8> changed = symbol_models<8>(128);  // by the last point's return kind
-        SymbolModel channel_step{3};
-        LazySymbolModels<16, 16> returns;        // by the last number of returns
-        LazySymbolModels<16, 16> return_number;  // by the last return number (time changed)
-        SymbolModel return_step{13};             // return number jump when the time did not change
-        IntegerDecompressor dx{32, 2};
-        IntegerDecompressor dy{32, 22};
-        IntegerDecompressor z{32, 20};
-        std::array<point10::RunningMedian5, 12> x_median;
-        std::array<point10::RunningMedian5, 12> y_median;
-        std::array<std::int32_t, 8> z_by_level{};  // last Z per return level
-
-        void begin(Value& v) {
-            v.gps_time_changed = false;
-            z_by_level.fill(v.z);
-        }
-    };
+    // The state of a channel context, shared with the encoder (point14_v3_state.hpp).
+    using Value = ReturnsXyzValue;
+    using Models = ReturnsXyzModels<IntegerDecompressor>;
 
     // The steps of one point: return number and count, X and Y, Z (each updates `last`).
     static void decode_returns(ArithmeticDecoder& dec, Models& m, Value& last, std::uint32_t changed,

@@ -4,7 +4,6 @@
 
 
 #include "laz/point14/gps_time14_v3_encoder.hpp"
-#include "laz/point14/point14_v3.hpp"
 #include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
@@ -18,99 +17,53 @@ std::int32_t subtract_wrapping(std::int32_t a, std::int32_t b) {
 
 // ---- codecs of the layers after returns/XY/Z ---------------------------------------------
 
-struct ClassificationEncoder {
-    using Value = std::uint8_t;
-    struct Models {
-        LazySymbolModels<64, 256> by_last;
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return item[f::kClassification]; }
+// Each codec takes its Value, Models and read() from the state it shares with the decoder
+// (point14_v3_state.hpp) and adds how a value is coded.
+
+struct ClassificationEncoder : ClassificationState {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace& t) const {
         const std::uint32_t slot = ((last & 0x1Fu) << 1) | (t.return_kind == 3 ? 1u : 0u);
         enc.encode_symbol(m.by_last[slot], now);
-        const bool changed = now != last;
-        last = now;
-        return changed;
+        return replace_last(last, now);
     }
 };
 
-// The six flag bits in the layer's order (see FlagsCodec of the decoder).
-struct FlagsEncoder {
-    using Value = std::uint8_t;
-    struct Models {
-        LazySymbolModels<64, 64> by_last;
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const {
-        const std::uint8_t b = item[f::kFlags];
-        return static_cast<Value>((b & 0x0Fu) | ((b >> 2) & 0x30u));
-    }
+struct FlagsEncoder : FlagsState {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace&) const {
         enc.encode_symbol(m.by_last[last], now);
-        const bool changed = now != last;
-        last = now;
-        return changed;
+        return replace_last(last, now);
     }
 };
 
-struct IntensityEncoder {
-    using Value = std::uint16_t;
-    struct Models {
-        IntegerCompressor intensity{16, 4};
-        std::array<std::uint16_t, 8> by_kind{};
-        void begin(Value& v) { by_kind.fill(v); }
-    };
-    Value read(const std::uint8_t* item) const { return load<std::uint16_t>(item + f::kIntensity); }
+struct IntensityEncoder : IntensityState<IntegerCompressor> {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace& t) const {
         const std::uint32_t slot = (std::uint32_t{t.return_kind} << 1) | (t.gps_time_changed() ? 1u : 0u);
         m.intensity.compress(enc, m.by_kind[slot], now, t.return_kind);
         m.by_kind[slot] = now;
-        const bool changed = now != last;
-        last = now;
-        return changed;
+        return replace_last(last, now);
     }
 };
 
-struct ScanAngleEncoder {
-    using Value = std::int16_t;
-    struct Models {
-        IntegerCompressor angle{16, 2};
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return load<std::int16_t>(item + f::kScanAngle); }
+struct ScanAngleEncoder : ScanAngleState<IntegerCompressor> {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace& t) const {
         if (!(t.changed & PointTrace::kScanAngleChanged)) return false;
-        m.angle.compress(enc, last, now, t.gps_time_changed() ? 1u : 0u);
+        m.coder.compress(enc, last, now, t.gps_time_changed() ? 1u : 0u);
         last = now;
         return true;
     }
 };
 
-struct UserDataEncoder {
-    using Value = std::uint8_t;
-    struct Models {
-        LazySymbolModels<64, 256> by_last;
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return item[f::kUserData]; }
+struct UserDataEncoder : UserDataState {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace&) const {
         enc.encode_symbol(m.by_last[last >> 2], now);
-        const bool changed = now != last;
-        last = now;
-        return changed;
+        return replace_last(last, now);
     }
 };
 
-struct PointSourceEncoder {
-    using Value = std::uint16_t;
-    struct Models {
-        IntegerCompressor source{16, 1};
-        void begin(Value&) {}
-    };
-    Value read(const std::uint8_t* item) const { return load<std::uint16_t>(item + f::kPointSource); }
+struct PointSourceEncoder : PointSourceState<IntegerCompressor> {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace& t) const {
         if (!(t.changed & PointTrace::kPointSourceChanged)) return false;
-        m.source.compress(enc, last, now);
+        m.coder.compress(enc, last, now);
         last = now;
         return true;
     }
@@ -121,13 +74,7 @@ struct PointSourceEncoder {
 // ---- returns/XY/Z ----------------------------------------------------------------------
 
 ReturnsXyzEncoder::Value ReturnsXyzEncoder::read(const std::uint8_t* item) {
-    const std::uint8_t returns = item[f::kReturns];
-    Value v;
-    v.x = load<std::int32_t>(item + f::kX);
-    v.y = load<std::int32_t>(item + f::kY);
-    v.z = load<std::int32_t>(item + f::kZ);
-    v.return_number = returns & 0x0Fu;
-    v.returns = returns >> 4;
+    Value v{ReturnsXyzValue::read(item)};
     v.gps_time = load<double>(item + f::kGpsTime);
     v.scan_angle = load<std::int16_t>(item + f::kScanAngle);
     v.point_source = load<std::uint16_t>(item + f::kPointSource);

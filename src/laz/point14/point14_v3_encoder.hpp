@@ -4,14 +4,13 @@
 // point source ID and GPS time (see gps_time14_v3_encoder.hpp).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "laz/integer_compressor.hpp"
-#include "laz/point10/point10_v2.hpp"
 #include "laz/point14/layer_encoder.hpp"
+#include "laz/point14/point14_v3_state.hpp"
 
 namespace lidarscout::laz::point14 {
 
@@ -33,36 +32,15 @@ public:
     std::span<const std::uint8_t> z_bytes() const { return z_bytes_; }
 
 private:
-    // The last point of a channel, as far as this pass compares or predicts it.
-    struct Value {
-        std::int32_t x = 0;
-        std::int32_t y = 0;
-        std::int32_t z = 0;
-        std::uint32_t return_number = 0;
-        std::uint32_t returns = 0;
-        bool gps_time_changed = false;
+    // The last point of a channel, as far as this pass compares or predicts it: what the
+    // decoder predicts from (the state shared with it, point14_v3_state.hpp) and the fields
+    // whose changes this pass codes.
+    struct Value : ReturnsXyzValue {
         double gps_time = 0;  // compared as a double, as LASzip does
         std::int16_t scan_angle = 0;
         std::uint16_t point_source = 0;
     };
-    struct Models {
-        std::array<SymbolModel, 8> changed = symbol_models<8>(128);
-        SymbolModel channel_step{3};
-        LazySymbolModels<16, 16> returns;
-        LazySymbolModels<16, 16> return_number;
-        SymbolModel return_step{13};
-        IntegerCompressor dx{32, 2};
-        IntegerCompressor dy{32, 22};
-        IntegerCompressor z{32, 20};
-        std::array<point10::RunningMedian5, 12> x_median;
-        std::array<point10::RunningMedian5, 12> y_median;
-        std::array<std::int32_t, 8> z_by_level{};
-
-        void begin(Value& v) {
-            v.gps_time_changed = false;
-            z_by_level.fill(v.z);
-        }
-    };
+    using Models = ReturnsXyzModels<IntegerCompressor>;
 
     static Value read(const std::uint8_t* item);
     void encode_point(const std::uint8_t* item, PointTrace& trace);

@@ -4,13 +4,11 @@
 #include <array>
 
 #include "laz/chunk_decoder.hpp"
+#include "laz/point14/rgb14_v3_state.hpp"
 #include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
-
-inline std::int32_t low(std::uint16_t v) { return v & 0xFF; }
-inline std::int32_t high(std::uint16_t v) { return v >> 8; }
 
 // One byte: `prediction` plus a coded correction when its bit is set in `mask`, else `last`.
 inline std::int32_t next_byte(ArithmeticDecoder& dec, SymbolModel& model, std::uint32_t mask, std::uint32_t bit,
@@ -19,17 +17,8 @@ inline std::int32_t next_byte(ArithmeticDecoder& dec, SymbolModel& model, std::u
     return wrap_byte(static_cast<std::int32_t>(dec.decode_symbol(model)) + prediction);
 }
 
-struct RgbCodec {
-    using Value = std::array<std::uint16_t, 3>;
-    struct Models {
-        SymbolModel changed{128};
-        std::array<SymbolModel, 6> bytes = symbol_models<6>(256);  // corrections, by byte
-        void begin(Value&) {}
-    };
-
-    Value read(const std::uint8_t* item) const {
-        return {load<std::uint16_t>(item), load<std::uint16_t>(item + 2), load<std::uint16_t>(item + 4)};
-    }
+// Value, Models and read() come from the state shared with the encoder.
+struct RgbCodec : RgbState {
     void write(std::uint8_t* item, const Value& v) const {
         store(item, v[0]);
         store(item + 2, v[1]);

@@ -3,26 +3,14 @@
 
 #include <array>
 
+#include "laz/point14/rgb14_v3_state.hpp"
 #include "laz/point14/symbols_v3.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
 
-inline std::int32_t low(std::uint16_t v) { return v & 0xFF; }
-inline std::int32_t high(std::uint16_t v) { return v >> 8; }
-
-struct RgbEncoder {
-    using Value = std::array<std::uint16_t, 3>;
-    struct Models {
-        SymbolModel changed{128};
-        std::array<SymbolModel, 6> bytes = symbol_models<6>(256);
-        void begin(Value&) {}
-    };
-
-    Value read(const std::uint8_t* item) const {
-        return {load<std::uint16_t>(item), load<std::uint16_t>(item + 2), load<std::uint16_t>(item + 4)};
-    }
-
+// Value, Models and read() come from the state shared with the decoder.
+struct RgbEncoder : RgbState {
     // The layer counts as changed whenever the symbol is not 0, i.e. also for a colour that
     // stays the same but is not grey (LASzip's rule).
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, const Value& now, const PointTrace&) const {

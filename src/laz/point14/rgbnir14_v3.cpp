@@ -1,25 +1,15 @@
 // RGBNIR14: the NIR codec; the colour layer comes from rgb14_v3.
 #include "laz/point14/rgbnir14_v3.hpp"
 
-#include <array>
-
 #include "laz/chunk_decoder.hpp"
 #include "laz/point14/rgb14_v3.hpp"
+#include "laz/point14/rgbnir14_v3_state.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
 
-constexpr std::size_t kNirOffset = 6;
-
-struct NirCodec {
-    using Value = std::uint16_t;
-    struct Models {
-        SymbolModel changed{4};                                    // bit 0: low byte, bit 1: high byte
-        std::array<SymbolModel, 2> bytes = symbol_models<2>(256);  // corrections
-        void begin(Value&) {}
-    };
-
-    Value read(const std::uint8_t* item) const { return load<std::uint16_t>(item + kNirOffset); }
+// Value, Models and read() come from the state shared with the encoder.
+struct NirCodec : NirState {
     void write(std::uint8_t* item, Value v) const { store(item + kNirOffset, v); }
 
     void decode(ArithmeticDecoder& dec, Models& m, Value& v, const PointTrace&) const {

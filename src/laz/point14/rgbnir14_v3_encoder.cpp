@@ -1,25 +1,14 @@
 // RGBNIR14 encoding: the NIR codec; the colour layer comes from rgb14_v3_encoder.
 #include "laz/point14/rgbnir14_v3_encoder.hpp"
 
-#include <array>
-
 #include "laz/point14/rgb14_v3_encoder.hpp"
+#include "laz/point14/rgbnir14_v3_state.hpp"
 
 namespace lidarscout::laz::point14 {
 namespace {
 
-constexpr std::size_t kNirOffset = 6;
-
-struct NirEncoder {
-    using Value = std::uint16_t;
-    struct Models {
-        SymbolModel changed{4};
-        std::array<SymbolModel, 2> bytes = symbol_models<2>(256);
-        void begin(Value&) {}
-    };
-
-    Value read(const std::uint8_t* item) const { return load<std::uint16_t>(item + kNirOffset); }
-
+// Value, Models and read() come from the state shared with the decoder.
+struct NirEncoder : NirState {
     bool encode(ArithmeticEncoder& enc, Models& m, Value& last, Value now, const PointTrace&) const {
         const std::int32_t lo = now & 0xFF, last_lo = last & 0xFF;
         const std::int32_t hi = now >> 8, last_hi = last >> 8;
