@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/named_values.hpp"
 #include "render/cuda_plugin.hpp"
 #include "render/framebuffer.hpp"
 #include "render/point_pass.hpp"
@@ -123,14 +124,9 @@ bool cuda_usable() { return !cuda_failed.load() && cuda::unavailable_reason().em
 
 }  // namespace
 
-Backend parse_backend(std::string_view name) {
-    for (std::size_t i = 0; i < kBackendNames.size(); ++i) {
-        if (name == kBackendNames[i]) return static_cast<Backend>(i);
-    }
-    throw Error("unknown backend '" + std::string(name) + "' (known: auto, cpu, cuda)");
-}
+Backend parse_backend(std::string_view name) { return parse_named<Backend>(kBackendNames, name, "backend"); }
 
-std::string_view backend_name(Backend backend) { return kBackendNames.at(static_cast<std::size_t>(backend)); }
+std::string_view backend_name(Backend backend) { return name_of(kBackendNames, backend); }
 
 std::string cuda_unavailable_reason() {
     if (cuda_failed.load()) return "the GPU failed during a frame";

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "core/named_values.hpp"
 #include "render/framebuffer.hpp"
 
 namespace lidarscout::render {
@@ -102,14 +103,9 @@ float percentile_of(const std::array<std::uint64_t, 65536>& histogram, std::uint
 
 }  // namespace
 
-ColourMode parse_colour_mode(std::string_view name) {
-    for (std::size_t i = 0; i < kModeNames.size(); ++i) {
-        if (name == kModeNames[i]) return static_cast<ColourMode>(i);
-    }
-    throw Error("unknown colour mode '" + std::string(name) + "' (known: rgb, elevation, intensity, classification)");
-}
+ColourMode parse_colour_mode(std::string_view name) { return parse_named<ColourMode>(kModeNames, name, "colour mode"); }
 
-std::string_view colour_mode_name(ColourMode mode) { return kModeNames.at(static_cast<std::size_t>(mode)); }
+std::string_view colour_mode_name(ColourMode mode) { return name_of(kModeNames, mode); }
 
 std::uint32_t elevation_ramp(float t) {
     if (!(t > 0.0f)) t = 0.0f;

@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 #include <initializer_list>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -86,8 +87,8 @@ public:
     std::size_t offset(std::size_t segment) const { return segments_[segment].offset; }
     std::size_t total() const { return total_; }
 
-    void copy(DeviceBuffer& arena, PinnedBuffer& staging, cudaStream_t stream) const {
-        arena.reserve(std::max(total_, kAlign));
+    // The arena must hold total() bytes (reserved before device addresses were taken from it).
+    void copy(const DeviceBuffer& arena, PinnedBuffer& staging, cudaStream_t stream) const {
         staging.reserve(std::max(small_, kAlign));
         for (const auto& s : segments_) {
             if (s.small_region && s.bytes) std::memcpy(staging.ptr + s.offset, s.data, s.bytes);
@@ -201,10 +202,15 @@ struct Context {
     DeviceBuffer fb, image, log_depth, counters, arena, info, work, grid, drawn, queue;
     PinnedBuffer staging;
     ResidentData resident;
+
+    ~Context() {
+        if (stream) cudaStreamDestroy(stream);
+    }
 };
 
 // The host-side tables of a frame (patch descriptions, per layer the batches and the point
-// jobs, one per chunk of points), filled with arena offsets once the upload is laid out.
+// jobs, one per chunk of points), given device addresses once the upload is laid out (or
+// at once for data kept on the GPU).
 struct HostFrame {
     std::vector<DevicePatch> patches;
     std::vector<std::vector<DeviceBatch>> batches;  // per layer
@@ -270,15 +276,14 @@ FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, Resident
     for (std::uint32_t l = 0; l < f.layer_count; ++l) {
         for (std::uint32_t b = 0; b < f.layers[l].batch_count; ++b) {
             const LsrBatch& batch = f.layers[l].batches[b];
+            const std::size_t bytes = batch.count * sizeof(LsrPoint);
             if (batch.key != 0) {
-                const std::size_t bytes = batch.count * sizeof(LsrPoint);
                 if (const char* kept = resident.get(batch.key, {{batch.points, bytes}}, stream)) {
                     h.batches[l][b].points = reinterpret_cast<const LsrPoint*>(kept);
                     s.points.push_back(kNotUploaded);
                     continue;
                 }
             }
-            const std::size_t bytes = batch.count * sizeof(LsrPoint);
             s.points.push_back(up.add(batch.points, bytes, bytes < kSmallCopy));
         }
         s.batches.push_back(up.add(h.batches[l]));
@@ -433,7 +438,7 @@ void* open_context(char* error, std::size_t error_size) {
         return nullptr;
     }
     try {
-        auto* ctx = new Context;
+        auto ctx = std::make_unique<Context>();
         cudaDeviceProp prop{};
         check(cudaGetDeviceProperties(&prop, 0), "cudaGetDeviceProperties");
         check(cudaSetDevice(0), "cudaSetDevice");
@@ -442,7 +447,7 @@ void* open_context(char* error, std::size_t error_size) {
         check(cudaMemGetInfo(&free_bytes, &total_bytes), "cudaMemGetInfo");
         ctx->resident.set_budget(free_bytes / 2);  // the rest for frame buffers and uploads
         ctx->name = prop.name;
-        return ctx;
+        return ctx.release();
     } catch (const std::exception& e) {
         set_error(error, error_size, e.what());
         return nullptr;
@@ -464,11 +469,7 @@ int draw(void* context, const LsrFrame* frame, std::uint32_t* rgba, std::uint64_
     }
 }
 
-void close_context(void* context) {
-    auto* ctx = static_cast<Context*>(context);
-    if (ctx->stream) cudaStreamDestroy(ctx->stream);
-    delete ctx;
-}
+void close_context(void* context) { delete static_cast<Context*>(context); }
 
 const LidarscoutCudaRasterApi kApi = {LIDARSCOUT_CUDA_RASTER_ABI, open_context, context_device_name, draw,
                                       close_context};
