@@ -72,12 +72,9 @@ std::string describe(const std::vector<Chunk>& chunks) {
 
 // ---- the reference set ------------------------------------------------------------------------
 
-// One known error of the reference JSONs. lasR's example.copc.laz has chunk_size 0, which
-// LASzip's reader treats as variable (it only adopts a non-zero chunk size), and the table
-// does store a point count: 30 points in 418 bytes, as the file's COPC hierarchy also says
-// (offset 1449, 418 bytes, 30 points). The JSON was made by reading the table as fixed-size
-// chunks, which takes the point count 30 for the byte count and stops 2 bytes early.
-const char* const kChunkSizeZeroFile = "r-lidar__lasR__inst__extdata__example.copc.laz.json";
+// lasR's example.copc.laz has chunk_size 0 (neither fixed nor the variable marker) while its
+// table is written as a variable one: 30 points in 418 bytes, as its COPC hierarchy also says.
+// The reference JSON lists the table as written (its `chunks_note`).
 const std::vector<Chunk> kChunkSizeZeroChunks = {{0, 30, 1449, 418}};
 
 std::vector<Expected> files_with_chunk_lists() {
@@ -98,7 +95,7 @@ class ChunkTableMatchesReference : public ::testing::TestWithParam<Expected> {};
 
 TEST_P(ChunkTableMatchesReference, SameChunksAsLaszip) {
     const auto& e = GetParam();
-    const auto expected = e.name == kChunkSizeZeroFile ? kChunkSizeZeroChunks : chunks_in(e.json.at("chunks"));
+    const auto expected = chunks_in(e.json.at("chunks"));
     const auto table = table_of(e.file);
     EXPECT_EQ(table.chunks, expected) << "got      " << describe(table.chunks) << "\nexpected " << describe(expected);
     EXPECT_FALSE(table.offset_from_file_end);
