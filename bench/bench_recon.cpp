@@ -31,7 +31,7 @@
 #include "recon/methods.hpp"
 #include "recon/nearest.hpp"
 #include "recon/splat.hpp"
-#include "recon/survey_samples.hpp"
+#include "pipelines/survey_samples.hpp"
 
 using namespace lidarscout;
 using namespace lidarscout::recon;
@@ -89,7 +89,7 @@ double synthetic_patch_min_x(std::size_t k) { return 640.0 * k + 160.0; }
 // and patches at random positions (not only on the 640 m lattice, so a small survey gives
 // many distinct windows). Gathering = the grid query around the patch + make_patch_points.
 struct RealPatches {
-    std::unique_ptr<recon::SurveySamples> samples;
+    std::unique_ptr<pipelines::SurveySamples> samples;
     std::vector<std::pair<dataset::CellKey, std::array<double, 2>>> positions;  // cell, patch min corner
     std::uint64_t stride = 0;
 };

@@ -15,7 +15,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/file_search.hpp"
 #include "dataset/tile.hpp"
-#include "dataset/tile_writer.hpp"
+#include "pipelines/tile_writer.hpp"
 #include "io/file.hpp"
 
 namespace lidarscout::cli {
@@ -39,7 +39,7 @@ bool wants_laz(const std::string& out) {
 }
 
 int run_convert(const ConvertCliOptions& o) {
-    dataset::ConvertOptions opt;
+    pipelines::ConvertOptions opt;
     opt.compress = wants_laz(o.out);
     if (o.format >= 0) opt.point_format = static_cast<std::uint8_t>(o.format);
     opt.chunk_size = o.chunk_size;
@@ -54,7 +54,7 @@ int run_convert(const ConvertCliOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress("convert", total);
     std::uint64_t last = 0;
-    auto result = dataset::convert_tile(o.in, o.out, opt, pool, [&](std::uint64_t done) {
+    auto result = pipelines::convert_tile(o.in, o.out, opt, pool, [&](std::uint64_t done) {
         progress.add(done - last);
         last = done;
     });

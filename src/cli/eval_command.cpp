@@ -18,7 +18,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "nn/heightmap_network.hpp"
-#include "recon/evaluation.hpp"
+#include "pipelines/evaluation.hpp"
 
 namespace lidarscout::cli {
 namespace {
@@ -34,15 +34,15 @@ struct EvalCliOptions {
     bool json = false;
     std::string model;  // empty: the default model (only loaded for cnn)
     std::string split = "all";
-    recon::RegionSplitOptions split_options;
+    pipelines::RegionSplitOptions split_options;
     int offsets = 1;
     std::size_t batch = 16;
 };
 
-std::optional<recon::Split> parse_split(const std::string& text) {
+std::optional<pipelines::Split> parse_split(const std::string& text) {
     if (text == "all") return std::nullopt;
-    if (text == "train") return recon::Split::Train;
-    if (text == "validation") return recon::Split::Validation;
+    if (text == "train") return pipelines::Split::Train;
+    if (text == "validation") return pipelines::Split::Validation;
     throw Error("--split must be all, train or validation (not '" + text + "')");
 }
 
@@ -65,10 +65,10 @@ std::vector<recon::Method> parse_methods(const std::string& list) {
 // JSON numbers must be finite: NaN (nothing to average) becomes null.
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
-nlohmann::json methods_json(const std::map<recon::Method, recon::MethodScores>& methods) {
+nlohmann::json methods_json(const std::map<recon::Method, pipelines::MethodScores>& methods) {
     nlohmann::json j = nlohmann::json::object();
     for (const auto& [m, s] : methods) {
-        const auto rmse = recon::summarise(s.rmse_m), psnr = recon::summarise(s.psnr_db), ms = recon::summarise(s.ms);
+        const auto rmse = pipelines::summarise(s.rmse_m), psnr = pipelines::summarise(s.psnr_db), ms = pipelines::summarise(s.ms);
         j[std::string(recon::method_name(m))] = {{"rmse_m_mean", number(rmse.mean)},   {"rmse_m_std", number(rmse.std)},
                                                  {"psnr_db_mean", number(psnr.mean)},  {"psnr_db_std", number(psnr.std)},
                                                  {"ms_per_patch_median", number(ms.median)}, {"patches", rmse.count}};
@@ -76,7 +76,7 @@ nlohmann::json methods_json(const std::map<recon::Method, recon::MethodScores>& 
     return j;
 }
 
-void merge_into(std::map<recon::Method, recon::MethodScores>& all, const recon::DatasetEvaluation& e) {
+void merge_into(std::map<recon::Method, pipelines::MethodScores>& all, const pipelines::DatasetEvaluation& e) {
     for (const auto& [m, s] : e.methods) {
         auto& a = all[m];
         a.rmse_m.insert(a.rmse_m.end(), s.rmse_m.begin(), s.rmse_m.end());
@@ -85,11 +85,11 @@ void merge_into(std::map<recon::Method, recon::MethodScores>& all, const recon::
     }
 }
 
-void print_table(const std::string& title, const std::map<recon::Method, recon::MethodScores>& methods) {
+void print_table(const std::string& title, const std::map<recon::Method, pipelines::MethodScores>& methods) {
     std::printf("%s\n  %-8s %18s %18s %10s %8s\n", title.c_str(), "method", "height RMSE (m)", "RGB PSNR (dB)",
                 "ms/patch", "patches");
     for (const auto& [m, s] : methods) {
-        const auto rmse = recon::summarise(s.rmse_m), psnr = recon::summarise(s.psnr_db), ms = recon::summarise(s.ms);
+        const auto rmse = pipelines::summarise(s.rmse_m), psnr = pipelines::summarise(s.psnr_db), ms = pipelines::summarise(s.ms);
         const std::string psnr_text = psnr.count ? fmt::format("{:.2f} ± {:.2f}", psnr.mean, psnr.std) : "no colour";
         std::printf("  %-8s %18s %18s %10.3f %8zu\n", std::string(recon::method_name(m)).c_str(),
                     fmt::format("{:.3f} ± {:.3f}", rmse.mean, rmse.std).c_str(), psnr_text.c_str(), ms.median, rmse.count);
@@ -97,7 +97,7 @@ void print_table(const std::string& title, const std::map<recon::Method, recon::
 }
 
 int run_eval(const EvalCliOptions& o) {
-    recon::EvalOptions opt;
+    pipelines::EvalOptions opt;
     opt.methods = parse_methods(o.methods);
     opt.spec.texel_m = o.texel;
     opt.spec.validate();
@@ -118,13 +118,13 @@ int run_eval(const EvalCliOptions& o) {
     ThreadPool pool(threads);
 
     nlohmann::json datasets = nlohmann::json::object();
-    std::map<recon::Method, recon::MethodScores> all;
+    std::map<recon::Method, pipelines::MethodScores> all;
     for (const auto& path : o.paths) {
         const auto ds = open_reported_dataset(path);
         const std::string name = dataset_name(path);
         Progress progress("eval " + name, ds.point_count);
         std::uint64_t shown = 0;
-        const auto e = recon::evaluate_dataset(ds, name, opt, pool, [&](std::uint64_t done, std::uint64_t) {
+        const auto e = pipelines::evaluate_dataset(ds, name, opt, pool, [&](std::uint64_t done, std::uint64_t) {
             progress.add(done - shown);
             shown = done;
         });

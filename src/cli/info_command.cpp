@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "cli/tile_json.hpp"
+#include "core/text.hpp"
 #include "core/error.hpp"
 #include "core/sha256.hpp"
 #include "core/thread_pool.hpp"
@@ -121,22 +122,23 @@ void print_text(const FileReport& r, bool chunks) {
     if (!r.tile) return;  // errors go to stderr
     const auto& t = *r.tile;
     const auto& h = t.header;
-    std::printf("%s\n", r.path.c_str());
+    std::printf("%s\n", display_text(r.path).c_str());
     std::printf("  LAS %s, point format %u (%u bytes/record), %s points, %s, %s bytes\n", h.version_string().c_str(),
                 h.point_format, h.record_length, thousands(h.point_count).c_str(), t.compressed() ? "LAZ" : "uncompressed",
                 thousands(t.file_size).c_str());
-    std::printf("  software '%s', system '%s', created day %u of %u\n", h.generating_software.c_str(),
-                h.system_identifier.c_str(), h.creation_day, h.creation_year);
+    std::printf("  software '%s', system '%s', created day %u of %u\n", display_text(h.generating_software).c_str(),
+                display_text(h.system_identifier).c_str(), h.creation_day, h.creation_year);
     std::printf("  scale %g %g %g, offset %.3f %.3f %.3f\n", h.scale[0], h.scale[1], h.scale[2], h.offset[0], h.offset[1],
                 h.offset[2]);
     std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f\n", h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]);
-    for (const auto& w : t.warnings) std::printf("  warning: %s\n", w.c_str());
-    std::printf("  CRS: %s\n", crs_text(t.crs).c_str());
-    for (const auto& w : t.crs.warnings) std::printf("  CRS warning: %s\n", w.c_str());
+    for (const auto& w : t.warnings) std::printf("  warning: %s\n", display_text(w).c_str());
+    std::printf("  CRS: %s\n", display_text(crs_text(t.crs)).c_str());
+    for (const auto& w : t.crs.warnings) std::printf("  CRS warning: %s\n", display_text(w).c_str());
     for (const auto* list : {&t.vlrs, &t.evlrs}) {
         for (const auto& v : *list) {
-            std::printf("  %s '%s' %u: %s bytes%s%s\n", v.extended ? "EVLR" : "VLR", v.user_id.c_str(), v.record_id,
-                        thousands(v.data_size).c_str(), v.description.empty() ? "" : ", ", v.description.c_str());
+            std::printf("  %s '%s' %u: %s bytes%s%s\n", v.extended ? "EVLR" : "VLR", display_text(v.user_id).c_str(),
+                        v.record_id, thousands(v.data_size).c_str(), v.description.empty() ? "" : ", ",
+                        display_text(v.description).c_str());
         }
     }
     if (t.laz) print_laz_text(t);
@@ -190,11 +192,11 @@ int run_info(const InfoOptions& opt) {
         });
     }
     bool failed = !found.errors.empty();
-    for (const auto& e : found.errors) std::fprintf(stderr, "lidarscout: %s\n", e.c_str());
+    for (const auto& e : found.errors) std::fprintf(stderr, "lidarscout: %s\n", display_text(e).c_str());
     for (const auto& r : reports) {
         if (!r.tile) {
             failed = true;
-            std::fprintf(stderr, "lidarscout: %s\n", r.error.c_str());
+            std::fprintf(stderr, "lidarscout: %s\n", display_text(r.error).c_str());
         }
     }
     if (opt.json) {

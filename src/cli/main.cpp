@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "core/error.hpp"
+#include "version.hpp"
 
 namespace {
 
@@ -25,6 +26,8 @@ void keep_freed_memory_in_the_heap() {
 int main(int argc, char** argv) {
     keep_freed_memory_in_the_heap();
     CLI::App app{"lidarscout: explore country-sized LAS/LAZ scans in seconds, without preprocessing"};
+    app.set_version_flag("--version", std::string("lidarscout ") + lidarscout::kVersion + " (" +
+                                          lidarscout::kGitRevision + ")");
     app.require_subcommand(1);
     std::function<int()> run;
     lidarscout::cli::register_info_command(app, run);

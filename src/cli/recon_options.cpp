@@ -54,7 +54,7 @@ dataset::Dataset open_reported_dataset(const std::string& path) {
     return ds;
 }
 
-void add_split_options(CLI::App& cmd, recon::RegionSplitOptions& split) {
+void add_split_options(CLI::App& cmd, pipelines::RegionSplitOptions& split) {
     cmd.add_option("--split-block", split.block_m,
                    "Side of the square regions of the train/validation split, metres (default 2000)")
         ->check(CLI::PositiveNumber);

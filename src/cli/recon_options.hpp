@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "dataset/dataset.hpp"
-#include "recon/region_split.hpp"
+#include "pipelines/region_split.hpp"
 
 namespace CLI {
 class App;
@@ -25,7 +25,7 @@ std::string dataset_name(const std::string& path);
 // when nothing in it can be read.
 dataset::Dataset open_reported_dataset(const std::string& path);
 // --split-block, --val-fraction, --split-seed (the region split, recon/region_split.hpp).
-void add_split_options(CLI::App& cmd, recon::RegionSplitOptions& split);
+void add_split_options(CLI::App& cmd, pipelines::RegionSplitOptions& split);
 // --offsets N (lattices per texel size, recon/survey_samples.hpp).
 void add_offsets_option(CLI::App& cmd, int& offsets);
 

@@ -128,7 +128,7 @@ dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
     const auto t0 = Clock::now();
     auto ds = open_with_progress(o.paths, {});
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
-    if (ds.tiles.empty()) throw Error("render: no readable LAS/LAZ tiles in the given paths");
+    if (ds.tiles.empty()) throw Error::in_stage("render", "no readable LAS/LAZ tiles in the given paths");
     report.tiles = ds.tiles.size();
     report.skipped = ds.skipped.size();
     report.warnings = ds.warnings;

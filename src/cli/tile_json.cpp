@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "core/text.hpp"
+
 namespace lidarscout::cli {
 namespace {
 
@@ -62,9 +64,22 @@ json vlrs_json(const std::vector<las::Vlr>& vlrs) {
 
 }  // namespace
 
+namespace {
+
+// Every string of `j` as display_text gives it.
+void make_text_displayable(json& j) {
+    if (j.is_string()) {
+        j = display_text(j.get_ref<const std::string&>());
+    } else if (j.is_structured()) {
+        for (auto& v : j) make_text_displayable(v);
+    }
+}
+
+}  // namespace
+
 json tile_to_json(const dataset::Tile& t) {
     const auto& h = t.header;
-    return {{"path", t.path},
+    json j = {{"path", t.path},
             {"file_size", t.file_size},
             {"version", h.version_string()},
             {"header_size", h.header_size},
@@ -86,6 +101,8 @@ json tile_to_json(const dataset::Tile& t) {
             {"copc", copc_json(t)},
             {"warnings", t.warnings},
             {"error", nullptr}};
+    make_text_displayable(j);  // strings from the file may be Latin-1 or hold control bytes
+    return j;
 }
 
 json chunks_to_json(const dataset::Tile& t) {
@@ -115,7 +132,7 @@ json chunk_points_to_json(const std::vector<dataset::ChunkPoint>& points, const 
 }
 
 json failed_tile_json(const std::string& path, const std::string& error) {
-    json j = {{"path", path}, {"error", error}};
+    json j = {{"path", display_text(path)}, {"error", display_text(error)}};
     for (const char* k : {"version", "point_format", "record_length", "point_count", "scale", "offset", "bounds", "crs", "laz",
                           "copc"}) {
         j[k] = nullptr;

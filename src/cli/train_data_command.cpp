@@ -14,7 +14,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
-#include "recon/training_data.hpp"
+#include "pipelines/training_data.hpp"
 
 namespace lidarscout::cli {
 namespace {
@@ -26,14 +26,14 @@ struct TrainDataCliOptions {
     std::size_t patches = 100;
     std::uint64_t seed = 1;
     std::string stride = "auto";
-    recon::RegionSplitOptions split;
+    pipelines::RegionSplitOptions split;
     int offsets = 1;
     unsigned threads = 0;
     bool json = false;
 };
 
 int run_train_data(const TrainDataCliOptions& o) {
-    recon::TrainingDataOptions opt;
+    pipelines::TrainingDataOptions opt;
     opt.texels_m = parse_number_list(o.texels, "--texel");
     opt.patches = o.patches;
     opt.seed = o.seed;
@@ -44,7 +44,7 @@ int run_train_data(const TrainDataCliOptions& o) {
 
     std::vector<dataset::Dataset> datasets;
     datasets.reserve(o.paths.size());
-    std::vector<recon::NamedDataset> named;
+    std::vector<pipelines::NamedDataset> named;
     std::uint64_t total = 0;
     for (const auto& path : o.paths) {
         datasets.push_back(open_reported_dataset(path));
@@ -56,7 +56,7 @@ int run_train_data(const TrainDataCliOptions& o) {
     Progress progress("train-data", total);
     std::uint64_t before = 0, shown = 0;  // points of the finished datasets, points drawn
     std::size_t current = 0;
-    const auto s = recon::write_training_data(named, opt, o.out, pool, [&](std::size_t d, std::uint64_t done, std::uint64_t) {
+    const auto s = pipelines::write_training_data(named, opt, o.out, pool, [&](std::size_t d, std::uint64_t done, std::uint64_t) {
         for (; current < d; ++current) before += datasets[current].point_count;
         progress.add(before + done - shown);
         shown = before + done;

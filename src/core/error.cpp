@@ -24,4 +24,6 @@ Error::Error(std::string cause) : Error(std::string(), std::nullopt, std::move(c
 
 Error Error::with_file(const std::string& file) const { return Error(file, offset_, cause_); }
 
+Error Error::in_stage(const std::string& stage, const std::string& cause) { return Error(stage + ": " + cause); }
+
 }  // namespace lidarscout

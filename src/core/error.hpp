@@ -19,6 +19,9 @@ public:
     std::optional<std::uint64_t> offset() const noexcept { return offset_; }
     const std::string& cause() const noexcept { return cause_; }
 
+    // An error of a stage without a file, its message prefixed by the stage ("recon: ...").
+    static Error in_stage(const std::string& stage, const std::string& cause);
+
     // A copy of this error attributed to `file` (used when a lower layer did not know it).
     Error with_file(const std::string& file) const;
 

@@ -208,8 +208,8 @@ private:
             try {
                 grid_.add(p.x, p.y, p.z, rgb, p.intensity, p.classification, id);
                 ++loader_.loaded_;
-            } catch (const std::out_of_range& e) {
-                fail(ds_.tiles[id].tile.path, 0, std::string("chunk point cannot be placed on the patch grid: ") + e.what());
+            } catch (const Error& e) {
+                fail(ds_.tiles[id].tile.path, 0, "chunk point cannot be placed on the patch grid: " + e.cause());
             }
         }
         ++loader_.tiles_done_;

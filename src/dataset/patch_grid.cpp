@@ -2,6 +2,7 @@
 // locks so that many I/O threads can add at once.
 #include "dataset/patch_grid.hpp"
 
+#include "core/error.hpp"
 #include "core/random.hpp"
 
 #include <algorithm>
@@ -17,7 +18,7 @@ std::int32_t checked_index(double scaled) {
     const double index = std::floor(scaled);
     if (!(index >= std::numeric_limits<std::int32_t>::min() &&
           index <= std::numeric_limits<std::int32_t>::max())) {
-        throw std::out_of_range("PatchGrid: coordinate too far from the grid origin (or NaN)");
+        throw Error::in_stage("dataset", "patch grid: coordinate too far from the grid origin (or NaN)");
     }
     return static_cast<std::int32_t>(index);
 }
@@ -52,7 +53,7 @@ PatchGrid::PatchGrid(double origin_x_m, double origin_y_m, double patch_size_m)
       patch_size_(patch_size_m),
       shards_(std::make_unique<Shard[]>(kShardCount)) {
     if (!(patch_size_m > 0.0) || !std::isfinite(patch_size_m)) {
-        throw std::invalid_argument("PatchGrid: patch size must be positive and finite");
+        throw Error::in_stage("dataset", "patch grid: patch size must be positive and finite");
     }
 }
 
@@ -118,7 +119,7 @@ void PatchGrid::append_window_part(CellKey centre, CellKey neighbour, double pad
 
 std::vector<OverviewPoint> PatchGrid::window(CellKey cell, double padding_m) const {
     if (!(padding_m >= 0.0) || !std::isfinite(padding_m)) {
-        throw std::invalid_argument("PatchGrid::window: padding must be >= 0 and finite");
+        throw Error::in_stage("dataset", "patch grid window: padding must be >= 0 and finite");
     }
     const auto ring = static_cast<std::int64_t>(std::ceil(padding_m / patch_size_));
     std::vector<OverviewPoint> out;

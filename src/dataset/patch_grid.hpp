@@ -78,7 +78,7 @@ public:
     static constexpr double kDefaultPadding = 160.0;
 
     // Cell (ix, iy) covers [origin + ix * size, origin + (ix + 1) * size) on each axis.
-    // Throws std::invalid_argument when patch_size_m is not positive and finite.
+    // Throws lidarscout::Error when patch_size_m is not positive and finite.
     PatchGrid(double origin_x_m, double origin_y_m, double patch_size_m = kDefaultPatchSize);
     ~PatchGrid();
     PatchGrid(const PatchGrid&) = delete;
@@ -89,7 +89,7 @@ public:
     double patch_size() const { return patch_size_; }
 
     // Thread-safe: adds lock only the shard that owns the point's cell. Coordinates in
-    // metres (the caller converts feet). Throws std::out_of_range when the cell index does
+    // metres (the caller converts feet). Throws lidarscout::Error when the cell index does
     // not fit an int32 (more than ~1.4e12 m from the origin with 640 m cells).
     void add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
              std::uint8_t classification, std::uint32_t tile);

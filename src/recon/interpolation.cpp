@@ -8,7 +8,7 @@ namespace lidarscout::recon {
 namespace {
 
 void check_channels(const Image& image, const PointValues& values) {
-    if (image.channels != values.channels) throw Error("recon: image and values differ in channels");
+    if (image.channels != values.channels) throw Error::in_stage("recon", "image and values differ in channels");
 }
 
 }  // namespace

@@ -20,7 +20,7 @@ Image run(Method method, const PatchPoints& patch, const PatchGeometry* geometry
         case Method::Splat: return splat(grid_positions(patch), values, patch.size(), options.splat).values;
         case Method::Cnn: break;
     }
-    throw Error("recon: unknown method");
+    throw Error::in_stage("recon", "unknown method");
 }
 
 }  // namespace
@@ -41,7 +41,7 @@ Method method_from_name(std::string_view name) {
         if (method_name(m) == name) return m;
     }
     if (name == method_name(Method::Cnn)) return Method::Cnn;
-    throw Error("recon: unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat, cnn)");
+    throw Error::in_stage("recon", "unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat, cnn)");
 }
 
 std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<const Method> methods,
@@ -50,7 +50,7 @@ std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<cons
     std::optional<PatchGeometry> geometry;
     std::optional<PointValues> heights, colours;
     for (const Method method : methods) {
-        if (method == Method::Cnn) throw Error("recon: the cnn method runs in batches through the network, not reconstruct()");
+        if (method == Method::Cnn) throw Error::in_stage("recon", "the cnn method runs in batches through the network, not reconstruct()");
         Reconstruction r;
         r.method = method;
         r.status = patch.status;

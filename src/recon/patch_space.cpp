@@ -29,7 +29,7 @@ std::vector<Snapped> snap_window(std::span<const dataset::OverviewPoint> points,
     out.reserve(points.size());
     for (const auto& p : points) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-            throw Error("recon: chunk point with a non-finite coordinate");
+            throw Error::in_stage("recon", "chunk point with a non-finite coordinate");
         }
         const double dx = p.x - window_min_x, dy = p.y - window_min_y;
         if (dx < 0.0 || dx >= window_m || dy < 0.0 || dy >= window_m) continue;
@@ -85,10 +85,10 @@ double median_height(const std::vector<Merged>& points) {
 }  // namespace
 
 void PatchSpec::validate() const {
-    if (!(texel_m > 0.0) || !std::isfinite(texel_m)) throw Error("recon: texel size must be positive and finite");
-    if (patch_texels < 1 || pad_texels < 0) throw Error("recon: patch needs >= 1 texel and padding >= 0");
+    if (!(texel_m > 0.0) || !std::isfinite(texel_m)) throw Error::in_stage("recon", "texel size must be positive and finite");
+    if (patch_texels < 1 || pad_texels < 0) throw Error::in_stage("recon", "patch needs >= 1 texel and padding >= 0");
     if (window_texels() > 512) {
-        throw Error("recon: window of " + std::to_string(window_texels()) + " texels exceeds the limit of 512");
+        throw Error::in_stage("recon", "window of " + std::to_string(window_texels()) + " texels exceeds the limit of 512");
     }
 }
 
@@ -128,7 +128,7 @@ PatchPoints make_patch_points(const dataset::PatchGrid& grid, dataset::CellKey c
     options.spec.validate();
     const double patch_m = options.spec.patch_m();
     if (std::abs(grid.patch_size() - patch_m) > 1e-9 * patch_m) {
-        throw Error("recon: the grid's cells (" + std::to_string(grid.patch_size()) +
+        throw Error::in_stage("recon", "the grid's cells (" + std::to_string(grid.patch_size()) +
                     " m) are not the patches of the spec (" + std::to_string(patch_m) + " m)");
     }
     const auto window = grid.window(cell, options.spec.pad_m());
@@ -161,7 +161,7 @@ PointValues colour_values(const PatchPoints& patch) {
 Image crop_centre(const Image& image, int size) {
     const int margin2 = image.size - size;
     if (size < 0 || margin2 < 0 || margin2 % 2 != 0) {
-        throw Error("recon: cannot crop " + std::to_string(size) + " texels from the centre of " +
+        throw Error::in_stage("recon", "cannot crop " + std::to_string(size) + " texels from the centre of " +
                     std::to_string(image.size));
     }
     const int margin = margin2 / 2;

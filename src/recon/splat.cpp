@@ -51,8 +51,8 @@ std::vector<double> convolve(const std::vector<double>& plane, int size, const s
 }  // namespace
 
 SplatResult splat(std::span<const GridXY> points, const PointValues& values, int size, const SplatOptions& options) {
-    if (values.count != points.size()) throw Error("recon: splat needs one value per point");
-    if (!(options.sigma_texels > 0.0) || options.radius_texels < 0) throw Error("recon: bad splat kernel");
+    if (values.count != points.size()) throw Error::in_stage("recon", "splat needs one value per point");
+    if (!(options.sigma_texels > 0.0) || options.radius_texels < 0) throw Error::in_stage("recon", "bad splat kernel");
     const std::size_t texels = static_cast<std::size_t>(size) * size;
     std::vector<int> count(texels, 0);
     std::vector<std::size_t> texel_of_point(points.size());

@@ -28,7 +28,7 @@ std::vector<GridXY> with_padding(std::span<const GridXY> points, std::int64_t ex
     std::vector<GridXY> out(points.begin(), points.end());
     for (const GridXY& p : points) {
         if (!(p.x >= 0.0 && p.x <= e && p.y >= 0.0 && p.y <= e)) {
-            throw Error("recon: triangulation point outside the window");
+            throw Error::in_stage("recon", "triangulation point outside the window");
         }
     }
     for (const GridXY corner : {GridXY{0, 0}, GridXY{e, 0}, GridXY{e, e}, GridXY{0, e}}) {
@@ -54,7 +54,7 @@ Triangulation triangulate(std::span<const GridXY> points, std::int64_t extent) {
     Delaunay dt;
     dt.insert(input.begin(), input.end());
     if (dt.number_of_vertices() != out.vertices.size()) {
-        throw Error("recon: triangulation input has repeated positions");
+        throw Error::in_stage("recon", "triangulation input has repeated positions");
     }
 
     std::int32_t next = 0;

@@ -13,7 +13,7 @@
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "core/thread_pool.hpp"
-#include "dataset/las_writer.hpp"
+#include "laz/las_writer.hpp"
 #include "io/file.hpp"
 #include "io/output_file.hpp"
 #include "las/header_writer.hpp"
@@ -70,7 +70,7 @@ las::Vlr wkt_vlr() {
 // and gathers what the header reports (bounds, points by return).
 class TileRecords {
 public:
-    TileRecords(dataset::LasWriter& writer, std::uint32_t chunk_size)
+    TileRecords(laz::LasWriter& writer, std::uint32_t chunk_size)
         : writer_(writer),
           format_(las::point_format_info(kPointFormat)),
           batch_(std::size_t{chunk_size} * kBatchChunks) {
@@ -107,7 +107,7 @@ public:
     }
 
 private:
-    dataset::LasWriter& writer_;
+    laz::LasWriter& writer_;
     const las::PointFormatInfo& format_;
     std::size_t batch_;
     std::vector<std::uint8_t> buffer_;
@@ -121,9 +121,9 @@ private:
 TerrainTile write_tile(const TerrainModel& model, const FlightPlan& plan, const TileRect& rect, const std::string& path,
                        const TerrainOptions& options, ThreadPool& pool) {
     const las::Header header = demo_header(options, model.area());
-    dataset::LasWriterOptions write;
+    laz::LasWriterOptions write;
     write.chunk_size = options.chunk_size;
-    dataset::LasWriter writer(path, header, {wkt_vlr()}, write, pool);
+    laz::LasWriter writer(path, header, {wkt_vlr()}, write, pool);
     TileRecords records(writer, options.chunk_size);
     Quantisation q;
     q.scale = kScale;

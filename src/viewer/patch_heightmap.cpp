@@ -55,7 +55,7 @@ PatchHeightmap heightmap_from_reconstruction(dataset::CellKey cell, const recon:
                                              const recon::Reconstruction& patch) {
     const recon::PatchSpec& spec = points.spec;
     if (patch.height.size != spec.patch_texels || patch.height.channels != 1) {
-        throw Error("viewer: a heightmap needs a " + std::to_string(spec.patch_texels) + " x " +
+        throw Error::in_stage("viewer", "a heightmap needs a " + std::to_string(spec.patch_texels) + " x " +
                     std::to_string(spec.patch_texels) + " reconstruction, got " + std::to_string(patch.height.size));
     }
     PatchHeightmap h;

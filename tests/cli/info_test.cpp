@@ -77,6 +77,35 @@ TEST(InfoCommand, ChunksAndChunkPoints) {
     }
 }
 
+// Strings from files reach JSON and the terminal as valid UTF-8: this file's GeoTIFF ASCII
+// parameters are Latin-1 ("... basert p\xE5 EUREF89 ...").
+TEST(InfoCommand, Latin1TextGivesValidUtf8) {
+    const auto path = (test::formats_dir() / "gadomski__las-rs/tests__data__32-1-472-150-76.laz").string();
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --json " + path + " 2>&1", out), 0) << out;
+    const auto j = nlohmann::json::parse(out);
+    const std::string text = j.at(0).dump();
+    EXPECT_NE(text.find("basert p\xC3\xA5 EUREF89"), std::string::npos) << "Latin-1 not decoded: " << text.substr(0, 400);
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info " + path + " 2>&1", out), 0) << out;
+    EXPECT_NO_THROW((void)nlohmann::json(out).dump()) << "plain text is not valid UTF-8";
+}
+
+// `info --json` succeeds on every file the reference decodes.
+TEST(InfoCommand, JsonForEveryDecodableFile) {
+    std::string args;
+    std::size_t files = 0;
+    for (const auto& e : test::all_expected()) {
+        if (e.json.at("reference_result") != "decodes") continue;
+        args += " '" + e.file.string() + "'";
+        ++files;
+    }
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --json" + args + " 2>/dev/null", out), 0);
+    const auto j = nlohmann::json::parse(out);
+    ASSERT_EQ(j.size(), files);
+    for (const auto& f : j) EXPECT_TRUE(f.at("error").is_null()) << f.at("path");
+}
+
 TEST(InfoCommand, MissingPathFails) {
     std::string out;
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info /nonexistent/x.laz 2>&1", out), 1);

@@ -9,6 +9,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.hpp"
 #include "dataset/patch_grid.hpp"
 
 namespace lidarscout::dataset {
@@ -57,11 +58,11 @@ TEST(PatchGrid, EdgePointStoredAtZeroOffset) {
 }
 
 TEST(PatchGrid, RejectsBadArguments) {
-    EXPECT_THROW(PatchGrid(0, 0, 0.0), std::invalid_argument);
+    EXPECT_THROW(PatchGrid(0, 0, 0.0), Error);
     PatchGrid grid(0, 0, kSize);
-    EXPECT_THROW(add_simple(grid, 1e15, 0, 0, 0), std::out_of_range);
-    EXPECT_THROW(add_simple(grid, std::nan(""), 0, 0, 0), std::out_of_range);
-    EXPECT_THROW(grid.window({0, 0}, -1.0), std::invalid_argument);
+    EXPECT_THROW(add_simple(grid, 1e15, 0, 0, 0), Error);
+    EXPECT_THROW(add_simple(grid, std::nan(""), 0, 0, 0), Error);
+    EXPECT_THROW(grid.window({0, 0}, -1.0), Error);
 }
 
 // Random points, none within 1 mm of a window edge (offsets 160 / 480 mod 640), so that the

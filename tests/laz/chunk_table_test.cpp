@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <chrono>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -362,6 +363,45 @@ void replace_autzen_table(std::vector<std::uint8_t>& b, const std::vector<Entry>
     b.resize(kAutzenTable);
     const auto table = encode_table(entries, variable);
     b.insert(b.end(), table.begin(), table.end());
+}
+
+// ---- hostile headers: what a header claims never sets how much we allocate or loop --------
+
+// Reads `path` as the dataset layer does (header, VLRs, chunk table); returns the seconds it
+// took and the error's text (empty when it read). The claims below are absurd for a file of
+// well under a megabyte, so reading must fail (or succeed) at once.
+std::pair<double, std::string> read_timed(const fs::path& path) {
+    const auto start = std::chrono::steady_clock::now();
+    std::string error;
+    try {
+        (void)table_of(path);
+    } catch (const Error& e) {
+        error = e.what();
+    }
+    return {std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), error};
+}
+
+TEST(ChunkTableHostile, TrillionPointHeaderIsRejectedAtOnce) {
+    EditedFile f(kLoneStar, [](auto& b) { poke<std::uint64_t>(b, kExtendedCountField, 1'000'000'000'000ull); });
+    const auto [seconds, error] = read_timed(f.path());
+    EXPECT_LT(seconds, 0.5);
+    EXPECT_FALSE(error.empty());
+    EXPECT_TRUE(contains(error, f.path().string())) << error;
+}
+
+TEST(ChunkTableHostile, MillionsOfChunksClaimedInASmallFile) {
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kAutzenTable + 4, 50'000'000u); });
+    const auto [seconds, error] = read_timed(f.path());
+    EXPECT_LT(seconds, 0.5);
+    EXPECT_FALSE(error.empty()) << "50 M chunks in a 600 KB file were accepted";
+}
+
+TEST(ChunkTableHostile, BillionsOfVlrsClaimedInASmallFile) {
+    constexpr std::uint64_t kVlrCountField = 100;
+    EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kVlrCountField, 4'000'000'000u); });
+    const auto [seconds, error] = read_timed(f.path());
+    EXPECT_LT(seconds, 0.5);
+    EXPECT_FALSE(error.empty()) << "4 G VLRs before the point data were accepted";
 }
 
 TEST(ChunkTableWritten, TestEncoderReproducesLaszipsTable) {

@@ -12,7 +12,7 @@
 #include "nn/heightmap_network.hpp"
 #include "nn/network_io.hpp"
 #include "recon/interpolation.hpp"
-#include "recon/survey_samples.hpp"
+#include "pipelines/survey_samples.hpp"
 #include "core/thread_pool.hpp"
 #include "test_data.hpp"
 
@@ -100,9 +100,9 @@ TEST(ShippedModel, BatchOfRealPatchesIsFinite) {
     const auto ds = dataset::open_dataset({(test::surveys_dir() / "ky-jmo335-eastern-kentucky").string()});
     recon::PatchSpec spec;
     spec.texel_m = 2.5;
-    const recon::Lattice l = recon::lattice_for(ds, spec);
+    const pipelines::Lattice l = pipelines::lattice_for(ds, spec);
     ThreadPool pool(2);
-    const auto s = recon::sample_survey(ds, {{l, recon::auto_stride(ds, spec), {}}}, pool);
+    const auto s = pipelines::sample_survey(ds, {{l, pipelines::auto_stride(ds, spec), {}}}, pool);
     std::vector<recon::InterpolatedPatch> patches;
     for (const auto cell : s.samples[0].chunk_points->cells()) {
         auto ip = recon::interpolate_patch(recon::make_patch_points(*s.samples[0].chunk_points, cell, {spec, 25, true}));

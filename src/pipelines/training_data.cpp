@@ -1,7 +1,7 @@
 // write_training_data: one streaming pass per dataset (all texel sizes at once), then per
 // usable patch the nearest and linear inputs and the ground truth, appended as fixed-size
 // records; the JSON metadata goes last and the preamble is patched at the end.
-#include "recon/training_data.hpp"
+#include "pipelines/training_data.hpp"
 
 #include <cmath>
 #include <cstring>
@@ -14,9 +14,9 @@
 #include "dataset/dataset.hpp"
 #include "io/output_file.hpp"
 #include "recon/methods.hpp"
-#include "recon/survey_samples.hpp"
+#include "pipelines/survey_samples.hpp"
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
 namespace {
 
 // IEEE 754 binary16 from binary32, rounding to nearest even; NaN stays NaN.
@@ -198,4 +198,4 @@ TrainingDataSummary write_training_data(const std::vector<NamedDataset>& dataset
     return w.summary;
 }
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

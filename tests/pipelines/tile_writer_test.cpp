@@ -9,7 +9,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
-#include "dataset/tile_writer.hpp"
+#include "pipelines/tile_writer.hpp"
 #include "las/point_format.hpp"
 #include "io/file.hpp"
 #include "test_data.hpp"
@@ -40,12 +40,12 @@ protected:
 
 TEST_F(TileWriter, LasToLazToLasIsLossless) {
     const auto las = (test::formats_dir() / "PDAL__PDAL/test__data__las__autzen_trim.las").string();
-    dataset::ConvertOptions opt;
-    auto r = dataset::convert_tile(las, out("a.laz"), opt, pool);
+    pipelines::ConvertOptions opt;
+    auto r = pipelines::convert_tile(las, out("a.laz"), opt, pool);
     EXPECT_EQ(r.points, 110000u);
     EXPECT_EQ(r.chunks, 3u);
     opt.compress = false;
-    dataset::convert_tile(out("a.laz"), out("b.las"), opt, pool);
+    pipelines::convert_tile(out("a.laz"), out("b.las"), opt, pool);
     EXPECT_EQ(checksum(out("a.laz")), checksum(las));
     EXPECT_EQ(checksum(out("b.las")), checksum(las));
     // Same header fields as the input (except the format's compression bit / offsets).
@@ -61,7 +61,7 @@ TEST_F(TileWriter, LasToLazToLasIsLossless) {
 TEST_F(TileWriter, LazChunksEqualReferenceEncoder) {
     const auto las = (test::formats_dir() / "PDAL__PDAL/test__data__las__autzen_trim.las").string();
     const auto ref = (test::formats_dir() / "PDAL__PDAL/test__data__laz__autzen_trim.laz").string();
-    dataset::convert_tile(las, out("a.laz"), {}, pool);
+    pipelines::convert_tile(las, out("a.laz"), {}, pool);
     auto mine = io::File::open(out("a.laz"));
     auto theirs = io::File::open(ref);
     auto a = dataset::read_tile(mine), b = dataset::read_tile(theirs);
@@ -76,10 +76,10 @@ TEST_F(TileWriter, LazChunksEqualReferenceEncoder) {
 
 TEST_F(TileWriter, VariableChunksAndSmallChunks) {
     const auto laz = (test::formats_dir() / "PDAL__PDAL/test__data__laz__autzen_trim.laz").string();
-    dataset::ConvertOptions opt;
+    pipelines::ConvertOptions opt;
     opt.chunk_size = 7'000;
     opt.variable_chunks = true;
-    auto r = dataset::convert_tile(laz, out("v.laz"), opt, pool);
+    auto r = pipelines::convert_tile(laz, out("v.laz"), opt, pool);
     EXPECT_EQ(r.chunks, 16u);  // ceil(110000 / 7000)
     auto tile = dataset::read_tile(io::File::open(out("v.laz")));
     EXPECT_TRUE(tile.laz->variable_chunks());
@@ -89,10 +89,10 @@ TEST_F(TileWriter, VariableChunksAndSmallChunks) {
 
 TEST_F(TileWriter, FormatConversionKeepsCoordinatesAndColour) {
     const auto las = (test::formats_dir() / "PDAL__PDAL/test__data__las__autzen_trim.las").string();  // format 3
-    dataset::ConvertOptions opt;
+    pipelines::ConvertOptions opt;
     opt.compress = false;
     opt.point_format = 7;
-    dataset::convert_tile(las, out("f7.las"), opt, pool);
+    pipelines::convert_tile(las, out("f7.las"), opt, pool);
     auto in_file = io::File::open(las);
     auto out_file = io::File::open(out("f7.las"));
     auto in = dataset::read_tile(in_file), o = dataset::read_tile(out_file);
@@ -117,13 +117,13 @@ TEST_F(TileWriter, FormatConversionKeepsCoordinatesAndColour) {
 TEST_F(TileWriter, NeverOverwritesTheInputAndLeavesNoHalfFile) {
     const auto src = (test::formats_dir() / "PDAL__PDAL/test__data__las__autzen_trim.las").string();
     fs::copy_file(src, out("in.las"));
-    dataset::ConvertOptions opt;
+    pipelines::ConvertOptions opt;
     opt.compress = false;
-    EXPECT_THROW(dataset::convert_tile(out("in.las"), out("in.las"), opt, pool), Error);
+    EXPECT_THROW(pipelines::convert_tile(out("in.las"), out("in.las"), opt, pool), Error);
     EXPECT_EQ(checksum(out("in.las")), checksum(src));
     // A failing conversion (a broken input) leaves nothing under the output name.
     const auto broken = (test::formats_dir() / "PDAL__PDAL/test__data__las__1.2-with-color-clipped.las").string();
-    EXPECT_THROW(dataset::convert_tile(broken, out("x.laz"), {}, pool), Error);
+    EXPECT_THROW(pipelines::convert_tile(broken, out("x.laz"), {}, pool), Error);
     EXPECT_FALSE(fs::exists(out("x.laz")));
     for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos);
 }

@@ -1,5 +1,5 @@
 // evaluate_dataset: sample the survey once, then score every method on each usable patch.
-#include "recon/evaluation.hpp"
+#include "pipelines/evaluation.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -11,9 +11,9 @@
 #include "dataset/dataset.hpp"
 #include "recon/interpolation.hpp"
 #include "recon/metrics.hpp"
-#include "recon/survey_samples.hpp"
+#include "pipelines/survey_samples.hpp"
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
 
 Summary summarise(const std::vector<double>& v) {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
@@ -104,7 +104,7 @@ public:
                 classic_.push_back(m);
             }
         }
-        if (cnn_ && !opt.network) throw Error("eval: the cnn method needs the heightmap network (none was loaded)");
+        if (cnn_ && !opt.network) throw Error::in_stage("eval", "the cnn method needs the heightmap network (none was loaded)");
     }
 
     void score(const PatchInputs& in, PatchTruth truth) {
@@ -130,7 +130,7 @@ public:
         const auto t0 = Clock::now();
         const std::vector<Reconstruction> results = opt_.network(batch, has_rgb_);
         const double share = ms_since(t0) / static_cast<double>(batch.size());
-        if (results.size() != batch.size()) throw Error("eval: the network returned a wrong number of patches");
+        if (results.size() != batch.size()) throw Error::in_stage("eval", "the network returned a wrong number of patches");
         for (std::size_t i = 0; i < results.size(); ++i) {
             const CnnPending& p = pending_[i];
             add_score(out_.methods[Method::Cnn], results[i], p.nearest, p.points, p.truth, has_rgb_,
@@ -196,4 +196,4 @@ DatasetEvaluation evaluate_dataset(const dataset::Dataset& ds, const std::string
     return out;
 }
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "recon/patch_space.hpp"
-#include "recon/region_split.hpp"
+#include "pipelines/region_split.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -45,7 +45,10 @@ namespace lidarscout::dataset {
 struct Dataset;
 }
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
+
+// The pipelines run recon's per-patch algorithms over whole datasets; its types are theirs.
+using namespace lidarscout::recon;  // NOLINT(google-build-using-namespace)
 
 inline constexpr char kTrainingMagic[9] = "LSTRAIN1";
 
@@ -76,4 +79,4 @@ TrainingDataSummary write_training_data(const std::vector<NamedDataset>& dataset
                                         const std::string& out_path, ThreadPool& pool,
                                         const std::function<void(std::size_t, std::uint64_t, std::uint64_t)>& progress = {});
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <string>
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
 
 enum class Split { Train = 0, Validation = 1, Border = -1 };
 
@@ -41,4 +41,4 @@ private:
 // "train", "validation", "border".
 const char* split_name(Split split);
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

@@ -13,7 +13,7 @@ namespace lidarscout {
 class ThreadPool;
 }
 
-namespace lidarscout::dataset {
+namespace lidarscout::pipelines {
 
 struct ConvertOptions {
     bool compress = true;                     // write LAZ (else LAS)
@@ -34,4 +34,4 @@ using ConvertProgressFn = std::function<void(std::uint64_t points_done)>;
 ConvertResult convert_tile(const std::string& in_path, const std::string& out_path, const ConvertOptions& options,
                            ThreadPool& pool, const ConvertProgressFn& progress = {});
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout::pipelines

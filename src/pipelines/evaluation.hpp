@@ -27,7 +27,7 @@
 
 #include "recon/methods.hpp"
 #include "recon/patch_space.hpp"
-#include "recon/region_split.hpp"
+#include "pipelines/region_split.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -36,7 +36,10 @@ namespace lidarscout::dataset {
 struct Dataset;
 }
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
+
+// The pipelines run recon's per-patch algorithms over whole datasets; its types are theirs.
+using namespace lidarscout::recon;  // NOLINT(google-build-using-namespace)
 
 struct EvalOptions {
     std::vector<Method> methods{kAllMethods.begin(), kAllMethods.end()};
@@ -81,4 +84,4 @@ using EvalProgressFn = std::function<void(std::uint64_t points_done, std::uint64
 DatasetEvaluation evaluate_dataset(const dataset::Dataset& dataset, const std::string& name, const EvalOptions& options,
                                    ThreadPool& pool, const EvalProgressFn& progress = {});
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

@@ -1,6 +1,6 @@
 // LasWriter: header and VLRs first, records as they come (LAZ: whole chunks encoded in
 // parallel, written in order, chunk table at the end), EVLRs, then the final header.
-#include "dataset/las_writer.hpp"
+#include "laz/las_writer.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -13,7 +13,7 @@
 #include "laz/chunk_table_writer.hpp"
 #include "laz/laszip_vlr_writer.hpp"
 
-namespace lidarscout::dataset {
+namespace lidarscout::laz {
 
 // Cuts records into chunks, encodes whole chunks in parallel and writes them in order.
 class LasWriter::Chunks {
@@ -145,4 +145,4 @@ LasWriterResult LasWriter::finish(const std::vector<las::Vlr>& evlrs) {
     return result;
 }
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout::laz

@@ -27,7 +27,10 @@ namespace lidarscout::dataset {
 struct Dataset;
 }
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
+
+// The pipelines run recon's per-patch algorithms over whole datasets; its types are theirs.
+using namespace lidarscout::recon;  // NOLINT(google-build-using-namespace)
 
 inline constexpr double kReferenceDensity = 20.0;          // points / m^2 of a typical survey
 inline constexpr double kReferenceChunkPoints = 50'000.0;  // points per LAZ chunk
@@ -77,4 +80,4 @@ struct SurveySamples {
 SurveySamples sample_survey(const dataset::Dataset& dataset, const std::vector<SampleRequest>& requests,
                             ThreadPool& pool, const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

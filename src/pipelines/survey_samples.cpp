@@ -1,6 +1,6 @@
 // sample_survey and its helpers: the stride rule, the patch lattice, candidate patches and
 // the one streaming pass over a survey's tiles.
-#include "recon/survey_samples.hpp"
+#include "pipelines/survey_samples.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +15,7 @@
 #include "io/file.hpp"
 #include "las/point_format.hpp"
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
 
 double point_density(const dataset::Dataset& ds) {
     std::vector<double> densities;
@@ -135,4 +135,4 @@ SurveySamples sample_survey(const dataset::Dataset& ds, const std::vector<Sample
     return out;
 }
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

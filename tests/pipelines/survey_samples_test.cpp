@@ -10,10 +10,10 @@
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
 #include "las/point_format.hpp"
-#include "recon/survey_samples.hpp"
+#include "pipelines/survey_samples.hpp"
 #include "test_data.hpp"
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
 namespace {
 
 const dataset::Dataset& woodford() {
@@ -96,4 +96,4 @@ TEST(SurveySamples, EveryKthPointAndAllPointsOfThePatches) {
 }
 
 }  // namespace
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

@@ -10,7 +10,7 @@
 #include "dataset/file_search.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
-#include "dataset/tile_writer.hpp"
+#include "pipelines/tile_writer.hpp"
 #include "io/file.hpp"
 #include "test_data.hpp"
 
@@ -43,10 +43,10 @@ TEST_P(RoundTrip, Lossless) {
     const std::string in = GetParam();
     const auto laz = (dir / "a.laz").string();
     const auto las = (dir / "b.las").string();
-    dataset::ConvertOptions opt;
-    dataset::convert_tile(in, laz, opt, pool());
+    pipelines::ConvertOptions opt;
+    pipelines::convert_tile(in, laz, opt, pool());
     opt.compress = false;
-    dataset::convert_tile(laz, las, opt, pool());
+    pipelines::convert_tile(laz, las, opt, pool());
     const auto want = checksum(in);
     EXPECT_EQ(checksum(laz), want);
     EXPECT_EQ(checksum(las), want);

@@ -1,19 +1,27 @@
 // convert_tile: plan the output header and records, then stream the records batch by batch
 // through a LasWriter (LAS body, or LAZ chunks encoded in parallel).
-#include "dataset/tile_writer.hpp"
+#include "pipelines/tile_writer.hpp"
 
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
-#include "dataset/las_writer.hpp"
+#include "laz/las_writer.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "las/header_writer.hpp"
 #include "las/point_format.hpp"
 
-namespace lidarscout::dataset {
+namespace lidarscout::pipelines {
+
+using dataset::for_each_record_batch;
+using dataset::read_tile;
+using dataset::Tile;
+using laz::LasWriter;
+using laz::LasWriterOptions;
+using laz::LasWriterResult;
+
 namespace {
 
 // Everything about the output that is known before the first point is written.
@@ -118,4 +126,4 @@ ConvertResult convert_tile(const std::string& in_path, const std::string& out_pa
     return result;
 }
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout::pipelines

@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
-#include "recon/region_split.hpp"
+#include "pipelines/region_split.hpp"
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
 namespace {
 
 TEST(RegionSplit, DeterministicPerSeedAndDataset) {
@@ -67,4 +67,4 @@ TEST(RegionSplit, BadOptionsAreRefused) {
 }
 
 }  // namespace
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

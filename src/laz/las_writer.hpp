@@ -19,7 +19,7 @@ namespace lidarscout {
 class ThreadPool;
 }
 
-namespace lidarscout::dataset {
+namespace lidarscout::laz {
 
 struct LasWriterOptions {
     bool compress = true;               // write LAZ (else LAS)
@@ -73,4 +73,4 @@ private:
     bool finished_ = false;
 };
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout::laz

@@ -10,7 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
-#include "dataset/las_writer.hpp"
+#include "laz/las_writer.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
@@ -93,9 +93,9 @@ las::Vlr vlr(const char* user, std::uint16_t id, std::string payload, bool exten
 
 TEST_F(LasWriter, LasWithVlrsAndEvlrsReadsBack) {
     const auto recs = records(7, 1234);
-    dataset::LasWriterOptions opt;
+    laz::LasWriterOptions opt;
     opt.compress = false;
-    dataset::LasWriter w(out("a.las"), header(7), {vlr("test", 1, "hello")}, opt, pool);
+    laz::LasWriter w(out("a.las"), header(7), {vlr("test", 1, "hello")}, opt, pool);
     w.add(recs);
     w.header().min = {1, 2, 3};
     w.header().max = {4, 5, 6};
@@ -120,10 +120,10 @@ TEST_F(LasWriter, LasWithVlrsAndEvlrsReadsBack) {
 
 TEST_F(LasWriter, LazChunksAndOwnLaszipRecord) {
     const auto recs = records(7, 2500);
-    dataset::LasWriterOptions opt;
+    laz::LasWriterOptions opt;
     opt.chunk_size = 1000;
     // A LASzip VLR among the caller's records is replaced by the writer's own.
-    dataset::LasWriter w(out("a.laz"), header(7), {vlr("laszip encoded", 22204, "stale"), vlr("test", 1, "x")}, opt, pool);
+    laz::LasWriter w(out("a.laz"), header(7), {vlr("laszip encoded", 22204, "stale"), vlr("test", 1, "x")}, opt, pool);
     w.add(recs);
     const auto r = w.finish();
     EXPECT_EQ(r.points, 2500u);
@@ -141,19 +141,19 @@ TEST_F(LasWriter, LazChunksAndOwnLaszipRecord) {
 TEST_F(LasWriter, SameBytesWhateverTheBatches) {
     const auto recs = records(3, 5000);
     const auto size = las::point_format_info(3).size;
-    dataset::LasWriterOptions opt;
+    laz::LasWriterOptions opt;
     opt.chunk_size = 1200;
     las::Header h = header(3);
     h.version_minor = 2;
     h.header_size = las::standard_header_size(1, 2);
     {
-        dataset::LasWriter w(out("one.laz"), h, {}, opt, pool);
+        laz::LasWriter w(out("one.laz"), h, {}, opt, pool);
         w.add(recs);
         w.finish();
     }
     {
         ThreadPool single(1);
-        dataset::LasWriter w(out("many.laz"), h, {}, opt, single);
+        laz::LasWriter w(out("many.laz"), h, {}, opt, single);
         for (std::size_t at = 0, step = 1; at < 5000; at += step, step = step * 3 % 1777 + 1) {
             const std::size_t n = std::min<std::size_t>(step, 5000 - at);
             w.add(std::span(recs).subspan(at * size, n * size));
@@ -166,7 +166,7 @@ TEST_F(LasWriter, SameBytesWhateverTheBatches) {
 
 TEST_F(LasWriter, UnfinishedFileNeverAppears) {
     {
-        dataset::LasWriter w(out("gone.laz"), header(7), {}, {}, pool);
+        laz::LasWriter w(out("gone.laz"), header(7), {}, {}, pool);
         w.add(records(7, 10));
         EXPECT_THROW(w.add(std::vector<std::uint8_t>(5)), Error);  // a partial record
     }
@@ -175,9 +175,9 @@ TEST_F(LasWriter, UnfinishedFileNeverAppears) {
 }
 
 TEST_F(LasWriter, RejectsZeroChunkSize) {
-    dataset::LasWriterOptions opt;
+    laz::LasWriterOptions opt;
     opt.chunk_size = 0;
-    EXPECT_THROW(dataset::LasWriter(out("x.laz"), header(7), {}, opt, pool), Error);
+    EXPECT_THROW(laz::LasWriter(out("x.laz"), header(7), {}, opt, pool), Error);
 }
 
 }  // namespace

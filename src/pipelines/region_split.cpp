@@ -1,12 +1,12 @@
 // RegionSplit: hashed square blocks (see region_split.hpp).
-#include "recon/region_split.hpp"
+#include "pipelines/region_split.hpp"
 
 #include <cmath>
 
 #include "core/error.hpp"
 #include "core/random.hpp"
 
-namespace lidarscout::recon {
+namespace lidarscout::pipelines {
 namespace {
 
 std::uint64_t fnv1a(const std::string& s) {
@@ -53,4 +53,4 @@ const char* split_name(Split split) {
     return "?";
 }
 
-}  // namespace lidarscout::recon
+}  // namespace lidarscout::pipelines

@@ -1,0 +1,26 @@
+# Installing lidarscout as users install tools: `cmake --install build --prefix P` puts the
+# program in P/bin, its plugins in P/lib/lidarscout, the shipped model in
+# P/share/lidarscout/models and a desktop entry for the viewer in P/share/applications; the
+# installed program finds them from its own location (core/plugin_paths, nn/heightmap_network).
+# CPack makes a .deb whose dependencies are the Debian runtime packages (dpkg-shlibdeps).
+include(GNUInstallDirs)
+install(TARGETS lidarscout RUNTIME DESTINATION bin)
+install(TARGETS lidarscout_torch LIBRARY DESTINATION lib/lidarscout)
+if(TARGET lidarscout_cuda_raster)
+  install(TARGETS lidarscout_cuda_raster LIBRARY DESTINATION lib/lidarscout)
+endif()
+install(FILES models/heightmap_cnn.pt models/README.md DESTINATION share/lidarscout/models)
+install(FILES packaging/lidarscout.desktop DESTINATION share/applications)
+install(FILES README.md DESTINATION share/doc/lidarscout)
+
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGE_NAME lidarscout)
+set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
+set(CPACK_PACKAGE_CONTACT "lidarscout developers <lidarscout@localhost>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Explore country-sized LAS/LAZ lidar scans in seconds, without preprocessing")
+set(CPACK_DEBIAN_PACKAGE_SECTION science)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)  # depends on the Debian packages of the libraries it links
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_BINARY_DIR})
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+include(CPack)

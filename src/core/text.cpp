@@ -1,0 +1,72 @@
+// display_text: UTF-8 where valid, else Latin-1, control characters escaped.
+#include "core/text.hpp"
+
+#include <cstdint>
+#include <cstdio>
+
+namespace lidarscout {
+namespace {
+
+// Length of the valid UTF-8 sequence starting at `at` (0 when it is not one): no overlong
+// forms, no surrogates, nothing above U+10FFFF.
+std::size_t utf8_sequence(std::string_view s, std::size_t at, std::uint32_t& code) {
+    const auto byte = [&](std::size_t i) { return static_cast<std::uint8_t>(s[i]); };
+    const std::uint8_t b0 = byte(at);
+    std::size_t n = 0;
+    if (b0 >= 0xC2 && b0 <= 0xDF) {
+        n = 2, code = b0 & 0x1F;
+    } else if (b0 >= 0xE0 && b0 <= 0xEF) {
+        n = 3, code = b0 & 0x0F;
+    } else if (b0 >= 0xF0 && b0 <= 0xF4) {
+        n = 4, code = b0 & 0x07;
+    } else {
+        return 0;
+    }
+    if (at + n > s.size()) return 0;
+    for (std::size_t i = 1; i < n; ++i) {
+        if ((byte(at + i) & 0xC0) != 0x80) return 0;
+        code = (code << 6) | (byte(at + i) & 0x3F);
+    }
+    const bool overlong = (n == 3 && code < 0x800) || (n == 4 && code < 0x10000);
+    const bool invalid = (code >= 0xD800 && code <= 0xDFFF) || code > 0x10FFFF;
+    return overlong || invalid ? 0 : n;
+}
+
+void escape(std::string& out, unsigned value) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "\\x%02X", value & 0xFFu);
+    out += buf;
+}
+
+bool is_control(std::uint32_t code) { return code < 0x20 || code == 0x7F || (code >= 0x80 && code <= 0x9F); }
+
+}  // namespace
+
+std::string display_text(std::string_view bytes) {
+    std::string out;
+    out.reserve(bytes.size());
+    for (std::size_t i = 0; i < bytes.size();) {
+        const auto b = static_cast<std::uint8_t>(bytes[i]);
+        std::uint32_t code = b;
+        const std::size_t n = b < 0x80 ? 1 : utf8_sequence(bytes, i, code);
+        if (n == 0) {  // not UTF-8 here: the byte is a Latin-1 character
+            if (is_control(b)) {
+                escape(out, b);
+            } else {
+                out += static_cast<char>(0xC0 | (b >> 6));
+                out += static_cast<char>(0x80 | (b & 0x3F));
+            }
+            ++i;
+            continue;
+        }
+        if (is_control(code)) {
+            escape(out, code);
+        } else {
+            out.append(bytes.substr(i, n));
+        }
+        i += n;
+    }
+    return out;
+}
+
+}  // namespace lidarscout
