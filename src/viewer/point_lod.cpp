@@ -61,6 +61,34 @@ dataset::Bounds bounds_of(const PointSet& set) {
     return b;
 }
 
+// The level of each point of a block, its points sorted by quadtree code (`keyed`: code << 32 |
+// index into `members`): the coarsest level at which it is the highest point of its cell (ties:
+// the first), so that every cell's representative is what a view from above sees first;
+// points sharing their finest cell with a higher one get the last level.
+std::vector<std::uint8_t> point_levels(const PointSet& tile, std::span<const std::uint32_t> members,
+                                       std::span<const std::uint64_t> keyed) {
+    const std::size_t n = keyed.size();
+    std::vector<std::uint8_t> split(n), level(n, static_cast<std::uint8_t>(kLodLevels - 1));
+    std::vector<float> z(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        split[i] = static_cast<std::uint8_t>(
+            i == 0 ? 0 : first_level(static_cast<std::uint32_t>(keyed[i] >> 32), static_cast<std::uint32_t>(keyed[i - 1] >> 32)));
+        z[i] = tile.points[members[static_cast<std::uint32_t>(keyed[i])]].dz;
+    }
+    for (std::size_t k = 0; k <= kFinestCell; ++k) {
+        std::size_t best = 0;
+        for (std::size_t i = 0; i <= n; ++i) {
+            if (i == n || (i > 0 && split[i] <= k)) {  // the cell [.., i) ends: its highest point
+                level[best] = std::min(level[best], static_cast<std::uint8_t>(k));
+                best = i;
+            } else if (z[i] > z[best]) {
+                best = i;
+            }
+        }
+    }
+    return level;
+}
+
 // One block from the indices of its points in `tile` (scan order).
 LodBlock make_block(const PointSet& tile, std::span<const std::uint32_t> members, std::pair<std::int64_t, std::int64_t> cell,
                     double block_m) {
@@ -72,13 +100,9 @@ LodBlock make_block(const PointSet& tile, std::span<const std::uint32_t> members
         keyed[i] = (std::uint64_t{quadtree_code(u, v)} << 32) | i;
     }
     std::sort(keyed.begin(), keyed.end());
-    std::vector<std::uint8_t> level(keyed.size());
+    const std::vector<std::uint8_t> level = point_levels(tile, members, keyed);
     std::array<std::uint32_t, kLodLevels> count{};
-    for (std::size_t i = 0; i < keyed.size(); ++i) {
-        const auto code = static_cast<std::uint32_t>(keyed[i] >> 32);
-        level[i] = static_cast<std::uint8_t>(i == 0 ? 0 : first_level(code, static_cast<std::uint32_t>(keyed[i - 1] >> 32)));
-        ++count[level[i]];
-    }
+    for (const auto l : level) ++count[l];
     LodBlock block;
     block.size_m = block_m;
     std::array<std::uint32_t, kLodLevels> next{};

@@ -1,6 +1,7 @@
 // Level of detail for full-resolution points: a decoded tile is cut into square blocks of a
 // world-aligned grid and each block's points are reordered coarse to fine (SimLOD-style nested
-// sampling on a quadtree of cells): level k keeps one point per cell of side block_m / 2^k, so
+// sampling on a quadtree of cells): level k keeps one point per cell of side block_m / 2^k (the
+// highest, what a view from above sees first), so
 // drawing level k is drawing a prefix of the block's points, and the last level is every point.
 // A frame draws, per block, the prefix whose spacing matches the screen (about one point per
 // pixel at the block's nearest distance); a released tile keeps a short prefix of each block

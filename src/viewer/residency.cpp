@@ -15,6 +15,7 @@ namespace lidarscout::viewer {
 namespace {
 
 constexpr auto kPoll = std::chrono::milliseconds(100);
+constexpr std::uint64_t kPiecePoints = 1u << 18;  // points decoded (whole chunks) before they are shown
 
 // The mean spacing of a tile's points, from its header (metres).
 double mean_spacing(const dataset::DatasetTile& t) {
@@ -204,22 +205,35 @@ std::optional<std::uint32_t> Residency::next_load(std::unique_lock<std::mutex>& 
             continue;
         }
         busy_ = true;
-        decoding_bytes_ = 2 * tile_point_set_bytes(dataset_.tiles[choice->tile]);  // the points and their blocks
+        // The points still to come, and a piece twice while its blocks are built.
+        decoding_bytes_ = tile_point_set_bytes(dataset_.tiles[choice->tile]) + 2 * kPiecePoints * sizeof(render::PointAttr);
         peak_ = std::max(peak_, other + held() + decoding_bytes_);
         return choice->tile;
     }
 }
 
-Residency::Decoded Residency::decode(std::uint32_t tile, ThreadPool& pool) const {
-    PointSet set = tile_point_set(dataset_.tiles[tile], dataset_.las_stride, pool);
-    if (!options_.has_rgb) paint_uncoloured(std::span(&set, 1));
-    Decoded d;
-    d.detail = tile_detail(set, grid_, options_.patch_texels);
-    d.blocks = build_lod_blocks(set, tile, options_.block_m, pool);
-    return d;
+PointOrder Residency::decode_order() const {
+    // In view first, then nearer first.
+    return [camera = camera_](double x, double y, double z) {
+        const auto p = camera.project(x, y, z);
+        const bool seen = p && p->x >= 0 && p->y >= 0 && p->x < camera.width && p->y < camera.height;
+        return (seen ? 0.0 : 1e12) + std::hypot(x - camera.x, y - camera.y, z - camera.z);
+    };
+}
+
+void Residency::load(std::uint32_t tile, const PointOrder& order, ThreadPool& pool) {
+    decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, kPiecePoints, [&](PointSet&& piece) {
+        if (!options_.has_rgb) paint_uncoloured(std::span(&piece, 1));
+        Decoded d;
+        d.detail = tile_detail(piece, grid_, options_.patch_texels);
+        d.blocks = build_lod_blocks(piece, tile, options_.block_m, pool);
+        piece = PointSet{};
+        notify({}, std::nullopt, commit(tile, std::move(d)));
+    });
 }
 
 std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded) {
+    std::lock_guard lock(mutex_);
     std::vector<dataset::CellKey> cells;
     for (auto& [cell, d] : decoded.detail) {
         cells.push_back(cell);
@@ -233,14 +247,16 @@ std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded deco
         merge_detail(*merged, d);
         it->second = std::move(merged);
     }
-    Entry e;
-    e.coarse_bytes = coarse_bytes(decoded.blocks, options_.coarse_spacing_m);
-    e.blocks = std::move(decoded.blocks);
-    e.bytes = lod_bytes(e.blocks);
+    Entry& e = tiles_[tile];
+    e.level = Level::Full;
+    e.coarse_bytes += coarse_bytes(decoded.blocks, options_.coarse_spacing_m);
+    const std::uint64_t added = lod_bytes(decoded.blocks);
+    e.bytes += added;
+    e.blocks.insert(e.blocks.end(), decoded.blocks.begin(), decoded.blocks.end());
     e.last_seen = tick_;
-    tiles_[tile] = std::move(e);
+    decoding_bytes_ -= std::min(decoding_bytes_, added);
     ++version_;
-    peak_ = std::max(peak_, last_other_ + held());
+    peak_ = std::max(peak_, last_other_ + held() + decoding_bytes_);
     return cells;
 }
 
@@ -257,25 +273,24 @@ void Residency::run() {
     ThreadPool pool(std::max(1u, options_.decode_threads));
     std::unique_lock lock(mutex_);
     while (const auto tile = next_load(lock)) {
+        const PointOrder order = decode_order();
         lock.unlock();
-        std::optional<Decoded> decoded;
         std::string error;
         try {
-            decoded = decode(*tile, pool);
+            load(*tile, order, pool);
         } catch (const std::exception& e) {
             error = e.what();
         }
         lock.lock();
         decoding_bytes_ = 0;
         busy_ = false;
-        if (!decoded) {
+        if (!error.empty()) {
             failed_.insert(*tile);
             errors_.push_back(error);
             continue;
         }
-        const auto cells = commit(*tile, std::move(*decoded));
         lock.unlock();
-        notify({}, *tile, cells);
+        notify({}, *tile, {});
         lock.lock();
     }
 }

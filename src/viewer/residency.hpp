@@ -5,7 +5,8 @@
 // coverage, per byte). Decoded tiles become LOD blocks (point_lod.hpp) and fold their points into
 // the patch detail (scheduler_detail.hpp). When memory runs short, the tiles worth least per
 // byte (out of view first, least recently seen first) drop to their coarse levels, then to
-// nothing; a load happens only when it is worth more than what it displaces, so the memory
+// nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, each
+// shown as soon as it is in. A load happens only when it is worth more than what it displaces, so the memory
 // budget (with what the rest of the scheduler holds) is never exceeded and loading converges.
 // Its own thread and its own lock; hooks are called without that lock held.
 #pragma once
@@ -98,7 +99,8 @@ private:
     double gain_per_byte(std::uint32_t tile) const;
     std::uint64_t held() const;
     std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
-    Decoded decode(std::uint32_t tile, ThreadPool& pool) const;
+    PointOrder decode_order() const;
+    void load(std::uint32_t tile, const PointOrder& order, ThreadPool& pool);
     std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded);
     void notify(const std::vector<std::uint32_t>& released, std::optional<std::uint32_t> loaded,
                 const std::vector<dataset::CellKey>& cells) const;
