@@ -17,7 +17,9 @@
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "test_data.hpp"
+#include "render/image_compare.hpp"
 #include "viewer/flight_path.hpp"
+#include "viewer/frame_refiner.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/scheduler_detail.hpp"
@@ -208,6 +210,42 @@ TEST(ViewerScheduler, MovingTheCameraReprioritisesFullResolution) {
     std::set<std::uint32_t> tiles;
     for (const auto& b : scheduler.snapshot()->full_points) tiles.insert(b->tile);
     EXPECT_GE(tiles.size(), 2u);
+}
+
+// Once idle with a budget that holds the survey, the still frame (refined: every point held)
+// equals a frame drawing every point of the tile decoded here, over the same heightmaps; the
+// frame drawn while moving (LOD at half a pixel) is close to it but not equal.
+TEST(ViewerScheduler, IdleFrameEqualsEveryPointOfTheVisibleTiles) {
+    const auto ds = open_survey("ky-woodford-county");
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    render::Camera camera = above_tile(ds.tiles[0], 1500);
+    camera.width = 480, camera.height = 360;
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 1ull << 30;
+    o.camera = camera;
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    EXPECT_EQ(scheduler.stats().full_res.done, 1u);
+    const auto snap = scheduler.snapshot();
+    ThreadPool pool(2);
+    SceneStyle style;
+    FrameRefiner refiner;
+    const auto moving = refiner.draw(*snap, camera, style, pool).image;
+    const auto still = refiner.draw(*snap, camera, style, pool).image;
+    ASSERT_TRUE(refiner.refined());
+
+    Scene reference;
+    for (const auto& h : snap->heightmaps) reference.heightmaps.push_back(*h);
+    for (const auto& c : snap->chunk_points) reference.chunk_points.push_back(*c);
+    reference.full_points.push_back(tile_point_set(ds.tiles[0], ds.las_stride, pool));
+    if (!scheduler.has_rgb()) paint_uncoloured(reference.full_points);
+    const auto expected = render_scene(reference, camera, style, pool).image;
+    EXPECT_GE(render::image_psnr_db(still, expected), 60.0);
+    const double lod = render::image_psnr_db(moving, expected);
+    RecordProperty("lod_psnr_db", static_cast<int>(lod));
+    EXPECT_GE(lod, 30.0);
+    EXPECT_LT(lod, render::kIdenticalPsnrDb);
 }
 
 TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
