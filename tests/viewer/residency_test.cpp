@@ -12,6 +12,7 @@
 #include "test_data.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/residency.hpp"
+#include "survey_tiles.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -22,13 +23,7 @@ dataset::Dataset jmo335() {
     return dataset::open_dataset({(test::surveys_dir() / "ky-jmo335-eastern-kentucky").string()});
 }
 
-std::uint32_t tile_named(const dataset::Dataset& ds, const std::string& stem) {
-    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        if (std::filesystem::path(ds.tiles[i].tile.path).stem() == stem) return i;
-    }
-    ADD_FAILURE() << "no tile " << stem;
-    return 0;
-}
+using survey::tile_named;
 
 render::Camera above(const dataset::Bounds& b, double height) {
     render::Camera c;

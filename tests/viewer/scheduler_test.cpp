@@ -23,6 +23,7 @@
 #include "viewer/point_sets.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/scheduler_detail.hpp"
+#include "survey_tiles.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -34,13 +35,7 @@ dataset::Dataset open_survey(const std::string& name) {
     return dataset::open_dataset({(test::surveys_dir() / name).string()});
 }
 
-std::uint32_t tile_named(const dataset::Dataset& ds, const std::string& stem) {
-    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        if (std::filesystem::path(ds.tiles[i].tile.path).stem() == stem) return i;
-    }
-    ADD_FAILURE() << "no tile " << stem;
-    return 0;
-}
+using survey::tile_named;
 
 // Straight down at the centre of a tile, `height` metres above its top.
 render::Camera above_tile(const dataset::DatasetTile& t, double height) {
