@@ -28,6 +28,18 @@ std::uint32_t spread_bits(std::uint32_t v) {
 
 std::uint32_t axis_cell(double t) { return static_cast<std::uint32_t>(std::clamp(t * 65536.0, 0.0, 65535.0)); }
 
+// Sorts `keyed` (code << 32 | index) by code, stably (radix sort on the code's four bytes).
+void sort_by_code(std::vector<std::uint64_t>& keyed) {
+    std::vector<std::uint64_t> other(keyed.size());
+    for (int shift = 32; shift < 64; shift += 8) {
+        std::array<std::uint32_t, 257> start{};
+        for (const auto k : keyed) ++start[((k >> shift) & 0xff) + 1];
+        for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+        for (const auto k : keyed) other[start[(k >> shift) & 0xff]++] = k;
+        keyed.swap(other);
+    }
+}
+
 // Which block of the world grid each point falls in; blocks numbered in order of first appearance.
 struct BlockIndex {
     std::vector<std::uint32_t> of_point;
@@ -38,14 +50,19 @@ BlockIndex index_blocks(const PointSet& tile, double block_m) {
     BlockIndex out;
     out.of_point.resize(tile.points.size());
     std::unordered_map<std::uint64_t, std::uint32_t> ids;
+    std::uint64_t last_key = 0;
+    std::uint32_t last_id = 0;
     for (std::size_t i = 0; i < tile.points.size(); ++i) {
         const auto& p = tile.points[i];
         const auto ix = static_cast<std::int64_t>(std::floor((tile.origin_x + p.dx) / block_m));
         const auto iy = static_cast<std::int64_t>(std::floor((tile.origin_y + p.dy) / block_m));
         const std::uint64_t key = (static_cast<std::uint64_t>(ix) << 32) ^ static_cast<std::uint32_t>(iy);
-        const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(out.cells.size()));
-        if (added) out.cells.emplace_back(ix, iy);
-        out.of_point[i] = it->second;
+        if (i == 0 || key != last_key) {  // points come in scan order: mostly the previous point's block
+            const auto [it, added] = ids.try_emplace(key, static_cast<std::uint32_t>(out.cells.size()));
+            if (added) out.cells.emplace_back(ix, iy);
+            last_key = key, last_id = it->second;
+        }
+        out.of_point[i] = last_id;
     }
     return out;
 }
@@ -99,7 +116,7 @@ LodBlock make_block(const PointSet& tile, std::span<const std::uint32_t> members
         const double u = (tile.origin_x + p.dx - x0) / block_m, v = (tile.origin_y + p.dy - y0) / block_m;
         keyed[i] = (std::uint64_t{quadtree_code(u, v)} << 32) | i;
     }
-    std::sort(keyed.begin(), keyed.end());
+    sort_by_code(keyed);
     const std::vector<std::uint8_t> level = point_levels(tile, members, keyed);
     std::array<std::uint32_t, kLodLevels> count{};
     for (const auto l : level) ++count[l];
