@@ -37,14 +37,17 @@ bool FrameRefiner::same(const Key& a, const Key& b) {
 const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const render::Camera& camera,
                                         const SceneStyle& style, ThreadPool& pool, const SceneLayers& layers) {
     const Key key{camera, snapshot.version, style, layers};
-    const bool still = last_ && same(*last_, key);
-    if (still && refined_) return frame_;
+    const auto now = std::chrono::steady_clock::now();
+    const bool same_key = last_ && same(*last_, key);
+    if (!same_key) changed_at_ = now;
+    const bool refine = same_key && now - changed_at_ >= settle_;
+    if (same_key && (refined_ || !refine)) return frame_;
     SceneStyle drawn = style;
-    if (still && style.lod_spacing_px > 0) {
+    if (refine && style.lod_spacing_px > 0) {
         drawn.lod_spacing_px = refined_spacing(snapshot.full_points, camera, style.lod_spacing_px, max_points_);
     }
     frame_ = render_snapshot(snapshot, camera, drawn, pool, layers);
-    refined_ = still;
+    refined_ = refine;
     last_ = key;
     return frame_;
 }

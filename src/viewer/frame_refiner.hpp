@@ -1,11 +1,12 @@
 // Progressive refinement of still frames. While the camera moves (or the scheduler's snapshot
 // changes), frames draw the LOD blocks at the style's spacing (about one point per pixel, fast).
-// Once a camera and a snapshot have been drawn that way and come again unchanged, the next frame
-// draws the blocks with every point held (or, above a point cap, the finest spacing under it),
+// Once a camera and a snapshot have been drawn that way and stayed unchanged for a settling time
+// (so that a scheduler still loading keeps its cores for decoding), the next frame draws the blocks with every point held (or, above a point cap, the finest spacing under it),
 // the picture a converged view should equal; after that the same image is given back until the
 // camera, the snapshot or the style changes.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 
@@ -22,7 +23,9 @@ double refined_spacing(const LodBlocks& blocks, const render::Camera& camera, do
 
 class FrameRefiner {
 public:
-    explicit FrameRefiner(std::uint64_t max_points = 24'000'000) : max_points_(max_points) {}
+    explicit FrameRefiner(std::chrono::milliseconds settle = std::chrono::milliseconds(250),
+                          std::uint64_t max_points = 24'000'000)
+        : settle_(settle), max_points_(max_points) {}
 
     // The frame for this camera and snapshot (see above). Styles are compared by their colour
     // mode, point sizes, eye-dome lighting, LOD spacing and backend; call invalidate() after
@@ -42,8 +45,10 @@ private:
     };
     static bool same(const Key& a, const Key& b);
 
+    std::chrono::milliseconds settle_;
     std::uint64_t max_points_;
     std::optional<Key> last_;
+    std::chrono::steady_clock::time_point changed_at_;
     bool refined_ = false;
     RenderedScene frame_;
 };

@@ -1,9 +1,10 @@
-// FrameRefiner: a frame that changes nothing since the last one is refined once (every point
-// held), then given back as is; a camera move or a new snapshot goes back to the LOD frame.
+// FrameRefiner: a frame that changes nothing since the last one (for the settling time) is
+// refined once (every point held), then given back as is; a camera move or a new snapshot goes back to the LOD frame.
 // refined_spacing: every point under the cap, finer fractions of the LOD spacing above it.
 #include <gtest/gtest.h>
 
 #include <random>
+#include <thread>
 
 #include "viewer/frame_refiner.hpp"
 
@@ -41,7 +42,7 @@ TEST(ViewerFrameRefiner, StillFramesAreRefinedOnceThenKept) {
     const auto snap = random_snapshot();
     ThreadPool pool(2);
     SceneStyle style;
-    FrameRefiner refiner;
+    FrameRefiner refiner(std::chrono::milliseconds(0));
     render::Camera camera = overhead();
     const auto first = refiner.draw(*snap, camera, style, pool);
     EXPECT_FALSE(refiner.refined());
@@ -65,6 +66,19 @@ TEST(ViewerFrameRefiner, StillFramesAreRefinedOnceThenKept) {
     changed->version = 2;
     refiner.draw(*changed, camera, style, pool);
     EXPECT_FALSE(refiner.refined());
+}
+
+TEST(ViewerFrameRefiner, RefinesOnlyOnceSettled) {
+    const auto snap = random_snapshot();
+    ThreadPool pool(2);
+    FrameRefiner refiner(std::chrono::milliseconds(200));
+    const render::Camera camera = overhead();
+    refiner.draw(*snap, camera, {}, pool);
+    refiner.draw(*snap, camera, {}, pool);
+    EXPECT_FALSE(refiner.refined());
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    refiner.draw(*snap, camera, {}, pool);
+    EXPECT_TRUE(refiner.refined());
 }
 
 TEST(ViewerFrameRefiner, RefinedSpacingStaysUnderThePointCap) {

@@ -225,7 +225,7 @@ TEST(ViewerScheduler, IdleFrameEqualsEveryPointOfTheVisibleTiles) {
     const auto snap = scheduler.snapshot();
     ThreadPool pool(2);
     SceneStyle style;
-    FrameRefiner refiner;
+    FrameRefiner refiner(std::chrono::milliseconds(0));
     const auto moving = refiner.draw(*snap, camera, style, pool).image;
     const auto still = refiner.draw(*snap, camera, style, pool).image;
     ASSERT_TRUE(refiner.refined());
