@@ -186,6 +186,7 @@ std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const data
     const auto t0 = Clock::now();
     viewer::FullResOptions opt;
     opt.memory_budget = plan.memory_budget;
+    opt.few_tiles = ds.tiles.size();  // every tile in view (as the viewer ends), nearest first, while it fits
     const auto choice = viewer::choose_full_res_tiles(ds, camera, opt);
     std::uint64_t total = 0;
     for (const auto i : choice.tiles) total += ds.tiles[i].tile.header.point_count;
