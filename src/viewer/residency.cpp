@@ -39,6 +39,9 @@ std::uint64_t coarse_bytes(const LodBlocks& blocks, double spacing_m) {
 
 }  // namespace
 
+// Thrown between two pieces of a tile when the residency stops.
+struct Stopped {};
+
 struct Residency::Choice {
     std::uint32_t tile = 0;
     std::vector<std::uint32_t> victims;
@@ -50,7 +53,9 @@ Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& 
     for (const auto& t : dataset.tiles) spacing_.push_back(mean_spacing(t));
 }
 
-Residency::~Residency() {
+Residency::~Residency() { stop(); }
+
+void Residency::stop() {
     {
         std::lock_guard lock(mutex_);
         stopping_ = true;
@@ -223,6 +228,7 @@ PointOrder Residency::decode_order() const {
 
 void Residency::load(std::uint32_t tile, const PointOrder& order, ThreadPool& pool) {
     decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, kPiecePoints, [&](PointSet&& piece) {
+        if (std::lock_guard lock(mutex_); stopping_) throw Stopped{};
         if (!options_.has_rgb) paint_uncoloured(std::span(&piece, 1));
         Decoded d;
         d.detail = tile_detail(piece, grid_, options_.patch_texels);
@@ -278,6 +284,8 @@ void Residency::run() {
         std::string error;
         try {
             load(*tile, order, pool);
+        } catch (const Stopped&) {
+            return;
         } catch (const std::exception& e) {
             error = e.what();
         }

@@ -64,6 +64,7 @@ public:
     Residency& operator=(const Residency&) = delete;
 
     void start();  // starts the worker (once the hooks can be called)
+    void stop();   // stops and joins the worker (a tile being decoded stops after its current piece)
     void set_camera(const render::Camera& camera);
     void set_budget(std::uint64_t bytes);
 

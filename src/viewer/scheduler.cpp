@@ -197,8 +197,8 @@ Scheduler::~Scheduler() {
         state_->stopping = true;
     }
     state_->wake.notify_all();
+    residency_->stop();  // its hooks use the state and the residency itself
     for (auto& t : threads_) t.join();
-    residency_.reset();  // joins its worker (its hooks use the state; the workers above used it)
     loader_.reset();  // joins the reader thread (its callback uses the state)
 }
 
