@@ -15,6 +15,7 @@ namespace lidarscout::viewer {
 namespace {
 
 constexpr auto kPoll = std::chrono::milliseconds(100);
+constexpr std::size_t kMaxTries = 64;  // candidates tried per look, best first
 constexpr std::uint64_t kPiecePoints = 1u << 18;  // points decoded (whole chunks) before they are shown
 
 // The mean spacing of a tile's points, from its header (metres).
@@ -112,29 +113,32 @@ std::uint64_t Residency::held() const {
     return bytes;
 }
 
-std::optional<std::vector<std::uint32_t>> Residency::victims(std::uint64_t incoming, double gain, std::uint64_t other) const {
-    std::uint64_t total = other + held();
-    const std::uint64_t budget = options_.memory_budget;
-    if (total + incoming <= budget) return std::vector<std::uint32_t>{};
-    // (worth per byte, tile, bytes freed): a full tile drops to its coarse levels, then to nothing.
-    std::vector<std::tuple<double, std::uint32_t, std::uint64_t>> steps;
+std::vector<Residency::Step> Residency::release_steps() const {
+    // A full tile drops to its coarse levels, then to nothing; cheapest worth per byte first.
+    std::vector<Step> steps;
     for (const auto& [tile, e] : tiles_) {
         const double v = value_per_byte(tile, e);
         if (e.level == Level::Coarse) {
-            steps.emplace_back(v, tile, e.bytes);
+            steps.push_back({v, tile, e.bytes});
             continue;
         }
-        steps.emplace_back(v, tile, e.bytes - e.coarse_bytes);
+        steps.push_back({v, tile, e.bytes - e.coarse_bytes});
         const Entry coarse{Level::Coarse, {}, e.coarse_bytes, 0, e.last_seen};
-        steps.emplace_back(std::max(v, value_per_byte(tile, coarse)), tile, e.coarse_bytes);
+        steps.push_back({std::max(v, value_per_byte(tile, coarse)), tile, e.coarse_bytes});
     }
-    std::stable_sort(steps.begin(), steps.end(), [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
+    std::stable_sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) { return a.value < b.value; });
+    return steps;
+}
+
+std::optional<std::vector<std::uint32_t>> Residency::victims(std::uint64_t incoming, double gain, std::uint64_t total,
+                                                             const std::vector<Step>& steps) const {
+    const std::uint64_t budget = options_.memory_budget;
     std::vector<std::uint32_t> out;
-    for (const auto& [value, tile, freed] : steps) {
+    for (const Step& s : steps) {
         if (total + incoming <= budget) break;
-        if (value * options_.hysteresis >= gain) return std::nullopt;
-        out.push_back(tile);
-        total -= std::min(total, freed);
+        if (s.value * options_.hysteresis >= gain) return std::nullopt;
+        out.push_back(s.tile);
+        total -= std::min(total, s.freed);
     }
     if (total + incoming > budget) return std::nullopt;
     return out;
@@ -143,8 +147,7 @@ std::optional<std::vector<std::uint32_t>> Residency::victims(std::uint64_t incom
 std::optional<Residency::Choice> Residency::choose(std::uint64_t other) {
     ++tick_;
     wanted_ = wanted_full_ = 0;
-    std::optional<std::uint32_t> best;
-    double best_gain = -1;
+    std::vector<std::pair<double, std::uint32_t>> candidates;  // (gain per byte, tile)
     for (std::uint32_t i = 0; i < dataset_.tiles.size(); ++i) {
         const double fraction = screen_fraction(camera_, dataset_.tiles[i].bounds_m);
         if (fraction <= options_.min_screen_fraction || failed_.contains(i)) continue;
@@ -155,13 +158,18 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other) {
             ++wanted_full_;
             continue;
         }
-        const double gain = gain_per_byte(i);
-        if (gain > best_gain) best = i, best_gain = gain;
+        candidates.emplace_back(gain_per_byte(i), i);
     }
-    if (!best) return std::nullopt;
-    auto v = victims(tile_point_set_bytes(dataset_.tiles[*best]), best_gain, other);
-    if (!v) return std::nullopt;
-    return Choice{*best, std::move(*v)};
+    // The best that fits: a tile larger than the budget allows must not stop the others.
+    std::sort(candidates.begin(), candidates.end(), std::greater<>());
+    if (candidates.size() > kMaxTries) candidates.resize(kMaxTries);
+    const auto steps = release_steps();
+    const std::uint64_t total = other + held();
+    for (const auto& [gain, tile] : candidates) {
+        auto v = victims(tile_point_set_bytes(dataset_.tiles[tile]), gain, total, steps);
+        if (v) return Choice{tile, std::move(*v)};
+    }
+    return std::nullopt;
 }
 
 std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& tiles) {
@@ -198,7 +206,7 @@ std::optional<std::uint32_t> Residency::next_load(std::unique_lock<std::mutex>& 
         last_other_ = other;
         const auto choice = choose(other);
         const auto over = choice ? std::optional(choice->victims)
-                                 : victims(0, std::numeric_limits<double>::infinity(), other);
+                                 : victims(0, std::numeric_limits<double>::infinity(), other + held(), release_steps());
         const auto dropped = release(over.value_or(std::vector<std::uint32_t>{}));
         if (!dropped.empty()) {
             lock.unlock();

@@ -95,7 +95,16 @@ private:
     void run();
     std::optional<std::uint32_t> next_load(std::unique_lock<std::mutex>& lock);
     std::optional<Choice> choose(std::uint64_t other);
-    std::optional<std::vector<std::uint32_t>> victims(std::uint64_t incoming, double gain, std::uint64_t other) const;
+    struct Step {
+        double value = 0;  // worth per byte freed
+        std::uint32_t tile = 0;
+        std::uint64_t freed = 0;
+    };
+    std::vector<Step> release_steps() const;
+    // What to release, cheapest first, so that `incoming` bytes fit with `total` held, each
+    // worth less than `gain` (per byte); nullopt when that cannot be done.
+    std::optional<std::vector<std::uint32_t>> victims(std::uint64_t incoming, double gain, std::uint64_t total,
+                                                      const std::vector<Step>& steps) const;
     double value_per_byte(std::uint32_t tile, const Entry& entry) const;
     double gain_per_byte(std::uint32_t tile) const;
     std::uint64_t held() const;

@@ -127,5 +127,32 @@ TEST(ViewerResidency, EveryTileInViewEndsAtFullResolutionWhenTheBudgetAllows) {
     EXPECT_LE(st.bytes, o.memory_budget);
 }
 
+TEST(ViewerResidency, ATileLargerThanTheBudgetDoesNotStopTheOthers) {
+    const auto ds = jmo335();
+    const std::uint32_t big = tile_named(ds, "N118E380"), small = tile_named(ds, "N118E379");
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    dataset::PatchGrid grid(ox, oy);
+    ResidencyOptions o;
+    o.decode_threads = 2;
+    o.memory_budget = 64ull << 20;  // the big tile's 142 MB never fit; the small one's 39 MB do
+    ASSERT_GT(tile_point_set_bytes(ds.tiles[big]), o.memory_budget);
+    ASSERT_LT(tile_point_set_bytes(ds.tiles[small]), o.memory_budget);
+    // Over the big tile near their shared edge: a strip of the small one in view, so that the
+    // big one improves the picture most per byte and comes first.
+    dataset::Bounds edge = ds.tiles[big].bounds_m;
+    edge.min_x += 340, edge.max_x = edge.min_x + 200;
+    Residency r(ds, grid, o);
+    r.start();
+    r.set_camera(above(edge, 600));
+    ASSERT_TRUE(wait_idle(r));
+    const auto h = held(r);
+    EXPECT_TRUE(h.contains(small));
+    EXPECT_FALSE(h.contains(big));
+    const auto st = r.stats();
+    EXPECT_EQ(st.wanted, 2u);
+    EXPECT_EQ(st.wanted_full, 1u);
+    EXPECT_LE(st.bytes, o.memory_budget);
+}
+
 }  // namespace
 }  // namespace lidarscout::viewer
