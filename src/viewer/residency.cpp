@@ -15,8 +15,10 @@ namespace lidarscout::viewer {
 namespace {
 
 constexpr auto kPoll = std::chrono::milliseconds(100);
-constexpr std::size_t kMaxTries = 64;  // candidates tried per look, best first
 constexpr std::uint64_t kPiecePoints = 1u << 18;  // points decoded (whole chunks) before they are shown
+constexpr std::uint64_t kPieceBytes = kPiecePoints * sizeof(render::PointAttr);
+constexpr std::uint64_t kMinPartialBytes = 4 * kPieceBytes;  // room worth starting a partial load
+constexpr std::size_t kMaxTries = 64;  // candidates tried per look, best first
 
 // The mean spacing of a tile's points, from its header (metres).
 double mean_spacing(const dataset::DatasetTile& t) {
@@ -42,10 +44,13 @@ std::uint64_t coarse_bytes(const LodBlocks& blocks, double spacing_m) {
 
 // Thrown between two pieces of a tile when the residency stops.
 struct Stopped {};
+// Thrown between two pieces of a tile when the next could pass the bytes it was given.
+struct Capped {};
 
 struct Residency::Choice {
     std::uint32_t tile = 0;
     std::vector<std::uint32_t> victims;
+    std::uint64_t cap = 0;  // bytes it may take: less than the whole tile for a partial load
 };
 
 Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options)
@@ -155,7 +160,7 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other) {
         const auto it = tiles_.find(i);
         if (it != tiles_.end()) it->second.last_seen = tick_;
         if (it != tiles_.end() && it->second.level == Level::Full) {
-            ++wanted_full_;
+            wanted_full_ += !it->second.partial;
             continue;
         }
         candidates.emplace_back(gain_per_byte(i), i);
@@ -166,10 +171,30 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other) {
     const auto steps = release_steps();
     const std::uint64_t total = other + held();
     for (const auto& [gain, tile] : candidates) {
-        auto v = victims(tile_point_set_bytes(dataset_.tiles[tile]), gain, total, steps);
-        if (v) return Choice{tile, std::move(*v)};
+        const std::uint64_t bytes = tile_point_set_bytes(dataset_.tiles[tile]);
+        auto v = victims(bytes, gain, total, steps);
+        if (v) return Choice{tile, std::move(*v), bytes};
+    }
+    // None fits whole: the best one in part (its pieces in view first), in the room there is.
+    for (const auto& [gain, tile] : candidates) {
+        auto choice = partial_choice(tile, gain, total, steps);
+        if (choice) return choice;
     }
     return std::nullopt;
+}
+
+std::optional<Residency::Choice> Residency::partial_choice(std::uint32_t tile, double gain, std::uint64_t total,
+                                                           const std::vector<Step>& steps) const {
+    const std::uint64_t budget = options_.memory_budget;
+    Choice c{tile, {}, 0};
+    for (const Step& s : steps) {
+        if (s.value * options_.hysteresis >= gain) break;
+        c.victims.push_back(s.tile);
+        total -= std::min(total, s.freed);
+    }
+    if (total + kMinPartialBytes > budget) return std::nullopt;
+    c.cap = budget - total;
+    return c;
 }
 
 std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& tiles) {
@@ -192,7 +217,7 @@ std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& 
     return dropped;
 }
 
-std::optional<std::uint32_t> Residency::next_load(std::unique_lock<std::mutex>& lock) {
+std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std::unique_lock<std::mutex>& lock) {
     std::uint64_t seen = ~0ull;
     while (true) {
         wake_.wait_for(lock, kPoll, [&] { return stopping_ || camera_version_ != seen; });
@@ -219,9 +244,9 @@ std::optional<std::uint32_t> Residency::next_load(std::unique_lock<std::mutex>& 
         }
         busy_ = true;
         // The points still to come, and a piece twice while its blocks are built.
-        decoding_bytes_ = tile_point_set_bytes(dataset_.tiles[choice->tile]) + 2 * kPiecePoints * sizeof(render::PointAttr);
+        decoding_bytes_ = choice->cap + 2 * kPieceBytes;
         peak_ = std::max(peak_, other + held() + decoding_bytes_);
-        return choice->tile;
+        return std::pair(choice->tile, choice->cap);
     }
 }
 
@@ -234,7 +259,9 @@ PointOrder Residency::decode_order() const {
     };
 }
 
-void Residency::load(std::uint32_t tile, const PointOrder& order, ThreadPool& pool) {
+void Residency::load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool) {
+    const bool whole = cap >= tile_point_set_bytes(dataset_.tiles[tile]);
+    std::uint64_t taken = 0;
     decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, kPiecePoints, [&](PointSet&& piece) {
         if (std::lock_guard lock(mutex_); stopping_) throw Stopped{};
         if (!options_.has_rgb) paint_uncoloured(std::span(&piece, 1));
@@ -242,12 +269,16 @@ void Residency::load(std::uint32_t tile, const PointOrder& order, ThreadPool& po
         d.detail = tile_detail(piece, grid_, options_.patch_texels);
         d.blocks = build_lod_blocks(piece, tile, options_.block_m, pool);
         piece = PointSet{};
-        notify({}, std::nullopt, commit(tile, std::move(d)));
+        const bool first = taken == 0;
+        taken += lod_bytes(d.blocks);
+        notify({}, std::nullopt, commit(tile, std::move(d), first));
+        if (!whole && taken + 2 * kPieceBytes > cap) throw Capped{};
     });
 }
 
-std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded) {
+std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded, bool first) {
     std::lock_guard lock(mutex_);
+    if (first) tiles_.erase(tile);  // its coarse levels, held since an earlier release
     std::vector<dataset::CellKey> cells;
     for (auto& [cell, d] : decoded.detail) {
         cells.push_back(cell);
@@ -286,14 +317,18 @@ void Residency::notify(const std::vector<std::uint32_t>& dropped, std::optional<
 void Residency::run() {
     ThreadPool pool(std::max(1u, options_.decode_threads));
     std::unique_lock lock(mutex_);
-    while (const auto tile = next_load(lock)) {
+    while (const auto job = next_load(lock)) {
+        const auto [tile, cap] = *job;
         const PointOrder order = decode_order();
         lock.unlock();
         std::string error;
+        bool capped = false;
         try {
-            load(*tile, order, pool);
+            load(tile, cap, order, pool);
         } catch (const Stopped&) {
             return;
+        } catch (const Capped&) {
+            capped = true;
         } catch (const std::exception& e) {
             error = e.what();
         }
@@ -301,12 +336,13 @@ void Residency::run() {
         decoding_bytes_ = 0;
         busy_ = false;
         if (!error.empty()) {
-            failed_.insert(*tile);
+            failed_.insert(tile);
             errors_.push_back(error);
             continue;
         }
+        if (capped && tiles_.contains(tile)) tiles_.at(tile).partial = true;
         lock.unlock();
-        notify({}, *tile, {});
+        notify({}, tile, {});
         lock.lock();
     }
 }

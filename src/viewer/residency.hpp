@@ -6,7 +6,8 @@
 // the patch detail (scheduler_detail.hpp). When memory runs short, the tiles worth least per
 // byte (out of view first, least recently seen first) drop to their coarse levels, then to
 // nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, each
-// shown as soon as it is in. A load happens only when it is worth more than what it displaces, so the memory
+// shown as soon as it is in; when no tile fits whole, the best one is loaded in part, as many
+// pieces as there is room for (it is not loaded again while those are held: a known limit). A load happens only when it is worth more than what it displaces, so the memory
 // budget (with what the rest of the scheduler holds) is never exceeded and loading converges.
 // Its own thread and its own lock; hooks are called without that lock held.
 #pragma once
@@ -85,6 +86,7 @@ private:
         LodBlocks blocks;
         std::uint64_t bytes = 0, coarse_bytes = 0;
         std::uint64_t last_seen = 0;
+        bool partial = false;  // full resolution for the pieces that fitted only
     };
     struct Decoded {
         LodBlocks blocks;
@@ -93,7 +95,7 @@ private:
     struct Choice;  // a tile to load and what to drop for it
 
     void run();
-    std::optional<std::uint32_t> next_load(std::unique_lock<std::mutex>& lock);
+    std::optional<std::pair<std::uint32_t, std::uint64_t>> next_load(std::unique_lock<std::mutex>& lock);  // tile, cap
     std::optional<Choice> choose(std::uint64_t other);
     struct Step {
         double value = 0;  // worth per byte freed
@@ -101,6 +103,8 @@ private:
         std::uint64_t freed = 0;
     };
     std::vector<Step> release_steps() const;
+    std::optional<Choice> partial_choice(std::uint32_t tile, double gain, std::uint64_t total,
+                                         const std::vector<Step>& steps) const;
     // What to release, cheapest first, so that `incoming` bytes fit with `total` held, each
     // worth less than `gain` (per byte); nullopt when that cannot be done.
     std::optional<std::vector<std::uint32_t>> victims(std::uint64_t incoming, double gain, std::uint64_t total,
@@ -110,8 +114,8 @@ private:
     std::uint64_t held() const;
     std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
     PointOrder decode_order() const;
-    void load(std::uint32_t tile, const PointOrder& order, ThreadPool& pool);
-    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded);
+    void load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool);
+    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool first);
     void notify(const std::vector<std::uint32_t>& released, std::optional<std::uint32_t> loaded,
                 const std::vector<dataset::CellKey>& cells) const;
 
