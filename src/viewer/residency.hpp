@@ -35,6 +35,7 @@ namespace lidarscout::viewer {
 struct ResidencyOptions {
     std::uint64_t memory_budget = 1ull << 30;  // bytes, other_bytes() included
     unsigned decode_threads = 1;
+    int decode_nice = 5;             // decoding threads run this much nicer than the caller
     bool has_rgb = true;
     int patch_texels = 64;           // detail texels per patch side
     double block_m = 80;             // LOD block side
