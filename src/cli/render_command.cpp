@@ -311,7 +311,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--until", o->until,
                     "Stage to complete: overview (chunk points), heightmaps, full (plus full-resolution points of "
-                    "the tiles large on screen; default)");
+                    "every tile in view that fits under --memory; default)");
     cmd->add_option("--colour,--color", o->colour, "rgb (default), elevation, intensity or classification");
     cmd->add_option("--heightmaps", o->heightmaps, "Heightmap method: linear (default) or cnn (the network)");
     cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");
