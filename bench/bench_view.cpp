@@ -14,14 +14,14 @@
 // dataset from above; a medium view about 2 km wide, or the dataset's width when smaller, looking
 // down 60 degrees; a close view 300 m wide looking down 45 degrees), each with a freshly opened
 // scheduler drawing frames as the viewer does, at most 60 a second (vsync), through
-// viewer/frame_refiner.hpp (a still frame is refined once with every point held); the PSNR (dB, eye-dome lighting off) of the live frame
-// against a reference frame at 0.5, 1, 2, 5, 10 and 30 s. The reference: a second scheduler with
-// the default (large) budget, idle, every visible tile at full resolution, drawn with every point.
+// viewer/frame_refiner.hpp (a still frame is refined once with every point held); the PSNR (dB, eye-dome lighting off)
+// of the live frame against a reference frame at 0.5, 1, 2, 5, 10 and 30 s. The reference: a second scheduler with the
+// default (large) budget, idle, every visible tile at full resolution, drawn with every point.
 // --json prints {"dataset", "cameras": [{"name", "samples": [{"t", "psnr_db"}]}], "peak_rss_mb",
-// "budget_mb"}.
+// "budget_mb", "scheduler_peak_mb"}.
 //
-// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--lod-spacing PX] [--memory MB] [--threads N]
-//                   [--backend cpu|cuda|auto]
+// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--lod-spacing PX]
+//                   [--memory MB] [--threads N] [--backend cpu|cuda|auto]
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
 // ../shared/data/surveys).
 #include <fmt/format.h>
@@ -278,8 +278,8 @@ LiveRun live_run(const Options& o, const dataset::Dataset& ds, const NamedCamera
         run.frames.push_back(std::move(frame));
         const auto st = scheduler.stats();
         if (o.json) continue;
-        fmt::print("{} camera at {:.1f} s: {} of {} visible tiles full, {} coarse, {} heightmaps, {} MB held\n", view.name,
-                   since(start), st.full_res.done, st.full_res.total, st.coarse_tiles,
+        fmt::print("{} camera at {:.1f} s: {} of {} visible tiles full, {} coarse, {} heightmaps, {} MB held\n",
+                   view.name, since(start), st.full_res.done, st.full_res.total, st.coarse_tiles,
                    st.heightmaps_linear + st.heightmaps_cnn, st.bytes_used >> 20);
     }
     run.scheduler_peak = scheduler.stats().peak_bytes_used;

@@ -9,7 +9,8 @@
 namespace lidarscout::render {
 
 double image_psnr_db(const RgbaImage& image, const RgbaImage& reference) {
-    if (image.width != reference.width || image.height != reference.height || image.pixels.size() != reference.pixels.size()) {
+    if (image.width != reference.width || image.height != reference.height ||
+        image.pixels.size() != reference.pixels.size()) {
         throw Error("image_psnr_db: " + std::to_string(image.width) + "x" + std::to_string(image.height) + " against " +
                     std::to_string(reference.width) + "x" + std::to_string(reference.height));
     }

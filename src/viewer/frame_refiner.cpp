@@ -18,7 +18,8 @@ bool same_camera(const render::Camera& a, const render::Camera& b) {
 
 }  // namespace
 
-double refined_spacing(const LodBlocks& blocks, const render::Camera& camera, double coarse_px, std::uint64_t max_points) {
+double refined_spacing(const LodBlocks& blocks, const render::Camera& camera, double coarse_px,
+                       std::uint64_t max_points) {
     if (points_in(blocks, camera, 0) <= max_points) return 0;
     double best = coarse_px;
     for (double s = coarse_px / 2; s >= coarse_px / 16 && points_in(blocks, camera, s) <= max_points; s /= 2) best = s;

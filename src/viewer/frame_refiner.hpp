@@ -1,9 +1,9 @@
 // Progressive refinement of still frames. While the camera moves (or the scheduler's snapshot
 // changes), frames draw the LOD blocks at the style's spacing (about one point per pixel, fast).
 // Once a camera and a snapshot have been drawn that way and stayed unchanged for a settling time
-// (so that a scheduler still loading keeps its cores for decoding), the next frame draws the blocks with every point held (or, above a point cap, the finest spacing under it),
-// the picture a converged view should equal; after that the same image is given back until the
-// camera, the snapshot or the style changes.
+// (so that a scheduler still loading keeps its cores for decoding), the next frame draws the blocks with every point
+// held (or, above a point cap, the finest spacing under it), the picture a converged view should equal; after that the
+// same image is given back until the camera, the snapshot or the style changes.
 #pragma once
 
 #include <chrono>
@@ -19,7 +19,8 @@ namespace lidarscout::viewer {
 // The spacing (pixels) at which a refined frame draws `blocks`: 0 (every point held) when at
 // most `max_points` points are in view, else the smallest power-of-two fraction of `coarse_px`
 // that stays under the cap (`coarse_px` itself at worst).
-double refined_spacing(const LodBlocks& blocks, const render::Camera& camera, double coarse_px, std::uint64_t max_points);
+double refined_spacing(const LodBlocks& blocks, const render::Camera& camera, double coarse_px,
+                       std::uint64_t max_points);
 
 class FrameRefiner {
 public:

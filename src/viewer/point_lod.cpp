@@ -88,8 +88,9 @@ std::vector<std::uint8_t> point_levels(const PointSet& tile, std::span<const std
     std::vector<std::uint8_t> split(n), level(n, static_cast<std::uint8_t>(kLodLevels - 1));
     std::vector<float> z(n);
     for (std::size_t i = 0; i < n; ++i) {
-        split[i] = static_cast<std::uint8_t>(
-            i == 0 ? 0 : first_level(static_cast<std::uint32_t>(keyed[i] >> 32), static_cast<std::uint32_t>(keyed[i - 1] >> 32)));
+        split[i] = static_cast<std::uint8_t>(i == 0 ? 0
+                                                    : first_level(static_cast<std::uint32_t>(keyed[i] >> 32),
+                                                                  static_cast<std::uint32_t>(keyed[i - 1] >> 32)));
         z[i] = tile.points[members[static_cast<std::uint32_t>(keyed[i])]].dz;
     }
     for (std::size_t k = 0; k <= kFinestCell; ++k) {
@@ -107,8 +108,8 @@ std::vector<std::uint8_t> point_levels(const PointSet& tile, std::span<const std
 }
 
 // One block from the indices of its points in `tile` (scan order).
-LodBlock make_block(const PointSet& tile, std::span<const std::uint32_t> members, std::pair<std::int64_t, std::int64_t> cell,
-                    double block_m) {
+LodBlock make_block(const PointSet& tile, std::span<const std::uint32_t> members,
+                    std::pair<std::int64_t, std::int64_t> cell, double block_m) {
     const double x0 = static_cast<double>(cell.first) * block_m, y0 = static_cast<double>(cell.second) * block_m;
     std::vector<std::uint64_t> keyed(members.size());  // code << 32 | position in `members`
     for (std::size_t i = 0; i < members.size(); ++i) {

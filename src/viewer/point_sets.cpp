@@ -47,7 +47,8 @@ struct RecordConverter {
 RecordConverter converter(const dataset::DatasetTile& tile, const PointSet& set,
                           std::span<const dataset::ChunkPoint> samples) {
     const auto& format = las::point_format_info(tile.tile.header.point_format);
-    return {&tile, &format, set.origin_x, set.origin_y, set.origin_z, format.rgb_offset >= 0 && colour_is_16bit(samples)};
+    return {&tile,        &format,      set.origin_x,
+            set.origin_y, set.origin_z, format.rgb_offset >= 0 && colour_is_16bit(samples)};
 }
 
 PointSet empty_tile_set(const dataset::DatasetTile& tile) {
@@ -100,7 +101,8 @@ PointSet decode_piece(const io::File& file, const laz::LazLayout& layout, std::s
                       const dataset::DatasetTile& tile, const RecordConverter& convert, ThreadPool& pool) {
     const std::size_t record = layout.header.record_length;
     std::vector<std::uint64_t> offset(units.size() + 1, 0);
-    for (std::size_t k = 0; k < units.size(); ++k) offset[k + 1] = offset[k] + layout.units[units[k]].point_count * record;
+    for (std::size_t k = 0; k < units.size(); ++k)
+        offset[k + 1] = offset[k] + layout.units[units[k]].point_count * record;
     std::vector<std::uint8_t> buf(offset.back());
     pool.for_each(units.size(), [&](std::size_t k) {
         std::vector<std::uint8_t> scratch;
@@ -179,8 +181,9 @@ void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stri
         return;
     }
     const auto file = io::File::open(tile.tile.path);
-    const laz::LazLayout layout{tile.tile.header, *tile.tile.laz,
-                                laz::decode_units(tile.tile.header, *tile.tile.laz, *tile.tile.chunks, tile.tile.file_size)};
+    const laz::LazLayout layout{
+        tile.tile.header, *tile.tile.laz,
+        laz::decode_units(tile.tile.header, *tile.tile.laz, *tile.tile.chunks, tile.tile.file_size)};
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
     const RecordConverter convert = converter(tile, empty_tile_set(tile), samples);
     const std::vector<double> keys = unit_keys(tile, layout, samples, order);

@@ -40,7 +40,8 @@ double error_px(const render::Camera& camera, const dataset::Bounds& box, double
 
 std::uint64_t coarse_bytes(const LodBlocks& blocks, double spacing_m) {
     std::uint64_t n = 0;
-    for (const auto& b : blocks) n += b->level_end[coarse_level(*b, spacing_m)] * sizeof(render::PointAttr) + sizeof(LodBlock);
+    for (const auto& b : blocks)
+        n += b->level_end[coarse_level(*b, spacing_m)] * sizeof(render::PointAttr) + sizeof(LodBlock);
     return n;
 }
 
@@ -107,13 +108,15 @@ double Residency::gain_per_byte(std::uint32_t tile) const {
 double Residency::value_per_byte(std::uint32_t tile, const Entry& entry) const {
     const auto& b = dataset_.tiles[tile].bounds_m;
     const double fraction = screen_fraction(camera_, b);
-    if (fraction <= 0) return -1.0 / (1.0 + static_cast<double>(entry.last_seen));  // out of view: least recently seen first
+    if (fraction <= 0)
+        return -1.0 / (1.0 + static_cast<double>(entry.last_seen));  // out of view: least recently seen first
     if (entry.level == Level::Full) {
         const double freed = static_cast<double>(std::max<std::uint64_t>(entry.bytes - entry.coarse_bytes, 1));
         return error_px(camera_, b, options_.coarse_spacing_m, spacing_[tile]) * fraction / freed;
     }
     const double texel = grid_.patch_size() / options_.patch_texels;
-    return error_px(camera_, b, texel, options_.coarse_spacing_m) * fraction / static_cast<double>(std::max<std::uint64_t>(entry.bytes, 1));
+    return error_px(camera_, b, texel, options_.coarse_spacing_m) * fraction /
+           static_cast<double>(std::max<std::uint64_t>(entry.bytes, 1));
 }
 
 std::uint64_t Residency::held() const {
@@ -360,7 +363,8 @@ LodBlocks Residency::blocks() const {
     std::lock_guard lock(mutex_);
     if (blocks_version_ != version_) {
         blocks_cache_.clear();
-        for (const auto& [tile, e] : tiles_) blocks_cache_.insert(blocks_cache_.end(), e.blocks.begin(), e.blocks.end());
+        for (const auto& [tile, e] : tiles_)
+            blocks_cache_.insert(blocks_cache_.end(), e.blocks.begin(), e.blocks.end());
         blocks_version_ = version_;
     }
     return blocks_cache_;

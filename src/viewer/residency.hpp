@@ -7,9 +7,9 @@
 // byte (out of view first, least recently seen first) drop to their coarse levels, then to
 // nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, each
 // shown as soon as it is in; when no tile fits whole, the best one is loaded in part, as many
-// pieces as there is room for (it is not loaded again while those are held: a known limit). A load happens only when it is worth more than what it displaces, so the memory
-// budget (with what the rest of the scheduler holds) is never exceeded and loading converges.
-// Its own thread and its own lock; hooks are called without that lock held.
+// pieces as there is room for (it is not loaded again while those are held: a known limit). A load happens only when it
+// is worth more than what it displaces, so the memory budget (with what the rest of the scheduler holds) is never
+// exceeded and loading converges. Its own thread and its own lock; hooks are called without that lock held.
 #pragma once
 
 #include <condition_variable>

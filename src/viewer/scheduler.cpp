@@ -235,12 +235,15 @@ void Scheduler::set_camera(const render::Camera& camera) {
     residency_->set_camera(camera);
 }
 
-void Scheduler::set_memory_budget(std::uint64_t bytes) { residency_->set_budget(bytes ? bytes : default_memory_budget()); }
+void Scheduler::set_memory_budget(std::uint64_t bytes) {
+    residency_->set_budget(bytes ? bytes : default_memory_budget());
+}
 
 ResidencyOptions Scheduler::residency_options() {
     ResidencyOptions r = options_.residency;
     r.memory_budget = options_.memory_budget ? options_.memory_budget : default_memory_budget();
-    r.decode_threads = options_.decode_threads ? options_.decode_threads : std::max(1u, std::thread::hardware_concurrency());
+    r.decode_threads =
+        options_.decode_threads ? options_.decode_threads : std::max(1u, std::thread::hardware_concurrency());
     r.has_rgb = has_rgb_;
     r.patch_texels = state_->build.patch.spec.patch_texels;
     r.other_bytes = [this] {

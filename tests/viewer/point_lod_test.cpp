@@ -31,7 +31,9 @@ PointSet random_points(std::size_t n) {
     return set;
 }
 
-std::tuple<float, float, float, std::uint16_t> key(const render::PointAttr& p) { return {p.dx, p.dy, p.dz, p.intensity}; }
+std::tuple<float, float, float, std::uint16_t> key(const render::PointAttr& p) {
+    return {p.dx, p.dy, p.dz, p.intensity};
+}
 
 TEST(ViewerPointLod, FirstLevelIsWhereTheCodesPart) {
     EXPECT_EQ(quadtree_code(0, 0), 0u);

@@ -220,8 +220,8 @@ int run_viewer(const ViewerOptions& o) {
         }
         input.apply(win.window, events, controller, dt, fb_height);
         render::Camera camera;
-        last = draw_frame(session, controller, settings, panels, std::max(1, fb_width), std::max(1, fb_height), pool, refiner,
-                          camera);
+        last = draw_frame(session, controller, settings, panels, std::max(1, fb_width), std::max(1, fb_height), pool,
+                          refiner, camera);
         frame_ms = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
 
         glViewport(0, 0, fb_width, fb_height);
