@@ -10,7 +10,18 @@
 // (median, 95th percentile, worst), the longest wait for the scheduler (taking the camera and
 // the snapshot: what loading could stall), frames over 100 ms, and memory against the budget.
 //
-// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--memory MB] [--threads N] [--backend cpu|cuda|auto]
+// --converge: how fast the picture converges to the real points. Three fixed cameras (the whole
+// dataset from above; a medium view about 2 km wide, or the dataset's width when smaller, looking
+// down 60 degrees; a close view 300 m wide looking down 45 degrees), each with a freshly opened
+// scheduler drawing frames as the viewer does, at most 60 a second (vsync), through
+// viewer/frame_refiner.hpp (a still frame is refined once with every point held); the PSNR (dB, eye-dome lighting off)
+// of the live frame against a reference frame at 0.5, 1, 2, 5, 10 and 30 s. The reference: a second scheduler with the
+// default (large) budget, idle, every visible tile at full resolution, drawn with every point.
+// --json prints {"dataset", "cameras": [{"name", "samples": [{"t", "psnr_db"}]}], "peak_rss_mb",
+// "budget_mb", "scheduler_peak_mb"}.
+//
+// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--lod-spacing PX]
+//                   [--memory MB] [--threads N] [--backend cpu|cuda|auto]
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
 // ../shared/data/surveys).
 #include <fmt/format.h>
@@ -18,6 +29,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -26,7 +39,10 @@
 #include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "render/image_compare.hpp"
+#include "render/png_writer.hpp"
 #include "viewer/flight_path.hpp"
+#include "viewer/frame_refiner.hpp"
 #include "viewer/scheduler.hpp"
 
 using namespace lidarscout;
@@ -34,12 +50,16 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+constexpr auto kVsync = std::chrono::microseconds(16'667);
+
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 struct Options {
     std::vector<std::string> paths;
     bool cnn = false;
     double flight_s = 0;           // 0: the loading benchmark
+    bool converge = false, json = false;
+    std::string png_dir;           // --converge: write every sampled frame and reference here
     std::uint64_t memory_mb = 1024;
     unsigned threads = 0;          // render threads (0: all cores)
     viewer::SceneStyle style;      // its backend from --backend
@@ -55,6 +75,10 @@ Options parse(int argc, char** argv) {
         };
         if (a == "--cnn") o.cnn = true;
         else if (a == "--flight") o.flight_s = std::stod(value());
+        else if (a == "--converge") o.converge = true;
+        else if (a == "--json") o.json = true;
+        else if (a == "--png") o.png_dir = value();
+        else if (a == "--lod-spacing") o.style.lod_spacing_px = std::stod(value());
         else if (a == "--memory") o.memory_mb = std::stoull(value());
         else if (a == "--threads") o.threads = static_cast<unsigned>(std::stoul(value()));
         else if (a == "--backend") o.style.backend = render::choose_backend(render::parse_backend(value())).backend;
@@ -133,6 +157,7 @@ int flight(const Options& o, const dataset::Dataset& ds) {
     so.camera = viewer::flight_camera(ds.bounds_m, 0, path);
     const std::uint64_t rss0 = resident_bytes();
     viewer::Scheduler scheduler(ds, so);
+    viewer::FrameRefiner refiner;
     ThreadPool pool(pool_threads(o));
     std::vector<double> frame_ms, camera_ms, snapshot_ms;
     std::vector<std::string> slow;  // frames over 100 ms: when, and how long
@@ -146,7 +171,7 @@ int flight(const Options& o, const dataset::Dataset& ds) {
         const auto s0 = Clock::now();
         const auto snap = scheduler.snapshot();
         snapshot_ms.push_back(1000 * since(s0));
-        viewer::render_snapshot(*snap, camera, o.style, pool);
+        refiner.draw(*snap, camera, o.style, pool);
         frame_ms.push_back(1000 * since(f0));
         if (frame_ms.back() > 100) slow.push_back(fmt::format("{:.0f} ms at {:.2f} s", frame_ms.back(), since(start)));
         peak_rss = std::max(peak_rss, resident_bytes());
@@ -171,6 +196,143 @@ int flight(const Options& o, const dataset::Dataset& ds) {
     return 0;
 }
 
+
+struct NamedCamera {
+    std::string name;
+    render::Camera camera;
+};
+
+// Looking north at the centre of the dataset's bounds (at its middle height), `pitch_deg` down,
+// from where the image is `width_m` wide at that point.
+render::Camera view_of_centre(const dataset::Bounds& b, double width_m, double pitch_deg) {
+    render::Camera c;
+    c.width = 1280, c.height = 720;
+    c.pitch_deg = pitch_deg;
+    c.near_m = 1, c.far_m = 1e6;
+    const double half_h = std::tan(0.5 * c.fov_deg * std::numbers::pi / 180) * c.width / c.height;
+    const double distance = 0.5 * width_m / half_h, p = pitch_deg * std::numbers::pi / 180;
+    c.x = b.centre_x();
+    c.y = b.centre_y() - distance * std::cos(p);
+    c.z = 0.5 * (b.min_z + b.max_z) - distance * std::sin(p);
+    return c;
+}
+
+std::vector<NamedCamera> converge_cameras(const dataset::Bounds& b) {
+    const double w = b.max_x - b.min_x, h = b.max_y - b.min_y;
+    return {{"whole", view_of_centre(b, 1.05 * std::max(w, h * 1280 / 720), -90)},
+            {"medium", view_of_centre(b, std::min(2000.0, w), -60)},
+            {"close", view_of_centre(b, 300, -45)}};
+}
+
+// The frame with every point of every visible tile: a scheduler with the default budget, idle.
+render::RgbaImage reference_frame(const Options& o, const dataset::Dataset& ds, const render::Camera& camera,
+                                  viewer::SceneStyle style, ThreadPool& pool) {
+    viewer::SchedulerOptions so;
+    so.cnn = o.cnn;
+    so.camera = camera;
+    viewer::Scheduler scheduler(ds, so);
+    const auto t0 = Clock::now();
+    while (!scheduler.idle()) {
+        if (since(t0) > 600) throw std::runtime_error("the reference scheduler is not idle after 600 s");
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    const auto st = scheduler.stats();
+    if (st.full_res.done != st.full_res.total) {
+        fmt::print(stderr, "bench_view: reference has {} of {} visible tiles at full resolution\n", st.full_res.done,
+                   st.full_res.total);
+    }
+    style.lod_spacing_px = 0;
+    return viewer::render_snapshot(*scheduler.snapshot(), camera, style, pool).image;
+}
+
+const std::vector<double> kSampleTimes = {0.5, 1, 2, 5, 10, 30};
+
+struct LiveRun {
+    std::vector<render::RgbaImage> frames;  // at kSampleTimes
+    std::uint64_t peak_rss = 0, scheduler_peak = 0;
+};
+
+// A freshly opened scheduler at `camera`, drawn at 60 Hz through the FrameRefiner; the frames
+// at the sample times.
+LiveRun live_run(const Options& o, const dataset::Dataset& ds, const NamedCamera& view, const viewer::SceneStyle& style,
+                 ThreadPool& pool) {
+    viewer::SchedulerOptions so;
+    so.cnn = o.cnn;
+    so.memory_budget = o.memory_mb << 20;
+    so.camera = view.camera;
+    viewer::Scheduler scheduler(ds, so);
+    viewer::FrameRefiner refiner;
+    LiveRun run;
+    const auto start = Clock::now();
+    std::vector<double> frame_ms;
+    auto next_frame = start;
+    while (run.frames.size() < kSampleTimes.size()) {
+        std::this_thread::sleep_until(next_frame);  // a 60 Hz display
+        const auto f0 = Clock::now();
+        next_frame = f0 + kVsync;
+        scheduler.set_camera(view.camera);
+        auto frame = refiner.draw(*scheduler.snapshot(), view.camera, style, pool).image;
+        frame_ms.push_back(1000 * since(f0));
+        run.peak_rss = std::max(run.peak_rss, resident_bytes());
+        if (since(start) < kSampleTimes[run.frames.size()]) continue;
+        run.frames.push_back(std::move(frame));
+        const auto st = scheduler.stats();
+        if (o.json) continue;
+        fmt::print("{} camera at {:.1f} s: {} of {} visible tiles full, {} coarse, {} heightmaps, {} MB held\n",
+                   view.name, since(start), st.full_res.done, st.full_res.total, st.coarse_tiles,
+                   st.heightmaps_linear + st.heightmaps_cnn, st.bytes_used >> 20);
+    }
+    run.scheduler_peak = scheduler.stats().peak_bytes_used;
+    if (!o.json) {
+        fmt::print("{} camera frame ms (cached still frames included): median {:.1f}, worst {:.1f} ({} frames); "
+                   "peak RSS {} MB, scheduler peak {} MB\n",
+                   view.name, percentile(frame_ms, 0.5), percentile(frame_ms, 1.0), frame_ms.size(), run.peak_rss >> 20,
+                   run.scheduler_peak >> 20);
+    }
+    return run;
+}
+
+int converge(const Options& o, const dataset::Dataset& ds) {
+    viewer::SceneStyle style = o.style;
+    style.resolve.edl_strength = 0;
+    ThreadPool pool(pool_threads(o));
+    const auto views = converge_cameras(ds.bounds_m);
+    // Every live run first, so that their peak RSS is not the references' (which hold every point).
+    std::vector<LiveRun> runs;
+    std::uint64_t peak_rss = 0, scheduler_peak = 0;
+    for (const auto& view : views) {
+        runs.push_back(live_run(o, ds, view, style, pool));
+        peak_rss = std::max(peak_rss, runs.back().peak_rss);
+        scheduler_peak = std::max(scheduler_peak, runs.back().scheduler_peak);
+    }
+    std::vector<std::string> cameras;
+    for (std::size_t v = 0; v < views.size(); ++v) {
+        const auto& name = views[v].name;
+        const auto reference = reference_frame(o, ds, views[v].camera, style, pool);
+        if (!o.png_dir.empty()) render::write_png(fmt::format("{}/{}-reference.png", o.png_dir, name), reference);
+        std::vector<std::string> samples;
+        for (std::size_t i = 0; i < kSampleTimes.size(); ++i) {
+            const double psnr = render::image_psnr_db(runs[v].frames[i], reference);
+            if (!o.png_dir.empty()) {
+                render::write_png(fmt::format("{}/{}-{}s.png", o.png_dir, name, kSampleTimes[i]), runs[v].frames[i]);
+            }
+            samples.push_back(fmt::format("{{\"t\": {}, \"psnr_db\": {:.2f}}}", kSampleTimes[i], psnr));
+            if (!o.json) fmt::print("{} camera: {:.1f} s {:.2f} dB\n", name, kSampleTimes[i], psnr);
+        }
+        cameras.push_back(fmt::format("{{\"name\": \"{}\", \"samples\": [{}]}}", name, fmt::join(samples, ", ")));
+    }
+    const std::string dataset = fmt::format("{}", fmt::join(o.paths, " "));
+    if (o.json) {
+        fmt::print("{{\"dataset\": \"{}\", \"cameras\": [{}], \"peak_rss_mb\": {}, \"budget_mb\": {}, "
+                   "\"scheduler_peak_mb\": {}}}\n",
+                   dataset, fmt::join(cameras, ", "), peak_rss >> 20, o.memory_mb, scheduler_peak >> 20);
+    } else {
+        fmt::print("peak RSS {} MB (live runs), scheduler peak {} MB, budget {} MB\n", peak_rss >> 20,
+                   scheduler_peak >> 20, o.memory_mb);
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -179,6 +341,7 @@ int main(int argc, char** argv) {
         const auto t0 = Clock::now();
         const auto ds = dataset::open_dataset(o.paths);
         const double headers = since(t0);
+        if (o.converge) return converge(o, ds);
         return o.flight_s > 0 ? flight(o, ds) : loading(o, ds, headers);
     } catch (const std::exception& e) {
         fmt::print(stderr, "bench_view: {}\n", e.what());

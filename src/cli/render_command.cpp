@@ -186,6 +186,7 @@ std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const data
     const auto t0 = Clock::now();
     viewer::FullResOptions opt;
     opt.memory_budget = plan.memory_budget;
+    opt.few_tiles = ds.tiles.size();  // every tile in view (as the viewer ends), nearest first, while it fits
     const auto choice = viewer::choose_full_res_tiles(ds, camera, opt);
     std::uint64_t total = 0;
     for (const auto i : choice.tiles) total += ds.tiles[i].tile.header.point_count;
@@ -310,7 +311,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--until", o->until,
                     "Stage to complete: overview (chunk points), heightmaps, full (plus full-resolution points of "
-                    "the tiles large on screen; default)");
+                    "every tile in view that fits under --memory; default)");
     cmd->add_option("--colour,--color", o->colour, "rgb (default), elevation, intensity or classification");
     cmd->add_option("--heightmaps", o->heightmaps, "Heightmap method: linear (default) or cnn (the network)");
     cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");

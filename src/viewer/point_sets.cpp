@@ -2,20 +2,22 @@
 #include "viewer/point_sets.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <unordered_map>
 
 #include "dataset/chunk_points.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
 #include "las/point_format.hpp"
 #include "laz/chunk_decoder.hpp"
+#include "laz/file_decoder.hpp"
 
 namespace lidarscout::viewer {
 namespace {
 
 constexpr std::size_t kConvertBlock = 16384;  // records converted per pool task
 
-bool tile_colour_is_16bit(const io::File& file, const dataset::DatasetTile& t, std::uint64_t las_stride) {
-    const auto samples = dataset::read_chunk_points(file, t.tile, las_stride);
+bool colour_is_16bit(std::span<const dataset::ChunkPoint> samples) {
     return dataset::colour_is_16bit(samples, [](const dataset::ChunkPoint& c) {
         return std::max({c.point.rgb[0], c.point.rgb[1], c.point.rgb[2]});
     });
@@ -41,6 +43,76 @@ struct RecordConverter {
         return a;
     }
 };
+
+RecordConverter converter(const dataset::DatasetTile& tile, const PointSet& set,
+                          std::span<const dataset::ChunkPoint> samples) {
+    const auto& format = las::point_format_info(tile.tile.header.point_format);
+    return {&tile,        &format,      set.origin_x,
+            set.origin_y, set.origin_z, format.rgb_offset >= 0 && colour_is_16bit(samples)};
+}
+
+PointSet empty_tile_set(const dataset::DatasetTile& tile) {
+    PointSet set;
+    set.origin_x = tile.bounds_m.min_x, set.origin_y = tile.bounds_m.min_y, set.origin_z = tile.bounds_m.min_z;
+    return set;
+}
+
+// Converts `records` (record_length each) and appends them to `set`, in blocks on `pool`.
+void append_records(PointSet& set, std::span<const std::uint8_t> records, const RecordConverter& convert,
+                    ThreadPool& pool) {
+    const std::size_t record = convert.tile->tile.header.record_length;
+    const std::size_t n = records.size() / record, first = set.points.size();
+    set.points.resize(first + n);
+    pool.for_each((n + kConvertBlock - 1) / kConvertBlock, [&](std::size_t block) {
+        const std::size_t end = std::min(n, (block + 1) * kConvertBlock);
+        for (std::size_t k = block * kConvertBlock; k < end; ++k) {
+            set.points[first + k] = convert(records.subspan(k * record, record));
+        }
+    });
+}
+
+constexpr std::uint32_t kDrawnFields = laz::fields::kXyz | laz::fields::kIntensity | laz::fields::kClassification |
+                                       laz::fields::kRgb;
+
+// The order key of each decode unit: `order` at the middle of its chunk point and the next
+// unit's (its own alone for the last); +infinity without a chunk point.
+std::vector<double> unit_keys(const dataset::DatasetTile& tile, const laz::LazLayout& layout,
+                              std::span<const dataset::ChunkPoint> samples, const PointOrder& order) {
+    std::unordered_map<std::uint64_t, const las::Point*> at;
+    for (const auto& c : samples) at.emplace(c.index, &c.point);
+    const auto find = [&](std::size_t u) -> const las::Point* {
+        if (u >= layout.units.size()) return nullptr;
+        const auto it = at.find(layout.units[u].first_point);
+        return it == at.end() ? nullptr : it->second;
+    };
+    std::vector<double> keys(layout.units.size(), std::numeric_limits<double>::infinity());
+    for (std::size_t u = 0; u < layout.units.size(); ++u) {
+        const las::Point* a = find(u);
+        if (!a) continue;
+        const las::Point* b = find(u + 1) ? find(u + 1) : a;
+        keys[u] = order(0.5 * (a->x + b->x) * tile.xy_to_metres, 0.5 * (a->y + b->y) * tile.xy_to_metres,
+                        0.5 * (a->z + b->z) * tile.z_to_metres);
+    }
+    return keys;
+}
+
+// Decodes the units `units` (any order) into one point set.
+PointSet decode_piece(const io::File& file, const laz::LazLayout& layout, std::span<const std::size_t> units,
+                      const dataset::DatasetTile& tile, const RecordConverter& convert, ThreadPool& pool) {
+    const std::size_t record = layout.header.record_length;
+    std::vector<std::uint64_t> offset(units.size() + 1, 0);
+    for (std::size_t k = 0; k < units.size(); ++k)
+        offset[k + 1] = offset[k] + layout.units[units[k]].point_count * record;
+    std::vector<std::uint8_t> buf(offset.back());
+    pool.for_each(units.size(), [&](std::size_t k) {
+        std::vector<std::uint8_t> scratch;
+        laz::decode_unit(file, layout, units[k], std::span(buf).subspan(offset[k], offset[k + 1] - offset[k]),
+                         kDrawnFields, scratch);
+    });
+    PointSet set = empty_tile_set(tile);
+    append_records(set, buf, convert, pool);
+    return set;
+}
 
 }  // namespace
 
@@ -87,30 +159,45 @@ std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile) {
 PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
                         const std::function<void(std::uint64_t)>& progress) {
     const auto file = io::File::open(tile.tile.path);
-    const auto& format = las::point_format_info(tile.tile.header.point_format);
-    PointSet set;
-    set.origin_x = tile.bounds_m.min_x, set.origin_y = tile.bounds_m.min_y, set.origin_z = tile.bounds_m.min_z;
-    const bool sixteen_bit = format.rgb_offset >= 0 && tile_colour_is_16bit(file, tile, las_stride);
-    const RecordConverter convert{&tile, &format, set.origin_x, set.origin_y, set.origin_z, sixteen_bit};
-    const std::size_t record = tile.tile.header.record_length;
+    PointSet set = empty_tile_set(tile);
+    const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
+    const RecordConverter convert = converter(tile, set, samples);
     set.points.reserve(tile.tile.header.point_count);
-    const std::uint32_t fields = laz::fields::kXyz | laz::fields::kIntensity | laz::fields::kClassification |
-                                 laz::fields::kRgb;
     dataset::for_each_record_batch(
         file, tile.tile, pool,
         [&](std::uint64_t, std::span<const std::uint8_t> records) {
-            const std::size_t n = records.size() / record, first = set.points.size();
-            set.points.resize(first + n);
-            pool.for_each((n + kConvertBlock - 1) / kConvertBlock, [&](std::size_t block) {
-                const std::size_t end = std::min(n, (block + 1) * kConvertBlock);
-                for (std::size_t k = block * kConvertBlock; k < end; ++k) {
-                    set.points[first + k] = convert(records.subspan(k * record, record));
-                }
-            });
-            if (progress) progress(n);
+            append_records(set, records, convert, pool);
+            if (progress) progress(records.size() / tile.tile.header.record_length);
         },
-        fields);
+        kDrawnFields);
     return set;
+}
+
+void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
+                        const PointOrder& order, std::uint64_t piece_points,
+                        const std::function<void(PointSet&&)>& on_piece) {
+    if (!tile.tile.compressed() || !tile.tile.chunks || !tile.tile.laz) {
+        on_piece(tile_point_set(tile, las_stride, pool));
+        return;
+    }
+    const auto file = io::File::open(tile.tile.path);
+    const laz::LazLayout layout{
+        tile.tile.header, *tile.tile.laz,
+        laz::decode_units(tile.tile.header, *tile.tile.laz, *tile.tile.chunks, tile.tile.file_size)};
+    const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
+    const RecordConverter convert = converter(tile, empty_tile_set(tile), samples);
+    const std::vector<double> keys = unit_keys(tile, layout, samples, order);
+    std::vector<std::size_t> units(layout.units.size());
+    for (std::size_t u = 0; u < units.size(); ++u) units[u] = u;
+    std::stable_sort(units.begin(), units.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
+    for (std::size_t first = 0; first < units.size();) {
+        std::size_t last = first;
+        for (std::uint64_t points = 0; last < units.size() && (last == first || points < piece_points); ++last) {
+            points += layout.units[units[last]].point_count;
+        }
+        on_piece(decode_piece(file, layout, std::span(units).subspan(first, last - first), tile, convert, pool));
+        first = last;
+    }
 }
 
 }  // namespace lidarscout::viewer

@@ -45,4 +45,16 @@ std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile);
 PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
                         const std::function<void(std::uint64_t)>& progress = {});
 
+// A sort key for a world position (metres); lower first.
+using PointOrder = std::function<double(double x, double y, double z)>;
+
+// The same points as tile_point_set, decoded in pieces: the LAZ chunks sorted by `order` at
+// their chunk points (those without one last), about `piece_points` points per piece (whole
+// chunks), each piece handed to `on_piece` as soon as it is decoded (origin = the tile's min
+// corner). LAS files and LAZ files without a chunk table come as one piece. Throws
+// lidarscout::Error when the tile cannot be decoded.
+void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
+                        const PointOrder& order, std::uint64_t piece_points,
+                        const std::function<void(PointSet&&)>& on_piece);
+
 }  // namespace lidarscout::viewer

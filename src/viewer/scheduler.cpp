@@ -9,15 +9,14 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <set>
 #include <unordered_map>
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "las/point_format.hpp"
 #include "nn/heightmap_network.hpp"
+#include "viewer/residency.hpp"
 #include "viewer/scheduler_detail.hpp"
-#include "viewer/tile_cache.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -25,7 +24,7 @@ namespace {
 using dataset::CellKey;
 using dataset::CellKeyHash;
 
-constexpr auto kFullResPoll = std::chrono::milliseconds(100);
+constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
 
 struct Patch {
@@ -91,16 +90,8 @@ struct Scheduler::State {
     std::unique_ptr<nn::HeightmapNetwork> network;
     bool network_pending = false;  // the cnn worker is still loading it
 
-    PatchDetails details;
-    TileCache cache;
-    std::set<std::uint32_t> full_failed;
-    std::uint64_t tick = 0, budget = 0, decoding_bytes = 0, peak = 0;
-    std::size_t wanted = 0, wanted_resident = 0, released = 0;
-    bool full_res_busy = false;
-    std::uint64_t full_res_checked = kNoVersion;  // camera version the full-res loop last had nothing to do for
-
     std::vector<std::string> notes, errors;
-    std::uint64_t version = 1;
+    std::uint64_t version = 1, residency_version = 0;  // the residency's version in `snapshot`
     mutable std::shared_ptr<const SceneSnapshot> snapshot;
 
     HeightmapBuildOptions build;
@@ -136,11 +127,10 @@ struct Scheduler::State {
         ready_sorted = kNoVersion;
     }
 
-    // The heightmap shown for a patch: its base with the detail over it.
-    void update_shown(CellKey cell, Patch& p) {
+    // The heightmap shown for a patch: its base with the full-resolution detail over it.
+    void update_shown(Patch& p, const PatchDetail* detail) {
         if (!p.base) return;
-        const auto it = details.find(cell);
-        p.shown = it == details.end() ? p.base : share(overlay_detail(*p.base, it->second));
+        p.shown = detail ? share(overlay_detail(*p.base, *detail)) : p.base;
         changed();
     }
 
@@ -149,9 +139,8 @@ struct Scheduler::State {
         for (const auto& [cell, p] : patches) {
             if (p.base) bytes += heightmap_bytes(*p.base);
             if (p.shown && p.shown != p.base) bytes += heightmap_bytes(*p.shown);
-            if (p.chunk) bytes += TileCache::bytes_of(*p.chunk);
+            if (p.chunk) bytes += p.chunk->points.capacity() * sizeof(render::PointAttr);
         }
-        for (const auto& [cell, d] : details) bytes += d.bytes();
         return bytes;
     }
 };
@@ -162,7 +151,6 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     const auto [ox, oy] = dataset::patch_grid_origin(dataset);
     grid_ = std::make_unique<dataset::PatchGrid>(ox, oy);
     State& s = *state_;
-    s.budget = options_.memory_budget ? options_.memory_budget : default_memory_budget();
     s.build.patch.min_points = options_.min_points;
     s.build.patch.has_rgb = has_rgb_;
     s.build.footprints = tile_footprints(dataset);
@@ -191,13 +179,15 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     for (const auto& [c, p] : s.patches) s.candidates += p.candidate;
     s.network_pending = options_.cnn;
 
+    residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
     loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, options_.loader);
     loader_->on_tile_done([this](std::uint32_t tile) { on_tile_done(tile); });
     if (options_.camera) set_camera(*options_.camera);
     loader_->start();
     for (unsigned i = 0; i < std::max(1u, options_.heightmap_threads); ++i) threads_.emplace_back([this] { heightmap_worker(); });
     if (options_.cnn) threads_.emplace_back([this] { cnn_worker(); });
-    threads_.emplace_back([this] { full_res_worker(); });
+    threads_.emplace_back([this] { loader_watch(); });
+    if (options_.full_res) residency_->start();
 }
 
 Scheduler::~Scheduler() {
@@ -207,6 +197,7 @@ Scheduler::~Scheduler() {
         state_->stopping = true;
     }
     state_->wake.notify_all();
+    residency_->stop();  // its hooks use the state and the residency itself
     for (auto& t : threads_) t.join();
     loader_.reset();  // joins the reader thread (its callback uses the state)
 }
@@ -241,14 +232,29 @@ void Scheduler::set_camera(const render::Camera& camera) {
     const auto [x, y] = look_at_ground(camera, dataset_.bounds_m);
     loader_->set_focus(x, y);
     state_->wake.notify_all();
+    residency_->set_camera(camera);
 }
 
 void Scheduler::set_memory_budget(std::uint64_t bytes) {
-    {
+    residency_->set_budget(bytes ? bytes : default_memory_budget());
+}
+
+ResidencyOptions Scheduler::residency_options() {
+    ResidencyOptions r = options_.residency;
+    r.memory_budget = options_.memory_budget ? options_.memory_budget : default_memory_budget();
+    r.decode_threads =
+        options_.decode_threads ? options_.decode_threads : std::max(1u, std::thread::hardware_concurrency());
+    r.has_rgb = has_rgb_;
+    r.patch_texels = state_->build.patch.spec.patch_texels;
+    r.other_bytes = [this] {
         std::lock_guard lock(state_->mutex);
-        state_->budget = bytes ? bytes : default_memory_budget();
-    }
-    state_->wake.notify_all();
+        return state_->held_bytes(*grid_);
+    };
+    r.on_detail = [this](const std::vector<CellKey>& cells) { show_detail(cells); };
+    r.on_tile = [this](std::uint32_t tile, bool loaded) {
+        emit({loaded ? SchedulerEvent::Kind::FullResLoaded : SchedulerEvent::Kind::FullResReleased, tile, {}});
+    };
+    return r;
 }
 
 void Scheduler::emit(const SchedulerEvent& event) const {
@@ -301,7 +307,7 @@ void Scheduler::heightmap_worker() {
         ++s.linear_made;
         if (!p.base_is_cnn) {
             p.base = share(std::move(*h));
-            s.update_shown(cell, p);
+            s.update_shown(p, residency_->detail(cell).get());
         }
         if (s.network || s.network_pending) {
             s.cnn_ready.push_back(cell);
@@ -371,7 +377,7 @@ void Scheduler::cnn_worker() {
             Patch& p = s.patches[cell];
             p.base = share(std::move(h));
             p.base_is_cnn = true;
-            s.update_shown(cell, p);
+            s.update_shown(p, residency_->detail(cell).get());
         }
         lock.unlock();
         for (const auto& h : built) emit({SchedulerEvent::Kind::CnnHeightmap, 0, h.cell});
@@ -379,117 +385,43 @@ void Scheduler::cnn_worker() {
     }
 }
 
-void Scheduler::full_res_worker() {
+void Scheduler::loader_watch() {
     State& s = *state_;
-    ThreadPool pool(options_.decode_threads ? options_.decode_threads : std::max(1u, std::thread::hardware_concurrency()));
-    FullResOptions choose = options_.full_res_choice;
-    choose.memory_budget = std::numeric_limits<std::uint64_t>::max();
-    std::uint64_t seen_version = kNoVersion;
-    std::unique_lock lock(s.mutex);
-    while (true) {
-        s.wake.wait_for(lock, kFullResPoll, [&] { return s.stopping || s.camera_version != seen_version; });
+    while (!loader_->wait_for(kLoaderPoll)) {
+        std::lock_guard lock(s.mutex);
         if (s.stopping) return;
-        if (!s.loader_finish_handled && loader_->finished()) {  // tiles that never loaded: build what can be
-            s.loader_finish_handled = true;
-            for (auto& [cell, p] : s.patches) s.push_ready(cell, p);
-            for (const auto& e : loader_->errors()) s.errors.push_back(e);
-            s.wake.notify_all();
-        }
-        seen_version = s.camera_version;
-        if (!options_.full_res || !s.has_camera) continue;
-        const render::Camera camera = s.camera;
-        const std::uint64_t tick = ++s.tick;
-        lock.unlock();
-        const std::vector<std::uint32_t> wanted = choose_full_res_tiles(dataset_, camera, choose).tiles;
-        lock.lock();
-        for (const auto t : wanted) s.cache.touch(t, tick);
-        const std::uint64_t other = s.held_bytes(*grid_);
-        // Over budget (the budget shrank or the heightmaps grew): release the least recently seen.
-        if (other + s.cache.bytes() > s.budget) {
-            const auto v = s.cache.victims(0, other, s.budget, {});
-            for (const auto t : v ? *v : s.cache.tiles()) {
-                s.cache.release(t);
-                ++s.released;
-                s.changed();
-                lock.unlock();
-                emit({SchedulerEvent::Kind::FullResReleased, t, {}});
-                lock.lock();
-            }
-        }
-        s.wanted = wanted.size();
-        s.wanted_resident = static_cast<std::size_t>(
-            std::count_if(wanted.begin(), wanted.end(), [&](std::uint32_t t) { return s.cache.contains(t); }));
-        std::optional<std::uint32_t> next;
-        std::vector<std::uint32_t> victims;
-        for (std::size_t k = 0; k < wanted.size() && !next; ++k) {
-            const std::uint32_t t = wanted[k];
-            if (s.cache.contains(t) || s.full_failed.contains(t)) continue;
-            const auto v = s.cache.victims(tile_point_set_bytes(dataset_.tiles[t]), other, s.budget,
-                                           std::span(wanted).first(k));
-            if (!v) break;  // the nearest missing tile does not fit: farther ones must not take its place
-            next = t, victims = *v;
-        }
-        s.full_res_busy = next.has_value();
-        if (!next) {
-            s.full_res_checked = seen_version;
-            continue;
-        }
-        for (const auto t : victims) {
-            s.cache.release(t);
-            ++s.released;
-            s.changed();
-        }
-        s.decoding_bytes = tile_point_set_bytes(dataset_.tiles[*next]);
-        s.peak = std::max(s.peak, other + s.cache.bytes() + s.decoding_bytes);
-        lock.unlock();
-        for (const auto t : victims) emit({SchedulerEvent::Kind::FullResReleased, t, {}});
-        std::shared_ptr<PointSet> set;
-        PatchDetails detail;
-        std::string error;
-        try {
-            set = std::make_shared<PointSet>(tile_point_set(dataset_.tiles[*next], dataset_.las_stride, pool));
-            if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
-            set->cache_key = render::new_cache_key();
-            detail = tile_detail(*set, *grid_, s.build.patch.spec.patch_texels);
-        } catch (const std::exception& e) {
-            error = e.what();
-        }
-        lock.lock();
-        s.decoding_bytes = 0;
-        s.full_res_busy = false;
-        seen_version = kNoVersion;  // look again at once: more tiles may be wanted
-        if (!set) {
-            s.full_failed.insert(*next);
-            s.errors.push_back(error);
-            continue;
-        }
-        for (auto& [cell, d] : detail) {
-            auto [it, inserted] = s.details.try_emplace(cell, std::move(d));
-            if (!inserted) merge_detail(it->second, d);
-            const auto p = s.patches.find(cell);
-            if (p != s.patches.end()) s.update_shown(cell, p->second);
-        }
-        s.cache.insert(*next, std::move(set), tick);
-        s.peak = std::max(s.peak, s.held_bytes(*grid_) + s.cache.bytes());
-        s.changed();
-        const std::uint32_t loaded = *next;
-        lock.unlock();
-        emit({SchedulerEvent::Kind::FullResLoaded, loaded, {}});
-        lock.lock();
+    }
+    {
+        std::lock_guard lock(s.mutex);
+        s.loader_finish_handled = true;  // tiles that never loaded: build what can be
+        for (auto& [cell, p] : s.patches) s.push_ready(cell, p);
+        for (const auto& e : loader_->errors()) s.errors.push_back(e);
+    }
+    s.wake.notify_all();
+}
+
+void Scheduler::show_detail(const std::vector<CellKey>& cells) {
+    State& s = *state_;
+    std::lock_guard lock(s.mutex);
+    for (const auto cell : cells) {
+        const auto p = s.patches.find(cell);
+        if (p != s.patches.end()) s.update_shown(p->second, residency_->detail(cell).get());
     }
 }
 
 std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     State& s = *state_;
     std::lock_guard lock(s.mutex);
-    if (s.snapshot && s.snapshot->version == s.version) return s.snapshot;
+    const std::uint64_t residency = residency_->version();
+    if (s.snapshot && s.snapshot->version == s.version && s.residency_version == residency) return s.snapshot;
     auto snap = std::make_shared<SceneSnapshot>();
-    snap->version = s.version;
+    snap->version = s.version + residency;
+    s.residency_version = residency;
     for (const auto& [cell, p] : s.patches) {
         if (p.shown) snap->heightmaps.push_back(p.shown);
         else if (p.chunk) snap->chunk_points.push_back(p.chunk);
     }
-    snap->full_points = s.cache.point_sets();
+    snap->full_points = residency_->blocks();
     s.snapshot = std::move(snap);
     return s.snapshot;
 }
@@ -517,17 +449,20 @@ SchedulerStats Scheduler::stats() const {
         (p.base_is_cnn ? st.heightmaps_cnn : st.heightmaps_linear) += 1;
     }
     st.heightmap_jobs_pending = s.ready.size() + s.cnn_ready.size() + s.in_flight;
-    st.full_res = {s.wanted_resident, s.wanted};
-    st.full_res_tiles = s.cache.size();
-    st.full_res_points = s.cache.points();
-    st.full_res_released = s.released;
-    st.bytes_full_res = s.cache.bytes();
-    st.bytes_used = s.held_bytes(*grid_) + s.cache.bytes() + s.decoding_bytes;
-    st.peak_bytes_used = std::max(s.peak, st.bytes_used);
-    st.memory_budget = s.budget;
+    const ResidencyStats r = residency_->stats();
+    st.full_res = {r.wanted_full, r.wanted};
+    st.full_res_tiles = r.full_tiles;
+    st.coarse_tiles = r.coarse_tiles;
+    st.full_res_points = r.full_points;
+    st.lod_points = r.lod_points;
+    st.full_res_released = r.released;
+    st.bytes_full_res = r.bytes;
+    st.bytes_used = s.held_bytes(*grid_) + r.bytes + r.decoding_bytes;
+    st.peak_bytes_used = std::max(r.peak_bytes, st.bytes_used);
+    st.memory_budget = r.budget;
     st.notes = s.notes;
     if (s.network) st.notes.push_back("heightmap network: " + s.network->path());
-    st.errors = s.errors.size();
+    st.errors = s.errors.size() + r.errors.size();
     return st;
 }
 
@@ -536,8 +471,7 @@ bool Scheduler::idle() const {
     if (!loader_->finished()) return false;
     std::lock_guard lock(s.mutex);
     return s.loader_finish_handled && s.ready.empty() && s.cnn_ready.empty() && s.in_flight == 0 &&
-           !s.network_pending && !s.full_res_busy &&
-           (!options_.full_res || !s.has_camera || s.full_res_checked == s.camera_version);
+           !s.network_pending && (!options_.full_res || residency_->idle());
 }
 
 }  // namespace lidarscout::viewer

@@ -5,10 +5,11 @@
 //     (the cell +- the recon padding) has its chunk points in the grid, visible and near
 //     patches first; linear first, then the network in batches when a model is loaded (its
 //     heightmap replaces the linear one);
-//   - full resolution: the tiles large on screen (visibility.hpp's choice), nearest first,
-//     within a memory budget that covers everything the scheduler holds; tiles are released
-//     least recently seen first, and every tile's points are first folded into the heightmaps
-//     and textures of the patches it covers (scheduler_detail.hpp), so medium zoom keeps them.
+//   - full resolution with level of detail: the Residency (residency.hpp, its own thread and
+//     lock) decodes the tiles in view, the one that improves the picture most per byte first,
+//     into LOD blocks (point_lod.hpp), within a memory budget that covers everything the
+//     scheduler holds; every tile's points are folded into the heightmaps and textures of the
+//     patches it covers (scheduler_detail.hpp), and a released tile keeps its coarse levels.
 // snapshot() gives what is ready now, cheap enough to take every frame; stats() the counters.
 #pragma once
 
@@ -28,6 +29,7 @@
 #include "dataset/patch_grid.hpp"
 #include "render/camera.hpp"
 #include "viewer/heightmap_builder.hpp"
+#include "viewer/residency.hpp"
 #include "viewer/scheduler_snapshot.hpp"
 #include "viewer/visibility.hpp"
 
@@ -47,8 +49,8 @@ struct SchedulerOptions {
     bool cnn = true;                  // refine with the network when a model can be loaded
     std::string model_path;           // empty: nn::default_model_path()
     std::size_t cnn_batch = 16;
-    bool full_res = true;             // decode tiles large on screen
-    FullResOptions full_res_choice;   // its memory_budget is ignored (memory_budget above rules)
+    bool full_res = true;             // decode the tiles in view (residency.hpp)
+    ResidencyOptions residency;       // LOD and priorities; the budget, threads and hooks are set from here
     std::size_t min_points = kViewerMinPoints;
     unsigned heightmap_threads = 1;   // linear heightmap workers
     unsigned decode_threads = 0;      // full-resolution decoding (0 = all cores)
@@ -72,8 +74,8 @@ struct SchedulerStats {
     std::size_t heightmaps_linear = 0, heightmaps_cnn = 0;  // patches showing each kind
     std::size_t heightmap_jobs_pending = 0;                   // queued or running (linear and network)
     StageProgress full_res;            // wanted tiles resident / wanted tiles
-    std::size_t full_res_tiles = 0;
-    std::uint64_t full_res_points = 0;
+    std::size_t full_res_tiles = 0, coarse_tiles = 0;  // tiles held at full resolution; at coarse levels only
+    std::uint64_t full_res_points = 0, lod_points = 0;  // points of the full tiles; of every tile held
     std::size_t full_res_released = 0;  // tiles released so far
     std::uint64_t bytes_used = 0, bytes_full_res = 0, memory_budget = 0;
     std::uint64_t peak_bytes_used = 0;  // highest bytes_used seen, a decoding tile included
@@ -118,7 +120,9 @@ private:
     void on_tile_done(std::uint32_t tile);
     void heightmap_worker();
     void cnn_worker();
-    void full_res_worker();
+    void loader_watch();
+    void show_detail(const std::vector<dataset::CellKey>& cells);
+    ResidencyOptions residency_options();
     void emit(const SchedulerEvent& event) const;
 
     const dataset::Dataset& dataset_;
@@ -126,6 +130,7 @@ private:
     bool has_rgb_ = true;
     std::unique_ptr<dataset::PatchGrid> grid_;
     std::unique_ptr<State> state_;
+    std::unique_ptr<Residency> residency_;
     std::unique_ptr<dataset::ChunkPointLoader> loader_;
     std::vector<std::thread> threads_;
 };

@@ -1,5 +1,5 @@
-// Drawing a scheduler snapshot: views into the shared heightmaps and point sets, drawn by
-// draw_scene_frame (scene.hpp) as render_scene draws a Scene.
+// Drawing a scheduler snapshot: views into the shared heightmaps, point sets and LOD blocks (at
+// the level the camera needs), drawn by draw_scene_frame (scene.hpp) as render_scene draws a Scene.
 #include "viewer/scheduler_snapshot.hpp"
 
 namespace lidarscout::viewer {
@@ -22,8 +22,9 @@ RenderedScene render_snapshot(const SceneSnapshot& snapshot, const render::Camer
         patches.reserve(snapshot.heightmaps.size());
         for (const auto& h : snapshot.heightmaps) patches.push_back(h->view());
     }
-    return draw_scene_frame(camera, patches, batches(snapshot.chunk_points, layers.chunk_points),
-                            batches(snapshot.full_points, layers.full_points), style, pool);
+    const auto full = layers.full_points ? lod_batches(snapshot.full_points, camera, style.lod_spacing_px)
+                                         : std::vector<render::PointBatch>{};
+    return draw_scene_frame(camera, patches, batches(snapshot.chunk_points, layers.chunk_points), full, style, pool);
 }
 
 }  // namespace lidarscout::viewer

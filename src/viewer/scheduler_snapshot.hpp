@@ -10,6 +10,7 @@
 #include "core/thread_pool.hpp"
 #include "render/camera.hpp"
 #include "viewer/patch_heightmap.hpp"
+#include "viewer/point_lod.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/scene.hpp"
 
@@ -18,7 +19,7 @@ namespace lidarscout::viewer {
 struct SceneSnapshot {
     std::vector<std::shared_ptr<const PatchHeightmap>> heightmaps;
     std::vector<std::shared_ptr<const PointSet>> chunk_points;  // cells without a heightmap
-    std::vector<std::shared_ptr<const PointSet>> full_points;   // resident full-resolution tiles
+    LodBlocks full_points;  // LOD blocks of the tiles held (full or coarse levels)
     std::uint64_t version = 0;                                  // grows with every change
 };
 
@@ -26,7 +27,8 @@ struct SceneLayers {
     bool heightmaps = true, chunk_points = true, full_points = true;
 };
 
-// Draws the layers of `snapshot` at `camera` as render_scene draws a Scene.
+// Draws the layers of `snapshot` at `camera` as render_scene draws a Scene; of each LOD block
+// the level for style.lod_spacing_px.
 RenderedScene render_snapshot(const SceneSnapshot& snapshot, const render::Camera& camera, const SceneStyle& style,
                               ThreadPool& pool, const SceneLayers& layers = {});
 

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <set>
 #include <thread>
 
 #include <unistd.h>
@@ -19,10 +20,13 @@
 #include "dataset/dataset.hpp"
 #include "synth/replicate.hpp"
 #include "test_data.hpp"
+#include "render/image_compare.hpp"
 #include "viewer/flight_path.hpp"
+#include "viewer/frame_refiner.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/scheduler_detail.hpp"
+#include "survey_tiles.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -34,13 +38,7 @@ dataset::Dataset open_survey(const std::string& name) {
     return dataset::open_dataset({(test::surveys_dir() / name).string()});
 }
 
-std::uint32_t tile_named(const dataset::Dataset& ds, const std::string& stem) {
-    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        if (std::filesystem::path(ds.tiles[i].tile.path).stem() == stem) return i;
-    }
-    ADD_FAILURE() << "no tile " << stem;
-    return 0;
-}
+using survey::tile_named;
 
 // Straight down at the centre of a tile, `height` metres above its top.
 render::Camera above_tile(const dataset::DatasetTile& t, double height) {
@@ -207,8 +205,45 @@ TEST(ViewerScheduler, MovingTheCameraReprioritisesFullResolution) {
     scheduler.set_camera(above_tile(ds.tiles[b], 150));
     ASSERT_TRUE(wait_until([&] { return log.tiles(Kind::FullResLoaded).size() > before; }));
     EXPECT_EQ(log.tiles(Kind::FullResLoaded)[before], b);
+    std::set<std::uint32_t> tiles;
+    for (const auto& b : scheduler.snapshot()->full_points) tiles.insert(b->tile);
+    EXPECT_GE(tiles.size(), 2u);
+}
+
+// Once idle with a budget that holds the survey, the still frame (refined: every point held)
+// equals a frame drawing every point of the tile decoded here, over the same heightmaps; the
+// frame drawn while moving (LOD at half a pixel) is close to it but not equal.
+TEST(ViewerScheduler, IdleFrameEqualsEveryPointOfTheVisibleTiles) {
+    const auto ds = open_survey("ky-woodford-county");
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    render::Camera camera = above_tile(ds.tiles[0], 1500);
+    camera.width = 480, camera.height = 360;
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 1ull << 30;
+    o.camera = camera;
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    EXPECT_EQ(scheduler.stats().full_res.done, 1u);
     const auto snap = scheduler.snapshot();
-    EXPECT_GE(snap->full_points.size(), 2u);
+    ThreadPool pool(2);
+    SceneStyle style;
+    FrameRefiner refiner(std::chrono::milliseconds(0));
+    const auto moving = refiner.draw(*snap, camera, style, pool).image;
+    const auto still = refiner.draw(*snap, camera, style, pool).image;
+    ASSERT_TRUE(refiner.refined());
+
+    Scene reference;
+    for (const auto& h : snap->heightmaps) reference.heightmaps.push_back(*h);
+    for (const auto& c : snap->chunk_points) reference.chunk_points.push_back(*c);
+    reference.full_points.push_back(tile_point_set(ds.tiles[0], ds.las_stride, pool));
+    if (!scheduler.has_rgb()) paint_uncoloured(reference.full_points);
+    const auto expected = render_scene(reference, camera, style, pool).image;
+    EXPECT_GE(render::image_psnr_db(still, expected), 60.0);
+    const double lod = render::image_psnr_db(moving, expected);
+    RecordProperty("lod_psnr_db", static_cast<int>(lod));
+    EXPECT_GE(lod, 30.0);
+    EXPECT_LT(lod, render::kIdenticalPsnrDb);
 }
 
 // A replica made by the test itself: the 9 ky-jmo335 tiles on a 6x6 grid (36 tiles, 63 M

@@ -71,6 +71,7 @@ void stats_panel(const dataset::Dataset& ds, const SchedulerStats& s, double fra
     ImGui::Text("patches with heightmaps: %zu linear, %zu network", s.heightmaps_linear, s.heightmaps_cnn);
     ImGui::Text("full-res: %zu tiles, %.1f M points, %zu released", s.full_res_tiles, s.full_res_points / 1e6,
                 s.full_res_released);
+    ImGui::Text("coarse levels kept: %zu tiles; LOD %.1f M points", s.coarse_tiles, s.lod_points / 1e6);
     ImGui::Text("memory %.0f / %.0f MiB (peak %.0f)", s.bytes_used / 1048576.0, s.memory_budget / 1048576.0,
                 s.peak_bytes_used / 1048576.0);
     ImGui::Text("frame %.1f ms (%.1f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);

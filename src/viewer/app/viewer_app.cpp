@@ -24,6 +24,7 @@
 #include "viewer/app/gl_presenter.hpp"
 #include "viewer/app/overlay.hpp"
 #include "viewer/app/panels.hpp"
+#include "viewer/frame_refiner.hpp"
 #include "viewer/scheduler.hpp"
 
 namespace lidarscout::viewer::app {
@@ -164,14 +165,14 @@ ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& 
 // The frame's picture: the snapshot drawn at the render scale, then the tile outlines.
 RenderedScene draw_frame(const Session& s, const CameraController& controller, const ViewSettings& v,
                          const PanelState& panels, int fb_width, int fb_height, ThreadPool& pool,
-                         render::Camera& camera) {
+                         FrameRefiner& refiner, render::Camera& camera) {
     const int w = std::max(1, static_cast<int>(std::lround(fb_width * v.render_scale)));
     const int h = std::max(1, static_cast<int>(std::lround(fb_height * v.render_scale)));
     camera = controller.camera(w, h);
     s.scheduler->set_camera(camera);
     SceneStyle style = v.style;
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
-    RenderedScene frame = render_snapshot(*s.scheduler->snapshot(), camera, style, pool, v.layers);
+    RenderedScene frame = refiner.draw(*s.scheduler->snapshot(), camera, style, pool, v.layers);
     if (v.tile_boxes) draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);
     return frame;
 }
@@ -193,6 +194,7 @@ int run_viewer(const ViewerOptions& o) {
     PanelState panels;
     MouseKeyboard input;
     RenderedScene last;
+    FrameRefiner refiner;
     const auto start = Clock::now();
     auto previous = start;
     double frame_ms = 0;
@@ -208,6 +210,7 @@ int run_viewer(const ViewerOptions& o) {
                 Session next = open_session(events.dropped, o, nullptr);
                 session.scheduler.reset();  // it reads the dataset it replaces
                 session = std::move(next);
+                refiner.invalidate();
                 controller.frame(session.dataset->bounds_m, fb_width, fb_height);
                 panels = {};
             } catch (const Error& e) {
@@ -217,7 +220,8 @@ int run_viewer(const ViewerOptions& o) {
         }
         input.apply(win.window, events, controller, dt, fb_height);
         render::Camera camera;
-        last = draw_frame(session, controller, settings, panels, std::max(1, fb_width), std::max(1, fb_height), pool, camera);
+        last = draw_frame(session, controller, settings, panels, std::max(1, fb_width), std::max(1, fb_height), pool,
+                          refiner, camera);
         frame_ms = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
 
         glViewport(0, 0, fb_width, fb_height);

@@ -1,0 +1,145 @@
+// Full-resolution residency with level of detail, the part of the viewer's scheduler that
+// decides which tiles' points are held: every visible tile is wanted, and the one whose decoding
+// improves the picture most per byte comes first (its screen-space error: the spacing shown
+// now, heightmap texels or coarse levels, in pixels at its nearest distance, times its screen
+// coverage, per byte). Decoded tiles become LOD blocks (point_lod.hpp) and fold their points into
+// the patch detail (scheduler_detail.hpp). When memory runs short, the tiles worth least per
+// byte (out of view first, least recently seen first) drop to their coarse levels, then to
+// nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, each
+// shown as soon as it is in; when no tile fits whole, the best one is loaded in part, as many
+// pieces as there is room for (it is not loaded again while those are held: a known limit). A load happens only when it
+// is worth more than what it displaces, so the memory budget (with what the rest of the scheduler holds) is never
+// exceeded and loading converges. Its own thread and its own lock; hooks are called without that lock held.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dataset/dataset.hpp"
+#include "dataset/patch_grid.hpp"
+#include "render/camera.hpp"
+#include "viewer/point_lod.hpp"
+#include "viewer/scheduler_detail.hpp"
+
+namespace lidarscout::viewer {
+
+struct ResidencyOptions {
+    std::uint64_t memory_budget = 1ull << 30;  // bytes, other_bytes() included
+    unsigned decode_threads = 1;
+    int decode_nice = 5;             // decoding threads run this much nicer than the caller
+    bool has_rgb = true;
+    int patch_texels = 64;           // detail texels per patch side
+    double block_m = 80;             // LOD block side
+    double coarse_spacing_m = 2;     // the finest level a released tile keeps
+    double hysteresis = 1.25;        // a load must be worth this much more than what it displaces
+    double min_screen_fraction = 0;  // tiles covering less of the image are not wanted
+    // Bytes the rest of the scheduler holds (heightmaps, chunk points, grid).
+    std::function<std::uint64_t()> other_bytes;
+    // Cells whose detail changed (a tile was folded in).
+    std::function<void(const std::vector<dataset::CellKey>&)> on_detail;
+    // A tile decoded (loaded = true) or dropped to its coarse levels (false).
+    std::function<void(std::uint32_t tile, bool loaded)> on_tile;
+};
+
+struct ResidencyStats {
+    std::size_t full_tiles = 0, coarse_tiles = 0, released = 0;
+    std::size_t wanted = 0, wanted_full = 0;  // visible tiles; those at full resolution
+    std::uint64_t full_points = 0, lod_points = 0;  // points held at full resolution; in every block
+    std::uint64_t bytes = 0, bytes_full = 0, decoding_bytes = 0, peak_bytes = 0, budget = 0;
+    std::vector<std::string> errors;
+};
+
+class Residency {
+public:
+    Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options);
+    ~Residency();  // stops and joins
+    Residency(const Residency&) = delete;
+    Residency& operator=(const Residency&) = delete;
+
+    void start();  // starts the worker (once the hooks can be called)
+    void stop();   // stops and joins the worker (a tile being decoded stops after its current piece)
+    void set_camera(const render::Camera& camera);
+    void set_budget(std::uint64_t bytes);
+
+    // Every block held, full and coarse (shared, not copied).
+    LodBlocks blocks() const;
+    // The detail folded into cell `cell` (null when none).
+    std::shared_ptr<const PatchDetail> detail(dataset::CellKey cell) const;
+    // Grows with every change of blocks() or detail.
+    std::uint64_t version() const;
+    ResidencyStats stats() const;
+    // True when nothing is decoding and the last look at the current camera found nothing to do.
+    bool idle() const;
+
+private:
+    enum class Level { Coarse, Full };
+    struct Entry {
+        Level level = Level::Full;
+        LodBlocks blocks;
+        std::uint64_t bytes = 0, coarse_bytes = 0;
+        std::uint64_t last_seen = 0;
+        bool partial = false;  // full resolution for the pieces that fitted only
+    };
+    struct Decoded {
+        LodBlocks blocks;
+        PatchDetails detail;
+    };
+    struct Choice;  // a tile to load and what to drop for it
+
+    void run();
+    std::optional<std::pair<std::uint32_t, std::uint64_t>> next_load(std::unique_lock<std::mutex>& lock);  // tile, cap
+    std::optional<Choice> choose(std::uint64_t other);
+    struct Step {
+        double value = 0;  // worth per byte freed
+        std::uint32_t tile = 0;
+        std::uint64_t freed = 0;
+    };
+    std::vector<Step> release_steps() const;
+    std::optional<Choice> partial_choice(std::uint32_t tile, double gain, std::uint64_t total,
+                                         const std::vector<Step>& steps) const;
+    // What to release, cheapest first, so that `incoming` bytes fit with `total` held, each
+    // worth less than `gain` (per byte); nullopt when that cannot be done.
+    std::optional<std::vector<std::uint32_t>> victims(std::uint64_t incoming, double gain, std::uint64_t total,
+                                                      const std::vector<Step>& steps) const;
+    double value_per_byte(std::uint32_t tile, const Entry& entry) const;
+    double gain_per_byte(std::uint32_t tile) const;
+    std::uint64_t held() const;
+    std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
+    PointOrder decode_order() const;
+    void load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool);
+    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool first);
+    void notify(const std::vector<std::uint32_t>& released, std::optional<std::uint32_t> loaded,
+                const std::vector<dataset::CellKey>& cells) const;
+
+    const dataset::Dataset& dataset_;
+    const dataset::PatchGrid& grid_;
+    ResidencyOptions options_;
+    std::vector<double> spacing_;  // per tile: its points' mean spacing (metres)
+
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    bool stopping_ = false, busy_ = false;
+    render::Camera camera_;
+    bool has_camera_ = false;
+    std::uint64_t camera_version_ = 0, checked_version_ = ~0ull, tick_ = 0;
+    std::map<std::uint32_t, Entry> tiles_;
+    std::set<std::uint32_t> failed_;
+    std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
+    std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, version_ = 1, last_other_ = 0;
+    std::size_t released_ = 0, wanted_ = 0, wanted_full_ = 0;
+    std::vector<std::string> errors_;
+    mutable LodBlocks blocks_cache_;
+    mutable std::uint64_t blocks_version_ = 0;
+    std::thread thread_;
+};
+
+}  // namespace lidarscout::viewer

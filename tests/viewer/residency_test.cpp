@@ -1,0 +1,164 @@
+// Full-resolution residency on a real survey: every tile in view ends at full resolution when
+// the budget allows; a tile that must make room drops to its coarse levels (a prefix of its
+// blocks, far fewer points) and stays drawable; the budget holds throughout.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <map>
+#include <thread>
+
+#include "dataset/dataset.hpp"
+#include "test_data.hpp"
+#include "viewer/point_sets.hpp"
+#include "viewer/residency.hpp"
+#include "survey_tiles.hpp"
+
+namespace lidarscout::viewer {
+namespace {
+
+using namespace std::chrono_literals;
+
+dataset::Dataset jmo335() {
+    return dataset::open_dataset({(test::surveys_dir() / "ky-jmo335-eastern-kentucky").string()});
+}
+
+using survey::tile_named;
+
+render::Camera above(const dataset::Bounds& b, double height) {
+    render::Camera c;
+    c.x = b.centre_x(), c.y = b.centre_y(), c.z = b.max_z + height;
+    c.pitch_deg = -90;
+    c.width = 320, c.height = 240;
+    c.near_m = 1, c.far_m = 1e5;
+    return c;
+}
+
+bool wait_idle(const Residency& r) {
+    const auto end = std::chrono::steady_clock::now() + 120s;
+    while (!r.idle()) {
+        if (std::chrono::steady_clock::now() > end) return false;
+        std::this_thread::sleep_for(5ms);
+    }
+    return true;
+}
+
+// Points held per tile, and the finest level held per tile.
+std::map<std::uint32_t, std::pair<std::uint64_t, std::size_t>> held(const Residency& r) {
+    std::map<std::uint32_t, std::pair<std::uint64_t, std::size_t>> out;
+    for (const auto& b : r.blocks()) {
+        auto& [points, levels] = out[b->tile];
+        points += b->points.points.size();
+        levels = std::max(levels, b->levels);
+    }
+    return out;
+}
+
+TEST(ViewerResidency, ATileThatMakesRoomKeepsItsCoarseLevels) {
+    const auto ds = jmo335();
+    const std::uint32_t a = tile_named(ds, "N117E379"), b = tile_named(ds, "N119E381");
+    const std::uint64_t bytes_a = tile_point_set_bytes(ds.tiles[a]), bytes_b = tile_point_set_bytes(ds.tiles[b]);
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    dataset::PatchGrid grid(ox, oy);
+    ResidencyOptions o;
+    o.decode_threads = 2;
+    o.memory_budget = std::max(bytes_a, bytes_b) + std::min(bytes_a, bytes_b) / 2;  // not both at full resolution
+    std::vector<std::pair<std::uint32_t, bool>> events;
+    std::mutex mutex;
+    o.on_tile = [&](std::uint32_t t, bool loaded) {
+        std::lock_guard lock(mutex);
+        events.emplace_back(t, loaded);
+    };
+    Residency r(ds, grid, o);
+    r.start();
+    r.set_camera(above(ds.tiles[a].bounds_m, 150));
+    ASSERT_TRUE(wait_idle(r));
+    auto h = held(r);
+    ASSERT_TRUE(h.contains(a));
+    EXPECT_EQ(h[a].first, ds.tiles[a].tile.header.point_count);
+    EXPECT_EQ(h[a].second, kLodLevels);
+
+    r.set_camera(above(ds.tiles[b].bounds_m, 150));
+    ASSERT_TRUE(wait_idle(r));
+    h = held(r);
+    ASSERT_TRUE(h.contains(b));
+    EXPECT_EQ(h[b].first, ds.tiles[b].tile.header.point_count);
+    ASSERT_TRUE(h.contains(a)) << "the released tile kept nothing";
+    EXPECT_GT(h[a].first, 0u);
+    EXPECT_LT(h[a].first, ds.tiles[a].tile.header.point_count / 4);
+    EXPECT_LT(h[a].second, kLodLevels);
+    const auto st = r.stats();
+    EXPECT_EQ(st.full_tiles, 1u);
+    EXPECT_EQ(st.coarse_tiles, 1u);
+    EXPECT_EQ(st.released, 1u);
+    EXPECT_LE(st.bytes, o.memory_budget);
+    EXPECT_LE(st.peak_bytes, o.memory_budget + 2 * bytes_b);
+    std::lock_guard lock(mutex);
+    const std::vector<std::pair<std::uint32_t, bool>> expected = {{a, true}, {a, false}, {b, true}};
+    EXPECT_EQ(events, expected);
+}
+
+TEST(ViewerResidency, EveryTileInViewEndsAtFullResolutionWhenTheBudgetAllows) {
+    const auto ds = jmo335();
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    dataset::PatchGrid grid(ox, oy);
+    ResidencyOptions o;
+    o.decode_threads = 2;
+    o.memory_budget = 2ull << 30;
+    // Small tiles only: the three along the west edge, seen from above at a distance.
+    const std::vector<std::uint32_t> west = {tile_named(ds, "N117E379"), tile_named(ds, "N118E379"),
+                                             tile_named(ds, "N119E379")};
+    dataset::Bounds box = ds.tiles[west[0]].bounds_m;
+    for (const auto t : west) box.extend(ds.tiles[t].bounds_m);
+    render::Camera c = above(box, 2500);
+    c.width = 30, c.height = 480;  // about 180 m x 2.9 km: the middle column stays out of view
+    Residency r(ds, grid, o);
+    r.start();
+    r.set_camera(c);
+    ASSERT_TRUE(wait_idle(r));
+    const auto st = r.stats();
+    EXPECT_EQ(st.wanted, 3u);
+    EXPECT_EQ(st.wanted_full, st.wanted);
+    const auto h = held(r);
+    for (const auto t : west) {
+        ASSERT_TRUE(h.contains(t)) << ds.tiles[t].tile.path;
+        EXPECT_EQ(h.at(t).first, ds.tiles[t].tile.header.point_count);
+    }
+    EXPECT_LE(st.bytes, o.memory_budget);
+}
+
+TEST(ViewerResidency, ATileLargerThanTheBudgetDoesNotStopTheOthersAndLoadsInPart) {
+    const auto ds = jmo335();
+    const std::uint32_t big = tile_named(ds, "N118E380"), small = tile_named(ds, "N118E379");
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    dataset::PatchGrid grid(ox, oy);
+    ResidencyOptions o;
+    o.decode_threads = 2;
+    o.memory_budget = 64ull << 20;  // the big tile's 142 MB never fit; the small one's 39 MB do
+    ASSERT_GT(tile_point_set_bytes(ds.tiles[big]), o.memory_budget);
+    ASSERT_LT(tile_point_set_bytes(ds.tiles[small]), o.memory_budget);
+    // Over the big tile near their shared edge: a strip of the small one in view, so that the
+    // big one improves the picture most per byte and comes first.
+    dataset::Bounds edge = ds.tiles[big].bounds_m;
+    edge.min_x += 340, edge.max_x = edge.min_x + 200;
+    Residency r(ds, grid, o);
+    r.start();
+    r.set_camera(above(edge, 600));
+    ASSERT_TRUE(wait_idle(r));
+    // The small one loaded first (whole), then the big one in part: the pieces that fit in
+    // the room there is, the small one down to its coarse levels for it (the big one covers
+    // nearly all the image, so its bytes are worth more).
+    auto h = held(r);
+    ASSERT_TRUE(h.contains(small));
+    EXPECT_GT(h[small].first, 0u);
+    ASSERT_TRUE(h.contains(big));
+    EXPECT_GT(h[big].first, 0u);
+    EXPECT_LT(h[big].first, ds.tiles[big].tile.header.point_count / 2);
+    const auto st = r.stats();
+    EXPECT_EQ(st.wanted, 2u);
+    EXPECT_LE(st.bytes, o.memory_budget);
+    EXPECT_GT(st.bytes, o.memory_budget / 2) << "the room was not used";
+}
+
+}  // namespace
+}  // namespace lidarscout::viewer
