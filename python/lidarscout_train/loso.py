@@ -3,10 +3,12 @@
     python3 -m lidarscout_train.loso stride DATA.bin [CHUNK_POINTS]
         the chunk-point stride of the file's first sample (the auto stride: about 369 chunk
         points per window), or the stride that gives CHUNK_POINTS per window instead
-    python3 -m lidarscout_train.loso table EVAL.json... [--json OUT]
+    python3 -m lidarscout_train.loso table EVAL.json... [--released-dir DIR] [--json OUT]
         one row per held-out survey (each file: `lidarscout eval --json` of one survey, named
         SURVEY[.TAG].json), with linear, cnn and (when present) released RMSE, the ratios to
-        linear, the colour PSNR, and the mean ratios over surveys
+        linear, the colour PSNR, and the mean ratios over surveys. The released model's figures
+        come from the file itself or from DIR/SURVEY[.TAG].json (an eval of the same patches:
+        its linear RMSE must be the same, else the patches differ and this fails)
 """
 import json
 import math
@@ -40,11 +42,26 @@ def _method(e, name, key):
     return None if m is None else m.get(key)
 
 
-def rows_of(paths):
+def _released_from(e, path):
+    """Copies the released method of the eval file `path` into e, after checking both scored the
+    same patches (same linear RMSE and count)."""
+    with open(path) as f:
+        r = json.load(f)
+    for key in ("rmse_m_mean", "patches"):
+        a, b = _method(e, "linear", key), _method(r, "linear", key)
+        if a != b and not (a is not None and b is not None and abs(a - b) < 1e-9):
+            raise SystemExit(f"{path}: not the same patches as the CNN's evaluation (linear {key} {b} != {a})")
+    if "released" in r["methods"]:
+        e["methods"]["released"] = r["methods"]["released"]
+
+
+def rows_of(paths, released_dir=None):
     rows = []
     for p in paths:
         with open(p) as f:
             e = json.load(f)
+        if released_dir and os.path.exists(os.path.join(released_dir, os.path.basename(p))):
+            _released_from(e, os.path.join(released_dir, os.path.basename(p)))
         tag = os.path.basename(p)[: -len(".json")]
         patches = _method(e, "linear", "patches") or 0
         lin = _method(e, "linear", "rmse_m_mean")
@@ -79,16 +96,23 @@ def print_table(rows):
           f"| | {_fmt(_mean(rows, 'released_ratio'), '.3f')} | |")
 
 
+def _option(args, name):
+    """(value, the other args) for `name VALUE` in args; value None when absent."""
+    if name not in args:
+        return None, args
+    i = args.index(name)
+    return args[i + 1], args[:i] + args[i + 2:]
+
+
 def main(argv):
     if len(argv) >= 2 and argv[0] == "stride":
         auto = file_stride(argv[1])
         print(stride_for(auto, float(argv[2])) if len(argv) > 2 else auto)
     elif len(argv) >= 2 and argv[0] == "table":
-        paths, out = argv[1:], None
-        if "--json" in paths:
-            i = paths.index("--json")
-            out, paths = paths[i + 1], paths[:i] + paths[i + 2:]
-        rows = rows_of(paths)
+        paths = argv[1:]
+        out, paths = _option(paths, "--json")
+        released_dir, paths = _option(paths, "--released-dir")
+        rows = rows_of(paths, released_dir)
         print_table(rows)
         if out:
             with open(out, "w") as f:
