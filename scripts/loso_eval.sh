@@ -7,7 +7,7 @@
 #
 #   scripts/loso_eval.sh [--work DIR] [--variant base|density] [--surveys DIR] [--extra-survey DIR]...
 #       [--epochs N] [--steps N] [--lr X] [--patches N] [--eval-patches N] [--eval-offsets N] [--densities 40,1500]
-#       [--released FILE] [--threads N] [--smoke]
+#       [--released FILE] [--threads N] [--device cpu|cuda] [--smoke]
 #
 #   --variant base     training windows at the auto stride (about 369 chunk points per window)
 #   --variant density  every survey's windows at six strides giving 40, 100, 200, 369, 700 and
@@ -19,13 +19,16 @@
 #   --densities LIST   also evaluate every held-out survey at these chunk points per window
 #   --released FILE    the paper's released ipes_cnn.pt converted for the CPU
 #                      (python3 -m lidarscout_train.released_cpu): its column beside ours
+#   --device cuda      train on a GPU (PyTorch with CUDA there); then e.g. --epochs 40 --steps 0 is the
+#                      shipped recipe's length
 #   --smoke            a tiny recipe (2 epochs, 40 windows, 20 eval patches) to check the wiring
 #
 # The reduced recipe (default; the shipped recipe takes ~35 min per model on 2 cores, 7 folds do
 # not fit): 10 m texels only, per survey --patches 300 windows on 16 shifted lattices, the cheap
 # network (width 8, 5 x 5 heads, upsample decoder), --epochs 10 of --steps 16 batches of 32
 # (random windows each epoch), AdamW lr --lr 5e-4 dropped x0.1 for the last epoch,
-# augmentation as train.py. --steps 0: whole epochs. Data and models stay under DIR (default /work/nnwork/loso), outside the repository.
+# augmentation as train.py. --steps 0: whole epochs. Data and models stay under DIR (default
+# /work/nnwork/loso), outside the repository.
 set -euo pipefail
 
 # All in one function, so that bash reads the whole file before running any of it.
@@ -45,6 +48,7 @@ eval_offsets=8
 densities=""
 released=""
 threads=2
+device=cpu
 bin=build/lidarscout
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -61,6 +65,7 @@ while [ $# -gt 0 ]; do
     --densities) densities="$2"; shift 2 ;;
     --released) released="$(realpath "$2")"; shift 2 ;;
     --threads) threads="$2"; shift 2 ;;
+    --device) device="$2"; shift 2 ;;
     --lidarscout) bin="$2"; shift 2 ;;
     --smoke) epochs=2; steps=2; patches=40; eval_patches=20; eval_offsets=2; work="$work-smoke"; shift ;;
     *) echo "loso_eval.sh: unknown option $1" >&2; exit 2 ;;
@@ -109,7 +114,8 @@ for held in "${names[@]}"; do
   for n in "${names[@]}"; do [ "$n" = "$held" ] || mapfile -t -O "${#train[@]}" train < <(files_of "$n"); done
   if [ ! -f "$fold/model.pt" ]; then
     echo "== fold $held: training on ${#train[@]} files" >&2
-    py lidarscout_train.train "${train[@]}" "${extra_files[@]}" --out "$fold" --threads "$threads" --decoder upsample \
+    py lidarscout_train.train "${train[@]}" "${extra_files[@]}" --out "$fold" --threads "$threads" --device "$device" \
+      --decoder upsample \
       --width 8 --head-kernel 5 --epochs "$epochs" --max-steps "$steps" --lr "$lr" --milestones $((epochs - 1)) \
       --batch 32 --resume > "$fold.log" 2>&1 || { tail "$fold.log" >&2; exit 1; }
   fi
@@ -128,8 +134,8 @@ for held in "${names[@]}"; do
   }
   evaluate ""
   if [ -n "$densities" ]; then
-    probe="$data/$held.probe"
-    [ -f "$probe" ] || "$bin" train-data "$surveys/$held" -o "$probe" --texel 10 --patches 1 --val-fraction 0 > /dev/null
+    probe="$data/$held.probe"  # a file at the auto stride: the survey's own (base) or the export's probe
+    [ "$variant" = base ] && probe="$data/$held.bin"
     for cp in ${densities//,/ }; do
       evaluate ".cp$cp" --stride "$(py lidarscout_train.loso stride "$probe" "$cp")"
     done
