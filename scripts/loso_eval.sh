@@ -49,6 +49,7 @@ densities=""
 released=""
 threads=2
 device=cpu
+smoke=0
 bin=build/lidarscout
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -67,10 +68,11 @@ while [ $# -gt 0 ]; do
     --threads) threads="$2"; shift 2 ;;
     --device) device="$2"; shift 2 ;;
     --lidarscout) bin="$2"; shift 2 ;;
-    --smoke) epochs=2; steps=2; patches=40; eval_patches=20; eval_offsets=2; work="$work-smoke"; shift ;;
+    --smoke) smoke=1; shift ;;
     *) echo "loso_eval.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
+if [ "$smoke" = 1 ]; then epochs=2; steps=2; patches=40; eval_patches=20; eval_offsets=2; work="$work-smoke"; fi
 case "$variant" in base|density) ;; *) echo "loso_eval.sh: --variant base or density" >&2; exit 2 ;; esac
 py() { (cd "$repo/python" && /usr/bin/python3 -m "$@"); }
 data="$work/data/$variant"
