@@ -85,8 +85,8 @@ void add_score(MethodScores& scores, const Reconstruction& r, const Reconstructi
     scores.ms.push_back(ms);
 }
 
-// Patches waiting for the network: their inputs and what they are scored against.
-struct CnnPending {
+// Patches waiting for the networks: their inputs and what they are scored against.
+struct NetworkPending {
     PatchPoints points;
     InterpolatedPatch inputs;
     Reconstruction nearest;
@@ -139,7 +139,7 @@ public:
             const double share = ms_since(t0) / static_cast<double>(batch.size());
             if (results.size() != batch.size()) throw Error("eval: the network returned a wrong number of patches");
             for (std::size_t i = 0; i < results.size(); ++i) {
-                const CnnPending& p = pending_[i];
+                const NetworkPending& p = pending_[i];
                 add_score(out_.methods[method], results[i], p.nearest, p.points, p.truth, has_rgb_,
                           opt_.spec.patch_texels, p.ms + share);
             }
@@ -153,7 +153,7 @@ private:
     DatasetEvaluation& out_;
     std::vector<Method> classic_;
     std::vector<std::pair<Method, const BatchReconstructor*>> networks_;
-    std::vector<CnnPending> pending_;
+    std::vector<NetworkPending> pending_;
 };
 
 bool in_split(const RegionSplit& split, Split wanted, const PatchPoints& pp) {
