@@ -2,12 +2,13 @@
 
     python3 -m lidarscout_train.train DATA.bin [MORE.bin ...] --out DIR [--epochs N] [--batch 32]
         [--decoder transposed|upsample] [--width 16] [--head-kernel 9] [--no-residual]
-        [--threads 2] [--device cpu|cuda] [--lr 1e-4] [--seed 1] [--no-augment] [--max-steps N]
-        [--init state_dict.pt]
+        [--threads 2] [--device cpu|cuda] [--lr 1e-4] [--milestones E,E] [--seed 1] [--no-augment] [--max-steps N]
+        [--init state_dict.pt] [--resume]
 
 Several train-data files are trained on together (their train splits, weighted as one set);
 validation runs on all their held-out splits. --init starts from a saved state dict (its
-decoder / width / head kernel / residual override the flags): fine-tuning.
+decoder / width / head kernel / residual override the flags): fine-tuning. Every epoch ends with
+DIR/checkpoint.pt (weights, optimiser, schedule, history); --resume continues from it.
 
 On a GPU machine (PyTorch 2.x with CUDA there) train with --device cuda and bring back
 state_dict.pt; export it to TorchScript here with `python3 -m lidarscout_train.export`, so that
@@ -107,10 +108,12 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--device", default="cpu", help="cpu, or cuda on a GPU machine")
     ap.add_argument("--lr", type=float, default=1e-4)
+    ap.add_argument("--milestones", help="epochs after which the lr drops x0.1, comma-separated (default: 1/3 and 2/3)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--no-augment", action="store_true")
     ap.add_argument("--max-steps", type=int, default=0, help="stop each epoch after N steps (smoke runs)")
     ap.add_argument("--init", help="state_dict.pt to start from (fine-tuning)")
+    ap.add_argument("--resume", action="store_true", help="continue from DIR/checkpoint.pt when it exists")
     ap.add_argument("--no-texel-weights", action="store_true",
                     help="plain MSE over normalised heights (the coarse texel sizes then weigh ~100x less)")
     args = ap.parse_args(argv)
@@ -146,12 +149,23 @@ def main(argv=None):
     print(f"model: decoder={args.decoder} width={args.width} parameters={n_params}; "
           f"train {len(train_set)} validation {len(val_set)} samples", flush=True)
     opt = torch.optim.AdamW(model.parameters(), lr=args.lr, eps=1e-5, weight_decay=1e-2)
-    milestones = sorted({max(1, round(args.epochs / 3)), max(1, round(2 * args.epochs / 3))})
+    milestones = (sorted(int(m) for m in args.milestones.split(",")) if args.milestones else
+                  sorted({max(1, round(args.epochs / 3)), max(1, round(2 * args.epochs / 3))}))
     sched = torch.optim.lr_scheduler.MultiStepLR(opt, milestones=milestones, gamma=0.1)
 
     history = {"config": vars(args) | {"parameters": n_params, "milestones": milestones,
                                        "texel_weights": {str(k): v for k, v in texel_weights.items()}}, "epochs": []}
-    for epoch in range(args.epochs):
+    ckpt_path = os.path.join(args.out, "checkpoint.pt")
+    first = 0
+    if args.resume and os.path.exists(ckpt_path):
+        ckpt = torch.load(ckpt_path, map_location=args.device)
+        model.load_state_dict(ckpt["model"])
+        opt.load_state_dict(ckpt["opt"])
+        sched.load_state_dict(ckpt["sched"])
+        history["epochs"], first = ckpt["history_epochs"], ckpt["epoch"]
+        gen.manual_seed(args.seed + first)
+        print(f"resumed from {ckpt_path} after epoch {first}", flush=True)
+    for epoch in range(first, args.epochs):
         model.train()
         t0 = time.time()
         total, lh_sum, lc_sum, steps = 0.0, 0.0, 0.0, 0
@@ -181,6 +195,9 @@ def main(argv=None):
         print(json.dumps(rec), flush=True)
         with open(os.path.join(args.out, "history.json"), "w") as f:
             json.dump(history, f, indent=1)
+        torch.save({"model": model.state_dict(), "opt": opt.state_dict(), "sched": sched.state_dict(),
+                    "history_epochs": history["epochs"], "epoch": epoch + 1}, ckpt_path + ".tmp")
+        os.replace(ckpt_path + ".tmp", ckpt_path)
 
     model = model.cpu()
     torch.save({"state_dict": model.state_dict(), "decoder": args.decoder, "width": args.width,

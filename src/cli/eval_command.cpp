@@ -1,4 +1,5 @@
-// `lidarscout eval PATH... --methods nearest,linear,cubic,splat,cnn [--model FILE] [--texel 10]
+// `lidarscout eval PATH... --methods nearest,linear,cubic,splat,cnn,released [--model FILE]
+// [--released-model FILE] [--texel 10]
 // [--patches N] [--seed S] [--stride K|auto] [--split validation] [--offsets N] [--json]`:
 // scores heightmap reconstruction methods against ground truth from the full-resolution
 // points, per dataset (each PATH) and overall.
@@ -18,6 +19,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "nn/heightmap_network.hpp"
+#include "nn/released_model.hpp"
 #include "pipelines/evaluation.hpp"
 
 namespace lidarscout::cli {
@@ -33,6 +35,7 @@ struct EvalCliOptions {
     unsigned threads = 0;
     bool json = false;
     std::string model;  // empty: the default model (only loaded for cnn)
+    std::string released_model;  // the paper's released ipes_cnn.pt (required for released)
     std::string split = "all";
     pipelines::RegionSplitOptions split_options;
     int offsets = 1;
@@ -46,8 +49,8 @@ std::optional<pipelines::Split> parse_split(const std::string& text) {
     throw Error("--split must be all, train or validation (not '" + text + "')");
 }
 
-bool has_cnn(const std::vector<recon::Method>& methods) {
-    return std::find(methods.begin(), methods.end(), recon::Method::Cnn) != methods.end();
+bool has_method(const std::vector<recon::Method>& methods, recon::Method m) {
+    return std::find(methods.begin(), methods.end(), m) != methods.end();
 }
 
 std::vector<recon::Method> parse_methods(const std::string& list) {
@@ -110,7 +113,12 @@ int run_eval(const EvalCliOptions& o) {
     opt.batch = o.batch;
     const unsigned threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     std::string model_path;
-    if (has_cnn(opt.methods)) {
+    if (has_method(opt.methods, recon::Method::Released)) {
+        if (o.released_model.empty()) throw Error::in_stage("eval", "the released method needs --released-model FILE");
+        auto released = nn::load_released_model(o.released_model, static_cast<int>(threads));
+        opt.released = nn::released_batch_reconstructor(std::move(released));
+    }
+    if (has_method(opt.methods, recon::Method::Cnn)) {
         model_path = o.model.empty() ? nn::default_model_path() : o.model;
         auto net = std::make_shared<const nn::HeightmapNetwork>(nn::HeightmapNetwork::load(model_path, static_cast<int>(threads)));
         opt.network = nn::as_batch_reconstructor(std::move(net), opt.spec.patch_texels);
@@ -144,6 +152,7 @@ int run_eval(const EvalCliOptions& o) {
         nlohmann::json j = {{"methods", methods_json(all)}, {"datasets", datasets}, {"texel_m", o.texel},
                             {"seed", o.seed}, {"split", o.split}};
         if (!model_path.empty()) j["model"] = model_path;
+        if (!o.released_model.empty()) j["released_model"] = o.released_model;
         if (opt.split) j["split_options"] = {{"block_m", o.split_options.block_m}, {"val_fraction", o.split_options.val_fraction}, {"seed", o.split_options.seed}};
         std::printf("%s\n", j.dump(2).c_str());
     } else if (o.paths.size() > 1) {
@@ -160,8 +169,12 @@ void register_eval_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("paths", o->paths, "Datasets: each a folder, tile list or file, scored separately and overall")
         ->required();
     cmd->add_option("--methods", o->methods,
-                    "Comma-separated: nearest, linear, cubic, splat, cnn (default: nearest,linear,cubic,splat)");
+                    "Comma-separated: nearest, linear, cubic, splat, cnn, released "
+                    "(default: nearest,linear,cubic,splat)");
     cmd->add_option("--model", o->model, "TorchScript model for cnn (default: the shipped models/heightmap_cnn.pt)");
+    cmd->add_option("--released-model", o->released_model,
+                    "The paper's released height network (cg-tuwien/lidarscout ipes_cnn.pt, converted for the CPU by "
+                    "python3 -m lidarscout_train.released_cpu) for the released method");
     cmd->add_option("--batch", o->batch, "Patches per network batch (default 16)")->check(CLI::PositiveNumber);
     cmd->add_option("--split", o->split,
                     "Score only windows of one side of the region split: all (default), train, validation");

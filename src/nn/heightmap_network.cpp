@@ -66,21 +66,48 @@ HeightmapNetwork HeightmapNetwork::load(const std::string& path, int threads) {
     return HeightmapNetwork(std::move(impl));
 }
 
+namespace {
+
+// The plugin's answer as an owned buffer of n patches; throws Error (naming `path`) on failure
+// or on an output that is not [n, c, p, p].
+HeightmapNetwork::RawOutput take_output(const LidarscoutRunnerApi& api, const std::string& path, int rc, float* output,
+                                        const long dims[4], const char* error, std::size_t n) {
+    const std::unique_ptr<float, void (*)(float*)> owned(output, api.free_output);
+    if (rc != 0) throw Error(path, std::nullopt, std::string("heightmap network failed: ") + error);
+    if (dims[0] != static_cast<long>(n) || dims[2] != dims[3]) {
+        throw Error(path, std::nullopt, "heightmap network output has an unexpected shape");
+    }
+    return {std::vector<float>(output, output + dims[0] * dims[1] * dims[2] * dims[3]), dims[1], dims[2]};
+}
+
+}  // namespace
+
 std::vector<float> HeightmapNetwork::run(std::span<const float> input, std::size_t n, int window_texels) const {
     if (input.size() != n * input_size(window_texels)) throw Error(impl_->path, std::nullopt, "network input of the wrong size");
     if (n == 0) return {};
     float* output = nullptr;
     long dims[4] = {};
     char error[512] = {};
-    if (impl_->api->run(impl_->model, input.data(), static_cast<long>(n), kInputChannels, window_texels, &output, dims,
-                        error, sizeof error) != 0) {
-        throw Error(impl_->path, std::nullopt, std::string("heightmap network failed: ") + error);
-    }
-    const std::unique_ptr<float, void (*)(float*)> owned(output, impl_->api->free_output);
-    if (dims[0] != static_cast<long>(n) || dims[1] != kOutputChannels || dims[2] != dims[3]) {
+    const int rc = impl_->api->run(impl_->model, input.data(), static_cast<long>(n), kInputChannels, window_texels,
+                                   &output, dims, error, sizeof error);
+    RawOutput out = take_output(*impl_->api, impl_->path, rc, output, dims, error, n);
+    if (out.channels != kOutputChannels) {
         throw Error(impl_->path, std::nullopt, "heightmap network output has an unexpected shape");
     }
-    return std::vector<float>(output, output + dims[0] * dims[1] * dims[2] * dims[3]);
+    return std::move(out.values);
+}
+
+HeightmapNetwork::RawOutput HeightmapNetwork::run_named(std::span<const char* const> names,
+                                                        std::span<const float* const> planes, std::size_t n,
+                                                        int window_texels) const {
+    if (names.size() != planes.size()) throw Error(impl_->path, std::nullopt, "network inputs without names");
+    if (n == 0) return {};
+    float* output = nullptr;
+    long dims[4] = {};
+    char error[512] = {};
+    const int rc = impl_->api->run_named(impl_->model, names.data(), planes.data(), static_cast<int>(names.size()),
+                                         static_cast<long>(n), window_texels, &output, dims, error, sizeof error);
+    return take_output(*impl_->api, impl_->path, rc, output, dims, error, n);
 }
 
 std::vector<recon::Reconstruction> HeightmapNetwork::infer(std::span<const recon::InterpolatedPatch* const> patches,

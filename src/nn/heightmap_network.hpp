@@ -46,6 +46,16 @@ public:
     // benchmarks).
     std::vector<float> run(std::span<const float> input, std::size_t n, int window_texels) const;
 
+    // Runs a model whose forward takes one dict of named planes (the paper's released networks,
+    // nn/released_model.hpp): planes[i], float32 [n, 1, w, w], under names[i]. Returns the raw
+    // output [n, c, p, p] (c = channels, p = size).
+    struct RawOutput {
+        std::vector<float> values;
+        long channels = 0, size = 0;
+    };
+    RawOutput run_named(std::span<const char* const> names, std::span<const float* const> planes, std::size_t n,
+                        int window_texels) const;
+
 private:
     struct Impl;
     explicit HeightmapNetwork(std::unique_ptr<Impl> impl);

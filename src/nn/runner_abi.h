@@ -12,7 +12,7 @@
 extern "C" {
 #endif
 
-#define LIDARSCOUT_RUNNER_ABI 1
+#define LIDARSCOUT_RUNNER_ABI 2
 
 typedef struct LidarscoutRunnerApi {
     int abi; /* LIDARSCOUT_RUNNER_ABI */
@@ -22,6 +22,11 @@ typedef struct LidarscoutRunnerApi {
      * *output (free with free_output) holds out_dims[0..3] = n, channels, size, size. */
     int (*run)(void* model, const float* input, long n, long channels, long window, float** output, long out_dims[4],
                char* error, size_t error_size);
+    /* Runs a model whose forward takes one dict of named planes (the paper's released networks):
+     * `count` inputs, inputs[i] float32 [n, 1, window, window] under the key names[i]. Output as
+     * run(). */
+    int (*run_named)(void* model, const char* const* names, const float* const* inputs, int count, long n, long window,
+                     float** output, long out_dims[4], char* error, size_t error_size);
     void (*free_output)(float* output);
     void (*close)(void* model);
     /* Intra-op threads of the runtime (process-wide); 0 leaves the default. */

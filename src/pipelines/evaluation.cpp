@@ -78,15 +78,15 @@ void add_score(MethodScores& scores, const Reconstruction& r, const Reconstructi
     const bool whole_window = r.height.size != patch_texels;  // the classic methods return the window
     const Image h = whole_window ? patch_of(r.height, &nearest.height, patch_texels) : r.height;
     scores.rmse_m.push_back(height_rmse_m(heights_in_metres(h, points), truth.height_m).value);
-    if (has_rgb) {
+    if (has_rgb && !r.rgb.empty()) {
         const Image c = whole_window ? patch_of(r.rgb, &nearest.rgb, patch_texels) : r.rgb;
         scores.psnr_db.push_back(rgb_psnr_db(c, truth.rgb).value);
     }
     scores.ms.push_back(ms);
 }
 
-// Patches waiting for the network: their inputs and what they are scored against.
-struct CnnPending {
+// Patches waiting for the networks: their inputs and what they are scored against.
+struct NetworkPending {
     PatchPoints points;
     InterpolatedPatch inputs;
     Reconstruction nearest;
@@ -94,17 +94,23 @@ struct CnnPending {
     double ms = 0;  // gathering + interpolation
 };
 
+// The reconstructor of a network method; throws when it was not given.
+const BatchReconstructor& network_of(const EvalOptions& opt, Method m) {
+    const BatchReconstructor& net = m == Method::Cnn ? opt.network : opt.released;
+    if (!net) throw Error::in_stage("eval", "the " + std::string(method_name(m)) + " method needs its network (none was loaded)");
+    return net;
+}
+
 class Scorer {
 public:
     Scorer(const EvalOptions& opt, bool has_rgb, DatasetEvaluation& out) : opt_(opt), has_rgb_(has_rgb), out_(out) {
         for (const Method m : opt.methods) {
-            if (m == Method::Cnn) {
-                cnn_ = true;
+            if (is_network(m)) {
+                networks_.emplace_back(m, &network_of(opt, m));
             } else {
                 classic_.push_back(m);
             }
         }
-        if (cnn_ && !opt.network) throw Error::in_stage("eval", "the cnn method needs the heightmap network (none was loaded)");
     }
 
     void score(const PatchInputs& in, PatchTruth truth) {
@@ -115,7 +121,7 @@ public:
             const TimedReconstruction run = m == Method::Nearest ? nearest : timed_reconstruct(in.points, m);
             add_score(out_.methods[m], run.result, nearest.result, in.points, truth, has_rgb_, n, run.ms + in.gather_ms);
         }
-        if (!cnn_) return;
+        if (networks_.empty()) return;
         const auto t0 = Clock::now();
         InterpolatedPatch inputs = interpolate_patch(in.points);
         pending_.push_back({in.points, std::move(inputs), std::move(nearest.result), std::move(truth),
@@ -127,14 +133,16 @@ public:
         if (pending_.empty()) return;
         std::vector<const InterpolatedPatch*> batch;
         for (const auto& p : pending_) batch.push_back(&p.inputs);
-        const auto t0 = Clock::now();
-        const std::vector<Reconstruction> results = opt_.network(batch, has_rgb_);
-        const double share = ms_since(t0) / static_cast<double>(batch.size());
-        if (results.size() != batch.size()) throw Error::in_stage("eval", "the network returned a wrong number of patches");
-        for (std::size_t i = 0; i < results.size(); ++i) {
-            const CnnPending& p = pending_[i];
-            add_score(out_.methods[Method::Cnn], results[i], p.nearest, p.points, p.truth, has_rgb_,
-                      opt_.spec.patch_texels, p.ms + share);
+        for (const auto& [method, network] : networks_) {
+            const auto t0 = Clock::now();
+            const std::vector<Reconstruction> results = (*network)(batch, has_rgb_);
+            const double share = ms_since(t0) / static_cast<double>(batch.size());
+            if (results.size() != batch.size()) throw Error::in_stage("eval", "the network returned a wrong number of patches");
+            for (std::size_t i = 0; i < results.size(); ++i) {
+                const NetworkPending& p = pending_[i];
+                add_score(out_.methods[method], results[i], p.nearest, p.points, p.truth, has_rgb_,
+                          opt_.spec.patch_texels, p.ms + share);
+            }
         }
         pending_.clear();
     }
@@ -144,8 +152,8 @@ private:
     bool has_rgb_;
     DatasetEvaluation& out_;
     std::vector<Method> classic_;
-    bool cnn_ = false;
-    std::vector<CnnPending> pending_;
+    std::vector<std::pair<Method, const BatchReconstructor*>> networks_;
+    std::vector<NetworkPending> pending_;
 };
 
 bool in_split(const RegionSplit& split, Split wanted, const PatchPoints& pp) {

@@ -11,8 +11,9 @@
 //   - where a method leaves a texel NaN (splatting far from every point), the nearest chunk
 //     point's value is used, so every method is scored on the same texels;
 //   - milliseconds per patch = gathering the window's chunk points + the method, one thread;
-//     for cnn, + the interpolated inputs + its share of a batch (`batch` patches at once, the
-//     network's own threads);
+//     for the networks (cnn, released), + the interpolated inputs + its share of a batch
+//     (`batch` patches at once, the network's own threads); a network that gives no colour
+//     (released) is scored in height only;
 //   - `split` scores only windows wholly inside that side of the region split
 //     (region_split.hpp; the same rule and seed as `train-data`), `offsets` > 1 adds lattices
 //     shifted by k/N of a patch (survey_samples.hpp) for more patches from small surveys.
@@ -52,7 +53,8 @@ struct EvalOptions {
     std::optional<Split> split;  // Train or Validation: only that side; empty: everywhere
     RegionSplitOptions split_options;
     int offsets = 1;
-    BatchReconstructor network;  // runs Method::Cnn; required when methods has it
+    BatchReconstructor network;   // runs Method::Cnn; required when methods has it
+    BatchReconstructor released;  // runs Method::Released (nn/released_model.hpp); required when methods has it
     std::size_t batch = 16;
 };
 

@@ -77,6 +77,9 @@ InterpolatedPatch interpolate_patch(const PatchPoints& patch) {
         out.rgb_linear = Image(patch.size(), 3);
     }
     out.face_map = std::move(geometry.face_map);
+    double sum = 0;
+    for (const PatchPoint& p : patch.points) sum += p.h;
+    out.mean_height = patch.points.empty() ? 0.0f : static_cast<float>(sum / static_cast<double>(patch.points.size()));
     return out;
 }
 

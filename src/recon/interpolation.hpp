@@ -39,6 +39,7 @@ struct InterpolatedPatch {
     Image height_nearest, height_linear;  // 1 channel, normalised heights
     Image rgb_nearest, rgb_linear;        // 3 channels in [0, 1] (NaN without colour)
     FaceMap face_map;
+    float mean_height = 0;  // mean normalised height of the window's chunk points (released model's centre)
 };
 InterpolatedPatch interpolate_patch(const PatchPoints& patch);
 

@@ -18,7 +18,8 @@ Image run(Method method, const PatchPoints& patch, const PatchGeometry* geometry
         case Method::Linear: return linear_image(*geometry, values);
         case Method::Cubic: return cubic_image(*geometry, values, patch.spec.grid_extent(), options.cubic);
         case Method::Splat: return splat(grid_positions(patch), values, patch.size(), options.splat).values;
-        case Method::Cnn: break;
+        case Method::Cnn:
+        case Method::Released: break;
     }
     throw Error::in_stage("recon", "unknown method");
 }
@@ -32,6 +33,7 @@ std::string_view method_name(Method method) {
         case Method::Cubic: return "cubic";
         case Method::Splat: return "splat";
         case Method::Cnn: return "cnn";
+        case Method::Released: return "released";
     }
     return "?";
 }
@@ -40,9 +42,13 @@ Method method_from_name(std::string_view name) {
     for (const Method m : kAllMethods) {
         if (method_name(m) == name) return m;
     }
-    if (name == method_name(Method::Cnn)) return Method::Cnn;
-    throw Error::in_stage("recon", "unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat, cnn)");
+    for (const Method m : {Method::Cnn, Method::Released}) {
+        if (method_name(m) == name) return m;
+    }
+    throw Error::in_stage("recon", "unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat, cnn, released)");
 }
+
+bool is_network(Method method) { return method == Method::Cnn || method == Method::Released; }
 
 std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<const Method> methods,
                                         const MethodOptions& options) {
@@ -50,7 +56,10 @@ std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<cons
     std::optional<PatchGeometry> geometry;
     std::optional<PointValues> heights, colours;
     for (const Method method : methods) {
-        if (method == Method::Cnn) throw Error::in_stage("recon", "the cnn method runs in batches through the network, not reconstruct()");
+        if (is_network(method)) {
+            throw Error::in_stage("recon", "the " + std::string(method_name(method)) +
+                        " method runs in batches through a network, not reconstruct()");
+        }
         Reconstruction r;
         r.method = method;
         r.status = patch.status;

@@ -25,14 +25,17 @@
 
 namespace lidarscout::recon {
 
-enum class Method { Nearest, Linear, Cubic, Splat, Cnn };
+// Cnn: our network; Released: the paper's released height network (nn/released_model.hpp).
+enum class Method { Nearest, Linear, Cubic, Splat, Cnn, Released };
 
-// The methods reconstruct() runs (all but the network).
+// The methods reconstruct() runs (all but the networks).
 inline constexpr std::array<Method, 4> kAllMethods{Method::Nearest, Method::Linear, Method::Cubic, Method::Splat};
 
 std::string_view method_name(Method method);
 // Throws lidarscout::Error for an unknown name (the message lists the known ones).
 Method method_from_name(std::string_view name);
+// Cnn and Released: the methods that run in batches through a network.
+bool is_network(Method method);
 
 struct Reconstruction {
     Method method = Method::Linear;
@@ -46,7 +49,7 @@ struct MethodOptions {
     SplatOptions splat;
 };
 
-// Throws lidarscout::Error for Method::Cnn (it needs a network: BatchReconstructor).
+// Throws lidarscout::Error for the networks (Cnn, Released: they run through a BatchReconstructor).
 Reconstruction reconstruct(const PatchPoints& patch, Method method, const MethodOptions& options = {});
 // Several methods on one patch, sharing the triangulation, face map and nearest map.
 std::vector<Reconstruction> reconstruct(const PatchPoints& patch, std::span<const Method> methods,

@@ -84,5 +84,15 @@ TEST(EvalCommand, BadArgumentsAreOneLine) {
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }
 
+TEST(EvalCommand, ReleasedMethodNeedsItsModel) {
+    std::string out;
+    const auto ky = (test::surveys_dir() / "ky-woodford-county").string();
+    const std::string eval = std::string(LIDARSCOUT_CLI) + " eval --methods linear,released ";
+    EXPECT_EQ(test::run_command(eval + ky + " 2>&1", out), 1);
+    EXPECT_NE(out.find("--released-model"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(eval + "--released-model /nonexistent/ipes_cnn.pt " + ky + " 2>&1", out), 1);
+    EXPECT_NE(out.find("/nonexistent/ipes_cnn.pt"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace lidarscout

@@ -34,6 +34,24 @@ void* open_model(const char* path, char* error, size_t error_size) {
     }
 }
 
+// Copies a 4-d network output into malloc'd memory (freed by free_output); 0 on success.
+int copy_output(const at::Tensor& result, float** output, long out_dims[4], char* error, size_t error_size) {
+    const at::Tensor y = result.to(torch::kFloat32).contiguous();
+    if (y.dim() != 4) {
+        set_error(error, error_size, "the network's output is not a 4-d tensor");
+        return 1;
+    }
+    for (int i = 0; i < 4; ++i) out_dims[i] = y.size(i);
+    const auto count = static_cast<size_t>(y.numel());
+    *output = static_cast<float*>(std::malloc(count * sizeof(float) + 1));
+    if (!*output) {
+        set_error(error, error_size, "out of memory for the network's output");
+        return 1;
+    }
+    std::memcpy(*output, y.data_ptr<float>(), count * sizeof(float));
+    return 0;
+}
+
 int run_model(void* model, const float* input, long n, long channels, long window, float** output, long out_dims[4],
               char* error, size_t error_size) {
     try {
@@ -41,20 +59,24 @@ int run_model(void* model, const float* input, long n, long channels, long windo
         // from_blob does not copy; the module does not write to its input.
         const auto x = torch::from_blob(const_cast<float*>(input), {n, channels, window, window}, torch::kFloat32);
         auto& module = static_cast<Model*>(model)->module;
-        const at::Tensor y = module.forward({x}).toTensor().to(torch::kFloat32).contiguous();
-        if (y.dim() != 4) {
-            set_error(error, error_size, "the network's output is not a 4-d tensor");
-            return 1;
+        return copy_output(module.forward({x}).toTensor(), output, out_dims, error, error_size);
+    } catch (const std::exception& e) {
+        set_error(error, error_size, e.what());
+        return 1;
+    }
+}
+
+int run_named(void* model, const char* const* names, const float* const* inputs, int count, long n, long window,
+              float** output, long out_dims[4], char* error, size_t error_size) {
+    try {
+        c10::InferenceMode guard;
+        c10::Dict<std::string, at::Tensor> batch;
+        for (int i = 0; i < count; ++i) {
+            const auto plane = torch::from_blob(const_cast<float*>(inputs[i]), {n, 1, window, window}, torch::kFloat32);
+            batch.insert(names[i], plane);
         }
-        for (int i = 0; i < 4; ++i) out_dims[i] = y.size(i);
-        const auto count = static_cast<size_t>(y.numel());
-        *output = static_cast<float*>(std::malloc(count * sizeof(float) + 1));
-        if (!*output) {
-            set_error(error, error_size, "out of memory for the network's output");
-            return 1;
-        }
-        std::memcpy(*output, y.data_ptr<float>(), count * sizeof(float));
-        return 0;
+        auto& module = static_cast<Model*>(model)->module;
+        return copy_output(module.forward({batch}).toTensor(), output, out_dims, error, error_size);
     } catch (const std::exception& e) {
         set_error(error, error_size, e.what());
         return 1;
@@ -67,7 +89,8 @@ void set_threads(int threads) {
     if (threads > 0) at::set_num_threads(threads);
 }
 
-const LidarscoutRunnerApi kApi{LIDARSCOUT_RUNNER_ABI, open_model, run_model, free_output, close_model, set_threads};
+const LidarscoutRunnerApi kApi{LIDARSCOUT_RUNNER_ABI, open_model, run_model, run_named,
+                               free_output, close_model, set_threads};
 
 }  // namespace
 

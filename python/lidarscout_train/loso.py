@@ -1,0 +1,126 @@
+"""Helpers of scripts/loso_eval.sh (leave-one-survey-out evaluation of the heightmap network).
+
+    python3 -m lidarscout_train.loso stride DATA.bin [CHUNK_POINTS]
+        the chunk-point stride of the file's first sample (the auto stride: about 369 chunk
+        points per window), or the stride that gives CHUNK_POINTS per window instead
+    python3 -m lidarscout_train.loso table EVAL.json... [--released-dir DIR] [--json OUT]
+        one row per held-out survey (each file: `lidarscout eval --json` of one survey, named
+        SURVEY[.TAG].json), with linear, cnn and (when present) released RMSE, the ratios to
+        linear, the colour PSNR, and the mean ratios over surveys. The released model's figures
+        come from the file itself or from DIR/SURVEY[.TAG].json (an eval of the same patches:
+        its linear RMSE must be the same, else the patches differ and this fails)
+"""
+import json
+import math
+import os
+import struct
+import sys
+
+AUTO_CHUNK_POINTS = 20.0 * 960.0 ** 2 / 50_000.0  # the stride rule of src/recon/survey_samples.hpp
+
+
+def file_stride(path):
+    """The stride recorded in a train-data file's first sample."""
+    with open(path, "rb") as f:
+        pre = f.read(48)
+        if pre[:8] != b"LSTRAIN1":
+            raise SystemExit(f"{path}: not a train-data file")
+        _, _, count, meta_offset, meta_length = struct.unpack("<5Q", pre[8:])
+        if count == 0:
+            raise SystemExit(f"{path}: no samples")
+        f.seek(meta_offset)
+        return int(json.loads(f.read(meta_length))["samples"][0]["stride"])
+
+
+def stride_for(auto_stride, chunk_points):
+    """The stride giving about chunk_points per window, from the auto stride (about 369)."""
+    return max(1, round(auto_stride * AUTO_CHUNK_POINTS / chunk_points))
+
+
+def _method(e, name, key):
+    m = e["methods"].get(name)
+    return None if m is None else m.get(key)
+
+
+def _released_from(e, path):
+    """Copies the released method of the eval file `path` into e, after checking both scored the
+    same patches (same linear RMSE and count)."""
+    with open(path) as f:
+        r = json.load(f)
+    for key in ("rmse_m_mean", "patches"):
+        a, b = _method(e, "linear", key), _method(r, "linear", key)
+        if a != b and not (a is not None and b is not None and abs(a - b) < 1e-9):
+            raise SystemExit(f"{path}: not the same patches as the CNN's evaluation (linear {key} {b} != {a})")
+    if "released" in r["methods"]:
+        e["methods"]["released"] = r["methods"]["released"]
+
+
+def rows_of(paths, released_dir=None):
+    rows = []
+    for p in paths:
+        with open(p) as f:
+            e = json.load(f)
+        if released_dir and os.path.exists(os.path.join(released_dir, os.path.basename(p))):
+            _released_from(e, os.path.join(released_dir, os.path.basename(p)))
+        tag = os.path.basename(p)[: -len(".json")]
+        patches = _method(e, "linear", "patches") or 0
+        lin = _method(e, "linear", "rmse_m_mean")
+        row = {"survey": tag, "patches": patches, "linear": lin, "cnn": _method(e, "cnn", "rmse_m_mean"),
+               "released": _method(e, "released", "rmse_m_mean"),
+               "psnr_linear": _method(e, "linear", "psnr_db_mean"), "psnr_cnn": _method(e, "cnn", "psnr_db_mean")}
+        for k in ("cnn", "released"):
+            row[k + "_ratio"] = row[k] / lin if (row[k] is not None and lin) else None
+        rows.append(row)
+    return rows
+
+
+def _fmt(v, spec):
+    return "–" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, spec)
+
+
+def _mean(rows, key):
+    vals = [r[key] for r in rows if r[key] is not None and r["patches"]]
+    return sum(vals) / len(vals) if vals else None
+
+
+def print_table(rows):
+    print("| held-out survey | patches | linear RMSE (m) | CNN RMSE (m) | CNN / linear | released RMSE (m) "
+          "| released / linear | RGB PSNR linear → CNN (dB) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        psnr = "–" if r["psnr_cnn"] is None else f"{r['psnr_linear']:.2f} → {r['psnr_cnn']:.2f}"
+        print(f"| {r['survey']} | {r['patches']} | {_fmt(r['linear'], '.3f')} | {_fmt(r['cnn'], '.3f')} "
+              f"| {_fmt(r['cnn_ratio'], '.3f')} | {_fmt(r['released'], '.3f')} | {_fmt(r['released_ratio'], '.3f')} "
+              f"| {psnr} |")
+    print(f"| **mean over surveys** | {sum(r['patches'] for r in rows)} | | | {_fmt(_mean(rows, 'cnn_ratio'), '.3f')} "
+          f"| | {_fmt(_mean(rows, 'released_ratio'), '.3f')} | |")
+
+
+def _option(args, name):
+    """(value, the other args) for `name VALUE` in args; value None when absent."""
+    if name not in args:
+        return None, args
+    i = args.index(name)
+    return args[i + 1], args[:i] + args[i + 2:]
+
+
+def main(argv):
+    if len(argv) >= 2 and argv[0] == "stride":
+        auto = file_stride(argv[1])
+        print(stride_for(auto, float(argv[2])) if len(argv) > 2 else auto)
+    elif len(argv) >= 2 and argv[0] == "table":
+        paths = argv[1:]
+        out, paths = _option(paths, "--json")
+        released_dir, paths = _option(paths, "--released-dir")
+        rows = rows_of(paths, released_dir)
+        print_table(rows)
+        if out:
+            with open(out, "w") as f:
+                json.dump({"rows": rows, "mean_cnn_ratio": _mean(rows, "cnn_ratio"),
+                           "mean_released_ratio": _mean(rows, "released_ratio")}, f, indent=1)
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
