@@ -35,6 +35,7 @@
 
 using namespace lidarscout;
 using namespace lidarscout::recon;
+using namespace lidarscout::pipelines;
 
 namespace {
 

@@ -22,7 +22,7 @@ constexpr std::array<const char*, 2> kInputNames{"patch_hm_nearest", "patch_hm_l
 void pack_released(const recon::InterpolatedPatch& p, std::vector<float>& nearest, std::vector<float>& linear) {
     if (p.status != recon::PatchStatus::Ok || p.height_nearest.size != kReleasedWindow ||
         p.height_linear.size != kReleasedWindow) {
-        throw Error("released model: the patch has no 96 x 96 interpolated heights");
+        throw Error::in_stage("nn", "released model: the patch has no 96 x 96 interpolated heights");
     }
     const float c = p.mean_height;
     for (std::size_t i = 0; i < p.height_nearest.values.size(); ++i) {

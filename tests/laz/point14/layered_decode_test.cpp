@@ -5,7 +5,6 @@
 #include <openssl/evp.h>
 
 #include <algorithm>
-#include <chrono>
 
 #include <cstdio>
 #include <cstdlib>
@@ -319,37 +318,6 @@ TEST(LayeredUnsupported, ItemListsOutsideTheFormatAreRejected) {
 
     std::vector<std::uint8_t> small(f.record());
     EXPECT_THROW(decode_layered_chunk(f.laz(), {f.bytes(c), c.point_count, small, fields::kAll}), Error);
-}
-
-// ---- speed (only when LIDARSCOUT_LAYERED_SPEED is set; Release build) --------------------
-
-double median_points_per_second(const LoadedFile& f, std::uint32_t fields, std::uint64_t points) {
-    std::vector<double> rates;
-    for (int run = 0; run < 5; ++run) {
-        const auto start = std::chrono::steady_clock::now();
-        const auto out = decode_file(f, fields);
-        const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
-        rates.push_back(static_cast<double>(points) / took.count());
-    }
-    std::sort(rates.begin(), rates.end());
-    return rates[2];
-}
-
-TEST(LayeredSpeed, LargestFormat678File) {
-    if (!std::getenv("LIDARSCOUT_LAYERED_SPEED")) GTEST_SKIP() << "set LIDARSCOUT_LAYERED_SPEED=1 to measure";
-    const auto files = layered_files();
-    for (int format : {6, 7, 8}) {
-        const LayeredFile* largest = nullptr;
-        for (const auto& file : files) {
-            if (file.point_format == format && (!largest || file.points > largest->points)) largest = &file;
-        }
-        if (!largest) continue;
-        const LoadedFile f = load(largest->path);
-        const double full = median_points_per_second(f, fields::kAll, largest->points);
-        const double xyz = median_points_per_second(f, fields::kXyz, largest->points);
-        std::printf("format %d, %s (%llu points): full %.2f M points/s, XYZ only %.2f M points/s\n", format,
-                    largest->name.c_str(), static_cast<unsigned long long>(largest->points), full / 1e6, xyz / 1e6);
-    }
 }
 
 }  // namespace
