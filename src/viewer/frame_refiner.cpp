@@ -46,6 +46,8 @@ const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const ren
     SceneStyle drawn = style;
     if (refine && style.lod_spacing_px > 0) {
         drawn.lod_spacing_px = refined_spacing(snapshot.full_points, camera, style.lod_spacing_px, max_points_);
+    } else if (last_ && same_camera(last_->camera, camera)) {
+        drawn.lod_spacing_px = style.lod_spacing_px / 2;  // a still camera while data arrives: finer already
     }
     frame_ = render_snapshot(snapshot, camera, drawn, pool, layers);
     refined_ = refine;

@@ -36,7 +36,7 @@ struct SceneStyle {
     bool auto_intensity = true;     // intensity range from the scene's points (2nd-98th percentile)
     int chunk_point_size = 2;       // pixels: chunk points are sparse, a bigger square reads better
     int point_size = 1;             // pixels: full-resolution points
-    double lod_spacing_px = 0.5;    // LOD blocks: the level whose spacing is at most this many pixels (0: all points)
+    double lod_spacing_px = 1.0;    // LOD blocks: the level whose spacing is at most this many pixels (0: all points)
     render::HeightmapPassSettings heightmaps;  // its colour settings are replaced by `colour`
     render::ResolveSettings resolve;           // background, eye-dome lighting
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (render/backend.hpp)
