@@ -16,7 +16,7 @@ import os
 import struct
 import sys
 
-AUTO_CHUNK_POINTS = 20.0 * 960.0 ** 2 / 50_000.0  # the stride rule of src/recon/survey_samples.hpp
+AUTO_CHUNK_POINTS = 20.0 * 960.0 ** 2 / 50_000.0  # the stride rule of src/pipelines/survey_samples.hpp
 
 
 def file_stride(path):

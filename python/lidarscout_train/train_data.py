@@ -1,6 +1,6 @@
 """Reader for `lidarscout train-data` files, with numpy only.
 
-Layout (see src/recon/training_data.hpp): a 48-byte preamble ("LSTRAIN1", then five
+Layout (see src/pipelines/training_data.hpp): a 48-byte preamble ("LSTRAIN1", then five
 little-endian uint64: records_offset, record_size, count, meta_offset, meta_length), `count`
 fixed-size records described by the JSON metadata's "fields", and the JSON metadata itself.
 

@@ -24,9 +24,9 @@ std::string dataset_name(const std::string& path);
 // Opens one dataset (a PATH argument), printing its skipped files on stderr; throws Error
 // when nothing in it can be read.
 dataset::Dataset open_reported_dataset(const std::string& path);
-// --split-block, --val-fraction, --split-seed (the region split, recon/region_split.hpp).
+// --split-block, --val-fraction, --split-seed (the region split, pipelines/region_split.hpp).
 void add_split_options(CLI::App& cmd, pipelines::RegionSplitOptions& split);
-// --offsets N (lattices per texel size, recon/survey_samples.hpp).
+// --offsets N (lattices per texel size, pipelines/survey_samples.hpp).
 void add_offsets_option(CLI::App& cmd, int& offsets);
 
 }  // namespace lidarscout::cli

@@ -1,6 +1,6 @@
 // `lidarscout train-data PATH... -o FILE [--texel 1,2.5,5,10] [--patches N] [--stride auto]
 // [--seed S] [--split-block M] [--val-fraction F] [--split-seed S] [--offsets N] [--json]`: exports training samples for the
-// heightmap network (layout in src/recon/training_data.hpp; python/ reads it with numpy).
+// heightmap network (layout in src/pipelines/training_data.hpp; python/ reads it with numpy).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -81,7 +81,7 @@ void register_train_data_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<TrainDataCliOptions>();
     auto* cmd = app.add_subcommand("train-data", "Export training samples (inputs and ground truth) for the heightmap network");
     cmd->add_option("paths", o->paths, "Datasets: each a folder, tile list or file")->required();
-    cmd->add_option("-o,--output", o->out, "Output file (layout: src/recon/training_data.hpp)")->required();
+    cmd->add_option("-o,--output", o->out, "Output file (layout: src/pipelines/training_data.hpp)")->required();
     cmd->add_option("--texel", o->texels, "Texel sizes in metres, comma-separated (default 10)");
     cmd->add_option("--patches", o->patches, "Patches per dataset and texel size (default 100)")->check(CLI::PositiveNumber);
     cmd->add_option("--seed", o->seed, "Seed of the patch choice (default 1)");

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "recon/methods.hpp"
+#include "pipelines/recon_types.hpp"
 #include "recon/patch_space.hpp"
 #include "pipelines/region_split.hpp"
 
@@ -38,9 +39,6 @@ struct Dataset;
 }
 
 namespace lidarscout::pipelines {
-
-// The pipelines run recon's per-patch algorithms over whole datasets; its types are theirs.
-using namespace lidarscout::recon;  // NOLINT(google-build-using-namespace)
 
 struct EvalOptions {
     std::vector<Method> methods{kAllMethods.begin(), kAllMethods.end()};

@@ -18,6 +18,7 @@
 
 #include "dataset/patch_grid.hpp"
 #include "recon/ground_truth.hpp"
+#include "pipelines/recon_types.hpp"
 #include "recon/patch_space.hpp"
 
 namespace lidarscout {
@@ -28,9 +29,6 @@ struct Dataset;
 }
 
 namespace lidarscout::pipelines {
-
-// The pipelines run recon's per-patch algorithms over whole datasets; its types are theirs.
-using namespace lidarscout::recon;  // NOLINT(google-build-using-namespace)
 
 inline constexpr double kReferenceDensity = 20.0;          // points / m^2 of a typical survey
 inline constexpr double kReferenceChunkPoints = 50'000.0;  // points per LAZ chunk

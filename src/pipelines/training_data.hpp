@@ -21,7 +21,7 @@
 // Normalisation is patch_space.hpp's: h' = (z - centre_z) / radius_m, radius = half the window.
 // (Image sizes above are for the default 64-texel patch with 16 texels of padding.)
 //
-// Region split: recon/region_split.hpp (shared with `eval --split`); a patch whose padded
+// Region split: pipelines/region_split.hpp (shared with `eval --split`); a patch whose padded
 // window reaches into a block of the other split is dropped, so training and validation
 // windows never share ground.
 //
@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "pipelines/recon_types.hpp"
 #include "recon/patch_space.hpp"
 #include "pipelines/region_split.hpp"
 
@@ -46,9 +47,6 @@ struct Dataset;
 }
 
 namespace lidarscout::pipelines {
-
-// The pipelines run recon's per-patch algorithms over whole datasets; its types are theirs.
-using namespace lidarscout::recon;  // NOLINT(google-build-using-namespace)
 
 inline constexpr char kTrainingMagic[9] = "LSTRAIN1";
 
