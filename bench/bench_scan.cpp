@@ -123,7 +123,7 @@ LoadResult load_chunk_points(const dataset::Dataset& ds, io::ReadBackend backend
     loader.start();
     loader.wait();
     const double s = seconds_since(t0);
-    if (loader.failed() > 0) fmt::print(stderr, "warning: {} chunk points failed: {}\n", loader.failed(), loader.errors().front());
+    if (loader.failed() > 0) fmt::print(stderr, "warning: {} chunk points failed: {}\n", loader.failed(), loader.errors().front().message());
     return {loader.loaded() / s, loader.loaded()};
 }
 

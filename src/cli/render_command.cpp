@@ -149,7 +149,7 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
     dataset::ChunkPointLoader loader(ds, grid);
     loader.set_focus(camera.x, camera.y);
     load_with_progress(loader);
-    for (const auto& e : loader.errors()) report.warnings.push_back(e);
+    for (const auto& e : loader.errors()) report.warnings.push_back(e.message());
     grid.shrink_to_fit();
     report.chunk_points = loader.loaded();
     report.has_rgb = viewer::chunk_points_have_rgb(grid);

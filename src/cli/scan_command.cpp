@@ -11,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/stage_progress.hpp"
+#include "cli/tile_json.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
@@ -38,7 +39,7 @@ struct ScanResult {
     std::uint64_t failed = 0;
     std::size_t patches = 0;
     std::size_t grid_bytes = 0;
-    std::vector<std::string> errors;
+    std::vector<ErrorRecord> errors;
     std::string backend;
 };
 
@@ -102,7 +103,7 @@ void print_json(const ScanResult& r) {
                         {"grid_bytes", r.grid_bytes},
                         {"backend", r.backend},
                         {"warnings", r.dataset.warnings},
-                        {"errors", r.errors}};
+                        {"errors", error_list_json(r.errors)}};
     std::printf("%s\n", j.dump(2).c_str());
 }
 
@@ -110,7 +111,7 @@ void print_text(const ScanResult& r) {
     const auto& ds = r.dataset;
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     for (const auto& w : ds.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
-    for (const auto& e : r.errors) std::fprintf(stderr, "lidarscout: %s\n", e.c_str());
+    for (const auto& e : r.errors) std::fprintf(stderr, "lidarscout: %s\n", e.message().c_str());
     std::printf("tiles:         %zu read, %zu skipped, %llu points\n", ds.tiles.size(), ds.skipped.size(),
                 (unsigned long long)ds.point_count);
     std::printf("headers:       %.3f s\n", r.seconds_headers);

@@ -140,4 +140,14 @@ json failed_tile_json(const std::string& path, const std::string& error) {
     return j;
 }
 
+nlohmann::json error_list_json(const std::vector<ErrorRecord>& errors) {
+    auto list = nlohmann::json::array();
+    for (const auto& e : errors) {
+        nlohmann::json offset = nullptr;
+        if (e.offset) offset = *e.offset;
+        list.push_back({{"file", display_text(e.file)}, {"offset", offset}, {"cause", display_text(e.cause)}});
+    }
+    return list;
+}
+
 }  // namespace lidarscout::cli

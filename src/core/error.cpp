@@ -1,4 +1,4 @@
-// Formatting of lidarscout::Error messages: "FILE: at byte N: CAUSE".
+// Formatting of lidarscout::Error and ErrorRecord messages: "FILE: at byte N: CAUSE".
 #include "core/error.hpp"
 
 namespace lidarscout {
@@ -23,6 +23,10 @@ Error::Error(std::string file, std::optional<std::uint64_t> offset, std::string 
 Error::Error(std::string cause) : Error(std::string(), std::nullopt, std::move(cause)) {}
 
 Error Error::with_file(const std::string& file) const { return Error(file, offset_, cause_); }
+
+ErrorRecord ErrorRecord::of(const Error& error) { return {error.file(), error.offset(), error.cause()}; }
+
+std::string ErrorRecord::message() const { return compose(file, offset, cause); }
 
 Error Error::in_stage(const std::string& stage, const std::string& cause) { return Error(stage + ": " + cause); }
 

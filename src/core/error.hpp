@@ -1,5 +1,7 @@
 // The one error type of the library: a message naming the file, the byte offset (when
-// known) and the cause. Thrown by every stage; caught at the CLI / viewer edge.
+// known) and the cause. Thrown by every stage; caught at the CLI / viewer edge. Work that goes
+// on past a failure (streaming, scanning) keeps the failure as an ErrorRecord: the same three
+// fields as a value, for lists in reports and panels.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +31,17 @@ private:
     std::string file_;
     std::optional<std::uint64_t> offset_;
     std::string cause_;
+};
+
+// A failure kept for later: what an Error says, as a value.
+struct ErrorRecord {
+    std::string file;  // "" when not tied to a file
+    std::optional<std::uint64_t> offset;
+    std::string cause;
+
+    static ErrorRecord of(const Error& error);
+    // "FILE: at byte N: CAUSE", as Error::what().
+    std::string message() const;
 };
 
 }  // namespace lidarscout

@@ -79,7 +79,7 @@ public:
         cancelled_ = true;
     }
     void set_on_tile_done(std::function<void(std::uint32_t)> f) { on_tile_done_ = std::move(f); }
-    std::vector<std::string> errors() const {
+    std::vector<ErrorRecord> errors() const {
         std::lock_guard lock(mutex_);
         return errors_;
     }
@@ -138,13 +138,13 @@ private:
         try {
             t.locations = chunk_point_locations(tile.tile, ds_.las_stride);
         } catch (const Error& e) {
-            record_error(e.what());
+            record_error(ErrorRecord::of(e));
             loader_.failed_ += tile.chunk_points;
             return false;
         }
         t.fd = open_file(tile.tile.path);
         if (t.fd < 0) {
-            record_error(tile.tile.path + ": cannot open: " + std::strerror(errno));
+            record_error({tile.tile.path, std::nullopt, std::string("cannot open: ") + std::strerror(errno)});
             loader_.failed_ += t.locations.size();
             return false;
         }
@@ -193,11 +193,11 @@ private:
     void fail(const std::string& path, std::uint64_t offset, const std::string& cause) {
         ++loader_.failed_;
         std::lock_guard lock(mutex_);
-        record_error(Error(path, offset, cause).what());
+        record_error({path, offset, cause});
     }
 
-    void record_error(const std::string& line) {
-        if (errors_.size() < max_errors_) errors_.push_back(line);
+    void record_error(ErrorRecord error) {
+        if (errors_.size() < max_errors_) errors_.push_back(std::move(error));
     }
 
     void publish(std::uint32_t id, const std::vector<PendingPoint>& points) {
@@ -229,7 +229,7 @@ private:
     double focus_x_ = 0, focus_y_ = 0;
     bool reorder_ = false;
     bool cancelled_ = false;
-    std::vector<std::string> errors_;
+    std::vector<ErrorRecord> errors_;
 };
 
 ChunkPointLoader::ChunkPointLoader(const Dataset& dataset, PatchGrid& grid, ChunkPointLoaderOptions options)
@@ -285,6 +285,6 @@ bool ChunkPointLoader::wait_for(std::chrono::milliseconds timeout) {
     return done_cv_.wait_for(lock, timeout, [&] { return finished_.load(); });
 }
 
-std::vector<std::string> ChunkPointLoader::errors() const { return source_->errors(); }
+std::vector<ErrorRecord> ChunkPointLoader::errors() const { return source_->errors(); }
 
 }  // namespace lidarscout::dataset

@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.hpp"
 #include "io/batch_reader.hpp"
 
 namespace lidarscout::dataset {
@@ -29,7 +30,7 @@ class PatchGrid;
 struct ChunkPointLoaderOptions {
     io::BatchReadOptions reads;      // back end, threads, reads in flight
     bool direct_io = false;          // open tiles with O_DIRECT (cold-cache measurements)
-    std::size_t max_errors = 1000;   // keep at most this many error lines
+    std::size_t max_errors = 1000;   // keep at most this many errors
 };
 
 class ChunkPointLoader {
@@ -58,7 +59,7 @@ public:
     std::uint64_t loaded() const { return loaded_.load(); }        // in the grid
     std::uint64_t failed() const { return failed_.load(); }        // unreadable or implausible
     std::size_t tiles_done() const { return tiles_done_.load(); }
-    std::vector<std::string> errors() const;  // one line each (file, offset, cause)
+    std::vector<ErrorRecord> errors() const;  // each with its file, offset and cause
     io::ReadBackend backend() const { return backend_used_.load(); }  // once finished
 
 private:

@@ -26,9 +26,11 @@ double refined_spacing(const LodBlocks& blocks, const render::Camera& camera, do
     return best;
 }
 
-bool FrameRefiner::same(const Key& a, const Key& b) {
+bool FrameRefiner::same(const Key& a, const Key& b) { return a.version == b.version && same_view(a, b); }
+
+bool FrameRefiner::same_view(const Key& a, const Key& b) {
     const SceneStyle &s = a.style, &t = b.style;
-    return same_camera(a.camera, b.camera) && a.version == b.version && s.colour.mode == t.colour.mode &&
+    return same_camera(a.camera, b.camera) && s.colour.mode == t.colour.mode &&
            s.point_size == t.point_size && s.chunk_point_size == t.chunk_point_size &&
            s.resolve.edl_strength == t.resolve.edl_strength && s.lod_spacing_px == t.lod_spacing_px &&
            s.backend == t.backend && a.layers.heightmaps == b.layers.heightmaps &&
@@ -41,6 +43,9 @@ const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const ren
     const auto now = std::chrono::steady_clock::now();
     const bool same_key = last_ && same(*last_, key);
     if (!same_key) changed_at_ = now;
+    // Only data arrived for a still view: redrawn at most every data_interval_, so that a
+    // loading view leaves the cores to the decoders instead of redrawing 60 times a second.
+    if (!same_key && last_ && same_view(*last_, key) && now - drawn_at_ < data_interval_) return frame_;
     const bool refine = same_key && now - changed_at_ >= settle_;
     if (same_key && (refined_ || !refine)) return frame_;
     SceneStyle drawn = style;
@@ -52,6 +57,7 @@ const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const ren
     frame_ = render_snapshot(snapshot, camera, drawn, pool, layers);
     refined_ = refine;
     last_ = key;
+    drawn_at_ = now;
     return frame_;
 }
 

@@ -1,6 +1,7 @@
 // Progressive refinement of still frames. While the camera moves, frames draw the LOD blocks at
 // the style's spacing (about one point per pixel, fast); a still camera whose snapshot changes
-// (data arriving) gets half that spacing.
+// (data arriving) gets half that spacing, redrawn at most every `data_interval` (a loading view
+// leaves the cores to the decoders).
 // Once a camera and a snapshot have been drawn that way and stayed unchanged for a settling time
 // (so that a scheduler still loading keeps its cores for decoding), the next frame draws the blocks with every point
 // held (or, above a point cap, the finest spacing under it), the picture a converged view should equal; after that the
@@ -26,8 +27,9 @@ double refined_spacing(const LodBlocks& blocks, const render::Camera& camera, do
 class FrameRefiner {
 public:
     explicit FrameRefiner(std::chrono::milliseconds settle = std::chrono::milliseconds(250),
-                          std::uint64_t max_points = 24'000'000)
-        : settle_(settle), max_points_(max_points) {}
+                          std::uint64_t max_points = 24'000'000,
+                          std::chrono::milliseconds data_interval = std::chrono::milliseconds(100))
+        : settle_(settle), max_points_(max_points), data_interval_(data_interval) {}
 
     // The frame for this camera and snapshot (see above). Styles are compared by their colour
     // mode, point sizes, eye-dome lighting, LOD spacing and backend; call invalidate() after
@@ -46,11 +48,13 @@ private:
         SceneLayers layers;
     };
     static bool same(const Key& a, const Key& b);
+    static bool same_view(const Key& a, const Key& b);  // all but the snapshot's version
 
     std::chrono::milliseconds settle_;
     std::uint64_t max_points_;
+    std::chrono::milliseconds data_interval_;
     std::optional<Key> last_;
-    std::chrono::steady_clock::time_point changed_at_;
+    std::chrono::steady_clock::time_point changed_at_, drawn_at_;
     bool refined_ = false;
     RenderedScene frame_;
 };

@@ -333,7 +333,7 @@ void Residency::run() {
         const auto [tile, cap] = *job;
         const PointOrder order = decode_order();
         lock.unlock();
-        std::string error;
+        std::optional<ErrorRecord> error;
         bool capped = false;
         try {
             load(tile, cap, order, pool);
@@ -341,15 +341,17 @@ void Residency::run() {
             return;
         } catch (const Capped&) {
             capped = true;
-        } catch (const std::exception& e) {
-            error = e.what();
+        } catch (const Error& e) {
+            error = ErrorRecord::of(e);
+        } catch (const std::exception& e) {  // e.g. out of memory: still this tile's failure
+            error = ErrorRecord{dataset_.tiles[tile].tile.path, std::nullopt, e.what()};
         }
         lock.lock();
         decoding_bytes_ = 0;
         busy_ = false;
-        if (!error.empty()) {
+        if (error) {
             failed_.insert(tile);
-            errors_.push_back(error);
+            errors_.push_back(std::move(*error));
             continue;
         }
         if (capped && tiles_.contains(tile)) tiles_.at(tile).partial = true;

@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
 #include "render/camera.hpp"
@@ -55,7 +56,7 @@ struct ResidencyStats {
     std::size_t wanted = 0, wanted_full = 0;  // visible tiles; those at full resolution
     std::uint64_t full_points = 0, lod_points = 0;  // points held at full resolution; in every block
     std::uint64_t bytes = 0, bytes_full = 0, decoding_bytes = 0, peak_bytes = 0, budget = 0;
-    std::vector<std::string> errors;
+    std::vector<ErrorRecord> errors;  // tiles that could not be decoded
 };
 
 class Residency {
@@ -136,7 +137,7 @@ private:
     std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, version_ = 1, last_other_ = 0;
     std::size_t released_ = 0, wanted_ = 0, wanted_full_ = 0;
-    std::vector<std::string> errors_;
+    std::vector<ErrorRecord> errors_;
     mutable LodBlocks blocks_cache_;
     mutable std::uint64_t blocks_version_ = 0;
     std::thread thread_;

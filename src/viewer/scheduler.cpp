@@ -90,7 +90,8 @@ struct Scheduler::State {
     std::unique_ptr<nn::HeightmapNetwork> network;
     bool network_pending = false;  // the cnn worker is still loading it
 
-    std::vector<std::string> notes, errors;
+    std::vector<std::string> notes;
+    std::vector<ErrorRecord> errors;  // the scheduler's own (the network); the loader and residency keep theirs
     std::uint64_t version = 1, residency_version = 0;  // the residency's version in `snapshot`
     mutable std::shared_ptr<const SceneSnapshot> snapshot;
 
@@ -365,7 +366,7 @@ void Scheduler::cnn_worker() {
             built = build_cnn_heightmaps(*grid_, batch, *s.network, s.build, pool);
         } catch (const std::exception& e) {
             lock.lock();
-            s.errors.push_back(std::string("heightmap network: ") + e.what());
+            s.errors.push_back(ErrorRecord::of(Error::in_stage("heightmap network", e.what())));
             lock.unlock();
         }
         lock.lock();
@@ -395,7 +396,6 @@ void Scheduler::loader_watch() {
         std::lock_guard lock(s.mutex);
         s.loader_finish_handled = true;  // tiles that never loaded: build what can be
         for (auto& [cell, p] : s.patches) s.push_ready(cell, p);
-        for (const auto& e : loader_->errors()) s.errors.push_back(e);
     }
     s.wake.notify_all();
 }
@@ -438,6 +438,7 @@ SchedulerStats Scheduler::stats() const {
     st.tiles = dataset_.tiles.size();
     st.chunk_points = {loader_->loaded() + loader_->failed(), loader_->total()};
     st.chunk_points_loaded = loader_->loaded();
+    const auto loader_errors = loader_->errors();  // before our lock: the loader's own is taken
     std::lock_guard lock(s.mutex);
     std::size_t loadable = 0;
     for (const auto& t : dataset_.tiles) loadable += t.chunk_points > 0;
@@ -462,7 +463,9 @@ SchedulerStats Scheduler::stats() const {
     st.memory_budget = r.budget;
     st.notes = s.notes;
     if (s.network) st.notes.push_back("heightmap network: " + s.network->path());
-    st.errors = s.errors.size() + r.errors.size();
+    st.errors = s.errors;
+    st.errors.insert(st.errors.end(), loader_errors.begin(), loader_errors.end());
+    st.errors.insert(st.errors.end(), r.errors.begin(), r.errors.end());
     return st;
 }
 

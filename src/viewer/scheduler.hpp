@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
@@ -80,7 +81,7 @@ struct SchedulerStats {
     std::uint64_t bytes_used = 0, bytes_full_res = 0, memory_budget = 0;
     std::uint64_t peak_bytes_used = 0;  // highest bytes_used seen, a decoding tile included
     std::vector<std::string> notes;     // e.g. "no heightmap network: linear heightmaps"
-    std::size_t errors = 0;
+    std::vector<ErrorRecord> errors;    // what could not be read or computed: file, offset, cause
 };
 
 // A quarter of the machine's RAM (1 GiB when unknown).

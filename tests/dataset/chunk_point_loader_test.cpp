@@ -93,7 +93,7 @@ TEST_P(Loader, LoadsEveryChunkPointOfTheSurveys) {
     loader.start();
     loader.wait();
     EXPECT_EQ(loader.backend(), GetParam());
-    EXPECT_TRUE(loader.errors().empty()) << loader.errors().front();
+    EXPECT_TRUE(loader.errors().empty()) << loader.errors().front().message();
     EXPECT_EQ(loader.failed(), 0u);
     EXPECT_EQ(loader.loaded(), ds.chunk_point_count);
     EXPECT_EQ(loader.total(), ds.chunk_point_count);
@@ -195,7 +195,8 @@ TEST(LoaderErrors, VanishedFileIsReportedAndOthersLoad) {
     loader.start();
     loader.wait();
     ASSERT_EQ(loader.errors().size(), 1u);
-    EXPECT_NE(loader.errors()[0].find("gone.laz"), std::string::npos);
+    EXPECT_NE(loader.errors()[0].file.find("gone.laz"), std::string::npos);
+    EXPECT_NE(loader.errors()[0].cause.find("cannot open"), std::string::npos);
     EXPECT_EQ(loader.loaded() + loader.failed(), ds.chunk_point_count);
     EXPECT_EQ(loader.failed(), ds.tiles[1].chunk_points);
 }

@@ -1,5 +1,6 @@
 // FrameRefiner: a frame that changes nothing since the last one (for the settling time) is
-// refined once (every point held), then given back as is; a camera move or a new snapshot goes back to the LOD frame.
+// refined once (every point held), then given back as is; a camera move or a new snapshot goes back to the LOD frame;
+// new data for a still view is drawn at most every interval.
 // refined_spacing: every point under the cap, finer fractions of the LOD spacing above it.
 #include <gtest/gtest.h>
 
@@ -42,7 +43,7 @@ TEST(ViewerFrameRefiner, StillFramesAreRefinedOnceThenKept) {
     const auto snap = random_snapshot();
     ThreadPool pool(2);
     SceneStyle style;
-    FrameRefiner refiner(std::chrono::milliseconds(0));
+    FrameRefiner refiner(std::chrono::milliseconds(0), 24'000'000, std::chrono::milliseconds(0));
     render::Camera camera = overhead();
     const auto first = refiner.draw(*snap, camera, style, pool);
     EXPECT_FALSE(refiner.refined());
@@ -79,6 +80,30 @@ TEST(ViewerFrameRefiner, RefinesOnlyOnceSettled) {
     std::this_thread::sleep_for(std::chrono::milliseconds(250));
     refiner.draw(*snap, camera, {}, pool);
     EXPECT_TRUE(refiner.refined());
+}
+
+TEST(ViewerFrameRefiner, DataArrivingForAStillViewIsDrawnAtMostEveryInterval) {
+    const auto snap = random_snapshot();
+    ThreadPool pool(2);
+    FrameRefiner refiner(std::chrono::milliseconds(0), 24'000'000, std::chrono::milliseconds(150));
+    render::Camera camera = overhead();
+    refiner.draw(*snap, camera, {}, pool);
+    refiner.draw(*snap, camera, {}, pool);
+    ASSERT_TRUE(refiner.refined());
+    auto changed = std::make_shared<SceneSnapshot>();  // new data: nothing drawn any more
+    changed->version = 2;
+    const auto& kept = refiner.draw(*changed, camera, {}, pool);
+    EXPECT_TRUE(refiner.refined()) << "redrawn within the interval";
+    EXPECT_GT(kept.drawn_pixels, 0u);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    const auto& fresh = refiner.draw(*changed, camera, {}, pool);
+    EXPECT_FALSE(refiner.refined());
+    EXPECT_EQ(fresh.drawn_pixels, 0u);
+    camera.x += 1;  // a moving camera is never held back
+    changed->version = 3;
+    refiner.draw(*snap, camera, {}, pool);
+    EXPECT_FALSE(refiner.refined());
+    EXPECT_GT(refiner.draw(*snap, camera, {}, pool).drawn_pixels, 0u);
 }
 
 TEST(ViewerFrameRefiner, RefinedSpacingStaysUnderThePointCap) {

@@ -1,4 +1,4 @@
-// Overlay lines: projection of segment ends, clipping to the image, a DDA line walk.
+// Overlay lines: projection of segment ends, clipping to the image, a DDA line walk; markers.
 #include "viewer/app/overlay.hpp"
 
 #include <algorithm>
@@ -55,6 +55,26 @@ void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, con
         draw_segment(image, camera, b.max_x, b.min_y, z, b.max_x, b.max_y, z, colour);
         draw_segment(image, camera, b.max_x, b.max_y, z, b.min_x, b.max_y, z, colour);
         draw_segment(image, camera, b.min_x, b.max_y, z, b.min_x, b.min_y, z, colour);
+    }
+}
+
+void draw_marker(render::RgbaImage& image, const render::Camera& camera, double x, double y, double z,
+                 std::uint32_t rgba) {
+    const auto p = camera.project(x, y, z);
+    if (!p) return;
+    constexpr double kArm = 6;
+    plot_line(image, p->x - kArm, p->y, p->x + kArm, p->y, rgba);
+    plot_line(image, p->x, p->y - kArm, p->x, p->y + kArm, rgba);
+}
+
+void draw_click_overlay(render::RgbaImage& image, const render::Camera& camera, const ClickState& click) {
+    const std::uint32_t marker = render::pack_rgba(255, 60, 200);
+    if (click.from && click.to) {
+        draw_segment(image, camera, click.from->x, click.from->y, click.from->z, click.to->x, click.to->y, click.to->z,
+                     render::pack_rgba(255, 255, 255));
+    }
+    for (const auto* p : {&click.picked, &click.from, &click.to}) {
+        if (*p) draw_marker(image, camera, (*p)->x, (*p)->y, (*p)->z, marker);
     }
 }
 

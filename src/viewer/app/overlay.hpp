@@ -1,5 +1,5 @@
 // Lines drawn over a resolved image after the scene: the tiles' outlines on the ground (the
-// "tile boxes" layer), the selected tile highlighted.
+// "tile boxes" layer), the selected tile highlighted; the picked point and the measured line.
 #pragma once
 
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include "dataset/dataset.hpp"
 #include "render/camera.hpp"
 #include "render/resolve.hpp"
+#include "viewer/picking.hpp"
 
 namespace lidarscout::viewer::app {
 
@@ -18,5 +19,12 @@ void draw_segment(render::RgbaImage& image, const render::Camera& camera, double
 // The xy outline of every tile (at its bounds' lowest height), in `rgba`; `selected` in white.
 void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, const dataset::Dataset& dataset,
                      std::uint32_t rgba, std::optional<std::uint32_t> selected);
+
+// A small cross centred on the projection of a world point.
+void draw_marker(render::RgbaImage& image, const render::Camera& camera, double x, double y, double z,
+                 std::uint32_t rgba);
+
+// The click tool's points as markers, and the line between the two measured points.
+void draw_click_overlay(render::RgbaImage& image, const render::Camera& camera, const ClickState& click);
 
 }  // namespace lidarscout::viewer::app

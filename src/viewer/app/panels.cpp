@@ -1,4 +1,4 @@
-// The ImGui panels of the viewer.
+// The ImGui panels of the viewer: the side window's sections and the point readout.
 #include "viewer/app/panels.hpp"
 
 #include <imgui.h>
@@ -9,11 +9,14 @@
 #include <filesystem>
 #include <vector>
 
+#include "las/classification.hpp"
 #include "render/backend.hpp"
 #include "render/colour_modes.hpp"
 
 namespace lidarscout::viewer::app {
 namespace {
+
+constexpr float kSideWidth = 320;  // the side window's width in pixels
 
 bool contains_ci(const std::string& text, const std::string& needle) {
     const auto it = std::search(text.begin(), text.end(), needle.begin(), needle.end(),
@@ -30,10 +33,8 @@ void progress_line(const char* label, StageProgress p) {
     ImGui::TextUnformatted(label);
 }
 
-void tiles_panel(const dataset::Dataset& ds, PanelState& state, PanelActions& actions) {
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(300, 260), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Tiles")) return ImGui::End();
+void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& actions) {
+    if (!ImGui::CollapsingHeader("Tiles")) return;
     char buffer[256];
     std::snprintf(buffer, sizeof buffer, "%s", state.filter.c_str());
     if (ImGui::InputText("filter", buffer, sizeof buffer)) state.filter = buffer;
@@ -44,7 +45,7 @@ void tiles_panel(const dataset::Dataset& ds, PanelState& state, PanelActions& ac
         if (state.filter.empty() || contains_ci(names[i], state.filter)) shown.push_back(i);
     }
     ImGui::Text("%zu of %zu tiles (double-click: fly there)", shown.size(), ds.tiles.size());
-    ImGui::BeginChild("list");
+    ImGui::BeginChild("list", ImVec2(0, 150), true);
     ImGuiListClipper clipper;
     clipper.Begin(static_cast<int>(shown.size()));
     while (clipper.Step()) {
@@ -59,13 +60,10 @@ void tiles_panel(const dataset::Dataset& ds, PanelState& state, PanelActions& ac
         }
     }
     ImGui::EndChild();
-    ImGui::End();
 }
 
-void stats_panel(const dataset::Dataset& ds, const SchedulerStats& s, double frame_ms, const PanelState& state) {
-    ImGui::SetNextWindowPos(ImVec2(10, 280), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(420, 300), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Stats and progress")) return ImGui::End();
+void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double frame_ms) {
+    if (!ImGui::CollapsingHeader("Stats and progress", ImGuiTreeNodeFlags_DefaultOpen)) return;
     ImGui::Text("tiles %zu (%zu skipped), %.2f G points", s.tiles, ds.skipped.size(), ds.point_count / 1e9);
     ImGui::Text("chunk points %llu", (unsigned long long)s.chunk_points_loaded);
     ImGui::Text("patches with heightmaps: %zu linear, %zu network", s.heightmaps_linear, s.heightmaps_cnn);
@@ -82,15 +80,23 @@ void stats_panel(const dataset::Dataset& ds, const SchedulerStats& s, double fra
     if (s.cnn.total) progress_line("heightmaps (network)", s.cnn);
     progress_line("full-res tiles in view", s.full_res);
     for (const auto& note : s.notes) ImGui::TextWrapped("%s", note.c_str());
-    if (s.errors) ImGui::Text("%zu errors (files that could not be read)", s.errors);
-    if (!state.status.empty()) ImGui::TextWrapped("%s", state.status.c_str());
-    ImGui::End();
 }
 
-void settings_panel(ViewSettings& v, PanelActions& actions) {
-    ImGui::SetNextWindowPos(ImVec2(10, 590), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(320, 270), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Settings")) return ImGui::End();
+// One line per file that could not be opened, and per failure while streaming (file, offset, cause).
+void errors_section(const dataset::Dataset& ds, const SchedulerStats& s) {
+    const std::size_t count = ds.skipped.size() + s.errors.size();
+    if (count == 0) return;
+    const std::string title = "Errors (" + std::to_string(count) + ")###errors";
+    if (!ImGui::CollapsingHeader(title.c_str())) return;
+    ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * count)), true,
+                      ImGuiWindowFlags_HorizontalScrollbar);
+    for (const auto& f : ds.skipped) ImGui::TextWrapped("skipped: %s", f.error.c_str());
+    for (const auto& e : s.errors) ImGui::TextWrapped("%s", e.message().c_str());
+    ImGui::EndChild();
+}
+
+void settings_section(ViewSettings& v, PanelActions& actions) {
+    if (!ImGui::CollapsingHeader("Settings")) return;
     if (ImGui::InputInt("memory MiB", &v.budget_mb, 256, 1024, ImGuiInputTextFlags_EnterReturnsTrue)) {
         v.budget_mb = std::max(64, v.budget_mb);
         actions.budget_changed = true;
@@ -118,9 +124,58 @@ void settings_panel(ViewSettings& v, PanelActions& actions) {
     ImGui::Checkbox("full-res", &v.layers.full_points);
     ImGui::SameLine();
     ImGui::Checkbox("tile boxes", &v.tile_boxes);
-    if (ImGui::Button("screenshot (F12)")) actions.screenshot = true;
-    ImGui::TextWrapped("left drag: orbit, right drag: pan, wheel: zoom, WASD/QE: fly (shift: faster); "
-                       "drop a folder or files to open them");
+}
+
+// The click tool, the screenshot button and the help line: always shown.
+void tool_bar(PanelState& state, PanelActions& actions) {
+    int tool = state.click.tool == ClickTool::Measure;
+    ImGui::TextUnformatted("click:");
+    ImGui::SameLine();
+    ImGui::RadioButton("inspect", &tool, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("measure", &tool, 1);
+    state.click.use(tool ? ClickTool::Measure : ClickTool::Inspect);
+    ImGui::SameLine();
+    if (ImGui::Button("screenshot")) actions.screenshot = true;
+    if (!state.status.empty()) ImGui::TextWrapped("%s", state.status.c_str());
+    if (ImGui::CollapsingHeader("Help")) {
+        ImGui::TextWrapped("left drag: orbit, right drag: pan, wheel: zoom, WASD/QE: fly (shift: faster); "
+                           "click: inspect a point or measure; F12: screenshot; drop a folder or files to open them");
+    }
+}
+
+void point_lines(const dataset::Dataset& ds, const char* label, const PickedPoint& p) {
+    const PointReadout r = point_readout(ds, p);
+    ImGui::Text("%s x %.3f  y %.3f  z %.3f", label, r.x, r.y, r.z);
+    ImGui::Text("   %s, z in %s%s%s", r.horizontal_unit.c_str(), r.vertical_unit.c_str(), r.crs.empty() ? "" : ", ",
+                r.crs.c_str());
+    ImGui::Text("   class %u (%s), intensity %u, rgb %u %u %u%s", p.classification,
+                las::class_name(p.classification).c_str(), p.intensity, p.r, p.g, p.b,
+                p.chunk_point ? ", chunk point" : "");
+    if (!r.file.empty()) ImGui::TextWrapped("   %s", std::filesystem::path(r.file).filename().c_str());
+}
+
+// The picked point or the measurement, in a small window at the bottom right.
+void readout_window(const dataset::Dataset& ds, const ClickState& click) {
+    const bool any = click.picked || click.from || click.missed;
+    if (!any) return;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(display.x - 10, display.y - 10), ImGuiCond_Always, ImVec2(1, 1));
+    ImGui::SetNextWindowBgAlpha(0.8f);
+    constexpr auto kFlags = ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
+    if (!ImGui::Begin(click.tool == ClickTool::Measure ? "Measure" : "Point", nullptr, kFlags)) return ImGui::End();
+    if (click.picked) point_lines(ds, "", *click.picked);
+    if (click.from) point_lines(ds, "A", *click.from);
+    if (click.to) {
+        point_lines(ds, "B", *click.to);
+        const Measurement m = measure(*click.from, *click.to);
+        ImGui::Separator();
+        ImGui::Text("distance %.3f m, horizontal %.3f m", m.distance_m, m.horizontal_m);
+        ImGui::Text("height difference %+.3f m, slope %.1f deg", m.dz_m, m.slope_deg);
+    } else if (click.from) {
+        ImGui::TextUnformatted("click the second point");
+    }
+    if (click.missed) ImGui::TextUnformatted("no point under the cursor (overview only there?)");
     ImGui::End();
 }
 
@@ -129,9 +184,20 @@ void settings_panel(ViewSettings& v, PanelActions& actions) {
 PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& stats, double frame_ms,
                          ViewSettings& settings, PanelState& state) {
     PanelActions actions;
-    tiles_panel(dataset, state, actions);
-    stats_panel(dataset, stats, frame_ms, state);
-    settings_panel(settings, actions);
+    // One side window of collapsible sections, a quarter of a 1280-wide window at most.
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(kSideWidth, 0), ImGuiCond_Always);  // 0: the height fits the open sections
+    ImGui::SetNextWindowSizeConstraints(ImVec2(kSideWidth, 0), ImVec2(kSideWidth, std::max(100.0f, display.y - 20)));
+    if (ImGui::Begin("lidarscout")) {
+        tool_bar(state, actions);
+        stats_section(dataset, stats, frame_ms);
+        errors_section(dataset, stats);
+        tiles_section(dataset, state, actions);
+        settings_section(settings, actions);
+    }
+    ImGui::End();
+    readout_window(dataset, state.click);
     return actions;
 }
 

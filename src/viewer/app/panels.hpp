@@ -1,6 +1,8 @@
-// The viewer's Dear ImGui panels: tiles (filter, double-click flies there), stats, progress of
-// each stage, settings (memory budget, point sizes, colour mode, EDL, layers) and a help line.
-// They read the scheduler's stats and write the settings; actions come back as a PanelActions.
+// The viewer's Dear ImGui panels: one narrow side window of collapsible sections (stats and
+// progress of each stage; tiles: filter, double-click flies there; settings: memory budget, point
+// sizes, colour mode, EDL, layers; the click tool; the errors, one line per unreadable file with
+// its cause) and a small readout window for the picked point or the measurement. They read the
+// scheduler's stats and write the settings; actions come back as a PanelActions.
 #pragma once
 
 #include <cstdint>
@@ -8,6 +10,7 @@
 #include <string>
 
 #include "dataset/dataset.hpp"
+#include "viewer/picking.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/scene.hpp"
 #include "viewer/scheduler_snapshot.hpp"
@@ -26,6 +29,7 @@ struct PanelState {
     std::string filter;
     std::optional<std::uint32_t> selected;
     std::string status;  // one line: the last screenshot, an error
+    ClickState click;    // the click tool and what it picked
 };
 
 struct PanelActions {

@@ -15,6 +15,7 @@
 #include <ctime>
 #include <memory>
 #include <thread>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
@@ -25,6 +26,7 @@
 #include "viewer/app/overlay.hpp"
 #include "viewer/app/panels.hpp"
 #include "viewer/frame_refiner.hpp"
+#include "viewer/picking.hpp"
 #include "viewer/scheduler.hpp"
 
 namespace lidarscout::viewer::app {
@@ -120,6 +122,7 @@ public:
         const bool left = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
         const bool right = glfwGetMouseButton(window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
         if ((left || right) && !dragging_) dragging_ = !io.WantCaptureMouse;
+        track_click(left, x, y);
         if (!left && !right) dragging_ = false;
         if (dragging_ && has_last_) {
             if (left) controller.orbit(x - last_x_, y - last_y_);
@@ -142,10 +145,33 @@ public:
         return edge && !ImGui::GetIO().WantCaptureKeyboard;
     }
 
+    // The window position of a left click (press and release in nearly the same place, on the
+    // picture rather than a panel) since the last call, once.
+    std::optional<std::pair<double, double>> take_click() { return std::exchange(click_, std::nullopt); }
+
 private:
-    bool dragging_ = false, has_last_ = false, key_down_ = false;
+    void track_click(bool left, double x, double y) {
+        if (left && !left_down_) press_ = dragging_ ? std::optional(std::pair(x, y)) : std::nullopt;
+        if (!left && left_down_ && press_ && std::hypot(x - press_->first, y - press_->second) < 4) click_ = press_;
+        left_down_ = left;
+    }
+
+    bool dragging_ = false, has_last_ = false, key_down_ = false, left_down_ = false;
     double last_x_ = 0, last_y_ = 0;
+    std::optional<std::pair<double, double>> press_, click_;
 };
+
+// Picks the point under a click (window coordinates) in the frame drawn with `camera`.
+void pick_at_click(GLFWwindow* window, std::pair<double, double> click, const Session& s,
+                   const render::Camera& camera, PanelState& panels) {
+    int win_width = 1, win_height = 1;
+    glfwGetWindowSize(window, &win_width, &win_height);
+    const double sx = static_cast<double>(camera.width) / std::max(1, win_width);
+    const double sy = static_cast<double>(camera.height) / std::max(1, win_height);
+    PickOptions options;
+    options.radius_px = std::max(2.0, 4 * sx);
+    panels.click.clicked(pick_point(*s.scheduler->snapshot(), camera, click.first * sx, click.second * sy, options));
+}
 
 std::string screenshot_name() {
     char text[64];
@@ -174,6 +200,7 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
     RenderedScene frame = refiner.draw(*s.scheduler->snapshot(), camera, style, pool, v.layers);
     if (v.tile_boxes) draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);
+    draw_click_overlay(frame.image, camera, panels.click);
     return frame;
 }
 
@@ -223,6 +250,7 @@ int run_viewer(const ViewerOptions& o) {
         last = draw_frame(session, controller, settings, panels, std::max(1, fb_width), std::max(1, fb_height), pool,
                           refiner, camera);
         frame_ms = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
+        if (const auto click = input.take_click()) pick_at_click(win.window, *click, session, camera, panels);
 
         glViewport(0, 0, fb_width, fb_height);
         glClearColor(0, 0, 0, 1);
@@ -240,7 +268,7 @@ int run_viewer(const ViewerOptions& o) {
             controller.frame(session.dataset->tiles[*actions.fly_to].bounds_m, fb_width, fb_height);
         }
         if (actions.budget_changed) session.scheduler->set_memory_budget(std::uint64_t(settings.budget_mb) << 20);
-        if (actions.screenshot || input.pressed(win.window, GLFW_KEY_F12)) {
+        if (actions.screenshot || input.pressed(win.window, GLFW_KEY_F12)) {  // the picture without the panels
             const std::string name = screenshot_name();
             render::write_png(name, last.image);
             panels.status = "screenshot: " + name;

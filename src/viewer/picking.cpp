@@ -1,0 +1,134 @@
+// Picking: a batch at a time, the batch's screen rectangle first (from its bounds), then every
+// point through the batch's float screen transform as the point pass draws it.
+#include "viewer/picking.hpp"
+
+#include <array>
+#include <cmath>
+#include <numbers>
+
+#include "las/crs.hpp"
+#include "viewer/visibility.hpp"
+
+namespace lidarscout::viewer {
+namespace {
+
+// False when the box certainly projects farther than `radius` pixels from (px, py); true when
+// it may not (its corners all in front of the camera and the rectangle near enough, or a
+// corner behind the near plane, where the rectangle is unbounded).
+bool box_may_cover(const render::Camera& camera, const dataset::Bounds& box, double px, double py, double radius) {
+    if (!box_in_view(camera, box)) return false;
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int corner = 0; corner < 8; ++corner) {
+        const auto p = camera.project(corner & 1 ? box.max_x : box.min_x, corner & 2 ? box.max_y : box.min_y,
+                                      corner & 4 ? box.max_z : box.min_z);
+        if (!p) return true;
+        x0 = std::min<double>(x0, p->x), x1 = std::max<double>(x1, p->x);
+        y0 = std::min<double>(y0, p->y), y1 = std::max<double>(y1, p->y);
+    }
+    return px >= x0 - radius && px <= x1 + radius && py >= y0 - radius && py <= y1 + radius;
+}
+
+// Keeps in `best` the front-most point of `batch` within the radius (ties: the nearer pixel).
+void pick_in_batch(const render::PointBatch& batch, const render::Camera& camera, double px, double py,
+                   double radius, std::optional<PickedPoint>& best, std::optional<std::uint32_t> tile, bool chunk) {
+    const auto t = camera.screen_transform(batch.origin_x, batch.origin_y, batch.origin_z);
+    const double r2 = radius * radius;
+    for (const auto& a : batch.points) {
+        const float w = t.depth[0] * a.dx + t.depth[1] * a.dy + t.depth[2] * a.dz + t.depth[3];
+        if (!(w >= camera.near_m && w <= camera.far_m)) continue;
+        const double sx = (t.sx[0] * a.dx + t.sx[1] * a.dy + t.sx[2] * a.dz + t.sx[3]) / w;
+        const double sy = (t.sy[0] * a.dx + t.sy[1] * a.dy + t.sy[2] * a.dz + t.sy[3]) / w;
+        const double d2 = (sx - px) * (sx - px) + (sy - py) * (sy - py);
+        if (d2 > r2) continue;
+        if (best && (w > best->depth || (w == best->depth && std::sqrt(d2) >= best->pixel_distance))) continue;
+        PickedPoint p;
+        p.x = batch.origin_x + a.dx, p.y = batch.origin_y + a.dy, p.z = batch.origin_z + a.dz;
+        p.r = a.r, p.g = a.g, p.b = a.b;
+        p.classification = a.classification, p.intensity = a.intensity;
+        p.tile = tile, p.chunk_point = chunk;
+        p.pixel_distance = std::sqrt(d2), p.depth = w;
+        best = p;
+    }
+}
+
+// The bounds of a point set (its points' extent), for the screen rectangle test.
+dataset::Bounds set_bounds(const PointSet& set) {
+    dataset::Bounds b;
+    for (const auto& a : set.points) {
+        const double x = set.origin_x + a.dx, y = set.origin_y + a.dy, z = set.origin_z + a.dz;
+        b.extend({x, y, z, x, y, z});
+    }
+    return b;
+}
+
+}  // namespace
+
+std::optional<PickedPoint> pick_point(const SceneSnapshot& snapshot, const render::Camera& camera, double px,
+                                      double py, const PickOptions& options) {
+    std::optional<PickedPoint> best;
+    for (const auto& block : snapshot.full_points) {
+        if (!box_may_cover(camera, block->bounds, px, py, options.radius_px)) continue;
+        const auto batch = block->prefix(level_for(*block, camera, options.lod_spacing_px));
+        pick_in_batch(batch, camera, px, py, options.radius_px, best, block->tile, false);
+    }
+    if (!options.chunk_points) return best;
+    for (const auto& set : snapshot.chunk_points) {
+        if (set->points.empty() || !box_may_cover(camera, set_bounds(*set), px, py, options.radius_px)) continue;
+        pick_in_batch(set->batch(), camera, px, py, options.radius_px, best, std::nullopt, true);
+    }
+    return best;
+}
+
+std::optional<std::uint32_t> tile_at(const dataset::Dataset& dataset, double x, double y) {
+    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
+        if (dataset.tiles[i].bounds_m.distance_xy(x, y) == 0) return i;
+    }
+    return std::nullopt;
+}
+
+PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& point) {
+    PointReadout r{point.x, point.y, point.z};
+    const auto tile = point.tile ? point.tile : tile_at(dataset, point.x, point.y);
+    if (!tile || *tile >= dataset.tiles.size()) return r;
+    const auto& t = dataset.tiles[*tile];
+    r.x = point.x / t.xy_to_metres, r.y = point.y / t.xy_to_metres, r.z = point.z / t.z_to_metres;
+    const auto& crs = t.tile.crs;
+    r.horizontal_unit = crs.horizontal_unit_name.empty() ? las::unit_name(crs.horizontal_unit)
+                                                         : crs.horizontal_unit_name;
+    r.vertical_unit = crs.vertical_unit_name.empty() ? r.horizontal_unit : crs.vertical_unit_name;
+    if (crs.epsg) r.crs = "EPSG:" + std::to_string(*crs.epsg);
+    else r.crs = crs.name;
+    r.file = t.tile.path;
+    return r;
+}
+
+Measurement measure(const PickedPoint& a, const PickedPoint& b) {
+    Measurement m;
+    const double dx = b.x - a.x, dy = b.y - a.y;
+    m.dz_m = b.z - a.z;
+    m.horizontal_m = std::hypot(dx, dy);
+    m.distance_m = std::hypot(m.horizontal_m, m.dz_m);
+    m.slope_deg = m.distance_m > 0 ? std::atan2(m.dz_m, m.horizontal_m) * 180 / std::numbers::pi : 0;
+    return m;
+}
+
+void ClickState::clicked(const std::optional<PickedPoint>& point) {
+    missed = !point;
+    if (!point) return;
+    if (tool == ClickTool::Inspect) {
+        picked = point;
+    } else if (!from || to) {
+        from = point;
+        to.reset();
+    } else {
+        to = point;
+    }
+}
+
+void ClickState::use(ClickTool next) {
+    if (next == tool) return;
+    *this = ClickState{};
+    tool = next;
+}
+
+}  // namespace lidarscout::viewer

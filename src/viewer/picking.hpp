@@ -1,0 +1,78 @@
+// Picking and measuring on what the viewer holds, without any window code: the point under a
+// pixel (the front-most of the full-resolution LOD points and the overview's chunk points within
+// a few pixels of it), its coordinates in the source file's own CRS units, and the distance and
+// height difference between two picked points.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "dataset/dataset.hpp"
+#include "render/camera.hpp"
+#include "viewer/scheduler_snapshot.hpp"
+
+namespace lidarscout::viewer {
+
+struct PickedPoint {
+    double x = 0, y = 0, z = 0;  // world metres (as drawn)
+    std::uint8_t r = 0, g = 0, b = 0;
+    std::uint8_t classification = 0;
+    std::uint16_t intensity = 0;
+    std::optional<std::uint32_t> tile;  // the tile it came from (full-resolution points)
+    bool chunk_point = false;           // an overview chunk point, not a full-resolution one
+    double pixel_distance = 0;          // from the picked pixel to the point's projection
+    double depth = 0;                   // metres along the viewing direction
+};
+
+struct PickOptions {
+    double radius_px = 4;        // how far from the pixel a point may be
+    double lod_spacing_px = 0;   // LOD level searched (0: every point held, as a refined frame)
+    bool chunk_points = true;    // also the chunk points of cells without a heightmap
+};
+
+// The front-most point held by `snapshot` whose projection at `camera` lies within
+// options.radius_px of pixel (px, py) (continuous pixel coordinates, row 0 at the top);
+// nullopt when there is none.
+std::optional<PickedPoint> pick_point(const SceneSnapshot& snapshot, const render::Camera& camera, double px,
+                                      double py, const PickOptions& options = {});
+
+// The tile a chunk point belongs to: the first tile whose bounds hold (x, y); nullopt if none.
+std::optional<std::uint32_t> tile_at(const dataset::Dataset& dataset, double x, double y);
+
+// A picked point in the file's own terms: x, y, z in its CRS units (world metres divided by the
+// tile's unit factors), the unit names and the source file.
+struct PointReadout {
+    double x = 0, y = 0, z = 0;
+    std::string horizontal_unit = "m", vertical_unit = "m";
+    std::string crs;   // "EPSG:n", the CRS name, or "" when the file gives none
+    std::string file;  // the tile's path ("" when unknown)
+};
+PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& point);
+
+struct Measurement {
+    double distance_m = 0;    // straight line, 3D
+    double horizontal_m = 0;  // in the xy plane
+    double dz_m = 0;          // b.z - a.z
+    double slope_deg = 0;     // of the line from a to b against the horizontal
+};
+Measurement measure(const PickedPoint& a, const PickedPoint& b);
+
+// What a click in the picture does: show the point under it, or measure between two points.
+enum class ClickTool { Inspect, Measure };
+
+struct ClickState {
+    ClickTool tool = ClickTool::Inspect;
+    std::optional<PickedPoint> picked;  // Inspect: the last point clicked
+    std::optional<PickedPoint> from;    // Measure: the first point
+    std::optional<PickedPoint> to;      // Measure: the second point
+    bool missed = false;                // the last click found no point
+
+    // A click's result: Inspect keeps the point; Measure fills the first point, then the second,
+    // then starts again from the next one. A miss changes nothing but `missed`.
+    void clicked(const std::optional<PickedPoint>& point);
+    // Switches the tool, forgetting what the other one picked.
+    void use(ClickTool next);
+};
+
+}  // namespace lidarscout::viewer
