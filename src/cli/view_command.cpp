@@ -29,10 +29,23 @@ struct ViewCliOptions {
     double demo_km = 2.0;
     double demo_density = 4.0;
     std::string screenshot;
+    std::string window_screenshot;
     double quit_after = 0;
+    std::vector<std::string> clicks;
+    bool measure = false;
     unsigned threads = 0;
     std::string backend = "cpu";
 };
+
+// "X,Y" window pixels of a scripted click.
+std::pair<double, double> parse_click(const std::string& text) {
+    const auto comma = text.find(',');
+    try {
+        if (comma != std::string::npos) return {std::stod(text.substr(0, comma)), std::stod(text.substr(comma + 1))};
+    } catch (const std::exception&) {
+    }
+    throw Error("view: --click wants X,Y in window pixels, not '" + text + "'");
+}
 
 // $XDG_CACHE_HOME/lidarscout or ~/.cache/lidarscout.
 std::filesystem::path cache_folder() {
@@ -75,7 +88,10 @@ int run_view(const ViewCliOptions& o) {
     v.cnn = !o.no_cnn;
     v.model = o.model;
     v.screenshot = o.screenshot;
+    v.window_screenshot = o.window_screenshot;
     v.quit_after = o.quit_after;
+    for (const auto& c : o.clicks) v.clicks.push_back(parse_click(c));
+    v.measure = o.measure;
     v.threads = o.threads;
     v.paths = o.paths.empty() ? std::vector<std::string>{demo_folder(o)} : o.paths;
     return viewer::app::run_viewer(v);
@@ -95,6 +111,10 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--demo-km", o->demo_km, "Side of the demo landscape in km (default 2)")->check(CLI::Range(0.5, 20.0));
     cmd->add_option("--demo-density", o->demo_density, "Points per m2 of the demo (default 4)")->check(CLI::Range(0.5, 50.0));
     cmd->add_option("--screenshot", o->screenshot, "Write the last frame to this PNG on exit (scripted use)");
+    cmd->add_option("--window-screenshot", o->window_screenshot,
+                    "Write the whole window, panels included, to this PNG on exit (scripted use)");
+    cmd->add_option("--click", o->clicks, "Click at window pixel X,Y just before quitting (scripted use; repeatable)");
+    cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the first frame (scripted use)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--threads", o->threads, "Rendering threads (default: all cores)");

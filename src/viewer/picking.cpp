@@ -4,8 +4,10 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
+#include "las/classification.hpp"
 #include "las/crs.hpp"
 #include "viewer/visibility.hpp"
 
@@ -100,6 +102,26 @@ PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& p
     else r.crs = crs.name;
     r.file = t.tile.path;
     return r;
+}
+
+std::string point_summary(const dataset::Dataset& dataset, const PickedPoint& point) {
+    const PointReadout r = point_readout(dataset, point);
+    char text[256];
+    std::snprintf(text, sizeof text, "x %.3f y %.3f z %.3f (%s, z in %s%s%s) class %u (%s) intensity %u rgb %u %u %u",
+                  r.x, r.y, r.z, r.horizontal_unit.c_str(), r.vertical_unit.c_str(), r.crs.empty() ? "" : ", ",
+                  r.crs.c_str(), point.classification, las::class_name(point.classification).c_str(), point.intensity,
+                  point.r, point.g, point.b);
+    std::string line = text;
+    if (point.chunk_point) line += " chunk point";
+    if (!r.file.empty()) line += " " + r.file;
+    return line;
+}
+
+std::string measurement_summary(const Measurement& m) {
+    char text[160];
+    std::snprintf(text, sizeof text, "distance %.3f m, horizontal %.3f m, height difference %+.3f m, slope %.1f deg",
+                  m.distance_m, m.horizontal_m, m.dz_m, m.slope_deg);
+    return text;
 }
 
 Measurement measure(const PickedPoint& a, const PickedPoint& b) {

@@ -49,6 +49,8 @@ struct PointReadout {
     std::string file;  // the tile's path ("" when unknown)
 };
 PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& point);
+// One line: "x X y Y z Z (UNIT, z in UNIT, CRS) class C (NAME) intensity I rgb R G B FILE".
+std::string point_summary(const dataset::Dataset& dataset, const PickedPoint& point);
 
 struct Measurement {
     double distance_m = 0;    // straight line, 3D
@@ -57,6 +59,8 @@ struct Measurement {
     double slope_deg = 0;     // of the line from a to b against the horizontal
 };
 Measurement measure(const PickedPoint& a, const PickedPoint& b);
+// One line: "distance D m, horizontal H m, height difference +Z m, slope S deg".
+std::string measurement_summary(const Measurement& m);
 
 // What a click in the picture does: show the point under it, or measure between two points.
 enum class ClickTool { Inspect, Measure };

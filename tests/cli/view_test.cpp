@@ -1,9 +1,13 @@
 // `lidarscout view`: --help without a display, one clear line and exit 1 without one, and under
 // Xvfb the demo (generated into a scratch cache folder) and a real survey, each shown until a
-// scripted screenshot in which the terrain covers most of the image.
+// scripted screenshot in which the terrain covers most of the image; scripted clicks that pick
+// two points of a real tile and measure between them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -70,7 +74,7 @@ TEST_F(ViewCommand, NoDisplayIsOneClearLine) {
 }
 
 TEST_F(ViewCommand, ShowsTheDemo) {
-    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run not found (Debian package xvfb)";
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
     std::string out;
     const fs::path shot = dir_ / "demo.png";
     ASSERT_EQ(run_xvfb("--demo-km 1 --no-cnn --size 480x480 --quit-after 15 --screenshot " + shot.string(), out), 0)
@@ -80,13 +84,59 @@ TEST_F(ViewCommand, ShowsTheDemo) {
 }
 
 TEST_F(ViewCommand, ShowsASurvey) {
-    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run not found (Debian package xvfb)";
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
     std::string out;
     const fs::path shot = dir_ / "woodford.png";
     const std::string survey = (test::surveys_dir() / "ky-woodford-county").string();
     ASSERT_EQ(run_xvfb(survey + " --no-cnn --size 480x480 --quit-after 10 --screenshot " + shot.string(), out), 0)
         << out;
     EXPECT_GT(drawn_share(shot), 0.5) << out;
+}
+
+// "click X,Y: x 1 y 2 z 3 (...": the three coordinates of a scripted click's report.
+std::array<double, 3> clicked_xyz(const std::string& out, const std::string& at) {
+    const auto line = out.find("click " + at + ": x ");
+    if (line == std::string::npos) return {NAN, NAN, NAN};
+    std::array<double, 3> xyz{};
+    const int n = std::sscanf(out.c_str() + line + at.size() + 8, "x %lf y %lf z %lf", &xyz[0], &xyz[1], &xyz[2]);
+    return n == 3 ? xyz : std::array<double, 3>{NAN, NAN, NAN};
+}
+
+TEST_F(ViewCommand, ScriptedClicksPickPointsAndMeasureBetweenThem) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    std::string out;
+    const fs::path shot = dir_ / "measure.png";
+    const std::string survey = (test::surveys_dir() / "ky-woodford-county").string();
+    ASSERT_EQ(run_xvfb(survey + " --no-cnn --size 480x480 --quit-after 8 --measure --click 240,240 --click 300,300 "
+                                "--window-screenshot " + shot.string(), out), 0)
+        << out;
+    const auto a = clicked_xyz(out, "240,240"), b = clicked_xyz(out, "300,300");
+    ASSERT_FALSE(std::isnan(a[0]) || std::isnan(b[0])) << out;
+    // The tile's header bounds (US survey feet, EPSG:3089; `info` prints them) hold both points.
+    for (const auto& p : {a, b}) {
+        EXPECT_GE(p[0], 5208145.63) << out;
+        EXPECT_LE(p[0], 5210000.00) << out;
+        EXPECT_GE(p[1], 3902993.54) << out;
+        EXPECT_LE(p[1], 3905000.00) << out;
+        EXPECT_GE(p[2], 851.39) << out;
+        EXPECT_LE(p[2], 969.45) << out;
+    }
+    EXPECT_NE(out.find("US survey foot"), std::string::npos) << out;
+    EXPECT_NE(out.find("5205000_3900000.laz"), std::string::npos) << out;
+    // The measurement, in metres, agrees with the two points given in feet.
+    double distance = 0, horizontal = 0, dz = 0;
+    const auto m = out.find("measure: ");
+    ASSERT_NE(m, std::string::npos) << out;
+    ASSERT_EQ(std::sscanf(out.c_str() + m, "measure: distance %lf m, horizontal %lf m, height difference %lf m",
+                          &distance, &horizontal, &dz), 3) << out;
+    const double foot = 1200.0 / 3937.0;
+    EXPECT_NEAR(horizontal, std::hypot(b[0] - a[0], b[1] - a[1]) * foot, 0.01) << out;
+    EXPECT_NEAR(dz, (b[2] - a[2]) * foot, 0.01) << out;
+    EXPECT_NEAR(distance, std::hypot(horizontal, dz), 0.01) << out;
+    EXPECT_GT(horizontal, 10.0) << "two different points: " << out;
+    const test::Png png = test::read_png(shot);  // the window with its panels
+    ASSERT_TRUE(png.ok());
+    EXPECT_EQ(png.width, 480);
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ void progress_line(const char* label, StageProgress p) {
     const float f = p.total ? static_cast<float>(static_cast<double>(p.done) / p.total) : 1.0f;
     char text[96];
     std::snprintf(text, sizeof text, "%llu / %llu", (unsigned long long)p.done, (unsigned long long)p.total);
-    ImGui::ProgressBar(f, ImVec2(-140, 0), text);
+    ImGui::ProgressBar(f, ImVec2(-110, 0), text);
     ImGui::SameLine();
     ImGui::TextUnformatted(label);
 }
@@ -66,19 +66,19 @@ void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double f
     if (!ImGui::CollapsingHeader("Stats and progress", ImGuiTreeNodeFlags_DefaultOpen)) return;
     ImGui::Text("tiles %zu (%zu skipped), %.2f G points", s.tiles, ds.skipped.size(), ds.point_count / 1e9);
     ImGui::Text("chunk points %llu", (unsigned long long)s.chunk_points_loaded);
-    ImGui::Text("patches with heightmaps: %zu linear, %zu network", s.heightmaps_linear, s.heightmaps_cnn);
+    ImGui::Text("heightmaps: %zu linear, %zu network", s.heightmaps_linear, s.heightmaps_cnn);
     ImGui::Text("full-res: %zu tiles, %.1f M points, %zu released", s.full_res_tiles, s.full_res_points / 1e6,
                 s.full_res_released);
-    ImGui::Text("coarse levels kept: %zu tiles; LOD %.1f M points", s.coarse_tiles, s.lod_points / 1e6);
+    ImGui::Text("coarse kept: %zu tiles; LOD %.1f M points", s.coarse_tiles, s.lod_points / 1e6);
     ImGui::Text("memory %.0f / %.0f MiB (peak %.0f)", s.bytes_used / 1048576.0, s.memory_budget / 1048576.0,
                 s.peak_bytes_used / 1048576.0);
     ImGui::Text("frame %.1f ms (%.1f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
     ImGui::Separator();
-    progress_line("tiles (chunk points)", s.tiles_loaded);
+    progress_line("tiles", s.tiles_loaded);
     progress_line("chunk points", s.chunk_points);
-    progress_line("heightmaps (linear)", s.linear);
-    if (s.cnn.total) progress_line("heightmaps (network)", s.cnn);
-    progress_line("full-res tiles in view", s.full_res);
+    progress_line("linear", s.linear);
+    if (s.cnn.total) progress_line("network", s.cnn);
+    progress_line("full-res", s.full_res);
     for (const auto& note : s.notes) ImGui::TextWrapped("%s", note.c_str());
 }
 
@@ -168,10 +168,8 @@ void readout_window(const dataset::Dataset& ds, const ClickState& click) {
     if (click.from) point_lines(ds, "A", *click.from);
     if (click.to) {
         point_lines(ds, "B", *click.to);
-        const Measurement m = measure(*click.from, *click.to);
         ImGui::Separator();
-        ImGui::Text("distance %.3f m, horizontal %.3f m", m.distance_m, m.horizontal_m);
-        ImGui::Text("height difference %+.3f m, slope %.1f deg", m.dz_m, m.slope_deg);
+        ImGui::TextWrapped("%s", measurement_summary(measure(*click.from, *click.to)).c_str());
     } else if (click.from) {
         ImGui::TextUnformatted("click the second point");
     }

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <memory>
 #include <thread>
@@ -173,6 +174,36 @@ void pick_at_click(GLFWwindow* window, std::pair<double, double> click, const Se
     panels.click.clicked(pick_point(*s.scheduler->snapshot(), camera, click.first * sx, click.second * sy, options));
 }
 
+// What the window is about to show, panels included: its back buffer before the swap (the
+// front buffer is not kept by every driver).
+render::RgbaImage window_pixels(GLFWwindow* window) {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window, &w, &h);
+    render::RgbaImage image;
+    image.width = std::max(w, 1), image.height = std::max(h, 1);
+    std::vector<std::uint32_t> rows(static_cast<std::size_t>(image.width) * image.height);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    image.pixels.resize(rows.size());
+    for (int y = 0; y < image.height; ++y) {  // GL's row 0 is the bottom; the window is opaque
+        const auto* row = rows.data() + static_cast<std::size_t>(image.height - 1 - y) * image.width;
+        for (int x = 0; x < image.width; ++x) image.pixels[static_cast<std::size_t>(y) * image.width + x] = row[x] | 0xff000000u;
+    }
+    return image;
+}
+
+// Scripted clicks report on stdout: the point (or that there was none) and the measurement.
+void print_click(std::pair<double, double> at, const dataset::Dataset& ds, const ClickState& click) {
+    const auto& point = click.tool == ClickTool::Measure ? (click.to ? click.to : click.from) : click.picked;
+    if (click.missed || !point) std::printf("click %.0f,%.0f: no point\n", at.first, at.second);
+    else std::printf("click %.0f,%.0f: %s\n", at.first, at.second, point_summary(ds, *point).c_str());
+    if (!click.missed && click.from && click.to) {
+        std::printf("measure: %s\n", measurement_summary(measure(*click.from, *click.to)).c_str());
+    }
+    std::fflush(stdout);
+}
+
 std::string screenshot_name() {
     char text[64];
     const std::time_t now = std::time(nullptr);
@@ -221,10 +252,13 @@ int run_viewer(const ViewerOptions& o) {
     PanelState panels;
     MouseKeyboard input;
     RenderedScene last;
+    render::RgbaImage window_shot;  // --window-screenshot: the last frame with its panels
     FrameRefiner refiner;
     const auto start = Clock::now();
     auto previous = start;
     double frame_ms = 0;
+    bool scripted_clicks_done = o.clicks.empty() && !o.measure;
+    int frames_to_quit = 0;
     while (!glfwWindowShouldClose(win.window)) {
         glfwPollEvents();
         const auto now = Clock::now();
@@ -262,6 +296,7 @@ int run_viewer(const ViewerOptions& o) {
         const PanelActions actions = draw_panels(*session.dataset, session.scheduler->stats(), frame_ms, settings, panels);
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+        if (!o.window_screenshot.empty()) window_shot = window_pixels(win.window);  // scripted use only
         glfwSwapBuffers(win.window);
 
         if (actions.fly_to) {
@@ -273,9 +308,21 @@ int run_viewer(const ViewerOptions& o) {
             render::write_png(name, last.image);
             panels.status = "screenshot: " + name;
         }
-        if (o.quit_after > 0 && std::chrono::duration<double>(Clock::now() - start).count() >= o.quit_after) break;
+        const bool quitting =
+            o.quit_after > 0 && std::chrono::duration<double>(Clock::now() - start).count() >= o.quit_after;
+        if (quitting && !scripted_clicks_done) {  // the clicks, then a few frames to show them
+            panels.click.use(o.measure ? ClickTool::Measure : ClickTool::Inspect);
+            for (const auto& c : o.clicks) {
+                pick_at_click(win.window, c, session, camera, panels);
+                print_click(c, *session.dataset, panels.click);
+            }
+            scripted_clicks_done = true;
+            frames_to_quit = 3;  // a new ImGui window fits its size in its first frame, unseen
+        }
+        if (quitting && frames_to_quit-- <= 0) break;
     }
     if (!o.screenshot.empty()) render::write_png(o.screenshot, last.image);
+    if (!o.window_screenshot.empty()) render::write_png(o.window_screenshot, window_shot);
     return 0;
 }
 

@@ -1,11 +1,12 @@
 // The interactive viewer (`lidarscout view`): a GLFW window showing the software rasterizer's
 // image of a Scheduler's snapshot every frame, Dear ImGui panels, mouse and keyboard camera
-// controls, drag-and-drop of folders or files, F12 screenshots, and a scripted mode that
-// writes the last frame and quits after a time.
+// controls, picking and measuring by clicks, drag-and-drop of folders or files, F12 screenshots,
+// and a scripted mode that clicks, writes the last frame (or the whole window) and quits after a time.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/backend.hpp"
@@ -19,7 +20,10 @@ struct ViewerOptions {
     bool cnn = true;
     std::string model;               // empty = the default model lookup
     std::string screenshot;          // scripted: the last frame's PNG
+    std::string window_screenshot;   // scripted: the whole window (panels included) as a PNG
     double quit_after = 0;           // scripted: seconds after the first frame (0 = until closed)
+    std::vector<std::pair<double, double>> clicks;  // scripted: window pixels clicked at quit_after
+    bool measure = false;            // scripted: the clicks measure instead of inspecting
     unsigned threads = 0;            // rendering threads (0 = all cores)
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (resolved: Cpu or Cuda)
 };
