@@ -1,6 +1,8 @@
 // FrameRefiner: the fast frame while anything changes, one refined frame once all is still.
 #include "viewer/frame_refiner.hpp"
 
+#include <algorithm>
+
 namespace lidarscout::viewer {
 namespace {
 
@@ -45,7 +47,9 @@ const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const ren
     if (!same_key) changed_at_ = now;
     // Only data arrived for a still view: redrawn at most every data_interval_, so that a
     // loading view leaves the cores to the decoders instead of redrawing 60 times a second.
-    if (!same_key && last_ && same_view(*last_, key) && now - drawn_at_ < data_interval_) return frame_;
+    // (And drawing takes at most a fifth of the time: a slow frame waits longer.)
+    const auto interval = std::max<std::chrono::steady_clock::duration>(data_interval_, 4 * draw_time_);
+    if (!same_key && last_ && same_view(*last_, key) && now - drawn_at_ < interval) return frame_;
     const bool refine = same_key && now - changed_at_ >= settle_;
     if (same_key && (refined_ || !refine)) return frame_;
     SceneStyle drawn = style;
@@ -58,6 +62,7 @@ const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const ren
     refined_ = refine;
     last_ = key;
     drawn_at_ = now;
+    if (!refine) draw_time_ = std::chrono::steady_clock::now() - now;  // refined frames are drawn once
     return frame_;
 }
 

@@ -1,7 +1,7 @@
 // Progressive refinement of still frames. While the camera moves, frames draw the LOD blocks at
 // the style's spacing (about one point per pixel, fast); a still camera whose snapshot changes
-// (data arriving) gets half that spacing, redrawn at most every `data_interval` (a loading view
-// leaves the cores to the decoders).
+// (data arriving) gets half that spacing, redrawn at most every `data_interval` and at most a
+// fifth of the time (a loading view leaves the cores to the decoders).
 // Once a camera and a snapshot have been drawn that way and stayed unchanged for a settling time
 // (so that a scheduler still loading keeps its cores for decoding), the next frame draws the blocks with every point
 // held (or, above a point cap, the finest spacing under it), the picture a converged view should equal; after that the
@@ -55,6 +55,7 @@ private:
     std::chrono::milliseconds data_interval_;
     std::optional<Key> last_;
     std::chrono::steady_clock::time_point changed_at_, drawn_at_;
+    std::chrono::steady_clock::duration draw_time_{};  // of the last frame that was not refined
     bool refined_ = false;
     RenderedScene frame_;
 };

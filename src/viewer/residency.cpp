@@ -268,12 +268,14 @@ PointOrder Residency::decode_order() const {
 
 void Residency::load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool) {
     const bool whole = cap >= tile_point_set_bytes(dataset_.tiles[tile]);
+    bool fold = true;  // a tile reloaded after a release has its points in the details already
+    if (std::lock_guard lock(mutex_); folded_.contains(tile)) fold = false;
     std::uint64_t taken = 0;
     decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, kPiecePoints, [&](PointSet&& piece) {
         if (std::lock_guard lock(mutex_); stopping_) throw Stopped{};
         if (!options_.has_rgb) paint_uncoloured(std::span(&piece, 1));
         Decoded d;
-        d.detail = tile_detail(piece, grid_, options_.patch_texels);
+        if (fold) d.detail = tile_detail(piece, grid_, options_.patch_texels);
         d.blocks = build_lod_blocks(piece, tile, options_.block_m, pool);
         piece = PointSet{};
         const bool first = taken == 0;
@@ -281,6 +283,7 @@ void Residency::load(std::uint32_t tile, std::uint64_t cap, const PointOrder& or
         notify({}, std::nullopt, commit(tile, std::move(d), first));
         if (!whole && taken + 2 * kPieceBytes > cap) throw Capped{};
     });
+    if (std::lock_guard lock(mutex_); fold) folded_.insert(tile);  // all its pieces came (no Capped)
 }
 
 std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded, bool first) {

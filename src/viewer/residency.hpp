@@ -134,6 +134,7 @@ private:
     std::uint64_t camera_version_ = 0, checked_version_ = ~0ull, tick_ = 0;
     std::map<std::uint32_t, Entry> tiles_;
     std::set<std::uint32_t> failed_;
+    std::set<std::uint32_t> folded_;  // tiles whose every point is in the details (not folded again on reload)
     std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, version_ = 1, last_other_ = 0;
     std::size_t released_ = 0, wanted_ = 0, wanted_full_ = 0;

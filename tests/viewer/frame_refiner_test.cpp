@@ -95,7 +95,7 @@ TEST(ViewerFrameRefiner, DataArrivingForAStillViewIsDrawnAtMostEveryInterval) {
     const auto& kept = refiner.draw(*changed, camera, {}, pool);
     EXPECT_TRUE(refiner.refined()) << "redrawn within the interval";
     EXPECT_GT(kept.drawn_pixels, 0u);
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // past the interval and 4 draw times
     const auto& fresh = refiner.draw(*changed, camera, {}, pool);
     EXPECT_FALSE(refiner.refined());
     EXPECT_EQ(fresh.drawn_pixels, 0u);

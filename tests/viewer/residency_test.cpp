@@ -1,6 +1,7 @@
 // Full-resolution residency on a real survey: every tile in view ends at full resolution when
 // the budget allows; a tile that must make room drops to its coarse levels (a prefix of its
-// blocks, far fewer points) and stays drawable; the budget holds throughout.
+// blocks, far fewer points) and stays drawable; the budget holds throughout; a tile decoded again
+// after a release is not counted twice in the patch detail.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -96,6 +97,44 @@ TEST(ViewerResidency, ATileThatMakesRoomKeepsItsCoarseLevels) {
     std::lock_guard lock(mutex);
     const std::vector<std::pair<std::uint32_t, bool>> expected = {{a, true}, {a, false}, {b, true}};
     EXPECT_EQ(events, expected);
+}
+
+// The points behind the detail texels of the cells that tile `t` covers.
+std::uint64_t detail_points(const Residency& r, const dataset::PatchGrid& grid, const dataset::Bounds& b) {
+    std::uint64_t n = 0;
+    const auto lo = grid.cell_of(b.min_x, b.min_y), hi = grid.cell_of(b.max_x, b.max_y);
+    for (auto x = lo.ix; x <= hi.ix; ++x) {
+        for (auto y = lo.iy; y <= hi.iy; ++y) {
+            if (const auto d = r.detail({x, y})) {
+                for (const auto c : d->count) n += c;
+            }
+        }
+    }
+    return n;
+}
+
+TEST(ViewerResidency, ATileReloadedAfterAReleaseIsNotFoldedIntoTheDetailTwice) {
+    const auto ds = jmo335();
+    const std::uint32_t a = tile_named(ds, "N117E379"), b = tile_named(ds, "N119E381");
+    const std::uint64_t bytes_a = tile_point_set_bytes(ds.tiles[a]), bytes_b = tile_point_set_bytes(ds.tiles[b]);
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    dataset::PatchGrid grid(ox, oy);
+    ResidencyOptions o;
+    o.decode_threads = 2;
+    o.memory_budget = std::max(bytes_a, bytes_b) + std::min(bytes_a, bytes_b) / 2;  // one at a time
+    Residency r(ds, grid, o);
+    r.start();
+    r.set_camera(above(ds.tiles[a].bounds_m, 150));
+    ASSERT_TRUE(wait_idle(r));
+    const std::uint64_t first = detail_points(r, grid, ds.tiles[a].bounds_m);
+    EXPECT_EQ(first, ds.tiles[a].tile.header.point_count);
+    r.set_camera(above(ds.tiles[b].bounds_m, 150));
+    ASSERT_TRUE(wait_idle(r));
+    r.set_camera(above(ds.tiles[a].bounds_m, 150));  // back: a is decoded again
+    ASSERT_TRUE(wait_idle(r));
+    EXPECT_EQ(held(r)[a].first, ds.tiles[a].tile.header.point_count);
+    EXPECT_EQ(detail_points(r, grid, ds.tiles[a].bounds_m), first);
+    EXPECT_EQ(r.stats().released, 2u);
 }
 
 TEST(ViewerResidency, EveryTileInViewEndsAtFullResolutionWhenTheBudgetAllows) {
