@@ -55,15 +55,22 @@ std::map<std::uint32_t, std::pair<std::uint64_t, std::size_t>> held(const Reside
     return out;
 }
 
+// Two decoding threads and a budget that holds tiles a and b, but not both at full resolution.
+ResidencyOptions one_at_a_time(const dataset::Dataset& ds, std::uint32_t a, std::uint32_t b) {
+    const std::uint64_t bytes_a = tile_point_set_bytes(ds.tiles[a]), bytes_b = tile_point_set_bytes(ds.tiles[b]);
+    ResidencyOptions o;
+    o.decode_threads = 2;
+    o.memory_budget = std::max(bytes_a, bytes_b) + std::min(bytes_a, bytes_b) / 2;
+    return o;
+}
+
 TEST(ViewerResidency, ATileThatMakesRoomKeepsItsCoarseLevels) {
     const auto ds = jmo335();
     const std::uint32_t a = tile_named(ds, "N117E379"), b = tile_named(ds, "N119E381");
-    const std::uint64_t bytes_a = tile_point_set_bytes(ds.tiles[a]), bytes_b = tile_point_set_bytes(ds.tiles[b]);
+    const std::uint64_t bytes_b = tile_point_set_bytes(ds.tiles[b]);
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
     dataset::PatchGrid grid(ox, oy);
-    ResidencyOptions o;
-    o.decode_threads = 2;
-    o.memory_budget = std::max(bytes_a, bytes_b) + std::min(bytes_a, bytes_b) / 2;  // not both at full resolution
+    ResidencyOptions o = one_at_a_time(ds, a, b);
     std::vector<std::pair<std::uint32_t, bool>> events;
     std::mutex mutex;
     o.on_tile = [&](std::uint32_t t, bool loaded) {
@@ -116,13 +123,9 @@ std::uint64_t detail_points(const Residency& r, const dataset::PatchGrid& grid, 
 TEST(ViewerResidency, ATileReloadedAfterAReleaseIsNotFoldedIntoTheDetailTwice) {
     const auto ds = jmo335();
     const std::uint32_t a = tile_named(ds, "N117E379"), b = tile_named(ds, "N119E381");
-    const std::uint64_t bytes_a = tile_point_set_bytes(ds.tiles[a]), bytes_b = tile_point_set_bytes(ds.tiles[b]);
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
     dataset::PatchGrid grid(ox, oy);
-    ResidencyOptions o;
-    o.decode_threads = 2;
-    o.memory_budget = std::max(bytes_a, bytes_b) + std::min(bytes_a, bytes_b) / 2;  // one at a time
-    Residency r(ds, grid, o);
+    Residency r(ds, grid, one_at_a_time(ds, a, b));
     r.start();
     r.set_camera(above(ds.tiles[a].bounds_m, 150));
     ASSERT_TRUE(wait_idle(r));
