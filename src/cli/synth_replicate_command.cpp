@@ -1,5 +1,7 @@
-// `lidarscout synth replicate SRC... -o DIR --grid NXxNY [--threads N] [--json]`: a large
-// dataset for benchmarks, made by copying real tiles onto a grid (see synth/replicate.hpp).
+// `lidarscout synth replicate SRC... -o DIR --grid NXxNY [--virtual] [--threads N] [--json]`: a
+// large dataset for benchmarks, made by copying real tiles onto a grid (see synth/replicate.hpp),
+// or with --virtual only its manifest, opened as the tiles without copying
+// (dataset/virtual_replica.hpp).
 // A benchmark tool, not a data product.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -24,6 +26,7 @@ struct ReplicateCliOptions {
     std::string grid;
     unsigned threads = 0;
     bool json = false;
+    bool virtual_tiles = false;
 };
 
 constexpr const char* kPurpose =
@@ -31,17 +34,25 @@ constexpr const char* kPurpose =
     "header's x/y offsets and bounds (and a COPC centre). Points repeat from tile to tile and "
     "neighbouring tiles do not join.\n";
 
-void print_summary(const synth::ReplicatePlan& plan, double secs, bool json) {
+void print_summary(const synth::ReplicatePlan& plan, double secs, bool json, bool virtual_tiles) {
     const double gb = plan.total_bytes / 1e9;
     const double rate = secs > 0 ? gb / secs : 0.0;
     const auto manifest = (std::filesystem::path(plan.out_dir) / synth::kManifestName).string();
     if (json) {
         nlohmann::json j = {{"output", plan.out_dir}, {"manifest", manifest}, {"grid", {plan.grid.nx, plan.grid.ny}},
                             {"cell_metres", plan.cell_metres}, {"sources", plan.sources.size()},
-                            {"tiles", plan.tiles.size()}, {"bytes", plan.total_bytes},
+                            {"virtual", virtual_tiles}, {"tiles", plan.tiles.size()}, {"bytes", plan.total_bytes},
                             {"points", plan.total_points}, {"seconds", secs}, {"gb_per_s", rate},
                             {"warnings", plan.warnings}};
         std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    if (virtual_tiles) {
+        std::printf("%s: a virtual replica of %zu tiles (%ux%u grid of %.0f m cells from %zu sources), %llu points, "
+                    "%.2f GB as if copied, nothing copied; benchmark data, not a data product. Open it with: "
+                    "lidarscout view %s\n",
+                    plan.out_dir.c_str(), plan.tiles.size(), plan.grid.nx, plan.grid.ny, plan.cell_metres,
+                    plan.sources.size(), (unsigned long long)plan.total_points, gb, manifest.c_str());
         return;
     }
     std::printf("%s: %zu tiles (%ux%u grid of %.0f m cells from %zu sources), %llu points, %.2f GB in %.2f s "
@@ -55,6 +66,11 @@ int run_replicate(const ReplicateCliOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto plan = synth::plan_replicas(o.sources, o.out_dir, grid);
     for (const auto& w : plan.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    if (o.virtual_tiles) {
+        synth::write_virtual_replica(plan);
+        print_summary(plan, 0, o.json, true);
+        return 0;
+    }
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
     {
         Progress progress("replicate", plan.total_bytes);
@@ -62,7 +78,7 @@ int run_replicate(const ReplicateCliOptions& o) {
         progress.finish();
     }
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    print_summary(plan, secs, o.json);
+    print_summary(plan, secs, o.json, false);
     return 0;
 }
 
@@ -82,6 +98,9 @@ void register_synth_replicate(CLI::App& synth, std::function<int()>& run) {
         ->required();
     cmd->add_option("--threads", o->threads, "Files copied in parallel (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the summary as JSON");
+    cmd->add_flag("--virtual", o->virtual_tiles,
+                  "Copy nothing: write only the manifest DIR/replicate.json, which every command opens as the "
+                  "tiles (each a source tile with a shift); for benchmarks at any scale without the disk");
     cmd->callback([o, &run] { run = [o] { return run_replicate(*o); }; });
 }
 

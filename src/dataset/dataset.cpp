@@ -1,4 +1,5 @@
-// open_dataset: expand the paths, read every tile's metadata on an I/O thread pool, convert
+// open_dataset: expand the paths (folders, tile lists, virtual replica manifests), read every
+// tile's metadata on an I/O thread pool, convert
 // bounds to metres, and summarise what the user should know (skipped files, CRS mix).
 #include "dataset/dataset.hpp"
 
@@ -14,6 +15,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
 
 namespace lidarscout::dataset {
@@ -72,10 +74,19 @@ DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
 
 namespace {
 
-std::optional<DatasetTile> read_one(const std::string& path, std::uint64_t las_stride, std::string& error) {
+// A tile to read: a file, or a virtual replica's source with its shift.
+struct TileSource {
+    std::string path;
+    std::optional<std::array<double, 2>> shift;
+};
+
+std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, std::string& error) {
+    const std::string& path = source.path;
     try {
         auto file = io::File::open(path);
-        return make_dataset_tile(read_tile(file), las_stride);
+        Tile tile = read_tile(file);
+        if (source.shift) shift_tile(tile, *source.shift);
+        return make_dataset_tile(std::move(tile), las_stride);
     } catch (const Error& e) {
         error = e.file().empty() ? path + ": " + e.what() : e.what();
     } catch (const std::bad_alloc&) {
@@ -138,16 +149,30 @@ std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options) {
     Dataset ds;
     ds.las_stride = options.las_stride;
-    const FoundFiles found = find_point_cloud_files(paths);
+    std::vector<TileSource> sources;
+    std::vector<std::string> others;
+    for (const auto& p : paths) {
+        if (!is_virtual_replica(p)) {
+            others.push_back(p);
+            continue;
+        }
+        try {
+            for (auto& v : read_virtual_replica(p)) sources.push_back({std::move(v.path), v.shift});
+        } catch (const Error& e) {
+            ds.skipped.push_back({p, e.what()});
+        }
+    }
+    const FoundFiles found = find_point_cloud_files(others);
     for (const auto& e : found.errors) ds.skipped.push_back({{}, e});
+    for (const auto& f : found.files) sources.push_back({f, std::nullopt});
 
-    const std::size_t n = found.files.size();
+    const std::size_t n = sources.size();
     std::vector<std::optional<DatasetTile>> tiles(n);
     std::vector<std::string> errors(n);
     std::atomic<std::size_t> done{0};
     ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
     pool.for_each(n, [&](std::size_t i) {
-        tiles[i] = read_one(found.files[i], options.las_stride, errors[i]);
+        tiles[i] = read_one(sources[i], options.las_stride, errors[i]);
         const std::size_t d = done.fetch_add(1) + 1;
         if (options.progress) options.progress(d, n);
     });
@@ -155,7 +180,7 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
         if (tiles[i]) {
             ds.tiles.push_back(std::move(*tiles[i]));
         } else {
-            ds.skipped.push_back({found.files[i], errors[i]});
+            ds.skipped.push_back({sources[i].path, errors[i]});
         }
     }
     summarise(ds);

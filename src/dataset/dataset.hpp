@@ -62,7 +62,8 @@ struct DatasetOptions {
     std::function<void(std::size_t, std::size_t)> progress;
 };
 
-// Finds and reads the tiles of `paths`. Never throws for a bad file: it lands in `skipped`.
+// Finds and reads the tiles of `paths` (files, folders, tile lists, and virtual replica
+// manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`.
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options = {});
 
 // The patch grid origin for a dataset: its min corner rounded down to a multiple of

@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
 #include "io/output_file.hpp"
 #include "las/vlr.hpp"
@@ -201,8 +202,8 @@ void patch_copc_centre(io::AtomicOutputFile& out, const dataset::Tile& tile, std
     out.write_at(vlr->data_offset, centre);
 }
 
-nlohmann::json manifest(const ReplicatePlan& plan) {
-    nlohmann::json sources = nlohmann::json::array(), tiles = nlohmann::json::array();
+nlohmann::ordered_json manifest(const ReplicatePlan& plan, bool virtual_tiles) {
+    nlohmann::ordered_json sources = nlohmann::ordered_json::array(), tiles = nlohmann::ordered_json::array();
     for (const auto& s : plan.sources) {
         sources.push_back({{"path", fs::absolute(s.path).string()}, {"unit", s.unit}, {"to_metres", s.to_metres},
                            {"footprint_metres", s.footprint_metres}, {"points", s.tile.header.point_count},
@@ -212,9 +213,13 @@ nlohmann::json manifest(const ReplicatePlan& plan) {
         tiles.push_back({{"file", fs::path(t.path).filename().string()}, {"gx", t.gx}, {"gy", t.gy},
                          {"source", t.source}, {"shift", {t.shift[0], t.shift[1]}}});
     }
-    return {{"tool", "lidarscout synth replicate"},
-            {"purpose", "benchmark data, not a data product: real tiles copied onto a grid, only the header's "
-                        "x/y offsets and bounds moved; points repeat and neighbouring tiles do not join"},
+    // "tool" and "virtual" first: dataset::is_virtual_replica reads only the head of the file.
+    return {{"tool", dataset::kReplicaTool},
+            {"virtual", virtual_tiles},
+            {"purpose", std::string("benchmark data, not a data product: real tiles ") +
+                            (virtual_tiles ? "placed (virtually, nothing copied) " : "copied ") +
+                            "onto a grid, only the header's x/y offsets and bounds moved; points repeat and "
+                            "neighbouring tiles do not join"},
             {"grid", {{"nx", plan.grid.nx}, {"ny", plan.grid.ny}, {"cell_metres", plan.cell_metres},
                       {"anchor_metres", {plan.anchor_metres[0], plan.anchor_metres[1]}}}},
             {"shift_units", "each source's own x/y units (see sources[].unit)"},
@@ -222,8 +227,8 @@ nlohmann::json manifest(const ReplicatePlan& plan) {
             {"total_points", plan.total_points}, {"sources", sources}, {"tiles", tiles}};
 }
 
-void write_manifest(const ReplicatePlan& plan) {
-    const auto text = manifest(plan).dump(1) + "\n";
+void write_manifest(const ReplicatePlan& plan, bool virtual_tiles) {
+    const auto text = manifest(plan, virtual_tiles).dump(1) + "\n";
     io::AtomicOutputFile out((fs::path(plan.out_dir) / kManifestName).string());
     out.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
     out.commit();
@@ -285,7 +290,14 @@ void write_replicas(const ReplicatePlan& plan, ThreadPool& pool, const std::func
         write_replica(file, plan.sources[t.source].tile, t.path, t.shift);
         if (on_bytes) on_bytes(file.size());
     });
-    write_manifest(plan);
+    write_manifest(plan, false);
+}
+
+void write_virtual_replica(const ReplicatePlan& plan) {
+    std::error_code ec;
+    fs::create_directories(plan.out_dir, ec);
+    if (ec) throw Error(plan.out_dir, std::nullopt, "cannot create the output folder: " + ec.message());
+    write_manifest(plan, true);
 }
 
 }  // namespace lidarscout::synth

@@ -75,6 +75,10 @@ void write_replica(const io::File& source, const dataset::Tile& tile, const std:
 void write_replicas(const ReplicatePlan& plan, ThreadPool& pool,
                     const std::function<void(std::uint64_t bytes)>& on_bytes = {});
 
+// Writes only the manifest, marked "virtual": the tiles stay their sources, opened with their
+// shifts by dataset::open_dataset (dataset/virtual_replica.hpp); nothing is copied.
+void write_virtual_replica(const ReplicatePlan& plan);
+
 // The manifest's file name inside the output folder.
 inline constexpr const char* kManifestName = "replicate.json";
 

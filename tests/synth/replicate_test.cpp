@@ -1,17 +1,21 @@
 // `synth replicate`: every output is a valid tile whose header, bounds and chunk points are the
 // source's moved by the planned shift, whose decoded records equal the source's, and whose
-// grid cell it does not leave; bad grids, missing sources and unsafe output folders are refused.
+// grid cell it does not leave; bad grids, missing sources and unsafe output folders are refused;
+// a virtual replica (the manifest alone) opens as the same tiles as the copies.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
 #include <atomic>
 #include <cmath>
+#include <fstream>
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
@@ -181,6 +185,70 @@ TEST(Replicate, CopcCentreMovesWithThePoints) {
     EXPECT_EQ(tile.copc->center[2], src.copc->center[2]);
     EXPECT_EQ(las::read_copc_hierarchy(file, *tile.copc).total_points, tile.header.point_count);
     EXPECT_EQ(points_sha256(t.path), points_sha256(kCopcTile));
+}
+
+// A virtual replica (only the manifest) opens as the same tiles as the copies of the same plan:
+// headers, bounds in metres, COPC centres and chunk points alike, and the same points decoded.
+TEST(Replicate, VirtualReplicaOpensAsTheCopiedOne) {
+    TempDir dir("virtual");
+    const auto copied = synth::plan_replicas({kFeetTile, kCopcTile}, (dir.path / "copied").string(), {2, 2});
+    const auto virt = synth::plan_replicas({kFeetTile, kCopcTile}, (dir.path / "virtual").string(), {2, 2});
+    ThreadPool pool(2);
+    synth::write_replicas(copied, pool);
+    synth::write_virtual_replica(virt);
+    const auto manifest = (dir.path / "virtual" / synth::kManifestName).string();
+    EXPECT_EQ(fs::directory_iterator(dir.path / "virtual")->path().filename(), synth::kManifestName) << "copied nothing";
+    ASSERT_TRUE(dataset::is_virtual_replica(manifest));
+    EXPECT_FALSE(dataset::is_virtual_replica((dir.path / "copied" / synth::kManifestName).string()));
+
+    std::vector<std::string> copies;
+    for (const auto& t : copied.tiles) copies.push_back(t.path);
+    const auto a = dataset::open_dataset(copies), b = dataset::open_dataset({manifest});
+    ASSERT_TRUE(b.skipped.empty()) << b.skipped.front().error;
+    ASSERT_EQ(a.tiles.size(), 4u);
+    ASSERT_EQ(b.tiles.size(), 4u);
+    EXPECT_EQ(b.point_count, a.point_count);
+    EXPECT_EQ(b.chunk_point_count, a.chunk_point_count);
+    for (std::size_t i = 0; i < 4; ++i) {  // both in plan order
+        SCOPED_TRACE(copied.tiles[i].path);
+        const auto &ha = a.tiles[i].tile.header, &hb = b.tiles[i].tile.header;
+        EXPECT_EQ(hb.offset, ha.offset);
+        EXPECT_EQ(hb.min, ha.min);
+        EXPECT_EQ(hb.max, ha.max);
+        EXPECT_EQ(b.tiles[i].bounds_m.min_x, a.tiles[i].bounds_m.min_x);
+        EXPECT_EQ(b.tiles[i].bounds_m.max_y, a.tiles[i].bounds_m.max_y);
+        EXPECT_EQ(b.tiles[i].tile.path, virt.sources[virt.tiles[i].source].path) << "a virtual tile reads its source";
+        ASSERT_EQ(a.tiles[i].tile.copc.has_value(), b.tiles[i].tile.copc.has_value());
+        if (a.tiles[i].tile.copc) EXPECT_EQ(b.tiles[i].tile.copc->center[0], a.tiles[i].tile.copc->center[0]);
+        const auto want = dataset::read_chunk_points(io::File::open(a.tiles[i].tile.path), a.tiles[i].tile);
+        const auto got = dataset::read_chunk_points(io::File::open(b.tiles[i].tile.path), b.tiles[i].tile);
+        ASSERT_EQ(got.size(), want.size());
+        for (std::size_t k = 0; k < got.size(); k += 7) {
+            EXPECT_EQ(got[k].point.x, want[k].point.x);
+            EXPECT_EQ(got[k].point.y, want[k].point.y);
+            EXPECT_EQ(got[k].point.z, want[k].point.z);
+        }
+    }
+}
+
+// A manifest that is broken is one skipped entry naming it; the other paths still open.
+TEST(Replicate, BrokenVirtualManifestIsSkippedWithItsName) {
+    TempDir dir("virtual_bad");
+    const auto plan = synth::plan_replicas({kFeetTile}, dir.path.string(), {2, 1});
+    synth::write_virtual_replica(plan);
+    const auto manifest = dir.path / synth::kManifestName;
+    auto json = test::read_json(manifest);
+    json["tiles"][1]["source"] = 7;  // no such source
+    {
+        std::ofstream out(manifest);
+        out << json.dump(1);
+    }
+    ASSERT_TRUE(dataset::is_virtual_replica(manifest.string()));
+    const auto ds = dataset::open_dataset({manifest.string(), kMetreTile});
+    ASSERT_EQ(ds.skipped.size(), 1u);
+    EXPECT_EQ(ds.skipped[0].path, manifest.string());
+    EXPECT_NE(ds.skipped[0].error.find("source"), std::string::npos) << ds.skipped[0].error;
+    EXPECT_EQ(ds.tiles.size(), 1u);
 }
 
 TEST(Replicate, RefusesUnsafeOrEmptyInput) {
