@@ -26,6 +26,14 @@ using dataset::CellKeyHash;
 
 constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
+constexpr std::size_t kQuickSort = 4096;  // queues up to this long are sorted whenever anything changed
+constexpr auto kResortInterval = std::chrono::milliseconds(200);
+
+// When a work queue was last sorted: the camera version and the time.
+struct QueueOrder {
+    std::uint64_t version = kNoVersion;
+    std::chrono::steady_clock::time_point at{};
+};
 
 struct Patch {
     bool candidate = false;  // its cell overlaps a tile: it gets a heightmap job
@@ -35,6 +43,7 @@ struct Patch {
     bool base_is_cnn = false;
     std::shared_ptr<const PatchHeightmap> shown;  // base with the full-resolution detail laid over
     std::shared_ptr<const PointSet> chunk;        // its chunk points
+    bool drawable = false;                        // listed in State::drawable (has shown or chunk)
     std::uint64_t key_version = kNoVersion;       // camera version of `key`
     double key = 0;                               // priority: lower first
 };
@@ -82,7 +91,7 @@ struct Scheduler::State {
     std::vector<std::vector<CellKey>> window_cells;  // per tile: candidate cells whose window it overlaps
     std::vector<std::vector<CellKey>> own_cells;     // per tile: cells its points may fall in
     std::vector<CellKey> ready, cnn_ready;           // queues, best at the back once sorted
-    std::uint64_t ready_sorted = kNoVersion, cnn_sorted = kNoVersion;
+    QueueOrder ready_sorted, cnn_sorted;
     std::size_t candidates = 0, tiles_done = 0, linear_tried = 0, linear_made = 0, cnn_tried = 0;
     std::size_t in_flight = 0;  // heightmap jobs running
     bool loader_finish_handled = false;
@@ -97,6 +106,8 @@ struct Scheduler::State {
 
     HeightmapBuildOptions build;
     double z_min = 0, z_max = 0;
+    std::uint64_t patch_bytes = 0;  // heightmaps and chunk points held by `patches` (bytes_of)
+    std::vector<CellKey> drawable;  // patches with a heightmap or chunk points: what snapshots list
 
     void changed() { ++version; }
 
@@ -110,40 +121,59 @@ struct Scheduler::State {
         return p.key;
     }
 
-    // Sorts `queue` (best last) when the camera or its content changed since the last sort.
-    void sort_queue(std::vector<CellKey>& queue, std::uint64_t& sorted, const dataset::PatchGrid& grid) {
-        if (sorted == camera_version) return;
+    // Sorts `queue` (best last) when the camera or its content changed since the last sort, at
+    // most every kResortInterval for a long queue: a moving camera changes every frame, and
+    // sorting hundreds of thousands of cells each time held the lock the frames wait for.
+    void sort_queue(std::vector<CellKey>& queue, QueueOrder& order, const dataset::PatchGrid& grid) {
+        if (order.version == camera_version) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (queue.size() > kQuickSort && now - order.at < kResortInterval) return;
         std::vector<std::pair<double, CellKey>> keyed;
         keyed.reserve(queue.size());
         for (const auto cell : queue) keyed.emplace_back(key_of(patches[cell], cell, grid), cell);
         std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a > b; });
         for (std::size_t i = 0; i < keyed.size(); ++i) queue[i] = keyed[i].second;
-        sorted = camera_version;
+        order = {camera_version, now};
     }
 
     void push_ready(CellKey cell, Patch& p) {
         if (p.ready || !p.candidate) return;
         p.ready = true;
         ready.push_back(cell);
-        ready_sorted = kNoVersion;
+        ready_sorted.version = kNoVersion;
     }
 
     // The heightmap shown for a patch: its base with the full-resolution detail over it.
-    void update_shown(Patch& p, const PatchDetail* detail) {
+    void update_shown(CellKey cell, Patch& p, const PatchDetail* detail) {
         if (!p.base) return;
-        p.shown = detail ? share(overlay_detail(*p.base, *detail)) : p.base;
+        modify(cell, p, [&] { p.shown = detail ? share(overlay_detail(*p.base, *detail)) : p.base; });
         changed();
     }
 
-    std::uint64_t held_bytes(const dataset::PatchGrid& grid) const {
-        std::uint64_t bytes = grid.memory_bytes();
-        for (const auto& [cell, p] : patches) {
-            if (p.base) bytes += heightmap_bytes(*p.base);
-            if (p.shown && p.shown != p.base) bytes += heightmap_bytes(*p.shown);
-            if (p.chunk) bytes += p.chunk->points.capacity() * sizeof(render::PointAttr);
+    // Runs `change` on a patch's heightmaps or chunk points, keeping patch_bytes and the
+    // drawable list up to date.
+    template <class Change>
+    void modify(CellKey cell, Patch& p, Change&& change) {
+        patch_bytes -= bytes_of(p);
+        change();
+        patch_bytes += bytes_of(p);
+        if (!p.drawable && (p.shown || p.chunk)) {
+            p.drawable = true;
+            drawable.push_back(cell);
         }
+    }
+
+    static std::uint64_t bytes_of(const Patch& p) {
+        std::uint64_t bytes = 0;
+        if (p.base) bytes += heightmap_bytes(*p.base);
+        if (p.shown && p.shown != p.base) bytes += heightmap_bytes(*p.shown);
+        if (p.chunk) bytes += p.chunk->points.capacity() * sizeof(render::PointAttr);
         return bytes;
     }
+
+    // Kept as patches change: summing 500,000 patches under the lock for every look of the
+    // residency stalled the frames of a country-sized dataset.
+    std::uint64_t held_bytes(const dataset::PatchGrid& grid) const { return grid.memory_bytes() + patch_bytes; }
 };
 
 Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
@@ -274,7 +304,10 @@ void Scheduler::on_tile_done(std::uint32_t tile) {
     }
     {
         std::lock_guard lock(s.mutex);
-        for (auto& [cell, set] : sets) s.patches[cell].chunk = std::move(set);
+        for (auto& [cell, set] : sets) {
+            Patch& p = s.patches[cell];
+            s.modify(cell, p, [&] { p.chunk = std::move(set); });
+        }
         for (const auto cell : s.window_cells[tile]) {
             Patch& p = s.patches[cell];
             if (--p.deps == 0) s.push_ready(cell, p);
@@ -307,12 +340,12 @@ void Scheduler::heightmap_worker() {
         if (!h) continue;
         ++s.linear_made;
         if (!p.base_is_cnn) {
-            p.base = share(std::move(*h));
-            s.update_shown(p, residency_->detail(cell).get());
+            s.modify(cell, p, [&] { p.base = share(std::move(*h)); });
+            s.update_shown(cell, p, residency_->detail(cell).get());
         }
         if (s.network || s.network_pending) {
             s.cnn_ready.push_back(cell);
-            s.cnn_sorted = kNoVersion;
+            s.cnn_sorted.version = kNoVersion;
             s.wake.notify_all();
         }
         lock.unlock();
@@ -376,9 +409,9 @@ void Scheduler::cnn_worker() {
         for (auto& h : built) {
             const CellKey cell = h.cell;
             Patch& p = s.patches[cell];
-            p.base = share(std::move(h));
+            s.modify(cell, p, [&] { p.base = share(std::move(h)); });
             p.base_is_cnn = true;
-            s.update_shown(p, residency_->detail(cell).get());
+            s.update_shown(cell, p, residency_->detail(cell).get());
         }
         lock.unlock();
         for (const auto& h : built) emit({SchedulerEvent::Kind::CnnHeightmap, 0, h.cell});
@@ -405,7 +438,7 @@ void Scheduler::show_detail(const std::vector<CellKey>& cells) {
     std::lock_guard lock(s.mutex);
     for (const auto cell : cells) {
         const auto p = s.patches.find(cell);
-        if (p != s.patches.end()) s.update_shown(p->second, residency_->detail(cell).get());
+        if (p != s.patches.end()) s.update_shown(cell, p->second, residency_->detail(cell).get());
     }
 }
 
@@ -417,7 +450,8 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     auto snap = std::make_shared<SceneSnapshot>();
     snap->version = s.version + residency;
     s.residency_version = residency;
-    for (const auto& [cell, p] : s.patches) {
+    for (const auto cell : s.drawable) {  // not every patch: a country has 500,000
+        const Patch& p = s.patches.at(cell);
         if (p.shown) snap->heightmaps.push_back(p.shown);
         else if (p.chunk) snap->chunk_points.push_back(p.chunk);
     }
@@ -445,7 +479,8 @@ SchedulerStats Scheduler::stats() const {
     st.tiles_loaded = {s.tiles_done, loadable};
     st.linear = {s.linear_tried, s.candidates};
     if (s.network) st.cnn = {s.cnn_tried, s.linear_made};
-    for (const auto& [cell, p] : s.patches) {
+    for (const auto cell : s.drawable) {  // every patch with a heightmap is drawable
+        const Patch& p = s.patches.at(cell);
         if (!p.base) continue;
         (p.base_is_cnn ? st.heightmaps_cnn : st.heightmaps_linear) += 1;
     }
