@@ -1,6 +1,8 @@
 // Formatting of lidarscout::Error and ErrorRecord messages: "FILE: at byte N: CAUSE".
 #include "core/error.hpp"
 
+#include <map>
+
 namespace lidarscout {
 namespace {
 
@@ -27,6 +29,22 @@ Error Error::with_file(const std::string& file) const { return Error(file, offse
 ErrorRecord ErrorRecord::of(const Error& error) { return {error.file(), error.offset(), error.cause()}; }
 
 std::string ErrorRecord::message() const { return compose(file, offset, cause); }
+
+std::vector<FileErrors> first_error_per_file(const std::vector<ErrorRecord>& errors) {
+    std::vector<FileErrors> out;
+    std::map<std::string, std::size_t> index;  // file -> position in out
+    for (const auto& e : errors) {
+        if (!e.file.empty()) {
+            const auto [it, added] = index.emplace(e.file, out.size());
+            if (!added) {
+                ++out[it->second].count;
+                continue;
+            }
+        }
+        out.push_back({e, 1});
+    }
+    return out;
+}
 
 Error Error::in_stage(const std::string& stage, const std::string& cause) { return Error(stage + ": " + cause); }
 

@@ -8,6 +8,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace lidarscout {
 
@@ -43,5 +44,13 @@ struct ErrorRecord {
     // "FILE: at byte N: CAUSE", as Error::what().
     std::string message() const;
 };
+
+// One record per file (the first, in order) and how many records that file has in all; records
+// without a file each stand alone. For lists a person reads: a truncated tile fails once per chunk.
+struct FileErrors {
+    ErrorRecord first;
+    std::size_t count = 1;
+};
+std::vector<FileErrors> first_error_per_file(const std::vector<ErrorRecord>& errors);
 
 }  // namespace lidarscout

@@ -352,9 +352,10 @@ void Residency::run() {
         lock.lock();
         decoding_bytes_ = 0;
         busy_ = false;
-        if (error) {
+        if (error) {  // the pieces it had are dropped: a damaged file is not drawn in part
             failed_.insert(tile);
             errors_.push_back(std::move(*error));
+            if (tiles_.erase(tile) > 0) ++version_;
             continue;
         }
         if (capped && tiles_.contains(tile)) tiles_.at(tile).partial = true;

@@ -35,5 +35,29 @@ TEST(Error, WithFileKeepsOffsetAndCause) {
     EXPECT_EQ(e.offset(), 12u);
 }
 
+TEST(ErrorRecord, KeepsTheFieldsAndTheMessage) {
+    const Error e("a.laz", 120, "truncated");
+    const auto r = ErrorRecord::of(e);
+    EXPECT_EQ(r.file, "a.laz");
+    EXPECT_EQ(r.offset, 120u);
+    EXPECT_EQ(r.cause, "truncated");
+    EXPECT_EQ(r.message(), e.what());
+    EXPECT_EQ((ErrorRecord{"", std::nullopt, "network"}).message(), "network");
+}
+
+TEST(ErrorRecord, FirstErrorPerFileCountsTheRest) {
+    const std::vector<ErrorRecord> errors = {{"a.laz", 1, "x"}, {"b.laz", std::nullopt, "gone"}, {"a.laz", 2, "y"},
+                                             {"", std::nullopt, "net"}, {"", std::nullopt, "net"}, {"a.laz", 3, "z"}};
+    const auto grouped = first_error_per_file(errors);
+    ASSERT_EQ(grouped.size(), 4u);
+    EXPECT_EQ(grouped[0].first.file, "a.laz");
+    EXPECT_EQ(grouped[0].first.offset, 1u);
+    EXPECT_EQ(grouped[0].count, 3u);
+    EXPECT_EQ(grouped[1].first.file, "b.laz");
+    EXPECT_EQ(grouped[1].count, 1u);
+    EXPECT_EQ(grouped[2].count, 1u);  // records without a file stand alone
+    EXPECT_EQ(grouped[3].count, 1u);
+}
+
 }  // namespace
 }  // namespace lidarscout

@@ -1,7 +1,8 @@
 // The streaming scheduler on real surveys: heightmaps appear before every tile's chunk points
 // are in, the memory budget holds while the camera flies over tiles, released tiles leave
 // their detail in the heightmaps, a camera move re-prioritises the full-resolution loads, and
-// (when the replicated benchmark dataset is present) the process stays within the budget.
+// a replica made by the test stays within the budget; files damaged while viewed are listed
+// one by one and the rest loads.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <random>
 #include <set>
 #include <thread>
 
@@ -300,6 +302,80 @@ TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
     EXPECT_LE(worst - std::min(worst, rss0), o.memory_budget + kMargin);
     EXPECT_GT(st.heightmaps_linear, 0u);
     EXPECT_GT(st.full_res_released, 0u) << "the flight never filled the budget: the test checks nothing";
+}
+
+// Issue 14.5: files damaged while they are viewed. Eight real tiles copied into a temporary
+// folder and opened; then one is truncated and one deleted before the scheduler reads their
+// points, and while it streams (a scripted flight) a helper thread overwrites a third with
+// random bytes of the same size. Each tile that fails is listed with its path and cause, the
+// others reach full resolution, nothing of a failed tile is held, and nothing crashes.
+TEST(ViewerScheduler, FilesDamagedDuringASessionAreListedAndTheRestLoads) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_faults_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    for (const auto& e : fs::directory_iterator(test::surveys_dir() / "ky-jmo335-eastern-kentucky")) {
+        if (e.path().extension() == ".laz" && e.path().stem() != "N118E380") fs::copy_file(e.path(), dir / e.path().filename());
+    }
+    const auto ds = dataset::open_dataset({dir.string()});
+    ASSERT_EQ(ds.tiles.size(), 8u);
+    const fs::path truncated = dir / "N117E380.laz", deleted = dir / "N119E380.laz", scribbled = dir / "N118E381.laz";
+    fs::resize_file(truncated, fs::file_size(truncated) / 3);
+    fs::remove(deleted);
+    std::thread vandal([&] {
+        std::this_thread::sleep_for(300ms);
+        std::vector<char> noise(fs::file_size(scribbled));
+        std::mt19937 rng(5);
+        for (auto& c : noise) c = static_cast<char>(rng());
+        std::FILE* f = std::fopen(scribbled.c_str(), "r+b");
+        if (f) std::fwrite(noise.data(), 1, noise.size(), f), std::fclose(f);
+    });
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 1ull << 30;
+    FlightPath path;
+    path.width = 320, path.height = 180;
+    const auto camera_at = [&](double t) { return flight_camera(ds.bounds_m, t, path); };
+    o.camera = camera_at(0);
+    {
+        Scheduler scheduler(ds, o);
+        const auto start = std::chrono::steady_clock::now();
+        for (double t = 0; t < 1.0;) {  // the flight, 4 s
+            scheduler.set_camera(camera_at(t));
+            (void)scheduler.snapshot();
+            std::this_thread::sleep_for(20ms);
+            t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 4.0;
+        }
+        vandal.join();
+        render::Camera whole = camera_at(0);  // back above everything until all is done
+        scheduler.set_camera(whole);
+        ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+        const auto st = scheduler.stats();
+        std::map<std::string, std::string> causes;  // file name -> first cause
+        for (const auto& e : st.errors) causes.emplace(fs::path(e.file).filename().string(), e.cause);
+        for (const auto& e : first_error_per_file(st.errors)) std::printf("error: %s\n", e.first.message().c_str());
+        ASSERT_TRUE(causes.contains("N117E380.laz")) << "the truncated tile is not listed";
+        ASSERT_TRUE(causes.contains("N119E380.laz")) << "the deleted tile is not listed";
+        EXPECT_FALSE(causes["N117E380.laz"].empty());
+        EXPECT_NE(causes["N119E380.laz"].find("No such file"), std::string::npos) << causes["N119E380.laz"];
+        for (const auto& [name, cause] : causes) {
+            EXPECT_TRUE(name == "N117E380.laz" || name == "N119E380.laz" || name == "N118E381.laz") << name << ": " << cause;
+        }
+        // The undamaged tiles are all at full resolution; nothing of a failed tile is drawn.
+        EXPECT_EQ(st.full_res.done, st.full_res.total) << "visible tiles not at full resolution";
+        EXPECT_GE(st.full_res.total, 4u) << "the last camera sees too little: the test checks nothing";
+        EXPECT_EQ(st.full_res_tiles, st.full_res.done);
+        std::set<std::uint32_t> failed;
+        for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
+            if (causes.contains(fs::path(ds.tiles[i].tile.path).filename().string())) failed.insert(i);
+        }
+        for (const auto& b : scheduler.snapshot()->full_points) {
+            EXPECT_FALSE(failed.contains(b->tile)) << "blocks of a failed tile are held: " << ds.tiles[b->tile].tile.path;
+        }
+        EXPECT_EQ(first_error_per_file(st.errors).size(), causes.size());
+        EXPECT_LE(st.peak_bytes_used, o.memory_budget);
+    }
+    fs::remove_all(dir);
 }
 
 }  // namespace

@@ -84,14 +84,18 @@ void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double f
 
 // One line per file that could not be opened, and per failure while streaming (file, offset, cause).
 void errors_section(const dataset::Dataset& ds, const SchedulerStats& s) {
-    const std::size_t count = ds.skipped.size() + s.errors.size();
+    const auto per_file = first_error_per_file(s.errors);
+    const std::size_t count = ds.skipped.size() + per_file.size();
     if (count == 0) return;
-    const std::string title = "Errors (" + std::to_string(count) + ")###errors";
+    const std::string title = "Errors: " + std::to_string(count) + " files###errors";
     if (!ImGui::CollapsingHeader(title.c_str())) return;
     ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * count)), true,
                       ImGuiWindowFlags_HorizontalScrollbar);
     for (const auto& f : ds.skipped) ImGui::TextWrapped("skipped: %s", f.error.c_str());
-    for (const auto& e : s.errors) ImGui::TextWrapped("%s", e.message().c_str());
+    for (const auto& e : per_file) {
+        if (e.count == 1) ImGui::TextWrapped("%s", e.first.message().c_str());
+        else ImGui::TextWrapped("%s (and %zu more in this file)", e.first.message().c_str(), e.count - 1);
+    }
     ImGui::EndChild();
 }
 
