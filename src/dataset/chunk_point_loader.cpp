@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/throttle.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
@@ -87,7 +88,7 @@ public:
     std::size_t next(std::span<io::ReadRequest> out) override {
         std::lock_guard lock(mutex_);
         if (cancelled_) return 0;
-        if (reorder_) reorder();
+        if (reorder_ && reorder_throttle_.due(order_.size())) reorder();
         std::size_t n = 0;
         while (n < out.size() && !order_.empty()) {
             const std::uint32_t id = order_.back();
@@ -169,6 +170,7 @@ private:
     // by distance to the focus, nearest last (the back of order_ is served first).
     void reorder() {
         reorder_ = false;
+        reorder_throttle_.done();
         auto started_begin = std::stable_partition(order_.begin(), order_.end(), [&](std::uint32_t id) { return !tiles_[id].started; });
         std::vector<double> key(ds_.tiles.size());
         for (auto it = order_.begin(); it != started_begin; ++it) {
@@ -228,6 +230,9 @@ private:
     std::vector<std::uint32_t> order_;  // tiles with reads left to hand out; back = next
     double focus_x_ = 0, focus_y_ = 0;
     bool reorder_ = false;
+    // A moving camera moves the focus every frame; sorting 150,000 tiles each time held the lock
+    // that set_focus (the frame) waits for.
+    Throttle reorder_throttle_{std::chrono::milliseconds(200), 4096};
     bool cancelled_ = false;
     std::vector<ErrorRecord> errors_;
 };

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/visibility.hpp"
@@ -156,12 +157,18 @@ std::optional<std::vector<std::uint32_t>> Residency::victims(std::uint64_t incom
     return out;
 }
 
-std::optional<Residency::Choice> Residency::choose(std::uint64_t other) {
+std::vector<double> Residency::screen_fractions(const render::Camera& camera) const {
+    std::vector<double> out(dataset_.tiles.size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = screen_fraction(camera, dataset_.tiles[i].bounds_m);
+    return out;
+}
+
+std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const std::vector<double>& fractions) {
     ++tick_;
     wanted_ = wanted_full_ = 0;
     std::vector<std::pair<double, std::uint32_t>> candidates;  // (gain per byte, tile)
     for (std::uint32_t i = 0; i < dataset_.tiles.size(); ++i) {
-        const double fraction = screen_fraction(camera_, dataset_.tiles[i].bounds_m);
+        const double fraction = fractions[i];
         if (fraction <= options_.min_screen_fraction || failed_.contains(i)) continue;
         ++wanted_;
         const auto it = tiles_.find(i);
@@ -231,12 +238,22 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
         if (stopping_) return std::nullopt;
         seen = camera_version_;
         if (!has_camera_) continue;
+        // A camera that moves every frame over a country of tiles: a look at most every kPoll,
+        // its screen coverage of every tile computed without the lock that set_camera takes.
+        if (!look_throttle_.due(dataset_.tiles.size())) {
+            wake_.wait_for(lock, kPoll, [&] { return stopping_; });
+            if (stopping_) return std::nullopt;
+            seen = camera_version_;
+        }
+        look_throttle_.done();
+        const render::Camera camera = camera_;
         lock.unlock();
         const std::uint64_t other = options_.other_bytes ? options_.other_bytes() : 0;
+        const std::vector<double> fractions = screen_fractions(camera);
         lock.lock();
         if (stopping_) return std::nullopt;
         last_other_ = other;
-        const auto choice = choose(other);
+        const auto choice = choose(other, fractions);
         const auto over = choice ? std::optional(choice->victims)
                                  : victims(0, std::numeric_limits<double>::infinity(), other + held(), release_steps());
         const auto dropped = release(over.value_or(std::vector<std::uint32_t>{}));

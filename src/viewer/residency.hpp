@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/throttle.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
 #include "render/camera.hpp"
@@ -98,7 +99,9 @@ private:
 
     void run();
     std::optional<std::pair<std::uint32_t, std::uint64_t>> next_load(std::unique_lock<std::mutex>& lock);  // tile, cap
-    std::optional<Choice> choose(std::uint64_t other);
+    // The screen coverage (screen_fraction) of every tile at `camera`.
+    std::vector<double> screen_fractions(const render::Camera& camera) const;
+    std::optional<Choice> choose(std::uint64_t other, const std::vector<double>& fractions);
     struct Step {
         double value = 0;  // worth per byte freed
         std::uint32_t tile = 0;
@@ -134,6 +137,7 @@ private:
     std::uint64_t camera_version_ = 0, checked_version_ = ~0ull, tick_ = 0;
     std::map<std::uint32_t, Entry> tiles_;
     std::set<std::uint32_t> failed_;
+    Throttle look_throttle_{std::chrono::milliseconds(100), 4096};  // looks of a large dataset
     std::set<std::uint32_t> folded_;  // tiles whose every point is in the details (not folded again on reload)
     std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, version_ = 1, last_other_ = 0;

@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
 #include "las/point_format.hpp"
 #include "nn/heightmap_network.hpp"
@@ -26,13 +27,10 @@ using dataset::CellKeyHash;
 
 constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
-constexpr std::size_t kQuickSort = 4096;  // queues up to this long are sorted whenever anything changed
-constexpr auto kResortInterval = std::chrono::milliseconds(200);
-
-// When a work queue was last sorted: the camera version and the time.
+// When a work queue was last sorted (the camera version), and how often a long one may be.
 struct QueueOrder {
     std::uint64_t version = kNoVersion;
-    std::chrono::steady_clock::time_point at{};
+    Throttle throttle{std::chrono::milliseconds(200), 4096};
 };
 
 struct Patch {
@@ -121,19 +119,18 @@ struct Scheduler::State {
         return p.key;
     }
 
-    // Sorts `queue` (best last) when the camera or its content changed since the last sort, at
-    // most every kResortInterval for a long queue: a moving camera changes every frame, and
-    // sorting hundreds of thousands of cells each time held the lock the frames wait for.
+    // Sorts `queue` (best last) when the camera or its content changed since the last sort, a
+    // long queue at most every 200 ms: a moving camera changes every frame, and sorting hundreds
+    // of thousands of cells each time held the lock the frames wait for.
     void sort_queue(std::vector<CellKey>& queue, QueueOrder& order, const dataset::PatchGrid& grid) {
-        if (order.version == camera_version) return;
-        const auto now = std::chrono::steady_clock::now();
-        if (queue.size() > kQuickSort && now - order.at < kResortInterval) return;
+        if (order.version == camera_version || !order.throttle.due(queue.size())) return;
         std::vector<std::pair<double, CellKey>> keyed;
         keyed.reserve(queue.size());
         for (const auto cell : queue) keyed.emplace_back(key_of(patches[cell], cell, grid), cell);
         std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a > b; });
         for (std::size_t i = 0; i < keyed.size(); ++i) queue[i] = keyed[i].second;
-        order = {camera_version, now};
+        order.version = camera_version;
+        order.throttle.done();
     }
 
     void push_ready(CellKey cell, Patch& p) {
