@@ -77,9 +77,9 @@ std::optional<DatasetTile> read_one(const std::string& path, std::uint64_t las_s
         auto file = io::File::open(path);
         return make_dataset_tile(read_tile(file), las_stride);
     } catch (const Error& e) {
-        error = e.file().empty() ? path + ": " + e.what() : e.what();
+        error = e.file().empty() ? io::display_path(path) + ": " + e.what() : e.what();
     } catch (const std::bad_alloc&) {
-        error = path + ": out of memory while reading the file";
+        error = io::display_path(path) + ": out of memory while reading the file";
     }
     return std::nullopt;
 }
@@ -145,6 +145,7 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     std::vector<std::optional<DatasetTile>> tiles(n);
     std::vector<std::string> errors(n);
     std::atomic<std::size_t> done{0};
+    io::File::prefetch(found.files);  // remote tiles: every header request in flight at once
     ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
     pool.for_each(n, [&](std::size_t i) {
         tiles[i] = read_one(found.files[i], options.las_stride, errors[i]);
@@ -155,7 +156,7 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
         if (tiles[i]) {
             ds.tiles.push_back(std::move(*tiles[i]));
         } else {
-            ds.skipped.push_back({found.files[i], errors[i]});
+            ds.skipped.push_back({io::display_path(found.files[i]), errors[i]});
         }
     }
     summarise(ds);
