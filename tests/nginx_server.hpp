@@ -2,6 +2,7 @@
 // 127.0.0.1 at an ephemeral port, with a generated config, temp prefix and logs in a temp
 // folder, and a second temp folder served at /lists/ for tile lists the tests write. One
 // server per test process, stopped when the process exits (and killed with it if it dies).
+// (bench_http serves its replica with one of its own.)
 #pragma once
 
 #include <arpa/inet.h>
@@ -39,6 +40,17 @@ public:
     std::filesystem::path access_log() const { return dir_ / "access.log"; }
     int port() const { return port_; }
 
+    // A server for `root` (a folder), started at once; throws when nginx does not start.
+    explicit NginxServer(std::filesystem::path root) : root_(std::filesystem::canonical(root)) {
+        dir_ = std::filesystem::temp_directory_path() / ("lidarscout_nginx_" + std::to_string(::getpid()));
+        lists_ = dir_ / "lists";
+        std::filesystem::create_directories(lists_);
+        for (int attempt = 0; attempt < 5 && pid_ <= 0; ++attempt) start(free_port());
+        if (pid_ <= 0) throw std::runtime_error("nginx did not start; see " + (dir_ / "error.log").string());
+    }
+    NginxServer(const NginxServer&) = delete;
+    NginxServer& operator=(const NginxServer&) = delete;
+
     ~NginxServer() {
         if (pid_ > 0) {
             ::kill(pid_, SIGTERM);
@@ -49,13 +61,7 @@ public:
     }
 
 private:
-    NginxServer() {
-        dir_ = std::filesystem::temp_directory_path() / ("lidarscout_nginx_" + std::to_string(::getpid()));
-        lists_ = dir_ / "lists";
-        std::filesystem::create_directories(lists_);
-        for (int attempt = 0; attempt < 5 && pid_ <= 0; ++attempt) start(free_port());
-        if (pid_ <= 0) throw std::runtime_error("nginx did not start; see " + (dir_ / "error.log").string());
-    }
+    NginxServer() : NginxServer(data_dir()) {}
 
     static int free_port() {
         const int s = ::socket(AF_INET, SOCK_STREAM, 0);
@@ -78,7 +84,7 @@ private:
           << "  fastcgi_temp_path " << d << "/fastcgi;\n  uwsgi_temp_path " << d << "/uwsgi;\n"
           << "  scgi_temp_path " << d << "/scgi;\n  default_type application/octet-stream;\n"
           << "  keepalive_requests 100000;\n"
-          << "  server {\n    listen 127.0.0.1:" << port << ";\n    root " << std::filesystem::canonical(data_dir()).string()
+          << "  server {\n    listen 127.0.0.1:" << port << ";\n    root " << root_.string()
           << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n}\n";
     }
 
@@ -119,7 +125,7 @@ private:
         return false;
     }
 
-    std::filesystem::path dir_, lists_;
+    std::filesystem::path root_, dir_, lists_;
     pid_t pid_ = -1;
     int port_ = 0;
 };

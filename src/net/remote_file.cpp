@@ -136,6 +136,12 @@ void RemoteFile::prefetch(std::span<const std::string> urls) {
     cv.wait(lock, [&] { return pending == 0; });
 }
 
+void RemoteFile::forget_all() {
+    auto& r = registry();
+    std::lock_guard lock(r.mutex);
+    r.files.clear();
+}
+
 void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     if (out.empty()) return;
     RangeReply reply = fetch_cached({url_, {{offset, out.size()}}, validator_});

@@ -1,6 +1,7 @@
 // A file on an HTTP(S) server, read by range requests: its size and validator (ETag or
-// Last-Modified) pinned by the first response, its first and last 4 KiB fetched when it is
-// opened (a tile's header, VLRs and usually its chunk table), and exact reads anywhere else.
+// Last-Modified) pinned by the first response, its first and last 2 KiB fetched when it is
+// opened (a tile's header, VLRs and usually its chunk table: half of what local files keep,
+// as every byte crosses the network), and exact reads anywhere else.
 // Remote files are shared process-wide by URL, so a tile opened again (by the chunk-point
 // loader, the viewer, a second command in the same process) costs no request, and every
 // response for it is checked against the same validator: a file that changes on the server
@@ -21,13 +22,15 @@ namespace lidarscout::net {
 
 class RemoteFile {
 public:
-    static constexpr std::uint64_t kEdge = 4096;
+    static constexpr std::uint64_t kEdge = 2048;
 
     // The remote file at `url`, opened (two range requests) on first use; throws Error.
     static std::shared_ptr<const RemoteFile> open(const std::string& url);
     // Opens the files of `urls` not open yet, all requests in flight together. Failures are
     // not reported here: open() of that URL reports them.
     static void prefetch(std::span<const std::string> urls);
+    // Forgets every open remote file: the next open() fetches its edges again (benchmarks).
+    static void forget_all();
 
     const std::string& display_url() const { return display_url_; }
     std::uint64_t size() const { return size_; }
