@@ -174,7 +174,7 @@ private:
 
 struct Run {
     double headers = 0, chunk_points = 0, rate = 0;
-    std::uint64_t requests = 0, bytes = 0, tiles = 0, points = 0;
+    std::uint64_t requests = 0, header_requests = 0, retries = 0, bytes = 0, tiles = 0, points = 0;
 };
 
 Run run_once(const std::string& list_url) {
@@ -184,6 +184,7 @@ Run run_once(const std::string& list_url) {
     auto t0 = Clock::now();
     const auto ds = dataset::open_dataset({list_url});
     r.headers = seconds_since(t0);
+    r.header_requests = net::HttpClient::shared().stats().requests - before.requests;
     r.tiles = ds.tiles.size();
     if (!ds.skipped.empty()) throw Error(ds.skipped.front().path + ": " + ds.skipped.front().error);
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
@@ -198,6 +199,7 @@ Run run_once(const std::string& list_url) {
     r.rate = static_cast<double>(r.points) / r.chunk_points;
     const auto after = net::HttpClient::shared().stats();
     r.requests = after.requests - before.requests;
+    r.retries = after.retries - before.retries;
     r.bytes = (after.body_bytes - before.body_bytes) + (after.header_bytes - before.header_bytes);
     return r;
 }
@@ -248,7 +250,7 @@ int main(int argc, char** argv) {
         for (const int rtt : rtts) {
             DelayProxy proxy(server.port(), std::chrono::microseconds(rtt * 500));
             const std::string url = "http://127.0.0.1:" + std::to_string(proxy.port()) + "/" + list;
-            std::vector<double> headers, points, rate, requests, bytes;
+            std::vector<double> headers, points, rate, requests, header_requests, retries, bytes;
             Run last;
             for (int k = 0; k < runs; ++k) {
                 last = run_once(url);
@@ -256,12 +258,16 @@ int main(int argc, char** argv) {
                 points.push_back(last.chunk_points);
                 rate.push_back(last.rate);
                 requests.push_back(static_cast<double>(last.requests));
+                header_requests.push_back(static_cast<double>(last.header_requests));
+                retries.push_back(static_cast<double>(last.retries));
                 bytes.push_back(static_cast<double>(last.bytes));
             }
             fmt::print("rtt {:>3} ms: {} tiles, {} chunk points; headers+chunk tables {:.3f} s; chunk points {:.3f} s "
-                       "({:.0f}/s); {:.0f} requests ({:.2f}/tile); {:.1f} MB moved of {:.1f} GB ({:.4f}%)\n",
+                       "({:.0f}/s); {:.0f} requests ({:.2f}/tile; {:.0f} before the chunk points, {:.0f} retries); "
+                       "{:.1f} MB moved of {:.1f} GB ({:.4f}%)\n",
                        rtt, last.tiles, last.points, median(headers), median(points), median(rate), median(requests),
                        median(requests) / static_cast<double>(std::max<std::uint64_t>(1, last.tiles)),
+                       median(header_requests), median(retries),
                        median(bytes) / 1e6, static_cast<double>(dataset_bytes) / 1e9,
                        100.0 * median(bytes) / static_cast<double>(dataset_bytes));
         }

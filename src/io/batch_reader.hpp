@@ -72,7 +72,7 @@ struct BatchReadOptions {
     unsigned threads = 0;        // io_uring: rings (0: hardware threads); pread: threads (0: queue_depth)
     unsigned queue_depth = 64;   // io_uring: reads in flight per ring
     bool direct = false;         // widen reads to aligned 4 KiB sectors (for O_DIRECT descriptors)
-    unsigned http_in_flight = 128;      // remote requests: HTTP requests out at once
+    unsigned http_in_flight = 256;      // remote requests: HTTP requests out at once
     std::size_t http_max_ranges = 256;  // remote requests: ranges in one multi-range request
 };
 

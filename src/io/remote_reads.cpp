@@ -1,6 +1,8 @@
 // RemoteRouter: grouping remote read requests into multi-range HTTP requests.
 #include "io/remote_reads.hpp"
 
+#include <utility>
+
 #include "net/remote_file.hpp"
 
 namespace lidarscout::io {
@@ -19,32 +21,38 @@ std::size_t RemoteRouter::next(std::span<ReadRequest> out) {
         const std::size_t n = inner_.next(out);
         if (n == 0) {
             exhausted_ = true;
-            send(lock);
+            send(std::exchange(group_, {}), lock);
             break;
         }
+        // The whole batch is grouped before anything is sent: sending lets other threads in,
+        // and the requests they take come after this batch's
+        std::vector<std::vector<ReadRequest>> full;
         std::size_t local = 0;
         for (std::size_t i = 0; i < n; ++i) {
             if (out[i].remote) {
-                hold(out[i], lock);
+                hold(out[i], full);
             } else {
                 out[local++] = out[i];
             }
         }
+        for (auto& group : full) send(std::move(group), lock);
         if (local > 0) return local;
     }
+    send(std::exchange(group_, {}), lock);  // (empty unless a batch was grouped after the end)
     idle_.wait(lock, [&] { return in_flight_ == 0; });
     return 0;
 }
 
-void RemoteRouter::hold(const ReadRequest& r, std::unique_lock<std::mutex>& lock) {
-    if (!group_.empty() && (group_.front().remote != r.remote || group_.size() >= max_group_)) send(lock);
+void RemoteRouter::hold(const ReadRequest& r, std::vector<std::vector<ReadRequest>>& full) {
+    if (!group_.empty() && (group_.front().remote != r.remote || group_.size() >= max_group_)) {
+        full.push_back(std::exchange(group_, {}));
+    }
     group_.push_back(r);
 }
 
-void RemoteRouter::send(std::unique_lock<std::mutex>& lock) {
-    if (group_.empty()) return;
-    auto group = std::make_shared<std::vector<ReadRequest>>(std::move(group_));
-    group_.clear();
+void RemoteRouter::send(std::vector<ReadRequest> requests, std::unique_lock<std::mutex>& lock) {
+    if (requests.empty()) return;
+    auto group = std::make_shared<std::vector<ReadRequest>>(std::move(requests));
     idle_.wait(lock, [&] { return in_flight_ < max_in_flight_; });
     std::vector<net::ByteRange> ranges;
     ranges.reserve(group->size());

@@ -24,8 +24,9 @@ public:
     void complete(const ReadRequest& request, std::span<const std::uint8_t> data, const std::string& error) override;
 
 private:
-    void hold(const ReadRequest& r, std::unique_lock<std::mutex>& lock);
-    void send(std::unique_lock<std::mutex>& lock);
+    // Adds `r` to the open group; a group it closes goes to `full`.
+    void hold(const ReadRequest& r, std::vector<std::vector<ReadRequest>>& full);
+    void send(std::vector<ReadRequest> requests, std::unique_lock<std::mutex>& lock);
     void deliver(const std::vector<ReadRequest>& group, std::vector<std::vector<std::uint8_t>>& parts,
                  const std::string& error);
 

@@ -30,7 +30,7 @@ struct HttpSettings {
     std::chrono::milliseconds backoff{200};          // before the first retry; doubled each time
     long connect_timeout_s = 15;
     long stall_timeout_s = 30;                       // a transfer receiving nothing this long is retried
-    unsigned connections_per_host = 64;              // HTTP/1.1 keep-alive pool size
+    unsigned connections_per_host = 256;             // HTTP/1.1 keep-alive pool size (latency-bound reads)
     std::size_t max_range_header = 6000;             // characters of one Range header
 };
 
