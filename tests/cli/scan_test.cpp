@@ -97,7 +97,9 @@ std::size_t logged_requests(const std::filesystem::path& log) {
 // which revalidates the file).
 TEST(ScanCommand, RemoteTileListGivesTheSameResultAsLocalFolders) {
     const auto& server = test::NginxServer::instance();
-    const std::vector<std::string> surveys = {"ky-jmo335-eastern-kentucky", "isprs-filter-test-sites", "ign-lidar-hd-1km"};
+    // (tiles whose header and VLRs fit in the first 2 KiB and chunk table in the last: the IGN
+    // tiles' WKT VLRs take one more request)
+    const std::vector<std::string> surveys = {"ky-jmo335-eastern-kentucky", "isprs-filter-test-sites", "ky-red-river-gorge"};
     std::ofstream list(server.lists_dir() / "surveys.txt");
     std::string local_args;
     std::size_t tiles = 0;
