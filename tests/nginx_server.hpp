@@ -2,6 +2,8 @@
 // 127.0.0.1 at an ephemeral port, with a generated config, temp prefix and logs in a temp
 // folder, and a second temp folder served at /lists/ for tile lists the tests write. One
 // server per test process, stopped when the process exits (and killed with it if it dies).
+// It also serves the same root over HTTPS with a self-signed certificate (made by the
+// openssl command), which a verifying client must refuse.
 // (bench_http serves its replica with one of its own.)
 #pragma once
 
@@ -14,6 +16,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -39,12 +42,17 @@ public:
     const std::filesystem::path& lists_dir() const { return lists_; }
     std::filesystem::path access_log() const { return dir_ / "access.log"; }
     int port() const { return port_; }
+    // The URL of `relative` on the HTTPS listener (self-signed certificate).
+    std::string https_url(const std::string& relative) const {
+        return "https://127.0.0.1:" + std::to_string(tls_port_) + "/" + relative;
+    }
 
     // A server for `root` (a folder), started at once; throws when nginx does not start.
     explicit NginxServer(std::filesystem::path root) : root_(std::filesystem::canonical(root)) {
         dir_ = std::filesystem::temp_directory_path() / ("lidarscout_nginx_" + std::to_string(::getpid()));
         lists_ = dir_ / "lists";
         std::filesystem::create_directories(lists_);
+        make_certificate();
         for (int attempt = 0; attempt < 5 && pid_ <= 0; ++attempt) start(free_port());
         if (pid_ <= 0) throw std::runtime_error("nginx did not start; see " + (dir_ / "error.log").string());
     }
@@ -75,6 +83,13 @@ private:
         return ntohs(a.sin_port);
     }
 
+    void make_certificate() const {
+        const std::string d = dir_.string();
+        const std::string cmd = "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 2 -subj /CN=127.0.0.1 -keyout " + d +
+                                "/key.pem -out " + d + "/cert.pem >/dev/null 2>&1";
+        if (std::system(cmd.c_str()) != 0) throw std::runtime_error("openssl could not make a test certificate");
+    }
+
     void write_config(int port) const {
         const std::string d = dir_.string();
         std::ofstream c(dir_ / "nginx.conf");
@@ -85,10 +100,13 @@ private:
           << "  scgi_temp_path " << d << "/scgi;\n  default_type application/octet-stream;\n"
           << "  keepalive_requests 100000;\n"
           << "  server {\n    listen 127.0.0.1:" << port << ";\n    root " << root_.string()
-          << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n}\n";
+          << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n"
+          << "  server {\n    listen 127.0.0.1:" << tls_port_ << " ssl;\n    ssl_certificate " << d << "/cert.pem;\n"
+          << "    ssl_certificate_key " << d << "/key.pem;\n    root " << root_.string() << ";\n  }\n}\n";
     }
 
     void start(int port) {
+        tls_port_ = free_port();
         write_config(port);
         const std::string conf = (dir_ / "nginx.conf").string(), prefix = dir_.string() + "/";
         const std::string err = (dir_ / "error.log").string();
@@ -127,7 +145,7 @@ private:
 
     std::filesystem::path root_, dir_, lists_;
     pid_t pid_ = -1;
-    int port_ = 0;
+    int port_ = 0, tls_port_ = 0;
 };
 
 }  // namespace lidarscout::test

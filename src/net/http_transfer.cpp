@@ -41,7 +41,6 @@ bool retryable(CURLcode code) {
         case CURLE_GOT_NOTHING:
         case CURLE_HTTP2:
         case CURLE_HTTP2_STREAM:
-        case CURLE_SSL_CONNECT_ERROR:
             return true;
         default:
             return false;

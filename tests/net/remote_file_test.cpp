@@ -79,6 +79,15 @@ TEST(RemoteFile, CredentialsAreNeverShown) {
     }
 }
 
+TEST(RemoteFile, TlsPeersAreVerified) {
+    try {
+        io::File::open(test::NginxServer::instance().https_url(kTile));
+        FAIL() << "a self-signed certificate was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("certificate"), std::string::npos) << e.what();
+    }
+}
+
 TEST(RemoteFile, AFileChangedDuringTheSessionIsAnError) {
     const auto& server = test::NginxServer::instance();
     const fs::path local = server.lists_dir() / "changing.bin";
