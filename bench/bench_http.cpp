@@ -122,7 +122,8 @@ private:
         const ssize_t n = ::recv(fd, buffer, sizeof buffer, MSG_DONTWAIT);
         if (n < 0) return;
         const int to = peers_.at(fd);
-        queue_.push_back({Clock::now() + delay_, to, std::string(buffer, static_cast<std::size_t>(std::max<ssize_t>(n, 0)))});
+        const auto bytes = static_cast<std::size_t>(std::max<ssize_t>(n, 0));
+        queue_.push_back({Clock::now() + delay_, to, std::string(buffer, bytes)});
         if (n == 0) ::epoll_ctl(epoll_, EPOLL_CTL_DEL, fd, nullptr);
     }
 

@@ -85,8 +85,9 @@ private:
 
     void make_certificate() const {
         const std::string d = dir_.string();
-        const std::string cmd = "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 2 -subj /CN=127.0.0.1 -keyout " + d +
-                                "/key.pem -out " + d + "/cert.pem >/dev/null 2>&1";
+        const std::string cmd =
+            "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 2 -subj /CN=127.0.0.1 "
+            "-keyout " + d + "/key.pem -out " + d + "/cert.pem >/dev/null 2>&1";
         if (std::system(cmd.c_str()) != 0) throw std::runtime_error("openssl could not make a test certificate");
     }
 
@@ -115,8 +116,8 @@ private:
         const pid_t pid = ::fork();
         if (pid == 0) {
             ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-            ::execlp("nginx", "nginx", "-p", prefix.c_str(), "-c", conf.c_str(), "-e", err.c_str(), "-g", globals.c_str(),
-                     static_cast<char*>(nullptr));
+            ::execlp("nginx", "nginx", "-p", prefix.c_str(), "-c", conf.c_str(), "-e", err.c_str(), "-g",
+                     globals.c_str(), static_cast<char*>(nullptr));
             ::_exit(127);
         }
         if (wait_until_listening(pid, port)) {

@@ -4,6 +4,7 @@
 #include "cli/size_options.hpp"
 #include "core/error.hpp"
 #include "net/range_cache.hpp"
+#include "net/url.hpp"
 
 namespace lidarscout::cli {
 
@@ -21,6 +22,11 @@ void add_remote_options(CLI::App& cmd) {
             }
         },
         help);
+}
+
+CLI::Validator existing_file_or_url() {
+    return CLI::Validator(
+        [](std::string& path) { return net::is_url(path) ? std::string() : CLI::ExistingFile(path); }, "FILE or URL");
 }
 
 }  // namespace lidarscout::cli

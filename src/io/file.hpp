@@ -62,7 +62,8 @@ private:
     std::size_t read_uncached(std::uint64_t offset, std::span<std::uint8_t> out) const;
 
     std::string path_;
-    std::vector<std::uint8_t> head_, tail_;  // first / last kCachedEdge bytes (remote: its edges; tail empty for small files)
+    // first / last kCachedEdge bytes (remote: its edges; tail empty for small files)
+    std::vector<std::uint8_t> head_, tail_;
     int fd_ = -1;
     std::shared_ptr<const net::RemoteFile> remote_;
     std::uint64_t size_ = 0;

@@ -248,10 +248,11 @@ TransferOutcome HttpTransfer::finish_attempt(CURLcode code) {
 TransferOutcome HttpTransfer::take_single() {
     const ByteRange whole = job_->request.ranges[ranges_.front()];
     const auto got = parse_content_range(content_range_);
-    const std::uint64_t expected = got->range.length == asked_now().length ? whole.length : attempt_start_ + got->range.length;
+    const bool whole_answered = got->range.length == asked_now().length;
+    const std::uint64_t expected = whole_answered ? whole.length : attempt_start_ + got->range.length;
     if (body_.size() != expected) {
-        return fail("the body holds " + std::to_string(body_.size() - attempt_start_) + " bytes, Content-Range promised " +
-                    std::to_string(got->range.length));
+        return fail("the body holds " + std::to_string(body_.size() - attempt_start_) +
+                    " bytes, Content-Range promised " + std::to_string(got->range.length));
     }
     job_->reply.parts[ranges_.front()] = std::move(body_);
     body_.clear();
@@ -269,8 +270,8 @@ TransferOutcome HttpTransfer::take_multipart() {
         const auto it = by_offset.find(part.content_range.range.offset);
         if (it == by_offset.end() || seen[it->second] ||
             !answers(part.content_range, job_->request.ranges[it->second])) {
-            return fail("a part of the multipart response has Content-Range bytes " + describe(part.content_range.range) +
-                        ", which was not asked for");
+            return fail("a part of the multipart response has Content-Range bytes " +
+                        describe(part.content_range.range) + ", which was not asked for");
         }
         seen[it->second] = true;
         job_->reply.parts[it->second].assign(part.data.begin(), part.data.end());

@@ -88,7 +88,8 @@ nlohmann::json without_timings(nlohmann::json j) {
 // Lines of nginx's access log so far.
 std::size_t logged_requests(const std::filesystem::path& log) {
     std::ifstream in(log);
-    return static_cast<std::size_t>(std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
 }
 
 // A remote tile list with relative URLs scans like the local folders: the same JSON but the
@@ -99,7 +100,8 @@ TEST(ScanCommand, RemoteTileListGivesTheSameResultAsLocalFolders) {
     const auto& server = test::NginxServer::instance();
     // (tiles whose header and VLRs fit in the first 2 KiB and chunk table in the last: the IGN
     // tiles' WKT VLRs take one more request)
-    const std::vector<std::string> surveys = {"ky-jmo335-eastern-kentucky", "isprs-filter-test-sites", "ky-red-river-gorge"};
+    const std::vector<std::string> surveys = {"ky-jmo335-eastern-kentucky", "isprs-filter-test-sites",
+                                              "ky-red-river-gorge"};
     std::ofstream list(server.lists_dir() / "surveys.txt");
     std::string local_args;
     std::size_t tiles = 0;

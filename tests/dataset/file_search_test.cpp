@@ -18,7 +18,8 @@ namespace fs = std::filesystem;
 TEST(FileSearch, RemoteListEntriesResolveAgainstTheListUrl) {
     const auto& server = test::NginxServer::instance();
     std::ofstream(server.lists_dir() / "relative.txt")
-        << "# tiles\n../surveys/ky-woodford-county/5205000_3900000.laz\n\n  sub/a.laz  \nhttp://example.invalid/b.laz\n";
+        << "# tiles\n../surveys/ky-woodford-county/5205000_3900000.laz\n\n  sub/a.laz  \n"
+        << "http://example.invalid/b.laz\n";
     const auto found = find_point_cloud_files({server.url("lists/relative.txt")});
     EXPECT_TRUE(found.errors.empty());
     EXPECT_EQ(found.files, (std::vector<std::string>{server.url("surveys/ky-woodford-county/5205000_3900000.laz"),

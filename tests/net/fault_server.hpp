@@ -166,7 +166,8 @@ private:
         if (fault == Fault::LongerBody) part += std::string(100, 'x');
         std::string head = "HTTP/1.1 206 Partial Content\r\nETag: " + etag + "\r\nContent-Range: bytes " +
                            std::to_string(shown_first) + "-" + std::to_string(shown_last) + "/" +
-                           std::to_string(body.size()) + "\r\nContent-Length: " + std::to_string(part.size()) + "\r\n\r\n";
+                           std::to_string(body.size()) + "\r\nContent-Length: " + std::to_string(part.size()) +
+                           "\r\n\r\n";
         if (fault == Fault::DropMidBody || fault == Fault::TruncatedBody) {
             send_all(fd, head + part.substr(0, fault == Fault::DropMidBody ? part.size() / 2 : part.size() - 1));
             return false;
