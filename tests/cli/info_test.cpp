@@ -140,5 +140,20 @@ TEST(InfoCommand, RemoteFilesGiveTheSameOutputAsLocalOnes) {
     }
 }
 
+// Credentials in a URL reach the server but never the output: not in JSON, not in errors.
+TEST(InfoCommand, CredentialsInUrlsAreNeverPrinted) {
+    const auto& server = test::NginxServer::instance();
+    const std::string base = "http://reader:pa55word@127.0.0.1:" + std::to_string(server.port()) + "/";
+    std::string out;
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " info --json " + base +
+                                             "surveys/ky-woodford-county/5205000_3900000.laz " + base +
+                                             "surveys/missing.laz 2>&1",
+                                         out);
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(out.find("pa55word"), std::string::npos) << out;
+    EXPECT_NE(out.find(server.url("surveys/missing.laz") + ": at byte 0: HTTP status 404"), std::string::npos) << out;
+    EXPECT_NE(out.find("\"point_count\": 1012412"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace lidarscout
