@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_timing.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
@@ -31,14 +32,9 @@ using namespace lidarscout;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
-}
+using bench::Clock;
+using bench::median;
+using bench::seconds_since;
 
 // Drops the page cache (root only); false when not allowed.
 bool drop_page_cache() {

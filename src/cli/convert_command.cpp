@@ -11,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
+#include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/file_search.hpp"
@@ -62,7 +63,8 @@ int run_convert(const ConvertCliOptions& o) {
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (const auto& n : result.notes) std::fprintf(stderr, "lidarscout: note: %s\n", n.c_str());
     if (o.json) {
-        nlohmann::json j = {{"input", o.in}, {"output", o.out}, {"points", result.points}, {"chunks", result.chunks},
+        nlohmann::json j = {{"input", io::display_path(o.in)}, {"output", o.out}, {"points", result.points},
+                            {"chunks", result.chunks},
                             {"bytes", result.bytes_written}, {"seconds", secs}, {"notes", result.notes}};
         std::printf("%s\n", j.dump(2).c_str());
     } else {
@@ -79,7 +81,7 @@ int run_convert(const ConvertCliOptions& o) {
 void register_convert_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ConvertCliOptions>();
     auto* cmd = app.add_subcommand("convert", "Convert LAS <-> LAZ (by the output's extension), optionally to another point format");
-    cmd->add_option("input", o->in, "Input LAS/LAZ file")->required()->check(CLI::ExistingFile);
+    cmd->add_option("input", o->in, "Input LAS/LAZ file or http(s) URL")->required()->check(existing_file_or_url());
     cmd->add_option("output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)")->required();
     cmd->add_option("--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_option("--format", o->format, "Point data record format of the output (0-10; default: as the input)")

@@ -52,7 +52,7 @@ std::string points_checksum(const io::File& file, const dataset::Tile& tile) {
 }
 
 FileReport inspect(const std::string& path, const InfoOptions& opt) {
-    FileReport r{path, std::nullopt, {}, 0, {}, {}};
+    FileReport r{io::display_path(path), std::nullopt, {}, 0, {}, {}};  // a URL without its credentials
     try {
         auto file = io::File::open(path);
         r.tile = dataset::read_tile(file);
@@ -61,10 +61,10 @@ FileReport inspect(const std::string& path, const InfoOptions& opt) {
         if (opt.checksum) r.points_sha256 = points_checksum(file, *r.tile);
     } catch (const Error& e) {
         r.tile.reset();
-        r.error = e.file().empty() ? path + ": " + e.what() : e.what();
+        r.error = e.file().empty() ? r.path + ": " + e.what() : e.what();
     } catch (const std::bad_alloc&) {
         r.tile.reset();
-        r.error = path + ": out of memory while reading the file";
+        r.error = r.path + ": out of memory while reading the file";
     }
     return r;
 }
@@ -215,7 +215,9 @@ int run_info(const InfoOptions& opt) {
 void register_info_command(CLI::App& app, std::function<int()>& run) {
     auto opt = std::make_shared<InfoOptions>();
     auto* cmd = app.add_subcommand("info", "Describe LAS/LAZ files: header, VLRs, CRS and units, LAZ layout, chunks");
-    cmd->add_option("paths", opt->paths, "LAS/LAZ files or folders (searched recursively)")->required();
+    cmd->add_option("paths", opt->paths,
+                    "LAS/LAZ files, folders (searched recursively), tile lists, EPT datasets; or http(s) URLs")
+        ->required();
     cmd->add_flag("--json", opt->json, "Print one JSON array with an object per file");
     cmd->add_flag("--chunks", opt->chunks, "Add the LAZ chunk table and the chunk points");
     cmd->add_flag("--checksum", opt->checksum,

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "cli/commands.hpp"
+#include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "version.hpp"
 
@@ -38,6 +39,9 @@ int main(int argc, char** argv) {
     lidarscout::cli::register_render_command(app, run);
     lidarscout::cli::register_view_command(app, run);
     lidarscout::cli::register_synth_command(app, run);
+    for (CLI::App* cmd : app.get_subcommands({})) {
+        if (cmd->get_name() != "synth") lidarscout::cli::add_remote_options(*cmd);  // the commands reading datasets
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

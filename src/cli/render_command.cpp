@@ -301,7 +301,9 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<RenderCliOptions>();
     auto* cmd = app.add_subcommand("render", "Render a dataset to a PNG without a window, as the viewer shows it once "
                                              "a stage (overview, heightmaps, full) is complete");
-    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
+    cmd->add_option("paths", o->paths,
+                    "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
+                    "or http(s) URLs")
         ->required();
     cmd->add_option("-o,--output", o->output, "The PNG to write")->required();
     cmd->add_option("--camera", o->camera,

@@ -10,4 +10,7 @@ namespace lidarscout {
 
 std::string display_text(std::string_view bytes);
 
+// `s` with ASCII letters in lower case (other bytes unchanged), e.g. for HTTP header names.
+std::string ascii_lower(std::string_view s);
+
 }  // namespace lidarscout

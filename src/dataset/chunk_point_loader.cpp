@@ -3,9 +3,6 @@
 // tile is complete.
 #include "dataset/chunk_point_loader.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -36,7 +33,7 @@ struct TileState {
     std::size_t next = 0;                       // next location to hand out
     std::size_t outstanding = 0;                // handed out, not yet completed
     bool started = false;
-    int fd = -1;
+    io::ReadTarget target;                      // open while the tile is active
     std::vector<PendingPoint> points;
 };
 
@@ -66,7 +63,7 @@ public:
         }
     }
     ~Source() override {
-        for (auto& t : tiles_) close_file(t);
+        for (auto& t : tiles_) t.target = {};
     }
 
     void set_focus(double x, double y) {
@@ -99,7 +96,8 @@ public:
             }
             while (n < out.size() && t.next < t.locations.size()) {
                 const auto& at = t.locations[t.next];
-                out[n++] = {t.fd, at.offset, ds_.tiles[id].tile.header.record_length, (std::uint64_t{id} << 32) | t.next};
+                out[n++] = t.target.request(at.offset, ds_.tiles[id].tile.header.record_length,
+                                            (std::uint64_t{id} << 32) | t.next);
                 ++t.next;
                 ++t.outstanding;
             }
@@ -125,7 +123,7 @@ public:
             --t.outstanding;
             if (t.outstanding > 0 || t.next < t.locations.size()) return;
             finished.swap(t.points);
-            close_file(t);
+            t.target = {};
         }
         publish(id, finished);
     }
@@ -143,27 +141,14 @@ private:
             loader_.failed_ += tile.chunk_points;
             return false;
         }
-        t.fd = open_file(tile.tile.path);
-        if (t.fd < 0) {
-            record_error({tile.tile.path, std::nullopt, std::string("cannot open: ") + std::strerror(errno)});
+        try {
+            t.target = io::ReadTarget::open(tile.tile.path, direct_);
+        } catch (const Error& e) {
+            record_error(ErrorRecord::of(e));
             loader_.failed_ += t.locations.size();
             return false;
         }
         return !t.locations.empty();
-    }
-
-    int open_file(const std::string& path) const {
-        int flags = O_RDONLY | O_CLOEXEC;
-        if (direct_) {
-            const int fd = ::open(path.c_str(), flags | O_DIRECT);
-            if (fd >= 0 || errno != EINVAL) return fd;  // EINVAL: the file system has no O_DIRECT
-        }
-        return ::open(path.c_str(), flags);
-    }
-
-    static void close_file(TileState& t) {
-        if (t.fd >= 0) ::close(t.fd);
-        t.fd = -1;
     }
 
     // Tiles already started stay first (their reads are partly done); the others are sorted

@@ -88,9 +88,9 @@ std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_
         if (source.shift) shift_tile(tile, *source.shift);
         return make_dataset_tile(std::move(tile), las_stride);
     } catch (const Error& e) {
-        error = e.file().empty() ? path + ": " + e.what() : e.what();
+        error = e.file().empty() ? io::display_path(path) + ": " + e.what() : e.what();
     } catch (const std::bad_alloc&) {
-        error = path + ": out of memory while reading the file";
+        error = io::display_path(path) + ": out of memory while reading the file";
     }
     return std::nullopt;
 }
@@ -170,6 +170,10 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     std::vector<std::optional<DatasetTile>> tiles(n);
     std::vector<std::string> errors(n);
     std::atomic<std::size_t> done{0};
+    std::vector<std::string> source_paths;
+    source_paths.reserve(n);
+    for (const auto& source : sources) source_paths.push_back(source.path);
+    io::File::prefetch(source_paths);  // remote tiles: every header request in flight at once
     ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
     pool.for_each(n, [&](std::size_t i) {
         tiles[i] = read_one(sources[i], options.las_stride, errors[i]);
@@ -180,7 +184,7 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
         if (tiles[i]) {
             ds.tiles.push_back(std::move(*tiles[i]));
         } else {
-            ds.skipped.push_back({sources[i].path, errors[i]});
+            ds.skipped.push_back({io::display_path(sources[i].path), errors[i]});
         }
     }
     summarise(ds);

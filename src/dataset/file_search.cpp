@@ -1,18 +1,28 @@
-// Recursive search for .las/.laz files.
+// Recursive search for .las/.laz files, tile lists (local or remote) and URLs.
 #include "dataset/file_search.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <system_error>
+
+#include "core/error.hpp"
+#include "dataset/ept.hpp"
+#include "io/file.hpp"
+#include "net/url.hpp"
 
 namespace lidarscout::dataset {
 
 namespace fs = std::filesystem;
 
+namespace {
+constexpr std::size_t kMaxTileList = 64u << 20;  // a list of a million URLs
+}  // namespace
+
 bool has_point_cloud_extension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
+    // (a URL's query and fragment are not part of its file name)
+    const std::string name = net::is_url(path) ? path.substr(0, path.find_first_of("?#")) : path;
+    std::string ext = fs::path(name).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
     return ext == ".las" || ext == ".laz";
 }
@@ -40,26 +50,68 @@ std::string trim(const std::string& s) {
     return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
 }
 
-// The entries of a tile list, relative ones resolved against the list's folder.
+// The first `n` bytes of a file or URL (fewer when it is shorter).
+std::string read_head(const io::File& file, std::size_t n) {
+    std::string head(static_cast<std::size_t>(std::min<std::uint64_t>(n, file.size())), '\0');
+    head.resize(file.read_at(0, std::span(reinterpret_cast<std::uint8_t*>(head.data()), head.size())));
+    return head;
+}
+
+// A tile list's entry as a path or URL: URLs as they are, relative entries against the list's
+// URL or folder.
+std::string resolve_entry(const std::string& list, const std::string& entry) {
+    if (net::is_url(list)) return net::resolve_url(list, entry);
+    if (net::is_url(entry) || fs::path(entry).is_absolute()) return entry;
+    return (fs::path(list).parent_path() / entry).string();
+}
+
+// The entries of a tile list (a file or a URL), resolved.
 std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out) {
-    std::ifstream in(list);
-    if (!in) {
-        out.errors.push_back(list + ": cannot read tile list");
+    std::string text;
+    try {
+        text = read_head(io::File::open(list), kMaxTileList + 1);
+    } catch (const Error& e) {
+        out.errors.push_back(std::string(e.what()) + " (tile list)");
+        return {};
+    }
+    if (text.size() > kMaxTileList) {
+        out.errors.push_back(io::display_path(list) + ": tile list larger than " + std::to_string(kMaxTileList >> 20) +
+                             " MiB");
         return {};
     }
     std::vector<std::string> entries;
-    const fs::path base = fs::path(list).parent_path();
-    std::string line;
-    while (std::getline(in, line)) {
-        line = trim(line);
-        if (line.empty() || line[0] == '#') continue;
-        const fs::path entry(line);
-        entries.push_back(entry.is_absolute() ? line : (base / entry).string());
+    std::size_t start = 0;
+    while (start < text.size()) {
+        auto end = text.find('\n', start);
+        if (end == std::string::npos) end = text.size();
+        const std::string line = trim(text.substr(start, end - start));
+        start = end + 1;
+        if (!line.empty() && line[0] != '#') entries.push_back(resolve_entry(list, line));
     }
     return entries;
 }
 
+void expand(const std::string& p, bool allow_lists, FoundFiles& out);
+
+// A URL: a LAS/LAZ file, or (when lists are allowed) a tile list; folders cannot be listed.
+void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
+    if (allow_lists && !has_point_cloud_extension(url)) {
+        for (const auto& entry : read_tile_list(url, out)) expand(entry, false, out);
+    } else {
+        out.files.push_back(url);
+    }
+}
+
+// An EPT dataset's metadata file: its LAZ nodes are the tiles.
+void expand_ept(const std::string& metadata, FoundFiles& out) {
+    auto nodes = ept_nodes(metadata);
+    out.files.insert(out.files.end(), nodes.tiles.begin(), nodes.tiles.end());
+    out.errors.insert(out.errors.end(), nodes.errors.begin(), nodes.errors.end());
+}
+
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
+    if (is_ept_metadata(p)) return expand_ept(p, out);
+    if (net::is_url(p)) return expand_url(p, allow_lists, out);
     std::error_code ec;
     auto st = fs::status(p, ec);
     if (ec || !fs::exists(st)) {
@@ -77,10 +129,12 @@ void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
 
 bool is_tile_list(const std::string& path) {
     if (has_point_cloud_extension(path)) return false;
-    std::ifstream in(path, std::ios::binary);
-    std::string head(4096, '\0');
-    in.read(head.data(), static_cast<std::streamsize>(head.size()));
-    head.resize(static_cast<std::size_t>(in.gcount()));
+    std::string head;
+    try {
+        head = read_head(io::File::open(path), 4096);
+    } catch (const Error&) {
+        return false;  // unreadable: kept as a file, whose reading reports the cause
+    }
     if (head.rfind("LASF", 0) == 0) return false;
     return head.find('\0') == std::string::npos;  // text, not a binary file of another kind
 }

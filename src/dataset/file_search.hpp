@@ -1,6 +1,7 @@
 // Finding the tiles of a dataset: paths given by the user, folders searched recursively for
-// .las/.laz files (case-insensitive), in a stable sorted order, and tile lists (text files
-// naming one tile or folder per line).
+// .las/.laz files (case-insensitive), in a stable sorted order, tile lists (text files
+// naming one tile or folder per line), EPT datasets (ept.json / entwine.json: the LAZ nodes)
+// and http(s) URLs of any of these but folders.
 #pragma once
 
 #include <string>
@@ -22,8 +23,9 @@ bool is_tile_list(const std::string& path);
 
 // Expands every path: a folder is searched recursively for .las/.laz files; a tile list is
 // read line by line (blank lines and lines starting with '#' skipped; relative entries are
-// relative to the list's folder; entries may be files or folders, not further lists); any
-// other file is kept as given (whatever its extension; reading it reports what is wrong).
+// relative to the list's folder or URL; entries may be files, folders, URLs or EPT metadata,
+// not further lists); an EPT metadata file gives its nodes; any other file or URL is kept as
+// given (whatever its extension; reading it reports what is wrong).
 FoundFiles find_point_cloud_files(const std::vector<std::string>& paths);
 
 }  // namespace lidarscout::dataset

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "io/remote_reads.hpp"
 
 namespace lidarscout::io {
 
@@ -218,7 +219,8 @@ bool io_uring_available() {
     return available;
 }
 
-ReadBackend run_batch_reads(ReadSource& source, const BatchReadOptions& options) {
+ReadBackend run_batch_reads(ReadSource& user_source, const BatchReadOptions& options) {
+    RemoteRouter source(user_source, options.http_in_flight, options.http_max_ranges);
     ReadBackend backend = options.backend;
     if (backend == ReadBackend::Auto) backend = io_uring_available() ? ReadBackend::IoUring : ReadBackend::Pread;
     if (backend == ReadBackend::IoUring && !io_uring_available()) {

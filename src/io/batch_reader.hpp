@@ -5,11 +5,20 @@
 // forbidden. With `direct` the reads are widened to 4 KiB-aligned sectors into aligned
 // buffers, as O_DIRECT file descriptors need; the source still sees only the bytes it asked
 // for.
+//
+// A request may name a remote file instead of a descriptor: those go out as HTTP range
+// requests (io/remote_reads.hpp), the consecutive requests for one file grouped into one
+// multi-range request, alongside the local reads of the same run.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
+
+namespace lidarscout::net {
+class RemoteFile;
+}
 
 namespace lidarscout::io {
 
@@ -18,6 +27,29 @@ struct ReadRequest {
     std::uint64_t offset = 0;
     std::uint32_t length = 0;
     std::uint64_t tag = 0;  // the source's own identifier
+    const net::RemoteFile* remote = nullptr;  // set: read from this remote file (fd unused)
+};
+
+// What a source's requests read: a local file's descriptor (owned; O_DIRECT when asked and
+// the file system has it) or a remote file (path an http(s) URL).
+class ReadTarget {
+public:
+    // Throws lidarscout::Error when the path cannot be opened.
+    static ReadTarget open(const std::string& path, bool direct);
+
+    ReadTarget() = default;
+    ReadTarget(ReadTarget&& other) noexcept;
+    ReadTarget& operator=(ReadTarget&& other) noexcept;
+    ReadTarget(const ReadTarget&) = delete;
+    ReadTarget& operator=(const ReadTarget&) = delete;
+    ~ReadTarget();
+
+    // A request for `length` bytes at `offset` of this target.
+    ReadRequest request(std::uint64_t offset, std::uint32_t length, std::uint64_t tag) const;
+
+private:
+    int fd_ = -1;
+    std::shared_ptr<const net::RemoteFile> remote_;
 };
 
 class ReadSource {
@@ -40,6 +72,8 @@ struct BatchReadOptions {
     unsigned threads = 0;        // io_uring: rings (0: hardware threads); pread: threads (0: queue_depth)
     unsigned queue_depth = 64;   // io_uring: reads in flight per ring
     bool direct = false;         // widen reads to aligned 4 KiB sectors (for O_DIRECT descriptors)
+    unsigned http_in_flight = 256;      // remote requests: HTTP requests out at once
+    std::size_t http_max_ranges = 256;  // remote requests: ranges in one multi-range request
 };
 
 // True when an io_uring instance can be created here.

@@ -1,4 +1,4 @@
-// POSIX implementation of io::File (open O_RDONLY, fstat, pread loop).
+// io::File: POSIX for local files (open O_RDONLY, fstat, pread loop), range requests for URLs.
 #include "io/file.hpp"
 
 #include <fcntl.h>
@@ -11,10 +11,28 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "net/remote_file.hpp"
+#include "net/url.hpp"
 
 namespace lidarscout::io {
 
+std::string display_path(const std::string& path) { return net::redact_url(path); }
+
+File File::open_remote(const std::string& url) {
+    File f;
+    f.remote_ = net::RemoteFile::open(url);
+    f.path_ = f.remote_->display_url();
+    f.size_ = f.remote_->size();
+    const auto head = f.remote_->head(), tail = f.remote_->tail();
+    f.head_.assign(head.begin(), head.end());
+    f.tail_.assign(tail.begin(), tail.end());
+    return f;
+}
+
+void File::prefetch(std::span<const std::string> paths) { net::RemoteFile::prefetch(paths); }
+
 File File::open(const std::string& path) {
+    if (net::is_url(path)) return open_remote(path);
     File f;
     f.path_ = path;
     f.fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -42,6 +60,7 @@ File& File::operator=(File&& other) noexcept {
         size_ = std::exchange(other.size_, 0);
         head_ = std::move(other.head_);
         tail_ = std::move(other.tail_);
+        remote_ = std::move(other.remote_);
     }
     return *this;
 }
@@ -71,6 +90,11 @@ std::size_t File::read_at(std::uint64_t offset, std::span<std::uint8_t> out) con
 }
 
 std::size_t File::read_uncached(std::uint64_t offset, std::span<std::uint8_t> out) const {
+    if (remote_) {
+        const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(out.size(), size_ - offset));
+        remote_->read(offset, out.first(n));
+        return n;
+    }
     std::size_t done = 0;
     while (done < out.size()) {
         ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));

@@ -3,19 +3,35 @@
 // are read once when the file is opened and served from memory afterwards: a tile's header,
 // VLRs, chunk-table pointer and (usually) its chunk table live there, so reading a tile's
 // metadata costs two reads instead of six.
+//
+// A path that is an http(s) URL opens a remote file (net/remote_file.hpp): the same reads,
+// served by range requests, the edges fetched when it is opened. path() is then the URL
+// without credentials. Every stage above io/ reads local and remote files through this one
+// class.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
+namespace lidarscout::net {
+class RemoteFile;
+}
+
 namespace lidarscout::io {
+
+// `path` as shown to users: a URL without its credentials, a file path as it is.
+std::string display_path(const std::string& path);
 
 class File {
 public:
-    // Opens `path` read-only; throws lidarscout::Error if it cannot.
+    // Opens `path` (a file or an http(s) URL) read-only; throws lidarscout::Error if it cannot.
     static File open(const std::string& path);
+    // Opens the remote files among `paths` together (many requests in flight), so that the
+    // open() calls that follow cost nothing; local paths are left alone. Reports no error.
+    static void prefetch(std::span<const std::string> paths);
 
     File() = default;
     File(File&& other) noexcept;
@@ -26,7 +42,8 @@ public:
 
     const std::string& path() const noexcept { return path_; }
     std::uint64_t size() const noexcept { return size_; }
-    int fd() const noexcept { return fd_; }
+    int fd() const noexcept { return fd_; }  // -1 for a remote file
+    const std::shared_ptr<const net::RemoteFile>& remote() const noexcept { return remote_; }
 
     // Reads up to out.size() bytes at `offset`; returns how many were read (short at EOF).
     std::size_t read_at(std::uint64_t offset, std::span<std::uint8_t> out) const;
@@ -39,13 +56,16 @@ public:
     static constexpr std::size_t kCachedEdge = 4096;
 
 private:
+    static File open_remote(const std::string& url);
     // Copies [offset, offset + out.size()) from a cached edge; false when not fully inside one.
     bool read_cached(std::uint64_t offset, std::span<std::uint8_t> out) const;
     std::size_t read_uncached(std::uint64_t offset, std::span<std::uint8_t> out) const;
 
     std::string path_;
-    std::vector<std::uint8_t> head_, tail_;  // first / last kCachedEdge bytes (tail empty for small files)
+    // first / last kCachedEdge bytes (remote: its edges; tail empty for small files)
+    std::vector<std::uint8_t> head_, tail_;
     int fd_ = -1;
+    std::shared_ptr<const net::RemoteFile> remote_;
     std::uint64_t size_ = 0;
 };
 

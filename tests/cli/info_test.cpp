@@ -5,6 +5,7 @@
 #include "dataset/file_search.hpp"
 #include "io/file.hpp"
 #include "las/header.hpp"
+#include "nginx_server.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout {
@@ -116,6 +117,42 @@ TEST(InfoCommand, Help) {
     std::string out;
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --help", out), 0);
     EXPECT_NE(out.find("--chunks"), std::string::npos);
+}
+
+// The same files through nginx (range requests): the same output, byte for byte, but the path.
+TEST(InfoCommand, RemoteFilesGiveTheSameOutputAsLocalOnes) {
+    const auto& server = test::NginxServer::instance();
+    for (const std::string rel : {"surveys/ky-woodford-county/5205000_3900000.laz",
+                                  "formats/PDAL__PDAL/test__data__copc__1.2-with-color.copc.laz",
+                                  "formats/PDAL__PDAL/test__data__las__1.2-with-color.las"}) {
+        SCOPED_TRACE(rel);
+        int local_status = -1, remote_status = -1;
+        auto local = info_json("--checksum " + (test::data_dir() / rel).string(), local_status);
+        auto remote = info_json("--checksum " + server.url(rel), remote_status);
+        EXPECT_EQ(local_status, 0);
+        EXPECT_EQ(remote_status, 0);
+        ASSERT_EQ(remote.size(), 1u);
+        EXPECT_EQ(remote[0].at("path"), server.url(rel));
+        EXPECT_TRUE(remote[0].at("points_sha256").is_string());
+        local[0].erase("path");
+        remote[0].erase("path");
+        EXPECT_EQ(local.dump(2), remote.dump(2));
+    }
+}
+
+// Credentials in a URL reach the server but never the output: not in JSON, not in errors.
+TEST(InfoCommand, CredentialsInUrlsAreNeverPrinted) {
+    const auto& server = test::NginxServer::instance();
+    const std::string base = "http://reader:pa55word@127.0.0.1:" + std::to_string(server.port()) + "/";
+    std::string out;
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " info --json " + base +
+                                             "surveys/ky-woodford-county/5205000_3900000.laz " + base +
+                                             "surveys/missing.laz 2>&1",
+                                         out);
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(out.find("pa55word"), std::string::npos) << out;
+    EXPECT_NE(out.find(server.url("surveys/missing.laz") + ": at byte 0: HTTP status 404"), std::string::npos) << out;
+    EXPECT_NE(out.find("\"point_count\": 1012412"), std::string::npos) << out;
 }
 
 }  // namespace

@@ -21,6 +21,7 @@
 
 #include "nn/heightmap_network.hpp"
 #include "render/framebuffer.hpp"
+#include "nginx_server.hpp"
 #include "png_test_util.hpp"
 #include "test_data.hpp"
 
@@ -232,6 +233,20 @@ TEST_F(RenderCommand, CnnHeightmapsWhenTheModelExists) {
     EXPECT_EQ(j.at("heightmap_method"), "cnn");
     EXPECT_GT(j.at("patches_with_heightmaps").get<int>(), 10);
     EXPECT_GE(static_cast<double>(drawn_pixels(png("cnn"))) / (320 * 240), 0.35);
+}
+
+// A remote tile renders to the same PNG, byte for byte, as the local file (all stages: chunk
+// points, heightmaps, full resolution).
+TEST_F(RenderCommand, RemoteTileRendersTheSameImageAsTheLocalFile) {
+    const std::string rel = "surveys/ky-woodford-county/5205000_3900000.laz";
+    std::string out, err;
+    ASSERT_EQ(render("--size 320x180 " + (test::data_dir() / rel).string(), "local", out, err), 0) << err;
+    ASSERT_EQ(render("--size 320x180 " + test::NginxServer::instance().url(rel), "remote", out, err), 0) << err;
+    std::ifstream a(dir_ / "local.png", std::ios::binary), b(dir_ / "remote.png", std::ios::binary);
+    const std::string local{std::istreambuf_iterator<char>(a), std::istreambuf_iterator<char>()};
+    const std::string remote{std::istreambuf_iterator<char>(b), std::istreambuf_iterator<char>()};
+    EXPECT_GT(local.size(), 1000u);
+    EXPECT_TRUE(local == remote);
 }
 
 }  // namespace

@@ -5,19 +5,21 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 
 #include "dataset/file_search.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
+#include "nginx_server.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout {
 namespace {
 
-nlohmann::json scan_json(const std::string& args, int& status) {
+nlohmann::json scan_json(const std::string& args, int& status, const std::string& environment = "") {
     std::string out;
-    status = test::run_command(std::string(LIDARSCOUT_CLI) + " scan --json " + args + " 2>/dev/null", out);
+    status = test::run_command(environment + " " + LIDARSCOUT_CLI + " scan --json " + args + " 2>/dev/null", out);
     return nlohmann::json::parse(out);
 }
 
@@ -75,6 +77,55 @@ TEST(ScanCommand, NothingReadableIsAnError) {
     const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " scan /nonexistent 2>&1", out);
     EXPECT_EQ(status, 1);
     EXPECT_NE(out.find("/nonexistent"), std::string::npos);
+}
+
+// scan --json without the timing fields.
+nlohmann::json without_timings(nlohmann::json j) {
+    for (const char* key : {"chunk_points_per_second", "seconds_chunk_points", "seconds_headers"}) j.erase(key);
+    return j;
+}
+
+// Lines of nginx's access log so far.
+std::size_t logged_requests(const std::filesystem::path& log) {
+    std::ifstream in(log);
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// A remote tile list with relative URLs scans like the local folders: the same JSON but the
+// timings; a tile's chunk points are one multi-range request, so a tile costs at most 3
+// requests (head, tail, chunk points); a second look with the range cache costs 1 (the head,
+// which revalidates the file).
+TEST(ScanCommand, RemoteTileListGivesTheSameResultAsLocalFolders) {
+    const auto& server = test::NginxServer::instance();
+    // (tiles whose header and VLRs fit in the first 2 KiB and chunk table in the last: the IGN
+    // tiles' WKT VLRs take one more request)
+    const std::vector<std::string> surveys = {"ky-jmo335-eastern-kentucky", "isprs-filter-test-sites",
+                                              "ky-red-river-gorge"};
+    std::ofstream list(server.lists_dir() / "surveys.txt");
+    std::string local_args;
+    std::size_t tiles = 0;
+    for (const auto& s : surveys) {
+        local_args += " " + (test::surveys_dir() / s).string();
+        for (const auto& f : dataset::find_point_cloud_files({(test::surveys_dir() / s).string()}).files) {
+            list << "# " << s << "\n../surveys/" << s << "/" << std::filesystem::path(f).filename().string() << "\n";
+            ++tiles;
+        }
+    }
+    list.close();
+    const auto cache = std::filesystem::temp_directory_path() / ("lidarscout_scan_cache_" + std::to_string(::getpid()));
+    const std::string remote_args = server.url("lists/surveys.txt");
+    int status = -1;
+    const auto local = scan_json(local_args, status);
+    ASSERT_EQ(status, 0);
+    for (const std::size_t most_requests : {3 * tiles + 1, tiles + 1}) {  // the list, then per tile
+        const std::size_t before = logged_requests(server.access_log());
+        const auto remote = scan_json(remote_args + " --cache-size 100M", status, "XDG_CACHE_HOME=" + cache.string());
+        EXPECT_EQ(status, 0);
+        EXPECT_EQ(without_timings(remote).dump(2), without_timings(local).dump(2));
+        EXPECT_LE(logged_requests(server.access_log()) - before, most_requests);
+    }
+    std::filesystem::remove_all(cache);
 }
 
 }  // namespace

@@ -1,0 +1,59 @@
+// ReadTarget: the descriptor or remote file that batch read requests name.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <utility>
+
+#include "core/error.hpp"
+#include "io/batch_reader.hpp"
+#include "net/remote_file.hpp"
+#include "net/url.hpp"
+
+namespace lidarscout::io {
+
+namespace {
+
+int open_descriptor(const std::string& path, bool direct) {
+    const int flags = O_RDONLY | O_CLOEXEC;
+    if (direct) {
+        const int fd = ::open(path.c_str(), flags | O_DIRECT);
+        if (fd >= 0 || errno != EINVAL) return fd;  // EINVAL: the file system has no O_DIRECT
+    }
+    return ::open(path.c_str(), flags);
+}
+
+}  // namespace
+
+ReadTarget ReadTarget::open(const std::string& path, bool direct) {
+    ReadTarget t;
+    if (net::is_url(path)) {
+        t.remote_ = net::RemoteFile::open(path);
+        return t;
+    }
+    t.fd_ = open_descriptor(path, direct);
+    if (t.fd_ < 0) throw Error(path, std::nullopt, std::string("cannot open: ") + std::strerror(errno));
+    return t;
+}
+
+ReadTarget::ReadTarget(ReadTarget&& other) noexcept { *this = std::move(other); }
+
+ReadTarget& ReadTarget::operator=(ReadTarget&& other) noexcept {
+    if (this != &other) {
+        if (fd_ >= 0) ::close(fd_);
+        fd_ = std::exchange(other.fd_, -1);
+        remote_ = std::move(other.remote_);
+    }
+    return *this;
+}
+
+ReadTarget::~ReadTarget() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+ReadRequest ReadTarget::request(std::uint64_t offset, std::uint32_t length, std::uint64_t tag) const {
+    return {fd_, offset, length, tag, remote_.get()};
+}
+
+}  // namespace lidarscout::io

@@ -1,0 +1,260 @@
+// The client's thread: a libcurl multi handle that runs every transfer, retries with
+// backoff, and splits multi-range requests for hosts that do not answer them.
+#include "net/http_client.hpp"
+
+#include <algorithm>
+#include <condition_variable>
+#include <deque>
+#include <future>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "net/http_transfer.hpp"
+
+namespace lidarscout::net {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// "scheme://host:port" of a URL (the unit that answers multi-range requests or not).
+std::string origin_of(const std::string& url) {
+    const auto start = url.find("://");
+    if (start == std::string::npos) return url;
+    const auto end = url.find_first_of("/?#", start + 3);
+    return url.substr(0, end);
+}
+
+// Splits the job's ranges into groups whose Range header stays under `max_header` characters.
+std::vector<std::vector<std::size_t>> range_groups(const RangeRequest& r, std::size_t max_header, bool multi) {
+    std::vector<std::vector<std::size_t>> groups;
+    std::size_t length = 0;
+    for (std::size_t i = 0; i < r.ranges.size(); ++i) {
+        const auto& range = r.ranges[i];
+        const std::size_t item = std::to_string(range.offset).size() + std::to_string(range.last()).size() + 2;
+        if (groups.empty() || !multi || length + item > max_header) {
+            groups.emplace_back();
+            length = 0;
+        }
+        groups.back().push_back(i);
+        length += item;
+    }
+    return groups;
+}
+
+}  // namespace
+
+struct HttpClient::Impl {
+    explicit Impl(HttpSettings s) : settings(s) {
+        static std::once_flag global;
+        std::call_once(global, [] { curl_global_init(CURL_GLOBAL_DEFAULT); });
+        multi = curl_multi_init();
+        curl_multi_setopt(multi, CURLMOPT_PIPELINING, CURLPIPE_MULTIPLEX);
+        curl_multi_setopt(multi, CURLMOPT_MAX_HOST_CONNECTIONS, static_cast<long>(s.connections_per_host));
+        curl_multi_setopt(multi, CURLMOPT_MAXCONNECTS, static_cast<long>(s.connections_per_host * 2));
+        thread = std::thread([this] { run(); });
+    }
+    ~Impl() {
+        {
+            std::lock_guard lock(mutex);
+            stop = true;
+        }
+        curl_multi_wakeup(multi);
+        thread.join();
+        for (auto& [easy, t] : running) curl_multi_remove_handle(multi, easy);
+        running.clear();
+        curl_multi_cleanup(multi);
+    }
+
+    void submit(RangeRequest request, Callback done) {
+        auto job = std::make_shared<HttpJob>();
+        job->reply.parts.resize(request.ranges.size());
+        job->reply.validator = request.validator;
+        job->request = std::move(request);
+        job->done = std::move(done);
+        {
+            std::lock_guard lock(mutex);
+            incoming.push_back(std::move(job));
+        }
+        curl_multi_wakeup(multi);
+    }
+
+    // --- on the client's thread ---------------------------------------------------
+
+    void run() {
+        for (;;) {
+            std::deque<std::shared_ptr<HttpJob>> jobs;
+            {
+                std::lock_guard lock(mutex);
+                if (stop) return;
+                jobs.swap(incoming);
+            }
+            for (const auto& job : jobs) start_job(job);
+            start_due_retries();
+            int still = 0;
+            curl_multi_perform(multi, &still);
+            reap();
+            curl_multi_poll(multi, nullptr, 0, poll_timeout_ms(), nullptr);
+        }
+    }
+
+    void start_job(const std::shared_ptr<HttpJob>& job) {
+        if (job->request.ranges.empty()) return finish_job(*job);
+        const bool multi_ok = !single_range_origins.contains(origin_of(job->request.url));
+        const HttpSettings s = current_settings();
+        for (auto& group : range_groups(job->request, s.max_range_header, multi_ok)) {
+            ++job->pending;
+            launch(std::make_unique<HttpTransfer>(job, std::move(group)), s);
+        }
+    }
+
+    void launch(std::unique_ptr<HttpTransfer> t, const HttpSettings& s) {
+        CURL* easy = t->start_attempt(s);
+        {
+            std::lock_guard lock(stats_mutex);
+            ++stats.requests;
+        }
+        curl_multi_add_handle(multi, easy);
+        running.emplace(easy, std::move(t));
+    }
+
+    void reap() {
+        int left = 0;
+        while (CURLMsg* msg = curl_multi_info_read(multi, &left)) {
+            if (msg->msg != CURLMSG_DONE) continue;
+            CURL* easy = msg->easy_handle;
+            const CURLcode code = msg->data.result;
+            curl_multi_remove_handle(multi, easy);
+            auto node = running.extract(easy);
+            finished(std::move(node.mapped()), code);
+        }
+    }
+
+    void finished(std::unique_ptr<HttpTransfer> t, CURLcode code) {
+        const TransferOutcome outcome = t->finish_attempt(code);
+        {
+            std::lock_guard lock(stats_mutex);
+            stats.body_bytes += t->body_bytes();
+            stats.header_bytes += t->header_bytes();
+        }
+        const HttpSettings s = current_settings();
+        switch (outcome) {
+            case TransferOutcome::Done: return transfer_done(*t);
+            case TransferOutcome::Retry:
+                if (t->attempts() <= s.retries) return schedule_retry(std::move(t), s);
+                return transfer_failed(*t, t->message() + " (after " + std::to_string(t->attempts()) + " attempts)");
+            case TransferOutcome::NoMultiRange: return split(std::move(t), s);
+            case TransferOutcome::Fail: return transfer_failed(*t, t->message());
+        }
+    }
+
+    void schedule_retry(std::unique_ptr<HttpTransfer> t, const HttpSettings& s) {
+        {
+            std::lock_guard lock(stats_mutex);
+            ++stats.retries;
+        }
+        const auto delay = s.backoff * (1u << std::min(t->attempts() - 1, 6u));
+        t->not_before = Clock::now() + delay;
+        waiting.push_back(std::move(t));
+    }
+
+    void start_due_retries() {
+        const auto now = Clock::now();
+        const HttpSettings s = current_settings();
+        for (auto it = waiting.begin(); it != waiting.end();) {
+            if ((*it)->not_before > now) {
+                ++it;
+                continue;
+            }
+            auto t = std::move(*it);
+            it = waiting.erase(it);
+            launch(std::move(t), s);
+        }
+    }
+
+    int poll_timeout_ms() const {
+        if (waiting.empty()) return 1000;
+        auto soonest = waiting.front()->not_before;
+        for (const auto& t : waiting) soonest = std::min(soonest, t->not_before);
+        const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(soonest - Clock::now()).count();
+        return static_cast<int>(std::clamp<long long>(ms, 0, 1000));
+    }
+
+    // The server answered a multi-range request with something else: ask range by range,
+    // now and for later requests to the same origin.
+    void split(std::unique_ptr<HttpTransfer> t, const HttpSettings& s) {
+        HttpJob& job = t->job();
+        single_range_origins.insert(origin_of(job.request.url));
+        for (const auto i : t->ranges()) {
+            ++job.pending;
+            launch(std::make_unique<HttpTransfer>(t->job_ptr(), std::vector<std::size_t>{i}), s);
+        }
+        --job.pending;
+    }
+
+    void transfer_failed(HttpTransfer& t, const std::string& message) {
+        if (t.job().reply.error.empty()) t.job().reply.error = message;
+        transfer_done(t);
+    }
+
+    void transfer_done(HttpTransfer& t) {
+        HttpJob& job = t.job();
+        if (--job.pending == 0) finish_job(job);
+    }
+
+    void finish_job(HttpJob& job) {
+        if (!job.reply.error.empty()) job.reply.parts.clear();
+        auto done = std::move(job.done);
+        done(std::move(job.reply));
+    }
+
+    HttpSettings current_settings() const {
+        std::lock_guard lock(mutex);
+        return settings;
+    }
+
+    mutable std::mutex mutex;
+    HttpSettings settings;
+    bool stop = false;
+    std::deque<std::shared_ptr<HttpJob>> incoming;
+    CURLM* multi = nullptr;
+    std::map<CURL*, std::unique_ptr<HttpTransfer>> running;
+    std::vector<std::unique_ptr<HttpTransfer>> waiting;  // retries not yet due
+    std::set<std::string> single_range_origins;
+    mutable std::mutex stats_mutex;
+    HttpStats stats;
+    std::thread thread;
+};
+
+HttpClient::HttpClient(HttpSettings settings) : impl_(std::make_unique<Impl>(settings)) {}
+HttpClient::~HttpClient() = default;
+
+HttpClient& HttpClient::shared() {
+    static HttpClient client;
+    return client;
+}
+
+void HttpClient::submit(RangeRequest request, Callback done) { impl_->submit(std::move(request), std::move(done)); }
+
+RangeReply HttpClient::fetch(RangeRequest request) {
+    std::promise<RangeReply> promise;
+    auto future = promise.get_future();
+    submit(std::move(request), [&promise](RangeReply&& reply) { promise.set_value(std::move(reply)); });
+    return future.get();
+}
+
+void HttpClient::set_settings(const HttpSettings& settings) {
+    std::lock_guard lock(impl_->mutex);
+    impl_->settings = settings;
+}
+
+HttpSettings HttpClient::settings() const { return impl_->current_settings(); }
+
+HttpStats HttpClient::stats() const {
+    std::lock_guard lock(impl_->stats_mutex);
+    return impl_->stats;
+}
+
+}  // namespace lidarscout::net

@@ -1,0 +1,83 @@
+// The HTTP client: byte ranges of http(s) URLs fetched with libcurl's multi interface on one
+// background thread, many requests in flight (HTTP/2 multiplexing where the server offers
+// it, otherwise a pool of keep-alive connections per host). A request asks for one or more
+// ranges of one URL; several ranges go out as one multi-range request, answered as
+// multipart/byteranges, or as single-range requests for hosts that do not answer those.
+//
+// Every response is validated: status 206, a Content-Range equal to what was asked (a range
+// may only be shortened at the end of the file), exactly the bytes asked, and the same ETag
+// (or Last-Modified) as the one the caller pinned. A server that ignores Range (status 200)
+// is an error, and its body is not downloaded; neither is any response larger than asked.
+// Time-outs, dropped connections, 429 and 5xx are retried with exponential backoff; a cut
+// single-range body resumes where it stopped. TLS peers are verified against the system CA
+// store, and redirects may not change the scheme.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "net/byte_ranges.hpp"
+
+namespace lidarscout::net {
+
+struct HttpSettings {
+    unsigned retries = 5;                            // further attempts after a retryable failure
+    std::chrono::milliseconds backoff{200};          // before the first retry; doubled each time
+    long connect_timeout_s = 15;
+    long stall_timeout_s = 30;                       // a transfer receiving nothing this long is retried
+    unsigned connections_per_host = 256;             // HTTP/1.1 keep-alive pool size (latency-bound reads)
+    std::size_t max_range_header = 6000;             // characters of one Range header
+};
+
+struct RangeRequest {
+    std::string url;                 // may carry credentials; never shown
+    std::vector<ByteRange> ranges;   // at least one
+    std::string validator;           // ETag or Last-Modified that responses must carry ("" = any)
+};
+
+struct RangeReply {
+    std::vector<std::vector<std::uint8_t>> parts;  // one per range asked; shorter only at the end of the file
+    std::optional<std::uint64_t> total;            // the file's size, from Content-Range
+    std::string validator;                         // ETag (or Last-Modified) of the responses
+    std::string error;                             // non-empty: the request failed (after retries)
+};
+
+struct HttpStats {
+    std::uint64_t requests = 0;        // HTTP requests sent (retries included)
+    std::uint64_t body_bytes = 0;      // response bytes received (bodies, multipart framing included)
+    std::uint64_t header_bytes = 0;    // response header bytes received
+    std::uint64_t retries = 0;
+};
+
+class HttpClient {
+public:
+    using Callback = std::function<void(RangeReply&&)>;
+
+    explicit HttpClient(HttpSettings settings = {});
+    ~HttpClient();  // abandons requests in flight (their callbacks are not called)
+    HttpClient(const HttpClient&) = delete;
+    HttpClient& operator=(const HttpClient&) = delete;
+
+    // The process's client, shared by every remote file.
+    static HttpClient& shared();
+
+    // Starts the request; `done` runs on the client's thread when it has succeeded or failed.
+    void submit(RangeRequest request, Callback done);
+    // Submits and waits.
+    RangeReply fetch(RangeRequest request);
+
+    void set_settings(const HttpSettings& settings);  // for requests submitted afterwards
+    HttpSettings settings() const;
+    HttpStats stats() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace lidarscout::net

@@ -1,0 +1,287 @@
+// One HTTP attempt: libcurl easy handle set-up, response callbacks and validation.
+#include "net/http_transfer.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+
+#include "core/error.hpp"
+#include "core/text.hpp"
+#include "net/url.hpp"
+
+namespace lidarscout::net {
+
+namespace {
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    return s;
+}
+
+// Multipart framing allowed per part on top of its data (delimiter, Content-Type, Content-Range).
+constexpr std::uint64_t kPartFraming = 512;
+
+// Whether `got` answers `asked`: the same start, and the same end or one cut at the file's end.
+bool answers(const ContentRange& got, const ByteRange& asked) {
+    if (got.range.offset != asked.offset) return false;
+    if (got.range.length == asked.length) return true;
+    return got.range.length < asked.length && got.total && got.range.last() + 1 == *got.total;
+}
+
+std::string describe(const ByteRange& r) { return std::to_string(r.offset) + "-" + std::to_string(r.last()); }
+
+bool retryable(CURLcode code) {
+    switch (code) {
+        case CURLE_OPERATION_TIMEDOUT:
+        case CURLE_COULDNT_CONNECT:
+        case CURLE_PARTIAL_FILE:
+        case CURLE_RECV_ERROR:
+        case CURLE_SEND_ERROR:
+        case CURLE_GOT_NOTHING:
+        case CURLE_HTTP2:
+        case CURLE_HTTP2_STREAM:
+            return true;
+        default:
+            return false;
+    }
+}
+
+}  // namespace
+
+HttpTransfer::HttpTransfer(std::shared_ptr<HttpJob> job, std::vector<std::size_t> ranges)
+    : job_(std::move(job)), ranges_(std::move(ranges)) {}
+
+HttpTransfer::~HttpTransfer() {
+    if (easy_) curl_easy_cleanup(easy_);
+    if (headers_) curl_slist_free_all(headers_);
+}
+
+ByteRange HttpTransfer::asked_now() const {
+    const ByteRange whole = job_->request.ranges[ranges_.front()];
+    return {whole.offset + attempt_start_, whole.length - attempt_start_};
+}
+
+std::uint64_t HttpTransfer::body_limit() const {
+    if (ranges_.size() == 1) return asked_now().length;
+    std::uint64_t sum = 0;
+    for (const auto i : ranges_) sum += job_->request.ranges[i].length + kPartFraming;
+    return sum + kPartFraming;
+}
+
+CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
+    if (easy_) curl_easy_cleanup(easy_);
+    if (headers_) curl_slist_free_all(headers_);
+    headers_ = nullptr;
+    ++attempts_;
+    status_ = 0;
+    content_range_.clear(), content_type_.clear(), etag_.clear(), last_modified_.clear();
+    body_started_ = false;
+    abort_ = TransferOutcome::Done;
+    if (ranges_.size() > 1) body_.clear();
+    attempt_start_ = body_.size();
+    attempt_body_ = attempt_headers_ = 0;
+    curl_error_[0] = '\0';
+
+    std::vector<ByteRange> asked;
+    if (ranges_.size() == 1) {
+        asked.push_back(asked_now());
+    } else {
+        for (const auto i : ranges_) asked.push_back(job_->request.ranges[i]);
+    }
+    const std::string range = "Range: " + range_header(asked);
+    headers_ = curl_slist_append(headers_, range.c_str());
+    headers_ = curl_slist_append(headers_, "Accept-Encoding: identity");
+
+    easy_ = curl_easy_init();
+    const std::string scheme = url_scheme(job_->request.url);
+    curl_easy_setopt(easy_, CURLOPT_URL, job_->request.url.c_str());
+    curl_easy_setopt(easy_, CURLOPT_HTTPHEADER, headers_);
+    curl_easy_setopt(easy_, CURLOPT_PROTOCOLS_STR, "http,https");
+    curl_easy_setopt(easy_, CURLOPT_FOLLOWLOCATION, 1L);
+    curl_easy_setopt(easy_, CURLOPT_MAXREDIRS, 5L);
+    curl_easy_setopt(easy_, CURLOPT_REDIR_PROTOCOLS_STR, scheme.c_str());  // never to another scheme
+    curl_easy_setopt(easy_, CURLOPT_SSL_VERIFYPEER, 1L);
+    curl_easy_setopt(easy_, CURLOPT_SSL_VERIFYHOST, 2L);
+    curl_easy_setopt(easy_, CURLOPT_NOSIGNAL, 1L);
+    curl_easy_setopt(easy_, CURLOPT_PIPEWAIT, 1L);
+    curl_easy_setopt(easy_, CURLOPT_TCP_NODELAY, 1L);
+    curl_easy_setopt(easy_, CURLOPT_CONNECTTIMEOUT, s.connect_timeout_s);
+    curl_easy_setopt(easy_, CURLOPT_LOW_SPEED_LIMIT, 1L);
+    curl_easy_setopt(easy_, CURLOPT_LOW_SPEED_TIME, s.stall_timeout_s);
+    curl_easy_setopt(easy_, CURLOPT_USERAGENT, "lidarscout");
+    curl_easy_setopt(easy_, CURLOPT_ERRORBUFFER, curl_error_);
+    curl_easy_setopt(easy_, CURLOPT_HEADERFUNCTION, &HttpTransfer::on_header);
+    curl_easy_setopt(easy_, CURLOPT_HEADERDATA, this);
+    curl_easy_setopt(easy_, CURLOPT_WRITEFUNCTION, &HttpTransfer::on_body);
+    curl_easy_setopt(easy_, CURLOPT_WRITEDATA, this);
+    curl_easy_setopt(easy_, CURLOPT_PRIVATE, this);
+    return easy_;
+}
+
+std::size_t HttpTransfer::on_header(char* data, std::size_t size, std::size_t n, void* self) {
+    auto* t = static_cast<HttpTransfer*>(self);
+    t->attempt_headers_ += size * n;
+    t->header_line(std::string_view(data, size * n));
+    return size * n;
+}
+
+void HttpTransfer::header_line(std::string_view line) {
+    line = trim(line);
+    if (line.rfind("HTTP/", 0) == 0) {  // a new response (after a redirect or 100 Continue)
+        status_ = 0;
+        content_range_.clear(), content_type_.clear(), etag_.clear(), last_modified_.clear();
+        const auto space = line.find(' ');
+        if (space != std::string_view::npos) status_ = std::atol(std::string(line.substr(space + 1, 3)).c_str());
+        return;
+    }
+    const auto colon = line.find(':');
+    if (colon == std::string_view::npos) return;
+    const std::string name = ascii_lower(trim(line.substr(0, colon)));
+    const std::string value(trim(line.substr(colon + 1)));
+    if (name == "content-range") content_range_ = value;
+    else if (name == "content-type") content_type_ = value;
+    else if (name == "etag") etag_ = value;
+    else if (name == "last-modified") last_modified_ = value;
+}
+
+std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, void* self) {
+    auto* t = static_cast<HttpTransfer*>(self);
+    const std::size_t bytes = size * n;
+    if (!t->body_started_) {
+        t->body_started_ = true;
+        if (!t->accept_body_start()) return 0;  // stops the transfer: nothing more is downloaded
+    }
+    t->attempt_body_ += bytes;
+    if (t->body_.size() - t->attempt_start_ + bytes > t->body_limit()) {
+        t->abort_ = TransferOutcome::Fail;
+        t->message_ = "the server sent more bytes than were asked for";
+        return 0;
+    }
+    t->body_.insert(t->body_.end(), data, data + bytes);
+    return bytes;
+}
+
+bool HttpTransfer::accept_body_start() {
+    if (status_ == 206) return ranges_.size() > 1 || check_single_range_start();
+    if (status_ == 200) {
+        abort_ = ranges_.size() > 1 ? TransferOutcome::NoMultiRange : TransferOutcome::Fail;
+        message_ = "the server ignores Range requests (status 200); a full download is not done";
+    } else {
+        abort_ = (status_ == 429 || status_ >= 500) ? TransferOutcome::Retry : TransferOutcome::Fail;
+        message_ = "HTTP status " + std::to_string(status_);
+    }
+    return false;
+}
+
+// A single range's Content-Range is checked before any byte is kept, so that a resumed
+// body never mixes bytes from elsewhere.
+bool HttpTransfer::check_single_range_start() {
+    const auto got = parse_content_range(content_range_);
+    if (!got || !answers(*got, asked_now())) {
+        abort_ = TransferOutcome::Fail;
+        message_ = "the server answered bytes \"" + content_range_ + "\" to a request for " + describe(asked_now());
+        return false;
+    }
+    if (!validator_matches()) {
+        abort_ = TransferOutcome::Fail;
+        return false;
+    }
+    job_->reply.total = got->total;
+    return true;
+}
+
+bool HttpTransfer::validator_matches() {
+    const std::string& got = etag_.empty() ? last_modified_ : etag_;
+    std::string& pinned = job_->reply.validator;
+    if (pinned.empty()) {
+        pinned = got;
+        return true;
+    }
+    if (got == pinned) return true;
+    message_ = "the file changed on the server during this session (validator " + pinned + ", now " +
+               (got.empty() ? std::string("none") : got) + ")";
+    return false;
+}
+
+TransferOutcome HttpTransfer::fail(std::string message) {
+    message_ = std::move(message);
+    return TransferOutcome::Fail;
+}
+
+TransferOutcome HttpTransfer::judge_transport(CURLcode code) {
+    message_ = curl_error_[0] ? std::string(curl_error_) : std::string(curl_easy_strerror(code));
+    if (code == CURLE_UNSUPPORTED_PROTOCOL) message_ += " (a redirect to another scheme is refused)";
+    if (!retryable(code)) return TransferOutcome::Fail;
+    // a cut single-range body resumes from what arrived; a cut multipart body starts again
+    if (ranges_.size() > 1) body_.clear();
+    return TransferOutcome::Retry;
+}
+
+TransferOutcome HttpTransfer::judge_status() {
+    if (status_ == 429 || status_ >= 500) {
+        message_ = "HTTP status " + std::to_string(status_);
+        return TransferOutcome::Retry;
+    }
+    if (status_ == 200) return ranges_.size() > 1 ? TransferOutcome::NoMultiRange :
+        fail("the server ignores Range requests (status 200); a full download is not done");
+    if (status_ == 416) return fail("HTTP status 416: the range lies beyond the end of the file");
+    if (status_ != 206) return fail("HTTP status " + std::to_string(status_));
+    if (!body_started_ && ranges_.size() == 1 && !check_single_range_start()) return TransferOutcome::Fail;
+    return ranges_.size() == 1 ? take_single() : take_multipart();
+}
+
+TransferOutcome HttpTransfer::finish_attempt(CURLcode code) {
+    if (abort_ != TransferOutcome::Done) {
+        if (abort_ == TransferOutcome::Retry && ranges_.size() > 1) body_.clear();
+        if (abort_ == TransferOutcome::Retry && ranges_.size() == 1) body_.resize(attempt_start_);
+        return abort_;
+    }
+    if (code != CURLE_OK) return judge_transport(code);
+    try {
+        return judge_status();
+    } catch (const Error& e) {  // a malformed multipart body
+        return fail(e.what());
+    }
+}
+
+TransferOutcome HttpTransfer::take_single() {
+    const ByteRange whole = job_->request.ranges[ranges_.front()];
+    const auto got = parse_content_range(content_range_);
+    const bool whole_answered = got->range.length == asked_now().length;
+    const std::uint64_t expected = whole_answered ? whole.length : attempt_start_ + got->range.length;
+    if (body_.size() != expected) {
+        return fail("the body holds " + std::to_string(body_.size() - attempt_start_) +
+                    " bytes, Content-Range promised " + std::to_string(got->range.length));
+    }
+    job_->reply.parts[ranges_.front()] = std::move(body_);
+    body_.clear();
+    return TransferOutcome::Done;
+}
+
+TransferOutcome HttpTransfer::take_multipart() {
+    if (!validator_matches()) return TransferOutcome::Fail;
+    const std::string boundary = multipart_boundary(content_type_);
+    if (boundary.empty()) return TransferOutcome::NoMultiRange;  // e.g. only the first range answered
+    std::map<std::uint64_t, std::size_t> by_offset;
+    for (const auto i : ranges_) by_offset.emplace(job_->request.ranges[i].offset, i);
+    std::vector<bool> seen(job_->request.ranges.size(), false);
+    for (const auto& part : parse_multipart_byteranges(body_, boundary)) {
+        const auto it = by_offset.find(part.content_range.range.offset);
+        if (it == by_offset.end() || seen[it->second] ||
+            !answers(part.content_range, job_->request.ranges[it->second])) {
+            return fail("a part of the multipart response has Content-Range bytes " +
+                        describe(part.content_range.range) + ", which was not asked for");
+        }
+        seen[it->second] = true;
+        job_->reply.parts[it->second].assign(part.data.begin(), part.data.end());
+        if (part.content_range.total) job_->reply.total = part.content_range.total;
+    }
+    for (const auto i : ranges_) {
+        if (!seen[i]) return fail("the multipart response lacks bytes " + describe(job_->request.ranges[i]));
+    }
+    body_.clear();
+    return TransferOutcome::Done;
+}
+
+}  // namespace lidarscout::net

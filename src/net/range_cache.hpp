@@ -1,0 +1,58 @@
+// A bounded on-disk cache of fetched byte ranges, so that a second look at a remote dataset
+// is read from local disk. An entry is the answer to one range request of one version of a
+// file: its key is the SHA-256 of the URL, the validator (ETag or Last-Modified) the answer
+// carried, and the ranges. Only requests with a pinned validator are cached, so a file that
+// changed on the server (a new validator, seen on the first request of a session, which is
+// never served from here) never answers from an old entry. Entries are written under a
+// temporary name and renamed; when the total passes the limit the least recently used
+// entries are removed. The folder defaults to $XDG_CACHE_HOME/lidarscout/http (or
+// ~/.cache/lidarscout/http); a limit of 0 turns the cache off.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "net/http_client.hpp"
+
+namespace lidarscout::net {
+
+struct RangeCacheSettings {
+    std::filesystem::path folder;              // empty: the default folder
+    std::uint64_t max_bytes = 2ull << 30;      // 2 GiB; 0: off
+};
+
+std::filesystem::path default_cache_folder();
+
+class RangeCache {
+public:
+    explicit RangeCache(RangeCacheSettings settings);
+
+    // The process's cache (used by remote files), set up by configure() or with defaults.
+    static RangeCache& shared();
+    static void configure(const RangeCacheSettings& settings);
+
+    bool enabled() const { return settings_.max_bytes > 0; }
+    // The parts stored for `request`, or nothing.
+    std::optional<std::vector<std::vector<std::uint8_t>>> find(const RangeRequest& request);
+    // Stores a successful reply (for a request with a validator).
+    void store(const RangeRequest& request, const RangeReply& reply);
+
+    std::uint64_t hits() const;
+
+private:
+    std::filesystem::path entry_path(const RangeRequest& request) const;
+    void evict_if_needed();
+    void scan_total();
+
+    RangeCacheSettings settings_;
+    mutable std::mutex mutex_;
+    bool scanned_ = false;
+    std::uint64_t total_ = 0;
+    std::uint64_t hits_ = 0;
+};
+
+}  // namespace lidarscout::net

@@ -1,0 +1,161 @@
+// Remote files: the process-wide registry, the edge requests that open a file, and reads.
+#include "net/remote_file.hpp"
+
+#include <condition_variable>
+#include <future>
+#include <map>
+#include <mutex>
+#include <optional>
+
+#include "core/error.hpp"
+#include "net/range_cache.hpp"
+#include "net/url.hpp"
+
+namespace lidarscout::net {
+
+namespace {
+
+struct Registry {
+    std::mutex mutex;
+    std::map<std::string, std::shared_ptr<const RemoteFile>> files;  // by URL, as given and as shown
+};
+
+Registry& registry() {
+    static Registry r;
+    return r;
+}
+
+std::shared_ptr<const RemoteFile> registered(const std::string& url) {
+    auto& r = registry();
+    std::lock_guard lock(r.mutex);
+    const auto it = r.files.find(url);
+    return it == r.files.end() ? nullptr : it->second;
+}
+
+std::shared_ptr<const RemoteFile> register_file(const std::string& url, std::shared_ptr<RemoteFile> file) {
+    auto& r = registry();
+    std::lock_guard lock(r.mutex);
+    const auto& kept = r.files.emplace(url, std::move(file)).first->second;  // the first one stays
+    r.files.emplace(kept->display_url(), kept);  // so that a shown URL opens the same file
+    return kept;
+}
+
+RangeRequest head_request(const std::string& url) { return {url, {{0, RemoteFile::kEdge}}, {}}; }
+
+// The tail request for a file opened by `head`, or nothing when the head held it all.
+std::optional<RangeRequest> tail_request(const std::string& url, const RemoteFile& f) {
+    if (f.size() <= 2 * RemoteFile::kEdge) return std::nullopt;
+    return RangeRequest{url, {{f.size() - RemoteFile::kEdge, RemoteFile::kEdge}}, f.validator()};
+}
+
+// Submits `request`, answered from the on-disk cache when it holds it (then at once, on this
+// thread); successful answers are stored there.
+void fetch_cached(RangeRequest request, HttpClient::Callback done) {
+    auto& cache = RangeCache::shared();
+    if (auto parts = cache.find(request)) {
+        RangeReply reply;
+        reply.parts = std::move(*parts);
+        reply.validator = request.validator;
+        return done(std::move(reply));
+    }
+    auto shared = std::make_shared<RangeRequest>(request);
+    HttpClient::shared().submit(std::move(request), [shared, done = std::move(done)](RangeReply&& reply) {
+        RangeCache::shared().store(*shared, reply);
+        done(std::move(reply));
+    });
+}
+
+RangeReply fetch_cached(RangeRequest request) {
+    std::promise<RangeReply> promise;
+    auto future = promise.get_future();
+    fetch_cached(std::move(request), [&promise](RangeReply&& reply) { promise.set_value(std::move(reply)); });
+    return future.get();
+}
+
+[[noreturn]] void throw_reply_error(const std::string& url, std::uint64_t offset, const std::string& error) {
+    throw Error(redact_url(url), offset, error);
+}
+
+}  // namespace
+
+RemoteFile::RemoteFile(std::string url, RangeReply&& head)
+    : url_(std::move(url)), display_url_(redact_url(url_)), validator_(std::move(head.validator)) {
+    if (!head.total) throw Error(display_url_, std::nullopt, "the server does not give the file's size");
+    size_ = *head.total;
+    head_ = std::move(head.parts.at(0));
+}
+
+void RemoteFile::set_tail(RangeReply&& reply) { tail_ = std::move(reply.parts.at(0)); }
+
+std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
+    if (auto f = registered(url)) return f;
+    RangeReply head = HttpClient::shared().fetch(head_request(url));
+    if (!head.error.empty()) throw_reply_error(url, 0, head.error);
+    auto file = std::make_shared<RemoteFile>(url, std::move(head));
+    if (auto tail = tail_request(url, *file)) {
+        RangeReply reply = fetch_cached(*tail);
+        if (!reply.error.empty()) throw_reply_error(url, tail->ranges[0].offset, reply.error);
+        file->set_tail(std::move(reply));
+    }
+    return register_file(url, std::move(file));
+}
+
+void RemoteFile::prefetch(std::span<const std::string> urls) {
+    std::mutex mutex;
+    std::condition_variable cv;
+    std::size_t pending = 0;
+    auto finish = [&] {
+        std::lock_guard lock(mutex);
+        --pending;
+        cv.notify_all();
+    };
+    for (const auto& url : urls) {
+        if (!is_url(url) || registered(url)) continue;
+        {
+            std::lock_guard lock(mutex);
+            ++pending;
+        }
+        HttpClient::shared().submit(head_request(url), [&, url](RangeReply&& head) {
+            if (!head.error.empty() || !head.total) return finish();
+            auto file = std::make_shared<RemoteFile>(url, std::move(head));
+            auto tail = tail_request(url, *file);
+            if (!tail) {
+                register_file(url, std::move(file));
+                return finish();
+            }
+            fetch_cached(std::move(*tail), [&, url, file](RangeReply&& reply) {
+                if (reply.error.empty()) {
+                    file->set_tail(std::move(reply));
+                    register_file(url, file);
+                }
+                finish();
+            });
+        });
+    }
+    std::unique_lock lock(mutex);
+    cv.wait(lock, [&] { return pending == 0; });
+}
+
+void RemoteFile::forget_all() {
+    auto& r = registry();
+    std::lock_guard lock(r.mutex);
+    r.files.clear();
+}
+
+void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
+    if (out.empty()) return;
+    RangeReply reply = fetch_cached({url_, {{offset, out.size()}}, validator_});
+    if (!reply.error.empty()) throw_reply_error(url_, offset, reply.error);
+    const auto& part = reply.parts.at(0);
+    if (part.size() != out.size()) {
+        throw Error(display_url_, offset, "the server's file ends before the " + std::to_string(out.size()) +
+                                              " bytes asked for");
+    }
+    std::copy(part.begin(), part.end(), out.begin());
+}
+
+void RemoteFile::fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const {
+    fetch_cached({url_, std::move(ranges), validator_}, std::move(done));
+}
+
+}  // namespace lidarscout::net

@@ -1,0 +1,56 @@
+// A file on an HTTP(S) server, read by range requests: its size and validator (ETag or
+// Last-Modified) pinned by the first response, its first and last 2 KiB fetched when it is
+// opened (a tile's header, VLRs and usually its chunk table: half of what local files keep,
+// as every byte crosses the network), and exact reads anywhere else.
+// Remote files are shared process-wide by URL, so a tile opened again (by the chunk-point
+// loader, the viewer, a second command in the same process) costs no request, and every
+// response for it is checked against the same validator: a file that changes on the server
+// during a session is an error, never a mix of two versions. URLs are shown without their
+// credentials (display_url).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "net/http_client.hpp"
+
+namespace lidarscout::net {
+
+class RemoteFile {
+public:
+    static constexpr std::uint64_t kEdge = 2048;
+
+    // The remote file at `url`, opened (two range requests) on first use; throws Error.
+    static std::shared_ptr<const RemoteFile> open(const std::string& url);
+    // Opens the files of `urls` not open yet, all requests in flight together. Failures are
+    // not reported here: open() of that URL reports them.
+    static void prefetch(std::span<const std::string> urls);
+    // Forgets every open remote file: the next open() fetches its edges again (benchmarks).
+    static void forget_all();
+
+    const std::string& display_url() const { return display_url_; }
+    std::uint64_t size() const { return size_; }
+    const std::string& validator() const { return validator_; }
+    std::span<const std::uint8_t> head() const { return head_; }  // bytes [0, head().size())
+    std::span<const std::uint8_t> tail() const { return tail_; }  // bytes [size() - tail().size(), size())
+
+    // Reads exactly out.size() bytes at `offset` (one range request); throws Error.
+    void read(std::uint64_t offset, std::span<std::uint8_t> out) const;
+    // Fetches the ranges (multi-range where the server allows it); `done` runs on the
+    // client's thread with one part per range, or with an error.
+    void fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const;
+
+    RemoteFile(std::string url, RangeReply&& head);  // from the reply to the head request
+    void set_tail(RangeReply&& reply);
+
+private:
+    std::string url_, display_url_, validator_;
+    std::uint64_t size_ = 0;
+    std::vector<std::uint8_t> head_, tail_;
+};
+
+}  // namespace lidarscout::net

@@ -1,0 +1,45 @@
+// dataset/file_search with URLs: a remote tile list's relative entries resolve against its
+// URL, a local list may name URLs, a URL to a LAS/LAZ file is a tile, and a list that
+// cannot be fetched is reported.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "dataset/file_search.hpp"
+#include "nginx_server.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout::dataset {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(FileSearch, RemoteListEntriesResolveAgainstTheListUrl) {
+    const auto& server = test::NginxServer::instance();
+    std::ofstream(server.lists_dir() / "relative.txt")
+        << "# tiles\n../surveys/ky-woodford-county/5205000_3900000.laz\n\n  sub/a.laz  \n"
+        << "http://example.invalid/b.laz\n";
+    const auto found = find_point_cloud_files({server.url("lists/relative.txt")});
+    EXPECT_TRUE(found.errors.empty());
+    EXPECT_EQ(found.files, (std::vector<std::string>{server.url("surveys/ky-woodford-county/5205000_3900000.laz"),
+                                                     server.url("lists/sub/a.laz"), "http://example.invalid/b.laz"}));
+}
+
+TEST(FileSearch, LocalListMayNameUrlsAndUrlsToTilesAreTiles) {
+    const fs::path list = fs::temp_directory_path() / ("lidarscout_urls_" + std::to_string(::getpid()) + ".txt");
+    std::ofstream(list) << "https://host/x.laz?sig=1\n";
+    const auto found = find_point_cloud_files({list.string(), "http://host/y.LAS"});
+    EXPECT_EQ(found.files, (std::vector<std::string>{"https://host/x.laz?sig=1", "http://host/y.LAS"}));
+    fs::remove(list);
+}
+
+TEST(FileSearch, MissingRemoteListIsReported) {
+    const auto found = find_point_cloud_files({test::NginxServer::instance().url("lists/none.txt")});
+    EXPECT_TRUE(found.files.empty());
+    ASSERT_EQ(found.errors.size(), 1u);
+    EXPECT_NE(found.errors[0].find("404"), std::string::npos) << found.errors[0];
+}
+
+}  // namespace
+}  // namespace lidarscout::dataset

@@ -1,0 +1,151 @@
+// net/http_client against the fault-injecting server: transient faults are retried (a cut
+// body resumes where it stopped), definite ones are clear errors, and no response ever
+// yields wrong bytes: a dropped connection, 503 then success, Range ignored, a wrong
+// Content-Range, a truncated body, a slow response, a longer body, a changed ETag, a
+// redirect to another scheme, and multi-range requests to a server without them.
+#include <gtest/gtest.h>
+
+#include "fault_server.hpp"
+#include "net/http_client.hpp"
+
+namespace lidarscout::net {
+namespace {
+
+using test::Fault;
+using test::FaultServer;
+
+std::vector<std::uint8_t> pattern(std::size_t n) {
+    std::vector<std::uint8_t> v(n);
+    for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<std::uint8_t>((i * 131) ^ (i >> 8));
+    return v;
+}
+
+HttpSettings quick() {
+    HttpSettings s;
+    s.retries = 3;
+    s.backoff = std::chrono::milliseconds(5);
+    s.stall_timeout_s = 1;
+    s.connect_timeout_s = 2;
+    return s;
+}
+
+class HttpFaults : public ::testing::Test {
+protected:
+    HttpFaults() : data(pattern(300000)), server(data), client(quick()) {}
+
+    RangeReply fetch(std::vector<ByteRange> ranges, std::string validator = {}) {
+        return client.fetch({server.url(), std::move(ranges), std::move(validator)});
+    }
+    void expect_bytes(const RangeReply& r, const std::vector<ByteRange>& ranges) {
+        ASSERT_EQ(r.error, "");
+        ASSERT_EQ(r.parts.size(), ranges.size());
+        for (std::size_t i = 0; i < ranges.size(); ++i) {
+            ASSERT_EQ(r.parts[i].size(), ranges[i].length) << i;
+            EXPECT_TRUE(std::equal(r.parts[i].begin(), r.parts[i].end(), data.begin() + ranges[i].offset)) << i;
+        }
+    }
+    void expect_error(const RangeReply& r, const std::string& words) {
+        EXPECT_TRUE(r.parts.empty());
+        EXPECT_NE(r.error.find(words), std::string::npos) << r.error;
+    }
+
+    std::vector<std::uint8_t> data;
+    FaultServer server;
+    HttpClient client;
+};
+
+TEST_F(HttpFaults, CorrectAnswersPass) {
+    const std::vector<ByteRange> r = {{1000, 5000}};
+    const auto reply = fetch(r);
+    expect_bytes(reply, r);
+    EXPECT_EQ(reply.total, data.size());
+    EXPECT_EQ(reply.validator, "\"v1\"");
+    EXPECT_EQ(client.stats().requests, 1u);
+}
+
+TEST_F(HttpFaults, DroppedConnectionResumesWhereTheBodyStopped) {
+    server.inject(Fault::DropMidBody);
+    const std::vector<ByteRange> r = {{10000, 200000}};
+    expect_bytes(fetch(r), r);
+    const auto seen = server.ranges_seen();
+    ASSERT_EQ(seen.size(), 2u);
+    EXPECT_EQ(seen[0], "bytes=10000-209999");
+    EXPECT_EQ(seen[1], "bytes=110000-209999");  // only the part that did not arrive
+}
+
+TEST_F(HttpFaults, ServiceUnavailableIsRetriedWithBackoff) {
+    server.inject(Fault::ServiceUnavailable, 2);
+    const std::vector<ByteRange> r = {{0, 100}};
+    expect_bytes(fetch(r), r);
+    EXPECT_EQ(server.requests(), 3);
+    EXPECT_EQ(client.stats().retries, 2u);
+}
+
+TEST_F(HttpFaults, PersistentServiceUnavailableIsAnErrorAfterTheRetries) {
+    server.inject(Fault::ServiceUnavailable, 100);
+    expect_error(fetch({{0, 100}}), "HTTP status 503 (after 4 attempts)");
+}
+
+TEST_F(HttpFaults, IgnoredRangeIsAnErrorWithoutDownloadingTheFile) {
+    server.inject(Fault::IgnoreRange);
+    expect_error(fetch({{0, 100}}), "ignores Range");
+    EXPECT_EQ(client.stats().body_bytes, 0u);
+}
+
+TEST_F(HttpFaults, WrongContentRangeIsAnError) {
+    server.inject(Fault::WrongContentRange);
+    expect_error(fetch({{500, 100}}), "answered bytes \"bytes 501-600/300000\" to a request for 500-599");
+}
+
+TEST_F(HttpFaults, TruncatedBodyIsCompletedOrAnError) {
+    server.inject(Fault::TruncatedBody);
+    const std::vector<ByteRange> r = {{20000, 30000}};
+    expect_bytes(fetch(r), r);
+    server.inject(Fault::TruncatedBody, 100);
+    expect_error(fetch({{20000, 30000}}), "attempts)");
+}
+
+TEST_F(HttpFaults, SlowResponseTimesOutAndIsRetried) {
+    server.inject(Fault::Slow);
+    const std::vector<ByteRange> r = {{7, 70}};
+    const auto start = std::chrono::steady_clock::now();
+    expect_bytes(fetch(r), r);
+    EXPECT_EQ(server.requests(), 2);
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::milliseconds(2400));  // did not wait it out
+}
+
+TEST_F(HttpFaults, LongerBodyIsRefused) {
+    server.inject(Fault::LongerBody);
+    expect_error(fetch({{0, 1000}}), "more bytes than were asked for");
+}
+
+TEST_F(HttpFaults, ChangedEtagIsAnError) {
+    const auto first = fetch({{0, 10}});
+    ASSERT_EQ(first.error, "");
+    server.inject(Fault::NewEtag);
+    expect_error(fetch({{10, 10}}, first.validator), "changed on the server during this session");
+}
+
+TEST_F(HttpFaults, RedirectToAnotherSchemeIsRefused) {
+    server.inject(Fault::RedirectToHttps);
+    expect_error(fetch({{0, 10}}), "redirect to another scheme is refused");
+}
+
+TEST_F(HttpFaults, MultiRangeFallsBackToSingleRangesWithoutAFullDownload) {
+    const std::vector<ByteRange> r = {{0, 10}, {5000, 20}, {299990, 10}};
+    expect_bytes(fetch(r), r);
+    EXPECT_EQ(server.requests(), 4);  // the multi-range request (answered 200, not read), then one per range
+    EXPECT_LT(client.stats().body_bytes, 1000u);
+    expect_bytes(fetch(r), r);        // the server is now known: single ranges straight away
+    EXPECT_EQ(server.requests(), 7);
+}
+
+TEST_F(HttpFaults, RangeAtTheEndOfTheFileMayBeShortened) {
+    const auto reply = fetch({{data.size() - 10, 4096}});
+    ASSERT_EQ(reply.error, "");
+    ASSERT_EQ(reply.parts[0].size(), 10u);
+    EXPECT_TRUE(std::equal(reply.parts[0].begin(), reply.parts[0].end(), data.end() - 10));
+}
+
+}  // namespace
+}  // namespace lidarscout::net

@@ -1,0 +1,88 @@
+// net/range_cache: stored replies come back for the same URL, validator and ranges only;
+// damaged entries are dropped; the folder stays under its limit, least recently used first.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "net/range_cache.hpp"
+
+namespace lidarscout::net {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RangeCacheTest : public ::testing::Test {
+protected:
+    fs::path dir = fs::temp_directory_path() / ("lidarscout_range_cache_" + std::to_string(::getpid()));
+    void TearDown() override { fs::remove_all(dir); }
+
+    static RangeReply reply_of(std::vector<std::vector<std::uint8_t>> parts) {
+        RangeReply r;
+        r.parts = std::move(parts);
+        return r;
+    }
+    static std::uint64_t folder_bytes(const fs::path& d) {
+        std::uint64_t total = 0;
+        for (const auto& e : fs::recursive_directory_iterator(d)) {
+            if (e.is_regular_file()) total += e.file_size();
+        }
+        return total;
+    }
+};
+
+TEST_F(RangeCacheTest, RepliesComeBackForTheSameRequestOnly) {
+    RangeCache cache({dir, 1 << 20});
+    const RangeRequest request{"http://h/a.laz", {{0, 3}, {100, 2}}, "\"v1\""};
+    cache.store(request, reply_of({{1, 2, 3}, {9, 8}}));
+    const auto found = cache.find(request);
+    ASSERT_TRUE(found);
+    EXPECT_EQ(*found, (std::vector<std::vector<std::uint8_t>>{{1, 2, 3}, {9, 8}}));
+    EXPECT_FALSE(cache.find({"http://h/a.laz", {{0, 3}, {100, 2}}, "\"v2\""}));  // another version
+    EXPECT_FALSE(cache.find({"http://h/a.laz", {{0, 3}}, "\"v1\""}));            // other ranges
+    EXPECT_FALSE(cache.find({"http://h/b.laz", {{0, 3}, {100, 2}}, "\"v1\""}));  // another file
+    EXPECT_EQ(cache.hits(), 1u);
+
+    const RangeRequest unpinned{"http://h/a.laz", {{0, 3}}, ""};  // no validator: never cached
+    cache.store(unpinned, reply_of({{1, 2, 3}}));
+    EXPECT_FALSE(cache.find(unpinned));
+}
+
+TEST_F(RangeCacheTest, DamagedEntriesAreDropped) {
+    RangeCache cache({dir, 1 << 20});
+    const RangeRequest request{"http://h/a.laz", {{0, 4}}, "\"v1\""};
+    cache.store(request, reply_of({{1, 2, 3, 4}}));
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) fs::resize_file(e.path(), e.file_size() - 1);
+    }
+    EXPECT_FALSE(cache.find(request));
+    EXPECT_EQ(folder_bytes(dir), 0u);
+}
+
+TEST_F(RangeCacheTest, FolderStaysUnderItsLimitDroppingTheLeastRecentlyUsed) {
+    RangeCache cache({dir, 50'000});
+    const std::vector<std::uint8_t> block(10'000, 7);
+    auto request = [](int i) { return RangeRequest{"http://h/" + std::to_string(i), {{0, 10'000}}, "e"}; };
+    for (int i = 0; i < 4; ++i) cache.store(request(i), reply_of({block}));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    ASSERT_TRUE(cache.find(request(0)));  // used again: now the most recent
+    for (int i = 4; i < 7; ++i) cache.store(request(i), reply_of({block}));  // three over: 1, 2, 3 dropped
+    EXPECT_TRUE(cache.find(request(0)));
+    EXPECT_FALSE(cache.find(request(1)));
+    EXPECT_FALSE(cache.find(request(3)));
+    for (int i = 7; i < 20; ++i) cache.store(request(i), reply_of({block}));
+    EXPECT_LE(folder_bytes(dir), 50'000u);
+    EXPECT_TRUE(cache.find(request(19)));
+}
+
+TEST_F(RangeCacheTest, SizeZeroIsOff) {
+    RangeCache cache({dir, 0});
+    const RangeRequest request{"http://h/a.laz", {{0, 1}}, "e"};
+    cache.store(request, reply_of({{1}}));
+    EXPECT_FALSE(cache.find(request));
+    EXPECT_FALSE(fs::exists(dir));
+}
+
+}  // namespace
+}  // namespace lidarscout::net

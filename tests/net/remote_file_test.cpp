@@ -1,0 +1,112 @@
+// net/remote_file through io::File against nginx on loopback: remote reads equal the local
+// file's bytes everywhere, a tile's ranges go out as one multi-range request, URLs are shown
+// without credentials, and a file that changes on the server during a session is an error.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <iterator>
+
+#include "core/error.hpp"
+#include "io/file.hpp"
+#include "net/http_client.hpp"
+#include "net/remote_file.hpp"
+#include "nginx_server.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout::net {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kTile = "surveys/ky-woodford-county/5205000_3900000.laz";
+
+std::vector<std::uint8_t> whole_file(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(RemoteFile, ReadsEqualTheLocalFile) {
+    const auto& server = test::NginxServer::instance();
+    const auto bytes = whole_file(test::data_dir() / kTile);
+    const auto f = io::File::open(server.url(kTile));
+    EXPECT_EQ(f.path(), server.url(kTile));
+    ASSERT_EQ(f.size(), bytes.size());
+    const std::uint64_t n = bytes.size();
+    for (const std::uint64_t at : {std::uint64_t{0}, std::uint64_t{4090}, n / 3, n - 5000, n - 4096, n - 3}) {
+        for (const std::size_t len : {1u, 8u, 9000u}) {
+            std::vector<std::uint8_t> got(len);
+            const std::size_t read = f.read_at(at, got);
+            ASSERT_EQ(read, std::min<std::uint64_t>(len, n - at)) << at;
+            EXPECT_TRUE(std::equal(got.begin(), got.begin() + read, bytes.begin() + at)) << at << " " << len;
+        }
+    }
+    EXPECT_THROW(f.read_vector(n - 10, 20), Error);
+}
+
+TEST(RemoteFile, ManyRangesAreOneMultiRangeRequest) {
+    const auto& server = test::NginxServer::instance();
+    const auto bytes = whole_file(test::data_dir() / kTile);
+    const auto f = RemoteFile::open(server.url(kTile));
+    std::vector<ByteRange> ranges;
+    for (std::uint64_t i = 0; i < 200; ++i) ranges.push_back({i * 30011 + 17, 20 + i % 7});
+    const auto before = HttpClient::shared().stats();
+    std::promise<RangeReply> promise;
+    f->fetch_async(ranges, [&](RangeReply&& r) { promise.set_value(std::move(r)); });
+    const RangeReply reply = promise.get_future().get();
+    const auto after = HttpClient::shared().stats();
+    ASSERT_EQ(reply.error, "");
+    EXPECT_EQ(after.requests - before.requests, 1u);
+    ASSERT_EQ(reply.parts.size(), ranges.size());
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+        ASSERT_EQ(reply.parts[i].size(), ranges[i].length);
+        EXPECT_TRUE(std::equal(reply.parts[i].begin(), reply.parts[i].end(), bytes.begin() + ranges[i].offset)) << i;
+    }
+}
+
+TEST(RemoteFile, CredentialsAreNeverShown) {
+    const auto& server = test::NginxServer::instance();
+    const std::string with_secret = "http://someone:s3cr3t@127.0.0.1:" + std::to_string(server.port()) + "/";
+    const auto f = io::File::open(with_secret + kTile);  // nginx asks for no credentials
+    EXPECT_EQ(f.path(), server.url(kTile));
+    try {
+        io::File::open(with_secret + "surveys/missing.laz");
+        FAIL() << "a missing file opened";
+    } catch (const Error& e) {
+        EXPECT_EQ(std::string(e.what()).find("s3cr3t"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("404"), std::string::npos) << e.what();
+    }
+}
+
+TEST(RemoteFile, TlsPeersAreVerified) {
+    try {
+        io::File::open(test::NginxServer::instance().https_url(kTile));
+        FAIL() << "a self-signed certificate was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("certificate"), std::string::npos) << e.what();
+    }
+}
+
+TEST(RemoteFile, AFileChangedDuringTheSessionIsAnError) {
+    const auto& server = test::NginxServer::instance();
+    const fs::path local = server.lists_dir() / "changing.bin";
+    std::vector<char> content(20000, 'a');
+    std::ofstream(local, std::ios::binary).write(content.data(), static_cast<std::streamsize>(content.size()));
+    const auto f = io::File::open(server.url("lists/changing.bin"));
+    std::vector<std::uint8_t> got(100);
+    f.read_exact(9000, got);
+    EXPECT_EQ(got[0], 'a');
+    std::fill(content.begin(), content.end(), 'b');
+    std::ofstream(local, std::ios::binary).write(content.data(), static_cast<std::streamsize>(content.size()));
+    fs::last_write_time(local, fs::last_write_time(local) + std::chrono::seconds(10));  // a new ETag
+    try {
+        f.read_exact(9100, got);  // (9000 again would be the old version's bytes, from the range cache)
+        FAIL() << "bytes of the new version were mixed in";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("changed on the server"), std::string::npos) << e.what();
+    }
+}
+
+}  // namespace
+}  // namespace lidarscout::net
