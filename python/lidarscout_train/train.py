@@ -3,7 +3,7 @@
     python3 -m lidarscout_train.train DATA.bin [MORE.bin ...] --out DIR [--epochs N] [--batch 32]
         [--decoder transposed|upsample] [--width 16] [--head-kernel 9] [--no-residual]
         [--threads 2] [--device cpu|cuda] [--lr 1e-4] [--milestones E,E] [--seed 1] [--no-augment] [--max-steps N]
-        [--init state_dict.pt|model.pt] [--resume]
+        [--init state_dict.pt|model.pt] [--resume] [--max-per-file N]
 
 Several train-data files are trained on together (their train splits, weighted as one set);
 validation runs on all their held-out splits. --init starts from a saved state dict (its
@@ -130,6 +130,8 @@ def main(argv=None):
     ap.add_argument("--max-steps", type=int, default=0, help="stop each epoch after N steps (smoke runs)")
     ap.add_argument("--init", help="state_dict.pt or TorchScript model.pt to start from (fine-tuning)")
     ap.add_argument("--resume", action="store_true", help="continue from DIR/checkpoint.pt when it exists")
+    ap.add_argument("--max-per-file", type=int, default=0,
+                    help="at most N training samples of each file (a random subset; 0: all)")
     ap.add_argument("--no-texel-weights", action="store_true",
                     help="plain MSE over normalised heights (the coarse texel sizes then weigh ~100x less)")
     args = ap.parse_args(argv)
@@ -140,6 +142,9 @@ def main(argv=None):
 
     train_parts = [TrainDataset(p, split="train", augment=not args.no_augment, seed=args.seed + k)
                    for k, p in enumerate(args.data)]
+    if args.max_per_file:
+        for k, part in enumerate(train_parts):
+            part.limit(args.max_per_file, args.seed + k)
     train_set = torch.utils.data.ConcatDataset(train_parts)
     val_set = torch.utils.data.ConcatDataset([TrainDataset(p, split="validation", augment=False) for p in args.data])
     if len(train_set) == 0:

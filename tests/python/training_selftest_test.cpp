@@ -2,7 +2,7 @@
 // decoder variants, checks shapes and parameter counts, runs one training step, exports to
 // TorchScript and reloads it (with /usr/bin/python3 and Debian's python3-torch); and one
 // training step of train.py on a tiny file that `lidarscout train-data` generates, then
-// fine-tuning from its state dict and from its TorchScript model.
+// fine-tuning from its state dict and from its TorchScript model (on a capped subset).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -80,8 +80,10 @@ TEST(PythonTraining, OneStepOnAGeneratedFile) {  // then fine-tuning on two file
                                      flags + " 2>&1",
                                  out);
     };
-    EXPECT_EQ(from_script("--width 4 --head-kernel 3 --decoder upsample", "from_script"), 0) << out;
+    EXPECT_EQ(from_script("--width 4 --head-kernel 3 --decoder upsample --max-per-file 2", "from_script"), 0) << out;
     EXPECT_TRUE(fs::is_regular_file(dir / "from_script" / "model.pt"));
+    ASSERT_GT(one_file, 2);
+    EXPECT_EQ(training_samples(out), 2) << out;  // --max-per-file: a random subset of the file
     EXPECT_NE(from_script("--width 8 --head-kernel 3 --decoder upsample", "mismatch"), 0) << out;
     EXPECT_NE(out.find("size mismatch"), std::string::npos) << out;
     fs::remove_all(dir);
