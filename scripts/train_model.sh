@@ -95,7 +95,8 @@ for s in "$surveys"/* "$extra"/*/; do
   mapfile -t -O "${#files[@]}" files < "$out/tune-data/$name.list"
 done
 py lidarscout_train.train "${files[@]}" --init "$init" --decoder upsample --width 8 --head-kernel 5 \
-  --out "$(realpath "$out")/tuned" --threads 1 --epochs 10 --max-steps 80 --lr 2e-5 --milestones 8 --batch 32 --resume
+  --out "$(realpath "$out")/tuned" --threads 1 --epochs 10 --max-steps 80 --lr 5e-5 --milestones 8 --batch 32 \
+  --max-per-file 150 --resume
 
 # 3. The unseen comparison: linear, the stage-1 network, the fine-tuned one (and the released model).
 scripts/compare_models.sh --candidate "$out/tuned/model.pt" --shipped "$init" ${released:+--released "$released"} \
