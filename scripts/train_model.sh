@@ -80,7 +80,10 @@ fi
 
 # 2. Fine-tuning data: every survey and every extra source except the held-out ones.
 held_out=(autzen-oregon-ept ky-georgetown ky-n066e379)
-[ -d "$extra" ] || { echo "train_model.sh: no extra training data in $extra (scripts/build_training_set.sh)" >&2; exit 1; }
+if [ ! -d "$extra" ]; then
+  echo "train_model.sh: no extra training data in $extra (scripts/build_training_set.sh)" >&2
+  exit 1
+fi
 mkdir -p "$out/tune-data"
 files=()
 for s in "$surveys"/* "$extra"/*/; do

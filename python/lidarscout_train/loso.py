@@ -73,7 +73,8 @@ def rows_of(paths, released_dir=None, shipped_dir=None):
                "released": _method(e, "released", "rmse_m_mean"),
                "psnr_linear": _method(e, "linear", "psnr_db_mean"), "psnr_cnn": _method(e, "cnn", "psnr_db_mean")}
         if shipped_dir:
-            row |= {"shipped": _method(e, "shipped", "rmse_m_mean"), "psnr_shipped": _method(e, "shipped", "psnr_db_mean")}
+            row |= {"shipped": _method(e, "shipped", "rmse_m_mean"),
+                    "psnr_shipped": _method(e, "shipped", "psnr_db_mean")}
         for k in ("cnn", "released", "shipped"):
             if k not in row:
                 continue

@@ -45,9 +45,8 @@ TEST(LosoTable, ShippedAndReleasedColumnsFromTheSamePatches) {
         write_eval(dir / "released" / (std::string(s) + ".json"), linear, "released", 0.8 * linear);
     }
     std::string out;
-    ASSERT_EQ(run_table(dir, (dir / "candidate" / "a.json").string() + " " + (dir / "candidate" / "b.json").string(), out),
-              0)
-        << out;
+    const std::string both = (dir / "candidate" / "a.json").string() + " " + (dir / "candidate" / "b.json").string();
+    ASSERT_EQ(run_table(dir, both, out), 0) << out;
     EXPECT_NE(out.find("shipped CNN / linear"), std::string::npos) << out;
     const auto table = nlohmann::json::parse(std::ifstream(dir / "table.json"));
     EXPECT_NEAR(table.at("mean_cnn_ratio").get<double>(), 0.9, 1e-9);
