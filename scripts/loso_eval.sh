@@ -35,6 +35,7 @@ set -euo pipefail
 main() {
 cd "$(dirname "$0")/.."
 repo=$(pwd)
+source scripts/density_windows.sh
 work=/work/nnwork/loso
 variant=base
 surveys=../shared/data/surveys
@@ -89,16 +90,7 @@ export_survey() {  # survey-path name
   if [ "$variant" = base ]; then
     "$bin" train-data "$1" -o "$out.tmp" --patches "$patches" "${common[@]}"
   else
-    [ -f "$data/$2.probe" ] || "$bin" train-data "$1" -o "$data/$2.probe" --patches 1 "${common[@]}" > /dev/null
-    local k=0 parts=()
-    for cp in 40 100 200 369 700 1500; do
-      k=$((k + 1))
-      parts+=("$data/$2.cp$cp.bin")
-      [ -f "$data/$2.cp$cp.bin" ] && continue
-      "$bin" train-data "$1" -o "$data/$2.cp$cp.bin" --patches $(( (patches + 5) / 6 )) --seed "$k" \
-        --stride "$(py lidarscout_train.loso stride "$data/$2.probe" "$cp")" "${common[@]}"
-    done
-    printf '%s\n' "${parts[@]}" > "$out.tmp"
+    density_windows "$repo" "$bin" "$1" "$data/$2" "$patches" "$threads" > "$out.tmp"
   fi
   mv "$out.tmp" "$out"
 }

@@ -51,6 +51,13 @@ class TrainDataset(torch.utils.data.Dataset):
         self.z_range = z_range
         self.rng = np.random.default_rng(seed)
 
+    def limit(self, count, seed):
+        """Keeps at most `count` of the selected samples, a random subset fixed by `seed` (so that
+        one large file does not outweigh the others)."""
+        if len(self.indices) > count:
+            keep = np.random.default_rng(seed).choice(len(self.indices), size=count, replace=False)
+            self.indices = self.indices[np.sort(keep)]
+
     def __len__(self):
         return len(self.indices)
 

@@ -9,6 +9,9 @@
         linear, the colour PSNR, and the mean ratios over surveys. The released model's figures
         come from the file itself or from DIR/SURVEY[.TAG].json (an eval of the same patches:
         its linear RMSE must be the same, else the patches differ and this fails)
+    python3 -m lidarscout_train.loso table EVAL.json... --shipped-dir DIR [--released-dir DIR] [--json OUT]
+        the same, with a "shipped" column beside "cnn": the cnn method of DIR/SURVEY[.TAG].json (an
+        eval of the same patches with another model, e.g. the shipped one against a candidate)
 """
 import json
 import math
@@ -42,8 +45,8 @@ def _method(e, name, key):
     return None if m is None else m.get(key)
 
 
-def _released_from(e, path):
-    """Copies the released method of the eval file `path` into e, after checking both scored the
+def _method_from(e, path, method, as_name):
+    """Copies `method` of the eval file `path` into e as `as_name`, after checking both scored the
     same patches (same linear RMSE and count)."""
     with open(path) as f:
         r = json.load(f)
@@ -51,24 +54,30 @@ def _released_from(e, path):
         a, b = _method(e, "linear", key), _method(r, "linear", key)
         if a != b and not (a is not None and b is not None and abs(a - b) < 1e-9):
             raise SystemExit(f"{path}: not the same patches as the CNN's evaluation (linear {key} {b} != {a})")
-    if "released" in r["methods"]:
-        e["methods"]["released"] = r["methods"]["released"]
+    if method in r["methods"]:
+        e["methods"][as_name] = r["methods"][method]
 
 
-def rows_of(paths, released_dir=None):
+def rows_of(paths, released_dir=None, shipped_dir=None):
     rows = []
     for p in paths:
         with open(p) as f:
             e = json.load(f)
-        if released_dir and os.path.exists(os.path.join(released_dir, os.path.basename(p))):
-            _released_from(e, os.path.join(released_dir, os.path.basename(p)))
+        for folder, method, as_name in ((released_dir, "released", "released"), (shipped_dir, "cnn", "shipped")):
+            if folder and os.path.exists(os.path.join(folder, os.path.basename(p))):
+                _method_from(e, os.path.join(folder, os.path.basename(p)), method, as_name)
         tag = os.path.basename(p)[: -len(".json")]
         patches = _method(e, "linear", "patches") or 0
         lin = _method(e, "linear", "rmse_m_mean")
         row = {"survey": tag, "patches": patches, "linear": lin, "cnn": _method(e, "cnn", "rmse_m_mean"),
                "released": _method(e, "released", "rmse_m_mean"),
                "psnr_linear": _method(e, "linear", "psnr_db_mean"), "psnr_cnn": _method(e, "cnn", "psnr_db_mean")}
-        for k in ("cnn", "released"):
+        if shipped_dir:
+            row |= {"shipped": _method(e, "shipped", "rmse_m_mean"),
+                    "psnr_shipped": _method(e, "shipped", "psnr_db_mean")}
+        for k in ("cnn", "released", "shipped"):
+            if k not in row:
+                continue
             row[k + "_ratio"] = row[k] / lin if (row[k] is not None and lin) else None
         rows.append(row)
     return rows
@@ -84,16 +93,20 @@ def _mean(rows, key):
 
 
 def print_table(rows):
-    print("| held-out survey | patches | linear RMSE (m) | CNN RMSE (m) | CNN / linear | released RMSE (m) "
-          "| released / linear | RGB PSNR linear → CNN (dB) |")
-    print("|---|---|---|---|---|---|---|---|")
+    """A markdown table; the shipped model's columns (before the CNN's) when the rows have them."""
+    models = (["shipped"] if rows and "shipped" in rows[0] else []) + ["cnn", "released"]
+    names = {"shipped": "shipped CNN", "cnn": "CNN", "released": "released"}
+    head = "".join(f" {names[m]} RMSE (m) | {names[m]} / linear |" for m in models)
+    print(f"| held-out survey | patches | linear RMSE (m) |{head} RGB PSNR linear → CNN (dB) |")
+    print("|---|---|---|" + "---|---|" * len(models) + "---|")
     for r in rows:
         psnr = "–" if r["psnr_cnn"] is None else f"{r['psnr_linear']:.2f} → {r['psnr_cnn']:.2f}"
-        print(f"| {r['survey']} | {r['patches']} | {_fmt(r['linear'], '.3f')} | {_fmt(r['cnn'], '.3f')} "
-              f"| {_fmt(r['cnn_ratio'], '.3f')} | {_fmt(r['released'], '.3f')} | {_fmt(r['released_ratio'], '.3f')} "
-              f"| {psnr} |")
-    print(f"| **mean over surveys** | {sum(r['patches'] for r in rows)} | | | {_fmt(_mean(rows, 'cnn_ratio'), '.3f')} "
-          f"| | {_fmt(_mean(rows, 'released_ratio'), '.3f')} | |")
+        if r.get("psnr_shipped") is not None and r["psnr_cnn"] is not None:
+            psnr = f"{r['psnr_linear']:.2f} → {r['psnr_shipped']:.2f} (shipped), {r['psnr_cnn']:.2f}"
+        cells = "".join(f" {_fmt(r[m], '.3f')} | {_fmt(r[m + '_ratio'], '.3f')} |" for m in models)
+        print(f"| {r['survey']} | {r['patches']} | {_fmt(r['linear'], '.3f')} |{cells} {psnr} |")
+    means = "".join(f" | {_fmt(_mean(rows, m + '_ratio'), '.3f')} |" for m in models)
+    print(f"| **mean over surveys** | {sum(r['patches'] for r in rows)} | |{means} |")
 
 
 def _option(args, name):
@@ -112,12 +125,14 @@ def main(argv):
         paths = argv[1:]
         out, paths = _option(paths, "--json")
         released_dir, paths = _option(paths, "--released-dir")
-        rows = rows_of(paths, released_dir)
+        shipped_dir, paths = _option(paths, "--shipped-dir")
+        rows = rows_of(paths, released_dir, shipped_dir)
         print_table(rows)
         if out:
+            means = {f"mean_{m}_ratio": _mean(rows, m + "_ratio") for m in ("cnn", "released", "shipped")
+                     if not rows or m in rows[0]}
             with open(out, "w") as f:
-                json.dump({"rows": rows, "mean_cnn_ratio": _mean(rows, "cnn_ratio"),
-                           "mean_released_ratio": _mean(rows, "released_ratio")}, f, indent=1)
+                json.dump({"rows": rows} | means, f, indent=1)
     else:
         sys.exit(__doc__)
 

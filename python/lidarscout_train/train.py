@@ -3,11 +3,12 @@
     python3 -m lidarscout_train.train DATA.bin [MORE.bin ...] --out DIR [--epochs N] [--batch 32]
         [--decoder transposed|upsample] [--width 16] [--head-kernel 9] [--no-residual]
         [--threads 2] [--device cpu|cuda] [--lr 1e-4] [--milestones E,E] [--seed 1] [--no-augment] [--max-steps N]
-        [--init state_dict.pt] [--resume]
+        [--init state_dict.pt|model.pt] [--resume] [--max-per-file N]
 
 Several train-data files are trained on together (their train splits, weighted as one set);
 validation runs on all their held-out splits. --init starts from a saved state dict (its
-decoder / width / head kernel / residual override the flags): fine-tuning. Every epoch ends with
+decoder / width / head kernel / residual override the flags) or from a TorchScript model.pt
+(the flags must then name its architecture; a mismatch fails): fine-tuning. Every epoch ends with
 DIR/checkpoint.pt (weights, optimiser, schedule, history); --resume continues from it.
 
 On a GPU machine (PyTorch 2.x with CUDA there) train with --device cuda and bring back
@@ -34,6 +35,7 @@ import json
 import math
 import os
 import time
+import warnings
 
 import torch
 
@@ -95,6 +97,20 @@ def export_torchscript(model, path, example=None):
     return traced
 
 
+def load_init(path, args):
+    """The weights to fine-tune from: a state_dict.pt of this script (its decoder / width / head
+    kernel / residual then override the flags in args) or a TorchScript model.pt (e.g. the
+    shipped models/heightmap_cnn.pt; the flags must name its architecture)."""
+    with warnings.catch_warnings():  # torch.load dispatches a TorchScript archive to torch.jit.load, with a warning
+        warnings.simplefilter("ignore", UserWarning)
+        init = torch.load(path, map_location="cpu")
+    if isinstance(init, torch.jit.ScriptModule):
+        return init.state_dict()
+    args.decoder, args.width, args.head_kernel = init["decoder"], init["width"], init["head_kernel"]
+    args.no_residual = not init.get("residual", True)
+    return init["state_dict"]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("data", nargs="+", help="train-data files")
@@ -112,8 +128,10 @@ def main(argv=None):
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--no-augment", action="store_true")
     ap.add_argument("--max-steps", type=int, default=0, help="stop each epoch after N steps (smoke runs)")
-    ap.add_argument("--init", help="state_dict.pt to start from (fine-tuning)")
+    ap.add_argument("--init", help="state_dict.pt or TorchScript model.pt to start from (fine-tuning)")
     ap.add_argument("--resume", action="store_true", help="continue from DIR/checkpoint.pt when it exists")
+    ap.add_argument("--max-per-file", type=int, default=0,
+                    help="at most N training samples of each file (a random subset; 0: all)")
     ap.add_argument("--no-texel-weights", action="store_true",
                     help="plain MSE over normalised heights (the coarse texel sizes then weigh ~100x less)")
     args = ap.parse_args(argv)
@@ -124,6 +142,9 @@ def main(argv=None):
 
     train_parts = [TrainDataset(p, split="train", augment=not args.no_augment, seed=args.seed + k)
                    for k, p in enumerate(args.data)]
+    if args.max_per_file:
+        for k, part in enumerate(train_parts):
+            part.limit(args.max_per_file, args.seed + k)
     train_set = torch.utils.data.ConcatDataset(train_parts)
     val_set = torch.utils.data.ConcatDataset([TrainDataset(p, split="validation", augment=False) for p in args.data])
     if len(train_set) == 0:
@@ -136,14 +157,11 @@ def main(argv=None):
     train_loader = torch.utils.data.DataLoader(train_set, batch_size=args.batch, shuffle=True, generator=gen, drop_last=False)
     val_loader = torch.utils.data.DataLoader(val_set, batch_size=args.batch, shuffle=False)
 
-    init = torch.load(args.init, map_location="cpu") if args.init else None
-    if init is not None:
-        args.decoder, args.width, args.head_kernel = init["decoder"], init["width"], init["head_kernel"]
-        args.no_residual = not init.get("residual", True)
+    init = load_init(args.init, args) if args.init else None
     model = HeightmapNet(decoder=args.decoder, width=args.width, head_kernel=args.head_kernel,
                          residual=not args.no_residual)
     if init is not None:
-        model.load_state_dict(init["state_dict"])
+        model.load_state_dict(init)  # strict: a TorchScript file of another architecture fails here
     model = model.to(args.device)
     n_params = count_parameters(model)
     print(f"model: decoder={args.decoder} width={args.width} parameters={n_params}; "

@@ -1,7 +1,8 @@
 // The Python training package (python/lidarscout_train) in the suite: its self-test builds both
 // decoder variants, checks shapes and parameter counts, runs one training step, exports to
 // TorchScript and reloads it (with /usr/bin/python3 and Debian's python3-torch); and one
-// training step of train.py on a tiny file that `lidarscout train-data` generates.
+// training step of train.py on a tiny file that `lidarscout train-data` generates, then
+// fine-tuning from its state dict and from its TorchScript model (on a capped subset).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -69,6 +70,22 @@ TEST(PythonTraining, OneStepOnAGeneratedFile) {  // then fine-tuning on two file
     std::ifstream tuned(dir / "tuned" / "history.json");
     EXPECT_EQ(nlohmann::json::parse(tuned).at("config").at("width").get<int>(), 4);
     EXPECT_TRUE(fs::is_regular_file(dir / "tuned" / "model.pt"));
+
+    // Fine-tuning from a TorchScript model.pt (as the shipped models/heightmap_cnn.pt): the flags
+    // name its architecture; flags of another architecture fail instead of training from scratch.
+    const auto from_script = [&](const std::string& flags, const std::string& out_name) {
+        return test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_train.train " +
+                                     (dir / "d.bin").string() + " --init " + (dir / "run" / "model.pt").string() +
+                                     " --out " + (dir / out_name).string() + " --epochs 1 --max-steps 1 --batch 4 " +
+                                     flags + " 2>&1",
+                                 out);
+    };
+    EXPECT_EQ(from_script("--width 4 --head-kernel 3 --decoder upsample --max-per-file 2", "from_script"), 0) << out;
+    EXPECT_TRUE(fs::is_regular_file(dir / "from_script" / "model.pt"));
+    ASSERT_GT(one_file, 2);
+    EXPECT_EQ(training_samples(out), 2) << out;  // --max-per-file: a random subset of the file
+    EXPECT_NE(from_script("--width 8 --head-kernel 3 --decoder upsample", "mismatch"), 0) << out;
+    EXPECT_NE(out.find("size mismatch"), std::string::npos) << out;
     fs::remove_all(dir);
 }
 
