@@ -12,6 +12,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev libspdlog-dev
   nlohmann-json3-dev libnanoflann-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   liburing-dev libcurl4-openssl-dev libssl-dev libstb-dev libgdal-dev
+  # GIS: PROJ (reprojection, lon/lat), gdal-bin (gdalinfo / gdal_grid in tests and benchmarks)
+  libproj-dev gdal-bin
   # neural network inference (LibTorch) with the fast OpenMP OpenBLAS
   libtorch-dev libopenblas0-openmp
   # viewer: window, GUI, OpenGL loader; Xvfb for headless tests of the window

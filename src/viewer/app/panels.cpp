@@ -75,6 +75,7 @@ void stats_panel(const dataset::Dataset& ds, const SchedulerStats& s, double fra
     ImGui::Text("memory %.0f / %.0f MiB (peak %.0f)", s.bytes_used / 1048576.0, s.memory_budget / 1048576.0,
                 s.peak_bytes_used / 1048576.0);
     ImGui::Text("frame %.1f ms (%.1f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
+    if (!state.cursor.empty()) ImGui::Text("cursor %s", state.cursor.c_str());
     ImGui::Separator();
     progress_line("tiles (chunk points)", s.tiles_loaded);
     progress_line("chunk points", s.chunk_points);

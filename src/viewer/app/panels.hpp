@@ -26,6 +26,7 @@ struct PanelState {
     std::string filter;
     std::optional<std::uint32_t> selected;
     std::string status;  // one line: the last screenshot, an error
+    std::string cursor;  // the ground under the cursor (viewer/cursor_readout.hpp)
 };
 
 struct PanelActions {
