@@ -1,7 +1,7 @@
 // A georeferenced raster made block by block and delivered as a Cloud-Optimized GeoTIFF:
 // blocks are written (from any thread, in any order) into a scratch tiled GeoTIFF beside the
-// target, and finish() copies it with GDAL's COG driver (tiled 512 x 512, DEFLATE with a
-// predictor, overviews) to a temporary name that is renamed to the target when complete. The
+// target, and finish() copies it with GDAL's COG driver (tiled 512 x 512, DEFLATE level 1 with
+// a predictor, overviews) to a temporary name that is renamed to the target when complete. The
 // scratch file is sparse (blocks never written read as nodata) and is removed in any case, so
 // memory stays bounded by GDAL's block cache whatever the raster's size. Every GDAL call of
 // the raster writers is in block_raster.cpp and hillshade.cpp.

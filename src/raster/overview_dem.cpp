@@ -23,12 +23,20 @@ float seam_weight(int row, int col, int size, int fade) {
 
 namespace {
 
-// One patch on its way to the raster.
+// One patch on its way to the raster: the linear surface from a wide window (so that the
+// triangles at the patch's border are those its neighbours see too) and, for cnn, the network's
+// inputs and result on its own 96-texel window.
 struct PatchJob {
     dataset::CellKey cell;
-    recon::PatchPoints points;
+    recon::PatchPoints wide;
+    recon::PatchGeometry geometry;  // of `wide`
+    recon::Image height, rgb;       // linear, wide window, normalised heights
+    recon::PatchPoints points;      // the network's window
     recon::InterpolatedPatch inputs;
-    recon::Reconstruction network;  // cnn only
+    recon::Reconstruction network;
+
+    bool ok() const { return wide.status == recon::PatchStatus::Ok; }
+    bool has_network_inputs() const { return points.status == recon::PatchStatus::Ok; }
 };
 
 // At least half of the chunk points have a colour other than black (as eval decides).
@@ -63,19 +71,21 @@ public:
         : grid_(grid), options_(options), outputs_(outputs) {}
 
     void write(const PatchJob& job) const {
-        const int n = kOverviewPatchTexels, pad = job.points.spec.pad_texels;
-        const recon::Image linear = recon::crop_centre(job.inputs.height_linear, n);
+        const int n = kOverviewPatchTexels;
         const std::size_t texels = static_cast<std::size_t>(n) * n;
         std::vector<float> heights(texels, options_.nodata);
         std::vector<std::uint8_t> rgba(4 * texels, 0);
+        const bool network = options_.network && job.has_network_inputs();
         for (int row = 0; row < n; ++row) {
             for (int col = 0; col < n; ++col) {
-                if (job.inputs.face_map.at(row + pad, col + pad) < 0) continue;  // outside the chunk points' hull
+                const int wr = row + job.wide.spec.pad_texels, wc = col + job.wide.spec.pad_texels;
+                if (job.geometry.face_map.at(wr, wc) < 0) continue;  // outside the chunk points' hull
                 const std::size_t t = static_cast<std::size_t>(row) * n + col;
-                float h = linear.at(row, col);
-                if (options_.network) h += (job.network.height.at(row, col) - h) * seam_weight(row, col, n, kSeamFadeTexels);
-                heights[t] = static_cast<float>(job.points.to_metres(h) / outputs_.z_to_metres);
-                if (outputs_.rgb) colour(job, row, col, rgba, t, texels);
+                const float w = network ? seam_weight(row, col, n, kSeamFadeTexels) : 0.0f;
+                double h = job.wide.to_metres(job.height.at(wr, wc));
+                if (network) h += correction(job, row, col) * w;
+                heights[t] = static_cast<float>(h / outputs_.z_to_metres);
+                if (outputs_.rgb) colour(job, row, col, w, network, rgba, t, texels);
             }
         }
         write_block(*outputs_.heights, grid_, 1, job.cell.ix, job.cell.iy, std::span<const float>(heights));
@@ -87,13 +97,22 @@ public:
     }
 
 private:
-    void colour(const PatchJob& job, int row, int col, std::vector<std::uint8_t>& rgba, std::size_t t,
-                std::size_t texels) const {
+    // The network's change to its own linear input, in metres.
+    static double correction(const PatchJob& job, int row, int col) {
         const int pad = job.points.spec.pad_texels;
-        const float w = options_.network ? seam_weight(row, col, kOverviewPatchTexels, kSeamFadeTexels) : 0.0f;
+        const double linear = job.inputs.height_linear.at(row + pad, col + pad);
+        return job.points.to_metres(job.network.height.at(row, col)) - job.points.to_metres(linear);
+    }
+
+    void colour(const PatchJob& job, int row, int col, float w, bool network, std::vector<std::uint8_t>& rgba,
+                std::size_t t, std::size_t texels) const {
+        const int wr = row + job.wide.spec.pad_texels, wc = col + job.wide.spec.pad_texels;
+        const int pad = job.points.spec.pad_texels;
         for (int c = 0; c < 3; ++c) {
-            float v = job.inputs.rgb_linear.at(row + pad, col + pad, c);
-            if (options_.network && !job.network.rgb.empty()) v += (job.network.rgb.at(row, col, c) - v) * w;
+            float v = job.rgb.at(wr, wc, c);
+            if (network && !job.network.rgb.empty()) {
+                v += (job.network.rgb.at(row, col, c) - job.inputs.rgb_linear.at(row + pad, col + pad, c)) * w;
+            }
             if (std::isnan(v)) return;
             rgba[c * texels + t] = static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
         }
@@ -105,11 +124,36 @@ private:
     const DemOutputs& outputs_;
 };
 
-void prepare(PatchJob& job, const dataset::PatchGrid& grid, const recon::PatchOptions& patch, const ClassFilter& classes) {
-    std::vector<dataset::OverviewPoint> window = grid.window(job.cell, patch.spec.pad_m());
-    std::erase_if(window, [&](const dataset::OverviewPoint& p) { return !classes.keep[p.classification]; });
-    job.points = recon::make_patch_points(window, grid.cell_min_x(job.cell), grid.cell_min_y(job.cell), patch);
-    if (job.points.status == recon::PatchStatus::Ok) job.inputs = recon::interpolate_patch(job.points);
+// The wide window's linear surface and, for the network, its inputs.
+struct PatchSpecs {
+    recon::PatchOptions wide, network;
+};
+
+void prepare(PatchJob& job, const dataset::PatchGrid& grid, const PatchSpecs& specs, const OverviewDemOptions& options) {
+    std::vector<dataset::OverviewPoint> window = grid.window(job.cell, specs.wide.spec.pad_m());
+    std::erase_if(window, [&](const dataset::OverviewPoint& p) { return !options.classes.keep[p.classification]; });
+    const double x0 = grid.cell_min_x(job.cell), y0 = grid.cell_min_y(job.cell);
+    job.wide = recon::make_patch_points(window, x0, y0, specs.wide);
+    if (!job.ok()) return;
+    job.geometry = recon::build_geometry(job.wide);
+    job.height = recon::linear_image(job.geometry, recon::height_values(job.wide));
+    job.rgb = recon::linear_image(job.geometry, recon::colour_values(job.wide));
+    if (!options.network) return;
+    job.points = recon::make_patch_points(window, x0, y0, specs.network);  // points beyond its window are ignored
+    if (job.has_network_inputs()) job.inputs = recon::interpolate_patch(job.points);
+}
+
+void run_network(const nn::HeightmapNetwork& network, std::vector<PatchJob>& jobs, bool has_rgb) {
+    std::vector<const recon::InterpolatedPatch*> batch;
+    std::vector<PatchJob*> owners;
+    for (auto& j : jobs) {
+        if (!j.has_network_inputs()) continue;
+        batch.push_back(&j.inputs);
+        owners.push_back(&j);
+    }
+    if (batch.empty()) return;
+    auto results = network.infer(batch, has_rgb, kOverviewPatchTexels);
+    for (std::size_t i = 0; i < owners.size(); ++i) owners[i]->network = std::move(results.at(i));
 }
 
 }  // namespace
@@ -117,14 +161,16 @@ void prepare(PatchJob& job, const dataset::PatchGrid& grid, const recon::PatchOp
 OverviewDemStats grid_overview_dem(const dataset::Dataset& ds, const DemGrid& grid, const OverviewDemOptions& options,
                                    const DemOutputs& outputs, ThreadPool& pool) {
     if (grid.block != kOverviewPatchTexels) throw Error::in_stage("dem", "overview blocks must be 64 texels (internal error)");
-    const recon::PatchSpec spec{grid.texel_m, kOverviewPatchTexels, 16};
+    const recon::PatchSpec spec{grid.texel_m, kOverviewPatchTexels, kLinearPadTexels};
     dataset::PatchGrid points(grid.origin_x, grid.origin_y, spec.patch_m());
     dataset::ChunkPointLoader loader(ds, points);
     loader.start();
     loader.wait();
     OverviewDemStats stats;
     stats.chunk_points = loader.loaded();
-    const recon::PatchOptions patch{spec, options.min_points, grid_has_rgb(points)};
+    const bool has_rgb = grid_has_rgb(points);
+    const PatchSpecs specs{{spec, options.min_points, has_rgb},
+                           {{grid.texel_m, kOverviewPatchTexels, 16}, options.min_points, has_rgb}};
     std::unique_ptr<nn::HeightmapNetwork> network;
     if (options.network) {
         const std::string path = options.model.empty() ? nn::default_model_path() : options.model;
@@ -137,15 +183,10 @@ OverviewDemStats grid_overview_dem(const dataset::Dataset& ds, const DemGrid& gr
         std::vector<PatchJob> jobs(std::min(group, cells.size() - first));
         pool.for_each(jobs.size(), [&](std::size_t i) {
             jobs[i].cell = cells[first + i];
-            prepare(jobs[i], points, patch, options.classes);
+            prepare(jobs[i], points, specs, options);
         });
-        std::erase_if(jobs, [&](const PatchJob& j) { return j.points.status != recon::PatchStatus::Ok; });
-        if (network && !jobs.empty()) {
-            std::vector<const recon::InterpolatedPatch*> batch;
-            for (const auto& j : jobs) batch.push_back(&j.inputs);
-            auto results = network->infer(batch, patch.has_rgb, kOverviewPatchTexels);
-            for (std::size_t i = 0; i < jobs.size(); ++i) jobs[i].network = std::move(results.at(i));
-        }
+        std::erase_if(jobs, [&](const PatchJob& j) { return !j.ok(); });
+        if (network) run_network(*network, jobs, has_rgb);
         for (const auto& j : jobs) writer.write(j);
         stats.patches_written += jobs.size();
         if (options.progress) options.progress(std::min(first + group, cells.size()), cells.size());

@@ -1,13 +1,15 @@
 // DEMs from the overview alone (`lidarscout dem --from overview`): the chunk points of every
 // tile (one small read each, no decompression) are binned into a patch grid on the DEM's
-// lattice, then every 64 x 64-texel patch with enough chunk points in its 96 x 96 window is
+// lattice, then every 64 x 64-texel patch with enough chunk points in its window is
 // reconstructed — in parallel, a group of patches at a time, so memory stays bounded — by:
-//   linear  barycentric interpolation in the Delaunay triangles of the chunk points; a texel
-//           depends only on the triangle that holds it, and neighbouring windows share those
-//           triangles, so patches join without seams;
-//   cnn     the heightmap network (nn/), run in batches; its difference to the linear surface
-//           is faded out over the 8 texels next to a patch border, so patches join on the
-//           (seamless) linear surface.
+//   linear  barycentric interpolation in the Delaunay triangles of the chunk points of a wide
+//           window (the patch and 64 texels around it): a texel depends only on the triangle
+//           that holds it, and with that margin neighbouring patches see the same triangles at
+//           their common border (with the network's 16-texel padding they do not where chunk
+//           points are sparse, and seams show), so patches join without seams;
+//   cnn     the heightmap network (nn/) on its 96 x 96 window, run in batches; its change to
+//           its own linear input is added to the wide linear surface, faded out over the 8
+//           texels next to a patch border, so patches join on the (seamless) linear surface.
 // Texels outside every real triangle (beyond the hull of the chunk points) are nodata: the
 // overview says nothing there. Colour (the orthophoto) comes from the same method.
 #pragma once
@@ -23,6 +25,7 @@ namespace lidarscout::raster {
 
 inline constexpr int kOverviewPatchTexels = 64;  // the network's patch
 inline constexpr int kSeamFadeTexels = 8;
+inline constexpr int kLinearPadTexels = 64;
 
 struct OverviewDemOptions {
     bool network = false;  // cnn instead of linear

@@ -18,7 +18,9 @@ TEST(CursorReadout, GroundUnderPixelInvertsProject) {
         EXPECT_NEAR((*g)[0], gx, 0.05);
         EXPECT_NEAR((*g)[1], gy, 0.05);
     }
-    EXPECT_FALSE(ground_under_pixel(cam, 400, 0, 120.0));  // the top row of a view 50 degrees down with a 60 degree fov: sky
+    const render::Camera level = render::parse_camera("1000,2000,500,30,-20", 800, 600, 60);
+    EXPECT_FALSE(ground_under_pixel(level, 400, 0, 120.0));  // 20 degrees down with a 60 degree fov: the top row is sky
+    EXPECT_TRUE(ground_under_pixel(level, 400, 599, 120.0));
 }
 
 TEST(CursorReadout, LonLatWhereTheCrsIsKnown) {
