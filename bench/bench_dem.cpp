@@ -7,6 +7,7 @@
 // how the two rasters compare: texels where both have a value, and how many agree within
 // float rounding (they differ where points fall in a texel's corners, outside the circle).
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -30,6 +31,13 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// User + system CPU seconds of this process (RUSAGE_SELF) or of its finished children.
+double cpu_seconds(int who) {
+    rusage u{};
+    getrusage(who, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 double median(std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -109,17 +117,21 @@ int main(int argc, char** argv) {
     }
     std::vector<double> seconds;
     raster::DemResult result;
+    const double cpu0 = cpu_seconds(RUSAGE_SELF);
     for (int k = 0; k < runs; ++k) {
         const auto t0 = Clock::now();
         result = raster::make_dem(ds, r);
         seconds.push_back(seconds_since(t0));
     }
     const double ours = median(seconds);
+    const double ours_cpu = (cpu_seconds(RUSAGE_SELF) - cpu0) / std::max(1, runs);
     std::printf("dem %s (%s): %zu tiles, %llu points, %d x %d texels of %g m, %u threads\n",
                 overview.empty() ? "full" : "overview", std::string(raster::dem_method_name(r.method)).c_str(),
                 ds.tiles.size(), (unsigned long long)ds.point_count, result.grid.width, result.grid.height, texel, threads);
-    std::printf("  median of %d: %.3f s (last run: gridding %.3f s, COG %.3f s), %.1f M points/s, peak %zu blocks\n", runs,
-                ours, result.seconds_grid, result.seconds_cog, ds.point_count / ours / 1e6, result.peak_blocks);
+    std::printf("  median of %d: %.3f s (last run: gridding %.3f s, COG %.3f s), %.1f M points/s, peak %zu blocks, "
+                "%.2f CPU s per run\n", runs, ours, result.seconds_grid, result.seconds_cog, ds.point_count / ours / 1e6,
+                result.peak_blocks, ours_cpu);
+    std::fflush(stdout);
     if (gdal_grid) {
         const std::string vrt = write_points_csv(ds, dir);
         const auto& g = result.grid;
@@ -131,8 +143,9 @@ int main(int argc, char** argv) {
             0.5 * texel / f, g.origin_x / f, (g.origin_x + g.width * texel) / f, (g.origin_y + g.height * texel) / f,
             g.origin_y / f, g.width, g.height, vrt, out);
         const auto t0 = Clock::now();
+        const double child0 = cpu_seconds(RUSAGE_CHILDREN);
         const int status = std::system(cmd.c_str());
-        const double theirs = seconds_since(t0);
+        const double theirs = seconds_since(t0), theirs_cpu = cpu_seconds(RUSAGE_CHILDREN) - child0;
         if (status != 0) {
             std::fprintf(stderr, "gdal_grid failed (%d): %s\n", status, cmd.c_str());
             return 1;
@@ -148,8 +161,8 @@ int main(int argc, char** argv) {
             ++both;
             equal += std::abs(a.values[i] - b.values[i]) <= 1e-6f * std::max(1.0f, std::abs(a.values[i]));
         }
-        std::printf("gdal_grid -a average (radius %.3f): %.1f s, %.1fx slower than ours\n", 0.5 * texel / f, theirs,
-                    theirs / ours);
+        std::printf("gdal_grid -a average (radius %.3f): %.1f s, %.1fx slower than ours; %.1f CPU s, %.1fx ours\n",
+                    0.5 * texel / f, theirs, theirs / ours, theirs_cpu, theirs_cpu / ours_cpu);
         std::printf("  texels with a value in both: %zu, equal within float rounding: %zu (%.1f%%); only ours: %zu, "
                     "only gdal_grid: %zu\n", both, equal, both ? 100.0 * equal / both : 0.0, only_ours, only_theirs);
     }

@@ -2,6 +2,7 @@
 // with its orthophoto and hillshade, JSON output; bad options are one-line errors (exit 1).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "png_test_util.hpp"
@@ -42,6 +43,24 @@ TEST_F(DemCommand, KentuckyDemOrthophotoAndHillshade) {
     const auto png = test::read_png(path("ky.png"));
     EXPECT_EQ(png.width, j.at("width").get<int>());
     EXPECT_FALSE(fs::exists(path("ky.png") + ".aux.xml"));
+}
+
+// --crs: the DEM is written in the CRS asked for (UTM 17N, metres), from the overview here.
+TEST_F(DemCommand, WrittenInTheCrsAskedFor) {
+    std::string out;
+    const std::string cmd = std::string(LIDARSCOUT_CLI) + " dem " + ky() + " -o " + path("utm.tif") +
+                            " --texel 5 --from overview --crs EPSG:32617 --json 2>/dev/null";
+    ASSERT_EQ(test::run_command(cmd, out), 0);
+    const auto dem = test::read_raster(path("utm.tif"));
+    EXPECT_EQ(dem.epsg, 32617);
+    EXPECT_DOUBLE_EQ(dem.transform[1], 5.0);
+    EXPECT_GT(dem.transform[0], 200'000.0);
+    EXPECT_LT(dem.transform[0], 800'000.0);
+    const auto valid = std::count_if(dem.values.begin(), dem.values.end(), [](float v) { return v != -9999.0f; });
+    EXPECT_GT(valid, 1000);
+    const float top = *std::max_element(dem.values.begin(), dem.values.end());
+    EXPECT_GT(top, 150.0f);  // heights now in metres (the Red River Gorge: ~200-400 m)
+    EXPECT_LT(top, 600.0f);
 }
 
 TEST_F(DemCommand, BadOptionsAreOneLineErrors) {
