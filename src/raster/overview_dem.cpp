@@ -29,8 +29,9 @@ namespace {
 struct PatchJob {
     dataset::CellKey cell;
     recon::PatchPoints wide;
-    recon::PatchGeometry geometry;  // of `wide`
-    recon::Image height, rgb;       // linear, wide window, normalised heights
+    recon::Triangulation triangulation;  // of `wide`
+    recon::FaceMap face_map;
+    recon::Image height, rgb;  // linear inside the real triangles (NaN outside), normalised heights
     recon::PatchPoints points;      // the network's window
     recon::InterpolatedPatch inputs;
     recon::Reconstruction network;
@@ -79,7 +80,7 @@ public:
         for (int row = 0; row < n; ++row) {
             for (int col = 0; col < n; ++col) {
                 const int wr = row + job.wide.spec.pad_texels, wc = col + job.wide.spec.pad_texels;
-                if (job.geometry.face_map.at(wr, wc) < 0) continue;  // outside the chunk points' hull
+                if (job.face_map.at(wr, wc) < 0) continue;  // outside the chunk points' hull
                 const std::size_t t = static_cast<std::size_t>(row) * n + col;
                 const float w = network ? seam_weight(row, col, n, kSeamFadeTexels) : 0.0f;
                 double h = job.wide.to_metres(job.height.at(wr, wc));
@@ -135,9 +136,14 @@ void prepare(PatchJob& job, const dataset::PatchGrid& grid, const PatchSpecs& sp
     const double x0 = grid.cell_min_x(job.cell), y0 = grid.cell_min_y(job.cell);
     job.wide = recon::make_patch_points(window, x0, y0, specs.wide);
     if (!job.ok()) return;
-    job.geometry = recon::build_geometry(job.wide);
-    job.height = recon::linear_image(job.geometry, recon::height_values(job.wide));
-    job.rgb = recon::linear_image(job.geometry, recon::colour_values(job.wide));
+    // Only the texels inside real triangles are kept, so no nearest-point map (most of the work
+    // of recon's linear method) is needed.
+    job.triangulation = recon::triangulate(job.wide);
+    job.face_map = recon::build_face_map(job.triangulation, job.wide.size());
+    job.height = recon::Image(job.wide.size(), 1);
+    job.rgb = recon::Image(job.wide.size(), 3);
+    recon::fill_linear(job.height, job.triangulation, job.face_map, recon::height_values(job.wide));
+    recon::fill_linear(job.rgb, job.triangulation, job.face_map, recon::colour_values(job.wide));
     if (!options.network) return;
     job.points = recon::make_patch_points(window, x0, y0, specs.network);  // points beyond its window are ignored
     if (job.has_network_inputs()) job.inputs = recon::interpolate_patch(job.points);
