@@ -35,10 +35,6 @@ double Bounds::distance_xy(double x, double y) const {
     return std::hypot(dx, dy);
 }
 
-void DatasetTile::place(double& x, double& y, double& z) const {
-    place(std::span<double>(&x, 1), std::span<double>(&y, 1), std::span<double>(&z, 1));
-}
-
 void DatasetTile::place(std::span<double> x, std::span<double> y, std::span<double> z) const {
     double xy = xy_to_metres;
     if (to_frame) {

@@ -51,7 +51,10 @@ struct DatasetTile {
 
     // A point's coordinates as stored (x, y, z of las::Point) -> metres of the dataset's frame.
     // Throws Error (stage "geo") when a reprojected point lies outside the CRSs' area.
-    void place(double& x, double& y, double& z) const;
+    void place(double& x, double& y, double& z) const {
+        if (to_frame) return place(std::span<double>(&x, 1), std::span<double>(&y, 1), std::span<double>(&z, 1));
+        x *= xy_to_metres, y *= xy_to_metres, z *= z_to_metres;  // the common case, inline (per point)
+    }
     void place(std::span<double> x, std::span<double> y, std::span<double> z) const;
 };
 
