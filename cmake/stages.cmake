@@ -7,7 +7,8 @@
 # only itself and the stages it depends on (directly or through them), as symbolic links
 # under build/stage_views/NAME/. So `#include "viewer/..."` in las/ fails to compile: viewer
 # is not in las's view. A stage may only depend on stages declared before it, which keeps the
-# order (core, net, io, las, laz, dataset, recon, nn, pipelines, render, viewer, synth, cli).
+# order (core, net, io, las, geo, laz, dataset, recon, nn, pipelines, raster, render, viewer, synth,
+# cli).
 
 set_property(GLOBAL PROPERTY LIDARSCOUT_STAGES "")  # stages declared so far, in layer order
 

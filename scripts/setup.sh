@@ -14,6 +14,8 @@ PACKAGES=(
   liburing-dev libcurl4-openssl-dev libssl-dev libstb-dev libgdal-dev
   # tests of remote datasets: a local HTTP(S) server on loopback, a self-signed certificate
   nginx openssl
+  # GIS: PROJ (reprojection, lon/lat), gdal-bin (gdalinfo / gdal_grid in tests and benchmarks)
+  libproj-dev gdal-bin
   # neural network inference (LibTorch) with the fast OpenMP OpenBLAS
   libtorch-dev libopenblas0-openmp
   # viewer: window, GUI, OpenGL loader; Xvfb for headless tests of the window

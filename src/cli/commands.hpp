@@ -20,6 +20,8 @@ void register_scan_command(CLI::App& app, std::function<int()>& run);
 void register_eval_command(CLI::App& app, std::function<int()>& run);
 // Registers `train-data`.
 void register_train_data_command(CLI::App& app, std::function<int()>& run);
+// Registers `dem` (DEM and orthophoto as Cloud-Optimized GeoTIFF).
+void register_dem_command(CLI::App& app, std::function<int()>& run);
 // Registers `render` (headless rendering of a dataset to a PNG).
 void register_render_command(CLI::App& app, std::function<int()>& run);
 // Registers `view` (the interactive viewer).

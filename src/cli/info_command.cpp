@@ -134,6 +134,9 @@ void print_text(const FileReport& r, bool chunks) {
     for (const auto& w : t.warnings) std::printf("  warning: %s\n", display_text(w).c_str());
     std::printf("  CRS: %s\n", display_text(crs_text(t.crs)).c_str());
     for (const auto& w : t.crs.warnings) std::printf("  CRS warning: %s\n", display_text(w).c_str());
+    if (const auto ll = tile_lonlat_bounds(t)) {
+        std::printf("  lon/lat: %.6f .. %.6f, %.6f .. %.6f (WGS 84)\n", ll->west, ll->east, ll->south, ll->north);
+    }
     for (const auto* list : {&t.vlrs, &t.evlrs}) {
         for (const auto& v : *list) {
             std::printf("  %s '%s' %u: %s bytes%s%s\n", v.extended ? "EVLR" : "VLR", display_text(v.user_id).c_str(),

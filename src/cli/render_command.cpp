@@ -49,6 +49,7 @@ struct RenderCliOptions {
     std::string colour = "rgb";
     std::string heightmaps = "linear";
     std::string model;
+    std::string crs;
     int point_size = 1;
     int chunk_point_size = 2;
     float edl = 0;
@@ -126,7 +127,9 @@ RenderPlan make_plan(const RenderCliOptions& o) {
 
 dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
     const auto t0 = Clock::now();
-    auto ds = open_with_progress(o.paths, {});
+    dataset::DatasetOptions dataset_options;
+    dataset_options.crs = o.crs;
+    auto ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     if (ds.tiles.empty()) throw Error::in_stage("render", "no readable LAS/LAZ tiles in the given paths");
     report.tiles = ds.tiles.size();
@@ -316,6 +319,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
                     "every tile in view that fits under --memory; default)");
     cmd->add_option("--colour,--color", o->colour, "rgb (default), elevation, intensity or classification");
     cmd->add_option("--heightmaps", o->heightmaps, "Heightmap method: linear (default) or cnn (the network)");
+    cmd->add_option("--crs", o->crs, "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");
     cmd->add_option("--min-points", o->min_points,
                     "Chunk points a patch's 960 m window needs for a heightmap (default 6)")

@@ -3,7 +3,9 @@
 
 #include <cmath>
 
+#include "core/error.hpp"
 #include "core/text.hpp"
+#include "geo/crs_definition.hpp"
 
 namespace lidarscout::cli {
 namespace {
@@ -11,6 +13,11 @@ namespace {
 using nlohmann::json;
 
 json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+json lonlat_json(const std::optional<geo::LonLatBounds>& b) {
+    if (!b) return nullptr;
+    return {{"west", b->west}, {"south", b->south}, {"east", b->east}, {"north", b->north}};
+}
 
 json vec3(const std::array<double, 3>& a) { return json::array({number_or_null(a[0]), number_or_null(a[1]), number_or_null(a[2])}); }
 
@@ -97,6 +104,7 @@ json tile_to_json(const dataset::Tile& t) {
             {"vlrs", vlrs_json(t.vlrs)},
             {"evlrs", vlrs_json(t.evlrs)},
             {"crs", crs_json(t.crs)},
+            {"lonlat_bounds", lonlat_json(tile_lonlat_bounds(t))},
             {"laz", laz_json(t)},
             {"copc", copc_json(t)},
             {"warnings", t.warnings},
@@ -131,9 +139,20 @@ json chunk_points_to_json(const std::vector<dataset::ChunkPoint>& points, const 
     return out;
 }
 
+std::optional<geo::LonLatBounds> tile_lonlat_bounds(const dataset::Tile& tile) {
+    const std::string def = geo::crs_definition(tile.crs);
+    if (def.empty() || tile.header.point_count == 0) return std::nullopt;
+    const auto& h = tile.header;
+    try {
+        return geo::lonlat_bounds(def, h.min[0], h.min[1], h.max[0], h.max[1]);
+    } catch (const Error&) {
+        return std::nullopt;  // a CRS PROJ does not know: the file's CRS report says what it is
+    }
+}
+
 json failed_tile_json(const std::string& path, const std::string& error) {
     json j = {{"path", display_text(path)}, {"error", display_text(error)}};
-    for (const char* k : {"version", "point_format", "record_length", "point_count", "scale", "offset", "bounds", "crs", "laz",
+    for (const char* k : {"version", "point_format", "record_length", "point_count", "scale", "offset", "bounds", "crs", "lonlat_bounds", "laz",
                           "copc"}) {
         j[k] = nullptr;
     }

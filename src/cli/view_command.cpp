@@ -25,6 +25,7 @@ struct ViewCliOptions {
     std::string size = "1280x720";
     std::string memory;
     std::string model;
+    std::string crs;
     bool no_cnn = false;
     double demo_km = 2.0;
     double demo_density = 4.0;
@@ -87,6 +88,7 @@ int run_view(const ViewCliOptions& o) {
     v.memory_budget = o.memory.empty() ? 0 : parse_bytes(o.memory);
     v.cnn = !o.no_cnn;
     v.model = o.model;
+    v.crs = o.crs;
     v.screenshot = o.screenshot;
     v.window_screenshot = o.window_screenshot;
     v.quit_after = o.quit_after;
@@ -108,6 +110,7 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--memory", o->memory, "Memory budget, e.g. 4G (default: a quarter of the RAM)");
     cmd->add_option("--model", o->model, "Heightmap network (default: models/heightmap_cnn.pt; none: linear only)");
+    cmd->add_option("--crs", o->crs, "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_flag("--no-cnn", o->no_cnn, "Linear heightmaps only, no network");
     cmd->add_option("--demo-km", o->demo_km, "Side of the demo landscape in km (default 2)")->check(CLI::Range(0.5, 20.0));
     cmd->add_option("--demo-density", o->demo_density, "Points per m2 of the demo (default 4)")->check(CLI::Range(0.5, 50.0));

@@ -173,8 +173,14 @@ private:
             fail(tile.tile.path, offset, "chunk point lies outside the header bounds (corrupt chunk table?); not drawn");
             return std::nullopt;
         }
-        return PendingPoint{p.x * tile.xy_to_metres, p.y * tile.xy_to_metres, p.z * tile.z_to_metres,
-                            p.rgb[0], p.rgb[1], p.rgb[2], p.intensity, p.classification};
+        double x = p.x, y = p.y, z = p.z;
+        try {
+            tile.place(x, y, z);
+        } catch (const Error& e) {
+            fail(tile.tile.path, offset, e.cause());
+            return std::nullopt;
+        }
+        return PendingPoint{x, y, z, p.rgb[0], p.rgb[1], p.rgb[2], p.intensity, p.classification};
     }
 
     void fail(const std::string& path, std::uint64_t offset, const std::string& cause) {

@@ -16,6 +16,8 @@
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
 #include "dataset/virtual_replica.hpp"
+#include "geo/crs_definition.hpp"
+#include "geo/projection.hpp"
 #include "io/file.hpp"
 
 namespace lidarscout::dataset {
@@ -35,9 +37,22 @@ double Bounds::distance_xy(double x, double y) const {
     return std::hypot(dx, dy);
 }
 
+void DatasetTile::place(std::span<double> x, std::span<double> y, std::span<double> z) const {
+    double xy = xy_to_metres;
+    if (to_frame) {
+        to_frame->apply(x, y, {});  // z stays in the tile's vertical unit
+        xy = frame_xy_to_metres;
+    }
+    for (double& v : x) v *= xy;
+    for (double& v : y) v *= xy;
+    for (double& v : z) v *= z_to_metres;
+}
+
 namespace {
 
 bool usable_factor(double f) { return std::isfinite(f) && f > 0; }
+
+std::string shorten(const std::string& s) { return s.size() > 60 ? s.substr(0, 57) + "..." : s; }
 
 // A short name for the tile's CRS, used to detect datasets that mix CRSs.
 std::string crs_key(const las::Crs& crs) {
@@ -113,7 +128,7 @@ void add_crs_warnings(Dataset& ds) {
             list += (list.empty() ? "" : ", ") + name + " (" + std::to_string(n) + " tiles)";
         }
         ds.warnings.push_back("tiles use different coordinate reference systems: " + list +
-                              "; they are shown together without reprojection");
+                              "; they are reprojected to " + shorten(ds.frame.crs));
     }
 }
 
@@ -128,6 +143,64 @@ ThreadPool& header_pool(unsigned threads) {
     auto& pool = pools[threads];
     if (!pool) pool = std::make_unique<ThreadPool>(threads);
     return *pool;
+}
+
+// The frame: the CRS asked for, else the one most tiles use (the first such tile's).
+void choose_frame(Dataset& ds, const std::string& wanted) {
+    if (!wanted.empty()) {
+        const geo::CrsInfo info = geo::crs_info(wanted);
+        if (info.geographic) throw Error::in_stage("dataset", "the CRS " + shorten(wanted) + " is geographic; patches need metres");
+        ds.frame = {wanted, info.xy_to_metres, info.z_to_metres};
+        return;
+    }
+    std::map<std::string, std::size_t> count;
+    std::string best;
+    std::size_t best_count = 0;
+    for (const auto& t : ds.tiles) {
+        const std::string key = crs_key(t.tile.crs);
+        if (key.empty()) continue;
+        if (++count[key] > best_count) best_count = count[key], best = key;
+    }
+    for (const auto& t : ds.tiles) {
+        if (!best.empty() && crs_key(t.tile.crs) == best) {
+            ds.frame = {geo::crs_definition(t.tile.crs), t.xy_to_metres, t.z_to_metres};
+            return;
+        }
+    }
+}
+
+// Points the tile at the frame when its CRS differs (transforms shared per source CRS) and
+// moves its bounds there. Throws Error when PROJ cannot.
+void reproject(DatasetTile& t, const Frame& frame, std::map<std::string, std::shared_ptr<const geo::CrsTransform>>& cache) {
+    const std::string def = geo::crs_definition(t.tile.crs);
+    if (def.empty() || frame.crs.empty() || def == frame.crs) return;
+    auto& transform = cache[def];
+    if (!transform) transform = std::make_shared<const geo::CrsTransform>(def, frame.crs);
+    t.to_frame = transform;
+    t.frame_xy_to_metres = frame.xy_to_metres;
+    const auto& h = t.tile.header;
+    double x0 = h.min[0], y0 = h.min[1], x1 = h.max[0], y1 = h.max[1];
+    transform->apply_bounds(x0, y0, x1, y1);
+    t.bounds_m.min_x = x0 * frame.xy_to_metres;
+    t.bounds_m.min_y = y0 * frame.xy_to_metres;
+    t.bounds_m.max_x = x1 * frame.xy_to_metres;
+    t.bounds_m.max_y = y1 * frame.xy_to_metres;
+}
+
+// Reprojects the tiles not in the frame's CRS; a tile PROJ cannot place is skipped.
+void place_tiles(Dataset& ds, const DatasetOptions& options) {
+    choose_frame(ds, options.crs);
+    std::map<std::string, std::shared_ptr<const geo::CrsTransform>> cache;
+    std::vector<DatasetTile> kept;
+    for (auto& t : ds.tiles) {
+        try {
+            reproject(t, ds.frame, cache);
+            kept.push_back(std::move(t));
+        } catch (const Error& e) {
+            ds.skipped.push_back({t.tile.path, t.tile.path + ": " + e.what()});
+        }
+    }
+    ds.tiles = std::move(kept);
 }
 
 void summarise(Dataset& ds) {
@@ -187,6 +260,7 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
             ds.skipped.push_back({io::display_path(sources[i].path), errors[i]});
         }
     }
+    place_tiles(ds, options);
     summarise(ds);
     return ds;
 }

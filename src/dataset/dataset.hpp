@@ -7,11 +7,17 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "dataset/tile.hpp"
+
+namespace lidarscout::geo {
+class CrsTransform;
+}
 
 namespace lidarscout::dataset {
 
@@ -36,8 +42,30 @@ struct DatasetTile {
     Tile tile;
     double xy_to_metres = 1.0;  // file units -> metres, horizontal
     double z_to_metres = 1.0;   // file units -> metres, vertical
-    Bounds bounds_m;            // the header's bounds, in metres
+    Bounds bounds_m;            // the header's bounds, in metres (of the dataset's frame)
     std::uint64_t chunk_points = 0;
+    // Set when the tile's CRS is not the dataset's: file units -> the frame CRS's units (x, y;
+    // z is left to z_to_metres), then frame_xy_to_metres.
+    std::shared_ptr<const geo::CrsTransform> to_frame;
+    double frame_xy_to_metres = 1.0;
+
+    // A point's coordinates as stored (x, y, z of las::Point) -> metres of the dataset's frame.
+    // Throws Error (stage "geo") when a reprojected point lies outside the CRSs' area.
+    void place(double& x, double& y, double& z) const {
+        if (to_frame) return place(std::span<double>(&x, 1), std::span<double>(&y, 1), std::span<double>(&z, 1));
+        x *= xy_to_metres, y *= xy_to_metres, z *= z_to_metres;  // the common case, inline (per point)
+    }
+    void place(std::span<double> x, std::span<double> y, std::span<double> z) const;
+};
+
+// The CRS the dataset's metres are in: the tiles' CRS (the majority's when they differ, or the
+// one asked for) and its native units, so that outputs (DEMs) can be written in that CRS's own
+// units. Tiles in another CRS are reprojected into it with PROJ (DatasetTile::to_frame); tiles
+// without a CRS are taken to be in it.
+struct Frame {
+    std::string crs;            // definition for PROJ/GDAL (geo/crs_definition.hpp); "" when unknown
+    double xy_to_metres = 1.0;  // native horizontal unit -> metres
+    double z_to_metres = 1.0;   // native vertical unit -> metres
 };
 
 struct SkippedFile {
@@ -50,6 +78,7 @@ struct Dataset {
     std::vector<SkippedFile> skipped;
     std::vector<std::string> warnings;
     Bounds bounds_m;
+    Frame frame;
     std::uint64_t point_count = 0;
     std::uint64_t chunk_point_count = 0;
     std::uint64_t las_stride = 50'000;  // chunk-point stride used for uncompressed LAS tiles
@@ -58,6 +87,7 @@ struct Dataset {
 struct DatasetOptions {
     unsigned io_threads = 16;  // header reads in flight (I/O bound: more than the cores)
     std::uint64_t las_stride = 50'000;  // chunk-point stride for uncompressed LAS tiles
+    std::string crs;  // the frame's CRS ("EPSG:32632", WKT); empty: the CRS most tiles use
     // Called from reader threads as files finish: (files done, files total).
     std::function<void(std::size_t, std::size_t)> progress;
 };

@@ -28,6 +28,9 @@ public:
     void copy_from(const File& source, std::uint64_t offset, std::uint64_t length);
     std::uint64_t size() const noexcept { return size_; }
     const std::string& target() const noexcept { return target_; }
+    // The temporary file's name, for writers that write by name (GDAL): what they write there
+    // is what commit() renames.
+    const std::string& temp_path() const noexcept { return temp_; }
 
     // Flushes, syncs and renames the temporary file to the target.
     void commit();

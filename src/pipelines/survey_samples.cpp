@@ -11,9 +11,8 @@
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/point_reader.hpp"
+#include "dataset/point_stream.hpp"
 #include "io/file.hpp"
-#include "las/point_format.hpp"
 
 namespace lidarscout::pipelines {
 
@@ -57,7 +56,9 @@ std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& ds, cons
     std::set<dataset::CellKey> cells;
     for (const auto& t : ds.tiles) {
         for (const auto& cp : dataset::read_chunk_points(io::File::open(t.tile.path), t.tile, ds.las_stride)) {
-            cells.insert(keys.cell_of(cp.point.x * t.xy_to_metres, cp.point.y * t.xy_to_metres));
+            double x = cp.point.x, y = cp.point.y, z = cp.point.z;
+            t.place(x, y, z);
+            cells.insert(keys.cell_of(x, y));
         }
     }
     std::vector<dataset::CellKey> out(cells.begin(), cells.end());
@@ -69,37 +70,12 @@ std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& ds, cons
 
 namespace {
 
-// What one decoded point contributes to every sample.
-struct StreamedPoint {
-    double x, y, z;
-    dataset::Rgb8 rgb;
-    std::uint16_t intensity;
-    std::uint8_t classification;
-};
-
-bool tile_colour_is_16bit(const io::File& file, const dataset::DatasetTile& t, std::uint64_t las_stride) {
-    const auto samples = dataset::read_chunk_points(file, t.tile, las_stride);
-    return dataset::colour_is_16bit(samples, [](const dataset::ChunkPoint& c) {
-        return std::max({c.point.rgb[0], c.point.rgb[1], c.point.rgb[2]});
-    });
-}
-
 void stream_tile(const dataset::Dataset& ds, std::uint32_t tile_id, SurveySamples& out, std::uint64_t& coloured,
                  ThreadPool& pool, const std::function<void(std::uint64_t)>& batch_done) {
-    const auto& t = ds.tiles[tile_id];
-    const auto file = io::File::open(t.tile.path);
-    const auto& fmt = las::point_format_info(t.tile.header.point_format);
-    const bool has_rgb = fmt.rgb_offset >= 0;
-    const bool sixteen_bit = has_rgb && tile_colour_is_16bit(file, t, ds.las_stride);
-    const std::size_t record = t.tile.header.record_length;
-    dataset::for_each_record_batch(file, t.tile, pool, [&](std::uint64_t first, std::span<const std::uint8_t> records) {
-        const std::size_t n = records.size() / record;
-        for (std::size_t k = 0; k < n; ++k) {
-            const auto p = las::decode_point(records.subspan(k * record, record), fmt, t.tile.header);
-            const dataset::Rgb8 rgb = dataset::rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
-            coloured += has_rgb && (p.rgb[0] | p.rgb[1] | p.rgb[2]) != 0;
-            const StreamedPoint s{p.x * t.xy_to_metres, p.y * t.xy_to_metres, p.z * t.z_to_metres,
-                                  rgb, p.intensity, p.classification};
+    dataset::for_each_metric_batch(ds, tile_id, pool, [&](std::uint64_t first, std::span<const dataset::MetricPoint> points) {
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            const dataset::MetricPoint& s = points[k];
+            coloured += s.coloured;
             const std::uint64_t index = first + k;
             for (auto& sample : out.samples) {
                 if (index % sample.stride == 0) {
@@ -108,8 +84,8 @@ void stream_tile(const dataset::Dataset& ds, std::uint32_t tile_id, SurveySample
                 sample.truth->add(s.x, s.y, s.z, s.rgb);
             }
         }
-        out.points += n;
-        batch_done(n);
+        out.points += points.size();
+        batch_done(points.size());
     });
 }
 

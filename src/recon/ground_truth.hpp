@@ -2,7 +2,7 @@
 // points that fall into each texel of each patch (NaN where no point falls). Points are fed
 // one at a time as tiles are streamed, so no tile (let alone the dataset) is held in memory.
 // Patches are cells of a lattice of patch_m squares anchored at (origin_x, origin_y), the same
-// lattice as the PatchGrid the chunk points go into.
+// lattice as the PatchGrid the chunk points go into. Points are gridded by texel_stats.hpp.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +11,7 @@
 
 #include "dataset/patch_grid.hpp"
 #include "recon/patch_space.hpp"
+#include "recon/texel_stats.hpp"
 
 namespace lidarscout::recon {
 
@@ -32,17 +33,11 @@ public:
     std::size_t covered_texels(std::size_t i) const;
 
 private:
-    struct Accumulator {
-        double z = 0;
-        std::uint32_t r = 0, g = 0, b = 0;
-        std::uint32_t count = 0;
-    };
-
     PatchSpec spec_;
     double origin_x_, origin_y_;
     std::vector<dataset::CellKey> patches_;
     std::unordered_map<dataset::CellKey, std::size_t, dataset::CellKeyHash> index_;
-    std::vector<std::vector<Accumulator>> texels_;  // per patch, row-major
+    std::vector<std::vector<TexelStats>> texels_;  // per patch, row-major
 };
 
 }  // namespace lidarscout::recon

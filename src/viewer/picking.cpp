@@ -93,14 +93,23 @@ PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& p
     const auto tile = point.tile ? point.tile : tile_at(dataset, point.x, point.y);
     if (!tile || *tile >= dataset.tiles.size()) return r;
     const auto& t = dataset.tiles[*tile];
-    r.x = point.x / t.xy_to_metres, r.y = point.y / t.xy_to_metres, r.z = point.z / t.z_to_metres;
+    r.file = t.tile.path;
+    r.z = point.z / t.z_to_metres;  // heights stay in the file's vertical unit, reprojected or not
+    if (t.to_frame) {  // reprojected into the dataset's CRS: x and y are in that CRS's units
+        r.x = point.x / dataset.frame.xy_to_metres, r.y = point.y / dataset.frame.xy_to_metres;
+        r.horizontal_unit = dataset.frame.xy_to_metres == 1 ? "metre" : std::to_string(dataset.frame.xy_to_metres) + " m";
+        r.vertical_unit = t.tile.crs.vertical_unit_name.empty() ? las::unit_name(t.tile.crs.vertical_unit)
+                                                                : t.tile.crs.vertical_unit_name;
+        r.crs = dataset.frame.crs + " (reprojected)";
+        return r;
+    }
+    r.x = point.x / t.xy_to_metres, r.y = point.y / t.xy_to_metres;
     const auto& crs = t.tile.crs;
     r.horizontal_unit = crs.horizontal_unit_name.empty() ? las::unit_name(crs.horizontal_unit)
                                                          : crs.horizontal_unit_name;
     r.vertical_unit = crs.vertical_unit_name.empty() ? r.horizontal_unit : crs.vertical_unit_name;
     if (crs.epsg) r.crs = "EPSG:" + std::to_string(*crs.epsg);
     else r.crs = crs.name;
-    r.file = t.tile.path;
     return r;
 }
 
@@ -112,6 +121,11 @@ std::string point_summary(const dataset::Dataset& dataset, const PickedPoint& po
                   r.crs.c_str(), point.classification, las::class_name(point.classification).c_str(), point.intensity,
                   point.r, point.g, point.b);
     std::string line = text;
+    if (point.lonlat) {
+        char ll[64];
+        std::snprintf(ll, sizeof ll, " lon %.7f lat %.7f", (*point.lonlat)[0], (*point.lonlat)[1]);
+        line += ll;
+    }
     if (point.chunk_point) line += " chunk point";
     if (!r.file.empty()) line += " " + r.file;
     return line;

@@ -4,6 +4,7 @@
 // height difference between two picked points.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -23,6 +24,7 @@ struct PickedPoint {
     bool chunk_point = false;           // an overview chunk point, not a full-resolution one
     double pixel_distance = 0;          // from the picked pixel to the point's projection
     double depth = 0;                   // metres along the viewing direction
+    std::optional<std::array<double, 2>> lonlat;  // degrees (WGS 84), filled by who knows the CRS
 };
 
 struct PickOptions {
@@ -41,7 +43,8 @@ std::optional<PickedPoint> pick_point(const SceneSnapshot& snapshot, const rende
 std::optional<std::uint32_t> tile_at(const dataset::Dataset& dataset, double x, double y);
 
 // A picked point in the file's own terms: x, y, z in its CRS units (world metres divided by the
-// tile's unit factors), the unit names and the source file.
+// tile's unit factors), the unit names and the source file; for a tile reprojected into the
+// dataset's CRS, x and y in that CRS's units (z stays in the file's vertical unit).
 struct PointReadout {
     double x = 0, y = 0, z = 0;
     std::string horizontal_unit = "m", vertical_unit = "m";
@@ -49,7 +52,7 @@ struct PointReadout {
     std::string file;  // the tile's path ("" when unknown)
 };
 PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& point);
-// One line: "x X y Y z Z (UNIT, z in UNIT, CRS) class C (NAME) intensity I rgb R G B FILE".
+// One line: "x X y Y z Z (UNIT, z in UNIT, CRS) [lon L lat B] class C (NAME) intensity I rgb R G B FILE".
 std::string point_summary(const dataset::Dataset& dataset, const PickedPoint& point);
 
 struct Measurement {

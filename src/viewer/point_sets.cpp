@@ -34,9 +34,11 @@ struct RecordConverter {
         const las::Point p = las::decode_point(record, *format, tile->tile.header);
         const dataset::Rgb8 rgb = dataset::rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
         render::PointAttr a;
-        a.dx = static_cast<float>(p.x * tile->xy_to_metres - origin_x);
-        a.dy = static_cast<float>(p.y * tile->xy_to_metres - origin_y);
-        a.dz = static_cast<float>(p.z * tile->z_to_metres - origin_z);
+        double x = p.x, y = p.y, z = p.z;
+        tile->place(x, y, z);
+        a.dx = static_cast<float>(x - origin_x);
+        a.dy = static_cast<float>(y - origin_y);
+        a.dz = static_cast<float>(z - origin_z);
         a.r = rgb.r, a.g = rgb.g, a.b = rgb.b;
         a.classification = p.classification;
         a.intensity = p.intensity;
@@ -90,8 +92,9 @@ std::vector<double> unit_keys(const dataset::DatasetTile& tile, const laz::LazLa
         const las::Point* a = find(u);
         if (!a) continue;
         const las::Point* b = find(u + 1) ? find(u + 1) : a;
-        keys[u] = order(0.5 * (a->x + b->x) * tile.xy_to_metres, 0.5 * (a->y + b->y) * tile.xy_to_metres,
-                        0.5 * (a->z + b->z) * tile.z_to_metres);
+        double x = 0.5 * (a->x + b->x), y = 0.5 * (a->y + b->y), z = 0.5 * (a->z + b->z);
+        tile.place(x, y, z);
+        keys[u] = order(x, y, z);
     }
     return keys;
 }

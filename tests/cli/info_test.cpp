@@ -39,6 +39,16 @@ TEST(InfoCommand, SurveysMatchHeaders) {
             EXPECT_EQ(f.at("crs").at("epsg"), 3089);
             EXPECT_EQ(f.at("crs").at("horizontal_unit"), "us_survey_foot");
             EXPECT_DOUBLE_EQ(f.at("crs").at("to_metres").get<double>(), 1200.0 / 3937.0);
+            const auto& ll = f.at("lonlat_bounds");  // eastern Kentucky, through PROJ
+            EXPECT_GT(ll.at("west").get<double>(), -85.5);
+            EXPECT_LT(ll.at("east").get<double>(), -82.5);
+            EXPECT_GT(ll.at("south").get<double>(), 37.0);
+            EXPECT_LT(ll.at("north").get<double>(), 38.5);
+        }
+        if (path.find("/ign-") != std::string::npos) {  // France, Lambert-93
+            EXPECT_GT(f.at("lonlat_bounds").at("west").get<double>(), -5.0);
+            EXPECT_LT(f.at("lonlat_bounds").at("east").get<double>(), 10.0);
+            EXPECT_GT(f.at("lonlat_bounds").at("south").get<double>(), 42.0);
         }
     }
 }

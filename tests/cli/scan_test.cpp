@@ -61,6 +61,26 @@ TEST(ScanCommand, EverySurveyFolderMatchesItsChunkTablesAndHeaders) {
     }
 }
 
+// Kentucky (US feet) and the ISPRS sites (UTM 32N) opened together: with --crs the Kentucky
+// tiles are reprojected to UTM 32N too, so the whole lies in that zone's metres.
+TEST(ScanCommand, MixedCrsReprojectedToTheCrsAskedFor) {
+    int status = -1;
+    const std::string ky = (test::surveys_dir() / "ky-red-river-gorge").string();
+    const auto alone = scan_json(ky + " --crs EPSG:32617", status);  // Kentucky lies in UTM zone 17N
+    ASSERT_EQ(status, 0);
+    const auto& b = alone.at("bounds");
+    EXPECT_GT(b.at("min_x").get<double>(), 200'000.0);  // UTM eastings
+    EXPECT_LT(b.at("max_x").get<double>(), 800'000.0);
+    EXPECT_GT(b.at("min_y").get<double>(), 4'000'000.0);  // ~37.8 degrees north
+    EXPECT_LT(b.at("max_y").get<double>(), 4'300'000.0);
+    EXPECT_TRUE(alone.at("warnings").empty());
+    const auto both = scan_json(ky + " " + (test::surveys_dir() / "isprs-filter-test-sites").string(), status);
+    ASSERT_EQ(status, 0);
+    ASSERT_EQ(both.at("warnings").size(), 1u);
+    EXPECT_NE(both.at("warnings")[0].get<std::string>().find("reprojected to EPSG:32632"), std::string::npos);
+    EXPECT_EQ(both.at("chunk_points_failed"), 0);
+}
+
 TEST(ScanCommand, SkippedFilesAreListedAndTheRestScanned) {
     std::string out;
     const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " scan --json /nonexistent/x.laz " +

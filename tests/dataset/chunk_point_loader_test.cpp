@@ -1,5 +1,5 @@
 // ChunkPointLoader: every chunk point of the surveys lands in the grid exactly once, equal to
-// what read_chunk_points gives (in metres); both back ends agree; a focus change mid-run is
+// what read_chunk_points gives (placed in the dataset's frame, metres); both back ends agree; a focus change mid-run is
 // followed; cancel stops early without hanging.
 #include <gtest/gtest.h>
 
@@ -57,7 +57,9 @@ std::vector<Key> expected_keys(const Dataset& ds) {
     for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
         const auto& t = ds.tiles[i];
         for (const auto& cp : read_chunk_points(io::File::open(t.tile.path), t.tile)) {
-            out.push_back(key(i, cp.point.x * t.xy_to_metres, cp.point.y * t.xy_to_metres, cp.point.z * t.z_to_metres));
+            double x = cp.point.x, y = cp.point.y, z = cp.point.z;
+            t.place(x, y, z);  // metres of the dataset's frame (the surveys mix CRSs: most are reprojected)
+            out.push_back(key(i, x, y, z));
         }
     }
     std::sort(out.begin(), out.end());

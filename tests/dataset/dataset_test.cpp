@@ -1,14 +1,20 @@
 // open_dataset: folders, tile lists and several paths; bounds in metres (Kentucky tiles are
 // in US survey feet); bad files skipped with one line naming them while the rest is read;
-// a warning when tiles mix CRSs.
+// tiles in a CRS other than the majority's (or the one asked for) reprojected into it, landing
+// where they belong.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
+#include "core/error.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/point_stream.hpp"
+#include "geo/projection.hpp"
+#include "las_fixture.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout::dataset {
@@ -60,6 +66,71 @@ TEST(Dataset, MixedCrsWarns) {
     ASSERT_EQ(ds.warnings.size(), 1u);
     EXPECT_NE(ds.warnings[0].find("different coordinate reference systems"), std::string::npos);
     EXPECT_NE(ds.warnings[0].find("EPSG:3089"), std::string::npos);
+    EXPECT_NE(ds.warnings[0].find("reprojected to EPSG:2154"), std::string::npos);  // 7 IGN tiles, 1 Kentucky
+    EXPECT_EQ(ds.frame.crs.rfind("EPSG:2154", 0), 0u);
+}
+
+std::vector<MetricPoint> all_points(const Dataset& ds, std::uint32_t tile) {
+    ThreadPool pool(2);
+    std::vector<MetricPoint> out;
+    for_each_metric_batch(ds, tile, pool, [&](std::uint64_t, std::span<const MetricPoint> p) { out.insert(out.end(), p.begin(), p.end()); });
+    return out;
+}
+
+// A real tile (UTM 32N) converted to UTM 33N and written with our LAS writer lands on its
+// original place, point by point, once reprojected back into the dataset's CRS.
+TEST(Dataset, TileInAnotherCrsLandsOnItsPlace) {
+    const auto dir = temp_dir("reproject");
+    const std::string original = (test::surveys_dir() / "isprs-filter-test-sites" / "CSite3_orig-utm.laz").string();
+    const Dataset one = open_dataset({original});
+    ASSERT_EQ(one.tiles.size(), 1u);
+    EXPECT_EQ(one.frame.crs, "EPSG:32632");
+    const auto points = all_points(one, 0);
+    std::vector<double> x, y, z;
+    for (const auto& p : points) x.push_back(p.x), y.push_back(p.y), z.push_back(p.z);
+    geo::CrsTransform("EPSG:32632", "EPSG:32633").apply(x, y, {});
+    std::vector<test::FixturePoint> moved;
+    for (std::size_t i = 0; i < x.size(); ++i) moved.push_back({x[i], y[i], z[i]});
+    ASSERT_GT(std::abs(moved[0].x - points[0].x), 100'000.0);  // zone 33 coordinates are far away
+    const std::string converted = (dir / "zone33.las").string();
+    test::write_fixture(converted, moved, 32633);
+
+    DatasetOptions options;
+    options.crs = "EPSG:32632";
+    const Dataset both = open_dataset({converted, original}, options);
+    ASSERT_EQ(both.tiles.size(), 2u);
+    ASSERT_TRUE(both.tiles[0].to_frame);
+    EXPECT_FALSE(both.tiles[1].to_frame);
+    const auto& a = both.tiles[0].bounds_m, &b = both.tiles[1].bounds_m;
+    // the converted box is rotated by the change of zone: its bounds enclose the original, a little larger
+    EXPECT_LE(a.min_x, b.min_x + 0.01);
+    EXPECT_LE(a.min_y, b.min_y + 0.01);
+    EXPECT_GE(a.max_x, b.max_x - 0.01);
+    EXPECT_GE(a.max_y, b.max_y - 0.01);
+    EXPECT_LT(a.max_x - a.min_x, 1.25 * (b.max_x - b.min_x));  // ~4.4 degrees of grid convergence between the zones
+    EXPECT_LT(a.max_y - a.min_y, 1.25 * (b.max_y - b.min_y));
+    const auto back = all_points(both, 0);
+    ASSERT_EQ(back.size(), points.size());
+    double worst = 0;
+    for (std::size_t i = 0; i < back.size(); ++i) {
+        worst = std::max({worst, std::abs(back[i].x - points[i].x), std::abs(back[i].y - points[i].y)});
+        ASSERT_NEAR(back[i].z, points[i].z, 0.0005);
+    }
+    EXPECT_LT(worst, 0.001);  // the writer's millimetre scale
+
+    const Dataset majority = open_dataset({converted, original, original});  // two tiles in 32632, one in 32633
+    EXPECT_EQ(majority.frame.crs, "EPSG:32632");
+    ASSERT_EQ(majority.warnings.size(), 1u);
+    EXPECT_NE(majority.warnings[0].find("reprojected to EPSG:32632"), std::string::npos);
+    fs::remove_all(dir);
+}
+
+TEST(Dataset, UnknownCrsAskedForIsAnError) {
+    DatasetOptions options;
+    options.crs = "EPSG:999999";
+    EXPECT_THROW(open_dataset({(test::surveys_dir() / "ky-red-river-gorge").string()}, options), Error);
+    options.crs = "EPSG:4326";  // degrees: no metric patches
+    EXPECT_THROW(open_dataset({(test::surveys_dir() / "ky-red-river-gorge").string()}, options), Error);
 }
 
 TEST(Dataset, TileListWithRelativeEntriesCommentsAndMissingFiles) {

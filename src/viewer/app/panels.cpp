@@ -142,6 +142,7 @@ void tool_bar(PanelState& state, PanelActions& actions) {
     ImGui::SameLine();
     if (ImGui::Button("screenshot")) actions.screenshot = true;
     if (!state.status.empty()) ImGui::TextWrapped("%s", state.status.c_str());
+    if (!state.cursor.empty()) ImGui::TextWrapped("cursor %s", state.cursor.c_str());
     if (ImGui::CollapsingHeader("Help")) {
         ImGui::TextWrapped("left drag: orbit, right drag: pan, wheel: zoom, WASD/QE: fly (shift: faster); "
                            "click: inspect a point or measure; F12: screenshot; drop a folder or files to open them");
@@ -153,6 +154,7 @@ void point_lines(const dataset::Dataset& ds, const char* label, const PickedPoin
     ImGui::Text("%s x %.3f  y %.3f  z %.3f", label, r.x, r.y, r.z);
     ImGui::Text("   %s, z in %s%s%s", r.horizontal_unit.c_str(), r.vertical_unit.c_str(), r.crs.empty() ? "" : ", ",
                 r.crs.c_str());
+    if (p.lonlat) ImGui::Text("   lon %.7f, lat %.7f", (*p.lonlat)[0], (*p.lonlat)[1]);
     ImGui::Text("   class %u (%s), intensity %u, rgb %u %u %u%s", p.classification,
                 las::class_name(p.classification).c_str(), p.intensity, p.r, p.g, p.b,
                 p.chunk_point ? ", chunk point" : "");

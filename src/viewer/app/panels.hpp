@@ -30,6 +30,7 @@ struct PanelState {
     std::optional<std::uint32_t> selected;
     std::string status;  // one line: the last screenshot, an error
     ClickState click;    // the click tool and what it picked
+    std::string cursor;  // the ground under the cursor (viewer/cursor_readout.hpp)
 };
 
 struct PanelActions {

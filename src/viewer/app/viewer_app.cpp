@@ -26,6 +26,7 @@
 #include "viewer/app/gl_presenter.hpp"
 #include "viewer/app/overlay.hpp"
 #include "viewer/app/panels.hpp"
+#include "viewer/cursor_readout.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/picking.hpp"
 #include "viewer/scheduler.hpp"
@@ -47,11 +48,14 @@ struct InputEvents {
 struct Session {
     std::unique_ptr<dataset::Dataset> dataset;
     std::unique_ptr<Scheduler> scheduler;
+    std::unique_ptr<CursorReadout> cursor;
 };
 
 Session open_session(const std::vector<std::string>& paths, const ViewerOptions& o, const render::Camera* camera) {
     Session s;
-    s.dataset = std::make_unique<dataset::Dataset>(dataset::open_dataset(paths));
+    dataset::DatasetOptions options;
+    options.crs = o.crs;
+    s.dataset = std::make_unique<dataset::Dataset>(dataset::open_dataset(paths, options));
     if (s.dataset->tiles.empty()) throw Error("view: no readable LAS/LAZ tiles in the given paths");
     SchedulerOptions so;
     so.memory_budget = o.memory_budget;
@@ -59,6 +63,7 @@ Session open_session(const std::vector<std::string>& paths, const ViewerOptions&
     so.model_path = o.model;
     if (camera) so.camera = *camera;
     s.scheduler = std::make_unique<Scheduler>(*s.dataset, so);
+    s.cursor = std::make_unique<CursorReadout>(s.dataset->frame);
     return s;
 }
 
@@ -171,7 +176,9 @@ void pick_at_click(GLFWwindow* window, std::pair<double, double> click, const Se
     const double sy = static_cast<double>(camera.height) / std::max(1, win_height);
     PickOptions options;
     options.radius_px = std::max(2.0, 4 * sx);
-    panels.click.clicked(pick_point(*s.scheduler->snapshot(), camera, click.first * sx, click.second * sy, options));
+    auto point = pick_point(*s.scheduler->snapshot(), camera, click.first * sx, click.second * sy, options);
+    if (point && s.cursor) point->lonlat = s.cursor->lonlat(point->x, point->y);
+    panels.click.clicked(point);
 }
 
 // What the window is about to show, panels included: its back buffer before the swap (the
@@ -235,6 +242,16 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     return frame;
 }
 
+// The readout for the mouse position (window coordinates scaled to the rendered image).
+std::string cursor_text(GLFWwindow* window, const CursorReadout& readout, const render::Camera& camera, double ground_z) {
+    int w = 0, h = 0;
+    glfwGetWindowSize(window, &w, &h);
+    double mx = 0, my = 0;
+    glfwGetCursorPos(window, &mx, &my);
+    if (w <= 0 || h <= 0 || mx < 0 || my < 0 || mx >= w || my >= h) return "";
+    return readout.text(camera, mx * camera.width / w, my * camera.height / h, ground_z);
+}
+
 }  // namespace
 
 int run_viewer(const ViewerOptions& o) {
@@ -285,6 +302,7 @@ int run_viewer(const ViewerOptions& o) {
                           refiner, camera);
         frame_ms = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
         if (const auto click = input.take_click()) pick_at_click(win.window, *click, session, camera, panels);
+        panels.cursor = cursor_text(win.window, *session.cursor, camera, controller.target_z);
 
         glViewport(0, 0, fb_width, fb_height);
         glClearColor(0, 0, 0, 1);

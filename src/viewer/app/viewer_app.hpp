@@ -19,6 +19,7 @@ struct ViewerOptions {
     std::uint64_t memory_budget = 0; // 0 = a quarter of the RAM
     bool cnn = true;
     std::string model;               // empty = the default model lookup
+    std::string crs;                 // the CRS tiles are reprojected to; empty = the majority's
     std::string screenshot;          // scripted: the last frame's PNG
     std::string window_screenshot;   // scripted: the whole window (panels included) as a PNG
     double quit_after = 0;           // scripted: seconds after the first frame (0 = until closed)

@@ -1,0 +1,142 @@
+// `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
+// [--method mean|min|max|linear|cnn] [--classes 2,9] [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png]
+// [--threads N] [--json]`: a terrain or surface model of a dataset as a float32 Cloud-Optimized
+// GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp).
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "cli/progress.hpp"
+#include "cli/recon_options.hpp"
+#include "cli/stage_progress.hpp"
+#include "core/error.hpp"
+#include "dataset/dataset.hpp"
+#include "raster/dem.hpp"
+
+namespace lidarscout::cli {
+namespace {
+
+struct DemCliOptions {
+    std::vector<std::string> paths;
+    std::string output, rgb, hillshade, model;
+    double texel = 1.0;
+    std::vector<double> bounds;
+    std::string from = "full";
+    std::string method;  // empty: mean (full) or linear (overview)
+    std::string classes;
+    std::string crs;
+    unsigned threads = 0;
+    bool json = false;
+};
+
+std::vector<int> parse_classes(const std::string& text) {
+    std::vector<int> out;
+    for (const double v : parse_number_list(text, "--classes")) out.push_back(static_cast<int>(v));
+    return out;
+}
+
+// One progress bar per stage, made when the stage first reports.
+class StageBars {
+public:
+    void update(std::string_view stage, std::uint64_t done, std::uint64_t total) {
+        auto& bar = bars_[std::string(stage)];
+        if (!bar) bar = std::make_unique<Progress>(label(stage), total);
+        bar->set_total(total);
+        bar->add(done - shown_[std::string(stage)]);
+        shown_[std::string(stage)] = done;
+    }
+
+private:
+    static std::string label(std::string_view stage) {
+        if (stage == "points") return "dem: points";
+        if (stage == "patches") return "dem: patches";
+        return "dem: writing COG";
+    }
+    std::map<std::string, std::unique_ptr<Progress>> bars_;
+    std::map<std::string, std::uint64_t> shown_;
+};
+
+raster::DemRequest make_request(const DemCliOptions& o) {
+    raster::DemRequest r;
+    r.output = o.output;
+    r.rgb = o.rgb;
+    r.hillshade = o.hillshade;
+    r.texel_m = o.texel;
+    if (o.bounds.size() == 4) r.area = raster::Area{o.bounds[0], o.bounds[1], o.bounds[2], o.bounds[3]};
+    r.source = raster::dem_source_from_name(o.from);
+    r.method = raster::dem_method_from_name(o.method.empty() ? (r.source == raster::DemSource::Full ? "mean" : "linear")
+                                                             : o.method, r.source);
+    if (!o.classes.empty()) r.classes = parse_classes(o.classes);
+    r.model = o.model;
+    r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    return r;
+}
+
+void print_result(const DemCliOptions& o, const raster::DemRequest& r, const raster::DemResult& d, double seconds) {
+    if (o.json) {
+        nlohmann::json j = {{"output", r.output}, {"rgb", r.rgb.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rgb)},
+                            {"hillshade", r.hillshade.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.hillshade)},
+                            {"from", o.from}, {"method", std::string(raster::dem_method_name(r.method))},
+                            {"texel_m", r.texel_m}, {"width", d.grid.width}, {"height", d.grid.height},
+                            {"origin_m", {d.grid.origin_x, d.grid.origin_y}}, {"points_read", d.points_read},
+                            {"points_used", d.points_used}, {"blocks_written", d.blocks_written},
+                            {"peak_blocks", d.peak_blocks}, {"seconds_grid", d.seconds_grid},
+                            {"seconds_cog", d.seconds_cog}, {"seconds_hillshade", d.seconds_hillshade},
+                            {"seconds", seconds}};
+        std::printf("%s\n", j.dump(2).c_str());
+        return;
+    }
+    std::printf("%s: %d x %d texels of %g m (%s, %s), %llu of %llu points used, %.2f s (gridding %.2f s, COG %.2f s)\n",
+                r.output.c_str(), d.grid.width, d.grid.height, r.texel_m, o.from.c_str(),
+                std::string(raster::dem_method_name(r.method)).c_str(), (unsigned long long)d.points_used,
+                (unsigned long long)d.points_read, seconds, d.seconds_grid, d.seconds_cog);
+    if (!r.rgb.empty()) std::printf("%s: orthophoto (RGBA)\n", r.rgb.c_str());
+    if (!r.hillshade.empty()) std::printf("%s: hillshade\n", r.hillshade.c_str());
+}
+
+int run_dem(const DemCliOptions& o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    raster::DemRequest r = make_request(o);
+    dataset::DatasetOptions dataset_options;
+    dataset_options.crs = o.crs;
+    const dataset::Dataset ds = open_with_progress(o.paths, dataset_options);
+    for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
+    for (const auto& w : ds.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    if (ds.tiles.empty()) throw Error("dem: no readable tile in the given paths");
+    StageBars bars;
+    r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) { bars.update(stage, done, total); };
+    const raster::DemResult d = raster::make_dem(ds, r);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    print_result(o, r, d, seconds);
+    return 0;
+}
+
+}  // namespace
+
+void register_dem_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<DemCliOptions>();
+    auto* cmd = app.add_subcommand("dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
+    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")->required();
+    cmd->add_option("-o,--output", o->output, "The DEM to write (.tif)")->required();
+    cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(CLI::PositiveNumber);
+    cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
+        ->delimiter(',')->expected(4);
+    cmd->add_option("--from", o->from, "full (every point) or overview (chunk points only; default full)");
+    cmd->add_option("--method", o->method, "full: mean (default), min, max; overview: linear (default), cnn");
+    cmd->add_option("--classes", o->classes, "Only these ASPRS classes, e.g. 2,9 for ground and water (default all)");
+    cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
+    cmd->add_option("--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)");
+    cmd->add_option("--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)");
+    cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
+    cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+    cmd->add_flag("--json", o->json, "Print the result as JSON");
+    cmd->callback([o, &run] { run = [o] { return run_dem(*o); }; });
+}
+
+}  // namespace lidarscout::cli

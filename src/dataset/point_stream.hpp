@@ -1,0 +1,42 @@
+// Every point of a dataset's tile in the dataset's frame (metres), batch by batch, in file
+// order: the records are decoded (LAZ chunks in parallel, point_reader.hpp), placed in metres
+// and given an 8-bit colour (one depth decision per tile). What `eval`, `train-data` and the
+// DEMs made from every point read.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+
+#include "dataset/patch_grid.hpp"
+#include "laz/chunk_decoder.hpp"
+
+namespace lidarscout {
+class ThreadPool;
+}
+
+namespace lidarscout::dataset {
+
+struct Dataset;
+
+struct MetricPoint {
+    double x = 0, y = 0, z = 0;  // metres, the dataset's frame
+    Rgb8 rgb;                    // 8-bit colour (black when the format has none)
+    bool coloured = false;       // the format has colour and this point's is not all zero
+    std::uint16_t intensity = 0;
+    std::uint8_t classification = 0;
+};
+
+// Called with the index (in the file) of the batch's first point and the batch's points.
+using MetricBatchFn = std::function<void(std::uint64_t first_point, std::span<const MetricPoint> points)>;
+
+// Streams tile `tile` of `dataset`; `fields` is a laz::fields mask (fields not asked for read
+// as zero). The next batch is decoded on `pool` while fn runs (fn must not use `pool`).
+// Throws lidarscout::Error when the tile cannot be decoded.
+void for_each_metric_batch(const Dataset& dataset, std::uint32_t tile, ThreadPool& pool, const MetricBatchFn& fn,
+                           std::uint32_t fields = laz::fields::kAll);
+
+// Whether a tile stores 16-bit colour, judged from its chunk points (colour_is_16bit).
+bool tile_colour_is_16bit(const Dataset& dataset, std::uint32_t tile);
+
+}  // namespace lidarscout::dataset

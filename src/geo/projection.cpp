@@ -1,0 +1,155 @@
+// PROJ behind crs_info, CrsTransform and lonlat_bounds. Each object owns its PROJ context, so
+// objects never share PROJ state across threads.
+#include "geo/projection.hpp"
+
+#include <proj.h>
+
+#include <cmath>
+#include <mutex>
+#include <vector>
+
+#include "core/error.hpp"
+
+namespace lidarscout::geo {
+namespace {
+
+[[noreturn]] void fail(const std::string& cause) { throw Error::in_stage("geo", cause); }
+
+// A PROJ context with its objects, released together.
+class Context {
+public:
+    Context() : ctx_(proj_context_create()) {
+        if (!ctx_) fail("cannot create a PROJ context");
+        proj_log_level(ctx_, PJ_LOG_NONE);
+    }
+    ~Context() {
+        for (PJ* p : objects_) proj_destroy(p);
+        proj_context_destroy(ctx_);
+    }
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    PJ_CONTEXT* get() const { return ctx_; }
+    // Takes ownership of `p`; throws with `what` when it is null.
+    PJ* own(PJ* p, const std::string& what) {
+        if (!p) fail(what + ": " + proj_context_errno_string(ctx_, proj_context_errno(ctx_)));
+        objects_.push_back(p);
+        return p;
+    }
+    PJ* crs(const std::string& definition) {
+        if (definition.empty()) fail("no CRS given");
+        PJ* p = own(proj_create(ctx_, definition.c_str()), "PROJ does not understand the CRS '" + shorten(definition) + "'");
+        if (!proj_is_crs(p)) fail("'" + shorten(definition) + "' is not a coordinate reference system");
+        return p;
+    }
+
+    static std::string shorten(const std::string& s) { return s.size() > 80 ? s.substr(0, 77) + "..." : s; }
+
+private:
+    PJ_CONTEXT* ctx_;
+    std::vector<PJ*> objects_;
+};
+
+// A bound CRS (WKT with TOWGS84) stands for its source CRS.
+PJ* unbound(Context& c, PJ* crs) {
+    if (proj_get_type(crs) != PJ_TYPE_BOUND_CRS) return crs;
+    return c.own(proj_get_source_crs(c.get(), crs), "bound CRS without a source");
+}
+
+// Metres per unit of the first axis of `crs`; NaN when the axis is angular.
+double first_axis_to_metres(Context& c, PJ* crs) {
+    PJ* cs = c.own(proj_crs_get_coordinate_system(c.get(), crs), "CRS without a coordinate system");
+    double factor = 0;
+    if (!proj_cs_get_axis_info(c.get(), cs, 0, nullptr, nullptr, nullptr, &factor, nullptr, nullptr, nullptr)) {
+        fail("cannot read the CRS's axes");
+    }
+    return factor;
+}
+
+bool is_geographic(PJ* crs) {
+    const PJ_TYPE t = proj_get_type(crs);
+    return t == PJ_TYPE_GEOGRAPHIC_2D_CRS || t == PJ_TYPE_GEOGRAPHIC_3D_CRS || t == PJ_TYPE_GEOGRAPHIC_CRS;
+}
+
+}  // namespace
+
+CrsInfo crs_info(const std::string& definition) {
+    Context c;
+    PJ* crs = unbound(c, c.crs(definition));
+    CrsInfo info;
+    if (const char* name = proj_get_name(crs)) info.name = name;
+    if (const char* wkt = proj_as_wkt(c.get(), crs, PJ_WKT2_2019, nullptr)) info.wkt = wkt;
+    PJ* horizontal = crs;
+    PJ* vertical = nullptr;
+    if (proj_get_type(crs) == PJ_TYPE_COMPOUND_CRS) {
+        horizontal = unbound(c, c.own(proj_crs_get_sub_crs(c.get(), crs, 0), "compound CRS without a horizontal part"));
+        vertical = unbound(c, c.own(proj_crs_get_sub_crs(c.get(), crs, 1), "compound CRS without a vertical part"));
+    } else if (proj_get_type(crs) == PJ_TYPE_VERTICAL_CRS) {
+        fail("'" + Context::shorten(definition) + "' is a vertical CRS only; x and y need a horizontal one");
+    }
+    info.geographic = is_geographic(horizontal);
+    info.xy_to_metres = info.geographic ? std::nan("") : first_axis_to_metres(c, horizontal);
+    info.has_vertical = vertical != nullptr;
+    info.z_to_metres = vertical ? first_axis_to_metres(c, vertical) : info.xy_to_metres;
+    return info;
+}
+
+struct CrsTransform::State {
+    Context context;
+    PJ* transform = nullptr;
+    mutable std::mutex mutex;
+};
+
+CrsTransform::CrsTransform(const std::string& source, const std::string& target)
+    : source_(source), target_(target), state_(std::make_unique<State>()) {
+    Context& c = state_->context;
+    PJ* src = c.crs(source);
+    PJ* dst = c.crs(target);
+    PJ* raw = c.own(proj_create_crs_to_crs_from_pj(c.get(), src, dst, nullptr, nullptr),
+                    "no transformation from '" + Context::shorten(source) + "' to '" + Context::shorten(target) + "'");
+    // x east / y north (longitude first) whatever the axis order the CRSs declare.
+    state_->transform = c.own(proj_normalize_for_visualization(c.get(), raw), "cannot normalise the axis order");
+}
+
+CrsTransform::~CrsTransform() = default;
+
+void CrsTransform::apply(std::span<double> x, std::span<double> y, std::span<double> z) const {
+    if (x.size() != y.size() || (!z.empty() && z.size() != x.size())) fail("coordinate arrays of different lengths");
+    if (x.empty()) return;
+    std::lock_guard lock(state_->mutex);
+    const std::size_t n = x.size();
+    proj_trans_generic(state_->transform, PJ_FWD, x.data(), sizeof(double), n, y.data(), sizeof(double), n,
+                       z.empty() ? nullptr : z.data(), sizeof(double), z.empty() ? 0 : n, nullptr, 0, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!std::isfinite(x[i]) || !std::isfinite(y[i])) {
+            fail("a point cannot be transformed from '" + Context::shorten(source_) + "' to '" +
+                 Context::shorten(target_) + "' (outside the area the CRSs cover)");
+        }
+    }
+}
+
+void CrsTransform::apply(double& x, double& y, double& z) const {
+    apply(std::span<double>(&x, 1), std::span<double>(&y, 1), std::span<double>(&z, 1));
+}
+
+void CrsTransform::apply_bounds(double& min_x, double& min_y, double& max_x, double& max_y) const {
+    std::lock_guard lock(state_->mutex);
+    double out[4];
+    if (!proj_trans_bounds(state_->context.get(), state_->transform, PJ_FWD, min_x, min_y, max_x, max_y, &out[0],
+                           &out[1], &out[2], &out[3], 21)) {
+        fail("the bounds cannot be transformed from '" + Context::shorten(source_) + "' to '" +
+             Context::shorten(target_) + "'");
+    }
+    min_x = out[0];
+    min_y = out[1];
+    max_x = out[2];
+    max_y = out[3];
+}
+
+LonLatBounds lonlat_bounds(const std::string& definition, double min_x, double min_y, double max_x, double max_y) {
+    const CrsTransform t(definition, "EPSG:4326");
+    t.apply_bounds(min_x, min_y, max_x, max_y);
+    return {min_x, min_y, max_x, max_y};
+}
+
+}  // namespace lidarscout::geo

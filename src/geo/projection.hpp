@@ -1,0 +1,64 @@
+// Coordinate reference systems through PROJ (Debian libproj-dev): what a CRS definition
+// (crs_definition.hpp, or a user's "EPSG:n") means — its WKT and its units —, transforms of
+// coordinates between two CRSs in their native units (feet stay feet), and bounds in
+// longitude/latitude. Every PROJ call of the project is in projection.cpp.
+//
+// Thread safety: a CrsTransform may be used from several threads at once (each call locks it;
+// pass many points per call). Errors are lidarscout::Error in stage "geo".
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+
+namespace lidarscout::geo {
+
+// What PROJ says about a CRS definition.
+struct CrsInfo {
+    std::string name;             // "NAD83 / Kentucky Single Zone (ftUS)"
+    std::string wkt;              // WKT2 (2019), what GDAL and QGIS read
+    double xy_to_metres = 1.0;    // native horizontal unit -> metres (0.3048006 for US feet)
+    double z_to_metres = 1.0;     // the vertical CRS's unit, else the horizontal one
+    bool geographic = false;      // x/y are degrees
+    bool has_vertical = false;    // a compound CRS with a vertical part
+};
+
+// Throws Error (stage "geo") when PROJ does not understand `definition`.
+CrsInfo crs_info(const std::string& definition);
+
+// Longitude/latitude (degrees, WGS 84) bounds.
+struct LonLatBounds {
+    double west = 0, south = 0, east = 0, north = 0;
+};
+
+class CrsTransform {
+public:
+    // From `source` to `target` (definitions as crs_info takes). Throws Error when PROJ finds
+    // no transformation.
+    CrsTransform(const std::string& source, const std::string& target);
+    ~CrsTransform();
+    CrsTransform(const CrsTransform&) = delete;
+    CrsTransform& operator=(const CrsTransform&) = delete;
+
+    const std::string& source() const { return source_; }
+    const std::string& target() const { return target_; }
+
+    // Transforms points in place, native units of source -> native units of target (x east,
+    // y north whatever the CRS's axis order). z may be empty (taken as 0, left alone).
+    // Throws Error when a point cannot be transformed (outside the CRS's domain).
+    void apply(std::span<double> x, std::span<double> y, std::span<double> z) const;
+    void apply(double& x, double& y, double& z) const;
+    // The box [min_x, max_x] x [min_y, max_y] in source units transformed to target units,
+    // densified along its edges so that curved edges are enclosed.
+    void apply_bounds(double& min_x, double& min_y, double& max_x, double& max_y) const;
+
+private:
+    struct State;
+    std::string source_, target_;
+    std::unique_ptr<State> state_;
+};
+
+// The lon/lat bounds of a box in `definition`'s native units.
+LonLatBounds lonlat_bounds(const std::string& definition, double min_x, double min_y, double max_x, double max_y);
+
+}  // namespace lidarscout::geo

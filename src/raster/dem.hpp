@@ -1,0 +1,60 @@
+// `lidarscout dem` as a library call: the DEM of a dataset as a float32 Cloud-Optimized
+// GeoTIFF in the dataset's CRS (its native units, nodata -9999), optionally its orthophoto
+// (RGBA COG of the mean point colours) and a hillshade PNG.
+//   from full:      every point, per texel the mean, min or max height (full_dem.hpp)
+//   from overview:  the chunk points only, per 64-texel patch the linear interpolation or the
+//                   heightmap network (overview_dem.hpp)
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "raster/dem_grid.hpp"
+#include "raster/full_dem.hpp"
+
+namespace lidarscout::dataset {
+struct Dataset;
+}
+
+namespace lidarscout::raster {
+
+enum class DemSource { Full, Overview };
+enum class DemMethod { Mean, Min, Max, Linear, Cnn };
+
+// "mean", "min", "max" (full), "linear", "cnn" (overview); throws Error for other names or a
+// method that does not fit the source.
+DemMethod dem_method_from_name(std::string_view name, DemSource source);
+DemSource dem_source_from_name(std::string_view name);
+std::string_view dem_method_name(DemMethod method);
+
+// Called as work advances: (stage, done, total); stages "points", "patches", "cog".
+using DemProgressFn = std::function<void(std::string_view stage, std::uint64_t done, std::uint64_t total)>;
+
+struct DemRequest {
+    std::string output;     // the DEM (.tif)
+    std::string rgb;        // the orthophoto (.tif), empty for none
+    std::string hillshade;  // the hillshade (.png), empty for none
+    double texel_m = 1.0;
+    std::optional<Area> area;  // in the dataset's CRS units (not metres); empty: the whole dataset
+    DemSource source = DemSource::Full;
+    DemMethod method = DemMethod::Mean;
+    std::vector<int> classes;  // empty: all
+    std::string model;         // the network for cnn; empty: the shipped one
+    unsigned threads = 1;
+    DemProgressFn progress;
+};
+
+struct DemResult {
+    DemGrid grid;
+    std::uint64_t points_read = 0, points_used = 0;
+    std::size_t blocks_written = 0, peak_blocks = 0;
+    double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0;
+};
+
+DemResult make_dem(const dataset::Dataset& dataset, const DemRequest& request);
+
+}  // namespace lidarscout::raster

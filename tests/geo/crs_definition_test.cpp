@@ -1,0 +1,32 @@
+// crs_definition: EPSG codes (with the vertical one as a compound "h+v"), WKT otherwise,
+// nothing without a horizontal CRS; epsg_of_definition reads back only "EPSG:n".
+#include <gtest/gtest.h>
+
+#include "geo/crs_definition.hpp"
+
+namespace lidarscout::geo {
+namespace {
+
+TEST(CrsDefinition, EpsgCompoundWktAndNone) {
+    las::Crs c;
+    EXPECT_EQ(crs_definition(c), "");
+    c.vertical_epsg = 5703;
+    EXPECT_EQ(crs_definition(c), "");  // a vertical CRS alone places nothing
+    c.wkt = "PROJCS[\"x\"]";
+    EXPECT_EQ(crs_definition(c), "PROJCS[\"x\"]");
+    c.epsg = 3089;
+    EXPECT_EQ(crs_definition(c), "EPSG:3089+5703");
+    c.vertical_epsg.reset();
+    EXPECT_EQ(crs_definition(c), "EPSG:3089");
+}
+
+TEST(CrsDefinition, EpsgOfDefinition) {
+    EXPECT_EQ(epsg_of_definition("EPSG:2154"), 2154);
+    EXPECT_EQ(epsg_of_definition("epsg:32632"), 32632);
+    EXPECT_EQ(epsg_of_definition("EPSG:2154+5720"), 0);
+    EXPECT_EQ(epsg_of_definition("EPSG:"), 0);
+    EXPECT_EQ(epsg_of_definition("PROJCS[...]"), 0);
+}
+
+}  // namespace
+}  // namespace lidarscout::geo

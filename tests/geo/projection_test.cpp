@@ -1,0 +1,64 @@
+// PROJ through geo/projection: units of real CRSs (US survey feet, metres, a compound CRS),
+// a round trip between two CRSs back to the same point, bounds in longitude/latitude where the
+// surveys lie, and one-line errors for what PROJ cannot use.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+#include "geo/projection.hpp"
+#include "las/crs.hpp"
+
+namespace lidarscout::geo {
+namespace {
+
+TEST(Projection, UnitsOfRealCrs) {
+    const CrsInfo ky = crs_info("EPSG:3089");  // Kentucky Single Zone, US survey feet
+    EXPECT_NEAR(ky.xy_to_metres, las::kUsSurveyFootMetres, 1e-12);
+    EXPECT_FALSE(ky.geographic);
+    EXPECT_FALSE(ky.has_vertical);
+    EXPECT_NE(ky.name.find("Kentucky"), std::string::npos);
+    const CrsInfo lambert = crs_info("EPSG:2154+5720");  // Lambert-93 + NGF-IGN69 height
+    EXPECT_TRUE(lambert.has_vertical);
+    EXPECT_DOUBLE_EQ(lambert.xy_to_metres, 1.0);
+    EXPECT_DOUBLE_EQ(lambert.z_to_metres, 1.0);
+    EXPECT_NE(lambert.wkt.find("COMPOUNDCRS"), std::string::npos);
+    EXPECT_TRUE(crs_info("EPSG:4326").geographic);
+}
+
+TEST(Projection, RoundTripReturnsToThePoint) {
+    const CrsTransform there("EPSG:32632", "EPSG:25833"), back("EPSG:25833", "EPSG:32632");
+    std::vector<double> x = {497'000.0, 513'456.78}, y = {5'419'000.0, 5'404'321.09}, z = {250.0, 300.0};
+    const auto x0 = x, y0 = y;
+    there.apply(x, y, z);
+    EXPECT_GT(std::abs(x[0] - x0[0]), 100'000.0);  // zone 33 is far from zone 32
+    back.apply(x, y, z);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        EXPECT_NEAR(x[i], x0[i], 1e-6);
+        EXPECT_NEAR(y[i], y0[i], 1e-6);
+    }
+}
+
+TEST(Projection, LonLatBoundsOfKentucky) {
+    // a box of ky-jmo335 in EPSG:3089 feet
+    const LonLatBounds b = lonlat_bounds("EPSG:3089", 5'685'000, 3'895'000, 5'700'000, 3'910'000);
+    EXPECT_GT(b.west, -84.0);
+    EXPECT_LT(b.east, -82.0);
+    EXPECT_GT(b.south, 37.0);
+    EXPECT_LT(b.north, 38.5);
+    EXPECT_LT(b.west, b.east);
+    EXPECT_LT(b.south, b.north);
+}
+
+TEST(Projection, UnusableDefinitionsAreErrors) {
+    EXPECT_THROW(crs_info("EPSG:999999"), Error);
+    EXPECT_THROW(crs_info("not a crs"), Error);
+    EXPECT_THROW(crs_info(""), Error);
+    EXPECT_THROW(crs_info("EPSG:5703"), Error);  // vertical only
+    const CrsTransform t("EPSG:4326", "EPSG:32632");
+    double x = 0, y = 95, z = 0;  // latitude beyond the pole
+    EXPECT_THROW(t.apply(x, y, z), Error);
+}
+
+}  // namespace
+}  // namespace lidarscout::geo
