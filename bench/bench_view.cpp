@@ -341,6 +341,8 @@ int main(int argc, char** argv) {
         const auto t0 = Clock::now();
         const auto ds = dataset::open_dataset(o.paths);
         const double headers = since(t0);
+        for (const auto& skipped : ds.skipped) fmt::print(stderr, "bench_view: skipped {}\n", skipped.error);
+        if (ds.tiles.empty()) throw std::runtime_error("no readable tiles in the paths given: nothing to measure");
         if (o.converge) return converge(o, ds);
         return o.flight_s > 0 ? flight(o, ds) : loading(o, ds, headers);
     } catch (const std::exception& e) {
