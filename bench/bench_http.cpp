@@ -196,7 +196,7 @@ Run run_once(const std::string& list_url) {
     loader.wait();
     r.chunk_points = seconds_since(t0);
     r.points = loader.loaded();
-    if (loader.failed() > 0) throw Error("chunk points failed: " + loader.errors().front());
+    if (loader.failed() > 0) throw Error("chunk points failed: " + loader.errors().front().message());
     r.rate = static_cast<double>(r.points) / r.chunk_points;
     const auto after = net::HttpClient::shared().stats();
     r.requests = after.requests - before.requests;
