@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/recon_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
 #include "core/error.hpp"
@@ -40,12 +41,9 @@ struct ViewCliOptions {
 
 // "X,Y" window pixels of a scripted click.
 std::pair<double, double> parse_click(const std::string& text) {
-    const auto comma = text.find(',');
-    try {
-        if (comma != std::string::npos) return {std::stod(text.substr(0, comma)), std::stod(text.substr(comma + 1))};
-    } catch (const std::exception&) {
-    }
-    throw Error("view: --click wants X,Y in window pixels, not '" + text + "'");
+    const auto xy = parse_number_list(text, "--click");
+    if (xy.size() != 2) throw Error("view: --click wants X,Y in window pixels, not '" + text + "'");
+    return {xy[0], xy[1]};
 }
 
 // $XDG_CACHE_HOME/lidarscout or ~/.cache/lidarscout.

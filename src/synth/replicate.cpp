@@ -179,26 +179,27 @@ void warn_stale_outputs(ReplicatePlan& plan) {
     }
 }
 
-void patch_header(io::AtomicOutputFile& out, const las::Header& h, std::array<double, 2> shift) {
+// Writes the header's x/y offsets and bounds of `shifted` (dataset::shift_tile moved them).
+void patch_header(io::AtomicOutputFile& out, const las::Header& h) {
     std::uint8_t offsets[16], bounds[32];
-    put_f64(offsets, h.offset[0] + shift[0]);
-    put_f64(offsets + 8, h.offset[1] + shift[1]);
-    put_f64(bounds, h.max[0] + shift[0]);
-    put_f64(bounds + 8, h.min[0] + shift[0]);
-    put_f64(bounds + 16, h.max[1] + shift[1]);
-    put_f64(bounds + 24, h.min[1] + shift[1]);
+    put_f64(offsets, h.offset[0]);
+    put_f64(offsets + 8, h.offset[1]);
+    put_f64(bounds, h.max[0]);
+    put_f64(bounds + 8, h.min[0]);
+    put_f64(bounds + 16, h.max[1]);
+    put_f64(bounds + 24, h.min[1]);
     out.write_at(kOffsetXY, offsets);
     out.write_at(kBoundsXY, bounds);
 }
 
 // The COPC info VLR holds the octree centre in absolute coordinates: it moves with the points
 // (the hierarchy holds file offsets, which the copy keeps).
-void patch_copc_centre(io::AtomicOutputFile& out, const dataset::Tile& tile, std::array<double, 2> shift) {
-    const auto* vlr = las::find_vlr(tile.vlrs, "copc", 1);
-    if (!vlr) throw Error(tile.path, std::nullopt, "COPC info VLR not found");
+void patch_copc_centre(io::AtomicOutputFile& out, const dataset::Tile& shifted) {
+    const auto* vlr = las::find_vlr(shifted.vlrs, "copc", 1);
+    if (!vlr) throw Error(shifted.path, std::nullopt, "COPC info VLR not found");
     std::uint8_t centre[16];
-    put_f64(centre, tile.copc->center[0] + shift[0]);
-    put_f64(centre + 8, tile.copc->center[1] + shift[1]);
+    put_f64(centre, shifted.copc->center[0]);
+    put_f64(centre + 8, shifted.copc->center[1]);
     out.write_at(vlr->data_offset, centre);
 }
 
@@ -269,8 +270,10 @@ void write_replica(const io::File& source, const dataset::Tile& tile, const std:
                    std::array<double, 2> shift) {
     io::AtomicOutputFile out(target, source.path());
     out.copy_from(source, 0, source.size());
-    patch_header(out, tile.header, shift);
-    if (tile.copc) patch_copc_centre(out, tile, shift);
+    dataset::Tile shifted = tile;  // what a virtual replica shifts in memory, written into the copy
+    dataset::shift_tile(shifted, shift);
+    patch_header(out, shifted.header);
+    if (shifted.copc) patch_copc_centre(out, shifted);
     out.commit();
 }
 

@@ -47,8 +47,11 @@ const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const ren
     if (!same_key) changed_at_ = now;
     // Only data arrived for a still view: redrawn at most every data_interval_, so that a
     // loading view leaves the cores to the decoders instead of redrawing 60 times a second.
-    // (And drawing takes at most a fifth of the time: a slow frame waits longer.)
-    const auto interval = std::max<std::chrono::steady_clock::duration>(data_interval_, 4 * draw_time_);
+    // (And drawing takes at most a fifth of the time: a slow frame waits longer. An interval of
+    // 0 turns the throttle off altogether.)
+    const auto interval = data_interval_.count() == 0
+                              ? std::chrono::steady_clock::duration::zero()
+                              : std::max<std::chrono::steady_clock::duration>(data_interval_, 4 * draw_time_);
     if (!same_key && last_ && same_view(*last_, key) && now - drawn_at_ < interval) return frame_;
     const bool refine = same_key && now - changed_at_ >= settle_;
     if (same_key && (refined_ || !refine)) return frame_;

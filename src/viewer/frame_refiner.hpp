@@ -1,7 +1,8 @@
 // Progressive refinement of still frames. While the camera moves, frames draw the LOD blocks at
 // the style's spacing (about one point per pixel, fast); a still camera whose snapshot changes
 // (data arriving) gets half that spacing, redrawn at most every `data_interval` and at most a
-// fifth of the time (a loading view leaves the cores to the decoders).
+// fifth of the time (a loading view leaves the cores to the decoders); a `data_interval` of 0
+// redraws every change.
 // Once a camera and a snapshot have been drawn that way and stayed unchanged for a settling time
 // (so that a scheduler still loading keeps its cores for decoding), the next frame draws the blocks with every point
 // held (or, above a point cap, the finest spacing under it), the picture a converged view should equal; after that the

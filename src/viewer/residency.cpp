@@ -99,11 +99,11 @@ void Residency::set_budget(std::uint64_t bytes) {
     wake_.notify_all();
 }
 
-double Residency::gain_per_byte(std::uint32_t tile) const {
+double Residency::gain_per_byte(std::uint32_t tile, double fraction) const {
     const auto& t = dataset_.tiles[tile];
     const double shown = tiles_.contains(tile) ? options_.coarse_spacing_m : grid_.patch_size() / options_.patch_texels;
     const double bytes = static_cast<double>(std::max<std::uint64_t>(tile_point_set_bytes(t), 1));
-    return error_px(camera_, t.bounds_m, shown, spacing_[tile]) * screen_fraction(camera_, t.bounds_m) / bytes;
+    return error_px(camera_, t.bounds_m, shown, spacing_[tile]) * fraction / bytes;
 }
 
 double Residency::value_per_byte(std::uint32_t tile, const Entry& entry) const {
@@ -177,7 +177,7 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const st
             wanted_full_ += !it->second.partial;
             continue;
         }
-        candidates.emplace_back(gain_per_byte(i), i);
+        candidates.emplace_back(gain_per_byte(i, fraction), i);
     }
     // The best that fits: a tile larger than the budget allows must not stop the others.
     std::sort(candidates.begin(), candidates.end(), std::greater<>());

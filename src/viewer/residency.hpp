@@ -115,7 +115,8 @@ private:
     std::optional<std::vector<std::uint32_t>> victims(std::uint64_t incoming, double gain, std::uint64_t total,
                                                       const std::vector<Step>& steps) const;
     double value_per_byte(std::uint32_t tile, const Entry& entry) const;
-    double gain_per_byte(std::uint32_t tile) const;
+    // What decoding `tile` would improve per byte, given its screen coverage `fraction`.
+    double gain_per_byte(std::uint32_t tile, double fraction) const;
     std::uint64_t held() const;
     std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
     PointOrder decode_order() const;
