@@ -1,6 +1,6 @@
 // `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
-// [--method mean|min|max|linear|cnn] [--classes 2,9] [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png]
-// [--threads N] [--json]`: a terrain or surface model of a dataset as a float32 Cloud-Optimized
+// [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
+// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--threads N] [--json]`: a terrain or surface model of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include "cli/commands.hpp"
@@ -31,13 +32,25 @@ struct DemCliOptions {
     std::string method;  // empty: mean (full) or linear (overview)
     std::string classes;
     std::string crs;
+    std::optional<double> radius, power, max_edge;  // idw, idw, tin
     unsigned threads = 0;
     bool json = false;
 };
 
+// "2,9" -> {2, 9}: ASPRS class codes 0-255 (0 is "created, never classified").
 std::vector<int> parse_classes(const std::string& text) {
     std::vector<int> out;
-    for (const double v : parse_number_list(text, "--classes")) out.push_back(static_cast<int>(v));
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const auto end = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, end - start);
+        const bool digits = !item.empty() && item.size() <= 3 && item.find_first_not_of("0123456789") == std::string::npos;
+        if (!digits || std::stoi(item) > 255) {
+            throw Error("--classes expects class codes 0-255 separated by commas, not '" + text + "'");
+        }
+        out.push_back(std::stoi(item));
+        start = end + 1;
+    }
     return out;
 }
 
@@ -62,6 +75,20 @@ private:
     std::map<std::string, std::uint64_t> shown_;
 };
 
+// --radius and --power (idw) and --max-edge (tin), refused with another method.
+void apply_method_parameters(const DemCliOptions& o, raster::DemRequest& r) {
+    const auto only_for = [&](const std::optional<double>& v, const char* option, raster::DemMethod method) {
+        if (v && r.method != method) {
+            throw Error(std::string("dem: ") + option + " applies to --method " +
+                        std::string(raster::dem_method_name(method)) + " only");
+        }
+        return v.has_value();
+    };
+    if (only_for(o.radius, "--radius", raster::DemMethod::Idw)) r.idw_radius_m = *o.radius;
+    if (only_for(o.power, "--power", raster::DemMethod::Idw)) r.idw_power = *o.power;
+    if (only_for(o.max_edge, "--max-edge", raster::DemMethod::Tin)) r.tin_max_edge_m = *o.max_edge;
+}
+
 raster::DemRequest make_request(const DemCliOptions& o) {
     raster::DemRequest r;
     r.output = o.output;
@@ -73,6 +100,7 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     r.method = raster::dem_method_from_name(o.method.empty() ? (r.source == raster::DemSource::Full ? "mean" : "linear")
                                                              : o.method, r.source);
     if (!o.classes.empty()) r.classes = parse_classes(o.classes);
+    apply_method_parameters(o, r);
     r.model = o.model;
     r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     return r;
@@ -128,7 +156,12 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
         ->delimiter(',')->expected(4);
     cmd->add_option("--from", o->from, "full (every point) or overview (chunk points only; default full)");
-    cmd->add_option("--method", o->method, "full: mean (default), min, max; overview: linear (default), cnn");
+    cmd->add_option("--method", o->method, "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
+    cmd->add_option("--radius", o->radius, "idw: search radius around each texel centre, metres (default: texel x 1.414)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(CLI::PositiveNumber);
+    cmd->add_option("--max-edge", o->max_edge, "tin: no height in triangles with a longer edge, metres (default 0: no limit)")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_option("--classes", o->classes, "Only these ASPRS classes, e.g. 2,9 for ground and water (default all)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
     cmd->add_option("--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)");

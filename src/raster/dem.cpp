@@ -19,14 +19,26 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 constexpr std::pair<DemMethod, std::string_view> kMethodNames[] = {
-    {DemMethod::Mean, "mean"}, {DemMethod::Min, "min"}, {DemMethod::Max, "max"},
-    {DemMethod::Linear, "linear"}, {DemMethod::Cnn, "cnn"}};
+    {DemMethod::Mean, "mean"}, {DemMethod::Min, "min"}, {DemMethod::Max, "max"}, {DemMethod::Idw, "idw"},
+    {DemMethod::Tin, "tin"}, {DemMethod::Linear, "linear"}, {DemMethod::Cnn, "cnn"}};
 
 bool fits(DemMethod m, DemSource s) { return (m == DemMethod::Linear || m == DemMethod::Cnn) == (s == DemSource::Overview); }
 
-recon::TexelStatistic statistic_of(DemMethod m) {
-    return m == DemMethod::Min ? recon::TexelStatistic::Min
-         : m == DemMethod::Max ? recon::TexelStatistic::Max : recon::TexelStatistic::Mean;
+GridderSpec gridder_of(const DemRequest& r) {
+    GridderSpec g;
+    g.method = r.method == DemMethod::Idw ? GridMethod::Idw : r.method == DemMethod::Tin ? GridMethod::Tin
+                                                                                         : GridMethod::Statistic;
+    g.statistic = r.method == DemMethod::Min ? recon::TexelStatistic::Min
+                : r.method == DemMethod::Max ? recon::TexelStatistic::Max : recon::TexelStatistic::Mean;
+    g.idw_radius_m = r.idw_radius_m;
+    g.idw_power = r.idw_power;
+    g.tin_max_edge_m = r.tin_max_edge_m;
+    return g;
+}
+
+int block_texels(const DemRequest& r) {
+    if (r.source == DemSource::Overview) return kOverviewPatchTexels;
+    return r.method == DemMethod::Tin ? kTinBlockTexels : 512;
 }
 
 // The request's area in metres, or the dataset's bounds.
@@ -71,11 +83,11 @@ DemMethod dem_method_from_name(std::string_view name, DemSource source) {
         if (n != name) continue;
         if (!fits(m, source)) {
             throw Error("--method " + std::string(name) + " does not fit --from " +
-                        (source == DemSource::Full ? "full (mean, min or max)" : "overview (linear or cnn)"));
+                        (source == DemSource::Full ? "full (mean, min, max, idw or tin)" : "overview (linear or cnn)"));
         }
         return m;
     }
-    throw Error("unknown --method '" + std::string(name) + "' (mean, min, max for full; linear, cnn for overview)");
+    throw Error("unknown --method '" + std::string(name) + "' (mean, min, max, idw, tin for full; linear, cnn for overview)");
 }
 
 std::string_view dem_method_name(DemMethod method) {
@@ -88,8 +100,7 @@ std::string_view dem_method_name(DemMethod method) {
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     DemResult result;
-    result.grid = make_dem_grid(area_in_metres(ds, r), r.texel_m,
-                                r.source == DemSource::Overview ? kOverviewPatchTexels : 512);
+    result.grid = make_dem_grid(area_in_metres(ds, r), r.texel_m, block_texels(r));
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
     BlockRaster heights(r.output, geometry, height_layout(ds, nodata));
@@ -100,7 +111,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     auto t0 = Clock::now();
     if (r.source == DemSource::Full) {
         FullDemOptions opt;
-        opt.statistic = statistic_of(r.method);
+        opt.gridder = gridder_of(r);
         opt.classes = ClassFilter::only(r.classes);
         opt.nodata = nodata;
         opt.progress = [&](std::uint64_t done, std::uint64_t total) {

@@ -1,7 +1,8 @@
 // `lidarscout dem` as a library call: the DEM of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the dataset's CRS (its native units, nodata -9999), optionally its orthophoto
 // (RGBA COG of the mean point colours) and a hillshade PNG.
-//   from full:      every point, per texel the mean, min or max height (full_dem.hpp)
+//   from full:      every point, per texel the mean, min or max height, or inverse distance
+//                   weighting, or a TIN (full_dem.hpp, block_gridders.hpp)
 //   from overview:  the chunk points only, per 64-texel patch the linear interpolation or the
 //                   heightmap network (overview_dem.hpp)
 #pragma once
@@ -23,9 +24,9 @@ struct Dataset;
 namespace lidarscout::raster {
 
 enum class DemSource { Full, Overview };
-enum class DemMethod { Mean, Min, Max, Linear, Cnn };
+enum class DemMethod { Mean, Min, Max, Idw, Tin, Linear, Cnn };
 
-// "mean", "min", "max" (full), "linear", "cnn" (overview); throws Error for other names or a
+// "mean", "min", "max", "idw", "tin" (full), "linear", "cnn" (overview); throws Error for other names or a
 // method that does not fit the source.
 DemMethod dem_method_from_name(std::string_view name, DemSource source);
 DemSource dem_source_from_name(std::string_view name);
@@ -43,6 +44,9 @@ struct DemRequest {
     DemSource source = DemSource::Full;
     DemMethod method = DemMethod::Mean;
     std::vector<int> classes;  // empty: all
+    double idw_radius_m = 0;   // idw: search radius around each texel centre (0: the texel's diagonal)
+    double idw_power = 2;      // idw: weights 1 / distance^power
+    double tin_max_edge_m = 0; // tin: no height in triangles with a longer edge (0: no limit)
     std::string model;         // the network for cnn; empty: the shipped one
     unsigned threads = 1;
     DemProgressFn progress;

@@ -1,9 +1,10 @@
-// grid_full_dem: stream tiles south to north, add points to their blocks' texels, finish each
-// block when its last overlapping tile is done.
+// grid_full_dem: stream tiles south to north, give points to the blocks within their reach,
+// finish each block when the last tile that reaches it is done.
 #include "raster/full_dem.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <unordered_map>
 
@@ -24,27 +25,6 @@ ClassFilter ClassFilter::only(const std::vector<int>& classes) {
     return f;
 }
 
-std::vector<float> block_heights(std::span<const recon::TexelStats> texels, recon::TexelStatistic statistic,
-                                 double z_to_metres, float nodata) {
-    std::vector<float> out(texels.size(), nodata);
-    for (std::size_t i = 0; i < texels.size(); ++i) {
-        const float h = texels[i].height(statistic);
-        if (!std::isnan(h)) out[i] = z_to_metres == 1.0 ? h : static_cast<float>(h / z_to_metres);
-    }
-    return out;
-}
-
-std::vector<std::uint8_t> block_rgba(std::span<const recon::TexelStats> texels) {
-    const std::size_t n = texels.size();
-    std::vector<std::uint8_t> out(4 * n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (texels[i].count == 0) continue;
-        for (int c = 0; c < 3; ++c) out[c * n + i] = static_cast<std::uint8_t>(std::lround(texels[i].colour(c) * 255.0f));
-        out[3 * n + i] = 255;
-    }
-    return out;
-}
-
 namespace {
 
 // Blocks (inclusive index ranges) a tile may put points into.
@@ -59,9 +39,10 @@ int block_index(double v, double origin, double block_m, int count) {
     return static_cast<int>(std::clamp(i, -1.0, static_cast<double>(count)));
 }
 
-// The tile's header bounds grown by a texel (rounding of the bounds against the points).
-BlockRange tile_blocks(const DemGrid& g, const dataset::Bounds& b) {
-    const double m = g.block * g.texel_m, pad = g.texel_m;
+// The tile's header bounds grown by a texel (rounding of the bounds against the points) and the
+// gridder's reach.
+BlockRange tile_blocks(const DemGrid& g, const dataset::Bounds& b, double reach_m) {
+    const double m = g.block * g.texel_m, pad = g.texel_m + reach_m;
     BlockRange r{block_index(b.min_x - pad, g.origin_x, m, g.blocks_x()), block_index(b.min_y - pad, g.origin_y, m, g.blocks_y()),
                  block_index(b.max_x + pad, g.origin_x, m, g.blocks_x()), block_index(b.max_y + pad, g.origin_y, m, g.blocks_y())};
     if (r.x1 < 0 || r.y1 < 0 || r.x0 >= g.blocks_x() || r.y0 >= g.blocks_y()) return {};
@@ -73,25 +54,31 @@ BlockRange tile_blocks(const DemGrid& g, const dataset::Bounds& b) {
 class BlockSet {
 public:
     BlockSet(const DemGrid& grid, const FullDemOptions& options, const DemOutputs& outputs, FullDemStats& stats)
-        : grid_(grid), spec_(grid.block_spec()), options_(options), outputs_(outputs), stats_(stats),
-          pending_(static_cast<std::size_t>(grid.blocks_x()) * grid.blocks_y(), 0) {}
+        : grid_(grid), spec_(grid.block_spec()), gridder_(options.gridder), options_(options), outputs_(outputs),
+          stats_(stats), reach_(gridder_reach_m(options.gridder, grid.texel_m)),
+          pending_(static_cast<std::size_t>(grid.blocks_x()) * grid.blocks_y(), 0) {
+        gridder_.rgb = outputs.rgb != nullptr;
+    }
+
+    double reach_m() const { return reach_; }
 
     void expect(const BlockRange& r) { visit(r, [&](dataset::CellKey c) { ++pending_[slot(c)]; }); }
 
-    // Adds a point of a tile whose blocks are `range`; false when it lies outside the grid.
+    // Adds a point of a tile whose blocks are `range`; false when it reaches no block.
     bool add(const dataset::MetricPoint& p, const BlockRange& range, const std::string& tile) {
         const auto at = recon::locate_texel(spec_, grid_.origin_x, grid_.origin_y, p.x, p.y);
-        if (!at || at->cell.ix < 0 || at->cell.iy < 0 || at->cell.ix >= grid_.blocks_x() || at->cell.iy >= grid_.blocks_y()) {
-            return false;
+        if (!at) return false;
+        if (reach_ == 0) {
+            if (!inside_raster(*at)) return false;
+            gridder_of(checked(at->cell, range, p, tile)).add(p, &*at);
+            return true;
         }
-        if (at->cell.ix * grid_.block + at->col >= grid_.width || at->cell.iy * grid_.block + at->row >= grid_.height) {
-            return false;
-        }
-        if (!range.contains(at->cell)) {
-            throw Error(tile, std::nullopt, "a point at (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
-                                                " m) lies outside the tile's header bounds");
-        }
-        texels_of(at->cell)[static_cast<std::size_t>(at->row) * grid_.block + at->col].add(p.z, p.rgb);
+        const BlockRange reached = blocks_within(p.x, p.y);
+        if (reached.empty()) return false;
+        visit(reached, [&](dataset::CellKey c) {
+            const bool own = c == at->cell && inside_raster(*at);
+            gridder_of(checked(c, range, p, tile)).add(p, own ? &*at : nullptr);
+        });
         return true;
     }
 
@@ -104,6 +91,32 @@ public:
 private:
     std::size_t slot(dataset::CellKey c) const { return static_cast<std::size_t>(c.iy) * grid_.blocks_x() + c.ix; }
 
+    bool inside_raster(const recon::TexelLocation& at) const {
+        return at.cell.ix >= 0 && at.cell.iy >= 0 && at.cell.ix < grid_.blocks_x() && at.cell.iy < grid_.blocks_y() &&
+               at.cell.ix * grid_.block + at.col < grid_.width && at.cell.iy * grid_.block + at.row < grid_.height;
+    }
+
+    // The blocks of the grid within the reach of (x, y).
+    BlockRange blocks_within(double x, double y) const {
+        const double m = grid_.block * grid_.texel_m;
+        BlockRange r{block_index(x - reach_, grid_.origin_x, m, grid_.blocks_x()),
+                     block_index(y - reach_, grid_.origin_y, m, grid_.blocks_y()),
+                     block_index(x + reach_, grid_.origin_x, m, grid_.blocks_x()),
+                     block_index(y + reach_, grid_.origin_y, m, grid_.blocks_y())};
+        r.x0 = std::max(r.x0, 0), r.y0 = std::max(r.y0, 0);
+        r.x1 = std::min(r.x1, grid_.blocks_x() - 1), r.y1 = std::min(r.y1, grid_.blocks_y() - 1);
+        return r;
+    }
+
+    static dataset::CellKey checked(dataset::CellKey c, const BlockRange& range, const dataset::MetricPoint& p,
+                                    const std::string& tile) {
+        if (!range.contains(c)) {
+            throw Error(tile, std::nullopt, "a point at (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+                                                " m) lies outside the tile's header bounds");
+        }
+        return c;
+    }
+
     template <typename Fn>
     static void visit(const BlockRange& r, Fn&& fn) {
         for (int iy = r.y0; iy <= r.y1; ++iy) {
@@ -111,47 +124,57 @@ private:
         }
     }
 
-    std::vector<recon::TexelStats>& texels_of(dataset::CellKey c) {
+    BlockGridder& gridder_of(dataset::CellKey c) {
         if (last_ && last_key_ == c) return *last_;
         auto [it, created] = blocks_.try_emplace(c);
         if (created) {
-            it->second.resize(static_cast<std::size_t>(grid_.block) * grid_.block);
+            it->second = make_block_gridder(gridder_, grid_, c);
             stats_.peak_blocks = std::max(stats_.peak_blocks, blocks_.size());
         }
         last_key_ = c;
-        last_ = &it->second;
-        return it->second;
+        last_ = it->second.get();
+        return *last_;
     }
 
     // Blocks no point reached are left to the raster's nodata.
     void finish(dataset::CellKey c) {
         const auto it = blocks_.find(c);
         if (it == blocks_.end()) return;
-        const std::span<const recon::TexelStats> texels(it->second);
-        const auto heights = block_heights(texels, options_.statistic, outputs_.z_to_metres, options_.nodata);
-        write_block(*outputs_.heights, grid_, 1, c.ix, c.iy, std::span<const float>(heights));
+        if (last_ == it->second.get()) last_ = nullptr;
+        const BlockImages images = it->second->finish();
+        blocks_.erase(it);
+        write_block(*outputs_.heights, grid_, 1, c.ix, c.iy, std::span<const float>(in_file_units(images.heights_m)));
         if (outputs_.rgb) {
-            const auto rgba = block_rgba(texels);
-            const std::size_t plane = texels.size();
+            const std::size_t plane = images.heights_m.size();
             for (int band = 0; band < 4; ++band) {
                 write_block(*outputs_.rgb, grid_, band + 1, c.ix, c.iy,
-                            std::span<const std::uint8_t>(rgba.data() + band * plane, plane));
+                            std::span<const std::uint8_t>(images.rgba.data() + band * plane, plane));
             }
         }
-        if (last_ == &it->second) last_ = nullptr;
-        blocks_.erase(it);
         ++stats_.blocks_written;
+    }
+
+    // Heights in the frame's vertical unit, nodata where there is none.
+    std::vector<float> in_file_units(const std::vector<float>& metres) const {
+        std::vector<float> out(metres.size(), options_.nodata);
+        const double f = outputs_.z_to_metres;
+        for (std::size_t i = 0; i < metres.size(); ++i) {
+            if (!std::isnan(metres[i])) out[i] = f == 1.0 ? metres[i] : static_cast<float>(metres[i] / f);
+        }
+        return out;
     }
 
     const DemGrid& grid_;
     recon::PatchSpec spec_;
+    GridderSpec gridder_;
     const FullDemOptions& options_;
     const DemOutputs& outputs_;
     FullDemStats& stats_;
+    double reach_;
     std::vector<int> pending_;
-    std::unordered_map<dataset::CellKey, std::vector<recon::TexelStats>, dataset::CellKeyHash> blocks_;
+    std::unordered_map<dataset::CellKey, std::unique_ptr<BlockGridder>, dataset::CellKeyHash> blocks_;
     dataset::CellKey last_key_;
-    std::vector<recon::TexelStats>* last_ = nullptr;
+    BlockGridder* last_ = nullptr;
 };
 
 // Tile indices south to north, then west to east, so finished rows of blocks free early.
@@ -175,7 +198,7 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
     std::vector<BlockRange> ranges(ds.tiles.size());
     std::uint64_t total = 0;
     for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
-        ranges[i] = tile_blocks(grid, ds.tiles[i].bounds_m);
+        ranges[i] = tile_blocks(grid, ds.tiles[i].bounds_m, blocks.reach_m());
         blocks.expect(ranges[i]);
         if (!ranges[i].empty()) total += ds.tiles[i].tile.header.point_count;
     }

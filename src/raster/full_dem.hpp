@@ -1,9 +1,10 @@
 // DEMs from every point (`lidarscout dem --from full`): tiles are streamed one at a time in
 // south-to-north order (LAZ chunks decoded in parallel), each point of the chosen classes is
-// added to its texel (recon/texel_stats.hpp: the same gridding as `eval`'s ground truth, so
-// `--method mean` equals it texel by texel), and a block is finished — its statistic computed,
-// written, freed — as soon as the last tile that overlaps it is done. Memory is therefore the
-// blocks under the tiles in flight, not the raster. A point outside its tile's header bounds
+// given to the blocks within its reach (block_gridders.hpp: its texel for mean/min/max — the
+// same gridding as `eval`'s ground truth, so `--method mean` equals it texel by texel — the
+// texels within the radius for idw, the blocks whose margin holds it for tin), and a block is
+// finished — gridded, written, freed — as soon as the last tile that reaches it is done.
+// Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its tile's header bounds
 // (beyond a texel) is an error naming the file: its block may already be written.
 #pragma once
 
@@ -11,8 +12,8 @@
 #include <cstdint>
 #include <functional>
 
+#include "raster/block_gridders.hpp"
 #include "raster/dem_grid.hpp"
-#include "recon/texel_stats.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -32,7 +33,7 @@ struct ClassFilter {
 };
 
 struct FullDemOptions {
-    recon::TexelStatistic statistic = recon::TexelStatistic::Mean;
+    GridderSpec gridder;  // mean/min/max, idw or tin (its rgb flag follows DemOutputs::rgb)
     ClassFilter classes;
     float nodata = -9999.0f;
     // Called after each batch of points: (points done, points total).
@@ -40,7 +41,7 @@ struct FullDemOptions {
 };
 
 // Where the finished blocks go: heights (band 1, the frame's vertical unit) and, when `rgb` is
-// set, colour (bands 1-3) with alpha (band 4, 255 where a point fell).
+// set, colour (bands 1-3) with alpha (band 4, 255 where a height is).
 struct DemOutputs {
     BlockRaster* heights = nullptr;
     BlockRaster* rgb = nullptr;
@@ -55,11 +56,5 @@ struct FullDemStats {
 
 FullDemStats grid_full_dem(const dataset::Dataset& dataset, const DemGrid& grid, const FullDemOptions& options,
                            const DemOutputs& outputs, ThreadPool& pool);
-
-// One block's height image (block x block, rows from the south) of the statistic, in
-// metres / z_to_metres, `nodata` where no point fell; and its RGBA planes (4 x block x block).
-std::vector<float> block_heights(std::span<const recon::TexelStats> texels, recon::TexelStatistic statistic,
-                                 double z_to_metres, float nodata);
-std::vector<std::uint8_t> block_rgba(std::span<const recon::TexelStats> texels);
 
 }  // namespace lidarscout::raster

@@ -22,8 +22,8 @@ using FaceBase = CGAL::Triangulation_face_base_with_info_2<std::int32_t, Kernel>
 using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 using Delaunay = CGAL::Delaunay_triangulation_2<Kernel, Tds>;
 
-// The chunk points, then the window corners that no chunk point occupies.
-std::vector<GridXY> with_padding(std::span<const GridXY> points, std::int64_t extent) {
+// The chunk points, then (with `pad_corners`) the window corners that no chunk point occupies.
+std::vector<GridXY> with_padding(std::span<const GridXY> points, std::int64_t extent, bool pad_corners) {
     const double e = static_cast<double>(extent);
     std::vector<GridXY> out(points.begin(), points.end());
     for (const GridXY& p : points) {
@@ -31,6 +31,7 @@ std::vector<GridXY> with_padding(std::span<const GridXY> points, std::int64_t ex
             throw Error::in_stage("recon", "triangulation point outside the window");
         }
     }
+    if (!pad_corners) return out;
     for (const GridXY corner : {GridXY{0, 0}, GridXY{e, 0}, GridXY{e, e}, GridXY{0, e}}) {
         bool taken = false;
         for (const GridXY& p : points) taken = taken || p == corner;
@@ -41,9 +42,9 @@ std::vector<GridXY> with_padding(std::span<const GridXY> points, std::int64_t ex
 
 }  // namespace
 
-Triangulation triangulate(std::span<const GridXY> points, std::int64_t extent) {
+Triangulation triangulate(std::span<const GridXY> points, std::int64_t extent, bool pad_corners) {
     Triangulation out;
-    out.vertices = with_padding(points, extent);
+    out.vertices = with_padding(points, extent, pad_corners);
     out.real_count = points.size();
 
     std::vector<std::pair<Kernel::Point_2, std::int32_t>> input;

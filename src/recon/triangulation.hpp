@@ -37,9 +37,10 @@ struct Triangulation {
     }
 };
 
-// Triangulates `points` (distinct positions inside [0, extent]^2) with the padding corners.
+// Triangulates `points` (distinct positions inside [0, extent]^2) with the padding corners, or,
+// with `pad_corners` false, alone (the plain Delaunay triangulation, as a TIN of a DEM wants).
 // Throws lidarscout::Error for a position outside the window or a repeated position.
-Triangulation triangulate(std::span<const GridXY> points, std::int64_t extent);
+Triangulation triangulate(std::span<const GridXY> points, std::int64_t extent, bool pad_corners = true);
 // The same for a patch's points.
 Triangulation triangulate(const PatchPoints& patch);
 

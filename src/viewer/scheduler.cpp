@@ -301,9 +301,9 @@ void Scheduler::on_tile_done(std::uint32_t tile) {
     }
     {
         std::lock_guard lock(s.mutex);
-        for (auto& [cell, set] : sets) {
-            Patch& p = s.patches[cell];
-            s.modify(cell, p, [&] { p.chunk = std::move(set); });
+        for (auto& entry : sets) {  // not a structured binding: clang 14 cannot capture one
+            Patch& p = s.patches[entry.first];
+            s.modify(entry.first, p, [&] { p.chunk = std::move(entry.second); });
         }
         for (const auto cell : s.window_cells[tile]) {
             Patch& p = s.patches[cell];

@@ -71,6 +71,11 @@ TEST_F(DemCommand, BadOptionsAreOneLineErrors) {
     EXPECT_EQ(test::run_command(base + " --from sideways 2>&1", out), 1);
     EXPECT_EQ(test::run_command(base + " --classes 2,300 2>&1", out), 1);
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+    EXPECT_NE(out.find("class codes 0-255"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --method mean --radius 3 2>&1", out), 1);
+    EXPECT_NE(out.find("--radius applies to --method idw only"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --method idw --max-edge 3 2>&1", out), 1);
+    EXPECT_NE(out.find("--max-edge applies to --method tin only"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("x.tif")));
 }
 

@@ -1,6 +1,7 @@
 // DEMs from every point: a small golden DEM (mean, min, max, a class filter, nodata and the
 // geotransform, read back with GDAL), the gdalinfo view of the COG (CRS, nodata, overviews,
-// COG layout), and `mean` equal texel by texel to the ground truth `eval` scores against.
+// COG layout), mean / idw / tin against gdal_grid's average / invdist / linear, no seams at
+// block borders, and `mean` equal texel by texel to the ground truth `eval` scores against.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -42,6 +43,59 @@ protected:
         r.method = method;
         r.threads = 2;
         return r;
+    }
+
+    // Points scattered around the texel centres of a 40 x 30 m area (0 to 4 per texel, some texels
+    // empty) on a tilted, curved surface, as a LAS tile and as the CSV + VRT that gdal_grid reads.
+    // The CSV is relative to the area's corner (500000, 5400000): gdal_grid's Delaunay (qhull)
+    // loses the centimetres at UTM coordinates, and its triangles are then not Delaunay.
+    dataset::Dataset scattered_points() {
+        std::vector<test::FixturePoint> points;
+        for (int j = 0; j < 30; ++j) {
+            for (int i = 0; i < 40; ++i) {
+                const int n = (i * 7 + j * 3) % 5;
+                for (int k = 0; k < n; ++k) {
+                    const double a = 1.3 * k + 0.1 * i, r = 0.1 + 0.05 * k;
+                    points.push_back({500000.5 + i + r * std::cos(a), 5400000.5 + j + r * std::sin(a),
+                                      200.0 + 0.37 * i - 0.21 * j + 0.013 * k * k + 0.002 * i * j});
+                }
+            }
+        }
+        test::write_fixture(path("points.las"), points, 32632);
+        auto ds = dataset::open_dataset({path("points.las")});
+        std::FILE* csv = std::fopen(path("points.csv").c_str(), "w");
+        std::fprintf(csv, "x,y,z\n");
+        for (const auto& p : test::read_points_back(ds)) {
+        std::fprintf(csv, "%.4f,%.4f,%.4f\n", p[0] - 500000, p[1] - 5400000, p[2]);
+    }
+        std::fclose(csv);
+        std::ofstream vrt(path("points.vrt"));
+        vrt << "<OGRVRTDataSource><OGRVRTLayer name=\"points\"><SrcDataSource>" << path("points.csv")
+            << "</SrcDataSource><GeometryType>wkbPoint25D</GeometryType><GeometryField encoding=\"PointFromColumns\" "
+               "x=\"x\" y=\"y\" z=\"z\"/></OGRVRTLayer></OGRVRTDataSource>\n";
+        return ds;
+    }
+
+    // gdal_grid (gdal-bin) with `algorithm` over the scattered points' 40 x 30 texels into grid.tif.
+    void gdal_grid(const std::string& algorithm) {
+        std::string out;
+        ASSERT_EQ(test::run_command("gdal_grid -q -a " + algorithm + " -txe 0 40 -tye 30 0 "
+                                    "-outsize 40 30 -ot Float32 -l points " + path("points.vrt") + " " +
+                                    path("grid.tif") + " 2>&1", out),
+                  0)
+            << out;
+    }
+
+    // Our DEM and gdal_grid's agree within `tolerance` texel by texel; returns the texels with a value.
+    std::size_t compare_with_gdal_grid(float tolerance) {
+        const auto ours = test::read_raster(path("dem.tif")), theirs = test::read_raster(path("grid.tif"));
+        EXPECT_EQ(theirs.values.size(), ours.values.size());
+        std::size_t with_value = 0;
+        for (std::size_t i = 0; i < std::min(ours.values.size(), theirs.values.size()); ++i) {
+            EXPECT_NEAR(ours.values[i], theirs.values[i], tolerance) << "texel " << i % 40 << ", " << i / 40;
+            with_value += ours.values[i] != -9999.0f;
+        }
+        return with_value;
     }
 };
 
@@ -122,52 +176,75 @@ TEST_F(FullDem, GdalinfoSeesACloudOptimizedGeoTiff) {
     }
 }
 
-// GDAL's own gridding (gdal_grid -a average, gdal-bin) of the same points, written as CSV, gives
-// the same values within float rounding where every point lies within the circle inscribed in
-// its texel (gdal_grid searches a circle around the texel centre, we bin squares).
+// GDAL's own gridding (gdal_grid -a average) of the same points gives the same values within
+// float rounding where every point lies within the circle inscribed in its texel (gdal_grid
+// searches a circle around the texel centre, we bin squares).
 TEST_F(FullDem, MeanEqualsGdalGridAverage) {
-    std::vector<test::FixturePoint> points;
-    std::FILE* csv = std::fopen(path("points.csv").c_str(), "w");
-    std::fprintf(csv, "x,y,z\n");
-    for (int j = 0; j < 30; ++j) {
-        for (int i = 0; i < 40; ++i) {
-            const int n = (i * 7 + j * 3) % 5;  // 0..4 points, some texels empty
-            for (int k = 0; k < n; ++k) {
-                const double a = 1.3 * k + 0.1 * i, r = 0.1 + 0.05 * k;
-                const test::FixturePoint p{500000.5 + i + r * std::cos(a), 5400000.5 + j + r * std::sin(a),
-                                           200.0 + 0.37 * i - 0.21 * j + 0.013 * k * k};
-                points.push_back(p);
-            }
-        }
-    }
-    test::write_fixture(path("points.las"), points, 32632);
-    const auto ds = dataset::open_dataset({path("points.las")});
-    for (const auto& p : test::read_points_back(ds)) std::fprintf(csv, "%.4f,%.4f,%.4f\n", p[0], p[1], p[2]);
-    std::fclose(csv);
-    {
-        std::ofstream vrt(path("points.vrt"));
-        vrt << "<OGRVRTDataSource><OGRVRTLayer name=\"points\"><SrcDataSource>" << path("points.csv")
-            << "</SrcDataSource><GeometryType>wkbPoint25D</GeometryType><GeometryField encoding=\"PointFromColumns\" "
-               "x=\"x\" y=\"y\" z=\"z\"/></OGRVRTLayer></OGRVRTDataSource>\n";
-    }
+    const auto ds = scattered_points();
     const auto result = raster::make_dem(ds, request(raster::DemMethod::Mean));
     ASSERT_EQ(result.grid.width, 40);
     ASSERT_EQ(result.grid.height, 30);
-    std::string out;
-    ASSERT_EQ(test::run_command("gdal_grid -q -a average:radius1=0.5:radius2=0.5:min_points=1:nodata=-9999 "
-                                "-txe 500000 500040 -tye 5400030 5400000 -outsize 40 30 -ot Float32 -l points " +
-                                    path("points.vrt") + " " + path("grid.tif") + " 2>&1",
-                                out),
-              0)
-        << out;
-    const auto ours = test::read_raster(path("dem.tif")), theirs = test::read_raster(path("grid.tif"));
-    ASSERT_EQ(theirs.values.size(), ours.values.size());
-    std::size_t with_value = 0;
-    for (std::size_t i = 0; i < ours.values.size(); ++i) {
-        ASSERT_NEAR(ours.values[i], theirs.values[i], 2e-5f) << "texel " << i % 40 << ", " << i / 40;
-        with_value += ours.values[i] != -9999.0f;
+    gdal_grid("average:radius1=0.5:radius2=0.5:min_points=1:nodata=-9999");
+    EXPECT_GT(compare_with_gdal_grid(2e-5f), 800u);
+}
+
+// --method idw is gdal_grid's inverse distance to a power within the same radius.
+TEST_F(FullDem, IdwEqualsGdalGridInvdist) {
+    const auto ds = scattered_points();
+    for (const double power : {2.0, 1.5}) {
+        SCOPED_TRACE(power);
+        auto r = request(raster::DemMethod::Idw);
+        r.idw_radius_m = 1.2;
+        r.idw_power = power;
+        raster::make_dem(ds, r);
+        gdal_grid("invdist:power=" + std::to_string(power) +
+                             ":smoothing=0:radius1=1.2:radius2=1.2:min_points=1:nodata=-9999");
+        EXPECT_GT(compare_with_gdal_grid(2e-4f), 1000u);
     }
-    EXPECT_GT(with_value, 800u);
+}
+
+// --method tin is gdal_grid's linear interpolation in the Delaunay triangulation (nodata outside
+// the hull).
+TEST_F(FullDem, TinEqualsGdalGridLinear) {
+    const auto ds = scattered_points();
+    raster::make_dem(ds, request(raster::DemMethod::Tin));
+    gdal_grid("linear:radius=0:nodata=-9999");
+    EXPECT_GT(compare_with_gdal_grid(2e-4f), 1000u);
+}
+
+// Blocks meet without seams: on a real survey, a DEM of a part whose blocks start elsewhere
+// (the area shifted by 100.5 texels) has the same value in every texel it shares with the
+// whole DEM: exactly for idw, within float rounding for tin (each block interpolates heights
+// relative to its own points' median).
+TEST_F(FullDem, IdwAndTinHaveNoSeamsAtBlockBorders) {
+    const auto ds = dataset::open_dataset({(test::surveys_dir() / "isprs-filter-test-sites" / "CSite1_red1-utm.laz").string()});
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    const auto& b = ds.tiles[0].bounds_m;
+    for (const auto method : {raster::DemMethod::Idw, raster::DemMethod::Tin}) {
+        SCOPED_TRACE(std::string(raster::dem_method_name(method)));
+        auto whole = request(method);
+        whole.texel_m = 0.5;
+        whole.tin_max_edge_m = 20;
+        const auto w = raster::make_dem(ds, whole);
+        ASSERT_GT(w.grid.blocks_x() * w.grid.blocks_y(), 2);
+        auto part = whole;
+        part.output = path("part.tif");
+        part.area = raster::Area{w.grid.origin_x + 100.5 * 0.5, w.grid.origin_y + 100.5 * 0.5, b.max_x, b.max_y};
+        const auto p = raster::make_dem(ds, part);
+        const auto a = test::read_raster(whole.output), c = test::read_raster(part.output);
+        const int dx = static_cast<int>(std::lround((p.grid.origin_x - w.grid.origin_x) / 0.5));
+        const int top = a.height - (static_cast<int>(std::lround((p.grid.origin_y - w.grid.origin_y) / 0.5)) + c.height);
+        ASSERT_GE(dx, 100);
+        std::size_t same = 0;
+        for (int row = 0; row < c.height; ++row) {
+            for (int col = 0; col < c.width && col + dx < a.width; ++col) {
+                const float tolerance = method == raster::DemMethod::Idw ? 0.0f : 1e-4f;
+                ASSERT_NEAR(c.at(row, col), a.at(row + top, col + dx), tolerance) << "texel " << col << ", " << row;
+                same += c.at(row, col) != -9999.0f;
+            }
+        }
+        EXPECT_GT(same, 100000u);
+    }
 }
 
 // --from full --method mean is the ground truth of eval (recon::GroundTruth fed by

@@ -1,0 +1,255 @@
+// The block gridders of full DEMs: texel statistics, inverse distance weighting, and a TIN.
+#include "raster/block_gridders.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "recon/face_map.hpp"
+#include "recon/interpolation.hpp"
+#include "recon/triangulation.hpp"
+
+namespace lidarscout::raster {
+
+namespace {
+
+std::size_t texel_count(const DemGrid& g) { return static_cast<std::size_t>(g.block) * g.block; }
+
+std::uint8_t colour_byte(double v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L)); }
+
+// RGBA planes from per-texel colours in [0, 1] (NaN: no value there).
+std::vector<std::uint8_t> rgba_planes(std::size_t n, const auto& colour_of) {
+    std::vector<std::uint8_t> out(4 * n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto [r, g, b] = colour_of(i);
+        if (std::isnan(r)) continue;
+        out[i] = colour_byte(r), out[n + i] = colour_byte(g), out[2 * n + i] = colour_byte(b);
+        out[3 * n + i] = 255;
+    }
+    return out;
+}
+
+// mean / min / max of the points in each texel.
+class StatisticGridder final : public BlockGridder {
+public:
+    StatisticGridder(const GridderSpec& spec, const DemGrid& grid)
+        : spec_(spec), block_(grid.block), texels_(texel_count(grid)) {}
+
+    void add(const dataset::MetricPoint& p, const recon::TexelLocation* own) override {
+        if (!own) throw Error::in_stage("dem", "a point was routed to a block it does not fall in (internal error)");
+        texels_[static_cast<std::size_t>(own->row) * block_ + own->col].add(p.z, p.rgb);
+    }
+
+    BlockImages finish() override {
+        BlockImages out;
+        out.heights_m.resize(texels_.size());
+        for (std::size_t i = 0; i < texels_.size(); ++i) out.heights_m[i] = texels_[i].height(spec_.statistic);
+        if (spec_.rgb) {
+            out.rgba = rgba_planes(texels_.size(), [&](std::size_t i) {
+                const auto& t = texels_[i];
+                return std::array<float, 3>{t.colour(0), t.colour(1), t.colour(2)};
+            });
+        }
+        return out;
+    }
+
+private:
+    GridderSpec spec_;
+    int block_;
+    std::vector<recon::TexelStats> texels_;
+};
+
+// Inverse distance weighting within a radius of each texel centre.
+class IdwGridder final : public BlockGridder {
+public:
+    IdwGridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block)
+        : spec_(spec), texel_(grid.texel_m), n_(grid.block),
+          min_x_(grid.origin_x + double(block.ix) * grid.block * grid.texel_m),
+          min_y_(grid.origin_y + double(block.iy) * grid.block * grid.texel_m),
+          radius_(gridder_reach_m(spec, grid.texel_m)), sums_(texel_count(grid)) {
+        if (spec.rgb) colours_.resize(3 * sums_.size());
+    }
+
+    void add(const dataset::MetricPoint& p, const recon::TexelLocation*) override {
+        const auto [c0, c1] = texel_span(p.x - min_x_);
+        const auto [r0, r1] = texel_span(p.y - min_y_);
+        const double r2 = radius_ * radius_;
+        for (int row = r0; row <= r1; ++row) {
+            const double dy = min_y_ + (row + 0.5) * texel_ - p.y;
+            for (int col = c0; col <= c1; ++col) {
+                const double dx = min_x_ + (col + 0.5) * texel_ - p.x, d2 = dx * dx + dy * dy;
+                if (d2 > r2) continue;
+                const std::size_t i = static_cast<std::size_t>(row) * n_ + col;
+                const double w = weight(d2);
+                sums_[i].wz += w * p.z;
+                sums_[i].w += w;
+                if (!colours_.empty()) {
+                    colours_[3 * i] += w * p.rgb.r / 255.0;
+                    colours_[3 * i + 1] += w * p.rgb.g / 255.0;
+                    colours_[3 * i + 2] += w * p.rgb.b / 255.0;
+                }
+            }
+        }
+    }
+
+    BlockImages finish() override {
+        BlockImages out;
+        const float none = recon::kNoValue;
+        out.heights_m.resize(sums_.size());
+        for (std::size_t i = 0; i < sums_.size(); ++i) {
+            out.heights_m[i] = sums_[i].w > 0 ? static_cast<float>(sums_[i].wz / sums_[i].w) : none;
+        }
+        if (!colours_.empty()) {
+            out.rgba = rgba_planes(sums_.size(), [&](std::size_t i) {
+                const double w = sums_[i].w;
+                if (!(w > 0)) return std::array<double, 3>{none, none, none};
+                return std::array<double, 3>{colours_[3 * i] / w, colours_[3 * i + 1] / w, colours_[3 * i + 2] / w};
+            });
+        }
+        return out;
+    }
+
+private:
+    struct Sum {
+        double wz = 0, w = 0;
+    };
+
+    // The texels (inclusive, clipped to the block) whose centres may lie within the radius of
+    // offset `d` (metres from the block's min edge).
+    std::pair<int, int> texel_span(double d) const {
+        const double lo = std::ceil((d - radius_) / texel_ - 0.5), hi = std::floor((d + radius_) / texel_ - 0.5);
+        return {static_cast<int>(std::max(lo, 0.0)), static_cast<int>(std::min(hi, double(n_ - 1)))};
+    }
+
+    // 1 / d^power; a point on a texel centre gets a weight that outweighs any other (gdal_grid
+    // takes its value there).
+    double weight(double d2) const {
+        const double d2_safe = std::max(d2, 1e-24);
+        return spec_.idw_power == 2 ? 1.0 / d2_safe : std::pow(d2_safe, -0.5 * spec_.idw_power);
+    }
+
+    GridderSpec spec_;
+    double texel_;
+    int n_;
+    double min_x_, min_y_, radius_;
+    std::vector<Sum> sums_;
+    std::vector<double> colours_;  // weighted r, g, b sums in [0, 1] per texel
+};
+
+// A TIN of the block's points and its margin's, interpolated at the texel centres.
+class TinGridder final : public BlockGridder {
+public:
+    TinGridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block)
+        : spec_(spec), grid_(grid), min_x_(grid.origin_x + double(block.ix) * grid.block * grid.texel_m),
+          min_y_(grid.origin_y + double(block.iy) * grid.block * grid.texel_m) {}
+
+    void add(const dataset::MetricPoint& p, const recon::TexelLocation*) override {
+        dataset::OverviewPoint o;
+        o.x = p.x, o.y = p.y, o.z = p.z, o.rgb = p.rgb;
+        points_.push_back(o);
+    }
+
+    BlockImages finish() override {
+        recon::PatchOptions options;
+        options.spec = {grid_.texel_m, grid_.block, kTinMarginTexels};
+        options.min_points = 3;
+        options.has_rgb = spec_.rgb;
+        const recon::PatchPoints patch = recon::make_patch_points(points_, min_x_, min_y_, options);
+        std::vector<dataset::OverviewPoint>().swap(points_);
+        BlockImages out;
+        out.heights_m.assign(texel_count(grid_), recon::kNoValue);
+        if (spec_.rgb) out.rgba.assign(4 * texel_count(grid_), 0);
+        if (patch.status != recon::PatchStatus::Ok) return out;
+        const recon::Triangulation tri =
+            recon::triangulate(recon::grid_positions(patch), patch.spec.grid_extent(), /*pad_corners=*/false);
+        const recon::FaceMap map = without_long_edges(tri, recon::build_face_map(tri, patch.size()));
+        recon::Image heights(patch.size(), 1);
+        recon::fill_linear(heights, tri, map, recon::height_values(patch));
+        const recon::Image block = recon::crop_centre(heights, grid_.block);
+        for (std::size_t i = 0; i < out.heights_m.size(); ++i) {
+            if (!std::isnan(block.values[i])) out.heights_m[i] = static_cast<float>(patch.to_metres(block.values[i]));
+        }
+        if (spec_.rgb) out.rgba = colours(patch, tri, map);
+        return out;
+    }
+
+private:
+    // The face map with the texels of triangles whose longest edge exceeds the limit cleared.
+    recon::FaceMap without_long_edges(const recon::Triangulation& tri, recon::FaceMap map) const {
+        if (!(spec_.tin_max_edge_m > 0)) return map;
+        const double limit = spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel);
+        const double limit2 = limit * limit;
+        std::vector<char> killed(tri.triangles.size(), 0);
+        for (std::size_t t = 0; t < tri.triangles.size(); ++t) {
+            const auto& v = tri.triangles[t];
+            for (int k = 0; k < 3; ++k) {
+                const auto &a = tri.vertices[v[k]], &b = tri.vertices[v[(k + 1) % 3]];
+                if ((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) > limit2) killed[t] = 1;
+            }
+        }
+        for (auto& f : map.face) {
+            if (f >= 0 && killed[static_cast<std::size_t>(f)]) f = -1;
+        }
+        return map;
+    }
+
+    std::vector<std::uint8_t> colours(const recon::PatchPoints& patch, const recon::Triangulation& tri,
+                                      const recon::FaceMap& map) const {
+        recon::Image rgb(patch.size(), 3);
+        recon::fill_linear(rgb, tri, map, recon::colour_values(patch));
+        const recon::Image block = recon::crop_centre(rgb, grid_.block);
+        return rgba_planes(block.texels(), [&](std::size_t i) {
+            return std::array<float, 3>{block.values[i], block.values[block.texels() + i],
+                                        block.values[2 * block.texels() + i]};
+        });
+    }
+
+    GridderSpec spec_;
+    DemGrid grid_;
+    double min_x_, min_y_;
+    std::vector<dataset::OverviewPoint> points_;
+};
+
+void validate(const GridderSpec& spec, const DemGrid& grid) {
+    if (spec.method == GridMethod::Idw) {
+        if (!(spec.idw_radius_m >= 0) || !std::isfinite(spec.idw_radius_m)) {
+            throw Error::in_stage("dem", "--radius must be a positive number of metres");
+        }
+        if (!(spec.idw_power > 0) || !std::isfinite(spec.idw_power)) {
+            throw Error::in_stage("dem", "--power must be a positive number");
+        }
+    }
+    if (spec.method == GridMethod::Tin) {
+        if (!(spec.tin_max_edge_m >= 0) || !std::isfinite(spec.tin_max_edge_m)) {
+            throw Error::in_stage("dem", "--max-edge must be 0 (no limit) or a positive number of metres");
+        }
+        if (grid.block + 2 * kTinMarginTexels > 512) {
+            throw Error::in_stage("dem", "tin blocks of " + std::to_string(grid.block) +
+                                             " texels leave no room for the margin (internal error)");
+        }
+    }
+}
+
+}  // namespace
+
+double gridder_reach_m(const GridderSpec& spec, double texel_m) {
+    switch (spec.method) {
+    case GridMethod::Statistic: return 0;
+    case GridMethod::Idw: return spec.idw_radius_m > 0 ? spec.idw_radius_m : texel_m * std::sqrt(2.0);
+    case GridMethod::Tin: return kTinMarginTexels * texel_m;
+    }
+    return 0;
+}
+
+std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block) {
+    validate(spec, grid);
+    switch (spec.method) {
+    case GridMethod::Statistic: return std::make_unique<StatisticGridder>(spec, grid);
+    case GridMethod::Idw: return std::make_unique<IdwGridder>(spec, grid, block);
+    case GridMethod::Tin: return std::make_unique<TinGridder>(spec, grid, block);
+    }
+    return nullptr;
+}
+
+}  // namespace lidarscout::raster

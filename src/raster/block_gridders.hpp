@@ -1,0 +1,67 @@
+// How one block of a DEM made from every point turns the points it receives into heights and
+// colours (`lidarscout dem --from full --method ...`):
+//   mean, min, max  each point goes to the texel it falls in (recon/texel_stats.hpp, the same
+//                   gridding as eval's ground truth); the texel's statistic
+//   idw             each point goes to every texel whose centre lies within `idw_radius_m`:
+//                   the texel is the inverse-distance weighted mean (weights 1 / d^power) of
+//                   those points, nodata where none (as gdal_grid -a invdist with a radius,
+//                   PDAL writers.gdal output_type idw)
+//   tin             the block's points and those of a margin around it are triangulated
+//                   (Delaunay, recon/triangulation.hpp) and each texel centre is interpolated
+//                   linearly in its triangle (as gdal_grid -a linear, LAStools las2dem);
+//                   nodata outside the hull and in triangles with an edge longer than
+//                   `tin_max_edge_m` (0: no limit)
+// A block receives every point within reach of it (gridder_reach_m), so blocks meet without
+// seams: texels near a border see the same points whichever block holds them. For tin this
+// holds where the triangles' circumcircles fit in the margin (always for edges shorter than it).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "dataset/point_stream.hpp"
+#include "raster/dem_grid.hpp"
+#include "recon/texel_stats.hpp"
+
+namespace lidarscout::raster {
+
+enum class GridMethod { Statistic, Idw, Tin };
+
+struct GridderSpec {
+    GridMethod method = GridMethod::Statistic;
+    recon::TexelStatistic statistic = recon::TexelStatistic::Mean;  // for Statistic
+    double idw_radius_m = 0;    // for Idw; 0: the texel's diagonal (texel x sqrt 2)
+    double idw_power = 2;       // for Idw
+    double tin_max_edge_m = 0;  // for Tin; 0: no limit
+    bool rgb = false;           // also grid the colours
+};
+
+// The margin (texels on each side) a tin block triangulates beyond its own texels, and the
+// largest block that leaves room for it in recon's exact window (512 texels).
+inline constexpr int kTinMarginTexels = 64;
+inline constexpr int kTinBlockTexels = 384;
+
+// How far (metres) from a block a point still changes it.
+double gridder_reach_m(const GridderSpec& spec, double texel_m);
+
+// A finished block: heights in metres (NaN where none), block x block texels, rows from the
+// south; with colour, RGBA planes (4 x block x block bytes; alpha 255 where a height is).
+struct BlockImages {
+    std::vector<float> heights_m;
+    std::vector<std::uint8_t> rgba;
+};
+
+class BlockGridder {
+public:
+    virtual ~BlockGridder() = default;
+    // A point within reach of the block; `own` is its texel when it falls inside this block.
+    virtual void add(const dataset::MetricPoint& point, const recon::TexelLocation* own) = 0;
+    virtual BlockImages finish() = 0;
+};
+
+// The gridder of block `block` of `grid`. Throws Error for a spec that does not fit (a radius
+// or power that is not positive, a tin grid whose blocks leave no room for the margin).
+std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block);
+
+}  // namespace lidarscout::raster

@@ -1,0 +1,114 @@
+// The block gridders on points placed by hand: idw's weights and radius, a tin exact on a plane
+// with nodata outside the hull and in triangles with long edges, and the reach of each method.
+#include "raster/block_gridders.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace lidarscout::raster {
+namespace {
+
+DemGrid small_grid(int block) {
+    DemGrid g;
+    g.origin_x = 1000, g.origin_y = 2000, g.texel_m = 1, g.width = block, g.height = block, g.block = block;
+    return g;
+}
+
+dataset::MetricPoint point(double x, double y, double z, std::uint8_t red = 0) {
+    dataset::MetricPoint p;
+    p.x = x, p.y = y, p.z = z, p.rgb = {red, 0, 0};
+    return p;
+}
+
+TEST(BlockGridders, IdwIsTheInverseSquareDistanceMeanWithinTheRadius) {
+    GridderSpec spec;
+    spec.method = GridMethod::Idw;
+    spec.idw_radius_m = 1.0;
+    spec.rgb = true;
+    const auto g = small_grid(4);
+    auto gridder = make_block_gridder(spec, g, {0, 0});
+    // texel (1, 1) has its centre at (1001.5, 2001.5)
+    gridder->add(point(1001.5 + 0.5, 2001.5, 10, 100), nullptr);  // 0.5 m from it: weight 4
+    gridder->add(point(1001.5, 2001.5 - 0.25, 20, 200), nullptr);  // 0.25 m: weight 16
+    const auto images = gridder->finish();
+    const auto at = [&](int col, int row) { return images.heights_m[static_cast<std::size_t>(row) * 4 + col]; };
+    EXPECT_NEAR(at(1, 1), (4 * 10 + 16 * 20) / 20.0, 1e-5);
+    EXPECT_NEAR(at(2, 1), 10.0, 1e-5);     // only the first within 1 m (0.5 m away)
+    EXPECT_TRUE(std::isnan(at(3, 3)));     // none within 1 m
+    EXPECT_TRUE(std::isnan(at(0, 0)));     // the second is 1.03 m away
+    const std::size_t n = 16;
+    EXPECT_EQ(images.rgba[1 * 4 + 1], std::lround((4 * 100 + 16 * 200) / 20.0));  // red, weighted the same
+    EXPECT_EQ(images.rgba[3 * n + 1 * 4 + 1], 255);
+    EXPECT_EQ(images.rgba[3 * n + 15], 0);
+}
+
+TEST(BlockGridders, TinIsExactOnAPlaneAndEmptyOutsideTheHull) {
+    GridderSpec spec;
+    spec.method = GridMethod::Tin;
+    const auto g = small_grid(32);
+    auto gridder = make_block_gridder(spec, g, {0, 0});
+    const auto plane = [](double x, double y) { return 100 + 0.5 * (x - 1000) - 0.25 * (y - 2000); };
+    for (int i = 0; i < 40; ++i) {  // scattered over [0, 20] x [0, 20] m of the block
+        const double x = 1000 + std::fmod(i * 7.31, 20.0), y = 2000 + std::fmod(i * 3.97 + i * i * 0.11, 20.0);
+        gridder->add(point(x, y, plane(x, y)), nullptr);
+    }
+    for (const auto& corner : {std::pair{0.0, 0.0}, {20.0, 0.0}, {0.0, 20.0}, {20.0, 20.0}}) {
+        gridder->add(point(1000 + corner.first, 2000 + corner.second, plane(1000 + corner.first, 2000 + corner.second)),
+                     nullptr);
+    }
+    const auto images = gridder->finish();
+    for (int row = 0; row < 32; ++row) {
+        for (int col = 0; col < 32; ++col) {
+            const float h = images.heights_m[static_cast<std::size_t>(row) * 32 + col];
+            if (col < 20 && row < 20) {
+                EXPECT_NEAR(h, plane(1000 + col + 0.5, 2000 + row + 0.5), 1e-3) << col << ", " << row;
+            } else {
+                EXPECT_TRUE(std::isnan(h)) << col << ", " << row;
+            }
+        }
+    }
+}
+
+TEST(BlockGridders, TinLeavesNodataInTrianglesWithLongEdges) {
+    GridderSpec spec;
+    spec.method = GridMethod::Tin;
+    const auto g = small_grid(64);
+    // two dense strips 40 m apart: only long triangles span the gap between them
+    const auto fill = [&](BlockGridder& gridder) {
+        for (int i = 0; i <= 40; ++i) {
+            for (const double x : {0.0, 2.0, 4.0, 44.0, 46.0, 48.0}) gridder.add(point(1000 + x, 2000 + i, 5), nullptr);
+        }
+    };
+    auto open = make_block_gridder(spec, g, {0, 0});
+    fill(*open);
+    const auto filled = open->finish();
+    spec.tin_max_edge_m = 10;
+    auto cut = make_block_gridder(spec, g, {0, 0});
+    fill(*cut);
+    const auto killed = cut->finish();
+    const std::size_t gap = 20 * 64 + 24, strip = 20 * 64 + 2;  // (24, 20) in the gap, (2, 20) in a strip
+    EXPECT_FLOAT_EQ(filled.heights_m[gap], 5.0f);
+    EXPECT_TRUE(std::isnan(killed.heights_m[gap]));
+    EXPECT_FLOAT_EQ(killed.heights_m[strip], 5.0f);
+}
+
+TEST(BlockGridders, ReachAndParametersAreChecked) {
+    GridderSpec spec;
+    EXPECT_EQ(gridder_reach_m(spec, 2.0), 0.0);
+    spec.method = GridMethod::Idw;
+    EXPECT_NEAR(gridder_reach_m(spec, 2.0), 2.0 * std::sqrt(2.0), 1e-12);
+    spec.idw_radius_m = 5;
+    EXPECT_EQ(gridder_reach_m(spec, 2.0), 5.0);
+    spec.idw_power = 0;
+    EXPECT_THROW(make_block_gridder(spec, small_grid(8), {0, 0}), Error);
+    spec.method = GridMethod::Tin;
+    EXPECT_EQ(gridder_reach_m(spec, 2.0), kTinMarginTexels * 2.0);
+    EXPECT_THROW(make_block_gridder(spec, small_grid(512), {0, 0}), Error);  // no room for the margin
+    EXPECT_NO_THROW(make_block_gridder(spec, small_grid(kTinBlockTexels), {0, 0}));
+}
+
+}  // namespace
+}  // namespace lidarscout::raster
