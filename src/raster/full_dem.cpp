@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/point_stream.hpp"
 
@@ -82,10 +83,23 @@ public:
         return true;
     }
 
-    void tile_done(const BlockRange& r) {
+    // The blocks the tile was the last to reach are gridded in parallel, then written in order.
+    void tile_done(const BlockRange& r, ThreadPool& pool) {
+        std::vector<std::pair<dataset::CellKey, std::unique_ptr<BlockGridder>>> done;
         visit(r, [&](dataset::CellKey c) {
-            if (--pending_[slot(c)] == 0) finish(c);
+            if (--pending_[slot(c)] != 0) return;
+            const auto it = blocks_.find(c);  // blocks no point reached are left to the raster's nodata
+            if (it == blocks_.end()) return;
+            if (last_ == it->second.get()) last_ = nullptr;
+            done.emplace_back(c, std::move(it->second));
+            blocks_.erase(it);
         });
+        std::vector<BlockImages> images(done.size());
+        pool.for_each(done.size(), [&](std::size_t i) {
+            images[i] = done[i].second->finish();
+            done[i].second.reset();
+        });
+        for (std::size_t i = 0; i < done.size(); ++i) write(done[i].first, images[i]);
     }
 
 private:
@@ -136,13 +150,7 @@ private:
         return *last_;
     }
 
-    // Blocks no point reached are left to the raster's nodata.
-    void finish(dataset::CellKey c) {
-        const auto it = blocks_.find(c);
-        if (it == blocks_.end()) return;
-        if (last_ == it->second.get()) last_ = nullptr;
-        const BlockImages images = it->second->finish();
-        blocks_.erase(it);
+    void write(dataset::CellKey c, const BlockImages& images) {
         write_block(*outputs_.heights, grid_, 1, c.ix, c.iy, std::span<const float>(in_file_units(images.heights_m)));
         if (outputs_.rgb) {
             const std::size_t plane = images.heights_m.size();
@@ -213,7 +221,7 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
             stats.points_read += points.size();
             if (options.progress) options.progress(stats.points_read, total);
         }, fields);
-        blocks.tile_done(ranges[t]);
+        blocks.tile_done(ranges[t], pool);
     }
     return stats;
 }

@@ -220,20 +220,21 @@ TEST_F(FullDem, IdwAndTinHaveNoSeamsAtBlockBorders) {
     const auto ds = dataset::open_dataset({(test::surveys_dir() / "isprs-filter-test-sites" / "CSite1_red1-utm.laz").string()});
     ASSERT_EQ(ds.tiles.size(), 1u);
     const auto& b = ds.tiles[0].bounds_m;
+    const double texel = 1.0;  // 1,101 x 1,042 texels: 3 x 3 blocks for both methods
     for (const auto method : {raster::DemMethod::Idw, raster::DemMethod::Tin}) {
         SCOPED_TRACE(std::string(raster::dem_method_name(method)));
         auto whole = request(method);
-        whole.texel_m = 0.5;
+        whole.texel_m = texel;
         whole.tin_max_edge_m = 20;
         const auto w = raster::make_dem(ds, whole);
         ASSERT_GT(w.grid.blocks_x() * w.grid.blocks_y(), 2);
         auto part = whole;
         part.output = path("part.tif");
-        part.area = raster::Area{w.grid.origin_x + 100.5 * 0.5, w.grid.origin_y + 100.5 * 0.5, b.max_x, b.max_y};
+        part.area = raster::Area{w.grid.origin_x + 100.5 * texel, w.grid.origin_y + 100.5 * texel, b.max_x, b.max_y};
         const auto p = raster::make_dem(ds, part);
         const auto a = test::read_raster(whole.output), c = test::read_raster(part.output);
-        const int dx = static_cast<int>(std::lround((p.grid.origin_x - w.grid.origin_x) / 0.5));
-        const int top = a.height - (static_cast<int>(std::lround((p.grid.origin_y - w.grid.origin_y) / 0.5)) + c.height);
+        const int dx = static_cast<int>(std::lround((p.grid.origin_x - w.grid.origin_x) / texel));
+        const int top = a.height - (static_cast<int>(std::lround((p.grid.origin_y - w.grid.origin_y) / texel)) + c.height);
         ASSERT_GE(dx, 100);
         std::size_t same = 0;
         for (int row = 0; row < c.height; ++row) {
@@ -243,7 +244,7 @@ TEST_F(FullDem, IdwAndTinHaveNoSeamsAtBlockBorders) {
                 same += c.at(row, col) != -9999.0f;
             }
         }
-        EXPECT_GT(same, 100000u);
+        EXPECT_GT(same, 50000u);
     }
 }
 
