@@ -9,13 +9,18 @@
 
 namespace lidarscout::viewer {
 
-std::optional<std::array<double, 2>> ground_under_pixel(const render::Camera& camera, double px, double py,
-                                                        double ground_z) {
+std::array<double, 3> pixel_ray(const render::Camera& camera, double px, double py) {
     const render::ViewBasis b = camera.basis();
     const double f = camera.focal_px();
     const double a = (px - 0.5 * camera.width) / f, c = (0.5 * camera.height - py) / f;
     std::array<double, 3> ray{};
     for (int i = 0; i < 3; ++i) ray[i] = b.forward[i] + a * b.right[i] + c * b.up[i];
+    return ray;
+}
+
+std::optional<std::array<double, 2>> ground_under_pixel(const render::Camera& camera, double px, double py,
+                                                        double ground_z) {
+    const auto ray = pixel_ray(camera, px, py);
     if (std::abs(ray[2]) < 1e-12) return std::nullopt;
     const double t = (ground_z - camera.z) / ray[2];
     if (!(t > 0)) return std::nullopt;

@@ -17,6 +17,10 @@ class CrsTransform;
 
 namespace lidarscout::viewer {
 
+// The direction of the ray through pixel (px, py), scaled so that its component along the
+// viewing direction is 1: camera position + t * ray is the point at depth t metres.
+std::array<double, 3> pixel_ray(const render::Camera& camera, double px, double py);
+
 // (x, y) in world metres; nullopt when the ray does not meet the plane in front of the camera.
 std::optional<std::array<double, 2>> ground_under_pixel(const render::Camera& camera, double px, double py,
                                                         double ground_z);

@@ -116,11 +116,17 @@ PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& p
 std::string point_summary(const dataset::Dataset& dataset, const PickedPoint& point) {
     const PointReadout r = point_readout(dataset, point);
     char text[256];
-    std::snprintf(text, sizeof text, "x %.3f y %.3f z %.3f (%s, z in %s%s%s) class %u (%s) intensity %u rgb %u %u %u",
-                  r.x, r.y, r.z, r.horizontal_unit.c_str(), r.vertical_unit.c_str(), r.crs.empty() ? "" : ", ",
-                  r.crs.c_str(), point.classification, las::class_name(point.classification).c_str(), point.intensity,
-                  point.r, point.g, point.b);
+    std::snprintf(text, sizeof text, "x %.3f y %.3f z %.3f (%s, z in %s%s%s)", r.x, r.y, r.z,
+                  r.horizontal_unit.c_str(), r.vertical_unit.c_str(), r.crs.empty() ? "" : ", ", r.crs.c_str());
     std::string line = text;
+    if (point.surface) {
+        std::snprintf(text, sizeof text, " heightmap surface (interpolated, not a measured point) rgb %u %u %u",
+                      point.r, point.g, point.b);
+    } else {
+        std::snprintf(text, sizeof text, " class %u (%s) intensity %u rgb %u %u %u", point.classification,
+                      las::class_name(point.classification).c_str(), point.intensity, point.r, point.g, point.b);
+    }
+    line += text;
     if (point.lonlat) {
         char ll[64];
         std::snprintf(ll, sizeof ll, " lon %.7f lat %.7f", (*point.lonlat)[0], (*point.lonlat)[1]);

@@ -22,6 +22,7 @@ struct PickedPoint {
     std::uint16_t intensity = 0;
     std::optional<std::uint32_t> tile;  // the tile it came from (full-resolution points)
     bool chunk_point = false;           // an overview chunk point, not a full-resolution one
+    bool surface = false;               // a heightmap's surface (surface_pick.hpp), not a measured point
     double pixel_distance = 0;          // from the picked pixel to the point's projection
     double depth = 0;                   // metres along the viewing direction
     std::optional<std::array<double, 2>> lonlat;  // degrees (WGS 84), filled by who knows the CRS
@@ -52,7 +53,8 @@ struct PointReadout {
     std::string file;  // the tile's path ("" when unknown)
 };
 PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& point);
-// One line: "x X y Y z Z (UNIT, z in UNIT, CRS) [lon L lat B] class C (NAME) intensity I rgb R G B FILE".
+// One line: "x X y Y z Z (UNIT, z in UNIT, CRS) [lon L lat B] class C (NAME) intensity I rgb R G B FILE";
+// for a surface point "... heightmap surface (interpolated, not a measured point) rgb R G B FILE".
 std::string point_summary(const dataset::Dataset& dataset, const PickedPoint& point);
 
 struct Measurement {

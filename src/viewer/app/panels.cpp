@@ -155,9 +155,13 @@ void point_lines(const dataset::Dataset& ds, const char* label, const PickedPoin
     ImGui::Text("   %s, z in %s%s%s", r.horizontal_unit.c_str(), r.vertical_unit.c_str(), r.crs.empty() ? "" : ", ",
                 r.crs.c_str());
     if (p.lonlat) ImGui::Text("   lon %.7f, lat %.7f", (*p.lonlat)[0], (*p.lonlat)[1]);
-    ImGui::Text("   class %u (%s), intensity %u, rgb %u %u %u%s", p.classification,
-                las::class_name(p.classification).c_str(), p.intensity, p.r, p.g, p.b,
-                p.chunk_point ? ", chunk point" : "");
+    if (p.surface) {
+        ImGui::Text("   heightmap surface (interpolated, not a measured point)");
+    } else {
+        ImGui::Text("   class %u (%s), intensity %u, rgb %u %u %u%s", p.classification,
+                    las::class_name(p.classification).c_str(), p.intensity, p.r, p.g, p.b,
+                    p.chunk_point ? ", chunk point" : "");
+    }
     if (!r.file.empty()) ImGui::TextWrapped("   %s", std::filesystem::path(r.file).filename().c_str());
 }
 
@@ -179,7 +183,7 @@ void readout_window(const dataset::Dataset& ds, const ClickState& click) {
     } else if (click.from) {
         ImGui::TextUnformatted("click the second point");
     }
-    if (click.missed) ImGui::TextUnformatted("no point under the cursor (overview only there?)");
+    if (click.missed) ImGui::TextUnformatted("nothing under the cursor (sky, or a hole in the data)");
     ImGui::End();
 }
 

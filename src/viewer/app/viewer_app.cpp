@@ -29,6 +29,7 @@
 #include "viewer/cursor_readout.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/picking.hpp"
+#include "viewer/surface_pick.hpp"
 #include "viewer/scheduler.hpp"
 
 namespace lidarscout::viewer::app {
@@ -176,7 +177,7 @@ void pick_at_click(GLFWwindow* window, std::pair<double, double> click, const Se
     const double sy = static_cast<double>(camera.height) / std::max(1, win_height);
     PickOptions options;
     options.radius_px = std::max(2.0, 4 * sx);
-    auto point = pick_point(*s.scheduler->snapshot(), camera, click.first * sx, click.second * sy, options);
+    auto point = pick(*s.scheduler->snapshot(), camera, click.first * sx, click.second * sy, options);
     if (point && s.cursor) point->lonlat = s.cursor->lonlat(point->x, point->y);
     panels.click.clicked(point);
 }
