@@ -13,18 +13,12 @@
 #include "viewer/point_lod.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/survey_tiles.hpp"
+#include "viewer/cameras.hpp"
 
 namespace lidarscout::viewer {
 namespace {
 
-// Straight down onto (x, y) from `height` metres above z = 0.
-render::Camera looking_down(double x, double y, double height) {
-    render::Camera c;
-    c.x = x, c.y = y, c.z = height;
-    c.pitch_deg = -90;
-    c.near_m = 0.5, c.far_m = 1e5;
-    return c;
-}
+using test::looking_down;
 
 render::PointAttr attr(float dx, float dy, float dz, std::uint8_t cls, std::uint16_t intensity) {
     render::PointAttr a;

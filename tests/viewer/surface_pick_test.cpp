@@ -9,6 +9,7 @@
 
 #include "core/thread_pool.hpp"
 #include "viewer/point_lod.hpp"
+#include "viewer/cameras.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -31,13 +32,7 @@ std::shared_ptr<const PatchHeightmap> heightmap(Fn&& fn) {
 
 double plane(double x, double y) { return 200 + 0.05 * (x - kOriginX) - 0.02 * (y - kOriginY); }
 
-render::Camera looking_down(double x, double y, double height) {
-    render::Camera c;
-    c.x = x, c.y = y, c.z = height;
-    c.pitch_deg = -90;
-    c.near_m = 0.5, c.far_m = 1e5;
-    return c;
-}
+using test::looking_down;
 
 TEST(SurfacePick, HeightIsBilinearBetweenTexelCentresAndNaNInHolesAndOutside) {
     auto h = std::const_pointer_cast<PatchHeightmap>(heightmap(plane));

@@ -1,0 +1,59 @@
+#!/bin/sh
+# Runs every libFuzzer target for SECONDS (default 3600) at once, each from the committed corpus
+# plus its seeds (../shared/data/formats for tile and report, fuzz/make_chunk_seeds.py for chunk),
+# then merges what each found into a small minimised corpus (inputs of at most MAX_KEEP bytes)
+# under OUT/NAME, ready to replace fuzz/corpus/NAME. Logs (executions, coverage) go to OUT/NAME.log.
+#   fuzz/run_fuzzers.sh BUILD_FUZZ_DIR OUT_DIR [SECONDS]
+# BUILD_FUZZ_DIR is a clang build with -DLIDARSCOUT_FUZZ=ON (see README). Runs under `nice`.
+set -eu
+build=$1
+out=$2
+seconds=${3:-3600}
+here=$(cd "$(dirname "$0")" && pwd)
+formats="$here/../../shared/data/formats"
+max_keep=16384
+mkdir -p "$out"
+python3 "$here/make_chunk_seeds.py" "$out/seeds-chunk"
+
+seeds() {
+  case $1 in
+    tile|report) echo "$formats" ;;
+    chunk) echo "$out/seeds-chunk" ;;
+    *) echo "" ;;
+  esac
+}
+max_len() {
+  case $1 in
+    tile|report) echo 262144 ;;
+    chunk) echo 70000 ;;
+    *) echo 4096 ;;
+  esac
+}
+
+# report builds a PROJ transformation per input: a rare CRS makes PROJ search its database for
+# seconds under the sanitizers (0.3 s without them), so its time limit is longer
+timeout_s() {
+  case $1 in
+    report) echo 60 ;;
+    *) echo 10 ;;
+  esac
+}
+
+for name in tile chunk report multipart; do
+  mkdir -p "$out/work-$name"
+  [ -d "$here/corpus/$name" ] && cp -n "$here/corpus/$name"/* "$out/work-$name"/ 2>/dev/null || true
+  # shellcheck disable=SC2046
+  nice -n 19 "$build/fuzz/fuzz_$name" "$out/work-$name" $(seeds $name) -max_len="$(max_len $name)" \
+    -max_total_time="$seconds" -timeout="$(timeout_s $name)" -rss_limit_mb=4096 -print_final_stats=1 \
+    -artifact_prefix="$out/$name-" \
+    > "$out/$name.log" 2>&1 &
+done
+wait
+
+for name in tile chunk report multipart; do
+  rm -rf "$out/$name" && mkdir -p "$out/$name"
+  "$build/fuzz/fuzz_$name" -merge=1 -max_len="$max_keep" "$out/$name" "$out/work-$name" \
+    > "$out/$name.merge.log" 2>&1
+  echo "$name: $(ls "$out/$name" | wc -l) inputs, $(du -sk "$out/$name" | cut -f1) KiB;" \
+       "$(grep -E '^(stat::number_of_executed_units|#[0-9]+ *DONE)' "$out/$name.log" | tr '\n' ' ')"
+done
