@@ -145,9 +145,8 @@ public:
           min_y_(grid.origin_y + double(block.iy) * grid.block * grid.texel_m) {}
 
     void add(const dataset::MetricPoint& p, const recon::TexelLocation*) override {
-        dataset::OverviewPoint o;
-        o.x = p.x, o.y = p.y, o.z = p.z, o.rgb = p.rgb;
-        points_.push_back(o);
+        if (points_.empty()) base_z_ = p.z;
+        points_.push_back({p.x, p.y, static_cast<float>(p.z - base_z_), p.rgb});
     }
 
     BlockImages finish() override {
@@ -155,8 +154,8 @@ public:
         options.spec = {grid_.texel_m, grid_.block, kTinMarginTexels};
         options.min_points = 3;
         options.has_rgb = spec_.rgb;
-        const recon::PatchPoints patch = recon::make_patch_points(points_, min_x_, min_y_, options);
-        std::vector<dataset::OverviewPoint>().swap(points_);
+        const recon::PatchPoints patch = recon::make_patch_points(expanded(), min_x_, min_y_, options);
+        std::vector<Held>().swap(points_);
         BlockImages out;
         out.heights_m.assign(texel_count(grid_), recon::kNoValue);
         if (spec_.rgb) out.rgba.assign(4 * texel_count(grid_), 0);
@@ -175,6 +174,24 @@ public:
     }
 
 private:
+    // A point as held until the block is finished: 24 bytes instead of 48. The position stays
+    // exact (every block sees the same coordinates, so ties between Delaunay triangulations are
+    // broken alike); the height is kept from the first point's, in float (well under 0.1 mm).
+    struct Held {
+        double x, y;
+        float dz;
+        dataset::Rgb8 rgb;
+    };
+
+    std::vector<dataset::OverviewPoint> expanded() const {
+        std::vector<dataset::OverviewPoint> out(points_.size());
+        for (std::size_t i = 0; i < points_.size(); ++i) {
+            const Held& h = points_[i];
+            out[i].x = h.x, out[i].y = h.y, out[i].z = base_z_ + h.dz, out[i].rgb = h.rgb;
+        }
+        return out;
+    }
+
     // The face map with the texels of triangles whose longest edge exceeds the limit cleared.
     recon::FaceMap without_long_edges(const recon::Triangulation& tri, recon::FaceMap map) const {
         if (!(spec_.tin_max_edge_m > 0)) return map;
@@ -207,8 +224,8 @@ private:
 
     GridderSpec spec_;
     DemGrid grid_;
-    double min_x_, min_y_;
-    std::vector<dataset::OverviewPoint> points_;
+    double min_x_, min_y_, base_z_ = 0;
+    std::vector<Held> points_;
 };
 
 void validate(const GridderSpec& spec, const DemGrid& grid) {
