@@ -1,7 +1,9 @@
 // make_dem: the grid, the rasters, the gridding (full or overview), the COGs, the hillshade.
 #include "raster/dem.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <memory>
 
 #include "core/error.hpp"
@@ -34,6 +36,28 @@ GridderSpec gridder_of(const DemRequest& r) {
     g.idw_power = r.idw_power;
     g.tin_max_edge_m = r.tin_max_edge_m;
     return g;
+}
+
+// A raster of over 2^30 texels of which the tiles cover under 5% is refused: tiles lying far
+// apart (two surveys in one folder) would make a huge, nearly empty file for hours.
+void check_mostly_empty(const dataset::Dataset& ds, const DemGrid& g) {
+    const double texels = double(g.width) * g.height;
+    if (texels <= double(1u << 30)) return;
+    const double x1 = g.origin_x + g.width * g.texel_m, y1 = g.origin_y + g.height * g.texel_m;
+    double covered = 0;
+    for (const auto& t : ds.tiles) {
+        const auto& b = t.bounds_m;
+        covered += std::max(0.0, std::min(b.max_x, x1) - std::max(b.min_x, g.origin_x)) *
+                   std::max(0.0, std::min(b.max_y, y1) - std::max(b.min_y, g.origin_y));
+    }
+    const double share = covered / (texels * g.texel_m * g.texel_m);
+    if (share >= 0.05) return;
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "the DEM would be %d x %d texels (%.0f GB as float32), but the tiles cover only %.2g%% of it "
+                  "(they lie far apart): give --bounds, or a larger --texel", g.width, g.height, texels * 4 / 1e9,
+                  100 * share);
+    throw Error::in_stage("dem", text);
 }
 
 int block_texels(const DemRequest& r) {
@@ -101,6 +125,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     DemResult result;
     result.grid = make_dem_grid(area_in_metres(ds, r), r.texel_m, block_texels(r));
+    check_mostly_empty(ds, result.grid);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
     BlockRaster heights(r.output, geometry, height_layout(ds, nodata));

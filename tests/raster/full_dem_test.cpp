@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "las_fixture.hpp"
@@ -246,6 +247,25 @@ TEST_F(FullDem, IdwAndTinHaveNoSeamsAtBlockBorders) {
         }
         EXPECT_GT(same, 50000u);
     }
+}
+
+// Two small tiles 2,100 km apart would make a 2,100,000 x 1,000 texel raster that is nearly all
+// nodata: refused at once with a way out, before any point is read.
+TEST_F(FullDem, AHugeNearlyEmptyRasterIsRefused) {
+    test::write_fixture(path("west.las"), {{500000.5, 5400000.5, 10}, {500010.5, 5400010.5, 11}}, 32632);
+    test::write_fixture(path("east.las"), {{2600000.5, 5400000.5, 10}, {2600010.5, 5400999.5, 11}}, 32632);
+    const auto ds = dataset::open_dataset({path("west.las"), path("east.las")});
+    ASSERT_EQ(ds.tiles.size(), 2u);
+    try {
+        raster::make_dem(ds, request(raster::DemMethod::Mean));
+        FAIL() << "a nearly empty 2 G-texel raster was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("give --bounds, or a larger --texel"), std::string::npos) << e.what();
+    }
+    auto r = request(raster::DemMethod::Mean);
+    r.area = raster::Area{500000, 5400000, 500020, 5400020};  // one of them: fine
+    EXPECT_EQ(raster::make_dem(ds, r).points_used, 2u);
+    EXPECT_FALSE(fs::exists(path("dem.tif.tmp")));
 }
 
 // --from full --method mean is the ground truth of eval (recon::GroundTruth fed by
