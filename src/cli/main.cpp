@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
+#include "io/temporary_files.hpp"
 #include "version.hpp"
 
 namespace {
@@ -26,6 +27,7 @@ void keep_freed_memory_in_the_heap() {
 
 int main(int argc, char** argv) {
     keep_freed_memory_in_the_heap();
+    lidarscout::io::remove_temporary_files_on_signal();  // Ctrl-C leaves no half-written output behind
     CLI::App app{"lidarscout: explore country-sized LAS/LAZ scans in seconds, without preprocessing"};
     app.set_version_flag("--version", std::string("lidarscout ") + lidarscout::kVersion + " (" +
                                           lidarscout::kGitRevision + ")");

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "io/file.hpp"
+#include "io/temporary_files.hpp"
 
 namespace lidarscout::io {
 namespace fs = std::filesystem;
@@ -24,6 +25,7 @@ AtomicOutputFile::AtomicOutputFile(std::string target, const std::string& protec
     const auto dir = fs::path(target_).parent_path();
     const auto name = fs::path(target_).filename().string();
     temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()))).string();
+    guard_ = std::make_unique<TemporaryFileGuard>(temp_);
     fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd_ < 0) throw Error(target_, std::nullopt, std::string("cannot create a temporary file beside it: ") + std::strerror(errno));
 }

@@ -1,16 +1,18 @@
 // A file that appears under its final name only when complete: data goes to a temporary
 // file beside the target, which commit() renames over the target. Without commit() (an
-// error, an interrupted run) the temporary file is removed and the target never sees a
-// half-written file.
+// error, an interrupted run: see temporary_files.hpp for Ctrl-C) the temporary file is removed
+// and the target never sees a half-written file.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 
 namespace lidarscout::io {
 
 class File;
+class TemporaryFileGuard;
 
 class AtomicOutputFile {
 public:
@@ -38,6 +40,7 @@ public:
 private:
     std::string target_;
     std::string temp_;
+    std::unique_ptr<TemporaryFileGuard> guard_;  // removes temp_ if a signal ends the process
     int fd_ = -1;
     std::uint64_t size_ = 0;
     bool committed_ = false;

@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "io/output_file.hpp"
+#include "io/temporary_files.hpp"
 
 namespace lidarscout::raster {
 namespace fs = std::filesystem;
@@ -87,6 +88,8 @@ int progress_callback(double done, const char*, void* data) {
 
 struct BlockRaster::State {
     std::string scratch;
+    std::string overview_scratch;  // what GDAL's COG driver writes beside the output while it runs
+    std::unique_ptr<io::TemporaryFileGuard> scratch_guard, overview_guard;  // removed on Ctrl-C
     GDALDataset* dataset = nullptr;
     std::mutex mutex;
 
@@ -108,6 +111,7 @@ BlockRaster::BlockRaster(std::string target, const RasterGeometry& geometry, con
     if (layout.alpha_last) options.set("ALPHA", "YES");
     if (layout.bands >= 3 && layout.type == PixelType::Byte) options.set("PHOTOMETRIC", "RGB");
     state_->scratch = scratch_name(target_);
+    state_->scratch_guard = std::make_unique<io::TemporaryFileGuard>(state_->scratch);
     CPLErrorReset();
     state_->dataset = driver("GTiff", target_)->Create(state_->scratch.c_str(), geometry.width, geometry.height,
                                                         layout.bands, gdal_type(layout.type), options.get());
@@ -143,6 +147,8 @@ void BlockRaster::finish(unsigned threads, const RasterProgressFn& progress) {
     state_->dataset->FlushCache();
     if (CPLGetLastErrorType() >= CE_Failure) fail(target_, "cannot flush the scratch raster");
     io::AtomicOutputFile out(target_);
+    state_->overview_scratch = out.temp_path() + ".ovr.tmp";
+    state_->overview_guard = std::make_unique<io::TemporaryFileGuard>(state_->overview_scratch);
     Options options;
     options.set("COMPRESS", "DEFLATE");
     options.set("PREDICTOR", "YES");
