@@ -17,22 +17,23 @@
 
 #include "core/error.hpp"
 #include "laz/arithmetic_decoder.hpp"
-#include "laz/point10/byte_v1.hpp"
-#include "laz/point10/byte_v2.hpp"
-#include "laz/point10/gpstime11_v1.hpp"
-#include "laz/point10/gpstime11_v2.hpp"
-#include "laz/point10/point10_v1.hpp"
-#include "laz/point10/point10_v2.hpp"
-#include "laz/point10/rgb12_v1.hpp"
-#include "laz/point10/rgb12_v2.hpp"
-#include "laz/point10/wavepacket13_v1.hpp"
+#include "laz/items/point10/byte_v1.hpp"
+#include "laz/items/point10/byte_v2.hpp"
+#include "laz/items/point10/gpstime11_v1.hpp"
+#include "laz/items/point10/gpstime11_v2.hpp"
+#include "laz/items/point10/point10_v1.hpp"
+#include "laz/items/point10/point10_v2.hpp"
+#include "laz/items/point10/rgb12_v1.hpp"
+#include "laz/items/point10/rgb12_v2.hpp"
+#include "laz/items/point10/wavepacket13_v1.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 using las::ItemType;
 using las::LazItem;
-using namespace point10;
+using namespace detail;
+using namespace detail::point10;
 
 // Bytes a valid stream may be read past its end: none for LASzip's writers (they pad the
 // stream for the decoder's look-ahead), up to the look-ahead for writers that do not.

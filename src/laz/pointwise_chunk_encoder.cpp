@@ -11,17 +11,18 @@
 
 #include "core/error.hpp"
 #include "laz/arithmetic_encoder.hpp"
-#include "laz/point10/byte_v2_encoder.hpp"
-#include "laz/point10/gpstime11_v2_encoder.hpp"
-#include "laz/point10/point10_v2_encoder.hpp"
-#include "laz/point10/rgb12_v2_encoder.hpp"
+#include "laz/items/point10/byte_v2.hpp"
+#include "laz/items/point10/gpstime11_v2.hpp"
+#include "laz/items/point10/point10_v2.hpp"
+#include "laz/items/point10/rgb12_v2.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 using las::ItemType;
 using las::LazItem;
-using namespace point10;
+using namespace detail;
+using namespace detail::point10;
 
 // Which optional items follow POINT10.
 struct ItemList {

@@ -34,7 +34,6 @@
 #include "laz/chunk_table.hpp"
 #include "laz/chunk_table_writer.hpp"
 #include "laz/laszip_vlr_writer.hpp"
-#include "laz/point10/gpstime11_v2_encoder.hpp"
 #include "laz/chunk_codec_helpers.hpp"
 #include "test_data.hpp"
 
@@ -329,24 +328,6 @@ TEST(ChunkEncoder, OnePointChunkIsTheRecordAndAnEmptyStream) {
     expected.insert(expected.end(), rec.begin(), rec.end());
     expected.insert(expected.end(), {0x01, 0, 0, 0});
     EXPECT_EQ(out, expected);
-}
-
-TEST(ChunkEncoder, GpsMultipleIsRoundedAsLaszipDoes) {
-    EXPECT_EQ(point10::gps_delta_multiple(20, 10), 2);
-    EXPECT_EQ(point10::gps_delta_multiple(15, 10), 2);    // 1.5 rounds away from zero
-    EXPECT_EQ(point10::gps_delta_multiple(-15, 10), -2);
-    EXPECT_EQ(point10::gps_delta_multiple(14, 10), 1);
-    EXPECT_EQ(point10::gps_delta_multiple(4, 10), 0);
-    EXPECT_EQ(point10::gps_delta_multiple(-5, 10), -1);
-    // 16777217 / 2 is 8388608.5 exactly, but single precision makes it 8388608 first.
-    EXPECT_EQ(point10::gps_delta_multiple(16777217, 2), 8388608);
-    // Quotients beyond int32 give INT32_MIN (x86-64 conversion of LASzip's rounding).
-    EXPECT_EQ(point10::gps_delta_multiple(std::numeric_limits<std::int32_t>::max(), 1),
-              std::numeric_limits<std::int32_t>::min());
-    EXPECT_EQ(point10::gps_delta_multiple(std::numeric_limits<std::int32_t>::min(), -1),
-              std::numeric_limits<std::int32_t>::min());
-    EXPECT_EQ(point10::gps_delta_multiple(std::numeric_limits<std::int32_t>::min(), 1),
-              std::numeric_limits<std::int32_t>::min());
 }
 
 TEST(ChunkEncoder, RejectsWhatItCannotEncode) {
