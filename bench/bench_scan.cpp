@@ -62,7 +62,7 @@ public:
         while (n < out.size() && next_ < requests_.size()) out[n++] = requests_[next_++];
         return n;
     }
-    void complete(const io::ReadRequest&, std::span<const std::uint8_t>, const std::string&) override {}
+    void complete(const io::ReadRequest&, std::span<const std::uint8_t>, const ErrorRecord*) override {}
 
 private:
     std::mutex mutex_;

@@ -106,14 +106,14 @@ public:
         return n;
     }
 
-    void complete(const io::ReadRequest& r, std::span<const std::uint8_t> data, const std::string& error) override {
+    void complete(const io::ReadRequest& r, std::span<const std::uint8_t> data, const ErrorRecord* error) override {
         const auto id = static_cast<std::uint32_t>(r.tag >> 32);
         const auto& tile = ds_.tiles[id];
         std::optional<PendingPoint> point;
-        if (error.empty()) {
+        if (!error) {
             point = convert(tile, data, r.offset);
         } else {
-            fail(tile.tile.path, r.offset, error);
+            fail(error->file.empty() ? tile.tile.path : error->file, error->offset.value_or(r.offset), error->cause);
         }
         std::vector<PendingPoint> finished;
         {
