@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/stage_progress.hpp"
@@ -107,7 +108,7 @@ int run_dem(const DemCliOptions& o) {
     dataset_options.crs = o.crs;
     const dataset::Dataset ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
-    for (const auto& w : ds.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    print_diagnostics(ds.warnings);
     if (ds.tiles.empty()) throw Error("dem: no readable tile in the given paths");
     StageBars bars;
     r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) { bars.update(stage, done, total); };

@@ -131,9 +131,11 @@ void print_text(const FileReport& r, bool chunks) {
     std::printf("  scale %g %g %g, offset %.3f %.3f %.3f\n", h.scale[0], h.scale[1], h.scale[2], h.offset[0], h.offset[1],
                 h.offset[2]);
     std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f\n", h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]);
-    for (const auto& w : t.warnings) std::printf("  warning: %s\n", display_text(w).c_str());
+    for (const auto& w : t.warnings) std::printf("  %s: %s\n", level_name(w.level), display_text(w.message).c_str());
     std::printf("  CRS: %s\n", display_text(crs_text(t.crs)).c_str());
-    for (const auto& w : t.crs.warnings) std::printf("  CRS warning: %s\n", display_text(w).c_str());
+    for (const auto& w : t.crs.warnings) {
+        std::printf("  CRS %s: %s\n", level_name(w.level), display_text(w.message).c_str());
+    }
     if (const auto ll = tile_lonlat_bounds(t)) {
         std::printf("  lon/lat: %.6f .. %.6f, %.6f .. %.6f (WGS 84)\n", ll->west, ll->east, ll->south, ll->north);
     }

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
@@ -82,7 +83,7 @@ struct RenderReport {
     std::uint64_t chunk_points = 0, chunk_points_drawn = 0, full_res_points = 0;
     std::size_t heightmaps = 0, full_res_tiles = 0, full_res_over_budget = 0, drawn_pixels = 0;
     bool has_rgb = false;  // the survey has colour (chunk_points_have_rgb)
-    std::vector<std::string> warnings;
+    Diagnostics warnings;
     render::Camera camera;
     StageTimes seconds;
 };
@@ -152,7 +153,9 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
     dataset::ChunkPointLoader loader(ds, grid);
     loader.set_focus(camera.x, camera.y);
     load_with_progress(loader);
-    for (const auto& e : loader.errors()) report.warnings.push_back(e.message());
+    for (const auto& e : loader.errors()) {
+        report.warnings.add({DiagnosticLevel::warning, e.file, e.offset, e.message()});
+    }
     grid.shrink_to_fit();
     report.chunk_points = loader.loaded();
     report.has_rgb = viewer::chunk_points_have_rgb(grid);
@@ -245,7 +248,8 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"full_res_points", r.full_res_points},
                         {"memory_budget", plan.memory_budget},
                         {"drawn_pixels", r.drawn_pixels},
-                        {"warnings", r.warnings},
+                        {"warnings", r.warnings.messages()},
+                        {"diagnostics", diagnostics_json(r.warnings)},
                         {"seconds", {{"headers", s.headers}, {"chunk_points", s.chunk_points},
                                      {"heightmaps", s.heightmaps}, {"full_res", s.full_res}, {"render", s.render}}}};
     if (plan.cnn) j["model"] = plan.model_path;
@@ -253,7 +257,7 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
 }
 
 void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const RenderReport& r) {
-    for (const auto& w : r.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    print_diagnostics(r.warnings);
     const auto& s = r.seconds;
     const std::string budget =
         r.full_res_over_budget ? fmt::format(", {} over the memory budget", r.full_res_over_budget) : "";

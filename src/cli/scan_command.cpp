@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/tile_json.hpp"
 #include "core/error.hpp"
@@ -104,7 +105,8 @@ void print_json(const ScanResult& r) {
                         {"chunk_points_per_second", rate},
                         {"grid_bytes", r.grid_bytes},
                         {"backend", r.backend},
-                        {"warnings", r.dataset.warnings},
+                        {"warnings", r.dataset.warnings.messages()},
+                        {"diagnostics", diagnostics_json(r.dataset.warnings)},
                         {"errors", error_list_json(r.errors)}};
     std::printf("%s\n", j.dump(2).c_str());
 }
@@ -112,7 +114,7 @@ void print_json(const ScanResult& r) {
 void print_text(const ScanResult& r) {
     const auto& ds = r.dataset;
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
-    for (const auto& w : ds.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    print_diagnostics(ds.warnings);
     for (const auto& e : r.errors) std::fprintf(stderr, "lidarscout: %s\n", e.message().c_str());
     std::printf("tiles:         %zu read, %zu skipped, %llu points\n", ds.tiles.size(), ds.skipped.size(),
                 (unsigned long long)ds.point_count);

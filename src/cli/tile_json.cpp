@@ -1,4 +1,5 @@
 // Building the `info --json` objects.
+#include "cli/diagnostic_output.hpp"
 #include "cli/tile_json.hpp"
 
 #include <cmath>
@@ -30,7 +31,8 @@ json crs_json(const las::Crs& crs) {
             {"vertical_unit", las::unit_name(crs.vertical_unit)},
             {"to_metres", number_or_null(crs.horizontal_to_metres)},
             {"vertical_to_metres", number_or_null(crs.vertical_to_metres)},
-            {"warnings", crs.warnings}};
+            {"warnings", crs.warnings.messages()},
+            {"diagnostics", diagnostics_json(crs.warnings)}};
 }
 
 json laz_json(const dataset::Tile& t) {
@@ -107,7 +109,8 @@ json tile_to_json(const dataset::Tile& t) {
             {"lonlat_bounds", lonlat_json(tile_lonlat_bounds(t))},
             {"laz", laz_json(t)},
             {"copc", copc_json(t)},
-            {"warnings", t.warnings},
+            {"warnings", t.warnings.messages()},
+            {"diagnostics", diagnostics_json(t.warnings)},
             {"error", nullptr}};
     make_text_displayable(j);  // strings from the file may be Latin-1 or hold control bytes
     return j;

@@ -118,7 +118,7 @@ void add_crs_warnings(Dataset& ds) {
         if (!usable_factor(t.tile.crs.horizontal_to_metres)) ++without_unit;
     }
     if (without_unit > 0) {
-        ds.warnings.push_back(std::to_string(without_unit) + " of " + std::to_string(ds.tiles.size()) +
+        ds.warnings.warn(std::to_string(without_unit) + " of " + std::to_string(ds.tiles.size()) +
                               " tiles give no linear unit; their coordinates are taken as metres");
     }
     std::erase_if(by_crs, [](const auto& kv) { return kv.first.empty(); });
@@ -127,7 +127,7 @@ void add_crs_warnings(Dataset& ds) {
         for (const auto& [name, n] : by_crs) {
             list += (list.empty() ? "" : ", ") + name + " (" + std::to_string(n) + " tiles)";
         }
-        ds.warnings.push_back("tiles use different coordinate reference systems: " + list +
+        ds.warnings.warn("tiles use different coordinate reference systems: " + list +
                               "; they are reprojected to " + shorten(ds.frame.crs));
     }
 }

@@ -36,6 +36,8 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     t.crs = las::read_crs(t.vlrs, t.evlrs, file, (t.header.global_encoding & 0x10) != 0);
     t.laz = read_laszip(file, t);
     t.copc = las::find_copc_info(t.vlrs, file.path());
+    t.warnings.attribute_to(t.path);
+    t.crs.warnings.attribute_to(t.path);
     if (t.laz && options.chunk_table) t.chunks = laz::read_chunk_table(file, t.header, *t.laz);
     return t;
 }

@@ -38,15 +38,15 @@ std::vector<fs::path> laz_files(const fs::path& dir) {
     return out;
 }
 
-std::string joined(const std::vector<std::string>& v) {
+std::string joined(const Diagnostics& v) {
     std::string s;
-    for (const auto& w : v) s += w + "\n";
+    for (const auto& w : v) s += w.message + "\n";
     return s;
 }
 
 bool any_warning_contains(const Crs& c, const std::string& needle) {
     for (const auto& w : c.warnings) {
-        if (w.find(needle) != std::string::npos) return true;
+        if (w.message.find(needle) != std::string::npos) return true;
     }
     return false;
 }
@@ -322,6 +322,10 @@ TEST(Crs, MalformedGeoKeysAreIgnoredWithWarnings) {
     EXPECT_TRUE(any_warning_contains(c, "GeoKey 3077 refers to doubles 5..6")) << joined(c.warnings);
     EXPECT_TRUE(any_warning_contains(c, "GeoKey 1026 refers to characters 0..40")) << joined(c.warnings);
     EXPECT_TRUE(any_warning_contains(c, "VLR at offset 500")) << joined(c.warnings);
+    for (const auto& w : c.warnings) {  // levelled, and placed at the record they are about
+        EXPECT_EQ(w.level, DiagnosticLevel::warning);
+        EXPECT_EQ(w.offset, 500u) << w.message;
+    }
 }
 
 TEST(Crs, TruncatedGeoKeysFallBackToWkt) {

@@ -268,7 +268,7 @@ TEST(Replicate, RefusesUnsafeOrEmptyInput) {
     const auto plan = synth::plan_replicas({dir.path.string()}, (dir.path / "out").string(), {2, 2});
     EXPECT_EQ(plan.sources.size(), 1u);
     ASSERT_EQ(plan.warnings.size(), 1u);
-    EXPECT_NE(plan.warnings[0].find("bad.laz"), std::string::npos);
+    EXPECT_NE(plan.warnings[0].message.find("bad.laz"), std::string::npos);
     EXPECT_EQ(fs::file_size(src), fs::file_size(kMetreTile)) << "the source is untouched";
 }
 

@@ -72,7 +72,7 @@ TEST_F(TerrainGenerator, TilesManifestAndHeaders) {
         bytes += t.bytes;
         auto file = io::File::open(t.path);
         const auto tile = dataset::read_tile(file);
-        EXPECT_TRUE(tile.warnings.empty()) << tile.warnings.front();
+        EXPECT_TRUE(tile.warnings.empty()) << tile.warnings.front().message;
         EXPECT_EQ(tile.header.version_string(), "1.4");
         EXPECT_EQ(tile.header.point_format, 7);
         EXPECT_EQ(tile.header.point_count, t.points);
