@@ -81,14 +81,22 @@ raster::DemRequest make_request(const DemCliOptions& o) {
 
 void print_result(const DemCliOptions& o, const raster::DemRequest& r, const raster::DemResult& d, double seconds) {
     if (o.json) {
-        nlohmann::json j = {{"output", r.output}, {"rgb", r.rgb.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rgb)},
+        nlohmann::json j = {{"output", r.output},
+                            {"rgb", r.rgb.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rgb)},
                             {"hillshade", r.hillshade.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.hillshade)},
-                            {"from", o.from}, {"method", std::string(raster::dem_method_name(r.method))},
-                            {"texel_m", r.texel_m}, {"width", d.grid.width}, {"height", d.grid.height},
-                            {"origin_m", {d.grid.origin_x, d.grid.origin_y}}, {"points_read", d.points_read},
-                            {"points_used", d.points_used}, {"blocks_written", d.blocks_written},
-                            {"peak_blocks", d.peak_blocks}, {"seconds_grid", d.seconds_grid},
-                            {"seconds_cog", d.seconds_cog}, {"seconds_hillshade", d.seconds_hillshade},
+                            {"from", o.from},
+                            {"method", std::string(raster::dem_method_name(r.method))},
+                            {"texel_m", r.texel_m},
+                            {"width", d.grid.width},
+                            {"height", d.grid.height},
+                            {"origin_m", {d.grid.origin_x, d.grid.origin_y}},
+                            {"points_read", d.points_read},
+                            {"points_used", d.points_used},
+                            {"blocks_written", d.blocks_written},
+                            {"peak_blocks", d.peak_blocks},
+                            {"seconds_grid", d.seconds_grid},
+                            {"seconds_cog", d.seconds_cog},
+                            {"seconds_hillshade", d.seconds_hillshade},
                             {"seconds", seconds}};
         std::printf("%s\n", j.dump(2).c_str());
         return;
@@ -111,7 +119,9 @@ int run_dem(const DemCliOptions& o) {
     print_diagnostics(ds.warnings);
     if (ds.tiles.empty()) throw Error("dem: no readable tile in the given paths");
     StageBars bars;
-    r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) { bars.update(stage, done, total); };
+    r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) {
+        bars.update(stage, done, total);
+    };
     const raster::DemResult d = raster::make_dem(ds, r);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     print_result(o, r, d, seconds);
@@ -122,8 +132,10 @@ int run_dem(const DemCliOptions& o) {
 
 void register_dem_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<DemCliOptions>();
-    auto* cmd = app.add_subcommand("dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
-    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")->required();
+    auto* cmd = app.add_subcommand(
+        "dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
+    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
+        ->required();
     cmd->add_option("-o,--output", o->output, "The DEM to write (.tif)")->required();
     cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(CLI::PositiveNumber);
     cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")

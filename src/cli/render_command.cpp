@@ -91,7 +91,9 @@ struct RenderReport {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-const char* stage_name(Stage s) { return s == Stage::Overview ? "overview" : s == Stage::Heightmaps ? "heightmaps" : "full"; }
+const char* stage_name(Stage s) {
+    return s == Stage::Overview ? "overview" : s == Stage::Heightmaps ? "heightmaps" : "full";
+}
 
 Stage parse_stage(const std::string& text) {
     for (Stage s : {Stage::Overview, Stage::Heightmaps, Stage::Full}) {
@@ -199,7 +201,8 @@ std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const data
     Progress progress("full-res points", total);
     std::vector<viewer::PointSet> out;
     for (const auto i : choice.tiles) {
-        out.push_back(viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool, [&](std::uint64_t n) { progress.add(n); }));
+        out.push_back(
+            viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool, [&](std::uint64_t n) { progress.add(n); }));
     }
     progress.finish();
     report.full_res_tiles = out.size();
@@ -265,15 +268,17 @@ void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const Rend
                  "render: %zu tiles, %llu chunk points, %zu of %zu visible patches with heightmaps (%s), %llu full-res "
                  "points from %zu tiles%s; headers %.3f s, chunk points %.3f s, heightmaps %.3f s, full-res %.3f s, "
                  "render %.3f s -> %s (camera %s)\n",
-                 r.tiles, (unsigned long long)r.chunk_points, r.heightmaps, r.visible_patches, plan.cnn ? "cnn" : "linear",
-                 (unsigned long long)r.full_res_points, r.full_res_tiles, budget.c_str(), s.headers, s.chunk_points,
-                 s.heightmaps, s.full_res, s.render, o.output.c_str(),
+                 r.tiles, (unsigned long long)r.chunk_points, r.heightmaps, r.visible_patches,
+                 plan.cnn ? "cnn" : "linear", (unsigned long long)r.full_res_points, r.full_res_tiles, budget.c_str(),
+                 s.headers, s.chunk_points, s.heightmaps, s.full_res, s.render, o.output.c_str(),
                  camera_json(r.camera)["text"].get<std::string>().c_str());
 }
 
 int run_render(const RenderCliOptions& o) {
     const RenderPlan plan = make_plan(o);
-    if (!plan.backend.note.empty()) std::fprintf(stderr, "lidarscout: %s; drawing on the CPU\n", plan.backend.note.c_str());
+    if (!plan.backend.note.empty()) {
+        std::fprintf(stderr, "lidarscout: %s; drawing on the CPU\n", plan.backend.note.c_str());
+    }
     RenderReport report;
     const dataset::Dataset ds = read_headers(o, report);
     report.camera = make_camera(plan, o, ds);
@@ -323,7 +328,8 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
                     "every tile in view that fits under --memory; default)");
     cmd->add_option("--colour,--color", o->colour, "rgb (default), elevation, intensity or classification");
     cmd->add_option("--heightmaps", o->heightmaps, "Heightmap method: linear (default) or cnn (the network)");
-    cmd->add_option("--crs", o->crs, "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
+    cmd->add_option("--crs", o->crs,
+                    "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");
     cmd->add_option("--min-points", o->min_points,
                     "Chunk points a patch's 960 m window needs for a heightmap (default 6)")
@@ -332,8 +338,10 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(1, 64));
     cmd->add_option("--chunk-point-size", o->chunk_point_size, "Chunk point size in pixels (default 2)")
         ->check(CLI::Range(1, 64));
-    cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")->check(CLI::Range(0.0, 100.0));
-    cmd->add_option("--memory", o->memory, "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
+    cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")
+        ->check(CLI::Range(0.0, 100.0));
+    cmd->add_option("--memory", o->memory,
+                    "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
     cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "

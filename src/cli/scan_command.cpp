@@ -164,7 +164,8 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--direct", o->direct, "Read chunk points with O_DIRECT (bypass the page cache, as a cold read)");
     cmd->add_option("--las-stride", o->stride, "Chunk-point stride for uncompressed LAS tiles (default 50000)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--crs", o->crs, "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
+    cmd->add_option("--crs", o->crs,
+                    "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_option("--focus", o->focus, "Load tiles nearest to X,Y (metres) first")->delimiter(',')->expected(2);
     cmd->callback([o, &run] { run = [o] { return run_scan(*o); }; });
 }

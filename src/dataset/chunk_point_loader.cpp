@@ -156,7 +156,8 @@ private:
     void reorder() {
         reorder_ = false;
         reorder_throttle_.done();
-        auto started_begin = std::stable_partition(order_.begin(), order_.end(), [&](std::uint32_t id) { return !tiles_[id].started; });
+        auto started_begin =
+            std::stable_partition(order_.begin(), order_.end(), [&](std::uint32_t id) { return !tiles_[id].started; });
         std::vector<double> key(ds_.tiles.size());
         for (auto it = order_.begin(); it != started_begin; ++it) {
             key[*it] = ds_.tiles[*it].bounds_m.distance_xy(focus_x_, focus_y_);
@@ -166,11 +167,13 @@ private:
         });
     }
 
-    std::optional<PendingPoint> convert(const DatasetTile& tile, std::span<const std::uint8_t> data, std::uint64_t offset) {
+    std::optional<PendingPoint> convert(const DatasetTile& tile, std::span<const std::uint8_t> data,
+                                        std::uint64_t offset) {
         const auto& h = tile.tile.header;
         const las::Point p = las::decode_point(data, las::point_format_info(h.point_format), h);
         if (!inside_bounds(tile, p)) {
-            fail(tile.tile.path, offset, "chunk point lies outside the header bounds (corrupt chunk table?); not drawn");
+            fail(tile.tile.path, offset,
+                 "chunk point lies outside the header bounds (corrupt chunk table?); not drawn");
             return std::nullopt;
         }
         double x = p.x, y = p.y, z = p.z;

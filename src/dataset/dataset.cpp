@@ -149,7 +149,9 @@ ThreadPool& header_pool(unsigned threads) {
 void choose_frame(Dataset& ds, const std::string& wanted) {
     if (!wanted.empty()) {
         const geo::CrsInfo info = geo::crs_info(wanted);
-        if (info.geographic) throw Error::in_stage("dataset", "the CRS " + shorten(wanted) + " is geographic; patches need metres");
+        if (info.geographic) {
+            throw Error::in_stage("dataset", "the CRS " + shorten(wanted) + " is geographic; patches need metres");
+        }
         ds.frame = {wanted, info.xy_to_metres, info.z_to_metres};
         return;
     }
@@ -171,7 +173,8 @@ void choose_frame(Dataset& ds, const std::string& wanted) {
 
 // Points the tile at the frame when its CRS differs (transforms shared per source CRS) and
 // moves its bounds there. Throws Error when PROJ cannot.
-void reproject(DatasetTile& t, const Frame& frame, std::map<std::string, std::shared_ptr<const geo::CrsTransform>>& cache) {
+void reproject(DatasetTile& t, const Frame& frame,
+               std::map<std::string, std::shared_ptr<const geo::CrsTransform>>& cache) {
     const std::string def = geo::crs_definition(t.tile.crs);
     if (def.empty() || frame.crs.empty() || def == frame.crs) return;
     auto& transform = cache[def];

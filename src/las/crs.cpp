@@ -300,7 +300,8 @@ GeoKeys decode_geokeys(std::span<const std::uint8_t> dir, std::span<const std::u
     std::size_t zero_ids = 0;
     for (std::size_t i = 0; i < count; ++i) {
         const int id = word(4 + 4 * i), location = word(5 + 4 * i);
-        const std::size_t n = static_cast<std::size_t>(word(6 + 4 * i)), value = static_cast<std::size_t>(word(7 + 4 * i));
+        const std::size_t n = static_cast<std::size_t>(word(6 + 4 * i)),
+                          value = static_cast<std::size_t>(word(7 + 4 * i));
         const std::string key = "GeoKey " + std::to_string(id);
         if (id == 0) {
             ++zero_ids;
@@ -490,8 +491,8 @@ bool keyword_in(const WktNode& n, std::initializer_list<std::string_view> keywor
 }
 
 bool is_horizontal(const WktNode& n) {
-    return keyword_in(n, {"PROJCS", "PROJCRS", "PROJECTEDCRS", "GEOGCS", "GEOGCRS", "GEOGRAPHICCRS", "GEOCCS", "GEODCRS",
-                          "GEODETICCRS", "LOCAL_CS", "ENGCRS", "ENGINEERINGCRS"});
+    return keyword_in(n, {"PROJCS", "PROJCRS", "PROJECTEDCRS", "GEOGCS", "GEOGCRS", "GEOGRAPHICCRS", "GEOCCS",
+                          "GEODCRS", "GEODETICCRS", "LOCAL_CS", "ENGCRS", "ENGINEERINGCRS"});
 }
 bool is_vertical(const WktNode& n) { return keyword_in(n, {"VERT_CS", "VERTCS", "VERTCRS", "VERTICALCRS"}); }
 bool is_compound(const WktNode& n) { return keyword_in(n, {"COMPD_CS", "COMPOUNDCRS"}); }
@@ -514,7 +515,8 @@ bool is_geographic(const WktNode& n) {
     if (keyword_in(n, {"GEOGCS", "GEOGCRS", "GEOGRAPHICCRS"})) return true;
     // A WKT2 geodetic CRS is geographic when its coordinate system is ellipsoidal.
     const WktNode* cs = child_named(n, {"CS"});
-    return keyword_in(n, {"GEODCRS", "GEODETICCRS"}) && cs && !cs->atoms.empty() && lower(cs->atoms[0]) == "ellipsoidal";
+    return keyword_in(n, {"GEODCRS", "GEODETICCRS"}) && cs && !cs->atoms.empty() &&
+           lower(cs->atoms[0]) == "ellipsoidal";
 }
 
 // The EPSG code of a CRS element: its last direct AUTHORITY["EPSG",...] or ID["EPSG",...].
@@ -601,12 +603,14 @@ Crs crs_from_wkt(const WktNode& root, Diagnostics& warnings) {
             const WktNode* unit = child_named(*h, {"UNIT", "ANGLEUNIT"});
             c.horizontal_unit_name = unit && !unit->atoms.empty() ? unit->atoms[0] : "degree";
         } else {
-            set_horizontal(c, resolve_unit(wkt_unit(*h, warnings), c.epsg, projected_unit_of_epsg, "horizontal", warnings));
+            set_horizontal(
+                c, resolve_unit(wkt_unit(*h, warnings), c.epsg, projected_unit_of_epsg, "horizontal", warnings));
         }
     }
     if (const WktNode* v = parts.vertical) {
         c.vertical_epsg = wkt_epsg(*v, warnings);
-        set_vertical(c, resolve_unit(wkt_unit(*v, warnings), c.vertical_epsg, vertical_unit_of_epsg, "vertical", warnings));
+        set_vertical(
+            c, resolve_unit(wkt_unit(*v, warnings), c.vertical_epsg, vertical_unit_of_epsg, "vertical", warnings));
     }
     return c;
 }
@@ -667,7 +671,9 @@ std::optional<Crs> geotiff_of_file(const std::vector<Vlr>& vlrs, const std::vect
     return c;
 }
 
-std::string epsg_text(const std::optional<int>& code) { return code ? "EPSG:" + std::to_string(*code) : "no EPSG code"; }
+std::string epsg_text(const std::optional<int>& code) {
+    return code ? "EPSG:" + std::to_string(*code) : "no EPSG code";
+}
 
 std::string record_kind(const Crs& c) { return c.source == "wkt" ? "WKT record" : "GeoTIFF keys"; }
 
@@ -773,7 +779,7 @@ Crs read_crs(const std::vector<Vlr>& vlrs, const std::vector<Vlr>& evlrs, const 
     } else if (fallback) {
         out = std::move(*fallback);
         warnings.warn(wkt_flag ? "the header's WKT bit is set but there is no usable WKT record; using the GeoTIFF keys"
-                                    : "the header's WKT bit is not set but the only usable CRS record is WKT; using it");
+                               : "the header's WKT bit is not set but the only usable CRS record is WKT; using it");
     }
     if (out.wkt.empty()) out.wkt = std::move(wkt_text);  // the text even when it was unusable
     out.warnings = std::move(warnings);

@@ -49,7 +49,9 @@ void check_items(const las::LaszipVlr& laz) {
         return true;
     };
     if (!next_is(ItemType::Point14, detail::point14::kPoint14Size)) fail_items(laz);
-    if (!next_is(ItemType::Rgb14, detail::point14::kRgb14Size)) next_is(ItemType::RgbNir14, detail::point14::kRgbNir14Size);
+    if (!next_is(ItemType::Rgb14, detail::point14::kRgb14Size)) {
+        next_is(ItemType::RgbNir14, detail::point14::kRgbNir14Size);
+    }
     next_is(ItemType::Byte14, 0);
     if (i != laz.items.size()) fail_items(laz);
 }

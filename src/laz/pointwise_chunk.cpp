@@ -177,7 +177,8 @@ void decode_points(const ChunkView& chunk, DecodeRecord&& decode_record) {
 // One record of a fixed list of item decoders. Flattened: the arithmetic and integer
 // decoding calls are inlined into the item code, which is where the time goes.
 template <class... Items, std::size_t... I>
-[[gnu::flatten]] void decode_fixed_record(std::tuple<Items...>& items, const std::array<std::size_t, sizeof...(Items)>& at,
+[[gnu::flatten]] void decode_fixed_record(std::tuple<Items...>& items,
+                                          const std::array<std::size_t, sizeof...(Items)>& at,
                                           std::index_sequence<I...>, ArithmeticDecoder& dec, std::uint8_t* rec) {
     (std::get<I>(items).decode(dec, rec + at[I]), ...);
 }

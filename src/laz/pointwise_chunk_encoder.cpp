@@ -44,7 +44,9 @@ struct ItemList {
 
 // The list as LASzip writes it for formats 0-3, or an Error.
 ItemList check_items(const las::LaszipVlr& laz) {
-    if (laz.compressor != 2) throw Error("point-wise encoder called for LAZ compressor " + std::to_string(laz.compressor));
+    if (laz.compressor != 2) {
+        throw Error("point-wise encoder called for LAZ compressor " + std::to_string(laz.compressor));
+    }
     if (laz.coder != 0) throw Error("LAZ encoder: unsupported coder " + std::to_string(laz.coder));
     std::size_t i = 0;
     const auto next_is = [&](ItemType type, std::size_t size) {

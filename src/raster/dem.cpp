@@ -22,7 +22,9 @@ constexpr std::pair<DemMethod, std::string_view> kMethodNames[] = {
     {DemMethod::Mean, "mean"}, {DemMethod::Min, "min"}, {DemMethod::Max, "max"},
     {DemMethod::Linear, "linear"}, {DemMethod::Cnn, "cnn"}};
 
-bool fits(DemMethod m, DemSource s) { return (m == DemMethod::Linear || m == DemMethod::Cnn) == (s == DemSource::Overview); }
+bool fits(DemMethod m, DemSource s) {
+    return (m == DemMethod::Linear || m == DemMethod::Cnn) == (s == DemSource::Overview);
+}
 
 recon::TexelStatistic statistic_of(DemMethod m) {
     return m == DemMethod::Min ? recon::TexelStatistic::Min

@@ -39,7 +39,9 @@ std::vector<std::uint8_t> block_rgba(std::span<const recon::TexelStats> texels) 
     std::vector<std::uint8_t> out(4 * n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         if (texels[i].count == 0) continue;
-        for (int c = 0; c < 3; ++c) out[c * n + i] = static_cast<std::uint8_t>(std::lround(texels[i].colour(c) * 255.0f));
+        for (int c = 0; c < 3; ++c) {
+            out[c * n + i] = static_cast<std::uint8_t>(std::lround(texels[i].colour(c) * 255.0f));
+        }
         out[3 * n + i] = 255;
     }
     return out;
@@ -62,8 +64,10 @@ int block_index(double v, double origin, double block_m, int count) {
 // The tile's header bounds grown by a texel (rounding of the bounds against the points).
 BlockRange tile_blocks(const DemGrid& g, const dataset::Bounds& b) {
     const double m = g.block * g.texel_m, pad = g.texel_m;
-    BlockRange r{block_index(b.min_x - pad, g.origin_x, m, g.blocks_x()), block_index(b.min_y - pad, g.origin_y, m, g.blocks_y()),
-                 block_index(b.max_x + pad, g.origin_x, m, g.blocks_x()), block_index(b.max_y + pad, g.origin_y, m, g.blocks_y())};
+    BlockRange r{block_index(b.min_x - pad, g.origin_x, m, g.blocks_x()),
+                 block_index(b.min_y - pad, g.origin_y, m, g.blocks_y()),
+                 block_index(b.max_x + pad, g.origin_x, m, g.blocks_x()),
+                 block_index(b.max_y + pad, g.origin_y, m, g.blocks_y())};
     if (r.x1 < 0 || r.y1 < 0 || r.x0 >= g.blocks_x() || r.y0 >= g.blocks_y()) return {};
     r.x0 = std::max(r.x0, 0), r.y0 = std::max(r.y0, 0);
     r.x1 = std::min(r.x1, g.blocks_x() - 1), r.y1 = std::min(r.y1, g.blocks_y() - 1);
@@ -81,7 +85,8 @@ public:
     // Adds a point of a tile whose blocks are `range`; false when it lies outside the grid.
     bool add(const dataset::MetricPoint& p, const BlockRange& range, const std::string& tile) {
         const auto at = recon::locate_texel(spec_, grid_.origin_x, grid_.origin_y, p.x, p.y);
-        if (!at || at->cell.ix < 0 || at->cell.iy < 0 || at->cell.ix >= grid_.blocks_x() || at->cell.iy >= grid_.blocks_y()) {
+        if (!at || at->cell.ix < 0 || at->cell.iy < 0 || at->cell.ix >= grid_.blocks_x() ||
+            at->cell.iy >= grid_.blocks_y()) {
             return false;
         }
         if (at->cell.ix * grid_.block + at->col >= grid_.width || at->cell.iy * grid_.block + at->row >= grid_.height) {
@@ -179,7 +184,8 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
         blocks.expect(ranges[i]);
         if (!ranges[i].empty()) total += ds.tiles[i].tile.header.point_count;
     }
-    const std::uint32_t fields = laz::fields::kXyz | laz::fields::kClassification | (outputs.rgb ? laz::fields::kRgb : 0u);
+    const std::uint32_t fields =
+        laz::fields::kXyz | laz::fields::kClassification | (outputs.rgb ? laz::fields::kRgb : 0u);
     for (const std::uint32_t t : tile_order(ds)) {
         if (ranges[t].empty()) continue;
         const std::string& path = ds.tiles[t].tile.path;

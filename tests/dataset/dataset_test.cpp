@@ -74,7 +74,9 @@ TEST(Dataset, MixedCrsWarns) {
 std::vector<MetricPoint> all_points(const Dataset& ds, std::uint32_t tile) {
     ThreadPool pool(2);
     std::vector<MetricPoint> out;
-    for_each_metric_batch(ds, tile, pool, [&](std::uint64_t, std::span<const MetricPoint> p) { out.insert(out.end(), p.begin(), p.end()); });
+    for_each_metric_batch(ds, tile, pool, [&](std::uint64_t, std::span<const MetricPoint> p) {
+        out.insert(out.end(), p.begin(), p.end());
+    });
     return out;
 }
 

@@ -86,7 +86,8 @@ INSTANTIATE_TEST_SUITE_P(Backends, BatchReader,
                          ::testing::Values(Case{ReadBackend::Pread, false}, Case{ReadBackend::Pread, true},
                                            Case{ReadBackend::IoUring, false}, Case{ReadBackend::IoUring, true}),
                          [](const auto& info) {
-                             return std::string(backend_name(info.param.backend)) + (info.param.direct ? "_direct" : "_buffered");
+                             return std::string(backend_name(info.param.backend)) +
+                                    (info.param.direct ? "_direct" : "_buffered");
                          });
 
 TEST(BatchReaderErrors, ErrorsNameTheTargetsFileAndOffset) {

@@ -145,7 +145,8 @@ TEST(Crs, WktVariantsOfTheCorpus) {
         {"PDAL__PDAL/test__data__las__autzen_trim_7.las", std::nullopt, std::nullopt, false,
          LinearUnit::InternationalFoot, LinearUnit::Unknown},
         // COMPD_CS without authorities, "Meter"
-        {"hobuinc__untwine/test__data__eb.laz", std::nullopt, std::nullopt, false, LinearUnit::Metre, LinearUnit::Metre},
+        {"hobuinc__untwine/test__data__eb.laz", std::nullopt, std::nullopt, false, LinearUnit::Metre,
+         LinearUnit::Metre},
     };
     for (const auto& k : cases) {
         SCOPED_TRACE(k.file);
@@ -332,7 +333,8 @@ TEST(Crs, TruncatedGeoKeysFallBackToWkt) {
     const io::File no_file;
     const std::vector<Vlr> vlrs = {
         projection_vlr(34735, {1, 0, 1}),  // 3 bytes: not even a header
-        projection_vlr(2112, text(R"w(PROJCS["x",UNIT["US survey foot",0.3048006096012192],AUTHORITY["EPSG","2264"]])w")),
+        projection_vlr(2112,
+                       text(R"w(PROJCS["x",UNIT["US survey foot",0.3048006096012192],AUTHORITY["EPSG","2264"]])w")),
     };
     const Crs c = read_crs(vlrs, {}, no_file);
     EXPECT_EQ(c.source, "wkt");
@@ -374,7 +376,8 @@ TEST(Crs, WktSyntaxVariants) {
     EXPECT_EQ(c.horizontal_unit, LinearUnit::InternationalFoot);
     EXPECT_TRUE(c.warnings.empty()) << joined(c.warnings);
 
-    c = parse_wkt_crs(R"w(VERT_CS["NAVD88 height (ftUS)",UNIT["US survey foot",0.304800609601219],AUTHORITY["EPSG","6360"]])w");
+    c = parse_wkt_crs(
+        R"w(VERT_CS["NAVD88 height (ftUS)",UNIT["US survey foot",0.304800609601219],AUTHORITY["EPSG","6360"]])w");
     EXPECT_EQ(c.epsg, std::nullopt);
     EXPECT_EQ(c.vertical_epsg, 6360);
     EXPECT_EQ(c.vertical_unit, LinearUnit::UsSurveyFoot);

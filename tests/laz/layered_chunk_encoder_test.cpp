@@ -60,8 +60,8 @@ struct Pair {
 std::vector<Pair> point14_pairs() {
     std::vector<Pair> pairs;
     for (const auto& j : test::read_json(test::formats_dir() / "expected" / "encode_pairs.json")) {
-        Pair p{test::formats_dir() / j.at("las").get<std::string>(), test::formats_dir() / j.at("laz").get<std::string>(),
-               j.at("chunk_size").get<std::uint32_t>()};
+        Pair p{test::formats_dir() / j.at("las").get<std::string>(),
+               test::formats_dir() / j.at("laz").get<std::string>(), j.at("chunk_size").get<std::uint32_t>()};
         const auto file = io::File::open(p.las.string());
         if (dataset::read_tile(file).header.point_format >= 6) pairs.push_back(p);
     }
@@ -118,7 +118,9 @@ TEST(LayeredEncode, EveryPoint14LasFileRoundTrips) {
         const auto records = las_records(file, tile);
         expect_round_trip(laz, records, 50000, e.name);
         const std::size_t few = std::min<std::size_t>(tile.header.point_count, 300) * tile.header.record_length;
-        for (std::uint64_t size : {1u, 2u, 7u, 100u}) expect_round_trip(laz, std::span(records).first(few), size, e.name);
+        for (std::uint64_t size : {1u, 2u, 7u, 100u}) {
+            expect_round_trip(laz, std::span(records).first(few), size, e.name);
+        }
         ++files;
     }
     EXPECT_GE(files, 2u);
@@ -139,7 +141,8 @@ TEST(LayeredEncode, SurveyTileAsFormat7RoundTrips) {
     for (std::size_t i = 0; i < take; ++i) {
         const Chunk& c = chunks[i];
         const auto stored = file.read_vector(c.byte_offset, c.byte_size, "chunk");
-        decode_chunk(*tile.laz, {stored, c.point_count, std::span(records).subspan(c.first_point * in_rl, c.point_count * in_rl)});
+        decode_chunk(*tile.laz,
+                     {stored, c.point_count, std::span(records).subspan(c.first_point * in_rl, c.point_count * in_rl)});
     }
     const auto& f7 = las::point_format_info(7);
     std::vector<std::uint8_t> converted(points * f7.size);
@@ -228,7 +231,9 @@ std::vector<std::uint8_t> hand_made_records(std::size_t n, std::uint32_t seed) {
             if (sometimes(4)) {
                 rgb[0] = rgb[1] = rgb[2] = static_cast<std::uint16_t>(rng());
             } else {
-                for (int k = 0; k < 3; ++k) rgb[k] = static_cast<std::uint16_t>(sometimes(3) ? rng() : rgb[k] + rng() % 11 - 5);
+                for (int k = 0; k < 3; ++k) {
+                    rgb[k] = static_cast<std::uint16_t>(sometimes(3) ? rng() : rgb[k] + rng() % 11 - 5);
+                }
             }
         }
         if (sometimes(6)) rgb[3] = static_cast<std::uint16_t>(sometimes(2) ? rng() : rgb[3] + 1);
@@ -260,13 +265,17 @@ TEST(LayeredEncode, HandMadeChannelsReturnsAndTimesRoundTrip) {
     for (std::size_t n : per_channel) EXPECT_GT(n, 500u);
 
     const auto f8 = make_laszip_vlr(8, kHandRl, 50000);
-    for (std::uint64_t size : {1u, 2u, 3u, 50u, 256u, 6000u}) expect_round_trip(f8, records, size, "format 8 + 3 bytes");
+    for (std::uint64_t size : {1u, 2u, 3u, 50u, 256u, 6000u}) {
+        expect_round_trip(f8, records, size, "format 8 + 3 bytes");
+    }
 
     // The same points as formats 6 and 7 (with and without extra bytes).
     for (std::uint8_t format : {6, 7}) {
         const auto& info = las::point_format_info(format);
         std::vector<std::uint8_t> cut(6000 * info.size);
-        for (std::size_t i = 0; i < 6000; ++i) std::memcpy(cut.data() + i * info.size, records.data() + i * kHandRl, info.size);
+        for (std::size_t i = 0; i < 6000; ++i) {
+            std::memcpy(cut.data() + i * info.size, records.data() + i * kHandRl, info.size);
+        }
         expect_round_trip(make_laszip_vlr(format, info.size, 50000), cut, 1000, "format " + std::to_string(format));
     }
     const auto with_extra = make_laszip_vlr(8, kHandRl, 50000);
