@@ -42,7 +42,7 @@ struct ViewCliOptions {
 // "X,Y" window pixels of a scripted click.
 std::pair<double, double> parse_click(const std::string& text) {
     const auto xy = parse_number_list(text, "--click");
-    if (xy.size() != 2) throw Error("view: --click wants X,Y in window pixels, not '" + text + "'");
+    if (xy.size() != 2) throw Error::in_stage("view", "--click wants X,Y in window pixels, not '" + text + "'");
     return {xy[0], xy[1]};
 }
 
@@ -52,7 +52,7 @@ std::filesystem::path cache_folder() {
     if (const char* home = std::getenv("HOME"); home && *home) {
         return std::filesystem::path(home) / ".cache" / "lidarscout";
     }
-    throw Error("view: no cache folder for the demo (neither XDG_CACHE_HOME nor HOME is set); give a PATH");
+    throw Error::in_stage("view", "no cache folder for the demo (neither XDG_CACHE_HOME nor HOME is set); give a PATH");
 }
 
 // The demo's folder, generated on first use (the manifest is written last: its presence says done).

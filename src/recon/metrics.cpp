@@ -11,7 +11,7 @@ namespace {
 
 void check_same_shape(const Image& a, const Image& b, int channels) {
     if (a.size != b.size || a.channels != channels || b.channels != channels) {
-        throw Error("metrics: images of different shapes");
+        throw Error::in_stage("metrics", "images of different shapes");
     }
 }
 
