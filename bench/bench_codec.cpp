@@ -42,17 +42,19 @@ void bench_file(const std::string& path, int runs, const std::string& only) {
         fmt::print("{}: not a LAZ file, skipped\n", path);
         return;
     }
-    laz::LazLayout layout{tile.header, *tile.laz, laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)};
+    laz::LazLayout layout{tile.header, *tile.laz,
+                          laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)};
     const std::uint64_t n = tile.header.point_count;
     std::vector<std::uint8_t> records(n * tile.header.record_length);
-    fmt::print("{}: {} points, format {}, compressor {}, {} chunks\n", path, n, tile.header.point_format, tile.laz->compressor,
-               layout.units.size());
+    fmt::print("{}: {} points, format {}, compressor {}, {} chunks\n", path, n, tile.header.point_format,
+               tile.laz->compressor, layout.units.size());
     const unsigned all = std::max(1u, std::thread::hardware_concurrency());
     struct Mode {
         const char* name;
         std::uint32_t fields;
     };
-    const Mode modes[] = {{"full", laz::fields::kAll}, {"xyz", laz::fields::kXyz}, {"xyz+rgb", laz::fields::kXyz | laz::fields::kRgb}};
+    const Mode modes[] = {
+        {"full", laz::fields::kAll}, {"xyz", laz::fields::kXyz}, {"xyz+rgb", laz::fields::kXyz | laz::fields::kRgb}};
     for (unsigned threads : {1u, all}) {
         ThreadPool pool(threads);
         for (const auto& m : modes) {

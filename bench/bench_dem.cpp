@@ -58,11 +58,12 @@ std::string write_points_csv(const dataset::Dataset& ds, const fs::path& dir) {
     }
     std::fclose(f);
     FILE* v = std::fopen(vrt.c_str(), "w");
-    std::fprintf(v,
-                 "<OGRVRTDataSource><OGRVRTLayer name=\"points\"><SrcDataSource>%s</SrcDataSource>"
-                 "<GeometryType>wkbPoint25D</GeometryType>"
-                 "<GeometryField encoding=\"PointFromColumns\" x=\"x\" y=\"y\" z=\"z\"/></OGRVRTLayer></OGRVRTDataSource>\n",
-                 csv.c_str());
+    std::fprintf(
+        v,
+        "<OGRVRTDataSource><OGRVRTLayer name=\"points\"><SrcDataSource>%s</SrcDataSource>"
+        "<GeometryType>wkbPoint25D</GeometryType>"
+        "<GeometryField encoding=\"PointFromColumns\" x=\"x\" y=\"y\" z=\"z\"/></OGRVRTLayer></OGRVRTDataSource>\n",
+        csv.c_str());
     std::fclose(v);
     return vrt.string();
 }
@@ -127,10 +128,12 @@ int main(int argc, char** argv) {
     const double ours_cpu = (cpu_seconds(RUSAGE_SELF) - cpu0) / std::max(1, runs);
     std::printf("dem %s (%s): %zu tiles, %llu points, %d x %d texels of %g m, %u threads\n",
                 overview.empty() ? "full" : "overview", std::string(raster::dem_method_name(r.method)).c_str(),
-                ds.tiles.size(), (unsigned long long)ds.point_count, result.grid.width, result.grid.height, texel, threads);
-    std::printf("  median of %d: %.3f s (last run: gridding %.3f s, COG %.3f s), %.1f M points/s, peak %zu blocks, "
-                "%.2f CPU s per run\n", runs, ours, result.seconds_grid, result.seconds_cog, ds.point_count / ours / 1e6,
-                result.peak_blocks, ours_cpu);
+                ds.tiles.size(), (unsigned long long)ds.point_count, result.grid.width, result.grid.height, texel,
+                threads);
+    std::printf(
+        "  median of %d: %.3f s (last run: gridding %.3f s, COG %.3f s), %.1f M points/s, peak %zu blocks, "
+        "%.2f CPU s per run\n",
+        runs, ours, result.seconds_grid, result.seconds_cog, ds.point_count / ours / 1e6, result.peak_blocks, ours_cpu);
     std::fflush(stdout);
     if (gdal_grid) {
         const std::string vrt = write_points_csv(ds, dir);

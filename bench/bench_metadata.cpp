@@ -53,8 +53,8 @@ void report(const char* what, const char* unit, std::size_t n, unsigned threads,
         rates.push_back(res.items / res.seconds);
     }
     std::sort(rates.begin(), rates.end());
-    fmt::print("{:<34} threads {:>2}: {:>12.0f} {}/s (median of 5; {} {} per run; min {:.0f}, max {:.0f})\n", what, threads,
-               rates[2], unit, items, unit, rates.front(), rates.back());
+    fmt::print("{:<34} threads {:>2}: {:>12.0f} {}/s (median of 5; {} {} per run; min {:.0f}, max {:.0f})\n", what,
+               threads, rates[2], unit, items, unit, rates.front(), rates.back());
 }
 
 }  // namespace

@@ -3,10 +3,11 @@
 // that other processes on a shared machine disturb less) for every stage of Algorithm 1
 // and for each baseline, on synthetic terrain (~370 chunk points per window, the paper's
 // density) and on real points of the eastern Kentucky survey sampled as `eval` does (every
-// K-th point, K by the stride rule), at >= 1,000 random patch positions. The heap is kept between patches (mallopt), as in a
-// long-running process; one line gives Algorithm 1 with glibc's default trimming, where every
-// patch's buffers are fresh pages (page faults are slow in some VMs).
-// Usage: bench_recon [PATCHES] [SURVEY_DIR]   (default: 1000, ../shared/data/surveys/ky-jmo335-eastern-kentucky)
+// K-th point, K by the stride rule), at >= 1,000 random patch positions. The heap is kept between
+// patches (mallopt), as in a long-running process; one line gives Algorithm 1 with glibc's default
+// trimming, where every patch's buffers are fresh pages (page faults are slow in some VMs).
+// Usage: bench_recon [PATCHES] [SURVEY_DIR]
+//   (default: 1000, ../shared/data/surveys/ky-jmo335-eastern-kentucky)
 #include <fmt/format.h>
 #include <malloc.h>
 #include <time.h>
@@ -60,7 +61,8 @@ double ms_per_patch(std::size_t patches, const std::function<void(std::size_t)>&
 }
 
 double terrain(double x, double y) {
-    return 300.0 + 40.0 * std::sin(x / 150.0) * std::cos(y / 110.0) + 0.05 * x - 0.02 * y + 5.0 * std::sin(x / 23.0 + y / 31.0);
+    return 300.0 + 40.0 * std::sin(x / 150.0) * std::cos(y / 110.0) + 0.05 * x - 0.02 * y +
+           5.0 * std::sin(x / 23.0 + y / 31.0);
 }
 
 using Window = std::vector<dataset::OverviewPoint>;
@@ -77,7 +79,8 @@ std::vector<Window> synthetic_windows(std::size_t count, std::size_t points_per_
             p.x = ox + u(rng);
             p.y = u(rng);
             p.z = terrain(p.x, p.y);
-            p.rgb = {static_cast<std::uint8_t>(c(rng)), static_cast<std::uint8_t>(c(rng)), static_cast<std::uint8_t>(c(rng))};
+            p.rgb = {static_cast<std::uint8_t>(c(rng)), static_cast<std::uint8_t>(c(rng)),
+                     static_cast<std::uint8_t>(c(rng))};
         }
         out.push_back(std::move(window));
     }
@@ -114,7 +117,8 @@ RealPatches real_patches(const std::filesystem::path& dir, std::size_t count, st
     std::mt19937_64 rng(5);
     for (std::size_t tries = 0; out.size() < count && tries < 20 * count && !cells.empty(); ++tries) {
         const auto cell = cells[rng() % cells.size()];
-        const std::array<double, 2> corner{grid.cell_min_x(cell) + (rng() % 640), grid.cell_min_y(cell) + (rng() % 640)};
+        const std::array<double, 2> corner{grid.cell_min_x(cell) + (rng() % 640),
+                                           grid.cell_min_y(cell) + (rng() % 640)};
         r.positions.emplace_back(cell, corner);
         PatchPoints p = gather(r, r.positions.size() - 1);
         if (p.status == PatchStatus::Ok) {
@@ -146,7 +150,8 @@ void run_stages(const std::vector<PatchPoints>& patches, double Row::*column, st
         (*it).*column = ms;
     };
     volatile std::size_t sink = 0;
-    put("triangulation (CGAL)", ms_per_patch(n, [&](std::size_t i) { sink = sink + triangulate(patches[i]).triangles.size(); }));
+    put("triangulation (CGAL)",
+        ms_per_patch(n, [&](std::size_t i) { sink = sink + triangulate(patches[i]).triangles.size(); }));
     put("face map", ms_per_patch(n, [&](std::size_t i) {
             sink = sink + build_face_map(geometry[i].triangulation, 96).face.size();
         }));
@@ -155,8 +160,10 @@ void run_stages(const std::vector<PatchPoints>& patches, double Row::*column, st
                                                                    geometry[i].triangulation.real_count), 96).size();
         }));
     put("NN + linear images (h, RGB)", ms_per_patch(n, [&](std::size_t i) {
-            sink = sink + nearest_image(geometry[i], heights[i]).values.size() + linear_image(geometry[i], heights[i]).values.size() +
-                   nearest_image(geometry[i], colours[i]).values.size() + linear_image(geometry[i], colours[i]).values.size();
+            sink = sink + nearest_image(geometry[i], heights[i]).values.size() +
+                   linear_image(geometry[i], heights[i]).values.size() +
+                   nearest_image(geometry[i], colours[i]).values.size() +
+                   linear_image(geometry[i], colours[i]).values.size();
         }));
     put("= Algorithm 1 (interpolate_patch)", ms_per_patch(n, [&](std::size_t i) {
             sink = sink + interpolate_patch(patches[i]).height_linear.values.size();
@@ -199,7 +206,8 @@ int main(int argc, char** argv) {
         }
         // First with glibc's default heap trimming: every patch's ~0.5 MB of buffers are fresh
         // pages (page faults). Then with the heap kept, as in a long-running process.
-        const double fresh = ms_per_patch(synthetic.size(), [&](std::size_t i) { (void)interpolate_patch(synthetic[i]); });
+        const double fresh =
+            ms_per_patch(synthetic.size(), [&](std::size_t i) { (void)interpolate_patch(synthetic[i]); });
         mallopt(M_TRIM_THRESHOLD, 256 << 20);
         mallopt(M_MMAP_THRESHOLD, 64 << 20);
         rows.push_back({"gathering (real: grid query; patch points)", ms_per_patch(windows.size(), [&](std::size_t k) {
@@ -212,15 +220,20 @@ int main(int argc, char** argv) {
         if (!real.empty()) {
             run_stages(real, &Row::real, rows);
             rows.front().real = ms_per_patch(real.size(), [&](std::size_t i) { (void)gather(positions, i); });
-            rows.push_back({"= gathering + Algorithm 1", rows.front().synthetic + row_value(rows, "= Algorithm 1 (interpolate_patch)", &Row::synthetic),
-                            ms_per_patch(real.size(), [&](std::size_t i) { (void)interpolate_patch(gather(positions, i)); })});
+            rows.push_back(
+                {"= gathering + Algorithm 1",
+                 rows.front().synthetic + row_value(rows, "= Algorithm 1 (interpolate_patch)", &Row::synthetic),
+                 ms_per_patch(real.size(), [&](std::size_t i) { (void)interpolate_patch(gather(positions, i)); })});
         }
 
         fmt::print("bench_recon: ms per patch, single thread, 96 x 96 texels, median of 5 runs\n");
         fmt::print("  synthetic: {} patches, {:.0f} chunk points per window (median)\n", synthetic.size(),
                    median_points(synthetic));
-        fmt::print("  real: {}, every {}th point (stride rule), {} patches at random positions, {:.0f} points per window (median)\n",
-                   real.empty() ? "not found" : survey.filename().string(), positions.stride, real.size(), median_points(real));
+        fmt::print(
+            "  real: {}, every {}th point (stride rule), {} patches at random positions, {:.0f} points per window "
+            "(median)\n",
+            real.empty() ? "not found" : survey.filename().string(), positions.stride, real.size(),
+            median_points(real));
         fmt::print("  thread CPU time; heap kept between patches (mallopt); Algorithm 1 with glibc's default\n"
                    "  trimming instead (fresh pages every patch): {:.4f} ms (synthetic)\n", fresh);
         fmt::print("{:<38} {:>10} {:>10}\n", "stage", "synthetic", "real");

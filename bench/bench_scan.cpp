@@ -62,7 +62,7 @@ public:
         while (n < out.size() && next_ < requests_.size()) out[n++] = requests_[next_++];
         return n;
     }
-    void complete(const io::ReadRequest&, std::span<const std::uint8_t>, const std::string&) override {}
+    void complete(const io::ReadRequest&, std::span<const std::uint8_t>, const ErrorRecord*) override {}
 
 private:
     std::mutex mutex_;
@@ -119,7 +119,9 @@ LoadResult load_chunk_points(const dataset::Dataset& ds, io::ReadBackend backend
     loader.start();
     loader.wait();
     const double s = seconds_since(t0);
-    if (loader.failed() > 0) fmt::print(stderr, "warning: {} chunk points failed: {}\n", loader.failed(), loader.errors().front().message());
+    if (loader.failed() > 0) {
+        fmt::print(stderr, "warning: {} chunk points failed: {}\n", loader.failed(), loader.errors().front().message());
+    }
     return {loader.loaded() / s, loader.loaded()};
 }
 
@@ -147,7 +149,8 @@ int main(int argc, char** argv) {
         auto ds = dataset::open_dataset(paths);
         fmt::print("dataset: {} tiles ({} skipped), {} points, {} chunk points\n", ds.tiles.size(), ds.skipped.size(),
                    ds.point_count, ds.chunk_point_count);
-        fmt::print("page cache drop: {}\n", can_drop ? "yes (cold figures are cold)" : "NOT ALLOWED (cold = O_DIRECT only)");
+        fmt::print("page cache drop: {}\n",
+                   can_drop ? "yes (cold figures are cold)" : "NOT ALLOWED (cold = O_DIRECT only)");
 
         std::vector<double> cold_h, warm_h, dev_cold, dev_warm, cp_cold, cp_direct, cp_warm;
         for (int r = 0; r < runs; ++r) {
@@ -175,13 +178,13 @@ int main(int argc, char** argv) {
         if (can_drop) fmt::print("  headers + chunk tables, cold:              {:>10.3f} s\n", median(cold_h));
         fmt::print("  headers + chunk tables, warm:              {:>10.3f} s\n", median(warm_h));
         if (can_drop) {
-            fmt::print("  chunk points, cold (cache dropped):        {:>10.0f} /s  ({:.0f}% of device)\n", median(cp_cold),
-                       100 * median(cp_cold) / median(dev_cold));
+            fmt::print("  chunk points, cold (cache dropped):        {:>10.0f} /s  ({:.0f}% of device)\n",
+                       median(cp_cold), 100 * median(cp_cold) / median(dev_cold));
         }
-        fmt::print("  chunk points, cold (O_DIRECT):             {:>10.0f} /s  ({:.0f}% of device)\n", median(cp_direct),
-                   100 * median(cp_direct) / median(dev_cold));
-        fmt::print("  chunk points, warm:                        {:>10.0f} /s  ({:.0f}% of page cache)\n", median(cp_warm),
-                   100 * median(cp_warm) / median(dev_warm));
+        fmt::print("  chunk points, cold (O_DIRECT):             {:>10.0f} /s  ({:.0f}% of device)\n",
+                   median(cp_direct), 100 * median(cp_direct) / median(dev_cold));
+        fmt::print("  chunk points, warm:                        {:>10.0f} /s  ({:.0f}% of page cache)\n",
+                   median(cp_warm), 100 * median(cp_warm) / median(dev_warm));
     } catch (const Error& e) {
         fmt::print(stderr, "bench_scan: {}\n", e.what());
         return 1;

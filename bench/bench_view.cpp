@@ -99,7 +99,9 @@ double percentile(std::vector<double> v, double q) {
     return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
 }
 
-unsigned pool_threads(const Options& o) { return o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()); }
+unsigned pool_threads(const Options& o) {
+    return o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+}
 
 int loading(const Options& o, const dataset::Dataset& ds, double headers) {
     const auto t0 = Clock::now();
@@ -177,7 +179,9 @@ int flight(const Options& o, const dataset::Dataset& ds) {
         peak_rss = std::max(peak_rss, resident_bytes());
     }
     const auto st = scheduler.stats();
-    const auto over = [](const std::vector<double>& v) { return std::count_if(v.begin(), v.end(), [](double x) { return x > 100; }); };
+    const auto over = [](const std::vector<double>& v) {
+        return std::count_if(v.begin(), v.end(), [](double x) { return x > 100; });
+    };
     fmt::print("flight {:.0f} s over {} tiles at 1280x720, CNN {}, budget {} MB: {} frames\n", o.flight_s,
                ds.tiles.size(), o.cnn ? "on" : "off", o.memory_mb, frame_ms.size());
     fmt::print("frame ms: median {:.1f}, p95 {:.1f}, worst {:.1f}; frames over 100 ms: {}\n", percentile(frame_ms, 0.5),

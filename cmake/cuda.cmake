@@ -30,7 +30,8 @@ if(NOT LIDARSCOUT_CUDA STREQUAL "OFF")
 endif()
 
 if(LIDARSCOUT_CUDA_BUILT)
-  message(STATUS "lidarscout: building the CUDA rasterizer plugin (liblidarscout_cuda_raster.so) with ${CMAKE_CUDA_COMPILER}")
+  message(STATUS
+          "lidarscout: building the CUDA rasterizer plugin (liblidarscout_cuda_raster.so) with ${CMAKE_CUDA_COMPILER}")
   add_library(lidarscout_cuda_raster MODULE src/render/cuda/raster_plugin.cu src/render/cuda/raster_kernels.cu)
   target_include_directories(lidarscout_cuda_raster PRIVATE ${CMAKE_SOURCE_DIR}/src)
   # The directory's warning and sanitizer flags are for the host compiler only.

@@ -1,8 +1,10 @@
 # One static library per stage (one folder under src/), with its dependencies declared.
 #
-#   lidarscout_stage(NAME [DEPS stage...] [EXCLUDE regex...] [LINK target...])
+#   lidarscout_stage(NAME [DEPS stage...] [EXCLUDE regex...] [INTERNAL folder...] [LINK target...])
 #
 # builds lidarscout_NAME from src/NAME/**/*.cpp (minus EXCLUDE) and links the DEPS stages.
+# INTERNAL names subfolders of src/NAME that only the stage itself sees: in the views of
+# later stages, src/NAME is a folder of links to its other entries (its public face).
 # The layers are enforced by the build: a stage compiles against an include view that holds
 # only itself and the stages it depends on (directly or through them), as symbolic links
 # under build/stage_views/NAME/. So `#include "viewer/..."` in las/ fails to compile: viewer
@@ -13,7 +15,7 @@
 set_property(GLOBAL PROPERTY LIDARSCOUT_STAGES "")  # stages declared so far, in layer order
 
 function(lidarscout_stage name)
-  cmake_parse_arguments(S "" "" "DEPS;EXCLUDE;LINK" ${ARGN})
+  cmake_parse_arguments(S "" "" "DEPS;EXCLUDE;INTERNAL;LINK" ${ARGN})
   # the view: this stage and the transitive closure of its dependencies
   get_property(declared GLOBAL PROPERTY LIDARSCOUT_STAGES)
   set(view_stages ${name})
@@ -30,8 +32,14 @@ function(lidarscout_stage name)
   lidarscout_stage_view(${name} view_dir)
   file(REMOVE_RECURSE ${view_dir})
   file(MAKE_DIRECTORY ${view_dir})
+  set_property(GLOBAL PROPERTY LIDARSCOUT_INTERNAL_${name} ${S_INTERNAL})
   foreach(s IN LISTS view_stages)
-    file(CREATE_LINK ${CMAKE_SOURCE_DIR}/src/${s} ${view_dir}/${s} SYMBOLIC)
+    get_property(internal GLOBAL PROPERTY LIDARSCOUT_INTERNAL_${s})
+    if(s STREQUAL name OR NOT internal)
+      file(CREATE_LINK ${CMAKE_SOURCE_DIR}/src/${s} ${view_dir}/${s} SYMBOLIC)
+    else()
+      lidarscout_public_view(${s} "${internal}" ${view_dir}/${s})
+    endif()
   endforeach()
 
   file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/${name}/*.cpp)
@@ -47,6 +55,19 @@ function(lidarscout_stage name)
     target_link_libraries(lidarscout_${name} ${S_LINK})
   endif()
   set_property(GLOBAL APPEND PROPERTY LIDARSCOUT_STAGES ${name})
+endfunction()
+
+# The public face of stage `s` in a later stage's view: a folder `dir` with a link to each
+# entry of src/s but the `internal` ones (re-globbed at build time, so a new header shows up).
+function(lidarscout_public_view s internal dir)
+  file(MAKE_DIRECTORY ${dir})
+  file(GLOB entries CONFIGURE_DEPENDS LIST_DIRECTORIES true RELATIVE ${CMAKE_SOURCE_DIR}/src/${s}
+       ${CMAKE_SOURCE_DIR}/src/${s}/*)
+  foreach(entry IN LISTS entries)
+    if(NOT entry IN_LIST internal)
+      file(CREATE_LINK ${CMAKE_SOURCE_DIR}/src/${s}/${entry} ${dir}/${entry} SYMBOLIC)
+    endif()
+  endforeach()
 endfunction()
 
 # The include view of a stage (for a target compiled against it, e.g. an object library).

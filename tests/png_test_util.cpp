@@ -28,8 +28,9 @@ Png read_png(const std::filesystem::path& path) {
 }
 
 std::size_t drawn_pixels(const Png& png) {
-    return static_cast<std::size_t>(std::count_if(png.pixels.begin(), png.pixels.end(),
-                                                  [](std::uint32_t p) { return (p & 0xffffffu) != (kBackground & 0xffffffu); }));
+    return static_cast<std::size_t>(std::count_if(png.pixels.begin(), png.pixels.end(), [](std::uint32_t p) {
+        return (p & 0xffffffu) != (kBackground & 0xffffffu);
+    }));
 }
 
 }  // namespace lidarscout::test

@@ -1,6 +1,7 @@
 // `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
 // [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
-// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--threads N] [--json]`: a terrain or surface model of a dataset as a float32 Cloud-Optimized
+// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--threads N] [--json]`: a terrain or surface
+// model of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -13,6 +14,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/stage_progress.hpp"
@@ -44,7 +46,8 @@ std::vector<int> parse_classes(const std::string& text) {
     while (start <= text.size()) {
         const auto end = std::min(text.find(',', start), text.size());
         const std::string item = text.substr(start, end - start);
-        const bool digits = !item.empty() && item.size() <= 3 && item.find_first_not_of("0123456789") == std::string::npos;
+        const bool digits =
+            !item.empty() && item.size() <= 3 && item.find_first_not_of("0123456789") == std::string::npos;
         if (!digits || std::stoi(item) > 255) {
             throw Error("--classes expects class codes 0-255 separated by commas, not '" + text + "'");
         }
@@ -108,14 +111,22 @@ raster::DemRequest make_request(const DemCliOptions& o) {
 
 void print_result(const DemCliOptions& o, const raster::DemRequest& r, const raster::DemResult& d, double seconds) {
     if (o.json) {
-        nlohmann::json j = {{"output", r.output}, {"rgb", r.rgb.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rgb)},
+        nlohmann::json j = {{"output", r.output},
+                            {"rgb", r.rgb.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rgb)},
                             {"hillshade", r.hillshade.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.hillshade)},
-                            {"from", o.from}, {"method", std::string(raster::dem_method_name(r.method))},
-                            {"texel_m", r.texel_m}, {"width", d.grid.width}, {"height", d.grid.height},
-                            {"origin_m", {d.grid.origin_x, d.grid.origin_y}}, {"points_read", d.points_read},
-                            {"points_used", d.points_used}, {"blocks_written", d.blocks_written},
-                            {"peak_blocks", d.peak_blocks}, {"seconds_grid", d.seconds_grid},
-                            {"seconds_cog", d.seconds_cog}, {"seconds_hillshade", d.seconds_hillshade},
+                            {"from", o.from},
+                            {"method", std::string(raster::dem_method_name(r.method))},
+                            {"texel_m", r.texel_m},
+                            {"width", d.grid.width},
+                            {"height", d.grid.height},
+                            {"origin_m", {d.grid.origin_x, d.grid.origin_y}},
+                            {"points_read", d.points_read},
+                            {"points_used", d.points_used},
+                            {"blocks_written", d.blocks_written},
+                            {"peak_blocks", d.peak_blocks},
+                            {"seconds_grid", d.seconds_grid},
+                            {"seconds_cog", d.seconds_cog},
+                            {"seconds_hillshade", d.seconds_hillshade},
                             {"seconds", seconds}};
         std::printf("%s\n", j.dump(2).c_str());
         return;
@@ -135,10 +146,12 @@ int run_dem(const DemCliOptions& o) {
     dataset_options.crs = o.crs;
     const dataset::Dataset ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
-    for (const auto& w : ds.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
-    if (ds.tiles.empty()) throw Error("dem: no readable tile in the given paths");
+    print_diagnostics(ds.warnings);
+    if (ds.tiles.empty()) throw Error::in_stage("dem", "no readable tile in the given paths");
     StageBars bars;
-    r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) { bars.update(stage, done, total); };
+    r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) {
+        bars.update(stage, done, total);
+    };
     const raster::DemResult d = raster::make_dem(ds, r);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     print_result(o, r, d, seconds);
@@ -149,18 +162,22 @@ int run_dem(const DemCliOptions& o) {
 
 void register_dem_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<DemCliOptions>();
-    auto* cmd = app.add_subcommand("dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
-    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")->required();
+    auto* cmd = app.add_subcommand(
+        "dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
+    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
+        ->required();
     cmd->add_option("-o,--output", o->output, "The DEM to write (.tif)")->required();
     cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(CLI::PositiveNumber);
     cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
         ->delimiter(',')->expected(4);
     cmd->add_option("--from", o->from, "full (every point) or overview (chunk points only; default full)");
     cmd->add_option("--method", o->method, "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
-    cmd->add_option("--radius", o->radius, "idw: search radius around each texel centre, metres (default: texel x 1.414)")
+    cmd->add_option("--radius", o->radius,
+                    "idw: search radius around each texel centre, metres (default: texel x 1.414)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(CLI::PositiveNumber);
-    cmd->add_option("--max-edge", o->max_edge, "tin: no height in triangles with a longer edge, metres (default 0: no limit)")
+    cmd->add_option("--max-edge", o->max_edge,
+                    "tin: no height in triangles with a longer edge, metres (default 0: no limit)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--classes", o->classes, "Only these ASPRS classes, e.g. 2,9 for ground and water (default all)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");

@@ -71,10 +71,12 @@ nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 nlohmann::json methods_json(const std::map<recon::Method, pipelines::MethodScores>& methods) {
     nlohmann::json j = nlohmann::json::object();
     for (const auto& [m, s] : methods) {
-        const auto rmse = pipelines::summarise(s.rmse_m), psnr = pipelines::summarise(s.psnr_db), ms = pipelines::summarise(s.ms);
-        j[std::string(recon::method_name(m))] = {{"rmse_m_mean", number(rmse.mean)},   {"rmse_m_std", number(rmse.std)},
-                                                 {"psnr_db_mean", number(psnr.mean)},  {"psnr_db_std", number(psnr.std)},
-                                                 {"ms_per_patch_median", number(ms.median)}, {"patches", rmse.count}};
+        const auto rmse = pipelines::summarise(s.rmse_m), psnr = pipelines::summarise(s.psnr_db),
+                   ms = pipelines::summarise(s.ms);
+        j[std::string(recon::method_name(m))] = {
+            {"rmse_m_mean", number(rmse.mean)},         {"rmse_m_std", number(rmse.std)},
+            {"psnr_db_mean", number(psnr.mean)},        {"psnr_db_std", number(psnr.std)},
+            {"ms_per_patch_median", number(ms.median)}, {"patches", rmse.count}};
     }
     return j;
 }
@@ -92,10 +94,12 @@ void print_table(const std::string& title, const std::map<recon::Method, pipelin
     std::printf("%s\n  %-8s %18s %18s %10s %8s\n", title.c_str(), "method", "height RMSE (m)", "RGB PSNR (dB)",
                 "ms/patch", "patches");
     for (const auto& [m, s] : methods) {
-        const auto rmse = pipelines::summarise(s.rmse_m), psnr = pipelines::summarise(s.psnr_db), ms = pipelines::summarise(s.ms);
+        const auto rmse = pipelines::summarise(s.rmse_m), psnr = pipelines::summarise(s.psnr_db),
+                   ms = pipelines::summarise(s.ms);
         const std::string psnr_text = psnr.count ? fmt::format("{:.2f} ± {:.2f}", psnr.mean, psnr.std) : "no colour";
         std::printf("  %-8s %18s %18s %10.3f %8zu\n", std::string(recon::method_name(m)).c_str(),
-                    fmt::format("{:.3f} ± {:.3f}", rmse.mean, rmse.std).c_str(), psnr_text.c_str(), ms.median, rmse.count);
+                    fmt::format("{:.3f} ± {:.3f}", rmse.mean, rmse.std).c_str(), psnr_text.c_str(), ms.median,
+                    rmse.count);
     }
 }
 
@@ -120,7 +124,8 @@ int run_eval(const EvalCliOptions& o) {
     }
     if (has_method(opt.methods, recon::Method::Cnn)) {
         model_path = o.model.empty() ? nn::default_model_path() : o.model;
-        auto net = std::make_shared<const nn::HeightmapNetwork>(nn::HeightmapNetwork::load(model_path, static_cast<int>(threads)));
+        auto net = std::make_shared<const nn::HeightmapNetwork>(
+            nn::HeightmapNetwork::load(model_path, static_cast<int>(threads)));
         opt.network = nn::as_batch_reconstructor(std::move(net), opt.spec.patch_texels);
     }
     ThreadPool pool(threads);
@@ -142,10 +147,11 @@ int run_eval(const EvalCliOptions& o) {
                           {"points", e.points}, {"candidates", e.candidates}, {"too_few_points", e.too_few_points},
                           {"low_coverage", e.low_coverage}, {"other_split", e.other_split}};
         if (!o.json) {
-            print_table(fmt::format("{} ({} points, stride {}, {} candidate patches: {} too few chunk points, {} little ground "
-                                    "truth, {} outside the split)",
-                                    name, e.points, e.stride, e.candidates, e.too_few_points, e.low_coverage, e.other_split),
-                        e.methods);
+            print_table(
+                fmt::format("{} ({} points, stride {}, {} candidate patches: {} too few chunk points, {} little ground "
+                            "truth, {} outside the split)",
+                            name, e.points, e.stride, e.candidates, e.too_few_points, e.low_coverage, e.other_split),
+                e.methods);
         }
     }
     if (o.json) {
@@ -153,7 +159,11 @@ int run_eval(const EvalCliOptions& o) {
                             {"seed", o.seed}, {"split", o.split}};
         if (!model_path.empty()) j["model"] = model_path;
         if (!o.released_model.empty()) j["released_model"] = o.released_model;
-        if (opt.split) j["split_options"] = {{"block_m", o.split_options.block_m}, {"val_fraction", o.split_options.val_fraction}, {"seed", o.split_options.seed}};
+        if (opt.split) {
+            j["split_options"] = {{"block_m", o.split_options.block_m},
+                                  {"val_fraction", o.split_options.val_fraction},
+                                  {"seed", o.split_options.seed}};
+        }
         std::printf("%s\n", j.dump(2).c_str());
     } else if (o.paths.size() > 1) {
         print_table("overall", all);

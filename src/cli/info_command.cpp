@@ -92,7 +92,10 @@ void print_laz_text(const dataset::Tile& t) {
     const auto& z = *t.laz;
     static const char* kCompressors[] = {"none", "point-wise", "point-wise chunked", "layered chunked"};
     std::string items;
-    for (const auto& it : z.items) items += fmt::format("{}{} v{} ({} B)", items.empty() ? "" : ", ", las::item_type_name(it.type), it.version, it.size);
+    for (const auto& it : z.items) {
+        items += fmt::format("{}{} v{} ({} B)", items.empty() ? "" : ", ", las::item_type_name(it.type), it.version,
+                             it.size);
+    }
     std::printf("  LAZ: compressor %u (%s), chunk size %s, items %s\n", z.compressor,
                 z.compressor < 4 ? kCompressors[z.compressor] : "?",
                 z.variable_chunks() ? "variable" : thousands(z.chunk_size).c_str(), items.c_str());
@@ -113,8 +116,8 @@ void print_chunks_text(const FileReport& r) {
     std::printf("  chunk points (%zu):\n", r.chunk_points.size());
     for (const auto& cp : r.chunk_points) {
         const auto& p = cp.point;
-        std::printf("    #%-12llu %.3f %.3f %.3f  intensity %u  class %u\n", (unsigned long long)cp.index, p.x, p.y, p.z,
-                    p.intensity, p.classification);
+        std::printf("    #%-12llu %.3f %.3f %.3f  intensity %u  class %u\n", (unsigned long long)cp.index, p.x, p.y,
+                    p.z, p.intensity, p.classification);
     }
 }
 
@@ -124,16 +127,19 @@ void print_text(const FileReport& r, bool chunks) {
     const auto& h = t.header;
     std::printf("%s\n", display_text(r.path).c_str());
     std::printf("  LAS %s, point format %u (%u bytes/record), %s points, %s, %s bytes\n", h.version_string().c_str(),
-                h.point_format, h.record_length, thousands(h.point_count).c_str(), t.compressed() ? "LAZ" : "uncompressed",
-                thousands(t.file_size).c_str());
+                h.point_format, h.record_length, thousands(h.point_count).c_str(),
+                t.compressed() ? "LAZ" : "uncompressed", thousands(t.file_size).c_str());
     std::printf("  software '%s', system '%s', created day %u of %u\n", display_text(h.generating_software).c_str(),
                 display_text(h.system_identifier).c_str(), h.creation_day, h.creation_year);
-    std::printf("  scale %g %g %g, offset %.3f %.3f %.3f\n", h.scale[0], h.scale[1], h.scale[2], h.offset[0], h.offset[1],
-                h.offset[2]);
-    std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f\n", h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]);
-    for (const auto& w : t.warnings) std::printf("  warning: %s\n", display_text(w).c_str());
+    std::printf("  scale %g %g %g, offset %.3f %.3f %.3f\n", h.scale[0], h.scale[1], h.scale[2], h.offset[0],
+                h.offset[1], h.offset[2]);
+    std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f\n", h.min[0], h.min[1], h.min[2], h.max[0], h.max[1],
+                h.max[2]);
+    for (const auto& w : t.warnings) std::printf("  %s: %s\n", level_name(w.level), display_text(w.message).c_str());
     std::printf("  CRS: %s\n", display_text(crs_text(t.crs)).c_str());
-    for (const auto& w : t.crs.warnings) std::printf("  CRS warning: %s\n", display_text(w).c_str());
+    for (const auto& w : t.crs.warnings) {
+        std::printf("  CRS %s: %s\n", level_name(w.level), display_text(w.message).c_str());
+    }
     if (const auto ll = tile_lonlat_bounds(t)) {
         std::printf("  lon/lat: %.6f .. %.6f, %.6f .. %.6f (WGS 84)\n", ll->west, ll->east, ll->south, ll->north);
     }
@@ -168,7 +174,10 @@ void print_summary(const std::vector<FileReport>& reports) {
     }
     std::printf("dataset: %s files (%s failed), %s points, %s chunk points\n", thousands(reports.size()).c_str(),
                 thousands(reports.size() - ok).c_str(), thousands(points).c_str(), thousands(chunk_points).c_str());
-    if (ok) std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f (file coordinates)\n", lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    if (ok) {
+        std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f (file coordinates)\n", lo[0], lo[1], lo[2], hi[0],
+                    hi[1], hi[2]);
+    }
 }
 
 nlohmann::json report_json(const FileReport& r, bool chunks) {

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
@@ -82,7 +83,7 @@ struct RenderReport {
     std::uint64_t chunk_points = 0, chunk_points_drawn = 0, full_res_points = 0;
     std::size_t heightmaps = 0, full_res_tiles = 0, full_res_over_budget = 0, drawn_pixels = 0;
     bool has_rgb = false;  // the survey has colour (chunk_points_have_rgb)
-    std::vector<std::string> warnings;
+    Diagnostics warnings;
     render::Camera camera;
     StageTimes seconds;
 };
@@ -90,7 +91,9 @@ struct RenderReport {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-const char* stage_name(Stage s) { return s == Stage::Overview ? "overview" : s == Stage::Heightmaps ? "heightmaps" : "full"; }
+const char* stage_name(Stage s) {
+    return s == Stage::Overview ? "overview" : s == Stage::Heightmaps ? "heightmaps" : "full";
+}
 
 Stage parse_stage(const std::string& text) {
     for (Stage s : {Stage::Overview, Stage::Heightmaps, Stage::Full}) {
@@ -152,7 +155,9 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
     dataset::ChunkPointLoader loader(ds, grid);
     loader.set_focus(camera.x, camera.y);
     load_with_progress(loader);
-    for (const auto& e : loader.errors()) report.warnings.push_back(e.message());
+    for (const auto& e : loader.errors()) {
+        report.warnings.add({DiagnosticLevel::warning, e.file, e.offset, e.message()});
+    }
     grid.shrink_to_fit();
     report.chunk_points = loader.loaded();
     report.has_rgb = viewer::chunk_points_have_rgb(grid);
@@ -196,7 +201,8 @@ std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const data
     Progress progress("full-res points", total);
     std::vector<viewer::PointSet> out;
     for (const auto i : choice.tiles) {
-        out.push_back(viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool, [&](std::uint64_t n) { progress.add(n); }));
+        out.push_back(
+            viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool, [&](std::uint64_t n) { progress.add(n); }));
     }
     progress.finish();
     report.full_res_tiles = out.size();
@@ -245,7 +251,8 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"full_res_points", r.full_res_points},
                         {"memory_budget", plan.memory_budget},
                         {"drawn_pixels", r.drawn_pixels},
-                        {"warnings", r.warnings},
+                        {"warnings", r.warnings.messages()},
+                        {"diagnostics", diagnostics_json(r.warnings)},
                         {"seconds", {{"headers", s.headers}, {"chunk_points", s.chunk_points},
                                      {"heightmaps", s.heightmaps}, {"full_res", s.full_res}, {"render", s.render}}}};
     if (plan.cnn) j["model"] = plan.model_path;
@@ -253,7 +260,7 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
 }
 
 void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const RenderReport& r) {
-    for (const auto& w : r.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    print_diagnostics(r.warnings);
     const auto& s = r.seconds;
     const std::string budget =
         r.full_res_over_budget ? fmt::format(", {} over the memory budget", r.full_res_over_budget) : "";
@@ -261,15 +268,17 @@ void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const Rend
                  "render: %zu tiles, %llu chunk points, %zu of %zu visible patches with heightmaps (%s), %llu full-res "
                  "points from %zu tiles%s; headers %.3f s, chunk points %.3f s, heightmaps %.3f s, full-res %.3f s, "
                  "render %.3f s -> %s (camera %s)\n",
-                 r.tiles, (unsigned long long)r.chunk_points, r.heightmaps, r.visible_patches, plan.cnn ? "cnn" : "linear",
-                 (unsigned long long)r.full_res_points, r.full_res_tiles, budget.c_str(), s.headers, s.chunk_points,
-                 s.heightmaps, s.full_res, s.render, o.output.c_str(),
+                 r.tiles, (unsigned long long)r.chunk_points, r.heightmaps, r.visible_patches,
+                 plan.cnn ? "cnn" : "linear", (unsigned long long)r.full_res_points, r.full_res_tiles, budget.c_str(),
+                 s.headers, s.chunk_points, s.heightmaps, s.full_res, s.render, o.output.c_str(),
                  camera_json(r.camera)["text"].get<std::string>().c_str());
 }
 
 int run_render(const RenderCliOptions& o) {
     const RenderPlan plan = make_plan(o);
-    if (!plan.backend.note.empty()) std::fprintf(stderr, "lidarscout: %s; drawing on the CPU\n", plan.backend.note.c_str());
+    if (!plan.backend.note.empty()) {
+        std::fprintf(stderr, "lidarscout: %s; drawing on the CPU\n", plan.backend.note.c_str());
+    }
     RenderReport report;
     const dataset::Dataset ds = read_headers(o, report);
     report.camera = make_camera(plan, o, ds);
@@ -319,7 +328,8 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
                     "every tile in view that fits under --memory; default)");
     cmd->add_option("--colour,--color", o->colour, "rgb (default), elevation, intensity or classification");
     cmd->add_option("--heightmaps", o->heightmaps, "Heightmap method: linear (default) or cnn (the network)");
-    cmd->add_option("--crs", o->crs, "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
+    cmd->add_option("--crs", o->crs,
+                    "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");
     cmd->add_option("--min-points", o->min_points,
                     "Chunk points a patch's 960 m window needs for a heightmap (default 6)")
@@ -328,8 +338,10 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(1, 64));
     cmd->add_option("--chunk-point-size", o->chunk_point_size, "Chunk point size in pixels (default 2)")
         ->check(CLI::Range(1, 64));
-    cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")->check(CLI::Range(0.0, 100.0));
-    cmd->add_option("--memory", o->memory, "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
+    cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")
+        ->check(CLI::Range(0.0, 100.0));
+    cmd->add_option("--memory", o->memory,
+                    "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
     cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/tile_json.hpp"
 #include "core/error.hpp"
@@ -104,7 +105,8 @@ void print_json(const ScanResult& r) {
                         {"chunk_points_per_second", rate},
                         {"grid_bytes", r.grid_bytes},
                         {"backend", r.backend},
-                        {"warnings", r.dataset.warnings},
+                        {"warnings", r.dataset.warnings.messages()},
+                        {"diagnostics", diagnostics_json(r.dataset.warnings)},
                         {"errors", error_list_json(r.errors)}};
     std::printf("%s\n", j.dump(2).c_str());
 }
@@ -112,7 +114,7 @@ void print_json(const ScanResult& r) {
 void print_text(const ScanResult& r) {
     const auto& ds = r.dataset;
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
-    for (const auto& w : ds.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    print_diagnostics(ds.warnings);
     for (const auto& e : r.errors) std::fprintf(stderr, "lidarscout: %s\n", e.message().c_str());
     std::printf("tiles:         %zu read, %zu skipped, %llu points\n", ds.tiles.size(), ds.skipped.size(),
                 (unsigned long long)ds.point_count);
@@ -162,7 +164,8 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--direct", o->direct, "Read chunk points with O_DIRECT (bypass the page cache, as a cold read)");
     cmd->add_option("--las-stride", o->stride, "Chunk-point stride for uncompressed LAS tiles (default 50000)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--crs", o->crs, "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
+    cmd->add_option("--crs", o->crs,
+                    "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_option("--focus", o->focus, "Load tiles nearest to X,Y (metres) first")->delimiter(',')->expected(2);
     cmd->callback([o, &run] { run = [o] { return run_scan(*o); }; });
 }

@@ -31,7 +31,8 @@ std::uint64_t parse_bytes(const std::string& text, const char* option) {
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
     const double factor = unit_factor(std::string(end, text.data() + text.size()));
     if (ec != std::errc() || !(value > 0) || factor < 0 || !(value * factor < 1e19)) {
-        throw Error("bad " + std::string(option) + " '" + text + "': expected a size such as 512M, 4G or a number of bytes");
+        throw Error("bad " + std::string(option) + " '" + text +
+                    "': expected a size such as 512M, 4G or a number of bytes");
     }
     return static_cast<std::uint64_t>(value * factor);
 }

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
@@ -43,7 +44,8 @@ void print_summary(const synth::ReplicatePlan& plan, double secs, bool json, boo
                             {"cell_metres", plan.cell_metres}, {"sources", plan.sources.size()},
                             {"virtual", virtual_tiles}, {"tiles", plan.tiles.size()}, {"bytes", plan.total_bytes},
                             {"points", plan.total_points}, {"seconds", secs}, {"gb_per_s", rate},
-                            {"warnings", plan.warnings}};
+                            {"warnings", plan.warnings.messages()},
+                            {"diagnostics", diagnostics_json(plan.warnings)}};
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
@@ -65,7 +67,7 @@ int run_replicate(const ReplicateCliOptions& o) {
     const auto grid = synth::parse_grid(o.grid);
     const auto t0 = std::chrono::steady_clock::now();
     const auto plan = synth::plan_replicas(o.sources, o.out_dir, grid);
-    for (const auto& w : plan.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
+    print_diagnostics(plan.warnings);
     if (o.virtual_tiles) {
         synth::write_virtual_replica(plan);
         print_summary(plan, 0, o.json, true);

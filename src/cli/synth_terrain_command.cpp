@@ -48,16 +48,19 @@ int run_terrain(const TerrainCliOptions& o) {
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress("synth terrain (tiles)", std::uint64_t{area.tiles} * area.tiles);
-    const auto result = synth::generate_terrain(o.terrain, o.out, pool, [&](const synth::TerrainTile&) { progress.add(1); });
+    const auto result =
+        synth::generate_terrain(o.terrain, o.out, pool, [&](const synth::TerrainTile&) { progress.add(1); });
     progress.finish();
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (o.json) {
         std::printf("%s\n", to_json(result, o, secs).dump(2).c_str());
     } else {
-        std::printf("%s: %zu tiles of 500 m (%.1f x %.1f km), %llu points (%.2f per m2), %llu bytes in %.2f s (%.2f M points/s)\n",
-                    o.out.c_str(), result.tiles.size(), area.size() / 1000.0, area.size() / 1000.0,
-                    static_cast<unsigned long long>(result.points), result.points / (area.size() * area.size()),
-                    static_cast<unsigned long long>(result.bytes), secs, secs > 0 ? result.points / secs / 1e6 : 0.0);
+        std::printf(
+            "%s: %zu tiles of 500 m (%.1f x %.1f km), %llu points (%.2f per m2), %llu bytes in %.2f s (%.2f M "
+            "points/s)\n",
+            o.out.c_str(), result.tiles.size(), area.size() / 1000.0, area.size() / 1000.0,
+            static_cast<unsigned long long>(result.points), result.points / (area.size() * area.size()),
+            static_cast<unsigned long long>(result.bytes), secs, secs > 0 ? result.points / secs / 1e6 : 0.0);
     }
     return 0;
 }
@@ -66,9 +69,11 @@ int run_terrain(const TerrainCliOptions& o) {
 
 void register_synth_terrain(CLI::App& synth, std::function<int()>& run) {
     auto o = std::make_shared<TerrainCliOptions>();
-    auto* cmd = synth.add_subcommand(
-        "terrain", "Write the demo landscape (relief, river, roads, buildings, trees) as 500 m LAZ tiles, deterministic for a seed");
-    cmd->add_option("-o,--output", o->out, "Output folder (created if needed; earlier demo tiles in it are replaced)")->required();
+    auto* cmd = synth.add_subcommand("terrain",
+                                     "Write the demo landscape (relief, river, roads, buildings, trees) as 500 m LAZ "
+                                     "tiles, deterministic for a seed");
+    cmd->add_option("-o,--output", o->out, "Output folder (created if needed; earlier demo tiles in it are replaced)")
+        ->required();
     cmd->add_option("--km", o->terrain.km, "Side of the square area in km, rounded up to 500 m tiles (default 4)");
     cmd->add_option("--density", o->terrain.density, "Points per square metre (default 8)");
     cmd->add_option("--seed", o->terrain.seed, "Seed of the landscape (default 1)");

@@ -1,4 +1,5 @@
 // Building the `info --json` objects.
+#include "cli/diagnostic_output.hpp"
 #include "cli/tile_json.hpp"
 
 #include <cmath>
@@ -19,7 +20,9 @@ json lonlat_json(const std::optional<geo::LonLatBounds>& b) {
     return {{"west", b->west}, {"south", b->south}, {"east", b->east}, {"north", b->north}};
 }
 
-json vec3(const std::array<double, 3>& a) { return json::array({number_or_null(a[0]), number_or_null(a[1]), number_or_null(a[2])}); }
+json vec3(const std::array<double, 3>& a) {
+    return json::array({number_or_null(a[0]), number_or_null(a[1]), number_or_null(a[2])});
+}
 
 json crs_json(const las::Crs& crs) {
     return {{"epsg", crs.epsg ? json(*crs.epsg) : json(nullptr)},
@@ -30,14 +33,16 @@ json crs_json(const las::Crs& crs) {
             {"vertical_unit", las::unit_name(crs.vertical_unit)},
             {"to_metres", number_or_null(crs.horizontal_to_metres)},
             {"vertical_to_metres", number_or_null(crs.vertical_to_metres)},
-            {"warnings", crs.warnings}};
+            {"warnings", crs.warnings.messages()},
+            {"diagnostics", diagnostics_json(crs.warnings)}};
 }
 
 json laz_json(const dataset::Tile& t) {
     if (!t.laz) return nullptr;
     json items = json::array();
     for (const auto& it : t.laz->items) {
-        items.push_back({{"type", it.type}, {"name", las::item_type_name(it.type)}, {"size", it.size}, {"version", it.version}});
+        items.push_back(
+            {{"type", it.type}, {"name", las::item_type_name(it.type)}, {"size", it.size}, {"version", it.version}});
     }
     return {{"compressor", t.laz->compressor},
             {"coder", t.laz->coder},
@@ -107,7 +112,8 @@ json tile_to_json(const dataset::Tile& t) {
             {"lonlat_bounds", lonlat_json(tile_lonlat_bounds(t))},
             {"laz", laz_json(t)},
             {"copc", copc_json(t)},
-            {"warnings", t.warnings},
+            {"warnings", t.warnings.messages()},
+            {"diagnostics", diagnostics_json(t.warnings)},
             {"error", nullptr}};
     make_text_displayable(j);  // strings from the file may be Latin-1 or hold control bytes
     return j;
@@ -129,11 +135,22 @@ json chunk_points_to_json(const std::vector<dataset::ChunkPoint>& points, const 
     for (const auto& cp : points) {
         const auto& p = cp.point;
         json rgb = fmt.rgb_offset >= 0 ? json::array({p.rgb[0], p.rgb[1], p.rgb[2]}) : json(nullptr);
-        out.push_back({{"index", cp.index}, {"X", p.X}, {"Y", p.Y}, {"Z", p.Z}, {"x", p.x}, {"y", p.y}, {"z", p.z},
-                       {"intensity", p.intensity}, {"return_number", p.return_number},
-                       {"number_of_returns", p.number_of_returns}, {"classification", p.classification},
-                       {"scan_angle", p.scan_angle_raw}, {"user_data", p.user_data}, {"point_source_id", p.point_source_id},
-                       {"gps_time", fmt.gps_offset >= 0 ? json(p.gps_time) : json(nullptr)}, {"rgb", rgb},
+        out.push_back({{"index", cp.index},
+                       {"X", p.X},
+                       {"Y", p.Y},
+                       {"Z", p.Z},
+                       {"x", p.x},
+                       {"y", p.y},
+                       {"z", p.z},
+                       {"intensity", p.intensity},
+                       {"return_number", p.return_number},
+                       {"number_of_returns", p.number_of_returns},
+                       {"classification", p.classification},
+                       {"scan_angle", p.scan_angle_raw},
+                       {"user_data", p.user_data},
+                       {"point_source_id", p.point_source_id},
+                       {"gps_time", fmt.gps_offset >= 0 ? json(p.gps_time) : json(nullptr)},
+                       {"rgb", rgb},
                        {"nir", fmt.nir_offset >= 0 ? json(p.nir) : json(nullptr)}});
     }
     return out;
@@ -152,8 +169,8 @@ std::optional<geo::LonLatBounds> tile_lonlat_bounds(const dataset::Tile& tile) {
 
 json failed_tile_json(const std::string& path, const std::string& error) {
     json j = {{"path", display_text(path)}, {"error", display_text(error)}};
-    for (const char* k : {"version", "point_format", "record_length", "point_count", "scale", "offset", "bounds", "crs", "lonlat_bounds", "laz",
-                          "copc"}) {
+    for (const char* k : {"version", "point_format", "record_length", "point_count", "scale", "offset", "bounds", "crs",
+                          "lonlat_bounds", "laz", "copc"}) {
         j[k] = nullptr;
     }
     return j;

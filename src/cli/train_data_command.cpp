@@ -1,6 +1,6 @@
 // `lidarscout train-data PATH... -o FILE [--texel 1,2.5,5,10] [--patches N] [--stride auto]
-// [--seed S] [--split-block M] [--val-fraction F] [--split-seed S] [--offsets N] [--json]`: exports training samples for the
-// heightmap network (layout in src/pipelines/training_data.hpp; python/ reads it with numpy).
+// [--seed S] [--split-block M] [--val-fraction F] [--split-seed S] [--offsets N] [--json]`: exports training samples
+// for the heightmap network (layout in src/pipelines/training_data.hpp; python/ reads it with numpy).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -56,11 +56,12 @@ int run_train_data(const TrainDataCliOptions& o) {
     Progress progress("train-data", total);
     std::uint64_t before = 0, shown = 0;  // points of the finished datasets, points drawn
     std::size_t current = 0;
-    const auto s = pipelines::write_training_data(named, opt, o.out, pool, [&](std::size_t d, std::uint64_t done, std::uint64_t) {
-        for (; current < d; ++current) before += datasets[current].point_count;
-        progress.add(before + done - shown);
-        shown = before + done;
-    });
+    const auto s =
+        pipelines::write_training_data(named, opt, o.out, pool, [&](std::size_t d, std::uint64_t done, std::uint64_t) {
+            for (; current < d; ++current) before += datasets[current].point_count;
+            progress.add(before + done - shown);
+            shown = before + done;
+        });
     progress.finish();
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (o.json) {
@@ -79,11 +80,13 @@ int run_train_data(const TrainDataCliOptions& o) {
 
 void register_train_data_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<TrainDataCliOptions>();
-    auto* cmd = app.add_subcommand("train-data", "Export training samples (inputs and ground truth) for the heightmap network");
+    auto* cmd =
+        app.add_subcommand("train-data", "Export training samples (inputs and ground truth) for the heightmap network");
     cmd->add_option("paths", o->paths, "Datasets: each a folder, tile list or file")->required();
     cmd->add_option("-o,--output", o->out, "Output file (layout: src/pipelines/training_data.hpp)")->required();
     cmd->add_option("--texel", o->texels, "Texel sizes in metres, comma-separated (default 10)");
-    cmd->add_option("--patches", o->patches, "Patches per dataset and texel size (default 100)")->check(CLI::PositiveNumber);
+    cmd->add_option("--patches", o->patches, "Patches per dataset and texel size (default 100)")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--seed", o->seed, "Seed of the patch choice (default 1)");
     cmd->add_option("--stride", o->stride, "Chunk-point stride K or 'auto' (default; see README)");
     add_split_options(*cmd, o->split);

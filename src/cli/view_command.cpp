@@ -42,15 +42,17 @@ struct ViewCliOptions {
 // "X,Y" window pixels of a scripted click.
 std::pair<double, double> parse_click(const std::string& text) {
     const auto xy = parse_number_list(text, "--click");
-    if (xy.size() != 2) throw Error("view: --click wants X,Y in window pixels, not '" + text + "'");
+    if (xy.size() != 2) throw Error::in_stage("view", "--click wants X,Y in window pixels, not '" + text + "'");
     return {xy[0], xy[1]};
 }
 
 // $XDG_CACHE_HOME/lidarscout or ~/.cache/lidarscout.
 std::filesystem::path cache_folder() {
     if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg) return std::filesystem::path(xdg) / "lidarscout";
-    if (const char* home = std::getenv("HOME"); home && *home) return std::filesystem::path(home) / ".cache" / "lidarscout";
-    throw Error("view: no cache folder for the demo (neither XDG_CACHE_HOME nor HOME is set); give a PATH");
+    if (const char* home = std::getenv("HOME"); home && *home) {
+        return std::filesystem::path(home) / ".cache" / "lidarscout";
+    }
+    throw Error::in_stage("view", "no cache folder for the demo (neither XDG_CACHE_HOME nor HOME is set); give a PATH");
 }
 
 // The demo's folder, generated on first use (the manifest is written last: its presence says done).
@@ -108,10 +110,13 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--memory", o->memory, "Memory budget, e.g. 4G (default: a quarter of the RAM)");
     cmd->add_option("--model", o->model, "Heightmap network (default: models/heightmap_cnn.pt; none: linear only)");
-    cmd->add_option("--crs", o->crs, "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
+    cmd->add_option("--crs", o->crs,
+                    "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_flag("--no-cnn", o->no_cnn, "Linear heightmaps only, no network");
-    cmd->add_option("--demo-km", o->demo_km, "Side of the demo landscape in km (default 2)")->check(CLI::Range(0.5, 20.0));
-    cmd->add_option("--demo-density", o->demo_density, "Points per m2 of the demo (default 4)")->check(CLI::Range(0.5, 50.0));
+    cmd->add_option("--demo-km", o->demo_km, "Side of the demo landscape in km (default 2)")
+        ->check(CLI::Range(0.5, 20.0));
+    cmd->add_option("--demo-density", o->demo_density, "Points per m2 of the demo (default 4)")
+        ->check(CLI::Range(0.5, 50.0));
     cmd->add_option("--screenshot", o->screenshot, "Write the last frame to this PNG on exit (scripted use)");
     cmd->add_option("--window-screenshot", o->window_screenshot,
                     "Write the whole window, panels included, to this PNG on exit (scripted use)");

@@ -23,10 +23,12 @@ Enum parse_named(const std::array<std::string_view, N>& names, std::string_view 
     throw Error("unknown " + std::string(what) + " '" + std::string(name) + "' (known: " + known + ")");
 }
 
-// The name of `value` (throws std::out_of_range for a value outside the table).
+// The name of `value` (throws lidarscout::Error for a value outside the table).
 template <typename Enum, std::size_t N>
 std::string_view name_of(const std::array<std::string_view, N>& names, Enum value) {
-    return names.at(static_cast<std::size_t>(value));
+    const auto i = static_cast<std::size_t>(value);
+    if (i >= N) throw Error("no name for value " + std::to_string(i) + " (" + std::to_string(N) + " named)");
+    return names[i];
 }
 
 }  // namespace lidarscout

@@ -40,7 +40,9 @@ PluginEntry open_plugin_entry(const std::vector<std::string>& candidates, const 
         void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
         if (!handle) throw Error(path, std::nullopt, "cannot open the " + what + ": " + dlerror());
         void* symbol = dlsym(handle, entry);
-        if (!symbol) throw Error(path, std::nullopt, "not a " + what + " of this lidarscout version (no " + entry + ")");
+        if (!symbol) {
+            throw Error(path, std::nullopt, "not a " + what + " of this lidarscout version (no " + entry + ")");
+        }
         return {path, symbol};
     }
     return {};

@@ -3,7 +3,7 @@
 
 #include <openssl/evp.h>
 
-#include <stdexcept>
+#include "core/error.hpp"
 
 namespace lidarscout {
 
@@ -14,7 +14,8 @@ struct Sha256::State {
 Sha256::Sha256() : state_(std::make_unique<State>()) {
     state_->ctx = EVP_MD_CTX_new();
     if (!state_->ctx || EVP_DigestInit_ex(state_->ctx, EVP_sha256(), nullptr) != 1) {
-        throw std::runtime_error("SHA-256 initialisation failed");
+        EVP_MD_CTX_free(state_->ctx);  // the destructor does not run for a constructor that throws
+        throw Error::in_stage("core", "SHA-256 initialisation failed (OpenSSL)");
     }
 }
 

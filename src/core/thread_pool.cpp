@@ -94,7 +94,8 @@ void ThreadPool::run_loop(std::size_t n, const std::function<void(std::size_t)>&
 }
 
 ThreadPool& ThreadPool::shared() {
-    static ThreadPool pool(g_shared_threads.load() ? g_shared_threads.load() : std::max(1u, std::thread::hardware_concurrency()));
+    static ThreadPool pool(g_shared_threads.load() ? g_shared_threads.load()
+                                                   : std::max(1u, std::thread::hardware_concurrency()));
     return pool;
 }
 

@@ -106,14 +106,14 @@ public:
         return n;
     }
 
-    void complete(const io::ReadRequest& r, std::span<const std::uint8_t> data, const std::string& error) override {
+    void complete(const io::ReadRequest& r, std::span<const std::uint8_t> data, const ErrorRecord* error) override {
         const auto id = static_cast<std::uint32_t>(r.tag >> 32);
         const auto& tile = ds_.tiles[id];
         std::optional<PendingPoint> point;
-        if (error.empty()) {
+        if (!error) {
             point = convert(tile, data, r.offset);
         } else {
-            fail(tile.tile.path, r.offset, error);
+            fail(error->file.empty() ? tile.tile.path : error->file, error->offset.value_or(r.offset), error->cause);
         }
         std::vector<PendingPoint> finished;
         {
@@ -156,7 +156,8 @@ private:
     void reorder() {
         reorder_ = false;
         reorder_throttle_.done();
-        auto started_begin = std::stable_partition(order_.begin(), order_.end(), [&](std::uint32_t id) { return !tiles_[id].started; });
+        auto started_begin =
+            std::stable_partition(order_.begin(), order_.end(), [&](std::uint32_t id) { return !tiles_[id].started; });
         std::vector<double> key(ds_.tiles.size());
         for (auto it = order_.begin(); it != started_begin; ++it) {
             key[*it] = ds_.tiles[*it].bounds_m.distance_xy(focus_x_, focus_y_);
@@ -166,11 +167,13 @@ private:
         });
     }
 
-    std::optional<PendingPoint> convert(const DatasetTile& tile, std::span<const std::uint8_t> data, std::uint64_t offset) {
+    std::optional<PendingPoint> convert(const DatasetTile& tile, std::span<const std::uint8_t> data,
+                                        std::uint64_t offset) {
         const auto& h = tile.tile.header;
         const las::Point p = las::decode_point(data, las::point_format_info(h.point_format), h);
         if (!inside_bounds(tile, p)) {
-            fail(tile.tile.path, offset, "chunk point lies outside the header bounds (corrupt chunk table?); not drawn");
+            fail(tile.tile.path, offset,
+                 "chunk point lies outside the header bounds (corrupt chunk table?); not drawn");
             return std::nullopt;
         }
         double x = p.x, y = p.y, z = p.z;

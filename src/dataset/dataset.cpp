@@ -118,7 +118,7 @@ void add_crs_warnings(Dataset& ds) {
         if (!usable_factor(t.tile.crs.horizontal_to_metres)) ++without_unit;
     }
     if (without_unit > 0) {
-        ds.warnings.push_back(std::to_string(without_unit) + " of " + std::to_string(ds.tiles.size()) +
+        ds.warnings.warn(std::to_string(without_unit) + " of " + std::to_string(ds.tiles.size()) +
                               " tiles give no linear unit; their coordinates are taken as metres");
     }
     std::erase_if(by_crs, [](const auto& kv) { return kv.first.empty(); });
@@ -127,7 +127,7 @@ void add_crs_warnings(Dataset& ds) {
         for (const auto& [name, n] : by_crs) {
             list += (list.empty() ? "" : ", ") + name + " (" + std::to_string(n) + " tiles)";
         }
-        ds.warnings.push_back("tiles use different coordinate reference systems: " + list +
+        ds.warnings.warn("tiles use different coordinate reference systems: " + list +
                               "; they are reprojected to " + shorten(ds.frame.crs));
     }
 }
@@ -149,7 +149,9 @@ ThreadPool& header_pool(unsigned threads) {
 void choose_frame(Dataset& ds, const std::string& wanted) {
     if (!wanted.empty()) {
         const geo::CrsInfo info = geo::crs_info(wanted);
-        if (info.geographic) throw Error::in_stage("dataset", "the CRS " + shorten(wanted) + " is geographic; patches need metres");
+        if (info.geographic) {
+            throw Error::in_stage("dataset", "the CRS " + shorten(wanted) + " is geographic; patches need metres");
+        }
         ds.frame = {wanted, info.xy_to_metres, info.z_to_metres};
         return;
     }
@@ -171,7 +173,8 @@ void choose_frame(Dataset& ds, const std::string& wanted) {
 
 // Points the tile at the frame when its CRS differs (transforms shared per source CRS) and
 // moves its bounds there. Throws Error when PROJ cannot.
-void reproject(DatasetTile& t, const Frame& frame, std::map<std::string, std::shared_ptr<const geo::CrsTransform>>& cache) {
+void reproject(DatasetTile& t, const Frame& frame,
+               std::map<std::string, std::shared_ptr<const geo::CrsTransform>>& cache) {
     const std::string def = geo::crs_definition(t.tile.crs);
     if (def.empty() || frame.crs.empty() || def == frame.crs) return;
     auto& transform = cache[def];

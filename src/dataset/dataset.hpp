@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/diagnostic.hpp"
 #include "dataset/tile.hpp"
 
 namespace lidarscout::geo {
@@ -76,7 +77,7 @@ struct SkippedFile {
 struct Dataset {
     std::vector<DatasetTile> tiles;   // in the order the paths were given / found
     std::vector<SkippedFile> skipped;
-    std::vector<std::string> warnings;
+    Diagnostics warnings;
     Bounds bounds_m;
     Frame frame;
     std::uint64_t point_count = 0;

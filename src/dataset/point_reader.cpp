@@ -31,7 +31,8 @@ std::vector<std::pair<std::size_t, std::size_t>> laz_batches(const laz::LazLayou
     for (std::size_t first = 0; first < layout.units.size();) {
         std::size_t last = first;
         std::uint64_t points = 0;
-        while (last < layout.units.size() && (last == first || points + layout.units[last].point_count <= batch_points)) {
+        while (last < layout.units.size() &&
+               (last == first || points + layout.units[last].point_count <= batch_points)) {
             points += layout.units[last++].point_count;
         }
         out.emplace_back(first, last);
@@ -43,7 +44,8 @@ std::vector<std::pair<std::size_t, std::size_t>> laz_batches(const laz::LazLayou
 void decode_laz_batches(const io::File& file, const Tile& tile, ThreadPool& pool, const RecordBatchFn& fn,
                         std::uint32_t fields, std::uint64_t batch_points, bool read_ahead) {
     if (!tile.chunks) throw Error(file.path(), std::nullopt, "chunk table not read (internal error)");
-    laz::LazLayout layout{tile.header, *tile.laz, laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)};
+    laz::LazLayout layout{tile.header, *tile.laz,
+                          laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)};
     const auto batches = laz_batches(layout, batch_points);
     std::vector<std::uint8_t> buffers[2];
     const auto decode = [&](std::size_t k) {

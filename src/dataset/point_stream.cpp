@@ -15,7 +15,9 @@ namespace lidarscout::dataset {
 bool tile_colour_is_16bit(const Dataset& ds, std::uint32_t tile) {
     const auto& t = ds.tiles.at(tile);
     const auto samples = read_chunk_points(io::File::open(t.tile.path), t.tile, ds.las_stride);
-    return colour_is_16bit(samples, [](const ChunkPoint& c) { return std::max({c.point.rgb[0], c.point.rgb[1], c.point.rgb[2]}); });
+    return colour_is_16bit(samples, [](const ChunkPoint& c) {
+        return std::max({c.point.rgb[0], c.point.rgb[1], c.point.rgb[2]});
+    });
 }
 
 void for_each_metric_batch(const Dataset& ds, std::uint32_t tile, ThreadPool& pool, const MetricBatchFn& fn,

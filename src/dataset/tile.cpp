@@ -15,7 +15,9 @@ std::optional<las::LaszipVlr> read_laszip(const io::File& file, const Tile& t) {
                     "the point format has the compression bit set but the file has no laszip VLR");
     }
     auto laz = las::parse_laszip_vlr(v->data, file.path(), v->data_offset);
-    if (laz.compressor == 0) throw Error(file.path(), v->data_offset, "laszip VLR says compressor 0 (none) in a compressed file");
+    if (laz.compressor == 0) {
+        throw Error(file.path(), v->data_offset, "laszip VLR says compressor 0 (none) in a compressed file");
+    }
     if (laz.record_length() != t.header.record_length) {
         throw Error(file.path(), v->data_offset,
                     "laszip items make " + std::to_string(laz.record_length()) + "-byte records but the header says " +
@@ -36,6 +38,8 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     t.crs = las::read_crs(t.vlrs, t.evlrs, file, (t.header.global_encoding & 0x10) != 0);
     t.laz = read_laszip(file, t);
     t.copc = las::find_copc_info(t.vlrs, file.path());
+    t.warnings.attribute_to(t.path);
+    t.crs.warnings.attribute_to(t.path);
     if (t.laz && options.chunk_table) t.chunks = laz::read_chunk_table(file, t.header, *t.laz);
     return t;
 }

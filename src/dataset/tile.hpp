@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/diagnostic.hpp"
 #include "las/copc.hpp"
 #include "las/crs.hpp"
 #include "las/header.hpp"
@@ -30,7 +31,7 @@ struct Tile {
     std::optional<las::LaszipVlr> laz;      // set for compressed files
     std::optional<laz::ChunkTable> chunks;  // set for LAZ files (empty for compressor 1: see laz::decode_units)
     std::optional<las::CopcInfo> copc;
-    std::vector<std::string> warnings;  // oddities that did not stop reading (shown by `info`)
+    Diagnostics warnings;  // oddities that did not stop reading (shown by `info`)
 
     bool compressed() const { return laz.has_value(); }
 };

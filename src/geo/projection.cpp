@@ -38,7 +38,8 @@ public:
     }
     PJ* crs(const std::string& definition) {
         if (definition.empty()) fail("no CRS given");
-        PJ* p = own(proj_create(ctx_, definition.c_str()), "PROJ does not understand the CRS '" + shorten(definition) + "'");
+        PJ* p = own(proj_create(ctx_, definition.c_str()),
+                    "PROJ does not understand the CRS '" + shorten(definition) + "'");
         if (!proj_is_crs(p)) fail("'" + shorten(definition) + "' is not a coordinate reference system");
         return p;
     }

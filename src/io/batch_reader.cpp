@@ -53,11 +53,14 @@ public:
     void deliver(ReadSource& source, long result) const {
         const std::uint64_t skip = request.offset - start;
         if (result < 0) {
-            source.complete(request, {}, std::string("read failed: ") + std::strerror(static_cast<int>(-result)));
+            const auto error =
+                read_error(request, std::string("read failed: ") + std::strerror(static_cast<int>(-result)));
+            source.complete(request, {}, &error);
         } else if (static_cast<std::uint64_t>(result) < skip + request.length) {
-            source.complete(request, {}, "short read: the file ends before the requested record");
+            const auto error = read_error(request, kShortRead);
+            source.complete(request, {}, &error);
         } else {
-            source.complete(request, std::span<const std::uint8_t>(buffer_.get() + skip, request.length), {});
+            source.complete(request, std::span<const std::uint8_t>(buffer_.get() + skip, request.length), nullptr);
         }
     }
 

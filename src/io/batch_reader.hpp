@@ -16,6 +16,8 @@
 #include <span>
 #include <string>
 
+#include "core/error.hpp"
+
 namespace lidarscout::net {
 class RemoteFile;
 }
@@ -28,6 +30,7 @@ struct ReadRequest {
     std::uint32_t length = 0;
     std::uint64_t tag = 0;  // the source's own identifier
     const net::RemoteFile* remote = nullptr;  // set: read from this remote file (fd unused)
+    const std::string* path = nullptr;        // the file's name, for errors (ReadTarget sets it)
 };
 
 // What a source's requests read: a local file's descriptor (owned; O_DIRECT when asked and
@@ -50,6 +53,7 @@ public:
 private:
     int fd_ = -1;
     std::shared_ptr<const net::RemoteFile> remote_;
+    std::shared_ptr<const std::string> path_;  // shared: requests point to it, the target may move
 };
 
 class ReadSource {
@@ -58,10 +62,16 @@ public:
     // Fills up to out.size() requests in the order they should be read; returns how many.
     // Returning 0 means no more requests will come (done or cancelled). Thread-safe.
     virtual std::size_t next(std::span<ReadRequest> out) = 0;
-    // The result of one request: `data` holds exactly `request.length` bytes, or is empty and
-    // `error` says why not. Called from reader threads, concurrently.
-    virtual void complete(const ReadRequest& request, std::span<const std::uint8_t> data, const std::string& error) = 0;
+    // The result of one request: `data` holds exactly `request.length` bytes and `error` is
+    // null, or `data` is empty and `error` says why not (the request's file and offset, and the
+    // cause). Called from reader threads, concurrently.
+    virtual void complete(const ReadRequest& request, std::span<const std::uint8_t> data, const ErrorRecord* error) = 0;
 };
+
+// The failure of `request`: its file (when the request names one), its offset and `cause`.
+ErrorRecord read_error(const ReadRequest& request, std::string cause);
+// The cause of a read that got fewer bytes than it asked for.
+inline constexpr const char* kShortRead = "short read: the file ends before the requested record";
 
 enum class ReadBackend { Auto, IoUring, Pread };
 

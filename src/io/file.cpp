@@ -120,8 +120,8 @@ void File::read_exact(std::uint64_t offset, std::span<std::uint8_t> out, const c
 std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n, const char* what) const {
     if (offset > size_ || n > size_ - offset) {
         throw Error(path_, offset,
-                    std::string("the ") + what + " (" + std::to_string(n) + " bytes) extends beyond the end of the file (" +
-                        std::to_string(size_) + " bytes)");
+                    std::string("the ") + what + " (" + std::to_string(n) +
+                        " bytes) extends beyond the end of the file (" + std::to_string(size_) + " bytes)");
     }
     std::vector<std::uint8_t> v(n);
     read_exact(offset, v, what);

@@ -27,7 +27,10 @@ AtomicOutputFile::AtomicOutputFile(std::string target, const std::string& protec
     temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()))).string();
     guard_ = std::make_unique<TemporaryFileGuard>(temp_);
     fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd_ < 0) throw Error(target_, std::nullopt, std::string("cannot create a temporary file beside it: ") + std::strerror(errno));
+    if (fd_ < 0) {
+        throw Error(target_, std::nullopt,
+                    std::string("cannot create a temporary file beside it: ") + std::strerror(errno));
+    }
 }
 
 AtomicOutputFile::~AtomicOutputFile() {
@@ -69,14 +72,17 @@ void AtomicOutputFile::copy_from(const File& source, std::uint64_t offset, std::
         const ssize_t n = ::copy_file_range(source.fd(), &in, fd_, &out, step, 0);
         if (n < 0 && errno == EINTR) continue;
         if (n < 0 && kernel_copy_unsupported(errno)) break;
-        if (n < 0) throw Error(target_, static_cast<std::uint64_t>(out), std::string("copy failed: ") + std::strerror(errno));
+        if (n < 0) {
+            throw Error(target_, static_cast<std::uint64_t>(out), std::string("copy failed: ") + std::strerror(errno));
+        }
         if (n == 0) fail_short_source(source, static_cast<std::uint64_t>(in));
         left -= static_cast<std::uint64_t>(n);
     }
     size_ = std::max<std::uint64_t>(size_, static_cast<std::uint64_t>(out));
     std::vector<std::uint8_t> buffer(left > 0 ? std::min<std::uint64_t>(left, 1u << 20) : 0);
     while (left > 0) {  // the fallback: plain reads and writes
-        const auto n = source.read_at(static_cast<std::uint64_t>(in), std::span(buffer.data(), std::min<std::uint64_t>(left, buffer.size())));
+        const auto n = source.read_at(static_cast<std::uint64_t>(in),
+                                      std::span(buffer.data(), std::min<std::uint64_t>(left, buffer.size())));
         if (n == 0) fail_short_source(source, static_cast<std::uint64_t>(in));
         write_at(static_cast<std::uint64_t>(out), std::span<const std::uint8_t>(buffer.data(), n));
         in += static_cast<loff_t>(n);

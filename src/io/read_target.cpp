@@ -30,8 +30,10 @@ ReadTarget ReadTarget::open(const std::string& path, bool direct) {
     ReadTarget t;
     if (net::is_url(path)) {
         t.remote_ = net::RemoteFile::open(path);
+        t.path_ = std::make_shared<const std::string>(t.remote_->display_url());
         return t;
     }
+    t.path_ = std::make_shared<const std::string>(path);
     t.fd_ = open_descriptor(path, direct);
     if (t.fd_ < 0) throw Error(path, std::nullopt, std::string("cannot open: ") + std::strerror(errno));
     return t;
@@ -44,6 +46,7 @@ ReadTarget& ReadTarget::operator=(ReadTarget&& other) noexcept {
         if (fd_ >= 0) ::close(fd_);
         fd_ = std::exchange(other.fd_, -1);
         remote_ = std::move(other.remote_);
+        path_ = std::move(other.path_);
     }
     return *this;
 }
@@ -53,7 +56,11 @@ ReadTarget::~ReadTarget() {
 }
 
 ReadRequest ReadTarget::request(std::uint64_t offset, std::uint32_t length, std::uint64_t tag) const {
-    return {fd_, offset, length, tag, remote_.get()};
+    return {fd_, offset, length, tag, remote_.get(), path_.get()};
+}
+
+ErrorRecord read_error(const ReadRequest& request, std::string cause) {
+    return {request.path ? *request.path : std::string(), request.offset, std::move(cause)};
 }
 
 }  // namespace lidarscout::io

@@ -72,16 +72,18 @@ void RemoteRouter::deliver(const std::vector<ReadRequest>& group, std::vector<st
                            const std::string& error) {
     for (std::size_t i = 0; i < group.size(); ++i) {
         if (!error.empty()) {
-            inner_.complete(group[i], {}, error);
+            const auto failure = read_error(group[i], error);
+            inner_.complete(group[i], {}, &failure);
         } else if (parts[i].size() != group[i].length) {
-            inner_.complete(group[i], {}, "short read: the file ends before the requested record");
+            const auto failure = read_error(group[i], kShortRead);
+            inner_.complete(group[i], {}, &failure);
         } else {
-            inner_.complete(group[i], parts[i], {});
+            inner_.complete(group[i], parts[i], nullptr);
         }
     }
 }
 
-void RemoteRouter::complete(const ReadRequest& request, std::span<const std::uint8_t> data, const std::string& error) {
+void RemoteRouter::complete(const ReadRequest& request, std::span<const std::uint8_t> data, const ErrorRecord* error) {
     inner_.complete(request, data, error);
 }
 

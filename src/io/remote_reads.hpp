@@ -21,7 +21,7 @@ public:
 
     // Local requests only; returns 0 once the inner source is done and every remote read completed.
     std::size_t next(std::span<ReadRequest> out) override;
-    void complete(const ReadRequest& request, std::span<const std::uint8_t> data, const std::string& error) override;
+    void complete(const ReadRequest& request, std::span<const std::uint8_t> data, const ErrorRecord* error) override;
 
 private:
     // Adds `r` to the open group; a group it closes goes to `full`.

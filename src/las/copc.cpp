@@ -87,8 +87,9 @@ std::optional<CopcInfo> find_copc_info(const std::vector<Vlr>& vlrs, const std::
     if (vlrs.empty() || !vlrs.front().is("copc", 1)) return std::nullopt;
     const Vlr& v = vlrs.front();
     if (v.data_size != kInfoSize || v.data.size() != kInfoSize) {
-        throw Error(file, v.data_offset,
-                    "COPC info VLR is " + std::to_string(v.data_size) + " bytes, expected " + std::to_string(kInfoSize));
+        throw Error(
+            file, v.data_offset,
+            "COPC info VLR is " + std::to_string(v.data_size) + " bytes, expected " + std::to_string(kInfoSize));
     }
     io::ByteReader r(v.data, v.data_offset, file);
     CopcInfo info;

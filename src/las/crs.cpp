@@ -206,11 +206,11 @@ std::optional<LinearUnit> unit_of_uom_code(int code) {
 // The unit the record gives, checked against the EPSG table; or, when the record gives none,
 // the table's unit for the CRS code. `what` names the CRS kind in warnings.
 Unit resolve_unit(std::optional<Unit> given, std::optional<int> epsg, LinearUnit (*table)(int), const char* what,
-                  std::vector<std::string>& warnings) {
+                  Diagnostics& warnings) {
     const LinearUnit listed_unit = epsg ? table(*epsg) : LinearUnit::Unknown;
     if (given) {
         if (listed_unit != LinearUnit::Unknown && given->kind != LinearUnit::Unknown && given->kind != listed_unit) {
-            warnings.push_back(std::string("the ") + what + " unit is given as " + unit_name(given->kind) + " but EPSG:" +
+            warnings.warn(std::string("the ") + what + " unit is given as " + unit_name(given->kind) + " but EPSG:" +
                                std::to_string(*epsg) + " is in " + unit_name(listed_unit) + "; reporting " +
                                unit_name(given->kind) + " as the file says");
         }
@@ -218,7 +218,7 @@ Unit resolve_unit(std::optional<Unit> given, std::optional<int> epsg, LinearUnit
     }
     if (listed_unit != LinearUnit::Unknown) return unit_of_kind(listed_unit);
     if (epsg) {
-        warnings.push_back(std::string("no ") + what + " unit is given and EPSG:" + std::to_string(*epsg) +
+        warnings.warn(std::string("no ") + what + " unit is given and EPSG:" + std::to_string(*epsg) +
                            " is not in the built-in unit table; the unit is unknown");
     }
     return {};
@@ -280,19 +280,19 @@ std::string citation(std::span<const std::uint8_t> bytes) {
 
 // Decodes the key directory; keys that point outside their arrays are dropped with a warning.
 GeoKeys decode_geokeys(std::span<const std::uint8_t> dir, std::span<const std::uint8_t> doubles,
-                       std::span<const std::uint8_t> ascii, std::vector<std::string>& warnings) {
+                       std::span<const std::uint8_t> ascii, Diagnostics& warnings) {
     GeoKeys keys;
     if (dir.size() < 8) {
-        warnings.push_back("GeoKeyDirectory is " + std::to_string(dir.size()) + " bytes, shorter than its 8-byte header");
+        warnings.warn("GeoKeyDirectory is " + std::to_string(dir.size()) + " bytes, shorter than its 8-byte header");
         return keys;
     }
     const std::size_t n_shorts = dir.size() / 2;
     auto word = [&](std::size_t i) { return static_cast<int>(io::load_le<std::uint16_t>(dir.data() + 2 * i)); };
-    if (word(0) != 1) warnings.push_back("GeoKeyDirectory version " + std::to_string(word(0)) + " (expected 1)");
+    if (word(0) != 1) warnings.warn("GeoKeyDirectory version " + std::to_string(word(0)) + " (expected 1)");
     std::size_t count = static_cast<std::size_t>(word(3));
     const std::size_t fits = (n_shorts - 4) / 4;
     if (count > fits) {
-        warnings.push_back("GeoKeyDirectory announces " + std::to_string(count) + " keys but its " +
+        warnings.warn("GeoKeyDirectory announces " + std::to_string(count) + " keys but its " +
                            std::to_string(dir.size()) + " bytes hold only " + std::to_string(fits));
         count = fits;
     }
@@ -300,7 +300,8 @@ GeoKeys decode_geokeys(std::span<const std::uint8_t> dir, std::span<const std::u
     std::size_t zero_ids = 0;
     for (std::size_t i = 0; i < count; ++i) {
         const int id = word(4 + 4 * i), location = word(5 + 4 * i);
-        const std::size_t n = static_cast<std::size_t>(word(6 + 4 * i)), value = static_cast<std::size_t>(word(7 + 4 * i));
+        const std::size_t n = static_cast<std::size_t>(word(6 + 4 * i)),
+                          value = static_cast<std::size_t>(word(7 + 4 * i));
         const std::string key = "GeoKey " + std::to_string(id);
         if (id == 0) {
             ++zero_ids;
@@ -308,37 +309,37 @@ GeoKeys decode_geokeys(std::span<const std::uint8_t> dir, std::span<const std::u
             keys.shorts[id] = static_cast<int>(value);
         } else if (location == kTagKeyDirectory) {
             if (value < n_shorts) keys.shorts[id] = word(value);
-            else warnings.push_back(key + " points past the end of the key directory; ignored");
+            else warnings.warn(key + " points past the end of the key directory; ignored");
         } else if (location == kTagDoubleParams) {
             if (n == 0 || value + n > n_doubles) {
-                warnings.push_back(key + " refers to doubles " + std::to_string(value) + ".." + std::to_string(value + n) +
+                warnings.warn(key + " refers to doubles " + std::to_string(value) + ".." + std::to_string(value + n) +
                                    " but GeoDoubleParams holds " + std::to_string(n_doubles) + "; ignored");
             } else {
                 keys.doubles[id] = io::load_le<double>(doubles.data() + 8 * value);
             }
         } else if (location == kTagAsciiParams) {
             if (value + n > ascii.size()) {
-                warnings.push_back(key + " refers to characters " + std::to_string(value) + ".." +
+                warnings.warn(key + " refers to characters " + std::to_string(value) + ".." +
                                    std::to_string(value + n) + " but GeoAsciiParams holds " +
                                    std::to_string(ascii.size()) + "; ignored");
             } else {
                 keys.strings[id] = citation(ascii.subspan(value, n));
             }
         } else {
-            warnings.push_back(key + " has an unknown location tag " + std::to_string(location) + "; ignored");
+            warnings.warn(key + " has an unknown location tag " + std::to_string(location) + "; ignored");
         }
     }
-    if (zero_ids > 0) warnings.push_back(std::to_string(zero_ids) + " GeoKey entries with id 0 ignored");
+    if (zero_ids > 0) warnings.warn(std::to_string(zero_ids) + " GeoKey entries with id 0 ignored");
     return keys;
 }
 
 // An EPSG code from a *TypeGeoKey: 0 (undefined) and 32767 (user-defined) are no code;
 // values above 32767 are not EPSG codes (private range or garbage) and are reported.
-std::optional<int> epsg_from_key(const GeoKeys& keys, int key, const char* key_name, std::vector<std::string>& warnings) {
+std::optional<int> epsg_from_key(const GeoKeys& keys, int key, const char* key_name, Diagnostics& warnings) {
     const auto v = keys.short_value(key);
     if (!v || *v == 0 || *v == kUserDefined) return std::nullopt;
     if (*v > kUserDefined) {
-        warnings.push_back(std::string(key_name) + " " + std::to_string(*v) + " is not an EPSG code; ignored");
+        warnings.warn(std::string(key_name) + " " + std::to_string(*v) + " is not an EPSG code; ignored");
         return std::nullopt;
     }
     return *v;
@@ -346,20 +347,20 @@ std::optional<int> epsg_from_key(const GeoKeys& keys, int key, const char* key_n
 
 // The unit a units key gives (with the size key for user-defined units), if it gives one.
 std::optional<Unit> unit_from_key(const GeoKeys& keys, int unit_key, int size_key, const char* key_name,
-                                  std::vector<std::string>& warnings) {
+                                  Diagnostics& warnings) {
     const auto code = keys.short_value(unit_key);
     const auto size = size_key ? keys.double_value(size_key) : std::nullopt;
     if (code && *code != kUserDefined) {
         if (auto kind = unit_of_uom_code(*code)) return unit_of_kind(*kind);
-        warnings.push_back(std::string(key_name) + " " + std::to_string(*code) + " is not a known linear unit code");
+        warnings.warn(std::string(key_name) + " " + std::to_string(*code) + " is not a known linear unit code");
         return Unit{};
     }
     if (size) return unit_of_factor(*size, "user-defined");
-    if (code) warnings.push_back(std::string(key_name) + " says user-defined but no unit size is given");
+    if (code) warnings.warn(std::string(key_name) + " says user-defined but no unit size is given");
     return code ? std::optional<Unit>(Unit{}) : std::nullopt;
 }
 
-Crs crs_from_geokeys(const GeoKeys& keys, std::vector<std::string>& warnings) {
+Crs crs_from_geokeys(const GeoKeys& keys, Diagnostics& warnings) {
     Crs c;
     c.source = "geotiff";
     const int model = keys.short_value(kModelType).value_or(0);
@@ -490,8 +491,8 @@ bool keyword_in(const WktNode& n, std::initializer_list<std::string_view> keywor
 }
 
 bool is_horizontal(const WktNode& n) {
-    return keyword_in(n, {"PROJCS", "PROJCRS", "PROJECTEDCRS", "GEOGCS", "GEOGCRS", "GEOGRAPHICCRS", "GEOCCS", "GEODCRS",
-                          "GEODETICCRS", "LOCAL_CS", "ENGCRS", "ENGINEERINGCRS"});
+    return keyword_in(n, {"PROJCS", "PROJCRS", "PROJECTEDCRS", "GEOGCS", "GEOGCRS", "GEOGRAPHICCRS", "GEOCCS",
+                          "GEODCRS", "GEODETICCRS", "LOCAL_CS", "ENGCRS", "ENGINEERINGCRS"});
 }
 bool is_vertical(const WktNode& n) { return keyword_in(n, {"VERT_CS", "VERTCS", "VERTCRS", "VERTICALCRS"}); }
 bool is_compound(const WktNode& n) { return keyword_in(n, {"COMPD_CS", "COMPOUNDCRS"}); }
@@ -514,11 +515,12 @@ bool is_geographic(const WktNode& n) {
     if (keyword_in(n, {"GEOGCS", "GEOGCRS", "GEOGRAPHICCRS"})) return true;
     // A WKT2 geodetic CRS is geographic when its coordinate system is ellipsoidal.
     const WktNode* cs = child_named(n, {"CS"});
-    return keyword_in(n, {"GEODCRS", "GEODETICCRS"}) && cs && !cs->atoms.empty() && lower(cs->atoms[0]) == "ellipsoidal";
+    return keyword_in(n, {"GEODCRS", "GEODETICCRS"}) && cs && !cs->atoms.empty() &&
+           lower(cs->atoms[0]) == "ellipsoidal";
 }
 
 // The EPSG code of a CRS element: its last direct AUTHORITY["EPSG",...] or ID["EPSG",...].
-std::optional<int> wkt_epsg(const WktNode& crs, std::vector<std::string>& warnings) {
+std::optional<int> wkt_epsg(const WktNode& crs, Diagnostics& warnings) {
     std::optional<int> code;
     for (const auto& c : crs.children) {
         if (!keyword_in(c, {"AUTHORITY", "ID"}) || c.atoms.size() < 2 || lower(c.atoms[0]) != "epsg") continue;
@@ -526,7 +528,7 @@ std::optional<int> wkt_epsg(const WktNode& crs, std::vector<std::string>& warnin
         const std::string& text = c.atoms[1];
         auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
         if (ec != std::errc() || end != text.data() + text.size() || v <= 0) {
-            warnings.push_back("EPSG code '" + text + "' of " + crs.keyword + " is not a positive integer; ignored");
+            warnings.warn("EPSG code '" + text + "' of " + crs.keyword + " is not a positive integer; ignored");
             continue;
         }
         code = v;
@@ -535,7 +537,7 @@ std::optional<int> wkt_epsg(const WktNode& crs, std::vector<std::string>& warnin
 }
 
 // The length unit of a CRS element: a direct UNIT/LENGTHUNIT child, else the first axis's.
-std::optional<Unit> wkt_unit(const WktNode& crs, std::vector<std::string>& warnings) {
+std::optional<Unit> wkt_unit(const WktNode& crs, Diagnostics& warnings) {
     const WktNode* unit = child_named(crs, {"UNIT", "LENGTHUNIT"});
     for (const auto& c : crs.children) {
         if (unit) break;
@@ -551,12 +553,12 @@ std::optional<Unit> wkt_unit(const WktNode& crs, std::vector<std::string>& warni
     }
     Unit u = unit_of_factor(factor, name);
     if (u.kind == LinearUnit::Unknown) {
-        warnings.push_back("unit '" + name + "' of " + crs.keyword + " has no valid conversion factor");
+        warnings.warn("unit '" + name + "' of " + crs.keyword + " has no valid conversion factor");
         return u;
     }
     const LinearUnit suggested = unit_suggested_by_name(name);
     if (suggested != LinearUnit::Unknown && suggested != u.kind) {
-        warnings.push_back("unit '" + name + "' of " + crs.keyword + " has factor " + unit->atoms[1] + ", which is " +
+        warnings.warn("unit '" + name + "' of " + crs.keyword + " has factor " + unit->atoms[1] + ", which is " +
                            unit_name(u.kind) + "; using the factor");
     }
     return u;
@@ -567,7 +569,7 @@ struct WktParts {
     const WktNode* vertical = nullptr;
 };
 
-WktParts split_wkt(const WktNode& root, std::vector<std::string>& warnings) {
+WktParts split_wkt(const WktNode& root, Diagnostics& warnings) {
     const WktNode* crs = &root;
     if (root.keyword == "BOUNDCRS") {  // WKT2 CRS with a transformation: describe the source CRS
         const WktNode* source = child_named(root, {"SOURCECRS"});
@@ -578,14 +580,14 @@ WktParts split_wkt(const WktNode& root, std::vector<std::string>& warnings) {
     if (is_vertical(*crs)) return {nullptr, crs};
     if (is_horizontal(*crs)) {
         const WktNode* nested = first_child(*crs, is_vertical);
-        if (nested) warnings.push_back("vertical CRS nested inside " + crs->keyword + " (not standard WKT); read anyway");
+        if (nested) warnings.warn("vertical CRS nested inside " + crs->keyword + " (not standard WKT); read anyway");
         return {crs, nested};
     }
-    warnings.push_back("WKT root " + crs->keyword + " is not a coordinate reference system");
+    warnings.warn("WKT root " + crs->keyword + " is not a coordinate reference system");
     return {};
 }
 
-Crs crs_from_wkt(const WktNode& root, std::vector<std::string>& warnings) {
+Crs crs_from_wkt(const WktNode& root, Diagnostics& warnings) {
     Crs c;
     c.source = "wkt";
     c.name = root.atoms.empty() ? std::string() : root.atoms[0];
@@ -601,12 +603,14 @@ Crs crs_from_wkt(const WktNode& root, std::vector<std::string>& warnings) {
             const WktNode* unit = child_named(*h, {"UNIT", "ANGLEUNIT"});
             c.horizontal_unit_name = unit && !unit->atoms.empty() ? unit->atoms[0] : "degree";
         } else {
-            set_horizontal(c, resolve_unit(wkt_unit(*h, warnings), c.epsg, projected_unit_of_epsg, "horizontal", warnings));
+            set_horizontal(
+                c, resolve_unit(wkt_unit(*h, warnings), c.epsg, projected_unit_of_epsg, "horizontal", warnings));
         }
     }
     if (const WktNode* v = parts.vertical) {
         c.vertical_epsg = wkt_epsg(*v, warnings);
-        set_vertical(c, resolve_unit(wkt_unit(*v, warnings), c.vertical_epsg, vertical_unit_of_epsg, "vertical", warnings));
+        set_vertical(
+            c, resolve_unit(wkt_unit(*v, warnings), c.vertical_epsg, vertical_unit_of_epsg, "vertical", warnings));
     }
     return c;
 }
@@ -624,10 +628,10 @@ std::string describe(const Vlr& v) {
            " at offset " + std::to_string(v.header_offset);
 }
 
-std::vector<std::uint8_t> load_record(const io::File& file, const Vlr* v, std::vector<std::string>& warnings) {
+std::vector<std::uint8_t> load_record(const io::File& file, const Vlr* v, Diagnostics& warnings) {
     if (!v) return {};
     if (v->data_size > kMaxCrsRecordBytes) {
-        warnings.push_back(describe(*v) + " is " + std::to_string(v->data_size) + " bytes; ignored");
+        warnings.warn(describe(*v) + " is " + std::to_string(v->data_size) + " bytes; ignored", v->header_offset);
         return {};
     }
     return vlr_payload(file, *v);
@@ -635,15 +639,17 @@ std::vector<std::uint8_t> load_record(const io::File& file, const Vlr* v, std::v
 
 // Runs a parser and prefixes its warnings with the record they are about.
 template <typename Parse>
-Crs parse_record(const Vlr& record, std::vector<std::string>& warnings, Parse parse) {
+Crs parse_record(const Vlr& record, Diagnostics& warnings, Parse parse) {
     Crs c = parse();
-    for (auto& w : c.warnings) warnings.push_back(describe(record) + ": " + w);
+    for (const auto& w : c.warnings) {
+        warnings.add({w.level, w.file, record.header_offset, describe(record) + ": " + w.message});
+    }
     c.warnings.clear();
     return c;
 }
 
 std::optional<Crs> wkt_of_file(const std::vector<Vlr>& vlrs, const std::vector<Vlr>& evlrs, const io::File& file,
-                               std::vector<std::string>& warnings, std::string& text) {
+                               Diagnostics& warnings, std::string& text) {
     const Vlr* record = find_projection_record(vlrs, evlrs, 2112);
     if (!record) return std::nullopt;
     auto bytes = load_record(file, record, warnings);
@@ -654,7 +660,7 @@ std::optional<Crs> wkt_of_file(const std::vector<Vlr>& vlrs, const std::vector<V
 }
 
 std::optional<Crs> geotiff_of_file(const std::vector<Vlr>& vlrs, const std::vector<Vlr>& evlrs, const io::File& file,
-                                   std::vector<std::string>& warnings) {
+                                   Diagnostics& warnings) {
     const Vlr* dir = find_projection_record(vlrs, evlrs, kTagKeyDirectory);
     if (!dir) return std::nullopt;
     const auto keys = load_record(file, dir, warnings);
@@ -665,19 +671,21 @@ std::optional<Crs> geotiff_of_file(const std::vector<Vlr>& vlrs, const std::vect
     return c;
 }
 
-std::string epsg_text(const std::optional<int>& code) { return code ? "EPSG:" + std::to_string(*code) : "no EPSG code"; }
+std::string epsg_text(const std::optional<int>& code) {
+    return code ? "EPSG:" + std::to_string(*code) : "no EPSG code";
+}
 
 std::string record_kind(const Crs& c) { return c.source == "wkt" ? "WKT record" : "GeoTIFF keys"; }
 
-void compare(const Crs& used, const Crs& other, std::vector<std::string>& warnings) {
+void compare(const Crs& used, const Crs& other, Diagnostics& warnings) {
     const std::string a = "the " + record_kind(used), b = " but the " + record_kind(other);
     const std::string tail = "; using the " + record_kind(used);
     if (other.epsg && used.epsg != other.epsg) {
-        warnings.push_back(a + " give " + epsg_text(used.epsg) + b + " give " + epsg_text(other.epsg) + tail);
+        warnings.warn(a + " give " + epsg_text(used.epsg) + b + " give " + epsg_text(other.epsg) + tail);
     }
     const LinearUnit ua = used.horizontal_unit, ub = other.horizontal_unit;
     if (ua != LinearUnit::Unknown && ub != LinearUnit::Unknown && ua != ub) {
-        warnings.push_back(a + " give horizontal unit " + unit_name(ua) + b + " give " + unit_name(ub) + tail);
+        warnings.warn(a + " give horizontal unit " + unit_name(ua) + b + " give " + unit_name(ub) + tail);
     }
 }
 
@@ -726,29 +734,29 @@ LinearUnit vertical_unit_of_epsg(int code) {
 
 Crs parse_geotiff_crs(std::span<const std::uint8_t> key_directory, std::span<const std::uint8_t> double_params,
                       std::span<const std::uint8_t> ascii_params) {
-    std::vector<std::string> warnings;
+    Diagnostics warnings;
     const GeoKeys keys = decode_geokeys(key_directory, double_params, ascii_params, warnings);
     Crs c;
     if (!keys.shorts.empty() || !keys.doubles.empty() || !keys.strings.empty()) c = crs_from_geokeys(keys, warnings);
-    else warnings.push_back("the GeoKeyDirectory holds no usable key");
+    else warnings.warn("the GeoKeyDirectory holds no usable key");
     c.warnings = std::move(warnings);
     return c;
 }
 
 Crs parse_wkt_crs(std::string_view wkt) {
-    std::vector<std::string> warnings;
+    Diagnostics warnings;
     Crs c;
     while (!wkt.empty() && std::isspace(static_cast<unsigned char>(wkt.back()))) wkt.remove_suffix(1);
     if (wkt.find_first_not_of(" \t\r\n") == std::string_view::npos) {
-        warnings.push_back("the WKT record is empty");
+        warnings.warn("the WKT record is empty");
     } else {
         try {
             bool trailing = false;
             const WktNode root = WktReader(wkt).read(trailing);
-            if (trailing) warnings.push_back("text after the end of the WKT root element (unbalanced brackets?) ignored");
+            if (trailing) warnings.warn("text after the end of the WKT root element (unbalanced brackets?) ignored");
             c = crs_from_wkt(root, warnings);
         } catch (const WktSyntaxError& e) {
-            warnings.push_back("WKT syntax error at character " + std::to_string(e.position) + ": " + e.what);
+            warnings.warn("WKT syntax error at character " + std::to_string(e.position) + ": " + e.what);
         }
     }
     if (c.source == "wkt") c.wkt = std::string(wkt);
@@ -757,7 +765,7 @@ Crs parse_wkt_crs(std::string_view wkt) {
 }
 
 Crs read_crs(const std::vector<Vlr>& vlrs, const std::vector<Vlr>& evlrs, const io::File& file, bool wkt_flag) {
-    std::vector<std::string> warnings;
+    Diagnostics warnings;
     std::string wkt_text;
     std::optional<Crs> wkt = wkt_of_file(vlrs, evlrs, file, warnings, wkt_text);
     std::optional<Crs> geotiff = geotiff_of_file(vlrs, evlrs, file, warnings);
@@ -770,8 +778,8 @@ Crs read_crs(const std::vector<Vlr>& vlrs, const std::vector<Vlr>& evlrs, const 
         if (fallback) compare(out, *fallback, warnings);
     } else if (fallback) {
         out = std::move(*fallback);
-        warnings.push_back(wkt_flag ? "the header's WKT bit is set but there is no usable WKT record; using the GeoTIFF keys"
-                                    : "the header's WKT bit is not set but the only usable CRS record is WKT; using it");
+        warnings.warn(wkt_flag ? "the header's WKT bit is set but there is no usable WKT record; using the GeoTIFF keys"
+                               : "the header's WKT bit is not set but the only usable CRS record is WKT; using it");
     }
     if (out.wkt.empty()) out.wkt = std::move(wkt_text);  // the text even when it was unusable
     out.warnings = std::move(warnings);

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/diagnostic.hpp"
 #include "las/vlr.hpp"
 
 namespace lidarscout::io {
@@ -48,7 +49,7 @@ struct Crs {
     std::string horizontal_unit_name;   // as written in the WKT, or the canonical name
     std::string vertical_unit_name;
     std::string wkt;                    // the file's WKT text, when it has a WKT record
-    std::vector<std::string> warnings;  // malformed or contradictory records, in file order
+    Diagnostics warnings;               // malformed or contradictory records, in file order
 
     // Metres per z unit: the vertical unit when the file gives one, else the horizontal one
     // (the usual convention when no vertical unit is recorded); NaN when neither is known.

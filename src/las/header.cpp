@@ -92,8 +92,9 @@ void validate_layout(const io::File& file, const Header& h) {
                            " is beyond the end of the file (" + std::to_string(file.size()) + " bytes)");
     }
     if (h.number_of_evlrs > 0 && (h.evlr_offset < h.offset_to_point_data || h.evlr_offset > file.size())) {
-        fail(file, 235, "EVLR offset " + std::to_string(h.evlr_offset) + " lies outside the point data end .. file end (" +
-                            std::to_string(h.offset_to_point_data) + " .. " + std::to_string(file.size()) + ")");
+        fail(file, 235,
+             "EVLR offset " + std::to_string(h.evlr_offset) + " lies outside the point data end .. file end (" +
+                 std::to_string(h.offset_to_point_data) + " .. " + std::to_string(file.size()) + ")");
     }
 }
 
@@ -143,8 +144,9 @@ std::uint16_t minimum_header_size(std::uint8_t major, std::uint8_t minor) {
 Header read_header(const io::File& file) {
     check_signature(file);
     if (file.size() < kLegacyHeaderSize) {
-        fail(file, 0, "truncated header: the file has " + std::to_string(file.size()) + " bytes, a LAS header needs at least " +
-                          std::to_string(kLegacyHeaderSize));
+        fail(file, 0,
+             "truncated header: the file has " + std::to_string(file.size()) + " bytes, a LAS header needs at least " +
+                 std::to_string(kLegacyHeaderSize));
     }
     std::vector<std::uint8_t> buf(std::min<std::uint64_t>(file.size(), kLargestKnownHeader));
     file.read_exact(0, buf, "header");

@@ -79,8 +79,8 @@ std::uint16_t standard_header_size(std::uint8_t major, std::uint8_t minor) {
 std::vector<std::uint8_t> serialize_header(const Header& header, std::span<const std::uint8_t> trailing) {
     const auto standard = standard_header_size(header.version_major, header.version_minor);
     if (header.header_size < standard) {
-        throw Error("cannot write a LAS " + header.version_string() + " header of " + std::to_string(header.header_size) +
-                    " bytes (needs " + std::to_string(standard) + ")");
+        throw Error("cannot write a LAS " + header.version_string() + " header of " +
+                    std::to_string(header.header_size) + " bytes (needs " + std::to_string(standard) + ")");
     }
     std::vector<std::uint8_t> out;
     out.reserve(header.header_size);

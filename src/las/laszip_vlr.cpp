@@ -96,7 +96,8 @@ public:
         const Family family = first == ItemType::Point10 ? Family::Point10 : Family::Point14;
         for (std::size_t i = 1; i < vlr.items.size(); ++i) {
             const auto type = static_cast<ItemType>(vlr.items[i].type);
-            if (type == ItemType::Point10 || type == ItemType::Point14 || rule_for(vlr.items[i].type)->family != family) {
+            if (type == ItemType::Point10 || type == ItemType::Point14 ||
+                rule_for(vlr.items[i].type)->family != family) {
                 fail(kItemListOffset + i * kItemSize,
                      "item " + std::to_string(i) + " (" + item_type_name(vlr.items[i].type) + ") cannot follow " +
                          item_type_name(vlr.items.front().type));

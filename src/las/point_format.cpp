@@ -119,7 +119,8 @@ void convert_records(std::span<const std::uint8_t> in, const PointFormatInfo& in
                      std::span<std::uint8_t> out, const PointFormatInfo& out_format, std::uint16_t out_record_length,
                      const Header& header) {
     const std::size_t n = in.size() / in_record_length;
-    const std::size_t extra = std::min<std::size_t>(in_record_length - in_format.size, out_record_length - out_format.size);
+    const std::size_t extra =
+        std::min<std::size_t>(in_record_length - in_format.size, out_record_length - out_format.size);
     if (out.size() != n * out_record_length) throw Error("record conversion: output buffer has the wrong size");
     for (std::size_t i = 0; i < n; ++i) {
         const auto src = in.subspan(i * in_record_length, in_record_length);

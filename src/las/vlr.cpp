@@ -35,7 +35,7 @@ std::string describe(const Vlr& v, std::size_t index) {
 
 }  // namespace
 
-std::vector<Vlr> read_vlrs(const io::File& file, const Header& header, std::vector<std::string>* warnings) {
+std::vector<Vlr> read_vlrs(const io::File& file, const Header& header, Diagnostics* warnings) {
     const std::uint64_t begin = header.header_size;
     const std::uint64_t end = header.offset_to_point_data;
     auto area = file.read_vector(begin, end - begin, "VLR area");
@@ -45,7 +45,7 @@ std::vector<Vlr> read_vlrs(const io::File& file, const Header& header, std::vect
     for (std::uint32_t i = 0; i < header.number_of_vlrs; ++i) {
         if (r.remaining() < kVlrHeaderSize) {
             if (warnings) {
-                warnings->push_back("header announces " + std::to_string(header.number_of_vlrs) + " VLRs but only " +
+                warnings->warn("header announces " + std::to_string(header.number_of_vlrs) + " VLRs but only " +
                                     std::to_string(i) + " fit before the point data; the rest are ignored");
             }
             break;

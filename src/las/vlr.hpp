@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/diagnostic.hpp"
+
 namespace lidarscout::io {
 class File;
 }
@@ -35,7 +37,7 @@ inline constexpr std::uint64_t kEvlrEagerLoadLimit = 4u << 20;
 // Reads the VLRs that follow the header; throws Error if one overruns the point data. When
 // the header announces more VLRs than there is room for before the point data (a common
 // writer bug), reading stops at the point data and a warning is added to `warnings`.
-std::vector<Vlr> read_vlrs(const io::File& file, const Header& header, std::vector<std::string>* warnings = nullptr);
+std::vector<Vlr> read_vlrs(const io::File& file, const Header& header, Diagnostics* warnings = nullptr);
 // Reads the EVLRs (LAS 1.4) at header.evlr_offset; throws Error if one overruns the file.
 std::vector<Vlr> read_evlrs(const io::File& file, const Header& header);
 

@@ -29,8 +29,8 @@ void decode_unit(const io::File& file, const LazLayout& layout, std::size_t inde
         file.read_exact(c.byte_offset, scratch, "LAZ chunk");
         decode_chunk(layout.laz, {scratch, c.point_count, out, fields});
     } catch (const Error& e) {
-        const std::string where = "chunk " + std::to_string(index) + " (points " + std::to_string(c.first_point) + ".." +
-                                  std::to_string(c.first_point + c.point_count) + "): ";
+        const std::string where = "chunk " + std::to_string(index) + " (points " + std::to_string(c.first_point) +
+                                  ".." + std::to_string(c.first_point + c.point_count) + "): ";
         if (!e.file().empty()) throw Error(e.file(), e.offset(), where + e.cause());
         throw Error(file.path(), c.byte_offset + e.offset().value_or(0), where + e.cause());
     }
@@ -42,7 +42,9 @@ void decode_units_parallel(const io::File& file, const LazLayout& layout, std::s
     const std::uint64_t base = layout.units.at(first).first_point;
     std::uint64_t total = 0;
     for (std::size_t i = first; i < last; ++i) total += layout.units[i].point_count;
-    if (out.size() != total * record) throw Error(file.path(), std::nullopt, "decode buffer has the wrong size (internal error)");
+    if (out.size() != total * record) {
+        throw Error(file.path(), std::nullopt, "decode buffer has the wrong size (internal error)");
+    }
     // Read buffers shared by the tasks of this call, one per task running at a time: a fresh
     // buffer per chunk costs page faults worth ~3% of an XYZ-only decode. Not thread_local: its
     // first use registers a destructor through __cxa_thread_atexit, which waits for the dynamic
@@ -56,8 +58,8 @@ void decode_units_parallel(const io::File& file, const LazLayout& layout, std::s
             if (!spare.empty()) scratch = std::move(spare.back()), spare.pop_back();
         }
         const Chunk& c = layout.units[first + k];
-        decode_unit(file, layout, first + k, out.subspan((c.first_point - base) * record, c.point_count * record), fields,
-                    scratch);
+        decode_unit(file, layout, first + k, out.subspan((c.first_point - base) * record, c.point_count * record),
+                    fields, scratch);
         std::lock_guard lock(spare_mutex);
         spare.push_back(std::move(scratch));
     });

@@ -12,19 +12,19 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "laz/point14/byte14_v3.hpp"
-#include "laz/point14/point14_v3.hpp"
-#include "laz/point14/rgb14_v3.hpp"
-#include "laz/point14/rgbnir14_v3.hpp"
-#include "laz/point14/wavepacket14_v3.hpp"
+#include "laz/items/point14/byte14_v3.hpp"
+#include "laz/items/point14/point14_v3.hpp"
+#include "laz/items/point14/rgb14_v3.hpp"
+#include "laz/items/point14/rgbnir14_v3.hpp"
+#include "laz/items/point14/wavepacket14_v3.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 using las::ItemType;
-using point14::ItemSetup;
-using point14::PlacedLayer;
-using point14::PointTrace;
+using detail::point14::ItemSetup;
+using detail::point14::PlacedLayer;
+using detail::point14::PointTrace;
 
 // Points per block: small enough that a block's records and traces stay in cache while
 // each layer's pass runs over them.
@@ -45,10 +45,10 @@ std::string item_text(const las::LazItem& item) {
 // appear in a layered chunk.
 int required_size(std::uint16_t type) {
     switch (static_cast<ItemType>(type)) {
-        case ItemType::Point14: return static_cast<int>(point14::kPoint14Size);
-        case ItemType::Rgb14: return static_cast<int>(point14::kRgb14Size);
-        case ItemType::RgbNir14: return static_cast<int>(point14::kRgbNir14Size);
-        case ItemType::Wavepacket14: return static_cast<int>(point14::kWavepacket14Size);
+        case ItemType::Point14: return static_cast<int>(detail::point14::kPoint14Size);
+        case ItemType::Rgb14: return static_cast<int>(detail::point14::kRgb14Size);
+        case ItemType::RgbNir14: return static_cast<int>(detail::point14::kRgbNir14Size);
+        case ItemType::Wavepacket14: return static_cast<int>(detail::point14::kWavepacket14Size);
         case ItemType::Byte14: return 0;
         default: return -1;
     }
@@ -83,7 +83,7 @@ std::size_t check_items(const las::LaszipVlr& laz) {
 // Number of layers an item has in the chunk.
 std::size_t layer_count(const las::LazItem& item) {
     switch (static_cast<ItemType>(item.type)) {
-        case ItemType::Point14: return point14::kPoint14Layers;
+        case ItemType::Point14: return detail::point14::kPoint14Layers;
         case ItemType::RgbNir14: return 2;
         case ItemType::Byte14: return item.size;
         default: return 1;
@@ -125,14 +125,14 @@ std::vector<std::span<const std::uint8_t>> split_layers(const las::LaszipVlr& la
 
 // The passes of one chunk: returns/XY/Z first, then the other wanted layers.
 struct ChunkPasses {
-    std::unique_ptr<point14::ReturnsXyzLayer> returns_xyz;
+    std::unique_ptr<detail::point14::ReturnsXyzLayer> returns_xyz;
     std::vector<PlacedLayer> layers;
 };
 
 ChunkPasses build_passes(const las::LaszipVlr& laz, std::span<const std::span<const std::uint8_t>> streams,
                          const std::uint8_t* first, std::uint32_t fields) {
     ChunkPasses passes;
-    const std::uint32_t channel = point14::point14_channel(first);
+    const std::uint32_t channel = detail::point14::point14_channel(first);
     std::size_t offset = 0;
     std::size_t next_layer = 0;
     for (const auto& item : laz.items) {
@@ -141,13 +141,13 @@ ChunkPasses build_passes(const las::LaszipVlr& laz, std::span<const std::span<co
                               std::max<std::uint16_t>(item.version, 3)};
         switch (static_cast<ItemType>(item.type)) {
             case ItemType::Point14:
-                passes.returns_xyz = point14::make_returns_xyz_layer(setup);
-                point14::add_point14_layers(setup, passes.layers);
+                passes.returns_xyz = detail::point14::make_returns_xyz_layer(setup);
+                detail::point14::add_point14_layers(setup, passes.layers);
                 break;
-            case ItemType::Rgb14: point14::add_rgb14_layers(setup, passes.layers); break;
-            case ItemType::RgbNir14: point14::add_rgbnir14_layers(setup, passes.layers); break;
-            case ItemType::Wavepacket14: point14::add_wavepacket14_layers(setup, passes.layers); break;
-            default: point14::add_byte14_layers(setup, passes.layers); break;
+            case ItemType::Rgb14: detail::point14::add_rgb14_layers(setup, passes.layers); break;
+            case ItemType::RgbNir14: detail::point14::add_rgbnir14_layers(setup, passes.layers); break;
+            case ItemType::Wavepacket14: detail::point14::add_wavepacket14_layers(setup, passes.layers); break;
+            default: detail::point14::add_byte14_layers(setup, passes.layers); break;
         }
         offset += item.size;
         next_layer += count;

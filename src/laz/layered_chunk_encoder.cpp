@@ -10,19 +10,16 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "laz/point14/byte14_v3_encoder.hpp"
-#include "laz/point14/point14_v3.hpp"
-#include "laz/point14/point14_v3_encoder.hpp"
-#include "laz/point14/rgb14_v3.hpp"
-#include "laz/point14/rgb14_v3_encoder.hpp"
-#include "laz/point14/rgbnir14_v3.hpp"
-#include "laz/point14/rgbnir14_v3_encoder.hpp"
+#include "laz/items/point14/byte14_v3.hpp"
+#include "laz/items/point14/point14_v3.hpp"
+#include "laz/items/point14/rgb14_v3.hpp"
+#include "laz/items/point14/rgbnir14_v3.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 using las::ItemType;
-using point14::LayerEncoder;
+using detail::point14::LayerEncoder;
 
 // Points per block: a block's records and traces stay in cache while every layer's pass
 // runs over them.
@@ -51,8 +48,10 @@ void check_items(const las::LaszipVlr& laz) {
         ++i;
         return true;
     };
-    if (!next_is(ItemType::Point14, point14::kPoint14Size)) fail_items(laz);
-    if (!next_is(ItemType::Rgb14, point14::kRgb14Size)) next_is(ItemType::RgbNir14, point14::kRgbNir14Size);
+    if (!next_is(ItemType::Point14, detail::point14::kPoint14Size)) fail_items(laz);
+    if (!next_is(ItemType::Rgb14, detail::point14::kRgb14Size)) {
+        next_is(ItemType::RgbNir14, detail::point14::kRgbNir14Size);
+    }
     next_is(ItemType::Byte14, 0);
     if (i != laz.items.size()) fail_items(laz);
 }
@@ -74,24 +73,24 @@ void encode_layered_chunk(const las::LaszipVlr& laz, std::span<const std::uint8_
 
     // One encoder per layer, in stream order (returns/XY and Z are held apart).
     const std::uint8_t* first = records.data();
-    const point14::ItemEncodeSetup point_setup{first, point14::point14_channel(first)};
-    point14::ReturnsXyzEncoder returns_xyz(point_setup);
+    const detail::point14::ItemEncodeSetup point_setup{first, detail::point14::point14_channel(first)};
+    detail::point14::ReturnsXyzEncoder returns_xyz(point_setup);
     std::vector<std::unique_ptr<LayerEncoder>> layers;
     std::vector<std::size_t> layer_offsets;  // the item's offset in the record, per layer
     std::size_t offset = 0;
     for (const las::LazItem& item : laz.items) {
-        const point14::ItemEncodeSetup setup{first + offset, point_setup.first_channel};
+        const detail::point14::ItemEncodeSetup setup{first + offset, point_setup.first_channel};
         switch (static_cast<ItemType>(item.type)) {
-            case ItemType::Point14: point14::add_point14_encoders(setup, layers); break;
-            case ItemType::Rgb14: point14::add_rgb14_encoders(setup, layers); break;
-            case ItemType::RgbNir14: point14::add_rgbnir14_encoders(setup, layers); break;
-            default: point14::add_byte14_encoders(setup, item.size, layers); break;
+            case ItemType::Point14: detail::point14::add_point14_encoders(setup, layers); break;
+            case ItemType::Rgb14: detail::point14::add_rgb14_encoders(setup, layers); break;
+            case ItemType::RgbNir14: detail::point14::add_rgbnir14_encoders(setup, layers); break;
+            default: detail::point14::add_byte14_encoders(setup, item.size, layers); break;
         }
         layer_offsets.resize(layers.size(), offset);
         offset += item.size;
     }
 
-    std::array<point14::PointTrace, kBlockPoints> trace;
+    std::array<detail::point14::PointTrace, kBlockPoints> trace;
     for (std::uint64_t start = 1; start < point_count; start += kBlockPoints) {
         const auto count = static_cast<std::size_t>(std::min<std::uint64_t>(kBlockPoints, point_count - start));
         const std::uint8_t* block = first + start * record;

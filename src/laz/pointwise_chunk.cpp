@@ -17,22 +17,23 @@
 
 #include "core/error.hpp"
 #include "laz/arithmetic_decoder.hpp"
-#include "laz/point10/byte_v1.hpp"
-#include "laz/point10/byte_v2.hpp"
-#include "laz/point10/gpstime11_v1.hpp"
-#include "laz/point10/gpstime11_v2.hpp"
-#include "laz/point10/point10_v1.hpp"
-#include "laz/point10/point10_v2.hpp"
-#include "laz/point10/rgb12_v1.hpp"
-#include "laz/point10/rgb12_v2.hpp"
-#include "laz/point10/wavepacket13_v1.hpp"
+#include "laz/items/point10/byte_v1.hpp"
+#include "laz/items/point10/byte_v2.hpp"
+#include "laz/items/point10/gpstime11_v1.hpp"
+#include "laz/items/point10/gpstime11_v2.hpp"
+#include "laz/items/point10/point10_v1.hpp"
+#include "laz/items/point10/point10_v2.hpp"
+#include "laz/items/point10/rgb12_v1.hpp"
+#include "laz/items/point10/rgb12_v2.hpp"
+#include "laz/items/point10/wavepacket13_v1.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 using las::ItemType;
 using las::LazItem;
-using namespace point10;
+using namespace detail;
+using namespace detail::point10;
 
 // Bytes a valid stream may be read past its end: none for LASzip's writers (they pad the
 // stream for the decoder's look-ahead), up to the look-ahead for writers that do not.
@@ -176,7 +177,8 @@ void decode_points(const ChunkView& chunk, DecodeRecord&& decode_record) {
 // One record of a fixed list of item decoders. Flattened: the arithmetic and integer
 // decoding calls are inlined into the item code, which is where the time goes.
 template <class... Items, std::size_t... I>
-[[gnu::flatten]] void decode_fixed_record(std::tuple<Items...>& items, const std::array<std::size_t, sizeof...(Items)>& at,
+[[gnu::flatten]] void decode_fixed_record(std::tuple<Items...>& items,
+                                          const std::array<std::size_t, sizeof...(Items)>& at,
                                           std::index_sequence<I...>, ArithmeticDecoder& dec, std::uint8_t* rec) {
     (std::get<I>(items).decode(dec, rec + at[I]), ...);
 }

@@ -11,17 +11,18 @@
 
 #include "core/error.hpp"
 #include "laz/arithmetic_encoder.hpp"
-#include "laz/point10/byte_v2_encoder.hpp"
-#include "laz/point10/gpstime11_v2_encoder.hpp"
-#include "laz/point10/point10_v2_encoder.hpp"
-#include "laz/point10/rgb12_v2_encoder.hpp"
+#include "laz/items/point10/byte_v2.hpp"
+#include "laz/items/point10/gpstime11_v2.hpp"
+#include "laz/items/point10/point10_v2.hpp"
+#include "laz/items/point10/rgb12_v2.hpp"
 
 namespace lidarscout::laz {
 namespace {
 
 using las::ItemType;
 using las::LazItem;
-using namespace point10;
+using namespace detail;
+using namespace detail::point10;
 
 // Which optional items follow POINT10.
 struct ItemList {
@@ -43,7 +44,9 @@ struct ItemList {
 
 // The list as LASzip writes it for formats 0-3, or an Error.
 ItemList check_items(const las::LaszipVlr& laz) {
-    if (laz.compressor != 2) throw Error("point-wise encoder called for LAZ compressor " + std::to_string(laz.compressor));
+    if (laz.compressor != 2) {
+        throw Error("point-wise encoder called for LAZ compressor " + std::to_string(laz.compressor));
+    }
     if (laz.coder != 0) throw Error("LAZ encoder: unsupported coder " + std::to_string(laz.coder));
     std::size_t i = 0;
     const auto next_is = [&](ItemType type, std::size_t size) {

@@ -25,7 +25,9 @@ std::vector<std::string> model_candidates() {
         out.push_back((d / ".." / "models" / kDefaultModelName).lexically_normal().string());
         out.push_back((d / ".." / "share" / "lidarscout" / "models" / kDefaultModelName).lexically_normal().string());
     }
-    if (*LIDARSCOUT_SOURCE_DIR) out.push_back((fs::path(LIDARSCOUT_SOURCE_DIR) / "models" / kDefaultModelName).string());
+    if (*LIDARSCOUT_SOURCE_DIR) {
+        out.push_back((fs::path(LIDARSCOUT_SOURCE_DIR) / "models" / kDefaultModelName).string());
+    }
     return out;
 }
 
@@ -83,7 +85,9 @@ HeightmapNetwork::RawOutput take_output(const LidarscoutRunnerApi& api, const st
 }  // namespace
 
 std::vector<float> HeightmapNetwork::run(std::span<const float> input, std::size_t n, int window_texels) const {
-    if (input.size() != n * input_size(window_texels)) throw Error(impl_->path, std::nullopt, "network input of the wrong size");
+    if (input.size() != n * input_size(window_texels)) {
+        throw Error(impl_->path, std::nullopt, "network input of the wrong size");
+    }
     if (n == 0) return {};
     float* output = nullptr;
     long dims[4] = {};
@@ -119,7 +123,9 @@ std::vector<recon::Reconstruction> HeightmapNetwork::infer(std::span<const recon
     for (std::size_t i = 0; i < patches.size(); ++i) pack_inputs(*patches[i], std::span(input).subspan(i * in, in));
     const std::vector<float> output = run(input, patches.size(), window);
     const std::size_t out = output_size(patch_texels);
-    if (output.size() != patches.size() * out) throw Error(impl_->path, std::nullopt, "heightmap network output size mismatch");
+    if (output.size() != patches.size() * out) {
+        throw Error(impl_->path, std::nullopt, "heightmap network output size mismatch");
+    }
     std::vector<recon::Reconstruction> result;
     for (std::size_t i = 0; i < patches.size(); ++i) {
         auto r = unpack_output(std::span(output).subspan(i * out, out), patch_texels, has_rgb);
@@ -131,7 +137,9 @@ std::vector<recon::Reconstruction> HeightmapNetwork::infer(std::span<const recon
 
 recon::BatchReconstructor as_batch_reconstructor(std::shared_ptr<const HeightmapNetwork> network, int patch_texels) {
     return [network = std::move(network), patch_texels](std::span<const recon::InterpolatedPatch* const> patches,
-                                                        bool has_rgb) { return network->infer(patches, has_rgb, patch_texels); };
+                                                        bool has_rgb) {
+        return network->infer(patches, has_rgb, patch_texels);
+    };
 }
 
 }  // namespace lidarscout::nn

@@ -63,6 +63,7 @@ private:
 };
 
 // The network as a recon::BatchReconstructor (for evaluation); shares ownership.
-recon::BatchReconstructor as_batch_reconstructor(std::shared_ptr<const HeightmapNetwork> network, int patch_texels = 64);
+recon::BatchReconstructor as_batch_reconstructor(std::shared_ptr<const HeightmapNetwork> network,
+                                                 int patch_texels = 64);
 
 }  // namespace lidarscout::nn

@@ -97,7 +97,10 @@ struct NetworkPending {
 // The reconstructor of a network method; throws when it was not given.
 const BatchReconstructor& network_of(const EvalOptions& opt, Method m) {
     const BatchReconstructor& net = m == Method::Cnn ? opt.network : opt.released;
-    if (!net) throw Error::in_stage("eval", "the " + std::string(method_name(m)) + " method needs its network (none was loaded)");
+    if (!net) {
+        throw Error::in_stage("eval",
+                              "the " + std::string(method_name(m)) + " method needs its network (none was loaded)");
+    }
     return net;
 }
 
@@ -119,7 +122,8 @@ public:
         TimedReconstruction nearest = timed_reconstruct(in.points, Method::Nearest);
         for (const Method m : classic_) {
             const TimedReconstruction run = m == Method::Nearest ? nearest : timed_reconstruct(in.points, m);
-            add_score(out_.methods[m], run.result, nearest.result, in.points, truth, has_rgb_, n, run.ms + in.gather_ms);
+            add_score(out_.methods[m], run.result, nearest.result, in.points, truth, has_rgb_, n,
+                      run.ms + in.gather_ms);
         }
         if (networks_.empty()) return;
         const auto t0 = Clock::now();
@@ -137,7 +141,9 @@ public:
             const auto t0 = Clock::now();
             const std::vector<Reconstruction> results = (*network)(batch, has_rgb_);
             const double share = ms_since(t0) / static_cast<double>(batch.size());
-            if (results.size() != batch.size()) throw Error::in_stage("eval", "the network returned a wrong number of patches");
+            if (results.size() != batch.size()) {
+                throw Error::in_stage("eval", "the network returned a wrong number of patches");
+            }
             for (std::size_t i = 0; i < results.size(); ++i) {
                 const NetworkPending& p = pending_[i];
                 add_score(out_.methods[method], results[i], p.nearest, p.points, p.truth, has_rgb_,
@@ -186,7 +192,8 @@ DatasetEvaluation evaluate_dataset(const dataset::Dataset& ds, const std::string
         const SurveySample& s = samples.samples[r];
         for (std::size_t i = 0; i < requests[r].patches.size() && used < opt.patches; ++i) {
             const auto t0 = Clock::now();
-            PatchInputs in{make_patch_points(*s.chunk_points, requests[r].patches[i], {opt.spec, opt.min_points, out.has_rgb}), 0};
+            PatchInputs in{
+                make_patch_points(*s.chunk_points, requests[r].patches[i], {opt.spec, opt.min_points, out.has_rgb}), 0};
             in.gather_ms = ms_since(t0);
             if (in.points.status != PatchStatus::Ok) {
                 ++out.too_few_points;

@@ -72,21 +72,22 @@ namespace {
 
 void stream_tile(const dataset::Dataset& ds, std::uint32_t tile_id, SurveySamples& out, std::uint64_t& coloured,
                  ThreadPool& pool, const std::function<void(std::uint64_t)>& batch_done) {
-    dataset::for_each_metric_batch(ds, tile_id, pool, [&](std::uint64_t first, std::span<const dataset::MetricPoint> points) {
-        for (std::size_t k = 0; k < points.size(); ++k) {
-            const dataset::MetricPoint& s = points[k];
-            coloured += s.coloured;
-            const std::uint64_t index = first + k;
-            for (auto& sample : out.samples) {
-                if (index % sample.stride == 0) {
-                    sample.chunk_points->add(s.x, s.y, s.z, s.rgb, s.intensity, s.classification, tile_id);
+    dataset::for_each_metric_batch(
+        ds, tile_id, pool, [&](std::uint64_t first, std::span<const dataset::MetricPoint> points) {
+            for (std::size_t k = 0; k < points.size(); ++k) {
+                const dataset::MetricPoint& s = points[k];
+                coloured += s.coloured;
+                const std::uint64_t index = first + k;
+                for (auto& sample : out.samples) {
+                    if (index % sample.stride == 0) {
+                        sample.chunk_points->add(s.x, s.y, s.z, s.rgb, s.intensity, s.classification, tile_id);
+                    }
+                    sample.truth->add(s.x, s.y, s.z, s.rgb);
                 }
-                sample.truth->add(s.x, s.y, s.z, s.rgb);
             }
-        }
-        out.points += points.size();
-        batch_done(points.size());
-    });
+            out.points += points.size();
+            batch_done(points.size());
+        });
 }
 
 }  // namespace
@@ -97,7 +98,8 @@ SurveySamples sample_survey(const dataset::Dataset& ds, const std::vector<Sample
     for (const auto& r : requests) {
         if (r.stride == 0) throw Error("chunk point stride must be positive");
         const auto& l = r.lattice;
-        out.samples.push_back({l, r.stride, std::make_unique<dataset::PatchGrid>(l.origin_x, l.origin_y, l.spec.patch_m()),
+        out.samples.push_back({l, r.stride,
+                               std::make_unique<dataset::PatchGrid>(l.origin_x, l.origin_y, l.spec.patch_m()),
                                std::make_unique<GroundTruth>(l.spec, l.origin_x, l.origin_y, r.patches)});
     }
     std::uint64_t done = 0, coloured = 0;

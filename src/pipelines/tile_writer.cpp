@@ -78,15 +78,17 @@ OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOption
     OutputPlan plan;
     plan.header = in.header;
     const auto standard = las::standard_header_size(in.header.version_major, in.header.version_minor);
-    if (in.header.header_size > standard) plan.header_trailing = file.read_vector(standard, in.header.header_size - standard, "header");
+    if (in.header.header_size > standard) {
+        plan.header_trailing = file.read_vector(standard, in.header.header_size - standard, "header");
+    }
     plan_format(plan, in, opt);
     plan_records(plan, file, in);
     return plan;
 }
 
 // Converts a batch of input records to the output format (a copy when nothing changes).
-std::span<const std::uint8_t> to_output_format(std::span<const std::uint8_t> records, const Tile& in, const OutputPlan& plan,
-                                              std::vector<std::uint8_t>& buf) {
+std::span<const std::uint8_t> to_output_format(std::span<const std::uint8_t> records, const Tile& in,
+                                               const OutputPlan& plan, std::vector<std::uint8_t>& buf) {
     if (in.header.point_format == plan.header.point_format && in.header.record_length == plan.header.record_length) {
         return records;
     }

@@ -112,7 +112,9 @@ void write_record(Writer& w, const PatchPoints& pp, const std::vector<Reconstruc
     for (float v : gt_h.values) r.byte(std::isnan(v) ? 0 : 1);
     r.byte(has_rgb ? 1 : 0);
     r.byte(static_cast<std::uint8_t>(split));
-    if (w.record.size() != RecordLayout{pp.size(), p}.size()) throw Error("training data: record size mismatch (internal error)");
+    if (w.record.size() != RecordLayout{pp.size(), p}.size()) {
+        throw Error("training data: record size mismatch (internal error)");
+    }
     w.out.write(w.record);
 }
 
@@ -124,7 +126,8 @@ void write_dataset(Writer& w, const NamedDataset& nd, const TrainingDataOptions&
         PatchSpec spec;
         spec.texel_m = texel;
         for (const Lattice& l : offset_lattices(lattice_for(ds, spec), o.offsets)) {
-            requests.push_back({l, o.stride.value_or(auto_stride(ds, spec)), candidate_patches(ds, l, 2 * o.patches + 10, o.seed)});
+            requests.push_back(
+                {l, o.stride.value_or(auto_stride(ds, spec)), candidate_patches(ds, l, 2 * o.patches + 10, o.seed)});
         }
     }
     const SurveySamples samples = sample_survey(ds, requests, pool, progress);
@@ -136,19 +139,26 @@ void write_dataset(Writer& w, const NamedDataset& nd, const TrainingDataOptions&
         const double texels = double(spec.patch_texels) * spec.patch_texels;
         std::size_t used = 0;
         for (std::size_t i = 0; i < requests[r].patches.size() && used < o.patches; ++i) {
-            const PatchPoints pp = make_patch_points(*s.chunk_points, requests[r].patches[i], {spec, o.min_points, samples.has_rgb});
+            const PatchPoints pp =
+                make_patch_points(*s.chunk_points, requests[r].patches[i], {spec, o.min_points, samples.has_rgb});
             if (pp.status != PatchStatus::Ok || s.truth->covered_texels(i) < o.min_coverage * texels) continue;
             const double cx = pp.window_min_x + spec.radius_m(), cy = pp.window_min_y + spec.radius_m();
-            const Split which = split.of_window(cx, cy, pp.window_min_x, pp.window_min_y, pp.window_min_x + spec.window_m(),
-                                              pp.window_min_y + spec.window_m());
+            const Split which = split.of_window(cx, cy, pp.window_min_x, pp.window_min_y,
+                                                pp.window_min_x + spec.window_m(), pp.window_min_y + spec.window_m());
             if (which == Split::Border) {
                 ++w.summary.dropped_at_split_border;
                 continue;
             }
             write_record(w, pp, reconstruct(pp, methods), *s.truth, i, samples.has_rgb, static_cast<int>(which));
-            w.samples.push_back({{"dataset", nd.name}, {"tile", nearest_tile(ds, cx, cy)}, {"centre_x", cx}, {"centre_y", cy},
-                                 {"texel_m", spec.texel_m}, {"centre_z", pp.centre_z}, {"radius_m", spec.radius_m()},
-                                 {"stride", s.stride}, {"split", static_cast<int>(which)}});
+            w.samples.push_back({{"dataset", nd.name},
+                                 {"tile", nearest_tile(ds, cx, cy)},
+                                 {"centre_x", cx},
+                                 {"centre_y", cy},
+                                 {"texel_m", spec.texel_m},
+                                 {"centre_z", pp.centre_z},
+                                 {"radius_m", spec.radius_m()},
+                                 {"stride", s.stride},
+                                 {"split", static_cast<int>(which)}});
             ++(which == Split::Validation ? w.summary.validation : w.summary.train);
             ++used;
         }
@@ -168,9 +178,9 @@ std::vector<std::uint8_t> preamble(std::uint64_t records_offset, std::uint64_t r
 
 }  // namespace
 
-TrainingDataSummary write_training_data(const std::vector<NamedDataset>& datasets, const TrainingDataOptions& o,
-                                        const std::string& out_path, ThreadPool& pool,
-                                        const std::function<void(std::size_t, std::uint64_t, std::uint64_t)>& progress) {
+TrainingDataSummary write_training_data(
+    const std::vector<NamedDataset>& datasets, const TrainingDataOptions& o, const std::string& out_path,
+    ThreadPool& pool, const std::function<void(std::size_t, std::uint64_t, std::uint64_t)>& progress) {
     if (o.texels_m.empty()) throw Error("training data: no texel size given");
     o.split.validate();
     if (o.offsets < 1) throw Error("training data: offsets must be at least 1");
@@ -184,9 +194,12 @@ TrainingDataSummary write_training_data(const std::vector<NamedDataset>& dataset
         });
     }
     const RecordLayout layout;  // the default 96 / 64 texels (PatchSpec defaults)
-    const nlohmann::json meta = {{"format", "lidarscout-train"}, {"version", 1}, {"fields", layout.fields()},
-                                 {"samples", w.samples},
-                                 {"normalisation", "h' = (z - centre_z) / radius_m; colours 0..255; see src/recon/patch_space.hpp"}};
+    const nlohmann::json meta = {
+        {"format", "lidarscout-train"},
+        {"version", 1},
+        {"fields", layout.fields()},
+        {"samples", w.samples},
+        {"normalisation", "h' = (z - centre_z) / radius_m; colours 0..255; see src/recon/patch_space.hpp"}};
     const std::string text = meta.dump();
     const std::uint64_t meta_offset = out.size();
     out.write(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));

@@ -73,8 +73,8 @@ struct TrainingDataSummary {
 
 // Streams each dataset once and writes `out_path` (atomically). progress(dataset index,
 // points done, points total).
-TrainingDataSummary write_training_data(const std::vector<NamedDataset>& datasets, const TrainingDataOptions& options,
-                                        const std::string& out_path, ThreadPool& pool,
-                                        const std::function<void(std::size_t, std::uint64_t, std::uint64_t)>& progress = {});
+TrainingDataSummary write_training_data(
+    const std::vector<NamedDataset>& datasets, const TrainingDataOptions& options, const std::string& out_path,
+    ThreadPool& pool, const std::function<void(std::size_t, std::uint64_t, std::uint64_t)>& progress = {});
 
 }  // namespace lidarscout::pipelines

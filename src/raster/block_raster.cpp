@@ -73,7 +73,9 @@ void describe_bands(GDALDataset& ds, const RasterLayout& layout) {
         if (layout.nodata) band->SetNoDataValue(*layout.nodata);
         if (!layout.unit.empty()) band->SetUnitType(layout.unit.c_str());
         if (layout.alpha_last && b == layout.bands) band->SetColorInterpretation(GCI_AlphaBand);
-        else if (layout.bands >= 3 && b <= 3) band->SetColorInterpretation(static_cast<GDALColorInterp>(GCI_RedBand + b - 1));
+        else if (layout.bands >= 3 && b <= 3) {
+            band->SetColorInterpretation(static_cast<GDALColorInterp>(GCI_RedBand + b - 1));
+        }
     }
     if (!layout.description.empty()) ds.GetRasterBand(1)->SetDescription(layout.description.c_str());
 }
@@ -122,7 +124,8 @@ BlockRaster::BlockRaster(std::string target, const RasterGeometry& geometry, con
 
 BlockRaster::~BlockRaster() = default;
 
-void BlockRaster::write_raw(int band, int x0, int y0, int w, int h, const void* data, std::size_t count, PixelType type) {
+void BlockRaster::write_raw(int band, int x0, int y0, int w, int h, const void* data, std::size_t count,
+                            PixelType type) {
     if (count != static_cast<std::size_t>(w) * h || type != layout_.type || band < 1 || band > layout_.bands) {
         throw Error(target_, std::nullopt, "a raster block of the wrong size or type (internal error)");
     }

@@ -24,7 +24,9 @@ constexpr std::pair<DemMethod, std::string_view> kMethodNames[] = {
     {DemMethod::Mean, "mean"}, {DemMethod::Min, "min"}, {DemMethod::Max, "max"}, {DemMethod::Idw, "idw"},
     {DemMethod::Tin, "tin"}, {DemMethod::Linear, "linear"}, {DemMethod::Cnn, "cnn"}};
 
-bool fits(DemMethod m, DemSource s) { return (m == DemMethod::Linear || m == DemMethod::Cnn) == (s == DemSource::Overview); }
+bool fits(DemMethod m, DemSource s) {
+    return (m == DemMethod::Linear || m == DemMethod::Cnn) == (s == DemSource::Overview);
+}
 
 GridderSpec gridder_of(const DemRequest& r) {
     GridderSpec g;
@@ -111,7 +113,8 @@ DemMethod dem_method_from_name(std::string_view name, DemSource source) {
         }
         return m;
     }
-    throw Error("unknown --method '" + std::string(name) + "' (mean, min, max, idw, tin for full; linear, cnn for overview)");
+    throw Error("unknown --method '" + std::string(name) +
+                "' (mean, min, max, idw, tin for full; linear, cnn for overview)");
 }
 
 std::string_view dem_method_name(DemMethod method) {

@@ -52,6 +52,7 @@ std::string height_unit(const dataset::Frame& frame);
 // Writes block (ix, iy), given as block x block values with rows from the south (the layout of
 // recon's images), into band `band` of `raster`, flipped to rows from the north.
 void write_block(BlockRaster& raster, const DemGrid& grid, int band, int ix, int iy, std::span<const float> values);
-void write_block(BlockRaster& raster, const DemGrid& grid, int band, int ix, int iy, std::span<const std::uint8_t> values);
+void write_block(BlockRaster& raster, const DemGrid& grid, int band, int ix, int iy,
+                 std::span<const std::uint8_t> values);
 
 }  // namespace lidarscout::raster

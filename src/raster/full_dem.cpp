@@ -44,8 +44,10 @@ int block_index(double v, double origin, double block_m, int count) {
 // gridder's reach.
 BlockRange tile_blocks(const DemGrid& g, const dataset::Bounds& b, double reach_m) {
     const double m = g.block * g.texel_m, pad = g.texel_m + reach_m;
-    BlockRange r{block_index(b.min_x - pad, g.origin_x, m, g.blocks_x()), block_index(b.min_y - pad, g.origin_y, m, g.blocks_y()),
-                 block_index(b.max_x + pad, g.origin_x, m, g.blocks_x()), block_index(b.max_y + pad, g.origin_y, m, g.blocks_y())};
+    BlockRange r{block_index(b.min_x - pad, g.origin_x, m, g.blocks_x()),
+                 block_index(b.min_y - pad, g.origin_y, m, g.blocks_y()),
+                 block_index(b.max_x + pad, g.origin_x, m, g.blocks_x()),
+                 block_index(b.max_y + pad, g.origin_y, m, g.blocks_y())};
     if (r.x1 < 0 || r.y1 < 0 || r.x0 >= g.blocks_x() || r.y0 >= g.blocks_y()) return {};
     r.x0 = std::max(r.x0, 0), r.y0 = std::max(r.y0, 0);
     r.x1 = std::min(r.x1, g.blocks_x() - 1), r.y1 = std::min(r.y1, g.blocks_y() - 1);
@@ -210,7 +212,8 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
         blocks.expect(ranges[i]);
         if (!ranges[i].empty()) total += ds.tiles[i].tile.header.point_count;
     }
-    const std::uint32_t fields = laz::fields::kXyz | laz::fields::kClassification | (outputs.rgb ? laz::fields::kRgb : 0u);
+    const std::uint32_t fields =
+        laz::fields::kXyz | laz::fields::kClassification | (outputs.rgb ? laz::fields::kRgb : 0u);
     for (const std::uint32_t t : tile_order(ds)) {
         if (ranges[t].empty()) continue;
         const std::string& path = ds.tiles[t].tile.path;

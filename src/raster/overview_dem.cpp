@@ -130,7 +130,8 @@ struct PatchSpecs {
     recon::PatchOptions wide, network;
 };
 
-void prepare(PatchJob& job, const dataset::PatchGrid& grid, const PatchSpecs& specs, const OverviewDemOptions& options) {
+void prepare(PatchJob& job, const dataset::PatchGrid& grid, const PatchSpecs& specs,
+             const OverviewDemOptions& options) {
     std::vector<dataset::OverviewPoint> window = grid.window(job.cell, specs.wide.spec.pad_m());
     std::erase_if(window, [&](const dataset::OverviewPoint& p) { return !options.classes.keep[p.classification]; });
     const double x0 = grid.cell_min_x(job.cell), y0 = grid.cell_min_y(job.cell);
@@ -166,7 +167,9 @@ void run_network(const nn::HeightmapNetwork& network, std::vector<PatchJob>& job
 
 OverviewDemStats grid_overview_dem(const dataset::Dataset& ds, const DemGrid& grid, const OverviewDemOptions& options,
                                    const DemOutputs& outputs, ThreadPool& pool) {
-    if (grid.block != kOverviewPatchTexels) throw Error::in_stage("dem", "overview blocks must be 64 texels (internal error)");
+    if (grid.block != kOverviewPatchTexels) {
+        throw Error::in_stage("dem", "overview blocks must be 64 texels (internal error)");
+    }
     const recon::PatchSpec spec{grid.texel_m, kOverviewPatchTexels, kLinearPadTexels};
     dataset::PatchGrid points(grid.origin_x, grid.origin_y, spec.patch_m());
     dataset::ChunkPointLoader loader(ds, points);
@@ -180,7 +183,8 @@ OverviewDemStats grid_overview_dem(const dataset::Dataset& ds, const DemGrid& gr
     std::unique_ptr<nn::HeightmapNetwork> network;
     if (options.network) {
         const std::string path = options.model.empty() ? nn::default_model_path() : options.model;
-        network = std::make_unique<nn::HeightmapNetwork>(nn::HeightmapNetwork::load(path, static_cast<int>(pool.size())));
+        network =
+            std::make_unique<nn::HeightmapNetwork>(nn::HeightmapNetwork::load(path, static_cast<int>(pool.size())));
     }
     const std::vector<dataset::CellKey> cells = candidate_blocks(points, grid);
     const PatchWriter writer(grid, options, outputs);

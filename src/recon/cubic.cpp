@@ -174,9 +174,10 @@ Image cubic_image(const PatchGeometry& geometry, const PointValues& values, std:
             if (t.is_real(i)) patches[i] = ct_triangle(t, i, f, grad, scale);
         }
         auto plane = image.plane(c);
-        for_each_inside_texel(geometry.face_map, [&](std::size_t texel, std::int32_t face, const std::array<float, 3>& l) {
-            plane[texel] = static_cast<float>(evaluate(patches[face], l));
-        });
+        for_each_inside_texel(geometry.face_map,
+                              [&](std::size_t texel, std::int32_t face, const std::array<float, 3>& l) {
+                                  plane[texel] = static_cast<float>(evaluate(patches[face], l));
+                              });
     }
     fill_nearest(image, geometry.nearest, values, &geometry.face_map);
     return image;

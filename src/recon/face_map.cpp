@@ -22,7 +22,8 @@ std::pair<int, int> texel_range(double lo, double hi, int size) {
     constexpr std::int64_t unit = kGridUnitsPerTexel, half = unit / 2;
     const std::int64_t first = -floor_div(half - static_cast<std::int64_t>(lo), unit);  // ceil((lo - half) / unit)
     const std::int64_t last = floor_div(static_cast<std::int64_t>(hi) - half, unit);
-    return {static_cast<int>(std::max<std::int64_t>(first, 0)), static_cast<int>(std::min<std::int64_t>(last, size - 1))};
+    return {static_cast<int>(std::max<std::int64_t>(first, 0)),
+            static_cast<int>(std::min<std::int64_t>(last, size - 1))};
 }
 
 // One edge function e(p) = orient(from, to, p) on the texel centres: one texel right adds

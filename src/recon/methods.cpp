@@ -45,7 +45,8 @@ Method method_from_name(std::string_view name) {
     for (const Method m : {Method::Cnn, Method::Released}) {
         if (method_name(m) == name) return m;
     }
-    throw Error::in_stage("recon", "unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat, cnn, released)");
+    throw Error::in_stage("recon",
+                          "unknown method '" + std::string(name) + "' (nearest, linear, cubic, splat, cnn, released)");
 }
 
 bool is_network(Method method) { return method == Method::Cnn || method == Method::Released; }

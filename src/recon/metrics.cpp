@@ -11,7 +11,7 @@ namespace {
 
 void check_same_shape(const Image& a, const Image& b, int channels) {
     if (a.size != b.size || a.channels != channels || b.channels != channels) {
-        throw Error("metrics: images of different shapes");
+        throw Error::in_stage("metrics", "images of different shapes");
     }
 }
 
@@ -38,7 +38,8 @@ Score rgb_psnr_db(const Image& predicted, const Image& truth) {
     for (std::size_t t = 0; t < plane; ++t) {
         bool defined = true;
         for (int c = 0; c < 3; ++c) {
-            defined = defined && !std::isnan(predicted.values[c * plane + t]) && !std::isnan(truth.values[c * plane + t]);
+            defined =
+                defined && !std::isnan(predicted.values[c * plane + t]) && !std::isnan(truth.values[c * plane + t]);
         }
         if (!defined) continue;
         for (int c = 0; c < 3; ++c) {

@@ -41,7 +41,8 @@ struct Block {
     int col0, col1, row0, row1;  // texel ranges [col0, col1), [row0, row1)
 
     GridXY centre() const {
-        return {0.5 * (texel_centre(col0) + texel_centre(col1 - 1)), 0.5 * (texel_centre(row0) + texel_centre(row1 - 1))};
+        return {0.5 * (texel_centre(col0) + texel_centre(col1 - 1)),
+                0.5 * (texel_centre(row0) + texel_centre(row1 - 1))};
     }
     double half_diagonal() const {
         const double hx = 0.5 * (texel_centre(col1 - 1) - texel_centre(col0));

@@ -85,10 +85,13 @@ double median_height(const std::vector<Merged>& points) {
 }  // namespace
 
 void PatchSpec::validate() const {
-    if (!(texel_m > 0.0) || !std::isfinite(texel_m)) throw Error::in_stage("recon", "texel size must be positive and finite");
+    if (!(texel_m > 0.0) || !std::isfinite(texel_m)) {
+        throw Error::in_stage("recon", "texel size must be positive and finite");
+    }
     if (patch_texels < 1 || pad_texels < 0) throw Error::in_stage("recon", "patch needs >= 1 texel and padding >= 0");
     if (window_texels() > 512) {
-        throw Error::in_stage("recon", "window of " + std::to_string(window_texels()) + " texels exceeds the limit of 512");
+        throw Error::in_stage("recon",
+                              "window of " + std::to_string(window_texels()) + " texels exceeds the limit of 512");
     }
 }
 

@@ -25,6 +25,7 @@ struct SplatResult {
 };
 
 // `points` and `values` in the same order; `size` texels per side.
-SplatResult splat(std::span<const GridXY> points, const PointValues& values, int size, const SplatOptions& options = {});
+SplatResult splat(std::span<const GridXY> points, const PointValues& values, int size,
+                  const SplatOptions& options = {});
 
 }  // namespace lidarscout::recon

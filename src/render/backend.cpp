@@ -61,7 +61,7 @@ void check_frame(const Camera& camera, std::span<const HeightmapPatch> heightmap
         }
     }
     if (!(s.resolve.edl_strength >= 0.0f) || s.resolve.edl_radius_px < 1) {
-        throw Error("resolve: EDL strength must be >= 0 and the EDL radius >= 1 pixel");
+        throw Error::in_stage("resolve", "EDL strength must be >= 0 and the EDL radius >= 1 pixel");
     }
 }
 

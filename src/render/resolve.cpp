@@ -74,7 +74,7 @@ void for_row_bands(int height, ThreadPool& pool, Fn&& fn) {
 
 RgbaImage resolve(const Framebuffer& fb, const ResolveSettings& settings, ThreadPool& pool) {
     if (!(settings.edl_strength >= 0.0f) || settings.edl_radius_px < 1) {
-        throw Error("resolve: EDL strength must be >= 0 and the EDL radius >= 1 pixel");
+        throw Error::in_stage("resolve", "EDL strength must be >= 0 and the EDL radius >= 1 pixel");
     }
     RgbaImage out{fb.width(), fb.height(), {}};
     out.pixels.resize(static_cast<std::size_t>(fb.width()) * fb.height());

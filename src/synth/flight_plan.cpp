@@ -45,7 +45,8 @@ FlightPlan plan_flight(std::uint64_t seed, const Area& area, double pulses_per_m
     // How much of the area the swaths cover, counting overlaps twice.
     double covered = 0;
     for (std::uint32_t k = 0; k < p.strips; ++k) {
-        const double lo = std::max(area.x0, p.centre(k) - p.half_swath), hi = std::min(area.x1(), p.centre(k) + p.half_swath);
+        const double lo = std::max(area.x0, p.centre(k) - p.half_swath),
+                     hi = std::min(area.x1(), p.centre(k) + p.half_swath);
         covered += std::max(0.0, hi - lo);
     }
     const double strip_density = pulses_per_m2 * w / covered;

@@ -34,7 +34,8 @@ double distance_to_street(double t, double spacing) { return std::fabs(t - spaci
 
 }  // namespace
 
-Layout::Layout(std::uint64_t seed, const Area& area, const Relief& relief, const LandCover& land) : seed_(seed), area_(area) {
+Layout::Layout(std::uint64_t seed, const Area& area, const Relief& relief, const LandCover& land)
+    : seed_(seed), area_(area) {
     road_amplitude_ = std::min(0.05 * area.size(), 55.0);
     road_phase_ = kTwoPi * unit_of(hash_of(seed, kRoadPhase));
     place_villages(relief);

@@ -22,6 +22,8 @@ double reflectance(Material m);
 
 // colour * factor, per channel.
 inline Rgb scaled(Rgb c, double f) { return {c.r * f, c.g * f, c.b * f}; }
-inline Rgb mixed(Rgb a, Rgb b, double t) { return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t}; }
+inline Rgb mixed(Rgb a, Rgb b, double t) {
+    return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t};
+}
 
 }  // namespace lidarscout::synth

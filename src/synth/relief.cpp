@@ -75,7 +75,8 @@ double Relief::ground(double x, double y, const RiverRow& river) const {
     const double roughness = 0.4 + 2.6 * valley;
     const double floor = valley_floor(d, river.half_width);
     return river.water_level + floor + (valley > 0 ? valley * hills(x, y) : 0.0) +
-           (d > river.half_width + 8 ? roughness * detail * smoothstep(river.half_width + 8, river.half_width + 40, d) : 0.0);
+           (d > river.half_width + 8 ? roughness * detail * smoothstep(river.half_width + 8, river.half_width + 40, d)
+                                     : 0.0);
 }
 
 }  // namespace lidarscout::synth

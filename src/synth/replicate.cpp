@@ -81,29 +81,29 @@ double shift_quantum(double scale) {
 }
 
 // Reads one source; nullopt (and a warning) when it cannot serve as a replica source.
-std::optional<ReplicaSource> read_source(const std::string& path, std::vector<std::string>& warnings) {
+std::optional<ReplicaSource> read_source(const std::string& path, Diagnostics& warnings) {
     ReplicaSource s;
     s.path = path;
     try {
         const auto file = io::File::open(path);
         s.tile = dataset::read_tile(file);
     } catch (const Error& e) {
-        warnings.push_back(std::string("skipping ") + e.what());
+        warnings.warn(std::string("skipping ") + e.what());
         return std::nullopt;
     }
     const auto& h = s.tile.header;
     if (s.tile.crs.geographic) {
-        warnings.push_back("skipping " + path + ": geographic coordinates (degrees) cannot be laid on a metre grid");
+        warnings.warn("skipping " + path + ": geographic coordinates (degrees) cannot be laid on a metre grid");
         return std::nullopt;
     }
     if (!std::isfinite(h.min[0] + h.min[1] + h.max[0] + h.max[1])) {
-        warnings.push_back("skipping " + path + ": its x/y bounds are not finite numbers");
+        warnings.warn("skipping " + path + ": its x/y bounds are not finite numbers");
         return std::nullopt;
     }
     s.to_metres = s.tile.crs.horizontal_to_metres;
     s.unit = las::unit_name(s.tile.crs.horizontal_unit);
     if (!std::isfinite(s.to_metres) || s.to_metres <= 0) {
-        warnings.push_back(path + ": horizontal unit unknown; taken as metres for the grid");
+        warnings.warn(path + ": horizontal unit unknown; taken as metres for the grid");
         s.to_metres = 1.0;
     }
     const double width = std::max(0.0, std::max(h.max[0] - h.min[0], h.max[1] - h.min[1]));
@@ -174,7 +174,7 @@ void warn_stale_outputs(ReplicatePlan& plan) {
         if (dataset::has_point_cloud_extension(name) && !ours.count(name)) ++stale;
     }
     if (stale > 0) {
-        plan.warnings.push_back(plan.out_dir + ": already holds " + std::to_string(stale) +
+        plan.warnings.warn(plan.out_dir + ": already holds " + std::to_string(stale) +
                                 " other LAS/LAZ files that this run does not replace");
     }
 }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/diagnostic.hpp"
 #include "dataset/tile.hpp"
 
 namespace lidarscout {
@@ -53,7 +54,7 @@ struct ReplicatePlan {
     std::vector<ReplicaTile> tiles;            // row by row: index = gx + gy * nx
     double cell_metres = 0;                    // side of a grid cell
     std::array<double, 2> anchor_metres{};     // first source's min x/y corner, in metres
-    std::vector<std::string> warnings;         // skipped sources, unknown units (one line each)
+    Diagnostics warnings;                      // skipped sources, unknown units (one line each)
     std::uint64_t total_bytes = 0;
     std::uint64_t total_points = 0;
 };

@@ -165,7 +165,8 @@ void prepare_folder(const std::string& dir, const std::set<std::string>& names) 
                                                ", which this demo would not write; use an empty folder (or remove it)");
         }
         if (!is_demo_tile(entry.path())) {
-            throw Error(entry.path().string(), std::nullopt, "refusing to overwrite a file that is not a lidarscout demo tile");
+            throw Error(entry.path().string(), std::nullopt,
+                        "refusing to overwrite a file that is not a lidarscout demo tile");
         }
     }
     fs::remove(fs::path(dir) / kTerrainManifest, ec);  // the demo is incomplete until the end
@@ -178,11 +179,12 @@ std::string number(double v) {
 }
 
 void write_manifest(const std::string& dir, const TerrainOptions& o, const TerrainResult& r) {
-    std::string s = "{\n  \"generator\": \"" + std::string(kTerrainSoftware) + "\",\n  \"seed\": " + std::to_string(o.seed) +
-                    ",\n  \"km\": " + number(r.area.size() / 1000.0) + ",\n  \"density\": " + number(o.density) +
-                    ",\n  \"origin\": [" + number(r.area.x0) + ", " + number(r.area.y0) + "]" +
-                    ",\n  \"tiles\": " + std::to_string(r.tiles.size()) + ",\n  \"points\": " + std::to_string(r.points) +
-                    ",\n  \"bytes\": " + std::to_string(r.bytes) + ",\n  \"files\": [";
+    std::string s = "{\n  \"generator\": \"" + std::string(kTerrainSoftware) +
+                    "\",\n  \"seed\": " + std::to_string(o.seed) + ",\n  \"km\": " + number(r.area.size() / 1000.0) +
+                    ",\n  \"density\": " + number(o.density) + ",\n  \"origin\": [" + number(r.area.x0) + ", " +
+                    number(r.area.y0) + "]" + ",\n  \"tiles\": " + std::to_string(r.tiles.size()) +
+                    ",\n  \"points\": " + std::to_string(r.points) + ",\n  \"bytes\": " + std::to_string(r.bytes) +
+                    ",\n  \"files\": [";
     for (std::size_t i = 0; i < r.tiles.size(); ++i) {
         s += (i ? ", \"" : "\"") + fs::path(r.tiles[i].path).filename().string() + "\"";
     }
@@ -196,7 +198,8 @@ void write_manifest(const std::string& dir, const TerrainOptions& o, const Terra
 
 Area terrain_area(const TerrainOptions& o) {
     if (!(o.km > 0 && o.km <= kMaxKm)) {
-        throw Error("the demo's size must be more than 0 and at most " + number(kMaxKm) + " km (got " + number(o.km) + ")");
+        throw Error("the demo's size must be more than 0 and at most " + number(kMaxKm) + " km (got " + number(o.km) +
+                    ")");
     }
     if (!(o.density > 0 && o.density <= kMaxDensity)) {
         throw Error("the demo's density must be more than 0 and at most " + number(kMaxDensity) +
@@ -227,7 +230,8 @@ const std::string& terrain_wkt() {
         "UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9001\"]],AXIS[\"Easting\",EAST],AXIS[\"Northing\",NORTH],"
         "AUTHORITY[\"EPSG\",\"25832\"]],"
         "VERT_CS[\"DHHN2016 height\",VERT_DATUM[\"Deutsches Haupthoehennetz 2016\",2005,AUTHORITY[\"EPSG\",\"1170\"]],"
-        "UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9001\"]],AXIS[\"Gravity-related height\",UP],AUTHORITY[\"EPSG\",\"7837\"]]]";
+        "UNIT[\"metre\",1,AUTHORITY[\"EPSG\",\"9001\"]],AXIS[\"Gravity-related "
+        "height\",UP],AUTHORITY[\"EPSG\",\"7837\"]]]";
     return wkt;
 }
 

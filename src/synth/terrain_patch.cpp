@@ -73,7 +73,9 @@ void TerrainPatch::fill_lattice(double x0, double y0, double x1, double y1) {
     for (std::int64_t j = 0; j < lh_; ++j) {
         const double y = static_cast<double>(ly0_ + j);
         river_rows_[j] = relief.river(y);
-        for (std::int64_t i = 0; i < lw_; ++i) heights_[j * lw_ + i] = relief.ground(static_cast<double>(lx0_ + i), y, river_rows_[j]);
+        for (std::int64_t i = 0; i < lw_; ++i) {
+            heights_[j * lw_ + i] = relief.ground(static_cast<double>(lx0_ + i), y, river_rows_[j]);
+        }
     }
 }
 
@@ -131,7 +133,8 @@ const std::optional<Building>& TerrainPatch::building_cell(std::int64_t i, std::
     return buildings_.at(i, j);
 }
 
-Rgb TerrainPatch::ground_colour(const Column& c, double x, double y, double gx, double gy, const FieldSample* field) const {
+Rgb TerrainPatch::ground_colour(const Column& c, double x, double y, double gx, double gy,
+                                const FieldSample* field) const {
     Rgb colour = base_colour(c.ground_material);
     const double u = x - model_.area().x0, v = y - model_.area().y0;
     double factor = 1.0 + 0.08 * gradient_noise(hash_of(model_.seed(), kTint), u / 23.0, v / 23.0);

@@ -55,7 +55,9 @@ struct CellCache {
             for (std::int64_t i = first_i; i <= last_i; ++i) values.push_back(value_of(i, j));
         }
     }
-    const T& at(std::int64_t i, std::int64_t j) const { return values[static_cast<std::size_t>((j - j0) * width + (i - i0))]; }
+    const T& at(std::int64_t i, std::int64_t j) const {
+        return values[static_cast<std::size_t>((j - j0) * width + (i - i0))];
+    }
 };
 
 class TerrainPatch {

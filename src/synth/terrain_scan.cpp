@@ -160,7 +160,8 @@ private:
         p.point_source_id = static_cast<std::uint16_t>(k + 1);
         p.gps_time = plan_.strip_time(k) + (static_cast<double>(j) * n + i) * plan_.pulse_period();
         const double tint = 1.0 + 0.04 * rng.gaussian();
-        p.rgb = {to_u16(c.colour.r * tint * 65535.0), to_u16(c.colour.g * tint * 65535.0), to_u16(c.colour.b * tint * 65535.0)};
+        p.rgb = {to_u16(c.colour.r * tint * 65535.0), to_u16(c.colour.g * tint * 65535.0),
+                 to_u16(c.colour.b * tint * 65535.0)};
         const double falloff = 1.0 - 0.25 * (angle / 20.0) * (angle / 20.0);
         for (int r = 0; r < returns.n; ++r) {
             const Return& ret = returns.r[r];
@@ -168,7 +169,8 @@ private:
             p.z = p.Z * q_.scale + q_.offset[2];
             p.return_number = static_cast<std::uint8_t>(r + 1);
             p.classification = ret.cls;
-            p.intensity = to_u16(ret.reflectance * energy(r, returns.n) * falloff * gain_ * (1.0 + 0.06 * rng.gaussian()) * 52000.0);
+            p.intensity = to_u16(ret.reflectance * energy(r, returns.n) * falloff * gain_ *
+                                 (1.0 + 0.06 * rng.gaussian()) * 52000.0);
             sink_(p);
         }
     }

@@ -43,7 +43,8 @@ void colour_tree(Tree& t, Rng& rng) {
 }
 
 // Whether a building stands within `reach` metres of (x, y).
-bool near_building(const TerrainModel& model, double x, double y, double reach, const std::vector<const Village*>& villages) {
+bool near_building(const TerrainModel& model, double x, double y, double reach,
+                   const std::vector<const Village*>& villages) {
     if (villages.empty()) return false;  // buildings outside villages stand by the roads, cleared anyway
     const Area& area = model.area();
     const auto i0 = static_cast<std::int64_t>(std::floor((x - reach - area.x0) / kBuildingCell));
@@ -96,7 +97,8 @@ double Tree::crown_z(double px, double py, double& r2, double& nx, double& ny) c
     return top - c + c * h;
 }
 
-TreeCell tree_in_cell(const TerrainModel& model, std::int64_t i, std::int64_t j, const std::vector<const Village*>& villages) {
+TreeCell tree_in_cell(const TerrainModel& model, std::int64_t i, std::int64_t j,
+                      const std::vector<const Village*>& villages) {
     const Area& area = model.area();
     Rng rng(hash_of(model.seed(), kTree, i, j));
     Tree t;
@@ -116,7 +118,8 @@ TreeCell tree_in_cell(const TerrainModel& model, std::int64_t i, std::int64_t j,
     else if (cell.forest > 0) habitat = rng.chance(0.85) ? Habitat::Forest : Habitat::None;
     else if (d < river.half_width + 28) habitat = rng.chance(0.5) ? Habitat::River : Habitat::None;
     else if (in_village) habitat = rng.chance(0.1) ? Habitat::Garden : Habitat::None;
-    else if (model.land().field(t.x, t.y).edge_distance < 3.5) habitat = rng.chance(0.4) ? Habitat::Hedge : Habitat::None;
+    else if (model.land().field(t.x, t.y).edge_distance < 3.5)
+        habitat = rng.chance(0.4) ? Habitat::Hedge : Habitat::None;
     else habitat = rng.chance(0.012) ? Habitat::Open : Habitat::None;
     if (habitat == Habitat::None) return cell;
 

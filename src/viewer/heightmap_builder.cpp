@@ -79,7 +79,8 @@ std::vector<PatchHeightmap> build_linear_heightmaps(const dataset::PatchGrid& gr
     return finish(built, options);
 }
 
-std::vector<PatchHeightmap> build_cnn_heightmaps(const dataset::PatchGrid& grid, std::span<const dataset::CellKey> cells,
+std::vector<PatchHeightmap> build_cnn_heightmaps(const dataset::PatchGrid& grid,
+                                                 std::span<const dataset::CellKey> cells,
                                                  const nn::HeightmapNetwork& network,
                                                  const HeightmapBuildOptions& options, ThreadPool& pool) {
     std::vector<std::optional<PatchHeightmap>> built(cells.size());

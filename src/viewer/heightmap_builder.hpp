@@ -51,7 +51,8 @@ std::vector<PatchHeightmap> build_linear_heightmaps(const dataset::PatchGrid& gr
                                                     const HeightmapBuildOptions& options, ThreadPool& pool);
 
 // The same by the network (64 x 64 patches from the 96 x 96 interpolated windows).
-std::vector<PatchHeightmap> build_cnn_heightmaps(const dataset::PatchGrid& grid, std::span<const dataset::CellKey> cells,
+std::vector<PatchHeightmap> build_cnn_heightmaps(const dataset::PatchGrid& grid,
+                                                 std::span<const dataset::CellKey> cells,
                                                  const nn::HeightmapNetwork& network,
                                                  const HeightmapBuildOptions& options, ThreadPool& pool);
 

@@ -97,7 +97,8 @@ PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& p
     r.z = point.z / t.z_to_metres;  // heights stay in the file's vertical unit, reprojected or not
     if (t.to_frame) {  // reprojected into the dataset's CRS: x and y are in that CRS's units
         r.x = point.x / dataset.frame.xy_to_metres, r.y = point.y / dataset.frame.xy_to_metres;
-        r.horizontal_unit = dataset.frame.xy_to_metres == 1 ? "metre" : std::to_string(dataset.frame.xy_to_metres) + " m";
+        r.horizontal_unit =
+            dataset.frame.xy_to_metres == 1 ? "metre" : std::to_string(dataset.frame.xy_to_metres) + " m";
         r.vertical_unit = t.tile.crs.vertical_unit_name.empty() ? las::unit_name(t.tile.crs.vertical_unit)
                                                                 : t.tile.crs.vertical_unit_name;
         r.crs = dataset.frame.crs + " (reprojected)";

@@ -191,7 +191,8 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
         const auto& t = dataset.tiles[i];
         if (t.chunk_points == 0 || t.bounds_m.empty()) continue;
         for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) { s.patches[c].candidate = true; });
-        const double slack = 0.02 * std::max(t.bounds_m.max_x - t.bounds_m.min_x, t.bounds_m.max_y - t.bounds_m.min_y) + 1;
+        const double slack =
+            0.02 * std::max(t.bounds_m.max_x - t.bounds_m.min_x, t.bounds_m.max_y - t.bounds_m.min_y) + 1;
         for_cells(t.bounds_m, *grid_, slack, [&](CellKey c) { s.own_cells[i].push_back(c); });
     }
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
@@ -212,7 +213,9 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     loader_->on_tile_done([this](std::uint32_t tile) { on_tile_done(tile); });
     if (options_.camera) set_camera(*options_.camera);
     loader_->start();
-    for (unsigned i = 0; i < std::max(1u, options_.heightmap_threads); ++i) threads_.emplace_back([this] { heightmap_worker(); });
+    for (unsigned i = 0; i < std::max(1u, options_.heightmap_threads); ++i) {
+        threads_.emplace_back([this] { heightmap_worker(); });
+    }
     if (options_.cnn) threads_.emplace_back([this] { cnn_worker(); });
     threads_.emplace_back([this] { loader_watch(); });
     if (options_.full_res) residency_->start();

@@ -23,7 +23,9 @@ std::array<ViewPoint, 8> view_corners(const render::Camera& camera, const datase
         const std::array<double, 3> v = {((c & 1) ? b.max_x : b.min_x) - camera.x,
                                          ((c & 2) ? b.max_y : b.min_y) - camera.y,
                                          ((c & 4) ? b.max_z : b.min_z) - camera.z};
-        const auto dot = [&](const std::array<double, 3>& axis) { return v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2]; };
+        const auto dot = [&](const std::array<double, 3>& axis) {
+            return v[0] * axis[0] + v[1] * axis[1] + v[2] * axis[2];
+        };
         out[c] = {dot(basis.right), dot(basis.up), dot(basis.forward)};
     }
     return out;

@@ -15,12 +15,16 @@ TEST(ConvertCommand, LasToLazAndBack) {
     fs::create_directories(dir);
     const auto in = (test::formats_dir() / "laz-rs__laz-rs/tests__data__point-time-color.las").string();
     std::string out;
-    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " convert " + in + " " + (dir / "a.laz").string() + " --json", out), 0);
+    ASSERT_EQ(test::run_command(
+                  std::string(LIDARSCOUT_CLI) + " convert " + in + " " + (dir / "a.laz").string() + " --json", out),
+              0);
     auto j = nlohmann::json::parse(out);
     EXPECT_EQ(j.at("points"), 1065);
     EXPECT_EQ(j.at("chunks"), 1);
-    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --checksum --json " + (dir / "a.laz").string(), out), 0);
-    const auto want = test::read_json(test::formats_dir() / "expected/laz-rs__laz-rs__tests__data__point-time-color.las.json");
+    ASSERT_EQ(
+        test::run_command(std::string(LIDARSCOUT_CLI) + " info --checksum --json " + (dir / "a.laz").string(), out), 0);
+    const auto want =
+        test::read_json(test::formats_dir() / "expected/laz-rs__laz-rs__tests__data__point-time-color.las.json");
     EXPECT_EQ(nlohmann::json::parse(out).at(0).at("points_sha256"), want.at("points_sha256"));
     fs::remove_all(dir);
 }

@@ -22,8 +22,9 @@ protected:
 
 TEST_F(DemCommand, KentuckyDemOrthophotoAndHillshade) {
     std::string out;
-    const std::string cmd = std::string(LIDARSCOUT_CLI) + " dem " + ky() + " -o " + path("ky.tif") + " --texel 2 --rgb " +
-                            path("ky_rgb.tif") + " --hillshade " + path("ky.png") + " --json 2>/dev/null";
+    const std::string cmd = std::string(LIDARSCOUT_CLI) + " dem " + ky() + " -o " + path("ky.tif") +
+                            " --texel 2 --rgb " + path("ky_rgb.tif") + " --hillshade " + path("ky.png") +
+                            " --json 2>/dev/null";
     ASSERT_EQ(test::run_command(cmd, out), 0);
     const auto j = nlohmann::json::parse(out);
     EXPECT_EQ(j.at("points_read").get<std::uint64_t>(), 2'563'625u);

@@ -18,8 +18,8 @@ nlohmann::json eval_json(const std::string& args) {
 }
 
 TEST(EvalCommand, KentuckyAndIgnAllMethodsDeterministic) {
-    const std::string args = "--patches 8 --seed 3 " + (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string() + " " +
-                             (test::surveys_dir() / "ign-lidar-hd-1km").string();
+    const std::string args = "--patches 8 --seed 3 " + (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string() +
+                             " " + (test::surveys_dir() / "ign-lidar-hd-1km").string();
     const auto a = eval_json(args);
     for (const char* m : {"nearest", "linear", "cubic", "splat"}) {
         SCOPED_TRACE(m);
@@ -31,11 +31,13 @@ TEST(EvalCommand, KentuckyAndIgnAllMethodsDeterministic) {
         EXPECT_EQ(ky.at("patches").get<int>(), 8);
         EXPECT_GT(ky.at("psnr_db_mean").get<double>(), 10.0);  // Kentucky has colour
         EXPECT_LT(ky.at("psnr_db_mean").get<double>(), 60.0);
-        EXPECT_TRUE(a.at("datasets").at("ign-lidar-hd-1km").at("methods").at(m).at("psnr_db_mean").is_null());  // no colour
+        EXPECT_TRUE(
+            a.at("datasets").at("ign-lidar-hd-1km").at("methods").at(m).at("psnr_db_mean").is_null());  // no colour
     }
     for (const char* d : {"ky-jmo335-eastern-kentucky", "ign-lidar-hd-1km"}) {
         const auto& ms = a.at("datasets").at(d).at("methods");
-        EXPECT_LT(ms.at("linear").at("rmse_m_mean").get<double>(), ms.at("nearest").at("rmse_m_mean").get<double>()) << d;
+        EXPECT_LT(ms.at("linear").at("rmse_m_mean").get<double>(), ms.at("nearest").at("rmse_m_mean").get<double>())
+            << d;
     }
     const auto b = eval_json(args);
     for (const char* m : {"nearest", "linear", "cubic", "splat"}) {
@@ -52,7 +54,9 @@ TEST(EvalCommand, SplitSidesAreDisjoint) {
     const auto train = eval_json("--split train " + common);
     const auto val = eval_json("--split validation " + common);
     const auto patches = [](const nlohmann::json& j) { return j.at("methods").at("linear").at("patches").get<int>(); };
-    const auto& d = [](const nlohmann::json& j) -> const nlohmann::json& { return j.at("datasets").at("ky-jmo335-eastern-kentucky"); };
+    const auto& d = [](const nlohmann::json& j) -> const nlohmann::json& {
+        return j.at("datasets").at("ky-jmo335-eastern-kentucky");
+    };
     ASSERT_GT(patches(train), 10);
     ASSERT_GT(patches(val), 10);
     EXPECT_LT(patches(train) + patches(val), patches(all));  // some windows straddle
@@ -64,10 +68,12 @@ TEST(EvalCommand, SplitSidesAreDisjoint) {
 
 // --offsets adds shifted lattices: more patches from a small survey.
 TEST(EvalCommand, OffsetsAddPatches) {
-    const std::string wf = "--methods nearest --texel 5 --patches 1000 " + (test::surveys_dir() / "ky-woodford-county").string();
+    const std::string wf =
+        "--methods nearest --texel 5 --patches 1000 " + (test::surveys_dir() / "ky-woodford-county").string();
     const auto one = eval_json(wf);
     const auto four = eval_json("--offsets 4 " + wf);
-    EXPECT_GT(four.at("methods").at("nearest").at("patches").get<int>(), 2 * one.at("methods").at("nearest").at("patches").get<int>());
+    EXPECT_GT(four.at("methods").at("nearest").at("patches").get<int>(),
+              2 * one.at("methods").at("nearest").at("patches").get<int>());
 }
 
 TEST(EvalCommand, BadArgumentsAreOneLine) {
@@ -79,7 +85,9 @@ TEST(EvalCommand, BadArgumentsAreOneLine) {
     EXPECT_NE(out.find("--stride"), std::string::npos);
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " eval --split test " + ky + " 2>&1", out), 1);
     EXPECT_NE(out.find("--split"), std::string::npos);
-    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " eval --methods cnn --model /nonexistent.pt " + ky + " 2>&1", out), 1);
+    EXPECT_EQ(test::run_command(
+                  std::string(LIDARSCOUT_CLI) + " eval --methods cnn --model /nonexistent.pt " + ky + " 2>&1", out),
+              1);
     EXPECT_NE(out.find("/nonexistent.pt"), std::string::npos);
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }

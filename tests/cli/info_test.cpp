@@ -78,12 +78,17 @@ TEST(InfoCommand, ChunksAndChunkPoints) {
     int status = -1;
     auto f = info_json("--chunks " + path, status).at(0);
     EXPECT_EQ(status, 0);
-    const auto want = test::read_json(test::formats_dir() / "expected/PDAL__PDAL__test__data__laz__autzen_trim.laz.json");
+    const auto want =
+        test::read_json(test::formats_dir() / "expected/PDAL__PDAL__test__data__laz__autzen_trim.laz.json");
     ASSERT_EQ(f.at("chunks").size(), want.at("chunks").size());
     ASSERT_EQ(f.at("chunk_points").size(), want.at("chunk_points").size());
     for (std::size_t i = 0; i < f.at("chunks").size(); ++i) {
-        for (const char* k : {"first_point", "point_count", "byte_offset", "byte_size"}) EXPECT_EQ(f["chunks"][i][k], want["chunks"][i][k]);
-        for (const char* k : {"X", "Y", "Z", "intensity"}) EXPECT_EQ(f["chunk_points"][i][k], want["chunk_points"][i][k]);
+        for (const char* k : {"first_point", "point_count", "byte_offset", "byte_size"}) {
+            EXPECT_EQ(f["chunks"][i][k], want["chunks"][i][k]);
+        }
+        for (const char* k : {"X", "Y", "Z", "intensity"}) {
+            EXPECT_EQ(f["chunk_points"][i][k], want["chunk_points"][i][k]);
+        }
         EXPECT_EQ(f["chunk_points"][i]["rgb"], want["chunk_points"][i]["rgb"]);
     }
 }
@@ -96,7 +101,8 @@ TEST(InfoCommand, Latin1TextGivesValidUtf8) {
     ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --json " + path + " 2>&1", out), 0) << out;
     const auto j = nlohmann::json::parse(out);
     const std::string text = j.at(0).dump();
-    EXPECT_NE(text.find("basert p\xC3\xA5 EUREF89"), std::string::npos) << "Latin-1 not decoded: " << text.substr(0, 400);
+    EXPECT_NE(text.find("basert p\xC3\xA5 EUREF89"), std::string::npos)
+        << "Latin-1 not decoded: " << text.substr(0, 400);
     ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info " + path + " 2>&1", out), 0) << out;
     EXPECT_NO_THROW((void)nlohmann::json(out).dump()) << "plain text is not valid UTF-8";
 }

@@ -129,7 +129,8 @@ TEST_F(RenderCommand, OverviewDrawsLessThanHeightmaps) {
     EXPECT_EQ(overview.at("chunk_points_drawn"), overview.at("chunk_points"));
     EXPECT_GT(heightmaps.at("patches_with_heightmaps").get<int>(), 10);
     EXPECT_EQ(heightmaps.at("full_res_points"), 0);
-    const std::size_t drawn_overview = drawn_pixels(png("overview")), drawn_heightmaps = drawn_pixels(png("heightmaps"));
+    const std::size_t drawn_overview = drawn_pixels(png("overview")),
+                      drawn_heightmaps = drawn_pixels(png("heightmaps"));
     EXPECT_EQ(drawn_overview, overview.at("drawn_pixels").get<std::size_t>());
     EXPECT_EQ(drawn_heightmaps, heightmaps.at("drawn_pixels").get<std::size_t>());
     EXPECT_GT(drawn_overview, 100u);
@@ -182,8 +183,9 @@ void expect_golden(const fs::path& rendered, const std::string& name, int tolera
     std::size_t differing = 0;
     for (std::size_t i = 0; i < got.pixels.size(); ++i) {
         const std::uint32_t a = got.pixels[i], b = want.pixels[i];
-        const int d = std::max({std::abs(render::red(a) - render::red(b)), std::abs(render::green(a) - render::green(b)),
-                                std::abs(render::blue(a) - render::blue(b))});
+        const int d =
+            std::max({std::abs(render::red(a) - render::red(b)), std::abs(render::green(a) - render::green(b)),
+                      std::abs(render::blue(a) - render::blue(b))});
         differing += d > tolerance;
     }
     EXPECT_LE(static_cast<double>(differing) / got.pixels.size(), max_fraction) << differing << " pixels differ";
@@ -202,7 +204,8 @@ TEST_F(RenderCommand, GoldenHeightmapsInElevationColours) {
 
 TEST_F(RenderCommand, GoldenFullResolutionInRgb) {
     std::string out, err;
-    ASSERT_EQ(render(survey("ky-woodford-county") + " " + kGoldenCamera + " --until full", "golden", out, err), 0) << err;
+    ASSERT_EQ(render(survey("ky-woodford-county") + " " + kGoldenCamera + " --until full", "golden", out, err), 0)
+        << err;
     expect_golden(dir_ / "golden.png", "woodford_full_rgb");
 }
 

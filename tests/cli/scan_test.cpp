@@ -78,6 +78,13 @@ TEST(ScanCommand, MixedCrsReprojectedToTheCrsAskedFor) {
     ASSERT_EQ(status, 0);
     ASSERT_EQ(both.at("warnings").size(), 1u);
     EXPECT_NE(both.at("warnings")[0].get<std::string>().find("reprojected to EPSG:32632"), std::string::npos);
+    // the same, levelled: about the whole dataset (no file, no offset)
+    ASSERT_EQ(both.at("diagnostics").size(), 1u);
+    const auto& d = both.at("diagnostics")[0];
+    EXPECT_EQ(d.at("level"), "warning");
+    EXPECT_TRUE(d.at("file").is_null());
+    EXPECT_TRUE(d.at("offset").is_null());
+    EXPECT_EQ(d.at("message"), both.at("warnings")[0]);
     EXPECT_EQ(both.at("chunk_points_failed"), 0);
 }
 

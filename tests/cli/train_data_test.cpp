@@ -32,8 +32,8 @@ bool windows_overlap(const nlohmann::json& a, const nlohmann::json& b) {
 
 TEST(TrainDataCommand, PythonReadsWhatWasWritten) {
     const fs::path out = fs::temp_directory_path() / ("lidarscout_train_" + std::to_string(::getpid()) + ".bin");
-    const auto s = run_json(std::string(LIDARSCOUT_CLI) + " train-data --json --texel 5,10 --patches 6 -o " + out.string() +
-                            " " + (test::surveys_dir() / "ky-woodford-county").string() + " " +
+    const auto s = run_json(std::string(LIDARSCOUT_CLI) + " train-data --json --texel 5,10 --patches 6 -o " +
+                            out.string() + " " + (test::surveys_dir() / "ky-woodford-county").string() + " " +
                             (test::surveys_dir() / "ign-lidar-hd-1km").string() + " 2>/dev/null");
     const auto py = python_summary(out);
     EXPECT_EQ(py.at("count"), s.at("samples"));
@@ -53,17 +53,21 @@ TEST(TrainDataCommand, PythonReadsWhatWasWritten) {
 
 TEST(TrainDataCommand, RegionSplitKeepsWindowsApart) {
     const fs::path out = fs::temp_directory_path() / ("lidarscout_split_" + std::to_string(::getpid()) + ".bin");
-    const auto s = run_json(std::string(LIDARSCOUT_CLI) + " train-data --json --texel 2.5 --patches 40 --split-block 700 "
-                            "--val-fraction 0.5 -o " + out.string() + " " +
-                            (test::surveys_dir() / "ky-woodford-county").string() + " 2>/dev/null");
+    const auto s =
+        run_json(std::string(LIDARSCOUT_CLI) +
+                 " train-data --json --texel 2.5 --patches 40 --split-block 700 "
+                 "--val-fraction 0.5 -o " +
+                 out.string() + " " + (test::surveys_dir() / "ky-woodford-county").string() + " 2>/dev/null");
     EXPECT_GT(s.at("train").get<int>(), 0);
     EXPECT_GT(s.at("validation").get<int>(), 0);
     std::string text;
     // The metadata is the file's tail; read it through the Python reader's loader.
-    ASSERT_EQ(test::run_command("cd " + (fs::path(LIDARSCOUT_SOURCE_DIR) / "python").string() +
-                                    " && /usr/bin/python3 -c \"import json,sys; from lidarscout_train.train_data import load; "
-                                    "print(json.dumps(load(sys.argv[1])[1]['samples']))\" " + out.string(),
-                                text),
+    ASSERT_EQ(test::run_command(
+                  "cd " + (fs::path(LIDARSCOUT_SOURCE_DIR) / "python").string() +
+                      " && /usr/bin/python3 -c \"import json,sys; from lidarscout_train.train_data import load; "
+                      "print(json.dumps(load(sys.argv[1])[1]['samples']))\" " +
+                      out.string(),
+                  text),
               0);
     const auto samples = nlohmann::json::parse(text);
     for (const auto& a : samples) {

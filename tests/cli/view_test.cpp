@@ -68,7 +68,8 @@ TEST_F(ViewCommand, HelpNeedsNoDisplay) {
 TEST_F(ViewCommand, NoDisplayIsOneClearLine) {
     std::string out;
     const std::string survey = (test::surveys_dir() / "ky-woodford-county").string();
-    EXPECT_EQ(test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " LIDARSCOUT_CLI " view " + survey + " 2>&1", out), 1);
+    EXPECT_EQ(test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " LIDARSCOUT_CLI " view " + survey + " 2>&1", out),
+              1);
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
     EXPECT_NE(out.find("display"), std::string::npos) << out;
 }

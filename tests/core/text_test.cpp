@@ -10,7 +10,8 @@ namespace {
 
 TEST(DisplayText, KeepsAsciiAndValidUtf8) {
     EXPECT_EQ(display_text("LASF_Projection"), "LASF_Projection");
-    EXPECT_EQ(display_text("Gau\xC3\x9F-Kr\xC3\xBCger \xE2\x82\xAC \xF0\x9F\x8C\x8D"), "Gau\xC3\x9F-Kr\xC3\xBCger \xE2\x82\xAC \xF0\x9F\x8C\x8D");
+    EXPECT_EQ(display_text("Gau\xC3\x9F-Kr\xC3\xBCger \xE2\x82\xAC \xF0\x9F\x8C\x8D"),
+              "Gau\xC3\x9F-Kr\xC3\xBCger \xE2\x82\xAC \xF0\x9F\x8C\x8D");
 }
 
 TEST(DisplayText, TakesOtherBytesAsLatin1) {

@@ -18,7 +18,9 @@ using test::Expected;
 std::vector<Expected> with_chunk_points() {
     std::vector<Expected> out;
     for (auto& e : test::all_expected()) {
-        if (e.json.contains("chunks") && !e.json.at("chunks").empty() && e.json.at("reference_result") == "decodes") out.push_back(std::move(e));
+        if (e.json.contains("chunks") && !e.json.at("chunks").empty() && e.json.at("reference_result") == "decodes") {
+            out.push_back(std::move(e));
+        }
     }
     return out;
 }

@@ -64,16 +64,19 @@ TEST(Dataset, MixedCrsWarns) {
                                      (test::surveys_dir() / "ign-lidar-hd-1km").string()});
     ASSERT_TRUE(ds.skipped.empty());
     ASSERT_EQ(ds.warnings.size(), 1u);
-    EXPECT_NE(ds.warnings[0].find("different coordinate reference systems"), std::string::npos);
-    EXPECT_NE(ds.warnings[0].find("EPSG:3089"), std::string::npos);
-    EXPECT_NE(ds.warnings[0].find("reprojected to EPSG:2154"), std::string::npos);  // 7 IGN tiles, 1 Kentucky
+    EXPECT_EQ(ds.warnings[0].level, DiagnosticLevel::warning);
+    EXPECT_NE(ds.warnings[0].message.find("different coordinate reference systems"), std::string::npos);
+    EXPECT_NE(ds.warnings[0].message.find("EPSG:3089"), std::string::npos);
+    EXPECT_NE(ds.warnings[0].message.find("reprojected to EPSG:2154"), std::string::npos);  // 7 IGN tiles, 1 Kentucky
     EXPECT_EQ(ds.frame.crs.rfind("EPSG:2154", 0), 0u);
 }
 
 std::vector<MetricPoint> all_points(const Dataset& ds, std::uint32_t tile) {
     ThreadPool pool(2);
     std::vector<MetricPoint> out;
-    for_each_metric_batch(ds, tile, pool, [&](std::uint64_t, std::span<const MetricPoint> p) { out.insert(out.end(), p.begin(), p.end()); });
+    for_each_metric_batch(ds, tile, pool, [&](std::uint64_t, std::span<const MetricPoint> p) {
+        out.insert(out.end(), p.begin(), p.end());
+    });
     return out;
 }
 
@@ -121,7 +124,7 @@ TEST(Dataset, TileInAnotherCrsLandsOnItsPlace) {
     const Dataset majority = open_dataset({converted, original, original});  // two tiles in 32632, one in 32633
     EXPECT_EQ(majority.frame.crs, "EPSG:32632");
     ASSERT_EQ(majority.warnings.size(), 1u);
-    EXPECT_NE(majority.warnings[0].find("reprojected to EPSG:32632"), std::string::npos);
+    EXPECT_NE(majority.warnings[0].message.find("reprojected to EPSG:32632"), std::string::npos);
     fs::remove_all(dir);
 }
 

@@ -25,16 +25,16 @@ public:
         while (n < out.size() && next_ < requests_.size()) out[n++] = requests_[next_++];
         return n;
     }
-    void complete(const ReadRequest& r, std::span<const std::uint8_t> data, const std::string& error) override {
+    void complete(const ReadRequest& r, std::span<const std::uint8_t> data, const ErrorRecord* error) override {
         std::lock_guard lock(mutex_);
-        if (error.empty()) {
+        if (!error) {
             results[r.tag].assign(data.begin(), data.end());
         } else {
-            errors[r.tag] = error;
+            errors[r.tag] = *error;
         }
     }
     std::map<std::uint64_t, std::vector<std::uint8_t>> results;
-    std::map<std::uint64_t, std::string> errors;
+    std::map<std::uint64_t, ErrorRecord> errors;
 
 private:
     std::mutex mutex_;
@@ -78,15 +78,34 @@ TEST_P(BatchReader, DeliversTheRequestedBytes) {
         ASSERT_EQ(source.results[r.tag], expected) << "request " << r.tag;
     }
     ASSERT_EQ(source.errors.size(), 1u);
-    EXPECT_NE(source.errors[5000].find("short read"), std::string::npos);
+    EXPECT_NE(source.errors[5000].cause.find("short read"), std::string::npos);
+    EXPECT_EQ(source.errors[5000].offset, file.size() - 10);  // the request's offset
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, BatchReader,
                          ::testing::Values(Case{ReadBackend::Pread, false}, Case{ReadBackend::Pread, true},
                                            Case{ReadBackend::IoUring, false}, Case{ReadBackend::IoUring, true}),
                          [](const auto& info) {
-                             return std::string(backend_name(info.param.backend)) + (info.param.direct ? "_direct" : "_buffered");
+                             return std::string(backend_name(info.param.backend)) +
+                                    (info.param.direct ? "_direct" : "_buffered");
                          });
+
+TEST(BatchReaderErrors, ErrorsNameTheTargetsFileAndOffset) {
+    const auto path = (test::surveys_dir() / "ky-red-river-gorge" / "N105E348.laz").string();
+    const auto size = File::open(path).size();
+    const auto target = ReadTarget::open(path, false);
+    ListSource source({target.request(size - 4, 8, 1), target.request(0, 8, 2)});
+    BatchReadOptions opt;
+    opt.backend = ReadBackend::Pread;
+    opt.threads = 1;
+    run_batch_reads(source, opt);
+    ASSERT_EQ(source.errors.size(), 1u);
+    const ErrorRecord& e = source.errors.at(1);
+    EXPECT_EQ(e.file, path);
+    EXPECT_EQ(e.offset, size - 4);
+    EXPECT_EQ(e.cause, kShortRead);
+    EXPECT_EQ(source.results.at(2).size(), 8u);
+}
 
 TEST(BatchReaderErrors, BadDescriptorIsReportedPerRead) {
     ListSource source({{-1, 0, 10, 1}, {-1, 100, 10, 2}});
@@ -95,7 +114,9 @@ TEST(BatchReaderErrors, BadDescriptorIsReportedPerRead) {
     opt.threads = 1;
     run_batch_reads(source, opt);
     ASSERT_EQ(source.errors.size(), 2u);
-    EXPECT_NE(source.errors[1].find("read failed"), std::string::npos);
+    EXPECT_NE(source.errors[1].cause.find("read failed"), std::string::npos);
+    EXPECT_EQ(source.errors[2].offset, 100u);
+    EXPECT_EQ(source.errors[2].file, "");  // a bare descriptor names no file
 }
 
 }  // namespace

@@ -103,7 +103,8 @@ TEST(OutputFile, CopyFromAcrossFileSystems) {
 
 TEST(OutputFile, CopyFromPastTheEndThrows) {
     TempDir dir;
-    const auto source = io::File::open((test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string());
+    const auto source =
+        io::File::open((test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string());
     io::AtomicOutputFile out((dir.path / "x.bin").string());
     try {
         out.copy_from(source, source.size() - 10, 20);

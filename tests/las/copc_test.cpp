@@ -71,7 +71,8 @@ TEST(Copc, CorpusHierarchiesMatchHeaderAndChunkTable) {
             EXPECT_GT(n.point_count, 0);
             EXPECT_GE(n.offset, o.header.offset_to_point_data);
             EXPECT_LE(n.offset + static_cast<std::uint64_t>(n.byte_size), o.file.size());
-            nodes.insert({n.offset, static_cast<std::uint64_t>(n.byte_size), static_cast<std::uint64_t>(n.point_count)});
+            nodes.insert(
+                {n.offset, static_cast<std::uint64_t>(n.byte_size), static_cast<std::uint64_t>(n.point_count)});
         }
 
         const auto expected_path = test::formats_dir() / "expected" / (fs::path(name).parent_path().string() + "__" +

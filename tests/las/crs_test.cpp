@@ -38,15 +38,15 @@ std::vector<fs::path> laz_files(const fs::path& dir) {
     return out;
 }
 
-std::string joined(const std::vector<std::string>& v) {
+std::string joined(const Diagnostics& v) {
     std::string s;
-    for (const auto& w : v) s += w + "\n";
+    for (const auto& w : v) s += w.message + "\n";
     return s;
 }
 
 bool any_warning_contains(const Crs& c, const std::string& needle) {
     for (const auto& w : c.warnings) {
-        if (w.find(needle) != std::string::npos) return true;
+        if (w.message.find(needle) != std::string::npos) return true;
     }
     return false;
 }
@@ -145,7 +145,8 @@ TEST(Crs, WktVariantsOfTheCorpus) {
         {"PDAL__PDAL/test__data__las__autzen_trim_7.las", std::nullopt, std::nullopt, false,
          LinearUnit::InternationalFoot, LinearUnit::Unknown},
         // COMPD_CS without authorities, "Meter"
-        {"hobuinc__untwine/test__data__eb.laz", std::nullopt, std::nullopt, false, LinearUnit::Metre, LinearUnit::Metre},
+        {"hobuinc__untwine/test__data__eb.laz", std::nullopt, std::nullopt, false, LinearUnit::Metre,
+         LinearUnit::Metre},
     };
     for (const auto& k : cases) {
         SCOPED_TRACE(k.file);
@@ -322,13 +323,18 @@ TEST(Crs, MalformedGeoKeysAreIgnoredWithWarnings) {
     EXPECT_TRUE(any_warning_contains(c, "GeoKey 3077 refers to doubles 5..6")) << joined(c.warnings);
     EXPECT_TRUE(any_warning_contains(c, "GeoKey 1026 refers to characters 0..40")) << joined(c.warnings);
     EXPECT_TRUE(any_warning_contains(c, "VLR at offset 500")) << joined(c.warnings);
+    for (const auto& w : c.warnings) {  // levelled, and placed at the record they are about
+        EXPECT_EQ(w.level, DiagnosticLevel::warning);
+        EXPECT_EQ(w.offset, 500u) << w.message;
+    }
 }
 
 TEST(Crs, TruncatedGeoKeysFallBackToWkt) {
     const io::File no_file;
     const std::vector<Vlr> vlrs = {
         projection_vlr(34735, {1, 0, 1}),  // 3 bytes: not even a header
-        projection_vlr(2112, text(R"w(PROJCS["x",UNIT["US survey foot",0.3048006096012192],AUTHORITY["EPSG","2264"]])w")),
+        projection_vlr(2112,
+                       text(R"w(PROJCS["x",UNIT["US survey foot",0.3048006096012192],AUTHORITY["EPSG","2264"]])w")),
     };
     const Crs c = read_crs(vlrs, {}, no_file);
     EXPECT_EQ(c.source, "wkt");
@@ -370,7 +376,8 @@ TEST(Crs, WktSyntaxVariants) {
     EXPECT_EQ(c.horizontal_unit, LinearUnit::InternationalFoot);
     EXPECT_TRUE(c.warnings.empty()) << joined(c.warnings);
 
-    c = parse_wkt_crs(R"w(VERT_CS["NAVD88 height (ftUS)",UNIT["US survey foot",0.304800609601219],AUTHORITY["EPSG","6360"]])w");
+    c = parse_wkt_crs(
+        R"w(VERT_CS["NAVD88 height (ftUS)",UNIT["US survey foot",0.304800609601219],AUTHORITY["EPSG","6360"]])w");
     EXPECT_EQ(c.epsg, std::nullopt);
     EXPECT_EQ(c.vertical_epsg, 6360);
     EXPECT_EQ(c.vertical_unit, LinearUnit::UsSurveyFoot);

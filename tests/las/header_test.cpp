@@ -61,7 +61,9 @@ TEST(HeaderFormats, ReferenceCoversAllDecodableFiles) { EXPECT_EQ(decodable().si
 // A scratch file holding the first bytes of a real header, then edited.
 class BrokenHeader : public ::testing::Test {
 protected:
-    std::string path = (std::filesystem::temp_directory_path() / ("lidarscout_header_" + std::to_string(::getpid()) + ".las")).string();
+    std::string path =
+        (std::filesystem::temp_directory_path() / ("lidarscout_header_" + std::to_string(::getpid()) + ".las"))
+            .string();
     std::vector<char> bytes;
 
     void SetUp() override {
@@ -120,7 +122,8 @@ TEST_F(BrokenHeader, UnknownFormat) {
 
 TEST_F(BrokenHeader, PointCountDoesNotFit) {
     put<std::uint32_t>(107, 110001);
-    EXPECT_NE(error().find("header announces 110001 points of 34 bytes but the file holds only 110000"), std::string::npos);
+    EXPECT_NE(error().find("header announces 110001 points of 34 bytes but the file holds only 110000"),
+              std::string::npos);
 }
 
 TEST_F(BrokenHeader, ZeroScale) {

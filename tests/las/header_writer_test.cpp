@@ -37,7 +37,8 @@ TEST_P(HeaderRoundTrip, SameBytes) {
     auto original = file.read_vector(0, h.header_size);
     clear_after_nul(original, 26, 32);
     clear_after_nul(original, 58, 32);
-    std::vector<std::uint8_t> trailing(original.begin() + std::min<std::size_t>(standard, original.size()), original.end());
+    std::vector<std::uint8_t> trailing(original.begin() + std::min<std::size_t>(standard, original.size()),
+                                       original.end());
     auto bytes = las::serialize_header(h, trailing);
     ASSERT_EQ(bytes.size(), original.size());
     EXPECT_TRUE(bytes == original);

@@ -196,12 +196,14 @@ TEST(LaszipVlrPayload, RejectsWrongItemSizes) {
     std::uint64_t at = 0;
     EXPECT_EQ(rejection(payload(2, {{6, 21, 2}}), &at), "laszip VLR: item 0 (POINT10) has size 21, must be 20");
     EXPECT_EQ(at, kAt + 34 + 2);
-    EXPECT_NE(rejection(payload(2, {{6, 20, 2}, {7, 4, 2}})).find("GPSTIME11) has size 4, must be 8"), std::string::npos);
+    EXPECT_NE(rejection(payload(2, {{6, 20, 2}, {7, 4, 2}})).find("GPSTIME11) has size 4, must be 8"),
+              std::string::npos);
     EXPECT_NE(rejection(payload(2, {{6, 20, 2}, {8, 8, 2}})).find("RGB12) has size 8, must be 6"), std::string::npos);
     EXPECT_NE(rejection(payload(2, {{6, 20, 2}, {9, 28, 1}})).find("WAVEPACKET13) has size 28"), std::string::npos);
     EXPECT_NE(rejection(payload(2, {{6, 20, 2}, {0, 0, 2}})).find("(BYTE) has size 0"), std::string::npos);
     EXPECT_NE(rejection(payload(3, {{10, 20, 3}})).find("POINT14) has size 20, must be 30"), std::string::npos);
-    EXPECT_NE(rejection(payload(3, {{10, 30, 3}, {12, 6, 3}})).find("RGBNIR14) has size 6, must be 8"), std::string::npos);
+    EXPECT_NE(rejection(payload(3, {{10, 30, 3}, {12, 6, 3}})).find("RGBNIR14) has size 6, must be 8"),
+              std::string::npos);
     EXPECT_NE(rejection(payload(3, {{10, 30, 3}, {14, 0, 3}})).find("(BYTE14) has size 0"), std::string::npos);
 }
 
@@ -211,8 +213,9 @@ TEST(LaszipVlrPayload, RejectsUnsupportedItemVersions) {
               "laszip VLR: item 0 (POINT10) has unsupported version 0 (1 to 2 expected)");
     EXPECT_EQ(at, kAt + 34 + 4);
     EXPECT_NE(rejection(payload(2, {{6, 20, 3}})).find("version 3 (1 to 2 expected)"), std::string::npos);
-    EXPECT_NE(rejection(payload(2, {{6, 20, 2}, {9, 29, 2}})).find("WAVEPACKET13) has unsupported version 2 (1 expected)"),
-              std::string::npos);
+    EXPECT_NE(
+        rejection(payload(2, {{6, 20, 2}, {9, 29, 2}})).find("WAVEPACKET13) has unsupported version 2 (1 expected)"),
+        std::string::npos);
     EXPECT_NE(rejection(payload(3, {{10, 30, 1}})).find("POINT14) has unsupported version 1 (2 to 4 expected)"),
               std::string::npos);
     EXPECT_NE(rejection(payload(3, {{10, 30, 5}})).find("version 5"), std::string::npos);
@@ -222,8 +225,9 @@ TEST(LaszipVlrPayload, RejectsUnsupportedItemVersions) {
 
 TEST(LaszipVlrPayload, RejectsUnknownItemTypes) {
     for (std::uint16_t type : {1, 2, 3, 4, 5, 15, 22, 0xFFFF}) {
-        EXPECT_NE(rejection(payload(2, {{6, 20, 2}, {type, 4, 2}})).find("item 1 has unknown type " + std::to_string(type)),
-                  std::string::npos)
+        EXPECT_NE(
+            rejection(payload(2, {{6, 20, 2}, {type, 4, 2}})).find("item 1 has unknown type " + std::to_string(type)),
+            std::string::npos)
             << type;
     }
 }

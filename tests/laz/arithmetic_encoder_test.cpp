@@ -103,7 +103,8 @@ std::size_t check_decodes(const std::vector<Op>& ops, std::span<const std::uint8
     std::size_t wrong = 0;
     for (const Op& op : ops) {
         if (const auto* b = std::get_if<BitOp>(&op)) wrong += dec.decode_bit(m.bits[b->model]) != b->bit;
-        else if (const auto* s = std::get_if<SymbolOp>(&op)) wrong += dec.decode_symbol(m.symbols[s->model]) != s->symbol;
+        else if (const auto* s = std::get_if<SymbolOp>(&op))
+            wrong += dec.decode_symbol(m.symbols[s->model]) != s->symbol;
         else if (const auto* r = std::get_if<RawOp>(&op)) wrong += dec.read_bits(r->bits) != r->value;
         else wrong += dec.read_int64() != std::get<Int64Op>(op).value;
     }

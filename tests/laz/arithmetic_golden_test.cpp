@@ -197,7 +197,8 @@ std::vector<IntegerWorkload> integer_workloads() {
              std::vector<Coded> out;
              std::int32_t prev = 0;
              for (int i = 0; i < 30000; ++i) {
-                 std::int32_t v = static_cast<std::int32_t>((static_cast<std::uint32_t>(prev) + (r.next() % 201) - 100) & 0xFFFF);
+                 std::int32_t v =
+                     static_cast<std::int32_t>((static_cast<std::uint32_t>(prev) + (r.next() % 201) - 100) & 0xFFFF);
                  if (i % 40 == 0) v = static_cast<std::int32_t>(r.next() & 0xFFFF);
                  out.push_back({prev, v, 0});
                  prev = v;

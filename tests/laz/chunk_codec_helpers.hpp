@@ -20,7 +20,8 @@ struct Encoded {
     std::vector<Chunk> chunks;
 };
 
-inline Encoded encode_in_chunks(const las::LaszipVlr& laz, std::span<const std::uint8_t> records, std::uint64_t chunk_size) {
+inline Encoded encode_in_chunks(const las::LaszipVlr& laz, std::span<const std::uint8_t> records,
+                                std::uint64_t chunk_size) {
     const std::size_t rl = laz.record_length();
     const std::uint64_t total = records.size() / rl;
     Encoded e;

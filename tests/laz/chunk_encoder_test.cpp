@@ -34,7 +34,6 @@
 #include "laz/chunk_table.hpp"
 #include "laz/chunk_table_writer.hpp"
 #include "laz/laszip_vlr_writer.hpp"
-#include "laz/point10/gpstime11_v2_encoder.hpp"
 #include "laz/chunk_codec_helpers.hpp"
 #include "test_data.hpp"
 
@@ -81,7 +80,8 @@ std::vector<Pair> encode_pairs() {
     std::vector<Pair> pairs;
     for (const auto& j : test::read_json(test::formats_dir() / "expected" / "encode_pairs.json")) {
         pairs.push_back({test::formats_dir() / j.at("las").get<std::string>(),
-                         test::formats_dir() / j.at("laz").get<std::string>(), j.at("chunk_size").get<std::uint32_t>()});
+                         test::formats_dir() / j.at("laz").get<std::string>(),
+                         j.at("chunk_size").get<std::uint32_t>()});
     }
     return pairs;
 }
@@ -137,7 +137,8 @@ TEST_P(EncodePairs, ChunksAndTableAreByteIdentical) {
         identical += same;
         EXPECT_TRUE(same) << "chunk " << i << ": " << mine.size() << " bytes encoded, " << stored.size()
                           << " stored, first difference at byte "
-                          << (std::mismatch(mine.begin(), mine.end(), stored.begin(), stored.end()).first - mine.begin());
+                          << (std::mismatch(mine.begin(), mine.end(), stored.begin(), stored.end()).first -
+                              mine.begin());
     }
     EXPECT_EQ(identical, ours.chunks.size());
 
@@ -252,7 +253,9 @@ std::vector<std::uint8_t> synthetic_records(std::size_t n, std::uint32_t seed) {
         x = static_cast<std::int32_t>(static_cast<std::uint32_t>(x) + static_cast<std::uint32_t>(jump));
         y = static_cast<std::int32_t>(static_cast<std::uint32_t>(y) + (sometimes(40) ? rng() : rng() % 301 - 150));
         z = sometimes(30) ? big() : z + static_cast<std::int32_t>(rng() % 41) - 20;
-        if (sometimes(4)) flags = static_cast<std::uint8_t>(sometimes(3) ? rng() : (1 + rng() % 5) | ((1 + rng() % 5) << 3));
+        if (sometimes(4)) {
+            flags = static_cast<std::uint8_t>(sometimes(3) ? rng() : (1 + rng() % 5) | ((1 + rng() % 5) << 3));
+        }
         if (sometimes(3)) intensity = static_cast<std::uint16_t>(sometimes(5) ? rng() : intensity + rng() % 21 - 10);
         if (sometimes(10)) cls = static_cast<std::uint8_t>(rng());
         if (sometimes(10)) angle = static_cast<std::uint8_t>(angle + rng() % 7 - 3);
@@ -329,24 +332,6 @@ TEST(ChunkEncoder, OnePointChunkIsTheRecordAndAnEmptyStream) {
     expected.insert(expected.end(), rec.begin(), rec.end());
     expected.insert(expected.end(), {0x01, 0, 0, 0});
     EXPECT_EQ(out, expected);
-}
-
-TEST(ChunkEncoder, GpsMultipleIsRoundedAsLaszipDoes) {
-    EXPECT_EQ(point10::gps_delta_multiple(20, 10), 2);
-    EXPECT_EQ(point10::gps_delta_multiple(15, 10), 2);    // 1.5 rounds away from zero
-    EXPECT_EQ(point10::gps_delta_multiple(-15, 10), -2);
-    EXPECT_EQ(point10::gps_delta_multiple(14, 10), 1);
-    EXPECT_EQ(point10::gps_delta_multiple(4, 10), 0);
-    EXPECT_EQ(point10::gps_delta_multiple(-5, 10), -1);
-    // 16777217 / 2 is 8388608.5 exactly, but single precision makes it 8388608 first.
-    EXPECT_EQ(point10::gps_delta_multiple(16777217, 2), 8388608);
-    // Quotients beyond int32 give INT32_MIN (x86-64 conversion of LASzip's rounding).
-    EXPECT_EQ(point10::gps_delta_multiple(std::numeric_limits<std::int32_t>::max(), 1),
-              std::numeric_limits<std::int32_t>::min());
-    EXPECT_EQ(point10::gps_delta_multiple(std::numeric_limits<std::int32_t>::min(), -1),
-              std::numeric_limits<std::int32_t>::min());
-    EXPECT_EQ(point10::gps_delta_multiple(std::numeric_limits<std::int32_t>::min(), 1),
-              std::numeric_limits<std::int32_t>::min());
 }
 
 TEST(ChunkEncoder, RejectsWhatItCannotEncode) {

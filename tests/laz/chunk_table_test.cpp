@@ -285,7 +285,8 @@ TEST(ChunkTableDamaged, ChunkRunningIntoTheTable) {
         std::memcpy(b.data() + 300000, b.data() + kAutzenTable, 20);
         poke<std::int64_t>(b, kAutzenPosition, 300000);
     });
-    EXPECT_TRUE(contains(rejection(f.path()), "chunk 1 at byte 285651 with 262423 bytes runs past the table at 300000"));
+    EXPECT_TRUE(
+        contains(rejection(f.path()), "chunk 1 at byte 285651 with 262423 bytes runs past the table at 300000"));
 }
 
 TEST(ChunkTableDamaged, NoChunksForSomePoints) {
@@ -330,7 +331,8 @@ TEST(ChunkTableDamaged, EntriesStopAtTheEvlrs) {
     // One chunk more than coded: the 16th entry would have to come from the EVLR that
     // follows the table.
     EditedFile f(kLoneStar, [](auto& b) { poke<std::uint32_t>(b, 2704562 + 4, 16); });
-    EXPECT_TRUE(contains(rejection(f.path()), "truncated: entry 15 of 16 runs past the end of the table's bytes at 2704653"));
+    EXPECT_TRUE(
+        contains(rejection(f.path()), "truncated: entry 15 of 16 runs past the end of the table's bytes at 2704653"));
 }
 
 // ---- tables written by the test encoder ---------------------------------------------------------

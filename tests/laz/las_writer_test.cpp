@@ -58,7 +58,8 @@ protected:
             p.number_of_returns = 1;
             p.classification = static_cast<std::uint8_t>(2 + i % 4);
             p.gps_time = 1000.0 + i * 1e-4;
-            p.rgb = {static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(2 * i), static_cast<std::uint16_t>(3 * i)};
+            p.rgb = {static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(2 * i),
+                     static_cast<std::uint16_t>(3 * i)};
             p.point_source_id = 7;
             las::encode_point(p, f, std::span(out).subspan(i * f.size, f.size));
         }

@@ -30,9 +30,10 @@ const fs::path& reference_dir() {
     static const fs::path dir = [] {
         const fs::path d = fs::temp_directory_path() / ("lidarscout_nn_ref_" + std::to_string(::getpid()));
         std::string out;
-        const int rc = test::run_command("cd " + (fs::path(LIDARSCOUT_SOURCE_DIR) / "python").string() +
-                                             " && /usr/bin/python3 -m lidarscout_train.reference_io " + d.string() + " 2>&1",
-                                         out);
+        const int rc =
+            test::run_command("cd " + (fs::path(LIDARSCOUT_SOURCE_DIR) / "python").string() +
+                                  " && /usr/bin/python3 -m lidarscout_train.reference_io " + d.string() + " 2>&1",
+                              out);
         EXPECT_EQ(rc, 0) << out;
         return d;
     }();

@@ -81,7 +81,9 @@ TEST(ShippedModel, PlanarInputComesBackPlanar) {
     for (int r = 0; r < 64; ++r) {
         for (int c = 0; c < 64; ++c) {
             mean_offset += out[r * 64 + c] - (a * (c + 16 - 47.5) / 48.0 + b * (r + 16 - 47.5) / 48.0);
-            for (int ch = 1; ch < 4; ++ch) worst_colour = std::max(worst_colour, std::abs(out[ch * 4096 + r * 64 + c] - 0.4));
+            for (int ch = 1; ch < 4; ++ch) {
+                worst_colour = std::max(worst_colour, std::abs(out[ch * 4096 + r * 64 + c] - 0.4));
+            }
         }
     }
     mean_offset /= 4096.0;
@@ -105,7 +107,8 @@ TEST(ShippedModel, BatchOfRealPatchesIsFinite) {
     const auto s = pipelines::sample_survey(ds, {{l, pipelines::auto_stride(ds, spec), {}}}, pool);
     std::vector<recon::InterpolatedPatch> patches;
     for (const auto cell : s.samples[0].chunk_points->cells()) {
-        auto ip = recon::interpolate_patch(recon::make_patch_points(*s.samples[0].chunk_points, cell, {spec, 25, true}));
+        auto ip =
+            recon::interpolate_patch(recon::make_patch_points(*s.samples[0].chunk_points, cell, {spec, 25, true}));
         if (ip.status == recon::PatchStatus::Ok) patches.push_back(std::move(ip));
         if (patches.size() == 5) break;
     }
@@ -130,10 +133,11 @@ TEST(ShippedModel, BatchOfRealPatchesIsFinite) {
 
 TEST(ShippedModel, EvalScoresCnnOnTheSamePatches) {
     std::string out;
-    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " eval --json --methods linear,cnn --patches 6 --texel 5 " +
-                                    (test::surveys_dir() / "ky-woodford-county").string() + " 2>/dev/null",
-                                out),
-              0);
+    ASSERT_EQ(
+        test::run_command(std::string(LIDARSCOUT_CLI) + " eval --json --methods linear,cnn --patches 6 --texel 5 " +
+                              (test::surveys_dir() / "ky-woodford-county").string() + " 2>/dev/null",
+                          out),
+        0);
     const auto j = nlohmann::json::parse(out);
     const auto& m = j.at("methods");
     EXPECT_EQ(m.at("cnn").at("patches"), m.at("linear").at("patches"));

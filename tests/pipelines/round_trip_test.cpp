@@ -28,7 +28,8 @@ std::string checksum(const std::string& path) {
     auto file = io::File::open(path);
     auto tile = dataset::read_tile(file);
     Sha256 sha;
-    dataset::for_each_record_batch(file, tile, pool(), [&](std::uint64_t, std::span<const std::uint8_t> r) { sha.update(r); });
+    dataset::for_each_record_batch(file, tile, pool(),
+                                   [&](std::uint64_t, std::span<const std::uint8_t> r) { sha.update(r); });
     return sha.hex_digest();
 }
 
@@ -64,7 +65,9 @@ std::vector<std::string> corpus_las_files() {
     return out;
 }
 
-std::vector<std::string> survey_tiles() { return dataset::find_point_cloud_files({test::surveys_dir().string()}).files; }
+std::vector<std::string> survey_tiles() {
+    return dataset::find_point_cloud_files({test::surveys_dir().string()}).files;
+}
 
 std::string name_of(const ::testing::TestParamInfo<std::string>& info) {
     auto s = fs::relative(info.param, test::data_dir()).string();

@@ -34,7 +34,8 @@ TEST(SurveySamples, AutoStrideFollowsTheRule) {
 TEST(SurveySamples, CandidatesAreDeterministicAndInsideTheData) {
     const auto& ds = woodford();
     const Lattice l = lattice_for(ds, PatchSpec{});
-    const auto a = candidate_patches(ds, l, 50, 7), b = candidate_patches(ds, l, 50, 7), c = candidate_patches(ds, l, 50, 8);
+    const auto a = candidate_patches(ds, l, 50, 7), b = candidate_patches(ds, l, 50, 7),
+               c = candidate_patches(ds, l, 50, 8);
     EXPECT_EQ(a, b);
     ASSERT_GT(a.size(), 1u);
     EXPECT_NE(a, c);  // another seed, another order

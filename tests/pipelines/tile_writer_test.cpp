@@ -33,7 +33,8 @@ protected:
         auto file = io::File::open(path);
         auto tile = dataset::read_tile(file);
         Sha256 sha;
-        dataset::for_each_record_batch(file, tile, pool, [&](std::uint64_t, std::span<const std::uint8_t> r) { sha.update(r); });
+        dataset::for_each_record_batch(file, tile, pool,
+                                       [&](std::uint64_t, std::span<const std::uint8_t> r) { sha.update(r); });
         return sha.hex_digest();
     }
 };
@@ -125,7 +126,9 @@ TEST_F(TileWriter, NeverOverwritesTheInputAndLeavesNoHalfFile) {
     const auto broken = (test::formats_dir() / "PDAL__PDAL/test__data__las__1.2-with-color-clipped.las").string();
     EXPECT_THROW(pipelines::convert_tile(broken, out("x.laz"), {}, pool), Error);
     EXPECT_FALSE(fs::exists(out("x.laz")));
-    for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos);
+    for (const auto& e : fs::directory_iterator(dir)) {
+        EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos);
+    }
 }
 
 }  // namespace

@@ -20,7 +20,8 @@ namespace {
 TEST(PythonTraining, SelfTestPasses) {
     std::string out;
     const auto dir = std::filesystem::path(LIDARSCOUT_SOURCE_DIR) / "python";
-    const int status = test::run_command("cd " + dir.string() + " && /usr/bin/python3 -m lidarscout_train.selftest 2>&1", out);
+    const int status =
+        test::run_command("cd " + dir.string() + " && /usr/bin/python3 -m lidarscout_train.selftest 2>&1", out);
     EXPECT_EQ(status, 0) << out;
     EXPECT_NE(out.find("ok"), std::string::npos) << out;
 }
@@ -31,17 +32,18 @@ TEST(PythonTraining, OneStepOnAGeneratedFile) {  // then fine-tuning on two file
     fs::create_directories(dir);
     std::string out;
     ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " train-data " +
-                                    (test::surveys_dir() / "ky-woodford-county").string() + " -o " + (dir / "d.bin").string() +
-                                    " --texel 2.5 --patches 6 --val-fraction 0 2>&1",
+                                    (test::surveys_dir() / "ky-woodford-county").string() + " -o " +
+                                    (dir / "d.bin").string() + " --texel 2.5 --patches 6 --val-fraction 0 2>&1",
                                 out),
               0)
         << out;
     const auto python = std::filesystem::path(LIDARSCOUT_SOURCE_DIR) / "python";
-    ASSERT_EQ(test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_train.train " +
-                                    (dir / "d.bin").string() + " --out " + (dir / "run").string() +
-                                    " --epochs 1 --max-steps 1 --batch 4 --width 4 --head-kernel 3 --decoder upsample 2>&1",
-                                out),
-              0)
+    ASSERT_EQ(
+        test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_train.train " +
+                              (dir / "d.bin").string() + " --out " + (dir / "run").string() +
+                              " --epochs 1 --max-steps 1 --batch 4 --width 4 --head-kernel 3 --decoder upsample 2>&1",
+                          out),
+        0)
         << out;
     EXPECT_TRUE(fs::is_regular_file(dir / "run" / "model.pt"));
     std::ifstream h(dir / "run" / "history.json");

@@ -109,8 +109,9 @@ TEST_F(FullDem, GoldenMeanMinMaxAndClasses) {
         std::vector<int> classes;
         float t00, t10, t22;
     };
-    for (const Case& c : {Case{raster::DemMethod::Mean, {}, 11, 20, 30}, Case{raster::DemMethod::Min, {}, 10, 20, 30},
-                          Case{raster::DemMethod::Max, {}, 12, 20, 30}, Case{raster::DemMethod::Mean, {2}, 11, nd, 30}}) {
+    for (const Case& c :
+         {Case{raster::DemMethod::Mean, {}, 11, 20, 30}, Case{raster::DemMethod::Min, {}, 10, 20, 30},
+          Case{raster::DemMethod::Max, {}, 12, 20, 30}, Case{raster::DemMethod::Mean, {2}, 11, nd, 30}}) {
         SCOPED_TRACE(std::string(raster::dem_method_name(c.method)) + " classes " + std::to_string(c.classes.size()));
         auto r = request(c.method);
         r.classes = c.classes;
@@ -136,7 +137,8 @@ TEST_F(FullDem, OrthophotoIsTheMeanColourWithAlpha) {
     auto r = request(raster::DemMethod::Mean);
     r.rgb = path("rgb.tif");
     raster::make_dem(ds, r);
-    const auto red = test::read_raster(r.rgb, 1), green = test::read_raster(r.rgb, 2), alpha = test::read_raster(r.rgb, 4);
+    const auto red = test::read_raster(r.rgb, 1), green = test::read_raster(r.rgb, 2),
+               alpha = test::read_raster(r.rgb, 4);
     ASSERT_EQ(red.bands, 4);
     EXPECT_EQ(red.at(2, 0), 20.0f);    // (10 + 30) / 2
     EXPECT_EQ(green.at(2, 0), 30.0f);  // (20 + 40) / 2
@@ -167,7 +169,8 @@ TEST_F(FullDem, GdalinfoSeesACloudOptimizedGeoTiff) {
     EXPECT_EQ(band.at("noDataValue"), -9999.0);
     EXPECT_EQ(band.at("unit"), "metre");
     EXPECT_GE(band.at("overviews").size(), 1u);
-    EXPECT_NE(info.at("coordinateSystem").at("wkt").get<std::string>().find("WGS 84 / UTM zone 32N"), std::string::npos);
+    EXPECT_NE(info.at("coordinateSystem").at("wkt").get<std::string>().find("WGS 84 / UTM zone 32N"),
+              std::string::npos);
     const auto gt = info.at("geoTransform");
     EXPECT_NEAR(gt.at(0).get<double>(), 500000.0, 1e-9);
     EXPECT_NEAR(gt.at(1).get<double>(), 0.1, 1e-12);
@@ -218,7 +221,8 @@ TEST_F(FullDem, TinEqualsGdalGridLinear) {
 // whole DEM: exactly for idw, within float rounding for tin (each block interpolates heights
 // relative to its own points' median).
 TEST_F(FullDem, IdwAndTinHaveNoSeamsAtBlockBorders) {
-    const auto ds = dataset::open_dataset({(test::surveys_dir() / "isprs-filter-test-sites" / "CSite1_red1-utm.laz").string()});
+    const auto site = test::surveys_dir() / "isprs-filter-test-sites" / "CSite1_red1-utm.laz";
+    const auto ds = dataset::open_dataset({site.string()});
     ASSERT_EQ(ds.tiles.size(), 1u);
     const auto& b = ds.tiles[0].bounds_m;
     const double texel = 1.0;  // 1,101 x 1,042 texels: 3 x 3 blocks for both methods
@@ -235,7 +239,8 @@ TEST_F(FullDem, IdwAndTinHaveNoSeamsAtBlockBorders) {
         const auto p = raster::make_dem(ds, part);
         const auto a = test::read_raster(whole.output), c = test::read_raster(part.output);
         const int dx = static_cast<int>(std::lround((p.grid.origin_x - w.grid.origin_x) / texel));
-        const int top = a.height - (static_cast<int>(std::lround((p.grid.origin_y - w.grid.origin_y) / texel)) + c.height);
+        const int dy = static_cast<int>(std::lround((p.grid.origin_y - w.grid.origin_y) / texel));
+        const int top = a.height - (dy + c.height);
         ASSERT_GE(dx, 100);
         std::size_t same = 0;
         for (int row = 0; row < c.height; ++row) {
@@ -271,7 +276,8 @@ TEST_F(FullDem, AHugeNearlyEmptyRasterIsRefused) {
 // --from full --method mean is the ground truth of eval (recon::GroundTruth fed by
 // pipelines::sample_survey), texel by texel, on a real survey in metres.
 TEST_F(FullDem, MeanEqualsEvalGroundTruth) {
-    const auto ds = dataset::open_dataset({(test::surveys_dir() / "isprs-filter-test-sites" / "CSite1_red1-utm.laz").string()});
+    const auto ds =
+        dataset::open_dataset({(test::surveys_dir() / "isprs-filter-test-sites" / "CSite1_red1-utm.laz").string()});
     ASSERT_EQ(ds.tiles.size(), 1u);
     const recon::PatchSpec spec{1.0, 64, 16};
     const auto lattice = pipelines::lattice_for(ds, spec);

@@ -37,7 +37,8 @@ inline ReadRaster read_raster(const std::string& path, int band = 1) {
     const double nd = b->GetNoDataValue(&has);
     if (has) r.nodata = nd;
     r.values.resize(static_cast<std::size_t>(r.width) * r.height);
-    if (b->RasterIO(GF_Read, 0, 0, r.width, r.height, r.values.data(), r.width, r.height, GDT_Float32, 0, 0) != CE_None) {
+    if (b->RasterIO(GF_Read, 0, 0, r.width, r.height, r.values.data(), r.width, r.height, GDT_Float32, 0, 0) !=
+        CE_None) {
         r.values.clear();
     }
     if (const OGRSpatialReference* srs = ds->GetSpatialRef()) {

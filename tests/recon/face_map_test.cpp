@@ -120,7 +120,9 @@ TEST(ReconFaceMap, SlenderTriangles) {
 
     // A fan of needles from one point.
     std::vector<GridXY> fan{{48 * kUnit, 2 * kUnit}};
-    for (int i = 0; i < 30; ++i) fan.push_back({std::round((20.3 + i * 1.9) * kUnit), std::round(93.7 * kUnit - (i % 2) * 17)});
+    for (int i = 0; i < 30; ++i) {
+        fan.push_back({std::round((20.3 + i * 1.9) * kUnit), std::round(93.7 * kUnit - (i % 2) * 17)});
+    }
     check_against_brute_force(unique_points(fan));
 }
 

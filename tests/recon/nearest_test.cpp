@@ -40,7 +40,8 @@ TEST(ReconNearest, ClusteredAndSparse) {
     std::normal_distribution<double> n(20.0 * kUnit, 3.0 * kUnit);
     std::vector<GridXY> cluster;
     for (int i = 0; i < 200; ++i) {
-        cluster.push_back({std::clamp(std::round(n(rng)), 0.0, 96 * kUnit), std::clamp(std::round(n(rng)), 0.0, 96 * kUnit)});
+        cluster.push_back(
+            {std::clamp(std::round(n(rng)), 0.0, 96 * kUnit), std::clamp(std::round(n(rng)), 0.0, 96 * kUnit)});
     }
     check(cluster, 96);
     check({{0, 0}}, 96);

@@ -48,7 +48,8 @@ TEST(ReconSplat, ConstantFieldStaysConstant) {
 
 TEST(ReconSplat, TexelMeanFirstAndEdges) {
     // Two points in one texel (0.1, 0.3) and one far away (0.9): the texel mean 0.2 counts once.
-    const std::vector<GridXY> points{{10.2 * kUnit, 10.2 * kUnit}, {10.8 * kUnit, 10.9 * kUnit}, {12.5 * kUnit, 10.5 * kUnit}};
+    const std::vector<GridXY> points{
+        {10.2 * kUnit, 10.2 * kUnit}, {10.8 * kUnit, 10.9 * kUnit}, {12.5 * kUnit, 10.5 * kUnit}};
     const SplatResult out = splat(points, one_channel({0.1f, 0.3f, 0.9f}), 96);
     const double w0 = std::exp(-(1.0 * 1.0) / (2 * 2.25 * 2.25)), w2 = std::exp(-(1.0) / (2 * 2.25 * 2.25));
     // Texel (10, 11) is 1 texel from both occupied texels (10,10) and (10,12).

@@ -19,7 +19,9 @@ constexpr std::int64_t kExtent = 96 * kGridUnitsPerTexel;
 // Exact in-circle test on integer grid coordinates: > 0 when d is strictly inside the
 // circumcircle of the counter-clockwise triangle (a, b, c).
 __int128 incircle(GridXY a, GridXY b, GridXY c, GridXY d) {
-    const auto v = [&](GridXY p) { return std::array<__int128, 2>{static_cast<__int128>(p.x - d.x), static_cast<__int128>(p.y - d.y)}; };
+    const auto v = [&](GridXY p) {
+        return std::array<__int128, 2>{static_cast<__int128>(p.x - d.x), static_cast<__int128>(p.y - d.y)};
+    };
     const auto [adx, ady] = v(a);
     const auto [bdx, bdy] = v(b);
     const auto [cdx, cdy] = v(c);

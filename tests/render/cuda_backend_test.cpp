@@ -41,7 +41,9 @@ void add_patches(TestScene& s) {
                 const std::size_t t = static_cast<std::size_t>(j) * kSize + i;
                 h[t] = terrain(ox + (i + 0.5) * 10.0, oy + (j + 0.5) * 10.0);
                 if (p == 3 && i > 20 && i < 30 && j > 10 && j < 25) h[t] = NAN;
-                if (!c.empty()) c[t] = pack_rgba(static_cast<std::uint8_t>(i * 4), static_cast<std::uint8_t>(j * 4), 90);
+                if (!c.empty()) {
+                    c[t] = pack_rgba(static_cast<std::uint8_t>(i * 4), static_cast<std::uint8_t>(j * 4), 90);
+                }
             }
         }
     }

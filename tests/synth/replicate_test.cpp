@@ -40,7 +40,8 @@ struct TempDir {
 };
 
 const std::string kFeetTile = (test::surveys_dir() / "ky-red-river-gorge/N105E348.laz").string();
-const std::string kMetreTile = (test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string();
+const std::string kMetreTile =
+    (test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string();
 const std::string kCopcTile = (test::formats_dir() / "PDAL__PDAL/test__data__copc__1.2-with-color.copc.laz").string();
 
 std::string points_sha256(const std::string& path) {
@@ -48,7 +49,8 @@ std::string points_sha256(const std::string& path) {
     auto tile = dataset::read_tile(file);
     Sha256 sha;
     ThreadPool pool(2);
-    dataset::for_each_record_batch(file, tile, pool, [&](std::uint64_t, std::span<const std::uint8_t> r) { sha.update(r); });
+    dataset::for_each_record_batch(file, tile, pool,
+                                   [&](std::uint64_t, std::span<const std::uint8_t> r) { sha.update(r); });
     return sha.hex_digest();
 }
 
@@ -123,7 +125,8 @@ TEST(Replicate, OutputsAreShiftedCopiesOfTheirSources) {
     const auto manifest = test::read_json(dir.path / synth::kManifestName);
     EXPECT_EQ(manifest.at("tiles").size(), 6u);
     EXPECT_EQ(manifest.at("total_points"), plan.total_points);
-    EXPECT_EQ(plan.total_points, 3 * (plan.sources[0].tile.header.point_count + plan.sources[1].tile.header.point_count));
+    EXPECT_EQ(plan.total_points,
+              3 * (plan.sources[0].tile.header.point_count + plan.sources[1].tile.header.point_count));
 }
 
 // Each output stays inside its grid cell (in metres), so neighbours never overlap.
@@ -197,7 +200,8 @@ TEST(Replicate, VirtualReplicaOpensAsTheCopiedOne) {
     synth::write_replicas(copied, pool);
     synth::write_virtual_replica(virt);
     const auto manifest = (dir.path / "virtual" / synth::kManifestName).string();
-    EXPECT_EQ(fs::directory_iterator(dir.path / "virtual")->path().filename(), synth::kManifestName) << "copied nothing";
+    EXPECT_EQ(fs::directory_iterator(dir.path / "virtual")->path().filename(), synth::kManifestName)
+        << "copied nothing";
     ASSERT_TRUE(dataset::is_virtual_replica(manifest));
     EXPECT_FALSE(dataset::is_virtual_replica((dir.path / "copied" / synth::kManifestName).string()));
 
@@ -258,7 +262,8 @@ TEST(Replicate, RefusesUnsafeOrEmptyInput) {
     EXPECT_THROW(synth::plan_replicas({dir.path.string()}, dir.path.string(), {2, 2}), Error);
     EXPECT_THROW(synth::plan_replicas({src}, dir.path.string(), {2, 2}), Error);
     EXPECT_THROW(synth::plan_replicas({src}, (dir.path / "..").string() , {2, 2}), Error);
-    EXPECT_THROW(synth::plan_replicas({(dir.path / "missing.laz").string()}, (dir.path / "out").string(), {2, 2}), Error);
+    EXPECT_THROW(synth::plan_replicas({(dir.path / "missing.laz").string()}, (dir.path / "out").string(), {2, 2}),
+                 Error);
     EXPECT_THROW(synth::plan_replicas({src}, (dir.path / "out").string(), {0, 2}), Error);
     // Unreadable sources are skipped with a warning; none readable is an error.
     std::FILE* f = std::fopen((dir.path / "bad.laz").c_str(), "w");
@@ -268,7 +273,7 @@ TEST(Replicate, RefusesUnsafeOrEmptyInput) {
     const auto plan = synth::plan_replicas({dir.path.string()}, (dir.path / "out").string(), {2, 2});
     EXPECT_EQ(plan.sources.size(), 1u);
     ASSERT_EQ(plan.warnings.size(), 1u);
-    EXPECT_NE(plan.warnings[0].find("bad.laz"), std::string::npos);
+    EXPECT_NE(plan.warnings[0].message.find("bad.laz"), std::string::npos);
     EXPECT_EQ(fs::file_size(src), fs::file_size(kMetreTile)) << "the source is untouched";
 }
 

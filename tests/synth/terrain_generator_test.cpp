@@ -72,7 +72,7 @@ TEST_F(TerrainGenerator, TilesManifestAndHeaders) {
         bytes += t.bytes;
         auto file = io::File::open(t.path);
         const auto tile = dataset::read_tile(file);
-        EXPECT_TRUE(tile.warnings.empty()) << tile.warnings.front();
+        EXPECT_TRUE(tile.warnings.empty()) << tile.warnings.front().message;
         EXPECT_EQ(tile.header.version_string(), "1.4");
         EXPECT_EQ(tile.header.point_format, 7);
         EXPECT_EQ(tile.header.point_count, t.points);
@@ -91,7 +91,8 @@ TEST_F(TerrainGenerator, TilesManifestAndHeaders) {
         EXPECT_NEAR(tile.header.min[0], 500'000.0 + t.ix * 500.0, 0.5);  // points reach the tile's edges
         EXPECT_LT(tile.header.max[0], 500'000.0 + (t.ix + 1) * 500.0);
         EXPECT_GT(tile.header.max[0], 500'000.0 + (t.ix + 1) * 500.0 - 0.5);
-        EXPECT_EQ(tile.header.points_by_return[0] + tile.header.points_by_return[1] + tile.header.points_by_return[2], t.points);
+        EXPECT_EQ(tile.header.points_by_return[0] + tile.header.points_by_return[1] + tile.header.points_by_return[2],
+                  t.points);
     }
     EXPECT_EQ(points, result_.points);
     EXPECT_EQ(bytes, result_.bytes);
@@ -125,7 +126,9 @@ TEST_F(TerrainGenerator, DecodesFullyWithPlausibleStatistics) {
                     sum[c] += p.rgb[c];
                     sum2[c] += double(p.rgb[c]) * p.rgb[c];
                 }
-                if (colours.size() < 100'000) colours.insert((std::uint64_t(p.rgb[0]) << 32) | (std::uint64_t(p.rgb[1]) << 16) | p.rgb[2]);
+                if (colours.size() < 100'000) {
+                    colours.insert((std::uint64_t(p.rgb[0]) << 32) | (std::uint64_t(p.rgb[1]) << 16) | p.rgb[2]);
+                }
                 if (p.classification >= 3 && p.classification <= 5) {
                     // Vegetation stands above the terrain by at least its class's height.
                     const double above = p.z - patch.ground(p.x, p.y);
@@ -282,7 +285,8 @@ TEST(TerrainCommand, BadOptionsGiveOneLine) {
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth terrain -o /tmp/never --km 0 2>&1", out), 1);
     EXPECT_NE(out.find("size must be more than 0"), std::string::npos) << out;
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
-    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth terrain -o /tmp/never --density -3 2>&1", out), 1);
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth terrain -o /tmp/never --density -3 2>&1", out),
+              1);
     EXPECT_NE(out.find("density"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists("/tmp/never"));
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth terrain --help", out), 0);

@@ -92,7 +92,8 @@ TEST(TerrainModel, LayoutHasAVillageAndFarmsInTheArea) {
 
 TEST(TerrainModel, CellsAreDeterministic) {
     const TerrainModel model(3, area_of(2));
-    const auto villages = model.layout().villages_near(model.area().x0, model.area().y0, model.area().x1(), model.area().y1(), 100);
+    const auto villages =
+        model.layout().villages_near(model.area().x0, model.area().y0, model.area().x1(), model.area().y1(), 100);
     int buildings = 0, trees = 0;
     for (int j = 0; j < 30; ++j) {
         for (int i = 0; i < 30; ++i) {
@@ -156,7 +157,8 @@ TEST(TerrainFlightPlan, StripsCoverTheAreaAtTheRequestedDensity) {
         EXPECT_LT(p.strip_spacing, 2 * p.half_swath);  // neighbouring strips overlap
         double covered = 0;
         for (std::uint32_t k = 0; k < p.strips; ++k) {
-            covered += std::max(0.0, std::min(area.x1(), p.centre(k) + p.half_swath) - std::max(area.x0, p.centre(k) - p.half_swath));
+            covered += std::max(
+                0.0, std::min(area.x1(), p.centre(k) + p.half_swath) - std::max(area.x0, p.centre(k) - p.half_swath));
             if (k > 0) {
                 EXPECT_GT(p.strip_time(k), p.strip_time(k - 1) + p.lines_per_strip * p.line_spacing / p.speed);
             }

@@ -169,7 +169,9 @@ TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
                 const auto& b = tile.bounds_m;
                 if (x < b.min_x + 20 || x > b.max_x - 20 || y < b.min_y + 20 || y > b.max_y - 20) continue;
                 const std::size_t t = static_cast<std::size_t>(row) * d.size + col;
-                if (d.count[t] > best_count && scheduler.heightmap(cell)) best_cell = &cell, best_texel = t, best_count = d.count[t];
+                if (d.count[t] > best_count && scheduler.heightmap(cell)) {
+                    best_cell = &cell, best_texel = t, best_count = d.count[t];
+                }
             }
         }
     }
@@ -179,8 +181,10 @@ TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
     const auto& d = detail.at(*best_cell);
     for (const auto& p : set.points) {
         const double x = set.origin_x + p.dx, y = set.origin_y + p.dy;
-        const int col = static_cast<int>((x - d.origin_x) / d.texel_m), row = static_cast<int>((y - d.origin_y) / d.texel_m);
-        if (scheduler.grid().cell_of(x, y) == *best_cell && static_cast<std::size_t>(row * d.size + col) == best_texel) {
+        const int col = static_cast<int>((x - d.origin_x) / d.texel_m),
+                  row = static_cast<int>((y - d.origin_y) / d.texel_m);
+        if (scheduler.grid().cell_of(x, y) == *best_cell &&
+            static_cast<std::size_t>(row * d.size + col) == best_texel) {
             sum += set.origin_z + p.dz;
             ++n;
         }
@@ -315,7 +319,9 @@ TEST(ViewerScheduler, FilesDamagedDuringASessionAreListedAndTheRestLoads) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     for (const auto& e : fs::directory_iterator(test::surveys_dir() / "ky-jmo335-eastern-kentucky")) {
-        if (e.path().extension() == ".laz" && e.path().stem() != "N118E380") fs::copy_file(e.path(), dir / e.path().filename());
+        if (e.path().extension() == ".laz" && e.path().stem() != "N118E380") {
+            fs::copy_file(e.path(), dir / e.path().filename());
+        }
     }
     const auto ds = dataset::open_dataset({dir.string()});
     ASSERT_EQ(ds.tiles.size(), 8u);
@@ -359,7 +365,8 @@ TEST(ViewerScheduler, FilesDamagedDuringASessionAreListedAndTheRestLoads) {
         EXPECT_FALSE(causes["N117E380.laz"].empty());
         EXPECT_NE(causes["N119E380.laz"].find("No such file"), std::string::npos) << causes["N119E380.laz"];
         for (const auto& [name, cause] : causes) {
-            EXPECT_TRUE(name == "N117E380.laz" || name == "N119E380.laz" || name == "N118E381.laz") << name << ": " << cause;
+            EXPECT_TRUE(name == "N117E380.laz" || name == "N119E380.laz" || name == "N118E381.laz")
+                << name << ": " << cause;
         }
         // The undamaged tiles are all at full resolution; nothing of a failed tile is drawn.
         EXPECT_EQ(st.full_res.done, st.full_res.total) << "visible tiles not at full resolution";
@@ -370,7 +377,8 @@ TEST(ViewerScheduler, FilesDamagedDuringASessionAreListedAndTheRestLoads) {
             if (causes.contains(fs::path(ds.tiles[i].tile.path).filename().string())) failed.insert(i);
         }
         for (const auto& b : scheduler.snapshot()->full_points) {
-            EXPECT_FALSE(failed.contains(b->tile)) << "blocks of a failed tile are held: " << ds.tiles[b->tile].tile.path;
+            EXPECT_FALSE(failed.contains(b->tile))
+                << "blocks of a failed tile are held: " << ds.tiles[b->tile].tile.path;
         }
         EXPECT_EQ(first_error_per_file(st.errors).size(), causes.size());
         EXPECT_LE(st.peak_bytes_used, o.memory_budget);

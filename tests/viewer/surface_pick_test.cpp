@@ -24,7 +24,8 @@ std::shared_ptr<const PatchHeightmap> heightmap(Fn&& fn) {
     h.heights.resize(64 * 64);
     for (int row = 0; row < 64; ++row) {
         for (int col = 0; col < 64; ++col) {
-            h.heights[row * 64 + col] = static_cast<float>(fn(kOriginX + (col + 0.5) * 10, kOriginY + (row + 0.5) * 10));
+            const double x = kOriginX + (col + 0.5) * 10, y = kOriginY + (row + 0.5) * 10;
+            h.heights[row * 64 + col] = static_cast<float>(fn(x, y));
         }
     }
     return share(std::move(h));
@@ -36,7 +37,8 @@ using test::looking_down;
 
 TEST(SurfacePick, HeightIsBilinearBetweenTexelCentresAndNaNInHolesAndOutside) {
     auto h = std::const_pointer_cast<PatchHeightmap>(heightmap(plane));
-    EXPECT_NEAR(surface_height(*h, kOriginX + 123.4, kOriginY + 456.7), plane(kOriginX + 123.4, kOriginY + 456.7), 1e-3);
+    const double x = kOriginX + 123.4, y = kOriginY + 456.7;
+    EXPECT_NEAR(surface_height(*h, x, y), plane(x, y), 1e-3);
     EXPECT_NEAR(surface_height(*h, kOriginX + 2, kOriginY + 638), plane(kOriginX + 2, kOriginY + 638), 1e-3);  // edges
     EXPECT_TRUE(std::isnan(surface_height(*h, kOriginX - 1, kOriginY + 10)));
     EXPECT_TRUE(std::isnan(surface_height(*h, kOriginX + 10, kOriginY + 641)));

@@ -94,4 +94,6 @@ const LidarscoutRunnerApi kApi{LIDARSCOUT_RUNNER_ABI, open_model, run_model, run
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const LidarscoutRunnerApi* lidarscout_runner_api(void) { return &kApi; }
+extern "C" __attribute__((visibility("default"))) const LidarscoutRunnerApi* lidarscout_runner_api(void) {
+    return &kApi;
+}

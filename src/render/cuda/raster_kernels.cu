@@ -488,7 +488,9 @@ __global__ void resolve_copy_kernel(Target t, std::uint32_t background, std::uin
 }
 
 __device__ std::uint32_t darken(std::uint32_t rgba, float factor) {
-    const auto scale = [factor](unsigned c) { return static_cast<unsigned>(static_cast<int>(c * factor + 0.5f)) & 0xff; };
+    const auto scale = [factor](unsigned c) {
+        return static_cast<unsigned>(static_cast<int>(c * factor + 0.5f)) & 0xff;
+    };
     return scale(red(rgba)) | scale(green(rgba)) << 8 | scale(blue(rgba)) << 16 | (rgba & 0xff000000u);
 }
 

@@ -104,7 +104,8 @@ void launch_patch_triangles(const HeightmapFrame& h, const Target& t, const Patc
                             std::uint32_t count, const GridVertex* grid, const unsigned char* drawn,
                             TriangleQueue queue, cudaStream_t stream);
 void launch_queued_triangles(const Target& t, TriangleQueue queue, int blocks, cudaStream_t stream);
-void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs, std::uint64_t job_count, int point_size, cudaStream_t stream);
+void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs,
+                   std::uint64_t job_count, int point_size, cudaStream_t stream);
 void launch_resolve(const Target& t, const LsrResolve& r, std::uint32_t* image, float* log_depth,
                     unsigned long long* drawn, cudaStream_t stream);
 

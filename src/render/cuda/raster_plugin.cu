@@ -262,7 +262,8 @@ FrameSegments add_segments(const LsrFrame& f, HostFrame& h, Upload& up, Resident
         const LsrPatch& p = f.heightmaps.patches[i];
         const std::size_t bytes = static_cast<std::size_t>(p.size) * p.size * 4;
         if (p.key != 0) {
-            if (const char* kept = resident.get(p.key, {{p.heights, bytes}, {p.colours, p.colours ? bytes : 0}}, stream)) {
+            if (const char* kept =
+                    resident.get(p.key, {{p.heights, bytes}, {p.colours, p.colours ? bytes : 0}}, stream)) {
                 h.patches[i].heights = reinterpret_cast<const float*>(kept);
                 h.patches[i].colours = reinterpret_cast<const std::uint32_t*>(kept + aligned(bytes));
                 s.heights.push_back(kNotUploaded);

@@ -30,8 +30,11 @@ void plot_line(render::RgbaImage& image, double x0, double y0, double x1, double
     const int steps = static_cast<int>(std::ceil(std::max(std::abs(bx - ax), std::abs(by - ay)))) + 1;
     for (int s = 0; s <= steps; ++s) {
         const double t = static_cast<double>(s) / steps;
-        const int x = static_cast<int>(std::lround(ax + t * (bx - ax))), y = static_cast<int>(std::lround(ay + t * (by - ay)));
-        if (x >= 0 && y >= 0 && x < image.width && y < image.height) image.pixels[static_cast<std::size_t>(y) * image.width + x] = rgba;
+        const int x = static_cast<int>(std::lround(ax + t * (bx - ax))),
+                  y = static_cast<int>(std::lround(ay + t * (by - ay)));
+        if (x >= 0 && y >= 0 && x < image.width && y < image.height) {
+            image.pixels[static_cast<std::size_t>(y) * image.width + x] = rgba;
+        }
     }
 }
 

@@ -172,7 +172,8 @@ void readout_window(const dataset::Dataset& ds, const ClickState& click) {
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x - 10, display.y - 10), ImGuiCond_Always, ImVec2(1, 1));
     ImGui::SetNextWindowBgAlpha(0.8f);
-    constexpr auto kFlags = ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
+    constexpr auto kFlags =
+        ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
     if (!ImGui::Begin(click.tool == ClickTool::Measure ? "Measure" : "Point", nullptr, kFlags)) return ImGui::End();
     if (click.picked) point_lines(ds, "", *click.picked);
     if (click.from) point_lines(ds, "A", *click.from);

@@ -196,7 +196,9 @@ render::RgbaImage window_pixels(GLFWwindow* window) {
     image.pixels.resize(rows.size());
     for (int y = 0; y < image.height; ++y) {  // GL's row 0 is the bottom; the window is opaque
         const auto* row = rows.data() + static_cast<std::size_t>(image.height - 1 - y) * image.width;
-        for (int x = 0; x < image.width; ++x) image.pixels[static_cast<std::size_t>(y) * image.width + x] = row[x] | 0xff000000u;
+        for (int x = 0; x < image.width; ++x) {
+            image.pixels[static_cast<std::size_t>(y) * image.width + x] = row[x] | 0xff000000u;
+        }
     }
     return image;
 }
@@ -238,13 +240,16 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     SceneStyle style = v.style;
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
     RenderedScene frame = refiner.draw(*s.scheduler->snapshot(), camera, style, pool, v.layers);
-    if (v.tile_boxes) draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);
+    if (v.tile_boxes) {
+        draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);
+    }
     draw_click_overlay(frame.image, camera, panels.click);
     return frame;
 }
 
 // The readout for the mouse position (window coordinates scaled to the rendered image).
-std::string cursor_text(GLFWwindow* window, const CursorReadout& readout, const render::Camera& camera, double ground_z) {
+std::string cursor_text(GLFWwindow* window, const CursorReadout& readout, const render::Camera& camera,
+                        double ground_z) {
     int w = 0, h = 0;
     glfwGetWindowSize(window, &w, &h);
     double mx = 0, my = 0;
@@ -312,7 +317,8 @@ int run_viewer(const ViewerOptions& o) {
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
-        const PanelActions actions = draw_panels(*session.dataset, session.scheduler->stats(), frame_ms, settings, panels);
+        const PanelActions actions =
+            draw_panels(*session.dataset, session.scheduler->stats(), frame_ms, settings, panels);
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         if (!o.window_screenshot.empty()) window_shot = window_pixels(win.window);  // scripted use only
