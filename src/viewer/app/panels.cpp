@@ -205,4 +205,21 @@ PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& 
     return actions;
 }
 
+void draw_opening_panel(const OpeningProgress& p) {
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(10, display.y - 10), ImGuiCond_Always, ImVec2(0, 1));
+    ImGui::SetNextWindowBgAlpha(0.8f);
+    constexpr auto kFlags = ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
+    if (ImGui::Begin("Opening", nullptr, kFlags)) {
+        if (p.total == 0) {
+            ImGui::TextUnformatted("finding the tiles...");
+        } else {
+            ImGui::Text("%zu of %zu files read, %zu failed%s", p.read, p.total, p.done - p.read,
+                        p.building ? "; starting the overview" : "");
+            progress_line("files", {p.done, p.total});
+        }
+    }
+    ImGui::End();
+}
+
 }  // namespace lidarscout::viewer::app
