@@ -82,7 +82,7 @@ TEST(RemoteFile, CredentialsAreNeverShown) {
 TEST(RemoteFile, TlsPeersAreVerified) {
     try {
         io::File::open(test::NginxServer::instance().https_url(kTile));
-        FAIL() << "a self-signed certificate was accepted";
+        FAIL() << "a certificate of an unknown CA was accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("certificate"), std::string::npos) << e.what();
     }
