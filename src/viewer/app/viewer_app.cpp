@@ -272,6 +272,13 @@ std::string cursor_text(GLFWwindow* window, const CursorReadout& readout, const 
     return readout.text(camera, mx * camera.width / w, my * camera.height / h, ground_z);
 }
 
+// Waits for input or until a 60th of a second after `frame_start` (the swap does not wait for
+// the display everywhere, e.g. under Xvfb).
+void wait_for_next_frame(Clock::time_point frame_start) {
+    const double left = 1.0 / 60 - std::chrono::duration<double>(Clock::now() - frame_start).count();
+    if (left > 0) glfwWaitEventsTimeout(left);
+}
+
 // Notes the times of the first frame presented, of the first with a heightmap, and of the first
 // with every tile's chunk points in (`stats`: the scheduler's, taken for this frame's panels).
 void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats& stats, bool with_heightmaps,
@@ -377,6 +384,7 @@ int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
         if (!o.window_screenshot.empty()) window_shot = window_pixels(win.window);  // scripted use only
         glfwSwapBuffers(win.window);
         count_frame(times, session, stats, with_heightmaps, since_start());
+        if (!session.open()) wait_for_next_frame(now);  // cheap frames: leave the cores to the reads
 
         if (actions.fly_to) {
             controller.frame(session.dataset->tiles[*actions.fly_to].bounds_m, fb_width, fb_height);
