@@ -10,7 +10,9 @@
 // heightmaps and to the first with all chunk points (view --stats-json). Run it under
 // `xvfb-run -a` (or on a display).
 // Every figure is the median of --runs runs (default 3).
-// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--view PROGRAM [--view-args "..."]] FOLDER
+// With --https, nginx is reached over TLS and HTTP/2 (its test CA trusted): one multiplexed
+// connection instead of a pool of HTTP/1.1 ones.
+// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args "..."]] FOLDER
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -48,6 +50,7 @@ using bench::seconds_since;
 struct Run {
     double headers = 0, chunk_points = 0, rate = 0;
     std::uint64_t requests = 0, header_requests = 0, retries = 0, bytes = 0, tiles = 0, points = 0;
+    std::uint64_t http2 = 0, connections = 0;
 };
 
 Run run_once(const std::string& list_url) {
@@ -73,6 +76,8 @@ Run run_once(const std::string& list_url) {
     const auto after = net::HttpClient::shared().stats();
     r.requests = after.requests - before.requests;
     r.retries = after.retries - before.retries;
+    r.http2 = after.http2_responses - before.http2_responses;
+    r.connections = after.connections - before.connections;
     r.bytes = (after.body_bytes - before.body_bytes) + (after.header_bytes - before.header_bytes);
     return r;
 }
@@ -90,15 +95,16 @@ double seconds_field(const nlohmann::json& j, const char* key) {
 
 // One cold `view` of `url`, quitting 5 s after the dataset is open.
 ViewRun view_once(const std::string& program, const std::string& args, const std::string& url) {
-    const auto stats = std::filesystem::temp_directory_path() / ("bench_http_view_" + std::to_string(::getpid()) + ".json");
+    const auto stats =
+        std::filesystem::temp_directory_path() / ("bench_http_view_" + std::to_string(::getpid()) + ".json");
     const std::string cmd = program + " view '" + url + "' --cache-size 0 --size 960x540 --quit-after 5 --stats-json " +
                             stats.string() + " " + args + " >/dev/null 2>&1";
     if (std::system(cmd.c_str()) != 0) throw Error("failed: " + cmd);
     std::ifstream in(stats);
     const auto j = nlohmann::json::parse(in);
     std::filesystem::remove(stats);
-    ViewRun r{seconds_field(j, "first_frame_s"), seconds_field(j, "dataset_open_s"), seconds_field(j, "first_overview_s"),
-              j.at("frames_while_opening").get<double>(), std::nullopt};
+    ViewRun r{seconds_field(j, "first_frame_s"), seconds_field(j, "dataset_open_s"),
+              seconds_field(j, "first_overview_s"), j.at("frames_while_opening").get<double>(), std::nullopt};
     if (!j.at("chunk_points_s").is_null()) r.chunk_points = j.at("chunk_points_s").get<double>();
     return r;
 }
@@ -134,6 +140,7 @@ int main(int argc, char** argv) {
     int runs = 3;
     std::vector<int> rtts = {0, 20, 50};
     std::string folder, view_program, view_args;
+    bool https = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc) {
@@ -146,6 +153,8 @@ int main(int argc, char** argv) {
                 rtts.push_back(std::atoi(list.substr(at, comma - at).c_str()));
                 at = comma + 1;
             }
+        } else if (a == "--https") {
+            https = true;
         } else if (a == "--view" && i + 1 < argc) {
             view_program = argv[++i];
         } else if (a == "--view-args" && i + 1 < argc) {
@@ -155,25 +164,36 @@ int main(int argc, char** argv) {
         }
     }
     if (folder.empty()) {
-        fmt::print(stderr, "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--view PROGRAM [--view-args ARGS]] FOLDER\n");
+        fmt::print(stderr,
+                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args ARGS]] "
+                   "FOLDER\n");
         return 2;
     }
     try {
         net::RangeCache::configure({{}, 0});  // every run from the network
         test::NginxServer server(folder);
+        if (https) {  // trust the server's test CA, here and in the viewer
+            net::HttpSettings settings = net::HttpClient::shared().settings();
+            settings.ca_file = server.ca_file().string();
+            net::HttpClient::shared().set_settings(settings);
+            view_args += " --cacert " + settings.ca_file;
+        }
         std::uint64_t dataset_bytes = 0;
         const std::string list = write_tile_list(server, folder, dataset_bytes);
         for (const int rtt : rtts) {
-            test::DelayProxy proxy(server.port(), std::chrono::microseconds(rtt * 500));
-            const std::string url = "http://127.0.0.1:" + std::to_string(proxy.port()) + "/" + list;
+            test::DelayProxy proxy(https ? server.tls_port() : server.port(), std::chrono::microseconds(rtt * 500));
+            const std::string url =
+                (https ? "https" : "http") + std::string("://127.0.0.1:") + std::to_string(proxy.port()) + "/" + list;
             if (!view_program.empty()) {
                 bench_view(view_program, view_args, url, rtt, runs);
                 continue;
             }
             std::vector<double> headers, points, rate, requests, header_requests, retries, bytes;
             Run last;
+            std::uint64_t first_connections = 0;  // the first run's (later ones reuse them)
             for (int k = 0; k < runs; ++k) {
                 last = run_once(url);
+                if (k == 0) first_connections = last.connections;
                 headers.push_back(last.headers);
                 points.push_back(last.chunk_points);
                 rate.push_back(last.rate);
@@ -184,12 +204,13 @@ int main(int argc, char** argv) {
             }
             fmt::print("rtt {:>3} ms: {} tiles, {} chunk points; headers+chunk tables {:.3f} s; chunk points {:.3f} s "
                        "({:.0f}/s); {:.0f} requests ({:.2f}/tile; {:.0f} before the chunk points, {:.0f} retries); "
-                       "{:.1f} MB moved of {:.1f} GB ({:.4f}%)\n",
+                       "{:.1f} MB moved of {:.1f} GB ({:.4f}%); {} connections opened in the first run; "
+                       "{} HTTP/2 responses\n",
                        rtt, last.tiles, last.points, median(headers), median(points), median(rate), median(requests),
                        median(requests) / static_cast<double>(std::max<std::uint64_t>(1, last.tiles)),
                        median(header_requests), median(retries),
                        median(bytes) / 1e6, static_cast<double>(dataset_bytes) / 1e9,
-                       100.0 * median(bytes) / static_cast<double>(dataset_bytes));
+                       100.0 * median(bytes) / static_cast<double>(dataset_bytes), first_connections, last.http2);
         }
     } catch (const std::exception& e) {
         fmt::print(stderr, "bench_http: {}\n", e.what());

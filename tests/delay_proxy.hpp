@@ -125,7 +125,8 @@ private:
 
     int timeout_ms() const {
         if (queue_.empty()) return 50;
-        const auto wait = std::chrono::duration_cast<std::chrono::microseconds>(queue_.front().due - std::chrono::steady_clock::now());
+        using std::chrono::steady_clock, std::chrono::microseconds;
+        const auto wait = std::chrono::duration_cast<microseconds>(queue_.front().due - steady_clock::now());
         return static_cast<int>(std::clamp<long long>((wait.count() + 999) / 1000, 0, 50));
     }
 

@@ -42,6 +42,7 @@ public:
     const std::filesystem::path& lists_dir() const { return lists_; }
     std::filesystem::path access_log() const { return dir_ / "access.log"; }
     int port() const { return port_; }
+    int tls_port() const { return tls_port_; }
     // The CA that signed the HTTPS listener's certificate (PEM).
     std::filesystem::path ca_file() const { return dir_ / "ca.pem"; }
     // The URL of `relative` on the HTTPS listener (HTTP/2; its certificate is signed by ca_file()).
@@ -109,7 +110,8 @@ private:
           << "  keepalive_requests 100000;\n"
           << "  server {\n    listen 127.0.0.1:" << port << ";\n    root " << root_.string()
           << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n"
-          << "  server {\n    listen 127.0.0.1:" << tls_port_ << " ssl http2;\n    ssl_certificate " << d << "/cert.pem;\n"
+          << "  server {\n    listen 127.0.0.1:" << tls_port_ << " ssl http2;\n"
+          << "    ssl_certificate " << d << "/cert.pem;\n"
           << "    ssl_certificate_key " << d << "/key.pem;\n    root " << root_.string()
           << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n}\n";
     }

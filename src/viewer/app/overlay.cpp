@@ -46,7 +46,8 @@ void draw_segment(render::RgbaImage& image, const render::Camera& camera, double
 
 namespace {
 
-void draw_outline(render::RgbaImage& image, const render::Camera& camera, const dataset::Bounds& b, std::uint32_t rgba) {
+void draw_outline(render::RgbaImage& image, const render::Camera& camera, const dataset::Bounds& b,
+                  std::uint32_t rgba) {
     if (!box_in_view(camera, b)) return;
     const double z = b.min_z;
     draw_segment(image, camera, b.min_x, b.min_y, z, b.max_x, b.min_y, z, rgba);

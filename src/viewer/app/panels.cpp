@@ -17,6 +17,9 @@ namespace lidarscout::viewer::app {
 namespace {
 
 constexpr float kSideWidth = 320;  // the side window's width in pixels
+// The readout and progress windows: fitted to their text, in a fixed place.
+constexpr auto kSmallWindow =
+    ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
 
 bool contains_ci(const std::string& text, const std::string& needle) {
     const auto it = std::search(text.begin(), text.end(), needle.begin(), needle.end(),
@@ -168,8 +171,8 @@ void readout_window(const dataset::Dataset& ds, const ClickState& click) {
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x - 10, display.y - 10), ImGuiCond_Always, ImVec2(1, 1));
     ImGui::SetNextWindowBgAlpha(0.8f);
-    constexpr auto kFlags = ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
-    if (!ImGui::Begin(click.tool == ClickTool::Measure ? "Measure" : "Point", nullptr, kFlags)) return ImGui::End();
+    const char* title = click.tool == ClickTool::Measure ? "Measure" : "Point";
+    if (!ImGui::Begin(title, nullptr, kSmallWindow)) return ImGui::End();
     if (click.picked) point_lines(ds, "", *click.picked);
     if (click.from) point_lines(ds, "A", *click.from);
     if (click.to) {
@@ -209,8 +212,7 @@ void draw_opening_panel(const OpeningProgress& p) {
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(10, display.y - 10), ImGuiCond_Always, ImVec2(0, 1));
     ImGui::SetNextWindowBgAlpha(0.8f);
-    constexpr auto kFlags = ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
-    if (ImGui::Begin("Opening", nullptr, kFlags)) {
+    if (ImGui::Begin("Opening", nullptr, kSmallWindow)) {
         if (p.total == 0) {
             ImGui::TextUnformatted("finding the tiles...");
         } else {

@@ -346,7 +346,8 @@ int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
         if (!session.open()) {
             const OpeningProgress progress = opening->progress();
             opening->footprints(footprints);
-            if (!moved_while_opening && !progress.extent.empty()) controller.frame(progress.extent, fb_width, fb_height);
+            const bool follow = !moved_while_opening && !progress.extent.empty();
+            if (follow) controller.frame(progress.extent, fb_width, fb_height);
         }
         const CameraController before = controller;
         input.apply(win.window, events, controller, dt, fb_height);
