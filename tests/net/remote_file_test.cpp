@@ -1,6 +1,7 @@
 // net/remote_file through io::File against nginx on loopback: remote reads equal the local
 // file's bytes everywhere, a tile's ranges go out as one multi-range request, URLs are shown
-// without credentials, and a file that changes on the server during a session is an error.
+// without credentials, a file that changes on the server during a session is an error, and
+// open() joins a prefetch in flight.
 #include <gtest/gtest.h>
 
 #include <filesystem>
