@@ -4,25 +4,27 @@
 // latency: seconds for all headers and chunk tables, seconds and rate for all chunk points,
 // HTTP requests (per tile), and bytes moved (response bodies and headers) against the bytes
 // of the dataset. Every run starts cold: no open remote file, no range cache.
+// With --view PROGRAM, the viewer instead: for each latency `PROGRAM view` opens the tile list
+// (cold: --cache-size 0) and quits soon after the dataset is open; it reports the seconds from
+// its start to the first frame presented, to the dataset open, to the first frame with
+// heightmaps and to the first with all chunk points (view --stats-json). Run it under
+// `xvfb-run -a` (or on a display).
 // Every figure is the median of --runs runs (default 3).
-// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] FOLDER
-#include <fcntl.h>
+// With --https, nginx is reached over TLS and HTTP/2 (its test CA trusted): one multiplexed
+// connection instead of a pool of HTTP/1.1 ones.
+// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args "..."]] FOLDER
 #include <fmt/format.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <sys/epoll.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <deque>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
+#include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "bench_timing.hpp"
@@ -34,6 +36,7 @@
 #include "net/http_client.hpp"
 #include "net/range_cache.hpp"
 #include "net/remote_file.hpp"
+#include "delay_proxy.hpp"
 #include "nginx_server.hpp"
 
 using namespace lidarscout;
@@ -44,138 +47,10 @@ using bench::Clock;
 using bench::median;
 using bench::seconds_since;
 
-int loopback_listener(int& port) {
-    const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t len = sizeof a;
-    ::bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
-    ::listen(s, 1024);
-    ::getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-    port = ntohs(a.sin_port);
-    return s;
-}
-
-int connect_loopback(int port) {
-    const int s = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    if (::connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-        ::close(s);
-        return -1;
-    }
-    return s;
-}
-
-// A TCP proxy on loopback that delivers every byte `one_way` later than it arrived, in each
-// direction (one thread, epoll; chunks leave in arrival order, so one FIFO suffices).
-class DelayProxy {
-public:
-    DelayProxy(int upstream_port, std::chrono::microseconds one_way) : upstream_(upstream_port), delay_(one_way) {
-        listener_ = loopback_listener(port_);
-        epoll_ = ::epoll_create1(EPOLL_CLOEXEC);
-        watch(listener_);
-        thread_ = std::thread([this] { run(); });
-    }
-    ~DelayProxy() {
-        stop_ = true;
-        thread_.join();
-        for (const auto& [fd, peer] : peers_) ::close(fd);
-        ::close(listener_);
-        ::close(epoll_);
-    }
-    int port() const { return port_; }
-
-private:
-    struct Chunk {
-        Clock::time_point due;
-        int to;
-        std::string bytes;  // empty: the sender closed; shut the peer's writing side
-    };
-
-    void watch(int fd) {
-        epoll_event e{};
-        e.events = EPOLLIN;
-        e.data.fd = fd;
-        ::epoll_ctl(epoll_, EPOLL_CTL_ADD, fd, &e);
-    }
-
-    void accept_one() {
-        const int client = ::accept4(listener_, nullptr, nullptr, SOCK_CLOEXEC);
-        if (client < 0) return;
-        const int server = connect_loopback(upstream_);
-        if (server < 0) return (void)::close(client);
-        for (const int fd : {client, server}) {
-            int one = 1;
-            ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-            watch(fd);
-        }
-        peers_[client] = server;
-        peers_[server] = client;
-    }
-
-    void read_from(int fd) {
-        char buffer[1 << 16];
-        const ssize_t n = ::recv(fd, buffer, sizeof buffer, MSG_DONTWAIT);
-        if (n < 0) return;
-        const int to = peers_.at(fd);
-        const auto bytes = static_cast<std::size_t>(std::max<ssize_t>(n, 0));
-        queue_.push_back({Clock::now() + delay_, to, std::string(buffer, bytes)});
-        if (n == 0) ::epoll_ctl(epoll_, EPOLL_CTL_DEL, fd, nullptr);
-    }
-
-    void send_due() {
-        const auto now = Clock::now();
-        while (!queue_.empty() && queue_.front().due <= now) {
-            const Chunk& c = queue_.front();
-            if (c.bytes.empty()) {
-                ::shutdown(c.to, SHUT_WR);
-            } else {
-                for (std::size_t done = 0; done < c.bytes.size();) {
-                    const ssize_t n = ::send(c.to, c.bytes.data() + done, c.bytes.size() - done, MSG_NOSIGNAL);
-                    if (n <= 0) break;
-                    done += static_cast<std::size_t>(n);
-                }
-            }
-            queue_.pop_front();
-        }
-    }
-
-    int timeout_ms() const {
-        if (queue_.empty()) return 50;
-        const auto wait = std::chrono::duration_cast<std::chrono::microseconds>(queue_.front().due - Clock::now());
-        return static_cast<int>(std::clamp<long long>((wait.count() + 999) / 1000, 0, 50));
-    }
-
-    void run() {
-        epoll_event events[64];
-        while (!stop_) {
-            const int n = ::epoll_wait(epoll_, events, 64, timeout_ms());
-            for (int i = 0; i < n; ++i) {
-                if (events[i].data.fd == listener_) {
-                    accept_one();
-                } else {
-                    read_from(events[i].data.fd);
-                }
-            }
-            send_due();
-        }
-    }
-
-    int upstream_, port_ = 0, listener_ = -1, epoll_ = -1;
-    std::chrono::microseconds delay_;
-    std::map<int, int> peers_;
-    std::deque<Chunk> queue_;
-    std::atomic<bool> stop_{false};
-    std::thread thread_;
-};
-
 struct Run {
     double headers = 0, chunk_points = 0, rate = 0;
     std::uint64_t requests = 0, header_requests = 0, retries = 0, bytes = 0, tiles = 0, points = 0;
+    std::uint64_t http2 = 0, connections = 0;
 };
 
 Run run_once(const std::string& list_url) {
@@ -201,8 +76,50 @@ Run run_once(const std::string& list_url) {
     const auto after = net::HttpClient::shared().stats();
     r.requests = after.requests - before.requests;
     r.retries = after.retries - before.retries;
+    r.http2 = after.http2_responses - before.http2_responses;
+    r.connections = after.connections - before.connections;
     r.bytes = (after.body_bytes - before.body_bytes) + (after.header_bytes - before.header_bytes);
     return r;
+}
+
+struct ViewRun {
+    double first_frame = 0, open = 0, overview = 0, frames_while_opening = 0;
+    std::optional<double> chunk_points;  // unset: not within the run
+};
+
+double seconds_field(const nlohmann::json& j, const char* key) {
+    const auto& v = j.at(key);
+    if (v.is_null()) throw Error(std::string("view never reached ") + key);
+    return v.get<double>();
+}
+
+// One cold `view` of `url`, quitting 5 s after the dataset is open.
+ViewRun view_once(const std::string& program, const std::string& args, const std::string& url) {
+    const auto stats =
+        std::filesystem::temp_directory_path() / ("bench_http_view_" + std::to_string(::getpid()) + ".json");
+    const std::string cmd = program + " view '" + url + "' --cache-size 0 --size 960x540 --quit-after 5 --stats-json " +
+                            stats.string() + " " + args + " >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) throw Error("failed: " + cmd);
+    std::ifstream in(stats);
+    const auto j = nlohmann::json::parse(in);
+    std::filesystem::remove(stats);
+    ViewRun r{seconds_field(j, "first_frame_s"), seconds_field(j, "dataset_open_s"),
+              seconds_field(j, "first_overview_s"), j.at("frames_while_opening").get<double>(), std::nullopt};
+    if (!j.at("chunk_points_s").is_null()) r.chunk_points = j.at("chunk_points_s").get<double>();
+    return r;
+}
+
+void bench_view(const std::string& program, const std::string& args, const std::string& url, int rtt, int runs) {
+    std::vector<double> first, open, overview, points, frames;
+    for (int k = 0; k < runs; ++k) {
+        const ViewRun r = view_once(program, args, url);
+        first.push_back(r.first_frame), open.push_back(r.open), overview.push_back(r.overview);
+        frames.push_back(r.frames_while_opening);
+        if (r.chunk_points) points.push_back(*r.chunk_points);
+    }
+    fmt::print("rtt {:>3} ms: view: first frame {:.3f} s; dataset open {:.3f} s ({:.0f} frames before); first overview "
+               "{:.3f} s; all chunk points {:.3f} s (in {} of {} runs)\n",
+               rtt, median(first), median(open), median(frames), median(overview), median(points), points.size(), runs);
 }
 
 // Writes the server's lists/tiles.txt naming every tile of `folder` (relative URLs); returns
@@ -222,7 +139,8 @@ std::string write_tile_list(const test::NginxServer& server, const std::filesyst
 int main(int argc, char** argv) {
     int runs = 3;
     std::vector<int> rtts = {0, 20, 50};
-    std::string folder;
+    std::string folder, view_program, view_args;
+    bool https = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc) {
@@ -235,26 +153,47 @@ int main(int argc, char** argv) {
                 rtts.push_back(std::atoi(list.substr(at, comma - at).c_str()));
                 at = comma + 1;
             }
+        } else if (a == "--https") {
+            https = true;
+        } else if (a == "--view" && i + 1 < argc) {
+            view_program = argv[++i];
+        } else if (a == "--view-args" && i + 1 < argc) {
+            view_args = argv[++i];
         } else {
             folder = a;
         }
     }
     if (folder.empty()) {
-        fmt::print(stderr, "usage: bench_http [--runs N] [--rtt-ms 0,20,50] FOLDER\n");
+        fmt::print(stderr,
+                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args ARGS]] "
+                   "FOLDER\n");
         return 2;
     }
     try {
         net::RangeCache::configure({{}, 0});  // every run from the network
         test::NginxServer server(folder);
+        if (https) {  // trust the server's test CA, here and in the viewer
+            net::HttpSettings settings = net::HttpClient::shared().settings();
+            settings.ca_file = server.ca_file().string();
+            net::HttpClient::shared().set_settings(settings);
+            view_args += " --cacert " + settings.ca_file;
+        }
         std::uint64_t dataset_bytes = 0;
         const std::string list = write_tile_list(server, folder, dataset_bytes);
         for (const int rtt : rtts) {
-            DelayProxy proxy(server.port(), std::chrono::microseconds(rtt * 500));
-            const std::string url = "http://127.0.0.1:" + std::to_string(proxy.port()) + "/" + list;
+            test::DelayProxy proxy(https ? server.tls_port() : server.port(), std::chrono::microseconds(rtt * 500));
+            const std::string url =
+                (https ? "https" : "http") + std::string("://127.0.0.1:") + std::to_string(proxy.port()) + "/" + list;
+            if (!view_program.empty()) {
+                bench_view(view_program, view_args, url, rtt, runs);
+                continue;
+            }
             std::vector<double> headers, points, rate, requests, header_requests, retries, bytes;
             Run last;
+            std::uint64_t first_connections = 0;  // the first run's (later ones reuse them)
             for (int k = 0; k < runs; ++k) {
                 last = run_once(url);
+                if (k == 0) first_connections = last.connections;
                 headers.push_back(last.headers);
                 points.push_back(last.chunk_points);
                 rate.push_back(last.rate);
@@ -265,12 +204,13 @@ int main(int argc, char** argv) {
             }
             fmt::print("rtt {:>3} ms: {} tiles, {} chunk points; headers+chunk tables {:.3f} s; chunk points {:.3f} s "
                        "({:.0f}/s); {:.0f} requests ({:.2f}/tile; {:.0f} before the chunk points, {:.0f} retries); "
-                       "{:.1f} MB moved of {:.1f} GB ({:.4f}%)\n",
+                       "{:.1f} MB moved of {:.1f} GB ({:.4f}%); {} connections opened in the first run; "
+                       "{} HTTP/2 responses\n",
                        rtt, last.tiles, last.points, median(headers), median(points), median(rate), median(requests),
                        median(requests) / static_cast<double>(std::max<std::uint64_t>(1, last.tiles)),
                        median(header_requests), median(retries),
                        median(bytes) / 1e6, static_cast<double>(dataset_bytes) / 1e9,
-                       100.0 * median(bytes) / static_cast<double>(dataset_bytes));
+                       100.0 * median(bytes) / static_cast<double>(dataset_bytes), first_connections, last.http2);
         }
     } catch (const std::exception& e) {
         fmt::print(stderr, "bench_http: {}\n", e.what());

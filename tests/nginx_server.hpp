@@ -2,8 +2,8 @@
 // 127.0.0.1 at an ephemeral port, with a generated config, temp prefix and logs in a temp
 // folder, and a second temp folder served at /lists/ for tile lists the tests write. One
 // server per test process, stopped when the process exits (and killed with it if it dies).
-// It also serves the same root over HTTPS with a self-signed certificate (made by the
-// openssl command), which a verifying client must refuse.
+// It also serves the same root over HTTPS and HTTP/2, with a certificate signed by a test CA
+// (both made by the openssl command), which a verifying client refuses unless given that CA.
 // (bench_http serves its replica with one of its own.)
 #pragma once
 
@@ -42,7 +42,10 @@ public:
     const std::filesystem::path& lists_dir() const { return lists_; }
     std::filesystem::path access_log() const { return dir_ / "access.log"; }
     int port() const { return port_; }
-    // The URL of `relative` on the HTTPS listener (self-signed certificate).
+    int tls_port() const { return tls_port_; }
+    // The CA that signed the HTTPS listener's certificate (PEM).
+    std::filesystem::path ca_file() const { return dir_ / "ca.pem"; }
+    // The URL of `relative` on the HTTPS listener (HTTP/2; its certificate is signed by ca_file()).
     std::string https_url(const std::string& relative) const {
         return "https://127.0.0.1:" + std::to_string(tls_port_) + "/" + relative;
     }
@@ -83,11 +86,16 @@ private:
         return ntohs(a.sin_port);
     }
 
+    // A test CA and a server certificate it signs for 127.0.0.1 (nobody trusts that CA unless
+    // told: ca_file()).
     void make_certificate() const {
         const std::string d = dir_.string();
+        const std::string ec = " -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes ";
         const std::string cmd =
-            "openssl req -x509 -newkey ec -pkeyopt ec_paramgen_curve:prime256v1 -nodes -days 2 -subj /CN=127.0.0.1 "
-            "-keyout " + d + "/key.pem -out " + d + "/cert.pem >/dev/null 2>&1";
+            "(cd " + d + " && openssl req -x509" + ec + "-days 2 -subj /CN=lidarscout-test-ca -keyout ca-key.pem "
+            "-out ca.pem && openssl req" + ec + "-subj /CN=127.0.0.1 -keyout key.pem -out server.csr && "
+            "printf 'subjectAltName=IP:127.0.0.1\\n' > san.ext && openssl x509 -req -in server.csr -CA ca.pem "
+            "-CAkey ca-key.pem -CAcreateserial -days 2 -extfile san.ext -out cert.pem) >/dev/null 2>&1";
         if (std::system(cmd.c_str()) != 0) throw std::runtime_error("openssl could not make a test certificate");
     }
 
@@ -102,8 +110,10 @@ private:
           << "  keepalive_requests 100000;\n"
           << "  server {\n    listen 127.0.0.1:" << port << ";\n    root " << root_.string()
           << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n"
-          << "  server {\n    listen 127.0.0.1:" << tls_port_ << " ssl;\n    ssl_certificate " << d << "/cert.pem;\n"
-          << "    ssl_certificate_key " << d << "/key.pem;\n    root " << root_.string() << ";\n  }\n}\n";
+          << "  server {\n    listen 127.0.0.1:" << tls_port_ << " ssl http2;\n"
+          << "    ssl_certificate " << d << "/cert.pem;\n"
+          << "    ssl_certificate_key " << d << "/key.pem;\n    root " << root_.string()
+          << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n}\n";
     }
 
     void start(int port) {

@@ -1,8 +1,9 @@
-// --cache-size: the bound of the on-disk cache of remote byte ranges.
+// --cache-size: the bound of the on-disk cache of remote byte ranges; --cacert: the CAs to trust.
 #include "cli/remote_options.hpp"
 
 #include "cli/size_options.hpp"
 #include "core/error.hpp"
+#include "net/http_client.hpp"
 #include "net/range_cache.hpp"
 #include "net/url.hpp"
 
@@ -22,6 +23,17 @@ void add_remote_options(CLI::App& cmd) {
             }
         },
         help);
+    cmd.add_option_function<std::string>(
+           "--cacert",
+           [](const std::string& file) {
+               net::HttpSettings s = net::HttpClient::shared().settings();
+               s.ca_file = file;
+               net::HttpClient::shared().set_settings(s);
+           },
+           "Remote datasets (https): trust the CAs of this PEM file instead of the system's (a private or "
+           "proxy CA; env LIDARSCOUT_CACERT)")
+        ->envname("LIDARSCOUT_CACERT")
+        ->check(CLI::ExistingFile);
 }
 
 CLI::Validator existing_file_or_url() {

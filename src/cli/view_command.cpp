@@ -1,6 +1,7 @@
 // `lidarscout view [PATH...]`: the interactive viewer (src/viewer/app). Without PATH it opens
 // the built-in demo landscape, generated once (synth terrain) into the user's cache folder.
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <charconv>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include "cli/size_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
+#include "io/output_file.hpp"
 #include "render/backend.hpp"
 #include "synth/terrain_generator.hpp"
 #include "viewer/app/viewer_app.hpp"
@@ -37,6 +39,7 @@ struct ViewCliOptions {
     bool measure = false;
     unsigned threads = 0;
     std::string backend = "cpu";
+    std::string stats_json;
 };
 
 // "X,Y" window pixels of a scripted click.
@@ -81,6 +84,23 @@ render::Backend resolve_backend(const std::string& text) {
     return choice.backend;
 }
 
+nlohmann::json seconds(const std::optional<double>& s) { return s ? nlohmann::json(*s) : nlohmann::json(nullptr); }
+
+// --stats-json: when the window showed what (viewer_app.hpp's ViewerTimings), null for never.
+void write_stats_json(const std::string& path, const viewer::app::ViewerTimings& t) {
+    const nlohmann::json j = {{"first_frame_s", seconds(t.first_frame_s)},
+                              {"dataset_open_s", seconds(t.dataset_open_s)},
+                              {"first_overview_s", seconds(t.first_overview_s)},
+                              {"chunk_points_s", seconds(t.chunk_points_s)},
+                              {"frames_while_opening", t.frames_while_opening},
+                              {"tiles", t.tiles},
+                              {"skipped", t.skipped}};
+    const std::string text = j.dump(2) + "\n";
+    io::AtomicOutputFile out(path);
+    out.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
+    out.commit();
+}
+
 int run_view(const ViewCliOptions& o) {
     viewer::app::ViewerOptions v;
     v.backend = resolve_backend(o.backend);
@@ -96,7 +116,10 @@ int run_view(const ViewCliOptions& o) {
     v.measure = o.measure;
     v.threads = o.threads;
     v.paths = o.paths.empty() ? std::vector<std::string>{demo_folder(o)} : o.paths;
-    return viewer::app::run_viewer(v);
+    viewer::app::ViewerTimings timings;
+    const int status = viewer::app::run_viewer(v, &timings);
+    if (!o.stats_json.empty()) write_stats_json(o.stats_json, timings);
+    return status;
 }
 
 }  // namespace
@@ -122,12 +145,15 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
                     "Write the whole window, panels included, to this PNG on exit (scripted use)");
     cmd->add_option("--click", o->clicks, "Click at window pixel X,Y just before quitting (scripted use; repeatable)");
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
-    cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the first frame (scripted use)")
+    cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--threads", o->threads, "Rendering threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
                     "available, else cpu)");
+    cmd->add_option("--stats-json", o->stats_json,
+                    "Write to this JSON file on exit the seconds from the start to the first frame, to the dataset "
+                    "open, to the first frame with heightmaps and to all chunk points in (scripted use)");
     cmd->callback([o, &run] { run = [o] { return run_view(*o); }; });
 }
 

@@ -251,11 +251,15 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     for (const auto& source : sources) source_paths.push_back(source.path);
     io::File::prefetch(source_paths);  // remote tiles: every header request in flight at once
     ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
+    const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
     pool.for_each(n, [&](std::size_t i) {
+        if (cancelled()) return;
         tiles[i] = read_one(sources[i], options.las_stride, errors[i]);
+        if (tiles[i] && options.tile_read) options.tile_read(*tiles[i]);
         const std::size_t d = done.fetch_add(1) + 1;
         if (options.progress) options.progress(d, n);
     });
+    if (cancelled()) throw Error::in_stage("dataset", "opening cancelled");
     for (std::size_t i = 0; i < n; ++i) {
         if (tiles[i]) {
             ds.tiles.push_back(std::move(*tiles[i]));

@@ -4,6 +4,7 @@
 // units). Nothing here reads point data.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -91,10 +92,17 @@ struct DatasetOptions {
     std::string crs;  // the frame's CRS ("EPSG:32632", WKT); empty: the CRS most tiles use
     // Called from reader threads as files finish: (files done, files total).
     std::function<void(std::size_t, std::size_t)> progress;
+    // Called from reader threads for each tile read, before `progress` counts it (a tile in
+    // another CRS than the frame's still has its bounds in its own CRS's metres here).
+    std::function<void(const DatasetTile&)> tile_read;
+    // When it turns true, files not yet started are not read and open_dataset throws Error
+    // ("opening cancelled") once the reads in progress have ended.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 // Finds and reads the tiles of `paths` (files, folders, tile lists, and virtual replica
-// manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`.
+// manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`;
+// throws only when options.cancel asked it to stop.
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options = {});
 
 // The patch grid origin for a dataset: its min corner rounded down to a multiple of

@@ -29,8 +29,9 @@ class File {
 public:
     // Opens `path` (a file or an http(s) URL) read-only; throws lidarscout::Error if it cannot.
     static File open(const std::string& path);
-    // Opens the remote files among `paths` together (many requests in flight), so that the
-    // open() calls that follow cost nothing; local paths are left alone. Reports no error.
+    // Starts opening the remote files among `paths` together (many requests in flight) and
+    // returns at once; the open() calls that follow wait only for their own file. Local paths
+    // are left alone. Reports no error.
     static void prefetch(std::span<const std::string> paths);
 
     File() = default;

@@ -138,6 +138,8 @@ struct HttpClient::Impl {
             std::lock_guard lock(stats_mutex);
             stats.body_bytes += t->body_bytes();
             stats.header_bytes += t->header_bytes();
+            stats.http2_responses += t->used_http2() ? 1 : 0;
+            stats.connections += t->new_connections();
         }
         const HttpSettings s = current_settings();
         switch (outcome) {

@@ -10,7 +10,7 @@
 // is an error, and its body is not downloaded; neither is any response larger than asked.
 // Time-outs, dropped connections, 429 and 5xx are retried with exponential backoff; a cut
 // single-range body resumes where it stopped. TLS peers are verified against the system CA
-// store, and redirects may not change the scheme.
+// store (or the CAs of HttpSettings::ca_file), and redirects may not change the scheme.
 #pragma once
 
 #include <chrono>
@@ -32,6 +32,7 @@ struct HttpSettings {
     long stall_timeout_s = 30;                       // a transfer receiving nothing this long is retried
     unsigned connections_per_host = 256;             // HTTP/1.1 keep-alive pool size (latency-bound reads)
     std::size_t max_range_header = 6000;             // characters of one Range header
+    std::string ca_file;                             // PEM CAs to verify TLS peers with ("" = the system's)
 };
 
 struct RangeRequest {
@@ -52,6 +53,8 @@ struct HttpStats {
     std::uint64_t body_bytes = 0;      // response bytes received (bodies, multipart framing included)
     std::uint64_t header_bytes = 0;    // response header bytes received
     std::uint64_t retries = 0;
+    std::uint64_t http2_responses = 0; // attempts answered over HTTP/2
+    std::uint64_t connections = 0;     // connections opened (a multiplexed one serves many requests)
 };
 
 class HttpClient {

@@ -103,6 +103,7 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     curl_easy_setopt(easy_, CURLOPT_REDIR_PROTOCOLS_STR, scheme.c_str());  // never to another scheme
     curl_easy_setopt(easy_, CURLOPT_SSL_VERIFYPEER, 1L);
     curl_easy_setopt(easy_, CURLOPT_SSL_VERIFYHOST, 2L);
+    if (!s.ca_file.empty()) curl_easy_setopt(easy_, CURLOPT_CAINFO, s.ca_file.c_str());
     curl_easy_setopt(easy_, CURLOPT_NOSIGNAL, 1L);
     curl_easy_setopt(easy_, CURLOPT_PIPEWAIT, 1L);
     curl_easy_setopt(easy_, CURLOPT_TCP_NODELAY, 1L);
@@ -117,6 +118,18 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     curl_easy_setopt(easy_, CURLOPT_WRITEDATA, this);
     curl_easy_setopt(easy_, CURLOPT_PRIVATE, this);
     return easy_;
+}
+
+bool HttpTransfer::used_http2() const {
+    long version = 0;
+    return easy_ && curl_easy_getinfo(easy_, CURLINFO_HTTP_VERSION, &version) == CURLE_OK &&
+           version == CURL_HTTP_VERSION_2_0;
+}
+
+std::uint64_t HttpTransfer::new_connections() const {
+    long count = 0;
+    if (!easy_ || curl_easy_getinfo(easy_, CURLINFO_NUM_CONNECTS, &count) != CURLE_OK) return 0;
+    return static_cast<std::uint64_t>(std::max(0L, count));
 }
 
 std::size_t HttpTransfer::on_header(char* data, std::size_t size, std::size_t n, void* self) {

@@ -49,6 +49,9 @@ public:
     unsigned attempts() const { return attempts_; }
     std::uint64_t body_bytes() const { return attempt_body_; }
     std::uint64_t header_bytes() const { return attempt_headers_; }
+    // Of the attempt just finished: whether it was answered over HTTP/2; connections it opened.
+    bool used_http2() const;
+    std::uint64_t new_connections() const;
 
     std::chrono::steady_clock::time_point not_before{};  // when a retry may start
 

@@ -1,7 +1,6 @@
 // Remote files: the process-wide registry, the edge requests that open a file, and reads.
 #include "net/remote_file.hpp"
 
-#include <condition_variable>
 #include <future>
 #include <map>
 #include <mutex>
@@ -15,9 +14,12 @@ namespace lidarscout::net {
 
 namespace {
 
+using Opening = std::shared_future<std::shared_ptr<const RemoteFile>>;  // null: the open failed
+
 struct Registry {
     std::mutex mutex;
     std::map<std::string, std::shared_ptr<const RemoteFile>> files;  // by URL, as given and as shown
+    std::map<std::string, Opening> opening;                          // prefetches in flight, by URL
 };
 
 Registry& registry() {
@@ -30,6 +32,15 @@ std::shared_ptr<const RemoteFile> registered(const std::string& url) {
     std::lock_guard lock(r.mutex);
     const auto it = r.files.find(url);
     return it == r.files.end() ? nullptr : it->second;
+}
+
+// The prefetch of `url` in flight, if any.
+std::optional<Opening> opening(const std::string& url) {
+    auto& r = registry();
+    std::lock_guard lock(r.mutex);
+    const auto it = r.opening.find(url);
+    if (it == r.opening.end()) return std::nullopt;
+    return it->second;
 }
 
 std::shared_ptr<const RemoteFile> register_file(const std::string& url, std::shared_ptr<RemoteFile> file) {
@@ -89,6 +100,9 @@ void RemoteFile::set_tail(RangeReply&& reply) { tail_ = std::move(reply.parts.at
 
 std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
     if (auto f = registered(url)) return f;
+    if (auto pending = opening(url)) {
+        if (auto f = pending->get()) return f;  // else open it again here, to report the failure
+    }
     RangeReply head = HttpClient::shared().fetch(head_request(url));
     if (!head.error.empty()) throw_reply_error(url, 0, head.error);
     auto file = std::make_shared<RemoteFile>(url, std::move(head));
@@ -100,46 +114,54 @@ std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
     return register_file(url, std::move(file));
 }
 
-void RemoteFile::prefetch(std::span<const std::string> urls) {
-    std::mutex mutex;
-    std::condition_variable cv;
-    std::size_t pending = 0;
-    auto finish = [&] {
-        std::lock_guard lock(mutex);
-        --pending;
-        cv.notify_all();
-    };
-    for (const auto& url : urls) {
-        if (!is_url(url) || registered(url)) continue;
+namespace {
+
+// Starts opening `url` (head, then tail) on the client's thread; `opened` gets the file, or
+// null when a request failed.
+void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared_ptr<const RemoteFile>>> opened) {
+    const auto finish = [url, opened](std::shared_ptr<RemoteFile> file) {
+        std::shared_ptr<const RemoteFile> kept = file ? register_file(url, std::move(file)) : nullptr;
         {
-            std::lock_guard lock(mutex);
-            ++pending;
+            auto& r = registry();
+            std::lock_guard lock(r.mutex);
+            r.opening.erase(url);
         }
-        HttpClient::shared().submit(head_request(url), [&, url](RangeReply&& head) {
-            if (!head.error.empty() || !head.total) return finish();
-            auto file = std::make_shared<RemoteFile>(url, std::move(head));
-            auto tail = tail_request(url, *file);
-            if (!tail) {
-                register_file(url, std::move(file));
-                return finish();
-            }
-            fetch_cached(std::move(*tail), [&, url, file](RangeReply&& reply) {
-                if (reply.error.empty()) {
-                    file->set_tail(std::move(reply));
-                    register_file(url, file);
-                }
-                finish();
-            });
+        opened->set_value(std::move(kept));
+    };
+    HttpClient::shared().submit(head_request(url), [url, finish](RangeReply&& head) {
+        if (!head.error.empty() || !head.total) return finish(nullptr);
+        auto file = std::make_shared<RemoteFile>(url, std::move(head));
+        auto tail = tail_request(url, *file);
+        if (!tail) return finish(std::move(file));
+        fetch_cached(std::move(*tail), [finish, file](RangeReply&& reply) {
+            if (!reply.error.empty()) return finish(nullptr);
+            file->set_tail(std::move(reply));
+            finish(file);
         });
+    });
+}
+
+}  // namespace
+
+void RemoteFile::prefetch(std::span<const std::string> urls) {
+    for (const auto& url : urls) {
+        if (!is_url(url)) continue;
+        auto opened = std::make_shared<std::promise<std::shared_ptr<const RemoteFile>>>();
+        {
+            auto& r = registry();
+            std::lock_guard lock(r.mutex);
+            if (r.files.contains(url) || r.opening.contains(url)) continue;
+            r.opening.emplace(url, opened->get_future().share());
+        }
+        open_async(url, std::move(opened));
     }
-    std::unique_lock lock(mutex);
-    cv.wait(lock, [&] { return pending == 0; });
 }
 
 void RemoteFile::forget_all() {
     auto& r = registry();
     std::lock_guard lock(r.mutex);
     r.files.clear();
+    r.opening.clear();  // (those in flight still register their file when they end)
 }
 
 void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {

@@ -26,8 +26,9 @@ public:
 
     // The remote file at `url`, opened (two range requests) on first use; throws Error.
     static std::shared_ptr<const RemoteFile> open(const std::string& url);
-    // Opens the files of `urls` not open yet, all requests in flight together. Failures are
-    // not reported here: open() of that URL reports them.
+    // Starts opening the files of `urls` not open yet, all requests in flight together, and
+    // returns at once; open() of such a URL waits for its file. Failures are not reported
+    // here: open() of that URL tries again and reports them.
     static void prefetch(std::span<const std::string> urls);
     // Forgets every open remote file: the next open() fetches its edges again (benchmarks).
     static void forget_all();

@@ -1,6 +1,9 @@
 // `lidarscout info`: JSON output for the surveys equals the headers, Kentucky tiles report US
-// survey feet, a bad file is one line on stderr and exit status 1 while the others are reported.
+// survey feet, a bad file is one line on stderr and exit status 1 while the others are reported;
+// remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output.
 #include <gtest/gtest.h>
+
+#include <cstdlib>
 
 #include "dataset/file_search.hpp"
 #include "io/file.hpp"
@@ -154,6 +157,31 @@ TEST(InfoCommand, RemoteFilesGiveTheSameOutputAsLocalOnes) {
         remote[0].erase("path");
         EXPECT_EQ(local.dump(2), remote.dump(2));
     }
+}
+
+// Over HTTPS and HTTP/2 from a server whose CA is trusted by --cacert (or LIDARSCOUT_CACERT):
+// the same output as the local file; without it, the certificate is refused.
+TEST(InfoCommand, Http2WithAPrivateCaGivesTheSameOutputAsLocal) {
+    const auto& server = test::NginxServer::instance();
+    const std::string rel = "surveys/ky-woodford-county/5205000_3900000.laz";
+    const std::string ca = server.ca_file().string();
+    int local_status = -1, flag_status = -1, env_status = -1;
+    auto local = info_json("--checksum " + (test::data_dir() / rel).string(), local_status);
+    auto by_flag = info_json("--checksum --cacert " + ca + " " + server.https_url(rel), flag_status);
+    setenv("LIDARSCOUT_CACERT", ca.c_str(), 1);
+    auto by_env = info_json("--checksum " + server.https_url(rel), env_status);
+    unsetenv("LIDARSCOUT_CACERT");
+    EXPECT_EQ(local_status, 0);
+    EXPECT_EQ(flag_status, 0);
+    EXPECT_EQ(env_status, 0);
+    ASSERT_EQ(by_flag.size(), 1u);
+    ASSERT_EQ(by_env.size(), 1u);
+    for (auto* j : {&local, &by_flag, &by_env}) (*j)[0].erase("path");
+    EXPECT_EQ(local.dump(2), by_flag.dump(2));
+    EXPECT_EQ(local.dump(2), by_env.dump(2));
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info " + server.https_url(rel) + " 2>&1", out), 1);
+    EXPECT_NE(out.find("certificate"), std::string::npos) << out;
 }
 
 // Credentials in a URL reach the server but never the output: not in JSON, not in errors.

@@ -1,7 +1,9 @@
 // `lidarscout view`: --help without a display, one clear line and exit 1 without one, and under
 // Xvfb the demo (generated into a scratch cache folder) and a real survey, each shown until a
 // scripted screenshot in which the terrain covers most of the image; scripted clicks that pick
-// two points of a real tile and measure between them.
+// two points of a real tile and measure between them; a remote tile list behind nginx and a
+// slow link, whose window draws (footprints, progress) before the dataset is open, then the
+// overview, with the missing tile listed.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,10 +12,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <unistd.h>
 
+#include "delay_proxy.hpp"
+#include "nginx_server.hpp"
 #include "render/framebuffer.hpp"
 #include "png_test_util.hpp"
 #include "test_data.hpp"
@@ -138,6 +143,46 @@ TEST_F(ViewCommand, ScriptedClicksPickPointsAndMeasureBetweenThem) {
     const test::Png png = test::read_png(shot);  // the window with its panels
     ASSERT_TRUE(png.ok());
     EXPECT_EQ(png.width, 480);
+}
+
+}  // namespace
+}  // namespace lidarscout
+
+namespace lidarscout {
+namespace {
+
+TEST_F(ViewCommand, RemoteDatasetDrawsBeforeItIsOpenThenTheOverview) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    auto& server = test::NginxServer::instance();
+    const test::DelayProxy proxy(server.port(), std::chrono::milliseconds(150));  // 300 ms round trips
+    const std::string list = "view_progressive_" + std::to_string(::getpid()) + ".txt";
+    const auto survey = test::surveys_dir() / "ky-jmo335-eastern-kentucky";
+    std::size_t tiles = 0;
+    {
+        std::ofstream out(server.lists_dir() / list);
+        for (const auto& f : fs::directory_iterator(survey)) {  // three tiles: quitting waits for reads in flight
+            if (f.path().extension() != ".laz" || tiles == 3) continue;
+            out << "../surveys/ky-jmo335-eastern-kentucky/" << f.path().filename().string() << "\n";
+            ++tiles;
+        }
+        out << "../surveys/ky-jmo335-eastern-kentucky/missing.laz\n";  // a 404: listed, not fatal
+    }
+    ASSERT_GT(tiles, 1u);
+    const std::string url = "http://127.0.0.1:" + std::to_string(proxy.port()) + "/lists/" + list;
+    const fs::path stats = dir_ / "stats.json";
+    std::string out;
+    ASSERT_EQ(run_xvfb("'" + url + "' --no-cnn --cache-size 0 --size 320x240 --quit-after 1 --stats-json " +
+                       stats.string(), out), 0) << out;
+    const auto j = test::read_json(stats);
+    ASSERT_TRUE(j.at("dataset_open_s").is_number()) << j.dump();
+    ASSERT_TRUE(j.at("first_frame_s").is_number()) << j.dump();
+    ASSERT_TRUE(j.at("first_overview_s").is_number()) << j.dump();
+    EXPECT_GE(j.at("frames_while_opening").get<int>(), 1) << j.dump();
+    EXPECT_LT(j.at("first_frame_s").get<double>(), j.at("dataset_open_s").get<double>()) << j.dump();
+    EXPECT_GE(j.at("first_overview_s").get<double>(), j.at("dataset_open_s").get<double>()) << j.dump();
+    EXPECT_EQ(j.at("tiles").get<std::size_t>(), tiles) << j.dump();
+    EXPECT_EQ(j.at("skipped").get<std::size_t>(), 1u) << j.dump();
+    fs::remove(server.lists_dir() / list);
 }
 
 }  // namespace

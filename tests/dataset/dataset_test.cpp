@@ -1,10 +1,14 @@
 // open_dataset: folders, tile lists and several paths; bounds in metres (Kentucky tiles are
 // in US survey feet); bad files skipped with one line naming them while the rest is read;
 // tiles in a CRS other than the majority's (or the one asked for) reprojected into it, landing
-// where they belong.
+// where they belong; each tile reported as it is read, and an opening cancelled half-way.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <mutex>
+#include <vector>
 #include <filesystem>
 #include <fstream>
 
@@ -177,6 +181,51 @@ TEST(Dataset, BadFilesAreSkippedWithOneLineTheRestIsRead) {
     bool survey_read = false;
     for (const auto& t : ds.tiles) survey_read |= t.tile.path.find("ky-red-river-gorge") != std::string::npos;
     EXPECT_TRUE(survey_read);
+}
+
+TEST(Dataset, EachTileReadIsReportedAsItArrives) {
+    const auto folder = test::surveys_dir() / "ky-jmo335-eastern-kentucky";
+    std::mutex mutex;
+    std::vector<Bounds> reported;
+    std::size_t last_done = 0;
+    DatasetOptions options;
+    options.tile_read = [&](const DatasetTile& t) {
+        std::lock_guard lock(mutex);
+        reported.push_back(t.bounds_m);
+    };
+    options.progress = [&](std::size_t done, std::size_t) {
+        std::lock_guard lock(mutex);
+        EXPECT_GE(reported.size(), done);  // each tile is reported before it is counted
+        last_done = std::max(last_done, done);
+    };
+    const Dataset ds = open_dataset({folder.string()}, options);
+    ASSERT_EQ(reported.size(), ds.tiles.size());
+    EXPECT_EQ(last_done, ds.tiles.size());
+    for (const auto& t : ds.tiles) {  // the same boxes, in any order
+        const auto same = [&](const Bounds& b) { return b.min_x == t.bounds_m.min_x && b.min_y == t.bounds_m.min_y; };
+        EXPECT_EQ(std::count_if(reported.begin(), reported.end(), same), 1) << t.tile.path;
+    }
+}
+
+TEST(Dataset, CancelledOpeningStopsReadingAndThrows) {
+    const auto folder = test::surveys_dir() / "ky-jmo335-eastern-kentucky";
+    std::atomic<bool> cancel{false};
+    std::atomic<std::size_t> read{0};
+    DatasetOptions options;
+    options.io_threads = 1;  // one file at a time: the cancel lands before the second
+    options.cancel = &cancel;
+    options.tile_read = [&](const DatasetTile&) {
+        ++read;
+        cancel = true;
+    };
+    try {
+        open_dataset({folder.string()}, options);
+        FAIL() << "a cancelled opening returned a dataset";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("cancelled"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read.load(), 1u);
+    EXPECT_GT(find_point_cloud_files({folder.string()}).files.size(), 1u);
 }
 
 TEST(Dataset, PatchGridOriginIsOnTheMetricLattice) {

@@ -2,11 +2,19 @@
 // body resumes where it stopped), definite ones are clear errors, and no response ever
 // yields wrong bytes: a dropped connection, 503 then success, Range ignored, a wrong
 // Content-Range, a truncated body, a slow response, a longer body, a changed ETag, a
-// redirect to another scheme, and multi-range requests to a server without them.
+// redirect to another scheme, and multi-range requests to a server without them. Over TLS
+// (nginx with a test CA), requests in flight together share one HTTP/2 connection.
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <iterator>
 
 #include "fault_server.hpp"
 #include "net/http_client.hpp"
+#include "nginx_server.hpp"
 
 namespace lidarscout::net {
 namespace {
@@ -145,6 +153,57 @@ TEST_F(HttpFaults, RangeAtTheEndOfTheFileMayBeShortened) {
     ASSERT_EQ(reply.error, "");
     ASSERT_EQ(reply.parts[0].size(), 10u);
     EXPECT_TRUE(std::equal(reply.parts[0].begin(), reply.parts[0].end(), data.end() - 10));
+}
+
+}  // namespace
+}  // namespace lidarscout::net
+
+namespace lidarscout::net {
+namespace {
+
+std::vector<std::uint8_t> file_bytes(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(HttpClient, Http2OverTlsMultiplexesRequestsOnOneConnection) {
+    const auto& server = test::NginxServer::instance();
+    const std::string rel = "surveys/ky-woodford-county/5205000_3900000.laz";
+    const auto local = file_bytes(test::data_dir() / rel);
+    HttpSettings settings;
+    settings.ca_file = server.ca_file().string();
+    HttpClient client(settings);
+    constexpr std::size_t kRequests = 24;
+    std::vector<std::promise<RangeReply>> replies(kRequests);
+    std::vector<ByteRange> asked;
+    for (std::size_t i = 0; i < kRequests; ++i) {  // all in flight at once, two ranges each
+        asked.push_back({i * 40'000, 1'000 + i});
+        const std::vector<ByteRange> ranges = {asked.back(), {local.size() - 2'000 - i, 500}};
+        client.submit({server.https_url(rel), ranges, {}}, [&replies, i](RangeReply&& r) {
+            replies[i].set_value(std::move(r));
+        });
+    }
+    for (std::size_t i = 0; i < kRequests; ++i) {
+        const RangeReply r = replies[i].get_future().get();
+        ASSERT_EQ(r.error, "") << i;
+        ASSERT_EQ(r.parts.size(), 2u);
+        EXPECT_TRUE(std::equal(r.parts[0].begin(), r.parts[0].end(), local.begin() + asked[i].offset)) << i;
+        EXPECT_EQ(r.parts[0].size(), asked[i].length);
+        EXPECT_TRUE(std::equal(r.parts[1].begin(), r.parts[1].end(), local.end() - 2'000 - i)) << i;
+    }
+    const HttpStats stats = client.stats();
+    EXPECT_EQ(stats.requests, kRequests);
+    EXPECT_EQ(stats.http2_responses, kRequests);
+    EXPECT_EQ(stats.connections, 1u);
+}
+
+TEST(HttpClient, PlainHttpIsHttp1) {
+    const auto& server = test::NginxServer::instance();
+    HttpClient client;
+    const RangeReply r = client.fetch({server.url("surveys/ky-woodford-county/5205000_3900000.laz"), {{0, 100}}, {}});
+    ASSERT_EQ(r.error, "");
+    EXPECT_EQ(client.stats().http2_responses, 0u);
+    EXPECT_EQ(client.stats().connections, 1u);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // net/remote_file through io::File against nginx on loopback: remote reads equal the local
 // file's bytes everywhere, a tile's ranges go out as one multi-range request, URLs are shown
-// without credentials, and a file that changes on the server during a session is an error.
+// without credentials, a file that changes on the server during a session is an error, and
+// open() joins a prefetch in flight.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -9,8 +10,10 @@
 #include <iterator>
 
 #include "core/error.hpp"
+#include "delay_proxy.hpp"
 #include "io/file.hpp"
 #include "net/http_client.hpp"
+#include "net/range_cache.hpp"
 #include "net/remote_file.hpp"
 #include "nginx_server.hpp"
 #include "test_data.hpp"
@@ -79,10 +82,31 @@ TEST(RemoteFile, CredentialsAreNeverShown) {
     }
 }
 
+// prefetch returns before its requests end (behind a 400 ms round trip); the open() that
+// follows waits for the file in flight instead of asking again, and a prefetch that failed is
+// reported by open().
+TEST(RemoteFile, OpenJoinsThePrefetchInFlight) {
+    const auto& server = test::NginxServer::instance();
+    const test::DelayProxy proxy(server.port(), std::chrono::milliseconds(200));
+    const std::string base = "http://127.0.0.1:" + std::to_string(proxy.port()) + "/surveys/";
+    net::RangeCache::configure({{}, 0});  // every range from the server
+    const std::vector<std::string> urls = {base + "ky-jmo335-eastern-kentucky/N117E379.laz",
+                                           base + "ky-woodford-county/missing.laz"};
+    const auto before = net::HttpClient::shared().stats().requests;
+    const auto t0 = std::chrono::steady_clock::now();
+    io::File::prefetch(urls);
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(300));
+    const auto f = net::RemoteFile::open(urls[0]);
+    EXPECT_GE(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(800));  // two requests
+    EXPECT_EQ(net::HttpClient::shared().stats().requests - before, 3u);  // head and tail; the missing file's head
+    EXPECT_EQ(f->size(), fs::file_size(test::data_dir() / "surveys/ky-jmo335-eastern-kentucky/N117E379.laz"));
+    EXPECT_THROW(net::RemoteFile::open(urls[1]), Error);
+}
+
 TEST(RemoteFile, TlsPeersAreVerified) {
     try {
         io::File::open(test::NginxServer::instance().https_url(kTile));
-        FAIL() << "a self-signed certificate was accepted";
+        FAIL() << "a certificate of an unknown CA was accepted";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("certificate"), std::string::npos) << e.what();
     }

@@ -30,6 +30,8 @@ public:
     void fly(const FlyKeys& keys, double seconds);         // moves the target along the heading
 
     render::Camera camera(int width, int height) const;
+
+    bool operator==(const CameraController&) const = default;  // (tells whether the user moved it)
 };
 
 }  // namespace lidarscout::viewer::app

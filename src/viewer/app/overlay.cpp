@@ -47,18 +47,30 @@ void draw_segment(render::RgbaImage& image, const render::Camera& camera, double
     plot_line(image, a->x, a->y, b->x, b->y, rgba);
 }
 
+namespace {
+
+void draw_outline(render::RgbaImage& image, const render::Camera& camera, const dataset::Bounds& b,
+                  std::uint32_t rgba) {
+    if (!box_in_view(camera, b)) return;
+    const double z = b.min_z;
+    draw_segment(image, camera, b.min_x, b.min_y, z, b.max_x, b.min_y, z, rgba);
+    draw_segment(image, camera, b.max_x, b.min_y, z, b.max_x, b.max_y, z, rgba);
+    draw_segment(image, camera, b.max_x, b.max_y, z, b.min_x, b.max_y, z, rgba);
+    draw_segment(image, camera, b.min_x, b.max_y, z, b.min_x, b.min_y, z, rgba);
+}
+
+}  // namespace
+
 void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, const dataset::Dataset& dataset,
                      std::uint32_t rgba, std::optional<std::uint32_t> selected) {
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
-        const auto& b = dataset.tiles[i].bounds_m;
-        if (!box_in_view(camera, b)) continue;
-        const std::uint32_t colour = selected == i ? render::pack_rgba(255, 255, 255) : rgba;
-        const double z = b.min_z;
-        draw_segment(image, camera, b.min_x, b.min_y, z, b.max_x, b.min_y, z, colour);
-        draw_segment(image, camera, b.max_x, b.min_y, z, b.max_x, b.max_y, z, colour);
-        draw_segment(image, camera, b.max_x, b.max_y, z, b.min_x, b.max_y, z, colour);
-        draw_segment(image, camera, b.min_x, b.max_y, z, b.min_x, b.min_y, z, colour);
+        draw_outline(image, camera, dataset.tiles[i].bounds_m, selected == i ? render::pack_rgba(255, 255, 255) : rgba);
     }
+}
+
+void draw_footprints(render::RgbaImage& image, const render::Camera& camera, std::span<const dataset::Bounds> boxes,
+                     std::uint32_t rgba) {
+    for (const auto& b : boxes) draw_outline(image, camera, b, rgba);
 }
 
 void draw_marker(render::RgbaImage& image, const render::Camera& camera, double x, double y, double z,

@@ -1,9 +1,11 @@
 // Lines drawn over a resolved image after the scene: the tiles' outlines on the ground (the
-// "tile boxes" layer), the selected tile highlighted; the picked point and the measured line.
+// "tile boxes" layer, and the footprints of the tiles read while a dataset opens), the selected
+// tile highlighted; the picked point and the measured line.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <span>
 
 #include "dataset/dataset.hpp"
 #include "render/camera.hpp"
@@ -19,6 +21,10 @@ void draw_segment(render::RgbaImage& image, const render::Camera& camera, double
 // The xy outline of every tile (at its bounds' lowest height), in `rgba`; `selected` in white.
 void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, const dataset::Dataset& dataset,
                      std::uint32_t rgba, std::optional<std::uint32_t> selected);
+
+// The xy outline of each box (at its lowest height): the tiles read so far while a dataset opens.
+void draw_footprints(render::RgbaImage& image, const render::Camera& camera, std::span<const dataset::Bounds> boxes,
+                     std::uint32_t rgba);
 
 // A small cross centred on the projection of a world point.
 void draw_marker(render::RgbaImage& image, const render::Camera& camera, double x, double y, double z,

@@ -17,6 +17,9 @@ namespace lidarscout::viewer::app {
 namespace {
 
 constexpr float kSideWidth = 320;  // the side window's width in pixels
+// The readout and progress windows: fitted to their text, in a fixed place.
+constexpr auto kSmallWindow =
+    ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
 
 bool contains_ci(const std::string& text, const std::string& needle) {
     const auto it = std::search(text.begin(), text.end(), needle.begin(), needle.end(),
@@ -172,9 +175,8 @@ void readout_window(const dataset::Dataset& ds, const ClickState& click) {
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x - 10, display.y - 10), ImGuiCond_Always, ImVec2(1, 1));
     ImGui::SetNextWindowBgAlpha(0.8f);
-    constexpr auto kFlags =
-        ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings;
-    if (!ImGui::Begin(click.tool == ClickTool::Measure ? "Measure" : "Point", nullptr, kFlags)) return ImGui::End();
+    const char* title = click.tool == ClickTool::Measure ? "Measure" : "Point";
+    if (!ImGui::Begin(title, nullptr, kSmallWindow)) return ImGui::End();
     if (click.picked) point_lines(ds, "", *click.picked);
     if (click.from) point_lines(ds, "A", *click.from);
     if (click.to) {
@@ -208,6 +210,22 @@ PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& 
     ImGui::End();
     readout_window(dataset, state.click);
     return actions;
+}
+
+void draw_opening_panel(const OpeningProgress& p) {
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(10, display.y - 10), ImGuiCond_Always, ImVec2(0, 1));
+    ImGui::SetNextWindowBgAlpha(0.8f);
+    if (ImGui::Begin("Opening", nullptr, kSmallWindow)) {
+        if (p.total == 0) {
+            ImGui::TextUnformatted("finding the tiles...");
+        } else {
+            ImGui::Text("%zu of %zu files read, %zu failed%s", p.read, p.total, p.done - p.read,
+                        p.building ? "; starting the overview" : "");
+            progress_line("files", {p.done, p.total});
+        }
+    }
+    ImGui::End();
 }
 
 }  // namespace lidarscout::viewer::app

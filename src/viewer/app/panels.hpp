@@ -1,7 +1,8 @@
 // The viewer's Dear ImGui panels: one narrow side window of collapsible sections (stats and
 // progress of each stage; tiles: filter, double-click flies there; settings: memory budget, point
 // sizes, colour mode, EDL, layers; the click tool; the errors, one line per unreadable file with
-// its cause) and a small readout window for the picked point or the measurement. They read the
+// its cause) and a small readout window for the picked point or the measurement; while a dataset
+// opens, a progress window. They read the
 // scheduler's stats and write the settings; actions come back as a PanelActions.
 #pragma once
 
@@ -14,6 +15,7 @@
 #include "viewer/scheduler.hpp"
 #include "viewer/scene.hpp"
 #include "viewer/scheduler_snapshot.hpp"
+#include "viewer/session_opening.hpp"
 
 namespace lidarscout::viewer::app {
 
@@ -42,5 +44,8 @@ struct PanelActions {
 // Draws the panels for this frame (between ImGui::NewFrame and ImGui::Render).
 PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& stats, double frame_ms,
                          ViewSettings& settings, PanelState& state);
+
+// A small window while a dataset opens: files read (failed) of the files found, with a bar.
+void draw_opening_panel(const OpeningProgress& progress);
 
 }  // namespace lidarscout::viewer::app

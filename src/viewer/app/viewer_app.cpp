@@ -21,6 +21,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "render/resolve.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/app/camera_controller.hpp"
 #include "viewer/app/gl_presenter.hpp"
@@ -31,6 +32,7 @@
 #include "viewer/picking.hpp"
 #include "viewer/surface_pick.hpp"
 #include "viewer/scheduler.hpp"
+#include "viewer/session_opening.hpp"
 
 namespace lidarscout::viewer::app {
 namespace {
@@ -45,27 +47,31 @@ struct InputEvents {
     std::vector<std::string> dropped;
 };
 
-// An opened dataset and the scheduler working on it.
-struct Session {
-    std::unique_ptr<dataset::Dataset> dataset;
-    std::unique_ptr<Scheduler> scheduler;
-    std::unique_ptr<CursorReadout> cursor;
-};
+// Starts opening `paths` in the background (viewer/session_opening.hpp).
+std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& paths, const ViewerOptions& o) {
+    SessionOptions so;
+    so.crs = o.crs;
+    so.scheduler.memory_budget = o.memory_budget;
+    so.scheduler.cnn = o.cnn;
+    so.scheduler.model_path = o.model;
+    return std::make_unique<SessionOpening>(paths, std::move(so));
+}
 
-Session open_session(const std::vector<std::string>& paths, const ViewerOptions& o, const render::Camera* camera) {
-    Session s;
-    dataset::DatasetOptions options;
-    options.crs = o.crs;
-    s.dataset = std::make_unique<dataset::Dataset>(dataset::open_dataset(paths, options));
-    if (s.dataset->tiles.empty()) throw Error("view: no readable LAS/LAZ tiles in the given paths");
-    SchedulerOptions so;
-    so.memory_budget = o.memory_budget;
-    so.cnn = o.cnn;
-    so.model_path = o.model;
-    if (camera) so.camera = *camera;
-    s.scheduler = std::make_unique<Scheduler>(*s.dataset, so);
-    s.cursor = std::make_unique<CursorReadout>(s.dataset->frame);
-    return s;
+// Puts the finished opening's session in place of the one shown. An error ends the viewer when
+// nothing is shown yet (the first dataset), else it is the status line. True when replaced.
+bool take_opening(std::unique_ptr<SessionOpening>& opening, Session& session, PanelState& panels) {
+    const auto finished = std::move(opening);
+    try {
+        Session next = finished->take();
+        session.scheduler.reset();  // it reads the dataset it replaces
+        session = std::move(next);
+        panels = {};
+        return true;
+    } catch (const Error& e) {
+        if (!session.open()) throw;
+        panels.status = e.what();
+        return false;
+    }
 }
 
 struct GlfwWindow {
@@ -229,21 +235,35 @@ ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& 
     return v;
 }
 
-// The frame's picture: the snapshot drawn at the render scale, then the tile outlines.
+// The frame's picture: the snapshot drawn at the render scale, then the tile outlines;
+// `with_heightmaps` tells whether the snapshot had any.
 RenderedScene draw_frame(const Session& s, const CameraController& controller, const ViewSettings& v,
                          const PanelState& panels, int fb_width, int fb_height, ThreadPool& pool,
-                         FrameRefiner& refiner, render::Camera& camera) {
+                         FrameRefiner& refiner, render::Camera& camera, bool& with_heightmaps) {
     const int w = std::max(1, static_cast<int>(std::lround(fb_width * v.render_scale)));
     const int h = std::max(1, static_cast<int>(std::lround(fb_height * v.render_scale)));
     camera = controller.camera(w, h);
     s.scheduler->set_camera(camera);
     SceneStyle style = v.style;
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
-    RenderedScene frame = refiner.draw(*s.scheduler->snapshot(), camera, style, pool, v.layers);
+    const auto snapshot = s.scheduler->snapshot();
+    RenderedScene frame = refiner.draw(*snapshot, camera, style, pool, v.layers);
+    with_heightmaps = !snapshot->heightmaps.empty();
     if (v.tile_boxes) {
         draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);
     }
     draw_click_overlay(frame.image, camera, panels.click);
+    return frame;
+}
+
+// The picture while the first dataset opens: the footprints of the tiles read so far.
+RenderedScene opening_frame(std::span<const dataset::Bounds> footprints, const CameraController& controller,
+                            int width, int height, render::Camera& camera) {
+    camera = controller.camera(width, height);
+    RenderedScene frame;
+    frame.image.width = width, frame.image.height = height;
+    frame.image.pixels.assign(static_cast<std::size_t>(width) * height, render::ResolveSettings{}.background);
+    draw_footprints(frame.image, camera, footprints, render::pack_rgba(255, 200, 40));
     return frame;
 }
 
@@ -258,9 +278,31 @@ std::string cursor_text(GLFWwindow* window, const CursorReadout& readout, const 
     return readout.text(camera, mx * camera.width / w, my * camera.height / h, ground_z);
 }
 
+// Waits for input or until a 60th of a second after `frame_start` (the swap does not wait for
+// the display everywhere, e.g. under Xvfb).
+void wait_for_next_frame(Clock::time_point frame_start) {
+    const double left = 1.0 / 60 - std::chrono::duration<double>(Clock::now() - frame_start).count();
+    if (left > 0) glfwWaitEventsTimeout(left);
+}
+
+// Notes the times of the first frame presented, of the first with a heightmap, and of the first
+// with every tile's chunk points in (`stats`: the scheduler's, taken for this frame's panels).
+void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats& stats, bool with_heightmaps,
+                 double seconds) {
+    if (!t.first_frame_s) t.first_frame_s = seconds;
+    if (!session.open()) {
+        ++t.frames_while_opening;
+        return;
+    }
+    if (!t.first_overview_s && with_heightmaps) t.first_overview_s = seconds;
+    if (!t.chunk_points_s && stats.tiles_loaded.done == stats.tiles_loaded.total) t.chunk_points_s = seconds;
+}
+
 }  // namespace
 
-int run_viewer(const ViewerOptions& o) {
+int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
+    const auto start = Clock::now();
+    const auto since_start = [&start] { return std::chrono::duration<double>(Clock::now() - start).count(); };
     GlfwWindow win(o.width, o.height, "lidarscout");
     InputEvents events;
     install_callbacks(win.window, events);
@@ -268,16 +310,19 @@ int run_viewer(const ViewerOptions& o) {
     GlPresenter presenter;
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
 
-    Session session = open_session(o.paths, o, nullptr);
+    std::unique_ptr<SessionOpening> opening = start_opening(o.paths, o);
+    Session session;                         // empty until the first dataset is open
+    std::vector<dataset::Bounds> footprints;  // of the tiles read while the first dataset opens
+    bool moved_while_opening = false;        // then the camera stays where the user put it
     CameraController controller;
-    controller.frame(session.dataset->bounds_m, o.width, o.height);
-    ViewSettings settings = initial_settings(*session.dataset, session.scheduler->stats(), o.backend);
+    ViewSettings settings;
     PanelState panels;
     MouseKeyboard input;
     RenderedScene last;
     render::RgbaImage window_shot;  // --window-screenshot: the last frame with its panels
     FrameRefiner refiner;
-    const auto start = Clock::now();
+    ViewerTimings times;
+    std::optional<Clock::time_point> opened;  // when the first dataset opened (--quit-after counts from there)
     auto previous = start;
     double frame_ms = 0;
     bool scripted_clicks_done = o.clicks.empty() && !o.measure;
@@ -289,26 +334,43 @@ int run_viewer(const ViewerOptions& o) {
         previous = now;
         int fb_width = 0, fb_height = 0;
         glfwGetFramebufferSize(win.window, &fb_width, &fb_height);
+        fb_width = std::max(1, fb_width), fb_height = std::max(1, fb_height);
         if (!events.dropped.empty()) {
-            try {
-                Session next = open_session(events.dropped, o, nullptr);
-                session.scheduler.reset();  // it reads the dataset it replaces
-                session = std::move(next);
-                refiner.invalidate();
-                controller.frame(session.dataset->bounds_m, fb_width, fb_height);
-                panels = {};
-            } catch (const Error& e) {
-                panels.status = e.what();
-            }
+            opening = start_opening(events.dropped, o);  // the dataset shown stays until it is open
             events.dropped.clear();
         }
+        if (opening && opening->finished() && take_opening(opening, session, panels)) {
+            refiner.invalidate();
+            if (!moved_while_opening) controller.frame(session.dataset->bounds_m, fb_width, fb_height);
+            moved_while_opening = false;
+            if (!opened) {
+                settings = initial_settings(*session.dataset, session.scheduler->stats(), o.backend);
+                opened = Clock::now();
+                times.dataset_open_s = since_start();
+            }
+        }
+        if (!session.open()) {
+            const OpeningProgress progress = opening->progress();
+            opening->footprints(footprints);
+            const bool follow = !moved_while_opening && !progress.extent.empty();
+            if (follow) controller.frame(progress.extent, fb_width, fb_height);
+        }
+        const CameraController before = controller;
         input.apply(win.window, events, controller, dt, fb_height);
+        if (!session.open() && !(controller == before)) moved_while_opening = true;
         render::Camera camera;
-        last = draw_frame(session, controller, settings, panels, std::max(1, fb_width), std::max(1, fb_height), pool,
-                          refiner, camera);
+        bool with_heightmaps = false;
+        if (session.open()) {
+            last = draw_frame(session, controller, settings, panels, fb_width, fb_height, pool, refiner, camera,
+                              with_heightmaps);
+        } else {
+            last = opening_frame(footprints, controller, fb_width, fb_height, camera);
+        }
         frame_ms = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
-        if (const auto click = input.take_click()) pick_at_click(win.window, *click, session, camera, panels);
-        panels.cursor = cursor_text(win.window, *session.cursor, camera, controller.target_z);
+        if (const auto click = input.take_click(); click && session.open()) {
+            pick_at_click(win.window, *click, session, camera, panels);
+        }
+        panels.cursor = session.open() ? cursor_text(win.window, *session.cursor, camera, controller.target_z) : "";
 
         glViewport(0, 0, fb_width, fb_height);
         glClearColor(0, 0, 0, 1);
@@ -317,12 +379,19 @@ int run_viewer(const ViewerOptions& o) {
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
-        const PanelActions actions =
-            draw_panels(*session.dataset, session.scheduler->stats(), frame_ms, settings, panels);
+        PanelActions actions;
+        SchedulerStats stats;
+        if (session.open()) {
+            stats = session.scheduler->stats();
+            actions = draw_panels(*session.dataset, stats, frame_ms, settings, panels);
+        }
+        if (opening) draw_opening_panel(opening->progress());
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         if (!o.window_screenshot.empty()) window_shot = window_pixels(win.window);  // scripted use only
         glfwSwapBuffers(win.window);
+        count_frame(times, session, stats, with_heightmaps, since_start());
+        if (!session.open()) wait_for_next_frame(now);  // cheap frames: leave the cores to the reads
 
         if (actions.fly_to) {
             controller.frame(session.dataset->tiles[*actions.fly_to].bounds_m, fb_width, fb_height);
@@ -334,7 +403,7 @@ int run_viewer(const ViewerOptions& o) {
             panels.status = "screenshot: " + name;
         }
         const bool quitting =
-            o.quit_after > 0 && std::chrono::duration<double>(Clock::now() - start).count() >= o.quit_after;
+            opened && o.quit_after > 0 && std::chrono::duration<double>(Clock::now() - *opened).count() >= o.quit_after;
         if (quitting && !scripted_clicks_done) {  // the clicks, then a few frames to show them
             panels.click.use(o.measure ? ClickTool::Measure : ClickTool::Inspect);
             for (const auto& c : o.clicks) {
@@ -346,6 +415,9 @@ int run_viewer(const ViewerOptions& o) {
         }
         if (quitting && frames_to_quit-- <= 0) break;
     }
+    opening.reset();  // a window closed while opening: cancel the reads not started
+    if (session.open()) times.tiles = session.dataset->tiles.size(), times.skipped = session.dataset->skipped.size();
+    if (timings) *timings = times;
     if (!o.screenshot.empty()) render::write_png(o.screenshot, last.image);
     if (!o.window_screenshot.empty()) render::write_png(o.window_screenshot, window_shot);
     return 0;

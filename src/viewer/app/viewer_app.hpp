@@ -4,7 +4,9 @@
 // and a scripted mode that clicks, writes the last frame (or the whole window) and quits after a time.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,15 +24,28 @@ struct ViewerOptions {
     std::string crs;                 // the CRS tiles are reprojected to; empty = the majority's
     std::string screenshot;          // scripted: the last frame's PNG
     std::string window_screenshot;   // scripted: the whole window (panels included) as a PNG
-    double quit_after = 0;           // scripted: seconds after the first frame (0 = until closed)
+    double quit_after = 0;           // scripted: seconds after the dataset is open (0 = until closed)
     std::vector<std::pair<double, double>> clicks;  // scripted: window pixels clicked at quit_after
     bool measure = false;            // scripted: the clicks measure instead of inspecting
     unsigned threads = 0;            // rendering threads (0 = all cores)
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (resolved: Cpu or Cuda)
 };
 
-// Opens the window and runs until it is closed (or quit_after). Throws lidarscout::Error
-// when no window can be opened (no display) or nothing readable is in the paths.
-int run_viewer(const ViewerOptions& options);
+// When the window showed what, in seconds from run_viewer's start (window creation included);
+// unset: never happened.
+struct ViewerTimings {
+    std::optional<double> first_frame_s;     // the first frame presented (the dataset may still be opening)
+    std::optional<double> dataset_open_s;    // every tile's metadata read, the scheduler started
+    std::optional<double> first_overview_s;  // the first frame presented with a heightmap
+    std::optional<double> chunk_points_s;    // the first frame presented with every tile's chunk points in
+    std::size_t frames_while_opening = 0;    // frames presented before the dataset was open
+    std::size_t tiles = 0, skipped = 0;      // of the dataset shown at the end
+};
+
+// Opens the window at once and the dataset in the background (the window shows the tiles'
+// footprints and a progress line meanwhile), and runs until the window is closed (or
+// quit_after); `timings`, when given, gets the figures above. Throws lidarscout::Error when no
+// window can be opened (no display) or nothing readable is in the paths.
+int run_viewer(const ViewerOptions& options, ViewerTimings* timings = nullptr);
 
 }  // namespace lidarscout::viewer::app

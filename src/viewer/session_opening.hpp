@@ -1,0 +1,76 @@
+// Progressive opening of the viewer's dataset: the tiles' metadata are read (and the Scheduler
+// built on them) on a background thread, while the window keeps drawing. Until it is done the
+// window shows what is known: how many tiles are read, failed and to go, and the footprints of
+// the tiles read so far. Destroying an opening that is not finished cancels it: files not yet
+// started are not read, and the destructor waits only for the reads in progress.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/error.hpp"
+#include "dataset/dataset.hpp"
+#include "viewer/cursor_readout.hpp"
+#include "viewer/scheduler.hpp"
+
+namespace lidarscout::viewer {
+
+// An opened dataset and the scheduler working on it (the scheduler reads the dataset, so it is
+// destroyed first).
+struct Session {
+    std::unique_ptr<dataset::Dataset> dataset;
+    std::unique_ptr<CursorReadout> cursor;
+    std::unique_ptr<Scheduler> scheduler;
+
+    bool open() const { return scheduler != nullptr; }
+};
+
+struct SessionOptions {
+    std::string crs;                 // the frame's CRS; empty: the majority's
+    SchedulerOptions scheduler;      // its camera, if set, is the first one
+};
+
+// Where an opening stands, for a progress line.
+struct OpeningProgress {
+    std::size_t done = 0, total = 0;  // files tried / files found (0 while the paths are expanded)
+    std::size_t read = 0;             // files read as tiles (done - read failed)
+    dataset::Bounds extent;           // of the tiles read so far (each in its own CRS's metres)
+    bool building = false;            // every file tried; the scheduler is being built
+};
+
+class SessionOpening {
+public:
+    // Starts opening `paths` at once (files, folders, tile lists, URLs).
+    SessionOpening(std::vector<std::string> paths, SessionOptions options);
+    ~SessionOpening();  // cancels what is not read yet, and waits for the reads in progress
+    SessionOpening(const SessionOpening&) = delete;
+    SessionOpening& operator=(const SessionOpening&) = delete;
+
+    OpeningProgress progress() const;
+    // Appends the footprints read since the last call (those after footprints.size()).
+    void footprints(std::vector<dataset::Bounds>& out) const;
+    // True when take() will not wait.
+    bool finished() const { return finished_.load(); }
+    // Waits for the end; the session, or the Error that ended the opening (no readable tile,
+    // a CRS that cannot be used). Once only.
+    Session take();
+
+private:
+    void run(const std::vector<std::string>& paths, const SessionOptions& options);
+
+    mutable std::mutex mutex_;
+    OpeningProgress progress_;
+    std::vector<dataset::Bounds> footprints_;
+    std::optional<Session> session_;
+    std::optional<Error> error_;
+    std::atomic<bool> cancel_{false}, finished_{false};
+    std::thread thread_;
+};
+
+}  // namespace lidarscout::viewer

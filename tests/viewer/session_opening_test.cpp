@@ -1,0 +1,79 @@
+// SessionOpening: a survey opened in the background gives the same tiles as open_dataset, with
+// every footprint and the progress counted on the way and a running scheduler at the end; a
+// path without tiles ends in the viewer's one-line error; an opening destroyed while it reads
+// cancels without a hang.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "core/error.hpp"
+#include "dataset/dataset.hpp"
+#include "test_data.hpp"
+#include "viewer/session_opening.hpp"
+
+namespace lidarscout::viewer {
+namespace {
+
+namespace fs = std::filesystem;
+
+SessionOptions no_network() {
+    SessionOptions o;
+    o.scheduler.cnn = false;
+    o.scheduler.full_res = false;
+    return o;
+}
+
+TEST(SessionOpening, OpensASurveyWithItsFootprintsOnTheWay) {
+    const auto folder = (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string();
+    const dataset::Dataset expected = dataset::open_dataset({folder});
+    SessionOpening opening({folder}, no_network());
+    Session session = opening.take();
+    ASSERT_TRUE(session.open());
+    EXPECT_TRUE(opening.finished());
+    ASSERT_EQ(session.dataset->tiles.size(), expected.tiles.size());
+    for (std::size_t i = 0; i < expected.tiles.size(); ++i) {
+        EXPECT_EQ(session.dataset->tiles[i].tile.path, expected.tiles[i].tile.path);
+    }
+    const OpeningProgress p = opening.progress();
+    EXPECT_EQ(p.done, expected.tiles.size());
+    EXPECT_EQ(p.total, expected.tiles.size());
+    EXPECT_EQ(p.read, expected.tiles.size());
+    EXPECT_TRUE(p.building);
+    EXPECT_DOUBLE_EQ(p.extent.min_x, expected.bounds_m.min_x);
+    EXPECT_DOUBLE_EQ(p.extent.max_y, expected.bounds_m.max_y);
+    std::vector<dataset::Bounds> footprints;
+    opening.footprints(footprints);
+    EXPECT_EQ(footprints.size(), expected.tiles.size());
+    opening.footprints(footprints);  // nothing new
+    EXPECT_EQ(footprints.size(), expected.tiles.size());
+    EXPECT_EQ(session.scheduler->stats().tiles, expected.tiles.size());
+    EXPECT_THROW(opening.take(), Error);  // once only
+}
+
+TEST(SessionOpening, NoReadableTileIsTheViewersError) {
+    const fs::path empty = fs::temp_directory_path() / ("lidarscout_opening_empty_" + std::to_string(::getpid()));
+    fs::create_directories(empty);
+    SessionOpening opening({empty.string()}, no_network());
+    try {
+        opening.take();
+        ADD_FAILURE() << "an empty folder opened";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no readable"), std::string::npos) << e.what();
+    }
+    fs::remove_all(empty);
+}
+
+TEST(SessionOpening, DestroyedWhileOpeningCancels) {
+    const auto folder = (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < 5; ++i) {
+        SessionOpening opening({folder, folder, folder}, no_network());
+        std::this_thread::sleep_for(std::chrono::milliseconds(i * 5));
+    }  // each destructor cancels and joins
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30));
+}
+
+}  // namespace
+}  // namespace lidarscout::viewer
