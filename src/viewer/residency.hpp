@@ -5,8 +5,8 @@
 // coverage, per byte). Decoded tiles become LOD blocks (point_lod.hpp) and fold their points into
 // the patch detail (scheduler_detail.hpp). When memory runs short, the tiles worth least per
 // byte (out of view first, least recently seen first) drop to their coarse levels, then to
-// nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, each
-// shown as soon as it is in; when no tile fits whole, the best one is loaded in part, as many
+// nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, one
+// piece per decoding thread at a time, each shown as soon as it is in; when no tile fits whole, the best one is loaded in part, as many
 // pieces as there is room for (it is not loaded again while those are held: a known limit). A load happens only when it
 // is worth more than what it displaces, so the memory budget (with what the rest of the scheduler holds) is never
 // exceeded and loading converges. Its own thread and its own lock; hooks are called without that lock held.
@@ -118,10 +118,14 @@ private:
     // What decoding `tile` would improve per byte, given its screen coverage `fraction`.
     double gain_per_byte(std::uint32_t tile, double fraction) const;
     std::uint64_t held() const;
+    // What decoding `tile` holds besides the blocks it adds: every decoding thread's piece,
+    // its records and its points.
+    std::uint64_t transient_bytes(std::uint32_t tile) const;
     std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
     PointOrder decode_order() const;
     void load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool);
-    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool first);
+    // Adds a decoded piece; `first` (cleared here, under the lock) drops the coarse levels held.
+    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool& first);
     void notify(const std::vector<std::uint32_t>& released, std::optional<std::uint32_t> loaded,
                 const std::vector<dataset::CellKey>& cells) const;
 

@@ -147,7 +147,9 @@ TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
         EXPECT_NE(std::find(loaded.begin(), loaded.end(), t), loaded.end()) << ds.tiles[t].tile.path;
         const auto st = scheduler.stats();
         EXPECT_LE(st.bytes_used, o.memory_budget);
-        EXPECT_LE(st.peak_bytes_used, o.memory_budget + largest);
+        // A tile decoding beside what is held: its points, and the piece each of the two decoding
+        // threads has on the way (records and points).
+        EXPECT_LE(st.peak_bytes_used, o.memory_budget + 2 * largest);
     }
     EXPECT_LE(worst_full_res.load(), o.memory_budget);
     const auto released = log.tiles(Kind::FullResReleased);
