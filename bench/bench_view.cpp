@@ -20,7 +20,12 @@
 // --json prints {"dataset", "cameras": [{"name", "samples": [{"t", "psnr_db"}]}], "peak_rss_mb",
 // "budget_mb", "scheduler_peak_mb"}.
 //
-// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--lod-spacing PX]
+// --load-cost: for each camera of --converge, a freshly opened scheduler (nothing drawn) until it
+// is idle: the wall time and the CPU seconds it took (the CPU seconds hold on a loaded machine,
+// where wall times do not), median of --runs runs (default 3).
+//
+// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--load-cost [--runs N]]
+//                   [--lod-spacing PX]
 //                   [--memory MB] [--threads N] [--backend cpu|cuda|auto]
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
 // ../shared/data/surveys).
@@ -28,6 +33,8 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -58,7 +65,8 @@ struct Options {
     std::vector<std::string> paths;
     bool cnn = false;
     double flight_s = 0;           // 0: the loading benchmark
-    bool converge = false, json = false;
+    bool converge = false, json = false, load_cost = false;
+    int runs = 3;                  // --load-cost
     std::string png_dir;           // --converge: write every sampled frame and reference here
     std::uint64_t memory_mb = 1024;
     unsigned threads = 0;          // render threads (0: all cores)
@@ -77,6 +85,8 @@ Options parse(int argc, char** argv) {
         else if (a == "--flight") o.flight_s = std::stod(value());
         else if (a == "--converge") o.converge = true;
         else if (a == "--json") o.json = true;
+        else if (a == "--load-cost") o.load_cost = true;
+        else if (a == "--runs") o.runs = std::stoi(value());
         else if (a == "--png") o.png_dir = value();
         else if (a == "--lod-spacing") o.style.lod_spacing_px = std::stod(value());
         else if (a == "--memory") o.memory_mb = std::stoull(value());
@@ -333,6 +343,40 @@ int converge(const Options& o, const dataset::Dataset& ds) {
     return 0;
 }
 
+// CPU seconds this process has used (every thread, user and system).
+double cpu_seconds() {
+    rusage u{};
+    ::getrusage(RUSAGE_SELF, &u);
+    const auto s = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+    return s(u.ru_utime) + s(u.ru_stime);
+}
+
+int load_cost(const Options& o, const dataset::Dataset& ds) {
+    for (const auto& view : converge_cameras(ds.bounds_m)) {
+        std::vector<double> wall, cpu;
+        std::size_t full = 0, wanted = 0;
+        for (int run = 0; run < std::max(1, o.runs); ++run) {
+            viewer::SchedulerOptions so;
+            so.cnn = o.cnn;
+            so.memory_budget = o.memory_mb << 20;
+            so.camera = view.camera;
+            const double c0 = cpu_seconds();
+            const auto t0 = Clock::now();
+            {
+                viewer::Scheduler scheduler(ds, so);
+                while (!scheduler.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                wall.push_back(since(t0));
+                cpu.push_back(cpu_seconds() - c0);
+                const auto st = scheduler.stats();
+                full = st.full_res.done, wanted = st.full_res.total;
+            }
+        }
+        fmt::print("{} camera: idle after {:.2f} s wall, {:.2f} CPU s (medians of {}); {} of {} visible tiles full\n",
+                   view.name, percentile(wall, 0.5), percentile(cpu, 0.5), wall.size(), full, wanted);
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -344,6 +388,7 @@ int main(int argc, char** argv) {
         for (const auto& skipped : ds.skipped) fmt::print(stderr, "bench_view: skipped {}\n", skipped.error);
         if (ds.tiles.empty()) throw std::runtime_error("no readable tiles in the paths given: nothing to measure");
         if (o.converge) return converge(o, ds);
+        if (o.load_cost) return load_cost(o, ds);
         return o.flight_s > 0 ? flight(o, ds) : loading(o, ds, headers);
     } catch (const std::exception& e) {
         fmt::print(stderr, "bench_view: {}\n", e.what());
