@@ -217,6 +217,21 @@ std::optional<Residency::Choice> Residency::partial_choice(std::uint32_t tile, d
     return c;
 }
 
+double Residency::coverage(const Entry& entry, double fraction) const {
+    double covered = 0;
+    for (const auto& b : entry.blocks) covered += screen_fraction(camera_, b->bounds);
+    return fraction > 0 ? std::min(covered / fraction, 1.0) : 1.0;
+}
+
+std::vector<std::uint32_t> Residency::stale_partials(const std::vector<double>& fractions) const {
+    std::vector<std::uint32_t> out;
+    for (const auto& [tile, e] : tiles_) {
+        if (!e.partial || e.level != Level::Full || e.loaded_at == camera_version_ || fractions[tile] <= 0) continue;
+        if (coverage(e, fractions[tile]) < 0.5 * e.coverage) out.push_back(tile);
+    }
+    return out;
+}
+
 std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& tiles) {
     std::vector<std::uint32_t> dropped;  // tiles that went from full to coarse
     for (const auto t : tiles) {
@@ -259,10 +274,12 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
         lock.lock();
         if (stopping_) return std::nullopt;
         last_other_ = other;
+        auto dropped = release(stale_partials(fractions));
         const auto choice = choose(other, fractions);
         const auto over = choice ? std::optional(choice->victims)
                                  : victims(0, std::numeric_limits<double>::infinity(), other + held(), release_steps());
-        const auto dropped = release(over.value_or(std::vector<std::uint32_t>{}));
+        const auto made_room = release(over.value_or(std::vector<std::uint32_t>{}));
+        dropped.insert(dropped.end(), made_room.begin(), made_room.end());
         if (!dropped.empty()) {
             lock.unlock();
             notify(dropped, std::nullopt, {});
@@ -273,6 +290,7 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
             continue;
         }
         busy_ = true;
+        loading_version_ = seen;
         // The points still to come, and what the decoding threads hold besides.
         decoding_bytes_ = choice->cap + transient_bytes(choice->tile);
         peak_ = std::max(peak_, other + held() + decoding_bytes_);
@@ -378,7 +396,12 @@ void Residency::run() {
             if (tiles_.erase(tile) > 0) ++version_;
             continue;
         }
-        if (capped && tiles_.contains(tile)) tiles_.at(tile).partial = true;
+        if (capped && tiles_.contains(tile)) {
+            Entry& e = tiles_.at(tile);
+            e.partial = true;
+            e.loaded_at = loading_version_;
+            e.coverage = coverage(e, screen_fraction(camera_, dataset_.tiles[tile].bounds_m));
+        }
         lock.unlock();
         notify({}, tile, {});
         lock.lock();
