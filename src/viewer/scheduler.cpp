@@ -27,6 +27,8 @@ using dataset::CellKeyHash;
 
 constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
+constexpr double kOutOfView = 1e12;  // added to the priority key of a cell out of view
+constexpr auto kOutOfViewWait = std::chrono::milliseconds(50);  // heightmaps out of view: the next look
 // When a work queue was last sorted (the camera version), and how often a long one may be.
 struct QueueOrder {
     std::uint64_t version = kNoVersion;
@@ -114,7 +116,7 @@ struct Scheduler::State {
         if (p.key_version == camera_version) return p.key;
         const auto box = cell_box(grid, cell, z_min, z_max);
         const double d = has_camera ? distance_to(camera, box) : 0.0;
-        p.key = (has_camera && !box_in_view(camera, box) ? 1e12 : 0.0) + d;
+        p.key = (has_camera && !box_in_view(camera, box) ? kOutOfView : 0.0) + d;
         p.key_version = camera_version;
         return p.key;
     }
@@ -324,6 +326,12 @@ void Scheduler::heightmap_worker() {
         if (s.stopping) return;
         s.sort_queue(s.ready, s.ready_sorted, *grid_);
         const CellKey cell = s.ready.back();
+        // A patch out of view waits while the tiles in view decode: their points improve the
+        // picture, its heightmap does not (a country's patches would hold the cores for minutes).
+        if (s.key_of(s.patches[cell], cell, *grid_) >= kOutOfView && options_.full_res && !residency_->idle()) {
+            s.wake.wait_for(lock, kOutOfViewWait);
+            continue;
+        }
         s.ready.pop_back();
         ++s.in_flight;
         lock.unlock();

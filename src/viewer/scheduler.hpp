@@ -3,7 +3,7 @@
 //   - chunk points: the ChunkPointLoader, its focus the ground point the camera looks at;
 //   - heightmaps: a patch's heightmap is built as soon as every tile overlapping its window
 //     (the cell +- the recon padding) has its chunk points in the grid, visible and near
-//     patches first; linear first, then the network in batches when a model is loaded (its
+//     patches first (those out of view wait while the residency decodes for the view); linear first, then the network in batches when a model is loaded (its
 //     heightmap replaces the linear one);
 //   - full resolution with level of detail: the Residency (residency.hpp, its own thread and
 //     lock) decodes the tiles in view, the one that improves the picture most per byte first,
