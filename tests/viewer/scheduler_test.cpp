@@ -2,7 +2,7 @@
 // are in, the memory budget holds while the camera flies over tiles, released tiles leave
 // their detail in the heightmaps, a camera move re-prioritises the full-resolution loads, and
 // a replica made by the test stays within the budget; heightmaps out of view wait while the
-// tiles in view decode; files damaged while viewed are listed one by one and the rest loads.
+// tiles in view decode and show at the next camera move; files damaged while viewed are listed one by one and the rest loads.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -240,6 +240,29 @@ TEST(ViewerScheduler, HeightmapsOutOfViewWaitForTheTilesInView) {
     EXPECT_EQ(early.load(), 0) << "a heightmap out of view was built while the tiles in view decoded";
     EXPECT_GT(out_of_view.load(), 0) << "the patches out of view never got their heightmaps";
     sched = nullptr;
+}
+
+// Heightmaps built out of view do not change the snapshot of a still camera (its picture is
+// done, and its refined frame must come), and show at the next camera move.
+TEST(ViewerScheduler, HeightmapsOutOfViewShowAtTheNextCameraMove) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    SchedulerOptions o;
+    o.cnn = false;
+    o.camera = above_tile(ds.tiles[tile_named(ds, "N117E379")], 150);
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] {
+        scheduler.snapshot();  // taken every frame, as the viewer does
+        return scheduler.idle();
+    }));
+    const auto still = scheduler.snapshot();
+    const std::size_t all = scheduler.stats().heightmaps_linear;
+    EXPECT_LT(still->heightmaps.size(), all) << "every heightmap out of view was in the still camera's snapshot";
+    render::Camera moved = *o.camera;
+    moved.yaw_deg += 1;
+    scheduler.set_camera(moved);
+    const auto after = scheduler.snapshot();
+    EXPECT_NE(after->version, still->version);
+    EXPECT_EQ(after->heightmaps.size(), all);
 }
 
 // Once idle with a budget that holds the survey, the still frame (refined: every point held)
