@@ -6,11 +6,12 @@
 // the patch detail (scheduler_detail.hpp). When memory runs short, the tiles worth least per
 // byte (out of view first, least recently seen first) drop to their coarse levels, then to
 // nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, one
-// piece per decoding thread at a time, each shown as soon as it is in; when no tile fits whole, the best one is loaded in part, as many
-// pieces as there is room for, and decoded again when the camera moves to parts of it those pieces do not cover.
-// A load happens only when it
-// is worth more than what it displaces, so the memory budget (with what the rest of the scheduler holds) is never
-// exceeded and loading converges. Its own thread and its own lock; hooks are called without that lock held.
+// piece per decoding thread at a time, each shown as soon as it is in; when no tile fits whole,
+// the best one is loaded in part, as many pieces as there is room for, and decoded again when the
+// camera moves to parts of it those pieces do not cover. A load happens only when it is worth
+// more than what it displaces, so the memory budget (with what the rest of the scheduler holds)
+// is never exceeded and loading converges. Its own thread and its own lock; hooks are called
+// without that lock held.
 #pragma once
 
 #include <condition_variable>

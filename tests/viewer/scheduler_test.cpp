@@ -2,7 +2,8 @@
 // are in, the memory budget holds while the camera flies over tiles, released tiles leave
 // their detail in the heightmaps, a camera move re-prioritises the full-resolution loads, and
 // a replica made by the test stays within the budget; heightmaps out of view wait while the
-// tiles in view decode and show at the next camera move; files damaged while viewed are listed one by one and the rest loads.
+// tiles in view decode and show at the next camera move; files damaged while viewed are listed
+// one by one and the rest loads.
 #include <gtest/gtest.h>
 
 #include <atomic>
