@@ -16,11 +16,19 @@
 // scheduler drawing frames as the viewer does, at most 60 a second (vsync), through
 // viewer/frame_refiner.hpp (a still frame is refined once with every point held); the PSNR (dB, eye-dome lighting off)
 // of the live frame against a reference frame at 0.5, 1, 2, 5, 10 and 30 s. The reference: a second scheduler with the
-// default (large) budget, idle, every visible tile at full resolution, drawn with every point.
-// --json prints {"dataset", "cameras": [{"name", "samples": [{"t", "psnr_db"}]}], "peak_rss_mb",
+// default (large) budget, idle, every visible tile at full resolution, drawn with every point. When the visible tiles'
+// points do not fit in half that budget (a country seen whole), no such frame can be drawn: the reference is then the
+// live run's own last frame (30 s), so the curve says whether the view ever got worse, not how far it is from all
+// points; the camera is marked "reference": "last frame" (else "all points").
+// --json prints {"dataset", "cameras": [{"name", "reference", "samples": [{"t", "psnr_db"}]}], "peak_rss_mb",
 // "budget_mb", "scheduler_peak_mb"}.
 //
-// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--lod-spacing PX]
+// --load-cost: for each camera of --converge, a freshly opened scheduler (nothing drawn) until it
+// is idle: the wall time and the CPU seconds it took (the CPU seconds hold on a loaded machine,
+// where wall times do not), median of --runs runs (default 3).
+//
+// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--load-cost [--runs N]]
+//                   [--lod-spacing PX]
 //                   [--memory MB] [--threads N] [--backend cpu|cuda|auto]
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
 // ../shared/data/surveys).
@@ -28,6 +36,8 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -44,6 +54,7 @@
 #include "viewer/flight_path.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/scheduler.hpp"
+#include "viewer/visibility.hpp"
 
 using namespace lidarscout;
 using Clock = std::chrono::steady_clock;
@@ -58,7 +69,8 @@ struct Options {
     std::vector<std::string> paths;
     bool cnn = false;
     double flight_s = 0;           // 0: the loading benchmark
-    bool converge = false, json = false;
+    bool converge = false, json = false, load_cost = false;
+    int runs = 3;                  // --load-cost
     std::string png_dir;           // --converge: write every sampled frame and reference here
     std::uint64_t memory_mb = 1024;
     unsigned threads = 0;          // render threads (0: all cores)
@@ -77,6 +89,8 @@ Options parse(int argc, char** argv) {
         else if (a == "--flight") o.flight_s = std::stod(value());
         else if (a == "--converge") o.converge = true;
         else if (a == "--json") o.json = true;
+        else if (a == "--load-cost") o.load_cost = true;
+        else if (a == "--runs") o.runs = std::stoi(value());
         else if (a == "--png") o.png_dir = value();
         else if (a == "--lod-spacing") o.style.lod_spacing_px = std::stod(value());
         else if (a == "--memory") o.memory_mb = std::stoull(value());
@@ -249,6 +263,16 @@ render::RgbaImage reference_frame(const Options& o, const dataset::Dataset& ds, 
     return viewer::render_snapshot(*scheduler.snapshot(), camera, style, pool).image;
 }
 
+// True when every point of the tiles `camera` sees fits in half the default budget (an all-points
+// reference can be drawn).
+bool all_points_fit(const dataset::Dataset& ds, const render::Camera& camera) {
+    std::uint64_t bytes = 0;
+    for (const auto& t : ds.tiles) {
+        if (viewer::screen_fraction(camera, t.bounds_m) > 0) bytes += viewer::tile_point_set_bytes(t);
+    }
+    return bytes <= viewer::default_memory_budget() / 2;
+}
+
 const std::vector<double> kSampleTimes = {0.5, 1, 2, 5, 10, 30};
 
 struct LiveRun {
@@ -312,7 +336,9 @@ int converge(const Options& o, const dataset::Dataset& ds) {
     std::vector<std::string> cameras;
     for (std::size_t v = 0; v < views.size(); ++v) {
         const auto& name = views[v].name;
-        const auto reference = reference_frame(o, ds, views[v].camera, style, pool);
+        const bool all_points = all_points_fit(ds, views[v].camera);
+        const auto reference =
+            all_points ? reference_frame(o, ds, views[v].camera, style, pool) : runs[v].frames.back();
         if (!o.png_dir.empty()) render::write_png(fmt::format("{}/{}-reference.png", o.png_dir, name), reference);
         std::vector<std::string> samples;
         for (std::size_t i = 0; i < kSampleTimes.size(); ++i) {
@@ -321,9 +347,13 @@ int converge(const Options& o, const dataset::Dataset& ds) {
                 render::write_png(fmt::format("{}/{}-{}s.png", o.png_dir, name, kSampleTimes[i]), runs[v].frames[i]);
             }
             samples.push_back(fmt::format("{{\"t\": {}, \"psnr_db\": {:.2f}}}", kSampleTimes[i], psnr));
-            if (!o.json) fmt::print("{} camera: {:.1f} s {:.2f} dB\n", name, kSampleTimes[i], psnr);
+            if (!o.json) {
+                fmt::print("{} camera: {:.1f} s {:.2f} dB{}\n", name, kSampleTimes[i], psnr,
+                           all_points ? "" : " (against its last frame)");
+            }
         }
-        cameras.push_back(fmt::format("{{\"name\": \"{}\", \"samples\": [{}]}}", name, fmt::join(samples, ", ")));
+        cameras.push_back(fmt::format("{{\"name\": \"{}\", \"reference\": \"{}\", \"samples\": [{}]}}", name,
+                                      all_points ? "all points" : "last frame", fmt::join(samples, ", ")));
     }
     const std::string dataset = fmt::format("{}", fmt::join(o.paths, " "));
     if (o.json) {
@@ -333,6 +363,42 @@ int converge(const Options& o, const dataset::Dataset& ds) {
     } else {
         fmt::print("peak RSS {} MB (live runs), scheduler peak {} MB, budget {} MB\n", peak_rss >> 20,
                    scheduler_peak >> 20, o.memory_mb);
+    }
+    return 0;
+}
+
+// CPU seconds this process has used (every thread, user and system).
+double cpu_seconds() {
+    rusage u{};
+    ::getrusage(RUSAGE_SELF, &u);
+    const auto s = [](const timeval& t) {
+        return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
+    return s(u.ru_utime) + s(u.ru_stime);
+}
+
+int load_cost(const Options& o, const dataset::Dataset& ds) {
+    for (const auto& view : converge_cameras(ds.bounds_m)) {
+        std::vector<double> wall, cpu;
+        std::size_t full = 0, wanted = 0;
+        for (int run = 0; run < std::max(1, o.runs); ++run) {
+            viewer::SchedulerOptions so;
+            so.cnn = o.cnn;
+            so.memory_budget = o.memory_mb << 20;
+            so.camera = view.camera;
+            const double c0 = cpu_seconds();
+            const auto t0 = Clock::now();
+            {
+                viewer::Scheduler scheduler(ds, so);
+                while (!scheduler.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                wall.push_back(since(t0));
+                cpu.push_back(cpu_seconds() - c0);
+                const auto st = scheduler.stats();
+                full = st.full_res.done, wanted = st.full_res.total;
+            }
+        }
+        fmt::print("{} camera: idle after {:.2f} s wall, {:.2f} CPU s (medians of {}); {} of {} visible tiles full\n",
+                   view.name, percentile(wall, 0.5), percentile(cpu, 0.5), wall.size(), full, wanted);
     }
     return 0;
 }
@@ -348,6 +414,7 @@ int main(int argc, char** argv) {
         for (const auto& skipped : ds.skipped) fmt::print(stderr, "bench_view: skipped {}\n", skipped.error);
         if (ds.tiles.empty()) throw std::runtime_error("no readable tiles in the paths given: nothing to measure");
         if (o.converge) return converge(o, ds);
+        if (o.load_cost) return load_cost(o, ds);
         return o.flight_s > 0 ? flight(o, ds) : loading(o, ds, headers);
     } catch (const std::exception& e) {
         fmt::print(stderr, "bench_view: {}\n", e.what());

@@ -81,29 +81,35 @@ dataset::Bounds bounds_of(const PointSet& set) {
 // The level of each point of a block, its points sorted by quadtree code (`keyed`: code << 32 |
 // index into `members`): the coarsest level at which it is the highest point of its cell (ties:
 // the first), so that every cell's representative is what a view from above sees first;
-// points sharing their finest cell with a higher one get the last level.
+// points sharing their finest cell with a higher one get the last level. One pass: the open
+// cell of every level keeps its highest point so far, a cell that ends hands its highest to
+// its parent (so a point costs the levels where it starts a cell, not every level).
 std::vector<std::uint8_t> point_levels(const PointSet& tile, std::span<const std::uint32_t> members,
                                        std::span<const std::uint64_t> keyed) {
     const std::size_t n = keyed.size();
-    std::vector<std::uint8_t> split(n), level(n, static_cast<std::uint8_t>(kLodLevels - 1));
+    std::vector<std::uint8_t> level(n, static_cast<std::uint8_t>(kLodLevels - 1));
+    if (n == 0) return level;
     std::vector<float> z(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        split[i] = static_cast<std::uint8_t>(i == 0 ? 0
-                                                    : first_level(static_cast<std::uint32_t>(keyed[i] >> 32),
-                                                                  static_cast<std::uint32_t>(keyed[i - 1] >> 32)));
-        z[i] = tile.points[members[static_cast<std::uint32_t>(keyed[i])]].dz;
-    }
-    for (std::size_t k = 0; k <= kFinestCell; ++k) {
-        std::size_t best = 0;
-        for (std::size_t i = 0; i <= n; ++i) {
-            if (i == n || (i > 0 && split[i] <= k)) {  // the cell [.., i) ends: its highest point
-                level[best] = std::min(level[best], static_cast<std::uint8_t>(k));
-                best = i;
-            } else if (z[i] > z[best]) {
-                best = i;
-            }
+    for (std::size_t i = 0; i < n; ++i) z[i] = tile.points[members[static_cast<std::uint32_t>(keyed[i])]].dz;
+    std::array<std::size_t, kFinestCell + 1> best{};  // per level: the highest point of its open cell
+    // Ends the open cells of levels [from, kFinestCell], finest first.
+    const auto end_cells = [&](std::size_t from) {
+        for (std::size_t k = kFinestCell + 1; k-- > from;) {
+            level[best[k]] = std::min(level[best[k]], static_cast<std::uint8_t>(k));
+            if (k > 0 && z[best[k]] > z[best[k - 1]]) best[k - 1] = best[k];
         }
+    };
+    for (std::size_t i = 1; i < n; ++i) {
+        const std::size_t split = first_level(static_cast<std::uint32_t>(keyed[i] >> 32),
+                                              static_cast<std::uint32_t>(keyed[i - 1] >> 32));
+        if (split > kFinestCell) {  // the same finest cell as the previous point
+            if (z[i] > z[best[kFinestCell]]) best[kFinestCell] = i;
+            continue;
+        }
+        end_cells(split);
+        std::fill(best.begin() + static_cast<std::ptrdiff_t>(split), best.end(), i);
     }
+    end_cells(0);
     return level;
 }
 

@@ -117,6 +117,26 @@ PointSet decode_piece(const io::File& file, const laz::LazLayout& layout, std::s
     return set;
 }
 
+// Where each piece starts in `units` (and the end): about `piece_points` points each (whole
+// units), as many as fit in `max_points` (at least one).
+std::vector<std::size_t> cut_pieces(const laz::LazLayout& layout, std::span<const std::size_t> units,
+                                    std::uint64_t piece_points, std::uint64_t max_points) {
+    std::vector<std::size_t> starts{0};
+    std::uint64_t total = 0;
+    for (std::size_t first = 0; first < units.size();) {
+        std::size_t last = first;
+        std::uint64_t points = 0;
+        for (; last < units.size() && (last == first || points < piece_points); ++last) {
+            points += layout.units[units[last]].point_count;
+        }
+        total += points;
+        if (first > 0 && total > max_points) break;
+        starts.push_back(last);
+        first = last;
+    }
+    return starts;
+}
+
 }  // namespace
 
 std::vector<render::PointBatch> batches_of(std::span<const PointSet> sets) {
@@ -177,7 +197,7 @@ PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stri
 }
 
 void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
-                        const PointOrder& order, std::uint64_t piece_points,
+                        const PointOrder& order, std::uint64_t piece_points, std::uint64_t max_points,
                         const std::function<void(PointSet&&)>& on_piece) {
     if (!tile.tile.compressed() || !tile.tile.chunks || !tile.tile.laz) {
         on_piece(tile_point_set(tile, las_stride, pool));
@@ -193,14 +213,13 @@ void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stri
     std::vector<std::size_t> units(layout.units.size());
     for (std::size_t u = 0; u < units.size(); ++u) units[u] = u;
     std::stable_sort(units.begin(), units.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-    for (std::size_t first = 0; first < units.size();) {
-        std::size_t last = first;
-        for (std::uint64_t points = 0; last < units.size() && (last == first || points < piece_points); ++last) {
-            points += layout.units[units[last]].point_count;
-        }
-        on_piece(decode_piece(file, layout, std::span(units).subspan(first, last - first), tile, convert, pool));
-        first = last;
-    }
+    const auto pieces = cut_pieces(layout, units, piece_points, max_points);
+    // One piece per thread rather than every thread on one piece: no thread waits for the
+    // slowest chunk of a piece, and a piece's blocks are built while the next one decodes.
+    pool.for_each(pieces.size() - 1, [&](std::size_t i) {
+        const auto piece = std::span(units).subspan(pieces[i], pieces[i + 1] - pieces[i]);
+        on_piece(decode_piece(file, layout, piece, tile, convert, pool));
+    });
 }
 
 }  // namespace lidarscout::viewer

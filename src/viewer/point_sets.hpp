@@ -50,11 +50,14 @@ using PointOrder = std::function<double(double x, double y, double z)>;
 
 // The same points as tile_point_set, decoded in pieces: the LAZ chunks sorted by `order` at
 // their chunk points (those without one last), about `piece_points` points per piece (whole
-// chunks), each piece handed to `on_piece` as soon as it is decoded (origin = the tile's min
-// corner). LAS files and LAZ files without a chunk table come as one piece. Throws
-// lidarscout::Error when the tile cannot be decoded.
+// chunks), the pieces decoded in parallel on `pool` (each by one thread, in that order), each
+// handed to `on_piece` as soon as it is decoded (origin = the tile's min corner; `on_piece` is
+// called from several threads at once). Only the first pieces whose points add up to at most
+// `max_points` are decoded (at least one piece). LAS files and LAZ files without a chunk table
+// come as one piece. Throws lidarscout::Error when the tile cannot be decoded, or what
+// `on_piece` throws (the pieces under way finish first).
 void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
-                        const PointOrder& order, std::uint64_t piece_points,
+                        const PointOrder& order, std::uint64_t piece_points, std::uint64_t max_points,
                         const std::function<void(PointSet&&)>& on_piece);
 
 }  // namespace lidarscout::viewer

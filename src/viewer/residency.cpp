@@ -50,8 +50,6 @@ std::uint64_t coarse_bytes(const LodBlocks& blocks, double spacing_m) {
 
 // Thrown between two pieces of a tile when the residency stops.
 struct Stopped {};
-// Thrown between two pieces of a tile when the next could pass the bytes it was given.
-struct Capped {};
 
 struct Residency::Choice {
     std::uint32_t tile = 0;
@@ -118,6 +116,13 @@ double Residency::value_per_byte(std::uint32_t tile, const Entry& entry) const {
     const double texel = grid_.patch_size() / options_.patch_texels;
     return error_px(camera_, b, texel, options_.coarse_spacing_m) * fraction /
            static_cast<double>(std::max<std::uint64_t>(entry.bytes, 1));
+}
+
+std::uint64_t Residency::transient_bytes(std::uint32_t tile) const {
+    const std::uint64_t bytes = tile_point_set_bytes(dataset_.tiles[tile]);
+    const std::uint64_t threads = std::min<std::uint64_t>(std::max(1u, options_.decode_threads),
+                                                          (bytes + kPieceBytes - 1) / kPieceBytes);
+    return threads * 2 * std::min(bytes, kPieceBytes);
 }
 
 std::uint64_t Residency::held() const {
@@ -206,9 +211,25 @@ std::optional<Residency::Choice> Residency::partial_choice(std::uint32_t tile, d
         c.victims.push_back(s.tile);
         total -= std::min(total, s.freed);
     }
-    if (total + kMinPartialBytes > budget) return std::nullopt;
-    c.cap = budget - total;
+    const std::uint64_t transient = transient_bytes(tile);
+    if (total + transient + kMinPartialBytes > budget) return std::nullopt;
+    c.cap = budget - total - transient;
     return c;
+}
+
+double Residency::coverage(const Entry& entry, double fraction) const {
+    double covered = 0;
+    for (const auto& b : entry.blocks) covered += screen_fraction(camera_, b->bounds);
+    return fraction > 0 ? std::min(covered / fraction, 1.0) : 1.0;
+}
+
+std::vector<std::uint32_t> Residency::stale_partials(const std::vector<double>& fractions) const {
+    std::vector<std::uint32_t> out;
+    for (const auto& [tile, e] : tiles_) {
+        if (!e.partial || e.level != Level::Full || e.loaded_at == camera_version_ || fractions[tile] <= 0) continue;
+        if (coverage(e, fractions[tile]) < 0.5 * e.coverage) out.push_back(tile);
+    }
+    return out;
 }
 
 std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& tiles) {
@@ -253,10 +274,12 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
         lock.lock();
         if (stopping_) return std::nullopt;
         last_other_ = other;
+        auto dropped = release(stale_partials(fractions));
         const auto choice = choose(other, fractions);
         const auto over = choice ? std::optional(choice->victims)
                                  : victims(0, std::numeric_limits<double>::infinity(), other + held(), release_steps());
-        const auto dropped = release(over.value_or(std::vector<std::uint32_t>{}));
+        const auto made_room = release(over.value_or(std::vector<std::uint32_t>{}));
+        dropped.insert(dropped.end(), made_room.begin(), made_room.end());
         if (!dropped.empty()) {
             lock.unlock();
             notify(dropped, std::nullopt, {});
@@ -267,8 +290,9 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
             continue;
         }
         busy_ = true;
-        // The points still to come, and a piece twice while its blocks are built.
-        decoding_bytes_ = choice->cap + 2 * kPieceBytes;
+        loading_version_ = seen;
+        // The points still to come, and what the decoding threads hold besides.
+        decoding_bytes_ = choice->cap + transient_bytes(choice->tile);
         peak_ = std::max(peak_, other + held() + decoding_bytes_);
         return std::pair(choice->tile, choice->cap);
     }
@@ -284,28 +308,27 @@ PointOrder Residency::decode_order() const {
 }
 
 void Residency::load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool) {
-    const bool whole = cap >= tile_point_set_bytes(dataset_.tiles[tile]);
     bool fold = true;  // a tile reloaded after a release has its points in the details already
     if (std::lock_guard lock(mutex_); folded_.contains(tile)) fold = false;
-    std::uint64_t taken = 0;
-    decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, kPiecePoints, [&](PointSet&& piece) {
-        if (std::lock_guard lock(mutex_); stopping_) throw Stopped{};
-        if (!options_.has_rgb) paint_uncoloured(std::span(&piece, 1));
-        Decoded d;
-        if (fold) d.detail = tile_detail(piece, grid_, options_.patch_texels);
-        d.blocks = build_lod_blocks(piece, tile, options_.block_m, pool);
-        piece = PointSet{};
-        const bool first = taken == 0;
-        taken += lod_bytes(d.blocks);
-        notify({}, std::nullopt, commit(tile, std::move(d), first));
-        if (!whole && taken + 2 * kPieceBytes > cap) throw Capped{};
-    });
-    if (std::lock_guard lock(mutex_); fold) folded_.insert(tile);  // all its pieces came (no Capped)
+    bool first = true;  // guarded by mutex_: the first piece committed replaces the coarse levels
+    const bool whole = cap >= tile_point_set_bytes(dataset_.tiles[tile]);
+    const std::uint64_t max_points = whole ? ~0ull : cap / sizeof(render::PointAttr);
+    decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, kPiecePoints, max_points,
+                       [&](PointSet&& piece) {
+                           if (std::lock_guard lock(mutex_); stopping_) throw Stopped{};
+                           if (!options_.has_rgb) paint_uncoloured(std::span(&piece, 1));
+                           Decoded d;
+                           if (fold) d.detail = tile_detail(piece, grid_, options_.patch_texels);
+                           d.blocks = build_lod_blocks(piece, tile, options_.block_m, pool);
+                           piece = PointSet{};
+                           notify({}, std::nullopt, commit(tile, std::move(d), first));
+                       });
+    if (std::lock_guard lock(mutex_); fold && whole) folded_.insert(tile);  // every piece came
 }
 
-std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded, bool first) {
+std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded, bool& first) {
     std::lock_guard lock(mutex_);
-    if (first) tiles_.erase(tile);  // its coarse levels, held since an earlier release
+    if (std::exchange(first, false)) tiles_.erase(tile);  // its coarse levels, held since an earlier release
     std::vector<dataset::CellKey> cells;
     for (auto& [cell, d] : decoded.detail) {
         cells.push_back(cell);
@@ -354,13 +377,11 @@ void Residency::run() {
         const PointOrder order = decode_order();
         lock.unlock();
         std::optional<ErrorRecord> error;
-        bool capped = false;
+        const bool capped = cap < tile_point_set_bytes(dataset_.tiles[tile]);
         try {
             load(tile, cap, order, pool);
         } catch (const Stopped&) {
             return;
-        } catch (const Capped&) {
-            capped = true;
         } catch (const Error& e) {
             error = ErrorRecord::of(e);
         } catch (const std::exception& e) {  // e.g. out of memory: still this tile's failure
@@ -375,7 +396,12 @@ void Residency::run() {
             if (tiles_.erase(tile) > 0) ++version_;
             continue;
         }
-        if (capped && tiles_.contains(tile)) tiles_.at(tile).partial = true;
+        if (capped && tiles_.contains(tile)) {
+            Entry& e = tiles_.at(tile);
+            e.partial = true;
+            e.loaded_at = loading_version_;
+            e.coverage = coverage(e, screen_fraction(camera_, dataset_.tiles[tile].bounds_m));
+        }
         lock.unlock();
         notify({}, tile, {});
         lock.lock();

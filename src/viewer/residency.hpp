@@ -5,11 +5,13 @@
 // coverage, per byte). Decoded tiles become LOD blocks (point_lod.hpp) and fold their points into
 // the patch detail (scheduler_detail.hpp). When memory runs short, the tiles worth least per
 // byte (out of view first, least recently seen first) drop to their coarse levels, then to
-// nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, each
-// shown as soon as it is in; when no tile fits whole, the best one is loaded in part, as many
-// pieces as there is room for (it is not loaded again while those are held: a known limit). A load happens only when it
-// is worth more than what it displaces, so the memory budget (with what the rest of the scheduler holds) is never
-// exceeded and loading converges. Its own thread and its own lock; hooks are called without that lock held.
+// nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, one
+// piece per decoding thread at a time, each shown as soon as it is in; when no tile fits whole,
+// the best one is loaded in part, as many pieces as there is room for, and decoded again when the
+// camera moves to parts of it those pieces do not cover. A load happens only when it is worth
+// more than what it displaces, so the memory budget (with what the rest of the scheduler holds)
+// is never exceeded and loading converges. Its own thread and its own lock; hooks are called
+// without that lock held.
 #pragma once
 
 #include <condition_variable>
@@ -90,6 +92,8 @@ private:
         std::uint64_t bytes = 0, coarse_bytes = 0;
         std::uint64_t last_seen = 0;
         bool partial = false;  // full resolution for the pieces that fitted only
+        std::uint64_t loaded_at = 0;  // the camera version it was loaded for
+        double coverage = 0;          // a partial one: the share of its view its pieces covered when loaded
     };
     struct Decoded {
         LodBlocks blocks;
@@ -118,10 +122,20 @@ private:
     // What decoding `tile` would improve per byte, given its screen coverage `fraction`.
     double gain_per_byte(std::uint32_t tile, double fraction) const;
     std::uint64_t held() const;
+    // What decoding `tile` holds besides the blocks it adds: every decoding thread's piece,
+    // its records and its points.
+    std::uint64_t transient_bytes(std::uint32_t tile) const;
     std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
+    // The share of what the camera sees of a tile (`fraction`) that the blocks of `entry` cover.
+    double coverage(const Entry& entry, double fraction) const;
+    // Tiles loaded in part for an earlier camera whose pieces cover less than half the share of
+    // the view they covered when loaded: they drop to their coarse levels and are decoded again
+    // for this view.
+    std::vector<std::uint32_t> stale_partials(const std::vector<double>& fractions) const;
     PointOrder decode_order() const;
     void load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool);
-    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool first);
+    // Adds a decoded piece; `first` (cleared here, under the lock) drops the coarse levels held.
+    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool& first);
     void notify(const std::vector<std::uint32_t>& released, std::optional<std::uint32_t> loaded,
                 const std::vector<dataset::CellKey>& cells) const;
 
@@ -136,6 +150,7 @@ private:
     render::Camera camera_;
     bool has_camera_ = false;
     std::uint64_t camera_version_ = 0, checked_version_ = ~0ull, tick_ = 0;
+    std::uint64_t loading_version_ = 0;  // the camera version the tile being decoded was chosen for
     std::map<std::uint32_t, Entry> tiles_;
     std::set<std::uint32_t> failed_;
     Throttle look_throttle_{std::chrono::milliseconds(100), 4096};  // looks of a large dataset

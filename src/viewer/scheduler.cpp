@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/throttle.hpp"
@@ -27,6 +28,8 @@ using dataset::CellKeyHash;
 
 constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
+constexpr double kOutOfView = 1e12;  // added to the priority key of a cell out of view
+constexpr auto kOutOfViewWait = std::chrono::milliseconds(50);  // heightmaps out of view: the next look
 // When a work queue was last sorted (the camera version), and how often a long one may be.
 struct QueueOrder {
     std::uint64_t version = kNoVersion;
@@ -99,7 +102,9 @@ struct Scheduler::State {
 
     std::vector<std::string> notes;
     std::vector<ErrorRecord> errors;  // the scheduler's own (the network); the loader and residency keep theirs
-    std::uint64_t version = 1, residency_version = 0;  // the residency's version in `snapshot`
+    std::uint64_t version = 1;  // a snapshot's version: this plus the residency's
+    bool hidden_changes = false;  // patches out of view changed since the snapshot's version moved
+    const dataset::PatchGrid* grid = nullptr;
     mutable std::shared_ptr<const SceneSnapshot> snapshot;
 
     HeightmapBuildOptions build;
@@ -109,12 +114,26 @@ struct Scheduler::State {
 
     void changed() { ++version; }
 
+    // A patch's picture changed: the snapshot's version moves when the patch is in view; out of
+    // view the change waits for the next camera move (a still view whose picture is done must
+    // not be redrawn for every heightmap built behind it: its refined frame would never come).
+    void changed_patch(CellKey cell, Patch& p) {
+        if (key_of(p, cell, *grid) >= kOutOfView) hidden_changes = true;
+        else changed();
+    }
+
+    // The camera moved: changes held back out of view are shown.
+    void camera_moved() {
+        ++camera_version;
+        if (std::exchange(hidden_changes, false)) changed();
+    }
+
     // Priority of a cell for the current camera: visible ones first, then by distance.
     double key_of(Patch& p, CellKey cell, const dataset::PatchGrid& grid) {
         if (p.key_version == camera_version) return p.key;
         const auto box = cell_box(grid, cell, z_min, z_max);
         const double d = has_camera ? distance_to(camera, box) : 0.0;
-        p.key = (has_camera && !box_in_view(camera, box) ? 1e12 : 0.0) + d;
+        p.key = (has_camera && !box_in_view(camera, box) ? kOutOfView : 0.0) + d;
         p.key_version = camera_version;
         return p.key;
     }
@@ -144,7 +163,7 @@ struct Scheduler::State {
     void update_shown(CellKey cell, Patch& p, const PatchDetail* detail) {
         if (!p.base) return;
         modify(cell, p, [&] { p.shown = detail ? share(overlay_detail(*p.base, *detail)) : p.base; });
-        changed();
+        changed_patch(cell, p);
     }
 
     // Runs `change` on a patch's heightmaps or chunk points, keeping patch_bytes and the
@@ -179,6 +198,7 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     const auto [ox, oy] = dataset::patch_grid_origin(dataset);
     grid_ = std::make_unique<dataset::PatchGrid>(ox, oy);
     State& s = *state_;
+    s.grid = grid_.get();
     s.build.patch.min_points = options_.min_points;
     s.build.patch.has_rgb = has_rgb_;
     s.build.footprints = tile_footprints(dataset);
@@ -258,7 +278,7 @@ void Scheduler::set_camera(const render::Camera& camera) {
         }
         state_->camera = camera;
         state_->has_camera = true;
-        ++state_->camera_version;
+        state_->camera_moved();
     }
     const auto [x, y] = look_at_ground(camera, dataset_.bounds_m);
     loader_->set_focus(x, y);
@@ -307,13 +327,13 @@ void Scheduler::on_tile_done(std::uint32_t tile) {
         for (auto& entry : sets) {  // not a structured binding: clang 14 cannot capture one
             Patch& p = s.patches[entry.first];
             s.modify(entry.first, p, [&] { p.chunk = std::move(entry.second); });
+            s.changed_patch(entry.first, p);
         }
         for (const auto cell : s.window_cells[tile]) {
             Patch& p = s.patches[cell];
             if (--p.deps == 0) s.push_ready(cell, p);
         }
         ++s.tiles_done;
-        s.changed();
     }
     s.wake.notify_all();
     emit({SchedulerEvent::Kind::TileDone, tile, {}});
@@ -327,6 +347,12 @@ void Scheduler::heightmap_worker() {
         if (s.stopping) return;
         s.sort_queue(s.ready, s.ready_sorted, *grid_);
         const CellKey cell = s.ready.back();
+        // A patch out of view waits while the tiles in view decode: their points improve the
+        // picture, its heightmap does not (a country's patches would hold the cores for minutes).
+        if (s.key_of(s.patches[cell], cell, *grid_) >= kOutOfView && options_.full_res && !residency_->idle()) {
+            s.wake.wait_for(lock, kOutOfViewWait);
+            continue;
+        }
         s.ready.pop_back();
         ++s.in_flight;
         lock.unlock();
@@ -446,10 +472,9 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     State& s = *state_;
     std::lock_guard lock(s.mutex);
     const std::uint64_t residency = residency_->version();
-    if (s.snapshot && s.snapshot->version == s.version && s.residency_version == residency) return s.snapshot;
+    if (s.snapshot && s.snapshot->version == s.version + residency) return s.snapshot;  // both only grow
     auto snap = std::make_shared<SceneSnapshot>();
     snap->version = s.version + residency;
-    s.residency_version = residency;
     for (const auto cell : s.drawable) {  // not every patch: a country has 500,000
         const Patch& p = s.patches.at(cell);
         if (p.shown) snap->heightmaps.push_back(p.shown);

@@ -3,14 +3,17 @@
 //   - chunk points: the ChunkPointLoader, its focus the ground point the camera looks at;
 //   - heightmaps: a patch's heightmap is built as soon as every tile overlapping its window
 //     (the cell +- the recon padding) has its chunk points in the grid, visible and near
-//     patches first; linear first, then the network in batches when a model is loaded (its
-//     heightmap replaces the linear one);
+//     patches first (those out of view wait while the residency decodes for the view); linear
+//     first, then the network in batches when a model is loaded (its heightmap replaces the
+//     linear one);
 //   - full resolution with level of detail: the Residency (residency.hpp, its own thread and
 //     lock) decodes the tiles in view, the one that improves the picture most per byte first,
 //     into LOD blocks (point_lod.hpp), within a memory budget that covers everything the
 //     scheduler holds; every tile's points are folded into the heightmaps and textures of the
 //     patches it covers (scheduler_detail.hpp), and a released tile keeps its coarse levels.
-// snapshot() gives what is ready now, cheap enough to take every frame; stats() the counters.
+// snapshot() gives what is ready now, cheap enough to take every frame (patches that changed out
+// of view join it at the next camera move, so that a still view's snapshot stays the same once
+// its picture is done); stats() the counters.
 #pragma once
 
 #include <atomic>

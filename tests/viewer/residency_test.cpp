@@ -1,7 +1,8 @@
 // Full-resolution residency on a real survey: every tile in view ends at full resolution when
 // the budget allows; a tile that must make room drops to its coarse levels (a prefix of its
 // blocks, far fewer points) and stays drawable; the budget holds throughout; a tile decoded again
-// after a release is not counted twice in the patch detail.
+// after a release is not counted twice in the patch detail; a tile loaded in part is decoded
+// again for a view of a part its pieces do not cover.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -200,6 +201,54 @@ TEST(ViewerResidency, ATileLargerThanTheBudgetDoesNotStopTheOthersAndLoadsInPart
     EXPECT_EQ(st.wanted, 2u);
     EXPECT_LE(st.bytes, o.memory_budget);
     EXPECT_GT(st.bytes, o.memory_budget / 2) << "the room was not used";
+}
+
+// True when a block of `tile` held by `r` spans the point (x, y).
+bool holds_point_at(const Residency& r, std::uint32_t tile, double x, double y) {
+    for (const auto& b : r.blocks()) {
+        const auto& box = b->bounds;
+        if (b->tile == tile && box.min_x <= x && x <= box.max_x && box.min_y <= y && y <= box.max_y) return true;
+    }
+    return false;
+}
+
+TEST(ViewerResidency, APartlyLoadedTileIsDecodedAgainForAViewOfItsOtherPart) {
+    const auto ds = jmo335();
+    const std::uint32_t big = tile_named(ds, "N118E380");
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    dataset::PatchGrid grid(ox, oy);
+    ResidencyOptions o;
+    o.decode_threads = 2;
+    o.memory_budget = 64ull << 20;  // under half of the big tile's 142 MB
+    ASSERT_GT(tile_point_set_bytes(ds.tiles[big]), 2 * o.memory_budget);
+    // Two views well inside the tile, its south-west and north-east quarters.
+    const auto quarter = [&](double fx, double fy) {
+        const auto& b = ds.tiles[big].bounds_m;
+        dataset::Bounds q = b;
+        const double w = b.max_x - b.min_x, h = b.max_y - b.min_y;
+        q.min_x = b.min_x + fx * w, q.max_x = q.min_x + 0.1 * w;
+        q.min_y = b.min_y + fy * h, q.max_y = q.min_y + 0.1 * h;
+        return q;
+    };
+    const dataset::Bounds sw = quarter(0.2, 0.2), ne = quarter(0.7, 0.7);
+    Residency r(ds, grid, o);
+    r.start();
+    r.set_camera(above(sw, 150));
+    ASSERT_TRUE(wait_idle(r));
+    EXPECT_TRUE(holds_point_at(r, big, sw.centre_x(), sw.centre_y()));
+    ASSERT_FALSE(holds_point_at(r, big, ne.centre_x(), ne.centre_y())) << "the budget held that part already";
+
+    r.set_camera(above(ne, 150));
+    ASSERT_TRUE(wait_idle(r));
+    EXPECT_TRUE(holds_point_at(r, big, ne.centre_x(), ne.centre_y())) << "the partly loaded tile was not loaded again";
+    const auto st = r.stats();
+    EXPECT_LE(st.bytes, o.memory_budget);
+    EXPECT_GT(st.bytes, o.memory_budget / 2) << "the room was not used";
+    // Still: nothing more to do, so the tile is not decoded over and over.
+    const std::size_t released = st.released;
+    std::this_thread::sleep_for(300ms);
+    EXPECT_TRUE(r.idle());
+    EXPECT_EQ(r.stats().released, released);
 }
 
 }  // namespace
