@@ -1,6 +1,5 @@
-// Scenes: chunk points as point sets (cell corner origin), overview points only where a cell
-// has no heightmap, render_scene drawing heightmaps under points, and a real tile decoded at
-// full resolution (every point, inside its bounds, in metres).
+// Scenes: overview points only where a cell has no heightmap, render_scene drawing heightmaps
+// under points, elevation colours (the point sets themselves: point_sets_test.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,24 +30,6 @@ render::Camera above(double x, double y, double z) {
     c.pitch_deg = -90;
     c.width = 64, c.height = 48;
     return c;
-}
-
-TEST(ViewerScene, CellPointSetsAreRelativeToTheCellCorner) {
-    dataset::PatchGrid grid(kOx, kOy);
-    grid.add(kOx + 650.0, kOy + 10.0, 123.5, {1, 2, 3}, 77, 6, 0);
-    const auto set = cell_point_set(grid, {1, 0});
-    EXPECT_DOUBLE_EQ(set.origin_x, kOx + 640.0);
-    EXPECT_DOUBLE_EQ(set.origin_y, kOy);
-    ASSERT_EQ(set.points.size(), 1u);
-    EXPECT_NEAR(set.points[0].dx, 10.0f, 1e-3);
-    EXPECT_NEAR(set.points[0].dy, 10.0f, 1e-3);
-    EXPECT_NEAR(set.origin_z + set.points[0].dz, 123.5, 1e-3);
-    EXPECT_EQ(set.points[0].r, 1);
-    EXPECT_EQ(set.points[0].intensity, 77);
-    EXPECT_EQ(set.points[0].classification, 6);
-    const auto batches = batches_of(std::span(&set, 1));
-    ASSERT_EQ(batches.size(), 1u);
-    EXPECT_EQ(batches[0].points.size(), 1u);
 }
 
 TEST(ViewerScene, OverviewPointsOnlyWhereNoHeightmap) {
@@ -98,28 +79,6 @@ TEST(ViewerScene, ElevationColoursSpanTheGivenRange) {
     EXPECT_DOUBLE_EQ(c.z_max, 450.0);
     const auto flat_range = colour_settings(render::ColourMode::Elevation, 10.0, 10.0);
     EXPECT_GT(flat_range.z_max, flat_range.z_min);
-}
-
-TEST(ViewerScene, RealTileDecodedAtFullResolution) {
-    const auto ds = dataset::open_dataset({(test::surveys_dir() / "ky-woodford-county").string()});
-    ASSERT_EQ(ds.tiles.size(), 1u);
-    const auto& t = ds.tiles[0];
-    ThreadPool pool(2);
-    std::uint64_t progressed = 0;
-    const auto set = tile_point_set(t, ds.las_stride, pool, [&](std::uint64_t n) { progressed += n; });
-    ASSERT_EQ(set.points.size(), t.tile.header.point_count);
-    EXPECT_EQ(progressed, t.tile.header.point_count);
-    EXPECT_EQ(tile_point_set_bytes(t), t.tile.header.point_count * sizeof(render::PointAttr));
-    const auto& b = t.bounds_m;
-    std::size_t outside = 0, coloured = 0;
-    for (const auto& p : set.points) {
-        const double x = set.origin_x + p.dx, y = set.origin_y + p.dy, z = set.origin_z + p.dz;
-        outside += x < b.min_x - 0.01 || x > b.max_x + 0.01 || y < b.min_y - 0.01 || y > b.max_y + 0.01 ||
-                   z < b.min_z - 0.01 || z > b.max_z + 0.01;
-        coloured += (p.r | p.g | p.b) != 0;
-    }
-    EXPECT_EQ(outside, 0u);
-    EXPECT_GT(coloured, set.points.size() / 2);  // the Kentucky tiles carry RGB
 }
 
 }  // namespace
