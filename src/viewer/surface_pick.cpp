@@ -58,7 +58,7 @@ std::optional<double> first_crossing(const PatchHeightmap& h, const Ray& ray, do
             double a = prev_t, b = t;
             for (int i = 0; i < 40; ++i) {
                 const double m = 0.5 * (a + b), v = above(h, ray, m);
-                (v > 0 ? a : b) = m;  // a hole between them counts as below: b keeps a defined height
+                (v > 0 || std::isnan(v) ? a : b) = m;  // a hole counts as above: b keeps a defined height
             }
             return b;
         }
