@@ -13,7 +13,8 @@
 //                   `tin_max_edge_m` (0: no limit)
 // A block receives every point within reach of it (gridder_reach_m), so blocks meet without
 // seams: texels near a border see the same points whichever block holds them. For tin this
-// holds where the triangles' circumcircles fit in the margin (always for edges shorter than it).
+// holds where the triangles' circumcircles fit in the margin (everywhere the points are denser than
+// the margin is wide; gaps wider than it, like lakes, may triangulate differently per block).
 #pragma once
 
 #include <cstdint>
