@@ -42,17 +42,13 @@ struct DemCliOptions {
 // "2,9" -> {2, 9}: ASPRS class codes 0-255 (0 is "created, never classified").
 std::vector<int> parse_classes(const std::string& text) {
     std::vector<int> out;
-    std::size_t start = 0;
-    while (start <= text.size()) {
-        const auto end = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, end - start);
+    for (const std::string& item : split_commas(text)) {
         const bool digits =
             !item.empty() && item.size() <= 3 && item.find_first_not_of("0123456789") == std::string::npos;
         if (!digits || std::stoi(item) > 255) {
             throw Error("--classes expects class codes 0-255 separated by commas, not '" + text + "'");
         }
         out.push_back(std::stoi(item));
-        start = end + 1;
     }
     return out;
 }

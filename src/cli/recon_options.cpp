@@ -22,12 +22,20 @@ std::optional<std::uint64_t> parse_stride(const std::string& s) {
     throw Error("--stride must be a positive integer or 'auto', not '" + s + "'");
 }
 
-std::vector<double> parse_number_list(const std::string& text, const char* option) {
-    std::vector<double> out;
+std::vector<std::string> split_commas(const std::string& text) {
+    std::vector<std::string> out;
     std::size_t start = 0;
     while (start <= text.size()) {
         const auto end = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, end - start);
+        out.push_back(text.substr(start, end - start));
+        start = end + 1;
+    }
+    return out;
+}
+
+std::vector<double> parse_number_list(const std::string& text, const char* option) {
+    std::vector<double> out;
+    for (const std::string& item : split_commas(text)) {
         try {
             std::size_t used = 0;
             const double v = std::stod(item, &used);
@@ -36,7 +44,6 @@ std::vector<double> parse_number_list(const std::string& text, const char* optio
         } catch (const std::exception&) {
             throw Error(std::string(option) + " expects positive numbers separated by commas, not '" + text + "'");
         }
-        start = end + 1;
     }
     return out;
 }

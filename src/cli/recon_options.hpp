@@ -17,6 +17,8 @@ namespace lidarscout::cli {
 
 // "auto" -> empty; a positive integer -> its value; anything else throws Error.
 std::optional<std::uint64_t> parse_stride(const std::string& text);
+// "a,b,,c" -> {"a", "b", "", "c"}: the items of a comma-separated option value.
+std::vector<std::string> split_commas(const std::string& text);
 // "1,2.5,5,10" -> the positive numbers; throws Error otherwise.
 std::vector<double> parse_number_list(const std::string& text, const char* option);
 // The name a dataset is reported under: the folder's or file's name.
