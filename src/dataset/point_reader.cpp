@@ -1,6 +1,7 @@
-// Batching of record reads/decodes for for_each_record_batch.
+// RecordBatches (a tile cut into batches, one batch read or decoded) and for_each_record_batch.
 #include "dataset/point_reader.hpp"
 
+#include <algorithm>
 #include <future>
 #include <utility>
 #include <vector>
@@ -12,66 +13,58 @@
 #include "laz/file_decoder.hpp"
 
 namespace lidarscout::dataset {
-namespace {
 
-void read_las_batches(const io::File& file, const Tile& tile, const RecordBatchFn& fn, std::uint64_t batch_points) {
-    const auto& h = tile.header;
-    std::vector<std::uint8_t> buf;
-    for (std::uint64_t first = 0; first < h.point_count; first += batch_points) {
-        const std::uint64_t n = std::min(batch_points, h.point_count - first);
-        buf.resize(n * h.record_length);
-        file.read_exact(h.offset_to_point_data + first * h.record_length, buf, "point records");
-        fn(first, buf);
-    }
-}
-
-// Decode units [first, last) of each batch, about batch_points points each.
-std::vector<std::pair<std::size_t, std::size_t>> laz_batches(const laz::LazLayout& layout, std::uint64_t batch_points) {
-    std::vector<std::pair<std::size_t, std::size_t>> out;
-    for (std::size_t first = 0; first < layout.units.size();) {
-        std::size_t last = first;
-        std::uint64_t points = 0;
-        while (last < layout.units.size() &&
-               (last == first || points + layout.units[last].point_count <= batch_points)) {
-            points += layout.units[last++].point_count;
+RecordBatches::RecordBatches(const Tile& tile, std::uint64_t batch_points) : tile_(tile) {
+    batch_points = std::max<std::uint64_t>(batch_points, 1);
+    const std::uint64_t count = tile.header.point_count;
+    if (!tile.compressed()) {
+        for (std::uint64_t first = 0; first < count; first += batch_points) {
+            batches_.push_back({first, std::min(batch_points, count - first)});
         }
-        out.emplace_back(first, last);
-        first = last;
+        return;
     }
-    return out;
-}
-
-void decode_laz_batches(const io::File& file, const Tile& tile, ThreadPool& pool, const RecordBatchFn& fn,
-                        std::uint32_t fields, std::uint64_t batch_points, bool read_ahead) {
-    if (!tile.chunks) throw Error(file.path(), std::nullopt, "chunk table not read (internal error)");
-    laz::LazLayout layout{tile.header, *tile.laz,
-                          laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)};
-    const auto batches = laz_batches(layout, batch_points);
-    std::vector<std::uint8_t> buffers[2];
-    const auto decode = [&](std::size_t k) {
-        const auto [first, last] = batches[k];
-        std::uint64_t points = 0;
-        for (std::size_t u = first; u < last; ++u) points += layout.units[u].point_count;
-        std::vector<std::uint8_t>& buf = buffers[k % 2];
-        buf.resize(points * tile.header.record_length);
-        laz::decode_units_parallel(file, layout, first, last, buf, fields, pool);
-    };
-    std::future<void> next;  // declared after the buffers: destroyed (waited for) first
-    for (std::size_t k = 0; k < batches.size(); ++k) {
-        if (next.valid()) next.get();
-        else decode(k);
-        if (read_ahead && k + 1 < batches.size()) next = std::async(std::launch::async, decode, k + 1);
-        fn(layout.units[batches[k].first].first_point, buffers[k % 2]);
+    if (!tile.chunks) throw Error(tile.path, std::nullopt, "chunk table not read (internal error)");
+    layout_ = std::make_unique<laz::LazLayout>(laz::LazLayout{
+        tile.header, *tile.laz, laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)});
+    const auto& units = layout_->units;
+    for (std::size_t first = 0; first < units.size();) {
+        Batch b{units[first].first_point, 0, first, first};
+        while (b.last_unit < units.size() &&
+               (b.last_unit == first || b.points + units[b.last_unit].point_count <= batch_points)) {
+            b.points += units[b.last_unit++].point_count;
+        }
+        batches_.push_back(b);
+        first = b.last_unit;
     }
 }
 
-}  // namespace
+RecordBatches::~RecordBatches() = default;
+RecordBatches::RecordBatches(RecordBatches&&) noexcept = default;
+
+void RecordBatches::read(const io::File& file, std::size_t k, std::vector<std::uint8_t>& out, std::uint32_t fields,
+                         ThreadPool& pool) const {
+    const Batch& b = batches_.at(k);
+    const auto& h = tile_.header;
+    out.resize(b.points * h.record_length);
+    if (!layout_) {
+        file.read_exact(h.offset_to_point_data + b.first_point * h.record_length, out, "point records");
+        return;
+    }
+    laz::decode_units_parallel(file, *layout_, b.first_unit, b.last_unit, out, fields, pool);
+}
 
 void for_each_record_batch(const io::File& file, const Tile& tile, ThreadPool& pool, const RecordBatchFn& fn,
                            std::uint32_t fields, std::uint64_t batch_points, bool read_ahead) {
-    batch_points = std::max<std::uint64_t>(batch_points, 1);
-    if (tile.compressed()) decode_laz_batches(file, tile, pool, fn, fields, batch_points, read_ahead);
-    else read_las_batches(file, tile, fn, batch_points);
+    const RecordBatches batches(tile, batch_points);
+    std::vector<std::uint8_t> buffers[2];
+    const auto read = [&](std::size_t k) { batches.read(file, k, buffers[k % 2], fields, pool); };
+    std::future<void> next;  // declared after the buffers: destroyed (waited for) first
+    for (std::size_t k = 0; k < batches.size(); ++k) {
+        if (next.valid()) next.get();
+        else read(k);
+        if (read_ahead && k + 1 < batches.size()) next = std::async(std::launch::async, read, k + 1);
+        fn(batches.first_point(k), buffers[k % 2]);
+    }
 }
 
 }  // namespace lidarscout::dataset

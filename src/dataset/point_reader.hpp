@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <span>
+#include <vector>
 
 #include "laz/chunk_decoder.hpp"
 
@@ -15,6 +17,9 @@ class ThreadPool;
 namespace lidarscout::io {
 class File;
 }
+namespace lidarscout::laz {
+struct LazLayout;
+}
 
 namespace lidarscout::dataset {
 
@@ -23,9 +28,36 @@ struct Tile;
 // Called with the index of the batch's first point and its records (record_length each).
 using RecordBatchFn = std::function<void(std::uint64_t first_point, std::span<const std::uint8_t> records)>;
 
+// How a tile is cut into batches of about `batch_points` points (at least one whole LAZ chunk),
+// and the reading of one batch: for callers that run their own loop, e.g. across tiles.
+class RecordBatches {
+public:
+    // Throws lidarscout::Error when a LAZ tile's chunk table was not read.
+    RecordBatches(const Tile& tile, std::uint64_t batch_points);
+    ~RecordBatches();
+    RecordBatches(RecordBatches&&) noexcept;
+
+    std::size_t size() const { return batches_.size(); }
+    // Index in the file of batch k's first point, and its number of points.
+    std::uint64_t first_point(std::size_t k) const { return batches_[k].first_point; }
+    std::uint64_t point_count(std::size_t k) const { return batches_[k].points; }
+    // Batch k's records into `out` (resized); LAZ chunks are decoded in parallel on `pool`.
+    void read(const io::File& file, std::size_t k, std::vector<std::uint8_t>& out, std::uint32_t fields,
+              ThreadPool& pool) const;
+
+private:
+    struct Batch {
+        std::uint64_t first_point = 0, points = 0;
+        std::size_t first_unit = 0, last_unit = 0;  // LAZ decode units [first, last)
+    };
+    const Tile& tile_;
+    std::unique_ptr<laz::LazLayout> layout_;  // LAZ tiles only
+    std::vector<Batch> batches_;
+};
+
 // Reads every record of `tile`; `fields` is a laz::fields mask (LAS files always give all).
 // Batches hold about `batch_points` points (at least one whole LAZ chunk). With `read_ahead`
-// the next LAZ batch is decoded (on `pool`) while fn runs on this one, so fn must not use
+// the next batch is read or decoded (on `pool`) while fn runs on this one, so fn must not use
 // `pool`; memory is then two batches.
 void for_each_record_batch(const io::File& file, const Tile& tile, ThreadPool& pool, const RecordBatchFn& fn,
                            std::uint32_t fields = laz::fields::kAll, std::uint64_t batch_points = 1u << 20,

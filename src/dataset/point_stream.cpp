@@ -1,9 +1,14 @@
-// for_each_metric_batch: records -> points in metres with 8-bit colour.
+// for_each_metric_batch: records -> points in metres with 8-bit colour, tile after tile, the
+// next batch decoded and placed on the pool while the caller uses this one.
 #include "dataset/point_stream.hpp"
 
 #include <algorithm>
+#include <future>
+#include <memory>
+#include <optional>
 #include <vector>
 
+#include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/point_reader.hpp"
@@ -20,33 +25,129 @@ bool tile_colour_is_16bit(const Dataset& ds, std::uint32_t tile) {
     });
 }
 
-void for_each_metric_batch(const Dataset& ds, std::uint32_t tile, ThreadPool& pool, const MetricBatchFn& fn,
-                           std::uint32_t fields) {
-    const auto& t = ds.tiles.at(tile);
-    const auto file = io::File::open(t.tile.path);
-    const auto& fmt = las::point_format_info(t.tile.header.point_format);
-    const bool has_rgb = fmt.rgb_offset >= 0 && (fields & laz::fields::kRgb);
-    const bool sixteen_bit = has_rgb && tile_colour_is_16bit(ds, tile);
-    const std::size_t record = t.tile.header.record_length;
-    std::vector<MetricPoint> points;
-    std::vector<double> xs, ys, zs;
-    for_each_record_batch(file, t.tile, pool, [&](std::uint64_t first, std::span<const std::uint8_t> records) {
-        const std::size_t n = records.size() / record;
-        points.resize(n);
-        xs.resize(n), ys.resize(n), zs.resize(n);
+namespace {
+
+constexpr std::size_t kPlacePiece = 1u << 15;  // points placed per pool task
+
+// One tile being read: its file, its batches and how its records become MetricPoints.
+struct TileReader {
+    TileReader(const Dataset& ds, std::uint32_t index, std::uint32_t fields, std::uint64_t batch_points)
+        : tile(ds.tiles.at(index)),
+          file(io::File::open(tile.tile.path)),
+          batches(tile.tile, batch_points),
+          format(las::point_format_info(tile.tile.header.point_format)),
+          has_rgb(format.rgb_offset >= 0 && (fields & laz::fields::kRgb)),
+          sixteen_bit(has_rgb && tile_colour_is_16bit(ds, index)) {}
+
+    // Records [first, first + out.size()) of `records` into `out`, placed in the dataset's frame.
+    void place(std::span<const std::uint8_t> records, std::size_t first, std::span<MetricPoint> out) const {
+        const std::size_t record = tile.tile.header.record_length, n = out.size();
+        std::vector<double> xs(n), ys(n), zs(n);
         for (std::size_t k = 0; k < n; ++k) {
-            const auto p = las::decode_point(records.subspan(k * record, record), fmt, t.tile.header);
-            MetricPoint& m = points[k];
+            const auto p = las::decode_point(records.subspan((first + k) * record, record), format, tile.tile.header);
+            MetricPoint& m = out[k];
             xs[k] = p.x, ys[k] = p.y, zs[k] = p.z;
-            m.rgb = rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
-            m.coloured = has_rgb && (p.rgb[0] | p.rgb[1] | p.rgb[2]) != 0;
+            if (has_rgb) {
+                m.rgb = rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
+                m.coloured = (p.rgb[0] | p.rgb[1] | p.rgb[2]) != 0;
+            } else {
+                m.rgb = {}, m.coloured = false;
+            }
             m.intensity = p.intensity;
             m.classification = p.classification;
         }
-        t.place(xs, ys, zs);
-        for (std::size_t k = 0; k < n; ++k) points[k].x = xs[k], points[k].y = ys[k], points[k].z = zs[k];
-        fn(first, points);
-    }, fields, 1u << 20, true);
+        tile.place(xs, ys, zs);
+        for (std::size_t k = 0; k < n; ++k) out[k].x = xs[k], out[k].y = ys[k], out[k].z = zs[k];
+    }
+
+    const DatasetTile& tile;
+    io::File file;
+    RecordBatches batches;
+    const las::PointFormatInfo& format;
+    bool has_rgb, sixteen_bit;
+};
+
+// A batch made ready for the caller.
+struct ReadyBatch {
+    std::uint32_t tile = 0;
+    std::uint64_t first_point = 0;
+    bool has_points = false, last_of_tile = false;
+    std::vector<std::uint8_t> records;
+    std::vector<MetricPoint> points;
+};
+
+// Walks the tiles' batches in order; next() makes the next one ready (decoded and placed on the pool).
+class MetricBatchWalk {
+public:
+    MetricBatchWalk(const Dataset& ds, std::span<const std::uint32_t> tiles, ThreadPool& pool, std::uint32_t fields,
+                    std::uint64_t batch_points)
+        : ds_(ds), tiles_(tiles), pool_(pool), fields_(fields), batch_points_(batch_points) {}
+
+    bool done() const { return position_ >= tiles_.size(); }
+
+    void next(ReadyBatch& out) {
+        if (!reader_) reader_ = std::make_unique<TileReader>(ds_, tiles_[position_], fields_, batch_points_);
+        out.tile = tiles_[position_];
+        out.has_points = batch_ < reader_->batches.size();
+        if (out.has_points) fill(out);
+        out.last_of_tile = batch_ + 1 >= reader_->batches.size();
+        if (out.last_of_tile) {
+            reader_.reset();
+            ++position_, batch_ = 0;
+        } else {
+            ++batch_;
+        }
+    }
+
+private:
+    void fill(ReadyBatch& out) {
+        const TileReader& r = *reader_;
+        out.first_point = r.batches.first_point(batch_);
+        r.batches.read(r.file, batch_, out.records, fields_, pool_);
+        out.points.resize(r.batches.point_count(batch_));
+        const std::size_t n = out.points.size(), pieces = (n + kPlacePiece - 1) / kPlacePiece;
+        pool_.for_each(pieces, [&](std::size_t i) {
+            const std::size_t first = i * kPlacePiece;
+            const std::size_t count = std::min(kPlacePiece, n - first);
+            r.place(out.records, first, std::span<MetricPoint>(out.points).subspan(first, count));
+        });
+    }
+
+    const Dataset& ds_;
+    std::span<const std::uint32_t> tiles_;
+    ThreadPool& pool_;
+    std::uint32_t fields_;
+    std::uint64_t batch_points_;
+    std::size_t position_ = 0, batch_ = 0;
+    std::unique_ptr<TileReader> reader_;
+};
+
+}  // namespace
+
+void for_each_metric_batch(const Dataset& ds, std::span<const std::uint32_t> tiles, ThreadPool& pool,
+                           const TileMetricBatchFn& fn, const TileDoneFn& tile_done, std::uint32_t fields,
+                           std::uint64_t batch_points) {
+    MetricBatchWalk walk(ds, tiles, pool, fields, batch_points);
+    if (walk.done()) return;
+    ReadyBatch ready[2];
+    std::future<void> next;  // declared after the batches: destroyed (waited for) first
+    walk.next(ready[0]);
+    for (std::size_t k = 0;; ++k) {
+        const ReadyBatch& b = ready[k % 2];
+        ReadyBatch& following = ready[(k + 1) % 2];
+        if (!walk.done()) next = std::async(std::launch::async, [&walk, &following] { walk.next(following); });
+        if (b.has_points) fn(b.tile, b.first_point, b.points);
+        if (b.last_of_tile && tile_done) tile_done(b.tile);
+        if (!next.valid()) break;
+        next.get();
+    }
+}
+
+void for_each_metric_batch(const Dataset& ds, std::uint32_t tile, ThreadPool& pool, const MetricBatchFn& fn,
+                           std::uint32_t fields) {
+    const std::uint32_t tiles[] = {tile};
+    const auto one = [&](std::uint32_t, std::uint64_t first, std::span<const MetricPoint> p) { fn(first, p); };
+    for_each_metric_batch(ds, tiles, pool, one, nullptr, fields);
 }
 
 }  // namespace lidarscout::dataset

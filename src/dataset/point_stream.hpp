@@ -30,8 +30,24 @@ struct MetricPoint {
 // Called with the index (in the file) of the batch's first point and the batch's points.
 using MetricBatchFn = std::function<void(std::uint64_t first_point, std::span<const MetricPoint> points)>;
 
+// Called with the tile (its index in the dataset), the index in the file of the batch's first
+// point and the batch's points.
+using TileMetricBatchFn =
+    std::function<void(std::uint32_t tile, std::uint64_t first_point, std::span<const MetricPoint> points)>;
+// Called once a tile's last batch has been through fn (also for a tile without points).
+using TileDoneFn = std::function<void(std::uint32_t tile)>;
+
+// Streams the tiles `tiles` of `dataset` one after the other, in that order. The next batch,
+// of this tile or the next, is decoded and placed on `pool` while fn (or tile_done) runs, so
+// the pool's threads never wait for the caller at a tile's end; fn and tile_done may use
+// `pool`. Memory is two batches of about `batch_points` points (at least one LAZ chunk).
+// Throws lidarscout::Error when a tile cannot be decoded.
+void for_each_metric_batch(const Dataset& dataset, std::span<const std::uint32_t> tiles, ThreadPool& pool,
+                           const TileMetricBatchFn& fn, const TileDoneFn& tile_done,
+                           std::uint32_t fields = laz::fields::kAll, std::uint64_t batch_points = 1u << 20);
+
 // Streams tile `tile` of `dataset`; `fields` is a laz::fields mask (fields not asked for read
-// as zero). The next batch is decoded on `pool` while fn runs (fn must not use `pool`).
+// as zero), as the function above does for one tile.
 // Throws lidarscout::Error when the tile cannot be decoded.
 void for_each_metric_batch(const Dataset& dataset, std::uint32_t tile, ThreadPool& pool, const MetricBatchFn& fn,
                            std::uint32_t fields = laz::fields::kAll);

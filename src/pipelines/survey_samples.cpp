@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <set>
 
 #include "core/error.hpp"
@@ -70,24 +71,21 @@ std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& ds, cons
 
 namespace {
 
-void stream_tile(const dataset::Dataset& ds, std::uint32_t tile_id, SurveySamples& out, std::uint64_t& coloured,
-                 ThreadPool& pool, const std::function<void(std::uint64_t)>& batch_done) {
-    dataset::for_each_metric_batch(
-        ds, tile_id, pool, [&](std::uint64_t first, std::span<const dataset::MetricPoint> points) {
-            for (std::size_t k = 0; k < points.size(); ++k) {
-                const dataset::MetricPoint& s = points[k];
-                coloured += s.coloured;
-                const std::uint64_t index = first + k;
-                for (auto& sample : out.samples) {
-                    if (index % sample.stride == 0) {
-                        sample.chunk_points->add(s.x, s.y, s.z, s.rgb, s.intensity, s.classification, tile_id);
-                    }
-                    sample.truth->add(s.x, s.y, s.z, s.rgb);
-                }
+// Gives a batch of tile `tile_id`'s points to every sample (its chunk points and its truth).
+void add_batch(SurveySamples& out, std::uint32_t tile_id, std::uint64_t first,
+               std::span<const dataset::MetricPoint> points, std::uint64_t& coloured) {
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const dataset::MetricPoint& s = points[k];
+        coloured += s.coloured;
+        const std::uint64_t index = first + k;
+        for (auto& sample : out.samples) {
+            if (index % sample.stride == 0) {
+                sample.chunk_points->add(s.x, s.y, s.z, s.rgb, s.intensity, s.classification, tile_id);
             }
-            out.points += points.size();
-            batch_done(points.size());
-        });
+            sample.truth->add(s.x, s.y, s.z, s.rgb);
+        }
+    }
+    out.points += points.size();
 }
 
 }  // namespace
@@ -103,12 +101,14 @@ SurveySamples sample_survey(const dataset::Dataset& ds, const std::vector<Sample
                                std::make_unique<GroundTruth>(l.spec, l.origin_x, l.origin_y, r.patches)});
     }
     std::uint64_t done = 0, coloured = 0;
-    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        stream_tile(ds, i, out, coloured, pool, [&](std::uint64_t n) {
-            done += n;
-            if (progress) progress(done, ds.point_count);
-        });
-    }
+    std::vector<std::uint32_t> tiles(ds.tiles.size());
+    std::iota(tiles.begin(), tiles.end(), 0u);
+    const auto add = [&](std::uint32_t tile, std::uint64_t first, std::span<const dataset::MetricPoint> points) {
+        add_batch(out, tile, first, points, coloured);
+        done += points.size();
+        if (progress) progress(done, ds.point_count);
+    };
+    dataset::for_each_metric_batch(ds, tiles, pool, add, nullptr);
     out.has_rgb = coloured * 2 >= out.points && coloured > 0;
     return out;
 }

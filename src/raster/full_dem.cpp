@@ -214,18 +214,20 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
     }
     const std::uint32_t fields =
         laz::fields::kXyz | laz::fields::kClassification | (outputs.rgb ? laz::fields::kRgb : 0u);
+    std::vector<std::uint32_t> order;
     for (const std::uint32_t t : tile_order(ds)) {
-        if (ranges[t].empty()) continue;
-        const std::string& path = ds.tiles[t].tile.path;
-        dataset::for_each_metric_batch(ds, t, pool, [&](std::uint64_t, std::span<const dataset::MetricPoint> points) {
-            for (const auto& p : points) {
-                if (options.classes.keep[p.classification]) stats.points_used += blocks.add(p, ranges[t], path);
-            }
-            stats.points_read += points.size();
-            if (options.progress) options.progress(stats.points_read, total);
-        }, fields);
-        blocks.tile_done(ranges[t], pool);
+        if (!ranges[t].empty()) order.push_back(t);
     }
+    const auto add = [&](std::uint32_t t, std::uint64_t, std::span<const dataset::MetricPoint> points) {
+        const std::string& path = ds.tiles[t].tile.path;
+        for (const auto& p : points) {
+            if (options.classes.keep[p.classification]) stats.points_used += blocks.add(p, ranges[t], path);
+        }
+        stats.points_read += points.size();
+        if (options.progress) options.progress(stats.points_read, total);
+    };
+    dataset::for_each_metric_batch(ds, order, pool, add, [&](std::uint32_t t) { blocks.tile_done(ranges[t], pool); },
+                                   fields);
     return stats;
 }
 

@@ -1,5 +1,6 @@
 // Every file the reference LASzip decodes (144: LAS and all LAZ variants) gives the same
-// SHA-256 over its point records through for_each_record_batch, whatever the batch size.
+// SHA-256 over its point records through for_each_record_batch, whatever the batch size and
+// with or without read-ahead.
 #include <gtest/gtest.h>
 
 #include "core/sha256.hpp"
@@ -22,7 +23,8 @@ std::vector<Expected> decodable() {
     return out;
 }
 
-std::string checksum(const std::string& path, std::uint64_t batch_points, std::uint64_t& points) {
+std::string checksum(const std::string& path, std::uint64_t batch_points, std::uint64_t& points,
+                     bool read_ahead = false) {
     auto file = io::File::open(path);
     auto tile = dataset::read_tile(file);
     static ThreadPool pool(2);
@@ -32,7 +34,7 @@ std::string checksum(const std::string& path, std::uint64_t batch_points, std::u
         EXPECT_EQ(first, points);
         points += records.size() / tile.header.record_length;
         sha.update(records);
-    }, laz::fields::kAll, batch_points);
+    }, laz::fields::kAll, batch_points, read_ahead);
     EXPECT_EQ(points, tile.header.point_count);
     return sha.hex_digest();
 }
@@ -45,6 +47,8 @@ TEST_P(PointsSha256, MatchesReference) {
     EXPECT_EQ(checksum(e.file.string(), 1u << 20, points), e.json.at("points_sha256").get<std::string>());
     // Small batches: many batch boundaries (one chunk each for LAZ, 997 records for LAS).
     EXPECT_EQ(checksum(e.file.string(), 997, points), e.json.at("points_sha256").get<std::string>());
+    // The same with the next batch read while this one is used.
+    EXPECT_EQ(checksum(e.file.string(), 997, points, true), e.json.at("points_sha256").get<std::string>());
 }
 
 std::string test_name(const ::testing::TestParamInfo<Expected>& info) {
