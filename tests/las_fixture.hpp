@@ -25,9 +25,14 @@ struct FixturePoint {
     std::uint16_t r = 0, g = 0, b = 0;  // 8-bit values (as many files store them)
 };
 
-// A GeoTIFF key directory (LASF_Projection 34735): a projected CRS `epsg` in its own units.
-inline las::Vlr epsg_vlr(int epsg) {
-    const std::vector<std::uint16_t> keys = {1, 1, 0, 2, 1024, 0, 1, 1, 3072, 0, 1, static_cast<std::uint16_t>(epsg)};
+// A GeoTIFF key directory (LASF_Projection 34735): a projected CRS `epsg` in its own units,
+// with the vertical CRS `vertical_epsg` when it is not 0 (a compound CRS).
+inline las::Vlr epsg_vlr(int epsg, int vertical_epsg = 0) {
+    std::vector<std::uint16_t> keys = {1, 1, 0, 2, 1024, 0, 1, 1, 3072, 0, 1, static_cast<std::uint16_t>(epsg)};
+    if (vertical_epsg) {
+        keys[3] = 3;
+        for (const int k : {4096, 0, 1, vertical_epsg}) keys.push_back(static_cast<std::uint16_t>(k));
+    }
     las::Vlr v;
     v.user_id = "LASF_Projection";
     v.record_id = 34735;
@@ -41,9 +46,10 @@ inline las::Vlr epsg_vlr(int epsg) {
 }
 
 // Writes `points` as a LAS 1.2 file of point format 2 (with colour), scale 1 mm, header bounds
-// from the points, CRS `epsg` (0: none); LAZ with `chunk_size`-point chunks when `compress`.
+// from the points, CRS `epsg` (0: none; + `vertical_epsg` if not 0); LAZ with `chunk_size`-point
+// chunks when `compress`.
 inline void write_fixture(const std::string& path, const std::vector<FixturePoint>& points, int epsg,
-                          bool compress = false, std::uint32_t chunk_size = 50'000) {
+                          bool compress = false, std::uint32_t chunk_size = 50'000, int vertical_epsg = 0) {
     las::Header h;
     h.version_major = 1;
     h.version_minor = 2;
@@ -54,7 +60,7 @@ inline void write_fixture(const std::string& path, const std::vector<FixturePoin
     h.offset = {points.empty() ? 0.0 : std::floor(points[0].x), points.empty() ? 0.0 : std::floor(points[0].y), 0.0};
     h.generating_software = "lidarscout tests";
     std::vector<las::Vlr> vlrs;
-    if (epsg) vlrs.push_back(epsg_vlr(epsg));
+    if (epsg) vlrs.push_back(epsg_vlr(epsg, vertical_epsg));
     ThreadPool pool(1);
     laz::LasWriter writer(path, h, vlrs, {compress, chunk_size, false}, pool);
     const auto& f = las::point_format_info(2);

@@ -40,12 +40,13 @@ double Bounds::distance_xy(double x, double y) const {
 void DatasetTile::place(std::span<double> x, std::span<double> y, std::span<double> z) const {
     double xy = xy_to_metres;
     if (to_frame) {
-        to_frame->apply(x, y, {});  // z stays in the tile's vertical unit
+        to_frame->apply(x, y, heights_to_frame ? z : std::span<double>());
         xy = frame_xy_to_metres;
     }
+    const double zf = placed_z_to_metres();
     for (double& v : x) v *= xy;
     for (double& v : y) v *= xy;
-    for (double& v : z) v *= z_to_metres;
+    for (double& v : z) v *= zf;
 }
 
 namespace {
@@ -171,16 +172,35 @@ void choose_frame(Dataset& ds, const std::string& wanted) {
     }
 }
 
+// One warning per source CRS when PROJ has only a ballpark operation to the frame at the
+// first tile's centre: positions or heights are then not shifted between datums.
+void warn_if_ballpark(const DatasetTile& t, const geo::CrsTransform& transform, Diagnostics& warnings) {
+    const auto& h = t.tile.header;
+    const std::string op = transform.ballpark_at(0.5 * (h.min[0] + h.max[0]), 0.5 * (h.min[1] + h.max[1]),
+                                                 0.5 * (h.min[2] + h.max[2]));
+    if (op.empty()) return;
+    warnings.add({DiagnosticLevel::warning, t.tile.path, std::nullopt,
+                  "PROJ has only a ballpark transformation from " + shorten(transform.source()) + " to " +
+                      shorten(transform.target()) + " (" + op + "): no datum shift is applied" +
+                      (transform.transforms_heights() ? " to positions or heights" : "") +
+                      ", which can be metres off; a datum grid is probably not installed"});
+}
+
 // Points the tile at the frame when its CRS differs (transforms shared per source CRS) and
 // moves its bounds there. Throws Error when PROJ cannot.
-void reproject(DatasetTile& t, const Frame& frame,
-               std::map<std::string, std::shared_ptr<const geo::CrsTransform>>& cache) {
+using TransformCache = std::map<std::string, std::shared_ptr<const geo::CrsTransform>>;
+void reproject(DatasetTile& t, const Frame& frame, TransformCache& cache, Diagnostics& warnings) {
     const std::string def = geo::crs_definition(t.tile.crs);
     if (def.empty() || frame.crs.empty() || def == frame.crs) return;
     auto& transform = cache[def];
-    if (!transform) transform = std::make_shared<const geo::CrsTransform>(def, frame.crs);
+    if (!transform) {
+        transform = std::make_shared<const geo::CrsTransform>(def, frame.crs);
+        warn_if_ballpark(t, *transform, warnings);
+    }
     t.to_frame = transform;
     t.frame_xy_to_metres = frame.xy_to_metres;
+    t.heights_to_frame = transform->transforms_heights();
+    t.frame_z_to_metres = frame.z_to_metres;
     const auto& h = t.tile.header;
     double x0 = h.min[0], y0 = h.min[1], x1 = h.max[0], y1 = h.max[1];
     transform->apply_bounds(x0, y0, x1, y1);
@@ -188,16 +208,24 @@ void reproject(DatasetTile& t, const Frame& frame,
     t.bounds_m.min_y = y0 * frame.xy_to_metres;
     t.bounds_m.max_x = x1 * frame.xy_to_metres;
     t.bounds_m.max_y = y1 * frame.xy_to_metres;
+    if (t.heights_to_frame) {  // the height range moved as at the tile's centre
+        double cx = 0.5 * (h.min[0] + h.max[0]), cy = 0.5 * (h.min[1] + h.max[1]);
+        double lx = cx, ly = cy, low = h.min[2], high = h.max[2];
+        transform->apply(lx, ly, low);
+        transform->apply(cx, cy, high);
+        t.bounds_m.min_z = low * frame.z_to_metres;
+        t.bounds_m.max_z = high * frame.z_to_metres;
+    }
 }
 
 // Reprojects the tiles not in the frame's CRS; a tile PROJ cannot place is skipped.
 void place_tiles(Dataset& ds, const DatasetOptions& options) {
     choose_frame(ds, options.crs);
-    std::map<std::string, std::shared_ptr<const geo::CrsTransform>> cache;
+    TransformCache cache;
     std::vector<DatasetTile> kept;
     for (auto& t : ds.tiles) {
         try {
-            reproject(t, ds.frame, cache);
+            reproject(t, ds.frame, cache, ds.warnings);
             kept.push_back(std::move(t));
         } catch (const Error& e) {
             ds.skipped.push_back({t.tile.path, t.tile.path + ": " + e.what()});

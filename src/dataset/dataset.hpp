@@ -46,10 +46,17 @@ struct DatasetTile {
     double z_to_metres = 1.0;   // file units -> metres, vertical
     Bounds bounds_m;            // the header's bounds, in metres (of the dataset's frame)
     std::uint64_t chunk_points = 0;
-    // Set when the tile's CRS is not the dataset's: file units -> the frame CRS's units (x, y;
-    // z is left to z_to_metres), then frame_xy_to_metres.
+    // Set when the tile's CRS is not the dataset's: file units -> the frame CRS's units (x, y),
+    // then frame_xy_to_metres. Heights go through it too when both CRSs have a vertical part
+    // (heights_to_frame: z then ends in the frame's vertical unit); else z keeps the file's.
     std::shared_ptr<const geo::CrsTransform> to_frame;
     double frame_xy_to_metres = 1.0;
+    bool heights_to_frame = false;
+    double frame_z_to_metres = 1.0;
+
+    // Metres per unit of z as place() has it before scaling: the frame's vertical unit when heights
+    // are transformed, else the file's.
+    double placed_z_to_metres() const { return heights_to_frame ? frame_z_to_metres : z_to_metres; }
 
     // A point's coordinates as stored (x, y, z of las::Point) -> metres of the dataset's frame.
     // Throws Error (stage "geo") when a reprojected point lies outside the CRSs' area.

@@ -106,6 +106,8 @@ CrsTransform::CrsTransform(const std::string& source, const std::string& target)
     Context& c = state_->context;
     PJ* src = c.crs(source);
     PJ* dst = c.crs(target);
+    heights_ = proj_get_type(unbound(c, src)) == PJ_TYPE_COMPOUND_CRS &&
+               proj_get_type(unbound(c, dst)) == PJ_TYPE_COMPOUND_CRS;
     PJ* raw = c.own(proj_create_crs_to_crs_from_pj(c.get(), src, dst, nullptr, nullptr),
                     "no transformation from '" + Context::shorten(source) + "' to '" + Context::shorten(target) + "'");
     // x east / y north (longitude first) whatever the axis order the CRSs declare.
@@ -131,6 +133,22 @@ void CrsTransform::apply(std::span<double> x, std::span<double> y, std::span<dou
 
 void CrsTransform::apply(double& x, double& y, double& z) const {
     apply(std::span<double>(&x, 1), std::span<double>(&y, 1), std::span<double>(&z, 1));
+}
+
+std::string CrsTransform::ballpark_at(double x, double y, double z) const {
+    std::lock_guard lock(state_->mutex);
+    PJ_CONTEXT* ctx = state_->context.get();
+    const PJ_COORD out = proj_trans(state_->transform, PJ_FWD, proj_coord(x, y, z, 0));
+    if (!std::isfinite(out.xyz.x)) return {};  // outside the CRSs' area: apply() says so
+    PJ* used = proj_trans_get_last_used_operation(state_->transform);
+    if (!used) return {};
+    std::string name;
+    if (proj_coordoperation_has_ballpark_transformation(ctx, used)) {
+        const char* n = proj_get_name(used);
+        name = n ? n : "unnamed operation";
+    }
+    proj_destroy(used);
+    return name;
 }
 
 void CrsTransform::apply_bounds(double& min_x, double& min_y, double& max_x, double& max_y) const {

@@ -42,6 +42,13 @@ public:
 
     const std::string& source() const { return source_; }
     const std::string& target() const { return target_; }
+    // Whether heights are transformed too: both CRSs are compound (horizontal + vertical), so a
+    // z given to apply() moves from the source's vertical datum and unit to the target's.
+    bool transforms_heights() const { return heights_; }
+    // The name of the operation PROJ uses at (x, y, z) (source units) when it is only a
+    // "ballpark" one: no datum shift, accuracy unknown, usually because a grid is not installed.
+    // Empty when the operation is a real one.
+    std::string ballpark_at(double x, double y, double z) const;
 
     // Transforms points in place, native units of source -> native units of target (x east,
     // y north whatever the CRS's axis order). z may be empty (taken as 0, left alone).
@@ -55,6 +62,7 @@ public:
 private:
     struct State;
     std::string source_, target_;
+    bool heights_ = false;
     std::unique_ptr<State> state_;
 };
 

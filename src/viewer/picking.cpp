@@ -94,13 +94,16 @@ PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& p
     if (!tile || *tile >= dataset.tiles.size()) return r;
     const auto& t = dataset.tiles[*tile];
     r.file = t.tile.path;
-    r.z = point.z / t.z_to_metres;  // heights stay in the file's vertical unit, reprojected or not
+    r.z = point.z / t.placed_z_to_metres();  // the file's vertical unit unless heights were transformed too
     if (t.to_frame) {  // reprojected into the dataset's CRS: x and y are in that CRS's units
+        const auto unit = [](double to_metres) {
+            return to_metres == 1 ? std::string("metre") : std::to_string(to_metres) + " m";
+        };
         r.x = point.x / dataset.frame.xy_to_metres, r.y = point.y / dataset.frame.xy_to_metres;
-        r.horizontal_unit =
-            dataset.frame.xy_to_metres == 1 ? "metre" : std::to_string(dataset.frame.xy_to_metres) + " m";
-        r.vertical_unit = t.tile.crs.vertical_unit_name.empty() ? las::unit_name(t.tile.crs.vertical_unit)
-                                                                : t.tile.crs.vertical_unit_name;
+        r.horizontal_unit = unit(dataset.frame.xy_to_metres);
+        r.vertical_unit = t.heights_to_frame                      ? unit(dataset.frame.z_to_metres)
+                          : t.tile.crs.vertical_unit_name.empty() ? las::unit_name(t.tile.crs.vertical_unit)
+                                                                  : t.tile.crs.vertical_unit_name;
         r.crs = dataset.frame.crs + " (reprojected)";
         return r;
     }

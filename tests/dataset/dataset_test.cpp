@@ -67,11 +67,20 @@ TEST(Dataset, MixedCrsWarns) {
     const Dataset ds = open_dataset({(test::surveys_dir() / "ky-woodford-county").string(),
                                      (test::surveys_dir() / "ign-lidar-hd-1km").string()});
     ASSERT_TRUE(ds.skipped.empty());
-    ASSERT_EQ(ds.warnings.size(), 1u);
-    EXPECT_EQ(ds.warnings[0].level, DiagnosticLevel::warning);
-    EXPECT_NE(ds.warnings[0].message.find("different coordinate reference systems"), std::string::npos);
-    EXPECT_NE(ds.warnings[0].message.find("EPSG:3089"), std::string::npos);
-    EXPECT_NE(ds.warnings[0].message.find("reprojected to EPSG:2154"), std::string::npos);  // 7 IGN tiles, 1 Kentucky
+    // Two warnings: the mix, and NAD83 -> RGF93 being only a ballpark shift without a grid.
+    ASSERT_EQ(ds.warnings.size(), 2u);
+    const auto mix = std::find_if(ds.warnings.begin(), ds.warnings.end(), [](const Diagnostic& d) {
+        return d.message.find("different coordinate reference systems") != std::string::npos;
+    });
+    ASSERT_NE(mix, ds.warnings.end());
+    EXPECT_EQ(mix->level, DiagnosticLevel::warning);
+    EXPECT_NE(mix->message.find("EPSG:3089"), std::string::npos);
+    EXPECT_NE(mix->message.find("reprojected to EPSG:2154"), std::string::npos);  // 7 IGN tiles, 1 Kentucky
+    const auto ballpark = std::find_if(ds.warnings.begin(), ds.warnings.end(), [](const Diagnostic& d) {
+        return d.message.find("ballpark transformation from EPSG:3089") != std::string::npos;
+    });
+    ASSERT_NE(ballpark, ds.warnings.end());
+    EXPECT_NE(ballpark->file.find("ky-woodford-county"), std::string::npos);
     EXPECT_EQ(ds.frame.crs.rfind("EPSG:2154", 0), 0u);
 }
 
@@ -129,6 +138,49 @@ TEST(Dataset, TileInAnotherCrsLandsOnItsPlace) {
     EXPECT_EQ(majority.frame.crs, "EPSG:32632");
     ASSERT_EQ(majority.warnings.size(), 1u);
     EXPECT_NE(majority.warnings[0].message.find("reprojected to EPSG:32632"), std::string::npos);
+    fs::remove_all(dir);
+}
+
+// A tile in ETRS89 / UTM 32N + DHHN2016 height asked for in EVRF2007 heights: its heights move
+// by the offset PROJ's database gives (+2.64 cm near 9 E, 48.75 N), bounds included, and nothing
+// is said. Asked for in EGM96 heights (no grid installed for that), they stay, and a warning
+// says the transformation is only a ballpark one. Without a vertical part asked for, heights
+// keep the file's datum.
+TEST(Dataset, HeightsMoveBetweenVerticalDatums) {
+    const auto dir = temp_dir("vertical");
+    std::vector<test::FixturePoint> points;
+    for (int i = 0; i < 50; ++i) points.push_back({500'000.0 + 10 * i, 5'400'000.0 + 7 * i, 100.0 + i});
+    const std::string tile = (dir / "dhhn2016.las").string();
+    test::write_fixture(tile, points, 25832, false, 50'000, 7837);
+    const auto open_as = [&](const std::string& crs) {
+        DatasetOptions options;
+        options.crs = crs;
+        return open_dataset({tile}, options);
+    };
+    const Dataset own = open_dataset({tile});
+    ASSERT_EQ(own.frame.crs, "EPSG:25832+7837");
+    const Dataset evrf = open_as("EPSG:25832+5621");
+    ASSERT_EQ(evrf.tiles.size(), 1u);
+    EXPECT_TRUE(evrf.tiles[0].heights_to_frame);
+    EXPECT_TRUE(evrf.warnings.empty());
+    const auto a = all_points(own, 0), b = all_points(evrf, 0);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_NEAR(b[i].z - a[i].z, 0.0264, 0.002);
+        EXPECT_NEAR(b[i].x, a[i].x, 0.001);
+    }
+    EXPECT_NEAR(evrf.tiles[0].bounds_m.min_z - own.tiles[0].bounds_m.min_z, 0.0264, 0.002);
+    EXPECT_NEAR(evrf.tiles[0].bounds_m.max_z - own.tiles[0].bounds_m.max_z, 0.0264, 0.002);
+
+    const Dataset egm = open_as("EPSG:25832+5773");
+    ASSERT_EQ(egm.warnings.size(), 1u);
+    EXPECT_NE(egm.warnings[0].message.find("ballpark"), std::string::npos);
+    EXPECT_EQ(egm.warnings[0].file, tile);
+    EXPECT_NEAR(all_points(egm, 0)[0].z, a[0].z, 1e-9);
+
+    const Dataset flat = open_as("EPSG:32632");  // horizontal only: heights as stored
+    EXPECT_FALSE(flat.tiles[0].heights_to_frame);
+    EXPECT_NEAR(all_points(flat, 0)[0].z, a[0].z, 1e-9);
     fs::remove_all(dir);
 }
 

@@ -39,6 +39,26 @@ TEST(Projection, RoundTripReturnsToThePoint) {
     }
 }
 
+TEST(Projection, HeightsMoveOnlyBetweenCompoundCrss) {
+    const CrsTransform dhhn("EPSG:25832+7837", "EPSG:25832+5621");  // DHHN2016 -> EVRF2007 heights
+    EXPECT_TRUE(dhhn.transforms_heights());
+    double x = 500'000, y = 5'400'000, z = 100;
+    dhhn.apply(x, y, z);
+    EXPECT_NEAR(z, 100.0264, 0.002);  // the offset in PROJ's database there
+    EXPECT_NEAR(x, 500'000, 1e-6);
+    EXPECT_TRUE(dhhn.ballpark_at(500'000, 5'400'000, 100).empty());
+    EXPECT_FALSE(CrsTransform("EPSG:25832+7837", "EPSG:32632").transforms_heights());
+    EXPECT_FALSE(CrsTransform("EPSG:32632", "EPSG:25833").transforms_heights());
+}
+
+TEST(Projection, BallparkOperationsAreNamed) {
+    // EGM96 -> EGM2008 heights needs a grid PROJ does not have here: a ballpark (no shift).
+    const CrsTransform egm("EPSG:32632+5773", "EPSG:32632+3855");
+    const std::string op = egm.ballpark_at(500'000, 5'400'000, 100);
+    EXPECT_NE(op.find("ballpark"), std::string::npos) << op;
+    EXPECT_TRUE(CrsTransform("EPSG:32632", "EPSG:25833").ballpark_at(500'000, 5'400'000, 0).empty());
+}
+
 TEST(Projection, LonLatBoundsOfKentucky) {
     // a box of ky-jmo335 in EPSG:3089 feet
     const LonLatBounds b = lonlat_bounds("EPSG:3089", 5'685'000, 3'895'000, 5'700'000, 3'910'000);
