@@ -5,6 +5,8 @@
 #include <proj.h>
 
 #include <cmath>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -165,9 +167,26 @@ void CrsTransform::apply_bounds(double& min_x, double& min_y, double& max_x, dou
     max_y = out[3];
 }
 
+namespace {
+
+// Transforms to lon/lat kept per source CRS: making one searches PROJ's database (milliseconds),
+// and the thousands of tiles of a survey share a handful of CRSs.
+std::shared_ptr<const CrsTransform> to_lonlat(const std::string& definition) {
+    constexpr std::size_t kKept = 64;
+    static std::mutex mutex;
+    static std::map<std::string, std::shared_ptr<const CrsTransform>> kept;
+    std::lock_guard lock(mutex);
+    if (const auto it = kept.find(definition); it != kept.end()) return it->second;
+    auto made = std::make_shared<const CrsTransform>(definition, "EPSG:4326");  // throws: nothing kept
+    if (kept.size() >= kKept) kept.clear();
+    kept.emplace(definition, made);
+    return made;
+}
+
+}  // namespace
+
 LonLatBounds lonlat_bounds(const std::string& definition, double min_x, double min_y, double max_x, double max_y) {
-    const CrsTransform t(definition, "EPSG:4326");
-    t.apply_bounds(min_x, min_y, max_x, max_y);
+    to_lonlat(definition)->apply_bounds(min_x, min_y, max_x, max_y);
     return {min_x, min_y, max_x, max_y};
 }
 
