@@ -58,9 +58,9 @@ const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const ren
     const bool refine = view_same && now - view_changed_at_ >= settle_ &&
                         (!loading || now - data_changed_at_ >= loading_settle_);
     if (same_key && !refine) return frame_;
-    // A still view (new data, or its refined frame) is redrawn at most every interval: a moving
-    // camera is never held back.
-    if (view_same && now - drawn_at_ < interval(loading)) return frame_;
+    // New data for a still view is drawn at most every interval: a moving camera is never held
+    // back, nor the refined frame of a view that settled (drawn once).
+    if (view_same && !same_key && now - drawn_at_ < interval(loading)) return frame_;
     SceneStyle drawn = style;
     if (refine && style.lod_spacing_px > 0) {
         drawn.lod_spacing_px = refined_spacing(snapshot.full_points, camera, style.lod_spacing_px, max_points_);

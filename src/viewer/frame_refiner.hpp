@@ -1,9 +1,10 @@
 // Progressive refinement of still frames. While the camera moves, frames draw the LOD blocks at
 // the style's spacing (about one point per pixel, fast). A still camera whose snapshot changes
-// while points for it are still loading gets half that spacing, redrawn at most every
-// `data_interval` and at most a tenth of the time, counting every frame drawn (drawing takes every
-// core, and a loading view leaves them to the decoders: the picture it draws is soon out of date);
-// a `data_interval` of 0 redraws every change.
+// while points for it are still loading gets half that spacing; new data for a still view is
+// redrawn at most every `data_interval` and, while points load, at most a tenth of the time,
+// refined frames counted (drawing takes every core, and a loading view leaves them to the
+// decoders: the picture it draws is soon out of date), else a fifth; a `data_interval` of 0
+// redraws every change.
 // The refined frame draws the blocks with every point held (or, above a point cap, the finest
 // spacing under it), the picture a converged view should equal; after that the same image is
 // given back until the camera, the snapshot or the style changes. It is drawn once the camera has
