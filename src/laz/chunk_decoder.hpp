@@ -17,7 +17,9 @@ namespace fields {
 inline constexpr std::uint32_t kXyz = 1u << 0;
 inline constexpr std::uint32_t kIntensity = 1u << 1;
 inline constexpr std::uint32_t kReturns = 1u << 2;         // return number / count, scan flags
-inline constexpr std::uint32_t kClassification = 1u << 3;  // classification and its flags
+// The class code. In point formats 0-5 the classification flags share its byte and come with it;
+// in formats 6-10 (and their layered chunks) they are kClassFlags, a layer of their own.
+inline constexpr std::uint32_t kClassification = 1u << 3;
 inline constexpr std::uint32_t kScanAngle = 1u << 4;
 inline constexpr std::uint32_t kUserData = 1u << 5;
 inline constexpr std::uint32_t kPointSource = 1u << 6;
@@ -26,6 +28,8 @@ inline constexpr std::uint32_t kRgb = 1u << 8;
 inline constexpr std::uint32_t kNir = 1u << 9;
 inline constexpr std::uint32_t kWavepacket = 1u << 10;
 inline constexpr std::uint32_t kExtraBytes = 1u << 11;
+inline constexpr std::uint32_t kClassFlags = 1u << 12;  // synthetic, key-point, withheld, overlap
+inline constexpr std::uint32_t kEvery = (kClassFlags << 1) - 1;  // every bit above
 inline constexpr std::uint32_t kAll = 0xFFFFFFFFu;
 }  // namespace fields
 

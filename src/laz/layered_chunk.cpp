@@ -29,8 +29,6 @@ using detail::point14::PointTrace;
 // Points per block: small enough that a block's records and traces stay in cache while
 // each layer's pass runs over them.
 constexpr std::size_t kBlockPoints = 1024;
-// Every field bit of fields:: (when all are wanted no record byte is left unwritten).
-constexpr std::uint32_t kEveryField = (fields::kExtraBytes << 1) - 1;
 
 [[noreturn]] void fail(std::optional<std::uint64_t> offset, const std::string& cause) {
     throw Error(std::string(), offset, "layered chunk: " + cause);
@@ -225,7 +223,7 @@ void decode_layered_chunk(const las::LaszipVlr& laz, const ChunkDecodeRequest& r
 
     std::uint8_t* out = request.out.data();
     // With every field wanted, every byte is written; else the others are zeroed.
-    run_passes(passes, out, request.point_count, record, (request.fields & kEveryField) != kEveryField);
+    run_passes(passes, out, request.point_count, record, (request.fields & fields::kEvery) != fields::kEvery);
     check_complete(passes);
 
     stats = collect_stats(streams, passes);

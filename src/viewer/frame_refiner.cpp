@@ -1,4 +1,4 @@
-// FrameRefiner: the fast frame while anything changes, one refined frame once all is still.
+// FrameRefiner: the fast frame while anything changes, one refined frame once all is still and loaded.
 #include "viewer/frame_refiner.hpp"
 
 #include <algorithm>
@@ -39,33 +39,39 @@ bool FrameRefiner::same_view(const Key& a, const Key& b) {
            a.layers.chunk_points == b.layers.chunk_points && a.layers.full_points == b.layers.full_points;
 }
 
+std::chrono::steady_clock::duration FrameRefiner::interval(bool loading) const {
+    if (data_interval_.count() == 0) return std::chrono::steady_clock::duration::zero();
+    const int share = loading ? 10 : 5;  // drawing takes at most this fraction of the time
+    return std::max<std::chrono::steady_clock::duration>(data_interval_, (share - 1) * draw_time_);
+}
+
 const RenderedScene& FrameRefiner::draw(const SceneSnapshot& snapshot, const render::Camera& camera,
-                                        const SceneStyle& style, ThreadPool& pool, const SceneLayers& layers) {
+                                        const SceneStyle& style, ThreadPool& pool, const SceneLayers& layers,
+                                        bool loading) {
     const Key key{camera, snapshot.version, style, layers};
     const auto now = std::chrono::steady_clock::now();
-    const bool same_key = last_ && same(*last_, key);
-    if (!same_key) changed_at_ = now;
-    // Only data arrived for a still view: redrawn at most every data_interval_, so that a
-    // loading view leaves the cores to the decoders instead of redrawing 60 times a second.
-    // (And drawing takes at most a fifth of the time: a slow frame waits longer. An interval of
-    // 0 turns the throttle off altogether.)
-    const auto interval = data_interval_.count() == 0
-                              ? std::chrono::steady_clock::duration::zero()
-                              : std::max<std::chrono::steady_clock::duration>(data_interval_, 4 * draw_time_);
-    if (!same_key && last_ && same_view(*last_, key) && now - drawn_at_ < interval) return frame_;
-    const bool refine = same_key && now - changed_at_ >= settle_;
-    if (same_key && (refined_ || !refine)) return frame_;
+    const bool view_same = last_ && same_view(*last_, key);
+    if (!view_same) view_changed_at_ = now;
+    if (!seen_version_ || *seen_version_ != key.version) data_changed_at_ = now, seen_version_ = key.version;
+    const bool same_key = view_same && last_->version == key.version;
+    if (same_key && refined_) return frame_;
+    const bool refine = view_same && now - view_changed_at_ >= settle_ &&
+                        (!loading || now - data_changed_at_ >= loading_settle_);
+    if (same_key && !refine) return frame_;
+    // New data for a still view is drawn at most every interval: a moving camera is never held
+    // back, nor the refined frame of a view that settled (drawn once).
+    if (view_same && !same_key && now - drawn_at_ < interval(loading)) return frame_;
     SceneStyle drawn = style;
     if (refine && style.lod_spacing_px > 0) {
         drawn.lod_spacing_px = refined_spacing(snapshot.full_points, camera, style.lod_spacing_px, max_points_);
-    } else if (last_ && same_camera(last_->camera, camera)) {
+    } else if (view_same) {
         drawn.lod_spacing_px = style.lod_spacing_px / 2;  // a still camera while data arrives: finer already
     }
     frame_ = render_snapshot(snapshot, camera, drawn, pool, layers);
     refined_ = refine;
     last_ = key;
     drawn_at_ = now;
-    if (!refine) draw_time_ = std::chrono::steady_clock::now() - now;  // refined frames are drawn once
+    draw_time_ = std::chrono::steady_clock::now() - now;
     return frame_;
 }
 

@@ -83,7 +83,9 @@ dataset::Bounds bounds_of(const PointSet& set) {
 // the first), so that every cell's representative is what a view from above sees first;
 // points sharing their finest cell with a higher one get the last level. One pass: the open
 // cell of every level keeps its highest point so far, a cell that ends hands its highest to
-// its parent (so a point costs the levels where it starts a cell, not every level).
+// its parent (so a point costs the levels where it starts a cell, not every level). Cells that
+// hold one point only (the last one's, from the level where it parted from the point before)
+// end together in one step.
 std::vector<std::uint8_t> point_levels(const PointSet& tile, std::span<const std::uint32_t> members,
                                        std::span<const std::uint64_t> keyed) {
     const std::size_t n = keyed.size();
@@ -92,9 +94,16 @@ std::vector<std::uint8_t> point_levels(const PointSet& tile, std::span<const std
     std::vector<float> z(n);
     for (std::size_t i = 0; i < n; ++i) z[i] = tile.points[members[static_cast<std::uint32_t>(keyed[i])]].dz;
     std::array<std::size_t, kFinestCell + 1> best{};  // per level: the highest point of its open cell
+    std::size_t alone = 0;  // open cells of levels [alone, kFinestCell] hold the last point only
     // Ends the open cells of levels [from, kFinestCell], finest first.
     const auto end_cells = [&](std::size_t from) {
-        for (std::size_t k = kFinestCell + 1; k-- > from;) {
+        std::size_t k = kFinestCell + 1;
+        if (const std::size_t top = std::max(from, alone); top <= kFinestCell) {  // [top, finest]: one point
+            level[best[top]] = std::min(level[best[top]], static_cast<std::uint8_t>(top));
+            if (top > 0 && z[best[top]] > z[best[top - 1]]) best[top - 1] = best[top];
+            k = top;
+        }
+        while (k-- > from) {
             level[best[k]] = std::min(level[best[k]], static_cast<std::uint8_t>(k));
             if (k > 0 && z[best[k]] > z[best[k - 1]]) best[k - 1] = best[k];
         }
@@ -104,10 +113,12 @@ std::vector<std::uint8_t> point_levels(const PointSet& tile, std::span<const std
                                               static_cast<std::uint32_t>(keyed[i - 1] >> 32));
         if (split > kFinestCell) {  // the same finest cell as the previous point
             if (z[i] > z[best[kFinestCell]]) best[kFinestCell] = i;
+            alone = kLodLevels;  // every open cell holds two points now
             continue;
         }
         end_cells(split);
         std::fill(best.begin() + static_cast<std::ptrdiff_t>(split), best.end(), i);
+        alone = split;
     }
     end_cells(0);
     return level;

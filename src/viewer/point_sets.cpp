@@ -59,6 +59,13 @@ PointSet empty_tile_set(const dataset::DatasetTile& tile) {
     return set;
 }
 
+// Converts `records` (record_length each) into `out` (as many points).
+void convert_records(std::span<const std::uint8_t> records, std::span<render::PointAttr> out,
+                     const RecordConverter& convert) {
+    const std::size_t record = convert.tile->tile.header.record_length;
+    for (std::size_t k = 0; k < out.size(); ++k) out[k] = convert(records.subspan(k * record, record));
+}
+
 // Converts `records` (record_length each) and appends them to `set`, in blocks on `pool`.
 void append_records(PointSet& set, std::span<const std::uint8_t> records, const RecordConverter& convert,
                     ThreadPool& pool) {
@@ -66,10 +73,9 @@ void append_records(PointSet& set, std::span<const std::uint8_t> records, const 
     const std::size_t n = records.size() / record, first = set.points.size();
     set.points.resize(first + n);
     pool.for_each((n + kConvertBlock - 1) / kConvertBlock, [&](std::size_t block) {
-        const std::size_t end = std::min(n, (block + 1) * kConvertBlock);
-        for (std::size_t k = block * kConvertBlock; k < end; ++k) {
-            set.points[first + k] = convert(records.subspan(k * record, record));
-        }
+        const std::size_t begin = block * kConvertBlock, end = std::min(n, begin + kConvertBlock);
+        convert_records(records.subspan(begin * record, (end - begin) * record),
+                        std::span(set.points).subspan(first + begin, end - begin), convert);
     });
 }
 
@@ -99,21 +105,20 @@ std::vector<double> unit_keys(const dataset::DatasetTile& tile, const laz::LazLa
     return keys;
 }
 
-// Decodes the units `units` (any order) into one point set.
+// Decodes the units `units` (any order) into one point set: each unit converted right after it is
+// decoded, while its records are in cache, by the thread that decoded it.
 PointSet decode_piece(const io::File& file, const laz::LazLayout& layout, std::span<const std::size_t> units,
                       const dataset::DatasetTile& tile, const RecordConverter& convert, ThreadPool& pool) {
     const std::size_t record = layout.header.record_length;
-    std::vector<std::uint64_t> offset(units.size() + 1, 0);
-    for (std::size_t k = 0; k < units.size(); ++k)
-        offset[k + 1] = offset[k] + layout.units[units[k]].point_count * record;
-    std::vector<std::uint8_t> buf(offset.back());
-    pool.for_each(units.size(), [&](std::size_t k) {
-        std::vector<std::uint8_t> scratch;
-        laz::decode_unit(file, layout, units[k], std::span(buf).subspan(offset[k], offset[k + 1] - offset[k]),
-                         kDrawnFields, scratch);
-    });
+    std::vector<std::uint64_t> first(units.size() + 1, 0);  // each unit's first point in the set
+    for (std::size_t k = 0; k < units.size(); ++k) first[k + 1] = first[k] + layout.units[units[k]].point_count;
     PointSet set = empty_tile_set(tile);
-    append_records(set, buf, convert, pool);
+    set.points.resize(first.back());
+    pool.for_each(units.size(), [&](std::size_t k) {
+        std::vector<std::uint8_t> scratch, records((first[k + 1] - first[k]) * record);
+        laz::decode_unit(file, layout, units[k], records, kDrawnFields, scratch);
+        convert_records(records, std::span(set.points).subspan(first[k], first[k + 1] - first[k]), convert);
+    });
     return set;
 }
 

@@ -537,4 +537,6 @@ bool Scheduler::idle() const {
            !s.network_pending && (!options_.full_res || residency_->idle());
 }
 
+bool Scheduler::points_loading() const { return options_.full_res && !residency_->idle(); }
+
 }  // namespace lidarscout::viewer

@@ -115,6 +115,9 @@ public:
     // True when no work is left for the current camera (chunk points in, every heightmap
     // built, wanted tiles resident or over budget).
     bool idle() const;
+    // True while full-resolution points for the current camera are still being decoded (a
+    // picture drawn now is soon out of date).
+    bool points_loading() const;
 
     // The point on the ground (at the dataset's mean height) the camera looks at.
     static std::pair<double, double> look_at_ground(const render::Camera& camera, const dataset::Bounds& bounds);

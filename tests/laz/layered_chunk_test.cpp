@@ -152,7 +152,7 @@ std::vector<std::uint8_t> wanted_bits(const las::LaszipVlr& laz, std::uint32_t w
                 set(12, 2, fields::kIntensity);
                 set(14, 1, fields::kReturns);
                 set(15, 1, fields::kReturns, 0xF0);  // channel, scan direction, edge
-                set(15, 1, fields::kClassification, 0x0F);
+                set(15, 1, fields::kClassFlags, 0x0F);
                 set(16, 1, fields::kClassification);
                 set(17, 1, fields::kUserData);
                 set(18, 2, fields::kScanAngle);
@@ -178,7 +178,7 @@ class LayeredSelective : public ::testing::TestWithParam<std::string> {};
 TEST_P(LayeredSelective, EachFieldMatchesFullDecode) {
     const LoadedFile f = load(corpus_file(GetParam()).path);
     const auto full = decode_file(f, fields::kAll);
-    for (std::uint32_t field = fields::kIntensity; field <= fields::kExtraBytes; field <<= 1) {
+    for (std::uint32_t field = fields::kIntensity; field <= fields::kClassFlags; field <<= 1) {
         const std::uint32_t want = fields::kXyz | field;
         const auto part = decode_file(f, want);
         const auto bits = wanted_bits(f.laz(), want);

@@ -1,6 +1,8 @@
 // FrameRefiner: a frame that changes nothing since the last one (for the settling time) is
-// refined once (every point held), then given back as is; a camera move or a new snapshot goes back to the LOD frame;
-// new data for a still view is drawn at most every interval.
+// refined once (every point held), then given back as is; a camera move, or a new snapshot while
+// points load, goes back to the LOD frame; new data once nothing loads is drawn refined at once;
+// while points load nothing is refined until the snapshot stays unchanged; new data for a still
+// view is drawn at most every interval.
 // refined_spacing: every point under the cap, finer fractions of the LOD spacing above it.
 #include <gtest/gtest.h>
 
@@ -65,8 +67,34 @@ TEST(ViewerFrameRefiner, StillFramesAreRefinedOnceThenKept) {
     EXPECT_TRUE(refiner.refined());
     auto changed = std::make_shared<SceneSnapshot>(*snap);
     changed->version = 2;
+    refiner.draw(*changed, camera, style, pool, {}, true);
+    EXPECT_FALSE(refiner.refined()) << "new data while points load";
+    changed->version = 3;
     refiner.draw(*changed, camera, style, pool);
-    EXPECT_FALSE(refiner.refined());
+    EXPECT_TRUE(refiner.refined()) << "new data once nothing loads";
+}
+
+TEST(ViewerFrameRefiner, NothingIsRefinedWhilePointsLoadUntilTheSnapshotSettles) {
+    const auto snap = random_snapshot();
+    ThreadPool pool(2);
+    FrameRefiner refiner(std::chrono::milliseconds(0), 24'000'000, std::chrono::milliseconds(0),
+                         std::chrono::milliseconds(300));
+    const render::Camera camera = overhead();
+    for (int i = 0; i < 3; ++i) {
+        refiner.draw(*snap, camera, {}, pool, {}, true);
+        EXPECT_FALSE(refiner.refined()) << "frame " << i;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(350));  // loading, but nothing new came
+    refiner.draw(*snap, camera, {}, pool, {}, true);
+    EXPECT_TRUE(refiner.refined());
+
+    FrameRefiner ending(std::chrono::milliseconds(0), 24'000'000, std::chrono::milliseconds(0),
+                        std::chrono::milliseconds(60'000));
+    ending.draw(*snap, camera, {}, pool, {}, true);
+    ending.draw(*snap, camera, {}, pool, {}, true);
+    EXPECT_FALSE(ending.refined());
+    ending.draw(*snap, camera, {}, pool, {}, false);  // the last tile came in
+    EXPECT_TRUE(ending.refined());
 }
 
 TEST(ViewerFrameRefiner, RefinesOnlyOnceSettled) {
@@ -92,11 +120,11 @@ TEST(ViewerFrameRefiner, DataArrivingForAStillViewIsDrawnAtMostEveryInterval) {
     ASSERT_TRUE(refiner.refined());
     auto changed = std::make_shared<SceneSnapshot>();  // new data: nothing drawn any more
     changed->version = 2;
-    const auto& kept = refiner.draw(*changed, camera, {}, pool);
+    const auto& kept = refiner.draw(*changed, camera, {}, pool, {}, true);
     EXPECT_TRUE(refiner.refined()) << "redrawn within the interval";
     EXPECT_GT(kept.drawn_pixels, 0u);
-    std::this_thread::sleep_for(std::chrono::milliseconds(600));  // past the interval and 4 draw times
-    const auto& fresh = refiner.draw(*changed, camera, {}, pool);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));  // past the interval and 9 draw times
+    const auto& fresh = refiner.draw(*changed, camera, {}, pool, {}, true);
     EXPECT_FALSE(refiner.refined());
     EXPECT_EQ(fresh.drawn_pixels, 0u);
     camera.x += 1;  // a moving camera is never held back

@@ -121,6 +121,30 @@ TEST(ViewerScheduler, HeightmapsStartBeforeAllChunkPointsAreIn) {
     EXPECT_TRUE(snap->full_points.empty());
 }
 
+// Linear heightmaps only, the camera 150 m above the survey's smallest tile.
+SchedulerOptions above_small_tile(const dataset::Dataset& ds) {
+    SchedulerOptions o;
+    o.cnn = false;
+    o.camera = above_tile(ds.tiles[tile_named(ds, "N117E379")], 150);
+    return o;
+}
+
+// points_loading() tells a frame whether the points its camera needs are still coming.
+TEST(ViewerScheduler, PointsLoadUntilTheTilesInViewAreIn) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    SchedulerOptions o = above_small_tile(ds);
+    Scheduler scheduler(ds, o);
+    EXPECT_TRUE(scheduler.points_loading());
+    ASSERT_TRUE(wait_until([&] { return !scheduler.points_loading(); }));
+    const auto st = scheduler.stats();
+    EXPECT_GT(st.full_res.total, 0u);
+    EXPECT_EQ(st.full_res.done, st.full_res.total);
+    EXPECT_FALSE(scheduler.snapshot()->full_points.empty());
+    o.full_res = false;
+    const Scheduler without(ds, o);
+    EXPECT_FALSE(without.points_loading());
+}
+
 TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
     const auto ds = open_survey("ky-jmo335-eastern-kentucky");
     const std::vector<std::uint32_t> path = {tile_named(ds, "N117E379"), tile_named(ds, "N119E379"),
@@ -251,9 +275,7 @@ TEST(ViewerScheduler, HeightmapsOutOfViewWaitForTheTilesInView) {
 // done, and its refined frame must come), and show at the next camera move.
 TEST(ViewerScheduler, HeightmapsOutOfViewShowAtTheNextCameraMove) {
     const auto ds = open_survey("ky-jmo335-eastern-kentucky");
-    SchedulerOptions o;
-    o.cnn = false;
-    o.camera = above_tile(ds.tiles[tile_named(ds, "N117E379")], 150);
+    SchedulerOptions o = above_small_tile(ds);
     Scheduler scheduler(ds, o);
     ASSERT_TRUE(wait_until([&] {
         scheduler.snapshot();  // taken every frame, as the viewer does

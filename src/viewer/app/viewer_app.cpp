@@ -246,8 +246,9 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     s.scheduler->set_camera(camera);
     SceneStyle style = v.style;
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
+    const bool loading = s.scheduler->points_loading();  // before the snapshot: when false, it holds all
     const auto snapshot = s.scheduler->snapshot();
-    RenderedScene frame = refiner.draw(*snapshot, camera, style, pool, v.layers);
+    RenderedScene frame = refiner.draw(*snapshot, camera, style, pool, v.layers, loading);
     with_heightmaps = !snapshot->heightmaps.empty();
     if (v.tile_boxes) {
         draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);

@@ -190,7 +190,7 @@ void add_point14_layers(const ItemSetup& setup, std::vector<PlacedLayer>& out) {
     };
     if (want & fields::kClassification) add(2, ClassificationCodec{}, "classification");
     const std::uint8_t flag_bits = static_cast<std::uint8_t>((want & fields::kReturns ? 0xC0u : 0u) |
-                                                             (want & fields::kClassification ? 0x0Fu : 0u));
+                                                             (want & fields::kClassFlags ? 0x0Fu : 0u));
     if (flag_bits) add(3, FlagsCodec{{}, flag_bits}, "flags");
     if (want & fields::kIntensity) add(4, IntensityCodec{}, "intensity");
     if (want & fields::kScanAngle) add(5, ScanAngleCodec{}, "scan angle");
