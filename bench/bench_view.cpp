@@ -50,6 +50,7 @@
 #include <cmath>
 #include <numbers>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -348,21 +349,33 @@ render::RgbaImage streamed_reference(const Options& o, const dataset::Dataset& d
 
 const std::vector<double> kSampleTimes = {0.5, 1, 2, 5, 10, 30};
 
-// What the process held when its resident size peaked: the resident size, what the scheduler
-// counts against the budget, and the C heap's bytes in use and freed but kept (bytes).
+// A field of /proc/self/status in bytes ("RssAnon", "RssFile"); 0 when absent.
+std::uint64_t status_bytes(const std::string& field) {
+    std::ifstream in("/proc/self/status");
+    for (std::string line; std::getline(in, line);) {
+        if (line.starts_with(field + ":")) return std::stoull(line.substr(field.size() + 1)) << 10;  // kB
+    }
+    return 0;
+}
+
+// What the process held when its resident size peaked: the resident size (anonymous and
+// file-backed), what the scheduler counts against the budget, and the C heap's bytes in use and
+// freed but kept (bytes).
 struct MemoryAtPeak {
-    std::uint64_t rss = 0, counted = 0, heap_in_use = 0, heap_free_kept = 0;
+    std::uint64_t rss = 0, counted = 0, heap_in_use = 0, heap_free_kept = 0, anon = 0, file = 0;
 
     // Samples the process when its resident size is the highest yet.
     void sample(const viewer::Scheduler& scheduler) {
         const std::uint64_t now = resident_bytes();
         if (now <= rss) return;
         const HeapUse heap = heap_use();
-        *this = {now, scheduler.stats().bytes_used, heap.in_use, heap.free_kept};
+        *this = {now, scheduler.stats().bytes_used, heap.in_use, heap.free_kept, status_bytes("RssAnon"),
+                 status_bytes("RssFile")};
     }
     std::string json() const {
-        return fmt::format("{{\"rss_mb\": {}, \"counted_mb\": {}, \"heap_in_use_mb\": {}, \"heap_free_kept_mb\": {}}}",
-                           rss >> 20, counted >> 20, heap_in_use >> 20, heap_free_kept >> 20);
+        return fmt::format("{{\"rss_mb\": {}, \"anon_mb\": {}, \"file_mb\": {}, \"counted_mb\": {}, "
+                           "\"heap_in_use_mb\": {}, \"heap_free_kept_mb\": {}}}",
+                           rss >> 20, anon >> 20, file >> 20, counted >> 20, heap_in_use >> 20, heap_free_kept >> 20);
     }
 };
 
