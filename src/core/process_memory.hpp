@@ -22,7 +22,7 @@ HeapUse heap_use();
 // on their own (and unmapped when freed: glibc's threshold otherwise grows with every large block
 // freed, after which such blocks come from the arenas and stay resident), and free memory at the
 // top of an arena over `trim_threshold` is returned. Process-wide; idempotent.
-void return_freed_memory(std::uint64_t mmap_threshold = 256u << 10, std::uint64_t trim_threshold = 1u << 20);
+void return_freed_memory(std::uint64_t mmap_threshold = 4u << 20, std::uint64_t trim_threshold = 4u << 20);
 
 // Returns the free memory the arenas hold (malloc_trim); cheap enough after large releases.
 void trim_heap();

@@ -323,12 +323,7 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>&
         const render::Camera camera = camera_;
         const bool freed = prune_retired();
         lock.unlock();
-        // Released points go back to the system, and once a second what the other threads freed
-        // (heightmap and frame scratch): their arenas keep it otherwise.
-        if (freed || trim_throttle_.due(1)) {
-            trim_heap();
-            trim_throttle_.done();
-        }
+        if (freed) trim_heap();  // released points go back to the system
         const std::uint64_t other = options_.other_bytes ? options_.other_bytes() : 0;
         const std::vector<double> fractions = screen_fractions(camera);
         lock.lock();

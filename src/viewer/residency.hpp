@@ -171,7 +171,6 @@ private:
     std::set<std::uint32_t> failed_;
     std::vector<std::pair<std::weak_ptr<const LodBlock>, std::uint64_t>> retired_;  // block, its bytes
     Throttle look_throttle_{std::chrono::milliseconds(100), 4096};  // looks of a large dataset
-    Throttle trim_throttle_{std::chrono::seconds(1), 0};            // returning freed memory to the system
     std::set<std::uint32_t> folded_;  // tiles whose every point is in the details (not folded again on reload)
     std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, version_ = 1, last_other_ = 0;
