@@ -12,22 +12,30 @@
 //
 // --converge: how fast the picture converges to the real points. Three fixed cameras (the whole
 // dataset from above; a medium view about 2 km wide, or the dataset's width when smaller, looking
-// down 60 degrees; a close view 300 m wide looking down 45 degrees), each with a freshly opened
-// scheduler drawing frames as the viewer does, at most 60 a second (vsync), through
-// viewer/frame_refiner.hpp (a still frame is refined once with every point held); the PSNR (dB, eye-dome lighting off)
-// of the live frame against a reference frame at 0.5, 1, 2, 5, 10 and 30 s. The reference: a second scheduler with the
-// default (large) budget, idle, every visible tile at full resolution, drawn with every point. When the visible tiles'
-// points do not fit in half that budget (a country seen whole), no such frame can be drawn: the reference is then the
-// live run's own last frame (30 s), so the curve says whether the view ever got worse, not how far it is from all
-// points; the camera is marked "reference": "last frame" (else "all points").
-// --json prints {"dataset", "cameras": [{"name", "reference", "samples": [{"t", "psnr_db"}]}], "peak_rss_mb",
-// "budget_mb", "scheduler_peak_mb"}.
+// down 60 degrees; a close view 300 m wide looking down 45 degrees; --camera NAME, repeatable, runs
+// only those), each with a freshly opened scheduler drawing frames as the viewer does, at most 60 a
+// second (vsync), through viewer/frame_refiner.hpp (a still frame is refined once with every point
+// held); the PSNR (dB, eye-dome lighting off) of the live frame against a reference frame at 0.5, 1,
+// 2, 5, 10 and 30 s. The reference, made before the live run (its memory returned first): when the
+// visible tiles' points fit in half the default budget, a second scheduler with that budget, idle,
+// every visible tile at full resolution, drawn with every point ("all points"); else (a country seen
+// whole) every point of the visible tiles streamed into the frame as it is decoded, over the linear
+// heightmaps, never all held (viewer/reference_frame.hpp; "all points, streamed"): minutes for
+// billions of points, with progress on stderr, cached in --reference-cache DIR (default
+// /tmp/lidarscout-references) by dataset, camera, image size and style, so built once.
+// Memory: the peak resident size of the live runs, and at that peak what the scheduler counted
+// against the budget and the C heap's bytes in use and freed but kept; loads and releases.
+// --json prints {"dataset", "cameras": [{"name", "reference", "samples": [{"t", "psnr_db"}], "never_worse",
+// "loads", "releases", "at_peak_rss": {"rss_mb", "counted_mb", "heap_in_use_mb", "heap_free_kept_mb"}}],
+// "peak_rss_mb", "budget_mb", "scheduler_peak_mb", "rss_before_mb"}.
 //
 // --load-cost: for each camera of --converge, a freshly opened scheduler (nothing drawn) until it
 // is idle: the wall time and the CPU seconds it took (the CPU seconds hold on a loaded machine,
 // where wall times do not), median of --runs runs (default 3).
 //
-// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS] [--converge [--json] [--png DIR]] [--load-cost [--runs N]]
+// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS]
+//                   [--converge [--json] [--png DIR] [--camera NAME]... [--reference-cache DIR]]
+//                   [--load-cost [--runs N]]
 //                   [--lod-spacing PX]
 //                   [--memory MB] [--threads N] [--backend cpu|cuda|auto]
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
@@ -42,6 +50,8 @@
 #include <cmath>
 #include <numbers>
 #include <filesystem>
+#include <fstream>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -53,6 +63,7 @@
 #include "render/png_writer.hpp"
 #include "viewer/flight_path.hpp"
 #include "viewer/frame_refiner.hpp"
+#include "viewer/reference_frame.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/visibility.hpp"
 
@@ -72,6 +83,8 @@ struct Options {
     bool converge = false, json = false, load_cost = false;
     int runs = 3;                  // --load-cost
     std::string png_dir;           // --converge: write every sampled frame and reference here
+    std::vector<std::string> cameras;  // --camera NAME (repeatable): the converge cameras to run (empty: all)
+    std::string reference_cache = "/tmp/lidarscout-references";  // --reference-cache: streamed references
     std::uint64_t memory_mb = 1024;
     unsigned threads = 0;          // render threads (0: all cores)
     viewer::SceneStyle style;      // its backend from --backend
@@ -92,6 +105,8 @@ Options parse(int argc, char** argv) {
         else if (a == "--load-cost") o.load_cost = true;
         else if (a == "--runs") o.runs = std::stoi(value());
         else if (a == "--png") o.png_dir = value();
+        else if (a == "--camera") o.cameras.push_back(value());
+        else if (a == "--reference-cache") o.reference_cache = value();
         else if (a == "--lod-spacing") o.style.lod_spacing_px = std::stod(value());
         else if (a == "--memory") o.memory_mb = std::stoull(value());
         else if (a == "--threads") o.threads = static_cast<unsigned>(std::stoul(value()));
@@ -242,6 +257,17 @@ std::vector<NamedCamera> converge_cameras(const dataset::Bounds& b) {
             {"close", view_of_centre(b, 300, -45)}};
 }
 
+// The cameras of converge_cameras named by --camera (all when none is).
+std::vector<NamedCamera> chosen_cameras(const Options& o, const dataset::Bounds& b) {
+    std::vector<NamedCamera> out;
+    for (auto& c : converge_cameras(b)) {
+        if (o.cameras.empty() || std::find(o.cameras.begin(), o.cameras.end(), c.name) != o.cameras.end())
+            out.push_back(std::move(c));
+    }
+    if (out.empty()) throw std::invalid_argument("--camera names none of whole, medium, close");
+    return out;
+}
+
 // The frame with every point of every visible tile: a scheduler with the default budget, idle.
 render::RgbaImage reference_frame(const Options& o, const dataset::Dataset& ds, const render::Camera& camera,
                                   viewer::SceneStyle style, ThreadPool& pool) {
@@ -273,17 +299,97 @@ bool all_points_fit(const dataset::Dataset& ds, const render::Camera& camera) {
     return bytes <= viewer::default_memory_budget() / 2;
 }
 
-const std::vector<double> kSampleTimes = {0.5, 1, 2, 5, 10, 30};
+// Prints the streamed reference's progress on stderr, at most once a second (called from the
+// decoding threads).
+class ReferenceBar {
+public:
+    explicit ReferenceBar(std::string name) : name_(std::move(name)), start_(Clock::now()) {}
+    void operator()(std::uint64_t done, std::uint64_t total) {
+        std::lock_guard lock(mutex_);
+        if (done < total && Clock::now() - printed_ < std::chrono::seconds(1)) return;
+        printed_ = Clock::now();
+        const auto percent = 100.0 * static_cast<double>(done) / static_cast<double>(std::max<std::uint64_t>(1, total));
+        fmt::print(stderr, "\rreference of the {} camera: {} of {} M points ({:.0f}%), {:.0f} s{}", name_,
+                   done / 1000000, total / 1000000, percent, since(start_), done < total ? "" : "\n");
+    }
 
-struct LiveRun {
-    std::vector<render::RgbaImage> frames;  // at kSampleTimes
-    std::uint64_t peak_rss = 0, scheduler_peak = 0;
+private:
+    std::string name_;
+    Clock::time_point start_, printed_{};
+    std::mutex mutex_;
 };
 
-// A freshly opened scheduler at `camera`, drawn at 60 Hz through the FrameRefiner; the frames
-// at the sample times.
+// The all-points frame of a view whose points do not fit in memory: every point of the visible
+// tiles streamed into it (viewer/reference_frame.hpp) over the linear heightmaps (a scheduler
+// without full resolution, idle), cached in --reference-cache so that it is built once.
+render::RgbaImage streamed_reference(const Options& o, const dataset::Dataset& ds, const NamedCamera& view,
+                                     const viewer::SceneStyle& style, ThreadPool& pool) {
+    const std::string key = viewer::reference_key(ds, view.camera, style, "linear heightmaps from chunk points");
+    if (auto cached = viewer::load_reference(o.reference_cache, key)) return std::move(*cached);
+    const auto t0 = Clock::now();
+    viewer::SchedulerOptions so;
+    so.cnn = false, so.full_res = false;
+    so.heightmap_threads = pool_threads(o);
+    so.camera = view.camera;
+    std::shared_ptr<const viewer::SceneSnapshot> snapshot;
+    {
+        viewer::Scheduler scheduler(ds, so);
+        while (!scheduler.idle()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        snapshot = scheduler.snapshot();
+    }
+    std::vector<render::HeightmapPatch> heightmaps;
+    for (const auto& h : snapshot->heightmaps) heightmaps.push_back(h->view());
+    fmt::print(stderr, "reference of the {} camera: {} heightmaps in {:.0f} s\n", view.name, heightmaps.size(),
+               since(t0));
+    ReferenceBar bar(view.name);
+    auto image = viewer::stream_reference_frame(ds, view.camera, heightmaps, style, pool, std::ref(bar));
+    viewer::store_reference(o.reference_cache, key, image);
+    return image;
+}
+
+const std::vector<double> kSampleTimes = {0.5, 1, 2, 5, 10, 30};
+
+// A field of /proc/self/status in bytes ("RssAnon", "RssFile"); 0 when absent.
+std::uint64_t status_bytes(const std::string& field) {
+    std::ifstream in("/proc/self/status");
+    for (std::string line; std::getline(in, line);) {
+        if (line.starts_with(field + ":")) return std::stoull(line.substr(field.size() + 1)) << 10;  // kB
+    }
+    return 0;
+}
+
+// What the process held when its resident size peaked: the resident size (anonymous and
+// file-backed), what the scheduler counts against the budget, and the C heap's bytes in use and
+// freed but kept (bytes).
+struct MemoryAtPeak {
+    std::uint64_t rss = 0, counted = 0, heap_in_use = 0, heap_free_kept = 0, anon = 0, file = 0;
+
+    // Samples the process when its resident size is the highest yet.
+    void sample(const viewer::Scheduler& scheduler) {
+        const std::uint64_t now = resident_bytes();
+        if (now <= rss) return;
+        const HeapUse heap = heap_use();
+        *this = {now, scheduler.stats().bytes_used, heap.in_use, heap.free_kept, status_bytes("RssAnon"),
+                 status_bytes("RssFile")};
+    }
+    std::string json() const {
+        return fmt::format("{{\"rss_mb\": {}, \"anon_mb\": {}, \"file_mb\": {}, \"counted_mb\": {}, "
+                           "\"heap_in_use_mb\": {}, \"heap_free_kept_mb\": {}}}",
+                           rss >> 20, anon >> 20, file >> 20, counted >> 20, heap_in_use >> 20, heap_free_kept >> 20);
+    }
+};
+
+struct LiveRun {
+    std::vector<double> psnr_db;  // against the reference, at kSampleTimes
+    std::uint64_t scheduler_peak = 0;
+    MemoryAtPeak peak;
+    std::size_t loads = 0, released = 0;  // full-resolution loads (pieces) and releases in the run
+};
+
+// A freshly opened scheduler at `camera`, drawn at 60 Hz through the FrameRefiner; the PSNR of
+// the frames at the sample times against `reference` (written to --png when asked).
 LiveRun live_run(const Options& o, const dataset::Dataset& ds, const NamedCamera& view, const viewer::SceneStyle& style,
-                 ThreadPool& pool) {
+                 const render::RgbaImage& reference, ThreadPool& pool) {
     viewer::SchedulerOptions so;
     so.cnn = o.cnn;
     so.memory_budget = o.memory_mb << 20;
@@ -294,7 +400,7 @@ LiveRun live_run(const Options& o, const dataset::Dataset& ds, const NamedCamera
     const auto start = Clock::now();
     std::vector<double> frame_ms;
     auto next_frame = start;
-    while (run.frames.size() < kSampleTimes.size()) {
+    while (run.psnr_db.size() < kSampleTimes.size()) {
         std::this_thread::sleep_until(next_frame);  // a 60 Hz display
         const auto f0 = Clock::now();
         next_frame = f0 + kVsync;
@@ -302,68 +408,79 @@ LiveRun live_run(const Options& o, const dataset::Dataset& ds, const NamedCamera
         const bool loading = scheduler.points_loading();  // before the snapshot: when false, it holds all
         const auto& frame = refiner.draw(*scheduler.snapshot(), view.camera, style, pool, {}, loading).image;
         frame_ms.push_back(1000 * since(f0));
-        run.peak_rss = std::max(run.peak_rss, resident_bytes());
-        if (since(start) < kSampleTimes[run.frames.size()]) continue;
-        run.frames.push_back(frame);  // copied only here (a 1280x720 copy per frame cost ~3% of the cores)
+        run.peak.sample(scheduler);
+        const double t = kSampleTimes[run.psnr_db.size()];
+        if (since(start) < t) continue;
+        run.psnr_db.push_back(render::image_psnr_db(frame, reference));
+        if (!o.png_dir.empty()) render::write_png(fmt::format("{}/{}-{}s.png", o.png_dir, view.name, t), frame);
         const auto st = scheduler.stats();
         if (o.json) continue;
-        fmt::print("{} camera at {:.1f} s: {} of {} visible tiles full, {} coarse, {} heightmaps, {} MB held\n",
+        fmt::print("{} camera at {:.1f} s: {} of {} visible tiles full, {} coarse, {} heightmaps, {} MB held ({} MB "
+                   "points, {} MB decoding, the rest heightmaps and chunk points); {} loads, {} releases\n",
                    view.name, since(start), st.full_res.done, st.full_res.total, st.coarse_tiles,
-                   st.heightmaps_linear + st.heightmaps_cnn, st.bytes_used >> 20);
+                   st.heightmaps_linear + st.heightmaps_cnn, st.bytes_used >> 20, st.bytes_full_res >> 20,
+                   st.bytes_decoding >> 20, st.full_res_loads, st.full_res_released);
     }
-    run.scheduler_peak = scheduler.stats().peak_bytes_used;
+    const auto st = scheduler.stats();
+    run.scheduler_peak = st.peak_bytes_used;
+    run.loads = st.full_res_loads, run.released = st.full_res_released;
     if (!o.json) {
         fmt::print("{} camera frame ms (cached still frames included): median {:.1f}, worst {:.1f} ({} frames); "
-                   "peak RSS {} MB, scheduler peak {} MB\n",
-                   view.name, percentile(frame_ms, 0.5), percentile(frame_ms, 1.0), frame_ms.size(), run.peak_rss >> 20,
-                   run.scheduler_peak >> 20);
+                   "scheduler peak {} MB; {} loads, {} releases; at peak RSS: {}\n",
+                   view.name, percentile(frame_ms, 0.5), percentile(frame_ms, 1.0), frame_ms.size(),
+                   run.scheduler_peak >> 20, run.loads, run.released, run.peak.json());
     }
     return run;
+}
+
+// True when no sample is more than 0.1 dB below an earlier one.
+bool never_worse(const std::vector<double>& psnr_db) {
+    for (std::size_t i = 1; i < psnr_db.size(); ++i) {
+        if (psnr_db[i] < *std::max_element(psnr_db.begin(), psnr_db.begin() + static_cast<std::ptrdiff_t>(i)) - 0.1)
+            return false;
+    }
+    return true;
 }
 
 int converge(const Options& o, const dataset::Dataset& ds) {
     viewer::SceneStyle style = o.style;
     style.resolve.edl_strength = 0;
     ThreadPool pool(pool_threads(o));
-    const auto views = converge_cameras(ds.bounds_m);
-    // Every live run first, so that their peak RSS is not the references' (which hold every point).
-    std::vector<LiveRun> runs;
-    std::uint64_t peak_rss = 0, scheduler_peak = 0;
-    for (const auto& view : views) {
-        runs.push_back(live_run(o, ds, view, style, pool));
-        peak_rss = std::max(peak_rss, runs.back().peak_rss);
-        scheduler_peak = std::max(scheduler_peak, runs.back().scheduler_peak);
-    }
+    const auto views = chosen_cameras(o, ds.bounds_m);
+    // Per camera the reference first, its memory returned before the live run.
+    const std::uint64_t rss0 = resident_bytes();  // the dataset's headers, the code: not the scheduler's
+    MemoryAtPeak peak;
+    std::uint64_t scheduler_peak = 0;
     std::vector<std::string> cameras;
-    for (std::size_t v = 0; v < views.size(); ++v) {
-        const auto& name = views[v].name;
-        const bool all_points = all_points_fit(ds, views[v].camera);
-        const auto reference =
-            all_points ? reference_frame(o, ds, views[v].camera, style, pool) : runs[v].frames.back();
-        if (!o.png_dir.empty()) render::write_png(fmt::format("{}/{}-reference.png", o.png_dir, name), reference);
+    for (const auto& view : views) {
+        const bool fits = all_points_fit(ds, view.camera);
+        const auto reference = fits ? reference_frame(o, ds, view.camera, style, pool)
+                                    : streamed_reference(o, ds, view, style, pool);
+        if (!o.png_dir.empty()) render::write_png(fmt::format("{}/{}-reference.png", o.png_dir, view.name), reference);
+        const LiveRun run = live_run(o, ds, view, style, reference, pool);
+        if (run.peak.rss > peak.rss) peak = run.peak;
+        scheduler_peak = std::max(scheduler_peak, run.scheduler_peak);
+        const char* kind = fits ? "all points" : "all points, streamed";
         std::vector<std::string> samples;
         for (std::size_t i = 0; i < kSampleTimes.size(); ++i) {
-            const double psnr = render::image_psnr_db(runs[v].frames[i], reference);
-            if (!o.png_dir.empty()) {
-                render::write_png(fmt::format("{}/{}-{}s.png", o.png_dir, name, kSampleTimes[i]), runs[v].frames[i]);
-            }
-            samples.push_back(fmt::format("{{\"t\": {}, \"psnr_db\": {:.2f}}}", kSampleTimes[i], psnr));
-            if (!o.json) {
-                fmt::print("{} camera: {:.1f} s {:.2f} dB{}\n", name, kSampleTimes[i], psnr,
-                           all_points ? "" : " (against its last frame)");
-            }
+            samples.push_back(fmt::format("{{\"t\": {}, \"psnr_db\": {:.2f}}}", kSampleTimes[i], run.psnr_db[i]));
+            if (!o.json) fmt::print("{} camera: {:.1f} s {:.2f} dB\n", view.name, kSampleTimes[i], run.psnr_db[i]);
         }
-        cameras.push_back(fmt::format("{{\"name\": \"{}\", \"reference\": \"{}\", \"samples\": [{}]}}", name,
-                                      all_points ? "all points" : "last frame", fmt::join(samples, ", ")));
+        if (!o.json) fmt::print("{} camera: reference {}; never worse over time: {}\n", view.name, kind,
+                                never_worse(run.psnr_db) ? "yes" : "no");
+        cameras.push_back(fmt::format("{{\"name\": \"{}\", \"reference\": \"{}\", \"samples\": [{}], "
+                                      "\"never_worse\": {}, \"loads\": {}, \"releases\": {}, \"at_peak_rss\": {}}}",
+                                      view.name, kind, fmt::join(samples, ", "), never_worse(run.psnr_db), run.loads,
+                                      run.released, run.peak.json()));
     }
     const std::string dataset = fmt::format("{}", fmt::join(o.paths, " "));
     if (o.json) {
         fmt::print("{{\"dataset\": \"{}\", \"cameras\": [{}], \"peak_rss_mb\": {}, \"budget_mb\": {}, "
-                   "\"scheduler_peak_mb\": {}}}\n",
-                   dataset, fmt::join(cameras, ", "), peak_rss >> 20, o.memory_mb, scheduler_peak >> 20);
+                   "\"scheduler_peak_mb\": {}, \"rss_before_mb\": {}}}\n",
+                   dataset, fmt::join(cameras, ", "), peak.rss >> 20, o.memory_mb, scheduler_peak >> 20, rss0 >> 20);
     } else {
-        fmt::print("peak RSS {} MB (live runs), scheduler peak {} MB, budget {} MB\n", peak_rss >> 20,
-                   scheduler_peak >> 20, o.memory_mb);
+        fmt::print("peak RSS {} MB (live runs; {} MB before the first scheduler), scheduler peak {} MB, budget {} MB\n",
+                   peak.rss >> 20, rss0 >> 20, scheduler_peak >> 20, o.memory_mb);
     }
     return 0;
 }

@@ -180,6 +180,12 @@ void paint_uncoloured(std::span<PointSet> sets) {
     }
 }
 
+bool survey_has_rgb(const dataset::Dataset& ds) {
+    std::size_t with = 0;
+    for (const auto& t : ds.tiles) with += las::point_format_info(t.tile.header.point_format).rgb_offset >= 0;
+    return with > 0 && with * 2 >= ds.tiles.size();
+}
+
 std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile) {
     return tile.tile.header.point_count * sizeof(render::PointAttr);
 }

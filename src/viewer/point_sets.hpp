@@ -35,6 +35,8 @@ inline constexpr std::uint8_t kUncolouredGrey = 170;
 // Gives every point the grey above: for surveys without colour (their points load as black),
 // so that RGB mode shows them like their heightmaps.
 void paint_uncoloured(std::span<PointSet> sets);
+// Whether a survey counts as coloured: at least half its tiles (and one) have RGB.
+bool survey_has_rgb(const dataset::Dataset& ds);
 
 // Bytes a tile's full-resolution PointSet takes (its point count x sizeof(PointAttr)).
 std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/process_memory.hpp"
 #include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
 #include "viewer/point_sets.hpp"
@@ -21,8 +22,7 @@ namespace {
 
 constexpr auto kPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kPiecePoints = 1u << 18;  // points decoded (whole chunks) before they are shown
-constexpr std::uint64_t kPieceBytes = kPiecePoints * sizeof(render::PointAttr);
-constexpr std::uint64_t kMinPartialBytes = 4 * kPieceBytes;  // room worth starting a partial load
+constexpr std::uint64_t kMinPartialBytes = 4 * kPiecePoints * sizeof(render::PointAttr);  // worth a partial load
 constexpr std::size_t kMaxTries = 64;  // candidates tried per look, best first
 
 // The mean spacing of a tile's points, from its header (metres).
@@ -54,11 +54,19 @@ struct Stopped {};
 struct Residency::Choice {
     std::uint32_t tile = 0;
     std::vector<std::uint32_t> victims;
-    std::uint64_t cap = 0;  // bytes it may take: less than the whole tile for a partial load
+    std::uint64_t cap = 0;    // bytes of points it may take: less than the whole tile for a partial load
+    std::uint64_t extra = 0;  // its blocks' and patch details' bookkeeping
+    DecodePlan plan;          // its pieces and what decoding them holds besides
+};
+
+struct Residency::Room {
+    std::vector<std::uint32_t> victims;
+    std::uint64_t total = 0;  // bytes held once they are released
 };
 
 Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options)
     : dataset_(dataset), grid_(grid), options_(std::move(options)) {
+    return_freed_memory();  // what a release frees must leave the process, or the budget bounds nothing
     spacing_.reserve(dataset.tiles.size());
     for (const auto& t : dataset.tiles) spacing_.push_back(mean_spacing(t));
 }
@@ -118,17 +126,46 @@ double Residency::value_per_byte(std::uint32_t tile, const Entry& entry) const {
            static_cast<double>(std::max<std::uint64_t>(entry.bytes, 1));
 }
 
-std::uint64_t Residency::transient_bytes(std::uint32_t tile) const {
-    const std::uint64_t bytes = tile_point_set_bytes(dataset_.tiles[tile]);
-    const std::uint64_t threads = std::min<std::uint64_t>(std::max(1u, options_.decode_threads),
-                                                          (bytes + kPieceBytes - 1) / kPieceBytes);
-    return threads * 2 * std::min(bytes, kPieceBytes);
+std::optional<DecodePlan> Residency::plan_for(std::uint32_t tile, std::uint64_t room) const {
+    const auto& t = dataset_.tiles[tile];
+    return fitting_decode_plan(t, t.tile.header.point_count, std::max(1u, options_.decode_threads), kPiecePoints,
+                               room);
+}
+
+std::uint64_t Residency::bookkeeping_bytes(std::uint32_t tile) const {
+    const auto& b = dataset_.tiles[tile].bounds_m;
+    const auto across = [&](double side) {
+        return static_cast<std::uint64_t>(std::ceil(std::max(b.max_x - b.min_x, 0.0) / side) + 1) *
+               static_cast<std::uint64_t>(std::ceil(std::max(b.max_y - b.min_y, 0.0) / side) + 1);
+    };
+    const auto texels = static_cast<std::uint64_t>(options_.patch_texels) * options_.patch_texels;
+    const std::uint64_t detail = texels * 12 + sizeof(PatchDetail);  // height, count and colour per texel
+    return across(options_.block_m) * sizeof(LodBlock) + across(grid_.patch_size()) * detail;
 }
 
 std::uint64_t Residency::held() const {
     std::uint64_t bytes = details_bytes_;
     for (const auto& [tile, e] : tiles_) bytes += e.bytes;
+    for (const auto& [block, size] : retired_) bytes += block.expired() ? 0 : size;
     return bytes;
+}
+
+void Residency::retire(const LodBlocks& blocks) {
+    for (const auto& b : blocks) retired_.emplace_back(b, b->bytes());
+    blocks_cache_.clear();  // the residency itself no longer holds them
+    blocks_version_ = 0;
+}
+
+bool Residency::drop(std::uint32_t tile) {
+    const auto it = tiles_.find(tile);
+    if (it == tiles_.end()) return false;
+    retire(it->second.blocks);
+    tiles_.erase(it);
+    return true;
+}
+
+bool Residency::prune_retired() {
+    return std::erase_if(retired_, [](const auto& r) { return r.first.expired(); }) > 0;
 }
 
 std::vector<Residency::Step> Residency::release_steps() const {
@@ -148,18 +185,18 @@ std::vector<Residency::Step> Residency::release_steps() const {
     return steps;
 }
 
-std::optional<std::vector<std::uint32_t>> Residency::victims(std::uint64_t incoming, double gain, std::uint64_t total,
-                                                             const std::vector<Step>& steps) const {
+std::optional<Residency::Room> Residency::victims(std::uint64_t incoming, double gain, std::uint64_t total,
+                                                  const std::vector<Step>& steps) const {
     const std::uint64_t budget = options_.memory_budget;
-    std::vector<std::uint32_t> out;
+    Room room{{}, total};
     for (const Step& s : steps) {
-        if (total + incoming <= budget) break;
+        if (room.total + incoming <= budget) break;
         if (s.value * options_.hysteresis >= gain) return std::nullopt;
-        out.push_back(s.tile);
-        total -= std::min(total, s.freed);
+        room.victims.push_back(s.tile);
+        room.total -= std::min(room.total, s.freed);
     }
-    if (total + incoming > budget) return std::nullopt;
-    return out;
+    if (room.total + incoming > budget) return std::nullopt;
+    return room;
 }
 
 std::vector<double> Residency::screen_fractions(const render::Camera& camera) const {
@@ -190,9 +227,14 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const st
     const auto steps = release_steps();
     const std::uint64_t total = other + held();
     for (const auto& [gain, tile] : candidates) {
-        const std::uint64_t bytes = tile_point_set_bytes(dataset_.tiles[tile]);
-        auto v = victims(bytes, gain, total, steps);
-        if (v) return Choice{tile, std::move(*v), bytes};
+        const auto& t = dataset_.tiles[tile];
+        const std::uint64_t bytes = tile_point_set_bytes(t), extra = bookkeeping_bytes(tile);
+        const std::uint64_t least =
+            decode_plan(t, t.tile.header.point_count, std::max(1u, options_.decode_threads), 1).transient;
+        auto room = victims(bytes + extra + least, gain, total, steps);
+        if (!room) continue;
+        const auto plan = plan_for(tile, options_.memory_budget - room->total - bytes - extra);  // `least` fitted
+        return Choice{tile, std::move(room->victims), bytes, extra, *plan};
     }
     // None fits whole: the best one in part (its pieces in view first), in the room there is.
     for (const auto& [gain, tile] : candidates) {
@@ -205,15 +247,25 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const st
 std::optional<Residency::Choice> Residency::partial_choice(std::uint32_t tile, double gain, std::uint64_t total,
                                                            const std::vector<Step>& steps) const {
     const std::uint64_t budget = options_.memory_budget;
-    Choice c{tile, {}, 0};
+    Choice c{tile, {}, 0, bookkeeping_bytes(tile), {}};
     for (const Step& s : steps) {
         if (s.value * options_.hysteresis >= gain) break;
         c.victims.push_back(s.tile);
         total -= std::min(total, s.freed);
     }
-    const std::uint64_t transient = transient_bytes(tile);
-    if (total + transient + kMinPartialBytes > budget) return std::nullopt;
-    c.cap = budget - total - transient;
+    if (total + c.extra >= budget) return std::nullopt;
+    const std::uint64_t room = budget - total - c.extra;
+    // Its decoding takes at most a quarter of the room, else the least it can; the points the rest.
+    auto plan = plan_for(tile, room / 4);
+    if (!plan) plan = plan_for(tile, room);
+    if (!plan) return std::nullopt;
+    c.plan = *plan;
+    c.cap = room - plan->transient;
+    // The first piece is always decoded whole; less room than a few pieces is not worth a load.
+    const auto& t = dataset_.tiles[tile];
+    const std::uint64_t piece = std::min(tile_point_set_bytes(t), (plan->piece_points - 1 + largest_unit_points(t)) *
+                                                                      sizeof(render::PointAttr));
+    if (c.cap < std::max(piece, std::min(kMinPartialBytes, budget / 16))) return std::nullopt;
     return c;
 }
 
@@ -239,6 +291,7 @@ std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& 
         if (it == tiles_.end()) continue;
         Entry& e = it->second;
         ++version_;
+        retire(e.blocks);
         if (e.level == Level::Coarse) {
             tiles_.erase(it);
             continue;
@@ -252,7 +305,7 @@ std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& 
     return dropped;
 }
 
-std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std::unique_lock<std::mutex>& lock) {
+std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>& lock) {
     std::uint64_t seen = ~0ull;
     while (true) {
         wake_.wait_for(lock, kPoll, [&] { return stopping_ || camera_version_ != seen; });
@@ -268,7 +321,9 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
         }
         look_throttle_.done();
         const render::Camera camera = camera_;
+        const bool freed = prune_retired();
         lock.unlock();
+        if (freed) trim_heap();  // released points go back to the system
         const std::uint64_t other = options_.other_bytes ? options_.other_bytes() : 0;
         const std::vector<double> fractions = screen_fractions(camera);
         lock.lock();
@@ -276,9 +331,11 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
         last_other_ = other;
         auto dropped = release(stale_partials(fractions));
         const auto choice = choose(other, fractions);
-        const auto over = choice ? std::optional(choice->victims)
-                                 : victims(0, std::numeric_limits<double>::infinity(), other + held(), release_steps());
-        const auto made_room = release(over.value_or(std::vector<std::uint32_t>{}));
+        const auto over = choice ? choice->victims
+                                 : victims(0, std::numeric_limits<double>::infinity(), other + held(), release_steps())
+                                       .value_or(Room{})
+                                       .victims;
+        const auto made_room = release(over);
         dropped.insert(dropped.end(), made_room.begin(), made_room.end());
         if (!dropped.empty()) {
             lock.unlock();
@@ -289,12 +346,16 @@ std::optional<std::pair<std::uint32_t, std::uint64_t>> Residency::next_load(std:
             checked_version_ = seen;
             continue;
         }
+        // What was released is gone once no snapshot holds it (a frame being drawn): the load waits till then.
+        const std::uint64_t incoming = choice->cap + choice->extra + choice->plan.transient;
+        if (other + held() + incoming > options_.memory_budget) continue;
         busy_ = true;
+        ++loads_;
         loading_version_ = seen;
-        // The points still to come, and what the decoding threads hold besides.
-        decoding_bytes_ = choice->cap + transient_bytes(choice->tile);
+        // The points still to come, their bookkeeping, and what the decoding threads hold besides.
+        decoding_bytes_ = incoming;
         peak_ = std::max(peak_, other + held() + decoding_bytes_);
-        return std::pair(choice->tile, choice->cap);
+        return Job{choice->tile, choice->cap, choice->plan.piece_points};
     }
 }
 
@@ -307,13 +368,14 @@ PointOrder Residency::decode_order() const {
     };
 }
 
-void Residency::load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool) {
+void Residency::load(const Job& job, const PointOrder& order, ThreadPool& pool) {
+    const auto [tile, cap, piece_points] = job;
     bool fold = true;  // a tile reloaded after a release has its points in the details already
     if (std::lock_guard lock(mutex_); folded_.contains(tile)) fold = false;
     bool first = true;  // guarded by mutex_: the first piece committed replaces the coarse levels
     const bool whole = cap >= tile_point_set_bytes(dataset_.tiles[tile]);
     const std::uint64_t max_points = whole ? ~0ull : cap / sizeof(render::PointAttr);
-    decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, kPiecePoints, max_points,
+    decode_tile_pieces(dataset_.tiles[tile], dataset_.las_stride, pool, order, piece_points, max_points,
                        [&](PointSet&& piece) {
                            if (std::lock_guard lock(mutex_); stopping_) throw Stopped{};
                            if (!options_.has_rgb) paint_uncoloured(std::span(&piece, 1));
@@ -328,8 +390,9 @@ void Residency::load(std::uint32_t tile, std::uint64_t cap, const PointOrder& or
 
 std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded, bool& first) {
     std::lock_guard lock(mutex_);
-    if (std::exchange(first, false)) tiles_.erase(tile);  // its coarse levels, held since an earlier release
+    if (std::exchange(first, false)) drop(tile);  // its coarse levels, held since an earlier release
     std::vector<dataset::CellKey> cells;
+    const std::uint64_t details_before = details_bytes_;
     for (auto& [cell, d] : decoded.detail) {
         cells.push_back(cell);
         const auto it = details_.find(cell);
@@ -349,7 +412,7 @@ std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded deco
     e.bytes += added;
     e.blocks.insert(e.blocks.end(), decoded.blocks.begin(), decoded.blocks.end());
     e.last_seen = tick_;
-    decoding_bytes_ -= std::min(decoding_bytes_, added);
+    decoding_bytes_ -= std::min(decoding_bytes_, added + details_bytes_ - details_before);
     ++version_;
     peak_ = std::max(peak_, last_other_ + held() + decoding_bytes_);
     return cells;
@@ -373,13 +436,13 @@ void Residency::run() {
     ThreadPool pool(std::max(1u, options_.decode_threads));
     std::unique_lock lock(mutex_);
     while (const auto job = next_load(lock)) {
-        const auto [tile, cap] = *job;
+        const auto [tile, cap, piece_points] = *job;
         const PointOrder order = decode_order();
         lock.unlock();
         std::optional<ErrorRecord> error;
         const bool capped = cap < tile_point_set_bytes(dataset_.tiles[tile]);
         try {
-            load(tile, cap, order, pool);
+            load(*job, order, pool);
         } catch (const Stopped&) {
             return;
         } catch (const Error& e) {
@@ -387,13 +450,14 @@ void Residency::run() {
         } catch (const std::exception& e) {  // e.g. out of memory: still this tile's failure
             error = ErrorRecord{dataset_.tiles[tile].tile.path, std::nullopt, e.what()};
         }
+        trim_heap();  // the pieces' scratch, freed by the decoding threads, leaves the process
         lock.lock();
         decoding_bytes_ = 0;
         busy_ = false;
         if (error) {  // the pieces it had are dropped: a damaged file is not drawn in part
             failed_.insert(tile);
             errors_.push_back(std::move(*error));
-            if (tiles_.erase(tile) > 0) ++version_;
+            if (drop(tile)) ++version_;
             continue;
         }
         if (capped && tiles_.contains(tile)) {
@@ -441,6 +505,7 @@ ResidencyStats Residency::stats() const {
         if (full) st.full_points += points, st.bytes_full += e.bytes;
     }
     st.released = released_;
+    st.loads = loads_;
     st.wanted = wanted_, st.wanted_full = wanted_full_;
     st.bytes = held();
     st.decoding_bytes = decoding_bytes_;

@@ -9,9 +9,12 @@
 // piece per decoding thread at a time, each shown as soon as it is in; when no tile fits whole,
 // the best one is loaded in part, as many pieces as there is room for, and decoded again when the
 // camera moves to parts of it those pieces do not cover. A load happens only when it is worth
-// more than what it displaces, so the memory budget (with what the rest of the scheduler holds)
-// is never exceeded and loading converges. Its own thread and its own lock; hooks are called
-// without that lock held.
+// more than what it displaces, and only when all it will hold fits: its points, its blocks' and
+// details' bookkeeping, and what its decoding threads hold meanwhile (decode_memory.hpp: smaller
+// pieces when room is short). Released blocks count until the last snapshot holding them is
+// gone, and freed memory is handed back to the system (core/process_memory.hpp). So the memory
+// budget (with what the rest of the scheduler holds) is never exceeded and loading converges.
+// Its own thread and its own lock; hooks are called without that lock held.
 #pragma once
 
 #include <condition_variable>
@@ -31,6 +34,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
 #include "render/camera.hpp"
+#include "viewer/decode_memory.hpp"
 #include "viewer/point_lod.hpp"
 #include "viewer/scheduler_detail.hpp"
 
@@ -56,6 +60,7 @@ struct ResidencyOptions {
 
 struct ResidencyStats {
     std::size_t full_tiles = 0, coarse_tiles = 0, released = 0;
+    std::size_t loads = 0;  // tile decodes started (whole or in part)
     std::size_t wanted = 0, wanted_full = 0;  // visible tiles; those at full resolution
     std::uint64_t full_points = 0, lod_points = 0;  // points held at full resolution; in every block
     std::uint64_t bytes = 0, bytes_full = 0, decoding_bytes = 0, peak_bytes = 0, budget = 0;
@@ -100,9 +105,14 @@ private:
         PatchDetails detail;
     };
     struct Choice;  // a tile to load and what to drop for it
+    struct Room;    // what to drop for a load, and what is held after
+    struct Job {
+        std::uint32_t tile = 0;
+        std::uint64_t cap = 0, piece_points = 0;  // bytes of points it may add; points per piece
+    };
 
     void run();
-    std::optional<std::pair<std::uint32_t, std::uint64_t>> next_load(std::unique_lock<std::mutex>& lock);  // tile, cap
+    std::optional<Job> next_load(std::unique_lock<std::mutex>& lock);
     // The screen coverage (screen_fraction) of every tile at `camera`.
     std::vector<double> screen_fractions(const render::Camera& camera) const;
     std::optional<Choice> choose(std::uint64_t other, const std::vector<double>& fractions);
@@ -116,15 +126,21 @@ private:
                                          const std::vector<Step>& steps) const;
     // What to release, cheapest first, so that `incoming` bytes fit with `total` held, each
     // worth less than `gain` (per byte); nullopt when that cannot be done.
-    std::optional<std::vector<std::uint32_t>> victims(std::uint64_t incoming, double gain, std::uint64_t total,
-                                                      const std::vector<Step>& steps) const;
+    std::optional<Room> victims(std::uint64_t incoming, double gain, std::uint64_t total,
+                                const std::vector<Step>& steps) const;
     double value_per_byte(std::uint32_t tile, const Entry& entry) const;
     // What decoding `tile` would improve per byte, given its screen coverage `fraction`.
     double gain_per_byte(std::uint32_t tile, double fraction) const;
+    // Bytes held: blocks, details, and blocks released but still alive (a snapshot being drawn).
     std::uint64_t held() const;
-    // What decoding `tile` holds besides the blocks it adds: every decoding thread's piece,
-    // its records and its points.
-    std::uint64_t transient_bytes(std::uint32_t tile) const;
+    // The decode plan for the whole of `tile` whose transient bytes fit in `room` (decode_memory.hpp).
+    std::optional<DecodePlan> plan_for(std::uint32_t tile, std::uint64_t room) const;
+    // What loading `tile` adds besides its points: its blocks' headers, the patch details of the cells it covers.
+    std::uint64_t bookkeeping_bytes(std::uint32_t tile) const;
+    // Blocks dropped from tiles_: counted in held() until the last snapshot holding them is gone.
+    void retire(const LodBlocks& blocks);
+    bool prune_retired();  // forgets the retired blocks that are gone; true when any was
+    bool drop(std::uint32_t tile);  // removes its entry, its blocks retired; false when it had none
     std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
     // The share of what the camera sees of a tile (`fraction`) that the blocks of `entry` cover.
     double coverage(const Entry& entry, double fraction) const;
@@ -133,7 +149,7 @@ private:
     // for this view.
     std::vector<std::uint32_t> stale_partials(const std::vector<double>& fractions) const;
     PointOrder decode_order() const;
-    void load(std::uint32_t tile, std::uint64_t cap, const PointOrder& order, ThreadPool& pool);
+    void load(const Job& job, const PointOrder& order, ThreadPool& pool);
     // Adds a decoded piece; `first` (cleared here, under the lock) drops the coarse levels held.
     std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool& first);
     void notify(const std::vector<std::uint32_t>& released, std::optional<std::uint32_t> loaded,
@@ -153,11 +169,12 @@ private:
     std::uint64_t loading_version_ = 0;  // the camera version the tile being decoded was chosen for
     std::map<std::uint32_t, Entry> tiles_;
     std::set<std::uint32_t> failed_;
+    std::vector<std::pair<std::weak_ptr<const LodBlock>, std::uint64_t>> retired_;  // block, its bytes
     Throttle look_throttle_{std::chrono::milliseconds(100), 4096};  // looks of a large dataset
     std::set<std::uint32_t> folded_;  // tiles whose every point is in the details (not folded again on reload)
     std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, version_ = 1, last_other_ = 0;
-    std::size_t released_ = 0, wanted_ = 0, wanted_full_ = 0;
+    std::size_t released_ = 0, loads_ = 0, wanted_ = 0, wanted_full_ = 0;
     std::vector<ErrorRecord> errors_;
     mutable LodBlocks blocks_cache_;
     mutable std::uint64_t blocks_version_ = 0;

@@ -13,9 +13,9 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
-#include "las/point_format.hpp"
 #include "nn/heightmap_network.hpp"
 #include "viewer/residency.hpp"
 #include "viewer/scheduler_detail.hpp"
@@ -64,12 +64,6 @@ void for_cells(const dataset::Bounds& b, const dataset::PatchGrid& grid, double 
     for (std::int32_t iy = y0; iy <= y1; ++iy) {
         for (std::int32_t ix = x0; ix <= x1; ++ix) fn(CellKey{ix, iy});
     }
-}
-
-bool survey_has_rgb(const dataset::Dataset& ds) {
-    std::size_t with = 0;
-    for (const auto& t : ds.tiles) with += las::point_format_info(t.tile.header.point_format).rgb_offset >= 0;
-    return with > 0 && with * 2 >= ds.tiles.size();
 }
 
 }  // namespace
@@ -251,6 +245,10 @@ Scheduler::~Scheduler() {
     residency_->stop();  // its hooks use the state and the residency itself
     for (auto& t : threads_) t.join();
     loader_.reset();  // joins the reader thread (its callback uses the state)
+    residency_.reset();
+    state_.reset();
+    grid_.reset();
+    trim_heap();  // what the session held goes back to the system, not to the allocator's free lists
 }
 
 std::pair<double, double> Scheduler::look_at_ground(const render::Camera& camera, const dataset::Bounds& bounds) {
@@ -303,6 +301,10 @@ ResidencyOptions Scheduler::residency_options() {
     };
     r.on_detail = [this](const std::vector<CellKey>& cells) { show_detail(cells); };
     r.on_tile = [this](std::uint32_t tile, bool loaded) {
+        if (!loaded) {  // the cached snapshot would keep the released points alive until the next frame
+            std::lock_guard lock(state_->mutex);
+            state_->snapshot.reset();
+        }
         emit({loaded ? SchedulerEvent::Kind::FullResLoaded : SchedulerEvent::Kind::FullResReleased, tile, {}});
     };
     return r;
@@ -517,7 +519,9 @@ SchedulerStats Scheduler::stats() const {
     st.full_res_points = r.full_points;
     st.lod_points = r.lod_points;
     st.full_res_released = r.released;
+    st.full_res_loads = r.loads;
     st.bytes_full_res = r.bytes;
+    st.bytes_decoding = r.decoding_bytes;
     st.bytes_used = s.held_bytes(*grid_) + r.bytes + r.decoding_bytes;
     st.peak_bytes_used = std::max(r.peak_bytes, st.bytes_used);
     st.memory_budget = r.budget;

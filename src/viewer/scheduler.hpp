@@ -81,7 +81,9 @@ struct SchedulerStats {
     std::size_t full_res_tiles = 0, coarse_tiles = 0;  // tiles held at full resolution; at coarse levels only
     std::uint64_t full_res_points = 0, lod_points = 0;  // points of the full tiles; of every tile held
     std::size_t full_res_released = 0;  // tiles released so far
+    std::size_t full_res_loads = 0;     // tile decodes started so far (whole or in part)
     std::uint64_t bytes_used = 0, bytes_full_res = 0, memory_budget = 0;
+    std::uint64_t bytes_decoding = 0;   // of bytes_used: what the tile being decoded may still add and its scratch
     std::uint64_t peak_bytes_used = 0;  // highest bytes_used seen, a decoding tile included
     std::vector<std::string> notes;     // e.g. "no heightmap network: linear heightmaps"
     std::vector<ErrorRecord> errors;    // what could not be read or computed: file, offset, cause

@@ -353,7 +353,9 @@ TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
     SchedulerOptions o;
     o.cnn = false;
     o.memory_budget = 192ull << 20;  // a seventh of the replica's points
-    constexpr std::uint64_t kMargin = 300ull << 20;
+    // The limit (the budget plus 15%), and what the scheduler's threads hold outside it
+    // (their stacks, the chunk point reader's buffers).
+    const std::uint64_t margin = o.memory_budget * 15 / 100 + (32ull << 20);
     const std::uint64_t rss0 = resident_bytes();
     // Down from high above the whole dataset to low over a diagonal, 20 s in all.
     FlightPath path;
@@ -379,7 +381,7 @@ TEST(ViewerScheduler, ReplicatedDatasetStaysWithinTheMemoryBudget) {
                 st.heightmaps_linear, st.full_res_tiles, st.full_res_released);
     // What the process held before the scheduler (the dataset's headers here; in a run of the
     // whole suite in one process, everything earlier tests left) is not the scheduler's.
-    EXPECT_LE(worst - std::min(worst, rss0), o.memory_budget + kMargin);
+    EXPECT_LE(worst - std::min(worst, rss0), o.memory_budget + margin);
     EXPECT_GT(st.heightmaps_linear, 0u);
     EXPECT_GT(st.full_res_released, 0u) << "the flight never filled the budget: the test checks nothing";
 }
