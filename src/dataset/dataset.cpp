@@ -181,9 +181,8 @@ void warn_if_ballpark(const DatasetTile& t, const geo::CrsTransform& transform, 
     if (op.empty()) return;
     warnings.add({DiagnosticLevel::warning, t.tile.path, std::nullopt,
                   "PROJ has only a ballpark transformation from " + shorten(transform.source()) + " to " +
-                      shorten(transform.target()) + " (" + op + "): no datum shift is applied" +
-                      (transform.transforms_heights() ? " to positions or heights" : "") +
-                      ", which can be metres off; a datum grid is probably not installed"});
+                      shorten(transform.target()) + " (" + op + "): the step PROJ calls ballpark applies no datum " +
+                      "shift, so the result can be metres off; a datum grid is probably not installed"});
 }
 
 // Points the tile at the frame when its CRS differs (transforms shared per source CRS) and
