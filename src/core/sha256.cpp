@@ -36,4 +36,10 @@ std::string Sha256::hex_digest() {
     return out;
 }
 
+std::string sha256_hex(std::span<const std::uint8_t> bytes) {
+    Sha256 sha;
+    sha.update(bytes);
+    return sha.hex_digest();
+}
+
 }  // namespace lidarscout

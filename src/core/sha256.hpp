@@ -24,4 +24,7 @@ private:
     std::unique_ptr<State> state_;
 };
 
+// The lower-case hex SHA-256 of `bytes` in one call.
+std::string sha256_hex(std::span<const std::uint8_t> bytes);
+
 }  // namespace lidarscout

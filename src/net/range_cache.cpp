@@ -84,10 +84,8 @@ void RangeCache::configure(const RangeCacheSettings& settings) {
 }
 
 fs::path RangeCache::entry_path(const RangeRequest& request) const {
-    Sha256 h;
     const std::string key = request.url + '\n' + request.validator + '\n' + range_header(request.ranges);
-    h.update(std::span(reinterpret_cast<const std::uint8_t*>(key.data()), key.size()));
-    const std::string hex = h.hex_digest();
+    const std::string hex = sha256_hex(std::span(reinterpret_cast<const std::uint8_t*>(key.data()), key.size()));
     return settings_.folder / hex.substr(0, 2) / hex;
 }
 

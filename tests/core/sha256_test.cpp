@@ -1,4 +1,4 @@
-// Sha256: the FIPS 180-2 test vectors, whole and fed in pieces.
+// Sha256: the FIPS 180-2 test vectors, whole and fed in pieces, and sha256_hex in one call.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -25,6 +25,13 @@ TEST(Sha256, KnownVectors) {
     for (std::size_t piece : {1u, 7u, 64u, 1000u}) {
         EXPECT_EQ(digest(two_blocks, piece), "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
     }
+}
+
+TEST(Sha256, OneCall) {
+    const std::string abc = "abc";
+    EXPECT_EQ(sha256_hex({reinterpret_cast<const std::uint8_t*>(abc.data()), abc.size()}),
+              "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    EXPECT_EQ(sha256_hex({}), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
 }
 
 }  // namespace

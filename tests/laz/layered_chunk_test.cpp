@@ -2,7 +2,6 @@
 // decodes gives the same point bytes (SHA-256), selective decoding gives the same fields
 // while skipping the other layers, and corrupt or unsupported chunks fail cleanly.
 #include <gtest/gtest.h>
-#include <openssl/evp.h>
 
 #include <algorithm>
 
@@ -13,6 +12,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/sha256.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "laz/layered_chunk.hpp"
@@ -22,23 +22,6 @@ namespace lidarscout::laz {
 namespace {
 
 using las::ItemType;
-
-std::string sha256_hex(std::span<const std::uint8_t> bytes) {
-    unsigned char digest[EVP_MAX_MD_SIZE];
-    unsigned int length = 0;
-    EVP_MD_CTX* ctx = EVP_MD_CTX_new();
-    EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
-    EVP_DigestUpdate(ctx, bytes.data(), bytes.size());
-    EVP_DigestFinal_ex(ctx, digest, &length);
-    EVP_MD_CTX_free(ctx);
-    std::string hex;
-    char buf[3];
-    for (unsigned int i = 0; i < length; ++i) {
-        std::snprintf(buf, sizeof buf, "%02x", digest[i]);
-        hex += buf;
-    }
-    return hex;
-}
 
 // A corpus file with layered chunks that the reference decodes.
 struct LayeredFile {

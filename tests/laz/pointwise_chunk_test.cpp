@@ -4,14 +4,13 @@
 // unsupported item lists are rejected.
 #include <gtest/gtest.h>
 
-#include <openssl/evp.h>
 
-#include <cstdio>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/sha256.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "laz/pointwise_chunk.hpp"
@@ -21,19 +20,6 @@ namespace lidarscout {
 namespace {
 
 using test::Expected;
-
-std::string sha256_hex(std::span<const std::uint8_t> bytes) {
-    unsigned char digest[EVP_MAX_MD_SIZE];
-    unsigned int size = 0;
-    EVP_Digest(bytes.data(), bytes.size(), digest, &size, EVP_sha256(), nullptr);
-    std::string hex;
-    char buf[3];
-    for (unsigned int i = 0; i < size; ++i) {
-        std::snprintf(buf, sizeof buf, "%02x", digest[i]);
-        hex += buf;
-    }
-    return hex;
-}
 
 // One stream of compressed points: a chunk (compressor 2), or all point data (compressor 1).
 struct Stream {
