@@ -25,6 +25,7 @@
 // /tmp/lidarscout-references) by dataset, camera, image size and style, so built once.
 // Memory: the peak resident size of the live runs, and at that peak what the scheduler counted
 // against the budget and the C heap's bytes in use and freed but kept; loads and releases.
+// --png DIR writes each sampled frame, each of its layers alone and the reference as PNGs.
 // --json prints {"dataset", "cameras": [{"name", "reference", "samples": [{"t", "psnr_db"}], "never_worse",
 // "loads", "releases", "at_peak_rss": {"rss_mb", "counted_mb", "heap_in_use_mb", "heap_free_kept_mb"}}],
 // "peak_rss_mb", "budget_mb", "scheduler_peak_mb", "rss_before_mb"}.
@@ -379,6 +380,20 @@ struct MemoryAtPeak {
     }
 };
 
+// `frame` as NAME.png in `dir`, and each layer of `snapshot` alone (NAME-heightmaps.png, -chunk-points,
+// -points): what each part of the frame comes from.
+void write_frame_pngs(const std::string& dir, const std::string& name, const render::RgbaImage& frame,
+                      const viewer::SceneSnapshot& snapshot, const render::Camera& camera,
+                      const viewer::SceneStyle& style, ThreadPool& pool) {
+    render::write_png(fmt::format("{}/{}.png", dir, name), frame);
+    const std::pair<const char*, viewer::SceneLayers> layers[] = {
+        {"heightmaps", {true, false, false}}, {"chunk-points", {false, true, false}}, {"points", {false, false, true}}};
+    for (const auto& [layer, on] : layers) {
+        render::write_png(fmt::format("{}/{}-{}.png", dir, name, layer),
+                          viewer::render_snapshot(snapshot, camera, style, pool, on).image);
+    }
+}
+
 struct LiveRun {
     std::vector<double> psnr_db;  // against the reference, at kSampleTimes
     std::uint64_t scheduler_peak = 0;
@@ -412,7 +427,8 @@ LiveRun live_run(const Options& o, const dataset::Dataset& ds, const NamedCamera
         const double t = kSampleTimes[run.psnr_db.size()];
         if (since(start) < t) continue;
         run.psnr_db.push_back(render::image_psnr_db(frame, reference));
-        if (!o.png_dir.empty()) render::write_png(fmt::format("{}/{}-{}s.png", o.png_dir, view.name, t), frame);
+        if (!o.png_dir.empty()) write_frame_pngs(o.png_dir, fmt::format("{}-{}s", view.name, t), frame,
+                                                 *scheduler.snapshot(), view.camera, style, pool);
         const auto st = scheduler.stats();
         if (o.json) continue;
         fmt::print("{} camera at {:.1f} s: {} of {} visible tiles full, {} coarse, {} heightmaps, {} MB held ({} MB "

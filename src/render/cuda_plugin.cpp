@@ -134,6 +134,8 @@ LsrHeightmapPass heightmap_pass(const Camera& camera, const HeightmapPassSetting
     const float length = std::sqrt(s.sun[0] * s.sun[0] + s.sun[1] * s.sun[1] + s.sun[2] * s.sun[2]);
     for (int k = 0; k < 3; ++k) h.sun[k] = length > 0.0f ? s.sun[k] / length : (k == 2 ? 1.0f : 0.0f);
     h.ambient = s.ambient;
+    h.level_gain = level_gain(h.sun[2], s.ambient);
+    h.fill_outline = s.fill_outline ? 1 : 0;
     return h;
 }
 

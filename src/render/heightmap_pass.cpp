@@ -26,6 +26,7 @@ struct Frame {
     std::array<float, 3> sun;
     float ambient, depth_scale;
     const HeightmapPassSettings* settings;
+    float level_gain;  // 1 / the light level ground gets: level ground shows its texture's colour
 };
 
 struct PatchStats {
@@ -40,10 +41,13 @@ struct GridVertex {
     bool drawable = false;  // height defined and in front of the near plane
 };
 
-// Scratch space of one thread, reused from patch to patch.
+// Scratch space of one thread, reused from patch to patch: the patch's corners, computed when a
+// block first needs them, and where texels are undefined, a summed-area table of them.
 struct Scratch {
-    std::vector<GridVertex> grid;
-    std::vector<char> block_drawn;
+    std::vector<GridVertex> corners;   // (size + 1)^2 when memoised
+    std::vector<std::uint32_t> stamp;  // corners[k] belongs to this patch when stamp[k] == generation
+    std::uint32_t generation = 0;
+    std::vector<int> undefined;        // (size + 1)^2: undefined texels below and left of each corner
 };
 
 PatchStats patch_stats(const HeightmapPatch& patch) {
@@ -97,7 +101,8 @@ Frame make_frame(const Camera& camera, const HeightmapPassSettings& settings) {
                  normalised(settings.sun),
                  settings.ambient,
                  1.0f + settings.depth_bias,
-                 &settings};
+                 &settings,
+                 level_gain(normalised(settings.sun)[2], settings.ambient)};
 }
 
 float row_dot(const std::array<float, 4>& row, float x, float y, float z) {
@@ -118,10 +123,6 @@ bool box_in_view(const Frame& f, const std::array<float, 3>& lo, const std::arra
     }
     return std::none_of(outside.begin(), outside.end(), [](int n) { return n == 8; });
 }
-
-// Corner k of a grid at `step` (the last corner is always the patch edge).
-int corner_at(int k, int step, int size) { return std::min(k * step, size); }
-int corner_count(int step, int size) { return (size + step - 1) / step + 1; }
 
 float texel_height(const HeightmapPatch& patch, int i, int j) {
     return patch.heights[static_cast<std::size_t>(j) * patch.size + i];
@@ -187,65 +188,35 @@ float corner_offset(double origin, double camera, int corner, double texel_m) {
     return static_cast<float>((origin - camera) + corner * texel_m);
 }
 
-void build_grid(const Frame& f, const HeightmapPatch& patch, int step, std::vector<GridVertex>& grid) {
-    const int n = corner_count(step, patch.size);
-    grid.assign(static_cast<std::size_t>(n) * n, GridVertex{});
-    const auto elevation = f.palette.elevation_map(0.0);
-    const bool by_height = f.palette.mode() == ColourMode::Elevation;
-    for (int kj = 0; kj < n; ++kj) {
-        const int cj = corner_at(kj, step, patch.size);
-        const float y = corner_offset(patch.origin_y, f.camera->y, cj, patch.texel_m);
-        for (int ki = 0; ki < n; ++ki) {
-            const int ci = corner_at(ki, step, patch.size);
-            GridVertex& v = grid[static_cast<std::size_t>(kj) * n + ki];
-            float height = 0.0f;
-            std::array<float, 3> rgb{};
-            if (!corner_attributes(patch, ci, cj, height, rgb)) continue;
-            v.x = corner_offset(patch.origin_x, f.camera->x, ci, patch.texel_m);
-            v.y = y;
-            v.z = static_cast<float>(static_cast<double>(height) - f.camera->z);
-            v.screen = project(f, v.x, v.y, v.z);
-            v.drawable = v.screen.depth >= f.near_m;
-            if (by_height) {
-                set_colour(v.screen, elevation(height));
-            } else {
-                v.screen.r = rgb[0], v.screen.g = rgb[1], v.screen.b = rgb[2];
-            }
-        }
+// Corner (ci, cj) of `patch`: camera-relative position, projection and colour; not drawable when
+// no texel around it is defined or it lies behind the near plane.
+GridVertex make_corner(const Frame& f, const HeightmapPatch& patch, int ci, int cj) {
+    GridVertex v;
+    float height = 0.0f;
+    std::array<float, 3> rgb{};
+    if (!corner_attributes(patch, ci, cj, height, rgb)) return v;
+    v.x = corner_offset(patch.origin_x, f.camera->x, ci, patch.texel_m);
+    v.y = corner_offset(patch.origin_y, f.camera->y, cj, patch.texel_m);
+    v.z = static_cast<float>(static_cast<double>(height) - f.camera->z);
+    v.screen = project(f, v.x, v.y, v.z);
+    v.drawable = v.screen.depth >= f.near_m;
+    if (f.palette.mode() == ColourMode::Elevation) {
+        set_colour(v.screen, f.palette.elevation_map(0.0)(height));
+    } else {
+        v.screen.r = rgb[0], v.screen.g = rgb[1], v.screen.b = rgb[2];
     }
+    return v;
 }
 
-bool texels_defined(const HeightmapPatch& patch, int i0, int i1, int j0, int j1) {
-    for (int j = j0; j < j1; ++j) {
-        for (int i = i0; i < i1; ++i) {
-            if (std::isnan(patch.heights[static_cast<std::size_t>(j) * patch.size + i])) return false;
-        }
-    }
-    return true;
-}
-
-// Which blocks (step x step texels) are drawn: those whose texels are all defined.
-void mark_blocks(const HeightmapPatch& patch, int step, bool all_defined, std::vector<char>& drawn) {
-    const int n = corner_count(step, patch.size) - 1;
-    drawn.assign(static_cast<std::size_t>(n) * n, 1);
-    if (all_defined) return;
-    for (int bj = 0; bj < n; ++bj) {
-        for (int bi = 0; bi < n; ++bi) {
-            drawn[static_cast<std::size_t>(bj) * n + bi] =
-                texels_defined(patch, corner_at(bi, step, patch.size), corner_at(bi + 1, step, patch.size),
-                               corner_at(bj, step, patch.size), corner_at(bj + 1, step, patch.size));
-        }
-    }
-}
-
-// Lambert shading of a face: ambient + (1 - ambient) * max(0, n . sun), n facing up.
+// Lambert shading of a face: ambient + (1 - ambient) * max(0, n . sun), n facing up, scaled so
+// that level ground gets 1 (slopes towards the sun are brighter, away from it darker).
 float face_shade(const Frame& f, const GridVertex& a, const GridVertex& b, const GridVertex& c) {
     const float ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
     const float vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
     std::array<float, 3> n = normalised({uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx});
     if (n[2] < 0.0f) n = {-n[0], -n[1], -n[2]};
     const float lambert = std::max(0.0f, n[0] * f.sun[0] + n[1] * f.sun[1] + n[2] * f.sun[2]);
-    return f.ambient + (1.0f - f.ambient) * lambert;
+    return (f.ambient + (1.0f - f.ambient) * lambert) * f.level_gain;
 }
 
 void draw_face(Framebuffer& fb, const Frame& f, const GridVertex& a, const GridVertex& b, const GridVertex& c) {
@@ -273,35 +244,91 @@ void draw_skirt(Framebuffer& fb, const Frame& f, const GridVertex& a, const Grid
     draw_triangle(fb, a.screen, b_low.screen, a_low.screen, shade, f.depth_scale);
 }
 
-// Corner (ki, kj) of a grid of n x n blocks.
-const GridVertex& grid_at(const Scratch& s, int n, int ki, int kj) {
-    return s.grid[static_cast<std::size_t>(kj) * (n + 1) + ki];
-}
+constexpr int kMaxMemoisedSize = 512;  // larger patches compute their corners each time they are used
 
-// Skirts along the four patch edges, under every drawn boundary block.
-void draw_skirts(Framebuffer& fb, const Frame& f, const Scratch& s, int n, float depth) {
-    const auto vertex = [&](int ki, int kj) -> const GridVertex& { return grid_at(s, n, ki, kj); };
-    const auto drawn = [&](int bi, int bj) { return s.block_drawn[static_cast<std::size_t>(bj) * n + bi] != 0; };
-    for (int k = 0; k < n; ++k) {
-        if (drawn(k, 0)) draw_skirt(fb, f, vertex(k, 0), vertex(k + 1, 0), vertex(k + 1, 1), depth);  // south
-        if (drawn(k, n - 1)) draw_skirt(fb, f, vertex(k, n), vertex(k + 1, n), vertex(k, n - 1), depth);  // north
-        if (drawn(0, k)) draw_skirt(fb, f, vertex(0, k), vertex(0, k + 1), vertex(1, k + 1), depth);  // west
-        if (drawn(n - 1, k)) draw_skirt(fb, f, vertex(n, k), vertex(n, k + 1), vertex(n - 1, k), depth);  // east
+// One patch being drawn: its corners on demand, and its undefined texels counted per block.
+class PatchDraw {
+public:
+    PatchDraw(Framebuffer& fb, const Frame& f, const HeightmapPatch& patch, bool all_defined, Scratch& scratch)
+        : fb_(fb), f_(f), patch_(patch), all_defined_(all_defined), s_(scratch), n_(patch.size + 1) {
+        if (patch.size <= kMaxMemoisedSize) start_memo();
+        if (!all_defined) count_undefined();
     }
-}
 
-void draw_blocks(Framebuffer& fb, const Frame& f, const Scratch& s, int n) {
-    const auto vertex = [&](int ki, int kj) -> const GridVertex& { return grid_at(s, n, ki, kj); };
-    for (int bj = 0; bj < n; ++bj) {
-        for (int bi = 0; bi < n; ++bi) {
-            if (!s.block_drawn[static_cast<std::size_t>(bj) * n + bi]) continue;
-            const GridVertex &v00 = vertex(bi, bj), &v10 = vertex(bi + 1, bj);
-            const GridVertex &v01 = vertex(bi, bj + 1), &v11 = vertex(bi + 1, bj + 1);
-            draw_face(fb, f, v00, v10, v11);
-            draw_face(fb, f, v00, v11, v01);
+    // The block of texels [i0, i1) x [j0, j1): drawn whole when all its texels are defined, skipped
+    // when none is, else split in four (halves) until blocks of `min_side` texels, drawn when at least
+    // half their texels are defined (where their corners are: a corner needs a defined texel beside it).
+    void draw_block(int i0, int i1, int j0, int j1, int min_side) {
+        const int undefined = undefined_in(i0, i1, j0, j1), texels = (i1 - i0) * (j1 - j0);
+        if (undefined == 0) return draw_quad(i0, i1, j0, j1);
+        if (undefined == texels) return;
+        if (i1 - i0 <= min_side && j1 - j0 <= min_side) {
+            if (2 * undefined <= texels) draw_quad(i0, i1, j0, j1);
+            return;
+        }
+        const int im = i1 - i0 > 1 ? (i0 + i1) / 2 : i1, jm = j1 - j0 > 1 ? (j0 + j1) / 2 : j1;
+        draw_block(i0, im, j0, jm, min_side);
+        if (im < i1) draw_block(im, i1, j0, jm, min_side);
+        if (jm < j1) draw_block(i0, im, jm, j1, min_side);
+        if (im < i1 && jm < j1) draw_block(im, i1, jm, j1, min_side);
+    }
+
+private:
+    void start_memo() {
+        const std::size_t corners = static_cast<std::size_t>(n_) * n_;
+        if (s_.corners.size() < corners) s_.corners.resize(corners), s_.stamp.assign(corners, 0);
+        if (++s_.generation == 0) std::fill(s_.stamp.begin(), s_.stamp.end(), 0), s_.generation = 1;
+        memo_ = true;
+    }
+
+    void count_undefined() {
+        s_.undefined.assign(static_cast<std::size_t>(n_) * n_, 0);
+        for (int j = 0; j < patch_.size; ++j) {
+            int row = 0;
+            for (int i = 0; i < patch_.size; ++i) {
+                row += std::isnan(texel_height(patch_, i, j));
+                s_.undefined[index(i + 1, j + 1)] = s_.undefined[index(i + 1, j)] + row;
+            }
         }
     }
-}
+
+    int undefined_in(int i0, int i1, int j0, int j1) const {
+        if (all_defined_) return 0;
+        const auto& u = s_.undefined;
+        return u[index(i1, j1)] - u[index(i0, j1)] - u[index(i1, j0)] + u[index(i0, j0)];
+    }
+
+    std::size_t index(int ci, int cj) const { return static_cast<std::size_t>(cj) * n_ + ci; }
+
+    const GridVertex& corner(int ci, int cj) {
+        if (!memo_) return scratch_vertex_ = make_corner(f_, patch_, ci, cj);
+        const std::size_t k = index(ci, cj);
+        if (s_.stamp[k] != s_.generation) s_.corners[k] = make_corner(f_, patch_, ci, cj), s_.stamp[k] = s_.generation;
+        return s_.corners[k];
+    }
+
+    // Two shaded triangles over texels [i0, i1) x [j0, j1), and skirts under the edges on the patch boundary.
+    void draw_quad(int i0, int i1, int j0, int j1) {
+        const GridVertex v00 = corner(i0, j0), v10 = corner(i1, j0), v01 = corner(i0, j1), v11 = corner(i1, j1);
+        draw_face(fb_, f_, v00, v10, v11);
+        draw_face(fb_, f_, v00, v11, v01);
+        const float depth = static_cast<float>(f_.settings->skirt_quads * std::max(i1 - i0, j1 - j0) * patch_.texel_m);
+        if (!(depth > 0.0f)) return;
+        if (j0 == 0) draw_skirt(fb_, f_, v00, v10, v11, depth);                // south
+        if (j1 == patch_.size) draw_skirt(fb_, f_, v01, v11, v00, depth);      // north
+        if (i0 == 0) draw_skirt(fb_, f_, v00, v01, v11, depth);                // west
+        if (i1 == patch_.size) draw_skirt(fb_, f_, v10, v11, v00, depth);      // east
+    }
+
+    Framebuffer& fb_;
+    const Frame& f_;
+    const HeightmapPatch& patch_;
+    const bool all_defined_;
+    Scratch& s_;
+    const int n_;  // corners per side
+    bool memo_ = false;
+    GridVertex scratch_vertex_;
+};
 
 bool patch_in_view(const Frame& f, const HeightmapPatch& patch, const PatchStats& stats) {
     const double side = patch.size * patch.texel_m;
@@ -314,6 +341,14 @@ bool patch_in_view(const Frame& f, const HeightmapPatch& patch, const PatchStats
     return box_in_view(f, lo, hi);
 }
 
+// The side (texels) below which a block cut by undefined texels is not split further: about a
+// pixel, for a LOD `step` whose blocks are about lod_quad_px pixels (1 when texels are larger).
+int smallest_block(int step, float lod_quad_px) {
+    int side = step;
+    for (float px = lod_quad_px; side > 1 && px > 1.0f; px /= 2.0f) side /= 2;
+    return side;
+}
+
 void draw_patch(Framebuffer& fb, const Frame& f, const HeightmapPatch& patch, Scratch& scratch) {
     const PatchStats stats = patch_stats(patch);
     if (!stats.any_defined() || !patch_in_view(f, patch, stats)) return;
@@ -321,16 +356,48 @@ void draw_patch(Framebuffer& fb, const Frame& f, const HeightmapPatch& patch, Sc
     const int step = settings.fixed_step > 0
                          ? std::min(settings.fixed_step, patch.size)
                          : lod_step(patch, stats.z_min, stats.z_max, *f.camera, settings.lod_quad_px);
-    build_grid(f, patch, step, scratch.grid);
-    mark_blocks(patch, step, stats.all_defined, scratch.block_drawn);
-    const int blocks = corner_count(step, patch.size) - 1;
-    draw_blocks(fb, f, scratch, blocks);
-    if (settings.skirt_quads > 0.0f) {
-        draw_skirts(fb, f, scratch, blocks, static_cast<float>(settings.skirt_quads * step * patch.texel_m));
+    const int min_side = settings.fixed_step > 0 ? 1 : smallest_block(step, settings.lod_quad_px);
+    PatchDraw draw(fb, f, patch, stats.all_defined, scratch);
+    for (int j = 0; j < patch.size; j += step) {
+        for (int i = 0; i < patch.size; i += step) {
+            draw.draw_block(i, std::min(i + step, patch.size), j, std::min(j + step, patch.size), min_side);
+        }
+    }
+}
+
+// Pixels the surface's outline passes through without covering their centres: an empty pixel
+// next to (8-neighbourhood) a drawn one takes the nearest of its drawn neighbours. Decided from
+// the pass's output alone (fills do not spread), in bands over the pool, then written.
+void fill_outline(Framebuffer& fb, ThreadPool& pool) {
+    const int w = fb.width(), h = fb.height();
+    const std::size_t bands = std::min<std::size_t>(static_cast<std::size_t>(h), std::size_t{pool.size()} * 4);
+    std::vector<std::vector<std::pair<int, std::uint64_t>>> fills(bands);  // (pixel index, fragment)
+    pool.for_each(bands, [&](std::size_t b) {
+        const int y0 = static_cast<int>(b * h / bands), y1 = static_cast<int>((b + 1) * h / bands);
+        for (int y = y0; y < y1; ++y) {
+            for (int x = 0; x < w; ++x) {
+                if (!fb.empty_at(x, y)) continue;
+                std::uint64_t nearest = kEmpty;
+                for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, h - 1); ++ny) {
+                    for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, w - 1); ++nx) {
+                        nearest = std::min(nearest, fb.at(nx, ny));
+                    }
+                }
+                if (nearest != kEmpty) fills[b].emplace_back(y * w + x, nearest);
+            }
+        }
+    });
+    for (const auto& band : fills) {
+        for (const auto& [pixel, fragment] : band) fb.write_packed(pixel % w, pixel / w, fragment);
     }
 }
 
 }  // namespace
+
+float level_gain(float sun_z, float ambient) {
+    const float level = ambient + (1.0f - ambient) * std::max(0.0f, sun_z);
+    return level > 0.0f ? 1.0f / level : 1.0f;
+}
 
 int lod_step(const HeightmapPatch& patch, double z_min, double z_max, const Camera& camera, float lod_quad_px) {
     const double side = patch.size * patch.texel_m;
@@ -359,6 +426,7 @@ void draw_heightmaps(Framebuffer& fb, const Camera& camera, std::span<const Heig
             draw_patch(fb, frame, patches[i], scratch);
         }
     });
+    if (settings.fill_outline) fill_outline(fb, pool);
 }
 
 }  // namespace lidarscout::render

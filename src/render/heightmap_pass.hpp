@@ -16,16 +16,28 @@
 //
 // Level of detail: from the patch's distance to the camera, a step (1, 2, 4, ... up to the
 // patch size) is chosen so that a quad of step x step texels stays about lod_quad_px pixels on
-// screen; at step s only every s-th corner is used and a block of s x s texels is drawn when
-// all its texels are defined. Neighbours drawn at different steps, or whose boundary heights
+// screen; at step s only every s-th corner is used and a block of s x s texels is drawn whole
+// when all its texels are defined. A block with some undefined texels (a patch on the edge of
+// the data) is split in four, down to blocks of about a pixel, drawn when at least half defined,
+// so that the defined area is drawn at every distance (a coarse block is not dropped for one
+// missing texel). Neighbours drawn at different steps, or whose boundary heights
 // differ, can leave thin slits when seen from the side: each patch therefore hangs a "skirt"
 // (a vertical strip, skirt_quads x step x texel deep, shaded like the surface above it) down
 // from its boundary, hidden under the neighbour where there is one.
 //
 // Colour: ColourMode::Elevation colours by height (the same ramp as the points); every other
 // mode uses the patch texture (grey where the patch has none). Shading: Lambert from the face
-// normal with a fixed sun direction, plus ambient. Triangles with a vertex nearer than the
-// camera's near plane are dropped (not clipped). Patches are spread over the thread pool.
+// normal with a fixed sun direction, plus ambient, scaled so that level ground shows the
+// texture's own colour (the colour of the points it stands for).
+//
+// Outline: a pixel the surface's edge crosses without covering its centre would stay empty,
+// where the points it stands for light it (a point lights the pixel it falls in). Seen from
+// afar, where a tile is a few pixels wide, that empty outline is a large share of the picture:
+// with fill_outline, after the patches are drawn, each empty pixel beside a drawn one takes its
+// nearest drawn neighbour (one pixel, not spreading).
+//
+// Triangles with a vertex nearer than the camera's near plane are dropped (not clipped).
+// Patches are spread over the thread pool.
 #pragma once
 
 #include <array>
@@ -59,7 +71,12 @@ struct HeightmapPassSettings {
     float skirt_quads = 1.0f;   // skirt depth in quads (step x texel); 0 = no skirts
     std::array<float, 3> sun = {-0.5f, 0.5f, 0.7071f};  // towards the sun (north-west, 45 deg up)
     float ambient = 0.35f;      // light where the sun does not reach
+    bool fill_outline = true;   // empty pixels beside the drawn surface take their nearest drawn neighbour
 };
+
+// What the light is scaled by so that level ground gets 1 (its texture's own colour), for a
+// normalised sun whose height is sun_z: 1 / (ambient + (1 - ambient) * max(0, sun_z)); 1 when that is 0.
+float level_gain(float sun_z, float ambient);
 
 // The LOD step for a patch whose heights span [z_min, z_max]: the largest power of two
 // (at most the patch size) whose quads stay within lod_quad_px on screen at the patch's

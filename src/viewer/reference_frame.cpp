@@ -77,7 +77,7 @@ std::string reference_key(const dataset::Dataset& ds, const render::Camera& came
                           const std::string& extra) {
     std::ostringstream text;
     text.precision(17);
-    text << "reference v1\n" << extra << '\n';
+    text << "reference v2\n" << extra << '\n';  // v2: heightmaps lit to their colour on level ground, outline filled
     for (const auto& t : ds.tiles) {  // a replica's shifted copies differ by their place only
         text << t.tile.path << ' ' << t.tile.file_size << ' ' << t.tile.header.point_count << ' ' << t.bounds_m.min_x
              << ' ' << t.bounds_m.min_y << '\n';
@@ -88,6 +88,9 @@ std::string reference_key(const dataset::Dataset& ds, const render::Camera& came
     const auto& k = style.colour;
     text << "style " << static_cast<int>(k.mode) << ' ' << k.z_min << ' ' << k.z_max << ' ' << style.point_size << ' '
          << style.resolve.background << ' ' << style.resolve.edl_strength << ' ' << style.resolve.edl_radius_px << '\n';
+    const auto& h = style.heightmaps;
+    text << "heightmaps " << h.lod_quad_px << ' ' << h.fixed_step << ' ' << h.skirt_quads << ' ' << h.ambient << ' '
+         << h.sun[0] << ' ' << h.sun[1] << ' ' << h.sun[2] << ' ' << h.fill_outline << '\n';
     const std::string all = text.str();
     Sha256 sha;
     sha.update(std::span(reinterpret_cast<const std::uint8_t*>(all.data()), all.size()));

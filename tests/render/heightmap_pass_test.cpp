@@ -42,7 +42,15 @@ Camera top_down(double x, double y, double z, int size = 256) {
     return c;
 }
 
-Framebuffer render(const Camera& c, const std::vector<OwnedPatch>& owned, const HeightmapPassSettings& s = {}) {
+// The pass's settings with the outline left empty: what the triangles cover, pixel centres inside.
+HeightmapPassSettings centres_only() {
+    HeightmapPassSettings s;
+    s.fill_outline = false;
+    return s;
+}
+
+Framebuffer render(const Camera& c, const std::vector<OwnedPatch>& owned,
+                   const HeightmapPassSettings& s = centres_only()) {
     std::vector<HeightmapPatch> patches;
     for (const OwnedPatch& p : owned) patches.push_back(p.view());
     Framebuffer fb(c.width, c.height);
@@ -104,13 +112,12 @@ TEST(RenderHeightmapPass, FlatPatchFromAboveCoversItsRectangle) {
     EXPECT_GT(e.inside, 130 * 130);
     EXPECT_EQ(e.holes, 0);
     EXPECT_EQ(e.spill, 0);
-    // Lit from the sun straight above the flat ground: ambient + (1 - ambient) * sun.z.
+    // Level ground shows its texture's own colour (the colour of the points it stands for).
     const HeightmapPassSettings s;
-    const float shade = s.ambient + (1.0f - s.ambient) * 0.7071f;
     const std::uint64_t centre = fb.at(128, 128);
-    EXPECT_NEAR(red(fragment_rgba(centre)), 180 * shade, 1.0);
-    EXPECT_NEAR(green(fragment_rgba(centre)), 120 * shade, 1.0);
-    EXPECT_NEAR(blue(fragment_rgba(centre)), 60 * shade, 1.0);
+    EXPECT_NEAR(red(fragment_rgba(centre)), 180, 1.0);
+    EXPECT_NEAR(green(fragment_rgba(centre)), 120, 1.0);
+    EXPECT_NEAR(blue(fragment_rgba(centre)), 60, 1.0);
     EXPECT_NEAR(fragment_depth(centre), 1000.0f * (1.0f + s.depth_bias), 0.01);
 }
 
@@ -126,6 +133,52 @@ TEST(RenderHeightmapPass, CoarseLevelOfDetailLeavesNoHoles) {
     EXPECT_EQ(e.spill, 0);
 }
 
+TEST(RenderHeightmapPass, CoarseBlocksWithUndefinedTexelsStillDrawTheirDefinedPart) {
+    // Defined: 37 columns by 50 rows, neither on the step-16 grid (a patch on the edge of the data).
+    OwnedPatch patch = flat_patch(kX0, kY0, 50.0f, pack_rgba(90, 90, 90));
+    for (int row = 0; row < patch.size; ++row) {
+        for (int col = 0; col < patch.size; ++col) {
+            if (row >= 50 || col >= 37) patch.height(row, col) = std::nanf("");
+        }
+    }
+    const Camera c = top_down(kX0 + 320.0, kY0 + 320.0, 6050.0, 512);
+    HeightmapPassSettings s = centres_only();
+    s.lod_quad_px = 12.0f;
+    ASSERT_EQ(lod_step(patch.view(), 50.0, 50.0, c, s.lod_quad_px), 16);
+    const CoverageErrors e =
+        check_coverage(render(c, {patch}, s), screen_quad(c, kX0, kY0, kX0 + 370, kY0 + 500, 50.0));
+    EXPECT_GT(e.inside, 25 * 35);
+    EXPECT_EQ(e.holes, 0);  // the blocks cut by the edge were once dropped whole
+    EXPECT_EQ(e.spill, 0);
+}
+
+TEST(RenderHeightmapPass, FromAfarTheOutlineIsFilledLikePointsFillIt) {
+    // 640 m at 1,750 m: the patch is 40.5 px wide, its edges a quarter pixel beyond pixel centres.
+    const double x0 = kX0 + 0.32, y0 = kY0 + 9.68;
+    const OwnedPatch patch = flat_patch(x0, y0, 50.0f, pack_rgba(90, 90, 90));
+    const Camera c = top_down(kX0 + 320.0, kY0 + 330.0, 1800.0, 128);
+    const auto q = screen_quad(c, x0, y0, x0 + 640.0, y0 + 640.0, 50.0);
+    const Framebuffer exact = render(c, {patch});
+    const Framebuffer filled = render(c, {patch}, HeightmapPassSettings{});
+    int touched = 0, touched_empty = 0, outline = 0, beyond = 0;
+    for (int y = 0; y < c.height; ++y) {
+        for (int x = 0; x < c.width; ++x) {
+            const float cx = x + 0.5f, cy = y + 0.5f;
+            if (inside_quad(q, cx, cy, -0.45f)) {  // the pixel's square reaches into the patch
+                ++touched;
+                touched_empty += filled.empty_at(x, y);
+                outline += exact.empty_at(x, y);
+            } else if (!inside_quad(q, cx, cy, -1.55f)) {
+                beyond += !filled.empty_at(x, y);  // fills do not spread
+            }
+        }
+    }
+    EXPECT_GT(outline, 4 * 40);  // the triangles alone leave the outline empty
+    EXPECT_GE(touched, 42 * 42);
+    EXPECT_EQ(touched_empty, 0);
+    EXPECT_EQ(beyond, 0);
+}
+
 TEST(RenderHeightmapPass, AdjacentPatchesLeaveNoGap) {
     const std::vector<OwnedPatch> patches = {flat_patch(kX0, kY0, 100.0f, pack_rgba(200, 0, 0)),
                                              flat_patch(kX0 + 640.0, kY0, 100.0f, pack_rgba(0, 0, 200))};
@@ -134,7 +187,7 @@ TEST(RenderHeightmapPass, AdjacentPatchesLeaveNoGap) {
     c.yaw_deg = 20;
     c.pitch_deg = -50;
     c.width = 320, c.height = 240;
-    HeightmapPassSettings s;
+    HeightmapPassSettings s = centres_only();
     s.skirt_quads = 0;  // the seam itself must be closed, not hidden by a skirt
     for (const int step : {1, 4}) {
         s.fixed_step = step;
@@ -171,7 +224,7 @@ TEST(RenderHeightmapPass, SkirtsCloseTheStepBetweenPatchesOfDifferentHeights) {
         }
         return gaps;
     };
-    HeightmapPassSettings s;
+    HeightmapPassSettings s = centres_only();
     EXPECT_EQ(columns_with_gaps(render(c, patches, s)), 0);
     s.skirt_quads = 0;
     EXPECT_EQ(columns_with_gaps(render(c, patches, s)), 120);  // the control: an open slit
@@ -181,7 +234,7 @@ TEST(RenderHeightmapPass, NanTexelLeavesAHole) {
     OwnedPatch patch = flat_patch(kX0, kY0, 100.0f, pack_rgba(100, 100, 100));
     patch.height(30, 20) = std::nanf("");  // covers x in [200, 210), y in [300, 310) m
     const Camera c = top_down(kX0 + 205.0, kY0 + 305.0, 400.0);
-    HeightmapPassSettings s;
+    HeightmapPassSettings s = centres_only();
     s.fixed_step = 1;
     const Framebuffer fb = render(c, {patch}, s);
     const auto hole = screen_quad(c, kX0 + 200, kY0 + 300, kX0 + 210, kY0 + 310, 100.0);
@@ -232,7 +285,7 @@ TEST(RenderHeightmapPass, ElevationModeColoursByHeight) {
     for (int row = 0; row < 64; ++row)
         for (int col = 0; col < 64; ++col) patch.height(row, col) = 100.0f + 2.0f * col;  // a plane rising east
     const Camera c = top_down(kX0 + 320.0, kY0 + 320.0, 1500.0);
-    HeightmapPassSettings s;
+    HeightmapPassSettings s = centres_only();
     const Framebuffer rgb = render(c, {patch}, s);
     s.colour.mode = ColourMode::Elevation;
     s.colour.z_min = 100;

@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-#define LIDARSCOUT_CUDA_RASTER_ABI 3
+#define LIDARSCOUT_CUDA_RASTER_ABI 4
 
 /* Offsets -> pixels and depth: w = depth . (p, 1), pixel = (sx . (p, 1), sy . (p, 1)) / w. */
 typedef struct LsrTransform {
@@ -75,6 +75,8 @@ typedef struct LsrHeightmapPass {
     float skirt_quads;
     float sun[3];        /* normalised */
     float ambient;
+    float level_gain;    /* scales the light so that level ground gets 1 */
+    int fill_outline;    /* 1: empty pixels beside the drawn surface take their nearest drawn neighbour */
 } LsrHeightmapPass;
 
 typedef struct LsrResolve {

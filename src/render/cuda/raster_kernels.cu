@@ -375,7 +375,7 @@ __device__ bool texels_defined(const float* heights, int size, int i0, int i1, i
     return true;
 }
 
-// One block per visible patch: its corner grid (build_grid) and block flags (mark_blocks).
+// One block per visible patch: its corner grid at its LOD step, and which blocks are wholly defined.
 __global__ void patch_grid_kernel(HeightmapFrame h, Target t, DeviceColours c, const PatchInfo* info,
                                   const PatchWork* work, GridVertex* grid, unsigned char* drawn) {
     const PatchWork w = work[blockIdx.x];
@@ -409,7 +409,7 @@ __device__ float face_shade(const HeightmapFrame& h, const GridVertex& a, const 
     float3 n = normalised(uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx);
     if (n.z < 0.0f) n = make_float3(-n.x, -n.y, -n.z);
     const float lambert = fmaxf(0.0f, n.x * h.sun[0] + n.y * h.sun[1] + n.z * h.sun[2]);
-    return h.ambient + (1.0f - h.ambient) * lambert;
+    return (h.ambient + (1.0f - h.ambient) * lambert) * h.level_gain;
 }
 
 __device__ RasterVertex screen_of(const GridVertex& v) { return RasterVertex{v.sx, v.sy, v.depth, v.r, v.g, v.b}; }
@@ -432,7 +432,7 @@ __device__ void draw_skirt(const HeightmapFrame& h, const Target& t, const Trian
     emit_triangle(t, q, screen_of(a), b_low, a_low, shade, h.depth_scale);
 }
 
-// One skirt segment: side 0 south, 1 north, 2 west, 3 east (draw_skirts).
+// One skirt segment under a wholly defined block: side 0 south, 1 north, 2 west, 3 east.
 __device__ void skirt_segment(const HeightmapFrame& h, const Target& t, const TriangleQueue& q, const GridVertex* g,
                               const unsigned char* drawn, int n, int side, int k, float depth) {
     const auto vertex = [&](int ki, int kj) -> const GridVertex& { return g[kj * (n + 1) + ki]; };
@@ -447,9 +447,73 @@ __device__ void skirt_segment(const HeightmapFrame& h, const Target& t, const Tr
     }
 }
 
+// The undefined texels of [i0, i1) x [j0, j1).
+__device__ int undefined_in(const float* heights, int size, int i0, int i1, int j0, int j1) {
+    int n = 0;
+    for (int j = j0; j < j1; ++j) {
+        for (int i = i0; i < i1; ++i) n += isnan(heights[j * size + i]) ? 1 : 0;
+    }
+    return n;
+}
+
+// draw_quad (heightmap_pass.cpp): two faces over texels [i0, i1) x [j0, j1), skirts on the patch edges.
+__device__ void draw_quad(const HeightmapFrame& h, const Target& t, const DeviceColours& c, const TriangleQueue& q,
+                          const DevicePatch& p, int i0, int i1, int j0, int j1) {
+    const GridVertex v00 = grid_vertex(h, t, c, p, 1, i0, j0), v10 = grid_vertex(h, t, c, p, 1, i1, j0);
+    const GridVertex v01 = grid_vertex(h, t, c, p, 1, i0, j1), v11 = grid_vertex(h, t, c, p, 1, i1, j1);
+    draw_face(h, t, q, v00, v10, v11);
+    draw_face(h, t, q, v00, v11, v01);
+    const float depth = static_cast<float>(h.skirt_quads * max(i1 - i0, j1 - j0) * p.texel_m);
+    if (!(depth > 0.0f)) return;
+    if (j0 == 0) draw_skirt(h, t, q, v00, v10, v11, depth);
+    if (j1 == p.size) draw_skirt(h, t, q, v01, v11, v00, depth);
+    if (i0 == 0) draw_skirt(h, t, q, v00, v01, v11, depth);
+    if (i1 == p.size) draw_skirt(h, t, q, v10, v11, v00, depth);
+}
+
+// smallest_block (heightmap_pass.cpp): about a pixel, for a LOD step whose blocks are lod_quad_px.
+__device__ int smallest_block(const HeightmapFrame& h, int step) {
+    if (h.fixed_step > 0) return 1;
+    int side = step;
+    for (float px = h.lod_quad_px; side > 1 && px > 1.0f; px /= 2.0f) side /= 2;
+    return side;
+}
+
+// PatchDraw::draw_block (heightmap_pass.cpp) for a block with some undefined texels: split in four
+// until blocks of min_side, drawn when at least half defined; fully defined parts drawn whole.
+__device__ void draw_partial_block(const HeightmapFrame& h, const Target& t, const DeviceColours& c,
+                                   const TriangleQueue& q, const DevicePatch& p, int i0, int i1, int j0, int j1,
+                                   int min_side) {
+    int4 stack[32];  // (i0, i1, j0, j1); each level adds at most 3 to the 64-texel patch's depth of 6
+    int top = 0;
+    stack[top++] = make_int4(i0, i1, j0, j1);
+    while (top > 0) {
+        const int4 b = stack[--top];
+        const int undefined = undefined_in(p.heights, p.size, b.x, b.y, b.z, b.w);
+        const int texels = (b.y - b.x) * (b.w - b.z);
+        if (undefined == 0) {
+            draw_quad(h, t, c, q, p, b.x, b.y, b.z, b.w);
+            continue;
+        }
+        if (undefined == texels) continue;
+        if (b.y - b.x <= min_side && b.w - b.z <= min_side) {
+            if (2 * undefined <= texels) draw_quad(h, t, c, q, p, b.x, b.y, b.z, b.w);
+            continue;
+        }
+        const int im = b.y - b.x > 1 ? (b.x + b.y) / 2 : b.y, jm = b.w - b.z > 1 ? (b.z + b.w) / 2 : b.w;
+        if (top + 4 > 32) continue;  // cannot happen for patches of up to 2^10 texels
+        if (im < b.y && jm < b.w) stack[top++] = make_int4(im, b.y, jm, b.w);
+        if (jm < b.w) stack[top++] = make_int4(b.x, im, jm, b.w);
+        if (im < b.y) stack[top++] = make_int4(im, b.y, b.z, jm);
+        stack[top++] = make_int4(b.x, im, b.z, jm);
+    }
+}
+
 // One block per visible patch; one thread per block of texels (two faces) or skirt segment.
-__global__ void patch_triangles_kernel(HeightmapFrame h, Target t, const PatchInfo* info, const PatchWork* work,
-                                       const GridVertex* grid, const unsigned char* drawn, TriangleQueue q) {
+// Blocks with some undefined texels are split (draw_partial_block).
+__global__ void patch_triangles_kernel(HeightmapFrame h, Target t, DeviceColours c, const PatchInfo* info,
+                                       const PatchWork* work, const GridVertex* grid, const unsigned char* drawn,
+                                       TriangleQueue q) {
     const PatchWork w = work[blockIdx.x];
     const DevicePatch p = h.patches[w.patch];
     const PatchInfo pi = info[w.patch];
@@ -463,8 +527,13 @@ __global__ void patch_triangles_kernel(HeightmapFrame h, Target t, const PatchIn
             skirt_segment(h, t, q, g, d, n, (k - n * n) / n, (k - n * n) % n, skirt_depth);
             continue;
         }
-        if (!d[k]) continue;
         const int bi = k % n, bj = k / n;
+        if (!d[k]) {
+            draw_partial_block(h, t, c, q, p, corner_at(bi, pi.step, p.size), corner_at(bi + 1, pi.step, p.size),
+                               corner_at(bj, pi.step, p.size), corner_at(bj + 1, pi.step, p.size),
+                               smallest_block(h, pi.step));
+            continue;
+        }
         const GridVertex &v00 = g[bj * (n + 1) + bi], &v10 = g[bj * (n + 1) + bi + 1];
         const GridVertex &v01 = g[(bj + 1) * (n + 1) + bi], &v11 = g[(bj + 1) * (n + 1) + bi + 1];
         draw_face(h, t, q, v00, v10, v11);
@@ -512,6 +581,29 @@ __global__ void resolve_edl_kernel(Target t, LsrResolve r, const float* log_dept
     if (response > 0.0f) image[i] = darken(image[i], expf(-(kEdlScale * r.edl_strength) * response));
 }
 
+// fill_outline (heightmap_pass.hpp): each empty pixel beside (8-neighbourhood) a drawn one gets
+// the nearest of them, decided from the pass's output alone into `fills`, then written.
+__global__ void outline_find_kernel(Target t, Fragment* fills) {
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= t.width * t.height) return;
+    const int x = i % t.width, y = i / t.width;
+    Fragment nearest = kEmpty;
+    if (t.fb[i] == kEmpty) {
+        for (int ny = max(y - 1, 0); ny <= min(y + 1, t.height - 1); ++ny) {
+            for (int nx = max(x - 1, 0); nx <= min(x + 1, t.width - 1); ++nx) {
+                const Fragment v = t.fb[ny * t.width + nx];
+                if (v < nearest) nearest = v;
+            }
+        }
+    }
+    fills[i] = nearest;
+}
+
+__global__ void outline_write_kernel(Target t, const Fragment* fills) {
+    const int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i < t.width * t.height && fills[i] != kEmpty) t.fb[i] = fills[i];
+}
+
 unsigned int blocks_for(std::size_t n) { return static_cast<unsigned int>((n + kThreads - 1) / kThreads); }
 
 }  // namespace
@@ -527,14 +619,20 @@ void launch_patch_grids(const HeightmapFrame& h, const Target& t, const DeviceCo
     if (count) patch_grid_kernel<<<count, kThreads, 0, stream>>>(h, t, c, info, work, grid, drawn);
 }
 
-void launch_patch_triangles(const HeightmapFrame& h, const Target& t, const PatchInfo* info, const PatchWork* work,
-                            std::uint32_t count, const GridVertex* grid, const unsigned char* drawn,
-                            TriangleQueue queue, cudaStream_t stream) {
-    if (count) patch_triangles_kernel<<<count, kThreads, 0, stream>>>(h, t, info, work, grid, drawn, queue);
+void launch_patch_triangles(const HeightmapFrame& h, const Target& t, const DeviceColours& c, const PatchInfo* info,
+                            const PatchWork* work, std::uint32_t count, const GridVertex* grid,
+                            const unsigned char* drawn, TriangleQueue queue, cudaStream_t stream) {
+    if (count) patch_triangles_kernel<<<count, kThreads, 0, stream>>>(h, t, c, info, work, grid, drawn, queue);
 }
 
 void launch_queued_triangles(const Target& t, TriangleQueue queue, int blocks, cudaStream_t stream) {
     queued_triangles_kernel<<<blocks, kThreads, 0, stream>>>(t, queue);
+}
+
+void launch_fill_outline(const Target& t, Fragment* fills, cudaStream_t stream) {
+    const std::size_t n = static_cast<std::size_t>(t.width) * t.height;
+    outline_find_kernel<<<blocks_for(n), kThreads, 0, stream>>>(t, fills);
+    outline_write_kernel<<<blocks_for(n), kThreads, 0, stream>>>(t, fills);
 }
 
 void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs,

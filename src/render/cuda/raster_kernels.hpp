@@ -84,7 +84,7 @@ struct HeightmapFrame {
     const DevicePatch* patches;
     LsrTransform screen;
     double camera_x, camera_y, camera_z, focal_px, near_m;
-    float depth_scale, lod_quad_px, skirt_quads, ambient;
+    float depth_scale, lod_quad_px, skirt_quads, ambient, level_gain;
     float sun[3];
     int fixed_step;
 };
@@ -100,10 +100,12 @@ void launch_patch_info(const HeightmapFrame& h, const Target& t, std::uint32_t p
 void launch_patch_grids(const HeightmapFrame& h, const Target& t, const DeviceColours& c, const PatchInfo* info,
                         const PatchWork* work, std::uint32_t count, GridVertex* grid, unsigned char* drawn,
                         cudaStream_t stream);
-void launch_patch_triangles(const HeightmapFrame& h, const Target& t, const PatchInfo* info, const PatchWork* work,
-                            std::uint32_t count, const GridVertex* grid, const unsigned char* drawn,
-                            TriangleQueue queue, cudaStream_t stream);
+void launch_patch_triangles(const HeightmapFrame& h, const Target& t, const DeviceColours& c, const PatchInfo* info,
+                            const PatchWork* work, std::uint32_t count, const GridVertex* grid,
+                            const unsigned char* drawn, TriangleQueue queue, cudaStream_t stream);
 void launch_queued_triangles(const Target& t, TriangleQueue queue, int blocks, cudaStream_t stream);
+// The heightmap pass's outline fill; `fills` holds a fragment per pixel (scratch).
+void launch_fill_outline(const Target& t, Fragment* fills, cudaStream_t stream);
 void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs,
                    std::uint64_t job_count, int point_size, cudaStream_t stream);
 void launch_resolve(const Target& t, const LsrResolve& r, std::uint32_t* image, float* log_depth,

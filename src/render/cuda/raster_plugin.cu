@@ -199,7 +199,7 @@ struct Context {
     int device = 0;
     std::string name;
     cudaStream_t stream = nullptr;
-    DeviceBuffer fb, image, log_depth, counters, arena, info, work, grid, drawn, queue;
+    DeviceBuffer fb, image, log_depth, counters, arena, info, work, grid, drawn, queue, outline;
     PinnedBuffer staging;
     ResidentData resident;
 
@@ -328,7 +328,7 @@ HeightmapFrame heightmap_frame(const LsrFrame& f, const DeviceBuffer& arena, con
     h.camera_x = p.camera_x, h.camera_y = p.camera_y, h.camera_z = p.camera_z;
     h.focal_px = p.focal_px, h.near_m = p.near_m;
     h.depth_scale = p.depth_scale, h.lod_quad_px = p.lod_quad_px, h.skirt_quads = p.skirt_quads;
-    h.ambient = p.ambient, h.fixed_step = p.fixed_step;
+    h.ambient = p.ambient, h.level_gain = p.level_gain, h.fixed_step = p.fixed_step;
     for (int k = 0; k < 3; ++k) h.sun[k] = p.sun[k];
     return h;
 }
@@ -371,9 +371,13 @@ void draw_heightmaps(Context& ctx, const LsrFrame& f, const Target& t, const Dev
     const auto count = static_cast<std::uint32_t>(work.size());
     launch_patch_grids(hf, t, c, ctx.info.at<PatchInfo>(), ctx.work.at<PatchWork>(), count,
                        ctx.grid.at<GridVertex>(), ctx.drawn.at<unsigned char>(), ctx.stream);
-    launch_patch_triangles(hf, t, ctx.info.at<PatchInfo>(), ctx.work.at<PatchWork>(), count,
+    launch_patch_triangles(hf, t, c, ctx.info.at<PatchInfo>(), ctx.work.at<PatchWork>(), count,
                            ctx.grid.at<GridVertex>(), ctx.drawn.at<unsigned char>(), queue, ctx.stream);
     launch_queued_triangles(t, queue, kQueueBlocks, ctx.stream);
+    if (f.heightmaps.fill_outline) {
+        ctx.outline.reserve(static_cast<std::size_t>(t.width) * t.height * sizeof(Fragment));
+        launch_fill_outline(t, ctx.outline.at<Fragment>(), ctx.stream);
+    }
     // `work` is read by the kernels through ctx.work; the host copy may go once it is copied.
     check(cudaStreamSynchronize(ctx.stream), "heightmap pass");
 }
