@@ -3,7 +3,8 @@
 //   - the point pass: 20 M points (20 batches of 1 M, one per 1 km tile, terrain-like) seen
 //     whole by the overview camera, on 1 thread and on all threads, in points per second;
 //   - the heightmap pass: 2,000 patches of 64 x 64 texels (a 50 x 40 grid of 640 m patches)
-//     under the overview camera, with the LOD the pass picks, on 1 thread and all threads;
+//     under the overview camera, with the LOD the pass picks, on 1 thread and all threads, and
+//     without the outline fill (its cost);
 //   - the resolve pass, with and without eye-dome lighting, and the framebuffer clear;
 //   - with --frames: whole frames as the viewer draws them (draw_frame: clear, pass, resolve with
 //     EDL, the image back in host memory) of the points and of the patches, on the CPU and, when
@@ -234,6 +235,14 @@ void bench_heightmaps(const Options& o, ThreadPool& single, ThreadPool& all) {
                    pool->size(), s * 1e3, set.patches.size(), steps.front(), steps.back(), steps[steps.size() / 2],
                    drawn_pixels(fb));
     }
+    HeightmapPassSettings no_outline = settings;
+    no_outline.fill_outline = false;
+    const double without = median_seconds(o.runs, [&] {
+        fb.clear();
+        draw_heightmaps(fb, camera, set.patches, no_outline, all);
+    });
+    fmt::print("heightmap pass   {:>2} thread(s): {:7.1f} ms without the outline fill ({} px drawn)\n", all.size(),
+               without * 1e3, drawn_pixels(fb));
     HeightmapPassSettings full = settings;
     full.fixed_step = 1;
     const double s = median_seconds(o.runs, [&] {

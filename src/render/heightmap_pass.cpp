@@ -365,6 +365,17 @@ void draw_patch(Framebuffer& fb, const Frame& f, const HeightmapPatch& patch, Sc
     }
 }
 
+// Row y's horizontal minimum of three: out[x] = min(row[x - 1], row[x], row[x + 1]) (kEmpty off the image).
+void row_min3(const Framebuffer& fb, int y, std::vector<std::uint64_t>& out) {
+    const int w = fb.width();
+    out.assign(static_cast<std::size_t>(w), kEmpty);
+    if (y < 0 || y >= fb.height()) return;
+    const std::uint64_t* row = fb.data() + static_cast<std::size_t>(y) * w;
+    for (int x = 0; x < w; ++x) {
+        out[x] = std::min({row[x], x > 0 ? row[x - 1] : kEmpty, x + 1 < w ? row[x + 1] : kEmpty});
+    }
+}
+
 // Pixels the surface's outline passes through without covering their centres: an empty pixel
 // next to (8-neighbourhood) a drawn one takes the nearest of its drawn neighbours. Decided from
 // the pass's output alone (fills do not spread), in bands over the pool, then written.
@@ -374,17 +385,19 @@ void fill_outline(Framebuffer& fb, ThreadPool& pool) {
     std::vector<std::vector<std::pair<int, std::uint64_t>>> fills(bands);  // (pixel index, fragment)
     pool.for_each(bands, [&](std::size_t b) {
         const int y0 = static_cast<int>(b * h / bands), y1 = static_cast<int>((b + 1) * h / bands);
+        std::vector<std::uint64_t> above, here, below;  // row_min3 of y - 1, y, y + 1
+        row_min3(fb, y0 - 1, above);
+        row_min3(fb, y0, here);
         for (int y = y0; y < y1; ++y) {
+            row_min3(fb, y + 1, below);
+            const std::uint64_t* row = fb.data() + static_cast<std::size_t>(y) * w;
             for (int x = 0; x < w; ++x) {
-                if (!fb.empty_at(x, y)) continue;
-                std::uint64_t nearest = kEmpty;
-                for (int ny = std::max(y - 1, 0); ny <= std::min(y + 1, h - 1); ++ny) {
-                    for (int nx = std::max(x - 1, 0); nx <= std::min(x + 1, w - 1); ++nx) {
-                        nearest = std::min(nearest, fb.at(nx, ny));
-                    }
-                }
+                if (row[x] != kEmpty) continue;
+                const std::uint64_t nearest = std::min({above[x], here[x], below[x]});
                 if (nearest != kEmpty) fills[b].emplace_back(y * w + x, nearest);
             }
+            std::swap(above, here);
+            std::swap(here, below);
         }
     });
     for (const auto& band : fills) {
