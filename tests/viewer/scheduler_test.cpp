@@ -3,7 +3,7 @@
 // their detail in the heightmaps, a camera move re-prioritises the full-resolution loads, and
 // a replica made by the test stays within the budget; heightmaps out of view wait while the
 // tiles in view decode and show at the next camera move; files damaged while viewed are listed
-// one by one and the rest loads.
+// one by one and the rest loads; seen from afar, the heightmaps cover every pixel the points do.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -27,6 +27,7 @@
 #include "viewer/flight_path.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/point_sets.hpp"
+#include "viewer/reference_frame.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/scheduler_detail.hpp"
 #include "viewer/visibility.hpp"
@@ -81,6 +82,49 @@ struct EventLog {
         return out;
     }
 };
+
+// Pixels drawn in `covering` among those drawn in `covered` (both drawn on `background`), as a share of the latter.
+double share_covered(const render::RgbaImage& covered, const render::RgbaImage& covering, std::uint32_t background) {
+    std::size_t drawn = 0, also = 0;
+    for (std::size_t i = 0; i < covered.pixels.size(); ++i) {
+        if (covered.pixels[i] == background) continue;
+        ++drawn;
+        also += covering.pixels[i] != background;
+    }
+    return drawn ? static_cast<double>(also) / static_cast<double>(drawn) : 0.0;
+}
+
+TEST(ViewerScheduler, FromAfarTheHeightmapsCoverWhatThePointsCover) {
+    // Seen from so far that the survey is a few dozen pixels wide, a heightmap whose outline were
+    // drawn by pixel centres alone would leave empty a rim that every point frame fills.
+    const auto ds = open_survey("lasr-bcts-strips");
+    const auto& b = ds.bounds_m;
+    render::Camera camera = above_tile(ds.tiles[0], 0);
+    camera.width = 160, camera.height = 120;
+    camera.x = 0.5 * (b.min_x + b.max_x), camera.y = 0.5 * (b.min_y + b.max_y);
+    camera.z = b.max_z + std::max(b.max_x - b.min_x, b.max_y - b.min_y) * camera.focal_px() / 40.0;
+    SchedulerOptions o;
+    o.cnn = false, o.full_res = false;
+    o.camera = camera;
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    const auto snapshot = scheduler.snapshot();
+    ASSERT_FALSE(snapshot->heightmaps.empty());
+    SceneStyle style;
+    style.resolve.edl_strength = 0;
+    ThreadPool pool(2);
+    const SceneLayers heightmaps_only{true, false, false};
+    const auto filled = render_snapshot(*snapshot, camera, style, pool, heightmaps_only).image;
+    SceneStyle centres = style;
+    centres.heightmaps.fill_outline = false;
+    const auto by_centres = render_snapshot(*snapshot, camera, centres, pool, heightmaps_only).image;
+    const auto points = stream_reference_frame(ds, camera, {}, style, pool);
+    const std::uint32_t background = style.resolve.background;
+    const double with_fill = share_covered(points, filled, background);
+    const double without = share_covered(points, by_centres, background);
+    EXPECT_GE(with_fill, 0.97) << "without the fill " << without;
+    EXPECT_LT(without, with_fill - 0.05) << "the control: centres alone leave the rim empty";
+}
 
 TEST(ViewerScheduler, HeightmapsStartBeforeAllChunkPointsAreIn) {
     const auto ds = open_survey("ky-jmo335-eastern-kentucky");
