@@ -484,7 +484,10 @@ __device__ int smallest_block(const HeightmapFrame& h, int step) {
 __device__ void draw_partial_block(const HeightmapFrame& h, const Target& t, const DeviceColours& c,
                                    const TriangleQueue& q, const DevicePatch& p, int i0, int i1, int j0, int j1,
                                    int min_side) {
-    int4 stack[32];  // (i0, i1, j0, j1); each level adds at most 3 to the 64-texel patch's depth of 6
+    // (i0, i1, j0, j1), depth first: at most 3 per level of splitting plus one; a patch is at most
+    // 4,096 texels a side (backend.cpp refuses larger ones), so it splits at most 12 times (37 entries).
+    constexpr int kStack = 64;
+    int4 stack[kStack];
     int top = 0;
     stack[top++] = make_int4(i0, i1, j0, j1);
     while (top > 0) {
@@ -501,7 +504,7 @@ __device__ void draw_partial_block(const HeightmapFrame& h, const Target& t, con
             continue;
         }
         const int im = b.y - b.x > 1 ? (b.x + b.y) / 2 : b.y, jm = b.w - b.z > 1 ? (b.z + b.w) / 2 : b.w;
-        if (top + 4 > 32) continue;  // cannot happen for patches of up to 2^10 texels
+        if (top + 4 > kStack) __trap();  // not reached (see above)
         if (im < b.y && jm < b.w) stack[top++] = make_int4(im, b.y, jm, b.w);
         if (jm < b.w) stack[top++] = make_int4(b.x, im, jm, b.w);
         if (im < b.y) stack[top++] = make_int4(im, b.y, b.z, jm);
