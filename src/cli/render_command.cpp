@@ -52,6 +52,7 @@ struct RenderCliOptions {
     std::string model;
     std::string crs;
     int point_size = 1;
+    bool fixed_point_size = false;
     int chunk_point_size = 2;
     float edl = 0;
     std::size_t min_points = viewer::kViewerMinPoints;
@@ -216,6 +217,7 @@ viewer::SceneStyle scene_style(const RenderPlan& plan, const RenderCliOptions& o
     viewer::SceneStyle style;
     style.colour = viewer::colour_settings(plan.colour, ds.bounds_m.min_z, ds.bounds_m.max_z);
     style.point_size = o.point_size;
+    style.adaptive_point_size = !o.fixed_point_size;
     style.chunk_point_size = o.chunk_point_size;
     style.resolve.edl_strength = o.edl;
     style.backend = plan.backend.backend;
@@ -334,8 +336,11 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--min-points", o->min_points,
                     "Chunk points a patch's 960 m window needs for a heightmap (default 6)")
         ->check(CLI::PositiveNumber);
-    cmd->add_option("--point-size", o->point_size, "Full-resolution point size in pixels (default 1)")
+    cmd->add_option("--point-size", o->point_size,
+                    "Full-resolution point size in pixels (default 1); near the camera points are drawn as wide as "
+                    "their spacing on screen (up to 16 px) unless --fixed-point-size")
         ->check(CLI::Range(1, 64));
+    cmd->add_flag("--fixed-point-size", o->fixed_point_size, "Every full-resolution point --point-size pixels wide");
     cmd->add_option("--chunk-point-size", o->chunk_point_size, "Chunk point size in pixels (default 2)")
         ->check(CLI::Range(1, 64));
     cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")

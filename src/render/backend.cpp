@@ -112,6 +112,7 @@ FrameImage draw_frame_cpu(const Camera& camera, std::span<const HeightmapPatch> 
         PointPassSettings ps;
         ps.colour = settings.colour;
         ps.point_size = layer.point_size;
+        ps.adaptive_size = layer.adaptive_size;
         ps.chunk_points = settings.chunk_points;
         draw_points(fb, camera, layer.batches, ps, pool);
     }

@@ -43,6 +43,7 @@ BackendChoice choose_backend(Backend requested);
 struct PointLayer {
     std::span<const PointBatch> batches;
     int point_size = 1;
+    bool adaptive_size = false;  // PointPassSettings::adaptive_size
 };
 
 struct FrameSettings {

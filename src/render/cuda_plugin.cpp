@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/plugin_paths.hpp"
 #include "render/cuda/raster_abi.h"
+#include "render/point_pass.hpp"
 
 #ifndef LIDARSCOUT_BUILD_DIR
 #define LIDARSCOUT_BUILD_DIR ""
@@ -146,9 +147,12 @@ std::vector<std::vector<LsrBatch>> abi_batches(const Camera& camera, const Palet
     for (const PointLayer& layer : layers) {
         auto& batches = out.emplace_back();
         for (const PointBatch& b : layer.batches) {
+            PointPassSettings pass;
+            pass.adaptive_size = layer.adaptive_size;
             batches.push_back({reinterpret_cast<const LsrPoint*>(b.points.data()), b.points.size(),
                                to_abi(camera.screen_transform(b.origin_x, b.origin_y, b.origin_z)),
-                               palette.elevation_map(b.origin_z).offset, b.cache_key});
+                               palette.elevation_map(b.origin_z).offset, b.cache_key,
+                               adaptive_scale(pass, b, camera)});
         }
     }
     return out;
@@ -174,7 +178,8 @@ FrameImage draw_frame(const Camera& camera, std::span<const HeightmapPatch> heig
     const auto batches = abi_batches(camera, palette, layers);
     std::vector<LsrPointLayer> abi_layers;
     for (std::size_t l = 0; l < layers.size(); ++l) {
-        abi_layers.push_back({batches[l].data(), static_cast<std::uint32_t>(batches[l].size()), layers[l].point_size});
+        abi_layers.push_back({batches[l].data(), static_cast<std::uint32_t>(batches[l].size()), layers[l].point_size,
+                              kMaxAdaptivePointSize});
     }
     LsrFrame frame{};
     frame.width = camera.width, frame.height = camera.height;

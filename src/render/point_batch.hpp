@@ -22,6 +22,10 @@ struct PointBatch {
     double origin_x = 0, origin_y = 0, origin_z = 0;  // world metres
     std::span<const PointAttr> points;
     std::uint64_t cache_key = 0;  // 0, or new_cache_key() (cache_key.hpp): kept on the GPU
+    // The distance between neighbouring points on the ground (metres), 0 when unknown: where it
+    // is more than a pixel on screen, an adaptive point pass draws each point as a square of
+    // about that size, so that near points close up instead of leaving the surface between them.
+    float spacing_m = 0;
 };
 
 }  // namespace lidarscout::render

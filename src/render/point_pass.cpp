@@ -79,10 +79,38 @@ void draw_squares(const Target& t, const ScreenTransform& s, std::span<const Poi
     }
 }
 
+// A square per point of side ceil(scale / depth) (its spacing on screen), within [size, kMaxAdaptivePointSize].
+template <typename Colour>
+void draw_adaptive(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
+                   int size, float scale) {
+    const int last_x = t.fb->width() - 1, last_y = t.fb->height() - 1;
+    const auto smallest = static_cast<float>(size), largest = static_cast<float>(kMaxAdaptivePointSize);
+    for (const PointAttr& p : points) {
+        const float w = row_dot(s.depth, p);
+        if (!(w >= t.near_m && w <= t.far_m)) continue;
+        const float inv = 1.0f / w;
+        const float x = row_dot(s.sx, p) * inv, y = row_dot(s.sy, p) * inv;
+        const int side = static_cast<int>(std::clamp(std::ceil(scale * inv), smallest, largest));
+        const auto margin = static_cast<float>(side);
+        if (!(x >= -margin && x < t.width + margin && y >= -margin && y < t.height + margin)) continue;
+        const int half = (side - 1) / 2;
+        const int x0 = static_cast<int>(std::floor(x)) - half, y0 = static_cast<int>(std::floor(y)) - half;
+        const std::uint64_t value = pack_fragment(w, colour(p));
+        for (int py = std::max(y0, 0); py <= std::min(y0 + side - 1, last_y); ++py) {
+            for (int px = std::max(x0, 0); px <= std::min(x0 + side - 1, last_x); ++px) {
+                t.fb->write_packed(px, py, value);
+            }
+        }
+    }
+}
+
+// `scale` > 0: adaptive sizes (spacing x focal length); else `size` for every point.
 template <typename Colour>
 void draw_chunk(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
-                int size) {
-    if (size == 1) {
+                int size, float scale) {
+    if (scale > 0.0f) {
+        draw_adaptive(t, s, points, colour, size, scale);
+    } else if (size == 1) {
         draw_single(t, s, points, colour);
     } else {
         draw_squares(t, s, points, colour, size);
@@ -110,6 +138,11 @@ void check_settings(const Framebuffer& fb, const Camera& camera, const PointPass
 
 }  // namespace
 
+float adaptive_scale(const PointPassSettings& settings, const PointBatch& batch, const Camera& camera) {
+    if (!settings.adaptive_size || !(batch.spacing_m > 0.0f)) return 0.0f;
+    return static_cast<float>(batch.spacing_m * camera.focal_px());
+}
+
 void draw_points(Framebuffer& fb, const Camera& camera, std::span<const PointBatch> batches,
                  const PointPassSettings& settings, ThreadPool& pool) {
     check_settings(fb, camera, settings);
@@ -122,12 +155,15 @@ void draw_points(Framebuffer& fb, const Camera& camera, std::span<const PointBat
         const auto points = batch.points.subspan(jobs[j].begin, jobs[j].end - jobs[j].begin);
         const ScreenTransform s = camera.screen_transform(batch.origin_x, batch.origin_y, batch.origin_z);
         const int size = settings.point_size;
+        const float scale = adaptive_scale(settings, batch, camera);
         switch (palette.mode()) {
-            case ColourMode::Rgb: return draw_chunk(target, s, points, RgbColour{}, size);
+            case ColourMode::Rgb: return draw_chunk(target, s, points, RgbColour{}, size, scale);
             case ColourMode::Elevation:
-                return draw_chunk(target, s, points, ElevationColour{palette.elevation_map(batch.origin_z)}, size);
-            case ColourMode::Intensity: return draw_chunk(target, s, points, IntensityColour{&palette}, size);
-            case ColourMode::Classification: return draw_chunk(target, s, points, ClassColour{&palette}, size);
+                return draw_chunk(target, s, points, ElevationColour{palette.elevation_map(batch.origin_z)}, size,
+                                  scale);
+            case ColourMode::Intensity: return draw_chunk(target, s, points, IntensityColour{&palette}, size, scale);
+            case ColourMode::Classification:
+                return draw_chunk(target, s, points, ClassColour{&palette}, size, scale);
         }
     });
 }

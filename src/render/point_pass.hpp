@@ -1,5 +1,7 @@
 // The point pass: projects every point of a set of batches and writes it into the
-// framebuffer with the atomic min (Schütz et al. 2022, as in the paper). The points are cut
+// framebuffer with the atomic min (Schütz et al. 2022, as in the paper). With an adaptive size,
+// a point whose batch spacing is more than a pixel on screen (near the camera) is drawn as a
+// square of that spacing, as Potree sizes its points: the surface between them is filled. The points are cut
 // into chunks of `chunk_points` (one LAZ chunk, the paper's one thread block per chunk) and
 // the chunks are spread over a thread pool. Per chunk the camera transform is rebuilt for the
 // batch's origin (double subtraction, then float), so the per-point work is float only: one
@@ -17,11 +19,22 @@
 
 namespace lidarscout::render {
 
+// The largest square an adaptive point size draws (pixels).
+inline constexpr int kMaxAdaptivePointSize = 16;
+
 struct PointPassSettings {
     int point_size = 1;                  // pixels: N > 1 draws an N x N square around the point
+    // Each point of a batch with a spacing is drawn at least ceil(spacing_m * focal / depth)
+    // pixels wide (its spacing on screen), at most kMaxAdaptivePointSize, so that near points
+    // meet; point_size stays the minimum.
+    bool adaptive_size = false;
     std::size_t chunk_points = 50'000;   // points per work item
     ColourSettings colour;
 };
+
+// What an adaptive point's side is computed from: spacing_m x the focal length in pixels (its
+// side is ceil(scale / depth)); 0 when the size is fixed (no adaptive size, or no spacing).
+float adaptive_scale(const PointPassSettings& settings, const PointBatch& batch, const Camera& camera);
 
 // Draws the batches into `fb` (whose size must be the camera's). Throws lidarscout::Error on a
 // size mismatch, a point size outside 1..64, or bad colour settings.

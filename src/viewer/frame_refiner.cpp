@@ -33,7 +33,8 @@ bool FrameRefiner::same(const Key& a, const Key& b) { return a.version == b.vers
 bool FrameRefiner::same_view(const Key& a, const Key& b) {
     const SceneStyle &s = a.style, &t = b.style;
     return same_camera(a.camera, b.camera) && s.colour.mode == t.colour.mode &&
-           s.point_size == t.point_size && s.chunk_point_size == t.chunk_point_size &&
+           s.point_size == t.point_size && s.adaptive_point_size == t.adaptive_point_size &&
+           s.chunk_point_size == t.chunk_point_size &&
            s.resolve.edl_strength == t.resolve.edl_strength && s.lod_spacing_px == t.lod_spacing_px &&
            s.backend == t.backend && a.layers.heightmaps == b.layers.heightmaps &&
            a.layers.chunk_points == b.layers.chunk_points && a.layers.full_points == b.layers.full_points;

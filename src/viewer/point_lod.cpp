@@ -148,6 +148,7 @@ LodBlock make_block(const PointSet& tile, std::span<const std::uint32_t> members
         block.level_key[k] = render::new_cache_key();
     }
     block.points.origin_x = tile.origin_x, block.points.origin_y = tile.origin_y, block.points.origin_z = tile.origin_z;
+    block.points.spacing_m = tile.spacing_m;
     block.points.points.resize(keyed.size());
     for (std::size_t i = 0; i < keyed.size(); ++i) {
         block.points.points[next[level[i]]++] = tile.points[members[static_cast<std::uint32_t>(keyed[i])]];
@@ -164,8 +165,12 @@ double LodBlock::spacing(std::size_t level) const {
 
 render::PointBatch LodBlock::prefix(std::size_t level) const {
     const std::size_t l = std::min(level, levels - 1);
-    return {points.origin_x, points.origin_y, points.origin_z,
-            std::span(points.points.data(), level_end[l]), level_key[l]};
+    return {points.origin_x,
+            points.origin_y,
+            points.origin_z,
+            std::span(points.points.data(), level_end[l]),
+            level_key[l],
+            std::max(static_cast<float>(spacing(l)), points.spacing_m)};
 }
 
 std::uint32_t quadtree_code(double u, double v) { return spread_bits(axis_cell(u)) | (spread_bits(axis_cell(v)) << 1); }
@@ -209,6 +214,7 @@ std::shared_ptr<const LodBlock> coarse_copy(const LodBlock& block, double spacin
     auto out = std::make_shared<LodBlock>();
     out->points.origin_x = block.points.origin_x, out->points.origin_y = block.points.origin_y;
     out->points.origin_z = block.points.origin_z;
+    out->points.spacing_m = block.points.spacing_m;
     const auto& src = block.points.points;
     out->points.points.assign(src.begin(), src.begin() + block.level_end[keep]);
     out->level_end = block.level_end, out->level_key = block.level_key;

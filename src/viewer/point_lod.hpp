@@ -38,7 +38,8 @@ struct LodBlock {
     // Side of the cells of level k (0 for the last level: duplicates of the finest cells).
     double spacing(std::size_t level) const;
     std::uint64_t bytes() const { return points.points.capacity() * sizeof(render::PointAttr) + sizeof(LodBlock); }
-    // The points of levels 0..level (clamped to the levels held).
+    // The points of levels 0..level (clamped to the levels held), their spacing that level's
+    // cells (at least the tile's mean spacing, which the last level has).
     render::PointBatch prefix(std::size_t level) const;
 };
 

@@ -2,6 +2,7 @@
 #include "viewer/point_sets.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <unordered_map>
 
@@ -56,6 +57,8 @@ RecordConverter converter(const dataset::DatasetTile& tile, const PointSet& set,
 PointSet empty_tile_set(const dataset::DatasetTile& tile) {
     PointSet set;
     set.origin_x = tile.bounds_m.min_x, set.origin_y = tile.bounds_m.min_y, set.origin_z = tile.bounds_m.min_z;
+    const double spacing = mean_point_spacing(tile);
+    set.spacing_m = std::isfinite(spacing) ? static_cast<float>(spacing) : 0.0f;
     return set;
 }
 
@@ -143,6 +146,13 @@ std::vector<std::size_t> cut_pieces(const laz::LazLayout& layout, std::span<cons
 }
 
 }  // namespace
+
+double mean_point_spacing(const dataset::DatasetTile& tile) {
+    const auto& b = tile.bounds_m;
+    const double area = b.empty() ? 1.0 : std::max((b.max_x - b.min_x) * (b.max_y - b.min_y), 1.0);
+    const auto n = tile.tile.header.point_count;
+    return n ? std::sqrt(area / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
+}
 
 std::vector<render::PointBatch> batches_of(std::span<const PointSet> sets) {
     std::vector<render::PointBatch> out;

@@ -19,15 +19,20 @@ struct PointSet {
     double origin_x = 0, origin_y = 0, origin_z = 0;  // world metres
     std::vector<render::PointAttr> points;
     std::uint64_t cache_key = 0;  // render::PointBatch::cache_key, given to sets shared once complete
+    float spacing_m = 0;          // render::PointBatch::spacing_m: a tile's mean point spacing
 
-    render::PointBatch batch() const { return {origin_x, origin_y, origin_z, points, cache_key}; }
+    render::PointBatch batch() const { return {origin_x, origin_y, origin_z, points, cache_key, spacing_m}; }
 };
+
+// The mean spacing of a tile's points, from its header: sqrt(area of its bounds / points), metres;
+// infinity for a tile without points.
+double mean_point_spacing(const dataset::DatasetTile& tile);
 
 // Batches viewing every set (the sets must outlive them).
 std::vector<render::PointBatch> batches_of(std::span<const PointSet> sets);
 std::uint64_t point_count(std::span<const PointSet> sets);
 
-// The chunk points stored in `cell` of the grid; origin = the cell's min corner at z = 0.
+// The chunk points stored in `cell` of the grid; origin = the cell's min corner at z = 0; no spacing.
 PointSet cell_point_set(const dataset::PatchGrid& grid, dataset::CellKey cell);
 
 // The grey of surfaces without colour (as the heightmap pass draws untextured patches).
@@ -42,8 +47,9 @@ bool survey_has_rgb(const dataset::Dataset& ds);
 std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile);
 
 // Every point of the tile, decoded (LAZ chunks in parallel on `pool`), in metres, colour to 8
-// bits by the tile's chunk points (dataset::colour_is_16bit). `progress(points)` is called
-// after each batch of decoded points. Throws lidarscout::Error when the tile cannot be decoded.
+// bits by the tile's chunk points (dataset::colour_is_16bit), spacing = mean_point_spacing.
+// `progress(points)` is called after each batch of decoded points. Throws lidarscout::Error when
+// the tile cannot be decoded.
 PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
                         const std::function<void(std::uint64_t)>& progress = {});
 

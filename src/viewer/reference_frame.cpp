@@ -60,6 +60,7 @@ render::RgbaImage stream_reference_frame(const dataset::Dataset& ds, const rende
     render::PointPassSettings ps;
     ps.colour = style.colour;
     ps.point_size = style.point_size;
+    ps.adaptive_size = style.adaptive_point_size;
     const auto tiles = visible_tiles(ds, camera);
     std::uint64_t total = 0;
     for (const auto t : tiles) total += ds.tiles[t].tile.header.point_count;
@@ -77,7 +78,8 @@ std::string reference_key(const dataset::Dataset& ds, const render::Camera& came
                           const std::string& extra) {
     std::ostringstream text;
     text.precision(17);
-    text << "reference v2\n" << extra << '\n';  // v2: heightmaps lit to their colour on level ground, outline filled
+    // v2: heightmaps lit to their colour on level ground, outline filled; v3: adaptive point sizes
+    text << "reference v3\n" << extra << '\n';
     for (const auto& t : ds.tiles) {  // a replica's shifted copies differ by their place only
         text << t.tile.path << ' ' << t.tile.file_size << ' ' << t.tile.header.point_count << ' ' << t.bounds_m.min_x
              << ' ' << t.bounds_m.min_y << '\n';
@@ -87,7 +89,8 @@ std::string reference_key(const dataset::Dataset& ds, const render::Camera& came
          << ' ' << c.width << ' ' << c.height << ' ' << c.near_m << ' ' << c.far_m << '\n';
     const auto& k = style.colour;
     text << "style " << static_cast<int>(k.mode) << ' ' << k.z_min << ' ' << k.z_max << ' ' << style.point_size << ' '
-         << style.resolve.background << ' ' << style.resolve.edl_strength << ' ' << style.resolve.edl_radius_px << '\n';
+         << style.adaptive_point_size << ' ' << style.resolve.background << ' ' << style.resolve.edl_strength << ' '
+         << style.resolve.edl_radius_px << '\n';
     const auto& h = style.heightmaps;
     text << "heightmaps " << h.lod_quad_px << ' ' << h.fixed_step << ' ' << h.skirt_quads << ' ' << h.ambient << ' '
          << h.sun[0] << ' ' << h.sun[1] << ' ' << h.sun[2] << ' ' << h.fill_outline << '\n';

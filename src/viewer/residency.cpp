@@ -25,14 +25,6 @@ constexpr std::uint64_t kPiecePoints = 1u << 18;  // points decoded (whole chunk
 constexpr std::uint64_t kMinPartialBytes = 4 * kPiecePoints * sizeof(render::PointAttr);  // worth a partial load
 constexpr std::size_t kMaxTries = 64;  // candidates tried per look, best first
 
-// The mean spacing of a tile's points, from its header (metres).
-double mean_spacing(const dataset::DatasetTile& t) {
-    const auto& b = t.bounds_m;
-    const double area = b.empty() ? 1.0 : std::max((b.max_x - b.min_x) * (b.max_y - b.min_y), 1.0);
-    const auto n = t.tile.header.point_count;
-    return n ? std::sqrt(area / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
-}
-
 // Pixels by which showing `box` at spacing `shown_m` misses its own spacing `own_m`, at its
 // nearest distance.
 double error_px(const render::Camera& camera, const dataset::Bounds& box, double shown_m, double own_m) {
@@ -68,7 +60,7 @@ Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& 
     : dataset_(dataset), grid_(grid), options_(std::move(options)) {
     return_freed_memory();  // what a release frees must leave the process, or the budget bounds nothing
     spacing_.reserve(dataset.tiles.size());
-    for (const auto& t : dataset.tiles) spacing_.push_back(mean_spacing(t));
+    for (const auto& t : dataset.tiles) spacing_.push_back(mean_point_spacing(t));
 }
 
 Residency::~Residency() { stop(); }

@@ -35,7 +35,10 @@ struct SceneStyle {
     render::ColourSettings colour;
     bool auto_intensity = true;     // intensity range from the scene's points (2nd-98th percentile)
     int chunk_point_size = 2;       // pixels: chunk points are sparse, a bigger square reads better
-    int point_size = 1;             // pixels: full-resolution points
+    int point_size = 1;             // pixels: full-resolution points (the smallest, with an adaptive size)
+    // Full-resolution points at least as wide as their spacing on screen (render::PointPassSettings),
+    // so that near the camera they meet instead of showing the heightmap between them.
+    bool adaptive_point_size = true;
     double lod_spacing_px = 1.0;    // LOD blocks: the level whose spacing is at most this many pixels (0: all points)
     render::HeightmapPassSettings heightmaps;  // its colour settings are replaced by `colour`
     render::ResolveSettings resolve;           // background, eye-dome lighting

@@ -1,4 +1,5 @@
 // Point pass: points land in the expected pixel with their colour, point sizes cover N x N,
+// adaptive sizes follow the batch's spacing on screen (and points on a grid meet),
 // the nearest point wins, clipping, colour modes, and the result does not depend on threads.
 #include <gtest/gtest.h>
 
@@ -96,6 +97,50 @@ TEST(RenderPointPass, PointSizeCoversASquare) {
     EXPECT_EQ(covered(fb), 9);
     EXPECT_FALSE(fb.empty_at(2, 2));
     EXPECT_TRUE(fb.empty_at(3, 3));
+}
+
+TEST(RenderPointPass, AdaptiveSizeIsTheSpacingOnScreenWithinItsBounds) {
+    const Camera c = test_camera();
+    ThreadPool pool(1);
+    PointPassSettings s;
+    s.adaptive_size = true;
+    // 3.4 px at 100 m: squares of 4; 0.85 px at 400 m: single pixels; 34 px at 10 m: the largest.
+    const std::pair<double, int> depths[] = {{100.0, 4}, {400.0, 1}, {10.0, kMaxAdaptivePointSize}};
+    for (const auto& [depth, side] : depths) {
+        const std::vector<PointAttr> points = {on_screen(0.5, 0.5, depth, 255, 0, 0)};
+        PointBatch batch = batch_at(c, points);
+        batch.spacing_m = static_cast<float>(metres(3.4, 100.0));
+        Framebuffer fb(c.width, c.height);
+        draw_points(fb, c, std::span(&batch, 1), s, pool);
+        EXPECT_EQ(covered(fb), side * side) << depth;
+        PointPassSettings fixed;  // the same batch without the adaptive size: one pixel
+        Framebuffer one(c.width, c.height);
+        draw_points(one, c, std::span(&batch, 1), fixed, pool);
+        EXPECT_EQ(covered(one), 1) << depth;
+    }
+}
+
+TEST(RenderPointPass, AdaptivePointsOnAGridMeet) {
+    const Camera c = test_camera();
+    std::vector<PointAttr> grid;  // 3.4 px apart at 100 m, from -13.6 to +13.6 px
+    for (int i = -4; i <= 4; ++i) {
+        for (int j = -4; j <= 4; ++j) grid.push_back(on_screen(3.4 * i + 0.5, 3.4 * j + 0.5, 100.0, 0, 255, 0));
+    }
+    PointBatch batch = batch_at(c, grid);
+    batch.spacing_m = static_cast<float>(metres(3.4, 100.0));
+    ThreadPool pool(2);
+    const auto holes_inside = [&](bool adaptive) {
+        PointPassSettings s;
+        s.adaptive_size = adaptive;
+        Framebuffer fb(c.width, c.height);
+        draw_points(fb, c, std::span(&batch, 1), s, pool);
+        int holes = 0;
+        for (int y = 24 - 12; y <= 24 + 12; ++y)
+            for (int x = 32 - 12; x <= 32 + 12; ++x) holes += fb.empty_at(x, y);
+        return holes;
+    };
+    EXPECT_EQ(holes_inside(true), 0);
+    EXPECT_GT(holes_inside(false), 500);  // single pixels leave most of the surface between them
 }
 
 TEST(RenderPointPass, NearestOfOverlappingPointsWinsInAnyOrder) {

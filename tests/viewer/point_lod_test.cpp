@@ -1,6 +1,7 @@
 // LOD blocks: quadtree codes and the level at which a point first leads its cell; a block's
 // points reordered coarse to fine (every point kept, one point per cell per level, the highest);
-// the level a camera needs grows as it comes closer; coarse copies keep a prefix.
+// the level a camera needs grows as it comes closer; coarse copies keep a prefix; each prefix
+// carries its spacing for the adaptive point size.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -116,6 +117,21 @@ TEST(ViewerPointLod, NearerCamerasNeedFinerLevelsAndCoarseCopiesKeepAPrefix) {
     }
     EXPECT_EQ(coarse->prefix(kLodLevels - 1).points.size(), coarse->points.points.size());
     EXPECT_LT(coarse->bytes(), b.bytes());
+}
+
+TEST(ViewerPointLod, PrefixesCarryTheirSpacingAtLeastTheTilesOwn) {
+    PointSet set = random_points(50000);
+    set.spacing_m = 0.5f;  // as tile_point_set gives a tile's mean spacing
+    ThreadPool pool(1);
+    const LodBlocks blocks = build_lod_blocks(set, 0, kBlock, pool);
+    const LodBlock& b = *blocks.front();
+    EXPECT_FLOAT_EQ(b.prefix(0).spacing_m, static_cast<float>(kBlock));  // one point per block
+    EXPECT_FLOAT_EQ(b.prefix(3).spacing_m, static_cast<float>(kBlock / 8));
+    EXPECT_FLOAT_EQ(b.prefix(10).spacing_m, 0.5f);  // finer cells than the points: the tile's spacing
+    EXPECT_FLOAT_EQ(b.prefix(kLodLevels - 1).spacing_m, 0.5f);
+    const auto coarse = coarse_copy(b, 2.0);  // what a released tile keeps
+    EXPECT_FLOAT_EQ(coarse->prefix(kLodLevels - 1).spacing_m, static_cast<float>(coarse->spacing(coarse->levels - 1)));
+    EXPECT_GE(coarse->prefix(kLodLevels - 1).spacing_m, 2.0f);
 }
 
 }  // namespace

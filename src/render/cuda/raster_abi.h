@@ -36,12 +36,14 @@ typedef struct LsrBatch {
     LsrTransform screen;    /* the camera transform for this batch's origin */
     float elevation_offset; /* elevation ramp index = (dz + elevation_offset) * ramp_scale */
     uint64_t key;           /* 0, or names these exact points: the plugin may keep them on the GPU */
+    float size_scale;       /* > 0: a point's side is ceil(size_scale / depth) within the layer's sizes */
 } LsrBatch;
 
 typedef struct LsrPointLayer {
     const LsrBatch* batches;
     uint32_t batch_count;
-    int point_size; /* 1..64 */
+    int point_size;     /* 1..64: the side of every point, or the smallest with a size_scale */
+    int max_point_size; /* the largest side with a size_scale */
 } LsrPointLayer;
 
 typedef struct LsrPatch {

@@ -79,7 +79,15 @@ __device__ void draw_point(const Target& t, float x, float y, Fragment value, in
     }
 }
 
-__global__ void points_kernel(Target t, DeviceColours c, const DeviceBatch* batches, const PointJob* jobs, int size) {
+// A point's side: `size`, or with a size scale its spacing on screen within [size, max_size].
+__device__ int point_side(const DeviceBatch& b, float inv_depth, int size, int max_size) {
+    if (!(b.size_scale > 0.0f)) return size;
+    return static_cast<int>(fminf(fmaxf(ceilf(b.size_scale * inv_depth), static_cast<float>(size)),
+                                  static_cast<float>(max_size)));
+}
+
+__global__ void points_kernel(Target t, DeviceColours c, const DeviceBatch* batches, const PointJob* jobs, int size,
+                              int max_size) {
     const PointJob job = jobs[blockIdx.x];
     const DeviceBatch b = batches[job.batch];
     const LsrPoint* points = b.points;
@@ -89,7 +97,8 @@ __global__ void points_kernel(Target t, DeviceColours c, const DeviceBatch* batc
         if (!(w >= t.near_m && w <= t.far_m)) continue;
         const float inv = 1.0f / w;
         const float x = row_dot(b.screen.sx, p.dx, p.dy, p.dz) * inv, y = row_dot(b.screen.sy, p.dx, p.dy, p.dz) * inv;
-        draw_point(t, x, y, pack_fragment(w, point_colour(c, p, b.elevation_offset)), size);
+        const int side = point_side(b, inv, size, max_size);
+        draw_point(t, x, y, pack_fragment(w, point_colour(c, p, b.elevation_offset)), side);
     }
 }
 
@@ -639,9 +648,10 @@ void launch_fill_outline(const Target& t, Fragment* fills, cudaStream_t stream) 
 }
 
 void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs,
-                   std::uint64_t job_count, int point_size, cudaStream_t stream) {
+                   std::uint64_t job_count, int point_size, int max_point_size, cudaStream_t stream) {
     if (job_count) {
-        points_kernel<<<static_cast<unsigned int>(job_count), kThreads, 0, stream>>>(t, c, batches, jobs, point_size);
+        points_kernel<<<static_cast<unsigned int>(job_count), kThreads, 0, stream>>>(t, c, batches, jobs, point_size,
+                                                                                     max_point_size);
     }
 }
 

@@ -34,6 +34,7 @@ struct DeviceBatch {
     LsrTransform screen;
     float elevation_offset;
     const LsrPoint* points;
+    float size_scale;  // LsrBatch::size_scale
 };
 
 // One thread block's work: points [begin, end) of `batch`.
@@ -107,7 +108,7 @@ void launch_queued_triangles(const Target& t, TriangleQueue queue, int blocks, c
 // The heightmap pass's outline fill; `fills` holds a fragment per pixel (scratch).
 void launch_fill_outline(const Target& t, Fragment* fills, cudaStream_t stream);
 void launch_points(const Target& t, const DeviceColours& c, const DeviceBatch* batches, const PointJob* jobs,
-                   std::uint64_t job_count, int point_size, cudaStream_t stream);
+                   std::uint64_t job_count, int point_size, int max_point_size, cudaStream_t stream);
 void launch_resolve(const Target& t, const LsrResolve& r, std::uint32_t* image, float* log_depth,
                     unsigned long long* drawn, cudaStream_t stream);
 

@@ -230,7 +230,7 @@ HostFrame describe(const LsrFrame& f) {
         auto& jobs = h.jobs.emplace_back();
         for (std::uint32_t b = 0; b < layer.batch_count; ++b) {
             const LsrBatch& batch = layer.batches[b];
-            batches.push_back({batch.screen, batch.elevation_offset, nullptr});
+            batches.push_back({batch.screen, batch.elevation_offset, nullptr, batch.size_scale});
             for (std::uint64_t begin = 0; begin < batch.count; begin += chunk) {
                 jobs.push_back({b, begin, std::min(batch.count, begin + chunk)});
             }
@@ -387,6 +387,7 @@ void draw_points(Context& ctx, const LsrFrame& f, const Target& t, const DeviceC
     for (std::uint32_t l = 0; l < f.layer_count; ++l) {
         launch_points(t, c, ctx.arena.at<DeviceBatch>(up.offset(s.batches[l])),
                       ctx.arena.at<PointJob>(up.offset(s.jobs[l])), h.jobs[l].size(), f.layers[l].point_size,
+                      f.layers[l].max_point_size,
                       ctx.stream);
     }
 }

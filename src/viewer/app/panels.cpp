@@ -109,6 +109,7 @@ void settings_section(ViewSettings& v, PanelActions& actions) {
         actions.budget_changed = true;
     }
     ImGui::SliderInt("point size", &v.style.point_size, 1, 8);
+    ImGui::Checkbox("near points as wide as their spacing", &v.style.adaptive_point_size);
     ImGui::SliderInt("chunk point size", &v.style.chunk_point_size, 1, 8);
     static constexpr std::array<render::ColourMode, 4> kModes = {render::ColourMode::Rgb, render::ColourMode::Elevation,
                                                                  render::ColourMode::Intensity,
