@@ -1,11 +1,12 @@
 // The point pass: projects every point of a set of batches and writes it into the
-// framebuffer with the atomic min (Schütz et al. 2022, as in the paper). With an adaptive size,
-// a point whose batch spacing is more than a pixel on screen (near the camera) is drawn as a
-// square of that spacing, as Potree sizes its points: the surface between them is filled. The points are cut
+// framebuffer with the atomic min (Schütz et al. 2022, as in the paper). The points are cut
 // into chunks of `chunk_points` (one LAZ chunk, the paper's one thread block per chunk) and
 // the chunks are spread over a thread pool. Per chunk the camera transform is rebuilt for the
 // batch's origin (double subtraction, then float), so the per-point work is float only: one
 // 3x4 transform, one division, a range test and an atomic min; no allocation, no virtual call.
+// With an adaptive size, a point whose batch spacing is more than a pixel on screen (near the
+// camera) is drawn as a square of that spacing, as Potree sizes its points: the surface between
+// them is filled.
 #pragma once
 
 #include <cstddef>
