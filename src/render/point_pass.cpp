@@ -57,40 +57,18 @@ void draw_single(const Target& t, const ScreenTransform& s, std::span<const Poin
     }
 }
 
-// An N x N square per point: columns floor(x) - (N-1)/2 .. + N-1 (likewise rows), clipped.
-template <typename Colour>
+// A square per point, side_of(1 / depth) pixels wide (N): columns floor(x) - (N-1)/2 .. + N-1
+// (likewise rows), clipped.
+template <typename Colour, typename Side>
 void draw_squares(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
-                  int size) {
-    const int half = (size - 1) / 2, last_x = t.fb->width() - 1, last_y = t.fb->height() - 1;
-    const float margin = static_cast<float>(size);
-    for (const PointAttr& p : points) {
-        const float w = row_dot(s.depth, p);
-        if (!(w >= t.near_m && w <= t.far_m)) continue;
-        const float inv = 1.0f / w;
-        const float x = row_dot(s.sx, p) * inv, y = row_dot(s.sy, p) * inv;
-        if (!(x >= -margin && x < t.width + margin && y >= -margin && y < t.height + margin)) continue;
-        const int x0 = static_cast<int>(std::floor(x)) - half, y0 = static_cast<int>(std::floor(y)) - half;
-        const std::uint64_t value = pack_fragment(w, colour(p));
-        for (int py = std::max(y0, 0); py <= std::min(y0 + size - 1, last_y); ++py) {
-            for (int px = std::max(x0, 0); px <= std::min(x0 + size - 1, last_x); ++px) {
-                t.fb->write_packed(px, py, value);
-            }
-        }
-    }
-}
-
-// A square per point of side ceil(scale / depth) (its spacing on screen), within [size, kMaxAdaptivePointSize].
-template <typename Colour>
-void draw_adaptive(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
-                   int size, float scale) {
+                  Side side_of) {
     const int last_x = t.fb->width() - 1, last_y = t.fb->height() - 1;
-    const auto smallest = static_cast<float>(size), largest = static_cast<float>(kMaxAdaptivePointSize);
     for (const PointAttr& p : points) {
         const float w = row_dot(s.depth, p);
         if (!(w >= t.near_m && w <= t.far_m)) continue;
         const float inv = 1.0f / w;
         const float x = row_dot(s.sx, p) * inv, y = row_dot(s.sy, p) * inv;
-        const int side = static_cast<int>(std::clamp(std::ceil(scale * inv), smallest, largest));
+        const int side = side_of(inv);
         const auto margin = static_cast<float>(side);
         if (!(x >= -margin && x < t.width + margin && y >= -margin && y < t.height + margin)) continue;
         const int half = (side - 1) / 2;
@@ -104,16 +82,20 @@ void draw_adaptive(const Target& t, const ScreenTransform& s, std::span<const Po
     }
 }
 
-// `scale` > 0: adaptive sizes (spacing x focal length); else `size` for every point.
+// `scale` > 0: adaptive sizes, ceil(scale / depth) within [size, kMaxAdaptivePointSize] (spacing on
+// screen); else `size` for every point.
 template <typename Colour>
 void draw_chunk(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
                 int size, float scale) {
     if (scale > 0.0f) {
-        draw_adaptive(t, s, points, colour, size, scale);
+        const auto smallest = static_cast<float>(size), largest = static_cast<float>(kMaxAdaptivePointSize);
+        draw_squares(t, s, points, colour, [=](float inv_depth) {
+            return static_cast<int>(std::clamp(std::ceil(scale * inv_depth), smallest, largest));
+        });
     } else if (size == 1) {
         draw_single(t, s, points, colour);
     } else {
-        draw_squares(t, s, points, colour, size);
+        draw_squares(t, s, points, colour, [size](float) { return size; });
     }
 }
 
