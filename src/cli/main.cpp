@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "io/temporary_files.hpp"
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
         return app.exit(e);
     }
     try {
+        lidarscout::cli::check_parsed_outputs(app);  // before any work: no output may replace an input
         return run ? run() : 0;
     } catch (const lidarscout::Error& e) {
         std::fprintf(stderr, "lidarscout: %s\n", e.what());
