@@ -5,10 +5,14 @@
 #include <malloc.h>
 
 #include <cstdio>
+#include <cstring>
+#include <new>
 #include <functional>
 
 #include "cli/commands.hpp"
+#include "cli/failure_output.hpp"
 #include "cli/io_options.hpp"
+#include "cli/number_options.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "io/temporary_files.hpp"
@@ -22,6 +26,14 @@ namespace {
 void keep_freed_memory_in_the_heap() {
     mallopt(M_MMAP_THRESHOLD, 64 << 20);
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
+}
+
+// True when the command line asks for --json (even one that did not parse).
+bool wants_json(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--json") == 0) return true;
+    }
+    return false;
 }
 
 }  // namespace
@@ -46,19 +58,28 @@ int main(int argc, char** argv) {
     for (CLI::App* cmd : app.get_subcommands({})) {
         if (cmd->get_name() != "synth") lidarscout::cli::add_remote_options(*cmd);  // the commands reading datasets
     }
+    lidarscout::cli::check_whole_number_options(app);
+    using lidarscout::cli::Failure;
+    const bool json = wants_json(argc, argv);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (!json || e.get_exit_code() == 0) return app.exit(e);  // --help, --version: as CLI11 prints them
+        lidarscout::cli::report_failure({"usage", e.what(), {}, std::nullopt, e.what()}, true);
+        return e.get_exit_code();
     }
     try {
         lidarscout::cli::check_parsed_outputs(app);  // before any work: no output may replace an input
         return run ? run() : 0;
     } catch (const lidarscout::Error& e) {
-        std::fprintf(stderr, "lidarscout: %s\n", e.what());
+        lidarscout::cli::report_failure(Failure::of(e), json);
         return 1;
+    } catch (const std::bad_alloc&) {
+        const std::string name = app.get_subcommands().empty() ? "lidarscout" : app.get_subcommands()[0]->get_name();
+        lidarscout::cli::report_failure({"memory", name + ": out of memory", {}, std::nullopt, "out of memory"}, json);
+        return 2;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "lidarscout: internal error: %s\n", e.what());
+        lidarscout::cli::report_failure({"internal", e.what(), {}, std::nullopt, e.what()}, json);
         return 2;
     }
 }

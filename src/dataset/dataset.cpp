@@ -90,12 +90,6 @@ DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
 
 namespace {
 
-// A tile to read: a file, or a virtual replica's source with its shift.
-struct TileSource {
-    std::string path;
-    std::optional<std::array<double, 2>> shift;
-};
-
 std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, std::string& error) {
     const std::string& path = source.path;
     try {
@@ -252,23 +246,9 @@ std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options) {
     Dataset ds;
     ds.las_stride = options.las_stride;
-    std::vector<TileSource> sources;
-    std::vector<std::string> others;
-    for (const auto& p : paths) {
-        if (!is_virtual_replica(p)) {
-            others.push_back(p);
-            continue;
-        }
-        try {
-            for (auto& v : read_virtual_replica(p)) sources.push_back({std::move(v.path), v.shift});
-        } catch (const Error& e) {
-            ds.skipped.push_back({p, e.what()});
-        }
-    }
-    const FoundFiles found = find_point_cloud_files(others);
-    for (const auto& e : found.errors) ds.skipped.push_back({{}, e});
-    for (const auto& f : found.files) sources.push_back({f, std::nullopt});
-
+    FoundSources found = find_tile_sources(paths);
+    ds.skipped = std::move(found.errors);
+    const std::vector<TileSource>& sources = found.sources;
     const std::size_t n = sources.size();
     std::vector<std::optional<DatasetTile>> tiles(n);
     std::vector<std::string> errors(n);

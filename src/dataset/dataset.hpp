@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/diagnostic.hpp"
+#include "dataset/file_search.hpp"
 #include "dataset/tile.hpp"
 
 namespace lidarscout::geo {
@@ -75,11 +76,6 @@ struct Frame {
     std::string crs;            // definition for PROJ/GDAL (geo/crs_definition.hpp); "" when unknown
     double xy_to_metres = 1.0;  // native horizontal unit -> metres
     double z_to_metres = 1.0;   // native vertical unit -> metres
-};
-
-struct SkippedFile {
-    std::string path;
-    std::string error;  // one line naming the file and what is wrong
 };
 
 struct Dataset {

@@ -40,7 +40,10 @@ void search_folder(const fs::path& dir, FoundFiles& out) {
             found.push_back(it->path().string());
         }
     }
-    if (ec) out.errors.push_back(dir.string() + ": cannot list folder: " + ec.message());
+    if (ec) out.errors.push_back({dir.string(), dir.string() + ": cannot list folder: " + ec.message()});
+    if (!ec && found.empty()) {
+        out.errors.push_back({dir.string(), dir.string() + ": no .las or .laz file in this folder (searched recursively)"});
+    }
     std::sort(found.begin(), found.end());
     out.files.insert(out.files.end(), found.begin(), found.end());
 }
@@ -72,12 +75,12 @@ std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out
     try {
         text = read_head(io::File::open(list), kMaxTileList + 1);
     } catch (const Error& e) {
-        out.errors.push_back(std::string(e.what()) + " (tile list)");
+        out.errors.push_back({list, std::string(e.what()) + " (tile list)"});
         return {};
     }
     if (text.size() > kMaxTileList) {
-        out.errors.push_back(io::display_path(list) + ": tile list larger than " + std::to_string(kMaxTileList >> 20) +
-                             " MiB");
+        out.errors.push_back({list, io::display_path(list) + ": tile list larger than " +
+                                        std::to_string(kMaxTileList >> 20) + " MiB"});
         return {};
     }
     std::vector<std::string> entries;
@@ -94,10 +97,32 @@ std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out
 
 void expand(const std::string& p, bool allow_lists, FoundFiles& out);
 
+// A tile list's entries, expanded. When none of them names anything (a CSV of points, a text file
+// given by mistake), the list gets one line saying so instead of a line per entry.
+void expand_list(const std::string& list, FoundFiles& out) {
+    const std::size_t errors_before = out.errors.size();
+    const std::vector<std::string> entries = read_tile_list(list, out);
+    if (out.errors.size() > errors_before) return;  // unreadable: already said
+    FoundFiles found;
+    for (const auto& entry : entries) expand(entry, false, found);
+    const bool nothing = !entries.empty() && found.files.empty() && found.errors.size() == entries.size() &&
+                         std::all_of(found.errors.begin(), found.errors.end(), [](const SkippedFile& e) {
+                             return e.error.find(": no such file or folder") != std::string::npos;
+                         });
+    if (nothing) {
+        out.errors.push_back({list, io::display_path(list) + ": not a tile list (none of its " +
+                                        std::to_string(entries.size()) + " lines names a file, folder or URL)"});
+        return;
+    }
+    if (entries.empty()) out.errors.push_back({list, io::display_path(list) + ": tile list without entries"});
+    out.files.insert(out.files.end(), found.files.begin(), found.files.end());
+    for (auto& e : found.errors) out.errors.push_back({e.path, io::display_path(list) + ": " + e.error});
+}
+
 // A URL: a LAS/LAZ file, or (when lists are allowed) a tile list; folders cannot be listed.
 void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
     if (allow_lists && !has_point_cloud_extension(url)) {
-        for (const auto& entry : read_tile_list(url, out)) expand(entry, false, out);
+        expand_list(url, out);
     } else {
         out.files.push_back(url);
     }
@@ -107,7 +132,7 @@ void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
 void expand_ept(const std::string& metadata, FoundFiles& out) {
     auto nodes = ept_nodes(metadata);
     out.files.insert(out.files.end(), nodes.tiles.begin(), nodes.tiles.end());
-    out.errors.insert(out.errors.end(), nodes.errors.begin(), nodes.errors.end());
+    for (auto& e : nodes.errors) out.errors.push_back({metadata, std::move(e)});
 }
 
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
@@ -116,11 +141,11 @@ void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
     std::error_code ec;
     auto st = fs::status(p, ec);
     if (ec || !fs::exists(st)) {
-        out.errors.push_back(p + ": no such file or folder");
+        out.errors.push_back({p, p + ": no such file or folder"});
     } else if (fs::is_directory(st)) {
         search_folder(p, out);
     } else if (allow_lists && is_tile_list(p)) {
-        for (const auto& entry : read_tile_list(p, out)) expand(entry, false, out);
+        expand_list(p, out);
     } else {
         out.files.push_back(p);
     }
@@ -143,6 +168,24 @@ bool is_tile_list(const std::string& path) {
 FoundFiles find_point_cloud_files(const std::vector<std::string>& paths) {
     FoundFiles out;
     for (const auto& p : paths) expand(p, true, out);
+    return out;
+}
+
+FoundSources find_tile_sources(const std::vector<std::string>& paths) {
+    FoundSources out;
+    for (const auto& p : paths) {
+        if (!is_virtual_replica(p)) {
+            FoundFiles found = find_point_cloud_files({p});
+            for (auto& f : found.files) out.sources.push_back({std::move(f), std::nullopt, {}});
+            out.errors.insert(out.errors.end(), found.errors.begin(), found.errors.end());
+            continue;
+        }
+        try {
+            for (auto& v : read_virtual_replica(p)) out.sources.push_back({std::move(v.path), v.shift, v.name});
+        } catch (const Error& e) {
+            out.errors.push_back({p, e.what()});
+        }
+    }
     return out;
 }
 

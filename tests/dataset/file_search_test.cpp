@@ -39,7 +39,7 @@ TEST(FileSearch, MissingRemoteListIsReported) {
     const auto found = find_point_cloud_files({test::NginxServer::instance().url("lists/none.txt")});
     EXPECT_TRUE(found.files.empty());
     ASSERT_EQ(found.errors.size(), 1u);
-    EXPECT_NE(found.errors[0].find("404"), std::string::npos) << found.errors[0];
+    EXPECT_NE(found.errors[0].error.find("404"), std::string::npos) << found.errors[0].error;
 }
 
 // local_inputs (for the output check): what a tile list and a virtual replica manifest name,
