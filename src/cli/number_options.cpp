@@ -26,7 +26,9 @@ void check_option(CLI::Option& option) {
     option.transform(CLI::Validator(
         [is_unsigned](std::string& text) -> std::string {
             if (is_whole_number(text, !is_unsigned)) return {};
-            if (is_unsigned && is_whole_number(text, true)) return "expects a whole number 0 or more, not '" + text + "'";
+            if (is_unsigned && is_whole_number(text, true)) {
+                return "expects a whole number 0 or more, not '" + text + "'";
+            }
             return "expects a whole number, not '" + text + "'";
         },
         ""));

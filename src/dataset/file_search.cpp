@@ -42,7 +42,8 @@ void search_folder(const fs::path& dir, FoundFiles& out) {
     }
     if (ec) out.errors.push_back({dir.string(), dir.string() + ": cannot list folder: " + ec.message()});
     if (!ec && found.empty()) {
-        out.errors.push_back({dir.string(), dir.string() + ": no .las or .laz file in this folder (searched recursively)"});
+        out.errors.push_back(
+            {dir.string(), dir.string() + ": no .las or .laz file in this folder (searched recursively)"});
     }
     std::sort(found.begin(), found.end());
     out.files.insert(out.files.end(), found.begin(), found.end());

@@ -3,7 +3,9 @@
 // remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <fstream>
 
 #include "dataset/file_search.hpp"
 #include "io/file.hpp"
@@ -130,6 +132,36 @@ TEST(InfoCommand, MissingPathFails) {
     std::string out;
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info /nonexistent/x.laz 2>&1", out), 1);
     EXPECT_NE(out.find("/nonexistent/x.laz: no such file or folder"), std::string::npos) << out;
+}
+
+// Paths that give no tile are named, in --json too: a missing file, an empty folder, a text file
+// that names nothing (a CSV of points, /etc/passwd); a virtual replica manifest gives its tiles.
+TEST(InfoCommand, PathsWithoutTilesAreNamedAndManifestsGiveTheirTiles) {
+    const auto dir = std::filesystem::temp_directory_path() / ("lidarscout_info_paths_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir / "empty");
+    std::ofstream(dir / "pts.csv") << "x,y,z\n1,2,3\n4,5,6\n";
+    int status = 0;
+    auto j = info_json("/nonexistent/x.laz", status);
+    EXPECT_EQ(status, 1);
+    ASSERT_EQ(j.size(), 1u);
+    EXPECT_EQ(j[0].at("path"), "/nonexistent/x.laz");
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info " + (dir / "empty").string() + " " +
+                                    (dir / "pts.csv").string() + " 2>&1", out), 1);
+    EXPECT_NE(out.find("empty: no .las or .laz file in this folder"), std::string::npos) << out;
+    EXPECT_NE(out.find("pts.csv: not a tile list (none of its 3 lines names a file, folder or URL)"),
+              std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
+    const auto tile = (test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string();
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth replicate " + tile + " -o " +
+                                    (dir / "rep").string() + " --grid 3x1 --virtual >/dev/null 2>&1", out), 0);
+    j = info_json((dir / "rep/replicate.json").string(), status);
+    EXPECT_EQ(status, 0);
+    ASSERT_EQ(j.size(), 3u);
+    const auto min_x = [&](int i) { return j[i].at("bounds").at("min").at(0).get<double>(); };
+    const double width = j[0].at("bounds").at("max").at(0).get<double>() - min_x(0);
+    EXPECT_GT(min_x(1), min_x(0) + 0.9 * width);  // the second copy lies east of the first
+    std::filesystem::remove_all(dir);
 }
 
 TEST(InfoCommand, Help) {
