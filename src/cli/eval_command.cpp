@@ -104,6 +104,23 @@ void print_table(const std::string& title, const std::map<recon::Method, pipelin
     }
 }
 
+// An evaluation that scored no patch is an error with the reasons (each dataset's counts).
+void check_something_scored(const std::map<recon::Method, pipelines::MethodScores>& all,
+                            const nlohmann::json& datasets, const EvalCliOptions& o) {
+    for (const auto& [method, scores] : all) {
+        if (!scores.rmse_m.empty()) return;
+    }
+    std::string why;
+    for (const auto& [name, d] : datasets.items()) {
+        why += fmt::format("{}{}: {} candidate patches, {} with too few chunk points, {} with little ground truth, {} "
+                           "outside the split", why.empty() ? "" : "; ", name, d.at("candidates").get<std::size_t>(),
+                           d.at("too_few_points").get<std::size_t>(), d.at("low_coverage").get<std::size_t>(),
+                           d.at("other_split").get<std::size_t>());
+    }
+    throw Error::in_stage("eval", fmt::format("no patch could be scored at --texel {:g} (patches are 64 texels): {}",
+                                              o.texel, why));
+}
+
 int run_eval(const EvalCliOptions& o) {
     pipelines::EvalOptions opt;
     opt.methods = parse_methods(o.methods);
@@ -155,6 +172,7 @@ int run_eval(const EvalCliOptions& o) {
                 e.methods);
         }
     }
+    check_something_scored(all, datasets, o);
     if (o.json) {
         nlohmann::json j = {{"methods", methods_json(all)}, {"datasets", datasets}, {"texel_m", o.texel},
                             {"seed", o.seed}, {"split", o.split}};

@@ -29,6 +29,7 @@
 #include "dataset/patch_grid.hpp"
 #include "nn/heightmap_network.hpp"
 #include "render/backend.hpp"
+#include "raster/dem_grid.hpp"
 #include "render/camera.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/heightmap_builder.hpp"
@@ -86,6 +87,7 @@ struct RenderReport {
     std::size_t heightmaps = 0, full_res_tiles = 0, full_res_over_budget = 0, drawn_pixels = 0;
     bool has_rgb = false;  // the survey has colour (chunk_points_have_rgb)
     Diagnostics warnings;
+    dataset::Frame frame;  // the CRS units the camera is shown in
     render::Camera camera;
     StageTimes seconds;
 };
@@ -144,8 +146,14 @@ dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
     return ds;
 }
 
+// --camera is in the CRS's units, as --bounds and the coordinates `info` prints: x, y in the horizontal
+// unit, z in the vertical one; the camera itself works in metres.
 render::Camera make_camera(const RenderPlan& plan, const RenderCliOptions& o, const dataset::Dataset& ds) {
-    if (plan.camera) return *plan.camera;
+    if (plan.camera) {
+        render::Camera c = *plan.camera;
+        c.x *= ds.frame.xy_to_metres, c.y *= ds.frame.xy_to_metres, c.z *= ds.frame.z_to_metres;
+        return c;
+    }
     const auto& b = ds.bounds_m;
     return render::Camera::looking_at_bounds(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, plan.width,
                                              plan.height, o.fov);
@@ -225,10 +233,25 @@ viewer::SceneStyle scene_style(const RenderPlan& plan, const RenderCliOptions& o
     return style;
 }
 
-nlohmann::json camera_json(const render::Camera& c) {
-    return {{"x", c.x}, {"y", c.y}, {"z", c.z}, {"yaw_deg", c.yaw_deg}, {"pitch_deg", c.pitch_deg},
+// The camera as --camera takes it: x, y, z in the CRS's units.
+nlohmann::json camera_json(const render::Camera& c, const dataset::Frame& f) {
+    const double x = c.x / f.xy_to_metres, y = c.y / f.xy_to_metres, z = c.z / f.z_to_metres;
+    return {{"x", x}, {"y", y}, {"z", z}, {"yaw_deg", c.yaw_deg}, {"pitch_deg", c.pitch_deg},
             {"fov_deg", c.fov_deg}, {"near_m", c.near_m}, {"far_m", c.far_m},
-            {"text", fmt::format("{:.2f},{:.2f},{:.2f},{:g},{:g}", c.x, c.y, c.z, c.yaw_deg, c.pitch_deg)}};
+            {"text", fmt::format("{:.2f},{:.2f},{:.2f},{:g},{:g}", x, y, z, c.yaw_deg, c.pitch_deg)}};
+}
+
+// An image without any of the data is an error with the reason, not a blank PNG.
+void check_something_drawn(const viewer::RenderedScene& frame, const render::Camera& c, const dataset::Dataset& ds) {
+    if (frame.drawn_pixels > 0) return;
+    const double f = ds.frame.xy_to_metres;
+    const auto& b = ds.bounds_m;
+    const std::string unit = raster::linear_unit_name(f);
+    throw Error::in_stage("render", fmt::format("the camera at {:.2f},{:.2f} sees none of the data, which lies in "
+                                                "{:.2f},{:.2f},{:.2f},{:.2f} (xmin,ymin,xmax,ymax in the CRS's units{}"
+                                                "{}; --camera takes the same units); nothing written",
+                                                c.x / f, c.y / f, b.min_x / f, b.min_y / f, b.max_x / f, b.max_y / f,
+                                                unit.empty() ? "" : ": ", unit));
 }
 
 void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderReport& r) {
@@ -240,7 +263,7 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"colour", render::colour_mode_name(plan.colour)},
                         {"heightmap_method", plan.cnn ? "cnn" : "linear"},
                         {"backend", std::string(render::backend_name(plan.backend.backend))},
-                        {"camera", camera_json(r.camera)},
+                        {"camera", camera_json(r.camera, r.frame)},
                         {"tiles", r.tiles},
                         {"has_rgb", r.has_rgb},
                         {"skipped", r.skipped},
@@ -274,7 +297,7 @@ void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const Rend
                  r.tiles, (unsigned long long)r.chunk_points, r.heightmaps, r.visible_patches,
                  plan.cnn ? "cnn" : "linear", (unsigned long long)r.full_res_points, r.full_res_tiles, budget.c_str(),
                  s.headers, s.chunk_points, s.heightmaps, s.full_res, s.render, o.output.c_str(),
-                 camera_json(r.camera)["text"].get<std::string>().c_str());
+                 camera_json(r.camera, r.frame)["text"].get<std::string>().c_str());
 }
 
 int run_render(const RenderCliOptions& o) {
@@ -285,6 +308,7 @@ int run_render(const RenderCliOptions& o) {
     RenderReport report;
     const dataset::Dataset ds = read_headers(o, report);
     report.camera = make_camera(plan, o, ds);
+    report.frame = ds.frame;
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
     dataset::PatchGrid grid(ox, oy);
     load_chunk_points(ds, grid, report.camera, report);
@@ -302,6 +326,7 @@ int run_render(const RenderCliOptions& o) {
     }
     const auto t0 = Clock::now();
     const auto frame = viewer::render_scene(scene, report.camera, scene_style(plan, o, ds), pool);
+    check_something_drawn(frame, report.camera, ds);
     render::write_png(o.output, frame.image);
     report.drawn_pixels = frame.drawn_pixels;
     report.seconds.render = seconds_since(t0);
@@ -322,8 +347,8 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
         ->required();
     add_output(*cmd, "-o,--output", o->output, "The PNG to write", io::OutputKind::Png)->required();
     cmd->add_option("--camera", o->camera,
-                    "X,Y,Z,YAW,PITCH (metres; degrees, yaw 0 = north, pitch < 0 = down) or 'auto' (default: the "
-                    "whole dataset from the south, 60 degrees down)");
+                    "X,Y,Z,YAW,PITCH (X,Y,Z in the CRS's units, as info prints them; degrees, yaw 0 = north, pitch "
+                    "< 0 = down) or 'auto' (default: the whole dataset from the south, 60 degrees down)");
     cmd->add_option("--fov", o->fov, "Vertical field of view in degrees (default 60)");
     cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--until", o->until,

@@ -3,6 +3,7 @@
 #include "geo/projection.hpp"
 
 #include <proj.h>
+#include <strings.h>
 
 #include <cmath>
 #include <map>
@@ -43,7 +44,18 @@ public:
         PJ* p = own(proj_create(ctx_, definition.c_str()),
                     "PROJ does not understand the CRS '" + shorten(definition) + "'");
         if (!proj_is_crs(p)) fail("'" + shorten(definition) + "' is not a coordinate reference system");
+        refuse_fuzzy_name(definition, p);
         return p;
+    }
+
+    // PROJ takes a bare word for a CRS name and picks the nearest one ("foo" -> "Amersfoort"):
+    // only an exact name (any case) is accepted that way.
+    static void refuse_fuzzy_name(const std::string& definition, PJ* p) {
+        if (definition.find_first_of(":+[{") != std::string::npos) return;  // EPSG:n, a PROJ string, WKT, PROJJSON
+        const char* name = proj_get_name(p);
+        if (name && strcasecmp(name, definition.c_str()) == 0) return;
+        fail("unknown CRS '" + shorten(definition) + "' (give EPSG:code, WKT or a PROJ string; PROJ's nearest "
+             "name is '" + std::string(name ? name : "?") + "')");
     }
 
     static std::string shorten(const std::string& s) { return s.size() > 80 ? s.substr(0, 77) + "..." : s; }

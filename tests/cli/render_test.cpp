@@ -191,7 +191,8 @@ void expect_golden(const fs::path& rendered, const std::string& name, int tolera
     EXPECT_LE(static_cast<double>(differing) / got.pixels.size(), max_fraction) << differing << " pixels differ";
 }
 
-const char kGoldenCamera[] = "--camera 1587600,1189450,450,20,-30 --size 160x120";
+// (in the survey's US survey feet, as info prints its coordinates: 1587600, 1189450, 450 m)
+const char kGoldenCamera[] = "--camera 5208651,3902387.2083333335,1476.375,20,-30 --size 160x120";
 
 TEST_F(RenderCommand, GoldenHeightmapsInElevationColours) {
     std::string out, err;
@@ -250,6 +251,19 @@ TEST_F(RenderCommand, RemoteTileRendersTheSameImageAsTheLocalFile) {
     const std::string remote{std::istreambuf_iterator<char>(b), std::istreambuf_iterator<char>()};
     EXPECT_GT(local.size(), 1000u);
     EXPECT_TRUE(local == remote);
+}
+
+// --camera takes the CRS's units (US feet here, as info prints them), and a camera that sees none
+// of the data is an error naming the data's bounds in those units, not a blank PNG.
+TEST_F(RenderCommand, CameraInTheCrsUnitsAndACameraThatSeesNothing) {
+    std::string out, err;
+    const std::string ky = survey("ky-woodford-county") + " --until overview --size 160x120 --camera ";
+    EXPECT_EQ(render(ky + "5209000,3904000,3000,0,-90", "feet", out, err), 0) << err;
+    EXPECT_EQ(render(ky + "1587700,1189700,900,0,-90", "metres", out, err), 1);
+    EXPECT_NE(err.find("sees none of the data, which lies in 5208145.64,3902993.55,5209999.99,3904999.99 "
+                       "(xmin,ymin,xmax,ymax in the CRS's units: US survey foot; --camera takes the same units)"),
+              std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir_ / "metres.png"));
 }
 
 }  // namespace

@@ -95,5 +95,17 @@ TEST(Projection, UnusableDefinitionsAreErrors) {
     EXPECT_THROW(t.apply(x, y, z), Error);
 }
 
+// PROJ takes a bare word for the nearest CRS name ("foo" would be Amersfoort): an unknown name
+// says so; an exact name still works.
+TEST(Projection, UnknownNamesAreUnknownNotTheNearestCrs) {
+    try {
+        crs_info("foo");
+        FAIL() << "foo was taken for a CRS";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("unknown CRS 'foo'"), std::string::npos) << e.what();
+    }
+    EXPECT_TRUE(crs_info("WGS 84").geographic);
+}
+
 }  // namespace
 }  // namespace lidarscout::geo
