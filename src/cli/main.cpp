@@ -8,9 +8,11 @@
 #include <functional>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "io/temporary_files.hpp"
+#include "net/range_cache.hpp"
 #include "version.hpp"
 
 namespace {
@@ -50,13 +52,17 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     }
+    int status = 0;
     try {
-        return run ? run() : 0;
+        status = run ? run() : 0;
     } catch (const lidarscout::Error& e) {
         std::fprintf(stderr, "lidarscout: %s\n", e.what());
-        return 1;
+        status = 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "lidarscout: internal error: %s\n", e.what());
-        return 2;
+        status = 2;
     }
+    // what the range cache noticed (damaged entries it dropped and fetched again)
+    lidarscout::cli::print_diagnostics(lidarscout::net::RangeCache::shared().take_diagnostics());
+    return status;
 }
