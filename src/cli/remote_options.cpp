@@ -49,7 +49,9 @@ void add_remote_options(CLI::App& cmd) {
         ->check(CLI::ExistingFile);
     cmd.add_option_function<std::string>(
            "--allow-origins",
-           [](const std::string& list) { as_usage([&] { net::set_allowed_origins(net::parse_allowed_origins(list)); }); },
+           [](const std::string& list) {
+               as_usage([&] { net::set_allowed_origins(net::parse_allowed_origins(list)); });
+           },
            "Remote datasets: other origins (comma-separated URLs, or *) that a dataset's tile list entries, EPT "
            "nodes and redirects may lead to (default: only the dataset's own; env LIDARSCOUT_ALLOW_ORIGINS)")
         ->envname("LIDARSCOUT_ALLOW_ORIGINS");

@@ -121,7 +121,9 @@ private:
         for (const auto& item : read_json(file).items()) {
             const std::string& node = item.key();
             const auto k = parse_key(node);
-            if (!k) throw Error(file.path(), std::nullopt, "hierarchy entry \"" + node + "\" is not a node key D-X-Y-Z");
+            if (!k) {
+                throw Error(file.path(), std::nullopt, "hierarchy entry \"" + node + "\" is not a node key D-X-Y-Z");
+            }
             if (!item.value().is_number_integer()) {
                 throw Error(file.path(), std::nullopt, "hierarchy entry " + node + " is not a count");
             }

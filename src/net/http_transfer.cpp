@@ -92,12 +92,8 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     curl_error_[0] = '\0';
     location_.clear();
     if (attempts_ == 1) {
-        started_ = std::chrono::steady_clock::now();
         min_rate_ = s.min_rate;
         grace_ = s.deadline_grace;
-        const double seconds = min_rate_ ? static_cast<double>(asked_bytes()) / static_cast<double>(min_rate_) : 0.0;
-        deadline_ = started_ + grace_ + std::chrono::duration_cast<std::chrono::milliseconds>(
-                                            std::chrono::duration<double>(seconds));
     }
 
     std::vector<ByteRange> asked;
@@ -127,11 +123,9 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     curl_easy_setopt(easy_, CURLOPT_CONNECTTIMEOUT, s.connect_timeout_s);
     curl_easy_setopt(easy_, CURLOPT_LOW_SPEED_LIMIT, 1L);
     curl_easy_setopt(easy_, CURLOPT_LOW_SPEED_TIME, s.stall_timeout_s);
-    if (min_rate_) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ -
-                                                                                std::chrono::steady_clock::now());
-        curl_easy_setopt(easy_, CURLOPT_TIMEOUT_MS, static_cast<long>(std::max<long long>(1, left.count())));
-    }
+    curl_easy_setopt(easy_, CURLOPT_NOPROGRESS, 0L);  // the progress callback keeps the deadline
+    curl_easy_setopt(easy_, CURLOPT_XFERINFOFUNCTION, &HttpTransfer::on_progress);
+    curl_easy_setopt(easy_, CURLOPT_XFERINFODATA, this);
     curl_easy_setopt(easy_, CURLOPT_USERAGENT, "lidarscout");
     curl_easy_setopt(easy_, CURLOPT_ERRORBUFFER, curl_error_);
     curl_easy_setopt(easy_, CURLOPT_HEADERFUNCTION, &HttpTransfer::on_header);
@@ -152,6 +146,25 @@ std::uint64_t HttpTransfer::new_connections() const {
     long count = 0;
     if (!easy_ || curl_easy_getinfo(easy_, CURLINFO_NUM_CONNECTS, &count) != CURLE_OK) return 0;
     return static_cast<std::uint64_t>(std::max(0L, count));
+}
+
+// The deadline's clock starts with the first attempt's progress (not while the request waits
+// for a connection of libcurl's pool), and a request past it is stopped.
+int HttpTransfer::on_progress(void* self, curl_off_t, curl_off_t, curl_off_t, curl_off_t) {
+    auto* t = static_cast<HttpTransfer*>(self);
+    if (!t->min_rate_) return 0;
+    const auto now = std::chrono::steady_clock::now();
+    if (!t->clock_started_) {
+        t->clock_started_ = true;
+        t->started_ = now;
+        const double seconds = static_cast<double>(t->asked_bytes()) / static_cast<double>(t->min_rate_);
+        t->deadline_ = now + t->grace_ +
+                       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::duration<double>(seconds));
+    }
+    if (now < t->deadline_) return 0;
+    t->abort_ = TransferOutcome::Fail;
+    t->message_ = t->deadline_message();
+    return 1;  // stops the transfer
 }
 
 std::size_t HttpTransfer::on_header(char* data, std::size_t size, std::size_t n, void* self) {
@@ -272,7 +285,9 @@ bool HttpTransfer::single_body_complete() const {
     return got && body_.size() - attempt_start_ >= got->range.length;
 }
 
-bool HttpTransfer::past_deadline() const { return min_rate_ && std::chrono::steady_clock::now() >= deadline_; }
+bool HttpTransfer::past_deadline() const {
+    return min_rate_ && clock_started_ && std::chrono::steady_clock::now() >= deadline_;
+}
 
 std::string HttpTransfer::deadline_message() const {
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();

@@ -59,6 +59,7 @@ public:
 private:
     static std::size_t on_header(char* data, std::size_t size, std::size_t n, void* self);
     static std::size_t on_body(char* data, std::size_t size, std::size_t n, void* self);
+    static int on_progress(void* self, curl_off_t, curl_off_t, curl_off_t, curl_off_t);
     void header_line(std::string_view line);
     bool accept_body_start();
     bool check_single_range_start();
@@ -89,7 +90,8 @@ private:
     // the response of this attempt (the last one when redirected)
     long status_ = 0;
     std::string content_range_, content_type_, etag_, last_modified_, location_;
-    std::chrono::steady_clock::time_point started_{}, deadline_{};  // of the first attempt; when it is due
+    bool clock_started_ = false;  // the deadline's: at the first attempt's first progress
+    std::chrono::steady_clock::time_point started_{}, deadline_{};
     std::chrono::milliseconds grace_{0};
     std::uint64_t min_rate_ = 0;
     bool body_started_ = false;

@@ -99,7 +99,9 @@ RemoteFile::RemoteFile(std::string url, RangeReply&& head)
 void RemoteFile::set_tail(RangeReply&& reply) { tail_ = std::move(reply.parts.at(0)); }
 
 std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
-    if (const std::string problem = url_problem(url); !problem.empty()) throw Error(redact_url(url), std::nullopt, problem);
+    if (const std::string problem = url_problem(url); !problem.empty()) {
+        throw Error(redact_url(url), std::nullopt, problem);
+    }
     if (auto f = registered(url)) return f;
     if (auto pending = opening(url)) {
         if (auto f = pending->get()) return f;  // else open it again here, to report the failure

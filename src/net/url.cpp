@@ -170,8 +170,8 @@ std::string redact_url(std::string_view url) {
     const auto question = rest.substr(0, hash).find('?');
     std::string out = plain.substr(0, end) + std::string(rest.substr(0, std::min(question, hash)));
     if (question != std::string_view::npos) {
-        out += "?" + redact_parameters(rest.substr(question + 1, hash == std::string_view::npos ? hash
-                                                                                                 : hash - question - 1));
+        const auto query_end = hash == std::string_view::npos ? rest.size() : hash;
+        out += "?" + redact_parameters(rest.substr(question + 1, query_end - question - 1));
     }
     if (hash != std::string_view::npos) out += "#" + redact_parameters(rest.substr(hash + 1));
     return out;
