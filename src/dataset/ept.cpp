@@ -118,7 +118,8 @@ private:
         }
         ++files_read_;
         std::vector<std::string> subtrees;
-        for (const auto& item : read_json(file).items()) {
+        const auto json = read_json(file);
+        for (const auto& item : json.items()) {
             const std::string& node = item.key();
             const auto k = parse_key(node);
             if (!k) {

@@ -119,8 +119,8 @@ TEST_F(EptHostile, KeysThatAreNotNodeKeysAreRefusedLocally) {
     const std::string elsewhere = other.url().substr(0, other.url().find('/', 7));
     write("entwine.json", R"({"dataType": "laszip"})");
     fs::create_directories(dir / "h");
-    for (const std::string key : {elsewhere + "/x", "//127.0.0.1/x", (dir / "secret").string(), "../../up", "1-2-0-0",
-                                  "65-0-0-0", "0-0-0"}) {
+    for (const std::string key : std::vector<std::string>{elsewhere + "/x", "//127.0.0.1/x", (dir / "secret").string(),
+                                                          "../../up", "1-2-0-0", "65-0-0-0", "0-0-0"}) {
         SCOPED_TRACE(key);
         write("h/0-0-0-0.json", nlohmann::json({{"0-0-0-0", 1}, {key, 5}}).dump());
         const auto nodes = ept_nodes((dir / "entwine.json").string());
@@ -140,7 +140,8 @@ TEST(EptRemote, KeysCannotLeaveTheDatasetsOrigin) {
     const fs::path set = server.lists_dir() / "hostile-entwine";
     fs::create_directories(set / "h");
     std::ofstream(set / "entwine.json") << R"({"dataType": "laszip"})";
-    for (const std::string key : {"http://" + host + "/x", "//" + host + "/x", "https://" + host + "/x"}) {
+    for (const std::string& key : std::vector<std::string>{"http://" + host + "/x", "//" + host + "/x",
+                                                           "https://" + host + "/x"}) {
         SCOPED_TRACE(key);
         std::ofstream(set / "h" / "0-0-0-0.json") << nlohmann::json({{"0-0-0-0", 1}, {key, -1}}).dump();
         const auto found = find_point_cloud_files({server.url("lists/hostile-entwine/entwine.json")});
