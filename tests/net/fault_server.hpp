@@ -36,7 +36,7 @@ enum class Fault {
     RedirectToHttps,    // 302 to https://
     Trickle,            // the right headers, then the body `trickle_bytes` every `trickle_ms`
     LyingLength,        // 206, the right Content-Range and body, Content-Length 1000 more; then closed
-    StrayBytes,         // the right answer followed by 16 bytes more, the connection kept
+    StrayBytes,         // the right answer, then 16 bytes more (sent when the next request has come)
     Redirect,           // 302 to `redirect_to`
 };
 
@@ -143,6 +143,7 @@ private:
             std::lock_guard lock(mutex_);
             ranges_.push_back(range);
         }
+        if (stray_next_.exchange(false)) send_all(fd, "STRAY BYTES HERE");  // as if they ended the last body
         const Fault fault = take_fault();
         if (fault == Fault::Slow) std::this_thread::sleep_for(std::chrono::milliseconds(slow_ms));
         const std::string etag = fault == Fault::NewEtag ? "\"v2\"" : "\"v1\"";
@@ -189,7 +190,7 @@ private:
                            "\r\n\r\n";
         if (fault == Fault::Trickle) return trickle(fd, head, part);
         if (fault == Fault::LyingLength) return send_all(fd, head + part), false;
-        if (fault == Fault::StrayBytes) part += "STRAY BYTES HERE";
+        if (fault == Fault::StrayBytes) stray_next_ = true;
         if (fault == Fault::DropMidBody || fault == Fault::TruncatedBody) {
             send_all(fd, head + part.substr(0, fault == Fault::DropMidBody ? part.size() / 2 : part.size() - 1));
             return false;
@@ -215,6 +216,7 @@ public:
 
 private:
     std::atomic<int> trickled_{0};
+    std::atomic<bool> stray_next_{false};
     std::vector<std::uint8_t> data_;
     int listener_ = -1;
     int port_ = 0;

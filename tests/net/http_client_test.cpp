@@ -228,7 +228,7 @@ TEST_F(HttpFaults, TricklingBodyFailsAtItsDeadlineNamingTimeAndBytes) {
     client.set_settings(s);
     server.inject(Fault::Trickle, 100);
     const auto reply = fetch({{0, 4096}});
-    expect_error(reply, "bytes/s (--min-rate)");
+    expect_error(reply, "then 4096 bytes/s; --min-rate)");
     EXPECT_NE(reply.error.find(" of 4096 bytes in "), std::string::npos) << reply.error;
     EXPECT_NE(reply.error.find("past its deadline of 1.5 s"), std::string::npos) << reply.error;
     EXPECT_LT(server.trickled_sends(), 2048);  // the body was not waited out
