@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <nlohmann/json.hpp>
 
@@ -129,6 +130,28 @@ TEST_F(EptHostile, KeysThatAreNotNodeKeysAreRefusedLocally) {
         EXPECT_NE(nodes.errors[0].find("is not a node key D-X-Y-Z"), std::string::npos) << nodes.errors[0];
     }
     EXPECT_EQ(other.requests(), 0);
+}
+
+// The same DAG served by nginx: each hierarchy file is fetched once (one request each, as
+// files of less than 4 KiB are read whole by the request that opens them).
+TEST_F(EptHostile, RemoteDagHierarchyFetchesEachFileOnce) {
+    const auto& server = test::NginxServer::instance();
+    write_dag(20);
+    const fs::path set = server.lists_dir() / "dag-ept";
+    fs::remove_all(set);
+    fs::copy(dir, set, fs::copy_options::recursive);
+    auto logged = [&] {
+        std::ifstream in(server.access_log());
+        const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+        return std::count(text.begin(), text.end(), '\n');
+    };
+    const auto before = logged();
+    const auto nodes = ept_nodes(server.url("lists/dag-ept/ept.json"));
+    EXPECT_TRUE(nodes.errors.empty()) << nodes.errors[0];
+    EXPECT_EQ(nodes.tiles.size(), 41u);
+    EXPECT_EQ(nodes.hierarchy_files, 41u);
+    EXPECT_EQ(logged() - before, 42);  // ept.json and the 41 hierarchy files
+    fs::remove_all(set);
 }
 
 // A remote Entwine dataset whose keys name another origin, or plain http from an https
