@@ -235,6 +235,21 @@ TEST(InfoCommand, PasswordWithAnUnencodedDelimiterIsRefusedWithAHint) {
     EXPECT_EQ(out.find("reader"), std::string::npos) << out;
 }
 
+// --allow-origins and --min-rate take URLs or "*" and a rate; anything else is a usage error.
+TEST(InfoCommand, RemoteOptionsAreChecked) {
+    const std::string tile = (test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz").string();
+    std::string out;
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --allow-origins nope " + tile + " 2>&1", out), 0);
+    EXPECT_NE(out.find("--allow-origins: \"nope\" is not an http(s) URL"), std::string::npos) << out;
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --min-rate 1x " + tile + " 2>&1", out), 0);
+    EXPECT_NE(out.find("--min-rate"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --min-rate 64K --allow-origins '*,https://a' " +
+                                    tile + " 2>&1",
+                                out),
+              0)
+        << out;
+}
+
 // Flipped bytes in every cached range, then a 1 GiB file in place of one entry: the same
 // points_sha256 as the local file each time (the entries dropped, named, fetched again).
 TEST(InfoCommand, DamagedRangeCacheEntriesAreFetchedAgain) {
