@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
@@ -82,8 +83,9 @@ void register_convert_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ConvertCliOptions>();
     auto* cmd = app.add_subcommand(
         "convert", "Convert LAS <-> LAZ (by the output's extension), optionally to another point format");
-    cmd->add_option("input", o->in, "Input LAS/LAZ file or http(s) URL")->required()->check(existing_file_or_url());
-    cmd->add_option("output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)")
+    add_input(*cmd, "input", o->in, "Input LAS/LAZ file or http(s) URL")->required()->check(existing_file_or_url());
+    add_output(*cmd, "output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)",
+               io::OutputKind::PointCloud)
         ->required();
     cmd->add_option("--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_option("--format", o->format, "Point data record format of the output (0-10; default: as the input)")

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
@@ -160,9 +161,9 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<DemCliOptions>();
     auto* cmd = app.add_subcommand(
         "dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
-    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
+    add_inputs(*cmd, "paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
         ->required();
-    cmd->add_option("-o,--output", o->output, "The DEM to write (.tif)")->required();
+    add_output(*cmd, "-o,--output", o->output, "The DEM to write (.tif)", io::OutputKind::GeoTiff)->required();
     cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(CLI::PositiveNumber);
     cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
         ->delimiter(',')->expected(4);
@@ -177,8 +178,10 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_option("--classes", o->classes, "Only these ASPRS classes, e.g. 2,9 for ground and water (default all)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
-    cmd->add_option("--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)");
-    cmd->add_option("--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)");
+    add_output(*cmd, "--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
+               io::OutputKind::GeoTiff);
+    add_output(*cmd, "--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)",
+               io::OutputKind::Hillshade);
     cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
     cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
 #include "core/error.hpp"
@@ -176,7 +177,7 @@ int run_eval(const EvalCliOptions& o) {
 void register_eval_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<EvalCliOptions>();
     auto* cmd = app.add_subcommand("eval", "Score heightmap reconstruction methods against the full-resolution points");
-    cmd->add_option("paths", o->paths, "Datasets: each a folder, tile list or file, scored separately and overall")
+    add_inputs(*cmd, "paths", o->paths, "Datasets: each a folder, tile list or file, scored separately and overall")
         ->required();
     cmd->add_option("--methods", o->methods,
                     "Comma-separated: nearest, linear, cubic, splat, cnn, released "

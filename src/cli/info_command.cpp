@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/tile_json.hpp"
 #include "core/text.hpp"
@@ -227,8 +228,8 @@ int run_info(const InfoOptions& opt) {
 void register_info_command(CLI::App& app, std::function<int()>& run) {
     auto opt = std::make_shared<InfoOptions>();
     auto* cmd = app.add_subcommand("info", "Describe LAS/LAZ files: header, VLRs, CRS and units, LAZ layout, chunks");
-    cmd->add_option("paths", opt->paths,
-                    "LAS/LAZ files, folders (searched recursively), tile lists, EPT datasets; or http(s) URLs")
+    add_inputs(*cmd, "paths", opt->paths,
+               "LAS/LAZ files, folders (searched recursively), tile lists, EPT datasets; or http(s) URLs")
         ->required();
     cmd->add_flag("--json", opt->json, "Print one JSON array with an object per file");
     cmd->add_flag("--chunks", opt->chunks, "Add the LAZ chunk table and the chunk points");

@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/diagnostic_output.hpp"
+#include "cli/io_options.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "io/temporary_files.hpp"
@@ -54,6 +55,7 @@ int main(int argc, char** argv) {
     }
     int status = 0;
     try {
+        lidarscout::cli::check_parsed_outputs(app);  // before any work: no output may replace an input
         status = run ? run() : 0;
     } catch (const lidarscout::Error& e) {
         std::fprintf(stderr, "lidarscout: %s\n", e.what());

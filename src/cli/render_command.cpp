@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
@@ -319,11 +320,11 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<RenderCliOptions>();
     auto* cmd = app.add_subcommand("render", "Render a dataset to a PNG without a window, as the viewer shows it once "
                                              "a stage (overview, heightmaps, full) is complete");
-    cmd->add_option("paths", o->paths,
-                    "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-                    "or http(s) URLs")
+    add_inputs(*cmd, "paths", o->paths,
+               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
+               "or http(s) URLs")
         ->required();
-    cmd->add_option("-o,--output", o->output, "The PNG to write")->required();
+    add_output(*cmd, "-o,--output", o->output, "The PNG to write", io::OutputKind::Png)->required();
     cmd->add_option("--camera", o->camera,
                     "X,Y,Z,YAW,PITCH (metres; degrees, yaw 0 = north, pitch < 0 = down) or 'auto' (default: the "
                     "whole dataset from the south, 60 degrees down)");

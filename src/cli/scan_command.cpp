@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/tile_json.hpp"
@@ -153,9 +154,9 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ScanOptions>();
     auto* cmd = app.add_subcommand(
         "scan", "Read every tile header and chunk point (the overview) and report timings, counts and bounds");
-    cmd->add_option("paths", o->paths,
-                    "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-                    "or http(s) URLs")
+    add_inputs(*cmd, "paths", o->paths,
+               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
+               "or http(s) URLs")
         ->required();
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->add_option("--backend", o->backend, "Chunk-point reads: auto, io_uring or pread (default auto)");

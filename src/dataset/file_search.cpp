@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
 #include "net/url.hpp"
@@ -156,6 +157,36 @@ bool is_tile_list(const std::string& path) {
 FoundFiles find_point_cloud_files(const std::vector<std::string>& paths) {
     FoundFiles out;
     for (const auto& p : paths) expand(p, true, out);
+    return out;
+}
+
+namespace {
+
+// One local path of local_inputs(): the path and what it names.
+void add_local_input(const std::string& p, bool allow_lists, std::vector<std::string>& out) {
+    if (net::is_url(p)) return;
+    out.push_back(p);
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) return;
+    if (is_ept_metadata(p)) {
+        out.push_back(fs::path(p).parent_path().empty() ? "." : fs::path(p).parent_path().string());
+    } else if (is_virtual_replica(p)) {
+        try {
+            for (const auto& source : read_virtual_replica(p)) out.push_back(source.path);
+        } catch (const Error&) {
+            // a malformed manifest is reported when the dataset is opened
+        }
+    } else if (allow_lists && is_tile_list(p)) {
+        FoundFiles ignored;
+        for (const auto& entry : read_tile_list(p, ignored)) add_local_input(entry, false, out);
+    }
+}
+
+}  // namespace
+
+std::vector<std::string> local_inputs(const std::vector<std::string>& paths) {
+    std::vector<std::string> out;
+    for (const auto& p : paths) add_local_input(p, true, out);
     return out;
 }
 

@@ -28,4 +28,10 @@ bool is_tile_list(const std::string& path);
 // given (whatever its extension; reading it reports what is wrong).
 FoundFiles find_point_cloud_files(const std::vector<std::string>& paths);
 
+// Every local file and folder that reading `paths` touches, for the output check
+// (io/output_check.hpp), without searching folders or reading a tile: the paths themselves, the
+// entries of tile lists, the source tiles of virtual replica manifests, a local EPT dataset's
+// folder. URLs and paths that cannot be read are left out (reading them reports the cause).
+std::vector<std::string> local_inputs(const std::vector<std::string>& paths);
+
 }  // namespace lidarscout::dataset

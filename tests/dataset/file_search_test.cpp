@@ -1,7 +1,8 @@
 // dataset/file_search with URLs: a remote tile list's relative entries resolve against its
 // URL and keep its origin (others only when allowed, never http after https), a local list
 // may name URLs, a URL to a LAS/LAZ file is a tile, a list that cannot be fetched is
-// reported, and a URL whose password holds an unencoded '#' is refused unread.
+// reported, and a URL whose password holds an unencoded '#' is refused unread; the local
+// inputs behind lists and manifests.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include "net/http_client.hpp"
 #include "net/origin_policy.hpp"
 #include "nginx_server.hpp"
+#include "synth/replicate.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout::dataset {
@@ -91,6 +93,25 @@ TEST(FileSearch, MissingRemoteListIsReported) {
     EXPECT_TRUE(found.files.empty());
     ASSERT_EQ(found.errors.size(), 1u);
     EXPECT_NE(found.errors[0].find("404"), std::string::npos) << found.errors[0];
+}
+
+// local_inputs (for the output check): what a tile list and a virtual replica manifest name,
+// without searching folders; URLs left out.
+TEST(FileSearch, LocalInputsFollowTileListsAndVirtualReplicaManifests) {
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_local_inputs_" + std::to_string(::getpid()));
+    fs::create_directories(dir / "rep");
+    const std::string tile = (test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string();
+    std::ofstream(dir / "list.txt") << "# tiles\n" << tile << "\nsub\nhttp://example.invalid/b.laz\n";
+    synth::write_virtual_replica(synth::plan_replicas({tile}, (dir / "rep").string(), {2, 1}));
+    const std::string list = (dir / "list.txt").string(), manifest = (dir / "rep/replicate.json").string();
+    EXPECT_EQ(local_inputs({list}), (std::vector<std::string>{list, tile, (dir / "sub").string()}));
+    const auto through_manifest = local_inputs({manifest, "https://example.invalid/c.laz"});
+    ASSERT_GE(through_manifest.size(), 2u);
+    EXPECT_EQ(through_manifest[0], manifest);
+    for (std::size_t i = 1; i < through_manifest.size(); ++i) {
+        EXPECT_TRUE(fs::equivalent(through_manifest[i], tile)) << through_manifest[i];
+    }
+    fs::remove_all(dir);
 }
 
 }  // namespace
