@@ -88,34 +88,39 @@ std::variant<Parts, std::string> decode(const std::string& in, const RangeReques
     return parts;
 }
 
-// The whole entry file, read only when its size is possible for `request`; or why not.
-std::variant<std::string, std::string> read_entry(const fs::path& path, const RangeRequest& request, bool& exists) {
-    exists = false;
-    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) return std::variant<std::string, std::string>(std::in_place_index<1>, "");
-    exists = true;
-    struct stat st {};
+// An entry file as read: absent, or its bytes, or why they were not read.
+struct EntryFile {
+    bool exists = false;
     std::string content;
-    std::string why;
+    std::string problem;  // "" when `content` is the whole file
+};
+
+// Reads the whole entry file, only when its size (fstat) is possible for `request`.
+EntryFile read_entry(const fs::path& path, const RangeRequest& request) {
+    EntryFile entry;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return entry;
+    entry.exists = true;
+    struct stat st {};
     const std::uint64_t max = max_entry_size(request);
     if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        why = "not a regular file";
+        entry.problem = "not a regular file";
     } else if (static_cast<std::uint64_t>(st.st_size) > max) {
-        why = "its size, " + std::to_string(st.st_size) + " bytes, is more than its ranges can hold (" +
-              std::to_string(max) + ")";
+        entry.problem = "its size, " + std::to_string(st.st_size) + " bytes, is more than its ranges can hold (" +
+                        std::to_string(max) + ")";
     } else {
-        content.resize(static_cast<std::size_t>(st.st_size));
+        entry.content.resize(static_cast<std::size_t>(st.st_size));
         std::size_t done = 0;
-        while (done < content.size()) {
-            const ssize_t got = ::pread(fd, content.data() + done, content.size() - done, static_cast<off_t>(done));
+        while (done < entry.content.size()) {
+            const ssize_t got = ::pread(fd, entry.content.data() + done, entry.content.size() - done,
+                                        static_cast<off_t>(done));
             if (got <= 0) break;
             done += static_cast<std::size_t>(got);
         }
-        if (done != content.size()) why = "it could not be read whole";
+        if (done != entry.content.size()) entry.problem = "it could not be read whole";
     }
     ::close(fd);
-    if (!why.empty()) return std::variant<std::string, std::string>(std::in_place_index<1>, why);
-    return std::variant<std::string, std::string>(std::in_place_index<0>, std::move(content));
+    return entry;
 }
 
 std::mutex& shared_mutex() {
@@ -162,11 +167,10 @@ fs::path RangeCache::entry_path(const RangeRequest& request) const {
 std::optional<std::vector<std::vector<std::uint8_t>>> RangeCache::find(const RangeRequest& request) {
     if (!enabled() || request.validator.empty()) return std::nullopt;
     const fs::path path = entry_path(request);
-    bool exists = false;
-    auto content = read_entry(path, request, exists);
-    if (!exists) return std::nullopt;
-    if (content.index() == 1) return drop(path, request, std::get<1>(content)), std::nullopt;
-    auto parts = decode(std::get<0>(content), request);
+    const EntryFile entry = read_entry(path, request);
+    if (!entry.exists) return std::nullopt;
+    if (!entry.problem.empty()) return drop(path, request, entry.problem), std::nullopt;
+    auto parts = decode(entry.content, request);
     if (parts.index() == 1) return drop(path, request, std::get<1>(parts)), std::nullopt;
     std::error_code ec;
     fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // recently used
