@@ -55,7 +55,10 @@ std::size_t credentials_at(std::string_view url, bool& cut) {
     if (at != std::string_view::npos) return start + at;
     std::size_t cut_at = 0;
     cut = cut_credentials(url, start, end, cut_at);
-    return cut ? cut_at : std::string_view::npos;
+    if (!cut) return std::string_view::npos;
+    // (the last '@' before the host's path, should the password hold an '@' too)
+    const auto path = std::min(url.find_first_of("/?#", cut_at), url.size());
+    return url.substr(0, path).rfind('@');
 }
 
 // Whether a query parameter of this name carries a credential.

@@ -46,6 +46,7 @@ TEST(Url, CredentialsWithUnencodedDelimitersAreRefusedAndHidden) {
         EXPECT_NE(url_problem(url).find("percent-encode"), std::string::npos);
         EXPECT_EQ(redact_url(url), "http://host/a.laz");
     }
+    EXPECT_EQ(redact_url("http://u:p#a@ss@host/a.laz"), "http://host/a.laz");
     EXPECT_EQ(url_problem("http://u:pa%23ss@host/a.laz"), "");
     EXPECT_EQ(url_problem("http://host:8080/a@b.laz?x=1"), "");
     EXPECT_EQ(url_problem("http://[::1]:8080/a.laz"), "");
