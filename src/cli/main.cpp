@@ -10,12 +10,14 @@
 #include <functional>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/failure_output.hpp"
 #include "cli/io_options.hpp"
 #include "cli/number_options.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "io/temporary_files.hpp"
+#include "net/range_cache.hpp"
 #include "version.hpp"
 
 namespace {
@@ -68,18 +70,22 @@ int main(int argc, char** argv) {
         lidarscout::cli::report_failure({"usage", e.what(), {}, std::nullopt, e.what()}, true);
         return e.get_exit_code();
     }
+    int status = 0;
     try {
         lidarscout::cli::check_parsed_outputs(app);  // before any work: no output may replace an input
-        return run ? run() : 0;
+        status = run ? run() : 0;
     } catch (const lidarscout::Error& e) {
         lidarscout::cli::report_failure(Failure::of(e), json);
-        return 1;
+        status = 1;
     } catch (const std::bad_alloc&) {
         const std::string name = app.get_subcommands().empty() ? "lidarscout" : app.get_subcommands()[0]->get_name();
         lidarscout::cli::report_failure({"memory", name + ": out of memory", {}, std::nullopt, "out of memory"}, json);
-        return 2;
+        status = 2;
     } catch (const std::exception& e) {
         lidarscout::cli::report_failure({"internal", e.what(), {}, std::nullopt, e.what()}, json);
-        return 2;
+        status = 2;
     }
+    // what the range cache noticed (damaged entries it dropped and fetched again)
+    lidarscout::cli::print_diagnostics(lidarscout::net::RangeCache::shared().take_diagnostics());
+    return status;
 }

@@ -168,6 +168,10 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
     for (const auto& e : loader.errors()) {
         report.warnings.add({DiagnosticLevel::warning, e.file, e.offset, e.message()});
     }
+    if (loader.loaded() == 0 && loader.failed() > 0) {
+        const std::string first = loader.errors().empty() ? std::string() : ": " + loader.errors().front().message();
+        throw Error::in_stage("render", "every chunk point failed (" + std::to_string(loader.failed()) + ")" + first);
+    }
     grid.shrink_to_fit();
     report.chunk_points = loader.loaded();
     report.has_rgb = viewer::chunk_points_have_rgb(grid);

@@ -144,7 +144,8 @@ int run_scan(const ScanOptions& o) {
     } else {
         print_text(r);
     }
-    return r.dataset.tiles.empty() ? 1 : 0;
+    const bool every_chunk_point_failed = r.failed > 0 && r.chunk_points == 0;
+    return r.dataset.tiles.empty() || every_chunk_point_failed ? 1 : 0;
 }
 
 }  // namespace

@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <optional>
 #include <system_error>
 
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
+#include "net/origin_policy.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::dataset {
@@ -63,11 +65,19 @@ std::string read_head(const io::File& file, std::size_t n) {
 }
 
 // A tile list's entry as a path or URL: URLs as they are, relative entries against the list's
-// URL or folder.
-std::string resolve_entry(const std::string& list, const std::string& entry) {
-    if (net::is_url(list)) return net::resolve_url(list, entry);
-    if (net::is_url(entry) || fs::path(entry).is_absolute()) return entry;
-    return (fs::path(list).parent_path() / entry).string();
+// URL or folder. A remote list's entries keep its origin (net/origin_policy.hpp); nothing
+// when refused (the reason in `out.errors`).
+std::optional<std::string> resolve_entry(const std::string& list, const std::string& entry, FoundFiles& out) {
+    if (!net::is_url(list)) {
+        if (net::is_url(entry) || fs::path(entry).is_absolute()) return entry;
+        return (fs::path(list).parent_path() / entry).string();
+    }
+    std::string url = net::resolve_url(list, entry);
+    const std::string refusal = net::derived_url_refusal(list, url);
+    if (refusal.empty()) return url;
+    out.errors.push_back(io::display_path(url) + ": refused (an entry of the tile list " + io::display_path(list) +
+                         "): " + refusal);
+    return std::nullopt;
 }
 
 // The entries of a tile list (a file or a URL), resolved.
@@ -91,7 +101,8 @@ std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out
         if (end == std::string::npos) end = text.size();
         const std::string line = trim(text.substr(start, end - start));
         start = end + 1;
-        if (!line.empty() && line[0] != '#') entries.push_back(resolve_entry(list, line));
+        if (line.empty() || line[0] == '#') continue;
+        if (auto entry = resolve_entry(list, line, out)) entries.push_back(std::move(*entry));
     }
     return entries;
 }
@@ -137,6 +148,9 @@ void expand_ept(const std::string& metadata, FoundFiles& out) {
 }
 
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
+    if (const std::string problem = net::url_problem(p); !problem.empty()) {
+        return out.errors.push_back(io::display_path(p) + ": " + problem);
+    }
     if (is_ept_metadata(p)) return expand_ept(p, out);
     if (net::is_url(p)) return expand_url(p, allow_lists, out);
     std::error_code ec;

@@ -1,11 +1,14 @@
 // `lidarscout info`: JSON output for the surveys equals the headers, Kentucky tiles report US
 // survey feet, a bad file is one line on stderr and exit status 1 while the others are reported;
-// remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output.
+// remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output; no
+// secret of a URL is printed; damaged range cache entries do not change the output.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "dataset/file_search.hpp"
 #include "io/file.hpp"
@@ -229,6 +232,98 @@ TEST(InfoCommand, CredentialsInUrlsAreNeverPrinted) {
     EXPECT_EQ(out.find("pa55word"), std::string::npos) << out;
     EXPECT_NE(out.find(server.url("surveys/missing.laz") + ": at byte 0: HTTP status 404"), std::string::npos) << out;
     EXPECT_NE(out.find("\"point_count\": 1012412"), std::string::npos) << out;
+}
+
+// Signed URLs (S3, GCS, Azure SAS, tokens): their secrets reach the server but never the
+// output, in JSON or in errors.
+TEST(InfoCommand, SignedQueryStringsAreNeverPrinted) {
+    const auto& server = test::NginxServer::instance();
+    const std::string query = "?X-Amz-Credential=CRED1&X-Amz-Security-Token=TOKEN1&X-Amz-Signature=SIGN1"
+                              "&sig=SAS1&token=TOKEN2&X-Goog-Signature=GOOG1&access_token=TOKEN3&key=KEY1";
+    std::string out;
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " info --json '" +
+                                             server.url("surveys/ky-woodford-county/5205000_3900000.laz") + query +
+                                             "' '" + server.url("surveys/missing.laz") + query + "' 2>&1",
+                                         out);
+    EXPECT_EQ(status, 1);
+    for (const char* secret : {"CRED1", "TOKEN1", "SIGN1", "SAS1", "TOKEN2", "GOOG1", "TOKEN3", "KEY1"}) {
+        EXPECT_EQ(out.find(secret), std::string::npos) << secret << "\n" << out;
+    }
+    EXPECT_NE(out.find("X-Amz-Signature=REDACTED"), std::string::npos) << out;
+    EXPECT_NE(out.find("HTTP status 404"), std::string::npos) << out;
+    EXPECT_NE(out.find("\"point_count\": 1012412"), std::string::npos) << out;
+}
+
+// A password with an unencoded '#': one line with the hint, exit 1, the password not shown.
+TEST(InfoCommand, PasswordWithAnUnencodedDelimiterIsRefusedWithAHint) {
+    const auto& server = test::NginxServer::instance();
+    const std::string url = "http://reader:pa#ss@127.0.0.1:" + std::to_string(server.port()) +
+                            "/surveys/ky-woodford-county/5205000_3900000.laz";
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info '" + url + "' 2>&1", out), 1);
+    EXPECT_NE(out.find("percent-encode"), std::string::npos) << out;
+    EXPECT_EQ(out.find("pa#ss"), std::string::npos) << out;
+    EXPECT_EQ(out.find("reader"), std::string::npos) << out;
+}
+
+// --allow-origins and --min-rate take URLs or "*" and a rate; anything else is a usage error.
+TEST(InfoCommand, RemoteOptionsAreChecked) {
+    const std::string tile = (test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz").string();
+    std::string out;
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --allow-origins nope " + tile + " 2>&1", out), 0);
+    EXPECT_NE(out.find("--allow-origins: \"nope\" is not an http(s) URL"), std::string::npos) << out;
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --min-rate 1x " + tile + " 2>&1", out), 0);
+    EXPECT_NE(out.find("--min-rate"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --min-rate 64K --allow-origins '*,https://a' " +
+                                    tile + " 2>&1",
+                                out),
+              0)
+        << out;
+}
+
+// Flipped bytes in every cached range, then a 1 GiB file in place of one entry: the same
+// points_sha256 as the local file each time (the entries dropped, named, fetched again).
+TEST(InfoCommand, DamagedRangeCacheEntriesAreFetchedAgain) {
+    namespace fs = std::filesystem;
+    const auto& server = test::NginxServer::instance();
+    const std::string rel = "surveys/ky-woodford-county/5205000_3900000.laz";
+    const fs::path cache = fs::temp_directory_path() / ("lidarscout_info_cache_" + std::to_string(::getpid()));
+    const std::string cli = "XDG_CACHE_HOME=" + cache.string() + " " + LIDARSCOUT_CLI;
+    int status = -1;
+    const auto local = info_json("--checksum " + (test::data_dir() / rel).string(), status);
+    const std::string expected = local.at(0).at("points_sha256");
+    auto checksum = [&](std::string& err) {
+        std::string out;
+        const int rc = test::run_command(cli + " info --json --checksum " + server.url(rel) + " 2>" +
+                                             (cache / "stderr").string(), out);
+        EXPECT_EQ(rc, 0);
+        std::ifstream in(cache / "stderr");
+        err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        return nlohmann::json::parse(out).at(0).at("points_sha256").get<std::string>();
+    };
+    auto entries = [&] {
+        std::vector<fs::path> found;
+        for (const auto& e : fs::recursive_directory_iterator(cache / "lidarscout" / "http")) {
+            if (e.is_regular_file()) found.push_back(e.path());
+        }
+        return found;
+    };
+    fs::create_directories(cache);
+    std::string err;
+    EXPECT_EQ(checksum(err), expected);
+    const auto stored = entries();
+    ASSERT_FALSE(stored.empty());
+    for (const auto& entry : stored) {
+        std::fstream f(entry, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(static_cast<std::streamoff>(fs::file_size(entry) / 2));
+        f.write("XXXXXXXXXX", 10);
+    }
+    EXPECT_EQ(checksum(err), expected);
+    EXPECT_NE(err.find("was dropped and fetched again: part 0 does not match its SHA-256"), std::string::npos) << err;
+    fs::resize_file(entries().front(), 1ull << 30);
+    EXPECT_EQ(checksum(err), expected);
+    EXPECT_NE(err.find("bytes, is more than its ranges can hold"), std::string::npos) << err;
+    fs::remove_all(cache);
 }
 
 }  // namespace

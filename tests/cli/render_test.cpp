@@ -1,6 +1,7 @@
 // `lidarscout render`: every survey rendered at the auto camera shows terrain in elevation
 // colours; the overview draws less than the heightmaps; full resolution decodes a small
-// survey's tile; golden images at a fixed camera; bad arguments are one-line errors.
+// survey's tile; golden images at a fixed camera; bad arguments are one-line errors, and so is a
+// remote tile whose every chunk point failed.
 //
 // Golden images live in tests/data/golden/. After an intended change of the rendering, look
 // at the new images and regenerate them with
@@ -21,6 +22,7 @@
 
 #include "nn/heightmap_network.hpp"
 #include "render/framebuffer.hpp"
+#include "net/fault_server.hpp"
 #include "nginx_server.hpp"
 #include "png_test_util.hpp"
 #include "test_data.hpp"
@@ -264,6 +266,19 @@ TEST_F(RenderCommand, CameraInTheCrsUnitsAndACameraThatSeesNothing) {
                        "(xmin,ymin,xmax,ymax in the CRS's units: US survey foot; --camera takes the same units)"),
               std::string::npos) << err;
     EXPECT_FALSE(fs::exists(dir_ / "metres.png"));
+}
+
+// A server that answers a tile's header and chunk table, then 404 for everything else: no
+// image from nothing, one line and exit status 1.
+TEST_F(RenderCommand, EveryChunkPointFailedIsAnError) {
+    std::ifstream in(test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz", std::ios::binary);
+    test::FaultServer server({std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()});
+    server.answer_first = 2;  // the head and the tail
+    const std::string url = server.url().substr(0, server.url().rfind('/')) + "/tile.laz";  // (any path serves)
+    std::string out, err;
+    EXPECT_EQ(render("--size 320x180 --cache-size 0 " + url, "failed", out, err), 1);
+    EXPECT_NE(err.find("render: every chunk point failed"), std::string::npos) << err;
+    EXPECT_NE(err.find("HTTP status 404"), std::string::npos) << err;
 }
 
 }  // namespace
