@@ -75,8 +75,8 @@ std::optional<std::string> resolve_entry(const std::string& list, const std::str
     std::string url = net::resolve_url(list, entry);
     const std::string refusal = net::derived_url_refusal(list, url);
     if (refusal.empty()) return url;
-    out.errors.push_back(io::display_path(url) + ": refused (an entry of the tile list " + io::display_path(list) +
-                         "): " + refusal);
+    out.errors.push_back({io::display_path(url), io::display_path(url) + ": refused (an entry of the tile list " +
+                                                     io::display_path(list) + "): " + refusal});
     return std::nullopt;
 }
 
@@ -86,11 +86,11 @@ std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out
     try {
         text = read_head(io::File::open(list), kMaxTileList + 1);
     } catch (const Error& e) {
-        out.errors.push_back({list, std::string(e.what()) + " (tile list)"});
+        out.errors.push_back({io::display_path(list), std::string(e.what()) + " (tile list)"});
         return {};
     }
     if (text.size() > kMaxTileList) {
-        out.errors.push_back({list, io::display_path(list) + ": tile list larger than " +
+        out.errors.push_back({io::display_path(list), io::display_path(list) + ": tile list larger than " +
                                         std::to_string(kMaxTileList >> 20) + " MiB"});
         return {};
     }
@@ -122,11 +122,13 @@ void expand_list(const std::string& list, FoundFiles& out) {
                              return e.error.find(": no such file or folder") != std::string::npos;
                          });
     if (nothing) {
-        out.errors.push_back({list, io::display_path(list) + ": not a tile list (none of its " +
+        out.errors.push_back({io::display_path(list), io::display_path(list) + ": not a tile list (none of its " +
                                         std::to_string(entries.size()) + " lines names a file, folder or URL)"});
         return;
     }
-    if (entries.empty()) out.errors.push_back({list, io::display_path(list) + ": tile list without entries"});
+    if (entries.empty()) {
+        out.errors.push_back({io::display_path(list), io::display_path(list) + ": tile list without entries"});
+    }
     out.files.insert(out.files.end(), found.files.begin(), found.files.end());
     for (auto& e : found.errors) out.errors.push_back({e.path, io::display_path(list) + ": " + e.error});
 }
@@ -144,12 +146,12 @@ void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
 void expand_ept(const std::string& metadata, FoundFiles& out) {
     auto nodes = ept_nodes(metadata);
     out.files.insert(out.files.end(), nodes.tiles.begin(), nodes.tiles.end());
-    for (auto& e : nodes.errors) out.errors.push_back({metadata, std::move(e)});
+    for (auto& e : nodes.errors) out.errors.push_back({io::display_path(metadata), std::move(e)});
 }
 
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
     if (const std::string problem = net::url_problem(p); !problem.empty()) {
-        return out.errors.push_back(io::display_path(p) + ": " + problem);
+        return out.errors.push_back({io::display_path(p), io::display_path(p) + ": " + problem});
     }
     if (is_ept_metadata(p)) return expand_ept(p, out);
     if (net::is_url(p)) return expand_url(p, allow_lists, out);

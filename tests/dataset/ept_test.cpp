@@ -120,7 +120,7 @@ TEST_F(EptHostile, KeysThatAreNotNodeKeysAreRefusedLocally) {
     const std::string elsewhere = other.url().substr(0, other.url().find('/', 7));
     write("entwine.json", R"({"dataType": "laszip"})");
     fs::create_directories(dir / "h");
-    for (const std::string key : std::vector<std::string>{elsewhere + "/x", "//127.0.0.1/x", (dir / "secret").string(),
+    for (const std::string& key : std::vector<std::string>{elsewhere + "/x", "//127.0.0.1/x", (dir / "secret").string(),
                                                           "../../up", "1-2-0-0", "65-0-0-0", "0-0-0"}) {
         SCOPED_TRACE(key);
         write("h/0-0-0-0.json", nlohmann::json({{"0-0-0-0", 1}, {key, 5}}).dump());
@@ -170,7 +170,7 @@ TEST(EptRemote, KeysCannotLeaveTheDatasetsOrigin) {
         const auto found = find_point_cloud_files({server.url("lists/hostile-entwine/entwine.json")});
         EXPECT_TRUE(found.files.empty());
         ASSERT_EQ(found.errors.size(), 1u);
-        EXPECT_NE(found.errors[0].find("is not a node key"), std::string::npos) << found.errors[0];
+        EXPECT_NE(found.errors[0].error.find("is not a node key"), std::string::npos) << found.errors[0].error;
     }
     EXPECT_EQ(other.requests(), 0);
     fs::remove_all(set);

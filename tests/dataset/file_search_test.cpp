@@ -30,7 +30,8 @@ TEST(FileSearch, RemoteListEntriesResolveAgainstTheListUrl) {
     EXPECT_EQ(found.files, (std::vector<std::string>{server.url("surveys/ky-woodford-county/5205000_3900000.laz"),
                                                      server.url("lists/sub/a.laz")}));
     ASSERT_EQ(found.errors.size(), 1u);  // another origin, not allowed
-    EXPECT_NE(found.errors[0].find("http://example.invalid/b.laz: refused"), std::string::npos) << found.errors[0];
+    EXPECT_NE(found.errors[0].error.find("http://example.invalid/b.laz: refused"), std::string::npos)
+        << found.errors[0].error;
     net::set_allowed_origins(net::parse_allowed_origins("http://example.invalid"));
     const auto allowed = find_point_cloud_files({server.url("lists/relative.txt")});
     net::set_allowed_origins({});
@@ -48,7 +49,9 @@ TEST(FileSearch, RemoteListEntriesKeepTheListsSchemeAndOrigin) {
     const auto found = find_point_cloud_files({server.url("lists/hostile.txt")});
     EXPECT_TRUE(found.files.empty());
     ASSERT_EQ(found.errors.size(), 2u);
-    for (const auto& e : found.errors) EXPECT_NE(e.find("another origin than the dataset's"), std::string::npos) << e;
+    for (const auto& e : found.errors) {
+        EXPECT_NE(e.error.find("another origin than the dataset's"), std::string::npos) << e.error;
+    }
     EXPECT_EQ(other.requests(), 0);
 
     std::ofstream(server.lists_dir() / "downgrade.txt") << "http://127.0.0.1:" << server.port() << "/x.laz\n";
@@ -62,8 +65,8 @@ TEST(FileSearch, RemoteListEntriesKeepTheListsSchemeAndOrigin) {
     net::HttpClient::shared().set_settings(settings);
     EXPECT_TRUE(downgraded.files.empty());
     ASSERT_EQ(downgraded.errors.size(), 1u);
-    EXPECT_NE(downgraded.errors[0].find("downgrade from https to http is refused"), std::string::npos)
-        << downgraded.errors[0];
+    EXPECT_NE(downgraded.errors[0].error.find("downgrade from https to http is refused"), std::string::npos)
+        << downgraded.errors[0].error;
 }
 
 // "http://u:pa#ss@host/..." would send "u:pa" to "host" (the rest a fragment) and was taken
@@ -74,9 +77,10 @@ TEST(FileSearch, PasswordWithAnUnencodedHashIsRefusedWithAHint) {
     const auto found = find_point_cloud_files({"http://reader:pa#ss@" + host + "/tiles"});
     EXPECT_TRUE(found.files.empty());
     ASSERT_EQ(found.errors.size(), 1u);
-    EXPECT_NE(found.errors[0].find("percent-encode them (%23, %3F, %2F)"), std::string::npos) << found.errors[0];
-    EXPECT_EQ(found.errors[0].find("pa#ss"), std::string::npos) << found.errors[0];
-    EXPECT_EQ(found.errors[0].find("reader"), std::string::npos) << found.errors[0];
+    EXPECT_NE(found.errors[0].error.find("percent-encode them (%23, %3F, %2F)"), std::string::npos)
+        << found.errors[0].error;
+    EXPECT_EQ(found.errors[0].error.find("pa#ss"), std::string::npos) << found.errors[0].error;
+    EXPECT_EQ(found.errors[0].error.find("reader"), std::string::npos) << found.errors[0].error;
     EXPECT_EQ(server.requests(), 0);
 }
 
