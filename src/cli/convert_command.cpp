@@ -56,10 +56,16 @@ int run_convert(const ConvertCliOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress("convert", total);
     std::uint64_t last = 0;
-    auto result = pipelines::convert_tile(o.in, o.out, opt, pool, [&](std::uint64_t done) {
-        progress.add(done - last);
-        last = done;
-    });
+    pipelines::ConvertResult result;
+    try {
+        result = pipelines::convert_tile(o.in, o.out, opt, pool, [&](std::uint64_t done) {
+            progress.add(done - last);
+            last = done;
+        });
+    } catch (const Error& e) {
+        if (e.file().empty()) throw e.with_file(io::display_path(o.in));  // the encoder's errors name no file
+        throw;
+    }
     progress.finish();
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (const auto& n : result.notes) std::fprintf(stderr, "lidarscout: note: %s\n", n.c_str());

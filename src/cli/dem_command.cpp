@@ -144,7 +144,7 @@ int run_dem(const DemCliOptions& o) {
     const dataset::Dataset ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     print_diagnostics(ds.warnings);
-    if (ds.tiles.empty()) throw Error::in_stage("dem", "no readable tile in the given paths");
+    dataset::require_tiles(ds, "dem");
     StageBars bars;
     r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) {
         bars.update(stage, done, total);

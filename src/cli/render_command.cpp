@@ -138,7 +138,7 @@ dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
     dataset_options.crs = o.crs;
     auto ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
-    if (ds.tiles.empty()) throw Error::in_stage("render", "no readable LAS/LAZ tiles in the given paths");
+    dataset::require_tiles(ds, "render");
     report.tiles = ds.tiles.size();
     report.skipped = ds.skipped.size();
     report.warnings = ds.warnings;

@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "io/output_file.hpp"
+#include "nn/heightmap_network.hpp"
 #include "render/backend.hpp"
 #include "synth/terrain_generator.hpp"
 #include "viewer/app/viewer_app.hpp"
@@ -108,6 +109,7 @@ int run_view(const ViewCliOptions& o) {
     std::tie(v.width, v.height) = parse_pixels(o.size, 64);
     v.memory_budget = o.memory.empty() ? 0 : parse_bytes(o.memory);
     v.cnn = !o.no_cnn;
+    if (!o.model.empty() && !o.no_cnn) nn::check_model_file(o.model);  // named here, not only in the window
     v.model = o.model;
     v.crs = o.crs;
     v.screenshot = o.screenshot;

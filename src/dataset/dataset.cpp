@@ -238,6 +238,14 @@ void summarise(Dataset& ds) {
 
 }  // namespace
 
+void require_tiles(const Dataset& ds, const std::string& stage) {
+    if (!ds.tiles.empty()) return;
+    std::string why;
+    for (std::size_t i = 0; i < ds.skipped.size() && i < 3; ++i) why += (i ? "; " : ": ") + ds.skipped[i].error;
+    if (ds.skipped.size() > 3) why += "; and " + std::to_string(ds.skipped.size() - 3) + " more";
+    throw Error::in_stage(stage, "no readable LAS/LAZ tile in the given paths" + why);
+}
+
 std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
     if (ds.bounds_m.empty()) return {0.0, 0.0};
     return {std::floor(ds.bounds_m.min_x / patch) * patch, std::floor(ds.bounds_m.min_y / patch) * patch};

@@ -108,6 +108,10 @@ struct DatasetOptions {
 // throws only when options.cancel asked it to stop.
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options = {});
 
+// Throws Error (of `stage`) when the dataset has no readable tile, naming why: the first skipped
+// paths with their causes and how many more there are.
+void require_tiles(const Dataset& dataset, const std::string& stage);
+
 // The patch grid origin for a dataset: its min corner rounded down to a multiple of
 // `patch_size_m`, so patches fall on the same metric lattice whatever tiles are opened.
 std::pair<double, double> patch_grid_origin(const Dataset& dataset, double patch_size_m = 640.0);

@@ -80,19 +80,20 @@ std::optional<std::string> resolve_entry(const std::string& list, const std::str
     return std::nullopt;
 }
 
-// The entries of a tile list (a file or a URL), resolved.
-std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out) {
+// The entries of a tile list (a file or a URL), resolved (entries refused by the origin policy are
+// reported in `out`); nullopt when the list cannot be read (reported too).
+std::optional<std::vector<std::string>> read_tile_list(const std::string& list, FoundFiles& out) {
     std::string text;
     try {
         text = read_head(io::File::open(list), kMaxTileList + 1);
     } catch (const Error& e) {
         out.errors.push_back({io::display_path(list), std::string(e.what()) + " (tile list)"});
-        return {};
+        return std::nullopt;
     }
     if (text.size() > kMaxTileList) {
         out.errors.push_back({io::display_path(list), io::display_path(list) + ": tile list larger than " +
                                         std::to_string(kMaxTileList >> 20) + " MiB"});
-        return {};
+        return std::nullopt;
     }
     std::vector<std::string> entries;
     std::size_t start = 0;
@@ -113,8 +114,10 @@ void expand(const std::string& p, bool allow_lists, FoundFiles& out);
 // given by mistake), the list gets one line saying so instead of a line per entry.
 void expand_list(const std::string& list, FoundFiles& out) {
     const std::size_t errors_before = out.errors.size();
-    const std::vector<std::string> entries = read_tile_list(list, out);
-    if (out.errors.size() > errors_before) return;  // unreadable: already said
+    const auto read = read_tile_list(list, out);
+    if (!read) return;  // unreadable: already said
+    const std::vector<std::string>& entries = *read;
+    const bool refused = out.errors.size() > errors_before;
     FoundFiles found;
     for (const auto& entry : entries) expand(entry, false, found);
     const bool nothing = !entries.empty() && found.files.empty() && found.errors.size() == entries.size() &&
@@ -126,7 +129,7 @@ void expand_list(const std::string& list, FoundFiles& out) {
                                         std::to_string(entries.size()) + " lines names a file, folder or URL)"});
         return;
     }
-    if (entries.empty()) {
+    if (entries.empty() && !refused) {
         out.errors.push_back({io::display_path(list), io::display_path(list) + ": tile list without entries"});
     }
     out.files.insert(out.files.end(), found.files.begin(), found.files.end());
@@ -224,7 +227,9 @@ void add_local_input(const std::string& p, bool allow_lists, std::vector<std::st
         }
     } else if (allow_lists && is_tile_list(p)) {
         FoundFiles ignored;
-        for (const auto& entry : read_tile_list(p, ignored)) add_local_input(entry, false, out);
+        for (const auto& entry : read_tile_list(p, ignored).value_or(std::vector<std::string>{})) {
+            add_local_input(entry, false, out);
+        }
     }
 }
 
