@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/remote_options.hpp"
@@ -96,7 +97,7 @@ void register_convert_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_option("--format", o->format, "Point data record format of the output (0-10; default: as the input)")
         ->check(CLI::Range(0, 10));
-    cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(CLI::PositiveNumber);
+    cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(positive_number());
     cmd->add_flag("--variable-chunks", o->variable_chunks, "Write a variable-chunk table (per-chunk point counts)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_convert(*o); }; });

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
@@ -164,18 +165,18 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     add_inputs(*cmd, "paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
         ->required();
     add_output(*cmd, "-o,--output", o->output, "The DEM to write (.tif)", io::OutputKind::GeoTiff)->required();
-    cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(CLI::PositiveNumber);
+    cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(positive_number());
     cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
         ->delimiter(',')->expected(4);
     cmd->add_option("--from", o->from, "full (every point) or overview (chunk points only; default full)");
     cmd->add_option("--method", o->method, "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
     cmd->add_option("--radius", o->radius,
                     "idw: search radius around each texel centre, metres (default: texel x 1.414)")
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(CLI::PositiveNumber);
+        ->check(positive_number());
+    cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(positive_number());
     cmd->add_option("--max-edge", o->max_edge,
                     "tin: no height in triangles with a longer edge, metres (default 0: no limit)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(non_negative_number());
     cmd->add_option("--classes", o->classes, "Only these ASPRS classes, e.g. 2,9 for ground and water (default all)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
     add_output(*cmd, "--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
@@ -204,14 +205,14 @@ void register_eval_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--released-model", o->released_model,
                     "The paper's released height network (cg-tuwien/lidarscout ipes_cnn.pt, converted for the CPU by "
                     "python3 -m lidarscout_train.released_cpu) for the released method");
-    cmd->add_option("--batch", o->batch, "Patches per network batch (default 16)")->check(CLI::PositiveNumber);
+    cmd->add_option("--batch", o->batch, "Patches per network batch (default 16)")->check(positive_number());
     cmd->add_option("--split", o->split,
                     "Score only windows of one side of the region split: all (default), train, validation");
     add_split_options(*cmd, o->split_options);
     add_offsets_option(*cmd, o->offsets);
     cmd->add_option("--texel", o->texel, "Texel size in metres (default 10; patches are 64 texels)")
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--patches", o->patches, "Patches per dataset (default 100)")->check(CLI::PositiveNumber);
+        ->check(positive_number());
+    cmd->add_option("--patches", o->patches, "Patches per dataset (default 100)")->check(positive_number());
     cmd->add_option("--seed", o->seed, "Seed of the random patch choice (default 1)");
     cmd->add_option("--stride", o->stride,
                     "Chunk points = every K-th point in file order; 'auto' (default) matches a 20 points/m^2 survey "

@@ -46,6 +46,7 @@ int main(int argc, char** argv) {
     CLI::App app{"lidarscout: explore country-sized LAS/LAZ scans in seconds, without preprocessing"};
     app.set_version_flag("--version", std::string("lidarscout ") + lidarscout::kVersion + " (" +
                                           lidarscout::kGitRevision + ")");
+    app.name("lidarscout");
     app.require_subcommand(1);
     std::function<int()> run;
     lidarscout::cli::register_info_command(app, run);
@@ -62,6 +63,10 @@ int main(int argc, char** argv) {
     }
     lidarscout::cli::check_whole_number_options(app);
     using lidarscout::cli::Failure;
+    if (argc == 1) {  // no command: the list of commands, not only "A subcommand is required"
+        std::fputs(app.help().c_str(), stderr);
+        return 1;
+    }
     const bool json = wants_json(argc, argv);
     try {
         app.parse(argc, argv);

@@ -36,6 +36,29 @@ void check_option(CLI::Option& option) {
 
 }  // namespace
 
+namespace {
+
+// A validator of numbers that `accept` takes, else "must be WANTED, not 'TEXT'".
+CLI::Validator number_check(bool (*accept)(double), const std::string& wanted) {
+    return CLI::Validator(
+        [accept, wanted](std::string& text) -> std::string {
+            double v = 0;
+            if (!CLI::detail::lexical_cast(text, v)) return "expects a number, not '" + text + "'";
+            return accept(v) ? std::string() : "must be " + wanted + ", not '" + text + "'";
+        },
+        "");
+}
+
+}  // namespace
+
+CLI::Validator positive_number() {
+    return number_check([](double v) { return v > 0; }, "more than 0");
+}
+
+CLI::Validator non_negative_number() {
+    return number_check([](double v) { return v >= 0; }, "0 or more");
+}
+
 void check_whole_number_options(CLI::App& app) {
     for (CLI::Option* option : app.get_options()) check_option(*option);
     for (CLI::App* sub : app.get_subcommands({})) check_whole_number_options(*sub);

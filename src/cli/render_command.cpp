@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
@@ -365,7 +366,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");
     cmd->add_option("--min-points", o->min_points,
                     "Chunk points a patch's 960 m window needs for a heightmap (default 6)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     cmd->add_option("--point-size", o->point_size,
                     "Full-resolution point size in pixels (default 1); near the camera points are drawn as wide as "
                     "their spacing on screen (up to 16 px) unless --fixed-point-size")

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
@@ -165,7 +166,7 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(1, 4096));
     cmd->add_flag("--direct", o->direct, "Read chunk points with O_DIRECT (bypass the page cache, as a cold read)");
     cmd->add_option("--las-stride", o->stride, "Chunk-point stride for uncompressed LAS tiles (default 50000)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     cmd->add_option("--crs", o->crs,
                     "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_option("--focus", o->focus, "Load tiles nearest to X,Y (metres) first")->delimiter(',')->expected(2);

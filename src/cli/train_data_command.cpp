@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
@@ -88,7 +89,7 @@ void register_train_data_command(CLI::App& app, std::function<int()>& run) {
                io::OutputKind::TrainingData)->required();
     cmd->add_option("--texel", o->texels, "Texel sizes in metres, comma-separated (default 10)");
     cmd->add_option("--patches", o->patches, "Patches per dataset and texel size (default 100)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     cmd->add_option("--seed", o->seed, "Seed of the patch choice (default 1)");
     cmd->add_option("--stride", o->stride, "Chunk-point stride K or 'auto' (default; see README)");
     add_split_options(*cmd, o->split);

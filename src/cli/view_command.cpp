@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/progress.hpp"
@@ -150,7 +151,7 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--click", o->clicks, "Click at window pixel X,Y just before quitting (scripted use; repeatable)");
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(non_negative_number());
     cmd->add_option("--threads", o->threads, "Rendering threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "

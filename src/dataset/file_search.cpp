@@ -191,9 +191,22 @@ FoundFiles find_point_cloud_files(const std::vector<std::string>& paths) {
     return out;
 }
 
-FoundSources find_tile_sources(const std::vector<std::string>& paths) {
+namespace {
+
+// A folder that holds a virtual replica's manifest is that replica (its own folder has no tiles).
+std::string replica_or_path(const std::string& p) {
+    std::error_code ec;
+    if (net::is_url(p) || !fs::is_directory(p, ec)) return p;
+    const std::string manifest = (fs::path(p) / kReplicaManifestName).string();
+    return fs::is_regular_file(manifest, ec) && is_virtual_replica(manifest) ? manifest : p;
+}
+
+}  // namespace
+
+FoundSources find_tile_sources(const std::vector<std::string>& given) {
     FoundSources out;
-    for (const auto& p : paths) {
+    for (const auto& g : given) {
+        const std::string p = replica_or_path(g);
         if (!is_virtual_replica(p)) {
             FoundFiles found = find_point_cloud_files({p});
             for (auto& f : found.files) out.sources.push_back({std::move(f), std::nullopt, {}});
@@ -237,7 +250,10 @@ void add_local_input(const std::string& p, bool allow_lists, std::vector<std::st
 
 std::vector<std::string> local_inputs(const std::vector<std::string>& paths) {
     std::vector<std::string> out;
-    for (const auto& p : paths) add_local_input(p, true, out);
+    for (const auto& p : paths) {
+        add_local_input(p, true, out);
+        if (const std::string replica = replica_or_path(p); replica != p) add_local_input(replica, false, out);
+    }
     return out;
 }
 

@@ -2,6 +2,8 @@
 // never parse an empty answer), beside its one line on stderr; usage errors too.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "test_data.hpp"
 
 namespace lidarscout {
@@ -42,6 +44,25 @@ TEST(FailureOutput, UsageErrorsAndNegativeCountsAreNamed) {
     std::string out;  // the control: without --json, stdout stays empty
     EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " eval x --seed -1 2>/dev/null", out), 0);
     EXPECT_EQ(out, "");
+}
+
+// The sharp edges of issue 28: no command lists the commands; a positive option says its range
+// in plain numbers (CLI11 printed the largest double, 309 digits); a benchmark's --help and its
+// errors are one line each, never an abort.
+TEST(FailureOutput, SharpEdgesAreOneClearLine) {
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " 2>&1", out), 1);
+    EXPECT_NE(out.find("Subcommands:"), std::string::npos) << out;
+    EXPECT_NE(out.find("render"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem x.laz -o x.tif --texel 0 2>&1", out), 105);
+    EXPECT_NE(out.find("--texel: must be more than 0, not '0'"), std::string::npos) << out;
+    EXPECT_LT(out.size(), 200u) << out;
+    const std::string bench_dem = std::string(LIDARSCOUT_BUILD_DIR) + "/bench/bench_dem";
+    EXPECT_EQ(test::run_command(bench_dem + " --help 2>&1", out), 0);
+    EXPECT_EQ(out.rfind("Usage: bench_dem ", 0), 0u) << out;
+    EXPECT_EQ(test::run_command(bench_dem + " /nonexistent/a.laz --runs 1 2>&1", out), 1);
+    EXPECT_EQ(out.rfind("bench_dem: ", 0), 0u) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 }
 
 }  // namespace

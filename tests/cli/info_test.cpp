@@ -161,6 +161,8 @@ TEST(InfoCommand, PathsWithoutTilesAreNamedAndManifestsGiveTheirTiles) {
     j = info_json((dir / "rep/replicate.json").string(), status);
     EXPECT_EQ(status, 0);
     ASSERT_EQ(j.size(), 3u);
+    EXPECT_EQ(info_json((dir / "rep").string(), status).size(), 3u) << "the replica's folder is the replica";
+    EXPECT_EQ(status, 0);
     const auto min_x = [&](int i) { return j[i].at("bounds").at("min").at(0).get<double>(); };
     const double width = j[0].at("bounds").at("max").at(0).get<double>() - min_x(0);
     EXPECT_GT(min_x(1), min_x(0) + 0.9 * width);  // the second copy lies east of the first
