@@ -180,6 +180,7 @@ int run(int argc, char** argv) {
 
 int main(int argc, char** argv) {
     return lidarscout::bench::bench_main("bench_dem",
-                                         "[PATH...] [--texel M] [--runs N] [--threads N] [--gdal-grid] [--overview linear|cnn]",
+                                         "[PATH...] [--texel M] [--runs N] [--threads N] [--gdal-grid] "
+                                         "[--overview linear|cnn]",
                                          argc, argv, run);
 }
