@@ -5,6 +5,7 @@
 #include <proj.h>
 #include <strings.h>
 
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -181,6 +182,8 @@ void CrsTransform::apply_bounds(double& min_x, double& min_y, double& max_x, dou
 
 namespace {
 
+std::atomic<std::size_t> g_lonlat_made{0};
+
 // Transforms to lon/lat kept per source CRS: making one searches PROJ's database (milliseconds),
 // and the thousands of tiles of a survey share a handful of CRSs.
 std::shared_ptr<const CrsTransform> to_lonlat(const std::string& definition) {
@@ -190,12 +193,15 @@ std::shared_ptr<const CrsTransform> to_lonlat(const std::string& definition) {
     std::lock_guard lock(mutex);
     if (const auto it = kept.find(definition); it != kept.end()) return it->second;
     auto made = std::make_shared<const CrsTransform>(definition, "EPSG:4326");  // throws: nothing kept
+    g_lonlat_made.fetch_add(1);
     if (kept.size() >= kKept) kept.clear();
     kept.emplace(definition, made);
     return made;
 }
 
 }  // namespace
+
+std::size_t lonlat_transforms_made() { return g_lonlat_made.load(); }
 
 LonLatBounds lonlat_bounds(const std::string& definition, double min_x, double min_y, double max_x, double max_y) {
     to_lonlat(definition)->apply_bounds(min_x, min_y, max_x, max_y);
