@@ -125,8 +125,10 @@ void expand_list(const std::string& list, FoundFiles& out) {
                              return e.error.find(": no such file or folder") != std::string::npos;
                          });
     if (nothing) {
-        out.errors.push_back({io::display_path(list), io::display_path(list) + ": not a tile list (none of its " +
-                                        std::to_string(entries.size()) + " lines names a file, folder or URL)"});
+        out.errors.push_back({io::display_path(list), io::display_path(list) +
+                                                          ": not a LAS/LAZ file nor a tile list (none of its " +
+                                                          std::to_string(entries.size()) +
+                                                          " lines names a file, folder or URL)"});
         return;
     }
     if (entries.empty() && !refused) {

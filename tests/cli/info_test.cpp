@@ -152,7 +152,7 @@ TEST(InfoCommand, PathsWithoutTilesAreNamedAndManifestsGiveTheirTiles) {
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info " + (dir / "empty").string() + " " +
                                     (dir / "pts.csv").string() + " 2>&1", out), 1);
     EXPECT_NE(out.find("empty: no .las or .laz file in this folder"), std::string::npos) << out;
-    EXPECT_NE(out.find("pts.csv: not a tile list (none of its 3 lines names a file, folder or URL)"),
+    EXPECT_NE(out.find("pts.csv: not a LAS/LAZ file nor a tile list (none of its 3 lines names a file, folder or URL)"),
               std::string::npos) << out;
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
     const auto tile = (test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string();

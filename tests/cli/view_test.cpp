@@ -198,7 +198,7 @@ TEST_F(ViewCommand, BadModelAndUnreadableInputsAreNamed) {
     std::ofstream(dir_ / "pts.csv") << "x,y,z\n1,2,3\n";
     EXPECT_EQ(run_xvfb((dir_ / "pts.csv").string() + " /nonexistent/a.laz --quit-after 2", out), 1);
     EXPECT_NE(out.find("view: no readable LAS/LAZ tile in the given paths: "), std::string::npos) << out;
-    EXPECT_NE(out.find("pts.csv: not a tile list"), std::string::npos) << out;
+    EXPECT_NE(out.find("pts.csv: not a LAS/LAZ file nor a tile list"), std::string::npos) << out;
     EXPECT_NE(out.find("/nonexistent/a.laz: no such file or folder"), std::string::npos) << out;
 }
 
