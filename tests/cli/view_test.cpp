@@ -196,7 +196,10 @@ TEST_F(ViewCommand, BadModelAndUnreadableInputsAreNamed) {
     EXPECT_NE(out.find("bad.pt: at byte 0: not a TorchScript model"), std::string::npos) << out;
     ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
     std::ofstream(dir_ / "pts.csv") << "x,y,z\n1,2,3\n";
-    EXPECT_EQ(run_xvfb((dir_ / "pts.csv").string() + " /nonexistent/a.laz --quit-after 2", out), 1);
+    const int status = run_xvfb((dir_ / "pts.csv").string() + " /nonexistent/a.laz --quit-after 2", out);
+    // (xvfb-run itself sometimes exits 5 when the viewer ends this fast: "problem while cleaning up")
+    const bool xvfb_cleanup = out.find("xvfb-run: error: problem while cleaning up") != std::string::npos;
+    EXPECT_TRUE(status == 1 || (xvfb_cleanup && status == 5)) << status << ": " << out;
     EXPECT_NE(out.find("view: no readable LAS/LAZ tile in the given paths: "), std::string::npos) << out;
     EXPECT_NE(out.find("pts.csv: not a LAS/LAZ file nor a tile list"), std::string::npos) << out;
     EXPECT_NE(out.find("/nonexistent/a.laz: no such file or folder"), std::string::npos) << out;
