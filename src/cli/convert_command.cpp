@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/progress.hpp"
 #include "cli/remote_options.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/file_search.hpp"
@@ -85,7 +86,7 @@ void register_convert_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("input", o->in, "Input LAS/LAZ file or http(s) URL")->required()->check(existing_file_or_url());
     cmd->add_option("output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)")
         ->required();
-    cmd->add_option("--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_option("--format", o->format, "Point data record format of the output (0-10; default: as the input)")
         ->check(CLI::Range(0, 10));
     cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(CLI::PositiveNumber);

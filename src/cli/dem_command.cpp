@@ -18,6 +18,7 @@
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/stage_progress.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "dataset/dataset.hpp"
 #include "raster/dem.hpp"
@@ -180,7 +181,7 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)");
     cmd->add_option("--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)");
     cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
-    cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_dem(*o); }; });
 }

@@ -22,6 +22,7 @@
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
@@ -347,7 +348,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--memory", o->memory,
                     "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
-    cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Worker threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
                     "available, else cpu)");
