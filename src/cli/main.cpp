@@ -1,11 +1,13 @@
-// Entry point of the `lidarscout` command: parses the subcommand and turns library errors
-// into one clear line on stderr and a non-zero exit status.
+// Entry point of the `lidarscout` command: parses the subcommand and turns library errors (and a
+// failed allocation) into one clear line on stderr and a non-zero exit status.
 #include <CLI/CLI.hpp>
 
 #include <malloc.h>
 
 #include <cstdio>
 #include <functional>
+#include <new>
+#include <string>
 
 #include "cli/commands.hpp"
 #include "cli/remote_options.hpp"
@@ -52,6 +54,12 @@ int main(int argc, char** argv) {
     }
     try {
         return run ? run() : 0;
+    } catch (const std::bad_alloc&) {  // one line naming the command, not "internal error: std::bad_alloc"
+        const auto parsed = app.get_subcommands();
+        const std::string command = parsed.empty() ? "lidarscout" : "lidarscout " + parsed.front()->get_name();
+        std::fprintf(stderr, "%s: out of memory (an allocation failed); ask for less (e.g. a larger --texel, "
+                     "smaller --bounds or --memory), or run where more memory is free\n", command.c_str());
+        return 1;
     } catch (const lidarscout::Error& e) {
         std::fprintf(stderr, "lidarscout: %s\n", e.what());
         return 1;

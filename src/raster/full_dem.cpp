@@ -198,7 +198,36 @@ std::vector<std::uint32_t> tile_order(const dataset::Dataset& ds) {
     return order;
 }
 
+// What a block's gridder holds per texel (block_gridders.cpp) plus its finished images (heights
+// and colour): TexelStats is 32 bytes; idw sums 16, colour sums 24; tin about one held point of
+// 48 bytes per texel at survey densities.
+std::uint64_t gridder_bytes_per_texel(const GridderSpec& g, bool rgb) {
+    const std::uint64_t images = 4 + (rgb ? 4 : 0);
+    switch (g.method) {
+        case GridMethod::Statistic: return 32 + images;
+        case GridMethod::Idw: return 16 + (rgb ? 24 : 0) + images;
+        case GridMethod::Tin: return 48 + images;
+    }
+    return 48 + images;
+}
+
 }  // namespace
+
+std::uint64_t full_dem_peak_bytes(const dataset::Dataset& ds, const DemGrid& grid, const GridderSpec& gridder,
+                                  bool rgb) {
+    const double reach = gridder_reach_m(gridder, grid.texel_m);
+    double rows = 0;
+    for (const auto& t : ds.tiles) {
+        const BlockRange r = tile_blocks(grid, t.bounds_m, reach);
+        if (!r.empty()) rows = std::max(rows, static_cast<double>(r.y1 - r.y0 + 2));
+    }
+    const double blocks = static_cast<double>(grid.blocks_x()) * grid.blocks_y();
+    const double held = std::min(blocks, rows * grid.blocks_x());
+    const double block_texels = static_cast<double>(grid.block) * grid.block;
+    const double bytes = held * block_texels * static_cast<double>(gridder_bytes_per_texel(gridder, rgb)) +
+                         blocks * sizeof(int);
+    return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
+}
 
 FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, const FullDemOptions& options,
                            const DemOutputs& outputs, ThreadPool& pool) {

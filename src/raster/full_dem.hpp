@@ -54,6 +54,12 @@ struct FullDemStats {
     std::size_t peak_blocks = 0;  // blocks held at once
 };
 
+// Bytes grid_full_dem may hold at once, estimated before anything is allocated: the blocks of a
+// band as wide as the raster and as tall as the tallest tile's blocks plus one (blocks finish when
+// the row of tiles above them is done), at the gridder's bytes per texel, and a count per block.
+std::uint64_t full_dem_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const GridderSpec& gridder,
+                                  bool rgb);
+
 FullDemStats grid_full_dem(const dataset::Dataset& dataset, const DemGrid& grid, const FullDemOptions& options,
                            const DemOutputs& outputs, ThreadPool& pool);
 
