@@ -119,6 +119,8 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
                             {"origin_m", {d.grid.origin_x, d.grid.origin_y}},
                             {"points_read", d.points_read},
                             {"points_used", d.points_used},
+                            {"points_skipped", d.points_skipped},
+                            {"skipped_chunks", skipped_json(d.skipped)},
                             {"blocks_written", d.blocks_written},
                             {"peak_blocks", d.peak_blocks},
                             {"seconds_grid", d.seconds_grid},
@@ -151,8 +153,9 @@ int run_dem(const DemCliOptions& o) {
     };
     const raster::DemResult d = raster::make_dem(ds, r);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    print_skipped(d.skipped);
     print_result(o, r, d, seconds);
-    return 0;
+    return written_exit_status(!d.skipped.empty() || !ds.skipped.empty());
 }
 
 }  // namespace

@@ -185,6 +185,8 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         const FullDemStats s = grid_full_dem(ds, result.grid, opt, outputs, pool);
         result.points_read = s.points_read;
         result.points_used = s.points_used;
+        result.skipped = s.skipped;
+        result.points_skipped = s.points_skipped;
         result.blocks_written = s.blocks_written;
         result.peak_blocks = s.peak_blocks;
     } else {

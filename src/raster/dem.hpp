@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/error.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/full_dem.hpp"
 
@@ -58,6 +59,8 @@ struct DemRequest {
 struct DemResult {
     DemGrid grid;
     std::uint64_t points_read = 0, points_used = 0;
+    std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
+    std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0, peak_blocks = 0;
     double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0;
 };

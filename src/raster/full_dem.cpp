@@ -255,8 +255,12 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
         stats.points_read += points.size();
         if (options.progress) options.progress(stats.points_read, total);
     };
+    const auto skipped = [&](std::uint32_t, const dataset::SkippedChunk& s) {
+        stats.skipped.push_back(s.error);
+        stats.points_skipped += s.points;
+    };
     dataset::for_each_metric_batch(ds, order, pool, add, [&](std::uint32_t t) { blocks.tile_done(ranges[t], pool); },
-                                   fields);
+                                   fields, 1u << 20, skipped);
     return stats;
 }
 

@@ -4,13 +4,17 @@
 // same gridding as `eval`'s ground truth, so `--method mean` equals it texel by texel — the
 // texels within the radius for idw, the blocks whose margin holds it for tin), and a block is
 // finished — gridded, written, freed — as soon as the last tile that reaches it is done.
-// Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its tile's header bounds
-// (beyond a texel) is an error naming the file: its block may already be written.
+// Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its
+// tile's header bounds (beyond a texel) is an error naming the file: its block may already be
+// written. A LAZ chunk that cannot be decoded costs its points only (FullDemStats::skipped).
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <vector>
+
+#include "core/error.hpp"
 
 #include "raster/block_gridders.hpp"
 #include "raster/dem_grid.hpp"
@@ -50,6 +54,9 @@ struct DemOutputs {
 
 struct FullDemStats {
     std::uint64_t points_read = 0, points_used = 0;
+    // LAZ chunks (or whole tiles) that could not be decoded: left out, the DEM made without them.
+    std::vector<ErrorRecord> skipped;
+    std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0;
     std::size_t peak_blocks = 0;  // blocks held at once
 };
