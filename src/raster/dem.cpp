@@ -200,6 +200,8 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         };
         const OverviewDemStats s = grid_overview_dem(ds, result.grid, opt, outputs, pool);
         result.points_read = result.points_used = s.chunk_points;
+        result.skipped = s.skipped;
+        result.points_skipped = s.chunk_points_skipped;
         result.blocks_written = s.patches_written;
     }
     result.seconds_grid = seconds_since(t0);
