@@ -5,8 +5,8 @@
 // texels within the radius for idw, the blocks whose margin holds it for tin), and a block is
 // finished — gridded, written, freed — as soon as the last tile that reaches it is done.
 // Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its
-// tile's header bounds (beyond a texel) is an error naming the file: its block may already be
-// written. A LAZ chunk that cannot be decoded costs its points only (FullDemStats::skipped).
+// tile's header bounds (beyond a texel; its block may already be written) and a LAZ chunk that
+// cannot be decoded cost their points only, named and counted (FullDemStats::skipped).
 #pragma once
 
 #include <array>

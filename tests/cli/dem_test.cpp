@@ -148,5 +148,38 @@ TEST_F(DemCommand, CorruptChunkCostsOnlyItsPoints) {
                                     " --texel 2 2>&1", out), 0) << out;
 }
 
+// Two copies of the Woodford tile side by side, the west one's header max x moved to its middle:
+// its eastern points land in blocks beyond its header bounds (possibly already written). That
+// ended the whole DEM; now those points are left out, named and counted.
+TEST_F(DemCommand, PointsBeyondTheirHeaderBoundsCostOnlyThemselves) {
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth replicate " + woodford() + " --grid 2x1 -o " +
+                                    path("tiles") + " 2>&1", out), 0) << out;
+    const fs::path west = dir / "tiles" / "5205000_3900000_x0_y0.laz";
+    fs::permissions(west, fs::perms::owner_write, fs::perm_options::add);
+    {
+        std::fstream f(west, std::ios::in | std::ios::out | std::ios::binary);
+        double max_min_x[2];
+        f.seekg(179);  // LAS 1.2: max x, min x (scaled units, doubles)
+        f.read(reinterpret_cast<char*>(max_min_x), sizeof max_min_x);
+        const double middle = 0.5 * (max_min_x[0] + max_min_x[1]);
+        f.seekp(179);
+        f.write(reinterpret_cast<const char*>(&middle), sizeof middle);
+    }
+    fs::remove(dir / "tiles" / "replicate.json");
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + path("tiles") + " -o " +
+                                             path("d.tif") + " --texel 0.25 --json 2>/dev/null", out);
+    EXPECT_EQ(status, 3) << out;
+    EXPECT_TRUE(fs::exists(path("d.tif")));
+    const auto j = nlohmann::json::parse(out);
+    ASSERT_EQ(j.at("skipped_chunks").size(), 1u) << out;
+    EXPECT_EQ(j.at("skipped_chunks")[0].at("file"), west.string());
+    EXPECT_NE(j.at("skipped_chunks")[0].at("cause").get<std::string>().find("outside the tile's header bounds"),
+              std::string::npos) << out;
+    EXPECT_GT(j.at("points_skipped").get<std::uint64_t>(), 100'000u);
+    EXPECT_EQ(j.at("points_used").get<std::uint64_t>() + j.at("points_skipped").get<std::uint64_t>(),
+              2u * 1'012'412u);
+}
+
 }  // namespace
 }  // namespace lidarscout
