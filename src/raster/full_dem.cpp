@@ -33,7 +33,9 @@ struct BlockRange {
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
     bool empty() const { return x1 < x0 || y1 < y0; }
     bool contains(dataset::CellKey c) const { return c.ix >= x0 && c.ix <= x1 && c.iy >= y0 && c.iy <= y1; }
-    bool contains(const BlockRange& r) const { return contains(dataset::CellKey{r.x0, r.y0}) && contains(dataset::CellKey{r.x1, r.y1}); }
+    bool contains(const BlockRange& r) const {
+        return contains(dataset::CellKey{r.x0, r.y0}) && contains(dataset::CellKey{r.x1, r.y1});
+    }
 };
 
 int block_index(double v, double origin, double block_m, int count) {
