@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/tile.hpp"
@@ -83,7 +84,9 @@ void bench_file(const std::string& path, int runs, const std::string& only) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     int runs = 5;
     std::string only;
     std::vector<std::string> files;
@@ -105,4 +108,12 @@ int main(int argc, char** argv) {
         }
     }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return lidarscout::bench::bench_main("bench_codec",
+                                         "FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode]",
+                                         argc, argv, run);
 }

@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/point_stream.hpp"
@@ -88,7 +89,9 @@ Raster read_float_raster(const std::string& tif, const fs::path& dir, int width,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     std::vector<std::string> paths;
     double texel = 1.0;
     int runs = 5;
@@ -171,4 +174,13 @@ int main(int argc, char** argv) {
     }
     fs::remove_all(dir);
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return lidarscout::bench::bench_main("bench_dem",
+                                         "[PATH...] [--texel M] [--runs N] [--threads N] [--gdal-grid] "
+                                         "[--overview linear|cnn]",
+                                         argc, argv, run);
 }

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "bench_timing.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
@@ -136,7 +137,9 @@ std::string write_tile_list(const test::NginxServer& server, const std::filesyst
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     int runs = 3;
     std::vector<int> rtts = {0, 20, 50};
     std::string folder, view_program, view_args;
@@ -217,4 +220,11 @@ int main(int argc, char** argv) {
         return 1;
     }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return lidarscout::bench::bench_main("bench_http", "[--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM "
+                                         "[--view-args \"...\"]] FOLDER", argc, argv, run);
 }

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
@@ -59,7 +60,9 @@ void report(const char* what, const char* unit, std::size_t n, unsigned threads,
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     std::vector<std::string> paths(argv + 1, argv + argc);
     if (paths.empty()) paths.push_back(LIDARSCOUT_DATA_DIR);
     auto files = dataset::find_point_cloud_files(paths).files;
@@ -92,4 +95,10 @@ int main(int argc, char** argv) {
         report("chunk points (one pread each)", "points", tiles.size(), threads, chunk_points);
     }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return lidarscout::bench::bench_main("bench_metadata", "[PATH...]   (default: ../shared/data)", argc, argv, run);
 }

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "bench_timing.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
@@ -127,7 +128,9 @@ LoadResult load_chunk_points(const dataset::Dataset& ds, io::ReadBackend backend
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     std::vector<std::string> paths;
     int runs = 5;
     std::string backend_name = "auto";
@@ -190,4 +193,12 @@ int main(int argc, char** argv) {
         return 1;
     }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return lidarscout::bench::bench_main("bench_scan",
+                                         "[--runs N] [--backend auto|io_uring|pread] PATH...",
+                                         argc, argv, run);
 }

@@ -10,7 +10,11 @@
 # under build/stage_views/NAME/. So `#include "viewer/..."` in las/ fails to compile: viewer
 # is not in las's view. A stage may only depend on stages declared before it, which keeps the
 # order (core, net, io, las, geo, laz, dataset, recon, nn, pipelines, raster, render, viewer, synth,
-# cli).
+# cli). The view holds the dependencies' dependencies too (their headers include them), so a
+# second check reads the stage's own files: every `#include "S/..."` of another stage S must name
+# a stage declared in DEPS, else configuring fails naming both stages and the file, and a
+# declared stage it includes nothing of fails too (lidarscout_check_includes; the suite's
+# StageIncludes test shows both failing).
 
 set_property(GLOBAL PROPERTY LIDARSCOUT_STAGES "")  # stages declared so far, in layer order
 
@@ -42,6 +46,7 @@ function(lidarscout_stage name)
     endif()
   endforeach()
 
+  lidarscout_check_includes(${name} "${S_DEPS}" "${declared}")
   file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/${name}/*.cpp)
   foreach(pattern IN LISTS S_EXCLUDE)
     list(FILTER sources EXCLUDE REGEX "${pattern}")
@@ -73,4 +78,28 @@ endfunction()
 # The include view of a stage (for a target compiled against it, e.g. an object library).
 function(lidarscout_stage_view name out_var)
   set(${out_var} ${CMAKE_BINARY_DIR}/stage_views/${name} PARENT_SCOPE)
+endfunction()
+
+# Fails (FATAL_ERROR) when a file of stage `name` includes a header of a stage in `stages` that is
+# neither `name` nor one of `deps`, naming the stage, the file and the stage it includes.
+function(lidarscout_check_includes name deps stages)
+  set(unused ${deps})
+  file(GLOB_RECURSE own CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/src/${name}/*.cpp ${CMAKE_SOURCE_DIR}/src/${name}/*.hpp
+       ${CMAKE_SOURCE_DIR}/src/${name}/*.h ${CMAKE_SOURCE_DIR}/src/${name}/*.cu)
+  foreach(f IN LISTS own)
+    file(STRINGS ${f} includes REGEX "^#include \"[a-z_]+/")
+    foreach(line IN LISTS includes)
+      string(REGEX MATCH "^#include \"([a-z_]+)/" matched "${line}")
+      set(used ${CMAKE_MATCH_1})
+      list(REMOVE_ITEM unused ${used})
+      if(used IN_LIST stages AND NOT used STREQUAL name AND NOT used IN_LIST deps)
+        file(RELATIVE_PATH where ${CMAKE_SOURCE_DIR} ${f})
+        message(FATAL_ERROR "stage ${name} includes stage ${used} without declaring it (${where}: ${line}); "
+                            "add ${used} to its DEPS or move the code")
+      endif()
+    endforeach()
+  endforeach()
+  if(unused)
+    message(FATAL_ERROR "stage ${name} declares DEPS ${unused} but includes nothing of them; remove them")
+  endif()
 endfunction()

@@ -1,9 +1,11 @@
-// A rule of the code base checked on the tree itself: no line of C++ or CUDA source under
-// src/, tests/, bench/ or fuzz/ is longer than 120 columns (characters, UTF-8 counted once).
+// Rules of the code base checked on the tree itself: no line of C++ or CUDA source under
+// src/, tests/, bench/ or fuzz/ is longer than 120 columns (characters, UTF-8 counted once); no
+// test asserts on wall-clock time (speed is measured by bench/, tests assert on counts).
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <string>
 
@@ -36,6 +38,32 @@ TEST(SourceLines, AtMost120Columns) {
     }
     EXPECT_GT(files, 100u);  // the tree was found
     EXPECT_TRUE(long_lines.empty()) << "lines over " << kMaxColumns << " columns:\n" << long_lines;
+}
+
+// An assertion that reads a clock, or compares a duration or a `seconds` / `elapsed` figure with
+// a constant, asserts on wall-clock time: slow or loaded machines make it fail, fast ones hide
+// what it meant. (Timeouts that end a wait are not assertions and stay allowed.)
+bool asserts_on_time(const std::string& line) {
+    static const std::regex assertion(R"(\b(EXPECT|ASSERT)_[A-Z_]+\()");
+    static const std::regex timed(
+        R"(clock::now|chrono::(seconds|milliseconds|microseconds)\(|\b(seconds|elapsed)\s*,\s*[0-9.]+\s*\))");
+    return std::regex_search(line, assertion) && std::regex_search(line, timed);
+}
+
+TEST(SourceRules, NoTestAssertsOnWallClockTime) {
+    EXPECT_TRUE(asserts_on_time("    EXPECT_LT(seconds, 0.5);"));  // the rule sees what it forbids
+    EXPECT_TRUE(asserts_on_time("    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30));"));
+    EXPECT_FALSE(asserts_on_time("    EXPECT_EQ(server.requests(), 2);"));
+    std::string timed;
+    for (const auto& e : fs::recursive_directory_iterator(fs::path(LIDARSCOUT_SOURCE_DIR) / "tests")) {
+        if (!e.is_regular_file() || e.path().filename() == "source_lines_test.cpp") continue;
+        std::ifstream in(e.path());
+        std::string line;
+        for (std::size_t n = 1; std::getline(in, line); ++n) {
+            if (asserts_on_time(line)) timed += e.path().string() + ":" + std::to_string(n) + ": " + line + "\n";
+        }
+    }
+    EXPECT_TRUE(timed.empty()) << "assertions on wall-clock time:\n" << timed;
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/remote_options.hpp"
 #include "cli/thread_options.hpp"
@@ -56,10 +58,16 @@ int run_convert(const ConvertCliOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     Progress progress("convert", total);
     std::uint64_t last = 0;
-    auto result = pipelines::convert_tile(o.in, o.out, opt, pool, [&](std::uint64_t done) {
-        progress.add(done - last);
-        last = done;
-    });
+    pipelines::ConvertResult result;
+    try {
+        result = pipelines::convert_tile(o.in, o.out, opt, pool, [&](std::uint64_t done) {
+            progress.add(done - last);
+            last = done;
+        });
+    } catch (const Error& e) {
+        if (e.file().empty()) throw e.with_file(io::display_path(o.in));  // the encoder's errors name no file
+        throw;
+    }
     progress.finish();
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (const auto& n : result.notes) std::fprintf(stderr, "lidarscout: note: %s\n", n.c_str());
@@ -83,13 +91,14 @@ void register_convert_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ConvertCliOptions>();
     auto* cmd = app.add_subcommand(
         "convert", "Convert LAS <-> LAZ (by the output's extension), optionally to another point format");
-    cmd->add_option("input", o->in, "Input LAS/LAZ file or http(s) URL")->required()->check(existing_file_or_url());
-    cmd->add_option("output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)")
+    add_input(*cmd, "input", o->in, "Input LAS/LAZ file or http(s) URL")->required()->check(existing_file_or_url());
+    add_output(*cmd, "output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)",
+               io::OutputKind::PointCloud)
         ->required();
     add_thread_option(*cmd, "--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_option("--format", o->format, "Point data record format of the output (0-10; default: as the input)")
         ->check(CLI::Range(0, 10));
-    cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(CLI::PositiveNumber);
+    cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(positive_number());
     cmd->add_flag("--variable-chunks", o->variable_chunks, "Write a variable-chunk table (per-chunk point counts)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_convert(*o); }; });

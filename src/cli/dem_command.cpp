@@ -14,6 +14,8 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
+#include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
@@ -146,7 +148,7 @@ int run_dem(const DemCliOptions& o) {
     const dataset::Dataset ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     print_diagnostics(ds.warnings);
-    if (ds.tiles.empty()) throw Error::in_stage("dem", "no readable tile in the given paths");
+    dataset::require_tiles(ds, "dem");
     StageBars bars;
     r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) {
         bars.update(stage, done, total);
@@ -164,25 +166,27 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<DemCliOptions>();
     auto* cmd = app.add_subcommand(
         "dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
-    cmd->add_option("paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
+    add_inputs(*cmd, "paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
         ->required();
-    cmd->add_option("-o,--output", o->output, "The DEM to write (.tif)")->required();
-    cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(CLI::PositiveNumber);
+    add_output(*cmd, "-o,--output", o->output, "The DEM to write (.tif)", io::OutputKind::GeoTiff)->required();
+    cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(positive_number());
     cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
         ->delimiter(',')->expected(4);
     cmd->add_option("--from", o->from, "full (every point) or overview (chunk points only; default full)");
     cmd->add_option("--method", o->method, "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
     cmd->add_option("--radius", o->radius,
                     "idw: search radius around each texel centre, metres (default: texel x 1.414)")
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(CLI::PositiveNumber);
+        ->check(positive_number());
+    cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(positive_number());
     cmd->add_option("--max-edge", o->max_edge,
                     "tin: no height in triangles with a longer edge, metres (default 0: no limit)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(non_negative_number());
     cmd->add_option("--classes", o->classes, "Only these ASPRS classes, e.g. 2,9 for ground and water (default all)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
-    cmd->add_option("--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)");
-    cmd->add_option("--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)");
+    add_output(*cmd, "--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
+               io::OutputKind::GeoTiff);
+    add_output(*cmd, "--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)",
+               io::OutputKind::Hillshade);
     cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
     add_thread_option(*cmd, "--threads", o->threads, "Threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");

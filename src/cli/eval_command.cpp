@@ -13,6 +13,8 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/thread_options.hpp"
@@ -104,6 +106,23 @@ void print_table(const std::string& title, const std::map<recon::Method, pipelin
     }
 }
 
+// An evaluation that scored no patch is an error with the reasons (each dataset's counts).
+void check_something_scored(const std::map<recon::Method, pipelines::MethodScores>& all,
+                            const nlohmann::json& datasets, const EvalCliOptions& o) {
+    for (const auto& [method, scores] : all) {
+        if (!scores.rmse_m.empty()) return;
+    }
+    std::string why;
+    for (const auto& [name, d] : datasets.items()) {
+        why += fmt::format("{}{}: {} candidate patches, {} with too few chunk points, {} with little ground truth, {} "
+                           "outside the split", why.empty() ? "" : "; ", name, d.at("candidates").get<std::size_t>(),
+                           d.at("too_few_points").get<std::size_t>(), d.at("low_coverage").get<std::size_t>(),
+                           d.at("other_split").get<std::size_t>());
+    }
+    throw Error::in_stage("eval", fmt::format("no patch could be scored at --texel {:g} (patches are 64 texels): {}",
+                                              o.texel, why));
+}
+
 int run_eval(const EvalCliOptions& o) {
     pipelines::EvalOptions opt;
     opt.methods = parse_methods(o.methods);
@@ -155,6 +174,7 @@ int run_eval(const EvalCliOptions& o) {
                 e.methods);
         }
     }
+    check_something_scored(all, datasets, o);
     if (o.json) {
         nlohmann::json j = {{"methods", methods_json(all)}, {"datasets", datasets}, {"texel_m", o.texel},
                             {"seed", o.seed}, {"split", o.split}};
@@ -177,7 +197,7 @@ int run_eval(const EvalCliOptions& o) {
 void register_eval_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<EvalCliOptions>();
     auto* cmd = app.add_subcommand("eval", "Score heightmap reconstruction methods against the full-resolution points");
-    cmd->add_option("paths", o->paths, "Datasets: each a folder, tile list or file, scored separately and overall")
+    add_inputs(*cmd, "paths", o->paths, "Datasets: each a folder, tile list or file, scored separately and overall")
         ->required();
     cmd->add_option("--methods", o->methods,
                     "Comma-separated: nearest, linear, cubic, splat, cnn, released "
@@ -186,14 +206,14 @@ void register_eval_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--released-model", o->released_model,
                     "The paper's released height network (cg-tuwien/lidarscout ipes_cnn.pt, converted for the CPU by "
                     "python3 -m lidarscout_train.released_cpu) for the released method");
-    cmd->add_option("--batch", o->batch, "Patches per network batch (default 16)")->check(CLI::PositiveNumber);
+    cmd->add_option("--batch", o->batch, "Patches per network batch (default 16)")->check(positive_number());
     cmd->add_option("--split", o->split,
                     "Score only windows of one side of the region split: all (default), train, validation");
     add_split_options(*cmd, o->split_options);
     add_offsets_option(*cmd, o->offsets);
     cmd->add_option("--texel", o->texel, "Texel size in metres (default 10; patches are 64 texels)")
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--patches", o->patches, "Patches per dataset (default 100)")->check(CLI::PositiveNumber);
+        ->check(positive_number());
+    cmd->add_option("--patches", o->patches, "Patches per dataset (default 100)")->check(positive_number());
     cmd->add_option("--seed", o->seed, "Seed of the random patch choice (default 1)");
     cmd->add_option("--stride", o->stride,
                     "Chunk points = every K-th point in file order; 'auto' (default) matches a 20 points/m^2 survey "

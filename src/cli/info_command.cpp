@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/tile_json.hpp"
 #include "cli/thread_options.hpp"
@@ -19,6 +20,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
@@ -52,11 +54,14 @@ std::string points_checksum(const io::File& file, const dataset::Tile& tile) {
     return sha.hex_digest();
 }
 
-FileReport inspect(const std::string& path, const InfoOptions& opt) {
-    FileReport r{io::display_path(path), std::nullopt, {}, 0, {}, {}};  // a URL without its credentials
+FileReport inspect(const dataset::TileSource& source, const InfoOptions& opt) {
+    // a URL without its credentials; a virtual replica's tile by its name and source
+    const std::string path = io::display_path(source.path);
+    FileReport r{source.name.empty() ? path : source.name + " (" + path + ", shifted)", std::nullopt, {}, 0, {}, {}};
     try {
-        auto file = io::File::open(path);
+        auto file = io::File::open(source.path);
         r.tile = dataset::read_tile(file);
+        if (source.shift) dataset::shift_tile(*r.tile, *source.shift);
         r.chunk_point_count = dataset::chunk_point_count(*r.tile);
         if (opt.chunks) r.chunk_points = dataset::read_chunk_points(file, *r.tile);
         if (opt.checksum) r.points_sha256 = points_checksum(file, *r.tile);
@@ -194,18 +199,18 @@ nlohmann::json report_json(const FileReport& r, bool chunks) {
 }
 
 int run_info(const InfoOptions& opt) {
-    auto found = dataset::find_point_cloud_files(opt.paths);
-    std::vector<FileReport> reports(found.files.size());
+    const auto found = dataset::find_tile_sources(opt.paths);
+    std::vector<FileReport> reports(found.sources.size());
     {
         Progress progress("info", reports.size());
         if (opt.threads) ThreadPool::set_shared_threads(opt.threads);
         ThreadPool::shared().for_each(reports.size(), [&](std::size_t i) {
-            reports[i] = inspect(found.files[i], opt);
+            reports[i] = inspect(found.sources[i], opt);
             progress.add();
         });
     }
     bool failed = !found.errors.empty();
-    for (const auto& e : found.errors) std::fprintf(stderr, "lidarscout: %s\n", display_text(e).c_str());
+    for (const auto& e : found.errors) std::fprintf(stderr, "lidarscout: %s\n", display_text(e.error).c_str());
     for (const auto& r : reports) {
         if (!r.tile) {
             failed = true;
@@ -214,6 +219,7 @@ int run_info(const InfoOptions& opt) {
     }
     if (opt.json) {
         nlohmann::json arr = nlohmann::json::array();
+        for (const auto& e : found.errors) arr.push_back(failed_tile_json(e.path, e.error));
         for (const auto& r : reports) arr.push_back(report_json(r, opt.chunks));
         std::printf("%s\n", arr.dump(2).c_str());
     } else {
@@ -228,8 +234,8 @@ int run_info(const InfoOptions& opt) {
 void register_info_command(CLI::App& app, std::function<int()>& run) {
     auto opt = std::make_shared<InfoOptions>();
     auto* cmd = app.add_subcommand("info", "Describe LAS/LAZ files: header, VLRs, CRS and units, LAZ layout, chunks");
-    cmd->add_option("paths", opt->paths,
-                    "LAS/LAZ files, folders (searched recursively), tile lists, EPT datasets; or http(s) URLs")
+    add_inputs(*cmd, "paths", opt->paths,
+               "LAS/LAZ files, folders (searched recursively), tile lists, EPT datasets; or http(s) URLs")
         ->required();
     cmd->add_flag("--json", opt->json, "Print one JSON array with an object per file");
     cmd->add_flag("--chunks", opt->chunks, "Add the LAZ chunk table and the chunk points");

@@ -5,14 +5,21 @@
 #include <malloc.h>
 
 #include <cstdio>
+#include <cstring>
+#include <new>
 #include <functional>
 #include <new>
 #include <string>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
+#include "cli/failure_output.hpp"
+#include "cli/io_options.hpp"
+#include "cli/number_options.hpp"
 #include "cli/remote_options.hpp"
 #include "core/error.hpp"
 #include "io/temporary_files.hpp"
+#include "net/range_cache.hpp"
 #include "version.hpp"
 
 namespace {
@@ -25,6 +32,14 @@ void keep_freed_memory_in_the_heap() {
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
 }
 
+// True when the command line asks for --json (even one that did not parse).
+bool wants_json(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--json") == 0) return true;
+    }
+    return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -33,6 +48,7 @@ int main(int argc, char** argv) {
     CLI::App app{"lidarscout: explore country-sized LAS/LAZ scans in seconds, without preprocessing"};
     app.set_version_flag("--version", std::string("lidarscout ") + lidarscout::kVersion + " (" +
                                           lidarscout::kGitRevision + ")");
+    app.name("lidarscout");
     app.require_subcommand(1);
     std::function<int()> run;
     lidarscout::cli::register_info_command(app, run);
@@ -47,24 +63,38 @@ int main(int argc, char** argv) {
     for (CLI::App* cmd : app.get_subcommands({})) {
         if (cmd->get_name() != "synth") lidarscout::cli::add_remote_options(*cmd);  // the commands reading datasets
     }
+    lidarscout::cli::check_whole_number_options(app);
+    using lidarscout::cli::Failure;
+    if (argc == 1) {  // no command: the list of commands, not only "A subcommand is required"
+        std::fputs(app.help().c_str(), stderr);
+        return 1;
+    }
+    const bool json = wants_json(argc, argv);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (!json || e.get_exit_code() == 0) return app.exit(e);  // --help, --version: as CLI11 prints them
+        lidarscout::cli::report_failure({"usage", e.what(), {}, std::nullopt, e.what()}, true);
+        return e.get_exit_code();
     }
+    int status = 0;
     try {
-        return run ? run() : 0;
-    } catch (const std::bad_alloc&) {  // one line naming the command, not "internal error: std::bad_alloc"
-        const auto parsed = app.get_subcommands();
-        const std::string command = parsed.empty() ? "lidarscout" : "lidarscout " + parsed.front()->get_name();
-        std::fprintf(stderr, "%s: out of memory (an allocation failed); ask for less (e.g. a larger --texel, "
-                     "smaller --bounds or --memory), or run where more memory is free\n", command.c_str());
-        return 1;
+        lidarscout::cli::check_parsed_outputs(app);  // before any work: no output may replace an input
+        status = run ? run() : 0;
     } catch (const lidarscout::Error& e) {
-        std::fprintf(stderr, "lidarscout: %s\n", e.what());
-        return 1;
+        lidarscout::cli::report_failure(Failure::of(e), json);
+        status = 1;
+    } catch (const std::bad_alloc&) {
+        const std::string name = app.get_subcommands().empty() ? "lidarscout" : app.get_subcommands()[0]->get_name();
+        const std::string cause = "out of memory (an allocation failed): ask for less, e.g. a larger --texel, a "
+                                  "smaller --bounds or --memory";
+        lidarscout::cli::report_failure({"memory", name + ": " + cause, {}, std::nullopt, cause}, json);
+        status = 2;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "lidarscout: internal error: %s\n", e.what());
-        return 2;
+        lidarscout::cli::report_failure({"internal", e.what(), {}, std::nullopt, e.what()}, json);
+        status = 2;
     }
+    // what the range cache noticed (damaged entries it dropped and fetched again)
+    lidarscout::cli::print_diagnostics(lidarscout::net::RangeCache::shared().take_diagnostics());
+    return status;
 }

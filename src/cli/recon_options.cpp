@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cli/number_options.hpp"
 #include "core/error.hpp"
 
 namespace lidarscout::cli {
@@ -64,7 +65,7 @@ dataset::Dataset open_reported_dataset(const std::string& path) {
 void add_split_options(CLI::App& cmd, pipelines::RegionSplitOptions& split) {
     cmd.add_option("--split-block", split.block_m,
                    "Side of the square regions of the train/validation split, metres (default 2000)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     cmd.add_option("--val-fraction", split.val_fraction, "Fraction of regions held out for validation (default 0.25)")
         ->check(CLI::Range(0.0, 1.0));
     cmd.add_option("--split-seed", split.seed, "Seed of the region split (default 1)");

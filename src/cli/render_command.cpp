@@ -18,6 +18,8 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
+#include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
@@ -29,6 +31,7 @@
 #include "dataset/patch_grid.hpp"
 #include "nn/heightmap_network.hpp"
 #include "render/backend.hpp"
+#include "raster/dem_grid.hpp"
 #include "render/camera.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/heightmap_builder.hpp"
@@ -89,6 +92,7 @@ struct RenderReport {
     std::vector<ErrorRecord> skipped_data;  // full-resolution chunks or tiles left out (undecodable)
     std::uint64_t points_skipped = 0;
     Diagnostics warnings;
+    dataset::Frame frame;  // the CRS units the camera is shown in
     render::Camera camera;
     StageTimes seconds;
 };
@@ -139,7 +143,7 @@ dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
     dataset_options.crs = o.crs;
     auto ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
-    if (ds.tiles.empty()) throw Error::in_stage("render", "no readable LAS/LAZ tiles in the given paths");
+    dataset::require_tiles(ds, "render");
     report.tiles = ds.tiles.size();
     report.skipped = ds.skipped.size();
     report.warnings = ds.warnings;
@@ -147,8 +151,14 @@ dataset::Dataset read_headers(const RenderCliOptions& o, RenderReport& report) {
     return ds;
 }
 
+// --camera is in the CRS's units, as --bounds and the coordinates `info` prints: x, y in the horizontal
+// unit, z in the vertical one; the camera itself works in metres.
 render::Camera make_camera(const RenderPlan& plan, const RenderCliOptions& o, const dataset::Dataset& ds) {
-    if (plan.camera) return *plan.camera;
+    if (plan.camera) {
+        render::Camera c = *plan.camera;
+        c.x *= ds.frame.xy_to_metres, c.y *= ds.frame.xy_to_metres, c.z *= ds.frame.z_to_metres;
+        return c;
+    }
     const auto& b = ds.bounds_m;
     return render::Camera::looking_at_bounds(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, plan.width,
                                              plan.height, o.fov);
@@ -162,6 +172,10 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
     load_with_progress(loader);
     for (const auto& e : loader.errors()) {
         report.warnings.add({DiagnosticLevel::warning, e.file, e.offset, e.message()});
+    }
+    if (loader.loaded() == 0 && loader.failed() > 0) {
+        const std::string first = loader.errors().empty() ? std::string() : ": " + loader.errors().front().message();
+        throw Error::in_stage("render", "every chunk point failed (" + std::to_string(loader.failed()) + ")" + first);
     }
     report.chunk_point_errors = loader.errors().size();
     grid.shrink_to_fit();
@@ -238,10 +252,25 @@ viewer::SceneStyle scene_style(const RenderPlan& plan, const RenderCliOptions& o
     return style;
 }
 
-nlohmann::json camera_json(const render::Camera& c) {
-    return {{"x", c.x}, {"y", c.y}, {"z", c.z}, {"yaw_deg", c.yaw_deg}, {"pitch_deg", c.pitch_deg},
+// The camera as --camera takes it: x, y, z in the CRS's units.
+nlohmann::json camera_json(const render::Camera& c, const dataset::Frame& f) {
+    const double x = c.x / f.xy_to_metres, y = c.y / f.xy_to_metres, z = c.z / f.z_to_metres;
+    return {{"x", x}, {"y", y}, {"z", z}, {"yaw_deg", c.yaw_deg}, {"pitch_deg", c.pitch_deg},
             {"fov_deg", c.fov_deg}, {"near_m", c.near_m}, {"far_m", c.far_m},
-            {"text", fmt::format("{:.2f},{:.2f},{:.2f},{:g},{:g}", c.x, c.y, c.z, c.yaw_deg, c.pitch_deg)}};
+            {"text", fmt::format("{:.2f},{:.2f},{:.2f},{:g},{:g}", x, y, z, c.yaw_deg, c.pitch_deg)}};
+}
+
+// An image without any of the data is an error with the reason, not a blank PNG.
+void check_something_drawn(const viewer::RenderedScene& frame, const render::Camera& c, const dataset::Dataset& ds) {
+    if (frame.drawn_pixels > 0) return;
+    const double f = ds.frame.xy_to_metres;
+    const auto& b = ds.bounds_m;
+    const std::string unit = raster::linear_unit_name(f);
+    throw Error::in_stage("render", fmt::format("the camera at {:.2f},{:.2f} sees none of the data, which lies in "
+                                                "{:.2f},{:.2f},{:.2f},{:.2f} (xmin,ymin,xmax,ymax in the CRS's units{}"
+                                                "{}; --camera takes the same units); nothing written",
+                                                c.x / f, c.y / f, b.min_x / f, b.min_y / f, b.max_x / f, b.max_y / f,
+                                                unit.empty() ? "" : ": ", unit));
 }
 
 void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderReport& r) {
@@ -253,7 +282,7 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"colour", render::colour_mode_name(plan.colour)},
                         {"heightmap_method", plan.cnn ? "cnn" : "linear"},
                         {"backend", std::string(render::backend_name(plan.backend.backend))},
-                        {"camera", camera_json(r.camera)},
+                        {"camera", camera_json(r.camera, r.frame)},
                         {"tiles", r.tiles},
                         {"has_rgb", r.has_rgb},
                         {"skipped", r.skipped},
@@ -289,7 +318,7 @@ void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const Rend
                  r.tiles, (unsigned long long)r.chunk_points, r.heightmaps, r.visible_patches,
                  plan.cnn ? "cnn" : "linear", (unsigned long long)r.full_res_points, r.full_res_tiles, budget.c_str(),
                  s.headers, s.chunk_points, s.heightmaps, s.full_res, s.render, o.output.c_str(),
-                 camera_json(r.camera)["text"].get<std::string>().c_str());
+                 camera_json(r.camera, r.frame)["text"].get<std::string>().c_str());
 }
 
 int run_render(const RenderCliOptions& o) {
@@ -300,6 +329,7 @@ int run_render(const RenderCliOptions& o) {
     RenderReport report;
     const dataset::Dataset ds = read_headers(o, report);
     report.camera = make_camera(plan, o, ds);
+    report.frame = ds.frame;
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
     dataset::PatchGrid grid(ox, oy);
     load_chunk_points(ds, grid, report.camera, report);
@@ -317,6 +347,7 @@ int run_render(const RenderCliOptions& o) {
     }
     const auto t0 = Clock::now();
     const auto frame = viewer::render_scene(scene, report.camera, scene_style(plan, o, ds), pool);
+    check_something_drawn(frame, report.camera, ds);
     render::write_png(o.output, frame.image);
     report.drawn_pixels = frame.drawn_pixels;
     report.seconds.render = seconds_since(t0);
@@ -332,14 +363,14 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<RenderCliOptions>();
     auto* cmd = app.add_subcommand("render", "Render a dataset to a PNG without a window, as the viewer shows it once "
                                              "a stage (overview, heightmaps, full) is complete");
-    cmd->add_option("paths", o->paths,
-                    "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-                    "or http(s) URLs")
+    add_inputs(*cmd, "paths", o->paths,
+               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
+               "or http(s) URLs")
         ->required();
-    cmd->add_option("-o,--output", o->output, "The PNG to write")->required();
+    add_output(*cmd, "-o,--output", o->output, "The PNG to write", io::OutputKind::Png)->required();
     cmd->add_option("--camera", o->camera,
-                    "X,Y,Z,YAW,PITCH (metres; degrees, yaw 0 = north, pitch < 0 = down) or 'auto' (default: the "
-                    "whole dataset from the south, 60 degrees down)");
+                    "X,Y,Z,YAW,PITCH (X,Y,Z in the CRS's units, as info prints them; degrees, yaw 0 = north, pitch "
+                    "< 0 = down) or 'auto' (default: the whole dataset from the south, 60 degrees down)");
     cmd->add_option("--fov", o->fov, "Vertical field of view in degrees (default 60)");
     cmd->add_option("--size", o->size, "Image size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--until", o->until,
@@ -352,7 +383,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--model", o->model, "TorchScript model for --heightmaps cnn (default: models/heightmap_cnn.pt)");
     cmd->add_option("--min-points", o->min_points,
                     "Chunk points a patch's 960 m window needs for a heightmap (default 6)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     cmd->add_option("--point-size", o->point_size,
                     "Full-resolution point size in pixels (default 1); near the camera points are drawn as wide as "
                     "their spacing on screen (up to 16 px) unless --fixed-point-size")

@@ -10,6 +10,8 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
+#include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/tile_json.hpp"
@@ -144,7 +146,8 @@ int run_scan(const ScanOptions& o) {
     } else {
         print_text(r);
     }
-    return r.dataset.tiles.empty() ? 1 : 0;
+    const bool every_chunk_point_failed = r.failed > 0 && r.chunk_points == 0;
+    return r.dataset.tiles.empty() || every_chunk_point_failed ? 1 : 0;
 }
 
 }  // namespace
@@ -153,9 +156,9 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ScanOptions>();
     auto* cmd = app.add_subcommand(
         "scan", "Read every tile header and chunk point (the overview) and report timings, counts and bounds");
-    cmd->add_option("paths", o->paths,
-                    "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-                    "or http(s) URLs")
+    add_inputs(*cmd, "paths", o->paths,
+               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
+               "or http(s) URLs")
         ->required();
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->add_option("--backend", o->backend, "Chunk-point reads: auto, io_uring or pread (default auto)");
@@ -165,7 +168,7 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(1, 4096));
     cmd->add_flag("--direct", o->direct, "Read chunk points with O_DIRECT (bypass the page cache, as a cold read)");
     cmd->add_option("--las-stride", o->stride, "Chunk-point stride for uncompressed LAS tiles (default 50000)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     cmd->add_option("--crs", o->crs,
                     "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
     cmd->add_option("--focus", o->focus, "Load tiles nearest to X,Y (metres) first")->delimiter(',')->expected(2);

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "cli/thread_options.hpp"
@@ -92,10 +93,11 @@ void register_synth_replicate(CLI::App& synth, std::function<int()>& run) {
     auto* cmd = synth.add_subcommand(
         "replicate", "Benchmark tool, not a data product: write a large dataset by copying real tiles onto a grid");
     cmd->footer(kPurpose);
-    cmd->add_option("sources", o->sources, "Source LAS/LAZ files or folders (searched recursively)")->required();
-    cmd->add_option("-o,--output", o->out_dir,
-                    "Output folder (created if missing; must not hold a source). Tiles are named "
-                    "STEM_xGX_yGY.laz, with a replicate.json manifest")
+    add_inputs(*cmd, "sources", o->sources, "Source LAS/LAZ files or folders (searched recursively)")->required();
+    add_output(*cmd, "-o,--output", o->out_dir,
+               "Output folder (created if missing; must not hold a source). Tiles are named "
+               "STEM_xGX_yGY.laz, with a replicate.json manifest",
+               io::OutputKind::Folder)
         ->required();
     cmd->add_option("--grid", o->grid, "Grid size NXxNY, e.g. 45x45 (tile GX,GY copies source (GX + GY*NX) mod N)")
         ->required();

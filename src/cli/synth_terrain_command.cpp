@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/thread_options.hpp"
 #include "core/thread_pool.hpp"
@@ -73,7 +74,8 @@ void register_synth_terrain(CLI::App& synth, std::function<int()>& run) {
     auto* cmd = synth.add_subcommand("terrain",
                                      "Write the demo landscape (relief, river, roads, buildings, trees) as 500 m LAZ "
                                      "tiles, deterministic for a seed");
-    cmd->add_option("-o,--output", o->out, "Output folder (created if needed; earlier demo tiles in it are replaced)")
+    add_output(*cmd, "-o,--output", o->out, "Output folder (created if needed; earlier demo tiles in it are replaced)",
+               io::OutputKind::Folder)
         ->required();
     cmd->add_option("--km", o->terrain.km, "Side of the square area in km, rounded up to 500 m tiles (default 4)");
     cmd->add_option("--density", o->terrain.density, "Points per square metre (default 8)");

@@ -9,6 +9,8 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
+#include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/thread_options.hpp"
@@ -83,11 +85,12 @@ void register_train_data_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<TrainDataCliOptions>();
     auto* cmd =
         app.add_subcommand("train-data", "Export training samples (inputs and ground truth) for the heightmap network");
-    cmd->add_option("paths", o->paths, "Datasets: each a folder, tile list or file")->required();
-    cmd->add_option("-o,--output", o->out, "Output file (layout: src/pipelines/training_data.hpp)")->required();
+    add_inputs(*cmd, "paths", o->paths, "Datasets: each a folder, tile list or file")->required();
+    add_output(*cmd, "-o,--output", o->out, "Output file (layout: src/pipelines/training_data.hpp)",
+               io::OutputKind::TrainingData)->required();
     cmd->add_option("--texel", o->texels, "Texel sizes in metres, comma-separated (default 10)");
     cmd->add_option("--patches", o->patches, "Patches per dataset and texel size (default 100)")
-        ->check(CLI::PositiveNumber);
+        ->check(positive_number());
     cmd->add_option("--seed", o->seed, "Seed of the patch choice (default 1)");
     cmd->add_option("--stride", o->stride, "Chunk-point stride K or 'auto' (default; see README)");
     add_split_options(*cmd, o->split);

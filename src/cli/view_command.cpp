@@ -10,6 +10,8 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/number_options.hpp"
+#include "cli/io_options.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
@@ -17,6 +19,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "io/output_file.hpp"
+#include "nn/heightmap_network.hpp"
 #include "render/backend.hpp"
 #include "synth/terrain_generator.hpp"
 #include "viewer/app/viewer_app.hpp"
@@ -108,6 +111,7 @@ int run_view(const ViewCliOptions& o) {
     std::tie(v.width, v.height) = parse_pixels(o.size, 64);
     v.memory_budget = o.memory.empty() ? 0 : parse_bytes(o.memory);
     v.cnn = !o.no_cnn;
+    if (!o.model.empty() && !o.no_cnn) nn::check_model_file(o.model);  // named here, not only in the window
     v.model = o.model;
     v.crs = o.crs;
     v.screenshot = o.screenshot;
@@ -129,8 +133,8 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ViewCliOptions>();
     auto* cmd = app.add_subcommand("view", "Open a window on LAS/LAZ tiles (or the built-in demo) and explore them: "
                                            "chunk points at once, heightmaps, full resolution near the camera");
-    cmd->add_option("paths", o->paths,
-                    "LAS/LAZ files, folders, tile lists, EPT datasets or http(s) URLs (none: the demo landscape)");
+    add_inputs(*cmd, "paths", o->paths,
+               "LAS/LAZ files, folders, tile lists, EPT datasets or http(s) URLs (none: the demo landscape)");
     cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--memory", o->memory, "Memory budget, e.g. 4G (default: a quarter of the RAM)");
     cmd->add_option("--model", o->model, "Heightmap network (default: models/heightmap_cnn.pt; none: linear only)");
@@ -141,20 +145,22 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(0.5, 20.0));
     cmd->add_option("--demo-density", o->demo_density, "Points per m2 of the demo (default 4)")
         ->check(CLI::Range(0.5, 50.0));
-    cmd->add_option("--screenshot", o->screenshot, "Write the last frame to this PNG on exit (scripted use)");
-    cmd->add_option("--window-screenshot", o->window_screenshot,
-                    "Write the whole window, panels included, to this PNG on exit (scripted use)");
+    add_output(*cmd, "--screenshot", o->screenshot, "Write the last frame to this PNG on exit (scripted use)",
+               io::OutputKind::Png);
+    add_output(*cmd, "--window-screenshot", o->window_screenshot,
+               "Write the whole window, panels included, to this PNG on exit (scripted use)", io::OutputKind::Png);
     cmd->add_option("--click", o->clicks, "Click at window pixel X,Y just before quitting (scripted use; repeatable)");
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(non_negative_number());
     add_thread_option(*cmd, "--threads", o->threads, "Rendering threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
                     "available, else cpu)");
-    cmd->add_option("--stats-json", o->stats_json,
-                    "Write to this JSON file on exit the seconds from the start to the first frame, to the dataset "
-                    "open, to the first frame with heightmaps and to all chunk points in (scripted use)");
+    add_output(*cmd, "--stats-json", o->stats_json,
+               "Write to this JSON file on exit the seconds from the start to the first frame, to the dataset "
+               "open, to the first frame with heightmaps and to all chunk points in (scripted use)",
+               io::OutputKind::Json);
     cmd->callback([o, &run] { run = [o] { return run_view(*o); }; });
 }
 

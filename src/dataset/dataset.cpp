@@ -90,12 +90,6 @@ DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
 
 namespace {
 
-// A tile to read: a file, or a virtual replica's source with its shift.
-struct TileSource {
-    std::string path;
-    std::optional<std::array<double, 2>> shift;
-};
-
 std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, std::string& error) {
     const std::string& path = source.path;
     try {
@@ -244,6 +238,14 @@ void summarise(Dataset& ds) {
 
 }  // namespace
 
+void require_tiles(const Dataset& ds, const std::string& stage) {
+    if (!ds.tiles.empty()) return;
+    std::string why;
+    for (std::size_t i = 0; i < ds.skipped.size() && i < 3; ++i) why += (i ? "; " : ": ") + ds.skipped[i].error;
+    if (ds.skipped.size() > 3) why += "; and " + std::to_string(ds.skipped.size() - 3) + " more";
+    throw Error::in_stage(stage, "no readable LAS/LAZ tile in the given paths" + why);
+}
+
 std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
     if (ds.bounds_m.empty()) return {0.0, 0.0};
     return {std::floor(ds.bounds_m.min_x / patch) * patch, std::floor(ds.bounds_m.min_y / patch) * patch};
@@ -252,23 +254,9 @@ std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options) {
     Dataset ds;
     ds.las_stride = options.las_stride;
-    std::vector<TileSource> sources;
-    std::vector<std::string> others;
-    for (const auto& p : paths) {
-        if (!is_virtual_replica(p)) {
-            others.push_back(p);
-            continue;
-        }
-        try {
-            for (auto& v : read_virtual_replica(p)) sources.push_back({std::move(v.path), v.shift});
-        } catch (const Error& e) {
-            ds.skipped.push_back({p, e.what()});
-        }
-    }
-    const FoundFiles found = find_point_cloud_files(others);
-    for (const auto& e : found.errors) ds.skipped.push_back({{}, e});
-    for (const auto& f : found.files) sources.push_back({f, std::nullopt});
-
+    FoundSources found = find_tile_sources(paths);
+    ds.skipped = std::move(found.errors);
+    const std::vector<TileSource>& sources = found.sources;
     const std::size_t n = sources.size();
     std::vector<std::optional<DatasetTile>> tiles(n);
     std::vector<std::string> errors(n);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/diagnostic.hpp"
+#include "dataset/file_search.hpp"
 #include "dataset/tile.hpp"
 
 namespace lidarscout::geo {
@@ -77,11 +78,6 @@ struct Frame {
     double z_to_metres = 1.0;   // native vertical unit -> metres
 };
 
-struct SkippedFile {
-    std::string path;
-    std::string error;  // one line naming the file and what is wrong
-};
-
 struct Dataset {
     std::vector<DatasetTile> tiles;   // in the order the paths were given / found
     std::vector<SkippedFile> skipped;
@@ -111,6 +107,10 @@ struct DatasetOptions {
 // manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`;
 // throws only when options.cancel asked it to stop.
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options = {});
+
+// Throws Error (of `stage`) when the dataset has no readable tile, naming why: the first skipped
+// paths with their causes and how many more there are.
+void require_tiles(const Dataset& dataset, const std::string& stage);
 
 // The patch grid origin for a dataset: its min corner rounded down to a multiple of
 // `patch_size_m`, so patches fall on the same metric lattice whatever tiles are opened.

@@ -1,15 +1,21 @@
-// EPT metadata and hierarchy reading (local or remote, through io::File).
+// EPT metadata and hierarchy reading (local or remote, through io::File): a breadth-first
+// walk over the hierarchy files, each read once, with bounded nodes and bytes.
 #include "dataset/ept.hpp"
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <deque>
 #include <filesystem>
 #include <map>
+#include <optional>
+#include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 #include "io/file.hpp"
+#include "net/origin_policy.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::dataset {
@@ -17,21 +23,46 @@ namespace lidarscout::dataset {
 namespace {
 
 constexpr std::uint64_t kMaxJson = 256u << 20;
-constexpr int kMaxHierarchyDepth = 64;
+constexpr long long kMaxDepth = 64;
+
+using NodeKey = std::array<long long, 4>;  // depth, x, y, z
 
 std::string file_name(const std::string& path) {
     const std::string plain = net::is_url(path) ? path.substr(0, path.find_first_of("?#")) : path;
     return plain.substr(plain.find_last_of('/') + 1);
 }
 
-// `relative` next to `path` (a sibling in the same folder or URL folder).
+// `relative` (made of node keys, never absolute) next to `path`, in the same folder or URL
+// folder; a URL must keep the dataset's origin.
 std::string beside(const std::string& path, const std::string& relative) {
-    if (net::is_url(path)) return net::resolve_url(path, relative);
-    return (std::filesystem::path(path).parent_path() / relative).string();
+    if (!net::is_url(path)) return (std::filesystem::path(path).parent_path() / relative).string();
+    std::string url = net::resolve_url(path, relative);
+    const std::string refusal = net::derived_url_refusal(path, url);
+    if (!refusal.empty()) throw Error(io::display_path(url), std::nullopt, "refused: " + refusal);
+    return url;
 }
 
-nlohmann::json read_json(const std::string& path) {
-    const auto file = io::File::open(path);
+// The numbers of a node key "D-X-Y-Z" (each 0..2^D-1, D at most kMaxDepth), or nothing.
+std::optional<NodeKey> parse_key(const std::string& key) {
+    NodeKey k{};
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < k.size(); ++i) {
+        const std::size_t end = i + 1 < k.size() ? key.find('-', at) : key.size();
+        if (end == std::string::npos || end == at || end - at > 19) return std::nullopt;
+        const std::string digits = key.substr(at, end - at);
+        if (!std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c); })) {
+            return std::nullopt;
+        }
+        k[i] = std::stoll(digits);
+        at = end + 1;
+    }
+    if (k[0] > kMaxDepth) return std::nullopt;
+    const long long span = 1ll << k[0];
+    if (k[1] >= span || k[2] >= span || k[3] >= span) return std::nullopt;
+    return k;
+}
+
+nlohmann::json read_json(const io::File& file) {
     if (file.size() > kMaxJson) throw Error(file.path(), std::nullopt, "JSON file too large");
     const auto bytes = file.read_vector(0, static_cast<std::size_t>(file.size()), "JSON document");
     auto json = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
@@ -39,9 +70,11 @@ nlohmann::json read_json(const std::string& path) {
     return json;
 }
 
+nlohmann::json read_json(const std::string& path) { return read_json(io::File::open(path)); }
+
 // Where the nodes and the hierarchy files of a dataset live, relative to its metadata file.
 struct Layout {
-    std::string data, hierarchy;  // folders, each ending in '/'
+    std::string data, hierarchy;  // folders, each ending in '/' ("" for the metadata's own)
 };
 
 Layout layout_of(const std::string& metadata_path) {
@@ -51,52 +84,67 @@ Layout layout_of(const std::string& metadata_path) {
 
 class HierarchyReader {
 public:
-    HierarchyReader(const std::string& metadata, const Layout& layout, EptNodes& out)
-        : metadata_(metadata), layout_(layout), out_(out) {}
+    HierarchyReader(const std::string& metadata, const Layout& layout, const EptLimits& limits)
+        : metadata_(metadata), layout_(layout), limits_(limits) {}
 
-    void read(const std::string& key, int depth) {
-        const std::string path = beside(metadata_, layout_.hierarchy + key + ".json");
-        if (depth > kMaxHierarchyDepth) throw Error(io::display_path(path), std::nullopt, "EPT hierarchy too deep");
-        const auto json = read_json(path);
-        for (const auto& item : json.items()) {
-            const std::string& node = item.key();
-            const auto& count = item.value();
-            if (!count.is_number_integer()) {
-                throw Error(io::display_path(path), std::nullopt, "hierarchy entry " + node + " is not a count");
-            }
-            const auto n = count.get<long long>();
-            if (n == -1 && node != key) {
-                read(node, depth + 1);
-            } else if (n > 0) {
-                nodes_[node] = beside(metadata_, layout_.data + node + ".laz");
+    // Reads the hierarchy from its root file, each file once.
+    void read_all() {
+        std::deque<std::string> queue{"0-0-0-0"};
+        files_.insert(queue.front());
+        while (!queue.empty()) {
+            const std::string key = std::move(queue.front());
+            queue.pop_front();
+            for (auto& next : read_file(key)) {
+                if (files_.insert(next).second) queue.push_back(std::move(next));
             }
         }
     }
     // The node paths, ordered by depth then x, y, z.
-    void finish() {
-        std::vector<std::pair<std::array<long long, 4>, std::string>> sorted;
-        for (const auto& [key, path] : nodes_) sorted.emplace_back(parse_key(key), path);
-        std::sort(sorted.begin(), sorted.end());
-        for (auto& [k, path] : sorted) out_.tiles.push_back(std::move(path));
+    std::vector<std::string> tiles() const {
+        std::vector<std::string> out;
+        for (const auto& [key, name] : nodes_) out.push_back(beside(metadata_, layout_.data + name + ".laz"));
+        return out;
     }
+    std::uint64_t files_read() const { return files_read_; }
 
 private:
-    static std::array<long long, 4> parse_key(const std::string& key) {
-        std::array<long long, 4> k{};
-        std::size_t at = 0;
-        for (auto& v : k) {
-            v = std::atoll(key.c_str() + at);
-            at = key.find('-', at);
-            if (at == std::string::npos) break;
-            ++at;
+    // Reads the hierarchy file of `key`; returns the keys of the sub-hierarchy files it names.
+    std::vector<std::string> read_file(const std::string& key) {
+        const auto file = io::File::open(beside(metadata_, layout_.hierarchy + key + ".json"));
+        bytes_ += file.size();
+        if (bytes_ > limits_.max_hierarchy_bytes) {
+            throw Error(file.path(), std::nullopt, "the EPT hierarchy is larger than the limit of " +
+                                                       std::to_string(limits_.max_hierarchy_bytes) + " bytes");
         }
-        return k;
+        ++files_read_;
+        std::vector<std::string> subtrees;
+        const auto json = read_json(file);
+        for (const auto& item : json.items()) {
+            const std::string& node = item.key();
+            const auto k = parse_key(node);
+            if (!k) {
+                throw Error(file.path(), std::nullopt, "hierarchy entry \"" + node + "\" is not a node key D-X-Y-Z");
+            }
+            if (!item.value().is_number_integer()) {
+                throw Error(file.path(), std::nullopt, "hierarchy entry " + node + " is not a count");
+            }
+            if (++entries_ > limits_.max_nodes) {
+                throw Error(file.path(), std::nullopt, "the EPT hierarchy has more than the limit of " +
+                                                           std::to_string(limits_.max_nodes) + " nodes");
+            }
+            const auto n = item.value().get<long long>();
+            if (n == -1 && node != key) subtrees.push_back(node);
+            if (n > 0) nodes_.emplace(*k, node);
+        }
+        return subtrees;
     }
 
     const std::string& metadata_;
     const Layout& layout_;
-    EptNodes& out_;
-    std::map<std::string, std::string> nodes_;
+    const EptLimits& limits_;
+    std::set<std::string> files_;             // hierarchy files read or queued, by key
+    std::map<NodeKey, std::string> nodes_;  // nodes with points
+    std::uint64_t bytes_ = 0, entries_ = 0, files_read_ = 0;
 };
 
 }  // namespace
@@ -106,7 +154,7 @@ bool is_ept_metadata(const std::string& path) {
     return name == "ept.json" || name == "entwine.json";
 }
 
-EptNodes ept_nodes(const std::string& metadata_path) {
+EptNodes ept_nodes(const std::string& metadata_path, const EptLimits& limits) {
     EptNodes out;
     try {
         const auto meta = read_json(metadata_path);
@@ -116,9 +164,15 @@ EptNodes ept_nodes(const std::string& metadata_path) {
                         "EPT data type \"" + type + "\" is not supported (only laszip nodes are tiles)");
         }
         const Layout layout = layout_of(metadata_path);
-        HierarchyReader reader(metadata_path, layout, out);
-        reader.read("0-0-0-0", 0);
-        reader.finish();
+        HierarchyReader reader(metadata_path, layout, limits);
+        try {
+            reader.read_all();
+            out.tiles = reader.tiles();
+        } catch (const Error&) {
+            out.hierarchy_files = reader.files_read();
+            throw;
+        }
+        out.hierarchy_files = reader.files_read();
     } catch (const Error& e) {
         out.errors.push_back(e.file().empty() ? io::display_path(metadata_path) + ": " + e.what() : e.what());
         out.tiles.clear();

@@ -4,11 +4,14 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <optional>
 #include <system_error>
 
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
+#include "net/origin_policy.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::dataset {
@@ -39,7 +42,11 @@ void search_folder(const fs::path& dir, FoundFiles& out) {
             found.push_back(it->path().string());
         }
     }
-    if (ec) out.errors.push_back(dir.string() + ": cannot list folder: " + ec.message());
+    if (ec) out.errors.push_back({dir.string(), dir.string() + ": cannot list folder: " + ec.message()});
+    if (!ec && found.empty()) {
+        out.errors.push_back(
+            {dir.string(), dir.string() + ": no .las or .laz file in this folder (searched recursively)"});
+    }
     std::sort(found.begin(), found.end());
     out.files.insert(out.files.end(), found.begin(), found.end());
 }
@@ -58,26 +65,35 @@ std::string read_head(const io::File& file, std::size_t n) {
 }
 
 // A tile list's entry as a path or URL: URLs as they are, relative entries against the list's
-// URL or folder.
-std::string resolve_entry(const std::string& list, const std::string& entry) {
-    if (net::is_url(list)) return net::resolve_url(list, entry);
-    if (net::is_url(entry) || fs::path(entry).is_absolute()) return entry;
-    return (fs::path(list).parent_path() / entry).string();
+// URL or folder. A remote list's entries keep its origin (net/origin_policy.hpp); nothing
+// when refused (the reason in `out.errors`).
+std::optional<std::string> resolve_entry(const std::string& list, const std::string& entry, FoundFiles& out) {
+    if (!net::is_url(list)) {
+        if (net::is_url(entry) || fs::path(entry).is_absolute()) return entry;
+        return (fs::path(list).parent_path() / entry).string();
+    }
+    std::string url = net::resolve_url(list, entry);
+    const std::string refusal = net::derived_url_refusal(list, url);
+    if (refusal.empty()) return url;
+    out.errors.push_back({io::display_path(url), io::display_path(url) + ": refused (an entry of the tile list " +
+                                                     io::display_path(list) + "): " + refusal});
+    return std::nullopt;
 }
 
-// The entries of a tile list (a file or a URL), resolved.
-std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out) {
+// The entries of a tile list (a file or a URL), resolved (entries refused by the origin policy are
+// reported in `out`); nullopt when the list cannot be read (reported too).
+std::optional<std::vector<std::string>> read_tile_list(const std::string& list, FoundFiles& out) {
     std::string text;
     try {
         text = read_head(io::File::open(list), kMaxTileList + 1);
     } catch (const Error& e) {
-        out.errors.push_back(std::string(e.what()) + " (tile list)");
-        return {};
+        out.errors.push_back({io::display_path(list), std::string(e.what()) + " (tile list)"});
+        return std::nullopt;
     }
     if (text.size() > kMaxTileList) {
-        out.errors.push_back(io::display_path(list) + ": tile list larger than " + std::to_string(kMaxTileList >> 20) +
-                             " MiB");
-        return {};
+        out.errors.push_back({io::display_path(list), io::display_path(list) + ": tile list larger than " +
+                                        std::to_string(kMaxTileList >> 20) + " MiB"});
+        return std::nullopt;
     }
     std::vector<std::string> entries;
     std::size_t start = 0;
@@ -86,17 +102,46 @@ std::vector<std::string> read_tile_list(const std::string& list, FoundFiles& out
         if (end == std::string::npos) end = text.size();
         const std::string line = trim(text.substr(start, end - start));
         start = end + 1;
-        if (!line.empty() && line[0] != '#') entries.push_back(resolve_entry(list, line));
+        if (line.empty() || line[0] == '#') continue;
+        if (auto entry = resolve_entry(list, line, out)) entries.push_back(std::move(*entry));
     }
     return entries;
 }
 
 void expand(const std::string& p, bool allow_lists, FoundFiles& out);
 
+// A tile list's entries, expanded. When none of them names anything (a CSV of points, a text file
+// given by mistake), the list gets one line saying so instead of a line per entry.
+void expand_list(const std::string& list, FoundFiles& out) {
+    const std::size_t errors_before = out.errors.size();
+    const auto read = read_tile_list(list, out);
+    if (!read) return;  // unreadable: already said
+    const std::vector<std::string>& entries = *read;
+    const bool refused = out.errors.size() > errors_before;
+    FoundFiles found;
+    for (const auto& entry : entries) expand(entry, false, found);
+    const bool nothing = !entries.empty() && found.files.empty() && found.errors.size() == entries.size() &&
+                         std::all_of(found.errors.begin(), found.errors.end(), [](const SkippedFile& e) {
+                             return e.error.find(": no such file or folder") != std::string::npos;
+                         });
+    if (nothing) {
+        out.errors.push_back({io::display_path(list), io::display_path(list) +
+                                                          ": not a LAS/LAZ file nor a tile list (none of its " +
+                                                          std::to_string(entries.size()) +
+                                                          " lines names a file, folder or URL)"});
+        return;
+    }
+    if (entries.empty() && !refused) {
+        out.errors.push_back({io::display_path(list), io::display_path(list) + ": tile list without entries"});
+    }
+    out.files.insert(out.files.end(), found.files.begin(), found.files.end());
+    for (auto& e : found.errors) out.errors.push_back({e.path, io::display_path(list) + ": " + e.error});
+}
+
 // A URL: a LAS/LAZ file, or (when lists are allowed) a tile list; folders cannot be listed.
 void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
     if (allow_lists && !has_point_cloud_extension(url)) {
-        for (const auto& entry : read_tile_list(url, out)) expand(entry, false, out);
+        expand_list(url, out);
     } else {
         out.files.push_back(url);
     }
@@ -106,20 +151,23 @@ void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
 void expand_ept(const std::string& metadata, FoundFiles& out) {
     auto nodes = ept_nodes(metadata);
     out.files.insert(out.files.end(), nodes.tiles.begin(), nodes.tiles.end());
-    out.errors.insert(out.errors.end(), nodes.errors.begin(), nodes.errors.end());
+    for (auto& e : nodes.errors) out.errors.push_back({io::display_path(metadata), std::move(e)});
 }
 
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
+    if (const std::string problem = net::url_problem(p); !problem.empty()) {
+        return out.errors.push_back({io::display_path(p), io::display_path(p) + ": " + problem});
+    }
     if (is_ept_metadata(p)) return expand_ept(p, out);
     if (net::is_url(p)) return expand_url(p, allow_lists, out);
     std::error_code ec;
     auto st = fs::status(p, ec);
     if (ec || !fs::exists(st)) {
-        out.errors.push_back(p + ": no such file or folder");
+        out.errors.push_back({p, p + ": no such file or folder"});
     } else if (fs::is_directory(st)) {
         search_folder(p, out);
     } else if (allow_lists && is_tile_list(p)) {
-        for (const auto& entry : read_tile_list(p, out)) expand(entry, false, out);
+        expand_list(p, out);
     } else {
         out.files.push_back(p);
     }
@@ -142,6 +190,72 @@ bool is_tile_list(const std::string& path) {
 FoundFiles find_point_cloud_files(const std::vector<std::string>& paths) {
     FoundFiles out;
     for (const auto& p : paths) expand(p, true, out);
+    return out;
+}
+
+namespace {
+
+// A folder that holds a virtual replica's manifest is that replica (its own folder has no tiles).
+std::string replica_or_path(const std::string& p) {
+    std::error_code ec;
+    if (net::is_url(p) || !fs::is_directory(p, ec)) return p;
+    const std::string manifest = (fs::path(p) / kReplicaManifestName).string();
+    return fs::is_regular_file(manifest, ec) && is_virtual_replica(manifest) ? manifest : p;
+}
+
+}  // namespace
+
+FoundSources find_tile_sources(const std::vector<std::string>& given) {
+    FoundSources out;
+    for (const auto& g : given) {
+        const std::string p = replica_or_path(g);
+        if (!is_virtual_replica(p)) {
+            FoundFiles found = find_point_cloud_files({p});
+            for (auto& f : found.files) out.sources.push_back({std::move(f), std::nullopt, {}});
+            out.errors.insert(out.errors.end(), found.errors.begin(), found.errors.end());
+            continue;
+        }
+        try {
+            for (auto& v : read_virtual_replica(p)) out.sources.push_back({std::move(v.path), v.shift, v.name});
+        } catch (const Error& e) {
+            out.errors.push_back({p, e.what()});
+        }
+    }
+    return out;
+}
+
+namespace {
+
+// One local path of local_inputs(): the path and what it names.
+void add_local_input(const std::string& p, bool allow_lists, std::vector<std::string>& out) {
+    if (net::is_url(p)) return;
+    out.push_back(p);
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) return;
+    if (is_ept_metadata(p)) {
+        out.push_back(fs::path(p).parent_path().empty() ? "." : fs::path(p).parent_path().string());
+    } else if (is_virtual_replica(p)) {
+        try {
+            for (const auto& source : read_virtual_replica(p)) out.push_back(source.path);
+        } catch (const Error&) {
+            // a malformed manifest is reported when the dataset is opened
+        }
+    } else if (allow_lists && is_tile_list(p)) {
+        FoundFiles ignored;
+        for (const auto& entry : read_tile_list(p, ignored).value_or(std::vector<std::string>{})) {
+            add_local_input(entry, false, out);
+        }
+    }
+}
+
+}  // namespace
+
+std::vector<std::string> local_inputs(const std::vector<std::string>& paths) {
+    std::vector<std::string> out;
+    for (const auto& p : paths) {
+        add_local_input(p, true, out);
+        if (const std::string replica = replica_or_path(p); replica != p) add_local_input(replica, false, out);
+    }
     return out;
 }
 

@@ -4,14 +4,23 @@
 // and http(s) URLs of any of these but folders.
 #pragma once
 
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace lidarscout::dataset {
 
+// A path that gives no tile: the path as the user (or a list) named it, and one line naming it
+// and the cause.
+struct SkippedFile {
+    std::string path;
+    std::string error;
+};
+
 struct FoundFiles {
     std::vector<std::string> files;   // LAS/LAZ files, folders expanded, sorted per argument
-    std::vector<std::string> errors;  // one message per path that does not exist / cannot be listed
+    std::vector<SkippedFile> errors;  // one per path that does not exist / cannot be listed / holds no tile
 };
 
 bool has_point_cloud_extension(const std::string& path);
@@ -27,5 +36,29 @@ bool is_tile_list(const std::string& path);
 // not further lists); an EPT metadata file gives its nodes; any other file or URL is kept as
 // given (whatever its extension; reading it reports what is wrong).
 FoundFiles find_point_cloud_files(const std::vector<std::string>& paths);
+
+// A tile to read: a file, or a virtual replica's source with its x/y shift (in its own units)
+// and its name in the replica's grid (for display).
+struct TileSource {
+    std::string path;
+    std::optional<std::array<double, 2>> shift;
+    std::string name;  // "" for a plain file
+};
+
+struct FoundSources {
+    std::vector<TileSource> sources;
+    std::vector<SkippedFile> errors;
+};
+
+// find_point_cloud_files, with virtual replica manifests (dataset/virtual_replica.hpp) among the
+// paths opened as their shifted tiles: what every command that reads tiles opens, so that a
+// folder, a tile list and a manifest mean the same to all of them.
+FoundSources find_tile_sources(const std::vector<std::string>& paths);
+
+// Every local file and folder that reading `paths` touches, for the output check
+// (io/output_check.hpp), without searching folders or reading a tile: the paths themselves, the
+// entries of tile lists, the source tiles of virtual replica manifests, a local EPT dataset's
+// folder. URLs and paths that cannot be read are left out (reading them reports the cause).
+std::vector<std::string> local_inputs(const std::vector<std::string>& paths);
 
 }  // namespace lidarscout::dataset

@@ -15,6 +15,8 @@ namespace lidarscout::dataset {
 
 // The manifest's keys that mark it (written by synth/replicate.cpp).
 inline constexpr const char* kReplicaTool = "lidarscout synth replicate";
+// The manifest's name in the replica's folder; a folder holding a virtual one opens as the replica.
+inline constexpr const char* kReplicaManifestName = "replicate.json";
 
 struct ShiftedSource {
     std::string path;               // the source tile (absolute)

@@ -3,7 +3,9 @@
 #include "geo/projection.hpp"
 
 #include <proj.h>
+#include <strings.h>
 
+#include <atomic>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -43,7 +45,18 @@ public:
         PJ* p = own(proj_create(ctx_, definition.c_str()),
                     "PROJ does not understand the CRS '" + shorten(definition) + "'");
         if (!proj_is_crs(p)) fail("'" + shorten(definition) + "' is not a coordinate reference system");
+        refuse_fuzzy_name(definition, p);
         return p;
+    }
+
+    // PROJ takes a bare word for a CRS name and picks the nearest one ("foo" -> "Amersfoort"):
+    // only an exact name (any case) is accepted that way.
+    static void refuse_fuzzy_name(const std::string& definition, PJ* p) {
+        if (definition.find_first_of(":+[{") != std::string::npos) return;  // EPSG:n, a PROJ string, WKT, PROJJSON
+        const char* name = proj_get_name(p);
+        if (name && strcasecmp(name, definition.c_str()) == 0) return;
+        fail("unknown CRS '" + shorten(definition) + "' (give EPSG:code, WKT or a PROJ string; PROJ's nearest "
+             "name is '" + std::string(name ? name : "?") + "')");
     }
 
     static std::string shorten(const std::string& s) { return s.size() > 80 ? s.substr(0, 77) + "..." : s; }
@@ -169,6 +182,8 @@ void CrsTransform::apply_bounds(double& min_x, double& min_y, double& max_x, dou
 
 namespace {
 
+std::atomic<std::size_t> g_lonlat_made{0};
+
 // Transforms to lon/lat kept per source CRS: making one searches PROJ's database (milliseconds),
 // and the thousands of tiles of a survey share a handful of CRSs.
 std::shared_ptr<const CrsTransform> to_lonlat(const std::string& definition) {
@@ -178,12 +193,15 @@ std::shared_ptr<const CrsTransform> to_lonlat(const std::string& definition) {
     std::lock_guard lock(mutex);
     if (const auto it = kept.find(definition); it != kept.end()) return it->second;
     auto made = std::make_shared<const CrsTransform>(definition, "EPSG:4326");  // throws: nothing kept
+    g_lonlat_made.fetch_add(1);
     if (kept.size() >= kKept) kept.clear();
     kept.emplace(definition, made);
     return made;
 }
 
 }  // namespace
+
+std::size_t lonlat_transforms_made() { return g_lonlat_made.load(); }
 
 LonLatBounds lonlat_bounds(const std::string& definition, double min_x, double min_y, double max_x, double max_y) {
     to_lonlat(definition)->apply_bounds(min_x, min_y, max_x, max_y);

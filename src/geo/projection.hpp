@@ -68,5 +68,8 @@ private:
 
 // The lon/lat bounds of a box in `definition`'s native units.
 LonLatBounds lonlat_bounds(const std::string& definition, double min_x, double min_y, double max_x, double max_y);
+// How many lon/lat transforms lonlat_bounds made so far (each a search of PROJ's database); the
+// tiles of a survey that share a CRS share one.
+std::size_t lonlat_transforms_made();
 
 }  // namespace lidarscout::geo

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "io/file.hpp"
+#include "io/output_check.hpp"
 #include "io/temporary_files.hpp"
 
 namespace lidarscout::io {
@@ -22,6 +23,7 @@ AtomicOutputFile::AtomicOutputFile(std::string target, const std::string& protec
     if (!protect.empty() && fs::exists(target_, ec) && fs::equivalent(target_, protect, ec)) {
         throw Error(target_, std::nullopt, "refusing to overwrite the input file");
     }
+    refuse_protected_input(target_);
     const auto dir = fs::path(target_).parent_path();
     const auto name = fs::path(target_).filename().string();
     temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()))).string();

@@ -16,7 +16,8 @@ class TemporaryFileGuard;
 
 class AtomicOutputFile {
 public:
-    // Refuses (lidarscout::Error) when `target` names the same file as `protect` (an input).
+    // Refuses (lidarscout::Error) when `target` names the same file as `protect` or as an input
+    // registered with io::protect_inputs (output_check.hpp).
     AtomicOutputFile(std::string target, const std::string& protect = {});
     ~AtomicOutputFile();
     AtomicOutputFile(const AtomicOutputFile&) = delete;

@@ -10,7 +10,10 @@
 // is an error, and its body is not downloaded; neither is any response larger than asked.
 // Time-outs, dropped connections, 429 and 5xx are retried with exponential backoff; a cut
 // single-range body resumes where it stopped. TLS peers are verified against the system CA
-// store (or the CAs of HttpSettings::ca_file), and redirects may not change the scheme.
+// store (or the CAs of HttpSettings::ca_file), and redirects may not change the scheme or
+// (unless allowed, net/origin_policy.hpp) the origin. A request has a deadline that grows
+// with the bytes it asks for (a minimum rate after a grace period), so a server trickling its
+// body cannot hold a request for long.
 #pragma once
 
 #include <chrono>
@@ -30,6 +33,10 @@ struct HttpSettings {
     std::chrono::milliseconds backoff{200};          // before the first retry; doubled each time
     long connect_timeout_s = 15;
     long stall_timeout_s = 30;                       // a transfer receiving nothing this long is retried
+    // The deadline of a request's bytes: `deadline_grace` plus the bytes asked at `min_rate`
+    // bytes per second (all attempts together); a request past it fails. 0: no deadline.
+    std::uint64_t min_rate = 16 * 1024;
+    std::chrono::milliseconds deadline_grace{30'000};
     unsigned connections_per_host = 256;             // HTTP/1.1 keep-alive pool size (latency-bound reads)
     std::size_t max_range_header = 6000;             // characters of one Range header
     std::string ca_file;                             // PEM CAs to verify TLS peers with ("" = the system's)

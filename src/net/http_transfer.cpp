@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <map>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "net/origin_policy.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::net {
@@ -62,6 +64,12 @@ ByteRange HttpTransfer::asked_now() const {
     return {whole.offset + attempt_start_, whole.length - attempt_start_};
 }
 
+std::uint64_t HttpTransfer::asked_bytes() const {
+    std::uint64_t sum = 0;
+    for (const auto i : ranges_) sum += job_->request.ranges[i].length;
+    return sum;
+}
+
 std::uint64_t HttpTransfer::body_limit() const {
     if (ranges_.size() == 1) return asked_now().length;
     std::uint64_t sum = 0;
@@ -82,6 +90,11 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     attempt_start_ = body_.size();
     attempt_body_ = attempt_headers_ = 0;
     curl_error_[0] = '\0';
+    location_.clear();
+    if (attempts_ == 1) {
+        min_rate_ = s.min_rate;
+        grace_ = s.deadline_grace;
+    }
 
     std::vector<ByteRange> asked;
     if (ranges_.size() == 1) {
@@ -110,6 +123,9 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     curl_easy_setopt(easy_, CURLOPT_CONNECTTIMEOUT, s.connect_timeout_s);
     curl_easy_setopt(easy_, CURLOPT_LOW_SPEED_LIMIT, 1L);
     curl_easy_setopt(easy_, CURLOPT_LOW_SPEED_TIME, s.stall_timeout_s);
+    curl_easy_setopt(easy_, CURLOPT_NOPROGRESS, 0L);  // the progress callback keeps the deadline
+    curl_easy_setopt(easy_, CURLOPT_XFERINFOFUNCTION, &HttpTransfer::on_progress);
+    curl_easy_setopt(easy_, CURLOPT_XFERINFODATA, this);
     curl_easy_setopt(easy_, CURLOPT_USERAGENT, "lidarscout");
     curl_easy_setopt(easy_, CURLOPT_ERRORBUFFER, curl_error_);
     curl_easy_setopt(easy_, CURLOPT_HEADERFUNCTION, &HttpTransfer::on_header);
@@ -132,10 +148,31 @@ std::uint64_t HttpTransfer::new_connections() const {
     return static_cast<std::uint64_t>(std::max(0L, count));
 }
 
+// The deadline's clock starts with the first attempt's progress (not while the request waits
+// for a connection of libcurl's pool), and a request past it is stopped.
+int HttpTransfer::on_progress(void* self, curl_off_t, curl_off_t, curl_off_t, curl_off_t) {
+    auto* t = static_cast<HttpTransfer*>(self);
+    if (!t->min_rate_) return 0;
+    const auto now = std::chrono::steady_clock::now();
+    if (!t->clock_started_) {
+        t->clock_started_ = true;
+        t->started_ = now;
+        const double seconds = static_cast<double>(t->asked_bytes()) / static_cast<double>(t->min_rate_);
+        t->deadline_ = now + t->grace_ +
+                       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::duration<double>(seconds));
+    }
+    if (now < t->deadline_) return 0;
+    t->abort_ = TransferOutcome::Fail;
+    t->message_ = t->deadline_message();
+    return 1;  // stops the transfer
+}
+
 std::size_t HttpTransfer::on_header(char* data, std::size_t size, std::size_t n, void* self) {
     auto* t = static_cast<HttpTransfer*>(self);
     t->attempt_headers_ += size * n;
     t->header_line(std::string_view(data, size * n));
+    const bool end_of_headers = trim(std::string_view(data, size * n)).empty();
+    if (end_of_headers && t->status_ >= 300 && t->status_ < 400 && !t->check_redirect()) return 0;  // stops it
     return size * n;
 }
 
@@ -143,7 +180,7 @@ void HttpTransfer::header_line(std::string_view line) {
     line = trim(line);
     if (line.rfind("HTTP/", 0) == 0) {  // a new response (after a redirect or 100 Continue)
         status_ = 0;
-        content_range_.clear(), content_type_.clear(), etag_.clear(), last_modified_.clear();
+        content_range_.clear(), content_type_.clear(), etag_.clear(), last_modified_.clear(), location_.clear();
         const auto space = line.find(' ');
         if (space != std::string_view::npos) status_ = std::atol(std::string(line.substr(space + 1, 3)).c_str());
         return;
@@ -156,6 +193,26 @@ void HttpTransfer::header_line(std::string_view line) {
     else if (name == "content-type") content_type_ = value;
     else if (name == "etag") etag_ = value;
     else if (name == "last-modified") last_modified_ = value;
+    else if (name == "location") location_ = value;
+}
+
+// A redirect is followed (by libcurl) only to the scheme and origin of the URL asked for,
+// or to an origin the user allowed; never from https to http.
+bool HttpTransfer::check_redirect() {
+    if (location_.empty()) return true;  // nothing to follow
+    const char* current = nullptr;
+    curl_easy_getinfo(easy_, CURLINFO_EFFECTIVE_URL, &current);
+    const std::string target = resolve_url(current ? current : job_->request.url, location_);
+    const std::string& asked = job_->request.url;
+    if (url_scheme(target) != url_scheme(asked)) {
+        message_ = "a redirect to another scheme is refused (to " + redact_url(target) + ")";
+    } else if (const std::string refusal = derived_url_refusal(asked, target); !refusal.empty()) {
+        message_ = "a redirect to " + redact_url(target) + " is refused: " + refusal;
+    } else {
+        return true;
+    }
+    abort_ = TransferOutcome::Fail;
+    return false;
 }
 
 std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, void* self) {
@@ -222,9 +279,39 @@ TransferOutcome HttpTransfer::fail(std::string message) {
     return TransferOutcome::Fail;
 }
 
+bool HttpTransfer::single_body_complete() const {
+    if (ranges_.size() != 1 || !body_started_) return false;
+    const auto got = parse_content_range(content_range_);
+    return got && body_.size() - attempt_start_ >= got->range.length;
+}
+
+bool HttpTransfer::past_deadline() const {
+    return min_rate_ && clock_started_ && std::chrono::steady_clock::now() >= deadline_;
+}
+
+std::string HttpTransfer::deadline_message() const {
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    const double allowed = std::chrono::duration<double>(deadline_ - started_).count();
+    const std::uint64_t got = ranges_.size() == 1 ? body_.size() : attempt_body_;
+    char text[160];
+    std::snprintf(text, sizeof text, " bytes in %.1f s, past its deadline of %.1f s (%.1f s, then %llu bytes/s; "
+                  "--min-rate)", took, allowed, std::chrono::duration<double>(grace_).count(),
+                  static_cast<unsigned long long>(min_rate_));
+    return "the server sent " + std::to_string(got) + " of " + std::to_string(asked_bytes()) + text;
+}
+
 TransferOutcome HttpTransfer::judge_transport(CURLcode code) {
     message_ = curl_error_[0] ? std::string(curl_error_) : std::string(curl_easy_strerror(code));
-    if (code == CURLE_UNSUPPORTED_PROTOCOL) message_ += " (a redirect to another scheme is refused)";
+    if (code == CURLE_UNSUPPORTED_PROTOCOL && message_.find("HTTP/0.9") != std::string::npos) {
+        // (libcurl then closes the connection: a retry starts on a fresh one)
+        message_ = "the server's answer does not start as an HTTP response (stray bytes after an earlier "
+                   "response on the same connection?)";
+        return TransferOutcome::Retry;
+    }
+    if (single_body_complete()) {  // every byte of the Content-Range arrived, yet the transfer did not end
+        return fail("the response ended badly (" + message_ + ") after all the bytes of its Content-Range " +
+                    content_range_ + ": its Content-Length does not match its Content-Range");
+    }
     if (!retryable(code)) return TransferOutcome::Fail;
     // a cut single-range body resumes from what arrived; a cut multipart body starts again
     if (ranges_.size() > 1) body_.clear();
@@ -245,6 +332,12 @@ TransferOutcome HttpTransfer::judge_status() {
 }
 
 TransferOutcome HttpTransfer::finish_attempt(CURLcode code) {
+    const TransferOutcome outcome = judge_attempt(code);
+    if (outcome == TransferOutcome::Retry && past_deadline()) return fail(deadline_message());
+    return outcome;
+}
+
+TransferOutcome HttpTransfer::judge_attempt(CURLcode code) {
     if (abort_ != TransferOutcome::Done) {
         if (abort_ == TransferOutcome::Retry && ranges_.size() > 1) body_.clear();
         if (abort_ == TransferOutcome::Retry && ranges_.size() == 1) body_.resize(attempt_start_);

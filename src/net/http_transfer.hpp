@@ -1,7 +1,8 @@
 // One HTTP attempt at some of a request's ranges: the libcurl easy handle with its options
-// (TLS verification, same-scheme redirects, time-outs), the header and body callbacks that
-// stop a wrong response early (status 200 to a Range request, a body larger than asked), and
-// the validation of the finished response (206, Content-Range, length, validator).
+// (TLS verification, same-scheme redirects, time-outs, the deadline), the header and body
+// callbacks that stop a wrong response early (status 200 to a Range request, a body larger
+// than asked, a redirect to another scheme or origin), and the validation of the finished
+// response (206, Content-Range, length, validator).
 #pragma once
 
 #include <curl/curl.h>
@@ -58,15 +59,22 @@ public:
 private:
     static std::size_t on_header(char* data, std::size_t size, std::size_t n, void* self);
     static std::size_t on_body(char* data, std::size_t size, std::size_t n, void* self);
+    static int on_progress(void* self, curl_off_t, curl_off_t, curl_off_t, curl_off_t);
     void header_line(std::string_view line);
     bool accept_body_start();
     bool check_single_range_start();
+    TransferOutcome judge_attempt(CURLcode code);
     TransferOutcome judge_transport(CURLcode code);
     TransferOutcome judge_status();
     TransferOutcome take_single();
     TransferOutcome take_multipart();
     bool validator_matches();
     TransferOutcome fail(std::string message);
+    bool check_redirect();           // at the end of a 3xx response's headers
+    bool single_body_complete() const;
+    bool past_deadline() const;
+    std::string deadline_message() const;
+    std::uint64_t asked_bytes() const;
     ByteRange asked_now() const;  // the single range this attempt asks for (resumed part left out)
     std::uint64_t body_limit() const;
 
@@ -81,7 +89,11 @@ private:
 
     // the response of this attempt (the last one when redirected)
     long status_ = 0;
-    std::string content_range_, content_type_, etag_, last_modified_;
+    std::string content_range_, content_type_, etag_, last_modified_, location_;
+    bool clock_started_ = false;  // the deadline's: at the first attempt's first progress
+    std::chrono::steady_clock::time_point started_{}, deadline_{};
+    std::chrono::milliseconds grace_{0};
+    std::uint64_t min_rate_ = 0;
     bool body_started_ = false;
     TransferOutcome abort_ = TransferOutcome::Done;  // set when a callback stopped the transfer
     std::string message_;

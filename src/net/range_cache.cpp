@@ -1,7 +1,10 @@
-// The on-disk range cache: entry files (a count, then each part's length and bytes),
-// written under a temporary name and renamed, evicted least recently used first.
+// The on-disk range cache: entry files (a magic, a count, then each part's length, SHA-256 and
+// bytes), written under a temporary name and renamed, checked when read, evicted least
+// recently used first.
 #include "net/range_cache.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,8 +12,12 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <string_view>
+#include <utility>
+#include <variant>
 
 #include "core/sha256.hpp"
+#include "net/url.hpp"
 
 namespace lidarscout::net {
 
@@ -19,6 +26,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::uint64_t kMaxParts = 1u << 20;
+constexpr std::string_view kMagic = "LSRANGE2";   // the entry format (8 bytes)
+constexpr std::size_t kDigest = 64;               // a part's SHA-256, in hex
 
 void put_u64(std::string& out, std::uint64_t v) {
     for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>(v >> (8 * i)));
@@ -32,20 +41,86 @@ bool get_u64(const std::string& in, std::size_t& at, std::uint64_t& v) {
     return true;
 }
 
-// The parts of an entry file's content, or nothing when it is damaged or does not fit `request`.
-std::optional<std::vector<std::vector<std::uint8_t>>> decode(const std::string& in, const RangeRequest& request) {
-    std::size_t at = 0;
+std::string digest(const std::uint8_t* data, std::size_t n) { return sha256_hex(std::span(data, n)); }
+
+// The entry file's bytes for `reply`: magic, part count, then each part's length, SHA-256 and bytes.
+std::string encode(const RangeReply& reply) {
+    std::string out(kMagic);
+    put_u64(out, reply.parts.size());
+    for (const auto& p : reply.parts) {
+        put_u64(out, p.size());
+        out += digest(p.data(), p.size());
+        out.append(p.begin(), p.end());
+    }
+    return out;
+}
+
+// The largest entry `request` can have (every range whole).
+std::uint64_t max_entry_size(const RangeRequest& request) {
+    std::uint64_t size = kMagic.size() + 8;
+    for (const auto& r : request.ranges) size += 8 + kDigest + r.length;
+    return size;
+}
+
+using Parts = std::vector<std::vector<std::uint8_t>>;
+
+// The parts of an entry file's content, or why it cannot be used for `request`.
+std::variant<Parts, std::string> decode(const std::string& in, const RangeRequest& request) {
+    if (in.compare(0, kMagic.size(), kMagic) != 0) return std::string("not an entry of this version");
+    std::size_t at = kMagic.size();
     std::uint64_t n = 0;
-    if (!get_u64(in, at, n) || n != request.ranges.size() || n > kMaxParts) return std::nullopt;
-    std::vector<std::vector<std::uint8_t>> parts(n);
+    if (!get_u64(in, at, n) || n != request.ranges.size() || n > kMaxParts) return std::string("wrong part count");
+    Parts parts(n);
     for (std::uint64_t i = 0; i < n; ++i) {
         std::uint64_t len = 0;
-        if (!get_u64(in, at, len) || len > request.ranges[i].length || len > in.size() - at) return std::nullopt;
-        parts[i].assign(in.begin() + at, in.begin() + at + len);
+        if (!get_u64(in, at, len) || len > request.ranges[i].length || in.size() - at < kDigest ||
+            len > in.size() - at - kDigest) {
+            return "part " + std::to_string(i) + " has an impossible length";
+        }
+        const std::string stored = in.substr(at, kDigest);
+        at += kDigest;
+        const auto* data = reinterpret_cast<const std::uint8_t*>(in.data() + at);
+        if (digest(data, len) != stored) return "part " + std::to_string(i) + " does not match its SHA-256";
+        parts[i].assign(data, data + len);
         at += len;
     }
-    if (at != in.size()) return std::nullopt;
+    if (at != in.size()) return std::string("bytes after its last part");
     return parts;
+}
+
+// An entry file as read: absent, or its bytes, or why they were not read.
+struct EntryFile {
+    bool exists = false;
+    std::string content;
+    std::string problem;  // "" when `content` is the whole file
+};
+
+// Reads the whole entry file, only when its size (fstat) is possible for `request`.
+EntryFile read_entry(const fs::path& path, const RangeRequest& request) {
+    EntryFile entry;
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) return entry;
+    entry.exists = true;
+    struct stat st {};
+    const std::uint64_t max = max_entry_size(request);
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        entry.problem = "not a regular file";
+    } else if (static_cast<std::uint64_t>(st.st_size) > max) {
+        entry.problem = "its size, " + std::to_string(st.st_size) + " bytes, is more than its ranges can hold (" +
+                        std::to_string(max) + ")";
+    } else {
+        entry.content.resize(static_cast<std::size_t>(st.st_size));
+        std::size_t done = 0;
+        while (done < entry.content.size()) {
+            const ssize_t got = ::pread(fd, entry.content.data() + done, entry.content.size() - done,
+                                        static_cast<off_t>(done));
+            if (got <= 0) break;
+            done += static_cast<std::size_t>(got);
+        }
+        if (done != entry.content.size()) entry.problem = "it could not be read whole";
+    }
+    ::close(fd);
+    return entry;
 }
 
 std::mutex& shared_mutex() {
@@ -92,29 +167,39 @@ fs::path RangeCache::entry_path(const RangeRequest& request) const {
 std::optional<std::vector<std::vector<std::uint8_t>>> RangeCache::find(const RangeRequest& request) {
     if (!enabled() || request.validator.empty()) return std::nullopt;
     const fs::path path = entry_path(request);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return std::nullopt;
-    const std::string content{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    auto parts = decode(content, request);
+    const EntryFile entry = read_entry(path, request);
+    if (!entry.exists) return std::nullopt;
+    if (!entry.problem.empty()) return drop(path, request, entry.problem), std::nullopt;
+    auto parts = decode(entry.content, request);
+    if (parts.index() == 1) return drop(path, request, std::get<1>(parts)), std::nullopt;
     std::error_code ec;
-    if (!parts) {
-        fs::remove(path, ec);  // damaged: fetched again
-        return std::nullopt;
-    }
     fs::last_write_time(path, fs::file_time_type::clock::now(), ec);  // recently used
     std::lock_guard lock(mutex_);
     ++hits_;
-    return parts;
+    return std::move(std::get<0>(parts));
+}
+
+void RangeCache::drop(const fs::path& path, const RangeRequest& request, const std::string& why) {
+    std::error_code ec;
+    fs::remove(path, ec);
+    const auto& first = request.ranges.front();
+    const std::string ranges = request.ranges.size() == 1
+                                   ? "bytes " + std::to_string(first.offset) + "-" + std::to_string(first.last())
+                                   : std::to_string(request.ranges.size()) + " ranges";
+    const std::string message = "the range cache entry " + path.string() + " (" + redact_url(request.url) + ", " +
+                                ranges + ") was dropped and fetched again: " + why;
+    std::lock_guard lock(mutex_);
+    diagnostics_.add({DiagnosticLevel::warning, path.string(), std::nullopt, message});
+}
+
+Diagnostics RangeCache::take_diagnostics() {
+    std::lock_guard lock(mutex_);
+    return std::exchange(diagnostics_, {});
 }
 
 void RangeCache::store(const RangeRequest& request, const RangeReply& reply) {
     if (!enabled() || request.validator.empty() || !reply.error.empty()) return;
-    std::string content;
-    put_u64(content, reply.parts.size());
-    for (const auto& p : reply.parts) {
-        put_u64(content, p.size());
-        content.append(p.begin(), p.end());
-    }
+    const std::string content = encode(reply);
     const fs::path path = entry_path(request);
     std::error_code ec;
     fs::create_directories(path.parent_path(), ec);

@@ -7,6 +7,11 @@
 // temporary name and renamed; when the total passes the limit the least recently used
 // entries are removed. The folder defaults to $XDG_CACHE_HOME/lidarscout/http (or
 // ~/.cache/lidarscout/http); a limit of 0 turns the cache off.
+//
+// Every stored range carries its SHA-256, written with the entry and checked on every read;
+// an entry's size is checked (fstat) before anything is read, against what its request can
+// hold. An entry that fails (damaged on disk, replaced, truncated, of another version) is
+// removed and fetched again, with a diagnostic naming it (take_diagnostics()).
 #pragma once
 
 #include <cstdint>
@@ -16,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/diagnostic.hpp"
 #include "net/http_client.hpp"
 
 namespace lidarscout::net {
@@ -42,17 +48,21 @@ public:
     void store(const RangeRequest& request, const RangeReply& reply);
 
     std::uint64_t hits() const;
+    // What was noticed since the last call (entries dropped), for the CLI edge to show.
+    Diagnostics take_diagnostics();
 
 private:
     std::filesystem::path entry_path(const RangeRequest& request) const;
     void evict_if_needed();
     void scan_total();
+    void drop(const std::filesystem::path& path, const RangeRequest& request, const std::string& why);
 
     RangeCacheSettings settings_;
     mutable std::mutex mutex_;
     bool scanned_ = false;
     std::uint64_t total_ = 0;
     std::uint64_t hits_ = 0;
+    Diagnostics diagnostics_;
 };
 
 }  // namespace lidarscout::net

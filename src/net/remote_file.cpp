@@ -99,6 +99,9 @@ RemoteFile::RemoteFile(std::string url, RangeReply&& head)
 void RemoteFile::set_tail(RangeReply&& reply) { tail_ = std::move(reply.parts.at(0)); }
 
 std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
+    if (const std::string problem = url_problem(url); !problem.empty()) {
+        throw Error(redact_url(url), std::nullopt, problem);
+    }
     if (auto f = registered(url)) return f;
     if (auto pending = opening(url)) {
         if (auto f = pending->get()) return f;  // else open it again here, to report the failure
@@ -145,7 +148,7 @@ void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared
 
 void RemoteFile::prefetch(std::span<const std::string> urls) {
     for (const auto& url : urls) {
-        if (!is_url(url)) continue;
+        if (!is_url(url) || !url_problem(url).empty()) continue;
         auto opened = std::make_shared<std::promise<std::shared_ptr<const RemoteFile>>>();
         {
             auto& r = registry();

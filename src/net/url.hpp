@@ -1,8 +1,11 @@
-// URLs as paths: telling an http(s) URL from a file path, removing the credentials a URL
-// may carry before it is shown anywhere, and resolving a relative URL against the URL of
-// the list that names it.
+// URLs as paths: telling an http(s) URL from a file path, parsing one into its parts (RFC
+// 3986's generic syntax), removing the secrets a URL may carry (its "user:password@" and
+// query parameters that are credentials: signed S3, GCS and Azure URLs, tokens, keys) before
+// it is shown anywhere, refusing one whose credentials hold unencoded delimiters, and
+// resolving a relative URL against the URL of the list or dataset that names it.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -11,11 +14,34 @@ namespace lidarscout::net {
 // True for "http://..." and "https://..." (scheme case-insensitive).
 bool is_url(std::string_view path);
 
-// The URL without "user:password@" (the form shown to users, in errors and in JSON).
+// The parts of an http(s) URL "scheme://userinfo@host:port/path?query#fragment", as written.
+struct UrlParts {
+    std::string scheme;              // lower case
+    std::optional<std::string> userinfo;
+    std::string host;                // "[...]" kept for IPv6
+    std::string port;                // "" when none
+    std::string path, query, fragment;  // path with its leading '/'; query and fragment without '?' / '#'
+};
+// The parts of `url`, or nothing when it is not an http(s) URL.
+std::optional<UrlParts> parse_url(std::string_view url);
+
+// Why `url` cannot be used as it is written, or "" when it can: credentials holding an
+// unencoded '#', '?' or '/' (which would end them early and send the rest of the password
+// elsewhere), or a port that is not a number.
+std::string url_problem(std::string_view url);
+
+// The URL as shown to users, in errors, logs and JSON: without "user:password@" and with the
+// values of credential query parameters (X-Amz-Signature, X-Amz-Credential,
+// X-Amz-Security-Token, X-Goog-Signature, sig, token, key, signature, access_token, ...)
+// replaced by "REDACTED". Anything that is not a URL is returned as it is.
 std::string redact_url(std::string_view url);
 
 // The scheme in lower case ("http" or "https"); empty when `url` is not one.
 std::string url_scheme(std::string_view url);
+
+// "scheme://host:port" of `url`, scheme and host in lower case, the port always given (80
+// and 443 by default); empty when `url` is not an http(s) URL.
+std::string url_origin(std::string_view url);
 
 // `reference` resolved against `base` (RFC 3986 in its common forms): an absolute URL as
 // is, "//host/x" with base's scheme, "/x" from base's host, anything else relative to the

@@ -3,6 +3,8 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <string_view>
 
 #include "core/error.hpp"
 #include "core/plugin_paths.hpp"
@@ -38,6 +40,16 @@ std::string default_model_path() {
         tried += (tried.empty() ? "" : ", ") + p;
     }
     throw Error("no heightmap network model found (give --model PATH or set LIDARSCOUT_MODEL); looked in: " + tried);
+}
+
+void check_model_file(const std::string& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) throw Error(path, std::nullopt, "no such heightmap network model file");
+    char magic[4] = {};
+    std::ifstream in(path, std::ios::binary);
+    if (!in.read(magic, sizeof magic) || std::string_view(magic, 4) != std::string_view("PK\x03\x04", 4)) {
+        throw Error(path, 0, "not a TorchScript model (torch.jit.save writes a zip archive)");
+    }
 }
 
 struct HeightmapNetwork::Impl {

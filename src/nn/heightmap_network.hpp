@@ -25,6 +25,9 @@ inline constexpr char kDefaultModelName[] = "heightmap_cnn.pt";
 std::vector<std::string> model_candidates();
 // The first candidate that exists; throws lidarscout::Error listing them all when none does.
 std::string default_model_path();
+// Throws lidarscout::Error naming `path` when it is not a readable TorchScript file (a zip archive,
+// as torch.jit.save writes): a cheap check before a window opens, without loading LibTorch.
+void check_model_file(const std::string& path);
 
 class HeightmapNetwork {
 public:

@@ -193,6 +193,12 @@ TrainingDataSummary write_training_data(
             if (progress) progress(d, done, total);
         });
     }
+    if (w.samples.empty()) {
+        throw Error::in_stage("training data", "no sample in " + std::to_string(datasets.size()) +
+                                                   " dataset(s) (" + std::to_string(w.summary.dropped_at_split_border) +
+                                                   " dropped at split borders; patches need enough chunk points and "
+                                                   "ground truth at each --texel); nothing written");
+    }
     const RecordLayout layout;  // the default 96 / 64 texels (PatchSpec defaults)
     const nlohmann::json meta = {
         {"format", "lidarscout-train"},

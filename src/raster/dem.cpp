@@ -12,6 +12,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "raster/block_raster.hpp"
+#include "raster/dem_grid.hpp"
 #include "raster/hillshade.hpp"
 #include "raster/overview_dem.hpp"
 
@@ -86,6 +87,37 @@ void check_memory(const dataset::Dataset& ds, const DemGrid& g, const DemRequest
                   g.width, g.height, g.texel_m, gigabytes(4.0 * g.width * g.height).c_str(), gigabytes(need).c_str(),
                   gigabytes(budget).c_str(), std::ceil(texel / step) * step);
     throw Error::in_stage("dem", text);
+}
+
+// --bounds that miss every tile: refused with the data's bounds in the same units (the CRS's), and
+// a hint when they look like degrees on a projected CRS.
+void check_bounds_overlap(const dataset::Dataset& ds, const DemRequest& r, const Area& a) {
+    const auto& b = ds.bounds_m;
+    if (!r.area || (a.min_x < b.max_x && a.max_x > b.min_x && a.min_y < b.max_y && a.max_y > b.min_y)) return;
+    const double f = ds.frame.xy_to_metres;
+    const std::string unit = linear_unit_name(f);
+    const bool degrees = std::max({std::abs(r.area->min_x), std::abs(r.area->max_x)}) <= 360 &&
+                         std::max({std::abs(r.area->min_y), std::abs(r.area->max_y)}) <= 90;
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "--bounds %.10g,%.10g,%.10g,%.10g do not overlap the data, which lies in %.3f,%.3f,%.3f,%.3f "
+                  "(xmin,ymin,xmax,ymax in the CRS's units%s%s)%s",
+                  r.area->min_x, r.area->min_y, r.area->max_x, r.area->max_y,
+                  b.min_x / f, b.min_y / f, b.max_x / f, b.max_y / f, unit.empty() ? "" : ": ", unit.c_str(),
+                  degrees ? "; --bounds are not degrees" : "");
+    throw Error::in_stage("dem", text);
+}
+
+// A DEM without a single point is an error, not an all-nodata file: nothing is written.
+void check_points_used(const DemResult& result, const DemRequest& r) {
+    if (result.points_used > 0) return;
+    std::string classes;
+    for (const int c : r.classes) classes += (classes.empty() ? "" : ",") + std::to_string(c);
+    throw Error::in_stage("dem", classes.empty()
+                                     ? "no point lies in the area; nothing written"
+                                     : "no point of the classes " + classes + " lies in the area (" +
+                                           std::to_string(result.points_read) +
+                                           " points read); nothing written: leave out --classes or choose others");
 }
 
 int block_texels(const DemRequest& r) {
@@ -163,7 +195,9 @@ std::uint64_t dem_memory_bytes(const dataset::Dataset& ds, const DemGrid& g, con
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     DemResult result;
-    result.grid = make_dem_grid(area_in_metres(ds, r), r.texel_m, block_texels(r));
+    const Area area = area_in_metres(ds, r);
+    check_bounds_overlap(ds, r, area);
+    result.grid = make_dem_grid(area, r.texel_m, block_texels(r));
     check_mostly_empty(ds, result.grid);
     check_memory(ds, result.grid, r);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
@@ -205,6 +239,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         result.blocks_written = s.patches_written;
     }
     result.seconds_grid = seconds_since(t0);
+    check_points_used(result, r);
     t0 = Clock::now();
     finish_raster(heights, r);
     if (rgb) finish_raster(*rgb, r);

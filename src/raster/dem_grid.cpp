@@ -48,8 +48,9 @@ RasterGeometry raster_geometry(const DemGrid& grid, const dataset::Frame& frame)
     return g;
 }
 
-std::string height_unit(const dataset::Frame& frame) {
-    const double f = frame.z_to_metres;
+std::string height_unit(const dataset::Frame& frame) { return linear_unit_name(frame.z_to_metres); }
+
+std::string linear_unit_name(double f) {
     if (std::abs(f - 1.0) < 1e-12) return "metre";
     if (std::abs(f - las::kFootMetres) < 1e-12) return "foot";
     if (std::abs(f - las::kUsSurveyFootMetres) < 1e-12) return "US survey foot";

@@ -48,6 +48,9 @@ Area dataset_area(const dataset::Dataset& dataset);
 RasterGeometry raster_geometry(const DemGrid& grid, const dataset::Frame& frame);
 // The band unit of heights in the frame's vertical unit: "metre", "foot", "US survey foot" or "".
 std::string height_unit(const dataset::Frame& frame);
+// The name of a linear unit from its factor to metres ("metre", "foot", "US survey foot"; "" for
+// another).
+std::string linear_unit_name(double to_metres);
 
 // Writes block (ix, iy), given as block x block values with rows from the south (the layout of
 // recon's images), into band `band` of `raster`, flipped to rows from the north.

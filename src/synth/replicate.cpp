@@ -252,7 +252,7 @@ ReplicatePlan plan_replicas(const std::vector<std::string>& sources, const std::
     if (grid.nx == 0 || grid.ny == 0) throw Error("the grid needs at least one cell on each side");
     if (out_dir.empty()) throw Error("no output folder given");
     auto found = dataset::find_point_cloud_files(sources);
-    if (!found.errors.empty()) throw Error(found.errors.front());
+    if (!found.errors.empty()) throw Error(found.errors.front().error);
     check_output_folder(out_dir, sources, found.files);
     ReplicatePlan plan;
     plan.out_dir = out_dir;

@@ -14,6 +14,7 @@
 
 #include "core/diagnostic.hpp"
 #include "dataset/tile.hpp"
+#include "dataset/virtual_replica.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -81,6 +82,6 @@ void write_replicas(const ReplicatePlan& plan, ThreadPool& pool,
 void write_virtual_replica(const ReplicatePlan& plan);
 
 // The manifest's file name inside the output folder.
-inline constexpr const char* kManifestName = "replicate.json";
+inline constexpr const char* kManifestName = dataset::kReplicaManifestName;
 
 }  // namespace lidarscout::synth

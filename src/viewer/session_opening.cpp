@@ -34,7 +34,7 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
     try {
         Session s;
         s.dataset = std::make_unique<dataset::Dataset>(dataset::open_dataset(paths, d));
-        if (s.dataset->tiles.empty()) throw Error("view: no readable LAS/LAZ tiles in the given paths");
+        dataset::require_tiles(*s.dataset, "view");
         {
             std::lock_guard lock(mutex_);
             progress_.building = true;

@@ -181,5 +181,22 @@ TEST_F(DemCommand, PointsBeyondTheirHeaderBoundsCostOnlyThemselves) {
               2u * 1'012'412u);
 }
 
+// No silent empty DEM: --bounds that miss the data are refused with the data's bounds in the same
+// units (the survey's US feet; degrees get a hint), a class that matches no point names the
+// classes; nothing is written either way.
+TEST_F(DemCommand, EmptyResultsAreErrorsThatSayWhy) {
+    std::string out;
+    const std::string dem = std::string(LIDARSCOUT_CLI) + " dem " + ky() + " -o " + path("x.tif") + " --texel 5 ";
+    EXPECT_EQ(test::run_command(dem + "--bounds -83.7,37.7,-83.6,37.8 2>&1", out), 1);
+    EXPECT_NE(out.find("do not overlap the data, which lies in "), std::string::npos) << out;
+    EXPECT_NE(out.find("in the CRS's units: US survey foot); --bounds are not degrees"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(dem + "--classes 7 2>&1", out), 1);
+    EXPECT_NE(out.find("no point of the classes 7 lies in the area (2563625 points read); nothing written"),
+              std::string::npos) << out;
+    EXPECT_TRUE(fs::is_empty(dir)) << "nothing may be left behind";
+    EXPECT_EQ(test::run_command(dem + "--classes 0 > /dev/null 2>&1", out), 0);  // the control: its points are class 0
+    EXPECT_TRUE(fs::exists(path("x.tif")));
+}
+
 }  // namespace
 }  // namespace lidarscout

@@ -102,5 +102,15 @@ TEST(EvalCommand, ReleasedMethodNeedsItsModel) {
     EXPECT_NE(out.find("/nonexistent/ipes_cnn.pt"), std::string::npos) << out;
 }
 
+// An evaluation that scores no patch is an error with each dataset's counts, not an empty table.
+TEST(EvalCommand, NoScoredPatchIsAnErrorThatSaysWhy) {
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " eval " +
+                                    (test::surveys_dir() / "ky-woodford-county").string() + " --texel 0.001 2>&1",
+                                out), 1);
+    EXPECT_NE(out.find("no patch could be scored at --texel 0.001 (patches are 64 texels): ky-woodford-county: "
+                       "21 candidate patches, 21 with too few chunk points"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace lidarscout

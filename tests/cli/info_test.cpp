@@ -1,10 +1,15 @@
 // `lidarscout info`: JSON output for the surveys equals the headers, Kentucky tiles report US
 // survey feet, a bad file is one line on stderr and exit status 1 while the others are reported;
-// remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output; a hostile
+// remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output; no
+// secret of a URL is printed; damaged range cache entries do not change the output; a hostile
 // --threads is capped with one warning.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "child_process.hpp"
 #include "core/thread_pool.hpp"
@@ -135,6 +140,38 @@ TEST(InfoCommand, MissingPathFails) {
     EXPECT_NE(out.find("/nonexistent/x.laz: no such file or folder"), std::string::npos) << out;
 }
 
+// Paths that give no tile are named, in --json too: a missing file, an empty folder, a text file
+// that names nothing (a CSV of points, /etc/passwd); a virtual replica manifest gives its tiles.
+TEST(InfoCommand, PathsWithoutTilesAreNamedAndManifestsGiveTheirTiles) {
+    const auto dir = std::filesystem::temp_directory_path() / ("lidarscout_info_paths_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir / "empty");
+    std::ofstream(dir / "pts.csv") << "x,y,z\n1,2,3\n4,5,6\n";
+    int status = 0;
+    auto j = info_json("/nonexistent/x.laz", status);
+    EXPECT_EQ(status, 1);
+    ASSERT_EQ(j.size(), 1u);
+    EXPECT_EQ(j[0].at("path"), "/nonexistent/x.laz");
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info " + (dir / "empty").string() + " " +
+                                    (dir / "pts.csv").string() + " 2>&1", out), 1);
+    EXPECT_NE(out.find("empty: no .las or .laz file in this folder"), std::string::npos) << out;
+    EXPECT_NE(out.find("pts.csv: not a LAS/LAZ file nor a tile list (none of its 3 lines names a file, folder or URL)"),
+              std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;
+    const auto tile = (test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string();
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth replicate " + tile + " -o " +
+                                    (dir / "rep").string() + " --grid 3x1 --virtual >/dev/null 2>&1", out), 0);
+    j = info_json((dir / "rep/replicate.json").string(), status);
+    EXPECT_EQ(status, 0);
+    ASSERT_EQ(j.size(), 3u);
+    EXPECT_EQ(info_json((dir / "rep").string(), status).size(), 3u) << "the replica's folder is the replica";
+    EXPECT_EQ(status, 0);
+    const auto min_x = [&](int i) { return j[i].at("bounds").at("min").at(0).get<double>(); };
+    const double width = j[0].at("bounds").at("max").at(0).get<double>() - min_x(0);
+    EXPECT_GT(min_x(1), min_x(0) + 0.9 * width);  // the second copy lies east of the first
+    std::filesystem::remove_all(dir);
+}
+
 TEST(InfoCommand, Help) {
     std::string out;
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --help", out), 0);
@@ -218,7 +255,99 @@ TEST(InfoCommand, HostileThreadCountIsCapped) {
     std::string out;
     EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --threads -3 " + test::surveys_dir().string() +
                                     " 2>&1", out), 0) << out;
-    EXPECT_NE(out.find("--threads expects a whole number of threads"), std::string::npos) << out;
+    EXPECT_NE(out.find("--threads: expects a whole number 0 or more, not '-3'"), std::string::npos) << out;
+}
+
+// Signed URLs (S3, GCS, Azure SAS, tokens): their secrets reach the server but never the
+// output, in JSON or in errors.
+TEST(InfoCommand, SignedQueryStringsAreNeverPrinted) {
+    const auto& server = test::NginxServer::instance();
+    const std::string query = "?X-Amz-Credential=CRED1&X-Amz-Security-Token=TOKEN1&X-Amz-Signature=SIGN1"
+                              "&sig=SAS1&token=TOKEN2&X-Goog-Signature=GOOG1&access_token=TOKEN3&key=KEY1";
+    std::string out;
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " info --json '" +
+                                             server.url("surveys/ky-woodford-county/5205000_3900000.laz") + query +
+                                             "' '" + server.url("surveys/missing.laz") + query + "' 2>&1",
+                                         out);
+    EXPECT_EQ(status, 1);
+    for (const char* secret : {"CRED1", "TOKEN1", "SIGN1", "SAS1", "TOKEN2", "GOOG1", "TOKEN3", "KEY1"}) {
+        EXPECT_EQ(out.find(secret), std::string::npos) << secret << "\n" << out;
+    }
+    EXPECT_NE(out.find("X-Amz-Signature=REDACTED"), std::string::npos) << out;
+    EXPECT_NE(out.find("HTTP status 404"), std::string::npos) << out;
+    EXPECT_NE(out.find("\"point_count\": 1012412"), std::string::npos) << out;
+}
+
+// A password with an unencoded '#': one line with the hint, exit 1, the password not shown.
+TEST(InfoCommand, PasswordWithAnUnencodedDelimiterIsRefusedWithAHint) {
+    const auto& server = test::NginxServer::instance();
+    const std::string url = "http://reader:pa#ss@127.0.0.1:" + std::to_string(server.port()) +
+                            "/surveys/ky-woodford-county/5205000_3900000.laz";
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info '" + url + "' 2>&1", out), 1);
+    EXPECT_NE(out.find("percent-encode"), std::string::npos) << out;
+    EXPECT_EQ(out.find("pa#ss"), std::string::npos) << out;
+    EXPECT_EQ(out.find("reader"), std::string::npos) << out;
+}
+
+// --allow-origins and --min-rate take URLs or "*" and a rate; anything else is a usage error.
+TEST(InfoCommand, RemoteOptionsAreChecked) {
+    const std::string tile = (test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz").string();
+    std::string out;
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --allow-origins nope " + tile + " 2>&1", out), 0);
+    EXPECT_NE(out.find("--allow-origins: \"nope\" is not an http(s) URL"), std::string::npos) << out;
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --min-rate 1x " + tile + " 2>&1", out), 0);
+    EXPECT_NE(out.find("--min-rate"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info --min-rate 64K --allow-origins '*,https://a' " +
+                                    tile + " 2>&1",
+                                out),
+              0)
+        << out;
+}
+
+// Flipped bytes in every cached range, then a 1 GiB file in place of one entry: the same
+// points_sha256 as the local file each time (the entries dropped, named, fetched again).
+TEST(InfoCommand, DamagedRangeCacheEntriesAreFetchedAgain) {
+    namespace fs = std::filesystem;
+    const auto& server = test::NginxServer::instance();
+    const std::string rel = "surveys/ky-woodford-county/5205000_3900000.laz";
+    const fs::path cache = fs::temp_directory_path() / ("lidarscout_info_cache_" + std::to_string(::getpid()));
+    const std::string cli = "XDG_CACHE_HOME=" + cache.string() + " " + LIDARSCOUT_CLI;
+    int status = -1;
+    const auto local = info_json("--checksum " + (test::data_dir() / rel).string(), status);
+    const std::string expected = local.at(0).at("points_sha256");
+    auto checksum = [&](std::string& err) {
+        std::string out;
+        const int rc = test::run_command(cli + " info --json --checksum " + server.url(rel) + " 2>" +
+                                             (cache / "stderr").string(), out);
+        EXPECT_EQ(rc, 0);
+        std::ifstream in(cache / "stderr");
+        err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        return nlohmann::json::parse(out).at(0).at("points_sha256").get<std::string>();
+    };
+    auto entries = [&] {
+        std::vector<fs::path> found;
+        for (const auto& e : fs::recursive_directory_iterator(cache / "lidarscout" / "http")) {
+            if (e.is_regular_file()) found.push_back(e.path());
+        }
+        return found;
+    };
+    fs::create_directories(cache);
+    std::string err;
+    EXPECT_EQ(checksum(err), expected);
+    const auto stored = entries();
+    ASSERT_FALSE(stored.empty());
+    for (const auto& entry : stored) {
+        std::fstream f(entry, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(static_cast<std::streamoff>(fs::file_size(entry) / 2));
+        f.write("XXXXXXXXXX", 10);
+    }
+    EXPECT_EQ(checksum(err), expected);
+    EXPECT_NE(err.find("was dropped and fetched again: part 0 does not match its SHA-256"), std::string::npos) << err;
+    fs::resize_file(entries().front(), 1ull << 30);
+    EXPECT_EQ(checksum(err), expected);
+    EXPECT_NE(err.find("bytes, is more than its ranges can hold"), std::string::npos) << err;
+    fs::remove_all(cache);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // `lidarscout render`: every survey rendered at the auto camera shows terrain in elevation
 // colours; the overview draws less than the heightmaps; full resolution decodes a small
-// survey's tile; golden images at a fixed camera; bad arguments are one-line errors; a corrupt
-// chunk costs only its points (exit 3).
+// survey's tile; golden images at a fixed camera; bad arguments are one-line errors, and so is a
+// remote tile whose every chunk point failed; a corrupt chunk costs only its points (exit 3).
 //
 // Golden images live in tests/data/golden/. After an intended change of the rendering, look
 // at the new images and regenerate them with
@@ -22,6 +22,7 @@
 
 #include "nn/heightmap_network.hpp"
 #include "render/framebuffer.hpp"
+#include "net/fault_server.hpp"
 #include "nginx_server.hpp"
 #include "damaged_tile.hpp"
 #include "png_test_util.hpp"
@@ -193,7 +194,8 @@ void expect_golden(const fs::path& rendered, const std::string& name, int tolera
     EXPECT_LE(static_cast<double>(differing) / got.pixels.size(), max_fraction) << differing << " pixels differ";
 }
 
-const char kGoldenCamera[] = "--camera 1587600,1189450,450,20,-30 --size 160x120";
+// (in the survey's US survey feet, as info prints its coordinates: 1587600, 1189450, 450 m)
+const char kGoldenCamera[] = "--camera 5208651,3902387.2083333335,1476.375,20,-30 --size 160x120";
 
 TEST_F(RenderCommand, GoldenHeightmapsInElevationColours) {
     std::string out, err;
@@ -266,6 +268,32 @@ TEST_F(RenderCommand, CorruptChunkCostsOnlyItsPoints) {
     const auto cause = j.at("skipped_chunks")[0].at("cause").get<std::string>();
     EXPECT_NE(cause.find(test::kDamagedChunkText), std::string::npos) << cause;
     EXPECT_NE(err.find("skipped " + tile + ": at byte "), std::string::npos) << err;
+}
+
+// --camera takes the CRS's units (US feet here, as info prints them), and a camera that sees none
+// of the data is an error naming the data's bounds in those units, not a blank PNG.
+TEST_F(RenderCommand, CameraInTheCrsUnitsAndACameraThatSeesNothing) {
+    std::string out, err;
+    const std::string ky = survey("ky-woodford-county") + " --until overview --size 160x120 --camera ";
+    EXPECT_EQ(render(ky + "5209000,3904000,3000,0,-90", "feet", out, err), 0) << err;
+    EXPECT_EQ(render(ky + "1587700,1189700,900,0,-90", "metres", out, err), 1);
+    EXPECT_NE(err.find("sees none of the data, which lies in 5208145.64,3902993.55,5209999.99,3904999.99 "
+                       "(xmin,ymin,xmax,ymax in the CRS's units: US survey foot; --camera takes the same units)"),
+              std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir_ / "metres.png"));
+}
+
+// A server that answers a tile's header and chunk table, then 404 for everything else: no
+// image from nothing, one line and exit status 1.
+TEST_F(RenderCommand, EveryChunkPointFailedIsAnError) {
+    std::ifstream in(test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz", std::ios::binary);
+    test::FaultServer server({std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()});
+    server.answer_first = 2;  // the head and the tail
+    const std::string url = server.url().substr(0, server.url().rfind('/')) + "/tile.laz";  // (any path serves)
+    std::string out, err;
+    EXPECT_EQ(render("--size 320x180 --cache-size 0 " + url, "failed", out, err), 1);
+    EXPECT_NE(err.find("render: every chunk point failed"), std::string::npos) << err;
+    EXPECT_NE(err.find("HTTP status 404"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "dataset/file_search.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
+#include "net/fault_server.hpp"
 #include "nginx_server.hpp"
 #include "test_data.hpp"
 
@@ -163,6 +165,24 @@ TEST(ScanCommand, HostileIoThreadCountIsCapped) {
     EXPECT_EQ(status, 0) << out;
     EXPECT_NE(out.find("--io-threads 100000 is more than"), std::string::npos) << out;
     EXPECT_EQ(out.find("terminate"), std::string::npos) << out;
+}
+
+// A server that answers a tile's header and chunk table, then 404 for everything else: every
+// chunk point fails, and scan says so by its exit status.
+TEST(ScanCommand, EveryChunkPointFailedIsAnError) {
+    const auto path = test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz";
+    std::ifstream in(path, std::ios::binary);
+    test::FaultServer server({std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()});
+    server.answer_first = 2;  // the head and the tail
+    std::string out;
+    const std::string url = server.url().substr(0, server.url().rfind('/')) + "/tile.laz";  // (any path serves)
+    const int status =
+        test::run_command(std::string(LIDARSCOUT_CLI) + " scan --json --cache-size 0 " + url + " 2>/dev/null", out);
+    EXPECT_EQ(status, 1);
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("tiles"), 1);
+    EXPECT_EQ(j.at("chunk_points"), 0);
+    EXPECT_GT(j.at("chunk_points_failed").get<int>(), 0);
 }
 
 }  // namespace

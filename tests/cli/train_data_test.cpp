@@ -78,5 +78,16 @@ TEST(TrainDataCommand, RegionSplitKeepsWindowsApart) {
     fs::remove(out);
 }
 
+// Training data without a single sample is an error that says why; no file is written.
+TEST(TrainDataCommand, NoSampleIsAnErrorAndNothingIsWritten) {
+    const auto out = fs::temp_directory_path() / ("lidarscout_train_none_" + std::to_string(::getpid()) + ".bin");
+    std::string text;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " train-data " +
+                                    (test::surveys_dir() / "ky-woodford-county").string() + " -o " + out.string() +
+                                    " 2>&1", text), 1);
+    EXPECT_NE(text.find("training data: no sample in 1 dataset(s)"), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace
 }  // namespace lidarscout

@@ -206,5 +206,25 @@ TEST_F(ViewCommand, EveryFormatsFileOpensOrIsSkipped) {
     }
 }
 
+// A model file that is not a TorchScript model is named before a window opens (no display
+// needed); inputs that are all unreadable are each named in the one line the viewer ends with.
+TEST_F(ViewCommand, BadModelAndUnreadableInputsAreNamed) {
+    const std::string survey = (test::surveys_dir() / "ky-woodford-county").string();
+    std::ofstream(dir_ / "bad.pt") << "not a model";
+    std::string out;
+    const std::string bad = (dir_ / "bad.pt").string();
+    EXPECT_EQ(test::run_command("DISPLAY= " LIDARSCOUT_CLI " view " + survey + " --model " + bad + " 2>&1", out), 1);
+    EXPECT_NE(out.find("bad.pt: at byte 0: not a TorchScript model"), std::string::npos) << out;
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    std::ofstream(dir_ / "pts.csv") << "x,y,z\n1,2,3\n";
+    const int status = run_xvfb((dir_ / "pts.csv").string() + " /nonexistent/a.laz --quit-after 2", out);
+    // (xvfb-run itself sometimes exits 5 when the viewer ends this fast: "problem while cleaning up")
+    const bool xvfb_cleanup = out.find("xvfb-run: error: problem while cleaning up") != std::string::npos;
+    EXPECT_TRUE(status == 1 || (xvfb_cleanup && status == 5)) << status << ": " << out;
+    EXPECT_NE(out.find("view: no readable LAS/LAZ tile in the given paths: "), std::string::npos) << out;
+    EXPECT_NE(out.find("pts.csv: not a LAS/LAZ file nor a tile list"), std::string::npos) << out;
+    EXPECT_NE(out.find("/nonexistent/a.laz: no such file or folder"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace lidarscout

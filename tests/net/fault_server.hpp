@@ -2,8 +2,10 @@
 // connection) serving one byte buffer with correct single-range answers, and faults injected
 // on demand: the connection dropped mid-body, 503 before success, Range ignored, a wrong
 // Content-Range, a truncated body, a slow response, a body longer than asked, a changed
-// ETag, a redirect to another scheme. Multi-range requests are answered with the whole
-// buffer and status 200, as object stores do.
+// ETag, a redirect to another scheme; and hostile answers: a body trickled a few bytes at a
+// time, a Content-Length larger than the Content-Range, stray bytes after a body on a kept-alive
+// connection, a redirect to any URL, 404 for every request after the first few. Multi-range
+// requests are answered with the whole buffer and status 200, as object stores do.
 #pragma once
 
 #include <arpa/inet.h>
@@ -32,6 +34,10 @@ enum class Fault {
     LongerBody,         // 206 with the right Content-Range and 100 bytes more
     NewEtag,            // another ETag (the file changed)
     RedirectToHttps,    // 302 to https://
+    Trickle,            // the right headers, then the body `trickle_bytes` every `trickle_ms`
+    LyingLength,        // 206, the right Content-Range and body, Content-Length 1000 more; then closed
+    StrayBytes,         // the right answer, then 16 bytes more (sent when the next request has come)
+    Redirect,           // 302 to `redirect_to`
 };
 
 class FaultServer {
@@ -68,6 +74,10 @@ public:
         fault_count_ = count;
     }
     int slow_ms = 2500;
+    int trickle_ms = 20;
+    std::size_t trickle_bytes = 2;
+    std::string redirect_to;
+    int answer_first = 1 << 30;  // requests answered; 404 for the ones after
     std::vector<std::string> ranges_seen() {
         std::lock_guard lock(mutex_);
         return ranges_;
@@ -133,12 +143,21 @@ private:
             std::lock_guard lock(mutex_);
             ranges_.push_back(range);
         }
+        if (stray_next_.exchange(false)) send_all(fd, "STRAY BYTES HERE");  // as if they ended the last body
         const Fault fault = take_fault();
         if (fault == Fault::Slow) std::this_thread::sleep_for(std::chrono::milliseconds(slow_ms));
         const std::string etag = fault == Fault::NewEtag ? "\"v2\"" : "\"v1\"";
         const std::string body(data_.begin(), data_.end());
         if (fault == Fault::ServiceUnavailable) {
             send_all(fd, "HTTP/1.1 503 Service Unavailable\r\nContent-Length: 0\r\n\r\n");
+            return true;
+        }
+        if (requests_ > answer_first) {
+            send_all(fd, "HTTP/1.1 404 Not Found\r\nContent-Length: 0\r\n\r\n");
+            return true;
+        }
+        if (fault == Fault::Redirect) {
+            send_all(fd, "HTTP/1.1 302 Found\r\nLocation: " + redirect_to + "\r\nContent-Length: 0\r\n\r\n");
             return true;
         }
         if (fault == Fault::RedirectToHttps) {
@@ -164,10 +183,14 @@ private:
         const std::uint64_t shown_first = fault == Fault::WrongContentRange ? first + 1 : first;
         const std::uint64_t shown_last = fault == Fault::WrongContentRange ? last + 1 : last;
         if (fault == Fault::LongerBody) part += std::string(100, 'x');
+        const std::size_t length = part.size() + (fault == Fault::LyingLength ? 1000 : 0);
         std::string head = "HTTP/1.1 206 Partial Content\r\nETag: " + etag + "\r\nContent-Range: bytes " +
                            std::to_string(shown_first) + "-" + std::to_string(shown_last) + "/" +
-                           std::to_string(body.size()) + "\r\nContent-Length: " + std::to_string(part.size()) +
+                           std::to_string(body.size()) + "\r\nContent-Length: " + std::to_string(length) +
                            "\r\n\r\n";
+        if (fault == Fault::Trickle) return trickle(fd, head, part);
+        if (fault == Fault::LyingLength) return send_all(fd, head + part), false;
+        if (fault == Fault::StrayBytes) stray_next_ = true;
         if (fault == Fault::DropMidBody || fault == Fault::TruncatedBody) {
             send_all(fd, head + part.substr(0, fault == Fault::DropMidBody ? part.size() / 2 : part.size() - 1));
             return false;
@@ -176,6 +199,24 @@ private:
         return true;
     }
 
+    // Sends the head at once and the body a few bytes at a time; false (closes) when done or refused.
+    bool trickle(int fd, const std::string& head, const std::string& body) {
+        send_all(fd, head);
+        for (std::size_t at = 0; at < body.size() && !stop_; at += trickle_bytes) {
+            const std::string piece = body.substr(at, trickle_bytes);
+            if (::send(fd, piece.data(), piece.size(), MSG_NOSIGNAL) != static_cast<ssize_t>(piece.size())) break;
+            ++trickled_;
+            std::this_thread::sleep_for(std::chrono::milliseconds(trickle_ms));
+        }
+        return false;
+    }
+
+public:
+    int trickled_sends() const { return trickled_.load(); }
+
+private:
+    std::atomic<int> trickled_{0};
+    std::atomic<bool> stray_next_{false};
     std::vector<std::uint8_t> data_;
     int listener_ = -1;
     int port_ = 0;

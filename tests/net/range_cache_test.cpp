@@ -1,5 +1,7 @@
 // net/range_cache: stored replies come back for the same URL, validator and ranges only;
-// damaged entries are dropped; the folder stays under its limit, least recently used first.
+// damaged entries (flipped bytes, truncated, replaced by a huge file) are dropped with a
+// diagnostic naming them, without reading a file larger than the entry can be; the folder
+// stays under its limit, least recently used first.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -57,6 +59,50 @@ TEST_F(RangeCacheTest, DamagedEntriesAreDropped) {
         if (e.is_regular_file()) fs::resize_file(e.path(), e.file_size() - 1);
     }
     EXPECT_FALSE(cache.find(request));
+    EXPECT_EQ(folder_bytes(dir), 0u);
+}
+
+TEST_F(RangeCacheTest, FlippedBytesFailTheChecksumAndAreDroppedWithADiagnostic) {
+    RangeCache cache({dir, 1 << 20});
+    const RangeRequest request{"http://u:pw@h/a.laz?sig=s3cret", {{0, 4000}}, "\"v1\""};
+    cache.store(request, reply_of({std::vector<std::uint8_t>(4000, 7)}));
+    fs::path entry;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) entry = e.path();
+    }
+    ASSERT_FALSE(entry.empty());
+    {
+        std::fstream f(entry, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(2000);
+        f.write("XXXXXXXXXX", 10);  // the same size, other bytes
+    }
+    EXPECT_FALSE(cache.find(request));
+    EXPECT_FALSE(fs::exists(entry));
+    const auto diagnostics = cache.take_diagnostics();
+    ASSERT_EQ(diagnostics.size(), 1u);
+    EXPECT_EQ(diagnostics[0].file, entry.string());
+    const std::string& message = diagnostics[0].message;
+    EXPECT_NE(message.find("does not match its SHA-256"), std::string::npos) << message;
+    EXPECT_NE(message.find("http://h/a.laz?sig=REDACTED, bytes 0-3999"), std::string::npos) << message;
+    EXPECT_EQ(message.find("s3cret"), std::string::npos) << message;
+    EXPECT_TRUE(cache.take_diagnostics().empty());
+    cache.store(request, reply_of({std::vector<std::uint8_t>(4000, 7)}));  // fetched again, stored again
+    EXPECT_TRUE(cache.find(request));
+}
+
+TEST_F(RangeCacheTest, AnEntryLargerThanItsRangesIsDroppedUnread) {
+    RangeCache cache({dir, 1ull << 40});
+    const RangeRequest request{"http://h/a.laz", {{0, 2048}}, "\"v1\""};
+    cache.store(request, reply_of({std::vector<std::uint8_t>(2048, 1)}));
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+        if (e.is_regular_file()) fs::resize_file(e.path(), 1ull << 30);  // 1 GiB (sparse) in its place
+    }
+    EXPECT_FALSE(cache.find(request));
+    const auto diagnostics = cache.take_diagnostics();
+    ASSERT_EQ(diagnostics.size(), 1u);
+    EXPECT_NE(diagnostics[0].message.find("its size, 1073741824 bytes, is more than its ranges can hold"),
+              std::string::npos)
+        << diagnostics[0].message;
     EXPECT_EQ(folder_bytes(dir), 0u);
 }
 

@@ -1,5 +1,6 @@
-// net/url: URLs told from paths, credentials removed before display, relative entries of a
-// tile list resolved against the list's URL.
+// net/url: URLs told from paths and parsed, credentials (userinfo, signed query strings)
+// removed before display, credentials holding unencoded delimiters refused, origins compared,
+// relative entries of a tile list resolved against the list's URL.
 #include <gtest/gtest.h>
 
 #include "net/url.hpp"
@@ -21,6 +22,53 @@ TEST(Url, CredentialsAreRemoved) {
     EXPECT_EQ(redact_url("http://host/a@b.laz"), "http://host/a@b.laz");  // '@' in the path is kept
     EXPECT_EQ(redact_url("http://u:p%40x@host/a"), "http://host/a");
     EXPECT_EQ(redact_url("/local/user@x.laz"), "/local/user@x.laz");
+}
+
+TEST(Url, CredentialQueryParametersAreRedacted) {
+    EXPECT_EQ(redact_url("https://b.s3.amazonaws.com/t.laz?X-Amz-Algorithm=AWS4-HMAC-SHA256&X-Amz-Credential=AKIA%2F1"
+                         "&X-Amz-Date=20250101T000000Z&X-Amz-Security-Token=tok&X-Amz-Signature=abc123"),
+              "https://b.s3.amazonaws.com/t.laz?X-Amz-Algorithm=AWS4-HMAC-SHA256&X-Amz-Credential=REDACTED"
+              "&X-Amz-Date=20250101T000000Z&X-Amz-Security-Token=REDACTED&X-Amz-Signature=REDACTED");
+    EXPECT_EQ(redact_url("https://a.blob.core.windows.net/c/t.laz?sv=2022-11-02&se=2030&sp=r&sig=SAS%3D"),
+              "https://a.blob.core.windows.net/c/t.laz?sv=2022-11-02&se=2030&sp=r&sig=REDACTED");
+    EXPECT_EQ(redact_url("https://storage.googleapis.com/b/t.laz?X-Goog-Signature=ff&x=1"),
+              "https://storage.googleapis.com/b/t.laz?X-Goog-Signature=REDACTED&x=1");
+    EXPECT_EQ(redact_url("http://u:p@h/t.laz?token=1&key=2&signature=3&access_token=4&page=5#access_token=6"),
+              "http://h/t.laz?token=REDACTED&key=REDACTED&signature=REDACTED&access_token=REDACTED&page=5"
+              "#access_token=REDACTED");
+    EXPECT_EQ(redact_url("http://h/a.laz?flag&x="), "http://h/a.laz?flag&x=");
+}
+
+TEST(Url, CredentialsWithUnencodedDelimitersAreRefusedAndHidden) {
+    for (const std::string url : {"http://u:pa#ss@host/a.laz", "http://u:pa?ss@host/a.laz", "http://u:pa/ss@host/a.laz",
+                                  "http://u#x:pass@host/a.laz"}) {
+        SCOPED_TRACE(url);
+        EXPECT_NE(url_problem(url).find("percent-encode"), std::string::npos);
+        EXPECT_EQ(redact_url(url), "http://host/a.laz");
+    }
+    EXPECT_EQ(redact_url("http://u:p#a@ss@host/a.laz"), "http://host/a.laz");
+    EXPECT_EQ(url_problem("http://u:pa%23ss@host/a.laz"), "");
+    EXPECT_EQ(url_problem("http://host:8080/a@b.laz?x=1"), "");
+    EXPECT_EQ(url_problem("http://[::1]:8080/a.laz"), "");
+    EXPECT_NE(url_problem("http://host:80x/a.laz").find("port \"80x\" is not a number"), std::string::npos);
+    EXPECT_EQ(url_problem("/local/u:p#x@y"), "");
+}
+
+TEST(Url, PartsAndOrigins) {
+    const auto p = parse_url("HTTPS://u:p@Host.Example:8443/a/b.laz?x=1#f");
+    ASSERT_TRUE(p);
+    EXPECT_EQ(p->scheme, "https");
+    EXPECT_EQ(p->userinfo, "u:p");
+    EXPECT_EQ(p->host, "Host.Example");
+    EXPECT_EQ(p->port, "8443");
+    EXPECT_EQ(p->path, "/a/b.laz");
+    EXPECT_EQ(p->query, "x=1");
+    EXPECT_EQ(p->fragment, "f");
+    EXPECT_FALSE(parse_url("/a/b.laz"));
+    EXPECT_EQ(url_origin("HTTPS://u:p@Host.Example:8443/a"), "https://host.example:8443");
+    EXPECT_EQ(url_origin("http://h/a"), "http://h:80");
+    EXPECT_EQ(url_origin("https://h"), "https://h:443");
+    EXPECT_EQ(url_origin("http://[::1]:81/x"), "http://[::1]:81");
 }
 
 TEST(Url, RelativeReferencesResolveAgainstTheList) {

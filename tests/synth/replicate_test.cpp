@@ -294,7 +294,7 @@ TEST(ReplicateCommand, WritesSummaryAndRejectsBadArguments) {
     EXPECT_EQ(test::run_command(cli((dir.path / "nope.laz").string() + " -o " + outdir + " --grid 2x2"), out), 1);
     EXPECT_NE(out.find("no such file or folder"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(cli(outdir + " -o " + outdir + " --grid 2x2"), out), 1);
-    EXPECT_NE(out.find("refusing to write into"), std::string::npos) << out;
+    EXPECT_NE(out.find("refusing the output of -o/--output: it is the input"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth replicate --help", out), 0);
     EXPECT_NE(out.find("not a data product"), std::string::npos) << out;
 }

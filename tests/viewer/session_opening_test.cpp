@@ -67,12 +67,14 @@ TEST(SessionOpening, NoReadableTileIsTheViewersError) {
 
 TEST(SessionOpening, DestroyedWhileOpeningCancels) {
     const auto folder = (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string();
-    const auto t0 = std::chrono::steady_clock::now();
+    std::size_t cancelled = 0;  // openings destroyed before every file was tried
     for (int i = 0; i < 5; ++i) {
         SessionOpening opening({folder, folder, folder}, no_network());
         std::this_thread::sleep_for(std::chrono::milliseconds(i * 5));
-    }  // each destructor cancels and joins
-    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30));
+        const OpeningProgress p = opening.progress();
+        cancelled += p.total == 0 || p.done < p.total;
+    }  // each destructor cancels and joins (a destructor that hangs fails by the test's timeout)
+    EXPECT_GE(cancelled, 1u) << "no opening was destroyed while opening: the test did not test cancelling";
 }
 
 }  // namespace

@@ -1,0 +1,36 @@
+// A command's inputs and outputs, declared where its options are. Every output option
+// (add_output) is checked against every input (add_inputs / add_input) by io::check_outputs
+// before the command runs: main calls check_parsed_outputs() once the command line is parsed, so
+// no command can write before the check or skip it. Output options are listed under the help
+// group kOutputGroup, which the tests walk.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "io/output_check.hpp"
+
+namespace CLI {
+class App;
+class Option;
+}  // namespace CLI
+
+namespace lidarscout::cli {
+
+inline constexpr const char* kOutputGroup = "Outputs";
+
+// Positional or named options holding the paths a command reads (files, folders, tile lists,
+// manifests, EPT datasets, URLs).
+CLI::Option* add_inputs(CLI::App& cmd, const std::string& name, std::vector<std::string>& paths,
+                        const std::string& help);
+CLI::Option* add_input(CLI::App& cmd, const std::string& name, std::string& path, const std::string& help);
+
+// An option naming a file or folder the command writes, of `kind` (its extensions).
+CLI::Option* add_output(CLI::App& cmd, const std::string& name, std::string& path, const std::string& help,
+                        io::OutputKind kind);
+
+// Checks the outputs of the (sub)command that was parsed against its inputs, expanded through
+// tile lists, virtual replica manifests and EPT datasets. Throws lidarscout::Error.
+void check_parsed_outputs(const CLI::App& app);
+
+}  // namespace lidarscout::cli

@@ -1,0 +1,69 @@
+// A failed command with --json prints one valid JSON object with an `error` on stdout (scripts
+// never parse an empty answer), beside its one line on stderr; usage errors too.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "test_data.hpp"
+
+namespace lidarscout {
+namespace {
+
+nlohmann::json error_of(const std::string& args, int& status) {
+    std::string out;
+    status = test::run_command(std::string(LIDARSCOUT_CLI) + " " + args + " 2>/dev/null", out);
+    return nlohmann::json::parse(out).at("error");
+}
+
+TEST(FailureOutput, EveryCommandThatFailsPrintsAJsonError) {
+    for (const std::string args : {"render /nonexistent/a.laz -o /tmp/x.png", "dem /nonexistent/a.laz -o /tmp/x.tif",
+                                   "convert /nonexistent/a.laz /tmp/x.laz", "eval /nonexistent/a.laz",
+                                   "train-data /nonexistent/a.laz -o /tmp/x.bin",
+                                   "synth replicate /nonexistent/a.laz -o /tmp/rep --grid 2x2",
+                                   "synth terrain -o /proc/self/demo --km 0.5"}) {
+        int status = 0;
+        const nlohmann::json e = error_of(args + " --json", status);
+        EXPECT_NE(status, 0) << args;
+        EXPECT_FALSE(e.at("message").get<std::string>().empty()) << args;
+        EXPECT_TRUE(e.at("kind") == "input" || e.at("kind") == "usage") << args << ": " << e.dump();
+    }
+}
+
+TEST(FailureOutput, UsageErrorsAndNegativeCountsAreNamed) {
+    int status = 0;
+    auto e = error_of("eval /nonexistent/a.laz --seed -1 --json", status);
+    EXPECT_NE(status, 0);
+    EXPECT_EQ(e.at("kind"), "usage");
+    EXPECT_EQ(e.at("message"), "--seed: expects a whole number 0 or more, not '-1'");
+    const std::string tile = (test::formats_dir() / "laz-rs__laz-rs/tests__data__point-time-color.las").string();
+    e = error_of("convert " + tile + " /tmp/x.laz --format 2.5 --json", status);
+    EXPECT_NE(e.at("message").get<std::string>().find("--format: expects a whole number, not '2.5'"),
+              std::string::npos) << e.dump();
+    e = error_of("convert " + tile + " /tmp/x.laz --format 11 --json", status);
+    EXPECT_NE(e.at("message").get<std::string>().find("not in range 0 to 10"), std::string::npos) << e.dump();
+    std::string out;  // the control: without --json, stdout stays empty
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " eval x --seed -1 2>/dev/null", out), 0);
+    EXPECT_EQ(out, "");
+}
+
+// The sharp edges of issue 28: no command lists the commands; a positive option says its range
+// in plain numbers (CLI11 printed the largest double, 309 digits); a benchmark's --help and its
+// errors are one line each, never an abort.
+TEST(FailureOutput, SharpEdgesAreOneClearLine) {
+    std::string out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " 2>&1", out), 1);
+    EXPECT_NE(out.find("Subcommands:"), std::string::npos) << out;
+    EXPECT_NE(out.find("render"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem x.laz -o x.tif --texel 0 2>&1", out), 105);
+    EXPECT_NE(out.find("--texel: must be more than 0, not '0'"), std::string::npos) << out;
+    EXPECT_LT(out.size(), 200u) << out;
+    const std::string bench_dem = std::string(LIDARSCOUT_BUILD_DIR) + "/bench/bench_dem";
+    EXPECT_EQ(test::run_command(bench_dem + " --help 2>&1", out), 0);
+    EXPECT_EQ(out.rfind("Usage: bench_dem ", 0), 0u) << out;
+    EXPECT_EQ(test::run_command(bench_dem + " /nonexistent/a.laz --runs 1 2>&1", out), 1);
+    EXPECT_EQ(out.rfind("bench_dem: ", 0), 0u) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+}
+
+}  // namespace
+}  // namespace lidarscout
