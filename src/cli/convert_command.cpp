@@ -14,6 +14,7 @@
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/remote_options.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/file_search.hpp"
@@ -94,7 +95,7 @@ void register_convert_command(CLI::App& app, std::function<int()>& run) {
     add_output(*cmd, "output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)",
                io::OutputKind::PointCloud)
         ->required();
-    cmd->add_option("--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_option("--format", o->format, "Point data record format of the output (0-10; default: as the input)")
         ->check(CLI::Range(0, 10));
     cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(positive_number());

@@ -20,6 +20,7 @@
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/stage_progress.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "dataset/dataset.hpp"
 #include "raster/dem.hpp"
@@ -120,6 +121,8 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
                             {"origin_m", {d.grid.origin_x, d.grid.origin_y}},
                             {"points_read", d.points_read},
                             {"points_used", d.points_used},
+                            {"points_skipped", d.points_skipped},
+                            {"skipped_chunks", skipped_json(d.skipped)},
                             {"blocks_written", d.blocks_written},
                             {"peak_blocks", d.peak_blocks},
                             {"seconds_grid", d.seconds_grid},
@@ -152,8 +155,9 @@ int run_dem(const DemCliOptions& o) {
     };
     const raster::DemResult d = raster::make_dem(ds, r);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    print_skipped(d.skipped);
     print_result(o, r, d, seconds);
-    return 0;
+    return written_exit_status(!d.skipped.empty() || !ds.skipped.empty());
 }
 
 }  // namespace
@@ -184,7 +188,7 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     add_output(*cmd, "--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)",
                io::OutputKind::Hillshade);
     cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
-    cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_dem(*o); }; });
 }

@@ -17,6 +17,7 @@
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
@@ -217,7 +218,7 @@ void register_eval_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--stride", o->stride,
                     "Chunk points = every K-th point in file order; 'auto' (default) matches a 20 points/m^2 survey "
                     "in 50,000-point chunks");
-    cmd->add_option("--threads", o->threads, "Decoding threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Decoding threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_eval(*o); }; });
 }

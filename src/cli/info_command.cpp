@@ -13,6 +13,7 @@
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/tile_json.hpp"
+#include "cli/thread_options.hpp"
 #include "core/text.hpp"
 #include "core/error.hpp"
 #include "core/sha256.hpp"
@@ -240,7 +241,7 @@ void register_info_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--chunks", opt->chunks, "Add the LAZ chunk table and the chunk points");
     cmd->add_flag("--checksum", opt->checksum,
                   "Decode every point and add points_sha256: SHA-256 over the raw point records in file order");
-    cmd->add_option("--threads", opt->threads, "Threads for reading files (default: all cores)");
+    add_thread_option(*cmd, "--threads", opt->threads, "Threads for reading files (default: all cores)");
     cmd->callback([opt, &run] { run = [opt] { return run_info(*opt); }; });
 }
 

@@ -1,5 +1,5 @@
-// Entry point of the `lidarscout` command: parses the subcommand and turns library errors
-// into one clear line on stderr and a non-zero exit status.
+// Entry point of the `lidarscout` command: parses the subcommand and turns library errors (and a
+// failed allocation) into one clear line on stderr and a non-zero exit status.
 #include <CLI/CLI.hpp>
 
 #include <malloc.h>
@@ -8,6 +8,8 @@
 #include <cstring>
 #include <new>
 #include <functional>
+#include <new>
+#include <string>
 
 #include "cli/commands.hpp"
 #include "cli/diagnostic_output.hpp"
@@ -84,7 +86,9 @@ int main(int argc, char** argv) {
         status = 1;
     } catch (const std::bad_alloc&) {
         const std::string name = app.get_subcommands().empty() ? "lidarscout" : app.get_subcommands()[0]->get_name();
-        lidarscout::cli::report_failure({"memory", name + ": out of memory", {}, std::nullopt, "out of memory"}, json);
+        const std::string cause = "out of memory (an allocation failed): ask for less, e.g. a larger --texel, a "
+                                  "smaller --bounds or --memory";
+        lidarscout::cli::report_failure({"memory", name + ": " + cause, {}, std::nullopt, cause}, json);
         status = 2;
     } catch (const std::exception& e) {
         lidarscout::cli::report_failure({"internal", e.what(), {}, std::nullopt, e.what()}, json);

@@ -24,6 +24,7 @@
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
@@ -87,6 +88,9 @@ struct RenderReport {
     std::uint64_t chunk_points = 0, chunk_points_drawn = 0, full_res_points = 0;
     std::size_t heightmaps = 0, full_res_tiles = 0, full_res_over_budget = 0, drawn_pixels = 0;
     bool has_rgb = false;  // the survey has colour (chunk_points_have_rgb)
+    std::size_t chunk_point_errors = 0;    // chunk points not read (each also a warning)
+    std::vector<ErrorRecord> skipped_data;  // full-resolution chunks or tiles left out (undecodable)
+    std::uint64_t points_skipped = 0;
     Diagnostics warnings;
     dataset::Frame frame;  // the CRS units the camera is shown in
     render::Camera camera;
@@ -173,6 +177,7 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
         const std::string first = loader.errors().empty() ? std::string() : ": " + loader.errors().front().message();
         throw Error::in_stage("render", "every chunk point failed (" + std::to_string(loader.failed()) + ")" + first);
     }
+    report.chunk_point_errors = loader.errors().size();
     grid.shrink_to_fit();
     report.chunk_points = loader.loaded();
     report.has_rgb = viewer::chunk_points_have_rgb(grid);
@@ -215,11 +220,20 @@ std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const data
     for (const auto i : choice.tiles) total += ds.tiles[i].tile.header.point_count;
     Progress progress("full-res points", total);
     std::vector<viewer::PointSet> out;
+    std::vector<dataset::SkippedChunk> skipped;
     for (const auto i : choice.tiles) {
-        out.push_back(
-            viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool, [&](std::uint64_t n) { progress.add(n); }));
+        try {  // a corrupt chunk costs its points, a tile that cannot be opened its own
+            out.push_back(viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool,
+                                                 [&](std::uint64_t n) { progress.add(n); }, &skipped));
+        } catch (const Error& e) {
+            skipped.push_back({0, ds.tiles[i].tile.header.point_count, ErrorRecord::of(e)});
+        }
     }
     progress.finish();
+    for (const auto& s : skipped) {
+        report.skipped_data.push_back(s.error);
+        report.points_skipped += s.points;
+    }
     report.full_res_tiles = out.size();
     report.full_res_over_budget = choice.over_budget;
     report.full_res_points = viewer::point_count(out);
@@ -280,6 +294,8 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"full_res_tiles", r.full_res_tiles},
                         {"full_res_tiles_over_budget", r.full_res_over_budget},
                         {"full_res_points", r.full_res_points},
+                        {"points_skipped", r.points_skipped},
+                        {"skipped_chunks", skipped_json(r.skipped_data)},
                         {"memory_budget", plan.memory_budget},
                         {"drawn_pixels", r.drawn_pixels},
                         {"warnings", r.warnings.messages()},
@@ -335,9 +351,10 @@ int run_render(const RenderCliOptions& o) {
     render::write_png(o.output, frame.image);
     report.drawn_pixels = frame.drawn_pixels;
     report.seconds.render = seconds_since(t0);
+    print_skipped(report.skipped_data);
     if (o.json) print_json(o, plan, report);
     else print_summary(o, plan, report);
-    return 0;
+    return written_exit_status(report.skipped > 0 || report.chunk_point_errors > 0 || !report.skipped_data.empty());
 }
 
 }  // namespace
@@ -378,7 +395,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--memory", o->memory,
                     "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
-    cmd->add_option("--threads", o->threads, "Worker threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Worker threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
                     "available, else cpu)");

@@ -15,6 +15,7 @@
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/tile_json.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
@@ -161,7 +162,8 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
         ->required();
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->add_option("--backend", o->backend, "Chunk-point reads: auto, io_uring or pread (default auto)");
-    cmd->add_option("--io-threads", o->io_threads, "io_uring rings or pread threads (default: cores / queue depth)");
+    add_thread_option(*cmd, "--io-threads", o->io_threads,
+                      "io_uring rings or pread threads (default: cores / queue depth)");
     cmd->add_option("--queue-depth", o->queue_depth, "Reads in flight per io_uring ring (default 64)")
         ->check(CLI::Range(1, 4096));
     cmd->add_flag("--direct", o->direct, "Read chunk points with O_DIRECT (bypass the page cache, as a cold read)");

@@ -15,6 +15,7 @@
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "synth/replicate.hpp"
@@ -100,7 +101,7 @@ void register_synth_replicate(CLI::App& synth, std::function<int()>& run) {
         ->required();
     cmd->add_option("--grid", o->grid, "Grid size NXxNY, e.g. 45x45 (tile GX,GY copies source (GX + GY*NX) mod N)")
         ->required();
-    cmd->add_option("--threads", o->threads, "Files copied in parallel (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Files copied in parallel (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the summary as JSON");
     cmd->add_flag("--virtual", o->virtual_tiles,
                   "Copy nothing: write only the manifest DIR/replicate.json, which every command opens as the "

@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
+#include "cli/thread_options.hpp"
 #include "core/thread_pool.hpp"
 #include "synth/terrain_generator.hpp"
 
@@ -79,7 +80,7 @@ void register_synth_terrain(CLI::App& synth, std::function<int()>& run) {
     cmd->add_option("--km", o->terrain.km, "Side of the square area in km, rounded up to 500 m tiles (default 4)");
     cmd->add_option("--density", o->terrain.density, "Points per square metre (default 8)");
     cmd->add_option("--seed", o->terrain.seed, "Seed of the landscape (default 1)");
-    cmd->add_option("--threads", o->threads, "Threads (default: all cores); the output does not depend on it");
+    add_thread_option(*cmd, "--threads", o->threads, "Threads (default: all cores); the output does not depend on it");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_terrain(*o); }; });
 }

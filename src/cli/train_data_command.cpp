@@ -13,6 +13,7 @@
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
@@ -94,7 +95,7 @@ void register_train_data_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--stride", o->stride, "Chunk-point stride K or 'auto' (default; see README)");
     add_split_options(*cmd, o->split);
     add_offsets_option(*cmd, o->offsets);
-    cmd->add_option("--threads", o->threads, "Decoding threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Decoding threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the summary as JSON");
     cmd->callback([o, &run] { run = [o] { return run_train_data(*o); }; });
 }

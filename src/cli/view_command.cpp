@@ -15,6 +15,7 @@
 #include "cli/recon_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
+#include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "io/output_file.hpp"
@@ -152,7 +153,7 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
         ->check(non_negative_number());
-    cmd->add_option("--threads", o->threads, "Rendering threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->threads, "Rendering threads (default: all cores)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
                     "available, else cpu)");

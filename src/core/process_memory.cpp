@@ -1,10 +1,12 @@
-// Reads the process's resident set size from /proc and the C heap's use from glibc; sets the
-// allocator's thresholds.
+// Reads the process's resident set size from /proc, its memory limits, and the C heap's use from
+// glibc; sets the allocator's thresholds.
 #include "core/process_memory.hpp"
 
 #include <malloc.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 
 namespace lidarscout {
@@ -14,6 +16,22 @@ std::uint64_t resident_bytes() {
     std::uint64_t size = 0, resident = 0;
     if (!(in >> size >> resident)) return 0;
     return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+std::uint64_t usable_memory_bytes() {
+    std::uint64_t least = ~0ull;
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) least = static_cast<std::uint64_t>(pages) * page;
+    for (const int resource : {RLIMIT_AS, RLIMIT_DATA}) {
+        rlimit limit{};
+        if (::getrlimit(resource, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+            least = std::min<std::uint64_t>(least, limit.rlim_cur);
+        }
+    }
+    std::ifstream cgroup("/sys/fs/cgroup/memory.max");
+    std::uint64_t cgroup_max = 0;
+    if (cgroup >> cgroup_max && cgroup_max > 0) least = std::min(least, cgroup_max);  // "max" reads as no number
+    return least == ~0ull ? (1ull << 30) : least;
 }
 
 HeapUse heap_use() {

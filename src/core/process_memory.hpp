@@ -11,6 +11,10 @@ namespace lidarscout {
 // Bytes resident now (/proc/self/statm); 0 where it cannot be read.
 std::uint64_t resident_bytes();
 
+// The memory this process may use: the least of the machine's RAM, the address-space and data
+// limits (ulimit -v, -d) and the cgroup's memory.max; 1 GiB when none can be read.
+std::uint64_t usable_memory_bytes();
+
 // The C heap (glibc's mallinfo2, every arena): bytes handed out and not freed, bytes freed but
 // kept by the allocator in its arenas, bytes in blocks mapped on their own (part of in_use).
 struct HeapUse {

@@ -4,6 +4,10 @@
 
 #include <algorithm>
 #include <memory>
+#include <string>
+#include <system_error>
+
+#include "core/error.hpp"
 
 namespace lidarscout {
 
@@ -30,15 +34,30 @@ struct ThreadPool::Loop {
 
 namespace {
 std::atomic<unsigned> g_shared_threads{0};
+constexpr unsigned kThreadsPerCore = 4, kMostThreads = 256;
+}  // namespace
+
+unsigned max_threads() noexcept {
+    return std::min(kMostThreads, kThreadsPerCore * std::max(1u, std::thread::hardware_concurrency()));
 }
+
+unsigned capped_threads(unsigned requested) noexcept { return std::min(requested, max_threads()); }
 
 ThreadPool::ThreadPool(unsigned threads) {
-    threads = std::max(1u, threads);
+    threads = std::clamp(threads, 1u, max_threads());
     workers_.reserve(threads - 1);
-    for (unsigned t = 1; t < threads; ++t) workers_.emplace_back([this] { worker_main(); });
+    try {
+        for (unsigned t = 1; t < threads; ++t) workers_.emplace_back([this] { worker_main(); });
+    } catch (const std::system_error& e) {  // the system refused a thread: join those started
+        stop_workers();
+        throw Error::in_stage("threads", "cannot start thread " + std::to_string(workers_.size() + 1) + " of " +
+                                             std::to_string(threads) + ": " + e.what());
+    }
 }
 
-ThreadPool::~ThreadPool() {
+ThreadPool::~ThreadPool() { stop_workers(); }
+
+void ThreadPool::stop_workers() {
     {
         std::lock_guard lock(mutex_);
         stopping_ = true;

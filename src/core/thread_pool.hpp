@@ -1,7 +1,8 @@
 // The library's thread pool: a fixed set of workers that run index loops (chunk decoding,
 // header reading) with dynamic scheduling. The calling thread helps, so nested or
 // single-thread use cannot dead-lock. The first exception thrown by an iteration stops the
-// loop and is rethrown to the caller.
+// loop and is rethrown to the caller. No pool or thread option starts more than max_threads()
+// threads (4 per core, at most 256): 100,000 threads stall the whole machine.
 #pragma once
 
 #include <atomic>
@@ -16,9 +17,15 @@
 
 namespace lidarscout {
 
+// The most threads a pool or a thread option may start: 4 per hardware thread, at most 256.
+unsigned max_threads() noexcept;
+// `requested` lowered to max_threads() (0 stays 0: "the default").
+unsigned capped_threads(unsigned requested) noexcept;
+
 class ThreadPool {
 public:
-    // `threads` counts the calling thread: a pool of 1 runs everything on the caller.
+    // `threads` counts the calling thread: a pool of 1 runs everything on the caller. At most
+    // max_threads() are started (the CLI warns about a larger option: cli/thread_options.hpp).
     explicit ThreadPool(unsigned threads);
     ~ThreadPool();
     ThreadPool(const ThreadPool&) = delete;
@@ -43,6 +50,7 @@ private:
     struct Loop;
     void run_loop(std::size_t n, const std::function<void(std::size_t)>& fn);
     void worker_main();
+    void stop_workers();  // tells the workers to stop and joins them
 
     std::vector<std::thread> workers_;
     std::mutex mutex_;

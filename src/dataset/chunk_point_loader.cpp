@@ -76,7 +76,7 @@ public:
         std::lock_guard lock(mutex_);
         cancelled_ = true;
     }
-    void set_on_tile_done(std::function<void(std::uint32_t)> f) { on_tile_done_ = std::move(f); }
+    void set_on_tile_done(ChunkPointLoader::TileDoneFn f) { on_tile_done_ = std::move(f); }
     std::vector<ErrorRecord> errors() const {
         std::lock_guard lock(mutex_);
         return errors_;
@@ -199,17 +199,21 @@ private:
     void publish(std::uint32_t id, const std::vector<PendingPoint>& points) {
         const bool sixteen_bit =
             colour_is_16bit(points, [](const PendingPoint& p) { return std::max({p.r, p.g, p.b}); });
+        std::vector<CellKey> cells;
         for (const auto& p : points) {
             const Rgb8 rgb = rgb8_from_las(p.r, p.g, p.b, sixteen_bit);
             try {
-                grid_.add(p.x, p.y, p.z, rgb, p.intensity, p.classification, id);
+                const CellKey cell = grid_.add(p.x, p.y, p.z, rgb, p.intensity, p.classification, id);
+                if (cells.empty() || cells.back() != cell) cells.push_back(cell);
                 ++loader_.loaded_;
             } catch (const Error& e) {
                 fail(ds_.tiles[id].tile.path, 0, "chunk point cannot be placed on the patch grid: " + e.cause());
             }
         }
+        std::sort(cells.begin(), cells.end());
+        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
         ++loader_.tiles_done_;
-        if (on_tile_done_) on_tile_done_(id);
+        if (on_tile_done_) on_tile_done_(id, cells);
     }
 
     ChunkPointLoader& loader_;
@@ -217,7 +221,7 @@ private:
     PatchGrid& grid_;
     const bool direct_;
     const std::size_t max_errors_;
-    std::function<void(std::uint32_t)> on_tile_done_;
+    ChunkPointLoader::TileDoneFn on_tile_done_;
 
     mutable std::mutex mutex_;
     std::vector<TileState> tiles_;
@@ -245,7 +249,7 @@ ChunkPointLoader::~ChunkPointLoader() {
 
 void ChunkPointLoader::set_focus(double x_m, double y_m) { source_->set_focus(x_m, y_m); }
 
-void ChunkPointLoader::on_tile_done(std::function<void(std::uint32_t)> callback) {
+void ChunkPointLoader::on_tile_done(TileDoneFn callback) {
     source_->set_on_tile_done(std::move(callback));
 }
 

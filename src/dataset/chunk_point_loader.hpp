@@ -15,17 +15,18 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "core/error.hpp"
+#include "dataset/patch_grid.hpp"
 #include "io/batch_reader.hpp"
 
 namespace lidarscout::dataset {
 
 struct Dataset;
-class PatchGrid;
 
 struct ChunkPointLoaderOptions {
     io::BatchReadOptions reads;      // back end, threads, reads in flight
@@ -44,8 +45,10 @@ public:
 
     // Tiles nearest to (x, y) in metres load first. May be called at any time.
     void set_focus(double x_m, double y_m);
-    // Called from reader threads when a tile's chunk points are all in the grid. Set before start().
-    void on_tile_done(std::function<void(std::uint32_t tile)> callback);
+    // Called from reader threads when a tile's chunk points are all in the grid, with the grid
+    // cells they fell in (sorted, each once). Set before start().
+    using TileDoneFn = std::function<void(std::uint32_t tile, std::span<const CellKey> cells)>;
+    void on_tile_done(TileDoneFn callback);
 
     void start();   // starts the background reads (once)
     void cancel();  // no new reads; those in flight complete

@@ -77,7 +77,7 @@ GridPoint PatchGrid::make_point(CellKey cell, double x_m, double y_m, double z_m
     return p;
 }
 
-void PatchGrid::add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
+CellKey PatchGrid::add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
                     std::uint8_t classification, std::uint32_t tile) {
     const CellKey cell = cell_of(x_m, y_m);
     GridPoint p = make_point(cell, x_m, y_m, z_m);
@@ -91,6 +91,7 @@ void PatchGrid::add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t 
         shard.cells[cell].push_back(p);
     }
     size_.fetch_add(1, std::memory_order_relaxed);
+    return cell;
 }
 
 std::vector<GridPoint> PatchGrid::points_in(CellKey cell) const {

@@ -90,8 +90,8 @@ public:
 
     // Thread-safe: adds lock only the shard that owns the point's cell. Coordinates in
     // metres (the caller converts feet). Throws lidarscout::Error when the cell index does
-    // not fit an int32 (more than ~1.4e12 m from the origin with 640 m cells).
-    void add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
+    // not fit an int32 (more than ~1.4e12 m from the origin with 640 m cells). Returns the cell.
+    CellKey add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
              std::uint8_t classification, std::uint32_t tile);
 
     CellKey cell_of(double x_m, double y_m) const;

@@ -42,7 +42,7 @@ RecordBatches::~RecordBatches() = default;
 RecordBatches::RecordBatches(RecordBatches&&) noexcept = default;
 
 void RecordBatches::read(const io::File& file, std::size_t k, std::vector<std::uint8_t>& out, std::uint32_t fields,
-                         ThreadPool& pool) const {
+                         ThreadPool& pool, std::vector<SkippedChunk>* skipped) const {
     const Batch& b = batches_.at(k);
     const auto& h = tile_.header;
     out.resize(b.points * h.record_length);
@@ -50,14 +50,41 @@ void RecordBatches::read(const io::File& file, std::size_t k, std::vector<std::u
         file.read_exact(h.offset_to_point_data + b.first_point * h.record_length, out, "point records");
         return;
     }
-    laz::decode_units_parallel(file, *layout_, b.first_unit, b.last_unit, out, fields, pool);
+    try {
+        laz::decode_units_parallel(file, *layout_, b.first_unit, b.last_unit, out, fields, pool);
+    } catch (const Error&) {
+        if (!skipped) throw;
+        read_chunk_by_chunk(file, k, out, fields, pool, *skipped);  // the whole batch again, to find the culprits
+    }
+}
+
+void RecordBatches::read_chunk_by_chunk(const io::File& file, std::size_t k, std::vector<std::uint8_t>& out,
+                                        std::uint32_t fields, ThreadPool& pool,
+                                        std::vector<SkippedChunk>& skipped) const {
+    const Batch& b = batches_.at(k);
+    const std::size_t record = tile_.header.record_length;
+    std::size_t kept = 0;  // bytes of `out` holding the records of the chunks decoded so far
+    for (std::size_t u = b.first_unit; u < b.last_unit; ++u) {
+        const laz::Chunk& c = layout_->units[u];
+        const auto span = std::span(out).subspan(kept, c.point_count * record);
+        try {
+            laz::decode_units_parallel(file, *layout_, u, u + 1, span, fields, pool);
+            kept += span.size();
+        } catch (const Error& e) {
+            ErrorRecord error = ErrorRecord::of(e);
+            if (!error.offset) error.offset = c.byte_offset;
+            skipped.push_back({c.first_point, c.point_count, std::move(error)});
+        }
+    }
+    out.resize(kept);
 }
 
 void for_each_record_batch(const io::File& file, const Tile& tile, ThreadPool& pool, const RecordBatchFn& fn,
-                           std::uint32_t fields, std::uint64_t batch_points, bool read_ahead) {
+                           std::uint32_t fields, std::uint64_t batch_points, bool read_ahead,
+                           std::vector<SkippedChunk>* skipped) {
     const RecordBatches batches(tile, batch_points);
     std::vector<std::uint8_t> buffers[2];
-    const auto read = [&](std::size_t k) { batches.read(file, k, buffers[k % 2], fields, pool); };
+    const auto read = [&](std::size_t k) { batches.read(file, k, buffers[k % 2], fields, pool, skipped); };
     std::future<void> next;  // declared after the buffers: destroyed (waited for) first
     for (std::size_t k = 0; k < batches.size(); ++k) {
         if (next.valid()) next.get();

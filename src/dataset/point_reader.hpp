@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "core/error.hpp"
 #include "laz/chunk_decoder.hpp"
 
 namespace lidarscout {
@@ -24,6 +25,12 @@ struct LazLayout;
 namespace lidarscout::dataset {
 
 struct Tile;
+
+// A LAZ chunk that could not be decoded and was left out of its batch: its points and why.
+struct SkippedChunk {
+    std::uint64_t first_point = 0, points = 0;
+    ErrorRecord error;  // the file, the chunk's byte offset where known, the cause
+};
 
 // Called with the index of the batch's first point and its records (record_length each).
 using RecordBatchFn = std::function<void(std::uint64_t first_point, std::span<const std::uint8_t> records)>;
@@ -42,10 +49,15 @@ public:
     std::uint64_t first_point(std::size_t k) const { return batches_[k].first_point; }
     std::uint64_t point_count(std::size_t k) const { return batches_[k].points; }
     // Batch k's records into `out` (resized); LAZ chunks are decoded in parallel on `pool`.
+    // Throws lidarscout::Error when a chunk cannot be decoded, unless `skipped` is given: then
+    // each chunk that cannot be is left out of `out` (the records of the others stay in order)
+    // and appended to `skipped`.
     void read(const io::File& file, std::size_t k, std::vector<std::uint8_t>& out, std::uint32_t fields,
-              ThreadPool& pool) const;
+              ThreadPool& pool, std::vector<SkippedChunk>* skipped = nullptr) const;
 
 private:
+    void read_chunk_by_chunk(const io::File& file, std::size_t k, std::vector<std::uint8_t>& out,
+                             std::uint32_t fields, ThreadPool& pool, std::vector<SkippedChunk>& skipped) const;
     struct Batch {
         std::uint64_t first_point = 0, points = 0;
         std::size_t first_unit = 0, last_unit = 0;  // LAZ decode units [first, last)
@@ -58,9 +70,10 @@ private:
 // Reads every record of `tile`; `fields` is a laz::fields mask (LAS files always give all).
 // Batches hold about `batch_points` points (at least one whole LAZ chunk). With `read_ahead`
 // the next batch is read or decoded (on `pool`) while fn runs on this one, so fn must not use
-// `pool`; memory is then two batches.
+// `pool`; memory is then two batches. With `skipped`, a LAZ chunk that cannot be decoded is
+// left out and appended to it (RecordBatches::read) instead of ending the read with an Error.
 void for_each_record_batch(const io::File& file, const Tile& tile, ThreadPool& pool, const RecordBatchFn& fn,
                            std::uint32_t fields = laz::fields::kAll, std::uint64_t batch_points = 1u << 20,
-                           bool read_ahead = false);
+                           bool read_ahead = false, std::vector<SkippedChunk>* skipped = nullptr);
 
 }  // namespace lidarscout::dataset

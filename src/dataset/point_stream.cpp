@@ -8,6 +8,7 @@
 #include <optional>
 #include <vector>
 
+#include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
@@ -74,20 +75,22 @@ struct ReadyBatch {
     bool has_points = false, last_of_tile = false;
     std::vector<std::uint8_t> records;
     std::vector<MetricPoint> points;
+    std::vector<SkippedChunk> skipped;  // left out of `points` (only when the walk skips)
 };
 
 // Walks the tiles' batches in order; next() makes the next one ready (decoded and placed on the pool).
 class MetricBatchWalk {
 public:
     MetricBatchWalk(const Dataset& ds, std::span<const std::uint32_t> tiles, ThreadPool& pool, std::uint32_t fields,
-                    std::uint64_t batch_points)
-        : ds_(ds), tiles_(tiles), pool_(pool), fields_(fields), batch_points_(batch_points) {}
+                    std::uint64_t batch_points, bool skip)
+        : ds_(ds), tiles_(tiles), pool_(pool), fields_(fields), batch_points_(batch_points), skip_(skip) {}
 
     bool done() const { return position_ >= tiles_.size(); }
 
     void next(ReadyBatch& out) {
-        if (!reader_) reader_ = std::make_unique<TileReader>(ds_, tiles_[position_], fields_, batch_points_);
         out.tile = tiles_[position_];
+        out.skipped.clear();
+        if (!reader_ && !open_reader(out)) return;
         out.has_points = batch_ < reader_->batches.size();
         if (out.has_points) fill(out);
         out.last_of_tile = batch_ + 1 >= reader_->batches.size();
@@ -100,11 +103,26 @@ public:
     }
 
 private:
+    // Opens the current tile; a tile that cannot be opened is, when skipping, a batch without
+    // points that ends the tile.
+    bool open_reader(ReadyBatch& out) {
+        try {
+            reader_ = std::make_unique<TileReader>(ds_, tiles_[position_], fields_, batch_points_);
+            return true;
+        } catch (const Error& e) {
+            if (!skip_) throw;
+            out.skipped.push_back({0, ds_.tiles[out.tile].tile.header.point_count, ErrorRecord::of(e)});
+            out.has_points = false, out.last_of_tile = true;
+            ++position_, batch_ = 0;
+            return false;
+        }
+    }
+
     void fill(ReadyBatch& out) {
         const TileReader& r = *reader_;
         out.first_point = r.batches.first_point(batch_);
-        r.batches.read(r.file, batch_, out.records, fields_, pool_);
-        out.points.resize(r.batches.point_count(batch_));
+        r.batches.read(r.file, batch_, out.records, fields_, pool_, skip_ ? &out.skipped : nullptr);
+        out.points.resize(out.records.size() / r.tile.tile.header.record_length);
         const std::size_t n = out.points.size(), pieces = (n + kPlacePiece - 1) / kPlacePiece;
         pool_.for_each(pieces, [&](std::size_t i) {
             const std::size_t first = i * kPlacePiece;
@@ -118,6 +136,7 @@ private:
     ThreadPool& pool_;
     std::uint32_t fields_;
     std::uint64_t batch_points_;
+    bool skip_;
     std::size_t position_ = 0, batch_ = 0;
     std::unique_ptr<TileReader> reader_;
 };
@@ -126,8 +145,8 @@ private:
 
 void for_each_metric_batch(const Dataset& ds, std::span<const std::uint32_t> tiles, ThreadPool& pool,
                            const TileMetricBatchFn& fn, const TileDoneFn& tile_done, std::uint32_t fields,
-                           std::uint64_t batch_points) {
-    MetricBatchWalk walk(ds, tiles, pool, fields, batch_points);
+                           std::uint64_t batch_points, const SkippedFn& skipped) {
+    MetricBatchWalk walk(ds, tiles, pool, fields, batch_points, skipped != nullptr);
     if (walk.done()) return;
     ReadyBatch ready[2];
     std::future<void> next;  // declared after the batches: destroyed (waited for) first
@@ -136,6 +155,7 @@ void for_each_metric_batch(const Dataset& ds, std::span<const std::uint32_t> til
         const ReadyBatch& b = ready[k % 2];
         ReadyBatch& following = ready[(k + 1) % 2];
         if (!walk.done()) next = std::async(std::launch::async, [&walk, &following] { walk.next(following); });
+        for (const auto& s : b.skipped) skipped(b.tile, s);
         if (b.has_points) fn(b.tile, b.first_point, b.points);
         if (b.last_of_tile && tile_done) tile_done(b.tile);
         if (!next.valid()) break;

@@ -12,10 +12,12 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/thread_pool.hpp"
 #include "io/remote_reads.hpp"
 
 namespace lidarscout::io {
@@ -98,7 +100,13 @@ void run_on_threads(unsigned n, Body body) {
         }
     };
     std::vector<std::thread> threads;
-    for (unsigned i = 1; i < n; ++i) threads.emplace_back(guarded);
+    try {
+        for (unsigned i = 1; i < capped_threads(n); ++i) threads.emplace_back(guarded);
+    } catch (const std::system_error& e) {  // the system refused a thread: those started finish the reads
+        const std::string cause = std::string("cannot start a reader thread: ") + e.what();
+        std::lock_guard lock(mutex);
+        first = std::make_exception_ptr(Error::in_stage("io", cause));
+    }
     guarded();
     for (auto& t : threads) t.join();
     if (first) std::rethrow_exception(first);

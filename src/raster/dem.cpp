@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "raster/block_raster.hpp"
@@ -61,6 +62,30 @@ void check_mostly_empty(const dataset::Dataset& ds, const DemGrid& g) {
                   "the DEM would be %d x %d texels (%.0f GB as float32), but the tiles cover only %.2g%% of it "
                   "(they lie far apart): give --bounds, or a larger --texel", g.width, g.height, texels * 4 / 1e9,
                   100 * share);
+    throw Error::in_stage("dem", text);
+}
+
+std::string gigabytes(double bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g GB", bytes / 1e9);
+    return text;
+}
+
+// Refuses a DEM whose memory estimate exceeds the budget, suggesting a texel that fits (the
+// estimate falls with the square of the texel).
+void check_memory(const dataset::Dataset& ds, const DemGrid& g, const DemRequest& r) {
+    const double need = static_cast<double>(dem_memory_bytes(ds, g, r));
+    const double budget = static_cast<double>(r.memory_budget ? r.memory_budget : usable_memory_bytes() / 2);
+    if (need <= budget) return;
+    const double texel = r.texel_m * std::sqrt(need / budget) * 1.1;
+    const double step = std::pow(10.0, std::floor(std::log10(texel)) - 1);  // two significant digits
+    char text[512];
+    std::snprintf(text, sizeof text,
+                  "the DEM would be %d x %d texels of %g m (%s as float32) and need about %s of memory at once, "
+                  "over the budget of %s (half of the memory this process may use): give a larger --texel "
+                  "(e.g. --texel %g) or a smaller --bounds",
+                  g.width, g.height, g.texel_m, gigabytes(4.0 * g.width * g.height).c_str(), gigabytes(need).c_str(),
+                  gigabytes(budget).c_str(), std::ceil(texel / step) * step);
     throw Error::in_stage("dem", text);
 }
 
@@ -157,6 +182,16 @@ std::string_view dem_method_name(DemMethod method) {
     return "?";
 }
 
+std::uint64_t dem_memory_bytes(const dataset::Dataset& ds, const DemGrid& g, const DemRequest& r) {
+    const double tiff_tiles = std::ceil(g.width / 512.0) * std::ceil(g.height / 512.0);
+    const double rasters = r.rgb.empty() ? 1 : 2;
+    double bytes = tiff_tiles * rasters * 2 * 16;  // scratch and COG: an offset and a size per tile
+    if (r.source == DemSource::Full) {
+        bytes += static_cast<double>(full_dem_peak_bytes(ds, g, gridder_of(r), !r.rgb.empty()));
+    }
+    return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
+}
+
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     DemResult result;
@@ -164,6 +199,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     check_bounds_overlap(ds, r, area);
     result.grid = make_dem_grid(area, r.texel_m, block_texels(r));
     check_mostly_empty(ds, result.grid);
+    check_memory(ds, result.grid, r);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
     BlockRaster heights(r.output, geometry, height_layout(ds, nodata));
@@ -183,6 +219,8 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         const FullDemStats s = grid_full_dem(ds, result.grid, opt, outputs, pool);
         result.points_read = s.points_read;
         result.points_used = s.points_used;
+        result.skipped = s.skipped;
+        result.points_skipped = s.points_skipped;
         result.blocks_written = s.blocks_written;
         result.peak_blocks = s.peak_blocks;
     } else {
@@ -196,6 +234,8 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         };
         const OverviewDemStats s = grid_overview_dem(ds, result.grid, opt, outputs, pool);
         result.points_read = result.points_used = s.chunk_points;
+        result.skipped = s.skipped;
+        result.points_skipped = s.chunk_points_skipped;
         result.blocks_written = s.patches_written;
     }
     result.seconds_grid = seconds_since(t0);

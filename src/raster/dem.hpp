@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/error.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/full_dem.hpp"
 
@@ -49,16 +50,29 @@ struct DemRequest {
     double tin_max_edge_m = 0; // tin: no height in triangles with a longer edge (0: no limit)
     std::string model;         // the network for cnn; empty: the shipped one
     unsigned threads = 1;
+    // Bytes the DEM may hold at once (0: half of what the process may use, usable_memory_bytes()).
+    // A DEM estimated to need more is refused before anything is allocated (dem_memory_bytes).
+    std::uint64_t memory_budget = 0;
     DemProgressFn progress;
 };
 
 struct DemResult {
     DemGrid grid;
     std::uint64_t points_read = 0, points_used = 0;
+    std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
+    std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0, peak_blocks = 0;
     double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0;
 };
 
+// The memory the DEM of `grid` needs at once, estimated: for --from full the blocks in flight
+// (full_dem_peak_bytes), for both the rasters' tile indexes (GDAL keeps two 8-byte offsets per
+// 512 x 512 tile and band group, in the scratch raster and in the COG).
+std::uint64_t dem_memory_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const DemRequest& request);
+
+// Throws Error for a method that does not fit the source, a raster far larger than the tiles
+// cover, or one whose memory estimate exceeds the budget (naming the size and the way out:
+// a larger --texel, or --bounds).
 DemResult make_dem(const dataset::Dataset& dataset, const DemRequest& request);
 
 }  // namespace lidarscout::raster

@@ -33,6 +33,9 @@ struct BlockRange {
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
     bool empty() const { return x1 < x0 || y1 < y0; }
     bool contains(dataset::CellKey c) const { return c.ix >= x0 && c.ix <= x1 && c.iy >= y0 && c.iy <= y1; }
+    bool contains(const BlockRange& r) const {
+        return contains(dataset::CellKey{r.x0, r.y0}) && contains(dataset::CellKey{r.x1, r.y1});
+    }
 };
 
 int block_index(double v, double origin, double block_m, int count) {
@@ -54,6 +57,8 @@ BlockRange tile_blocks(const DemGrid& g, const dataset::Bounds& b, double reach_
     return r;
 }
 
+enum class Added { Used, Missed, OutsideTile };
+
 class BlockSet {
 public:
     BlockSet(const DemGrid& grid, const FullDemOptions& options, const DemOutputs& outputs, FullDemStats& stats)
@@ -67,22 +72,26 @@ public:
 
     void expect(const BlockRange& r) { visit(r, [&](dataset::CellKey c) { ++pending_[slot(c)]; }); }
 
-    // Adds a point of a tile whose blocks are `range`; false when it reaches no block.
-    bool add(const dataset::MetricPoint& p, const BlockRange& range, const std::string& tile) {
+    // Adds a point of a tile whose blocks are `range`: Used, Missed when it reaches no block,
+    // OutsideTile (and not added) when it reaches a block beyond the tile's header bounds, which
+    // may already be written.
+    Added add(const dataset::MetricPoint& p, const BlockRange& range) {
         const auto at = recon::locate_texel(spec_, grid_.origin_x, grid_.origin_y, p.x, p.y);
-        if (!at) return false;
+        if (!at) return Added::Missed;
         if (reach_ == 0) {
-            if (!inside_raster(*at)) return false;
-            gridder_of(checked(at->cell, range, p, tile)).add(p, &*at);
-            return true;
+            if (!inside_raster(*at)) return Added::Missed;
+            if (!range.contains(at->cell)) return Added::OutsideTile;
+            gridder_of(at->cell).add(p, &*at);
+            return Added::Used;
         }
         const BlockRange reached = blocks_within(p.x, p.y);
-        if (reached.empty()) return false;
+        if (reached.empty()) return Added::Missed;
+        if (!range.contains(reached)) return Added::OutsideTile;
         visit(reached, [&](dataset::CellKey c) {
             const bool own = c == at->cell && inside_raster(*at);
-            gridder_of(checked(c, range, p, tile)).add(p, own ? &*at : nullptr);
+            gridder_of(c).add(p, own ? &*at : nullptr);
         });
-        return true;
+        return Added::Used;
     }
 
     // The blocks the tile was the last to reach are gridded in parallel, then written in order.
@@ -122,15 +131,6 @@ private:
         r.x0 = std::max(r.x0, 0), r.y0 = std::max(r.y0, 0);
         r.x1 = std::min(r.x1, grid_.blocks_x() - 1), r.y1 = std::min(r.y1, grid_.blocks_y() - 1);
         return r;
-    }
-
-    static dataset::CellKey checked(dataset::CellKey c, const BlockRange& range, const dataset::MetricPoint& p,
-                                    const std::string& tile) {
-        if (!range.contains(c)) {
-            throw Error(tile, std::nullopt, "a point at (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
-                                                " m) lies outside the tile's header bounds");
-        }
-        return c;
     }
 
     template <typename Fn>
@@ -198,7 +198,36 @@ std::vector<std::uint32_t> tile_order(const dataset::Dataset& ds) {
     return order;
 }
 
+// What a block's gridder holds per texel (block_gridders.cpp) plus its finished images (heights
+// and colour): TexelStats is 32 bytes; idw sums 16, colour sums 24; tin about one held point of
+// 48 bytes per texel at survey densities.
+std::uint64_t gridder_bytes_per_texel(const GridderSpec& g, bool rgb) {
+    const std::uint64_t images = 4 + (rgb ? 4 : 0);
+    switch (g.method) {
+        case GridMethod::Statistic: return 32 + images;
+        case GridMethod::Idw: return 16 + (rgb ? 24 : 0) + images;
+        case GridMethod::Tin: return 48 + images;
+    }
+    return 48 + images;
+}
+
 }  // namespace
+
+std::uint64_t full_dem_peak_bytes(const dataset::Dataset& ds, const DemGrid& grid, const GridderSpec& gridder,
+                                  bool rgb) {
+    const double reach = gridder_reach_m(gridder, grid.texel_m);
+    double rows = 0;
+    for (const auto& t : ds.tiles) {
+        const BlockRange r = tile_blocks(grid, t.bounds_m, reach);
+        if (!r.empty()) rows = std::max(rows, static_cast<double>(r.y1 - r.y0 + 2));
+    }
+    const double blocks = static_cast<double>(grid.blocks_x()) * grid.blocks_y();
+    const double held = std::min(blocks, rows * grid.blocks_x());
+    const double block_texels = static_cast<double>(grid.block) * grid.block;
+    const double bytes = held * block_texels * static_cast<double>(gridder_bytes_per_texel(gridder, rgb)) +
+                         blocks * sizeof(int);
+    return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
+}
 
 FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, const FullDemOptions& options,
                            const DemOutputs& outputs, ThreadPool& pool) {
@@ -218,16 +247,30 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
     for (const std::uint32_t t : tile_order(ds)) {
         if (!ranges[t].empty()) order.push_back(t);
     }
+    std::vector<std::uint64_t> outside(ds.tiles.size(), 0);  // per tile: points beyond its header bounds
     const auto add = [&](std::uint32_t t, std::uint64_t, std::span<const dataset::MetricPoint> points) {
-        const std::string& path = ds.tiles[t].tile.path;
         for (const auto& p : points) {
-            if (options.classes.keep[p.classification]) stats.points_used += blocks.add(p, ranges[t], path);
+            if (!options.classes.keep[p.classification]) continue;
+            const Added a = blocks.add(p, ranges[t]);
+            stats.points_used += a == Added::Used;
+            outside[t] += a == Added::OutsideTile;
         }
         stats.points_read += points.size();
         if (options.progress) options.progress(stats.points_read, total);
     };
+    const auto skipped = [&](std::uint32_t, const dataset::SkippedChunk& s) {
+        stats.skipped.push_back(s.error);
+        stats.points_skipped += s.points;
+    };
     dataset::for_each_metric_batch(ds, order, pool, add, [&](std::uint32_t t) { blocks.tile_done(ranges[t], pool); },
-                                   fields);
+                                   fields, 1u << 20, skipped);
+    for (std::size_t t = 0; t < ds.tiles.size(); ++t) {
+        if (outside[t] == 0) continue;
+        stats.skipped.push_back({ds.tiles[t].tile.path, std::nullopt,
+                                 std::to_string(outside[t]) + " points lie outside the tile's header bounds (a corrupt "
+                                                              "header or chunk?): left out"});
+        stats.points_skipped += outside[t];
+    }
     return stats;
 }
 

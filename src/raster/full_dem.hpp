@@ -4,13 +4,17 @@
 // same gridding as `eval`'s ground truth, so `--method mean` equals it texel by texel — the
 // texels within the radius for idw, the blocks whose margin holds it for tin), and a block is
 // finished — gridded, written, freed — as soon as the last tile that reaches it is done.
-// Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its tile's header bounds
-// (beyond a texel) is an error naming the file: its block may already be written.
+// Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its
+// tile's header bounds (beyond a texel; its block may already be written) and a LAZ chunk that
+// cannot be decoded cost their points only, named and counted (FullDemStats::skipped).
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <vector>
+
+#include "core/error.hpp"
 
 #include "raster/block_gridders.hpp"
 #include "raster/dem_grid.hpp"
@@ -50,9 +54,18 @@ struct DemOutputs {
 
 struct FullDemStats {
     std::uint64_t points_read = 0, points_used = 0;
+    // LAZ chunks (or whole tiles) that could not be decoded: left out, the DEM made without them.
+    std::vector<ErrorRecord> skipped;
+    std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0;
     std::size_t peak_blocks = 0;  // blocks held at once
 };
+
+// Bytes grid_full_dem may hold at once, estimated before anything is allocated: the blocks of a
+// band as wide as the raster and as tall as the tallest tile's blocks plus one (blocks finish when
+// the row of tiles above them is done), at the gridder's bytes per texel, and a count per block.
+std::uint64_t full_dem_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const GridderSpec& gridder,
+                                  bool rgb);
 
 FullDemStats grid_full_dem(const dataset::Dataset& dataset, const DemGrid& grid, const FullDemOptions& options,
                            const DemOutputs& outputs, ThreadPool& pool);

@@ -177,6 +177,8 @@ OverviewDemStats grid_overview_dem(const dataset::Dataset& ds, const DemGrid& gr
     loader.wait();
     OverviewDemStats stats;
     stats.chunk_points = loader.loaded();
+    stats.skipped = loader.errors();
+    stats.chunk_points_skipped = loader.failed();
     const bool has_rgb = grid_has_rgb(points);
     const PatchSpecs specs{{spec, options.min_points, has_rgb},
                            {{grid.texel_m, kOverviewPatchTexels, 16}, options.min_points, has_rgb}};

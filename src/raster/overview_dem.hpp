@@ -17,7 +17,9 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
+#include "core/error.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/full_dem.hpp"  // ClassFilter, DemOutputs (and the declarations of ThreadPool, Dataset)
 
@@ -38,6 +40,8 @@ struct OverviewDemOptions {
 
 struct OverviewDemStats {
     std::uint64_t chunk_points = 0;
+    std::vector<ErrorRecord> skipped;  // chunk points (or tiles) that could not be read, left out
+    std::uint64_t chunk_points_skipped = 0;
     std::size_t patches_written = 0, patches_too_few = 0;
 };
 

@@ -201,7 +201,8 @@ std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile) {
 }
 
 PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
-                        const std::function<void(std::uint64_t)>& progress) {
+                        const std::function<void(std::uint64_t)>& progress,
+                        std::vector<dataset::SkippedChunk>* skipped) {
     const auto file = io::File::open(tile.tile.path);
     PointSet set = empty_tile_set(tile);
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
@@ -213,7 +214,7 @@ PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stri
             append_records(set, records, convert, pool);
             if (progress) progress(records.size() / tile.tile.header.record_length);
         },
-        kDrawnFields);
+        kDrawnFields, 1u << 20, false, skipped);
     return set;
 }
 

@@ -57,6 +57,19 @@ std::pair<std::int32_t, std::int32_t> cell_range(double lo, double hi, double or
             static_cast<std::int32_t>(std::floor((hi + pad - origin) / size))};
 }
 
+// A tile's cells are enumerated from its header bounds only when the bounds are about as large
+// as its data could fill: a few points in a box of a billion metres a side (one of the format
+// test files) would otherwise enumerate 10^13 cells. Other tiles ("sparse") get the cells their
+// chunk points fall in, once they are in.
+constexpr double kCellsPerTile = 1024, kCellsPerChunkPoint = 16;
+
+bool bounds_fit_data(const dataset::DatasetTile& t, const dataset::PatchGrid& grid, double pad) {
+    const auto& b = t.bounds_m;
+    const double w = (b.max_x - b.min_x + 2 * pad) / grid.patch_size() + 2;
+    const double h = (b.max_y - b.min_y + 2 * pad) / grid.patch_size() + 2;
+    return w * h <= kCellsPerTile + kCellsPerChunkPoint * static_cast<double>(t.chunk_points);
+}
+
 template <typename Fn>
 void for_cells(const dataset::Bounds& b, const dataset::PatchGrid& grid, double pad, Fn&& fn) {
     const auto [x0, x1] = cell_range(b.min_x, b.max_x, grid.origin_x(), grid.patch_size(), pad);
@@ -84,7 +97,7 @@ struct Scheduler::State {
 
     std::unordered_map<CellKey, Patch, CellKeyHash> patches;
     std::vector<std::vector<CellKey>> window_cells;  // per tile: candidate cells whose window it overlaps
-    std::vector<std::vector<CellKey>> own_cells;     // per tile: cells its points may fall in
+    std::vector<bool> sparse;                        // per tile: its cells come from its points (bounds_fit_data)
     std::vector<CellKey> ready, cnn_ready;           // queues, best at the back once sorted
     QueueOrder ready_sorted, cnn_sorted;
     std::size_t candidates = 0, tiles_done = 0, linear_tried = 0, linear_made = 0, cnn_tried = 0;
@@ -146,6 +159,14 @@ struct Scheduler::State {
         order.throttle.done();
     }
 
+    // A cell a sparse tile's chunk points fell in (see bounds_fit_data): its heightmap waits
+    // for the loader to finish (no tile counted it as a dependency).
+    void add_sparse_candidate(CellKey cell, Patch& p) {
+        p.candidate = true;
+        ++candidates;
+        if (loader_finish_handled) push_ready(cell, p);
+    }
+
     void push_ready(CellKey cell, Patch& p) {
         if (p.ready || !p.candidate) return;
         p.ready = true;
@@ -200,18 +221,18 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     s.z_min = dataset.bounds_m.min_z, s.z_max = dataset.bounds_m.max_z;
     const double pad = s.build.patch.spec.pad_m();
     s.window_cells.resize(dataset.tiles.size());
-    s.own_cells.resize(dataset.tiles.size());
+    const auto dense = [&](const dataset::DatasetTile& t) {
+        return t.chunk_points > 0 && !t.bounds_m.empty() && bounds_fit_data(t, *grid_, pad);
+    };
+    s.sparse.resize(dataset.tiles.size());
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
         const auto& t = dataset.tiles[i];
-        if (t.chunk_points == 0 || t.bounds_m.empty()) continue;
-        for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) { s.patches[c].candidate = true; });
-        const double slack =
-            0.02 * std::max(t.bounds_m.max_x - t.bounds_m.min_x, t.bounds_m.max_y - t.bounds_m.min_y) + 1;
-        for_cells(t.bounds_m, *grid_, slack, [&](CellKey c) { s.own_cells[i].push_back(c); });
+        s.sparse[i] = !dense(t);
+        if (!s.sparse[i]) for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) { s.patches[c].candidate = true; });
     }
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
         const auto& t = dataset.tiles[i];
-        if (t.chunk_points == 0 || t.bounds_m.empty()) continue;
+        if (s.sparse[i]) continue;
         for_cells(t.bounds_m, *grid_, pad, [&](CellKey c) {
             const auto it = s.patches.find(c);
             if (it == s.patches.end() || !it->second.candidate) return;
@@ -224,10 +245,10 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
 
     residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
     loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, options_.loader);
-    loader_->on_tile_done([this](std::uint32_t tile) { on_tile_done(tile); });
+    loader_->on_tile_done([this](std::uint32_t tile, std::span<const CellKey> cells) { on_tile_done(tile, cells); });
     if (options_.camera) set_camera(*options_.camera);
     loader_->start();
-    for (unsigned i = 0; i < std::max(1u, options_.heightmap_threads); ++i) {
+    for (unsigned i = 0; i < std::clamp(options_.heightmap_threads, 1u, max_threads()); ++i) {
         threads_.emplace_back([this] { heightmap_worker(); });
     }
     if (options_.cnn) threads_.emplace_back([this] { cnn_worker(); });
@@ -314,10 +335,10 @@ void Scheduler::emit(const SchedulerEvent& event) const {
     if (options_.on_event) options_.on_event(event);
 }
 
-void Scheduler::on_tile_done(std::uint32_t tile) {
+void Scheduler::on_tile_done(std::uint32_t tile, std::span<const CellKey> cells) {
     State& s = *state_;
     std::vector<std::pair<CellKey, std::shared_ptr<const PointSet>>> sets;
-    for (const auto cell : s.own_cells[tile]) {
+    for (const auto cell : cells) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));
         if (set->points.empty()) continue;
         if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
@@ -330,6 +351,7 @@ void Scheduler::on_tile_done(std::uint32_t tile) {
             Patch& p = s.patches[entry.first];
             s.modify(entry.first, p, [&] { p.chunk = std::move(entry.second); });
             s.changed_patch(entry.first, p);
+            if (s.sparse[tile] && !p.candidate) s.add_sparse_candidate(entry.first, p);
         }
         for (const auto cell : s.window_cells[tile]) {
             Patch& p = s.patches[cell];

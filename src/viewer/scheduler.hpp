@@ -5,7 +5,9 @@
 //     (the cell +- the recon padding) has its chunk points in the grid, visible and near
 //     patches first (those out of view wait while the residency decodes for the view); linear
 //     first, then the network in batches when a model is loaded (its heightmap replaces the
-//     linear one);
+//     linear one). A tile whose header bounds are far larger than its data could fill counts only
+//     the cells its chunk points fell in, and those wait for every tile's chunk points: memory
+//     follows the data, never the bounding box;
 //   - full resolution with level of detail: the Residency (residency.hpp, its own thread and
 //     lock) decodes the tiles in view, the one that improves the picture most per byte first,
 //     into LOD blocks (point_lod.hpp), within a memory budget that covers everything the
@@ -23,6 +25,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -126,7 +129,7 @@ public:
 
 private:
     struct State;
-    void on_tile_done(std::uint32_t tile);
+    void on_tile_done(std::uint32_t tile, std::span<const dataset::CellKey> cells);
     void heightmap_worker();
     void cnn_worker();
     void loader_watch();

@@ -1,10 +1,19 @@
 // `lidarscout dem`: a Kentucky DEM in the tiles' CRS (US survey feet, as gdalinfo reads it),
-// with its orthophoto and hillshade, JSON output; bad options are one-line errors (exit 1).
+// with its orthophoto and hillshade, JSON output; bad options are one-line errors (exit 1); a
+// raster over the memory budget is refused before it is allocated, a hostile --threads capped,
+// and a corrupt chunk costs only its points (exit 3).
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
+#include <nlohmann/json.hpp>
+
+#include "child_process.hpp"
+#include "core/thread_pool.hpp"
+#include "damaged_tile.hpp"
 #include "png_test_util.hpp"
 #include "raster/gdal_test_util.hpp"
 #include "temp_dir_fixture.hpp"
@@ -78,6 +87,98 @@ TEST_F(DemCommand, BadOptionsAreOneLineErrors) {
     EXPECT_EQ(test::run_command(base + " --method idw --max-edge 3 2>&1", out), 1);
     EXPECT_NE(out.find("--max-edge applies to --method tin only"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("x.tif")));
+}
+
+std::string woodford() { return (test::surveys_dir() / "ky-woodford-county").string(); }
+
+// No file is left in the output's folder but the ones named.
+std::size_t files_in(const fs::path& dir) {
+    return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+// --texel 0.001 on a 600 m tile: 565,208 x 611,565 texels (1.4 TB); it was killed at 24 GB.
+TEST_F(DemCommand, HugeRasterIsRefusedBeforeAllocation) {
+    fs::create_directories(dir / "out");
+    const auto run = test::run_measured(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " -o " +
+                                            (dir / "out" / "d.tif").string() + " --texel 0.001 --threads 100000",
+                                        dir / "err.txt");
+    EXPECT_EQ(run.status, 1) << run.err;
+    EXPECT_NE(run.err.find("565208 x 611565 texels"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("give a larger --texel (e.g. --texel "), std::string::npos) << run.err;
+    EXPECT_LT(run.max_rss_kb, 300 * 1024) << run.err;
+    EXPECT_LE(run.max_threads, max_threads() + 32u) << run.err;  // capped (plus the header readers)
+    EXPECT_NE(run.err.find("--threads 100000 is more than"), std::string::npos) << run.err;
+    EXPECT_EQ(files_in(dir / "out"), 0u);  // no scratch raster left behind
+}
+
+// Under a 4 GB address-space limit the budget is 2 GB: --texel 0.05 (about 5 GB at once) is
+// refused in one line instead of ending in std::bad_alloc.
+TEST_F(DemCommand, MemoryLimitIsTheBudget) {
+    fs::create_directories(dir / "out");
+    const auto run = test::run_measured("sh -c 'ulimit -v 4000000 && exec " + std::string(LIDARSCOUT_CLI) + " dem " +
+                                            woodford() + " -o " + (dir / "out" / "d.tif").string() + " --texel 0.05'",
+                                        dir / "err.txt");
+    EXPECT_EQ(run.status, 1) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_NE(run.err.find("over the budget of 2.05 GB"), std::string::npos) << run.err;
+    EXPECT_EQ(run.err.find("bad_alloc"), std::string::npos) << run.err;
+    EXPECT_EQ(files_in(dir / "out"), 0u);
+}
+
+TEST_F(DemCommand, CorruptChunkCostsOnlyItsPoints) {
+    const auto tile = test::damaged_tile(dir).string();
+    std::string out;
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + tile + " -o " + path("d.tif") +
+                                             " --texel 2 --json 2>" + path("err.txt"), out);
+    EXPECT_EQ(status, 3) << out;
+    EXPECT_TRUE(fs::exists(path("d.tif")));
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("points_skipped"), test::kDamagedChunkPoints);
+    EXPECT_EQ(j.at("points_read"), 1'012'412u - test::kDamagedChunkPoints);
+    ASSERT_EQ(j.at("skipped_chunks").size(), 1u) << out;
+    EXPECT_EQ(j.at("skipped_chunks")[0].at("file"), tile);
+    const auto cause = j.at("skipped_chunks")[0].at("cause").get<std::string>();
+    EXPECT_NE(cause.find(test::kDamagedChunkText), std::string::npos) << cause;
+    std::ifstream in(path("err.txt"));
+    const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_NE(err.find("skipped " + tile + ": at byte "), std::string::npos) << err;
+    // The undamaged tile: exit 0.
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " -o " + path("c.tif") +
+                                    " --texel 2 2>&1", out), 0) << out;
+}
+
+// Two copies of the Woodford tile side by side, the west one's header max x moved to its middle:
+// its eastern points land in blocks beyond its header bounds (possibly already written). That
+// ended the whole DEM; now those points are left out, named and counted.
+TEST_F(DemCommand, PointsBeyondTheirHeaderBoundsCostOnlyThemselves) {
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth replicate " + woodford() + " --grid 2x1 -o " +
+                                    path("tiles") + " 2>&1", out), 0) << out;
+    const fs::path west = dir / "tiles" / "5205000_3900000_x0_y0.laz";
+    fs::permissions(west, fs::perms::owner_write, fs::perm_options::add);
+    {
+        std::fstream f(west, std::ios::in | std::ios::out | std::ios::binary);
+        double max_min_x[2];
+        f.seekg(179);  // LAS 1.2: max x, min x (scaled units, doubles)
+        f.read(reinterpret_cast<char*>(max_min_x), sizeof max_min_x);
+        const double middle = 0.5 * (max_min_x[0] + max_min_x[1]);
+        f.seekp(179);
+        f.write(reinterpret_cast<const char*>(&middle), sizeof middle);
+    }
+    fs::remove(dir / "tiles" / "replicate.json");
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + path("tiles") + " -o " +
+                                             path("d.tif") + " --texel 0.25 --json 2>/dev/null", out);
+    EXPECT_EQ(status, 3) << out;
+    EXPECT_TRUE(fs::exists(path("d.tif")));
+    const auto j = nlohmann::json::parse(out);
+    ASSERT_EQ(j.at("skipped_chunks").size(), 1u) << out;
+    EXPECT_EQ(j.at("skipped_chunks")[0].at("file"), west.string());
+    EXPECT_NE(j.at("skipped_chunks")[0].at("cause").get<std::string>().find("outside the tile's header bounds"),
+              std::string::npos) << out;
+    EXPECT_GT(j.at("points_skipped").get<std::uint64_t>(), 100'000u);
+    EXPECT_EQ(j.at("points_used").get<std::uint64_t>() + j.at("points_skipped").get<std::uint64_t>(),
+              2u * 1'012'412u);
 }
 
 // No silent empty DEM: --bounds that miss the data are refused with the data's bounds in the same

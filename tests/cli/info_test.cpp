@@ -1,7 +1,8 @@
 // `lidarscout info`: JSON output for the surveys equals the headers, Kentucky tiles report US
 // survey feet, a bad file is one line on stderr and exit status 1 while the others are reported;
 // remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output; no
-// secret of a URL is printed; damaged range cache entries do not change the output.
+// secret of a URL is printed; damaged range cache entries do not change the output; a hostile
+// --threads is capped with one warning.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "child_process.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/file_search.hpp"
 #include "io/file.hpp"
 #include "las/header.hpp"
@@ -234,6 +237,25 @@ TEST(InfoCommand, CredentialsInUrlsAreNeverPrinted) {
     EXPECT_EQ(out.find("pa55word"), std::string::npos) << out;
     EXPECT_NE(out.find(server.url("surveys/missing.laz") + ": at byte 0: HTTP status 404"), std::string::npos) << out;
     EXPECT_NE(out.find("\"point_count\": 1012412"), std::string::npos) << out;
+}
+
+// --threads 100000 started 32,383 threads and stalled the machine.
+TEST(InfoCommand, HostileThreadCountIsCapped) {
+    const auto err = std::filesystem::temp_directory_path() / ("lidarscout_info_threads_" + std::to_string(::getpid()));
+    const auto run = test::run_measured(std::string(LIDARSCOUT_CLI) + " info --threads 100000 " +
+                                            test::surveys_dir().string(), err);
+    std::filesystem::remove(err);
+    EXPECT_EQ(run.status, 0) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_NE(run.err.find("--threads 100000 is more than this machine's " + std::to_string(max_threads()) +
+                           " threads (4 per core, at most 256): using " + std::to_string(max_threads())),
+              std::string::npos) << run.err;
+    EXPECT_LE(run.max_threads, max_threads() + 32u);  // the pool and the header readers
+    EXPECT_LT(run.max_rss_kb, 500 * 1024);
+    std::string out;
+    EXPECT_NE(test::run_command(std::string(LIDARSCOUT_CLI) + " info --threads -3 " + test::surveys_dir().string() +
+                                    " 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("--threads: expects a whole number 0 or more, not '-3'"), std::string::npos) << out;
 }
 
 // Signed URLs (S3, GCS, Azure SAS, tokens): their secrets reach the server but never the

@@ -1,7 +1,7 @@
 // `lidarscout render`: every survey rendered at the auto camera shows terrain in elevation
 // colours; the overview draws less than the heightmaps; full resolution decodes a small
 // survey's tile; golden images at a fixed camera; bad arguments are one-line errors, and so is a
-// remote tile whose every chunk point failed.
+// remote tile whose every chunk point failed; a corrupt chunk costs only its points (exit 3).
 //
 // Golden images live in tests/data/golden/. After an intended change of the rendering, look
 // at the new images and regenerate them with
@@ -24,6 +24,7 @@
 #include "render/framebuffer.hpp"
 #include "net/fault_server.hpp"
 #include "nginx_server.hpp"
+#include "damaged_tile.hpp"
 #include "png_test_util.hpp"
 #include "test_data.hpp"
 
@@ -253,6 +254,20 @@ TEST_F(RenderCommand, RemoteTileRendersTheSameImageAsTheLocalFile) {
     const std::string remote{std::istreambuf_iterator<char>(b), std::istreambuf_iterator<char>()};
     EXPECT_GT(local.size(), 1000u);
     EXPECT_TRUE(local == remote);
+}
+
+TEST_F(RenderCommand, CorruptChunkCostsOnlyItsPoints) {
+    const auto tile = test::damaged_tile(dir_).string();
+    std::string out, err;
+    EXPECT_EQ(render(tile + " --size 160x120 --json", "damaged", out, err), 3) << err;
+    EXPECT_TRUE(fs::exists(dir_ / "damaged.png"));
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("full_res_points"), 1'012'412u - test::kDamagedChunkPoints);
+    EXPECT_EQ(j.at("points_skipped"), test::kDamagedChunkPoints);
+    ASSERT_EQ(j.at("skipped_chunks").size(), 1u) << out;
+    const auto cause = j.at("skipped_chunks")[0].at("cause").get<std::string>();
+    EXPECT_NE(cause.find(test::kDamagedChunkText), std::string::npos) << cause;
+    EXPECT_NE(err.find("skipped " + tile + ": at byte "), std::string::npos) << err;
 }
 
 // --camera takes the CRS's units (US feet here, as info prints them), and a camera that sees none

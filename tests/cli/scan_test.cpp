@@ -157,6 +157,16 @@ TEST(ScanCommand, RemoteTileListGivesTheSameResultAsLocalFolders) {
     std::filesystem::remove_all(cache);
 }
 
+// --io-threads 100000 aborted ("terminate called without an active exception").
+TEST(ScanCommand, HostileIoThreadCountIsCapped) {
+    std::string out;
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " scan --io-threads 100000 " +
+                                             (test::surveys_dir() / "ky-woodford-county").string() + " 2>&1", out);
+    EXPECT_EQ(status, 0) << out;
+    EXPECT_NE(out.find("--io-threads 100000 is more than"), std::string::npos) << out;
+    EXPECT_EQ(out.find("terminate"), std::string::npos) << out;
+}
+
 // A server that answers a tile's header and chunk table, then 404 for everything else: every
 // chunk point fails, and scan says so by its exit status.
 TEST(ScanCommand, EveryChunkPointFailedIsAnError) {

@@ -1,7 +1,10 @@
-// ThreadPool: every index runs exactly once, errors propagate, nesting does not dead-lock.
+// ThreadPool: every index runs exactly once, errors propagate, nesting does not dead-lock, and no
+// request starts more than max_threads() threads.
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <fstream>
+#include <string>
 #include <chrono>
 #include <thread>
 #include <stdexcept>
@@ -50,6 +53,33 @@ TEST(ThreadPool, NestedLoops) {
 TEST(ThreadPool, EmptyLoop) {
     ThreadPool pool(2);
     pool.for_each(0, [](std::size_t) { FAIL(); });
+}
+
+// Threads of this process now (/proc/self/status).
+std::size_t process_threads() {
+    std::ifstream in("/proc/self/status");
+    for (std::string key; in >> key;) {
+        if (key == "Threads:") {
+            std::size_t n = 0;
+            in >> n;
+            return n;
+        }
+    }
+    return 0;
+}
+
+TEST(ThreadPool, HugeRequestIsCapped) {
+    EXPECT_EQ(max_threads(), std::min(256u, 4 * std::max(1u, std::thread::hardware_concurrency())));
+    EXPECT_EQ(capped_threads(0), 0u);
+    EXPECT_EQ(capped_threads(100'000), max_threads());
+    const std::size_t before = process_threads();
+    ASSERT_GT(before, 0u);
+    ThreadPool pool(100'000);
+    EXPECT_EQ(pool.size(), max_threads());
+    EXPECT_EQ(process_threads(), before + max_threads() - 1);  // the caller is one of them
+    std::atomic<int> total{0};
+    pool.for_each(1000, [&](std::size_t) { total++; });
+    EXPECT_EQ(total.load(), 1000);
 }
 
 }  // namespace

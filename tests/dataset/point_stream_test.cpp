@@ -1,6 +1,7 @@
 // for_each_metric_batch across tiles: every point of every tile once, in the tiles' order and in
 // file order, tile_done right after a tile's last batch, the same points as a tile streamed
-// alone; colour only when asked; a tile that vanished after opening is named in the error.
+// alone; colour only when asked; a tile that vanished after opening is named in the error; with a
+// skip callback a corrupt chunk costs its points only and is reported once.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/point_stream.hpp"
+#include "damaged_tile.hpp"
 #include "temp_dir_fixture.hpp"
 #include "test_data.hpp"
 
@@ -137,6 +139,27 @@ TEST_F(PointStreamFiles, ATileCutShortAfterOpeningIsNamedInTheErrorAfterTheTiles
     }
     EXPECT_EQ(first_tile_points, ds.tiles[0].tile.header.point_count);
     EXPECT_EQ(done, std::vector<std::uint32_t>{0});
+}
+
+TEST_F(PointStreamFiles, CorruptChunkIsSkippedWhenAsked) {
+    const auto tile = test::damaged_tile(dir);
+    const auto ds = dataset::open_dataset({tile.string()});
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    ThreadPool pool(2);
+    const std::uint32_t tiles[] = {0};
+    std::uint64_t points = 0;
+    std::vector<dataset::SkippedChunk> skipped;
+    const auto add = [&](std::uint32_t, std::uint64_t, std::span<const dataset::MetricPoint> p) { points += p.size(); };
+    const auto skip = [&](std::uint32_t, const dataset::SkippedChunk& s) { skipped.push_back(s); };
+    dataset::for_each_metric_batch(ds, tiles, pool, add, nullptr, laz::fields::kAll, 1u << 20, skip);
+    ASSERT_EQ(skipped.size(), 1u);
+    EXPECT_EQ(skipped[0].first_point, 450'000u);
+    EXPECT_EQ(skipped[0].points, test::kDamagedChunkPoints);
+    EXPECT_EQ(skipped[0].error.file, tile.string());
+    EXPECT_TRUE(skipped[0].error.offset.has_value());
+    EXPECT_EQ(points, ds.tiles[0].tile.header.point_count - test::kDamagedChunkPoints);
+    // Without the callback the stream ends with the chunk's error, as before.
+    EXPECT_THROW(dataset::for_each_metric_batch(ds, tiles, pool, add, nullptr), Error);
 }
 
 }  // namespace

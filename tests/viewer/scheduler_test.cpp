@@ -3,7 +3,8 @@
 // their detail in the heightmaps, a camera move re-prioritises the full-resolution loads, and
 // a replica made by the test stays within the budget; heightmaps out of view wait while the
 // tiles in view decode and show at the next camera move; files damaged while viewed are listed
-// one by one and the rest loads; seen from afar, the heightmaps cover every pixel the points do.
+// one by one and the rest loads; seen from afar, the heightmaps cover every pixel the points do;
+// a tile whose header bounds span billions of metres costs the cells of its data, not of its box.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -506,6 +507,34 @@ TEST(ViewerScheduler, FilesDamagedDuringASessionAreListedAndTheRestLoads) {
         EXPECT_LE(st.peak_bytes_used, o.memory_budget);
     }
     fs::remove_all(dir);
+}
+
+// 1,024 points in bounds of +-2.1e9 m: the scheduler enumerated 4.3e13 cells of its box and
+// hung past 3 GB. Now the patches are the cells its 4 chunk points fell in.
+TEST(ViewerScheduler, TileWithHugeBoundsCostsItsDataNotItsBox) {
+    const auto path = test::formats_dir() / "visgl__loaders.gl/modules__las__test__data__pdrf6-1.4.laz";
+    const dataset::Dataset ds = dataset::open_dataset({path.string()});
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    ASSERT_GT(ds.bounds_m.max_x - ds.bounds_m.min_x, 4e9);
+    const std::uint64_t before = resident_bytes();
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 256ull << 20;
+    const auto& b = ds.bounds_m;
+    o.camera = render::Camera::looking_at_bounds(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, 320, 240, 60);
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    const SchedulerStats st = scheduler.stats();
+    EXPECT_EQ(st.chunk_points_loaded, 4u);
+    EXPECT_GE(st.linear.total, 1u);
+    EXPECT_LE(st.linear.total, 4u);  // the cells its chunk points fell in
+    EXPECT_EQ(st.linear.done, st.linear.total);
+    const auto snapshot = scheduler.snapshot();
+    std::size_t drawn = 0;
+    for (const auto& set : snapshot->chunk_points) drawn += set->points.size();
+    EXPECT_LE(drawn, 4u);
+    EXPECT_GE(drawn + snapshot->heightmaps.size(), 1u);  // its points, or a heightmap over them
+    EXPECT_LT(resident_bytes(), before + (256ull << 20));
 }
 
 }  // namespace
