@@ -139,10 +139,14 @@ void check_input_folders(const OutputTarget& out, const std::vector<Input>& inpu
         if (out.kind == OutputKind::Folder) {
             refuse(out, "it lies inside the input folder " + in.path + "; write it elsewhere");
         }
-        if (is_point_cloud_name(out.path)) {
-            refuse(out, "it lies inside the input folder " + in.path +
-                            " with a tile's name, so it would become one of the inputs; write it elsewhere");
+        if (!is_point_cloud_name(out.path)) continue;
+        std::error_code exists_ec;
+        if (fs::exists(out.path, exists_ec)) {
+            refuse(out, "it is a tile of the input folder " + in.path +
+                            " (an input file); the input is left untouched, choose another name");
         }
+        refuse(out, "it lies inside the input folder " + in.path +
+                        " with a tile's name, so it would become one of the inputs; write it elsewhere");
     }
 }
 

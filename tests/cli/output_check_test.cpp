@@ -130,7 +130,8 @@ TEST_F(OutputCheckCommand, EveryWayOfNamingTheInputIsRefused) {
         expect_refused(command + " " + path("rep/replicate.json") + " -o " + path("hard.laz"), "-o/--output", "");
     }
     // The shell completed -o to a tile of the survey folder (the lost tile)
-    expect_refused("dem " + path("survey") + " -o " + t, "-o/--output", "");
+    expect_refused("dem " + path("survey") + " -o " + t, "-o/--output",
+                   "it is a tile of the input folder " + path("survey") + " (an input file)");
 }
 
 // What each command needs besides the option under test; {IN} is the input tile, {DIR} a folder.
