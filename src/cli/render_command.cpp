@@ -3,7 +3,8 @@
 // complete for the visible region: the chunk points (overview), plus the patches' heightmaps
 // (linear or the network), plus the full-resolution points of the tiles in view within a memory
 // budget, laid over the heightmaps as the viewer does (the surface under real points at their
-// height: the heightmap shows only where points are missing). Prints a one-line summary (or JSON) with the time per stage.
+// height: the heightmap shows only where points are missing). Prints a one-line summary (or
+// JSON) with the time per stage.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
