@@ -1,5 +1,6 @@
 // `lidarscout info`: JSON output for the surveys equals the headers, Kentucky tiles report US
 // survey feet, a bad file is one line on stderr and exit status 1 while the others are reported;
+// a compound CRS whose vertical part PROJ lacks gets lon/lat from its horizontal part;
 // remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output.
 #include <gtest/gtest.h>
 
@@ -130,6 +131,20 @@ TEST(InfoCommand, MissingPathFails) {
     std::string out;
     EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " info /nonexistent/x.laz 2>&1", out), 1);
     EXPECT_NE(out.find("/nonexistent/x.laz: no such file or folder"), std::string::npos) << out;
+}
+
+TEST(InfoCommand, CompoundCrsWithAVerticalPartProjLacksGetsLonLat) {
+    int status = -1;
+    const auto files =
+        info_json((test::formats_dir() / "PDAL__PDAL" / "test__data__las__4_6_crop.las").string(), status);
+    EXPECT_EQ(status, 0);
+    ASSERT_EQ(files.size(), 1u);
+    const auto& f = files[0];
+    EXPECT_EQ(f.at("crs").at("epsg"), 2903);
+    EXPECT_EQ(f.at("crs").at("vertical_epsg"), 5103);  // what the file says
+    ASSERT_TRUE(f.at("lonlat_bounds").is_object()) << f.dump(2);
+    EXPECT_NEAR(f.at("lonlat_bounds").at("west").get<double>(), -106.25, 0.01);  // New Mexico
+    EXPECT_NE(f.at("crs").dump().find("PROJ does not know the vertical CRS EPSG:5103"), std::string::npos);
 }
 
 TEST(InfoCommand, Help) {
