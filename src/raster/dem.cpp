@@ -126,6 +126,7 @@ std::string_view dem_method_name(DemMethod method) {
 
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
+    if (!r.hillshade.empty()) hillshade_is_png(r.hillshade);  // an unknown extension refused before any work
     DemResult result;
     result.grid = make_dem_grid(area_in_metres(ds, r), r.texel_m, block_texels(r));
     check_mostly_empty(ds, result.grid);
