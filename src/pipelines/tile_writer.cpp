@@ -2,6 +2,7 @@
 // through a LasWriter (LAS body, or LAZ chunks encoded in parallel).
 #include "pipelines/tile_writer.hpp"
 
+#include <algorithm>
 #include <vector>
 
 #include "core/error.hpp"
@@ -86,18 +87,35 @@ OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOption
     return plan;
 }
 
-// Converts a batch of input records to the output format (a copy when nothing changes).
+// Converts a batch of input records to the output format (a copy when nothing changes),
+// counting what the format cannot hold.
 std::span<const std::uint8_t> to_output_format(std::span<const std::uint8_t> records, const Tile& in,
-                                               const OutputPlan& plan, std::vector<std::uint8_t>& buf) {
+                                               const OutputPlan& plan, std::vector<std::uint8_t>& buf,
+                                               las::FormatLosses& losses) {
     if (in.header.point_format == plan.header.point_format && in.header.record_length == plan.header.record_length) {
         return records;
     }
     const std::size_t n = records.size() / in.header.record_length;
     buf.resize(n * plan.header.record_length);
     las::convert_records(records, las::point_format_info(in.header.point_format), in.header.record_length, buf,
-                         las::point_format_info(plan.header.point_format), plan.header.record_length, in.header);
+                         las::point_format_info(plan.header.point_format), plan.header.record_length, in.header,
+                         &losses);
     return buf;
 }
+
+// Refuses the conversion when values were lost, unless forced (then a warning).
+void check_losses(const las::FormatLosses& losses, const OutputPlan& plan, const std::string& in_path, bool force,
+                  ConvertResult& result) {
+    if (losses.total() == 0) return;
+    const std::string what = "point format " + std::to_string(plan.header.point_format) + " cannot hold " +
+                             losses.describe();
+    if (!force) throw Error(in_path, std::nullopt, what + "; nothing written (--force writes them so)");
+    result.warnings.push_back(what);
+}
+
+// Points per slice of a batch given to the writer: the progress moves after each (a batch of
+// one-point chunks would otherwise be encoded in one silent step).
+constexpr std::uint64_t kSlicePoints = 65'536;
 
 }  // namespace
 
@@ -111,16 +129,23 @@ ConvertResult convert_tile(const std::string& in_path, const std::string& out_pa
     LasWriter writer(out_path, plan.header, plan.vlrs, write, pool, plan.header_trailing, in_path);
 
     std::vector<std::uint8_t> converted;
+    las::FormatLosses losses;
     const std::uint64_t batch = std::max<std::uint64_t>(1u << 20, std::uint64_t{opt.chunk_size} * pool.size() * 2);
+    const std::size_t record = in.header.record_length;
+    const std::size_t slice = std::max<std::uint64_t>(kSlicePoints, opt.chunk_size) * record;
     for_each_record_batch(file, in, pool, [&](std::uint64_t first, std::span<const std::uint8_t> records) {
-        writer.add(to_output_format(records, in, plan, converted));
-        if (progress) progress(first + records.size() / in.header.record_length);
+        for (std::size_t at = 0; at < records.size(); at += slice) {
+            const auto part = records.subspan(at, std::min(slice, records.size() - at));
+            writer.add(to_output_format(part, in, plan, converted, losses));
+            if (progress) progress(first + (at + part.size()) / record);
+        }
     }, laz::fields::kAll, batch);
     if (writer.points() != in.header.point_count) {
         throw Error(in_path, std::nullopt, "internal: the records read do not match the header's point count");
     }
-    const LasWriterResult written = writer.finish(plan.evlrs);
     ConvertResult result;
+    check_losses(losses, plan, in_path, opt.force, result);
+    const LasWriterResult written = writer.finish(plan.evlrs);
     result.notes = plan.notes;
     result.points = written.points;
     result.bytes_written = written.bytes_written;
