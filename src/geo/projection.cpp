@@ -97,6 +97,13 @@ CrsInfo crs_info(const std::string& definition) {
     return info;
 }
 
+std::string crs_wkt1(const std::string& definition) {
+    Context c;
+    const char* wkt = proj_as_wkt(c.get(), c.crs(definition), PJ_WKT1_GDAL, nullptr);
+    if (!wkt) fail("PROJ cannot write the CRS '" + Context::shorten(definition) + "' as WKT 1");
+    return wkt;
+}
+
 bool proj_knows_crs(const std::string& definition) {
     static std::mutex mutex;
     static std::map<std::string, bool> known;

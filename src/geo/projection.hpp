@@ -28,6 +28,10 @@ struct CrsInfo {
 // Throws Error (stage "geo") when PROJ does not understand `definition`.
 CrsInfo crs_info(const std::string& definition);
 
+// The OGC WKT 1 (GDAL's flavour, what LAS 1.4's WKT records hold) of `definition`. Throws Error
+// (stage "geo") when PROJ does not understand it or cannot write it as WKT 1.
+std::string crs_wkt1(const std::string& definition);
+
 // Whether PROJ understands `definition` as a CRS (answers kept per definition).
 bool proj_knows_crs(const std::string& definition);
 

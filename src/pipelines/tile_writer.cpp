@@ -10,6 +10,8 @@
 #include "laz/las_writer.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
+#include "geo/crs_definition.hpp"
+#include "geo/projection.hpp"
 #include "io/file.hpp"
 #include "las/header_writer.hpp"
 #include "las/point_format.hpp"
@@ -32,6 +34,7 @@ struct OutputPlan {
     std::vector<las::Vlr> vlrs;                 // without the LASzip VLR (the writer adds its own)
     std::vector<las::Vlr> evlrs;
     std::vector<std::string> notes;
+    std::vector<std::string> warnings;
 };
 
 bool is_copc_record(const las::Vlr& v) { return v.user_id == "copc"; }
@@ -75,6 +78,44 @@ void plan_records(OutputPlan& plan, const io::File& file, const Tile& in) {
     }
 }
 
+bool is_geotiff_record(const las::Vlr& v) {
+    return v.user_id == "LASF_Projection" && (v.record_id == 34735 || v.record_id == 34736 || v.record_id == 34737);
+}
+
+// LAS 1.4 requires the CRS as WKT (global encoding bit 4) for point formats 6-10: the GeoTIFF keys
+// of such an output are replaced by the WKT of the CRS they name (PROJ); a CRS PROJ cannot write is
+// refused unless forced (then the keys stay, with a warning).
+void plan_wkt(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
+    auto& h = plan.header;
+    if (!las::point_format_info(h.point_format).extended || (h.global_encoding & 0x10)) return;
+    h.global_encoding |= 0x10;
+    const std::string definition = geo::crs_definition(in.crs);
+    if (definition.empty() || in.crs.source != "geotiff") return;
+    std::string wkt;
+    try {
+        wkt = geo::crs_wkt1(definition);
+    } catch (const Error& e) {
+        const std::string what = "point format " + std::to_string(h.point_format) + " needs the CRS as WKT: " +
+                                 e.what();
+        if (!opt.force) throw Error(in.path, std::nullopt, what + "; nothing written (--force keeps the GeoTIFF keys)");
+        h.global_encoding &= static_cast<std::uint16_t>(~0x10);
+        plan.warnings.push_back(what);
+        return;
+    }
+    std::erase_if(plan.vlrs, is_geotiff_record);
+    las::Vlr v;
+    v.user_id = "LASF_Projection";
+    v.record_id = 2112;
+    v.description = "OGC WKT (lidarscout)";
+    v.data.assign(wkt.begin(), wkt.end());
+    v.data.push_back(0);
+    plan.vlrs.push_back(std::move(v));
+    plan.notes.push_back("GeoTIFF keys replaced by the WKT of " + definition + " (LAS 1.4 requires WKT for point " +
+                         "format " + std::to_string(h.point_format) + ")");
+    const std::string fallback = geo::vertical_fallback_message(in.crs);
+    if (!fallback.empty()) plan.warnings.push_back(fallback + "; the WKT names the horizontal CRS alone");
+}
+
 OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOptions& opt) {
     OutputPlan plan;
     plan.header = in.header;
@@ -84,6 +125,7 @@ OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOption
     }
     plan_format(plan, in, opt);
     plan_records(plan, file, in);
+    plan_wkt(plan, in, opt);
     return plan;
 }
 
@@ -147,6 +189,7 @@ ConvertResult convert_tile(const std::string& in_path, const std::string& out_pa
     check_losses(losses, plan, in_path, opt.force, result);
     const LasWriterResult written = writer.finish(plan.evlrs);
     result.notes = plan.notes;
+    result.warnings.insert(result.warnings.end(), plan.warnings.begin(), plan.warnings.end());
     result.points = written.points;
     result.bytes_written = written.bytes_written;
     result.chunks = written.chunks;

@@ -130,6 +130,29 @@ TEST_F(TileWriter, ValuesTheFormatCannotHoldAreRefusedOrForcedWithACount) {
     EXPECT_EQ(las::decode_point(record, las::point_format_info(1), h1).classification, 31);
 }
 
+TEST_F(TileWriter, Formats6To10GetTheCrsAsWkt) {
+    // 4_6_crop.las: GeoTIFF keys for EPSG:2903 + 5103 (a vertical code PROJ lacks), global encoding 0.
+    const auto las = (test::formats_dir() / "PDAL__PDAL/test__data__las__4_6_crop.las").string();
+    pipelines::ConvertOptions opt;
+    opt.compress = false;
+    opt.point_format = 3;  // the control: a legacy format keeps the keys
+    pipelines::convert_tile(las, out("f3.las"), opt, pool);
+    opt.point_format = 7;
+    const auto result = pipelines::convert_tile(las, out("f7.las"), opt, pool);
+    const auto f3 = dataset::read_tile(io::File::open(out("f3.las")));
+    const auto f7 = dataset::read_tile(io::File::open(out("f7.las")));
+    EXPECT_EQ(f3.header.global_encoding & 0x10, 0);
+    EXPECT_EQ(f3.crs.source, "geotiff");
+    EXPECT_EQ(f7.header.global_encoding & 0x10, 0x10);
+    EXPECT_EQ(f7.crs.source, "wkt");
+    EXPECT_EQ(f7.crs.epsg, 2903);
+    EXPECT_EQ(f7.crs.horizontal_unit, las::LinearUnit::UsSurveyFoot);
+    EXPECT_TRUE(f7.crs.warnings.empty());
+    for (const auto& v : f7.vlrs) EXPECT_FALSE(v.user_id == "LASF_Projection" && v.record_id == 34735);
+    ASSERT_EQ(result.warnings.size(), 1u);  // the vertical code the WKT cannot name
+    EXPECT_NE(result.warnings[0].find("vertical CRS EPSG:5103"), std::string::npos) << result.warnings[0];
+}
+
 TEST_F(TileWriter, FormatConversionKeepsCoordinatesAndColour) {
     const auto las = (test::formats_dir() / "PDAL__PDAL/test__data__las__autzen_trim.las").string();  // format 3
     pipelines::ConvertOptions opt;
