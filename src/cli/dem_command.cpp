@@ -179,7 +179,7 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
     cmd->add_option("--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)");
     cmd->add_option("--hillshade", o->hillshade,
-                    "Also write a hillshade of the DEM: .tif (GeoTIFF) or .png (with its world file .pgw and .aux.xml)");
+                    "Also write a hillshade of the DEM: .tif (GeoTIFF) or .png (with its world file .pgw, .aux.xml)");
     cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
     cmd->add_option("--threads", o->threads, "Threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
