@@ -31,6 +31,7 @@ struct ConvertCliOptions {
     int format = -1;
     std::uint32_t chunk_size = 50'000;
     bool variable_chunks = false;
+    bool force = false;
     bool json = false;
 };
 
@@ -48,6 +49,7 @@ int run_convert(const ConvertCliOptions& o) {
     if (o.format >= 0) opt.point_format = static_cast<std::uint8_t>(o.format);
     opt.chunk_size = o.chunk_size;
     opt.variable_chunks = o.variable_chunks;
+    opt.force = o.force;
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
 
     std::uint64_t total = 0;
@@ -71,10 +73,12 @@ int run_convert(const ConvertCliOptions& o) {
     progress.finish();
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (const auto& n : result.notes) std::fprintf(stderr, "lidarscout: note: %s\n", n.c_str());
+    for (const auto& w : result.warnings) std::fprintf(stderr, "lidarscout: warning: %s\n", w.c_str());
     if (o.json) {
         nlohmann::json j = {{"input", io::display_path(o.in)}, {"output", o.out}, {"points", result.points},
                             {"chunks", result.chunks},
-                            {"bytes", result.bytes_written}, {"seconds", secs}, {"notes", result.notes}};
+                            {"bytes", result.bytes_written}, {"seconds", secs}, {"notes", result.notes},
+                            {"warnings", result.warnings}};
         std::printf("%s\n", j.dump(2).c_str());
     } else {
         std::printf("%s: %llu points, %llu bytes%s in %.2f s (%.2f M points/s)\n", o.out.c_str(),
@@ -100,6 +104,9 @@ void register_convert_command(CLI::App& app, std::function<int()>& run) {
         ->check(CLI::Range(0, 10));
     cmd->add_option("--chunk-size", o->chunk_size, "Points per LAZ chunk (default 50000)")->check(positive_number());
     cmd->add_flag("--variable-chunks", o->variable_chunks, "Write a variable-chunk table (per-chunk point counts)");
+    cmd->add_flag("--force", o->force,
+                  "Write values the --format cannot hold (class > 31, returns > 7, dropped colour...) clamped or "
+                  "dropped, with a warning, instead of refusing");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_convert(*o); }; });
 }

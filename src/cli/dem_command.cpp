@@ -185,7 +185,8 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
     add_output(*cmd, "--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
                io::OutputKind::GeoTiff);
-    add_output(*cmd, "--hillshade", o->hillshade, "Also write a hillshade of the DEM (PNG, GDAL's DEM processing)",
+    add_output(*cmd, "--hillshade", o->hillshade,
+               "Also write a hillshade of the DEM: .tif (GeoTIFF) or .png (with its world file .pgw, .aux.xml)",
                io::OutputKind::Hillshade);
     cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
     add_thread_option(*cmd, "--threads", o->threads, "Threads (default: all cores)");

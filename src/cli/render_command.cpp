@@ -1,8 +1,10 @@
 // `lidarscout render PATH... --camera X,Y,Z,YAW,PITCH|auto --size WxH --until overview|heightmaps|full
 // -o out.png`: renders, without a window, what the viewer shows at a camera once a stage is
 // complete for the visible region: the chunk points (overview), plus the patches' heightmaps
-// (linear or the network), plus the full-resolution points of the tiles that are large on
-// screen, within a memory budget. Prints a one-line summary (or JSON) with the time per stage.
+// (linear or the network), plus the full-resolution points of the tiles in view within a memory
+// budget, laid over the heightmaps as the viewer does (the surface under real points at their
+// height: the heightmap shows only where points are missing). Prints a one-line summary (or
+// JSON) with the time per stage.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -37,6 +39,7 @@
 #include "viewer/heightmap_builder.hpp"
 #include "viewer/scene.hpp"
 #include "viewer/scheduler.hpp"
+#include "viewer/scheduler_detail.hpp"
 #include "viewer/visibility.hpp"
 
 namespace lidarscout::cli {
@@ -345,6 +348,7 @@ int run_render(const RenderCliOptions& o) {
         viewer::paint_uncoloured(scene.chunk_points);
         viewer::paint_uncoloured(scene.full_points);
     }
+    viewer::overlay_points(scene.heightmaps, scene.full_points, grid);  // as the viewer, once the tiles are in
     const auto t0 = Clock::now();
     const auto frame = viewer::render_scene(scene, report.camera, scene_style(plan, o, ds), pool);
     check_something_drawn(frame, report.camera, ds);

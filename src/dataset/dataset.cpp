@@ -105,7 +105,25 @@ std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_
     return std::nullopt;
 }
 
+// One warning per compound CRS used by its horizontal part alone (geo::fall_back_to_horizontal),
+// naming its first tile and how many tiles use it.
+void add_fallback_warnings(Dataset& ds) {
+    std::map<std::string, std::pair<std::string, std::size_t>> by_message;  // message -> first tile, tiles
+    for (const auto& t : ds.tiles) {
+        const std::string message = geo::vertical_fallback_message(t.tile.crs);
+        if (message.empty()) continue;
+        auto& [first, n] = by_message[message];
+        if (n++ == 0) first = t.tile.path;
+    }
+    for (const auto& [message, seen] : by_message) {
+        const std::string more = seen.second > 1 ? " (and " + std::to_string(seen.second - 1) + " more tiles)" : "";
+        ds.warnings.add({DiagnosticLevel::warning, seen.first, std::nullopt,
+                         io::display_path(seen.first) + more + ": " + message});
+    }
+}
+
 void add_crs_warnings(Dataset& ds) {
+    add_fallback_warnings(ds);
     std::map<std::string, std::size_t> by_crs;
     std::size_t without_unit = 0;
     for (const auto& t : ds.tiles) {

@@ -2,6 +2,7 @@
 #include "dataset/tile.hpp"
 
 #include "core/error.hpp"
+#include "geo/projection.hpp"
 #include "io/file.hpp"
 
 namespace lidarscout::dataset {
@@ -36,6 +37,7 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     t.vlrs = las::read_vlrs(file, t.header, &t.warnings);
     t.evlrs = las::read_evlrs(file, t.header);
     t.crs = las::read_crs(t.vlrs, t.evlrs, file, (t.header.global_encoding & 0x10) != 0);
+    geo::fall_back_to_horizontal(t.crs);
     t.laz = read_laszip(file, t);
     t.copc = las::find_copc_info(t.vlrs, file.path());
     t.warnings.attribute_to(t.path);

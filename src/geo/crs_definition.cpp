@@ -9,7 +9,7 @@ namespace lidarscout::geo {
 std::string crs_definition(const las::Crs& crs) {
     if (crs.epsg) {
         std::string def = "EPSG:" + std::to_string(*crs.epsg);
-        if (crs.vertical_epsg) def += "+" + std::to_string(*crs.vertical_epsg);
+        if (crs.vertical_epsg && crs.vertical_usable) def += "+" + std::to_string(*crs.vertical_epsg);
         return def;
     }
     return crs.wkt;

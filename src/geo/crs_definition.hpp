@@ -9,8 +9,9 @@
 
 namespace lidarscout::geo {
 
-// "EPSG:h" or "EPSG:h+v" when the horizontal EPSG code is known, else the file's WKT, else ""
-// (no usable CRS). A vertical code without a horizontal one gives "" (nothing to place x/y by).
+// "EPSG:h" or "EPSG:h+v" when the horizontal EPSG code is known (the vertical one when usable),
+// else the file's WKT, else "" (no usable CRS). A vertical code without a horizontal one gives ""
+// (nothing to place x/y by).
 std::string crs_definition(const las::Crs& crs);
 
 // "EPSG:3089" -> 3089 for a definition that is exactly "EPSG:n" (any case), else 0.

@@ -110,6 +110,46 @@ CrsInfo crs_info(const std::string& definition) {
     return info;
 }
 
+std::string crs_wkt1(const std::string& definition) {
+    Context c;
+    const char* wkt = proj_as_wkt(c.get(), c.crs(definition), PJ_WKT1_GDAL, nullptr);
+    if (!wkt) fail("PROJ cannot write the CRS '" + Context::shorten(definition) + "' as WKT 1");
+    return wkt;
+}
+
+bool proj_knows_crs(const std::string& definition) {
+    static std::mutex mutex;
+    static std::map<std::string, bool> known;
+    std::lock_guard lock(mutex);
+    if (const auto it = known.find(definition); it != known.end()) return it->second;
+    bool ok = true;
+    try {
+        Context c;
+        c.crs(definition);
+    } catch (const Error&) {
+        ok = false;
+    }
+    if (known.size() >= 256) known.clear();
+    return known[definition] = ok;
+}
+
+void fall_back_to_horizontal(las::Crs& crs) {
+    if (!crs.epsg || !crs.vertical_epsg || !crs.vertical_usable) return;
+    const std::string horizontal = "EPSG:" + std::to_string(*crs.epsg);
+    const std::string compound = horizontal + "+" + std::to_string(*crs.vertical_epsg);
+    if (proj_knows_crs(compound) || !proj_knows_crs(horizontal)) return;
+    crs.vertical_usable = false;
+    crs.warnings.warn(vertical_fallback_message(crs));
+}
+
+std::string vertical_fallback_message(const las::Crs& crs) {
+    if (crs.vertical_usable || !crs.epsg || !crs.vertical_epsg) return {};
+    const std::string horizontal = "EPSG:" + std::to_string(*crs.epsg);
+    return "PROJ does not know the vertical CRS EPSG:" + std::to_string(*crs.vertical_epsg) + " of " + horizontal +
+           "+" + std::to_string(*crs.vertical_epsg) + ": placed by its horizontal CRS " + horizontal +
+           " alone, heights kept as stored (" + las::unit_name(crs.vertical_unit) + ")";
+}
+
 struct CrsTransform::State {
     Context context;
     PJ* transform = nullptr;

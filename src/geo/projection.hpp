@@ -11,6 +11,8 @@
 #include <span>
 #include <string>
 
+#include "las/crs.hpp"
+
 namespace lidarscout::geo {
 
 // What PROJ says about a CRS definition.
@@ -25,6 +27,21 @@ struct CrsInfo {
 
 // Throws Error (stage "geo") when PROJ does not understand `definition`.
 CrsInfo crs_info(const std::string& definition);
+
+// The OGC WKT 1 (GDAL's flavour, what LAS 1.4's WKT records hold) of `definition`. Throws Error
+// (stage "geo") when PROJ does not understand it or cannot write it as WKT 1.
+std::string crs_wkt1(const std::string& definition);
+
+// Whether PROJ understands `definition` as a CRS (answers kept per definition).
+bool proj_knows_crs(const std::string& definition);
+
+// A compound EPSG CRS whose vertical part PROJ lacks (EPSG:2903+5103) while it knows the
+// horizontal one is used by its horizontal part alone: crs.vertical_usable is set false (so that
+// crs_definition names EPSG:h) and a warning is added to crs.warnings. Any other CRS is left as
+// it is (a CRS PROJ does not know at all is reported where it is used).
+void fall_back_to_horizontal(las::Crs& crs);
+// The warning of that fallback for `crs` ("" when its vertical CRS is used).
+std::string vertical_fallback_message(const las::Crs& crs);
 
 // Longitude/latitude (degrees, WGS 84) bounds.
 struct LonLatBounds {

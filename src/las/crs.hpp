@@ -40,6 +40,9 @@ struct Crs {
     std::string source = "none";  // where the answer came from: "geotiff", "wkt" or "none"
     std::optional<int> epsg;            // horizontal (projected or geographic) CRS
     std::optional<int> vertical_epsg;   // vertical CRS
+    // False when the vertical CRS cannot be used (geo::fall_back_to_horizontal: PROJ lacks it):
+    // the CRS then stands for its horizontal part alone, heights as stored.
+    bool vertical_usable = true;
     std::string name;                   // citation / WKT name, as written
     bool geographic = false;            // x/y are angles (degrees), so no linear unit applies
     LinearUnit horizontal_unit = LinearUnit::Unknown;

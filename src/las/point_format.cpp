@@ -97,7 +97,46 @@ std::int16_t convert_scan_angle(std::int16_t raw, bool from_extended, bool to_ex
     return static_cast<std::int16_t>(std::clamp<long>(std::lround(raw * 0.006), -128, 127));
 }
 
+// Counts what `p` (read from `in`) holds that `out` cannot.
+void count_losses(const Point& p, const PointFormatInfo& in, const PointFormatInfo& out, FormatLosses& l) {
+    if (in.extended && !out.extended) {
+        l.classification += p.classification > 31;
+        l.returns += p.return_number > 7 || p.number_of_returns > 7;
+        l.scan_angle += std::abs(std::lround(p.scan_angle_raw * 0.006)) > 127;
+        l.flags += p.overlap || p.scanner_channel != 0;
+    }
+    l.gps_time += in.gps_offset >= 0 && out.gps_offset < 0 && p.gps_time != 0.0;
+    l.rgb += in.rgb_offset >= 0 && out.rgb_offset < 0 && (p.rgb[0] | p.rgb[1] | p.rgb[2]) != 0;
+    l.nir += in.nir_offset >= 0 && out.nir_offset < 0 && p.nir != 0;
+}
+
 }  // namespace
+
+FormatLosses& FormatLosses::operator+=(const FormatLosses& o) {
+    classification += o.classification, returns += o.returns, scan_angle += o.scan_angle, flags += o.flags;
+    gps_time += o.gps_time, rgb += o.rgb, nir += o.nir;
+    return *this;
+}
+
+std::uint64_t FormatLosses::total() const {
+    return classification + returns + scan_angle + flags + gps_time + rgb + nir;
+}
+
+std::string FormatLosses::describe() const {
+    const std::pair<std::uint64_t, const char*> kinds[] = {
+        {classification, "a class above 31 (written as 31)"},
+        {returns, "a return number or count above 7 (written as 7)"},
+        {scan_angle, "a scan angle beyond 127 degrees (clamped)"},
+        {flags, "the overlap flag or a scanner channel (dropped)"},
+        {gps_time, "a GPS time (dropped)"},
+        {rgb, "a colour (dropped)"},
+        {nir, "a NIR value (dropped)"}};
+    std::string out;
+    for (const auto& [n, what] : kinds) {
+        if (n) out += (out.empty() ? "" : ", ") + std::to_string(n) + " points with " + what;
+    }
+    return out;
+}
 
 void encode_point(const Point& p, const PointFormatInfo& format, std::span<std::uint8_t> record) {
     std::uint8_t* r = record.data();
@@ -117,7 +156,7 @@ void encode_point(const Point& p, const PointFormatInfo& format, std::span<std::
 
 void convert_records(std::span<const std::uint8_t> in, const PointFormatInfo& in_format, std::uint16_t in_record_length,
                      std::span<std::uint8_t> out, const PointFormatInfo& out_format, std::uint16_t out_record_length,
-                     const Header& header) {
+                     const Header& header, FormatLosses* losses) {
     const std::size_t n = in.size() / in_record_length;
     const std::size_t extra =
         std::min<std::size_t>(in_record_length - in_format.size, out_record_length - out_format.size);
@@ -126,6 +165,7 @@ void convert_records(std::span<const std::uint8_t> in, const PointFormatInfo& in
         const auto src = in.subspan(i * in_record_length, in_record_length);
         auto dst = out.subspan(i * out_record_length, out_record_length);
         Point p = decode_point(src, in_format, header);
+        if (losses) count_losses(p, in_format, out_format, *losses);
         p.scan_angle_raw = convert_scan_angle(p.scan_angle_raw, in_format.extended, out_format.extended);
         encode_point(p, out_format, dst);
         std::fill(dst.begin() + out_format.size, dst.end(), 0);

@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <string>
 
 namespace lidarscout::las {
 
@@ -58,10 +59,26 @@ Point decode_point(std::span<const std::uint8_t> record, const PointFormatInfo& 
 // (classification > 31, return numbers > 7, scan angles beyond +-127 degrees) are clamped.
 void encode_point(const Point& point, const PointFormatInfo& format, std::span<std::uint8_t> record);
 
+// What converting records lost: per kind, the points holding a value the target format cannot
+// (written clamped, or dropped).
+struct FormatLosses {
+    std::uint64_t classification = 0;  // class above 31 into formats 0-5 (written as 31)
+    std::uint64_t returns = 0;         // return number or count above 7 into formats 0-5 (written as 7)
+    std::uint64_t scan_angle = 0;      // beyond +-127 degrees into formats 0-5 (clamped)
+    std::uint64_t flags = 0;           // overlap flag or scanner channel into formats 0-5 (dropped)
+    std::uint64_t gps_time = 0, rgb = 0, nir = 0;  // a value other than 0 into a format without the field
+
+    FormatLosses& operator+=(const FormatLosses& o);
+    std::uint64_t total() const;
+    // "3 points with a class above 31 (written as 31), ..."; empty when nothing was lost.
+    std::string describe() const;
+};
+
 // Converts records of one format to another, keeping the extra bytes that follow the base
-// record (in_record_length - in.size bytes, moved behind the new base record).
+// record (in_record_length - in.size bytes, moved behind the new base record). What the target
+// cannot hold is clamped or dropped (encode_point) and counted in `losses` when given.
 void convert_records(std::span<const std::uint8_t> in, const PointFormatInfo& in_format, std::uint16_t in_record_length,
                      std::span<std::uint8_t> out, const PointFormatInfo& out_format, std::uint16_t out_record_length,
-                     const Header& header);
+                     const Header& header, FormatLosses* losses = nullptr);
 
 }  // namespace lidarscout::las

@@ -2,6 +2,7 @@
 // through a LasWriter (LAS body, or LAZ chunks encoded in parallel).
 #include "pipelines/tile_writer.hpp"
 
+#include <algorithm>
 #include <vector>
 
 #include "core/error.hpp"
@@ -9,6 +10,8 @@
 #include "laz/las_writer.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
+#include "geo/crs_definition.hpp"
+#include "geo/projection.hpp"
 #include "io/file.hpp"
 #include "las/header_writer.hpp"
 #include "las/point_format.hpp"
@@ -31,6 +34,7 @@ struct OutputPlan {
     std::vector<las::Vlr> vlrs;                 // without the LASzip VLR (the writer adds its own)
     std::vector<las::Vlr> evlrs;
     std::vector<std::string> notes;
+    std::vector<std::string> warnings;
 };
 
 bool is_copc_record(const las::Vlr& v) { return v.user_id == "copc"; }
@@ -74,6 +78,44 @@ void plan_records(OutputPlan& plan, const io::File& file, const Tile& in) {
     }
 }
 
+bool is_geotiff_record(const las::Vlr& v) {
+    return v.user_id == "LASF_Projection" && (v.record_id == 34735 || v.record_id == 34736 || v.record_id == 34737);
+}
+
+// LAS 1.4 requires the CRS as WKT (global encoding bit 4) for point formats 6-10: the GeoTIFF keys
+// of such an output are replaced by the WKT of the CRS they name (PROJ); a CRS PROJ cannot write is
+// refused unless forced (then the keys stay, with a warning).
+void plan_wkt(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
+    auto& h = plan.header;
+    if (!las::point_format_info(h.point_format).extended || (h.global_encoding & 0x10)) return;
+    h.global_encoding |= 0x10;
+    const std::string definition = geo::crs_definition(in.crs);
+    if (definition.empty() || in.crs.source != "geotiff") return;
+    std::string wkt;
+    try {
+        wkt = geo::crs_wkt1(definition);
+    } catch (const Error& e) {
+        const std::string what = "point format " + std::to_string(h.point_format) + " needs the CRS as WKT: " +
+                                 e.what();
+        if (!opt.force) throw Error(in.path, std::nullopt, what + "; nothing written (--force keeps the GeoTIFF keys)");
+        h.global_encoding &= static_cast<std::uint16_t>(~0x10);
+        plan.warnings.push_back(what);
+        return;
+    }
+    std::erase_if(plan.vlrs, is_geotiff_record);
+    las::Vlr v;
+    v.user_id = "LASF_Projection";
+    v.record_id = 2112;
+    v.description = "OGC WKT (lidarscout)";
+    v.data.assign(wkt.begin(), wkt.end());
+    v.data.push_back(0);
+    plan.vlrs.push_back(std::move(v));
+    plan.notes.push_back("GeoTIFF keys replaced by the WKT of " + definition + " (LAS 1.4 requires WKT for point " +
+                         "format " + std::to_string(h.point_format) + ")");
+    const std::string fallback = geo::vertical_fallback_message(in.crs);
+    if (!fallback.empty()) plan.warnings.push_back(fallback + "; the WKT names the horizontal CRS alone");
+}
+
 OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOptions& opt) {
     OutputPlan plan;
     plan.header = in.header;
@@ -83,21 +125,39 @@ OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOption
     }
     plan_format(plan, in, opt);
     plan_records(plan, file, in);
+    plan_wkt(plan, in, opt);
     return plan;
 }
 
-// Converts a batch of input records to the output format (a copy when nothing changes).
+// Converts a batch of input records to the output format (a copy when nothing changes),
+// counting what the format cannot hold.
 std::span<const std::uint8_t> to_output_format(std::span<const std::uint8_t> records, const Tile& in,
-                                               const OutputPlan& plan, std::vector<std::uint8_t>& buf) {
+                                               const OutputPlan& plan, std::vector<std::uint8_t>& buf,
+                                               las::FormatLosses& losses) {
     if (in.header.point_format == plan.header.point_format && in.header.record_length == plan.header.record_length) {
         return records;
     }
     const std::size_t n = records.size() / in.header.record_length;
     buf.resize(n * plan.header.record_length);
     las::convert_records(records, las::point_format_info(in.header.point_format), in.header.record_length, buf,
-                         las::point_format_info(plan.header.point_format), plan.header.record_length, in.header);
+                         las::point_format_info(plan.header.point_format), plan.header.record_length, in.header,
+                         &losses);
     return buf;
 }
+
+// Refuses the conversion when values were lost, unless forced (then a warning).
+void check_losses(const las::FormatLosses& losses, const OutputPlan& plan, const std::string& in_path, bool force,
+                  ConvertResult& result) {
+    if (losses.total() == 0) return;
+    const std::string what = "point format " + std::to_string(plan.header.point_format) + " cannot hold " +
+                             losses.describe();
+    if (!force) throw Error(in_path, std::nullopt, what + "; nothing written (--force writes them so)");
+    result.warnings.push_back(what);
+}
+
+// Points per slice of a batch given to the writer: the progress moves after each (a batch of
+// one-point chunks would otherwise be encoded in one silent step).
+constexpr std::uint64_t kSlicePoints = 65'536;
 
 }  // namespace
 
@@ -111,17 +171,25 @@ ConvertResult convert_tile(const std::string& in_path, const std::string& out_pa
     LasWriter writer(out_path, plan.header, plan.vlrs, write, pool, plan.header_trailing, in_path);
 
     std::vector<std::uint8_t> converted;
+    las::FormatLosses losses;
     const std::uint64_t batch = std::max<std::uint64_t>(1u << 20, std::uint64_t{opt.chunk_size} * pool.size() * 2);
+    const std::size_t record = in.header.record_length;
+    const std::size_t slice = std::max<std::uint64_t>(kSlicePoints, opt.chunk_size) * record;
     for_each_record_batch(file, in, pool, [&](std::uint64_t first, std::span<const std::uint8_t> records) {
-        writer.add(to_output_format(records, in, plan, converted));
-        if (progress) progress(first + records.size() / in.header.record_length);
+        for (std::size_t at = 0; at < records.size(); at += slice) {
+            const auto part = records.subspan(at, std::min(slice, records.size() - at));
+            writer.add(to_output_format(part, in, plan, converted, losses));
+            if (progress) progress(first + (at + part.size()) / record);
+        }
     }, laz::fields::kAll, batch);
     if (writer.points() != in.header.point_count) {
         throw Error(in_path, std::nullopt, "internal: the records read do not match the header's point count");
     }
-    const LasWriterResult written = writer.finish(plan.evlrs);
     ConvertResult result;
+    check_losses(losses, plan, in_path, opt.force, result);
+    const LasWriterResult written = writer.finish(plan.evlrs);
     result.notes = plan.notes;
+    result.warnings.insert(result.warnings.end(), plan.warnings.begin(), plan.warnings.end());
     result.points = written.points;
     result.bytes_written = written.bytes_written;
     result.chunks = written.chunks;

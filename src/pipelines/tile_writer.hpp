@@ -1,6 +1,7 @@
 // Converting a tile to a new LAS or LAZ file: LAS->LAZ, LAZ->LAS, LAZ->LAZ, optionally to
 // another point format, keeping header fields, VLRs and EVLRs. The output appears under its
-// name only when complete (io::AtomicOutputFile); the input is never written.
+// name only when complete (io::AtomicOutputFile); the input is never written. Values the target
+// format cannot hold are counted and refused (or, with force, written clamped with a warning).
 #pragma once
 
 #include <cstdint>
@@ -20,6 +21,9 @@ struct ConvertOptions {
     std::optional<std::uint8_t> point_format;  // convert records to this format (0-10)
     std::uint32_t chunk_size = 50'000;        // points per LAZ chunk
     bool variable_chunks = false;             // store per-chunk point counts (as COPC does)
+    // Values the target format cannot hold (las::FormatLosses) are written clamped or dropped
+    // with a warning; without force the conversion is refused (nothing written) naming them.
+    bool force = false;
 };
 
 struct ConvertResult {
@@ -27,6 +31,7 @@ struct ConvertResult {
     std::uint64_t bytes_written = 0;
     std::uint64_t chunks = 0;
     std::vector<std::string> notes;  // what was dropped or changed (e.g. COPC records)
+    std::vector<std::string> warnings;  // values the format cannot hold, written anyway (force)
 };
 
 using ConvertProgressFn = std::function<void(std::uint64_t points_done)>;

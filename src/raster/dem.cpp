@@ -194,6 +194,7 @@ std::uint64_t dem_memory_bytes(const dataset::Dataset& ds, const DemGrid& g, con
 
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
+    if (!r.hillshade.empty()) hillshade_is_png(r.hillshade);  // an unknown extension refused before any work
     DemResult result;
     const Area area = area_in_metres(ds, r);
     check_bounds_overlap(ds, r, area);

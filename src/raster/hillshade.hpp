@@ -1,14 +1,21 @@
 // A shaded-relief picture of a DEM with GDAL's DEM processing (the `gdaldem hillshade` of
 // gdal-bin): sun from the north-west at 45 degrees, heights and positions in the same unit
 // (true of the DEMs we write: both in the CRS's unit), edges computed, nodata transparent-black.
+// Georeferenced like the DEM: a `.tif` is a GeoTIFF (deflate, tiled) with the DEM's CRS and
+// geotransform; a `.png` gets its world file (`.pgw`) and a `.png.aux.xml` holding the CRS.
 #pragma once
 
 #include <string>
 
 namespace lidarscout::raster {
 
-// Reads the DEM at `dem_path` and writes the hillshade to `png_path` (a temporary name renamed
-// when complete). Throws lidarscout::Error naming the file that failed.
-void write_hillshade(const std::string& dem_path, const std::string& png_path);
+// Reads the DEM at `dem_path` and writes the hillshade to `path` (.tif/.tiff or .png; a
+// temporary name renamed when complete, then the PNG's sidecars). Throws lidarscout::Error naming
+// the file that failed, or for another extension.
+void write_hillshade(const std::string& dem_path, const std::string& path);
+
+// True for a .png hillshade, false for .tif/.tiff; throws lidarscout::Error for another extension
+// (make_dem asks before any work).
+bool hillshade_is_png(const std::string& path);
 
 }  // namespace lidarscout::raster

@@ -104,4 +104,19 @@ PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& det
     return out;
 }
 
+void overlay_points(std::vector<PatchHeightmap>& heightmaps, std::span<const PointSet> sets,
+                    const dataset::PatchGrid& grid) {
+    if (heightmaps.empty()) return;
+    PatchDetails merged;
+    for (const auto& set : sets) {
+        for (auto& [cell, d] : tile_detail(set, grid, heightmaps.front().size)) {
+            const auto [it, added] = merged.try_emplace(cell, std::move(d));
+            if (!added) merge_detail(it->second, d);
+        }
+    }
+    for (auto& h : heightmaps) {
+        if (const auto it = merged.find(h.cell); it != merged.end()) h = overlay_detail(h, it->second);
+    }
+}
+
 }  // namespace lidarscout::viewer

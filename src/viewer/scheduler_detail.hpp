@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -37,5 +38,11 @@ void merge_detail(PatchDetail& into, const PatchDetail& from);
 // `base` with every texel that has detail replaced by the detail's height (and colour, when
 // the base has a texture).
 PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& detail);
+
+// Lays the detail of every point of `sets` (tiles decoded whole) over the heightmaps of the cells
+// they fall in, as the scheduler does once those tiles are resident: the surface under real
+// points stands at their height, not at the interpolation's, so that it does not hide them.
+void overlay_points(std::vector<PatchHeightmap>& heightmaps, std::span<const PointSet> sets,
+                    const dataset::PatchGrid& grid);
 
 }  // namespace lidarscout::viewer

@@ -52,7 +52,39 @@ TEST_F(DemCommand, KentuckyDemOrthophotoAndHillshade) {
     EXPECT_EQ(rgb.at("bands").at(3).at("colorInterpretation"), "Alpha");
     const auto png = test::read_png(path("ky.png"));
     EXPECT_EQ(png.width, j.at("width").get<int>());
-    EXPECT_FALSE(fs::exists(path("ky.png") + ".aux.xml"));
+}
+
+// The hillshade is placed where the DEM is, as gdalinfo reads it: a GeoTIFF with the DEM's CRS and
+// geotransform, or a PNG with its world file (.pgw) and .aux.xml (nothing left beside a temporary name).
+TEST_F(DemCommand, HillshadeIsGeoreferencedLikeTheDem) {
+    std::string out;
+    const std::string cmd = std::string(LIDARSCOUT_CLI) + " dem " + ky() + " -o " + path("ky.tif") +
+                            " --texel 4 --from overview --hillshade ";
+    ASSERT_EQ(test::run_command(cmd + path("shade.tif") + " 2>/dev/null", out), 0);
+    ASSERT_EQ(test::run_command(cmd + path("shade.png") + " 2>/dev/null", out), 0);
+    const auto dem = test::gdalinfo(path("ky.tif"));
+    ASSERT_TRUE(dem.contains("geoTransform"));
+    for (const char* name : {"shade.tif", "shade.png"}) {
+        SCOPED_TRACE(name);
+        const auto shade = test::gdalinfo(path(name));
+        ASSERT_TRUE(shade.contains("coordinateSystem")) << "no CRS";
+        const std::string wkt = shade.at("coordinateSystem").at("wkt");
+        EXPECT_NE(wkt.find("Kentucky Single Zone (ftUS)"), std::string::npos);
+        ASSERT_TRUE(shade.contains("geoTransform"));
+        for (int i = 0; i < 6; ++i) {
+            EXPECT_NEAR(shade.at("geoTransform").at(i).get<double>(), dem.at("geoTransform").at(i).get<double>(), 1e-6);
+        }
+        EXPECT_EQ(shade.at("size"), dem.at("size"));
+    }
+    EXPECT_TRUE(fs::exists(path("shade.pgw")));
+    EXPECT_TRUE(fs::exists(path("shade.png.aux.xml")));
+    const auto png = test::read_png(path("shade.png"));
+    EXPECT_GT(png.width, 0);
+    std::size_t sidecars = 0;
+    for (const auto& e : fs::directory_iterator(dir)) sidecars += e.path().filename().string().find("shade.") == 0;
+    EXPECT_EQ(sidecars, 4u);  // shade.tif, shade.png, shade.pgw, shade.png.aux.xml: no temporary leftovers
+    EXPECT_EQ(test::run_command(cmd + path("shade.jpg") + " 2>&1", out), 1);
+    EXPECT_NE(out.find("must end in .tif (GeoTIFF) or .png"), std::string::npos) << out;
 }
 
 // --crs: the DEM is written in the CRS asked for (UTM 17N, metres), from the overview here.

@@ -2,7 +2,8 @@
 // survey feet, a bad file is one line on stderr and exit status 1 while the others are reported;
 // remote files (HTTP, and HTTPS/HTTP2 with a private CA) give the local files' output; no
 // secret of a URL is printed; damaged range cache entries do not change the output; a hostile
-// --threads is capped with one warning.
+// --threads is capped with one warning; a compound CRS whose vertical part PROJ lacks gets
+// lon/lat from its horizontal part; paths without tiles are named.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -170,6 +171,20 @@ TEST(InfoCommand, PathsWithoutTilesAreNamedAndManifestsGiveTheirTiles) {
     const double width = j[0].at("bounds").at("max").at(0).get<double>() - min_x(0);
     EXPECT_GT(min_x(1), min_x(0) + 0.9 * width);  // the second copy lies east of the first
     std::filesystem::remove_all(dir);
+}
+
+TEST(InfoCommand, CompoundCrsWithAVerticalPartProjLacksGetsLonLat) {
+    int status = -1;
+    const auto files =
+        info_json((test::formats_dir() / "PDAL__PDAL" / "test__data__las__4_6_crop.las").string(), status);
+    EXPECT_EQ(status, 0);
+    ASSERT_EQ(files.size(), 1u);
+    const auto& f = files[0];
+    EXPECT_EQ(f.at("crs").at("epsg"), 2903);
+    EXPECT_EQ(f.at("crs").at("vertical_epsg"), 5103);  // what the file says
+    ASSERT_TRUE(f.at("lonlat_bounds").is_object()) << f.dump(2);
+    EXPECT_NEAR(f.at("lonlat_bounds").at("west").get<double>(), -106.25, 0.01);  // New Mexico
+    EXPECT_NE(f.at("crs").dump().find("PROJ does not know the vertical CRS EPSG:5103"), std::string::npos);
 }
 
 TEST(InfoCommand, Help) {

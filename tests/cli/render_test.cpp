@@ -19,10 +19,15 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <thread>
 
+#include "dataset/dataset.hpp"
 #include "nn/heightmap_network.hpp"
 #include "render/framebuffer.hpp"
 #include "net/fault_server.hpp"
+#include "render/image_compare.hpp"
+#include "viewer/frame_refiner.hpp"
+#include "viewer/scheduler.hpp"
 #include "nginx_server.hpp"
 #include "damaged_tile.hpp"
 #include "png_test_util.hpp"
@@ -163,6 +168,56 @@ TEST_F(RenderCommand, FullDecodesTheTileOfASmallSurvey) {
     EXPECT_EQ(budget.at("full_res_tiles"), 0);
     EXPECT_EQ(budget.at("full_res_tiles_over_budget"), 1);
     EXPECT_EQ(budget.at("full_res_points"), 0);
+}
+
+// The camera `render --json` reports (metres), for `width` x `height` pixels.
+render::Camera reported_camera(const nlohmann::json& j) {
+    const auto& c = j.at("camera");
+    render::Camera camera;
+    camera.x = c.at("x"), camera.y = c.at("y"), camera.z = c.at("z");
+    camera.yaw_deg = c.at("yaw_deg"), camera.pitch_deg = c.at("pitch_deg"), camera.fov_deg = c.at("fov_deg");
+    camera.near_m = c.at("near_m"), camera.far_m = c.at("far_m");
+    camera.width = j.at("width"), camera.height = j.at("height");
+    return camera;
+}
+
+// The viewer's settled frame of `paths` at `camera` once its scheduler is idle (every tile in view in).
+render::RgbaImage viewer_frame(const std::string& paths, const render::Camera& camera) {
+    const auto ds = dataset::open_dataset({paths});
+    viewer::SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 1ull << 30;
+    o.camera = camera;
+    viewer::Scheduler scheduler(ds, o);
+    const auto end = std::chrono::steady_clock::now() + std::chrono::minutes(2);
+    while (!scheduler.idle() && std::chrono::steady_clock::now() < end) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    EXPECT_TRUE(scheduler.idle());
+    viewer::SceneStyle style;
+    style.colour = viewer::colour_settings(render::ColourMode::Rgb, ds.bounds_m.min_z, ds.bounds_m.max_z);
+    ThreadPool pool(2);
+    viewer::FrameRefiner refiner(std::chrono::milliseconds(0));
+    refiner.draw(*scheduler.snapshot(), camera, style, pool);
+    auto frame = refiner.draw(*scheduler.snapshot(), camera, style, pool).image;
+    EXPECT_TRUE(refiner.refined());
+    return frame;
+}
+
+render::RgbaImage as_image(const Png& png) { return {png.width, png.height, png.pixels}; }
+
+TEST_F(RenderCommand, FullDrawsWhatTheViewerDraws) {
+    // The real points over the surface, the surface under them at their height (as the viewer
+    // lays the decoded tiles over the heightmaps), the interpolation only where points are missing.
+    const std::string args = survey("ky-woodford-county") + " --size 480x360 --threads 2";
+    const auto full = render_json(args + " --until full", "full");
+    render_json(args + " --until heightmaps", "heightmaps");  // the control: no points
+    const auto viewer = viewer_frame(survey("ky-woodford-county"), reported_camera(full));
+    const double psnr = render::image_psnr_db(as_image(png("full")), viewer);
+    const double control = render::image_psnr_db(as_image(png("heightmaps")), viewer);
+    RecordProperty("psnr_db", static_cast<int>(psnr));
+    EXPECT_GE(psnr, 40.0) << "the heightmaps stage, the control: " << control;
+    EXPECT_LT(control, 30.0);
 }
 
 // Compares the rendered image with tests/data/golden/NAME.png: at most `max_fraction` of the

@@ -1,7 +1,8 @@
 // open_dataset: folders, tile lists and several paths; bounds in metres (Kentucky tiles are
 // in US survey feet); bad files skipped with one line naming them while the rest is read;
 // tiles in a CRS other than the majority's (or the one asked for) reprojected into it, landing
-// where they belong; each tile reported as it is read, and an opening cancelled half-way.
+// where they belong; each tile reported as it is read, and an opening cancelled half-way; a
+// tile whose compound CRS PROJ lacks the vertical part of is placed by its horizontal part.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -82,6 +83,25 @@ TEST(Dataset, MixedCrsWarns) {
     ASSERT_NE(ballpark, ds.warnings.end());
     EXPECT_NE(ballpark->file.find("ky-woodford-county"), std::string::npos);
     EXPECT_EQ(ds.frame.crs.rfind("EPSG:2154", 0), 0u);
+}
+
+TEST(Dataset, CompoundCrsWithAVerticalPartProjLacksKeepsEveryFile) {
+    // 4_6_crop.las says EPSG:2903 + 5103, a vertical code PROJ lacks; test1_4.las (EPSG:2903 in
+    // WKT) used to be skipped when the dataset's frame became the unusable compound.
+    const std::string crop = (test::formats_dir() / "PDAL__PDAL" / "test__data__las__4_6_crop.las").string();
+    const std::string wkt = (test::formats_dir() / "PDAL__PDAL" / "test__data__las__test1_4.las").string();
+    const Dataset ds = open_dataset({crop, wkt});
+    EXPECT_TRUE(ds.skipped.empty()) << ds.skipped.front().error;
+    ASSERT_EQ(ds.tiles.size(), 2u);
+    EXPECT_EQ(ds.frame.crs, "EPSG:2903");
+    ASSERT_EQ(ds.warnings.size(), 1u);
+    const Diagnostic& w = *ds.warnings.begin();
+    EXPECT_EQ(w.file, crop);
+    EXPECT_NE(w.message.find("vertical CRS EPSG:5103"), std::string::npos) << w.message;
+    for (const auto& t : ds.tiles) {  // test1_4.las (EPSG:2903+5703) moves into EPSG:2903 where it is
+        EXPECT_NEAR(t.bounds_m.min_x, t.tile.header.min[0] * t.xy_to_metres, 1e-3) << t.tile.path;
+        EXPECT_NEAR(t.bounds_m.max_y, t.tile.header.max[1] * t.xy_to_metres, 1e-3) << t.tile.path;
+    }
 }
 
 std::vector<MetricPoint> all_points(const Dataset& ds, std::uint32_t tile) {

@@ -1,12 +1,14 @@
 // PROJ through geo/projection: units of real CRSs (US survey feet, metres, a compound CRS),
 // a round trip between two CRSs back to the same point, bounds in longitude/latitude where the
-// surveys lie, and one-line errors for what PROJ cannot use.
+// surveys lie, and one-line errors for what PROJ cannot use; a compound CRS whose vertical part
+// PROJ lacks falls back to its horizontal part with a warning.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/error.hpp"
 #include "geo/projection.hpp"
+#include "geo/crs_definition.hpp"
 #include "las/crs.hpp"
 
 namespace lidarscout::geo {
@@ -106,6 +108,40 @@ TEST(Projection, UnknownNamesAreUnknownNotTheNearestCrs) {
         EXPECT_NE(std::string(e.what()).find("unknown CRS 'foo'"), std::string::npos) << e.what();
     }
     EXPECT_TRUE(crs_info("WGS 84").geographic);
+}
+
+las::Crs compound(int horizontal, int vertical) {
+    las::Crs crs;
+    crs.source = "geotiff";
+    crs.epsg = horizontal, crs.vertical_epsg = vertical;
+    crs.vertical_unit = las::LinearUnit::UsSurveyFoot;
+    return crs;
+}
+
+TEST(Projection, CompoundCrsWithAVerticalPartProjLacksFallsBackToItsHorizontalPart) {
+    // 4_6_crop.las: 5103 is the code of the NAVD88 datum, not of a vertical CRS
+    EXPECT_FALSE(proj_knows_crs("EPSG:2903+5103"));
+    auto crs = compound(2903, 5103);
+    fall_back_to_horizontal(crs);
+    EXPECT_FALSE(crs.vertical_usable);
+    EXPECT_EQ(crs_definition(crs), "EPSG:2903");
+    ASSERT_EQ(crs.warnings.size(), 1u);
+    EXPECT_NE(crs.warnings.begin()->message.find("vertical CRS EPSG:5103"), std::string::npos);
+    EXPECT_NE(crs.warnings.begin()->message.find("horizontal CRS EPSG:2903 alone"), std::string::npos);
+    EXPECT_EQ(crs.warnings.begin()->message, vertical_fallback_message(crs));
+    EXPECT_NO_THROW(lonlat_bounds(crs_definition(crs), 1639600, 1454500, 1639800, 1454700));
+
+    auto known = compound(2903, 6360);  // NAVD88 height (ftUS): PROJ knows it, kept (the control)
+    fall_back_to_horizontal(known);
+    EXPECT_TRUE(known.vertical_usable);
+    EXPECT_EQ(crs_definition(known), "EPSG:2903+6360");
+    EXPECT_TRUE(known.warnings.empty());
+    EXPECT_EQ(vertical_fallback_message(known), "");
+
+    auto unknown = compound(999999, 5103);  // nothing to fall back to: left for its users to report
+    fall_back_to_horizontal(unknown);
+    EXPECT_TRUE(unknown.vertical_usable);
+    EXPECT_TRUE(unknown.warnings.empty());
 }
 
 }  // namespace

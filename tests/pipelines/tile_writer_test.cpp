@@ -1,8 +1,11 @@
 // convert_tile: LAS->LAZ->LAS is lossless, LAZ chunks equal the reference encoder's, format
-// conversion keeps coordinates, the output appears atomically and never replaces the input.
+// conversion keeps coordinates, the output appears atomically and never replaces the input;
+// values the target format cannot hold are refused with their count, or written clamped when forced.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+
+#include <fstream>
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
@@ -86,6 +89,68 @@ TEST_F(TileWriter, VariableChunksAndSmallChunks) {
     EXPECT_TRUE(tile.laz->variable_chunks());
     EXPECT_EQ(tile.chunks->chunks.back().point_count, 110000u - 15 * 7000u);
     EXPECT_EQ(checksum(out("v.laz")), checksum(laz));
+}
+
+TEST_F(TileWriter, ValuesTheFormatCannotHoldAreRefusedOrForcedWithACount) {
+    const auto las = (test::formats_dir() / "PDAL__PDAL/test__data__las__autzen_trim.las").string();  // format 3
+    pipelines::ConvertOptions opt;
+    opt.compress = false;
+    opt.point_format = 7;
+    pipelines::convert_tile(las, out("f7.las"), opt, pool);
+    const auto header = [](const std::string& path) { return dataset::read_tile(io::File::open(path)).header; };
+    const auto h7 = header(out("f7.las"));
+    opt.point_format = 3;  // the control: back to the input's format, nothing lost
+    EXPECT_TRUE(pipelines::convert_tile(out("f7.las"), out("f3.las"), opt, pool).warnings.empty());
+    {  // three points of class 34, which formats 0-5 cannot hold
+        std::fstream f(out("f7.las"), std::ios::in | std::ios::out | std::ios::binary);
+        for (std::uint64_t i : {1ull, 500ull, 109999ull}) {
+            f.seekp(static_cast<std::streamoff>(h7.offset_to_point_data + i * h7.record_length + 16));
+            f.put(34);
+        }
+    }
+    try {
+        opt.point_format = 1;  // no colour either: every coloured point loses it
+        pipelines::convert_tile(out("f7.las"), out("f1.las"), opt, pool);
+        ADD_FAILURE() << "class 34 written into format 1 without a word";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("point format 1 cannot hold 3 points with a class above 31"), std::string::npos) << m;
+        EXPECT_NE(m.find("points with a colour (dropped)"), std::string::npos) << m;
+        EXPECT_NE(m.find("--force"), std::string::npos) << m;
+    }
+    EXPECT_FALSE(fs::exists(out("f1.las")));
+    opt.force = true;
+    const auto forced = pipelines::convert_tile(out("f7.las"), out("f1.las"), opt, pool);
+    ASSERT_EQ(forced.warnings.size(), 1u);
+    EXPECT_NE(forced.warnings[0].find("3 points with a class above 31 (written as 31)"), std::string::npos);
+    auto f1 = io::File::open(out("f1.las"));
+    const auto h1 = dataset::read_tile(f1).header;
+    std::vector<std::uint8_t> record(h1.record_length);
+    f1.read_exact(h1.offset_to_point_data + 500 * record.size(), record);
+    EXPECT_EQ(las::decode_point(record, las::point_format_info(1), h1).classification, 31);
+}
+
+TEST_F(TileWriter, Formats6To10GetTheCrsAsWkt) {
+    // 4_6_crop.las: GeoTIFF keys for EPSG:2903 + 5103 (a vertical code PROJ lacks), global encoding 0.
+    const auto las = (test::formats_dir() / "PDAL__PDAL/test__data__las__4_6_crop.las").string();
+    pipelines::ConvertOptions opt;
+    opt.compress = false;
+    opt.point_format = 3;  // the control: a legacy format keeps the keys
+    pipelines::convert_tile(las, out("f3.las"), opt, pool);
+    opt.point_format = 7;
+    const auto result = pipelines::convert_tile(las, out("f7.las"), opt, pool);
+    const auto f3 = dataset::read_tile(io::File::open(out("f3.las")));
+    const auto f7 = dataset::read_tile(io::File::open(out("f7.las")));
+    EXPECT_EQ(f3.header.global_encoding & 0x10, 0);
+    EXPECT_EQ(f3.crs.source, "geotiff");
+    EXPECT_EQ(f7.header.global_encoding & 0x10, 0x10);
+    EXPECT_EQ(f7.crs.source, "wkt");
+    EXPECT_EQ(f7.crs.epsg, 2903);
+    EXPECT_EQ(f7.crs.horizontal_unit, las::LinearUnit::UsSurveyFoot);
+    EXPECT_TRUE(f7.crs.warnings.empty());
+    for (const auto& v : f7.vlrs) EXPECT_FALSE(v.user_id == "LASF_Projection" && v.record_id == 34735);
+    ASSERT_EQ(result.warnings.size(), 1u);  // the vertical code the WKT cannot name
+    EXPECT_NE(result.warnings[0].find("vertical CRS EPSG:5103"), std::string::npos) << result.warnings[0];
 }
 
 TEST_F(TileWriter, FormatConversionKeepsCoordinatesAndColour) {

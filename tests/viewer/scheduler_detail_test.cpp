@@ -1,12 +1,20 @@
 // Patch detail from full-resolution points: the per-texel means of a tile's points, merged
-// count-weighted with another tile's, and laid over a heightmap where points fell.
+// count-weighted with another tile's, and laid over a heightmap where points fell; on a real
+// survey seen whole, the points laid over the heightmaps show instead of the interpolated surface.
 #include "viewer/scheduler_detail.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
+#include "dataset/chunk_point_loader.hpp"
+#include "dataset/dataset.hpp"
 #include "render/framebuffer.hpp"
+#include "test_data.hpp"
+#include "viewer/heightmap_builder.hpp"
+#include "viewer/scene.hpp"
+#include "viewer/visibility.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -44,6 +52,72 @@ TEST(ViewerSchedulerDetail, OverlayReplacesOnlyTexelsWithPoints) {
     EXPECT_EQ(render::red(out.colours[6]), 200);
     EXPECT_FLOAT_EQ(out.heights[7], 1.0f);
     EXPECT_EQ(render::red(out.colours[7]), 9);
+}
+
+// Of the pixels where `points` (the points alone) drew something, the share where `frame` shows
+// the same colour: there a point won over the surface.
+double share_from_points(const render::RgbaImage& points, const render::RgbaImage& frame, std::uint32_t background) {
+    std::size_t drawn = 0, same = 0;
+    for (std::size_t i = 0; i < points.pixels.size(); ++i) {
+        if (points.pixels[i] == background) continue;
+        ++drawn;
+        same += frame.pixels[i] == points.pixels[i];
+    }
+    return drawn ? static_cast<double>(same) / static_cast<double>(drawn) : 0.0;
+}
+
+// A survey as `render --until full` draws it at the auto camera: chunk points, linear heightmaps
+// of the visible patches and every tile's points.
+struct WholeSurvey {
+    dataset::Dataset ds;
+    dataset::PatchGrid grid;
+    render::Camera camera;
+    std::vector<PatchHeightmap> heightmaps;
+    std::vector<PointSet> chunk_points, full_points;
+
+    WholeSurvey(const std::string& name, ThreadPool& pool)
+        : ds(dataset::open_dataset({(test::surveys_dir() / name).string()})),
+          grid(dataset::patch_grid_origin(ds).first, dataset::patch_grid_origin(ds).second) {
+        const auto& b = ds.bounds_m;
+        camera = render::Camera::looking_at_bounds(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, 640, 360);
+        dataset::ChunkPointLoader loader(ds, grid);
+        loader.start();
+        loader.wait();
+        const auto cells = visible_cells(grid, camera, b.min_z, b.max_z);
+        HeightmapBuildOptions options;
+        options.patch.has_rgb = chunk_points_have_rgb(grid);
+        options.footprints = tile_footprints(ds);
+        heightmaps = build_linear_heightmaps(grid, cells, options, pool);
+        chunk_points = overview_point_sets(grid, cells, heightmaps);
+        for (const auto& t : ds.tiles) full_points.push_back(tile_point_set(t, ds.las_stride, pool));
+    }
+
+    render::RgbaImage draw(std::span<const PatchHeightmap> surface, ThreadPool& pool) const {
+        std::vector<render::HeightmapPatch> patches;
+        for (const auto& h : surface) patches.push_back(h.view());
+        SceneStyle style;
+        style.colour = colour_settings(render::ColourMode::Rgb, ds.bounds_m.min_z, ds.bounds_m.max_z);
+        return draw_scene_frame(camera, patches, batches_of(chunk_points), batches_of(full_points), style, pool).image;
+    }
+};
+
+TEST(ViewerSchedulerDetail, OnARealSurveyThePointsShowOverTheSurface) {
+    // ky-jmo335 seen whole: 319 chunk points interpolated over 6 km^2 of wooded valleys lie metres
+    // above the roads and fields in them; drawn as they are (the control) they hide those points.
+    ThreadPool pool(2);
+    WholeSurvey survey("ky-jmo335-eastern-kentucky", pool);
+    ASSERT_FALSE(survey.heightmaps.empty());
+    ASSERT_EQ(survey.full_points.size(), survey.ds.tiles.size());
+    const std::uint32_t background = render::ResolveSettings{}.background;
+    const auto points = survey.draw({}, pool);
+    const double interpolated = share_from_points(points, survey.draw(survey.heightmaps, pool), background);
+    auto overlaid = survey.heightmaps;
+    overlay_points(overlaid, survey.full_points, survey.grid);
+    const double laid_over = share_from_points(points, survey.draw(overlaid, pool), background);
+    std::printf("pixels from points: %.3f with the points laid over the heightmaps, %.3f without\n", laid_over,
+                interpolated);
+    EXPECT_GE(laid_over, 0.95);
+    EXPECT_LT(interpolated, laid_over - 0.05) << "the control: the interpolated surface hides points";
 }
 
 }  // namespace
