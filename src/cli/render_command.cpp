@@ -255,10 +255,12 @@ viewer::SceneStyle scene_style(const RenderPlan& plan, const RenderCliOptions& o
     return style;
 }
 
-// The camera as --camera takes it: x, y, z in the CRS's units.
+// The camera as --camera takes it: x, y, z in the CRS's units (and its position in metres, as the
+// viewer's camera has it).
 nlohmann::json camera_json(const render::Camera& c, const dataset::Frame& f) {
     const double x = c.x / f.xy_to_metres, y = c.y / f.xy_to_metres, z = c.z / f.z_to_metres;
-    return {{"x", x}, {"y", y}, {"z", z}, {"yaw_deg", c.yaw_deg}, {"pitch_deg", c.pitch_deg},
+    return {{"x", x}, {"y", y}, {"z", z}, {"position_m", {c.x, c.y, c.z}}, {"yaw_deg", c.yaw_deg},
+            {"pitch_deg", c.pitch_deg},
             {"fov_deg", c.fov_deg}, {"near_m", c.near_m}, {"far_m", c.far_m},
             {"text", fmt::format("{:.2f},{:.2f},{:.2f},{:g},{:g}", x, y, z, c.yaw_deg, c.pitch_deg)}};
 }

@@ -84,7 +84,7 @@ TEST_F(DemCommand, HillshadeIsGeoreferencedLikeTheDem) {
     for (const auto& e : fs::directory_iterator(dir)) sidecars += e.path().filename().string().find("shade.") == 0;
     EXPECT_EQ(sidecars, 4u);  // shade.tif, shade.png, shade.pgw, shade.png.aux.xml: no temporary leftovers
     EXPECT_EQ(test::run_command(cmd + path("shade.jpg") + " 2>&1", out), 1);
-    EXPECT_NE(out.find("must end in .tif (GeoTIFF) or .png"), std::string::npos) << out;
+    EXPECT_NE(out.find("it must end in one of .tif, .tiff, .png (.jpg given)"), std::string::npos) << out;
 }
 
 // --crs: the DEM is written in the CRS asked for (UTM 17N, metres), from the overview here.

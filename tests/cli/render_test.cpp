@@ -170,11 +170,12 @@ TEST_F(RenderCommand, FullDecodesTheTileOfASmallSurvey) {
     EXPECT_EQ(budget.at("full_res_points"), 0);
 }
 
-// The camera `render --json` reports (metres), for `width` x `height` pixels.
+// The camera `render --json` reports (its position in metres), for `width` x `height` pixels.
 render::Camera reported_camera(const nlohmann::json& j) {
     const auto& c = j.at("camera");
     render::Camera camera;
-    camera.x = c.at("x"), camera.y = c.at("y"), camera.z = c.at("z");
+    const auto& m = c.at("position_m");
+    camera.x = m.at(0), camera.y = m.at(1), camera.z = m.at(2);
     camera.yaw_deg = c.at("yaw_deg"), camera.pitch_deg = c.at("pitch_deg"), camera.fov_deg = c.at("fov_deg");
     camera.near_m = c.at("near_m"), camera.far_m = c.at("far_m");
     camera.width = j.at("width"), camera.height = j.at("height");
