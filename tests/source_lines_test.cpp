@@ -51,12 +51,14 @@ bool asserts_on_time(const std::string& line) {
 }
 
 TEST(SourceRules, NoTestAssertsOnWallClockTime) {
-    EXPECT_TRUE(asserts_on_time("    EXPECT_LT(seconds, 0.5);"));  // the rule sees what it forbids
-    EXPECT_TRUE(asserts_on_time("    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(30));"));
-    EXPECT_FALSE(asserts_on_time("    EXPECT_EQ(server.requests(), 2);"));
+    // the rule sees what it forbids (the examples are assembled, so this file holds no such line)
+    const std::string lt = std::string("EXPECT") + "_LT(";
+    EXPECT_TRUE(asserts_on_time(lt + "seconds, " + "0.5);"));
+    EXPECT_TRUE(asserts_on_time(lt + "std::chrono::steady_clock::" + "now() - t0, std::chrono::" + "seconds(30));"));
+    EXPECT_FALSE(asserts_on_time(std::string("EXPECT") + "_EQ(server.requests(), 2);"));
     std::string timed;
     for (const auto& e : fs::recursive_directory_iterator(fs::path(LIDARSCOUT_SOURCE_DIR) / "tests")) {
-        if (!e.is_regular_file() || e.path().filename() == "source_lines_test.cpp") continue;
+        if (!e.is_regular_file()) continue;
         std::ifstream in(e.path());
         std::string line;
         for (std::size_t n = 1; std::getline(in, line); ++n) {

@@ -41,13 +41,7 @@ std::string option_label(const std::string& name) {
 // The deepest subcommand the user named (`synth replicate`), or `app` itself.
 const CLI::App* parsed_leaf(const CLI::App& app) {
     const CLI::App* leaf = &app;
-    for (bool deeper = true; deeper;) {
-        deeper = false;
-        for (const CLI::App* sub : leaf->get_subcommands()) {
-            leaf = sub, deeper = true;
-            break;
-        }
-    }
+    while (!leaf->get_subcommands().empty()) leaf = leaf->get_subcommands().front();
     return leaf;
 }
 
@@ -80,7 +74,13 @@ void check_parsed_outputs(const CLI::App& app) {
         if (!p->empty()) paths.push_back(*p);
     }
     std::vector<io::OutputTarget> outputs;
-    for (const auto& o : d.outputs) outputs.push_back({*o.path, o.option, o.kind});
+    for (const auto& o : d.outputs) {
+        if (!o.path->empty()) outputs.push_back({*o.path, o.option, o.kind});
+    }
+    if (outputs.empty()) {  // nothing named to write: no need to read lists and manifests twice
+        io::protect_inputs(paths);
+        return;
+    }
     const std::vector<std::string> inputs = dataset::local_inputs(paths);
     io::check_outputs(outputs, inputs);
     io::protect_inputs(inputs);  // writers that were not declared cannot replace them either

@@ -118,12 +118,10 @@ void expand_list(const std::string& list, FoundFiles& out) {
     if (!read) return;  // unreadable: already said
     const std::vector<std::string>& entries = *read;
     const bool refused = out.errors.size() > errors_before;
-    FoundFiles found;
-    for (const auto& entry : entries) expand(entry, false, found);
-    const bool nothing = !entries.empty() && found.files.empty() && found.errors.size() == entries.size() &&
-                         std::all_of(found.errors.begin(), found.errors.end(), [](const SkippedFile& e) {
-                             return e.error.find(": no such file or folder") != std::string::npos;
-                         });
+    const bool nothing = !entries.empty() && std::none_of(entries.begin(), entries.end(), [](const std::string& e) {
+        std::error_code ec;
+        return net::is_url(e) || fs::exists(e, ec);
+    });
     if (nothing) {
         out.errors.push_back({io::display_path(list), io::display_path(list) +
                                                           ": not a LAS/LAZ file nor a tile list (none of its " +
@@ -134,6 +132,8 @@ void expand_list(const std::string& list, FoundFiles& out) {
     if (entries.empty() && !refused) {
         out.errors.push_back({io::display_path(list), io::display_path(list) + ": tile list without entries"});
     }
+    FoundFiles found;
+    for (const auto& entry : entries) expand(entry, false, found);
     out.files.insert(out.files.end(), found.files.begin(), found.files.end());
     for (auto& e : found.errors) out.errors.push_back({e.path, io::display_path(list) + ": " + e.error});
 }

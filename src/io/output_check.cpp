@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "net/url.hpp"
 
 namespace lidarscout::io {
 namespace fs = std::filesystem;
@@ -30,13 +31,9 @@ struct Input {
     fs::path canonical;  // symbolic links resolved
 };
 
-bool is_remote(const std::string& path) {
-    return path.rfind("http://", 0) == 0 || path.rfind("https://", 0) == 0 || path.rfind("s3://", 0) == 0;
-}
-
 std::optional<Input> stat_input(const std::string& path) {
     struct stat st {};
-    if (path.empty() || is_remote(path) || ::stat(path.c_str(), &st) != 0) return std::nullopt;
+    if (path.empty() || net::is_url(path) || ::stat(path.c_str(), &st) != 0) return std::nullopt;
     std::error_code ec;
     Input in{path, {st.st_dev, st.st_ino}, S_ISDIR(st.st_mode), fs::canonical(path, ec)};
     if (ec) in.canonical = fs::absolute(path, ec);
