@@ -1,6 +1,7 @@
-// ChunkPointLoader: the read source that orders tiles by distance to the focus, opens files
-// as their turn comes, buffers each tile's chunk points and bins them into the grid when the
-// tile is complete.
+// ChunkPointLoader: the read source that takes the tile nearest to the focus next (a tile index
+// over the tiles' positions: no sort of every tile when the focus moves), opens files as their
+// turn comes, buffers each tile's chunk points and bins them into the grid when the tile is
+// complete. Only the tiles being read hold state.
 #include "dataset/chunk_point_loader.hpp"
 
 #include <algorithm>
@@ -9,12 +10,13 @@
 #include <cstring>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 
 #include "core/error.hpp"
-#include "core/throttle.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
+#include "dataset/tile_index.hpp"
 #include "las/point_format.hpp"
 
 namespace lidarscout::dataset {
@@ -32,7 +34,6 @@ struct TileState {
     std::vector<ChunkPointLocation> locations;  // filled when the tile becomes active
     std::size_t next = 0;                       // next location to hand out
     std::size_t outstanding = 0;                // handed out, not yet completed
-    bool started = false;
     io::ReadTarget target;                      // open while the tile is active
     std::vector<PendingPoint> points;
 };
@@ -56,21 +57,22 @@ bool inside_bounds(const DatasetTile& t, const las::Point& p) {
 class ChunkPointLoader::Source final : public io::ReadSource {
 public:
     Source(ChunkPointLoader& loader, const Dataset& ds, PatchGrid& grid, bool direct, std::size_t max_errors)
-        : loader_(loader), ds_(ds), grid_(grid), direct_(direct), max_errors_(max_errors), tiles_(ds.tiles.size()) {
-        order_.reserve(ds.tiles.size());
+        : loader_(loader), ds_(ds), grid_(grid), direct_(direct), max_errors_(max_errors), index_(ds) {
         for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-            if (ds.tiles[i].chunk_points > 0) order_.push_back(ds.tiles.size() - 1 - i);  // back = first
+            if (ds.tiles[i].chunk_points == 0) continue;
+            if (ds.tiles[i].bounds_m.empty()) unplaced_.push_back(i);
+            else index_.set_pending(i, true);
         }
+        std::reverse(unplaced_.begin(), unplaced_.end());  // back = the first
     }
     ~Source() override {
-        for (auto& t : tiles_) t.target = {};
+        for (auto& [id, t] : tiles_) t.target = {};
     }
 
+    // Not under the reads' lock: a frame that moves the focus must not wait for files being opened.
     void set_focus(double x, double y) {
-        std::lock_guard lock(mutex_);
-        focus_x_ = x;
-        focus_y_ = y;
-        reorder_ = true;
+        std::lock_guard lock(focus_mutex_);
+        focus_ = {x, y};
     }
     void cancel() {
         std::lock_guard lock(mutex_);
@@ -85,15 +87,12 @@ public:
     std::size_t next(std::span<io::ReadRequest> out) override {
         std::lock_guard lock(mutex_);
         if (cancelled_) return 0;
-        if (reorder_ && reorder_throttle_.due(order_.size())) reorder();
+        const auto [x, y] = focus();
         std::size_t n = 0;
-        while (n < out.size() && !order_.empty()) {
-            const std::uint32_t id = order_.back();
-            TileState& t = tiles_[id];
-            if (!t.started && !activate(id)) {
-                order_.pop_back();
-                continue;
-            }
+        while (n < out.size()) {
+            if (active_.empty() && !start_next(x, y)) break;
+            const std::uint32_t id = active_.front();
+            TileState& t = tiles_.at(id);
             while (n < out.size() && t.next < t.locations.size()) {
                 const auto& at = t.locations[t.next];
                 out[n++] = t.target.request(at.offset, ds_.tiles[id].tile.header.record_length,
@@ -101,7 +100,7 @@ public:
                 ++t.next;
                 ++t.outstanding;
             }
-            if (t.next == t.locations.size()) order_.pop_back();
+            if (t.next == t.locations.size()) active_.erase(active_.begin());
         }
         return n;
     }
@@ -118,21 +117,43 @@ public:
         std::vector<PendingPoint> finished;
         {
             std::lock_guard lock(mutex_);
-            TileState& t = tiles_[id];
+            TileState& t = tiles_.at(id);
             if (point) t.points.push_back(*point);
             --t.outstanding;
             if (t.outstanding > 0 || t.next < t.locations.size()) return;
             finished.swap(t.points);
-            t.target = {};
+            tiles_.erase(id);
         }
         publish(id, finished);
     }
 
 private:
-    // Opens the tile's file and lists its chunk points; false (with an error) when it cannot.
+    std::pair<double, double> focus() const {
+        std::lock_guard lock(focus_mutex_);
+        return focus_;
+    }
+
+    // Starts the next tile: tiles without bounds first, then the one nearest to (x, y). False
+    // when none is left.
+    bool start_next(double x, double y) {
+        while (true) {
+            std::optional<std::uint32_t> id;
+            if (!unplaced_.empty()) {
+                id = unplaced_.back();
+                unplaced_.pop_back();
+            } else {
+                id = index_.nearest_pending(x, y);
+                if (!id) return false;
+                index_.set_pending(*id, false);
+            }
+            if (activate(*id)) return true;
+        }
+    }
+
+    // Opens the tile's file and lists its chunk points (it joins the active tiles); false (with an
+    // error) when it cannot.
     bool activate(std::uint32_t id) {
-        TileState& t = tiles_[id];
-        t.started = true;
+        TileState t;
         const auto& tile = ds_.tiles[id];
         try {
             t.locations = chunk_point_locations(tile.tile, ds_.las_stride);
@@ -148,23 +169,10 @@ private:
             loader_.failed_ += t.locations.size();
             return false;
         }
-        return !t.locations.empty();
-    }
-
-    // Tiles already started stay first (their reads are partly done); the others are sorted
-    // by distance to the focus, nearest last (the back of order_ is served first).
-    void reorder() {
-        reorder_ = false;
-        reorder_throttle_.done();
-        auto started_begin =
-            std::stable_partition(order_.begin(), order_.end(), [&](std::uint32_t id) { return !tiles_[id].started; });
-        std::vector<double> key(ds_.tiles.size());
-        for (auto it = order_.begin(); it != started_begin; ++it) {
-            key[*it] = ds_.tiles[*it].bounds_m.distance_xy(focus_x_, focus_y_);
-        }
-        std::stable_sort(order_.begin(), started_begin, [&](std::uint32_t a, std::uint32_t b) {
-            return key[a] != key[b] ? key[a] > key[b] : a > b;
-        });
+        if (t.locations.empty()) return false;
+        tiles_.emplace(id, std::move(t));
+        active_.push_back(id);
+        return true;
     }
 
     std::optional<PendingPoint> convert(const DatasetTile& tile, std::span<const std::uint8_t> data,
@@ -224,14 +232,13 @@ private:
     ChunkPointLoader::TileDoneFn on_tile_done_;
 
     mutable std::mutex mutex_;
-    std::vector<TileState> tiles_;
-    std::vector<std::uint32_t> order_;  // tiles with reads left to hand out; back = next
-    double focus_x_ = 0, focus_y_ = 0;
-    bool reorder_ = false;
-    // A moving camera moves the focus every frame; sorting 150,000 tiles each time held the lock
-    // that set_focus (the frame) waits for.
-    Throttle reorder_throttle_{std::chrono::milliseconds(200), 4096};
+    std::unordered_map<std::uint32_t, TileState> tiles_;  // the tiles being read
+    std::vector<std::uint32_t> active_;    // started tiles with reads left to hand out, oldest first
+    TileIndex index_;                      // the tiles not started yet are its pending ones
+    std::vector<std::uint32_t> unplaced_;  // tiles without bounds, not started yet; back = next
     bool cancelled_ = false;
+    mutable std::mutex focus_mutex_;  // guards focus_ alone
+    std::pair<double, double> focus_{0, 0};
     std::vector<ErrorRecord> errors_;
 };
 

@@ -55,6 +55,7 @@ PatchGrid::PatchGrid(double origin_x_m, double origin_y_m, double patch_size_m)
     if (!(patch_size_m > 0.0) || !std::isfinite(patch_size_m)) {
         throw Error::in_stage("dataset", "patch grid: patch size must be positive and finite");
     }
+    for (std::size_t i = 0; i < kShardCount; ++i) bytes_ += shards_[i].cells.bucket_count() * sizeof(void*);
 }
 
 PatchGrid::~PatchGrid() = default;
@@ -86,10 +87,18 @@ CellKey PatchGrid::add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16
     p.classification = classification;
     p.tile = tile;
     Shard& shard = shard_for(cell);
+    std::size_t grown = 0;  // heap bytes this point adds (see memory_bytes)
     {
         std::lock_guard lock(shard.mutex);
-        shard.cells[cell].push_back(p);
+        const std::size_t buckets = shard.cells.bucket_count();
+        const auto [it, inserted] = shard.cells.try_emplace(cell);
+        const std::size_t capacity = it->second.capacity();
+        it->second.push_back(p);
+        grown = (it->second.capacity() - capacity) * sizeof(GridPoint) +
+                (shard.cells.bucket_count() - buckets) * sizeof(void*) +
+                (inserted ? kCellOverheadBytes - sizeof(void*) : 0);
     }
+    bytes_.fetch_add(grown, std::memory_order_relaxed);
     size_.fetch_add(1, std::memory_order_relaxed);
     return cell;
 }
@@ -151,6 +160,10 @@ std::vector<CellKey> PatchGrid::cells() const {
 }
 
 std::size_t PatchGrid::memory_bytes() const {
+    return kShardCount * sizeof(Shard) + bytes_.load(std::memory_order_relaxed);
+}
+
+std::size_t PatchGrid::counted_memory_bytes() const {
     std::size_t bytes = kShardCount * sizeof(Shard);
     for (std::size_t i = 0; i < kShardCount; ++i) {
         std::lock_guard lock(shards_[i].mutex);
@@ -165,7 +178,11 @@ std::size_t PatchGrid::memory_bytes() const {
 void PatchGrid::shrink_to_fit() {
     for (std::size_t i = 0; i < kShardCount; ++i) {
         std::lock_guard lock(shards_[i].mutex);
-        for (auto& [key, points] : shards_[i].cells) points.shrink_to_fit();
+        for (auto& [key, points] : shards_[i].cells) {
+            const std::size_t capacity = points.capacity();
+            points.shrink_to_fit();
+            bytes_.fetch_sub((capacity - points.capacity()) * sizeof(GridPoint), std::memory_order_relaxed);
+        }
     }
 }
 

@@ -111,8 +111,11 @@ public:
     std::size_t size() const { return size_.load(std::memory_order_relaxed); }
 
     // Heap bytes held: point storage by capacity plus estimates of the hash map's nodes,
-    // buckets and allocator headers (see kCellOverheadBytes), plus the shards themselves.
+    // buckets and allocator headers (see kCellOverheadBytes), plus the shards themselves. Kept
+    // as points are added (O(1): the viewer asks on every look of its memory budget).
     std::size_t memory_bytes() const;
+    // The same counted cell by cell (what memory_bytes must equal; for tests).
+    std::size_t counted_memory_bytes() const;
     // Releases spare vector capacity (call once loading is done).
     void shrink_to_fit();
 
@@ -134,6 +137,7 @@ private:
     double origin_x_, origin_y_, patch_size_;
     std::unique_ptr<Shard[]> shards_;
     std::atomic<std::size_t> size_{0};
+    std::atomic<std::size_t> bytes_{0};  // memory_bytes() less the shards
 };
 
 }  // namespace lidarscout::dataset

@@ -57,7 +57,7 @@ struct Residency::Room {
 };
 
 Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options)
-    : dataset_(dataset), grid_(grid), options_(std::move(options)) {
+    : dataset_(dataset), grid_(grid), options_(std::move(options)), index_(dataset) {
     return_freed_memory();  // what a release frees must leave the process, or the budget bounds nothing
     spacing_.reserve(dataset.tiles.size());
     for (const auto& t : dataset.tiles) spacing_.push_back(mean_point_spacing(t));
@@ -75,6 +75,7 @@ void Residency::stop() {
 }
 
 void Residency::start() {
+    if (thread_.joinable()) throw Error::in_stage("viewer", "the residency's worker was started twice");
     thread_ = std::thread([this] { run(); });
 }
 
@@ -84,6 +85,7 @@ void Residency::set_camera(const render::Camera& camera) {
         camera_ = camera;
         has_camera_ = true;
         ++camera_version_;
+        refresh_idle();
     }
     wake_.notify_all();
 }
@@ -93,6 +95,7 @@ void Residency::set_budget(std::uint64_t bytes) {
         std::lock_guard lock(mutex_);
         options_.memory_budget = bytes;
         ++camera_version_;  // look again
+        refresh_idle();
     }
     wake_.notify_all();
 }
@@ -191,18 +194,26 @@ std::optional<Residency::Room> Residency::victims(std::uint64_t incoming, double
     return room;
 }
 
-std::vector<double> Residency::screen_fractions(const render::Camera& camera) const {
-    std::vector<double> out(dataset_.tiles.size());
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = screen_fraction(camera, dataset_.tiles[i].bounds_m);
+Residency::Fractions Residency::screen_fractions(const render::Camera& camera) const {
+    Fractions out;
+    index_.visit([&](const dataset::Bounds& box) { return box_in_view(camera, box); },
+                 [&](std::uint32_t t) {
+                     const double f = screen_fraction(camera, dataset_.tiles[t].bounds_m);
+                     if (f > 0) out.emplace(t, f);
+                 });
     return out;
 }
 
-std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const std::vector<double>& fractions) {
+double Residency::Fractions::of(std::uint32_t tile) const {
+    const auto it = find(tile);
+    return it == end() ? 0.0 : it->second;
+}
+
+std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const Fractions& fractions) {
     ++tick_;
     wanted_ = wanted_full_ = 0;
     std::vector<std::pair<double, std::uint32_t>> candidates;  // (gain per byte, tile)
-    for (std::uint32_t i = 0; i < dataset_.tiles.size(); ++i) {
-        const double fraction = fractions[i];
+    for (const auto& [i, fraction] : fractions) {
         if (fraction <= options_.min_screen_fraction || failed_.contains(i)) continue;
         ++wanted_;
         const auto it = tiles_.find(i);
@@ -267,11 +278,12 @@ double Residency::coverage(const Entry& entry, double fraction) const {
     return fraction > 0 ? std::min(covered / fraction, 1.0) : 1.0;
 }
 
-std::vector<std::uint32_t> Residency::stale_partials(const std::vector<double>& fractions) const {
+std::vector<std::uint32_t> Residency::stale_partials(const Fractions& fractions) const {
     std::vector<std::uint32_t> out;
     for (const auto& [tile, e] : tiles_) {
-        if (!e.partial || e.level != Level::Full || e.loaded_at == camera_version_ || fractions[tile] <= 0) continue;
-        if (coverage(e, fractions[tile]) < 0.5 * e.coverage) out.push_back(tile);
+        const double fraction = fractions.of(tile);
+        if (!e.partial || e.level != Level::Full || e.loaded_at == camera_version_ || fraction <= 0) continue;
+        if (coverage(e, fraction) < 0.5 * e.coverage) out.push_back(tile);
     }
     return out;
 }
@@ -306,7 +318,7 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>&
         if (!has_camera_) continue;
         // A camera that moves every frame over a country of tiles: a look at most every kPoll,
         // its screen coverage of every tile computed without the lock that set_camera takes.
-        if (!look_throttle_.due(dataset_.tiles.size())) {
+        if (!look_throttle_.due(last_in_view_)) {
             wake_.wait_for(lock, kPoll, [&] { return stopping_; });
             if (stopping_) return std::nullopt;
             seen = camera_version_;
@@ -317,8 +329,12 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>&
         lock.unlock();
         if (freed) trim_heap();  // released points go back to the system
         const std::uint64_t other = options_.other_bytes ? options_.other_bytes() : 0;
-        const std::vector<double> fractions = screen_fractions(camera);
+        const std::uint64_t visits_before = index_.visits();
+        const Fractions fractions = screen_fractions(camera);
+        const std::uint64_t visits = index_.visits() - visits_before;
         lock.lock();
+        index_visits_ += visits, last_look_visits_ = visits;
+        last_in_view_ = fractions.size();
         if (stopping_) return std::nullopt;
         last_other_ = other;
         auto dropped = release(stale_partials(fractions));
@@ -336,12 +352,14 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>&
         }
         if (!choice) {
             checked_version_ = seen;
+            refresh_idle();
             continue;
         }
         // What was released is gone once no snapshot holds it (a frame being drawn): the load waits till then.
         const std::uint64_t incoming = choice->cap + choice->extra + choice->plan.transient;
         if (other + held() + incoming > options_.memory_budget) continue;
         busy_ = true;
+        refresh_idle();
         ++loads_;
         loading_version_ = seen;
         // The points still to come, their bookkeeping, and what the decoding threads hold besides.
@@ -387,14 +405,18 @@ std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded deco
     const std::uint64_t details_before = details_bytes_;
     for (auto& [cell, d] : decoded.detail) {
         cells.push_back(cell);
+        // Found under mutex_ alone (every writer holds it); changed under details_mutex_ too.
         const auto it = details_.find(cell);
         if (it == details_.end()) {
             details_bytes_ += d.bytes();
-            details_.emplace(cell, std::make_shared<const PatchDetail>(std::move(d)));
+            auto added = std::make_shared<const PatchDetail>(std::move(d));
+            std::lock_guard details_lock(details_mutex_);
+            details_.emplace(cell, std::move(added));
             continue;
         }
         auto merged = std::make_shared<PatchDetail>(*it->second);
         merge_detail(*merged, d);
+        std::lock_guard details_lock(details_mutex_);
         it->second = std::move(merged);
     }
     Entry& e = tiles_[tile];
@@ -446,6 +468,7 @@ void Residency::run() {
         lock.lock();
         decoding_bytes_ = 0;
         busy_ = false;
+        refresh_idle();
         if (error) {  // the pieces it had are dropped: a damaged file is not drawn in part
             failed_.insert(tile);
             errors_.push_back(std::move(*error));
@@ -476,15 +499,12 @@ LodBlocks Residency::blocks() const {
 }
 
 std::shared_ptr<const PatchDetail> Residency::detail(dataset::CellKey cell) const {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(details_mutex_);
     const auto it = details_.find(cell);
     return it == details_.end() ? nullptr : it->second;
 }
 
-std::uint64_t Residency::version() const {
-    std::lock_guard lock(mutex_);
-    return version_;
-}
+std::uint64_t Residency::version() const { return version_.load(); }
 
 ResidencyStats Residency::stats() const {
     std::lock_guard lock(mutex_);
@@ -504,12 +524,15 @@ ResidencyStats Residency::stats() const {
     st.peak_bytes = peak_;
     st.budget = options_.memory_budget;
     st.errors = errors_;
+    st.in_view = last_in_view_;
+    st.index_visits = index_visits_, st.look_visits = last_look_visits_;
     return st;
 }
 
+void Residency::refresh_idle() { idle_ = !busy_ && (!has_camera_ || checked_version_ == camera_version_); }
+
 bool Residency::idle() const {
-    std::lock_guard lock(mutex_);
-    return !busy_ && (!has_camera_ || checked_version_ == camera_version_);
+    return idle_.load();
 }
 
 }  // namespace lidarscout::viewer

@@ -17,6 +17,7 @@
 // Its own thread and its own lock; hooks are called without that lock held.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -27,12 +28,14 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/throttle.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
+#include "dataset/tile_index.hpp"
 #include "render/camera.hpp"
 #include "viewer/decode_memory.hpp"
 #include "viewer/point_lod.hpp"
@@ -65,6 +68,8 @@ struct ResidencyStats {
     std::uint64_t full_points = 0, lod_points = 0;  // points held at full resolution; in every block
     std::uint64_t bytes = 0, bytes_full = 0, decoding_bytes = 0, peak_bytes = 0, budget = 0;
     std::vector<ErrorRecord> errors;  // tiles that could not be decoded
+    std::size_t in_view = 0;                       // tiles in view at the last look
+    std::uint64_t index_visits = 0, look_visits = 0;  // tile index nodes and tiles examined: in all; the last look
 };
 
 class Residency {
@@ -74,7 +79,7 @@ public:
     Residency(const Residency&) = delete;
     Residency& operator=(const Residency&) = delete;
 
-    void start();  // starts the worker (once the hooks can be called)
+    void start();  // starts the worker (once the hooks can be called); throws Error when started already
     void stop();   // stops and joins the worker (a tile being decoded stops after its current piece)
     void set_camera(const render::Camera& camera);
     void set_budget(std::uint64_t bytes);
@@ -113,9 +118,13 @@ private:
 
     void run();
     std::optional<Job> next_load(std::unique_lock<std::mutex>& lock);
-    // The screen coverage (screen_fraction) of every tile at `camera`.
-    std::vector<double> screen_fractions(const render::Camera& camera) const;
-    std::optional<Choice> choose(std::uint64_t other, const std::vector<double>& fractions);
+    // Tile -> its screen coverage (screen_fraction), for the tiles in view.
+    struct Fractions : std::unordered_map<std::uint32_t, double> {
+        double of(std::uint32_t tile) const;  // 0 when out of view
+    };
+    // The tiles in view at `camera` and their coverage, found through the tile index.
+    Fractions screen_fractions(const render::Camera& camera) const;
+    std::optional<Choice> choose(std::uint64_t other, const Fractions& fractions);
     struct Step {
         double value = 0;  // worth per byte freed
         std::uint32_t tile = 0;
@@ -147,8 +156,9 @@ private:
     // Tiles loaded in part for an earlier camera whose pieces cover less than half the share of
     // the view they covered when loaded: they drop to their coarse levels and are decoded again
     // for this view.
-    std::vector<std::uint32_t> stale_partials(const std::vector<double>& fractions) const;
+    std::vector<std::uint32_t> stale_partials(const Fractions& fractions) const;
     PointOrder decode_order() const;
+    void refresh_idle();  // after a change of busy_, has_camera_, camera_version_ or checked_version_
     void load(const Job& job, const PointOrder& order, ThreadPool& pool);
     // Adds a decoded piece; `first` (cleared here, under the lock) drops the coarse levels held.
     std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool& first);
@@ -159,6 +169,7 @@ private:
     const dataset::PatchGrid& grid_;
     ResidencyOptions options_;
     std::vector<double> spacing_;  // per tile: its points' mean spacing (metres)
+    dataset::TileIndex index_;     // the tiles in view without a look at every tile (its thread only)
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -170,10 +181,17 @@ private:
     std::map<std::uint32_t, Entry> tiles_;
     std::set<std::uint32_t> failed_;
     std::vector<std::pair<std::weak_ptr<const LodBlock>, std::uint64_t>> retired_;  // block, its bytes
-    Throttle look_throttle_{std::chrono::milliseconds(100), 4096};  // looks of a large dataset
+    Throttle look_throttle_{std::chrono::milliseconds(100), 4096};  // looks at many tiles in view
+    std::size_t last_in_view_ = 0;                     // tiles in view at the last look
+    std::uint64_t index_visits_ = 0, last_look_visits_ = 0;  // tile index work: in all, at the last look
     std::set<std::uint32_t> folded_;  // tiles whose every point is in the details (not folded again on reload)
+    // Changed under mutex_ and details_mutex_; read under either (detail() takes details_mutex_ alone,
+    // a leaf lock held for a lookup: the scheduler asks while holding its own lock).
     std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
-    std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, version_ = 1, last_other_ = 0;
+    mutable std::mutex details_mutex_;
+    std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, last_other_ = 0;
+    std::atomic<std::uint64_t> version_{1};  // read without a lock (every snapshot asks)
+    std::atomic<bool> idle_{true};           // idle(), kept by refresh_idle() under mutex_
     std::size_t released_ = 0, loads_ = 0, wanted_ = 0, wanted_full_ = 0;
     std::vector<ErrorRecord> errors_;
     mutable LodBlocks blocks_cache_;

@@ -17,6 +17,7 @@
 #include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
 #include "nn/heightmap_network.hpp"
+#include "viewer/cell_blocks.hpp"
 #include "viewer/residency.hpp"
 #include "viewer/scheduler_detail.hpp"
 
@@ -30,21 +31,17 @@ constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
 constexpr double kOutOfView = 1e12;  // added to the priority key of a cell out of view
 constexpr auto kOutOfViewWait = std::chrono::milliseconds(50);  // heightmaps out of view: the next look
-// When a work queue was last sorted (the camera version), and how often a long one may be.
-struct QueueOrder {
-    std::uint64_t version = kNoVersion;
-    Throttle throttle{std::chrono::milliseconds(200), 4096};
-};
 
 struct Patch {
     bool candidate = false;  // its cell overlaps a tile: it gets a heightmap job
+    bool counted = false;    // a candidate from the tiles' bounds: `deps` counts the tiles of its window
     int deps = 0;            // tiles overlapping its window whose chunk points are not in yet
     bool ready = false, linear_tried = false, cnn_tried = false;
     std::shared_ptr<const PatchHeightmap> base;   // linear or network
     bool base_is_cnn = false;
     std::shared_ptr<const PatchHeightmap> shown;  // base with the full-resolution detail laid over
     std::shared_ptr<const PointSet> chunk;        // its chunk points
-    bool drawable = false;                        // listed in State::drawable (has shown or chunk)
+    bool drawable = false;                        // listed in its block's drawable cells (has shown or chunk)
     std::uint64_t key_version = kNoVersion;       // camera version of `key`
     double key = 0;                               // priority: lower first
 };
@@ -96,11 +93,12 @@ struct Scheduler::State {
     std::uint64_t camera_version = 0;
 
     std::unordered_map<CellKey, Patch, CellKeyHash> patches;
-    std::vector<std::vector<CellKey>> window_cells;  // per tile: candidate cells whose window it overlaps
-    std::vector<bool> sparse;                        // per tile: its cells come from its points (bounds_fit_data)
-    std::vector<CellKey> ready, cnn_ready;           // queues, best at the back once sorted
-    QueueOrder ready_sorted, cnn_sorted;
+    std::vector<bool> sparse;  // per tile: its cells come from its points (bounds_fit_data)
+    CellBlocks blocks;         // the ready, network-ready and drawable cells, by block (cell_blocks.hpp)
     std::size_t candidates = 0, tiles_done = 0, linear_tried = 0, linear_made = 0, cnn_tried = 0;
+    std::size_t loadable = 0;                     // tiles with chunk points
+    std::size_t shown_linear = 0, shown_cnn = 0;  // patches whose base heightmap is of each kind
+    std::uint64_t patch_visits = 0;               // patches examined by snapshots and job choices
     std::size_t in_flight = 0;  // heightmap jobs running
     bool loader_finish_handled = false;
 
@@ -117,7 +115,6 @@ struct Scheduler::State {
     HeightmapBuildOptions build;
     double z_min = 0, z_max = 0;
     std::uint64_t patch_bytes = 0;  // heightmaps and chunk points held by `patches` (bytes_of)
-    std::vector<CellKey> drawable;  // patches with a heightmap or chunk points: what snapshots list
 
     void changed() { ++version; }
 
@@ -137,6 +134,7 @@ struct Scheduler::State {
 
     // Priority of a cell for the current camera: visible ones first, then by distance.
     double key_of(Patch& p, CellKey cell, const dataset::PatchGrid& grid) {
+        ++patch_visits;
         if (p.key_version == camera_version) return p.key;
         const auto box = cell_box(grid, cell, z_min, z_max);
         const double d = has_camera ? distance_to(camera, box) : 0.0;
@@ -145,18 +143,19 @@ struct Scheduler::State {
         return p.key;
     }
 
-    // Sorts `queue` (best last) when the camera or its content changed since the last sort, a
-    // long queue at most every 200 ms: a moving camera changes every frame, and sorting hundreds
-    // of thousands of cells each time held the lock the frames wait for.
-    void sort_queue(std::vector<CellKey>& queue, QueueOrder& order, const dataset::PatchGrid& grid) {
-        if (order.version == camera_version || !order.throttle.due(queue.size())) return;
-        std::vector<std::pair<double, CellKey>> keyed;
-        keyed.reserve(queue.size());
-        for (const auto cell : queue) keyed.emplace_back(key_of(patches[cell], cell, grid), cell);
-        std::sort(keyed.begin(), keyed.end(), [](const auto& a, const auto& b) { return a > b; });
-        for (std::size_t i = 0; i < keyed.size(); ++i) queue[i] = keyed[i].second;
-        order.version = camera_version;
-        order.throttle.done();
+    // The priority key a block box's cells cannot beat (a lower bound of key_of).
+    double box_key(const dataset::Bounds& box) const {
+        if (!has_camera) return 0.0;
+        return (box_in_view(camera, box) ? 0.0 : kOutOfView) + distance_to(camera, box);
+    }
+
+    // Takes the cell of `list` to work on next: the one of least key (in view and nearest first).
+    std::optional<CellKey> take_next(CellBlocks::List list, double* key = nullptr) {
+        const auto cell = blocks.take_nearest(
+            list, [&](const dataset::Bounds& box) { return box_key(box); },
+            [&](CellKey c) { return key_of(patches.at(c), c, *grid); });
+        if (cell && key) *key = key_of(patches.at(*cell), *cell, *grid);
+        return cell;
     }
 
     // A cell a sparse tile's chunk points fell in (see bounds_fit_data): its heightmap waits
@@ -167,11 +166,23 @@ struct Scheduler::State {
         if (loader_finish_handled) push_ready(cell, p);
     }
 
+    // Calls fn(patch[, cell]) for the candidates counted from the tiles' bounds whose window
+    // (the cell +- the recon padding) `t` overlaps (computed again: kept per tile, they held
+    // tens of MB for a country).
+    template <class Fn>
+    void for_window_cells(const dataset::DatasetTile& t, Fn&& fn) {
+        for_cells(t.bounds_m, *grid, build.patch.spec.pad_m(), [&](CellKey c) {
+            const auto it = patches.find(c);
+            if (it == patches.end() || !it->second.counted) return;
+            if constexpr (std::is_invocable_v<Fn, Patch&, CellKey>) fn(it->second, c);
+            else fn(it->second);
+        });
+    }
+
     void push_ready(CellKey cell, Patch& p) {
         if (p.ready || !p.candidate) return;
         p.ready = true;
-        ready.push_back(cell);
-        ready_sorted.version = kNoVersion;
+        blocks.add(CellBlocks::Ready, cell);
     }
 
     // The heightmap shown for a patch: its base with the full-resolution detail over it.
@@ -181,17 +192,38 @@ struct Scheduler::State {
         changed_patch(cell, p);
     }
 
-    // Runs `change` on a patch's heightmaps or chunk points, keeping patch_bytes and the
-    // drawable list up to date.
+    // Runs `change` on a patch's heightmaps or chunk points, keeping patch_bytes, the counts of
+    // heightmap kinds and the drawable lists up to date.
     template <class Change>
     void modify(CellKey cell, Patch& p, Change&& change) {
         patch_bytes -= bytes_of(p);
+        count_kind(p, -1);
         change();
+        count_kind(p, 1);
         patch_bytes += bytes_of(p);
+        CellBlocks::Block& b = blocks.block_of(cell);
+        b.changed = true;
         if (!p.drawable && (p.shown || p.chunk)) {
             p.drawable = true;
-            drawable.push_back(cell);
+            blocks.add(CellBlocks::Drawable, cell);
         }
+    }
+
+    void count_kind(const Patch& p, int delta) {
+        if (p.base) (p.base_is_cnn ? shown_cnn : shown_linear) += delta;
+    }
+
+    // The drawable content of block `b` (listed again when it changed).
+    void list_block(CellBlocks::Block& b) {
+        if (!b.changed) return;
+        b.shown.clear(), b.chunk_points.clear();
+        for (const auto cell : b.cells[CellBlocks::Drawable]) {
+            ++patch_visits;
+            const Patch& p = patches.at(cell);
+            if (p.shown) b.shown.push_back(p.shown);
+            else if (p.chunk) b.chunk_points.push_back(p.chunk);
+        }
+        b.changed = false;
     }
 
     static std::uint64_t bytes_of(const Patch& p) {
@@ -220,27 +252,27 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     s.build.batch = options_.cnn_batch;
     s.z_min = dataset.bounds_m.min_z, s.z_max = dataset.bounds_m.max_z;
     const double pad = s.build.patch.spec.pad_m();
-    s.window_cells.resize(dataset.tiles.size());
     const auto dense = [&](const dataset::DatasetTile& t) {
         return t.chunk_points > 0 && !t.bounds_m.empty() && bounds_fit_data(t, *grid_, pad);
     };
     s.sparse.resize(dataset.tiles.size());
+    dataset::Bounds extent;  // of the dense tiles: the cell blocks' grid
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
         const auto& t = dataset.tiles[i];
+        s.loadable += t.chunk_points > 0;
         s.sparse[i] = !dense(t);
-        if (!s.sparse[i]) for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) { s.patches[c].candidate = true; });
-    }
-    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
-        const auto& t = dataset.tiles[i];
         if (s.sparse[i]) continue;
-        for_cells(t.bounds_m, *grid_, pad, [&](CellKey c) {
-            const auto it = s.patches.find(c);
-            if (it == s.patches.end() || !it->second.candidate) return;
-            ++it->second.deps;
-            s.window_cells[i].push_back(c);
+        extent.extend(t.bounds_m);
+        for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) {
+            Patch& p = s.patches[c];
+            p.candidate = p.counted = true;
         });
     }
-    for (const auto& [c, p] : s.patches) s.candidates += p.candidate;
+    s.blocks = CellBlocks(*grid_, extent, s.z_min, s.z_max);
+    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
+        if (!s.sparse[i]) s.for_window_cells(dataset.tiles[i], [](Patch& p) { ++p.deps; });
+    }
+    s.candidates = s.patches.size();
     s.network_pending = options_.cnn;
 
     residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
@@ -353,9 +385,10 @@ void Scheduler::on_tile_done(std::uint32_t tile, std::span<const CellKey> cells)
             s.changed_patch(entry.first, p);
             if (s.sparse[tile] && !p.candidate) s.add_sparse_candidate(entry.first, p);
         }
-        for (const auto cell : s.window_cells[tile]) {
-            Patch& p = s.patches[cell];
-            if (--p.deps == 0) s.push_ready(cell, p);
+        if (!s.sparse[tile]) {
+            s.for_window_cells(dataset_.tiles[tile], [&](Patch& p, CellKey cell) {
+                if (--p.deps == 0) s.push_ready(cell, p);
+            });
         }
         ++s.tiles_done;
     }
@@ -367,17 +400,17 @@ void Scheduler::heightmap_worker() {
     State& s = *state_;
     std::unique_lock lock(s.mutex);
     while (true) {
-        s.wake.wait(lock, [&] { return s.stopping || !s.ready.empty(); });
+        s.wake.wait(lock, [&] { return s.stopping || s.blocks.size(CellBlocks::Ready) > 0; });
         if (s.stopping) return;
-        s.sort_queue(s.ready, s.ready_sorted, *grid_);
-        const CellKey cell = s.ready.back();
+        double key = 0;
+        const CellKey cell = *s.take_next(CellBlocks::Ready, &key);
         // A patch out of view waits while the tiles in view decode: their points improve the
         // picture, its heightmap does not (a country's patches would hold the cores for minutes).
-        if (s.key_of(s.patches[cell], cell, *grid_) >= kOutOfView && options_.full_res && !residency_->idle()) {
+        if (key >= kOutOfView && options_.full_res && !residency_->idle()) {
+            s.blocks.add(CellBlocks::Ready, cell);  // back in its block
             s.wake.wait_for(lock, kOutOfViewWait);
             continue;
         }
-        s.ready.pop_back();
         ++s.in_flight;
         lock.unlock();
         auto h = linear_heightmap(*grid_, cell, s.build.patch);
@@ -394,8 +427,7 @@ void Scheduler::heightmap_worker() {
             s.update_shown(cell, p, residency_->detail(cell).get());
         }
         if (s.network || s.network_pending) {
-            s.cnn_ready.push_back(cell);
-            s.cnn_sorted.version = kNoVersion;
+            s.blocks.add(CellBlocks::CnnReady, cell);
             s.wake.notify_all();
         }
         lock.unlock();
@@ -411,7 +443,7 @@ void Scheduler::cnn_worker() {
         // new threads need) waits until there is work for it: the first linear heightmap. Loaded
         // at once, it delayed the first frame of chunk points from 0.13 s to 0.9 s.
         std::unique_lock lock(s.mutex);
-        while (!s.stopping && s.cnn_ready.empty() && !loader_->finished()) {
+        while (!s.stopping && s.blocks.size(CellBlocks::CnnReady) == 0 && !loader_->finished()) {
             s.wake.wait_for(lock, std::chrono::milliseconds(50));
         }
         if (s.stopping) return;
@@ -428,19 +460,19 @@ void Scheduler::cnn_worker() {
     s.network_pending = false;
     if (!network) {
         s.notes.push_back(note);
-        s.cnn_ready.clear();
+        s.blocks.clear(CellBlocks::CnnReady);
         return;
     }
     s.network = std::move(network);
     ThreadPool pool(1);
     while (true) {
-        s.wake.wait(lock, [&] { return s.stopping || !s.cnn_ready.empty(); });
+        s.wake.wait(lock, [&] { return s.stopping || s.blocks.size(CellBlocks::CnnReady) > 0; });
         if (s.stopping) return;
-        s.sort_queue(s.cnn_ready, s.cnn_sorted, *grid_);
         std::vector<CellKey> batch;
-        while (!s.cnn_ready.empty() && batch.size() < std::max<std::size_t>(1, options_.cnn_batch)) {
-            batch.push_back(s.cnn_ready.back());
-            s.cnn_ready.pop_back();
+        while (batch.size() < std::max<std::size_t>(1, options_.cnn_batch)) {
+            const auto cell = s.take_next(CellBlocks::CnnReady);
+            if (!cell) break;
+            batch.push_back(*cell);
         }
         ++s.in_flight;
         lock.unlock();
@@ -459,8 +491,10 @@ void Scheduler::cnn_worker() {
         for (auto& h : built) {
             const CellKey cell = h.cell;
             Patch& p = s.patches[cell];
-            s.modify(cell, p, [&] { p.base = share(std::move(h)); });
-            p.base_is_cnn = true;
+            s.modify(cell, p, [&] {
+                p.base = share(std::move(h));
+                p.base_is_cnn = true;
+            });
             s.update_shown(cell, p, residency_->detail(cell).get());
         }
         lock.unlock();
@@ -494,17 +528,30 @@ void Scheduler::show_detail(const std::vector<CellKey>& cells) {
 
 std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     State& s = *state_;
-    std::lock_guard lock(s.mutex);
+    // All three only grow: the content (in view and out), the residency's, and the camera's (what is
+    // in view). The residency's blocks are taken outside our lock (see the lock order in scheduler.hpp).
     const std::uint64_t residency = residency_->version();
-    if (s.snapshot && s.snapshot->version == s.version + residency) return s.snapshot;  // both only grow
-    auto snap = std::make_shared<SceneSnapshot>();
-    snap->version = s.version + residency;
-    for (const auto cell : s.drawable) {  // not every patch: a country has 500,000
-        const Patch& p = s.patches.at(cell);
-        if (p.shown) snap->heightmaps.push_back(p.shown);
-        else if (p.chunk) snap->chunk_points.push_back(p.chunk);
+    {
+        std::lock_guard lock(s.mutex);
+        if (s.snapshot && s.snapshot->version == s.version + residency + s.camera_version) return s.snapshot;
     }
-    snap->full_points = residency_->blocks();
+    LodBlocks full = residency_->blocks();  // as new as `residency` or newer
+    std::lock_guard lock(s.mutex);
+    auto snap = std::make_shared<SceneSnapshot>();
+    snap->version = s.version + residency + s.camera_version;
+    // The blocks in view only (all without a camera): a country has 500,000 patches.
+    const auto add = [&](CellBlocks::Block& b) {
+        s.list_block(b);
+        snap->heightmaps.insert(snap->heightmaps.end(), b.shown.begin(), b.shown.end());
+        snap->chunk_points.insert(snap->chunk_points.end(), b.chunk_points.begin(), b.chunk_points.end());
+    };
+    if (s.has_camera) {
+        s.blocks.visit(CellBlocks::Drawable, [&](const dataset::Bounds& box) { return box_in_view(s.camera, box); },
+                       add);
+    } else {
+        s.blocks.for_each(add);
+    }
+    snap->full_points = std::move(full);
     s.snapshot = std::move(snap);
     return s.snapshot;
 }
@@ -522,19 +569,14 @@ SchedulerStats Scheduler::stats() const {
     st.chunk_points = {loader_->loaded() + loader_->failed(), loader_->total()};
     st.chunk_points_loaded = loader_->loaded();
     const auto loader_errors = loader_->errors();  // before our lock: the loader's own is taken
+    const ResidencyStats r = residency_->stats();   // the same
     std::lock_guard lock(s.mutex);
-    std::size_t loadable = 0;
-    for (const auto& t : dataset_.tiles) loadable += t.chunk_points > 0;
-    st.tiles_loaded = {s.tiles_done, loadable};
+    st.tiles_loaded = {s.tiles_done, s.loadable};
     st.linear = {s.linear_tried, s.candidates};
     if (s.network) st.cnn = {s.cnn_tried, s.linear_made};
-    for (const auto cell : s.drawable) {  // every patch with a heightmap is drawable
-        const Patch& p = s.patches.at(cell);
-        if (!p.base) continue;
-        (p.base_is_cnn ? st.heightmaps_cnn : st.heightmaps_linear) += 1;
-    }
-    st.heightmap_jobs_pending = s.ready.size() + s.cnn_ready.size() + s.in_flight;
-    const ResidencyStats r = residency_->stats();
+    st.heightmaps_linear = s.shown_linear, st.heightmaps_cnn = s.shown_cnn;
+    st.heightmap_jobs_pending =
+        s.blocks.size(CellBlocks::Ready) + s.blocks.size(CellBlocks::CnnReady) + s.in_flight;
     st.full_res = {r.wanted_full, r.wanted};
     st.full_res_tiles = r.full_tiles;
     st.coarse_tiles = r.coarse_tiles;
@@ -547,6 +589,8 @@ SchedulerStats Scheduler::stats() const {
     st.bytes_used = s.held_bytes(*grid_) + r.bytes + r.decoding_bytes;
     st.peak_bytes_used = std::max(r.peak_bytes, st.bytes_used);
     st.memory_budget = r.budget;
+    st.patch_visits = s.patch_visits, st.block_visits = s.blocks.visits();
+    st.tile_index_visits = r.index_visits, st.last_look_visits = r.look_visits, st.tiles_in_view = r.in_view;
     st.notes = s.notes;
     if (s.network) st.notes.push_back("heightmap network: " + s.network->path());
     st.errors = s.errors;
@@ -559,7 +603,8 @@ bool Scheduler::idle() const {
     const State& s = *state_;
     if (!loader_->finished()) return false;
     std::lock_guard lock(s.mutex);
-    return s.loader_finish_handled && s.ready.empty() && s.cnn_ready.empty() && s.in_flight == 0 &&
+    return s.loader_finish_handled && s.blocks.size(CellBlocks::Ready) == 0 &&
+           s.blocks.size(CellBlocks::CnnReady) == 0 && s.in_flight == 0 &&
            !s.network_pending && (!options_.full_res || residency_->idle());
 }
 

@@ -13,9 +13,21 @@
 //     into LOD blocks (point_lod.hpp), within a memory budget that covers everything the
 //     scheduler holds; every tile's points are folded into the heightmaps and textures of the
 //     patches it covers (scheduler_detail.hpp), and a released tile keeps its coarse levels.
-// snapshot() gives what is ready now, cheap enough to take every frame (patches that changed out
-// of view join it at the next camera move, so that a still view's snapshot stays the same once
-// its picture is done); stats() the counters.
+// snapshot() gives what is ready now for the current camera, cheap enough to take every frame:
+// the patches of the blocks in view (viewer/cell_blocks.hpp) and the residency's blocks (patches
+// that changed out of view join it at the next camera move, so that a still view's snapshot stays
+// the same once its picture is done); stats() the counters. Per-frame and per-tick work follows
+// what is in view and what changed, not the dataset's size (the next heightmap job is found best
+// first over the blocks, the residency's tiles in view and the loader's next tile through a tile
+// index), so a country of tiles draws as fast as a county.
+//
+// Lock order, so that a frame never waits for work proportional to the dataset:
+//   1. the scheduler's state lock (State::mutex) may be held while taking only the residency's
+//      details lock (Residency::detail, a leaf held for a lookup) or reading its atomics
+//      (version, idle); never the residency's own lock nor the loader's;
+//   2. the residency calls its hooks (other_bytes, on_detail, on_tile) without its own lock, so
+//      they may take the state lock;
+//   3. the loader calls on_tile_done without its locks; set_focus takes a lock of its own only.
 #pragma once
 
 #include <atomic>
@@ -88,6 +100,12 @@ struct SchedulerStats {
     std::uint64_t bytes_used = 0, bytes_full_res = 0, memory_budget = 0;
     std::uint64_t bytes_decoding = 0;   // of bytes_used: what the tile being decoded may still add and its scratch
     std::uint64_t peak_bytes_used = 0;  // highest bytes_used seen, a decoding tile included
+    // The bookkeeping's work so far, for tests that check it follows the view, not the dataset: patches
+    // examined (snapshots listing changed blocks, choices of the next heightmap job), nodes and blocks of
+    // the cell blocks examined, and the residency's tile index (in all; at its last look, with the
+    // tiles it found in view).
+    std::uint64_t patch_visits = 0, block_visits = 0, tile_index_visits = 0, last_look_visits = 0;
+    std::size_t tiles_in_view = 0;
     std::vector<std::string> notes;     // e.g. "no heightmap network: linear heightmaps"
     std::vector<ErrorRecord> errors;    // what could not be read or computed: file, offset, cause
 };

@@ -1,0 +1,137 @@
+// The scheduler's patch cells grouped in square blocks (16 x 16 cells, about 10 km) under count
+// quadtrees (core/count_quadtree.hpp), one per list of cells it keeps: cells whose linear
+// heightmap is ready to build, cells waiting for the network, cells with something to draw. So
+// the work of a frame or a tick follows what is in view and what changed, never the number of
+// patches: the next heightmap job is the nearest ready cell, found best first over the blocks;
+// a snapshot visits the blocks in view only. The blocks' grid covers the tiles' extent given at
+// construction; blocks outside it (cells of a tile whose header bounds are far larger than its
+// data) are kept apart and always examined. Not thread-safe: the scheduler's lock guards it.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "core/count_quadtree.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/patch_grid.hpp"
+#include "viewer/patch_heightmap.hpp"
+#include "viewer/point_sets.hpp"
+
+namespace lidarscout::viewer {
+
+class CellBlocks {
+public:
+    enum List { Ready, CnnReady, Drawable, kLists };
+    static constexpr int kBlockCells = 16;  // a block's side, in cells
+
+    struct Block {
+        dataset::CellKey key;  // (bx, by): cells [bx * kBlockCells, (bx + 1) * kBlockCells) on x, the same on y
+        std::array<std::vector<dataset::CellKey>, kLists> cells;
+        bool changed = true;  // a drawable cell of it changed since `shown` and `chunk_points` were listed
+        // What its drawable cells show (the scheduler's per-block part of a snapshot).
+        std::vector<std::shared_ptr<const PatchHeightmap>> shown;
+        std::vector<std::shared_ptr<const PointSet>> chunk_points;
+    };
+
+    CellBlocks() = default;
+    // Blocks over the cells of `extent_m` (x, y) of `grid`, boxes between heights z_min and z_max.
+    CellBlocks(const dataset::PatchGrid& grid, const dataset::Bounds& extent_m, double z_min, double z_max);
+
+    void add(List list, dataset::CellKey cell);
+    void clear(List list);
+    std::size_t size(List list) const { return sizes_[list]; }
+    // The block holding `cell` (created when missing).
+    Block& block_of(dataset::CellKey cell);
+    // The box of block `b`'s cells (metres, z_min..z_max).
+    dataset::Bounds box(const Block& b) const { return block_box(b.key); }
+
+    // Removes and returns the cell of `list` of least cell_cost(cell), best first over blocks whose
+    // box_cost(Bounds) is at most any of their cells' cost; nullopt when the list is empty.
+    template <class BoxCost, class CellCost>
+    std::optional<dataset::CellKey> take_nearest(List list, BoxCost&& box_cost, CellCost&& cell_cost) {
+        if (sizes_[list] == 0) return std::nullopt;
+        const auto cost_of = [&](Block& b) {
+            double best = std::numeric_limits<double>::infinity();
+            for (const auto c : b.cells[list]) best = std::min(best, cell_cost(c));
+            return best;
+        };
+        Block* best = nullptr;
+        double best_cost = std::numeric_limits<double>::infinity();
+        for (const auto& key : apart_) {
+            Block& b = blocks_.at(key);
+            if (b.cells[list].empty()) continue;
+            if (const double c = cost_of(b); !best || c < best_cost) best = &b, best_cost = c;
+        }
+        const auto leaf = trees_[list].nearest([&](const LeafRect& r) {
+            if (r.x1 - r.x0 > 1 || r.y1 - r.y0 > 1) return box_cost(rect_box(r));
+            return cost_of(blocks_.at(leaf_key(r.x0, r.y0)));
+        });
+        if (leaf) {
+            Block& b = blocks_.at(leaf_key(leaf->first, leaf->second));
+            if (const double c = cost_of(b); !best || c < best_cost) best = &b, best_cost = c;
+        }
+        if (!best) return std::nullopt;
+        auto& cells = best->cells[list];
+        std::size_t at = 0;
+        for (std::size_t i = 1; i < cells.size(); ++i) {
+            if (cell_cost(cells[i]) < cell_cost(cells[at])) at = i;
+        }
+        const dataset::CellKey cell = cells[at];
+        cells[at] = cells.back();
+        cells.pop_back();
+        count(list, cell, -1);
+        return cell;
+    }
+
+    // Calls fn(Block&) for every block with cells of `list` whose box passes keep(Bounds) (a
+    // conservative test: a node's box that fails it is skipped whole).
+    template <class Keep, class Fn>
+    void visit(List list, Keep&& keep, Fn&& fn) {
+        for (const auto& key : apart_) {
+            Block& b = blocks_.at(key);
+            ++block_visits_;
+            if (!b.cells[list].empty() && keep(block_box(key))) fn(b);
+        }
+        trees_[list].visit([&](const LeafRect& r) { return keep(rect_box(r)); },
+                           [&](int x, int y) {
+                               ++block_visits_;
+                               fn(blocks_.at(leaf_key(x, y)));
+                           });
+    }
+
+    // Every block (apart or not), for a whole pass (a camera-less snapshot, the loader's end).
+    template <class Fn>
+    void for_each(Fn&& fn) {
+        for (auto& [key, b] : blocks_) fn(b);
+    }
+
+    // Nodes and blocks examined so far (for tests counting per-frame work).
+    std::uint64_t visits() const;
+
+private:
+    using Key = dataset::CellKey;  // a block's (bx, by)
+    Key key_of_cell(dataset::CellKey cell) const;
+    Key leaf_key(int x, int y) const { return {origin_.ix + x, origin_.iy + y}; }
+    bool in_tree(Key key) const;
+    void count(List list, dataset::CellKey cell, int delta);
+    dataset::Bounds block_box(Key key) const;
+    dataset::Bounds rect_box(const LeafRect& r) const;
+
+    const dataset::PatchGrid* grid_ = nullptr;
+    double z_min_ = 0, z_max_ = 0;
+    Key origin_{};  // the tree's leaf (0, 0)
+    int nx_ = 1, ny_ = 1;
+    std::unordered_map<Key, Block, dataset::CellKeyHash> blocks_;
+    std::vector<Key> apart_;  // blocks outside the tree's grid
+    std::array<CountQuadtree, kLists> trees_;
+    std::array<std::size_t, kLists> sizes_{};
+    mutable std::uint64_t block_visits_ = 0;
+};
+
+}  // namespace lidarscout::viewer
