@@ -82,7 +82,7 @@ TEST(TileIndex, VisitAndNearestMatchAScanOfEveryTile) {
 TEST(TileIndex, QueriesNearOneCornerLookAtFewTiles) {
     std::vector<Bounds> tiles;
     for (int y = 0; y < 200; ++y)
-        for (int x = 0; x < 200; ++x) tiles.push_back(box(x * 1000.0, y * 1000.0, x * 1000.0 + 1000, y * 1000.0 + 1000));
+        for (int x = 0; x < 200; ++x) tiles.push_back(box(x * 1e3, y * 1e3, x * 1e3 + 1e3, y * 1e3 + 1e3));
     TileIndex index(tiles);
     for (std::uint32_t t = 0; t < tiles.size(); ++t) index.set_pending(t, true);
     std::uint64_t before = index.visits();
