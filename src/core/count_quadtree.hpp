@@ -54,29 +54,41 @@ public:
         visit_node(0, 0, 0, keep, fn);
     }
 
-    // The leaf with a count of least cost(LeafRect), where a node's cost is at most any of its
-    // leaves' (best first: exact under that condition); nullopt when every count is 0.
-    template <class Cost>
-    std::optional<std::pair<int, int>> nearest(Cost&& cost) const {
+    // The leaf with a count of least exact(x, y), best first over nodes whose bound(LeafRect) is at
+    // most any of their leaves' exact cost; a leaf's exact cost is asked only when its bound comes
+    // first (a leaf may hold many items). nullopt when every count is 0.
+    template <class Bound, class Exact>
+    std::optional<std::pair<int, int>> nearest(Bound&& bound, Exact&& exact) const {
         struct Node {
             double cost;
             int level, x, y;
+            bool exact;
             bool operator>(const Node& o) const { return cost > o.cost; }
         };
         std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
-        if (total() > 0) open.push({cost(rect(0, 0, 0)), 0, 0, 0});
+        if (total() > 0) open.push({bound(rect(0, 0, 0)), 0, 0, 0, false});
         while (!open.empty()) {
             const Node n = open.top();
             open.pop();
             ++visits_;
-            if (n.level == levels_) return std::pair{n.x, n.y};
+            if (n.level == levels_) {
+                if (n.exact) return std::pair{n.x, n.y};
+                open.push({exact(n.x, n.y), n.level, n.x, n.y, true});
+                continue;
+            }
             for (int c = 0; c < 4; ++c) {
                 const int l = n.level + 1, x = 2 * n.x + (c & 1), y = 2 * n.y + (c >> 1);
                 if (!inside(l, x, y) || counts_[l][index(l, x, y)] <= 0) continue;
-                open.push({cost(rect(l, x, y)), l, x, y});
+                open.push({bound(rect(l, x, y)), l, x, y, false});
             }
         }
         return std::nullopt;
+    }
+
+    // The same with the cost of a leaf its rectangle's.
+    template <class Cost>
+    std::optional<std::pair<int, int>> nearest(Cost&& cost) const {
+        return nearest(cost, [&](int x, int y) { return cost(LeafRect{x, y, x + 1, y + 1}); });
     }
 
     std::uint64_t visits() const { return visits_; }

@@ -114,17 +114,17 @@ std::optional<std::uint32_t> TileIndex::nearest_pending(double x, double y) cons
         if (d < best_d || (d == best_d && best && t < *best)) best_d = d, best = t;
     };
     for (const auto t : apart_) consider(t);
-    // A single cell's cost is its nearest pending tile's distance (exact); a larger node's, the
-    // distance to its box (a lower bound): best first then finds the nearest tile.
-    const auto leaf = pending_tree_.nearest([&](const LeafRect& r) {
-        if (r.x1 - r.x0 > 1 || r.y1 - r.y0 > 1) return distance_xy(r, x, y);
-        double d = std::numeric_limits<double>::infinity();
-        for (const auto t : cell_tiles(r.x0, r.y0)) {
-            ++tile_visits_;
-            if (pending_[t]) d = std::min(d, bounds_[t].distance_xy(x, y));
-        }
-        return d;
-    });
+    // A node's bound is the distance to its box; a cell's exact cost its nearest pending tile's
+    // distance: best first then finds the nearest tile.
+    const auto leaf = pending_tree_.nearest([&](const LeafRect& r) { return distance_xy(r, x, y); },
+                                            [&](int cx, int cy) {
+                                                double d = std::numeric_limits<double>::infinity();
+                                                for (const auto t : cell_tiles(cx, cy)) {
+                                                    ++tile_visits_;
+                                                    if (pending_[t]) d = std::min(d, bounds_[t].distance_xy(x, y));
+                                                }
+                                                return d;
+                                            });
     if (leaf) {
         for (const auto t : cell_tiles(leaf->first, leaf->second)) consider(t);
     }

@@ -56,32 +56,29 @@ public:
     template <class BoxCost, class CellCost>
     std::optional<dataset::CellKey> take_nearest(List list, BoxCost&& box_cost, CellCost&& cell_cost) {
         if (sizes_[list] == 0) return std::nullopt;
-        const auto cost_of = [&](Block& b) {
-            double best = std::numeric_limits<double>::infinity();
-            for (const auto c : b.cells[list]) best = std::min(best, cell_cost(c));
-            return best;
+        struct Best {
+            Block* block = nullptr;
+            std::size_t at = 0;  // the cell's index in the block's list
+            double cost = std::numeric_limits<double>::infinity();
         };
-        Block* best = nullptr;
-        double best_cost = std::numeric_limits<double>::infinity();
-        for (const auto& key : apart_) {
-            Block& b = blocks_.at(key);
-            if (b.cells[list].empty()) continue;
-            if (const double c = cost_of(b); !best || c < best_cost) best = &b, best_cost = c;
-        }
-        const auto leaf = trees_[list].nearest([&](const LeafRect& r) {
-            if (r.x1 - r.x0 > 1 || r.y1 - r.y0 > 1) return box_cost(rect_box(r));
-            return cost_of(blocks_.at(leaf_key(r.x0, r.y0)));
-        });
-        if (leaf) {
-            Block& b = blocks_.at(leaf_key(leaf->first, leaf->second));
-            if (const double c = cost_of(b); !best || c < best_cost) best = &b, best_cost = c;
-        }
-        if (!best) return std::nullopt;
-        auto& cells = best->cells[list];
-        std::size_t at = 0;
-        for (std::size_t i = 1; i < cells.size(); ++i) {
-            if (cell_cost(cells[i]) < cell_cost(cells[at])) at = i;
-        }
+        const auto best_in = [&](Block& b, Best& best) {
+            const auto& cells = b.cells[list];
+            for (std::size_t i = 0; i < cells.size(); ++i) {
+                if (const double c = cell_cost(cells[i]); !best.block || c < best.cost) best = {&b, i, c};
+            }
+        };
+        Best best;
+        for (const auto& key : apart_) best_in(blocks_.at(key), best);
+        const auto leaf = trees_[list].nearest([&](const LeafRect& r) { return box_cost(rect_box(r)); },
+                                               [&](int x, int y) {
+                                                   Best in;
+                                                   best_in(blocks_.at(leaf_key(x, y)), in);
+                                                   return in.cost;
+                                               });
+        if (leaf) best_in(blocks_.at(leaf_key(leaf->first, leaf->second)), best);
+        if (!best.block) return std::nullopt;
+        auto& cells = best.block->cells[list];
+        const std::size_t at = best.at;
         const dataset::CellKey cell = cells[at];
         cells[at] = cells.back();
         cells.pop_back();

@@ -99,6 +99,9 @@ struct Scheduler::State {
     std::size_t loadable = 0;                     // tiles with chunk points
     std::size_t shown_linear = 0, shown_cnn = 0;  // patches whose base heightmap is of each kind
     std::uint64_t patch_visits = 0;               // patches examined by snapshots and job choices
+    std::uint64_t snapshot_visits = 0, job_visits = 0;  // patches and blocks: the last snapshot, the last job
+
+    std::uint64_t work() const { return patch_visits + blocks.visits(); }
     std::size_t in_flight = 0;  // heightmap jobs running
     bool loader_finish_handled = false;
 
@@ -151,10 +154,12 @@ struct Scheduler::State {
 
     // Takes the cell of `list` to work on next: the one of least key (in view and nearest first).
     std::optional<CellKey> take_next(CellBlocks::List list, double* key = nullptr) {
+        const std::uint64_t before = work();
         const auto cell = blocks.take_nearest(
             list, [&](const dataset::Bounds& box) { return box_key(box); },
             [&](CellKey c) { return key_of(patches.at(c), c, *grid); });
         if (cell && key) *key = key_of(patches.at(*cell), *cell, *grid);
+        job_visits = work() - before;
         return cell;
     }
 
@@ -509,11 +514,23 @@ void Scheduler::loader_watch() {
         std::lock_guard lock(s.mutex);
         if (s.stopping) return;
     }
-    {
-        std::lock_guard lock(s.mutex);
-        s.loader_finish_handled = true;  // tiles that never loaded: build what can be
-        for (auto& [cell, p] : s.patches) s.push_ready(cell, p);
+    // Tiles that never loaded: build what can be. A country has 500,000 patches: they are queued a
+    // few thousand buckets of the map at a time, so that no frame waits for all of them (no tile
+    // is done after the loader, so no patch is added meanwhile and the buckets stay).
+    constexpr std::size_t kBuckets = 4096;
+    for (std::size_t first = 0;; first += kBuckets) {
+        {
+            std::lock_guard lock(s.mutex);
+            if (s.stopping || first >= s.patches.bucket_count()) break;
+            const std::size_t end = std::min(s.patches.bucket_count(), first + kBuckets);
+            for (std::size_t b = first; b < end; ++b) {
+                for (auto it = s.patches.begin(b); it != s.patches.end(b); ++it) s.push_ready(it->first, it->second);
+            }
+        }
+        s.wake.notify_all();
     }
+    std::lock_guard lock(s.mutex);
+    s.loader_finish_handled = true;  // every tile's part is in (no tile is done after the loader)
     s.wake.notify_all();
 }
 
@@ -540,6 +557,7 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     auto snap = std::make_shared<SceneSnapshot>();
     snap->version = s.version + residency + s.camera_version;
     // The blocks in view only (all without a camera): a country has 500,000 patches.
+    const std::uint64_t before = s.work();
     const auto add = [&](CellBlocks::Block& b) {
         s.list_block(b);
         snap->heightmaps.insert(snap->heightmaps.end(), b.shown.begin(), b.shown.end());
@@ -552,6 +570,7 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
         s.blocks.for_each(add);
     }
     snap->full_points = std::move(full);
+    s.snapshot_visits = s.work() - before;
     s.snapshot = std::move(snap);
     return s.snapshot;
 }
@@ -589,8 +608,8 @@ SchedulerStats Scheduler::stats() const {
     st.bytes_used = s.held_bytes(*grid_) + r.bytes + r.decoding_bytes;
     st.peak_bytes_used = std::max(r.peak_bytes, st.bytes_used);
     st.memory_budget = r.budget;
-    st.patch_visits = s.patch_visits, st.block_visits = s.blocks.visits();
-    st.tile_index_visits = r.index_visits, st.last_look_visits = r.look_visits, st.tiles_in_view = r.in_view;
+    st.snapshot_visits = s.snapshot_visits, st.job_visits = s.job_visits;
+    st.look_visits = r.look_visits, st.tiles_in_view = r.in_view;
     st.notes = s.notes;
     if (s.network) st.notes.push_back("heightmap network: " + s.network->path());
     st.errors = s.errors;

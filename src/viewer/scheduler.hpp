@@ -100,11 +100,11 @@ struct SchedulerStats {
     std::uint64_t bytes_used = 0, bytes_full_res = 0, memory_budget = 0;
     std::uint64_t bytes_decoding = 0;   // of bytes_used: what the tile being decoded may still add and its scratch
     std::uint64_t peak_bytes_used = 0;  // highest bytes_used seen, a decoding tile included
-    // The bookkeeping's work so far, for tests that check it follows the view, not the dataset: patches
-    // examined (snapshots listing changed blocks, choices of the next heightmap job), nodes and blocks of
-    // the cell blocks examined, and the residency's tile index (in all; at its last look, with the
-    // tiles it found in view).
-    std::uint64_t patch_visits = 0, block_visits = 0, tile_index_visits = 0, last_look_visits = 0;
+    // The bookkeeping's work, for tests that check it follows the view, not the dataset: patches, cell
+    // blocks and index nodes examined by the last snapshot built and the last choice of a heightmap
+    // job; tile index nodes and tiles examined by the residency's last look, and the tiles it found
+    // in view.
+    std::uint64_t snapshot_visits = 0, job_visits = 0, look_visits = 0;
     std::size_t tiles_in_view = 0;
     std::vector<std::string> notes;     // e.g. "no heightmap network: linear heightmaps"
     std::vector<ErrorRecord> errors;    // what could not be read or computed: file, offset, cause
