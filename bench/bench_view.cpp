@@ -34,7 +34,12 @@
 // is idle: the wall time and the CPU seconds it took (the CPU seconds hold on a loaded machine,
 // where wall times do not), median of --runs runs (default 3).
 //
-// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS]
+// --scaling (with --flight): the flight over each PATH in turn, each opened alone (e.g. virtual
+// replicas of 2,025, 19,600 and 152,100 tiles), printed as one table: frame times, the first
+// PATH's median as the reference of the ratios, waits for the scheduler, RSS before the
+// scheduler and at its peak, and what had come by the end (tiles' chunk points, heightmaps).
+//
+// Usage: bench_view [PATH...] [--cnn] [--flight SECONDS [--scaling]]
 //                   [--converge [--json] [--png DIR] [--camera NAME]... [--reference-cache DIR]]
 //                   [--load-cost [--runs N]]
 //                   [--lod-spacing PX]
@@ -82,6 +87,7 @@ struct Options {
     bool cnn = false;
     double flight_s = 0;           // 0: the loading benchmark
     bool converge = false, json = false, load_cost = false;
+    bool scaling = false;          // --scaling: the flight over each PATH in turn, one table
     int runs = 3;                  // --load-cost
     std::string png_dir;           // --converge: write every sampled frame and reference here
     std::vector<std::string> cameras;  // --camera NAME (repeatable): the converge cameras to run (empty: all)
@@ -102,6 +108,7 @@ Options parse(int argc, char** argv) {
         if (a == "--cnn") o.cnn = true;
         else if (a == "--flight") o.flight_s = std::stod(value());
         else if (a == "--converge") o.converge = true;
+        else if (a == "--scaling") o.scaling = true;
         else if (a == "--json") o.json = true;
         else if (a == "--load-cost") o.load_cost = true;
         else if (a == "--runs") o.runs = std::stoi(value());
@@ -181,48 +188,65 @@ int loading(const Options& o, const dataset::Dataset& ds, double headers) {
     return 0;
 }
 
-int flight(const Options& o, const dataset::Dataset& ds) {
+// One flight's figures (see --flight).
+struct FlightResult {
+    std::size_t tiles = 0;
+    std::vector<double> frame_ms, camera_ms, snapshot_ms;
+    std::vector<std::string> slow;  // frames over 100 ms: when, and how long
+    std::uint64_t rss_before = 0, peak_rss = 0;
+    viewer::SchedulerStats stats;   // at the end
+};
+
+std::size_t over_100ms(const std::vector<double>& v) {
+    return static_cast<std::size_t>(std::count_if(v.begin(), v.end(), [](double x) { return x > 100; }));
+}
+
+FlightResult fly(const Options& o, const dataset::Dataset& ds) {
     viewer::FlightPath path;
     viewer::SchedulerOptions so;
     so.cnn = o.cnn;
     so.memory_budget = o.memory_mb << 20;
     so.camera = viewer::flight_camera(ds.bounds_m, 0, path);
-    const std::uint64_t rss0 = resident_bytes();
+    FlightResult r;
+    r.tiles = ds.tiles.size();
+    r.rss_before = r.peak_rss = resident_bytes();
     viewer::Scheduler scheduler(ds, so);
     viewer::FrameRefiner refiner;
     ThreadPool pool(pool_threads(o));
-    std::vector<double> frame_ms, camera_ms, snapshot_ms;
-    std::vector<std::string> slow;  // frames over 100 ms: when, and how long
-    std::uint64_t peak_rss = rss0;
     const auto start = Clock::now();
     for (double t = 0; t < 1.0; t = since(start) / o.flight_s) {
         const auto f0 = Clock::now();
         const render::Camera camera = viewer::flight_camera(ds.bounds_m, t, path);
         scheduler.set_camera(camera);
-        camera_ms.push_back(1000 * since(f0));
+        r.camera_ms.push_back(1000 * since(f0));
         const auto s0 = Clock::now();
         const auto snap = scheduler.snapshot();
-        snapshot_ms.push_back(1000 * since(s0));
+        r.snapshot_ms.push_back(1000 * since(s0));
         refiner.draw(*snap, camera, o.style, pool);
-        frame_ms.push_back(1000 * since(f0));
-        if (frame_ms.back() > 100) slow.push_back(fmt::format("{:.0f} ms at {:.2f} s", frame_ms.back(), since(start)));
-        peak_rss = std::max(peak_rss, resident_bytes());
+        r.frame_ms.push_back(1000 * since(f0));
+        if (r.frame_ms.back() > 100)
+            r.slow.push_back(fmt::format("{:.0f} ms at {:.2f} s", r.frame_ms.back(), since(start)));
+        r.peak_rss = std::max(r.peak_rss, resident_bytes());
     }
-    const auto st = scheduler.stats();
-    const auto over = [](const std::vector<double>& v) {
-        return std::count_if(v.begin(), v.end(), [](double x) { return x > 100; });
-    };
+    r.stats = scheduler.stats();
+    return r;
+}
+
+int flight(const Options& o, const dataset::Dataset& ds) {
+    const FlightResult r = fly(o, ds);
+    const auto& st = r.stats;
     fmt::print("flight {:.0f} s over {} tiles at 1280x720, CNN {}, budget {} MB: {} frames\n", o.flight_s,
-               ds.tiles.size(), o.cnn ? "on" : "off", o.memory_mb, frame_ms.size());
-    fmt::print("frame ms: median {:.1f}, p95 {:.1f}, worst {:.1f}; frames over 100 ms: {}\n", percentile(frame_ms, 0.5),
-               percentile(frame_ms, 0.95), percentile(frame_ms, 1.0), over(frame_ms));
-    if (!slow.empty()) fmt::print("frames over 100 ms: {}\n", fmt::join(slow, ", "));
+               ds.tiles.size(), o.cnn ? "on" : "off", o.memory_mb, r.frame_ms.size());
+    fmt::print("frame ms: median {:.1f}, p95 {:.1f}, worst {:.1f}; frames over 100 ms: {}\n",
+               percentile(r.frame_ms, 0.5), percentile(r.frame_ms, 0.95), percentile(r.frame_ms, 1.0),
+               over_100ms(r.frame_ms));
+    if (!r.slow.empty()) fmt::print("frames over 100 ms: {}\n", fmt::join(r.slow, ", "));
     fmt::print("waiting for the scheduler, ms: set_camera median {:.3f}, worst {:.3f}; snapshot median {:.3f}, "
                "worst {:.3f}; waits over 100 ms: {}\n",
-               percentile(camera_ms, 0.5), percentile(camera_ms, 1.0), percentile(snapshot_ms, 0.5),
-               percentile(snapshot_ms, 1.0), over(camera_ms) + over(snapshot_ms));
-    fmt::print("memory: peak RSS {} MB ({} MB before the scheduler), scheduler peak {} MB of {} MB\n", peak_rss >> 20,
-               rss0 >> 20, st.peak_bytes_used >> 20, st.memory_budget >> 20);
+               percentile(r.camera_ms, 0.5), percentile(r.camera_ms, 1.0), percentile(r.snapshot_ms, 0.5),
+               percentile(r.snapshot_ms, 1.0), over_100ms(r.camera_ms) + over_100ms(r.snapshot_ms));
+    fmt::print("memory: peak RSS {} MB ({} MB before the scheduler), scheduler peak {} MB of {} MB\n",
+               r.peak_rss >> 20, r.rss_before >> 20, st.peak_bytes_used >> 20, st.memory_budget >> 20);
     fmt::print("at the end: {} of {} tiles' chunk points, {} linear + {} CNN heightmaps, {} full-res tiles resident "
                "({} points), {} released\n",
                st.tiles_loaded.done, st.tiles_loaded.total, st.heightmaps_linear, st.heightmaps_cnn, st.full_res_tiles,
@@ -230,6 +254,38 @@ int flight(const Options& o, const dataset::Dataset& ds) {
     return 0;
 }
 
+// --scaling: the flight over each dataset of PATH... in turn (e.g. virtual replicas of 2,025,
+// 19,600 and 152,100 tiles), one table; the first one's median is the reference of the ratios.
+int scaling(const Options& o) {
+    fmt::print("flight {:.0f} s at 1280x720, CNN {}, budget {} MB, {} render threads\n", o.flight_s,
+               o.cnn ? "on" : "off", o.memory_mb, pool_threads(o));
+    fmt::print("| tiles | frames | median ms | x first | p95 ms | worst ms | frames > 100 ms | set_camera median / "
+               "worst ms | snapshot median / worst ms | RSS before the scheduler MB | peak RSS MB | tiles' chunk "
+               "points in | linear heightmaps | CNN heightmaps | full-res tiles |\n");
+    fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    double first = 0;
+    for (const auto& path : o.paths) {
+        FlightResult r;
+        {
+            const auto ds = dataset::open_dataset({path});
+            if (ds.tiles.empty()) throw std::runtime_error("no readable tiles in " + path);
+            r = fly(o, ds);
+        }
+        trim_heap();  // the next dataset's "before" starts from what this one gave back
+        const double median = percentile(r.frame_ms, 0.5);
+        if (first == 0) first = median;
+        const auto& st = r.stats;
+        fmt::print("| {} | {} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | {} | {:.3f} / {:.1f} | {:.3f} / {:.1f} | {} | {} "
+                   "| {} of {} | {} | {} | {} |\n",
+                   r.tiles, r.frame_ms.size(), median, median / first, percentile(r.frame_ms, 0.95),
+                   percentile(r.frame_ms, 1.0), over_100ms(r.frame_ms), percentile(r.camera_ms, 0.5),
+                   percentile(r.camera_ms, 1.0), percentile(r.snapshot_ms, 0.5), percentile(r.snapshot_ms, 1.0),
+                   r.rss_before >> 20, r.peak_rss >> 20, st.tiles_loaded.done, st.tiles_loaded.total,
+                   st.heightmaps_linear, st.heightmaps_cnn, st.full_res_tiles);
+        std::fflush(stdout);
+    }
+    return 0;
+}
 
 struct NamedCamera {
     std::string name;
@@ -542,6 +598,10 @@ int load_cost(const Options& o, const dataset::Dataset& ds) {
 int main(int argc, char** argv) {
     try {
         const Options o = parse(argc, argv);
+        if (o.scaling) {
+            if (o.flight_s <= 0) throw std::invalid_argument("--scaling needs --flight SECONDS");
+            return scaling(o);
+        }
         const auto t0 = Clock::now();
         const auto ds = dataset::open_dataset(o.paths);
         const double headers = since(t0);
