@@ -40,6 +40,7 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
             progress_.building = true;
         }
         s.cursor = std::make_unique<CursorReadout>(s.dataset->frame);
+        s.places = std::make_unique<dataset::TileIndex>(*s.dataset);
         if (!cancel_) s.scheduler = std::make_unique<Scheduler>(*s.dataset, options.scheduler);
         std::lock_guard lock(mutex_);
         session_ = std::move(s);

@@ -16,6 +16,7 @@
 
 #include "core/error.hpp"
 #include "dataset/dataset.hpp"
+#include "dataset/tile_index.hpp"
 #include "viewer/cursor_readout.hpp"
 #include "viewer/scheduler.hpp"
 
@@ -25,6 +26,7 @@ namespace lidarscout::viewer {
 // destroyed first).
 struct Session {
     std::unique_ptr<dataset::Dataset> dataset;
+    std::unique_ptr<dataset::TileIndex> places;  // its tiles by position (the tile boxes in view)
     std::unique_ptr<CursorReadout> cursor;
     std::unique_ptr<Scheduler> scheduler;
 

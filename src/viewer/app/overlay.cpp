@@ -62,10 +62,12 @@ void draw_outline(render::RgbaImage& image, const render::Camera& camera, const 
 }  // namespace
 
 void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, const dataset::Dataset& dataset,
-                     std::uint32_t rgba, std::optional<std::uint32_t> selected) {
-    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
-        draw_outline(image, camera, dataset.tiles[i].bounds_m, selected == i ? render::pack_rgba(255, 255, 255) : rgba);
-    }
+                     const dataset::TileIndex& places, std::uint32_t rgba, std::optional<std::uint32_t> selected) {
+    places.visit([&](const dataset::Bounds& box) { return box_in_view(camera, box); },
+                 [&](std::uint32_t i) {
+                     draw_outline(image, camera, dataset.tiles[i].bounds_m,
+                                  selected == i ? render::pack_rgba(255, 255, 255) : rgba);
+                 });
 }
 
 void draw_footprints(render::RgbaImage& image, const render::Camera& camera, std::span<const dataset::Bounds> boxes,

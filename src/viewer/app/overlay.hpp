@@ -8,6 +8,7 @@
 #include <span>
 
 #include "dataset/dataset.hpp"
+#include "dataset/tile_index.hpp"
 #include "render/camera.hpp"
 #include "render/resolve.hpp"
 #include "viewer/picking.hpp"
@@ -18,9 +19,10 @@ namespace lidarscout::viewer::app {
 void draw_segment(render::RgbaImage& image, const render::Camera& camera, double x0, double y0, double z0, double x1,
                   double y1, double z1, std::uint32_t rgba);
 
-// The xy outline of every tile (at its bounds' lowest height), in `rgba`; `selected` in white.
+// The xy outline of every tile in view (at its bounds' lowest height; found through `places`), in
+// `rgba`; `selected` in white.
 void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, const dataset::Dataset& dataset,
-                     std::uint32_t rgba, std::optional<std::uint32_t> selected);
+                     const dataset::TileIndex& places, std::uint32_t rgba, std::optional<std::uint32_t> selected);
 
 // The xy outline of each box (at its lowest height): the tiles read so far while a dataset opens.
 void draw_footprints(render::RgbaImage& image, const render::Camera& camera, std::span<const dataset::Bounds> boxes,

@@ -41,12 +41,15 @@ void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& 
     char buffer[256];
     std::snprintf(buffer, sizeof buffer, "%s", state.filter.c_str());
     if (ImGui::InputText("filter", buffer, sizeof buffer)) state.filter = buffer;
-    std::vector<std::uint32_t> shown;
-    std::vector<std::string> names(ds.tiles.size());
-    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        names[i] = std::filesystem::path(ds.tiles[i].tile.path).filename().string();
-        if (state.filter.empty() || contains_ci(names[i], state.filter)) shown.push_back(i);
+    const auto name = [&](std::uint32_t i) { return std::filesystem::path(ds.tiles[i].tile.path).filename().string(); };
+    if (state.shown_dataset != &ds || state.shown_tiles != ds.tiles.size() || state.shown_filter != state.filter) {
+        state.shown.clear();
+        for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
+            if (state.filter.empty() || contains_ci(name(i), state.filter)) state.shown.push_back(i);
+        }
+        state.shown_dataset = &ds, state.shown_tiles = ds.tiles.size(), state.shown_filter = state.filter;
     }
+    const auto& shown = state.shown;
     ImGui::Text("%zu of %zu tiles (double-click: fly there)", shown.size(), ds.tiles.size());
     ImGui::BeginChild("list", ImVec2(0, 150), true);
     ImGuiListClipper clipper;
@@ -55,7 +58,7 @@ void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& 
         for (int k = clipper.DisplayStart; k < clipper.DisplayEnd; ++k) {
             const std::uint32_t i = shown[k];
             ImGui::PushID(static_cast<int>(i));
-            if (ImGui::Selectable(names[i].c_str(), state.selected == i, ImGuiSelectableFlags_AllowDoubleClick)) {
+            if (ImGui::Selectable(name(i).c_str(), state.selected == i, ImGuiSelectableFlags_AllowDoubleClick)) {
                 state.selected = i;
                 if (ImGui::IsMouseDoubleClicked(0)) actions.fly_to = i;
             }

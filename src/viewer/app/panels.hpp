@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dataset/dataset.hpp"
 #include "viewer/picking.hpp"
@@ -29,6 +30,12 @@ struct ViewSettings {
 
 struct PanelState {
     std::string filter;
+    // The tiles the filter lets through, found again only when the filter or the dataset changes
+    // (a country has 150,000 tiles: not every frame).
+    std::vector<std::uint32_t> shown;
+    std::string shown_filter;
+    const dataset::Dataset* shown_dataset = nullptr;
+    std::size_t shown_tiles = 0;
     std::optional<std::uint32_t> selected;
     std::string status;  // one line: the last screenshot, an error
     ClickState click;    // the click tool and what it picked

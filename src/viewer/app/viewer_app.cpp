@@ -251,7 +251,7 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     RenderedScene frame = refiner.draw(*snapshot, camera, style, pool, v.layers, loading);
     with_heightmaps = !snapshot->heightmaps.empty();
     if (v.tile_boxes) {
-        draw_tile_boxes(frame.image, camera, *s.dataset, render::pack_rgba(255, 200, 40), panels.selected);
+        draw_tile_boxes(frame.image, camera, *s.dataset, *s.places, render::pack_rgba(255, 200, 40), panels.selected);
     }
     draw_click_overlay(frame.image, camera, panels.click);
     return frame;
