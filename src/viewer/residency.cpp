@@ -2,11 +2,8 @@
 // drops for it, decoding into LOD blocks and patch detail, the worker loop.
 #include "viewer/residency.hpp"
 
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -14,6 +11,7 @@
 #include "core/process_memory.hpp"
 #include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
+#include "core/thread_priority.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/visibility.hpp"
 
@@ -444,9 +442,7 @@ void Residency::notify(const std::vector<std::uint32_t>& dropped, std::optional<
 void Residency::run() {
     // Decoding yields to drawing: this thread and the pool's (which inherit it) run at a lower
     // priority, so that frames keep their time while tiles stream in.
-    errno = 0;
-    const int nice = ::getpriority(PRIO_PROCESS, 0);
-    if (errno == 0) ::setpriority(PRIO_PROCESS, static_cast<id_t>(::gettid()), nice + options_.decode_nice);
+    lower_thread_priority(options_.decode_nice);
     ThreadPool pool(std::max(1u, options_.decode_threads));
     std::unique_lock lock(mutex_);
     while (const auto job = next_load(lock)) {

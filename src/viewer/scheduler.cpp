@@ -16,6 +16,7 @@
 #include "core/process_memory.hpp"
 #include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
+#include "core/thread_priority.hpp"
 #include "nn/heightmap_network.hpp"
 #include "viewer/cell_blocks.hpp"
 #include "viewer/residency.hpp"
@@ -402,6 +403,7 @@ void Scheduler::on_tile_done(std::uint32_t tile, std::span<const CellKey> cells)
 }
 
 void Scheduler::heightmap_worker() {
+    lower_thread_priority(options_.residency.decode_nice);  // background work: frames first
     State& s = *state_;
     std::unique_lock lock(s.mutex);
     while (true) {
@@ -442,6 +444,7 @@ void Scheduler::heightmap_worker() {
 }
 
 void Scheduler::cnn_worker() {
+    lower_thread_priority(options_.residency.decode_nice);  // background work: frames first
     State& s = *state_;
     {
         // LibTorch's start-up (dlopen, ~0.5-1 s of CPU, holding the dynamic loader's lock that
