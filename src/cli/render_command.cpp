@@ -39,7 +39,7 @@
 #include "viewer/heightmap_builder.hpp"
 #include "viewer/scene.hpp"
 #include "viewer/scheduler.hpp"
-#include "viewer/scheduler_detail.hpp"
+#include "viewer/patch_detail.hpp"
 #include "viewer/visibility.hpp"
 
 namespace lidarscout::cli {

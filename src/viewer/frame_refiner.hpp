@@ -18,7 +18,7 @@
 
 #include "core/thread_pool.hpp"
 #include "render/camera.hpp"
-#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/scene_snapshot.hpp"
 
 namespace lidarscout::viewer {
 

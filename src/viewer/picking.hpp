@@ -11,7 +11,7 @@
 
 #include "dataset/dataset.hpp"
 #include "render/camera.hpp"
-#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/scene_snapshot.hpp"
 
 namespace lidarscout::viewer {
 

@@ -3,7 +3,7 @@
 // improves the picture most per byte comes first (its screen-space error: the spacing shown
 // now, heightmap texels or coarse levels, in pixels at its nearest distance, times its screen
 // coverage, per byte). Decoded tiles become LOD blocks (point_lod.hpp) and fold their points into
-// the patch detail (scheduler_detail.hpp). When memory runs short, the tiles worth least per
+// the patch detail (patch_detail.hpp). When memory runs short, the tiles worth least per
 // byte (out of view first, least recently seen first) drop to their coarse levels, then to
 // nothing. A tile is decoded in pieces of whole chunks, those in view and nearest first, one
 // piece per decoding thread at a time, each shown as soon as it is in; when no tile fits whole,
@@ -39,7 +39,7 @@
 #include "render/camera.hpp"
 #include "viewer/decode_memory.hpp"
 #include "viewer/point_lod.hpp"
-#include "viewer/scheduler_detail.hpp"
+#include "viewer/patch_detail.hpp"
 
 namespace lidarscout::viewer {
 

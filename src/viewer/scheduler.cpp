@@ -20,7 +20,7 @@
 #include "nn/heightmap_network.hpp"
 #include "viewer/cell_blocks.hpp"
 #include "viewer/residency.hpp"
-#include "viewer/scheduler_detail.hpp"
+#include "viewer/patch_detail.hpp"
 
 namespace lidarscout::viewer {
 namespace {

@@ -12,7 +12,7 @@
 //     lock) decodes the tiles in view, the one that improves the picture most per byte first,
 //     into LOD blocks (point_lod.hpp), within a memory budget that covers everything the
 //     scheduler holds; every tile's points are folded into the heightmaps and textures of the
-//     patches it covers (scheduler_detail.hpp), and a released tile keeps its coarse levels.
+//     patches it covers (patch_detail.hpp), and a released tile keeps its coarse levels.
 // snapshot() gives what is ready now for the current camera, cheap enough to take every frame:
 // the patches of the blocks in view (viewer/cell_blocks.hpp) and the residency's blocks (patches
 // that changed out of view join it at the next camera move, so that a still view's snapshot stays
@@ -49,7 +49,7 @@
 #include "render/camera.hpp"
 #include "viewer/heightmap_builder.hpp"
 #include "viewer/residency.hpp"
-#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/scene_snapshot.hpp"
 #include "viewer/visibility.hpp"
 
 namespace lidarscout::viewer {

@@ -12,7 +12,7 @@
 #include "render/camera.hpp"
 #include "viewer/patch_heightmap.hpp"
 #include "viewer/picking.hpp"
-#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/scene_snapshot.hpp"
 
 namespace lidarscout::viewer {
 

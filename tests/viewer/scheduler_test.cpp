@@ -30,7 +30,7 @@
 #include "viewer/point_sets.hpp"
 #include "viewer/reference_frame.hpp"
 #include "viewer/scheduler.hpp"
-#include "viewer/scheduler_detail.hpp"
+#include "viewer/patch_detail.hpp"
 #include "viewer/visibility.hpp"
 #include "survey_tiles.hpp"
 

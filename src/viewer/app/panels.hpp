@@ -15,7 +15,7 @@
 #include "viewer/picking.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/scene.hpp"
-#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/scene_snapshot.hpp"
 #include "viewer/session_opening.hpp"
 
 namespace lidarscout::viewer::app {

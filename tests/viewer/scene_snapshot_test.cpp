@@ -1,6 +1,6 @@
 // Drawing a snapshot: a heightmap under the camera fills the image, and each layer can be left
 // out (nothing drawn without any, a few pixels for one chunk point alone).
-#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/scene_snapshot.hpp"
 
 #include <gtest/gtest.h>
 

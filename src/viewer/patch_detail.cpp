@@ -1,5 +1,5 @@
 // Patch detail from full-resolution points: per-texel sums per tile, merged means, the overlay.
-#include "viewer/scheduler_detail.hpp"
+#include "viewer/patch_detail.hpp"
 
 #include <algorithm>
 #include <cmath>

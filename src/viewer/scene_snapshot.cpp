@@ -1,6 +1,6 @@
 // Drawing a scheduler snapshot: views into the shared heightmaps, point sets and LOD blocks (at
 // the level the camera needs), drawn by draw_scene_frame (scene.hpp) as render_scene draws a Scene.
-#include "viewer/scheduler_snapshot.hpp"
+#include "viewer/scene_snapshot.hpp"
 
 namespace lidarscout::viewer {
 namespace {

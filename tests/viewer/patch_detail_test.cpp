@@ -1,7 +1,7 @@
 // Patch detail from full-resolution points: the per-texel means of a tile's points, merged
 // count-weighted with another tile's, and laid over a heightmap where points fell; on a real
 // survey seen whole, the points laid over the heightmaps show instead of the interpolated surface.
-#include "viewer/scheduler_detail.hpp"
+#include "viewer/patch_detail.hpp"
 
 #include <gtest/gtest.h>
 
