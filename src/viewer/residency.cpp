@@ -55,7 +55,9 @@ struct Residency::Room {
 };
 
 Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options)
-    : dataset_(dataset), grid_(grid), options_(std::move(options)), index_(dataset) {
+    : dataset_(dataset), grid_(grid), options_(std::move(options)),
+      ledger_(options_.ledger ? options_.ledger : std::make_shared<MemoryLedger>(options_.memory_budget)),
+      index_(dataset) {
     return_freed_memory();  // what a release frees must leave the process, or the budget bounds nothing
     spacing_.reserve(dataset.tiles.size());
     for (const auto& t : dataset.tiles) spacing_.push_back(mean_point_spacing(t));
@@ -91,7 +93,7 @@ void Residency::set_camera(const render::Camera& camera) {
 void Residency::set_budget(std::uint64_t bytes) {
     {
         std::lock_guard lock(mutex_);
-        options_.memory_budget = bytes;
+        ledger_->set_budget(bytes);
         ++camera_version_;  // look again
         refresh_idle();
     }
@@ -180,7 +182,7 @@ std::vector<Residency::Step> Residency::release_steps() const {
 
 std::optional<Residency::Room> Residency::victims(std::uint64_t incoming, double gain, std::uint64_t total,
                                                   const std::vector<Step>& steps) const {
-    const std::uint64_t budget = options_.memory_budget;
+    const std::uint64_t budget = ledger_->budget();
     Room room{{}, total};
     for (const Step& s : steps) {
         if (room.total + incoming <= budget) break;
@@ -234,7 +236,7 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const Fr
             decode_plan(t, t.tile.header.point_count, std::max(1u, options_.decode_threads), 1).transient;
         auto room = victims(bytes + extra + least, gain, total, steps);
         if (!room) continue;
-        const auto plan = plan_for(tile, options_.memory_budget - room->total - bytes - extra);  // `least` fitted
+        const auto plan = plan_for(tile, ledger_->budget() - room->total - bytes - extra);  // `least` fitted
         return Choice{tile, std::move(room->victims), bytes, extra, *plan};
     }
     // None fits whole: the best one in part (its pieces in view first), in the room there is.
@@ -247,7 +249,7 @@ std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const Fr
 
 std::optional<Residency::Choice> Residency::partial_choice(std::uint32_t tile, double gain, std::uint64_t total,
                                                            const std::vector<Step>& steps) const {
-    const std::uint64_t budget = options_.memory_budget;
+    const std::uint64_t budget = ledger_->budget();
     Choice c{tile, {}, 0, bookkeeping_bytes(tile), {}};
     for (const Step& s : steps) {
         if (s.value * options_.hysteresis >= gain) break;
@@ -326,7 +328,7 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>&
         const bool freed = prune_retired();
         lock.unlock();
         if (freed) trim_heap();  // released points go back to the system
-        const std::uint64_t other = options_.other_bytes ? options_.other_bytes() : 0;
+        const std::uint64_t other = ledger_->outside_residency();
         const std::uint64_t visits_before = index_.visits();
         const Fractions fractions = screen_fractions(camera);
         const std::uint64_t visits = index_.visits() - visits_before;
@@ -355,7 +357,7 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>&
         }
         // What was released is gone once no snapshot holds it (a frame being drawn): the load waits till then.
         const std::uint64_t incoming = choice->cap + choice->extra + choice->plan.transient;
-        if (other + held() + incoming > options_.memory_budget) continue;
+        if (other + held() + incoming > ledger_->budget()) continue;
         busy_ = true;
         refresh_idle();
         ++loads_;
@@ -518,7 +520,7 @@ ResidencyStats Residency::stats() const {
     st.bytes = held();
     st.decoding_bytes = decoding_bytes_;
     st.peak_bytes = peak_;
-    st.budget = options_.memory_budget;
+    st.budget = ledger_->budget();
     st.errors = errors_;
     st.in_view = last_in_view_;
     st.index_visits = index_visits_, st.look_visits = last_look_visits_;

@@ -38,13 +38,14 @@
 #include "dataset/tile_index.hpp"
 #include "render/camera.hpp"
 #include "viewer/decode_memory.hpp"
+#include "viewer/memory_ledger.hpp"
 #include "viewer/point_lod.hpp"
 #include "viewer/patch_detail.hpp"
 
 namespace lidarscout::viewer {
 
 struct ResidencyOptions {
-    std::uint64_t memory_budget = 1ull << 30;  // bytes, other_bytes() included
+    std::uint64_t memory_budget = 1ull << 30;  // bytes, what `ledger` counts outside the residency included
     unsigned decode_threads = 1;
     int decode_nice = 5;             // decoding threads run this much nicer than the caller
     bool has_rgb = true;
@@ -53,8 +54,9 @@ struct ResidencyOptions {
     double coarse_spacing_m = 2;     // the finest level a released tile keeps
     double hysteresis = 1.25;        // a load must be worth this much more than what it displaces
     double min_screen_fraction = 0;  // tiles covering less of the image are not wanted
-    // Bytes the rest of the scheduler holds (heightmaps, chunk points, grid).
-    std::function<std::uint64_t()> other_bytes;
+    // Shared with the scheduler: the budget (memory_budget is ignored when set) and what the rest of
+    // it holds (heightmaps, chunk points, grid). Null: a ledger of the residency's own.
+    std::shared_ptr<MemoryLedger> ledger;
     // Cells whose detail changed (a tile was folded in).
     std::function<void(const std::vector<dataset::CellKey>&)> on_detail;
     // A tile decoded (loaded = true) or dropped to its coarse levels (false).
@@ -168,6 +170,7 @@ private:
     const dataset::Dataset& dataset_;
     const dataset::PatchGrid& grid_;
     ResidencyOptions options_;
+    std::shared_ptr<MemoryLedger> ledger_;  // options_.ledger, or one of its own
     std::vector<double> spacing_;  // per tile: its points' mean spacing (metres)
     dataset::TileIndex index_;     // the tiles in view without a look at every tile (its thread only)
 

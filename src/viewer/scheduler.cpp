@@ -118,7 +118,10 @@ struct Scheduler::State {
 
     HeightmapBuildOptions build;
     double z_min = 0, z_max = 0;
-    std::uint64_t patch_bytes = 0;  // heightmaps and chunk points held by `patches` (bytes_of)
+    // The budget, the grid's bytes and the heightmaps and chunk points held by `patches` (bytes_of),
+    // kept as they change (summing 500,000 patches for every look of the residency stalled the
+    // frames of a country-sized dataset); shared with the residency.
+    std::shared_ptr<MemoryLedger> ledger;
 
     void changed() { ++version; }
 
@@ -198,15 +201,15 @@ struct Scheduler::State {
         changed_patch(cell, p);
     }
 
-    // Runs `change` on a patch's heightmaps or chunk points, keeping patch_bytes, the counts of
+    // Runs `change` on a patch's heightmaps or chunk points, keeping the ledger, the counts of
     // heightmap kinds and the drawable lists up to date.
     template <class Change>
     void modify(CellKey cell, Patch& p, Change&& change) {
-        patch_bytes -= bytes_of(p);
+        const std::uint64_t before = bytes_of(p);
         count_kind(p, -1);
         change();
         count_kind(p, 1);
-        patch_bytes += bytes_of(p);
+        ledger->add_patch_bytes(static_cast<std::int64_t>(bytes_of(p)) - static_cast<std::int64_t>(before));
         CellBlocks::Block& b = blocks.block_of(cell);
         b.changed = true;
         if (!p.drawable && (p.shown || p.chunk)) {
@@ -239,10 +242,6 @@ struct Scheduler::State {
         if (p.chunk) bytes += p.chunk->points.capacity() * sizeof(render::PointAttr);
         return bytes;
     }
-
-    // Kept as patches change: summing 500,000 patches under the lock for every look of the
-    // residency stalled the frames of a country-sized dataset.
-    std::uint64_t held_bytes(const dataset::PatchGrid& grid) const { return grid.memory_bytes() + patch_bytes; }
 };
 
 Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
@@ -281,6 +280,8 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     s.candidates = s.patches.size();
     s.network_pending = options_.cnn;
 
+    s.ledger = std::make_shared<MemoryLedger>(
+        options_.memory_budget ? options_.memory_budget : default_memory_budget(), grid_.get());
     residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
     loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, options_.loader);
     loader_->on_tile_done([this](std::uint32_t tile, std::span<const CellKey> cells) { on_tile_done(tile, cells); });
@@ -349,15 +350,11 @@ void Scheduler::set_memory_budget(std::uint64_t bytes) {
 
 ResidencyOptions Scheduler::residency_options() {
     ResidencyOptions r = options_.residency;
-    r.memory_budget = options_.memory_budget ? options_.memory_budget : default_memory_budget();
+    r.ledger = state_->ledger;
     r.decode_threads =
         options_.decode_threads ? options_.decode_threads : std::max(1u, std::thread::hardware_concurrency());
     r.has_rgb = has_rgb_;
     r.patch_texels = state_->build.patch.spec.patch_texels;
-    r.other_bytes = [this] {
-        std::lock_guard lock(state_->mutex);
-        return state_->held_bytes(*grid_);
-    };
     r.on_detail = [this](const std::vector<CellKey>& cells) { show_detail(cells); };
     r.on_tile = [this](std::uint32_t tile, bool loaded) {
         if (!loaded) {  // the cached snapshot would keep the released points alive until the next frame
@@ -608,7 +605,7 @@ SchedulerStats Scheduler::stats() const {
     st.full_res_loads = r.loads;
     st.bytes_full_res = r.bytes;
     st.bytes_decoding = r.decoding_bytes;
-    st.bytes_used = s.held_bytes(*grid_) + r.bytes + r.decoding_bytes;
+    st.bytes_used = s.ledger->outside_residency() + r.bytes + r.decoding_bytes;
     st.peak_bytes_used = std::max(r.peak_bytes, st.bytes_used);
     st.memory_budget = r.budget;
     st.snapshot_visits = s.snapshot_visits, st.job_visits = s.job_visits;

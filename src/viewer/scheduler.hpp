@@ -25,8 +25,8 @@
 //   1. the scheduler's state lock (State::mutex) may be held while taking only the residency's
 //      details lock (Residency::detail, a leaf held for a lookup) or reading its atomics
 //      (version, idle); never the residency's own lock nor the loader's;
-//   2. the residency calls its hooks (other_bytes, on_detail, on_tile) without its own lock, so
-//      they may take the state lock;
+//   2. the residency calls its hooks (on_detail, on_tile) without its own lock, so they may take
+//      the state lock; what each holds is in a MemoryLedger they share (atomics, no lock);
 //   3. the loader calls on_tile_done without its locks; set_focus takes a lock of its own only.
 #pragma once
 

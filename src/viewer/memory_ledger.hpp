@@ -1,0 +1,38 @@
+// What the viewer holds against its memory budget, in one object the scheduler and the residency
+// share instead of asking each other through callbacks: the budget; the scheduler's heightmaps and
+// chunk-point sets (kept as they change); the patch grid's chunk points (read from the grid, which
+// keeps its own count). The residency adds its own blocks and details when it weighs a load.
+// Atomics only: read and written from any thread without a lock, so that no lock order ties the
+// scheduler and the residency through it.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "dataset/patch_grid.hpp"
+
+namespace lidarscout::viewer {
+
+class MemoryLedger {
+public:
+    explicit MemoryLedger(std::uint64_t budget, const dataset::PatchGrid* grid = nullptr)
+        : budget_(budget), grid_(grid) {}
+
+    std::uint64_t budget() const { return budget_.load(std::memory_order_relaxed); }
+    void set_budget(std::uint64_t bytes) { budget_.store(bytes, std::memory_order_relaxed); }
+
+    // The scheduler's heightmaps and chunk-point sets.
+    void add_patch_bytes(std::int64_t delta) {
+        patches_.fetch_add(static_cast<std::uint64_t>(delta), std::memory_order_relaxed);
+    }
+    std::uint64_t patch_bytes() const { return patches_.load(std::memory_order_relaxed); }
+    // Everything held outside the residency: the grid's chunk points and the patches.
+    std::uint64_t outside_residency() const { return (grid_ ? grid_->memory_bytes() : 0) + patch_bytes(); }
+
+private:
+    std::atomic<std::uint64_t> budget_;
+    std::atomic<std::uint64_t> patches_{0};
+    const dataset::PatchGrid* grid_;
+};
+
+}  // namespace lidarscout::viewer
