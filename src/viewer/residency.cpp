@@ -309,7 +309,7 @@ std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& 
     return dropped;
 }
 
-std::optional<Residency::Job> Residency::next_load(std::unique_lock<std::mutex>& lock) {
+std::optional<Residency::Job> Residency::next_load(std::unique_lock<RankedMutex>& lock) {
     std::uint64_t seen = ~0ull;
     while (true) {
         wake_.wait_for(lock, kPoll, [&] { return stopping_ || camera_version_ != seen; });

@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/ranked_mutex.hpp"
 #include "core/throttle.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/patch_grid.hpp"
@@ -119,7 +120,7 @@ private:
     };
 
     void run();
-    std::optional<Job> next_load(std::unique_lock<std::mutex>& lock);
+    std::optional<Job> next_load(std::unique_lock<RankedMutex>& lock);
     // Tile -> its screen coverage (screen_fraction), for the tiles in view.
     struct Fractions : std::unordered_map<std::uint32_t, double> {
         double of(std::uint32_t tile) const;  // 0 when out of view
@@ -174,8 +175,9 @@ private:
     std::vector<double> spacing_;  // per tile: its points' mean spacing (metres)
     dataset::TileIndex index_;     // the tiles in view without a look at every tile (its thread only)
 
-    mutable std::mutex mutex_;
-    std::condition_variable wake_;
+    // Ranks 1 and 3 of the lock order in scheduler.hpp (the scheduler's state lock is 2).
+    mutable RankedMutex mutex_{1, "residency"};
+    std::condition_variable_any wake_;
     bool stopping_ = false, busy_ = false;
     render::Camera camera_;
     bool has_camera_ = false;
@@ -191,7 +193,7 @@ private:
     // Changed under mutex_ and details_mutex_; read under either (detail() takes details_mutex_ alone,
     // a leaf lock held for a lookup: the scheduler asks while holding its own lock).
     std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
-    mutable std::mutex details_mutex_;
+    mutable RankedMutex details_mutex_{3, "residency details"};
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, last_other_ = 0;
     std::atomic<std::uint64_t> version_{1};  // read without a lock (every snapshot asks)
     std::atomic<bool> idle_{true};           // idle(), kept by refresh_idle() under mutex_

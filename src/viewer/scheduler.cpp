@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
+#include "core/ranked_mutex.hpp"
 #include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
 #include "core/thread_priority.hpp"
@@ -85,8 +86,9 @@ std::uint64_t default_memory_budget() {
 }
 
 struct Scheduler::State {
-    mutable std::mutex mutex;
-    std::condition_variable wake;
+    // Rank 2 of the lock order in scheduler.hpp: between the residency's lock and its details' lock.
+    mutable RankedMutex mutex{2, "scheduler state"};
+    std::condition_variable_any wake;
     bool stopping = false;
 
     render::Camera camera;

@@ -21,7 +21,8 @@
 // first over the blocks, the residency's tiles in view and the loader's next tile through a tile
 // index), so a country of tiles draws as fast as a county.
 //
-// Lock order, so that a frame never waits for work proportional to the dataset:
+// Lock order, so that a frame never waits for work proportional to the dataset (ranked mutexes,
+// core/ranked_mutex.hpp: a thread breaking it stops the process, in every build):
 //   1. the scheduler's state lock (State::mutex) may be held while taking only the residency's
 //      details lock (Residency::detail, a leaf held for a lookup) or reading its atomics
 //      (version, idle); never the residency's own lock nor the loader's;
