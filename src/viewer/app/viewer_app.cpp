@@ -299,129 +299,188 @@ void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats&
     if (!t.chunk_points_s && stats.tiles_loaded.done == stats.tiles_loaded.total) t.chunk_points_s = seconds;
 }
 
-}  // namespace
+// The window loop's state and its steps, one method each: opening datasets, input, the frame,
+// the panels, their actions, the scripted end. run_viewer calls them in that order every frame.
+class ViewerLoop {
+public:
+    explicit ViewerLoop(const ViewerOptions& o)
+        : o_(o), start_(Clock::now()), win_(o.width, o.height, "lidarscout"), gui_(win_.window),
+          pool_(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency())),
+          opening_(start_opening(o.paths, o)), previous_(start_),
+          scripted_clicks_done_(o.clicks.empty() && !o.measure) {
+        install_callbacks(win_.window, events_);
+    }
 
-int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
-    const auto start = Clock::now();
-    const auto since_start = [&start] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    GlfwWindow win(o.width, o.height, "lidarscout");
-    InputEvents events;
-    install_callbacks(win.window, events);
-    GuiContext gui(win.window);
-    GlPresenter presenter;
-    ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
-
-    std::unique_ptr<SessionOpening> opening = start_opening(o.paths, o);
-    Session session;                         // empty until the first dataset is open
-    std::vector<dataset::Bounds> footprints;  // of the tiles read while the first dataset opens
-    bool moved_while_opening = false;        // then the camera stays where the user put it
-    CameraController controller;
-    ViewSettings settings;
-    PanelState panels;
-    MouseKeyboard input;
-    RenderedScene last;
-    render::RgbaImage window_shot;  // --window-screenshot: the last frame with its panels
-    FrameRefiner refiner;
-    ViewerTimings times;
-    std::optional<Clock::time_point> opened;  // when the first dataset opened (--quit-after counts from there)
-    auto previous = start;
-    double frame_ms = 0;
-    bool scripted_clicks_done = o.clicks.empty() && !o.measure;
-    int frames_to_quit = 0;
-    while (!glfwWindowShouldClose(win.window)) {
+    // One frame; false when the viewer is to quit.
+    bool frame() {
+        if (glfwWindowShouldClose(win_.window)) return false;
         glfwPollEvents();
         const auto now = Clock::now();
-        const double dt = std::chrono::duration<double>(now - previous).count();
-        previous = now;
-        int fb_width = 0, fb_height = 0;
-        glfwGetFramebufferSize(win.window, &fb_width, &fb_height);
-        fb_width = std::max(1, fb_width), fb_height = std::max(1, fb_height);
-        if (!events.dropped.empty()) {
-            opening = start_opening(events.dropped, o);  // the dataset shown stays until it is open
-            events.dropped.clear();
+        const double dt = std::chrono::duration<double>(now - previous_).count();
+        previous_ = now;
+        glfwGetFramebufferSize(win_.window, &fb_width_, &fb_height_);
+        fb_width_ = std::max(1, fb_width_), fb_height_ = std::max(1, fb_height_);
+        open_step();
+        input_step(dt);
+        draw_step(now);
+        const PanelActions actions = present_step();
+        if (!session_.open()) wait_for_next_frame(now);  // cheap frames: leave the cores to the reads
+        action_step(actions);
+        return !script_step();
+    }
+
+    // What the run leaves: the timings, the screenshots asked for.
+    int finish(ViewerTimings* timings) {
+        opening_.reset();  // a window closed while opening: cancel the reads not started
+        if (session_.open()) {
+            times_.tiles = session_.dataset->tiles.size();
+            times_.skipped = session_.dataset->skipped.size();
         }
-        if (opening && opening->finished() && take_opening(opening, session, panels)) {
-            refiner.invalidate();
-            if (!moved_while_opening) controller.frame(session.dataset->bounds_m, fb_width, fb_height);
-            moved_while_opening = false;
-            if (!opened) {
-                settings = initial_settings(*session.dataset, session.scheduler->stats(), o.backend);
-                opened = Clock::now();
-                times.dataset_open_s = since_start();
+        if (timings) *timings = times_;
+        if (!o_.screenshot.empty()) render::write_png(o_.screenshot, last_.image);
+        if (!o_.window_screenshot.empty()) render::write_png(o_.window_screenshot, window_shot_);
+        return 0;
+    }
+
+private:
+    double since_start() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+    // Files dropped on the window start an opening; a finished one replaces the session shown;
+    // while the first one opens, the camera follows the tiles read so far.
+    void open_step() {
+        if (!events_.dropped.empty()) {
+            opening_ = start_opening(events_.dropped, o_);  // the dataset shown stays until it is open
+            events_.dropped.clear();
+        }
+        if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
+            refiner_.invalidate();
+            if (!moved_while_opening_) controller_.frame(session_.dataset->bounds_m, fb_width_, fb_height_);
+            moved_while_opening_ = false;
+            if (!opened_) {
+                settings_ = initial_settings(*session_.dataset, session_.scheduler->stats(), o_.backend);
+                opened_ = Clock::now();
+                times_.dataset_open_s = since_start();
             }
         }
-        if (!session.open()) {
-            const OpeningProgress progress = opening->progress();
-            opening->footprints(footprints);
-            const bool follow = !moved_while_opening && !progress.extent.empty();
-            if (follow) controller.frame(progress.extent, fb_width, fb_height);
+        if (!session_.open()) {
+            const OpeningProgress progress = opening_->progress();
+            opening_->footprints(footprints_);
+            if (!moved_while_opening_ && !progress.extent.empty())
+                controller_.frame(progress.extent, fb_width_, fb_height_);
         }
-        const CameraController before = controller;
-        input.apply(win.window, events, controller, dt, fb_height);
-        if (!session.open() && !(controller == before)) moved_while_opening = true;
-        render::Camera camera;
-        bool with_heightmaps = false;
-        if (session.open()) {
-            last = draw_frame(session, controller, settings, panels, fb_width, fb_height, pool, refiner, camera,
-                              with_heightmaps);
-        } else {
-            last = opening_frame(footprints, controller, fb_width, fb_height, camera);
-        }
-        frame_ms = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
-        if (const auto click = input.take_click(); click && session.open()) {
-            pick_at_click(win.window, *click, session, camera, panels);
-        }
-        panels.cursor = session.open() ? cursor_text(win.window, *session.cursor, camera, controller.target_z) : "";
+    }
 
-        glViewport(0, 0, fb_width, fb_height);
+    void input_step(double dt) {
+        const CameraController before = controller_;
+        input_.apply(win_.window, events_, controller_, dt, fb_height_);
+        if (!session_.open() && !(controller_ == before)) moved_while_opening_ = true;
+    }
+
+    // The picture (the dataset's, or the footprints while it opens), a click's pick, the cursor readout.
+    void draw_step(Clock::time_point now) {
+        with_heightmaps_ = false;
+        if (session_.open()) {
+            last_ = draw_frame(session_, controller_, settings_, panels_, fb_width_, fb_height_, pool_, refiner_,
+                               camera_, with_heightmaps_);
+        } else {
+            last_ = opening_frame(footprints_, controller_, fb_width_, fb_height_, camera_);
+        }
+        frame_ms_ = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
+        if (const auto click = input_.take_click(); click && session_.open()) {
+            pick_at_click(win_.window, *click, session_, camera_, panels_);
+        }
+        panels_.cursor =
+            session_.open() ? cursor_text(win_.window, *session_.cursor, camera_, controller_.target_z) : "";
+    }
+
+    // The image and the panels on the window.
+    PanelActions present_step() {
+        glViewport(0, 0, fb_width_, fb_height_);
         glClearColor(0, 0, 0, 1);
         glClear(GL_COLOR_BUFFER_BIT);
-        presenter.show(last.image, fb_width, fb_height);
+        presenter_.show(last_.image, fb_width_, fb_height_);
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         PanelActions actions;
         SchedulerStats stats;
-        if (session.open()) {
-            stats = session.scheduler->stats();
-            actions = draw_panels(*session.dataset, stats, frame_ms, settings, panels);
+        if (session_.open()) {
+            stats = session_.scheduler->stats();
+            actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
         }
-        if (opening) draw_opening_panel(opening->progress());
+        if (opening_) draw_opening_panel(opening_->progress());
         ImGui::Render();
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-        if (!o.window_screenshot.empty()) window_shot = window_pixels(win.window);  // scripted use only
-        glfwSwapBuffers(win.window);
-        count_frame(times, session, stats, with_heightmaps, since_start());
-        if (!session.open()) wait_for_next_frame(now);  // cheap frames: leave the cores to the reads
-
-        if (actions.fly_to) {
-            controller.frame(session.dataset->tiles[*actions.fly_to].bounds_m, fb_width, fb_height);
-        }
-        if (actions.budget_changed) session.scheduler->set_memory_budget(std::uint64_t(settings.budget_mb) << 20);
-        if (actions.screenshot || input.pressed(win.window, GLFW_KEY_F12)) {  // the picture without the panels
-            const std::string name = screenshot_name();
-            render::write_png(name, last.image);
-            panels.status = "screenshot: " + name;
-        }
-        const bool quitting =
-            opened && o.quit_after > 0 && std::chrono::duration<double>(Clock::now() - *opened).count() >= o.quit_after;
-        if (quitting && !scripted_clicks_done) {  // the clicks, then a few frames to show them
-            panels.click.use(o.measure ? ClickTool::Measure : ClickTool::Inspect);
-            for (const auto& c : o.clicks) {
-                pick_at_click(win.window, c, session, camera, panels);
-                print_click(c, *session.dataset, panels.click);
-            }
-            scripted_clicks_done = true;
-            frames_to_quit = 3;  // a new ImGui window fits its size in its first frame, unseen
-        }
-        if (quitting && frames_to_quit-- <= 0) break;
+        if (!o_.window_screenshot.empty()) window_shot_ = window_pixels(win_.window);  // scripted use only
+        glfwSwapBuffers(win_.window);
+        count_frame(times_, session_, stats, with_heightmaps_, since_start());
+        return actions;
     }
-    opening.reset();  // a window closed while opening: cancel the reads not started
-    if (session.open()) times.tiles = session.dataset->tiles.size(), times.skipped = session.dataset->skipped.size();
-    if (timings) *timings = times;
-    if (!o.screenshot.empty()) render::write_png(o.screenshot, last.image);
-    if (!o.window_screenshot.empty()) render::write_png(o.window_screenshot, window_shot);
-    return 0;
+
+    void action_step(const PanelActions& actions) {
+        if (actions.fly_to) {
+            controller_.frame(session_.dataset->tiles[*actions.fly_to].bounds_m, fb_width_, fb_height_);
+        }
+        if (actions.budget_changed) session_.scheduler->set_memory_budget(std::uint64_t(settings_.budget_mb) << 20);
+        if (actions.screenshot || input_.pressed(win_.window, GLFW_KEY_F12)) {  // the picture without the panels
+            const std::string name = screenshot_name();
+            render::write_png(name, last_.image);
+            panels_.status = "screenshot: " + name;
+        }
+    }
+
+    // --quit-after: the scripted clicks, a few frames to show them, then true (quit).
+    bool script_step() {
+        const bool quitting = opened_ && o_.quit_after > 0 &&
+                              std::chrono::duration<double>(Clock::now() - *opened_).count() >= o_.quit_after;
+        if (quitting && !scripted_clicks_done_) {
+            panels_.click.use(o_.measure ? ClickTool::Measure : ClickTool::Inspect);
+            for (const auto& c : o_.clicks) {
+                pick_at_click(win_.window, c, session_, camera_, panels_);
+                print_click(c, *session_.dataset, panels_.click);
+            }
+            scripted_clicks_done_ = true;
+            frames_to_quit_ = 3;  // a new ImGui window fits its size in its first frame, unseen
+        }
+        return quitting && frames_to_quit_-- <= 0;
+    }
+
+    const ViewerOptions& o_;
+    const Clock::time_point start_;
+    GlfwWindow win_;
+    InputEvents events_;
+    GuiContext gui_;
+    GlPresenter presenter_;
+    ThreadPool pool_;
+    std::unique_ptr<SessionOpening> opening_;
+    Session session_;                          // empty until the first dataset is open
+    std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens
+    bool moved_while_opening_ = false;         // then the camera stays where the user put it
+    CameraController controller_;
+    ViewSettings settings_;
+    PanelState panels_;
+    MouseKeyboard input_;
+    RenderedScene last_;
+    render::RgbaImage window_shot_;  // --window-screenshot: the last frame with its panels
+    FrameRefiner refiner_;
+    ViewerTimings times_;
+    std::optional<Clock::time_point> opened_;  // when the first dataset opened (--quit-after counts from there)
+    Clock::time_point previous_;
+    double frame_ms_ = 0;
+    bool scripted_clicks_done_;
+    int frames_to_quit_ = 0;
+    int fb_width_ = 1, fb_height_ = 1;
+    render::Camera camera_;
+    bool with_heightmaps_ = false;
+};
+
+}  // namespace
+
+int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
+    ViewerLoop loop(o);
+    while (loop.frame()) {
+    }
+    return loop.finish(timings);
 }
 
 }  // namespace lidarscout::viewer::app
