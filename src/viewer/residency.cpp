@@ -19,15 +19,7 @@ namespace lidarscout::viewer {
 namespace {
 
 constexpr auto kPoll = std::chrono::milliseconds(100);
-constexpr std::uint64_t kPiecePoints = 1u << 18;  // points decoded (whole chunks) before they are shown
-constexpr std::uint64_t kMinPartialBytes = 4 * kPiecePoints * sizeof(render::PointAttr);  // worth a partial load
-constexpr std::size_t kMaxTries = 64;  // candidates tried per look, best first
-
-// Pixels by which showing `box` at spacing `shown_m` misses its own spacing `own_m`, at its
-// nearest distance.
-double error_px(const render::Camera& camera, const dataset::Bounds& box, double shown_m, double own_m) {
-    return std::max(shown_m - own_m, 0.0) / pixel_footprint(camera, distance_to(camera, box));
-}
+constexpr std::uint64_t kPiecePoints = ResidencyPolicy::kPiecePoints;
 
 std::uint64_t coarse_bytes(const LodBlocks& blocks, double spacing_m) {
     std::uint64_t n = 0;
@@ -41,26 +33,11 @@ std::uint64_t coarse_bytes(const LodBlocks& blocks, double spacing_m) {
 // Thrown between two pieces of a tile when the residency stops.
 struct Stopped {};
 
-struct Residency::Choice {
-    std::uint32_t tile = 0;
-    std::vector<std::uint32_t> victims;
-    std::uint64_t cap = 0;    // bytes of points it may take: less than the whole tile for a partial load
-    std::uint64_t extra = 0;  // its blocks' and patch details' bookkeeping
-    DecodePlan plan;          // its pieces and what decoding them holds besides
-};
-
-struct Residency::Room {
-    std::vector<std::uint32_t> victims;
-    std::uint64_t total = 0;  // bytes held once they are released
-};
-
 Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options)
     : dataset_(dataset), grid_(grid), options_(std::move(options)),
       ledger_(options_.ledger ? options_.ledger : std::make_shared<MemoryLedger>(options_.memory_budget)),
-      index_(dataset) {
+      policy_(dataset, grid, options_) {
     return_freed_memory();  // what a release frees must leave the process, or the budget bounds nothing
-    spacing_.reserve(dataset.tiles.size());
-    for (const auto& t : dataset.tiles) spacing_.push_back(mean_point_spacing(t));
 }
 
 Residency::~Residency() { stop(); }
@@ -100,47 +77,9 @@ void Residency::set_budget(std::uint64_t bytes) {
     wake_.notify_all();
 }
 
-double Residency::gain_per_byte(std::uint32_t tile, double fraction) const {
-    const auto& t = dataset_.tiles[tile];
-    const double shown = tiles_.contains(tile) ? options_.coarse_spacing_m : grid_.patch_size() / options_.patch_texels;
-    const double bytes = static_cast<double>(std::max<std::uint64_t>(tile_point_set_bytes(t), 1));
-    return error_px(camera_, t.bounds_m, shown, spacing_[tile]) * fraction / bytes;
-}
-
-double Residency::value_per_byte(std::uint32_t tile, const Entry& entry) const {
-    const auto& b = dataset_.tiles[tile].bounds_m;
-    const double fraction = screen_fraction(camera_, b);
-    if (fraction <= 0)
-        return -1.0 / (1.0 + static_cast<double>(entry.last_seen));  // out of view: least recently seen first
-    if (entry.level == Level::Full) {
-        const double freed = static_cast<double>(std::max<std::uint64_t>(entry.bytes - entry.coarse_bytes, 1));
-        return error_px(camera_, b, options_.coarse_spacing_m, spacing_[tile]) * fraction / freed;
-    }
-    const double texel = grid_.patch_size() / options_.patch_texels;
-    return error_px(camera_, b, texel, options_.coarse_spacing_m) * fraction /
-           static_cast<double>(std::max<std::uint64_t>(entry.bytes, 1));
-}
-
-std::optional<DecodePlan> Residency::plan_for(std::uint32_t tile, std::uint64_t room) const {
-    const auto& t = dataset_.tiles[tile];
-    return fitting_decode_plan(t, t.tile.header.point_count, std::max(1u, options_.decode_threads), kPiecePoints,
-                               room);
-}
-
-std::uint64_t Residency::bookkeeping_bytes(std::uint32_t tile) const {
-    const auto& b = dataset_.tiles[tile].bounds_m;
-    const auto across = [&](double side) {
-        return static_cast<std::uint64_t>(std::ceil(std::max(b.max_x - b.min_x, 0.0) / side) + 1) *
-               static_cast<std::uint64_t>(std::ceil(std::max(b.max_y - b.min_y, 0.0) / side) + 1);
-    };
-    const auto texels = static_cast<std::uint64_t>(options_.patch_texels) * options_.patch_texels;
-    const std::uint64_t detail = texels * 12 + sizeof(PatchDetail);  // height, count and colour per texel
-    return across(options_.block_m) * sizeof(LodBlock) + across(grid_.patch_size()) * detail;
-}
-
 std::uint64_t Residency::held() const {
     std::uint64_t bytes = details_bytes_;
-    for (const auto& [tile, e] : tiles_) bytes += e.bytes;
+    for (const auto& [tile, e] : policy_.entries()) bytes += e.bytes;
     for (const auto& [block, size] : retired_) bytes += block.expired() ? 0 : size;
     return bytes;
 }
@@ -152,10 +91,11 @@ void Residency::retire(const LodBlocks& blocks) {
 }
 
 bool Residency::drop(std::uint32_t tile) {
-    const auto it = tiles_.find(tile);
-    if (it == tiles_.end()) return false;
+    auto& entries = policy_.entries();
+    const auto it = entries.find(tile);
+    if (it == entries.end()) return false;
     retire(it->second.blocks);
-    tiles_.erase(it);
+    entries.erase(it);
     return true;
 }
 
@@ -163,141 +103,17 @@ bool Residency::prune_retired() {
     return std::erase_if(retired_, [](const auto& r) { return r.first.expired(); }) > 0;
 }
 
-std::vector<Residency::Step> Residency::release_steps() const {
-    // A full tile drops to its coarse levels, then to nothing; cheapest worth per byte first.
-    std::vector<Step> steps;
-    for (const auto& [tile, e] : tiles_) {
-        const double v = value_per_byte(tile, e);
-        if (e.level == Level::Coarse) {
-            steps.push_back({v, tile, e.bytes});
-            continue;
-        }
-        steps.push_back({v, tile, e.bytes - e.coarse_bytes});
-        const Entry coarse{Level::Coarse, {}, e.coarse_bytes, 0, e.last_seen};
-        steps.push_back({std::max(v, value_per_byte(tile, coarse)), tile, e.coarse_bytes});
-    }
-    std::stable_sort(steps.begin(), steps.end(), [](const Step& a, const Step& b) { return a.value < b.value; });
-    return steps;
-}
-
-std::optional<Residency::Room> Residency::victims(std::uint64_t incoming, double gain, std::uint64_t total,
-                                                  const std::vector<Step>& steps) const {
-    const std::uint64_t budget = ledger_->budget();
-    Room room{{}, total};
-    for (const Step& s : steps) {
-        if (room.total + incoming <= budget) break;
-        if (s.value * options_.hysteresis >= gain) return std::nullopt;
-        room.victims.push_back(s.tile);
-        room.total -= std::min(room.total, s.freed);
-    }
-    if (room.total + incoming > budget) return std::nullopt;
-    return room;
-}
-
-Residency::Fractions Residency::screen_fractions(const render::Camera& camera) const {
-    Fractions out;
-    index_.visit([&](const dataset::Bounds& box) { return box_in_view(camera, box); },
-                 [&](std::uint32_t t) {
-                     const double f = screen_fraction(camera, dataset_.tiles[t].bounds_m);
-                     if (f > 0) out.emplace(t, f);
-                 });
-    return out;
-}
-
-double Residency::Fractions::of(std::uint32_t tile) const {
-    const auto it = find(tile);
-    return it == end() ? 0.0 : it->second;
-}
-
-std::optional<Residency::Choice> Residency::choose(std::uint64_t other, const Fractions& fractions) {
-    ++tick_;
-    wanted_ = wanted_full_ = 0;
-    std::vector<std::pair<double, std::uint32_t>> candidates;  // (gain per byte, tile)
-    for (const auto& [i, fraction] : fractions) {
-        if (fraction <= options_.min_screen_fraction || failed_.contains(i)) continue;
-        ++wanted_;
-        const auto it = tiles_.find(i);
-        if (it != tiles_.end()) it->second.last_seen = tick_;
-        if (it != tiles_.end() && it->second.level == Level::Full) {
-            wanted_full_ += !it->second.partial;
-            continue;
-        }
-        candidates.emplace_back(gain_per_byte(i, fraction), i);
-    }
-    // The best that fits: a tile larger than the budget allows must not stop the others.
-    std::sort(candidates.begin(), candidates.end(), std::greater<>());
-    if (candidates.size() > kMaxTries) candidates.resize(kMaxTries);
-    const auto steps = release_steps();
-    const std::uint64_t total = other + held();
-    for (const auto& [gain, tile] : candidates) {
-        const auto& t = dataset_.tiles[tile];
-        const std::uint64_t bytes = tile_point_set_bytes(t), extra = bookkeeping_bytes(tile);
-        const std::uint64_t least =
-            decode_plan(t, t.tile.header.point_count, std::max(1u, options_.decode_threads), 1).transient;
-        auto room = victims(bytes + extra + least, gain, total, steps);
-        if (!room) continue;
-        const auto plan = plan_for(tile, ledger_->budget() - room->total - bytes - extra);  // `least` fitted
-        return Choice{tile, std::move(room->victims), bytes, extra, *plan};
-    }
-    // None fits whole: the best one in part (its pieces in view first), in the room there is.
-    for (const auto& [gain, tile] : candidates) {
-        auto choice = partial_choice(tile, gain, total, steps);
-        if (choice) return choice;
-    }
-    return std::nullopt;
-}
-
-std::optional<Residency::Choice> Residency::partial_choice(std::uint32_t tile, double gain, std::uint64_t total,
-                                                           const std::vector<Step>& steps) const {
-    const std::uint64_t budget = ledger_->budget();
-    Choice c{tile, {}, 0, bookkeeping_bytes(tile), {}};
-    for (const Step& s : steps) {
-        if (s.value * options_.hysteresis >= gain) break;
-        c.victims.push_back(s.tile);
-        total -= std::min(total, s.freed);
-    }
-    if (total + c.extra >= budget) return std::nullopt;
-    const std::uint64_t room = budget - total - c.extra;
-    // Its decoding takes at most a quarter of the room, else the least it can; the points the rest.
-    auto plan = plan_for(tile, room / 4);
-    if (!plan) plan = plan_for(tile, room);
-    if (!plan) return std::nullopt;
-    c.plan = *plan;
-    c.cap = room - plan->transient;
-    // The first piece is always decoded whole; less room than a few pieces is not worth a load.
-    const auto& t = dataset_.tiles[tile];
-    const std::uint64_t piece = std::min(tile_point_set_bytes(t), (plan->piece_points - 1 + largest_unit_points(t)) *
-                                                                      sizeof(render::PointAttr));
-    if (c.cap < std::max(piece, std::min(kMinPartialBytes, budget / 16))) return std::nullopt;
-    return c;
-}
-
-double Residency::coverage(const Entry& entry, double fraction) const {
-    double covered = 0;
-    for (const auto& b : entry.blocks) covered += screen_fraction(camera_, b->bounds);
-    return fraction > 0 ? std::min(covered / fraction, 1.0) : 1.0;
-}
-
-std::vector<std::uint32_t> Residency::stale_partials(const Fractions& fractions) const {
-    std::vector<std::uint32_t> out;
-    for (const auto& [tile, e] : tiles_) {
-        const double fraction = fractions.of(tile);
-        if (!e.partial || e.level != Level::Full || e.loaded_at == camera_version_ || fraction <= 0) continue;
-        if (coverage(e, fraction) < 0.5 * e.coverage) out.push_back(tile);
-    }
-    return out;
-}
-
 std::vector<std::uint32_t> Residency::release(const std::vector<std::uint32_t>& tiles) {
     std::vector<std::uint32_t> dropped;  // tiles that went from full to coarse
+    auto& entries = policy_.entries();
     for (const auto t : tiles) {
-        const auto it = tiles_.find(t);
-        if (it == tiles_.end()) continue;
+        const auto it = entries.find(t);
+        if (it == entries.end()) continue;
         Entry& e = it->second;
         ++version_;
         retire(e.blocks);
         if (e.level == Level::Coarse) {
-            tiles_.erase(it);
+            entries.erase(it);
             continue;
         }
         for (auto& b : e.blocks) b = coarse_copy(*b, options_.coarse_spacing_m);
@@ -329,20 +145,19 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<RankedMutex>
         lock.unlock();
         if (freed) trim_heap();  // released points go back to the system
         const std::uint64_t other = ledger_->outside_residency();
-        const std::uint64_t visits_before = index_.visits();
-        const Fractions fractions = screen_fractions(camera);
-        const std::uint64_t visits = index_.visits() - visits_before;
+        const std::uint64_t visits_before = policy_.index_visits();  // the index: this thread's alone
+        const auto fractions = policy_.screen_fractions(camera);
+        const std::uint64_t visits = policy_.index_visits() - visits_before;
         lock.lock();
         index_visits_ += visits, last_look_visits_ = visits;
         last_in_view_ = fractions.size();
         if (stopping_) return std::nullopt;
         last_other_ = other;
-        auto dropped = release(stale_partials(fractions));
-        const auto choice = choose(other, fractions);
-        const auto over = choice ? choice->victims
-                                 : victims(0, std::numeric_limits<double>::infinity(), other + held(), release_steps())
-                                       .value_or(Room{})
-                                       .victims;
+        policy_.set_camera(camera, seen);
+        auto dropped = release(policy_.stale_partials(fractions));
+        const std::uint64_t budget = ledger_->budget();
+        const auto choice = policy_.choose(fractions, other + held(), budget);
+        const auto over = choice ? choice->victims : policy_.over_budget(other + held(), budget);
         const auto made_room = release(over);
         dropped.insert(dropped.end(), made_room.begin(), made_room.end());
         if (!dropped.empty()) {
@@ -419,13 +234,13 @@ std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded deco
         std::lock_guard details_lock(details_mutex_);
         it->second = std::move(merged);
     }
-    Entry& e = tiles_[tile];
+    Entry& e = policy_.entries()[tile];
     e.level = Level::Full;
     e.coarse_bytes += coarse_bytes(decoded.blocks, options_.coarse_spacing_m);
     const std::uint64_t added = lod_bytes(decoded.blocks);
     e.bytes += added;
     e.blocks.insert(e.blocks.end(), decoded.blocks.begin(), decoded.blocks.end());
-    e.last_seen = tick_;
+    e.last_seen = policy_.tick();
     decoding_bytes_ -= std::min(decoding_bytes_, added + details_bytes_ - details_before);
     ++version_;
     peak_ = std::max(peak_, last_other_ + held() + decoding_bytes_);
@@ -468,16 +283,16 @@ void Residency::run() {
         busy_ = false;
         refresh_idle();
         if (error) {  // the pieces it had are dropped: a damaged file is not drawn in part
-            failed_.insert(tile);
+            policy_.failed().insert(tile);
             errors_.push_back(std::move(*error));
             if (drop(tile)) ++version_;
             continue;
         }
-        if (capped && tiles_.contains(tile)) {
-            Entry& e = tiles_.at(tile);
+        if (capped && policy_.entries().contains(tile)) {
+            Entry& e = policy_.entries().at(tile);
             e.partial = true;
             e.loaded_at = loading_version_;
-            e.coverage = coverage(e, screen_fraction(camera_, dataset_.tiles[tile].bounds_m));
+            e.coverage = policy_.coverage(e, screen_fraction(policy_.camera(), dataset_.tiles[tile].bounds_m));
         }
         lock.unlock();
         notify({}, tile, {});
@@ -489,7 +304,7 @@ LodBlocks Residency::blocks() const {
     std::lock_guard lock(mutex_);
     if (blocks_version_ != version_) {
         blocks_cache_.clear();
-        for (const auto& [tile, e] : tiles_)
+        for (const auto& [tile, e] : policy_.entries())
             blocks_cache_.insert(blocks_cache_.end(), e.blocks.begin(), e.blocks.end());
         blocks_version_ = version_;
     }
@@ -507,7 +322,7 @@ std::uint64_t Residency::version() const { return version_.load(); }
 ResidencyStats Residency::stats() const {
     std::lock_guard lock(mutex_);
     ResidencyStats st;
-    for (const auto& [tile, e] : tiles_) {
+    for (const auto& [tile, e] : policy_.entries()) {
         const bool full = e.level == Level::Full;
         (full ? st.full_tiles : st.coarse_tiles) += 1;
         const std::uint64_t points = lod_points(e.blocks);
@@ -516,7 +331,7 @@ ResidencyStats Residency::stats() const {
     }
     st.released = released_;
     st.loads = loads_;
-    st.wanted = wanted_, st.wanted_full = wanted_full_;
+    st.wanted = policy_.wanted(), st.wanted_full = policy_.wanted_full();
     st.bytes = held();
     st.decoding_bytes = decoding_bytes_;
     st.peak_bytes = peak_;

@@ -14,7 +14,8 @@
 // pieces when room is short). Released blocks count until the last snapshot holding them is
 // gone, and freed memory is handed back to the system (core/process_memory.hpp). So the memory
 // budget (with what the rest of the scheduler holds) is never exceeded and loading converges.
-// Its own thread and its own lock; hooks are called without that lock held.
+// Its decisions are a class of their own, without threads (residency_policy.hpp); this one runs
+// them on its own thread under its own lock, decodes, and calls its hooks without that lock held.
 #pragma once
 
 #include <atomic>
@@ -41,6 +42,7 @@
 #include "viewer/decode_memory.hpp"
 #include "viewer/memory_ledger.hpp"
 #include "viewer/point_lod.hpp"
+#include "viewer/residency_policy.hpp"
 #include "viewer/patch_detail.hpp"
 
 namespace lidarscout::viewer {
@@ -98,22 +100,12 @@ public:
     bool idle() const;
 
 private:
-    enum class Level { Coarse, Full };
-    struct Entry {
-        Level level = Level::Full;
-        LodBlocks blocks;
-        std::uint64_t bytes = 0, coarse_bytes = 0;
-        std::uint64_t last_seen = 0;
-        bool partial = false;  // full resolution for the pieces that fitted only
-        std::uint64_t loaded_at = 0;  // the camera version it was loaded for
-        double coverage = 0;          // a partial one: the share of its view its pieces covered when loaded
-    };
+    using Level = ResidencyPolicy::Level;
+    using Entry = ResidencyPolicy::Entry;
     struct Decoded {
         LodBlocks blocks;
         PatchDetails detail;
     };
-    struct Choice;  // a tile to load and what to drop for it
-    struct Room;    // what to drop for a load, and what is held after
     struct Job {
         std::uint32_t tile = 0;
         std::uint64_t cap = 0, piece_points = 0;  // bytes of points it may add; points per piece
@@ -121,45 +113,13 @@ private:
 
     void run();
     std::optional<Job> next_load(std::unique_lock<RankedMutex>& lock);
-    // Tile -> its screen coverage (screen_fraction), for the tiles in view.
-    struct Fractions : std::unordered_map<std::uint32_t, double> {
-        double of(std::uint32_t tile) const;  // 0 when out of view
-    };
-    // The tiles in view at `camera` and their coverage, found through the tile index.
-    Fractions screen_fractions(const render::Camera& camera) const;
-    std::optional<Choice> choose(std::uint64_t other, const Fractions& fractions);
-    struct Step {
-        double value = 0;  // worth per byte freed
-        std::uint32_t tile = 0;
-        std::uint64_t freed = 0;
-    };
-    std::vector<Step> release_steps() const;
-    std::optional<Choice> partial_choice(std::uint32_t tile, double gain, std::uint64_t total,
-                                         const std::vector<Step>& steps) const;
-    // What to release, cheapest first, so that `incoming` bytes fit with `total` held, each
-    // worth less than `gain` (per byte); nullopt when that cannot be done.
-    std::optional<Room> victims(std::uint64_t incoming, double gain, std::uint64_t total,
-                                const std::vector<Step>& steps) const;
-    double value_per_byte(std::uint32_t tile, const Entry& entry) const;
-    // What decoding `tile` would improve per byte, given its screen coverage `fraction`.
-    double gain_per_byte(std::uint32_t tile, double fraction) const;
     // Bytes held: blocks, details, and blocks released but still alive (a snapshot being drawn).
     std::uint64_t held() const;
-    // The decode plan for the whole of `tile` whose transient bytes fit in `room` (decode_memory.hpp).
-    std::optional<DecodePlan> plan_for(std::uint32_t tile, std::uint64_t room) const;
-    // What loading `tile` adds besides its points: its blocks' headers, the patch details of the cells it covers.
-    std::uint64_t bookkeeping_bytes(std::uint32_t tile) const;
-    // Blocks dropped from tiles_: counted in held() until the last snapshot holding them is gone.
+    // Blocks dropped from the policy's entries: counted in held() until the last snapshot holding them is gone.
     void retire(const LodBlocks& blocks);
     bool prune_retired();  // forgets the retired blocks that are gone; true when any was
     bool drop(std::uint32_t tile);  // removes its entry, its blocks retired; false when it had none
     std::vector<std::uint32_t> release(const std::vector<std::uint32_t>& tiles);
-    // The share of what the camera sees of a tile (`fraction`) that the blocks of `entry` cover.
-    double coverage(const Entry& entry, double fraction) const;
-    // Tiles loaded in part for an earlier camera whose pieces cover less than half the share of
-    // the view they covered when loaded: they drop to their coarse levels and are decoded again
-    // for this view.
-    std::vector<std::uint32_t> stale_partials(const Fractions& fractions) const;
     PointOrder decode_order() const;
     void refresh_idle();  // after a change of busy_, has_camera_, camera_version_ or checked_version_
     void load(const Job& job, const PointOrder& order, ThreadPool& pool);
@@ -172,8 +132,7 @@ private:
     const dataset::PatchGrid& grid_;
     ResidencyOptions options_;
     std::shared_ptr<MemoryLedger> ledger_;  // options_.ledger, or one of its own
-    std::vector<double> spacing_;  // per tile: its points' mean spacing (metres)
-    dataset::TileIndex index_;     // the tiles in view without a look at every tile (its thread only)
+    ResidencyPolicy policy_;  // the decisions and the table of tiles held (under mutex_; its tile index: the thread's)
 
     // Ranks 1 and 3 of the lock order in scheduler.hpp (the scheduler's state lock is 2).
     mutable RankedMutex mutex_{1, "residency"};
@@ -181,10 +140,8 @@ private:
     bool stopping_ = false, busy_ = false;
     render::Camera camera_;
     bool has_camera_ = false;
-    std::uint64_t camera_version_ = 0, checked_version_ = ~0ull, tick_ = 0;
+    std::uint64_t camera_version_ = 0, checked_version_ = ~0ull;
     std::uint64_t loading_version_ = 0;  // the camera version the tile being decoded was chosen for
-    std::map<std::uint32_t, Entry> tiles_;
-    std::set<std::uint32_t> failed_;
     std::vector<std::pair<std::weak_ptr<const LodBlock>, std::uint64_t>> retired_;  // block, its bytes
     Throttle look_throttle_{std::chrono::milliseconds(100), 4096};  // looks at many tiles in view
     std::size_t last_in_view_ = 0;                     // tiles in view at the last look
@@ -197,7 +154,7 @@ private:
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, last_other_ = 0;
     std::atomic<std::uint64_t> version_{1};  // read without a lock (every snapshot asks)
     std::atomic<bool> idle_{true};           // idle(), kept by refresh_idle() under mutex_
-    std::size_t released_ = 0, loads_ = 0, wanted_ = 0, wanted_full_ = 0;
+    std::size_t released_ = 0, loads_ = 0;
     std::vector<ErrorRecord> errors_;
     mutable LodBlocks blocks_cache_;
     mutable std::uint64_t blocks_version_ = 0;
