@@ -8,9 +8,10 @@
 namespace lidarscout::dataset {
 namespace {
 
-std::optional<las::LaszipVlr> read_laszip(const io::File& file, const Tile& t) {
-    const las::Vlr* v = las::find_vlr(t.vlrs, "laszip encoded", 22204);
-    if (!t.header.compressed) return std::nullopt;  // a stray laszip VLR does not make a LAZ
+std::optional<las::LaszipVlr> read_laszip(const io::File& file, const las::Header& header,
+                                          const std::vector<las::Vlr>& vlrs) {
+    const las::Vlr* v = las::find_vlr(vlrs, "laszip encoded", 22204);
+    if (!header.compressed) return std::nullopt;  // a stray laszip VLR does not make a LAZ
     if (!v) {
         throw Error(file.path(), 104,
                     "the point format has the compression bit set but the file has no laszip VLR");
@@ -19,10 +20,10 @@ std::optional<las::LaszipVlr> read_laszip(const io::File& file, const Tile& t) {
     if (laz.compressor == 0) {
         throw Error(file.path(), v->data_offset, "laszip VLR says compressor 0 (none) in a compressed file");
     }
-    if (laz.record_length() != t.header.record_length) {
+    if (laz.record_length() != header.record_length) {
         throw Error(file.path(), v->data_offset,
                     "laszip items make " + std::to_string(laz.record_length()) + "-byte records but the header says " +
-                        std::to_string(t.header.record_length));
+                        std::to_string(header.record_length));
     }
     return laz;
 }
@@ -31,18 +32,22 @@ std::optional<las::LaszipVlr> read_laszip(const io::File& file, const Tile& t) {
 
 Tile read_tile(const io::File& file, const TileOptions& options) {
     Tile t;
-    t.path = file.path();
-    t.file_size = file.size();
+    auto f = std::make_shared<TileFile>();
+    auto r = std::make_shared<TileRecords>();
+    f->path = file.path();
+    f->file_size = file.size();
     t.header = las::read_header(file);
-    t.vlrs = las::read_vlrs(file, t.header, &t.warnings);
-    t.evlrs = las::read_evlrs(file, t.header);
-    t.crs = las::read_crs(t.vlrs, t.evlrs, file, (t.header.global_encoding & 0x10) != 0);
-    geo::fall_back_to_horizontal(t.crs);
-    t.laz = read_laszip(file, t);
-    t.copc = las::find_copc_info(t.vlrs, file.path());
-    t.warnings.attribute_to(t.path);
-    t.crs.warnings.attribute_to(t.path);
-    if (t.laz && options.chunk_table) t.chunks = laz::read_chunk_table(file, t.header, *t.laz);
+    r->vlrs = las::read_vlrs(file, t.header, &f->warnings);
+    r->evlrs = las::read_evlrs(file, t.header);
+    r->crs = las::read_crs(r->vlrs, r->evlrs, file, (t.header.global_encoding & 0x10) != 0);
+    geo::fall_back_to_horizontal(r->crs);
+    r->laz = read_laszip(file, t.header, r->vlrs);
+    t.copc = las::find_copc_info(r->vlrs, file.path());
+    f->warnings.attribute_to(f->path);
+    r->crs.warnings.attribute_to(f->path);
+    if (r->laz && options.chunk_table) f->chunks = laz::read_chunk_table(file, t.header, *r->laz);
+    f->records = std::move(r);
+    t.file = std::move(f);
     return t;
 }
 

@@ -30,7 +30,7 @@ TEST_P(FormatsCorpus, ReadOrRejectAsIndexSays) {
     try {
         auto file = io::File::open(path);
         auto tile = dataset::read_tile(file);
-        EXPECT_EQ(tile.path, path);
+        EXPECT_EQ(tile.path(), path);
     } catch (const Error& e) {
         error = e.what();
         EXPECT_EQ(e.file(), path);

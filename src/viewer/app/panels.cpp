@@ -44,7 +44,7 @@ void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& 
     std::vector<std::uint32_t> shown;
     std::vector<std::string> names(ds.tiles.size());
     for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        names[i] = std::filesystem::path(ds.tiles[i].tile.path).filename().string();
+        names[i] = std::filesystem::path(ds.tiles[i].tile.path()).filename().string();
         if (state.filter.empty() || contains_ci(names[i], state.filter)) shown.push_back(i);
     }
     ImGui::Text("%zu of %zu tiles (double-click: fly there)", shown.size(), ds.tiles.size());
