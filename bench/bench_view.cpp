@@ -8,7 +8,9 @@
 // dataset down to 200 m over its diagonal) with full-resolution streaming on, drawing frames
 // back to back at 1280 x 720 as the viewer does while the scheduler loads. Prints frame times
 // (median, 95th percentile, worst), the longest wait for the scheduler (taking the camera and
-// the snapshot: what loading could stall), frames over 100 ms, and memory against the budget.
+// the snapshot: what loading could stall), frames over 100 ms, and memory against the budget, with
+// the resident size before the scheduler and the bytes the dataset's metadata holds per tile
+// (dataset/metadata.hpp).
 //
 // --converge: how fast the picture converges to the real points. Three fixed cameras (the whole
 // dataset from above; a medium view about 2 km wide, or the dataset's width when smaller, looking
@@ -60,6 +62,7 @@
 #include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "dataset/metadata.hpp"
 #include "render/image_compare.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/flight_path.hpp"
@@ -223,6 +226,8 @@ int flight(const Options& o, const dataset::Dataset& ds) {
                percentile(snapshot_ms, 1.0), over(camera_ms) + over(snapshot_ms));
     fmt::print("memory: peak RSS {} MB ({} MB before the scheduler), scheduler peak {} MB of {} MB\n", peak_rss >> 20,
                rss0 >> 20, st.peak_bytes_used >> 20, st.memory_budget >> 20);
+    const std::uint64_t metadata = dataset::metadata_bytes(ds);
+    fmt::print("dataset metadata: {} MB counted, {} bytes per tile\n", metadata >> 20, metadata / ds.tiles.size());
     fmt::print("at the end: {} of {} tiles' chunk points, {} linear + {} CNN heightmaps, {} full-res tiles resident "
                "({} points), {} released\n",
                st.tiles_loaded.done, st.tiles_loaded.total, st.heightmaps_linear, st.heightmaps_cnn, st.full_res_tiles,

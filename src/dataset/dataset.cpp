@@ -107,56 +107,61 @@ auto reading(const std::string& path, std::string& error, Read&& read) -> std::o
     return std::nullopt;
 }
 
-std::optional<Tile> read_file_tile(const std::string& path, std::string& error) {
-    return reading(path, error, [&] { return read_tile(io::File::open(path)); });
-}
-
-// The sources of a virtual replica, each read once for all the tiles made from it (which then
-// share its TileFile): the first reader thread to ask reads it, the others wait for its result.
-class SourceReads {
+// The reads of one open_dataset: a plain file's tile as it comes; a virtual replica's source once
+// for all the tiles made from it, which then share its TileFile (the first reader thread to ask
+// reads it, the others wait for its result); alike records shared between all (SharedRecords).
+class TileReads {
 public:
+    // The tile of `source` (shifted when virtual); on failure, nullopt and `error` set.
+    std::optional<Tile> read(const TileSource& source, std::string& error) {
+        if (!source.shift) return read_file(source.path, error);
+        const Result& read = source_read(source.path);
+        error = read.error;
+        std::optional<Tile> tile = read.tile;
+        if (tile) shift_tile(*tile, *source.shift);
+        return tile;
+    }
+
+private:
     struct Result {
         std::optional<Tile> tile;
         std::string error;
     };
 
-    const Result& get(const std::string& path) {
+    std::optional<Tile> read_file(const std::string& path, std::string& error) {
+        TileOptions options;
+        options.shared_records = &records_;
+        return reading(path, error, [&] { return read_tile(io::File::open(path), options); });
+    }
+
+    const Result& source_read(const std::string& path) {
         std::promise<Result> promise;
         std::shared_future<Result> result;
         bool first = false;
         {
             std::lock_guard lock(mutex_);
-            auto [it, inserted] = reads_.try_emplace(path);
+            auto [it, inserted] = sources_.try_emplace(path);
             if (inserted) it->second = promise.get_future().share(), first = true;
             result = it->second;
         }
         if (first) {
             Result r;
-            r.tile = read_file_tile(path, r.error);
+            r.tile = read_file(path, r.error);
             promise.set_value(std::move(r));
         }
-        return result.get();  // the value lives in the shared state, which reads_ keeps
+        return result.get();  // the value lives in the shared state, which sources_ keeps
     }
 
-private:
+    SharedRecords records_;
     std::mutex mutex_;
-    std::map<std::string, std::shared_future<Result>> reads_;
+    std::map<std::string, std::shared_future<Result>> sources_;
 };
 
-std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, SourceReads& sources,
+std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, TileReads& reads,
                                     std::string& error) {
-    std::optional<Tile> tile;
-    if (source.shift) {
-        const auto& read = sources.get(source.path);
-        tile = read.tile, error = read.error;
-    } else {
-        tile = read_file_tile(source.path, error);
-    }
+    std::optional<Tile> tile = reads.read(source, error);
     if (!tile) return std::nullopt;
-    return reading(source.path, error, [&] {
-        if (source.shift) shift_tile(*tile, *source.shift);
-        return make_dataset_tile(std::move(*tile), las_stride);
-    });
+    return reading(source.path, error, [&] { return make_dataset_tile(std::move(*tile), las_stride); });
 }
 
 // One warning per compound CRS used by its horizontal part alone (geo::fall_back_to_horizontal),
@@ -341,10 +346,10 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     source_paths = {};
     ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
     const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
-    SourceReads shared_sources;
+    TileReads reads;
     pool.for_each(n, [&](std::size_t i) {
         if (cancelled()) return;
-        if (auto tile = read_one(sources[i], options.las_stride, shared_sources, errors[i])) {
+        if (auto tile = read_one(sources[i], options.las_stride, reads, errors[i])) {
             tiles[i] = std::move(*tile);
             if (options.tile_read) options.tile_read(tiles[i]);
         }

@@ -6,13 +6,15 @@
 // shared pointer to immutable parts: a TileFile per file (the tiles of a virtual replica made
 // from one source share their source's), and in it the file's records (VLRs, EVLRs, CRS,
 // LASzip VLR), which tiles with alike records (a survey's, written by one tool) may share too
-// (dataset/metadata.hpp: intern_records). Read the parts through the accessors.
+// (SharedRecords). Read the parts through the accessors; dataset/metadata.hpp counts the bytes.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "core/diagnostic.hpp"
@@ -62,8 +64,32 @@ struct Tile {
     bool compressed() const { return laz().has_value(); }
 };
 
+// Records read once for all the tiles whose records are alike (a survey's tiles, written by one
+// tool, mostly have the same VLRs): read_tile hands its records to intern() and keeps what it
+// returns. Safe to share between reader threads.
+class SharedRecords {
+public:
+    // An equal TileRecords given before, else `records` (kept for the next). Records are what the
+    // VLRs, EVLRs and the header's WKT bit say (las::read_crs, the LASzip VLR), but for the file
+    // their CRS warnings name: records are equal when those inputs are, and their CRS warnings and
+    // LASzip VLRs too. Records with an EVLR whose payload was not loaded (read_crs may have read it
+    // from the file) are never shared.
+    std::shared_ptr<const TileRecords> intern(std::shared_ptr<const TileRecords> records, bool wkt_flag);
+    // How many distinct records are held.
+    std::size_t size() const;
+
+private:
+    struct Entry {
+        std::shared_ptr<const TileRecords> records;
+        bool wkt_flag = false;
+    };
+    mutable std::mutex mutex_;
+    std::unordered_multimap<std::size_t, Entry> entries_;  // by a hash of the VLRs and EVLRs
+};
+
 struct TileOptions {
     bool chunk_table = true;  // read (and validate) the LAZ chunk table
+    SharedRecords* shared_records = nullptr;  // when set, the tile's records are shared through it
 };
 
 // Reads the tile's metadata; throws lidarscout::Error (file, offset, cause) on bad input.
