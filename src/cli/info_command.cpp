@@ -105,15 +105,15 @@ void print_laz_text(const dataset::Tile& t) {
     std::printf("  LAZ: compressor %u (%s), chunk size %s, items %s\n", z.compressor,
                 z.compressor < 4 ? kCompressors[z.compressor] : "?",
                 z.variable_chunks() ? "variable" : thousands(z.chunk_size).c_str(), items.c_str());
-    if (t.chunks()) std::printf("  chunks: %s\n", thousands(t.chunks()->chunks.size()).c_str());
+    if (t.chunks()) std::printf("  chunks: %s\n", thousands(t.chunks()->size()).c_str());
 }
 
 void print_chunks_text(const FileReport& r) {
     const auto& t = *r.tile;
     if (t.chunks()) {
-        std::printf("  chunk table (%s entries):\n", thousands(t.chunks()->chunks.size()).c_str());
-        for (std::size_t i = 0; i < t.chunks()->chunks.size(); ++i) {
-            const auto& c = t.chunks()->chunks[i];
+        std::printf("  chunk table (%s entries):\n", thousands(t.chunks()->size()).c_str());
+        for (std::size_t i = 0; i < t.chunks()->size(); ++i) {
+            const auto& c = (*t.chunks())[i];
             std::printf("    %6zu  first %12llu  points %8llu  offset %12llu  bytes %10llu\n", i,
                         (unsigned long long)c.first_point, (unsigned long long)c.point_count,
                         (unsigned long long)c.byte_offset, (unsigned long long)c.byte_size);

@@ -52,7 +52,7 @@ json laz_json(const dataset::Tile& t) {
             {"chunk_size", laz.chunk_size},
             {"variable_chunks", laz.variable_chunks()},
             {"items", items},
-            {"chunk_count", t.chunks() ? json(t.chunks()->chunks.size()) : json(nullptr)}};
+            {"chunk_count", t.chunks() ? json(t.chunks()->size()) : json(nullptr)}};
 }
 
 json copc_json(const dataset::Tile& t) {
@@ -123,7 +123,7 @@ json tile_to_json(const dataset::Tile& t) {
 json chunks_to_json(const dataset::Tile& t) {
     json out = json::array();
     if (!t.chunks()) return out;
-    for (const auto& c : t.chunks()->chunks) {
+    for (const auto& c : *t.chunks()) {
         out.push_back({{"first_point", c.first_point}, {"point_count", c.point_count}, {"byte_offset", c.byte_offset},
                        {"byte_size", c.byte_size}});
     }

@@ -50,7 +50,7 @@ public:
 
     void add(const TileFile& f) {
         if (!seen_.insert(&f).second) return;
-        bytes += sizeof(TileFile) + heap(f.path) + heap(f.warnings) + (f.chunks ? buffer(f.chunks->chunks) : 0);
+        bytes += sizeof(TileFile) + heap(f.path) + heap(f.warnings) + (f.chunks ? f.chunks->heap_bytes() : 0);
         if (f.records && seen_.insert(f.records.get()).second) bytes += sizeof(TileRecords) + heap(*f.records);
     }
 

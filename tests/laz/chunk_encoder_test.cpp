@@ -124,7 +124,7 @@ TEST_P(EncodePairs, ChunksAndTableAreByteIdentical) {
     EXPECT_EQ(laz.chunk_size, laz_tile.laz()->chunk_size);
 
     const auto records = las_records(las_file, las_tile);
-    const auto& stored_chunks = laz_tile.chunks().value().chunks;
+    const auto& stored_chunks = laz_tile.chunks().value().chunks();
     const Encoded ours = encode_in_chunks(laz, records, pair.chunk_size);
     ASSERT_EQ(ours.chunks.size(), stored_chunks.size());
     std::size_t identical = 0;
@@ -207,7 +207,7 @@ TEST(ChunkEncoder, SurveyTilesRoundTripAndReencodeIdentically) {
             if (entry.path().extension() != ".laz") continue;
             const auto file = io::File::open(entry.path().string());
             const auto tile = dataset::read_tile(file);
-            const auto& all = tile.chunks().value().chunks;
+            const auto& all = tile.chunks().value().chunks();
             const std::size_t rl = tile.header.record_length;
             for (std::size_t i : {std::size_t{0}, all.size() / 2, all.size() - 1}) {
                 const Chunk& c = all[i];
@@ -389,7 +389,7 @@ std::vector<Chunk> write_and_read_table(const std::vector<Chunk>& chunks, std::u
         out.write(reinterpret_cast<const char*>(table.data()), static_cast<std::streamsize>(table.size()));
     }
     const auto f = io::File::open(path.string());
-    auto read = read_chunk_table(f, header, laz).chunks;
+    auto read = read_chunk_table(f, header, laz).chunks();
     fs::remove(path);
     return read;
 }

@@ -135,7 +135,7 @@ TEST_F(LasWriter, LazChunksAndOwnLaszipRecord) {
     EXPECT_EQ(tile.laz()->compressor, 3);
     EXPECT_EQ(tile.laz()->chunk_size, 1000u);
     EXPECT_EQ(tile.vlrs().size(), 2u);
-    EXPECT_EQ(tile.chunks()->chunks.size(), 3u);
+    EXPECT_EQ(tile.chunks()->size(), 3u);
     EXPECT_EQ(read_back(out("a.laz")), recs);
 }
 

@@ -84,7 +84,7 @@ TEST(LayeredEncode, PairsAreByteIdenticalChunkByChunk) {
         ASSERT_EQ(laz.compressor, 3);
         ASSERT_EQ(laz.items.size(), laz_tile.laz()->items.size());
         const auto records = las_records(las_file, las_tile);
-        const auto& stored_chunks = laz_tile.chunks().value().chunks;
+        const auto& stored_chunks = laz_tile.chunks().value().chunks();
         const Encoded ours = encode_in_chunks(laz, records, pair.chunk_size);
         ASSERT_EQ(ours.chunks.size(), stored_chunks.size());
         chunks += ours.chunks.size();
@@ -131,7 +131,7 @@ TEST(LayeredEncode, SurveyTileAsFormat7RoundTrips) {
     const fs::path path = test::surveys_dir() / "ky-red-river-gorge" / "N105E348.laz";
     const auto file = io::File::open(path.string());
     const auto tile = dataset::read_tile(file);
-    const auto& chunks = tile.chunks().value().chunks;
+    const auto& chunks = tile.chunks().value().chunks();
     const std::size_t in_rl = tile.header.record_length;
     // The first few chunks (about 200,000 points) are plenty.
     const std::size_t take = std::min<std::size_t>(chunks.size(), 4);

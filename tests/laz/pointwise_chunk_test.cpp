@@ -47,7 +47,7 @@ LoadedFile load(const std::string& path) {
         const std::uint64_t start = tile.header.offset_to_point_data;
         out.streams.push_back({file.read_vector(start, end - start), out.point_count});
     } else {
-        for (const auto& c : tile.chunks().value().chunks) {
+        for (const auto& c : tile.chunks().value()) {
             out.streams.push_back({file.read_vector(c.byte_offset, c.byte_size), c.point_count});
         }
     }

@@ -69,10 +69,10 @@ TEST_F(TileWriter, LazChunksEqualReferenceEncoder) {
     auto mine = io::File::open(out("a.laz"));
     auto theirs = io::File::open(ref);
     auto a = dataset::read_tile(mine), b = dataset::read_tile(theirs);
-    ASSERT_EQ(a.chunks()->chunks.size(), b.chunks()->chunks.size());
-    for (std::size_t i = 0; i < a.chunks()->chunks.size(); ++i) {
-        const auto& ca = a.chunks()->chunks[i];
-        const auto& cb = b.chunks()->chunks[i];
+    ASSERT_EQ(a.chunks()->size(), b.chunks()->size());
+    for (std::size_t i = 0; i < a.chunks()->size(); ++i) {
+        const auto& ca = (*a.chunks())[i];
+        const auto& cb = (*b.chunks())[i];
         ASSERT_EQ(ca.byte_size, cb.byte_size);
         EXPECT_TRUE(mine.read_vector(ca.byte_offset, ca.byte_size) == theirs.read_vector(cb.byte_offset, cb.byte_size));
     }
@@ -87,7 +87,7 @@ TEST_F(TileWriter, VariableChunksAndSmallChunks) {
     EXPECT_EQ(r.chunks, 16u);  // ceil(110000 / 7000)
     auto tile = dataset::read_tile(io::File::open(out("v.laz")));
     EXPECT_TRUE(tile.laz()->variable_chunks());
-    EXPECT_EQ(tile.chunks()->chunks.back().point_count, 110000u - 15 * 7000u);
+    EXPECT_EQ(tile.chunks()->back().point_count, 110000u - 15 * 7000u);
     EXPECT_EQ(checksum(out("v.laz")), checksum(laz));
 }
 

@@ -82,7 +82,7 @@ TEST_F(TerrainGenerator, TilesManifestAndHeaders) {
         ASSERT_TRUE(tile.laz());
         EXPECT_EQ(tile.laz()->compressor, 3);
         EXPECT_EQ(tile.laz()->chunk_size, 50'000u);
-        EXPECT_EQ(tile.chunks()->chunks.size(), (t.points + 49'999) / 50'000);
+        EXPECT_EQ(tile.chunks()->size(), (t.points + 49'999) / 50'000);
         EXPECT_EQ(tile.crs().epsg, 25832);
         EXPECT_EQ(tile.crs().vertical_epsg, 7837);
         EXPECT_EQ(tile.crs().horizontal_unit, las::LinearUnit::Metre);
@@ -175,7 +175,7 @@ TEST_F(TerrainGenerator, ChunkPointsSpreadOverTheTile) {
         auto file = io::File::open(t.path);
         const auto tile = dataset::read_tile(file);
         const auto cps = dataset::read_chunk_points(file, tile);
-        ASSERT_EQ(cps.size(), tile.chunks()->chunks.size());
+        ASSERT_EQ(cps.size(), tile.chunks()->size());
         double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
         std::set<int> strips;
         for (const auto& c : cps) {
