@@ -1,15 +1,16 @@
 // open_dataset: expand the paths (folders, tile lists, virtual replica manifests), read every
-// tile's metadata on an I/O thread pool, convert
-// bounds to metres, and summarise what the user should know (skipped files, CRS mix).
+// tile's metadata on an I/O thread pool (a virtual replica's sources once each, alike records
+// shared: dataset/tile.hpp), convert bounds to metres, and summarise what the user should know
+// (skipped files, CRS mix).
 #include "dataset/dataset.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
-#include <future>
 #include <optional>
 
 #include "core/error.hpp"
@@ -115,9 +116,9 @@ public:
     // The tile of `source` (shifted when virtual); on failure, nullopt and `error` set.
     std::optional<Tile> read(const TileSource& source, std::string& error) {
         if (!source.shift) return read_file(source.path, error);
-        const Result& read = source_read(source.path);
-        error = read.error;
-        std::optional<Tile> tile = read.tile;
+        const Result& shared = source_read(source.path);
+        error = shared.error;
+        std::optional<Tile> tile = shared.tile;
         if (tile) shift_tile(*tile, *source.shift);
         return tile;
     }
