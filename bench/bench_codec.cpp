@@ -39,16 +39,16 @@ double median_rate(int runs, std::uint64_t items, Fn&& fn) {
 void bench_file(const std::string& path, int runs, const std::string& only) {
     auto file = io::File::open(path);
     auto tile = dataset::read_tile(file);
-    if (!tile.laz) {
+    if (!tile.laz()) {
         fmt::print("{}: not a LAZ file, skipped\n", path);
         return;
     }
-    laz::LazLayout layout{tile.header, *tile.laz,
-                          laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)};
+    laz::LazLayout layout{tile.header, *tile.laz(),
+                          laz::decode_units(tile.header, *tile.laz(), *tile.chunks(), tile.file_size())};
     const std::uint64_t n = tile.header.point_count;
     std::vector<std::uint8_t> records(n * tile.header.record_length);
     fmt::print("{}: {} points, format {}, compressor {}, {} chunks\n", path, n, tile.header.point_format,
-               tile.laz->compressor, layout.units.size());
+               tile.laz()->compressor, layout.units.size());
     const unsigned all = std::max(1u, std::thread::hardware_concurrency());
     struct Mode {
         const char* name;
@@ -72,7 +72,7 @@ void bench_file(const std::string& path, int runs, const std::string& only) {
             pool.for_each(layout.units.size(), [&](std::size_t k) {
                 const auto& c = layout.units[k];
                 encoded[k].clear();
-                laz::encode_chunk(*tile.laz,
+                laz::encode_chunk(*tile.laz(),
                                   std::span(records).subspan(c.first_point * tile.header.record_length,
                                                              c.point_count * tile.header.record_length),
                                   c.point_count, encoded[k]);

@@ -91,10 +91,10 @@ double random_read_rate(const dataset::Dataset& ds, bool direct, std::size_t cou
     std::vector<std::pair<int, std::uint64_t>> sectors;
     std::mt19937_64 rng(42);
     for (const auto& t : ds.tiles) {
-        const int fd = ::open(t.tile.path.c_str(), O_RDONLY | (direct ? O_DIRECT : 0));
+        const int fd = ::open(t.tile.path().c_str(), O_RDONLY | (direct ? O_DIRECT : 0));
         if (fd < 0) continue;
         fds.push_back(fd);
-        const std::uint64_t n = std::max<std::uint64_t>(1, t.tile.file_size / 4096);
+        const std::uint64_t n = std::max<std::uint64_t>(1, t.tile.file_size() / 4096);
         const std::size_t per_file = direct ? 64 : 50'000 / ds.tiles.size() + 1;
         for (std::size_t i = 0; i < per_file; ++i) sectors.emplace_back(fd, (rng() % n) * 4096);
     }

@@ -8,7 +8,9 @@
 // dataset down to 200 m over its diagonal) with full-resolution streaming on, drawing frames
 // back to back at 1280 x 720 as the viewer does while the scheduler loads. Prints frame times
 // (median, 95th percentile, worst), the longest wait for the scheduler (taking the camera and
-// the snapshot: what loading could stall), frames over 100 ms, and memory against the budget.
+// the snapshot: what loading could stall), frames over 100 ms, and memory against the budget, with
+// the resident size before the scheduler and the bytes the dataset's metadata holds per tile
+// (dataset/metadata.hpp).
 //
 // --converge: how fast the picture converges to the real points. Three fixed cameras (the whole
 // dataset from above; a medium view about 2 km wide, or the dataset's width when smaller, looking
@@ -65,6 +67,7 @@
 #include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "dataset/metadata.hpp"
 #include "render/image_compare.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/flight_path.hpp"
@@ -247,6 +250,8 @@ int flight(const Options& o, const dataset::Dataset& ds) {
                percentile(r.snapshot_ms, 1.0), over_100ms(r.camera_ms) + over_100ms(r.snapshot_ms));
     fmt::print("memory: peak RSS {} MB ({} MB before the scheduler), scheduler peak {} MB of {} MB\n",
                r.peak_rss >> 20, r.rss_before >> 20, st.peak_bytes_used >> 20, st.memory_budget >> 20);
+    const std::uint64_t metadata = dataset::metadata_bytes(ds);
+    fmt::print("dataset metadata: {} MB counted, {} bytes per tile\n", metadata >> 20, metadata / ds.tiles.size());
     fmt::print("at the end: {} of {} tiles' chunk points, {} linear + {} CNN heightmaps, {} full-res tiles resident "
                "({} points), {} released\n",
                st.tiles_loaded.done, st.tiles_loaded.total, st.heightmaps_linear, st.heightmaps_cnn, st.full_res_tiles,
@@ -260,15 +265,17 @@ int scaling(const Options& o) {
     fmt::print("flight {:.0f} s at 1280x720, CNN {}, budget {} MB, {} render threads\n", o.flight_s,
                o.cnn ? "on" : "off", o.memory_mb, pool_threads(o));
     fmt::print("| tiles | frames | median ms | x first | p95 ms | worst ms | frames > 100 ms | set_camera median / "
-               "worst ms | snapshot median / worst ms | RSS before the scheduler MB | peak RSS MB | tiles' chunk "
-               "points in | linear heightmaps | CNN heightmaps | full-res tiles |\n");
-    fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+               "worst ms | snapshot median / worst ms | RSS before the scheduler MB | metadata bytes per tile | peak "
+               "RSS MB | tiles' chunk points in | linear heightmaps | CNN heightmaps | full-res tiles |\n");
+    fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     double first = 0;
     for (const auto& path : o.paths) {
         FlightResult r;
+        std::uint64_t metadata = 0;
         {
             const auto ds = dataset::open_dataset({path});
             if (ds.tiles.empty()) throw std::runtime_error("no readable tiles in " + path);
+            metadata = dataset::metadata_bytes(ds) / ds.tiles.size();
             r = fly(o, ds);
         }
         trim_heap();  // the next dataset's "before" starts from what this one gave back
@@ -276,11 +283,11 @@ int scaling(const Options& o) {
         if (first == 0) first = median;
         const auto& st = r.stats;
         fmt::print("| {} | {} | {:.1f} | {:.2f} | {:.1f} | {:.1f} | {} | {:.3f} / {:.1f} | {:.3f} / {:.1f} | {} | {} "
-                   "| {} of {} | {} | {} | {} |\n",
+                   "| {} | {} of {} | {} | {} | {} |\n",
                    r.tiles, r.frame_ms.size(), median, median / first, percentile(r.frame_ms, 0.95),
                    percentile(r.frame_ms, 1.0), over_100ms(r.frame_ms), percentile(r.camera_ms, 0.5),
                    percentile(r.camera_ms, 1.0), percentile(r.snapshot_ms, 0.5), percentile(r.snapshot_ms, 1.0),
-                   r.rss_before >> 20, r.peak_rss >> 20, st.tiles_loaded.done, st.tiles_loaded.total,
+                   r.rss_before >> 20, metadata, r.peak_rss >> 20, st.tiles_loaded.done, st.tiles_loaded.total,
                    st.heightmaps_linear, st.heightmaps_cnn, st.full_res_tiles);
         std::fflush(stdout);
     }

@@ -92,7 +92,7 @@ inline std::vector<std::array<double, 3>> read_points_back(const dataset::Datase
     std::vector<std::array<double, 3>> out;
     ThreadPool pool(1);
     const auto& t = ds.tiles.at(0);
-    const auto file = io::File::open(t.tile.path);
+    const auto file = io::File::open(t.tile.path());
     const auto& f = las::point_format_info(t.tile.header.point_format);
     dataset::for_each_record_batch(file, t.tile, pool, [&](std::uint64_t, std::span<const std::uint8_t> records) {
         for (std::size_t k = 0; k + t.tile.header.record_length <= records.size(); k += t.tile.header.record_length) {

@@ -95,7 +95,7 @@ std::string crs_text(const las::Crs& c) {
 }
 
 void print_laz_text(const dataset::Tile& t) {
-    const auto& z = *t.laz;
+    const auto& z = *t.laz();
     static const char* kCompressors[] = {"none", "point-wise", "point-wise chunked", "layered chunked"};
     std::string items;
     for (const auto& it : z.items) {
@@ -105,15 +105,15 @@ void print_laz_text(const dataset::Tile& t) {
     std::printf("  LAZ: compressor %u (%s), chunk size %s, items %s\n", z.compressor,
                 z.compressor < 4 ? kCompressors[z.compressor] : "?",
                 z.variable_chunks() ? "variable" : thousands(z.chunk_size).c_str(), items.c_str());
-    if (t.chunks) std::printf("  chunks: %s\n", thousands(t.chunks->chunks.size()).c_str());
+    if (t.chunks()) std::printf("  chunks: %s\n", thousands(t.chunks()->size()).c_str());
 }
 
 void print_chunks_text(const FileReport& r) {
     const auto& t = *r.tile;
-    if (t.chunks) {
-        std::printf("  chunk table (%s entries):\n", thousands(t.chunks->chunks.size()).c_str());
-        for (std::size_t i = 0; i < t.chunks->chunks.size(); ++i) {
-            const auto& c = t.chunks->chunks[i];
+    if (t.chunks()) {
+        std::printf("  chunk table (%s entries):\n", thousands(t.chunks()->size()).c_str());
+        for (std::size_t i = 0; i < t.chunks()->size(); ++i) {
+            const auto& c = (*t.chunks())[i];
             std::printf("    %6zu  first %12llu  points %8llu  offset %12llu  bytes %10llu\n", i,
                         (unsigned long long)c.first_point, (unsigned long long)c.point_count,
                         (unsigned long long)c.byte_offset, (unsigned long long)c.byte_size);
@@ -134,29 +134,29 @@ void print_text(const FileReport& r, bool chunks) {
     std::printf("%s\n", display_text(r.path).c_str());
     std::printf("  LAS %s, point format %u (%u bytes/record), %s points, %s, %s bytes\n", h.version_string().c_str(),
                 h.point_format, h.record_length, thousands(h.point_count).c_str(),
-                t.compressed() ? "LAZ" : "uncompressed", thousands(t.file_size).c_str());
+                t.compressed() ? "LAZ" : "uncompressed", thousands(t.file_size()).c_str());
     std::printf("  software '%s', system '%s', created day %u of %u\n", display_text(h.generating_software).c_str(),
                 display_text(h.system_identifier).c_str(), h.creation_day, h.creation_year);
     std::printf("  scale %g %g %g, offset %.3f %.3f %.3f\n", h.scale[0], h.scale[1], h.scale[2], h.offset[0],
                 h.offset[1], h.offset[2]);
     std::printf("  bounds min %.3f %.3f %.3f, max %.3f %.3f %.3f\n", h.min[0], h.min[1], h.min[2], h.max[0], h.max[1],
                 h.max[2]);
-    for (const auto& w : t.warnings) std::printf("  %s: %s\n", level_name(w.level), display_text(w.message).c_str());
-    std::printf("  CRS: %s\n", display_text(crs_text(t.crs)).c_str());
-    for (const auto& w : t.crs.warnings) {
+    for (const auto& w : t.warnings()) std::printf("  %s: %s\n", level_name(w.level), display_text(w.message).c_str());
+    std::printf("  CRS: %s\n", display_text(crs_text(t.crs())).c_str());
+    for (const auto& w : t.crs().warnings) {
         std::printf("  CRS %s: %s\n", level_name(w.level), display_text(w.message).c_str());
     }
     if (const auto ll = tile_lonlat_bounds(t)) {
         std::printf("  lon/lat: %.6f .. %.6f, %.6f .. %.6f (WGS 84)\n", ll->west, ll->east, ll->south, ll->north);
     }
-    for (const auto* list : {&t.vlrs, &t.evlrs}) {
+    for (const auto* list : {&t.vlrs(), &t.evlrs()}) {
         for (const auto& v : *list) {
             std::printf("  %s '%s' %u: %s bytes%s%s\n", v.extended ? "EVLR" : "VLR", display_text(v.user_id).c_str(),
                         v.record_id, thousands(v.data_size).c_str(), v.description.empty() ? "" : ", ",
                         display_text(v.description).c_str());
         }
     }
-    if (t.laz) print_laz_text(t);
+    if (t.laz()) print_laz_text(t);
     if (t.copc) std::printf("  COPC: halfsize %g, spacing %g\n", t.copc->halfsize, t.copc->spacing);
     std::printf("  chunk points: %s\n", thousands(r.chunk_point_count).c_str());
     if (!r.points_sha256.empty()) std::printf("  points_sha256: %s\n", r.points_sha256.c_str());

@@ -38,20 +38,21 @@ json crs_json(const las::Crs& crs) {
 }
 
 json laz_json(const dataset::Tile& t) {
-    if (!t.laz) return nullptr;
+    if (!t.laz()) return nullptr;
+    const las::LaszipVlr& laz = *t.laz();
     json items = json::array();
-    for (const auto& it : t.laz->items) {
+    for (const auto& it : laz.items) {
         items.push_back(
             {{"type", it.type}, {"name", las::item_type_name(it.type)}, {"size", it.size}, {"version", it.version}});
     }
-    return {{"compressor", t.laz->compressor},
-            {"coder", t.laz->coder},
-            {"laszip_version", std::to_string(t.laz->version_major) + "." + std::to_string(t.laz->version_minor) + "r" +
-                                   std::to_string(t.laz->version_revision)},
-            {"chunk_size", t.laz->chunk_size},
-            {"variable_chunks", t.laz->variable_chunks()},
+    return {{"compressor", laz.compressor},
+            {"coder", laz.coder},
+            {"laszip_version", std::to_string(laz.version_major) + "." + std::to_string(laz.version_minor) + "r" +
+                                   std::to_string(laz.version_revision)},
+            {"chunk_size", laz.chunk_size},
+            {"variable_chunks", laz.variable_chunks()},
             {"items", items},
-            {"chunk_count", t.chunks ? json(t.chunks->chunks.size()) : json(nullptr)}};
+            {"chunk_count", t.chunks() ? json(t.chunks()->size()) : json(nullptr)}};
 }
 
 json copc_json(const dataset::Tile& t) {
@@ -91,8 +92,8 @@ void make_text_displayable(json& j) {
 
 json tile_to_json(const dataset::Tile& t) {
     const auto& h = t.header;
-    json j = {{"path", t.path},
-            {"file_size", t.file_size},
+    json j = {{"path", t.path()},
+            {"file_size", t.file_size()},
             {"version", h.version_string()},
             {"header_size", h.header_size},
             {"offset_to_point_data", h.offset_to_point_data},
@@ -106,14 +107,14 @@ json tile_to_json(const dataset::Tile& t) {
             {"generating_software", h.generating_software},
             {"creation", {{"day", h.creation_day}, {"year", h.creation_year}}},
             {"global_encoding", h.global_encoding},
-            {"vlrs", vlrs_json(t.vlrs)},
-            {"evlrs", vlrs_json(t.evlrs)},
-            {"crs", crs_json(t.crs)},
+            {"vlrs", vlrs_json(t.vlrs())},
+            {"evlrs", vlrs_json(t.evlrs())},
+            {"crs", crs_json(t.crs())},
             {"lonlat_bounds", lonlat_json(tile_lonlat_bounds(t))},
             {"laz", laz_json(t)},
             {"copc", copc_json(t)},
-            {"warnings", t.warnings.messages()},
-            {"diagnostics", diagnostics_json(t.warnings)},
+            {"warnings", t.warnings().messages()},
+            {"diagnostics", diagnostics_json(t.warnings())},
             {"error", nullptr}};
     make_text_displayable(j);  // strings from the file may be Latin-1 or hold control bytes
     return j;
@@ -121,8 +122,8 @@ json tile_to_json(const dataset::Tile& t) {
 
 json chunks_to_json(const dataset::Tile& t) {
     json out = json::array();
-    if (!t.chunks) return out;
-    for (const auto& c : t.chunks->chunks) {
+    if (!t.chunks()) return out;
+    for (const auto& c : *t.chunks()) {
         out.push_back({{"first_point", c.first_point}, {"point_count", c.point_count}, {"byte_offset", c.byte_offset},
                        {"byte_size", c.byte_size}});
     }
@@ -157,7 +158,7 @@ json chunk_points_to_json(const std::vector<dataset::ChunkPoint>& points, const 
 }
 
 std::optional<geo::LonLatBounds> tile_lonlat_bounds(const dataset::Tile& tile) {
-    const std::string def = geo::crs_definition(tile.crs);
+    const std::string def = geo::crs_definition(tile.crs());
     if (def.empty() || tile.header.point_count == 0) return std::nullopt;
     const auto& h = tile.header;
     try {

@@ -56,6 +56,7 @@ public:
     const_iterator begin() const { return items_.begin(); }
     const_iterator end() const { return items_.end(); }
     void clear() { items_.clear(); }
+    bool operator==(const Diagnostics&) const = default;
 
 private:
     std::vector<Diagnostic> items_;

@@ -112,7 +112,7 @@ public:
         if (!error) {
             point = convert(tile, data, r.offset);
         } else {
-            fail(error->file.empty() ? tile.tile.path : error->file, error->offset.value_or(r.offset), error->cause);
+            fail(error->file.empty() ? tile.tile.path() : error->file, error->offset.value_or(r.offset), error->cause);
         }
         std::vector<PendingPoint> finished;
         {
@@ -163,7 +163,7 @@ private:
             return false;
         }
         try {
-            t.target = io::ReadTarget::open(tile.tile.path, direct_);
+            t.target = io::ReadTarget::open(tile.tile.path(), direct_);
         } catch (const Error& e) {
             record_error(ErrorRecord::of(e));
             loader_.failed_ += t.locations.size();
@@ -180,7 +180,7 @@ private:
         const auto& h = tile.tile.header;
         const las::Point p = las::decode_point(data, las::point_format_info(h.point_format), h);
         if (!inside_bounds(tile, p)) {
-            fail(tile.tile.path, offset,
+            fail(tile.tile.path(), offset,
                  "chunk point lies outside the header bounds (corrupt chunk table?); not drawn");
             return std::nullopt;
         }
@@ -188,7 +188,7 @@ private:
         try {
             tile.place(x, y, z);
         } catch (const Error& e) {
-            fail(tile.tile.path, offset, e.cause());
+            fail(tile.tile.path(), offset, e.cause());
             return std::nullopt;
         }
         return PendingPoint{x, y, z, p.rgb[0], p.rgb[1], p.rgb[2], p.intensity, p.classification};
@@ -215,7 +215,7 @@ private:
                 if (cells.empty() || cells.back() != cell) cells.push_back(cell);
                 ++loader_.loaded_;
             } catch (const Error& e) {
-                fail(ds_.tiles[id].tile.path, 0, "chunk point cannot be placed on the patch grid: " + e.cause());
+                fail(ds_.tiles[id].tile.path(), 0, "chunk point cannot be placed on the patch grid: " + e.cause());
             }
         }
         std::sort(cells.begin(), cells.end());

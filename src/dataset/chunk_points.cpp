@@ -11,8 +11,8 @@ namespace lidarscout::dataset {
 std::vector<ChunkPointLocation> chunk_point_locations(const Tile& tile, std::uint64_t las_stride) {
     std::vector<ChunkPointLocation> out;
     if (tile.compressed()) {
-        if (!tile.chunks) throw Error(tile.path, std::nullopt, "chunk table not read (internal error)");
-        const auto units = laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size);
+        if (!tile.chunks()) throw Error(tile.path(), std::nullopt, "chunk table not read (internal error)");
+        const auto units = laz::decode_units(tile.header, *tile.laz(), *tile.chunks(), tile.file_size());
         out.reserve(units.size());
         for (const auto& c : units) {
             if (c.point_count > 0) out.push_back({c.first_point, c.byte_offset});
@@ -40,7 +40,7 @@ std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile
 }
 
 std::uint64_t chunk_point_count(const Tile& tile, std::uint64_t las_stride) {
-    if (tile.compressed() && !tile.chunks) return 0;
+    if (tile.compressed() && !tile.chunks()) return 0;
     if (!tile.compressed() && las_stride > 0) return (tile.header.point_count + las_stride - 1) / las_stride;
     return chunk_point_locations(tile, las_stride).size();
 }

@@ -1,17 +1,20 @@
 // open_dataset: expand the paths (folders, tile lists, virtual replica manifests), read every
-// tile's metadata on an I/O thread pool, convert
-// bounds to metres, and summarise what the user should know (skipped files, CRS mix).
+// tile's metadata on an I/O thread pool (a virtual replica's sources once each, alike records
+// shared: dataset/tile.hpp), convert bounds to metres, and summarise what the user should know
+// (skipped files, CRS mix).
 #include "dataset/dataset.hpp"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
@@ -65,13 +68,14 @@ std::string crs_key(const las::Crs& crs) {
 }  // namespace
 
 DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
-    if (tile.crs.geographic) {
-        throw Error(tile.path, std::nullopt,
+    const las::Crs& crs = tile.crs();
+    if (crs.geographic) {
+        throw Error(tile.path(), std::nullopt,
                     "coordinates are geographic (degrees); patches need a projected CRS in metres or feet");
     }
     DatasetTile t;
-    t.xy_to_metres = usable_factor(tile.crs.horizontal_to_metres) ? tile.crs.horizontal_to_metres : 1.0;
-    const double z = tile.crs.z_to_metres();
+    t.xy_to_metres = usable_factor(crs.horizontal_to_metres) ? crs.horizontal_to_metres : 1.0;
+    const double z = crs.z_to_metres();
     t.z_to_metres = usable_factor(z) ? z : t.xy_to_metres;
     const auto& h = tile.header;
     t.bounds_m.min_x = h.min[0] * t.xy_to_metres;
@@ -81,7 +85,7 @@ DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
     t.bounds_m.min_z = h.min[2] * t.z_to_metres;
     t.bounds_m.max_z = h.max[2] * t.z_to_metres;
     if (h.point_count > 0 && t.bounds_m.empty()) {
-        throw Error(tile.path, std::nullopt, "header bounds are not a valid box (min greater than max, or NaN)");
+        throw Error(tile.path(), std::nullopt, "header bounds are not a valid box (min greater than max, or NaN)");
     }
     t.chunk_points = chunk_point_count(tile, las_stride);
     t.tile = std::move(tile);
@@ -90,13 +94,12 @@ DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
 
 namespace {
 
-std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, std::string& error) {
-    const std::string& path = source.path;
+// Runs `read`; when it throws Error (or runs out of memory), returns nullopt and sets `error` to one
+// line naming the file and the cause.
+template <typename Read>
+auto reading(const std::string& path, std::string& error, Read&& read) -> std::optional<decltype(read())> {
     try {
-        auto file = io::File::open(path);
-        Tile tile = read_tile(file);
-        if (source.shift) shift_tile(tile, *source.shift);
-        return make_dataset_tile(std::move(tile), las_stride);
+        return read();
     } catch (const Error& e) {
         error = e.file().empty() ? io::display_path(path) + ": " + e.what() : e.what();
     } catch (const std::bad_alloc&) {
@@ -105,15 +108,72 @@ std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_
     return std::nullopt;
 }
 
+// The reads of one open_dataset: a plain file's tile as it comes; a virtual replica's source once
+// for all the tiles made from it, which then share its TileFile (the first reader thread to ask
+// reads it, the others wait for its result); alike records shared between all (SharedRecords).
+class TileReads {
+public:
+    // The tile of `source` (shifted when virtual); on failure, nullopt and `error` set.
+    std::optional<Tile> read(const TileSource& source, std::string& error) {
+        if (!source.shift) return read_file(source.path, error);
+        const Result& shared = source_read(source.path);
+        error = shared.error;
+        std::optional<Tile> tile = shared.tile;
+        if (tile) shift_tile(*tile, *source.shift);
+        return tile;
+    }
+
+private:
+    struct Result {
+        std::optional<Tile> tile;
+        std::string error;
+    };
+
+    std::optional<Tile> read_file(const std::string& path, std::string& error) {
+        TileOptions options;
+        options.shared_records = &records_;
+        return reading(path, error, [&] { return read_tile(io::File::open(path), options); });
+    }
+
+    const Result& source_read(const std::string& path) {
+        std::promise<Result> promise;
+        std::shared_future<Result> result;
+        bool first = false;
+        {
+            std::lock_guard lock(mutex_);
+            auto [it, inserted] = sources_.try_emplace(path);
+            if (inserted) it->second = promise.get_future().share(), first = true;
+            result = it->second;
+        }
+        if (first) {
+            Result r;
+            r.tile = read_file(path, r.error);
+            promise.set_value(std::move(r));
+        }
+        return result.get();  // the value lives in the shared state, which sources_ keeps
+    }
+
+    SharedRecords records_;
+    std::mutex mutex_;
+    std::map<std::string, std::shared_future<Result>> sources_;
+};
+
+std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, TileReads& reads,
+                                    std::string& error) {
+    std::optional<Tile> tile = reads.read(source, error);
+    if (!tile) return std::nullopt;
+    return reading(source.path, error, [&] { return make_dataset_tile(std::move(*tile), las_stride); });
+}
+
 // One warning per compound CRS used by its horizontal part alone (geo::fall_back_to_horizontal),
 // naming its first tile and how many tiles use it.
 void add_fallback_warnings(Dataset& ds) {
     std::map<std::string, std::pair<std::string, std::size_t>> by_message;  // message -> first tile, tiles
     for (const auto& t : ds.tiles) {
-        const std::string message = geo::vertical_fallback_message(t.tile.crs);
+        const std::string message = geo::vertical_fallback_message(t.tile.crs());
         if (message.empty()) continue;
         auto& [first, n] = by_message[message];
-        if (n++ == 0) first = t.tile.path;
+        if (n++ == 0) first = t.tile.path();
     }
     for (const auto& [message, seen] : by_message) {
         const std::string more = seen.second > 1 ? " (and " + std::to_string(seen.second - 1) + " more tiles)" : "";
@@ -127,8 +187,8 @@ void add_crs_warnings(Dataset& ds) {
     std::map<std::string, std::size_t> by_crs;
     std::size_t without_unit = 0;
     for (const auto& t : ds.tiles) {
-        ++by_crs[crs_key(t.tile.crs)];
-        if (!usable_factor(t.tile.crs.horizontal_to_metres)) ++without_unit;
+        ++by_crs[crs_key(t.tile.crs())];
+        if (!usable_factor(t.tile.crs().horizontal_to_metres)) ++without_unit;
     }
     if (without_unit > 0) {
         ds.warnings.warn(std::to_string(without_unit) + " of " + std::to_string(ds.tiles.size()) +
@@ -172,13 +232,13 @@ void choose_frame(Dataset& ds, const std::string& wanted) {
     std::string best;
     std::size_t best_count = 0;
     for (const auto& t : ds.tiles) {
-        const std::string key = crs_key(t.tile.crs);
+        const std::string key = crs_key(t.tile.crs());
         if (key.empty()) continue;
         if (++count[key] > best_count) best_count = count[key], best = key;
     }
     for (const auto& t : ds.tiles) {
-        if (!best.empty() && crs_key(t.tile.crs) == best) {
-            ds.frame = {geo::crs_definition(t.tile.crs), t.xy_to_metres, t.z_to_metres};
+        if (!best.empty() && crs_key(t.tile.crs()) == best) {
+            ds.frame = {geo::crs_definition(t.tile.crs()), t.xy_to_metres, t.z_to_metres};
             return;
         }
     }
@@ -191,7 +251,7 @@ void warn_if_ballpark(const DatasetTile& t, const geo::CrsTransform& transform, 
     const std::string op = transform.ballpark_at(0.5 * (h.min[0] + h.max[0]), 0.5 * (h.min[1] + h.max[1]),
                                                  0.5 * (h.min[2] + h.max[2]));
     if (op.empty()) return;
-    warnings.add({DiagnosticLevel::warning, t.tile.path, std::nullopt,
+    warnings.add({DiagnosticLevel::warning, t.tile.path(), std::nullopt,
                   "PROJ has only a ballpark transformation from " + shorten(transform.source()) + " to " +
                       shorten(transform.target()) + " (" + op + "): the step PROJ calls ballpark applies no datum " +
                       "shift, so the result can be metres off; a datum grid is probably not installed"});
@@ -201,7 +261,7 @@ void warn_if_ballpark(const DatasetTile& t, const geo::CrsTransform& transform, 
 // moves its bounds there. Throws Error when PROJ cannot.
 using TransformCache = std::map<std::string, std::shared_ptr<const geo::CrsTransform>>;
 void reproject(DatasetTile& t, const Frame& frame, TransformCache& cache, Diagnostics& warnings) {
-    const std::string def = geo::crs_definition(t.tile.crs);
+    const std::string def = geo::crs_definition(t.tile.crs());
     if (def.empty() || frame.crs.empty() || def == frame.crs) return;
     auto& transform = cache[def];
     if (!transform) {
@@ -233,16 +293,17 @@ void reproject(DatasetTile& t, const Frame& frame, TransformCache& cache, Diagno
 void place_tiles(Dataset& ds, const DatasetOptions& options) {
     choose_frame(ds, options.crs);
     TransformCache cache;
-    std::vector<DatasetTile> kept;
+    std::size_t kept = 0;  // the tiles kept move down in place (no second vector of 100,000s)
     for (auto& t : ds.tiles) {
         try {
             reproject(t, ds.frame, cache, ds.warnings);
-            kept.push_back(std::move(t));
+            if (&t != &ds.tiles[kept]) ds.tiles[kept] = std::move(t);
+            ++kept;
         } catch (const Error& e) {
-            ds.skipped.push_back({t.tile.path, t.tile.path + ": " + e.what()});
+            ds.skipped.push_back({t.tile.path(), t.tile.path() + ": " + e.what()});
         }
     }
-    ds.tiles = std::move(kept);
+    ds.tiles.erase(ds.tiles.begin() + static_cast<std::ptrdiff_t>(kept), ds.tiles.end());
 }
 
 void summarise(Dataset& ds) {
@@ -276,32 +337,36 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     ds.skipped = std::move(found.errors);
     const std::vector<TileSource>& sources = found.sources;
     const std::size_t n = sources.size();
-    std::vector<std::optional<DatasetTile>> tiles(n);
+    std::vector<DatasetTile> tiles(n);  // a tile not read has no file
     std::vector<std::string> errors(n);
     std::atomic<std::size_t> done{0};
     std::vector<std::string> source_paths;
     source_paths.reserve(n);
     for (const auto& source : sources) source_paths.push_back(source.path);
     io::File::prefetch(source_paths);  // remote tiles: every header request in flight at once
+    source_paths = {};
     ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
     const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
+    TileReads reads;
     pool.for_each(n, [&](std::size_t i) {
         if (cancelled()) return;
-        tiles[i] = read_one(sources[i], options.las_stride, errors[i]);
-        if (tiles[i] && options.tile_read) options.tile_read(*tiles[i]);
+        if (auto tile = read_one(sources[i], options.las_stride, reads, errors[i])) {
+            tiles[i] = std::move(*tile);
+            if (options.tile_read) options.tile_read(tiles[i]);
+        }
         const std::size_t d = done.fetch_add(1) + 1;
         if (options.progress) options.progress(d, n);
     });
     if (cancelled()) throw Error::in_stage("dataset", "opening cancelled");
     for (std::size_t i = 0; i < n; ++i) {
-        if (tiles[i]) {
-            ds.tiles.push_back(std::move(*tiles[i]));
-        } else {
-            ds.skipped.push_back({io::display_path(sources[i].path), errors[i]});
-        }
+        if (!tiles[i].tile.file) ds.skipped.push_back({io::display_path(sources[i].path), errors[i]});
     }
+    std::erase_if(tiles, [](const DatasetTile& t) { return !t.tile.file; });
+    ds.tiles = std::move(tiles);
     place_tiles(ds, options);
     summarise(ds);
+    found = {};
+    trim_heap();  // what the manifest's parse and the reads freed goes back to the system
     return ds;
 }
 

@@ -23,9 +23,9 @@ RecordBatches::RecordBatches(const Tile& tile, std::uint64_t batch_points) : til
         }
         return;
     }
-    if (!tile.chunks) throw Error(tile.path, std::nullopt, "chunk table not read (internal error)");
+    if (!tile.chunks()) throw Error(tile.path(), std::nullopt, "chunk table not read (internal error)");
     layout_ = std::make_unique<laz::LazLayout>(laz::LazLayout{
-        tile.header, *tile.laz, laz::decode_units(tile.header, *tile.laz, *tile.chunks, tile.file_size)});
+        tile.header, *tile.laz(), laz::decode_units(tile.header, *tile.laz(), *tile.chunks(), tile.file_size())});
     const auto& units = layout_->units;
     for (std::size_t first = 0; first < units.size();) {
         Batch b{units[first].first_point, 0, first, first};

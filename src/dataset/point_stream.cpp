@@ -20,7 +20,7 @@ namespace lidarscout::dataset {
 
 bool tile_colour_is_16bit(const Dataset& ds, std::uint32_t tile) {
     const auto& t = ds.tiles.at(tile);
-    const auto samples = read_chunk_points(io::File::open(t.tile.path), t.tile, ds.las_stride);
+    const auto samples = read_chunk_points(io::File::open(t.tile.path()), t.tile, ds.las_stride);
     return colour_is_16bit(samples, [](const ChunkPoint& c) {
         return std::max({c.point.rgb[0], c.point.rgb[1], c.point.rgb[2]});
     });
@@ -34,7 +34,7 @@ constexpr std::size_t kPlacePiece = 1u << 15;  // points placed per pool task
 struct TileReader {
     TileReader(const Dataset& ds, std::uint32_t index, std::uint32_t fields, std::uint64_t batch_points)
         : tile(ds.tiles.at(index)),
-          file(io::File::open(tile.tile.path)),
+          file(io::File::open(tile.tile.path())),
           batches(tile.tile, batch_points),
           format(las::point_format_info(tile.tile.header.point_format)),
           has_rgb(format.rgb_offset >= 0 && (fields & laz::fields::kRgb)),

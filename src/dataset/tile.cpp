@@ -8,9 +8,10 @@
 namespace lidarscout::dataset {
 namespace {
 
-std::optional<las::LaszipVlr> read_laszip(const io::File& file, const Tile& t) {
-    const las::Vlr* v = las::find_vlr(t.vlrs, "laszip encoded", 22204);
-    if (!t.header.compressed) return std::nullopt;  // a stray laszip VLR does not make a LAZ
+std::optional<las::LaszipVlr> read_laszip(const io::File& file, const las::Header& header,
+                                          const std::vector<las::Vlr>& vlrs) {
+    const las::Vlr* v = las::find_vlr(vlrs, "laszip encoded", 22204);
+    if (!header.compressed) return std::nullopt;  // a stray laszip VLR does not make a LAZ
     if (!v) {
         throw Error(file.path(), 104,
                     "the point format has the compression bit set but the file has no laszip VLR");
@@ -19,30 +20,72 @@ std::optional<las::LaszipVlr> read_laszip(const io::File& file, const Tile& t) {
     if (laz.compressor == 0) {
         throw Error(file.path(), v->data_offset, "laszip VLR says compressor 0 (none) in a compressed file");
     }
-    if (laz.record_length() != t.header.record_length) {
+    if (laz.record_length() != header.record_length) {
         throw Error(file.path(), v->data_offset,
                     "laszip items make " + std::to_string(laz.record_length()) + "-byte records but the header says " +
-                        std::to_string(t.header.record_length));
+                        std::to_string(header.record_length));
     }
     return laz;
 }
 
+std::size_t hash_vlrs(const std::vector<las::Vlr>& vlrs, std::size_t seed) {
+    const auto mix = [&seed](std::size_t h) { seed ^= h + 0x9e3779b97f4a7c15ull + (seed << 6) + (seed >> 2); };
+    for (const auto& v : vlrs) {
+        mix(std::hash<std::string>{}(v.user_id));
+        mix(v.record_id);
+        mix(v.header_offset);
+        const auto* bytes = reinterpret_cast<const char*>(v.data.data());
+        mix(std::hash<std::string_view>{}(std::string_view(bytes, v.data.size())));
+    }
+    return seed;
+}
+
 }  // namespace
+
+std::shared_ptr<const TileRecords> SharedRecords::intern(std::shared_ptr<const TileRecords> records, bool wkt_flag) {
+    for (const auto& e : records->evlrs) {
+        if (!e.data_loaded) return records;
+    }
+    const std::size_t hash = hash_vlrs(records->evlrs, hash_vlrs(records->vlrs, wkt_flag));
+    const auto alike = [&](const Entry& e) {
+        const TileRecords& a = *e.records;
+        const TileRecords& b = *records;
+        return e.wkt_flag == wkt_flag && a.vlrs == b.vlrs && a.evlrs == b.evlrs && a.laz == b.laz &&
+               a.crs.warnings == b.crs.warnings;
+    };
+    std::lock_guard lock(mutex_);
+    auto [first, last] = entries_.equal_range(hash);
+    for (auto it = first; it != last; ++it) {
+        if (alike(it->second)) return it->second.records;
+    }
+    entries_.emplace(hash, Entry{records, wkt_flag});
+    return records;
+}
+
+std::size_t SharedRecords::size() const {
+    std::lock_guard lock(mutex_);
+    return entries_.size();
+}
 
 Tile read_tile(const io::File& file, const TileOptions& options) {
     Tile t;
-    t.path = file.path();
-    t.file_size = file.size();
+    auto f = std::make_shared<TileFile>();
+    auto r = std::make_shared<TileRecords>();
+    f->path = file.path();
+    f->file_size = file.size();
     t.header = las::read_header(file);
-    t.vlrs = las::read_vlrs(file, t.header, &t.warnings);
-    t.evlrs = las::read_evlrs(file, t.header);
-    t.crs = las::read_crs(t.vlrs, t.evlrs, file, (t.header.global_encoding & 0x10) != 0);
-    geo::fall_back_to_horizontal(t.crs);
-    t.laz = read_laszip(file, t);
-    t.copc = las::find_copc_info(t.vlrs, file.path());
-    t.warnings.attribute_to(t.path);
-    t.crs.warnings.attribute_to(t.path);
-    if (t.laz && options.chunk_table) t.chunks = laz::read_chunk_table(file, t.header, *t.laz);
+    const bool wkt_flag = (t.header.global_encoding & 0x10) != 0;
+    r->vlrs = las::read_vlrs(file, t.header, &f->warnings);
+    r->evlrs = las::read_evlrs(file, t.header);
+    r->crs = las::read_crs(r->vlrs, r->evlrs, file, wkt_flag);
+    geo::fall_back_to_horizontal(r->crs);
+    r->laz = read_laszip(file, t.header, r->vlrs);
+    t.copc = las::find_copc_info(r->vlrs, file.path());
+    f->warnings.attribute_to(f->path);
+    r->crs.warnings.attribute_to(f->path);
+    if (r->laz && options.chunk_table) f->chunks = laz::read_chunk_table(file, t.header, *r->laz);
+    f->records = options.shared_records ? options.shared_records->intern(std::move(r), wkt_flag) : std::move(r);
+    t.file = std::move(f);
     return t;
 }
 

@@ -19,6 +19,8 @@ struct LazItem {
     std::uint16_t type = 0;
     std::uint16_t size = 0;
     std::uint16_t version = 0;
+
+    bool operator==(const LazItem&) const = default;
 };
 
 struct LaszipVlr {
@@ -40,6 +42,7 @@ struct LaszipVlr {
     bool variable_chunks() const { return chunk_size == kVariableChunkSize || chunk_size == 0; }
     bool chunked() const { return compressor == 2 || compressor == 3; }
     std::uint32_t record_length() const;  // sum of item sizes
+    bool operator==(const LaszipVlr&) const = default;
 };
 
 // Name of an item type ("POINT10", ...), or "UNKNOWN".

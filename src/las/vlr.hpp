@@ -29,6 +29,7 @@ struct Vlr {
     std::vector<std::uint8_t> data;
 
     bool is(const char* user, std::uint16_t id) const { return user_id == user && record_id == id; }
+    bool operator==(const Vlr&) const = default;
 };
 
 // Payloads of EVLRs above this size are not loaded eagerly (waveform data, big hierarchies).

@@ -55,15 +55,13 @@ public:
         : file_(file), header_(header), laz_(laz), variable_(has_variable_chunks(laz)) {}
 
     ChunkTable read() {
-        ChunkTable table;
         const auto where = locate();
-        if (!where) return table;
+        if (!where) return {};
         loc_ = *where;
+        const std::uint32_t count = read_count();
+        ChunkTable table(fit_to_header(read_entries(count)));
         table.table_offset = loc_.table_offset;
         table.offset_from_file_end = loc_.from_file_end;
-        const std::uint32_t count = read_count();
-        const auto entries = read_entries(count);
-        table.chunks = fit_to_header(entries);
         return table;
     }
 
@@ -238,6 +236,51 @@ private:
 };
 
 }  // namespace
+
+ChunkTable::ChunkTable(const std::vector<Chunk>& chunks) {
+    if (chunks.empty()) return;
+    offsets_.reserve(chunks.size() + 1);
+    std::uint64_t next_point = 0;
+    for (const Chunk& c : chunks) {
+        if (c.first_point != next_point || (!offsets_.empty() && c.byte_offset != offsets_.back())) {
+            throw Error("chunk table: chunks that are not back to back (internal error)");
+        }
+        if (!offsets_.empty()) offsets_.pop_back();
+        offsets_.push_back(c.byte_offset);
+        offsets_.push_back(c.byte_offset + c.byte_size);
+        next_point += c.point_count;
+    }
+    total_points_ = next_point;
+    regular_points_ = chunks.front().point_count;
+    const bool regular = regular_points_ > 0 && chunks.back().point_count <= regular_points_ &&
+                         std::all_of(chunks.begin(), chunks.end() - 1,
+                                     [&](const Chunk& c) { return c.point_count == regular_points_; });
+    if (regular) return;
+    regular_points_ = 0;
+    first_points_.reserve(chunks.size() + 1);
+    for (const Chunk& c : chunks) first_points_.push_back(c.first_point);
+    first_points_.push_back(total_points_);
+}
+
+Chunk ChunkTable::operator[](std::size_t i) const {
+    Chunk c;
+    c.byte_offset = offsets_[i];
+    c.byte_size = offsets_[i + 1] - offsets_[i];
+    if (first_points_.empty()) {
+        c.first_point = i * regular_points_;
+        c.point_count = std::min(regular_points_, total_points_ - c.first_point);
+    } else {
+        c.first_point = first_points_[i];
+        c.point_count = first_points_[i + 1] - first_points_[i];
+    }
+    return c;
+}
+
+std::vector<Chunk> ChunkTable::chunks() const { return {begin(), end()}; }
+
+std::size_t ChunkTable::heap_bytes() const {
+    return (offsets_.capacity() + first_points_.capacity()) * sizeof(std::uint64_t);
+}
 
 bool has_variable_chunks(const las::LaszipVlr& laz) { return laz.variable_chunks(); }
 

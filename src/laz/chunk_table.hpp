@@ -7,9 +7,16 @@
 // after that int64. The table is u32 version (0), u32 chunk count, then per chunk an
 // arithmetic-coded point count (only for variable-size chunks) and byte count, each coded
 // relative to the previous chunk's.
+//
+// A dataset holds a table per tile, so it is kept compact: the chunks lie back to back, so their
+// byte offsets say where each ends, and when every chunk but the last holds the same number of
+// points (fixed-size chunks) that number says where each chunk's points begin: 8 bytes a chunk,
+// 16 for variable-size chunks, where 32 would hold each Chunk.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <vector>
 
 namespace lidarscout::io {
@@ -31,10 +38,51 @@ struct Chunk {
     bool operator==(const Chunk&) const = default;
 };
 
-struct ChunkTable {
+class ChunkTable {
+public:
     std::uint64_t table_offset = 0;      // file offset of the table (0: no table)
     bool offset_from_file_end = false;   // the position came from the file's last 8 bytes
-    std::vector<Chunk> chunks;
+
+    ChunkTable() = default;
+    // `chunks` in file order, back to back (each starts where the one before ends), their points
+    // numbered from 0 without a gap; throws lidarscout::Error (an internal error) otherwise.
+    explicit ChunkTable(const std::vector<Chunk>& chunks);
+
+    std::size_t size() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
+    bool empty() const { return size() == 0; }
+    Chunk operator[](std::size_t i) const;
+    Chunk front() const { return (*this)[0]; }
+    Chunk back() const { return (*this)[size() - 1]; }
+    std::vector<Chunk> chunks() const;  // all of them, in file order
+    std::size_t heap_bytes() const;     // what its lists hold
+
+    // The chunks in file order, each made as it is reached.
+    class Iterator {
+    public:
+        using iterator_category = std::input_iterator_tag;
+        using value_type = Chunk;
+        using difference_type = std::ptrdiff_t;
+        using pointer = void;
+        using reference = Chunk;
+
+        Iterator(const ChunkTable& table, std::size_t i) : table_(&table), i_(i) {}
+        Chunk operator*() const { return (*table_)[i_]; }
+        Iterator& operator++() { return ++i_, *this; }
+        Iterator operator++(int) { return Iterator(*table_, i_++); }
+        bool operator==(const Iterator& o) const { return i_ == o.i_; }
+
+    private:
+        const ChunkTable* table_;
+        std::size_t i_;
+    };
+    Iterator begin() const { return {*this, 0}; }
+    Iterator end() const { return {*this, size()}; }
+
+private:
+    std::vector<std::uint64_t> offsets_;       // where each chunk begins, then where the last ends
+    std::vector<std::uint64_t> first_points_;  // each chunk's first point, then the total; empty when regular
+    std::uint64_t regular_points_ = 0;         // when regular: the points of every chunk but the last
+    std::uint64_t total_points_ = 0;
 };
 
 // Whether the table stores a point count per chunk. LASzip treats a chunk size of 0 like the

@@ -13,7 +13,7 @@ namespace lidarscout::laz {
 
 std::vector<Chunk> decode_units(const las::Header& header, const las::LaszipVlr& laz, const ChunkTable& table,
                                 std::uint64_t file_size) {
-    if (laz.compressor != 1) return table.chunks;
+    if (laz.compressor != 1) return table.chunks();
     if (header.point_count == 0) return {};
     const std::uint64_t begin = header.offset_to_point_data;
     std::uint64_t end = file_size;

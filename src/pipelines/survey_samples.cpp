@@ -56,7 +56,7 @@ std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& ds, cons
     const dataset::PatchGrid keys(lattice.origin_x, lattice.origin_y, lattice.spec.patch_m());
     std::set<dataset::CellKey> cells;
     for (const auto& t : ds.tiles) {
-        for (const auto& cp : dataset::read_chunk_points(io::File::open(t.tile.path), t.tile, ds.las_stride)) {
+        for (const auto& cp : dataset::read_chunk_points(io::File::open(t.tile.path()), t.tile, ds.las_stride)) {
             double x = cp.point.x, y = cp.point.y, z = cp.point.z;
             t.place(x, y, z);
             cells.insert(keys.cell_of(x, y));

@@ -54,12 +54,12 @@ void plan_format(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
         plan.notes.push_back("header upgraded to LAS 1.4 for point format " + std::to_string(format));
     }
     if ((out_fmt.wave_offset >= 0 || in_fmt.wave_offset >= 0) && (in.header.global_encoding & 2)) {
-        throw Error(in.path, std::nullopt, "waveform data packets stored inside the file cannot be carried over");
+        throw Error(in.path(), std::nullopt, "waveform data packets stored inside the file cannot be carried over");
     }
 }
 
 void plan_records(OutputPlan& plan, const io::File& file, const Tile& in) {
-    for (const auto& v : in.vlrs) {
+    for (const auto& v : in.vlrs()) {
         if (v.is("laszip encoded", 22204)) continue;
         if (is_copc_record(v)) {
             plan.notes.push_back("COPC info VLR dropped: the output is not a COPC file");
@@ -67,7 +67,7 @@ void plan_records(OutputPlan& plan, const io::File& file, const Tile& in) {
         }
         plan.vlrs.push_back(v);
     }
-    for (const auto& v : in.evlrs) {
+    for (const auto& v : in.evlrs()) {
         if (is_copc_record(v)) {
             plan.notes.push_back("COPC hierarchy EVLR dropped");
             continue;
@@ -89,15 +89,17 @@ void plan_wkt(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
     auto& h = plan.header;
     if (!las::point_format_info(h.point_format).extended || (h.global_encoding & 0x10)) return;
     h.global_encoding |= 0x10;
-    const std::string definition = geo::crs_definition(in.crs);
-    if (definition.empty() || in.crs.source != "geotiff") return;
+    const std::string definition = geo::crs_definition(in.crs());
+    if (definition.empty() || in.crs().source != "geotiff") return;
     std::string wkt;
     try {
         wkt = geo::crs_wkt1(definition);
     } catch (const Error& e) {
         const std::string what = "point format " + std::to_string(h.point_format) + " needs the CRS as WKT: " +
                                  e.what();
-        if (!opt.force) throw Error(in.path, std::nullopt, what + "; nothing written (--force keeps the GeoTIFF keys)");
+        if (!opt.force) {
+            throw Error(in.path(), std::nullopt, what + "; nothing written (--force keeps the GeoTIFF keys)");
+        }
         h.global_encoding &= static_cast<std::uint16_t>(~0x10);
         plan.warnings.push_back(what);
         return;
@@ -112,7 +114,7 @@ void plan_wkt(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
     plan.vlrs.push_back(std::move(v));
     plan.notes.push_back("GeoTIFF keys replaced by the WKT of " + definition + " (LAS 1.4 requires WKT for point " +
                          "format " + std::to_string(h.point_format) + ")");
-    const std::string fallback = geo::vertical_fallback_message(in.crs);
+    const std::string fallback = geo::vertical_fallback_message(in.crs());
     if (!fallback.empty()) plan.warnings.push_back(fallback + "; the WKT names the horizontal CRS alone");
 }
 

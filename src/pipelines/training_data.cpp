@@ -86,7 +86,7 @@ const std::string& nearest_tile(const dataset::Dataset& ds, double x, double y) 
         const double d = ds.tiles[i].bounds_m.distance_xy(x, y);
         if (d < best_d) best_d = d, best = i;
     }
-    return ds.tiles[best].tile.path;
+    return ds.tiles[best].tile.path();
 }
 
 struct Writer {

@@ -266,7 +266,7 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
                                    fields, 1u << 20, skipped);
     for (std::size_t t = 0; t < ds.tiles.size(); ++t) {
         if (outside[t] == 0) continue;
-        stats.skipped.push_back({ds.tiles[t].tile.path, std::nullopt,
+        stats.skipped.push_back({ds.tiles[t].tile.path(), std::nullopt,
                                  std::to_string(outside[t]) + " points lie outside the tile's header bounds (a corrupt "
                                                               "header or chunk?): left out"});
         stats.points_skipped += outside[t];

@@ -92,7 +92,7 @@ std::optional<ReplicaSource> read_source(const std::string& path, Diagnostics& w
         return std::nullopt;
     }
     const auto& h = s.tile.header;
-    if (s.tile.crs.geographic) {
+    if (s.tile.crs().geographic) {
         warnings.warn("skipping " + path + ": geographic coordinates (degrees) cannot be laid on a metre grid");
         return std::nullopt;
     }
@@ -100,8 +100,8 @@ std::optional<ReplicaSource> read_source(const std::string& path, Diagnostics& w
         warnings.warn("skipping " + path + ": its x/y bounds are not finite numbers");
         return std::nullopt;
     }
-    s.to_metres = s.tile.crs.horizontal_to_metres;
-    s.unit = las::unit_name(s.tile.crs.horizontal_unit);
+    s.to_metres = s.tile.crs().horizontal_to_metres;
+    s.unit = las::unit_name(s.tile.crs().horizontal_unit);
     if (!std::isfinite(s.to_metres) || s.to_metres <= 0) {
         warnings.warn(path + ": horizontal unit unknown; taken as metres for the grid");
         s.to_metres = 1.0;
@@ -155,7 +155,7 @@ void lay_out(ReplicatePlan& plan) {
             t.shift = {axis_shift(s, 0, plan.anchor_metres[0] + gx * plan.cell_metres),
                        axis_shift(s, 1, plan.anchor_metres[1] + gy * plan.cell_metres)};
             t.path = (fs::path(plan.out_dir) / replica_name(s.path, gx, gy)).string();
-            plan.total_bytes += s.tile.file_size;
+            plan.total_bytes += s.tile.file_size();
             plan.total_points += s.tile.header.point_count;
             plan.tiles.push_back(std::move(t));
         }
@@ -195,8 +195,8 @@ void patch_header(io::AtomicOutputFile& out, const las::Header& h) {
 // The COPC info VLR holds the octree centre in absolute coordinates: it moves with the points
 // (the hierarchy holds file offsets, which the copy keeps).
 void patch_copc_centre(io::AtomicOutputFile& out, const dataset::Tile& shifted) {
-    const auto* vlr = las::find_vlr(shifted.vlrs, "copc", 1);
-    if (!vlr) throw Error(shifted.path, std::nullopt, "COPC info VLR not found");
+    const auto* vlr = las::find_vlr(shifted.vlrs(), "copc", 1);
+    if (!vlr) throw Error(shifted.path(), std::nullopt, "COPC info VLR not found");
     std::uint8_t centre[16];
     put_f64(centre, shifted.copc->center[0]);
     put_f64(centre + 8, shifted.copc->center[1]);
@@ -208,7 +208,7 @@ nlohmann::ordered_json manifest(const ReplicatePlan& plan, bool virtual_tiles) {
     for (const auto& s : plan.sources) {
         sources.push_back({{"path", fs::absolute(s.path).string()}, {"unit", s.unit}, {"to_metres", s.to_metres},
                            {"footprint_metres", s.footprint_metres}, {"points", s.tile.header.point_count},
-                           {"bytes", s.tile.file_size}, {"copc", s.tile.copc.has_value()}});
+                           {"bytes", s.tile.file_size()}, {"copc", s.tile.copc.has_value()}});
     }
     for (const auto& t : plan.tiles) {
         tiles.push_back({{"file", fs::path(t.path).filename().string()}, {"gx", t.gx}, {"gy", t.gy},
@@ -287,7 +287,7 @@ void write_replicas(const ReplicatePlan& plan, ThreadPool& pool, const std::func
     pool.for_each(plan.tiles.size(), [&](std::size_t i) {
         const auto& t = plan.tiles[i];
         const auto& file = files[t.source];
-        if (file.size() != plan.sources[t.source].tile.file_size) {
+        if (file.size() != plan.sources[t.source].tile.file_size()) {
             throw Error(file.path(), std::nullopt, "the source changed size while being replicated");
         }
         write_replica(file, plan.sources[t.source].tile, t.path, t.shift);

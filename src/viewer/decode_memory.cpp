@@ -14,7 +14,7 @@ namespace {
 constexpr std::uint64_t kBlockScratchPerPoint = 4 + 4 + 8 + 8 + 4 + 1;
 
 bool one_piece(const dataset::DatasetTile& t) {
-    return !t.tile.compressed() || !t.tile.chunks || !t.tile.laz || t.tile.chunks->chunks.empty();
+    return !t.tile.compressed() || !t.tile.chunks() || !t.tile.laz() || t.tile.chunks()->empty();
 }
 
 }  // namespace
@@ -29,7 +29,7 @@ std::uint64_t piece_bytes_per_point(const dataset::DatasetTile& tile) {
 std::uint64_t largest_unit_points(const dataset::DatasetTile& tile) {
     if (one_piece(tile)) return tile.tile.header.point_count;
     std::uint64_t largest = 0;
-    for (const auto& c : tile.tile.chunks->chunks) largest = std::max(largest, c.point_count);
+    for (const auto& c : *tile.tile.chunks()) largest = std::max(largest, c.point_count);
     return largest;
 }
 

@@ -93,7 +93,7 @@ PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& p
     const auto tile = point.tile ? point.tile : tile_at(dataset, point.x, point.y);
     if (!tile || *tile >= dataset.tiles.size()) return r;
     const auto& t = dataset.tiles[*tile];
-    r.file = t.tile.path;
+    r.file = t.tile.path();
     r.z = point.z / t.placed_z_to_metres();  // the file's vertical unit unless heights were transformed too
     if (t.to_frame) {  // reprojected into the dataset's CRS: x and y are in that CRS's units
         const auto unit = [](double to_metres) {
@@ -102,13 +102,13 @@ PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& p
         r.x = point.x / dataset.frame.xy_to_metres, r.y = point.y / dataset.frame.xy_to_metres;
         r.horizontal_unit = unit(dataset.frame.xy_to_metres);
         r.vertical_unit = t.heights_to_frame                      ? unit(dataset.frame.z_to_metres)
-                          : t.tile.crs.vertical_unit_name.empty() ? las::unit_name(t.tile.crs.vertical_unit)
-                                                                  : t.tile.crs.vertical_unit_name;
+                          : t.tile.crs().vertical_unit_name.empty() ? las::unit_name(t.tile.crs().vertical_unit)
+                                                                  : t.tile.crs().vertical_unit_name;
         r.crs = dataset.frame.crs + " (reprojected)";
         return r;
     }
     r.x = point.x / t.xy_to_metres, r.y = point.y / t.xy_to_metres;
-    const auto& crs = t.tile.crs;
+    const auto& crs = t.tile.crs();
     r.horizontal_unit = crs.horizontal_unit_name.empty() ? las::unit_name(crs.horizontal_unit)
                                                          : crs.horizontal_unit_name;
     r.vertical_unit = crs.vertical_unit_name.empty() ? r.horizontal_unit : crs.vertical_unit_name;

@@ -203,7 +203,7 @@ std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile) {
 PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
                         const std::function<void(std::uint64_t)>& progress,
                         std::vector<dataset::SkippedChunk>* skipped) {
-    const auto file = io::File::open(tile.tile.path);
+    const auto file = io::File::open(tile.tile.path());
     PointSet set = empty_tile_set(tile);
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
     const RecordConverter convert = converter(tile, set, samples);
@@ -221,14 +221,14 @@ PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stri
 void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
                         const PointOrder& order, std::uint64_t piece_points, std::uint64_t max_points,
                         const std::function<void(PointSet&&)>& on_piece) {
-    if (!tile.tile.compressed() || !tile.tile.chunks || !tile.tile.laz) {
+    if (!tile.tile.compressed() || !tile.tile.chunks() || !tile.tile.laz()) {
         on_piece(tile_point_set(tile, las_stride, pool));
         return;
     }
-    const auto file = io::File::open(tile.tile.path);
+    const auto file = io::File::open(tile.tile.path());
     const laz::LazLayout layout{
-        tile.tile.header, *tile.tile.laz,
-        laz::decode_units(tile.tile.header, *tile.tile.laz, *tile.tile.chunks, tile.tile.file_size)};
+        tile.tile.header, *tile.tile.laz(),
+        laz::decode_units(tile.tile.header, *tile.tile.laz(), *tile.tile.chunks(), tile.tile.file_size())};
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
     const RecordConverter convert = converter(tile, empty_tile_set(tile), samples);
     const std::vector<double> keys = unit_keys(tile, layout, samples, order);

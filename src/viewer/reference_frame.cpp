@@ -81,8 +81,8 @@ std::string reference_key(const dataset::Dataset& ds, const render::Camera& came
     // v2: heightmaps lit to their colour on level ground, outline filled; v3: adaptive point sizes
     text << "reference v3\n" << extra << '\n';
     for (const auto& t : ds.tiles) {  // a replica's shifted copies differ by their place only
-        text << t.tile.path << ' ' << t.tile.file_size << ' ' << t.tile.header.point_count << ' ' << t.bounds_m.min_x
-             << ' ' << t.bounds_m.min_y << '\n';
+        text << t.tile.path() << ' ' << t.tile.file_size() << ' ' << t.tile.header.point_count << ' '
+             << t.bounds_m.min_x << ' ' << t.bounds_m.min_y << '\n';
     }
     const auto& c = camera;
     text << "camera " << c.x << ' ' << c.y << ' ' << c.z << ' ' << c.yaw_deg << ' ' << c.pitch_deg << ' ' << c.fov_deg

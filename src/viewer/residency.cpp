@@ -275,7 +275,7 @@ void Residency::run() {
         } catch (const Error& e) {
             error = ErrorRecord::of(e);
         } catch (const std::exception& e) {  // e.g. out of memory: still this tile's failure
-            error = ErrorRecord{dataset_.tiles[tile].tile.path, std::nullopt, e.what()};
+            error = ErrorRecord{dataset_.tiles[tile].tile.path(), std::nullopt, e.what()};
         }
         trim_heap();  // the pieces' scratch, freed by the decoding threads, leaves the process
         lock.lock();

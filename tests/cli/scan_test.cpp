@@ -27,7 +27,7 @@ nlohmann::json scan_json(const std::string& args, int& status, const std::string
 
 std::uint64_t expected_chunk_points(const dataset::Tile& t) {
     if (!t.compressed()) return (t.header.point_count + 49'999) / 50'000;
-    return static_cast<std::uint64_t>(std::count_if(t.chunks->chunks.begin(), t.chunks->chunks.end(),
+    return static_cast<std::uint64_t>(std::count_if(t.chunks()->begin(), t.chunks()->end(),
                                                     [](const auto& c) { return c.point_count > 0; }));
 }
 

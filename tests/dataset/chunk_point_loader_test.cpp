@@ -56,7 +56,7 @@ std::vector<Key> expected_keys(const Dataset& ds) {
     std::vector<Key> out;
     for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
         const auto& t = ds.tiles[i];
-        for (const auto& cp : read_chunk_points(io::File::open(t.tile.path), t.tile)) {
+        for (const auto& cp : read_chunk_points(io::File::open(t.tile.path()), t.tile)) {
             double x = cp.point.x, y = cp.point.y, z = cp.point.z;
             t.place(x, y, z);  // metres of the dataset's frame (the surveys mix CRSs: most are reprojected)
             out.push_back(key(i, x, y, z));
@@ -116,7 +116,7 @@ TEST(LoaderColour, SixteenBitColourIsScaledPerTile) {
     // Reference: the high byte of each 16-bit channel (this Kentucky survey has 16-bit colour).
     std::vector<std::tuple<long long, long long, int, int, int>> expected, got;
     for (const auto& t : ds.tiles) {
-        for (const auto& cp : read_chunk_points(io::File::open(t.tile.path), t.tile)) {
+        for (const auto& cp : read_chunk_points(io::File::open(t.tile.path()), t.tile)) {
             expected.emplace_back(std::llround(cp.point.x * t.xy_to_metres * 1000),
                                   std::llround(cp.point.y * t.xy_to_metres * 1000), cp.point.rgb[0] >> 8,
                                   cp.point.rgb[1] >> 8, cp.point.rgb[2] >> 8);
@@ -191,7 +191,9 @@ TEST(LoaderCancel, StopsEarlyAndKeepsWhatWasLoaded) {
 TEST(LoaderErrors, VanishedFileIsReportedAndOthersLoad) {
     Dataset ds = open_dataset({(test::surveys_dir() / "ky-jmo335-eastern-kentucky").string()});
     ASSERT_GT(ds.tiles.size(), 2u);
-    ds.tiles[1].tile.path = "/nonexistent/gone.laz";  // as if deleted after the scan
+    auto gone = std::make_shared<TileFile>(*ds.tiles[1].tile.file);
+    gone->path = "/nonexistent/gone.laz";  // as if deleted after the scan
+    ds.tiles[1].tile.file = gone;
     auto grid = make_grid(ds);
     ChunkPointLoader loader(ds, *grid);
     loader.start();

@@ -42,7 +42,7 @@ TEST(Dataset, SurveyFolderBoundsInMetres) {
     constexpr double kFt = 1200.0 / 3937.0;
     Bounds expected;
     for (const auto& t : ds.tiles) {
-        SCOPED_TRACE(t.tile.path);
+        SCOPED_TRACE(t.tile.path());
         EXPECT_DOUBLE_EQ(t.xy_to_metres, kFt);
         EXPECT_DOUBLE_EQ(t.bounds_m.min_x, t.tile.header.min[0] * kFt);
         EXPECT_DOUBLE_EQ(t.bounds_m.max_y, t.tile.header.max[1] * kFt);
@@ -99,8 +99,8 @@ TEST(Dataset, CompoundCrsWithAVerticalPartProjLacksKeepsEveryFile) {
     EXPECT_EQ(w.file, crop);
     EXPECT_NE(w.message.find("vertical CRS EPSG:5103"), std::string::npos) << w.message;
     for (const auto& t : ds.tiles) {  // test1_4.las (EPSG:2903+5703) moves into EPSG:2903 where it is
-        EXPECT_NEAR(t.bounds_m.min_x, t.tile.header.min[0] * t.xy_to_metres, 1e-3) << t.tile.path;
-        EXPECT_NEAR(t.bounds_m.max_y, t.tile.header.max[1] * t.xy_to_metres, 1e-3) << t.tile.path;
+        EXPECT_NEAR(t.bounds_m.min_x, t.tile.header.min[0] * t.xy_to_metres, 1e-3) << t.tile.path();
+        EXPECT_NEAR(t.bounds_m.max_y, t.tile.header.max[1] * t.xy_to_metres, 1e-3) << t.tile.path();
     }
 }
 
@@ -251,7 +251,7 @@ TEST(Dataset, BadFilesAreSkippedWithOneLineTheRestIsRead) {
     }
     EXPECT_GT(ds.skipped.size(), bad / 2);
     bool survey_read = false;
-    for (const auto& t : ds.tiles) survey_read |= t.tile.path.find("ky-red-river-gorge") != std::string::npos;
+    for (const auto& t : ds.tiles) survey_read |= t.tile.path().find("ky-red-river-gorge") != std::string::npos;
     EXPECT_TRUE(survey_read);
 }
 
@@ -275,7 +275,7 @@ TEST(Dataset, EachTileReadIsReportedAsItArrives) {
     EXPECT_EQ(last_done, ds.tiles.size());
     for (const auto& t : ds.tiles) {  // the same boxes, in any order
         const auto same = [&](const Bounds& b) { return b.min_x == t.bounds_m.min_x && b.min_y == t.bounds_m.min_y; };
-        EXPECT_EQ(std::count_if(reported.begin(), reported.end(), same), 1) << t.tile.path;
+        EXPECT_EQ(std::count_if(reported.begin(), reported.end(), same), 1) << t.tile.path();
     }
 }
 

@@ -70,7 +70,7 @@ TEST(PointStream, TilesComeInTheGivenOrderEachWholeThenItsTileDone) {
             EXPECT_EQ(events[e].first, next);  // file order, nothing skipped
             next += events[e].count;
         }
-        EXPECT_EQ(next, ds.tiles[t].tile.header.point_count) << ds.tiles[t].tile.path;
+        EXPECT_EQ(next, ds.tiles[t].tile.header.point_count) << ds.tiles[t].tile.path();
         EXPECT_GE(batches, 4) << "100,000-point batches: several per tile";
         ASSERT_LT(e, events.size());
         EXPECT_EQ(events[e].tile, t);  // its tile_done, before any batch of the next tile
@@ -84,7 +84,7 @@ TEST(PointStream, TilesComeInTheGivenOrderEachWholeThenItsTileDone) {
         dataset::for_each_metric_batch(ds, t, pool, [&](std::uint64_t, std::span<const dataset::MetricPoint> p) {
             alone = digest(alone, p);
         });
-        EXPECT_EQ(alone, digests[t]) << ds.tiles[t].tile.path;
+        EXPECT_EQ(alone, digests[t]) << ds.tiles[t].tile.path();
     }
 }
 
@@ -119,7 +119,7 @@ TEST_F(PointStreamFiles, ATileCutShortAfterOpeningIsNamedInTheErrorAfterTheTiles
     for (const char* name : {"CSite2_orig-utm.laz", "CSite3_orig-utm.laz"}) fs::copy_file(src / name, dir / name);
     const auto ds = dataset::open_dataset({dir.string()});
     ASSERT_EQ(ds.tiles.size(), 2u);
-    const std::string cut = ds.tiles[1].tile.path;
+    const std::string cut = ds.tiles[1].tile.path();
     fs::resize_file(cut, fs::file_size(cut) / 2);
     ThreadPool pool(2);
     const std::uint32_t order[] = {0, 1};

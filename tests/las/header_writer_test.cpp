@@ -42,11 +42,11 @@ TEST_P(HeaderRoundTrip, SameBytes) {
     auto bytes = las::serialize_header(h, trailing);
     ASSERT_EQ(bytes.size(), original.size());
     EXPECT_TRUE(bytes == original);
-    for (const auto& v : tile.vlrs) {
+    for (const auto& v : tile.vlrs()) {
         auto rec = las::serialize_vlr(v);
         EXPECT_TRUE(rec == original_record(file, v, rec.size())) << "VLR " << v.user_id << " " << v.record_id;
     }
-    for (const auto& v : tile.evlrs) {
+    for (const auto& v : tile.evlrs()) {
         if (!v.data_loaded) continue;
         auto rec = las::serialize_vlr(v);
         EXPECT_TRUE(rec == original_record(file, v, rec.size())) << "EVLR " << v.user_id << " " << v.record_id;

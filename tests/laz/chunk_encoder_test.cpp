@@ -54,10 +54,10 @@ std::vector<std::uint8_t> las_records(const io::File& file, const dataset::Tile&
 }
 
 const las::Vlr& laszip_vlr_of(const dataset::Tile& tile) {
-    for (const las::Vlr& v : tile.vlrs) {
+    for (const las::Vlr& v : tile.vlrs()) {
         if (v.is("laszip encoded", 22204)) return v;
     }
-    throw Error(tile.path, std::nullopt, "test: no laszip VLR");
+    throw Error(tile.path(), std::nullopt, "test: no laszip VLR");
 }
 
 bool same_items(const las::LaszipVlr& a, const las::LaszipVlr& b) {
@@ -97,7 +97,7 @@ std::string pair_name(const testing::TestParamInfo<Pair>& info) {
 // The bytes of the LAZ's chunk table as stored: from its position to the end of its region
 // (the EVLRs, the trailing position int64, or the end of the file).
 std::vector<std::uint8_t> stored_table(const io::File& file, const dataset::Tile& tile) {
-    const ChunkTable& t = tile.chunks.value();
+    const ChunkTable& t = tile.chunks().value();
     std::uint64_t end = file.size();
     if (t.offset_from_file_end) end -= 8;
     if (tile.header.number_of_evlrs > 0 && tile.header.evlr_offset > t.table_offset && tile.header.evlr_offset < end) {
@@ -119,12 +119,12 @@ TEST_P(EncodePairs, ChunksAndTableAreByteIdentical) {
 
     const las::LaszipVlr laz =
         make_laszip_vlr(las_tile.header.point_format, las_tile.header.record_length, pair.chunk_size);
-    EXPECT_TRUE(same_items(laz, *laz_tile.laz)) << "make_laszip_vlr chose other items than the file has";
-    EXPECT_EQ(laz.compressor, laz_tile.laz->compressor);
-    EXPECT_EQ(laz.chunk_size, laz_tile.laz->chunk_size);
+    EXPECT_TRUE(same_items(laz, *laz_tile.laz())) << "make_laszip_vlr chose other items than the file has";
+    EXPECT_EQ(laz.compressor, laz_tile.laz()->compressor);
+    EXPECT_EQ(laz.chunk_size, laz_tile.laz()->chunk_size);
 
     const auto records = las_records(las_file, las_tile);
-    const auto& stored_chunks = laz_tile.chunks.value().chunks;
+    const auto& stored_chunks = laz_tile.chunks().value().chunks();
     const Encoded ours = encode_in_chunks(laz, records, pair.chunk_size);
     ASSERT_EQ(ours.chunks.size(), stored_chunks.size());
     std::size_t identical = 0;
@@ -207,17 +207,17 @@ TEST(ChunkEncoder, SurveyTilesRoundTripAndReencodeIdentically) {
             if (entry.path().extension() != ".laz") continue;
             const auto file = io::File::open(entry.path().string());
             const auto tile = dataset::read_tile(file);
-            const auto& all = tile.chunks.value().chunks;
+            const auto& all = tile.chunks().value().chunks();
             const std::size_t rl = tile.header.record_length;
             for (std::size_t i : {std::size_t{0}, all.size() / 2, all.size() - 1}) {
                 const Chunk& c = all[i];
                 const auto stored = file.read_vector(c.byte_offset, c.byte_size, "chunk");
                 std::vector<std::uint8_t> records(c.point_count * rl);
-                decode_chunk(*tile.laz, {stored, c.point_count, records});
+                decode_chunk(*tile.laz(), {stored, c.point_count, records});
                 std::vector<std::uint8_t> again;
-                encode_chunk(*tile.laz, records, c.point_count, again);
+                encode_chunk(*tile.laz(), records, c.point_count, again);
                 std::vector<std::uint8_t> back(records.size());
-                decode_chunk(*tile.laz, {again, c.point_count, back});
+                decode_chunk(*tile.laz(), {again, c.point_count, back});
                 EXPECT_EQ(first_difference(back, records, rl), -1) << entry.path() << " chunk " << i;
                 identical += again == stored;
                 ++chunks;
@@ -389,7 +389,7 @@ std::vector<Chunk> write_and_read_table(const std::vector<Chunk>& chunks, std::u
         out.write(reinterpret_cast<const char*>(table.data()), static_cast<std::streamsize>(table.size()));
     }
     const auto f = io::File::open(path.string());
-    auto read = read_chunk_table(f, header, laz).chunks;
+    auto read = read_chunk_table(f, header, laz).chunks();
     fs::remove(path);
     return read;
 }
@@ -452,9 +452,9 @@ TEST(LaszipVlrEncoder, PayloadsMatchThePairFiles) {
         auto mine = make_laszip_vlr(tile.header.point_format, tile.header.record_length, p.chunk_size);
         if (serialize_laszip_vlr(mine) == stored.data) ++exact;  // written by LASzip 3.4.3
         // Other writers' versions aside, every field must agree.
-        mine.version_major = tile.laz->version_major;
-        mine.version_minor = tile.laz->version_minor;
-        mine.version_revision = tile.laz->version_revision;
+        mine.version_major = tile.laz()->version_major;
+        mine.version_minor = tile.laz()->version_minor;
+        mine.version_revision = tile.laz()->version_revision;
         EXPECT_EQ(serialize_laszip_vlr(mine), stored.data) << p.laz;
         ++checked;
     }

@@ -1,7 +1,7 @@
 // The LAZ chunk table: every chunked file of the reference set gives LASzip's chunks exactly;
 // point-wise files have none; and hand-damaged copies of real files (table at the end, moved,
 // truncated, garbage counts, header counts that disagree) are read or rejected as documented
-// in chunk_table.hpp.
+// in chunk_table.hpp; the table keeps 8 bytes a chunk (16 for variable-size chunks).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -98,12 +98,15 @@ TEST_P(ChunkTableMatchesReference, SameChunksAsLaszip) {
     const auto& e = GetParam();
     const auto expected = chunks_in(e.json.at("chunks"));
     const auto table = table_of(e.file);
-    EXPECT_EQ(table.chunks, expected) << "got      " << describe(table.chunks) << "\nexpected " << describe(expected);
+    const auto chunks = table.chunks();
+    EXPECT_EQ(chunks, expected) << "got      " << describe(chunks) << "\nexpected " << describe(expected);
+    EXPECT_EQ(table.size(), expected.size());
+    for (std::size_t i = 0; i < table.size() && i < expected.size(); ++i) EXPECT_EQ(table[i], expected[i]) << i;
     EXPECT_FALSE(table.offset_from_file_end);
     if (e.json.at("laz").at("compressor") == 1) {
         EXPECT_EQ(table.table_offset, 0u);  // point-wise: no table at all
-    } else if (!table.chunks.empty()) {
-        EXPECT_EQ(table.table_offset, table.chunks.back().byte_offset + table.chunks.back().byte_size);
+    } else if (!table.chunks().empty()) {
+        EXPECT_EQ(table.table_offset, table.chunks().back().byte_offset + table.chunks().back().byte_size);
     }
 }
 
@@ -123,7 +126,7 @@ TEST(ChunkTableFormats, ReferenceCoversAllChunkedFiles) {
 
 TEST(ChunkTableFormats, ChunkSizeZeroMeansVariableChunks) {
     const auto path = lidarscout::test::formats_dir() / "r-lidar__lasR/inst__extdata__example.copc.laz";
-    EXPECT_EQ(table_of(path).chunks, kChunkSizeZeroChunks);
+    EXPECT_EQ(table_of(path).chunks(), kChunkSizeZeroChunks);
     las::LaszipVlr laz;
     laz.chunk_size = 0;
     EXPECT_TRUE(has_variable_chunks(laz));
@@ -177,9 +180,9 @@ bool contains(const std::string& text, const std::string& part) { return text.fi
 TEST(ChunkTableDamaged, UnchangedCopyReadsFine) {
     EditedFile f(kAutzen, [](auto&) {});
     const auto t = table_of(f.path());
-    ASSERT_EQ(t.chunks.size(), 3u);
+    ASSERT_EQ(t.chunks().size(), 3u);
     EXPECT_EQ(t.table_offset, kAutzenTable);
-    EXPECT_EQ(t.chunks[2], (Chunk{100000, 10000, 548074, 55259}));
+    EXPECT_EQ(t.chunks()[2], (Chunk{100000, 10000, 548074, 55259}));
 }
 
 TEST(ChunkTableDamaged, PositionMinusOneIsReadFromTheFileEnd) {
@@ -191,7 +194,7 @@ TEST(ChunkTableDamaged, PositionMinusOneIsReadFromTheFileEnd) {
     const auto t = table_of(f.path());
     EXPECT_TRUE(t.offset_from_file_end);
     EXPECT_EQ(t.table_offset, kAutzenTable);
-    EXPECT_EQ(t.chunks, table_of(lidarscout::test::formats_dir() / kAutzen).chunks);
+    EXPECT_EQ(t.chunks(), table_of(lidarscout::test::formats_dir() / kAutzen).chunks());
 }
 
 TEST(ChunkTableDamaged, PositionMinusOneWithGarbageAtTheEnd) {
@@ -254,9 +257,9 @@ TEST(ChunkTableDamaged, GarbageEntriesNeverEscapeTheChecks) {
         });
         try {
             const auto t = table_of(f.path());
-            ASSERT_EQ(t.chunks.size(), 3u) << seed;
+            ASSERT_EQ(t.chunks().size(), 3u) << seed;
             std::uint64_t end = kAutzenPosition + 8;
-            for (const auto& c : t.chunks) {
+            for (const auto& c : t.chunks()) {
                 EXPECT_EQ(c.byte_offset, end);
                 EXPECT_GT(c.byte_size, 0u);
                 end += c.byte_size;
@@ -276,7 +279,7 @@ TEST(ChunkTableDamaged, TruncatedEntries) {
 
 TEST(ChunkTableDamaged, MissingTrailingZerosAreHarmless) {
     EditedFile f(kAutzen, [](auto& b) { b.resize(b.size() - 3); });  // the writer's 3 zero bytes
-    EXPECT_EQ(table_of(f.path()).chunks, table_of(lidarscout::test::formats_dir() / kAutzen).chunks);
+    EXPECT_EQ(table_of(f.path()).chunks(), table_of(lidarscout::test::formats_dir() / kAutzen).chunks());
 }
 
 TEST(ChunkTableDamaged, ChunkRunningIntoTheTable) {
@@ -297,7 +300,7 @@ TEST(ChunkTableDamaged, NoChunksForSomePoints) {
 TEST(ChunkTableDamaged, FixedChunksCutAtTheHeaderCount) {
     EditedFile f(kAutzen, [](auto& b) { poke<std::uint32_t>(b, kLegacyCountField, 60000); });
     const auto t = table_of(f.path());
-    EXPECT_EQ(t.chunks, (std::vector<Chunk>{{0, 50000, 2152, 283499}, {50000, 10000, 285651, 262423}}));
+    EXPECT_EQ(t.chunks(), (std::vector<Chunk>{{0, 50000, 2152, 283499}, {50000, 10000, 285651, 262423}}));
 }
 
 TEST(ChunkTableDamaged, FixedChunksShortOfTheHeaderCount) {
@@ -310,16 +313,16 @@ TEST(ChunkTableDamaged, FixedChunksShortOfTheHeaderCount) {
 TEST(ChunkTableDamaged, VariableChunksCutAtTheHeaderCount) {
     EditedFile f(kLoneStar, [](auto& b) { poke<std::uint64_t>(b, kExtendedCountField, kLoneStarPoints - 1); });
     const auto t = table_of(f.path());
-    ASSERT_EQ(t.chunks.size(), 15u);
-    EXPECT_EQ(t.chunks.back().point_count, 33646u);
-    EXPECT_EQ(t.chunks.back().first_point + t.chunks.back().point_count, kLoneStarPoints - 1);
+    ASSERT_EQ(t.chunks().size(), 15u);
+    EXPECT_EQ(t.chunks().back().point_count, 33646u);
+    EXPECT_EQ(t.chunks().back().first_point + t.chunks().back().point_count, kLoneStarPoints - 1);
 }
 
 TEST(ChunkTableDamaged, VariableChunksDroppedPastTheHeaderCount) {
     EditedFile f(kLoneStar, [](auto& b) { poke<std::uint64_t>(b, kExtendedCountField, 212 + 100); });
     const auto t = table_of(f.path());
-    EXPECT_EQ(t.chunks.size(), 2u);
-    EXPECT_EQ(t.chunks[1].point_count, 100u);
+    EXPECT_EQ(t.chunks().size(), 2u);
+    EXPECT_EQ(t.chunks()[1].point_count, 100u);
 }
 
 TEST(ChunkTableDamaged, VariableChunksShortOfTheHeaderCount) {
@@ -432,7 +435,7 @@ TEST(ChunkTableWritten, VariableChunks) {
         replace_autzen_table(b, {{60000, 283499}, {30000, 262423}, {20000, 55259}}, true);
     });
     const auto t = table_of(f.path());
-    EXPECT_EQ(t.chunks, (std::vector<Chunk>{{0, 60000, 2152, 283499},
+    EXPECT_EQ(t.chunks(), (std::vector<Chunk>{{0, 60000, 2152, 283499},
                                             {60000, 30000, 285651, 262423},
                                             {90000, 20000, 548074, 55259}}));
 }
@@ -461,13 +464,36 @@ TEST(ChunkTableWritten, LargeTableIsReadInGrowingWindows) {
         poke<std::uint32_t>(b, kLegacyCountField, static_cast<std::uint32_t>(points));
     });
     const auto t = table_of(f.path());
-    ASSERT_EQ(t.chunks.size(), entries.size());
+    ASSERT_EQ(t.chunks().size(), entries.size());
     std::uint64_t first = 0, offset = kAutzenPosition + 8;
     for (std::size_t i = 0; i < entries.size(); ++i) {
-        ASSERT_EQ(t.chunks[i], (Chunk{first, entries[i].points, offset, entries[i].bytes})) << i;
+        ASSERT_EQ(t.chunks()[i], (Chunk{first, entries[i].points, offset, entries[i].bytes})) << i;
         first += entries[i].points;
         offset += entries[i].bytes;
     }
+}
+
+// The compact form gives the chunks it was made from: 8 bytes a chunk when all but the last hold the
+// same count, 16 when counts vary; chunks that are not back to back are refused.
+TEST(ChunkTableForm, KeepsTheChunksInEightOrSixteenBytesEach) {
+    const std::vector<Chunk> fixed{{0, 100, 500, 40}, {100, 100, 540, 30}, {200, 7, 570, 9}};
+    const ChunkTable regular(fixed);
+    EXPECT_EQ(regular.chunks(), fixed);
+    EXPECT_EQ(regular.back(), fixed.back());
+    EXPECT_LE(regular.heap_bytes(), (fixed.size() + 1) * 8);
+
+    const std::vector<Chunk> variable{{0, 100, 500, 40}, {100, 120, 540, 30}, {220, 1, 570, 9}};
+    const ChunkTable counted(variable);
+    EXPECT_EQ(counted.chunks(), variable);
+    EXPECT_EQ(counted[1], variable[1]);
+    EXPECT_LE(counted.heap_bytes(), (variable.size() + 1) * 16);
+    EXPECT_GT(counted.heap_bytes(), regular.heap_bytes());
+
+    const std::vector<Chunk> last_larger{{0, 100, 500, 40}, {100, 150, 540, 30}};
+    EXPECT_EQ(ChunkTable(last_larger).chunks(), last_larger);
+    EXPECT_TRUE(ChunkTable(std::vector<Chunk>{}).empty());
+    EXPECT_THROW(ChunkTable(std::vector<Chunk>{{0, 100, 500, 40}, {100, 100, 541, 30}}), Error);  // a gap
+    EXPECT_THROW(ChunkTable(std::vector<Chunk>{{0, 100, 500, 40}, {90, 100, 540, 30}}), Error);   // points overlap
 }
 
 }  // namespace

@@ -112,10 +112,10 @@ TEST_F(LasWriter, LasWithVlrsAndEvlrsReadsBack) {
     EXPECT_EQ(tile.header.legacy_point_count, 0u);  // format 7: only the 64-bit count
     EXPECT_EQ(tile.header.min, (std::array<double, 3>{1, 2, 3}));
     EXPECT_EQ(tile.header.max, (std::array<double, 3>{4, 5, 6}));
-    ASSERT_EQ(tile.vlrs.size(), 1u);
-    EXPECT_EQ(tile.vlrs[0].user_id, "test");
-    ASSERT_EQ(tile.evlrs.size(), 1u);
-    EXPECT_EQ(las::vlr_payload(file, tile.evlrs[0]).size(), 1000u);
+    ASSERT_EQ(tile.vlrs().size(), 1u);
+    EXPECT_EQ(tile.vlrs()[0].user_id, "test");
+    ASSERT_EQ(tile.evlrs().size(), 1u);
+    EXPECT_EQ(las::vlr_payload(file, tile.evlrs()[0]).size(), 1000u);
     EXPECT_EQ(read_back(out("a.las")), recs);
 }
 
@@ -132,10 +132,10 @@ TEST_F(LasWriter, LazChunksAndOwnLaszipRecord) {
     auto file = io::File::open(out("a.laz"));
     auto tile = dataset::read_tile(file);
     ASSERT_TRUE(tile.compressed());
-    EXPECT_EQ(tile.laz->compressor, 3);
-    EXPECT_EQ(tile.laz->chunk_size, 1000u);
-    EXPECT_EQ(tile.vlrs.size(), 2u);
-    EXPECT_EQ(tile.chunks->chunks.size(), 3u);
+    EXPECT_EQ(tile.laz()->compressor, 3);
+    EXPECT_EQ(tile.laz()->chunk_size, 1000u);
+    EXPECT_EQ(tile.vlrs().size(), 2u);
+    EXPECT_EQ(tile.chunks()->size(), 3u);
     EXPECT_EQ(read_back(out("a.laz")), recs);
 }
 

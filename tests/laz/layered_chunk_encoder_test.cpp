@@ -82,9 +82,9 @@ TEST(LayeredEncode, PairsAreByteIdenticalChunkByChunk) {
         const las::LaszipVlr laz =
             make_laszip_vlr(las_tile.header.point_format, las_tile.header.record_length, pair.chunk_size);
         ASSERT_EQ(laz.compressor, 3);
-        ASSERT_EQ(laz.items.size(), laz_tile.laz->items.size());
+        ASSERT_EQ(laz.items.size(), laz_tile.laz()->items.size());
         const auto records = las_records(las_file, las_tile);
-        const auto& stored_chunks = laz_tile.chunks.value().chunks;
+        const auto& stored_chunks = laz_tile.chunks().value().chunks();
         const Encoded ours = encode_in_chunks(laz, records, pair.chunk_size);
         ASSERT_EQ(ours.chunks.size(), stored_chunks.size());
         chunks += ours.chunks.size();
@@ -131,7 +131,7 @@ TEST(LayeredEncode, SurveyTileAsFormat7RoundTrips) {
     const fs::path path = test::surveys_dir() / "ky-red-river-gorge" / "N105E348.laz";
     const auto file = io::File::open(path.string());
     const auto tile = dataset::read_tile(file);
-    const auto& chunks = tile.chunks.value().chunks;
+    const auto& chunks = tile.chunks().value().chunks();
     const std::size_t in_rl = tile.header.record_length;
     // The first few chunks (about 200,000 points) are plenty.
     const std::size_t take = std::min<std::size_t>(chunks.size(), 4);
@@ -141,7 +141,7 @@ TEST(LayeredEncode, SurveyTileAsFormat7RoundTrips) {
     for (std::size_t i = 0; i < take; ++i) {
         const Chunk& c = chunks[i];
         const auto stored = file.read_vector(c.byte_offset, c.byte_size, "chunk");
-        decode_chunk(*tile.laz,
+        decode_chunk(*tile.laz(),
                      {stored, c.point_count, std::span(records).subspan(c.first_point * in_rl, c.point_count * in_rl)});
     }
     const auto& f7 = las::point_format_info(7);

@@ -66,7 +66,7 @@ struct LoadedFile {
     dataset::Tile tile;
     std::vector<std::uint8_t> data;
 
-    const las::LaszipVlr& laz() const { return *tile.laz; }
+    const las::LaszipVlr& laz() const { return *tile.laz(); }
     std::size_t record() const { return laz().record_length(); }
     std::span<const std::uint8_t> bytes(const Chunk& c) const {
         return std::span<const std::uint8_t>(data).subspan(c.byte_offset, c.byte_size);
@@ -84,10 +84,10 @@ LoadedFile load(const std::string& path) {
 // Decodes every chunk with `fields` into one buffer of records (file order).
 std::vector<std::uint8_t> decode_file(const LoadedFile& f, std::uint32_t fields, LayeredChunkStats* total = nullptr) {
     std::uint64_t points = 0;
-    for (const auto& c : f.tile.chunks->chunks) points += c.point_count;
+    for (const auto& c : *f.tile.chunks()) points += c.point_count;
     std::vector<std::uint8_t> out(points * f.record());
     std::size_t at = 0;
-    for (const auto& c : f.tile.chunks->chunks) {
+    for (const auto& c : *f.tile.chunks()) {
         const std::size_t n = c.point_count * f.record();
         LayeredChunkStats stats;
         decode_layered_chunk(f.laz(), {f.bytes(c), c.point_count, std::span(out).subspan(at, n), fields}, stats);
@@ -180,7 +180,7 @@ TEST_P(LayeredSelective, XyzOnlyDecodesTwoLayers) {
     LayeredChunkStats all, xyz;
     const auto full = decode_file(f, fields::kAll, &all);
     const auto part = decode_file(f, fields::kXyz, &xyz);
-    const std::size_t chunks = f.tile.chunks->chunks.size();
+    const std::size_t chunks = f.tile.chunks()->size();
     EXPECT_EQ(xyz.layers_decoded, 2 * chunks);
     EXPECT_GT(all.layers_decoded, xyz.layers_decoded);
     EXPECT_LT(xyz.bytes_consumed, all.bytes_consumed);
@@ -213,7 +213,7 @@ bool try_decode(const las::LaszipVlr& laz, std::span<const std::uint8_t> bytes, 
 TEST(LayeredCorrupt, TruncatedChunksAreRejected) {
     for (const char* name : {"pdrf10-1.4.laz", "1.2-with-color.copc.laz"}) {
         const LoadedFile f = load(corpus_file(name).path);
-        const Chunk& c = f.tile.chunks->chunks.back();
+        const Chunk& c = f.tile.chunks()->back();
         const auto bytes = f.bytes(c);
         for (std::size_t cut = 0; cut < bytes.size(); cut += std::max<std::size_t>(1, bytes.size() / 97)) {
             EXPECT_FALSE(try_decode(f.laz(), bytes.first(cut), c.point_count)) << name << " cut at " << cut;
@@ -227,7 +227,7 @@ TEST(LayeredCorrupt, TruncatedChunksAreRejected) {
 // something; never crashes or reads outside the chunk.
 TEST(LayeredCorrupt, TruncatedLayersFailCleanly) {
     const LoadedFile f = load(corpus_file("pdrf10-1.4.laz").path);
-    const Chunk& c = f.tile.chunks->chunks.front();
+    const Chunk& c = f.tile.chunks()->front();
     const auto bytes = f.bytes(c);
     const std::size_t sizes_at = f.record() + 4;
     const std::size_t layers = 9 + 2 + 1 + 4;  // POINT14, RGBNIR14, WAVEPACKET14, BYTE14 (4)
@@ -259,7 +259,7 @@ TEST(LayeredCorrupt, FlippedBytesFailCleanly) {
     int failures = 0, completions = 0;
     for (const char* name : {"pdrf10-1.4.laz", "pdrf9-1.5.laz", "pdrf7-v4-1.4.laz", "1.2-with-color.copc.laz"}) {
         const LoadedFile f = load(corpus_file(name).path);
-        const Chunk& c = f.tile.chunks->chunks.front();
+        const Chunk& c = f.tile.chunks()->front();
         const auto bytes = f.bytes(c);
         for (int trial = 0; trial < 150; ++trial) {
             std::vector<std::uint8_t> damaged(bytes.begin(), bytes.end());
@@ -276,7 +276,7 @@ TEST(LayeredCorrupt, FlippedBytesFailCleanly) {
 
 TEST(LayeredUnsupported, ItemListsOutsideTheFormatAreRejected) {
     const LoadedFile f = load(corpus_file("pdrf10-1.4.laz").path);
-    const Chunk& c = f.tile.chunks->chunks.front();
+    const Chunk& c = f.tile.chunks()->front();
     auto rejects = [&](las::LaszipVlr laz) { return !try_decode(laz, f.bytes(c), c.point_count); };
 
     las::LaszipVlr laz = f.laz();

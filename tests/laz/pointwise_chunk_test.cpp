@@ -38,16 +38,16 @@ LoadedFile load(const std::string& path) {
     auto file = io::File::open(path);
     auto tile = dataset::read_tile(file);
     LoadedFile out;
-    out.laz = tile.laz.value();
+    out.laz = tile.laz().value();
     out.record_length = tile.header.record_length;
     out.point_count = tile.header.point_count;
-    if (tile.laz->compressor == 1) {
+    if (tile.laz()->compressor == 1) {
         // No chunk table: one stream from the raw first point to the end of the point data.
         const std::uint64_t end = tile.header.number_of_evlrs ? tile.header.evlr_offset : file.size();
         const std::uint64_t start = tile.header.offset_to_point_data;
         out.streams.push_back({file.read_vector(start, end - start), out.point_count});
     } else {
-        for (const auto& c : tile.chunks.value().chunks) {
+        for (const auto& c : tile.chunks().value()) {
             out.streams.push_back({file.read_vector(c.byte_offset, c.byte_size), c.point_count});
         }
     }

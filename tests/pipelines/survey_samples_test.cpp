@@ -70,7 +70,7 @@ TEST(SurveySamples, EveryKthPointAndAllPointsOfThePatches) {
     EXPECT_EQ(s.points, t.tile.header.point_count);
     EXPECT_EQ(s.samples[0].chunk_points->size(), (t.tile.header.point_count + kStride - 1) / kStride);
     // Independent count of the ground-truth points of the first patch, and the first chunk point.
-    const auto file = io::File::open(t.tile.path);
+    const auto file = io::File::open(t.tile.path());
     const auto& fmt = las::point_format_info(t.tile.header.point_format);
     std::uint64_t in_patch = 0;
     double first_x = NAN;

@@ -58,8 +58,8 @@ TEST_F(TileWriter, LasToLazToLasIsLossless) {
     EXPECT_EQ(out_tile.header.point_count, in_tile.header.point_count);
     EXPECT_EQ(out_tile.header.min, in_tile.header.min);
     EXPECT_EQ(out_tile.header.scale, in_tile.header.scale);
-    EXPECT_EQ(out_tile.vlrs.size(), in_tile.vlrs.size());
-    EXPECT_EQ(out_tile.crs.epsg, in_tile.crs.epsg);
+    EXPECT_EQ(out_tile.vlrs().size(), in_tile.vlrs().size());
+    EXPECT_EQ(out_tile.crs().epsg, in_tile.crs().epsg);
 }
 
 TEST_F(TileWriter, LazChunksEqualReferenceEncoder) {
@@ -69,10 +69,10 @@ TEST_F(TileWriter, LazChunksEqualReferenceEncoder) {
     auto mine = io::File::open(out("a.laz"));
     auto theirs = io::File::open(ref);
     auto a = dataset::read_tile(mine), b = dataset::read_tile(theirs);
-    ASSERT_EQ(a.chunks->chunks.size(), b.chunks->chunks.size());
-    for (std::size_t i = 0; i < a.chunks->chunks.size(); ++i) {
-        const auto& ca = a.chunks->chunks[i];
-        const auto& cb = b.chunks->chunks[i];
+    ASSERT_EQ(a.chunks()->size(), b.chunks()->size());
+    for (std::size_t i = 0; i < a.chunks()->size(); ++i) {
+        const auto& ca = (*a.chunks())[i];
+        const auto& cb = (*b.chunks())[i];
         ASSERT_EQ(ca.byte_size, cb.byte_size);
         EXPECT_TRUE(mine.read_vector(ca.byte_offset, ca.byte_size) == theirs.read_vector(cb.byte_offset, cb.byte_size));
     }
@@ -86,8 +86,8 @@ TEST_F(TileWriter, VariableChunksAndSmallChunks) {
     auto r = pipelines::convert_tile(laz, out("v.laz"), opt, pool);
     EXPECT_EQ(r.chunks, 16u);  // ceil(110000 / 7000)
     auto tile = dataset::read_tile(io::File::open(out("v.laz")));
-    EXPECT_TRUE(tile.laz->variable_chunks());
-    EXPECT_EQ(tile.chunks->chunks.back().point_count, 110000u - 15 * 7000u);
+    EXPECT_TRUE(tile.laz()->variable_chunks());
+    EXPECT_EQ(tile.chunks()->back().point_count, 110000u - 15 * 7000u);
     EXPECT_EQ(checksum(out("v.laz")), checksum(laz));
 }
 
@@ -142,13 +142,13 @@ TEST_F(TileWriter, Formats6To10GetTheCrsAsWkt) {
     const auto f3 = dataset::read_tile(io::File::open(out("f3.las")));
     const auto f7 = dataset::read_tile(io::File::open(out("f7.las")));
     EXPECT_EQ(f3.header.global_encoding & 0x10, 0);
-    EXPECT_EQ(f3.crs.source, "geotiff");
+    EXPECT_EQ(f3.crs().source, "geotiff");
     EXPECT_EQ(f7.header.global_encoding & 0x10, 0x10);
-    EXPECT_EQ(f7.crs.source, "wkt");
-    EXPECT_EQ(f7.crs.epsg, 2903);
-    EXPECT_EQ(f7.crs.horizontal_unit, las::LinearUnit::UsSurveyFoot);
-    EXPECT_TRUE(f7.crs.warnings.empty());
-    for (const auto& v : f7.vlrs) EXPECT_FALSE(v.user_id == "LASF_Projection" && v.record_id == 34735);
+    EXPECT_EQ(f7.crs().source, "wkt");
+    EXPECT_EQ(f7.crs().epsg, 2903);
+    EXPECT_EQ(f7.crs().horizontal_unit, las::LinearUnit::UsSurveyFoot);
+    EXPECT_TRUE(f7.crs().warnings.empty());
+    for (const auto& v : f7.vlrs()) EXPECT_FALSE(v.user_id == "LASF_Projection" && v.record_id == 34735);
     ASSERT_EQ(result.warnings.size(), 1u);  // the vertical code the WKT cannot name
     EXPECT_NE(result.warnings[0].find("vertical CRS EPSG:5103"), std::string::npos) << result.warnings[0];
 }

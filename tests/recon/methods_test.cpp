@@ -70,7 +70,7 @@ void load_kentucky(SurveyGrid& s) {
         if (entry.path().extension() != ".laz") continue;
         const io::File file = io::File::open(entry.path().string());
         const dataset::Tile tile = dataset::read_tile(file);
-        const double xy = tile.crs.horizontal_to_metres, z = tile.crs.z_to_metres();
+        const double xy = tile.crs().horizontal_to_metres, z = tile.crs().z_to_metres();
         for (const auto& cp : dataset::read_chunk_points(file, tile)) {
             const auto& p = cp.point;
             s.grid.add(p.x * xy, p.y * xy, p.z * z, dataset::rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2]),

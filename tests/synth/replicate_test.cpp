@@ -106,7 +106,7 @@ TEST(Replicate, OutputsAreShiftedCopiesOfTheirSources) {
         EXPECT_EQ(b.offset[2], a.offset[2]);
         EXPECT_EQ(b.min[2], a.min[2]);
         EXPECT_EQ(b.max[2], a.max[2]);
-        EXPECT_EQ(tile.crs.epsg, src.tile.crs.epsg);
+        EXPECT_EQ(tile.crs().epsg, src.tile.crs().epsg);
 
         const auto want = dataset::read_chunk_points(src_file, src.tile);
         const auto got = dataset::read_chunk_points(file, tile);
@@ -221,11 +221,11 @@ TEST(Replicate, VirtualReplicaOpensAsTheCopiedOne) {
         EXPECT_EQ(hb.max, ha.max);
         EXPECT_EQ(b.tiles[i].bounds_m.min_x, a.tiles[i].bounds_m.min_x);
         EXPECT_EQ(b.tiles[i].bounds_m.max_y, a.tiles[i].bounds_m.max_y);
-        EXPECT_EQ(b.tiles[i].tile.path, virt.sources[virt.tiles[i].source].path) << "a virtual tile reads its source";
+        EXPECT_EQ(b.tiles[i].tile.path(), virt.sources[virt.tiles[i].source].path) << "a virtual tile reads its source";
         ASSERT_EQ(a.tiles[i].tile.copc.has_value(), b.tiles[i].tile.copc.has_value());
         if (a.tiles[i].tile.copc) EXPECT_EQ(b.tiles[i].tile.copc->center[0], a.tiles[i].tile.copc->center[0]);
-        const auto want = dataset::read_chunk_points(io::File::open(a.tiles[i].tile.path), a.tiles[i].tile);
-        const auto got = dataset::read_chunk_points(io::File::open(b.tiles[i].tile.path), b.tiles[i].tile);
+        const auto want = dataset::read_chunk_points(io::File::open(a.tiles[i].tile.path()), a.tiles[i].tile);
+        const auto got = dataset::read_chunk_points(io::File::open(b.tiles[i].tile.path()), b.tiles[i].tile);
         ASSERT_EQ(got.size(), want.size());
         for (std::size_t k = 0; k < got.size(); k += 7) {
             EXPECT_EQ(got[k].point.x, want[k].point.x);

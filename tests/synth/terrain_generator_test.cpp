@@ -72,22 +72,22 @@ TEST_F(TerrainGenerator, TilesManifestAndHeaders) {
         bytes += t.bytes;
         auto file = io::File::open(t.path);
         const auto tile = dataset::read_tile(file);
-        EXPECT_TRUE(tile.warnings.empty()) << tile.warnings.front().message;
+        EXPECT_TRUE(tile.warnings().empty()) << tile.warnings().front().message;
         EXPECT_EQ(tile.header.version_string(), "1.4");
         EXPECT_EQ(tile.header.point_format, 7);
         EXPECT_EQ(tile.header.point_count, t.points);
         EXPECT_EQ(tile.header.generating_software, synth::kTerrainSoftware);
         EXPECT_TRUE(tile.header.global_encoding & 16);  // WKT
         EXPECT_TRUE(tile.header.global_encoding & 1);   // adjusted standard GPS time
-        ASSERT_TRUE(tile.laz);
-        EXPECT_EQ(tile.laz->compressor, 3);
-        EXPECT_EQ(tile.laz->chunk_size, 50'000u);
-        EXPECT_EQ(tile.chunks->chunks.size(), (t.points + 49'999) / 50'000);
-        EXPECT_EQ(tile.crs.epsg, 25832);
-        EXPECT_EQ(tile.crs.vertical_epsg, 7837);
-        EXPECT_EQ(tile.crs.horizontal_unit, las::LinearUnit::Metre);
-        EXPECT_EQ(tile.crs.z_to_metres(), 1.0);
-        EXPECT_TRUE(tile.crs.warnings.empty());
+        ASSERT_TRUE(tile.laz());
+        EXPECT_EQ(tile.laz()->compressor, 3);
+        EXPECT_EQ(tile.laz()->chunk_size, 50'000u);
+        EXPECT_EQ(tile.chunks()->size(), (t.points + 49'999) / 50'000);
+        EXPECT_EQ(tile.crs().epsg, 25832);
+        EXPECT_EQ(tile.crs().vertical_epsg, 7837);
+        EXPECT_EQ(tile.crs().horizontal_unit, las::LinearUnit::Metre);
+        EXPECT_EQ(tile.crs().z_to_metres(), 1.0);
+        EXPECT_TRUE(tile.crs().warnings.empty());
         EXPECT_NEAR(tile.header.min[0], 500'000.0 + t.ix * 500.0, 0.5);  // points reach the tile's edges
         EXPECT_LT(tile.header.max[0], 500'000.0 + (t.ix + 1) * 500.0);
         EXPECT_GT(tile.header.max[0], 500'000.0 + (t.ix + 1) * 500.0 - 0.5);
@@ -175,7 +175,7 @@ TEST_F(TerrainGenerator, ChunkPointsSpreadOverTheTile) {
         auto file = io::File::open(t.path);
         const auto tile = dataset::read_tile(file);
         const auto cps = dataset::read_chunk_points(file, tile);
-        ASSERT_EQ(cps.size(), tile.chunks->chunks.size());
+        ASSERT_EQ(cps.size(), tile.chunks()->size());
         double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
         std::set<int> strips;
         for (const auto& c : cps) {

@@ -20,10 +20,10 @@ dataset::Dataset jmo335() {
 TEST(ViewerDecodeMemory, APieceHoldsItsRecordsAndPointsAndHalvesToFit) {
     const auto ds = jmo335();
     const auto& t = ds.tiles[survey::tile_named(ds, "N118E380")];
-    ASSERT_TRUE(t.tile.chunks && !t.tile.chunks->chunks.empty());
+    ASSERT_TRUE(t.tile.chunks() && !t.tile.chunks()->empty());
     EXPECT_GE(piece_bytes_per_point(t), t.tile.header.record_length + sizeof(render::PointAttr));
     std::uint64_t largest = 0;
-    for (const auto& c : t.tile.chunks->chunks) largest = std::max(largest, c.point_count);
+    for (const auto& c : *t.tile.chunks()) largest = std::max(largest, c.point_count);
     EXPECT_EQ(largest_unit_points(t), largest);
 
     const std::uint64_t n = t.tile.header.point_count;

@@ -126,7 +126,7 @@ TEST(ViewerPicking, LookingDownOnARealTilePicksItsHighestPoint) {
     EXPECT_GE(readout.x, t.tile.header.min[0] - 1e-6);
     EXPECT_LE(readout.x, t.tile.header.max[0] + 1e-6);
     EXPECT_NEAR(readout.z, t.tile.header.max[2], 0.01);
-    EXPECT_EQ(readout.file, t.tile.path);
+    EXPECT_EQ(readout.file, t.tile.path());
     EXPECT_FALSE(readout.crs.empty());
     EXPECT_NE(readout.horizontal_unit, "metre");
 }

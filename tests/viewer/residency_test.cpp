@@ -180,7 +180,7 @@ TEST(ViewerResidency, EveryTileInViewEndsAtFullResolutionWhenTheBudgetAllows) {
     EXPECT_EQ(st.wanted_full, st.wanted);
     const auto h = held(r);
     for (const auto t : west) {
-        ASSERT_TRUE(h.contains(t)) << ds.tiles[t].tile.path;
+        ASSERT_TRUE(h.contains(t)) << ds.tiles[t].tile.path();
         EXPECT_EQ(h.at(t).first, ds.tiles[t].tile.header.point_count);
     }
     EXPECT_LE(st.bytes, o.memory_budget);

@@ -213,9 +213,9 @@ TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
     sched = &scheduler;
     for (const auto t : path) {
         scheduler.set_camera(above_tile(ds.tiles[t], 150));
-        ASSERT_TRUE(wait_until([&] { return scheduler.idle(); })) << ds.tiles[t].tile.path;
+        ASSERT_TRUE(wait_until([&] { return scheduler.idle(); })) << ds.tiles[t].tile.path();
         const auto loaded = log.tiles(Kind::FullResLoaded);
-        EXPECT_NE(std::find(loaded.begin(), loaded.end(), t), loaded.end()) << ds.tiles[t].tile.path;
+        EXPECT_NE(std::find(loaded.begin(), loaded.end(), t), loaded.end()) << ds.tiles[t].tile.path();
         const auto st = scheduler.stats();
         EXPECT_LE(st.bytes_used, o.memory_budget);
         // A tile decoding beside what is held: its points, and the piece each of the two decoding
@@ -497,11 +497,11 @@ TEST(ViewerScheduler, FilesDamagedDuringASessionAreListedAndTheRestLoads) {
         EXPECT_EQ(st.full_res_tiles, st.full_res.done);
         std::set<std::uint32_t> failed;
         for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-            if (causes.contains(fs::path(ds.tiles[i].tile.path).filename().string())) failed.insert(i);
+            if (causes.contains(fs::path(ds.tiles[i].tile.path()).filename().string())) failed.insert(i);
         }
         for (const auto& b : scheduler.snapshot()->full_points) {
             EXPECT_FALSE(failed.contains(b->tile))
-                << "blocks of a failed tile are held: " << ds.tiles[b->tile].tile.path;
+                << "blocks of a failed tile are held: " << ds.tiles[b->tile].tile.path();
         }
         EXPECT_EQ(first_error_per_file(st.errors).size(), causes.size());
         EXPECT_LE(st.peak_bytes_used, o.memory_budget);

@@ -34,7 +34,7 @@ TEST(SessionOpening, OpensASurveyWithItsFootprintsOnTheWay) {
     EXPECT_TRUE(opening.finished());
     ASSERT_EQ(session.dataset->tiles.size(), expected.tiles.size());
     for (std::size_t i = 0; i < expected.tiles.size(); ++i) {
-        EXPECT_EQ(session.dataset->tiles[i].tile.path, expected.tiles[i].tile.path);
+        EXPECT_EQ(session.dataset->tiles[i].tile.path(), expected.tiles[i].tile.path());
     }
     const OpeningProgress p = opening.progress();
     EXPECT_EQ(p.done, expected.tiles.size());

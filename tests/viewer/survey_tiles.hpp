@@ -15,7 +15,7 @@ namespace lidarscout::viewer::survey {
 // when there is none.
 inline std::uint32_t tile_named(const dataset::Dataset& ds, const std::string& stem) {
     for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        if (std::filesystem::path(ds.tiles[i].tile.path).stem() == stem) return i;
+        if (std::filesystem::path(ds.tiles[i].tile.path()).stem() == stem) return i;
     }
     ADD_FAILURE() << "no tile " << stem;
     return 0;

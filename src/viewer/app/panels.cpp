@@ -41,7 +41,9 @@ void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& 
     char buffer[256];
     std::snprintf(buffer, sizeof buffer, "%s", state.filter.c_str());
     if (ImGui::InputText("filter", buffer, sizeof buffer)) state.filter = buffer;
-    const auto name = [&](std::uint32_t i) { return std::filesystem::path(ds.tiles[i].tile.path).filename().string(); };
+    const auto name = [&](std::uint32_t i) {
+        return std::filesystem::path(ds.tiles[i].tile.path()).filename().string();
+    };
     if (state.shown_dataset != &ds || state.shown_tiles != ds.tiles.size() || state.shown_filter != state.filter) {
         state.shown.clear();
         for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
