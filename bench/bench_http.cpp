@@ -33,7 +33,7 @@
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "net/http_client.hpp"
 #include "net/range_cache.hpp"
 #include "net/remote_file.hpp"
@@ -65,7 +65,7 @@ Run run_once(const std::string& list_url) {
     r.tiles = ds.tiles.size();
     if (!ds.skipped.empty()) throw Error(ds.skipped.front().path + ": " + ds.skipped.front().error);
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     dataset::ChunkPointLoader loader(ds, grid);
     t0 = Clock::now();
     loader.start();

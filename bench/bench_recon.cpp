@@ -26,7 +26,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "recon/cubic.hpp"
 #include "recon/interpolation.hpp"
 #include "recon/methods.hpp"
@@ -65,7 +65,7 @@ double terrain(double x, double y) {
            5.0 * std::sin(x / 23.0 + y / 31.0);
 }
 
-using Window = std::vector<dataset::OverviewPoint>;
+using Window = std::vector<lidarscout::OverviewPoint>;
 
 std::vector<Window> synthetic_windows(std::size_t count, std::size_t points_per_window) {
     std::vector<Window> out;
@@ -73,7 +73,7 @@ std::vector<Window> synthetic_windows(std::size_t count, std::size_t points_per_
     std::uniform_real_distribution<double> u(0.0, 960.0);
     std::uniform_int_distribution<int> c(0, 255);
     for (std::size_t k = 0; k < count; ++k) {
-        std::vector<dataset::OverviewPoint> window(points_per_window);
+        std::vector<lidarscout::OverviewPoint> window(points_per_window);
         const double ox = 640.0 * k;  // patches side by side
         for (auto& p : window) {
             p.x = ox + u(rng);
@@ -94,7 +94,7 @@ double synthetic_patch_min_x(std::size_t k) { return 640.0 * k + 160.0; }
 // many distinct windows). Gathering = the grid query around the patch + make_patch_points.
 struct RealPatches {
     std::unique_ptr<pipelines::SurveySamples> samples;
-    std::vector<std::pair<dataset::CellKey, std::array<double, 2>>> positions;  // cell, patch min corner
+    std::vector<std::pair<lidarscout::CellKey, std::array<double, 2>>> positions;  // cell, patch min corner
     std::uint64_t stride = 0;
 };
 

@@ -26,7 +26,7 @@
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "io/batch_reader.hpp"
 
 using namespace lidarscout;
@@ -111,7 +111,7 @@ struct LoadResult {
 
 LoadResult load_chunk_points(const dataset::Dataset& ds, io::ReadBackend backend, bool direct) {
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     dataset::ChunkPointLoaderOptions opt;
     opt.reads.backend = backend;
     opt.direct_io = direct;

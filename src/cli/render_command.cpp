@@ -30,7 +30,7 @@
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "nn/heightmap_network.hpp"
 #include "render/backend.hpp"
 #include "raster/dem_grid.hpp"
@@ -167,7 +167,7 @@ render::Camera make_camera(const RenderPlan& plan, const RenderCliOptions& o, co
                                              plan.height, o.fov);
 }
 
-void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, const render::Camera& camera,
+void load_chunk_points(const dataset::Dataset& ds, lidarscout::PatchGrid& grid, const render::Camera& camera,
                        RenderReport& report) {
     const auto t0 = Clock::now();
     dataset::ChunkPointLoader loader(ds, grid);
@@ -189,8 +189,8 @@ void load_chunk_points(const dataset::Dataset& ds, dataset::PatchGrid& grid, con
 }
 
 std::vector<viewer::PatchHeightmap> build_heightmaps(const RenderPlan& plan, const RenderCliOptions& o,
-                                                     const dataset::Dataset& ds, const dataset::PatchGrid& grid,
-                                                     std::span<const dataset::CellKey> cells, ThreadPool& pool,
+                                                     const dataset::Dataset& ds, const lidarscout::PatchGrid& grid,
+                                                     std::span<const lidarscout::CellKey> cells, ThreadPool& pool,
                                                      RenderReport& report) {
     const auto t0 = Clock::now();
     viewer::HeightmapBuildOptions opt;
@@ -336,7 +336,7 @@ int run_render(const RenderCliOptions& o) {
     report.camera = make_camera(plan, o, ds);
     report.frame = ds.frame;
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     load_chunk_points(ds, grid, report.camera, report);
     ThreadPool pool(plan.threads);
     const auto cells = viewer::visible_cells(grid, report.camera, ds.bounds_m.min_z, ds.bounds_m.max_z);

@@ -19,7 +19,7 @@
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 
 namespace lidarscout::cli {
 namespace {
@@ -68,7 +68,7 @@ dataset::Dataset read_headers(const ScanOptions& o) {
 
 void load_chunk_points(const ScanOptions& o, ScanResult& r) {
     const auto [ox, oy] = dataset::patch_grid_origin(r.dataset);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     dataset::ChunkPointLoaderOptions opt;
     opt.reads.backend = parse_backend(o.backend);
     opt.reads.threads = o.io_threads;

@@ -15,7 +15,8 @@
 #include "core/error.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
+#include "dataset/las_colour.hpp"
 #include "dataset/tile_index.hpp"
 #include "las/point_format.hpp"
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "io/batch_reader.hpp"
 
 namespace lidarscout::dataset {

@@ -12,6 +12,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
+#include "dataset/las_colour.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
 #include "las/point_format.hpp"

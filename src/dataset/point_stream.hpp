@@ -8,7 +8,7 @@
 #include <functional>
 #include <span>
 
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "dataset/point_reader.hpp"
 #include "laz/chunk_decoder.hpp"
 

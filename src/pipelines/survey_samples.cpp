@@ -51,10 +51,10 @@ std::vector<Lattice> offset_lattices(const Lattice& base, int count) {
     return out;
 }
 
-std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& ds, const Lattice& lattice, std::size_t count,
+std::vector<CellKey> candidate_patches(const dataset::Dataset& ds, const Lattice& lattice, std::size_t count,
                                                std::uint64_t seed) {
-    const dataset::PatchGrid keys(lattice.origin_x, lattice.origin_y, lattice.spec.patch_m());
-    std::set<dataset::CellKey> cells;
+    const lidarscout::PatchGrid keys(lattice.origin_x, lattice.origin_y, lattice.spec.patch_m());
+    std::set<lidarscout::CellKey> cells;
     for (const auto& t : ds.tiles) {
         for (const auto& cp : dataset::read_chunk_points(io::File::open(t.tile.path()), t.tile, ds.las_stride)) {
             double x = cp.point.x, y = cp.point.y, z = cp.point.z;
@@ -62,7 +62,7 @@ std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& ds, cons
             cells.insert(keys.cell_of(x, y));
         }
     }
-    std::vector<dataset::CellKey> out(cells.begin(), cells.end());
+    std::vector<lidarscout::CellKey> out(cells.begin(), cells.end());
     Rng rng(hash_of(seed, 0x70a7c4));
     for (std::size_t i = out.size(); i > 1; --i) std::swap(out[i - 1], out[rng.next() % i]);  // Fisher-Yates
     if (out.size() > count) out.resize(count);
@@ -97,7 +97,7 @@ SurveySamples sample_survey(const dataset::Dataset& ds, const std::vector<Sample
         if (r.stride == 0) throw Error("chunk point stride must be positive");
         const auto& l = r.lattice;
         out.samples.push_back({l, r.stride,
-                               std::make_unique<dataset::PatchGrid>(l.origin_x, l.origin_y, l.spec.patch_m()),
+                               std::make_unique<lidarscout::PatchGrid>(l.origin_x, l.origin_y, l.spec.patch_m()),
                                std::make_unique<GroundTruth>(l.spec, l.origin_x, l.origin_y, r.patches)});
     }
     std::uint64_t done = 0, coloured = 0;

@@ -16,7 +16,7 @@
 #include <memory>
 #include <vector>
 
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "recon/ground_truth.hpp"
 #include "pipelines/recon_types.hpp"
 #include "recon/patch_space.hpp"
@@ -51,19 +51,19 @@ std::vector<Lattice> offset_lattices(const Lattice& base, int count);
 
 // Up to `count` patches (cells of the lattice) that hold some of the dataset's real chunk
 // points (so they are inside the data), in a random order that depends only on `seed`.
-std::vector<dataset::CellKey> candidate_patches(const dataset::Dataset& dataset, const Lattice& lattice,
+std::vector<lidarscout::CellKey> candidate_patches(const dataset::Dataset& dataset, const Lattice& lattice,
                                                std::size_t count, std::uint64_t seed);
 
 struct SampleRequest {
     Lattice lattice;
     std::uint64_t stride = 50'000;
-    std::vector<dataset::CellKey> patches;  // where ground truth is wanted
+    std::vector<lidarscout::CellKey> patches;  // where ground truth is wanted
 };
 
 struct SurveySample {
     Lattice lattice;
     std::uint64_t stride = 0;
-    std::unique_ptr<dataset::PatchGrid> chunk_points;  // cells = the lattice's patches
+    std::unique_ptr<lidarscout::PatchGrid> chunk_points;  // cells = the lattice's patches
     std::unique_ptr<GroundTruth> truth;
 };
 

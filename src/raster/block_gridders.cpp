@@ -63,7 +63,7 @@ private:
 // Inverse distance weighting within a radius of each texel centre.
 class IdwGridder final : public BlockGridder {
 public:
-    IdwGridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block)
+    IdwGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
         : spec_(spec), texel_(grid.texel_m), n_(grid.block),
           min_x_(grid.origin_x + double(block.ix) * grid.block * grid.texel_m),
           min_y_(grid.origin_y + double(block.iy) * grid.block * grid.texel_m),
@@ -140,7 +140,7 @@ private:
 // A TIN of the block's points and its margin's, interpolated at the texel centres.
 class TinGridder final : public BlockGridder {
 public:
-    TinGridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block)
+    TinGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
         : spec_(spec), grid_(grid), min_x_(grid.origin_x + double(block.ix) * grid.block * grid.texel_m),
           min_y_(grid.origin_y + double(block.iy) * grid.block * grid.texel_m) {}
 
@@ -180,11 +180,11 @@ private:
     struct Held {
         double x, y;
         float dz;
-        dataset::Rgb8 rgb;
+        lidarscout::Rgb8 rgb;
     };
 
-    std::vector<dataset::OverviewPoint> expanded() const {
-        std::vector<dataset::OverviewPoint> out(points_.size());
+    std::vector<lidarscout::OverviewPoint> expanded() const {
+        std::vector<lidarscout::OverviewPoint> out(points_.size());
         for (std::size_t i = 0; i < points_.size(); ++i) {
             const Held& h = points_[i];
             out[i].x = h.x, out[i].y = h.y, out[i].z = base_z_ + h.dz, out[i].rgb = h.rgb;
@@ -259,7 +259,7 @@ double gridder_reach_m(const GridderSpec& spec, double texel_m) {
     return 0;
 }
 
-std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block) {
+std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, CellKey block) {
     validate(spec, grid);
     switch (spec.method) {
     case GridMethod::Statistic: return std::make_unique<StatisticGridder>(spec, grid);

@@ -63,6 +63,6 @@ public:
 
 // The gridder of block `block` of `grid`. Throws Error for a spec that does not fit (a radius
 // or power that is not positive, a tin grid whose blocks leave no room for the margin).
-std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, dataset::CellKey block);
+std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, CellKey block);
 
 }  // namespace lidarscout::raster

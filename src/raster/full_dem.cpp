@@ -32,9 +32,9 @@ namespace {
 struct BlockRange {
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
     bool empty() const { return x1 < x0 || y1 < y0; }
-    bool contains(dataset::CellKey c) const { return c.ix >= x0 && c.ix <= x1 && c.iy >= y0 && c.iy <= y1; }
+    bool contains(lidarscout::CellKey c) const { return c.ix >= x0 && c.ix <= x1 && c.iy >= y0 && c.iy <= y1; }
     bool contains(const BlockRange& r) const {
-        return contains(dataset::CellKey{r.x0, r.y0}) && contains(dataset::CellKey{r.x1, r.y1});
+        return contains(lidarscout::CellKey{r.x0, r.y0}) && contains(lidarscout::CellKey{r.x1, r.y1});
     }
 };
 
@@ -70,7 +70,7 @@ public:
 
     double reach_m() const { return reach_; }
 
-    void expect(const BlockRange& r) { visit(r, [&](dataset::CellKey c) { ++pending_[slot(c)]; }); }
+    void expect(const BlockRange& r) { visit(r, [&](lidarscout::CellKey c) { ++pending_[slot(c)]; }); }
 
     // Adds a point of a tile whose blocks are `range`: Used, Missed when it reaches no block,
     // OutsideTile (and not added) when it reaches a block beyond the tile's header bounds, which
@@ -87,7 +87,7 @@ public:
         const BlockRange reached = blocks_within(p.x, p.y);
         if (reached.empty()) return Added::Missed;
         if (!range.contains(reached)) return Added::OutsideTile;
-        visit(reached, [&](dataset::CellKey c) {
+        visit(reached, [&](lidarscout::CellKey c) {
             const bool own = c == at->cell && inside_raster(*at);
             gridder_of(c).add(p, own ? &*at : nullptr);
         });
@@ -96,8 +96,8 @@ public:
 
     // The blocks the tile was the last to reach are gridded in parallel, then written in order.
     void tile_done(const BlockRange& r, ThreadPool& pool) {
-        std::vector<std::pair<dataset::CellKey, std::unique_ptr<BlockGridder>>> done;
-        visit(r, [&](dataset::CellKey c) {
+        std::vector<std::pair<lidarscout::CellKey, std::unique_ptr<BlockGridder>>> done;
+        visit(r, [&](lidarscout::CellKey c) {
             if (--pending_[slot(c)] != 0) return;
             const auto it = blocks_.find(c);  // blocks no point reached are left to the raster's nodata
             if (it == blocks_.end()) return;
@@ -114,7 +114,7 @@ public:
     }
 
 private:
-    std::size_t slot(dataset::CellKey c) const { return static_cast<std::size_t>(c.iy) * grid_.blocks_x() + c.ix; }
+    std::size_t slot(lidarscout::CellKey c) const { return static_cast<std::size_t>(c.iy) * grid_.blocks_x() + c.ix; }
 
     bool inside_raster(const recon::TexelLocation& at) const {
         return at.cell.ix >= 0 && at.cell.iy >= 0 && at.cell.ix < grid_.blocks_x() && at.cell.iy < grid_.blocks_y() &&
@@ -136,11 +136,11 @@ private:
     template <typename Fn>
     static void visit(const BlockRange& r, Fn&& fn) {
         for (int iy = r.y0; iy <= r.y1; ++iy) {
-            for (int ix = r.x0; ix <= r.x1; ++ix) fn(dataset::CellKey{ix, iy});
+            for (int ix = r.x0; ix <= r.x1; ++ix) fn(lidarscout::CellKey{ix, iy});
         }
     }
 
-    BlockGridder& gridder_of(dataset::CellKey c) {
+    BlockGridder& gridder_of(lidarscout::CellKey c) {
         if (last_ && last_key_ == c) return *last_;
         auto [it, created] = blocks_.try_emplace(c);
         if (created) {
@@ -152,7 +152,7 @@ private:
         return *last_;
     }
 
-    void write(dataset::CellKey c, const BlockImages& images) {
+    void write(lidarscout::CellKey c, const BlockImages& images) {
         write_block(*outputs_.heights, grid_, 1, c.ix, c.iy, std::span<const float>(in_file_units(images.heights_m)));
         if (outputs_.rgb) {
             const std::size_t plane = images.heights_m.size();
@@ -182,8 +182,8 @@ private:
     FullDemStats& stats_;
     double reach_;
     std::vector<int> pending_;
-    std::unordered_map<dataset::CellKey, std::unique_ptr<BlockGridder>, dataset::CellKeyHash> blocks_;
-    dataset::CellKey last_key_;
+    std::unordered_map<lidarscout::CellKey, std::unique_ptr<BlockGridder>, lidarscout::CellKeyHash> blocks_;
+    lidarscout::CellKey last_key_;
     BlockGridder* last_ = nullptr;
 };
 

@@ -10,7 +10,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "nn/heightmap_network.hpp"
 #include "recon/interpolation.hpp"
 
@@ -27,7 +27,7 @@ namespace {
 // triangles at the patch's border are those its neighbours see too) and, for cnn, the network's
 // inputs and result on its own 96-texel window.
 struct PatchJob {
-    dataset::CellKey cell;
+    lidarscout::CellKey cell;
     recon::PatchPoints wide;
     recon::Triangulation triangulation;  // of `wide`
     recon::FaceMap face_map;
@@ -41,7 +41,7 @@ struct PatchJob {
 };
 
 // At least half of the chunk points have a colour other than black (as eval decides).
-bool grid_has_rgb(const dataset::PatchGrid& grid) {
+bool grid_has_rgb(const lidarscout::PatchGrid& grid) {
     std::uint64_t coloured = 0, all = 0;
     for (const auto& cell : grid.cells()) {
         for (const auto& p : grid.points_in(cell)) {
@@ -53,12 +53,12 @@ bool grid_has_rgb(const dataset::PatchGrid& grid) {
 }
 
 // Blocks whose window may hold chunk points: the cells with points and their neighbours.
-std::vector<dataset::CellKey> candidate_blocks(const dataset::PatchGrid& grid, const DemGrid& dem) {
-    std::set<dataset::CellKey> out;
+std::vector<lidarscout::CellKey> candidate_blocks(const lidarscout::PatchGrid& grid, const DemGrid& dem) {
+    std::set<lidarscout::CellKey> out;
     for (const auto& c : grid.cells()) {
         for (int dy = -1; dy <= 1; ++dy) {
             for (int dx = -1; dx <= 1; ++dx) {
-                const dataset::CellKey k{c.ix + dx, c.iy + dy};
+                const lidarscout::CellKey k{c.ix + dx, c.iy + dy};
                 if (k.ix >= 0 && k.iy >= 0 && k.ix < dem.blocks_x() && k.iy < dem.blocks_y()) out.insert(k);
             }
         }
@@ -130,10 +130,10 @@ struct PatchSpecs {
     recon::PatchOptions wide, network;
 };
 
-void prepare(PatchJob& job, const dataset::PatchGrid& grid, const PatchSpecs& specs,
+void prepare(PatchJob& job, const lidarscout::PatchGrid& grid, const PatchSpecs& specs,
              const OverviewDemOptions& options) {
-    std::vector<dataset::OverviewPoint> window = grid.window(job.cell, specs.wide.spec.pad_m());
-    std::erase_if(window, [&](const dataset::OverviewPoint& p) { return !options.classes.keep[p.classification]; });
+    std::vector<lidarscout::OverviewPoint> window = grid.window(job.cell, specs.wide.spec.pad_m());
+    std::erase_if(window, [&](const lidarscout::OverviewPoint& p) { return !options.classes.keep[p.classification]; });
     const double x0 = grid.cell_min_x(job.cell), y0 = grid.cell_min_y(job.cell);
     job.wide = recon::make_patch_points(window, x0, y0, specs.wide);
     if (!job.ok()) return;
@@ -171,7 +171,7 @@ OverviewDemStats grid_overview_dem(const dataset::Dataset& ds, const DemGrid& gr
         throw Error::in_stage("dem", "overview blocks must be 64 texels (internal error)");
     }
     const recon::PatchSpec spec{grid.texel_m, kOverviewPatchTexels, kLinearPadTexels};
-    dataset::PatchGrid points(grid.origin_x, grid.origin_y, spec.patch_m());
+    lidarscout::PatchGrid points(grid.origin_x, grid.origin_y, spec.patch_m());
     dataset::ChunkPointLoader loader(ds, points);
     loader.start();
     loader.wait();
@@ -188,7 +188,7 @@ OverviewDemStats grid_overview_dem(const dataset::Dataset& ds, const DemGrid& gr
         network =
             std::make_unique<nn::HeightmapNetwork>(nn::HeightmapNetwork::load(path, static_cast<int>(pool.size())));
     }
-    const std::vector<dataset::CellKey> cells = candidate_blocks(points, grid);
+    const std::vector<lidarscout::CellKey> cells = candidate_blocks(points, grid);
     const PatchWriter writer(grid, options, outputs);
     const std::size_t group = 64;
     for (std::size_t first = 0; first < cells.size(); first += group) {

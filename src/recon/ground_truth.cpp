@@ -3,7 +3,7 @@
 
 namespace lidarscout::recon {
 
-GroundTruth::GroundTruth(const PatchSpec& spec, double origin_x, double origin_y, std::vector<dataset::CellKey> patches)
+GroundTruth::GroundTruth(const PatchSpec& spec, double origin_x, double origin_y, std::vector<CellKey> patches)
     : spec_(spec), origin_x_(origin_x), origin_y_(origin_y), patches_(std::move(patches)) {
     spec_.validate();
     const std::size_t texels = static_cast<std::size_t>(spec_.patch_texels) * spec_.patch_texels;
@@ -11,7 +11,7 @@ GroundTruth::GroundTruth(const PatchSpec& spec, double origin_x, double origin_y
     for (std::size_t i = 0; i < patches_.size(); ++i) index_.emplace(patches_[i], i);
 }
 
-void GroundTruth::add(double x, double y, double z, dataset::Rgb8 rgb) {
+void GroundTruth::add(double x, double y, double z, lidarscout::Rgb8 rgb) {
     const auto at = locate_texel(spec_, origin_x_, origin_y_, x, y);
     if (!at) return;
     const auto it = index_.find(at->cell);

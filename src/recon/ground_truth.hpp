@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "recon/patch_space.hpp"
 #include "recon/texel_stats.hpp"
 
@@ -17,13 +17,13 @@ namespace lidarscout::recon {
 
 class GroundTruth {
 public:
-    GroundTruth(const PatchSpec& spec, double origin_x, double origin_y, std::vector<dataset::CellKey> patches);
+    GroundTruth(const PatchSpec& spec, double origin_x, double origin_y, std::vector<lidarscout::CellKey> patches);
 
     // Adds one point (metres, colour in 8 bits) to the texel it falls in, when it falls in one
     // of the patches.
-    void add(double x, double y, double z, dataset::Rgb8 rgb);
+    void add(double x, double y, double z, lidarscout::Rgb8 rgb);
 
-    const std::vector<dataset::CellKey>& patches() const { return patches_; }
+    const std::vector<lidarscout::CellKey>& patches() const { return patches_; }
     // Patch `i` as images of patch_texels x patch_texels (rows along y, as patch_space.hpp):
     // mean height in metres (1 channel) and mean colour in [0, 1] (3 channels); NaN where no
     // point fell.
@@ -35,8 +35,8 @@ public:
 private:
     PatchSpec spec_;
     double origin_x_, origin_y_;
-    std::vector<dataset::CellKey> patches_;
-    std::unordered_map<dataset::CellKey, std::size_t, dataset::CellKeyHash> index_;
+    std::vector<lidarscout::CellKey> patches_;
+    std::unordered_map<lidarscout::CellKey, std::size_t, lidarscout::CellKeyHash> index_;
     std::vector<std::vector<TexelStats>> texels_;  // per patch, row-major
 };
 

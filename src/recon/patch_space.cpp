@@ -16,12 +16,12 @@ namespace {
 struct Snapped {
     std::int32_t gx, gy;
     double z;
-    dataset::Rgb8 rgb;
+    lidarscout::Rgb8 rgb;
 
     auto key() const { return std::tie(gy, gx, z, rgb.r, rgb.g, rgb.b); }
 };
 
-std::vector<Snapped> snap_window(std::span<const dataset::OverviewPoint> points, const PatchSpec& spec,
+std::vector<Snapped> snap_window(std::span<const lidarscout::OverviewPoint> points, const PatchSpec& spec,
                                  double window_min_x, double window_min_y) {
     const double units_per_metre = kGridUnitsPerTexel / spec.texel_m;
     const double window_m = spec.window_m();
@@ -95,7 +95,7 @@ void PatchSpec::validate() const {
     }
 }
 
-PatchPoints make_patch_points(std::span<const dataset::OverviewPoint> points, double patch_min_x,
+PatchPoints make_patch_points(std::span<const lidarscout::OverviewPoint> points, double patch_min_x,
                               double patch_min_y, const PatchOptions& options) {
     options.spec.validate();
     PatchPoints patch;
@@ -127,7 +127,7 @@ PatchPoints make_patch_points(std::span<const dataset::OverviewPoint> points, do
     return patch;
 }
 
-PatchPoints make_patch_points(const dataset::PatchGrid& grid, dataset::CellKey cell, const PatchOptions& options) {
+PatchPoints make_patch_points(const PatchGrid& grid, CellKey cell, const PatchOptions& options) {
     options.spec.validate();
     const double patch_m = options.spec.patch_m();
     if (std::abs(grid.patch_size() - patch_m) > 1e-9 * patch_m) {

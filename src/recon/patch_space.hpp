@@ -38,7 +38,7 @@
 #include <span>
 #include <vector>
 
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 
 namespace lidarscout::recon {
 
@@ -115,11 +115,11 @@ struct PatchPoints {
 // (patch_min_x, patch_min_y) (metres, the same frame as the points). Points outside the window
 // [patch_min - pad_m, patch_min + patch_m + pad_m) are ignored. Throws lidarscout::Error for a
 // bad spec or a point with a non-finite coordinate.
-PatchPoints make_patch_points(std::span<const dataset::OverviewPoint> points, double patch_min_x,
+PatchPoints make_patch_points(std::span<const lidarscout::OverviewPoint> points, double patch_min_x,
                               double patch_min_y, const PatchOptions& options = {});
 // The same for cell `cell` of `grid` (grid.window(cell, pad_m)); the grid's patch size must
 // equal the spec's patch_m.
-PatchPoints make_patch_points(const dataset::PatchGrid& grid, dataset::CellKey cell,
+PatchPoints make_patch_points(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell,
                               const PatchOptions& options = {});
 
 // The positions of the points, in their order.

@@ -19,7 +19,7 @@ std::optional<TexelLocation> locate_texel(const PatchSpec& spec, double origin_x
     return at;
 }
 
-void TexelStats::add(double z, dataset::Rgb8 rgb) {
+void TexelStats::add(double z, lidarscout::Rgb8 rgb) {
     z_sum += z;
     const auto zf = static_cast<float>(z);
     z_min = std::min(z_min, zf);

@@ -8,7 +8,7 @@
 #include <limits>
 #include <optional>
 
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "recon/patch_space.hpp"
 
 namespace lidarscout::recon {
@@ -16,7 +16,7 @@ namespace lidarscout::recon {
 // A texel of a lattice of patch_m squares anchored at the lattice origin: the patch (cell)
 // and the column (along x) and row (along y, south to north) inside it.
 struct TexelLocation {
-    dataset::CellKey cell;
+    lidarscout::CellKey cell;
     int col = 0, row = 0;
 };
 
@@ -32,7 +32,7 @@ struct TexelStats {
     std::uint32_t r = 0, g = 0, b = 0;
     std::uint32_t count = 0;
 
-    void add(double z, dataset::Rgb8 rgb);
+    void add(double z, lidarscout::Rgb8 rgb);
     // The statistic's height in metres (the mean in double, rounded once); NaN when empty.
     float height(TexelStatistic statistic) const;
     // Mean colour channel c (0..2) in [0, 1]; NaN when empty.

@@ -12,7 +12,7 @@ std::int32_t floor_div(std::int32_t a, std::int32_t b) { return a >= 0 ? a / b :
 
 }  // namespace
 
-CellBlocks::CellBlocks(const dataset::PatchGrid& grid, const dataset::Bounds& extent_m, double z_min, double z_max)
+CellBlocks::CellBlocks(const lidarscout::PatchGrid& grid, const dataset::Bounds& extent_m, double z_min, double z_max)
     : grid_(&grid), z_min_(z_min), z_max_(z_max) {
     if (extent_m.empty()) return;
     const auto lo = key_of_cell(grid.cell_of(extent_m.min_x, extent_m.min_y));
@@ -23,7 +23,7 @@ CellBlocks::CellBlocks(const dataset::PatchGrid& grid, const dataset::Bounds& ex
     for (auto& t : trees_) t = CountQuadtree(nx_, ny_);
 }
 
-CellBlocks::Key CellBlocks::key_of_cell(dataset::CellKey cell) const {
+CellBlocks::Key CellBlocks::key_of_cell(lidarscout::CellKey cell) const {
     return {floor_div(cell.ix, kBlockCells), floor_div(cell.iy, kBlockCells)};
 }
 
@@ -32,7 +32,7 @@ bool CellBlocks::in_tree(Key key) const {
     return grid_ && x >= 0 && y >= 0 && x < nx_ && y < ny_;
 }
 
-CellBlocks::Block& CellBlocks::block_of(dataset::CellKey cell) {
+CellBlocks::Block& CellBlocks::block_of(lidarscout::CellKey cell) {
     const Key key = key_of_cell(cell);
     const auto [it, added] = blocks_.try_emplace(key);
     if (added) {
@@ -42,7 +42,7 @@ CellBlocks::Block& CellBlocks::block_of(dataset::CellKey cell) {
     return it->second;
 }
 
-void CellBlocks::add(List list, dataset::CellKey cell) {
+void CellBlocks::add(List list, lidarscout::CellKey cell) {
     block_of(cell).cells[list].push_back(cell);
     count(list, cell, 1);
 }
@@ -53,7 +53,7 @@ void CellBlocks::clear(List list) {
     sizes_[list] = 0;
 }
 
-void CellBlocks::count(List list, dataset::CellKey cell, int delta) {
+void CellBlocks::count(List list, lidarscout::CellKey cell, int delta) {
     sizes_[list] += delta;
     const Key key = key_of_cell(cell);
     if (in_tree(key)) trees_[list].add(key.ix - origin_.ix, key.iy - origin_.iy, delta);

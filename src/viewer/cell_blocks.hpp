@@ -19,7 +19,7 @@
 
 #include "core/count_quadtree.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "viewer/patch_heightmap.hpp"
 #include "viewer/point_sets.hpp"
 
@@ -31,8 +31,8 @@ public:
     static constexpr int kBlockCells = 16;  // a block's side, in cells
 
     struct Block {
-        dataset::CellKey key;  // (bx, by): cells [bx * kBlockCells, (bx + 1) * kBlockCells) on x, the same on y
-        std::array<std::vector<dataset::CellKey>, kLists> cells;
+        lidarscout::CellKey key;  // (bx, by): cells [bx * kBlockCells, (bx + 1) * kBlockCells) on x, the same on y
+        std::array<std::vector<lidarscout::CellKey>, kLists> cells;
         bool changed = true;  // a drawable cell of it changed since `shown` and `chunk_points` were listed
         // What its drawable cells show (the scheduler's per-block part of a snapshot).
         std::vector<std::shared_ptr<const PatchHeightmap>> shown;
@@ -41,20 +41,20 @@ public:
 
     CellBlocks() = default;
     // Blocks over the cells of `extent_m` (x, y) of `grid`, boxes between heights z_min and z_max.
-    CellBlocks(const dataset::PatchGrid& grid, const dataset::Bounds& extent_m, double z_min, double z_max);
+    CellBlocks(const lidarscout::PatchGrid& grid, const dataset::Bounds& extent_m, double z_min, double z_max);
 
-    void add(List list, dataset::CellKey cell);
+    void add(List list, lidarscout::CellKey cell);
     void clear(List list);
     std::size_t size(List list) const { return sizes_[list]; }
     // The block holding `cell` (created when missing).
-    Block& block_of(dataset::CellKey cell);
+    Block& block_of(lidarscout::CellKey cell);
     // The box of block `b`'s cells (metres, z_min..z_max).
     dataset::Bounds box(const Block& b) const { return block_box(b.key); }
 
     // Removes and returns the cell of `list` of least cell_cost(cell), best first over blocks whose
     // box_cost(Bounds) is at most any of their cells' cost; nullopt when the list is empty.
     template <class BoxCost, class CellCost>
-    std::optional<dataset::CellKey> take_nearest(List list, BoxCost&& box_cost, CellCost&& cell_cost) {
+    std::optional<lidarscout::CellKey> take_nearest(List list, BoxCost&& box_cost, CellCost&& cell_cost) {
         if (sizes_[list] == 0) return std::nullopt;
         struct Best {
             Block* block = nullptr;
@@ -79,7 +79,7 @@ public:
         if (!best.block) return std::nullopt;
         auto& cells = best.block->cells[list];
         const std::size_t at = best.at;
-        const dataset::CellKey cell = cells[at];
+        const lidarscout::CellKey cell = cells[at];
         cells[at] = cells.back();
         cells.pop_back();
         count(list, cell, -1);
@@ -112,19 +112,19 @@ public:
     std::uint64_t visits() const;
 
 private:
-    using Key = dataset::CellKey;  // a block's (bx, by)
-    Key key_of_cell(dataset::CellKey cell) const;
+    using Key = lidarscout::CellKey;  // a block's (bx, by)
+    Key key_of_cell(lidarscout::CellKey cell) const;
     Key leaf_key(int x, int y) const { return {origin_.ix + x, origin_.iy + y}; }
     bool in_tree(Key key) const;
-    void count(List list, dataset::CellKey cell, int delta);
+    void count(List list, lidarscout::CellKey cell, int delta);
     dataset::Bounds block_box(Key key) const;
     dataset::Bounds rect_box(const LeafRect& r) const;
 
-    const dataset::PatchGrid* grid_ = nullptr;
+    const lidarscout::PatchGrid* grid_ = nullptr;
     double z_min_ = 0, z_max_ = 0;
     Key origin_{};  // the tree's leaf (0, 0)
     int nx_ = 1, ny_ = 1;
-    std::unordered_map<Key, Block, dataset::CellKeyHash> blocks_;
+    std::unordered_map<Key, Block, lidarscout::CellKeyHash> blocks_;
     std::vector<Key> apart_;  // blocks outside the tree's grid
     std::array<CountQuadtree, kLists> trees_;
     std::array<std::size_t, kLists> sizes_{};

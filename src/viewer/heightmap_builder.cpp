@@ -24,7 +24,7 @@ std::vector<PatchHeightmap> finish(std::vector<std::optional<PatchHeightmap>>& b
 
 // One batch of the network: the windows' points and interpolated inputs built in parallel,
 // then one inference for those with enough points.
-void run_cnn_batch(const dataset::PatchGrid& grid, std::span<const dataset::CellKey> cells,
+void run_cnn_batch(const lidarscout::PatchGrid& grid, std::span<const lidarscout::CellKey> cells,
                    const nn::HeightmapNetwork& network, const HeightmapBuildOptions& options, ThreadPool& pool,
                    std::span<std::optional<PatchHeightmap>> out) {
     std::vector<recon::PatchPoints> points(cells.size());
@@ -57,7 +57,7 @@ std::vector<dataset::Bounds> tile_footprints(const dataset::Dataset& dataset) {
     return out;
 }
 
-bool chunk_points_have_rgb(const dataset::PatchGrid& grid) {
+bool chunk_points_have_rgb(const lidarscout::PatchGrid& grid) {
     std::size_t coloured = 0, total = 0;
     for (const auto cell : grid.cells()) {
         for (const auto& p : grid.points_in(cell)) {
@@ -68,8 +68,8 @@ bool chunk_points_have_rgb(const dataset::PatchGrid& grid) {
     return coloured > 0 && coloured * 2 >= total;
 }
 
-std::vector<PatchHeightmap> build_linear_heightmaps(const dataset::PatchGrid& grid,
-                                                    std::span<const dataset::CellKey> cells,
+std::vector<PatchHeightmap> build_linear_heightmaps(const lidarscout::PatchGrid& grid,
+                                                    std::span<const lidarscout::CellKey> cells,
                                                     const HeightmapBuildOptions& options, ThreadPool& pool) {
     std::vector<std::optional<PatchHeightmap>> built(cells.size());
     pool.for_each(cells.size(), [&](std::size_t i) {
@@ -79,8 +79,8 @@ std::vector<PatchHeightmap> build_linear_heightmaps(const dataset::PatchGrid& gr
     return finish(built, options);
 }
 
-std::vector<PatchHeightmap> build_cnn_heightmaps(const dataset::PatchGrid& grid,
-                                                 std::span<const dataset::CellKey> cells,
+std::vector<PatchHeightmap> build_cnn_heightmaps(const lidarscout::PatchGrid& grid,
+                                                 std::span<const lidarscout::CellKey> cells,
                                                  const nn::HeightmapNetwork& network,
                                                  const HeightmapBuildOptions& options, ThreadPool& pool) {
     std::vector<std::optional<PatchHeightmap>> built(cells.size());

@@ -11,7 +11,7 @@
 
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "recon/patch_space.hpp"
 #include "viewer/patch_heightmap.hpp"
 
@@ -42,17 +42,17 @@ std::vector<dataset::Bounds> tile_footprints(const dataset::Dataset& dataset);
 
 // Whether the survey has colour: at least half of the grid's chunk points are not black
 // (point formats without RGB load as black).
-bool chunk_points_have_rgb(const dataset::PatchGrid& grid);
+bool chunk_points_have_rgb(const lidarscout::PatchGrid& grid);
 
 // Heightmaps of `cells` by the linear method, in the order of `cells` (those with too few
 // points, or masked away entirely, left out).
-std::vector<PatchHeightmap> build_linear_heightmaps(const dataset::PatchGrid& grid,
-                                                    std::span<const dataset::CellKey> cells,
+std::vector<PatchHeightmap> build_linear_heightmaps(const lidarscout::PatchGrid& grid,
+                                                    std::span<const lidarscout::CellKey> cells,
                                                     const HeightmapBuildOptions& options, ThreadPool& pool);
 
 // The same by the network (64 x 64 patches from the 96 x 96 interpolated windows).
-std::vector<PatchHeightmap> build_cnn_heightmaps(const dataset::PatchGrid& grid,
-                                                 std::span<const dataset::CellKey> cells,
+std::vector<PatchHeightmap> build_cnn_heightmaps(const lidarscout::PatchGrid& grid,
+                                                 std::span<const lidarscout::CellKey> cells,
                                                  const nn::HeightmapNetwork& network,
                                                  const HeightmapBuildOptions& options, ThreadPool& pool);
 

@@ -9,13 +9,13 @@
 #include <atomic>
 #include <cstdint>
 
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 
 namespace lidarscout::viewer {
 
 class MemoryLedger {
 public:
-    explicit MemoryLedger(std::uint64_t budget, const dataset::PatchGrid* grid = nullptr)
+    explicit MemoryLedger(std::uint64_t budget, const lidarscout::PatchGrid* grid = nullptr)
         : budget_(budget), grid_(grid) {}
 
     std::uint64_t budget() const { return budget_.load(std::memory_order_relaxed); }
@@ -32,7 +32,7 @@ public:
 private:
     std::atomic<std::uint64_t> budget_;
     std::atomic<std::uint64_t> patches_{0};
-    const dataset::PatchGrid* grid_;
+    const lidarscout::PatchGrid* grid_;
 };
 
 }  // namespace lidarscout::viewer

@@ -21,7 +21,7 @@ struct TexelSums {
     }
 };
 
-PatchDetail empty_detail(const dataset::PatchGrid& grid, dataset::CellKey cell, int size) {
+PatchDetail empty_detail(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell, int size) {
     PatchDetail d;
     d.origin_x = grid.cell_min_x(cell), d.origin_y = grid.cell_min_y(cell);
     d.texel_m = grid.patch_size() / size;
@@ -37,7 +37,7 @@ std::uint8_t channel_mean(double a, std::uint32_t na, double b, std::uint32_t nb
     return static_cast<std::uint8_t>(std::lround((a * na + b * nb) / (na + nb)));
 }
 
-PatchDetail detail_from_sums(const dataset::PatchGrid& grid, dataset::CellKey cell, int size, const TexelSums& s) {
+PatchDetail detail_from_sums(const PatchGrid& grid, CellKey cell, int size, const TexelSums& s) {
     PatchDetail d = empty_detail(grid, cell, size);
     for (std::size_t t = 0; t < s.n.size(); ++t) {
         const std::uint32_t n = s.n[t];
@@ -52,14 +52,14 @@ PatchDetail detail_from_sums(const dataset::PatchGrid& grid, dataset::CellKey ce
 
 }  // namespace
 
-PatchDetails tile_detail(const PointSet& set, const dataset::PatchGrid& grid, int size) {
-    std::map<dataset::CellKey, TexelSums> sums;
+PatchDetails tile_detail(const PointSet& set, const lidarscout::PatchGrid& grid, int size) {
+    std::map<lidarscout::CellKey, TexelSums> sums;
     const double texel = grid.patch_size() / size;
     TexelSums* s = nullptr;  // the last point's cell (points come in scan order: few switches)
-    dataset::CellKey last{};
+    lidarscout::CellKey last{};
     for (const auto& p : set.points) {
         const double x = set.origin_x + p.dx, y = set.origin_y + p.dy;
-        const dataset::CellKey cell = grid.cell_of(x, y);
+        const lidarscout::CellKey cell = grid.cell_of(x, y);
         const int col = std::clamp(static_cast<int>((x - grid.cell_min_x(cell)) / texel), 0, size - 1);
         const int row = std::clamp(static_cast<int>((y - grid.cell_min_y(cell)) / texel), 0, size - 1);
         if (!s || !(cell == last)) {
@@ -105,7 +105,7 @@ PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& det
 }
 
 void overlay_points(std::vector<PatchHeightmap>& heightmaps, std::span<const PointSet> sets,
-                    const dataset::PatchGrid& grid) {
+                    const lidarscout::PatchGrid& grid) {
     if (heightmaps.empty()) return;
     PatchDetails merged;
     for (const auto& set : sets) {

@@ -9,7 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "viewer/patch_heightmap.hpp"
 #include "viewer/point_sets.hpp"
 
@@ -27,10 +27,10 @@ struct PatchDetail {
     std::uint64_t bytes() const { return height.capacity() * 4 + count.capacity() * 4 + colour.capacity() * 4; }
 };
 
-using PatchDetails = std::unordered_map<dataset::CellKey, PatchDetail, dataset::CellKeyHash>;
+using PatchDetails = std::unordered_map<lidarscout::CellKey, PatchDetail, lidarscout::CellKeyHash>;
 
 // The detail of every grid cell the points of `set` (one tile) fall in, `size` texels per side.
-PatchDetails tile_detail(const PointSet& set, const dataset::PatchGrid& grid, int size);
+PatchDetails tile_detail(const PointSet& set, const lidarscout::PatchGrid& grid, int size);
 
 // Merges `from` into `into` (the same cell): per texel the count-weighted mean.
 void merge_detail(PatchDetail& into, const PatchDetail& from);
@@ -43,6 +43,6 @@ PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& det
 // they fall in, as the scheduler does once those tiles are resident: the surface under real
 // points stands at their height, not at the interpolation's, so that it does not hide them.
 void overlay_points(std::vector<PatchHeightmap>& heightmaps, std::span<const PointSet> sets,
-                    const dataset::PatchGrid& grid);
+                    const lidarscout::PatchGrid& grid);
 
 }  // namespace lidarscout::viewer

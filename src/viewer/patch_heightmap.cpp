@@ -51,7 +51,7 @@ std::shared_ptr<const PatchHeightmap> share(PatchHeightmap heightmap) {
     return std::make_shared<const PatchHeightmap>(std::move(heightmap));
 }
 
-PatchHeightmap heightmap_from_reconstruction(dataset::CellKey cell, const recon::PatchPoints& points,
+PatchHeightmap heightmap_from_reconstruction(lidarscout::CellKey cell, const recon::PatchPoints& points,
                                              const recon::Reconstruction& patch) {
     const recon::PatchSpec& spec = points.spec;
     if (patch.height.size != spec.patch_texels || patch.height.channels != 1) {
@@ -73,7 +73,7 @@ PatchHeightmap heightmap_from_reconstruction(dataset::CellKey cell, const recon:
     return h;
 }
 
-std::optional<PatchHeightmap> linear_heightmap(const dataset::PatchGrid& grid, dataset::CellKey cell,
+std::optional<PatchHeightmap> linear_heightmap(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell,
                                                const recon::PatchOptions& options) {
     const recon::PatchPoints points = recon::make_patch_points(grid, cell, options);
     if (points.status != recon::PatchStatus::Ok) return std::nullopt;

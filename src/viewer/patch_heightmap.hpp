@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "recon/methods.hpp"
 #include "recon/patch_space.hpp"
 #include "render/heightmap_pass.hpp"
@@ -19,7 +19,7 @@
 namespace lidarscout::viewer {
 
 struct PatchHeightmap {
-    dataset::CellKey cell;
+    lidarscout::CellKey cell;
     double origin_x = 0, origin_y = 0;  // south-west corner of the patch, world metres
     double texel_m = 10;
     int size = 64;                      // texels per side
@@ -36,13 +36,13 @@ std::shared_ptr<const PatchHeightmap> share(PatchHeightmap heightmap);
 
 // A heightmap from a patch-sized reconstruction (recon::Reconstruction of size x size texels:
 // normalised heights, colours in [0, 1] or NaN) of the window `points` of `cell`.
-PatchHeightmap heightmap_from_reconstruction(dataset::CellKey cell, const recon::PatchPoints& points,
+PatchHeightmap heightmap_from_reconstruction(lidarscout::CellKey cell, const recon::PatchPoints& points,
                                              const recon::Reconstruction& patch);
 
 // The linear method (barycentric in the chunk points' triangles, nearest outside) on the
 // window of `cell`, cropped to the patch; nullopt when the window has too few chunk points
 // (options.min_points). The grid's patch size must be options.spec.patch_m().
-std::optional<PatchHeightmap> linear_heightmap(const dataset::PatchGrid& grid, dataset::CellKey cell,
+std::optional<PatchHeightmap> linear_heightmap(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell,
                                                const recon::PatchOptions& options);
 
 // Sets to NaN every texel whose centre lies outside all `footprints` (xy boxes, metres);

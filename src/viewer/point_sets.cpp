@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "dataset/chunk_points.hpp"
+#include "dataset/las_colour.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
 #include "las/point_format.hpp"
@@ -33,7 +34,7 @@ struct RecordConverter {
 
     render::PointAttr operator()(std::span<const std::uint8_t> record) const {
         const las::Point p = las::decode_point(record, *format, tile->tile.header);
-        const dataset::Rgb8 rgb = dataset::rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
+        const lidarscout::Rgb8 rgb = dataset::rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
         render::PointAttr a;
         double x = p.x, y = p.y, z = p.z;
         tile->place(x, y, z);
@@ -167,7 +168,7 @@ std::uint64_t point_count(std::span<const PointSet> sets) {
     return n;
 }
 
-PointSet cell_point_set(const dataset::PatchGrid& grid, dataset::CellKey cell) {
+PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell) {
     PointSet set;
     set.origin_x = grid.cell_min_x(cell);
     set.origin_y = grid.cell_min_y(cell);

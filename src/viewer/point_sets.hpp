@@ -10,7 +10,7 @@
 
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "dataset/point_reader.hpp"
 #include "render/point_batch.hpp"
 
@@ -34,7 +34,7 @@ std::vector<render::PointBatch> batches_of(std::span<const PointSet> sets);
 std::uint64_t point_count(std::span<const PointSet> sets);
 
 // The chunk points stored in `cell` of the grid; origin = the cell's min corner at z = 0; no spacing.
-PointSet cell_point_set(const dataset::PatchGrid& grid, dataset::CellKey cell);
+PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell);
 
 // The grey of surfaces without colour (as the heightmap pass draws untextured patches).
 inline constexpr std::uint8_t kUncolouredGrey = 170;

@@ -33,7 +33,7 @@ std::uint64_t coarse_bytes(const LodBlocks& blocks, double spacing_m) {
 // Thrown between two pieces of a tile when the residency stops.
 struct Stopped {};
 
-Residency::Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options)
+Residency::Residency(const dataset::Dataset& dataset, const lidarscout::PatchGrid& grid, ResidencyOptions options)
     : dataset_(dataset), grid_(grid), options_(std::move(options)),
       ledger_(options_.ledger ? options_.ledger : std::make_shared<MemoryLedger>(options_.memory_budget)),
       policy_(dataset, grid, options_) {
@@ -213,10 +213,10 @@ void Residency::load(const Job& job, const PointOrder& order, ThreadPool& pool) 
     if (std::lock_guard lock(mutex_); fold && whole) folded_.insert(tile);  // every piece came
 }
 
-std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded, bool& first) {
+std::vector<lidarscout::CellKey> Residency::commit(std::uint32_t tile, Decoded decoded, bool& first) {
     std::lock_guard lock(mutex_);
     if (std::exchange(first, false)) drop(tile);  // its coarse levels, held since an earlier release
-    std::vector<dataset::CellKey> cells;
+    std::vector<lidarscout::CellKey> cells;
     const std::uint64_t details_before = details_bytes_;
     for (auto& [cell, d] : decoded.detail) {
         cells.push_back(cell);
@@ -248,7 +248,7 @@ std::vector<dataset::CellKey> Residency::commit(std::uint32_t tile, Decoded deco
 }
 
 void Residency::notify(const std::vector<std::uint32_t>& dropped, std::optional<std::uint32_t> loaded,
-                       const std::vector<dataset::CellKey>& cells) const {
+                       const std::vector<lidarscout::CellKey>& cells) const {
     if (options_.on_tile) {
         for (const auto t : dropped) options_.on_tile(t, false);
     }
@@ -311,7 +311,7 @@ LodBlocks Residency::blocks() const {
     return blocks_cache_;
 }
 
-std::shared_ptr<const PatchDetail> Residency::detail(dataset::CellKey cell) const {
+std::shared_ptr<const PatchDetail> Residency::detail(lidarscout::CellKey cell) const {
     std::lock_guard lock(details_mutex_);
     const auto it = details_.find(cell);
     return it == details_.end() ? nullptr : it->second;

@@ -36,7 +36,7 @@
 #include "core/ranked_mutex.hpp"
 #include "core/throttle.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "dataset/tile_index.hpp"
 #include "render/camera.hpp"
 #include "viewer/decode_memory.hpp"
@@ -61,7 +61,7 @@ struct ResidencyOptions {
     // it holds (heightmaps, chunk points, grid). Null: a ledger of the residency's own.
     std::shared_ptr<MemoryLedger> ledger;
     // Cells whose detail changed (a tile was folded in).
-    std::function<void(const std::vector<dataset::CellKey>&)> on_detail;
+    std::function<void(const std::vector<lidarscout::CellKey>&)> on_detail;
     // A tile decoded (loaded = true) or dropped to its coarse levels (false).
     std::function<void(std::uint32_t tile, bool loaded)> on_tile;
 };
@@ -79,7 +79,7 @@ struct ResidencyStats {
 
 class Residency {
 public:
-    Residency(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, ResidencyOptions options);
+    Residency(const dataset::Dataset& dataset, const lidarscout::PatchGrid& grid, ResidencyOptions options);
     ~Residency();  // stops and joins
     Residency(const Residency&) = delete;
     Residency& operator=(const Residency&) = delete;
@@ -92,7 +92,7 @@ public:
     // Every block held, full and coarse (shared, not copied).
     LodBlocks blocks() const;
     // The detail folded into cell `cell` (null when none).
-    std::shared_ptr<const PatchDetail> detail(dataset::CellKey cell) const;
+    std::shared_ptr<const PatchDetail> detail(lidarscout::CellKey cell) const;
     // Grows with every change of blocks() or detail.
     std::uint64_t version() const;
     ResidencyStats stats() const;
@@ -124,12 +124,12 @@ private:
     void refresh_idle();  // after a change of busy_, has_camera_, camera_version_ or checked_version_
     void load(const Job& job, const PointOrder& order, ThreadPool& pool);
     // Adds a decoded piece; `first` (cleared here, under the lock) drops the coarse levels held.
-    std::vector<dataset::CellKey> commit(std::uint32_t tile, Decoded decoded, bool& first);
+    std::vector<lidarscout::CellKey> commit(std::uint32_t tile, Decoded decoded, bool& first);
     void notify(const std::vector<std::uint32_t>& released, std::optional<std::uint32_t> loaded,
-                const std::vector<dataset::CellKey>& cells) const;
+                const std::vector<lidarscout::CellKey>& cells) const;
 
     const dataset::Dataset& dataset_;
-    const dataset::PatchGrid& grid_;
+    const lidarscout::PatchGrid& grid_;
     ResidencyOptions options_;
     std::shared_ptr<MemoryLedger> ledger_;  // options_.ledger, or one of its own
     ResidencyPolicy policy_;  // the decisions and the table of tiles held (under mutex_; its tile index: the thread's)
@@ -149,7 +149,7 @@ private:
     std::set<std::uint32_t> folded_;  // tiles whose every point is in the details (not folded again on reload)
     // Changed under mutex_ and details_mutex_; read under either (detail() takes details_mutex_ alone,
     // a leaf lock held for a lookup: the scheduler asks while holding its own lock).
-    std::map<dataset::CellKey, std::shared_ptr<const PatchDetail>> details_;
+    std::map<lidarscout::CellKey, std::shared_ptr<const PatchDetail>> details_;
     mutable RankedMutex details_mutex_{3, "residency details"};
     std::uint64_t details_bytes_ = 0, decoding_bytes_ = 0, peak_ = 0, last_other_ = 0;
     std::atomic<std::uint64_t> version_{1};  // read without a lock (every snapshot asks)

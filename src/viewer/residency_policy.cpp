@@ -31,7 +31,7 @@ double ResidencyPolicy::Fractions::of(std::uint32_t tile) const {
     return it == end() ? 0.0 : it->second;
 }
 
-ResidencyPolicy::ResidencyPolicy(const dataset::Dataset& dataset, const dataset::PatchGrid& grid,
+ResidencyPolicy::ResidencyPolicy(const dataset::Dataset& dataset, const lidarscout::PatchGrid& grid,
                                  const ResidencyOptions& options)
     : dataset_(dataset), grid_(grid), decode_threads_(std::max(1u, options.decode_threads)),
       patch_texels_(options.patch_texels), block_m_(options.block_m), coarse_spacing_m_(options.coarse_spacing_m),

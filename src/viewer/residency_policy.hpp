@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "dataset/tile_index.hpp"
 #include "render/camera.hpp"
 #include "viewer/decode_memory.hpp"
@@ -55,7 +55,7 @@ public:
         double of(std::uint32_t tile) const;  // 0 when out of view
     };
 
-    ResidencyPolicy(const dataset::Dataset& dataset, const dataset::PatchGrid& grid, const ResidencyOptions& options);
+    ResidencyPolicy(const dataset::Dataset& dataset, const PatchGrid& grid, const ResidencyOptions& options);
 
     // The camera of the looks that follow and its version (partial tiles remember the one they were loaded for).
     void set_camera(const render::Camera& camera, std::uint64_t version);
@@ -109,7 +109,7 @@ private:
     std::optional<DecodePlan> plan_for(std::uint32_t tile, std::uint64_t room) const;
 
     const dataset::Dataset& dataset_;
-    const dataset::PatchGrid& grid_;
+    const lidarscout::PatchGrid& grid_;
     unsigned decode_threads_;
     int patch_texels_;
     double block_m_, coarse_spacing_m_, hysteresis_, min_screen_fraction_;

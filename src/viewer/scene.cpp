@@ -21,9 +21,9 @@ render::ColourSettings frame_colours(const SceneStyle& style, std::span<const re
 
 }  // namespace
 
-std::vector<PointSet> overview_point_sets(const dataset::PatchGrid& grid, std::span<const dataset::CellKey> cells,
+std::vector<PointSet> overview_point_sets(const lidarscout::PatchGrid& grid, std::span<const lidarscout::CellKey> cells,
                                           std::span<const PatchHeightmap> heightmaps) {
-    std::set<dataset::CellKey> covered;
+    std::set<lidarscout::CellKey> covered;
     for (const auto& h : heightmaps) covered.insert(h.cell);
     std::vector<PointSet> out;
     for (const auto cell : cells) {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/thread_pool.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "render/backend.hpp"
 #include "render/camera.hpp"
 #include "render/colour_modes.hpp"
@@ -28,7 +28,7 @@ struct Scene {
 };
 
 // The chunk points of those `cells` that have no heightmap among `heightmaps`, one set per cell.
-std::vector<PointSet> overview_point_sets(const dataset::PatchGrid& grid, std::span<const dataset::CellKey> cells,
+std::vector<PointSet> overview_point_sets(const lidarscout::PatchGrid& grid, std::span<const lidarscout::CellKey> cells,
                                           std::span<const PatchHeightmap> heightmaps);
 
 struct SceneStyle {

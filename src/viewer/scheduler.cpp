@@ -26,8 +26,8 @@
 namespace lidarscout::viewer {
 namespace {
 
-using dataset::CellKey;
-using dataset::CellKeyHash;
+using lidarscout::CellKey;
+using lidarscout::CellKeyHash;
 
 constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
@@ -62,7 +62,7 @@ std::pair<std::int32_t, std::int32_t> cell_range(double lo, double hi, double or
 // chunk points fall in, once they are in.
 constexpr double kCellsPerTile = 1024, kCellsPerChunkPoint = 16;
 
-bool bounds_fit_data(const dataset::DatasetTile& t, const dataset::PatchGrid& grid, double pad) {
+bool bounds_fit_data(const dataset::DatasetTile& t, const lidarscout::PatchGrid& grid, double pad) {
     const auto& b = t.bounds_m;
     const double w = (b.max_x - b.min_x + 2 * pad) / grid.patch_size() + 2;
     const double h = (b.max_y - b.min_y + 2 * pad) / grid.patch_size() + 2;
@@ -70,7 +70,7 @@ bool bounds_fit_data(const dataset::DatasetTile& t, const dataset::PatchGrid& gr
 }
 
 template <typename Fn>
-void for_cells(const dataset::Bounds& b, const dataset::PatchGrid& grid, double pad, Fn&& fn) {
+void for_cells(const dataset::Bounds& b, const lidarscout::PatchGrid& grid, double pad, Fn&& fn) {
     const auto [x0, x1] = cell_range(b.min_x, b.max_x, grid.origin_x(), grid.patch_size(), pad);
     const auto [y0, y1] = cell_range(b.min_y, b.max_y, grid.origin_y(), grid.patch_size(), pad);
     for (std::int32_t iy = y0; iy <= y1; ++iy) {
@@ -115,7 +115,7 @@ struct Scheduler::State {
     std::vector<ErrorRecord> errors;  // the scheduler's own (the network); the loader and residency keep theirs
     std::uint64_t version = 1;  // a snapshot's version: this plus the residency's
     bool hidden_changes = false;  // patches out of view changed since the snapshot's version moved
-    const dataset::PatchGrid* grid = nullptr;
+    const lidarscout::PatchGrid* grid = nullptr;
     mutable std::shared_ptr<const SceneSnapshot> snapshot;
 
     HeightmapBuildOptions build;
@@ -142,7 +142,7 @@ struct Scheduler::State {
     }
 
     // Priority of a cell for the current camera: visible ones first, then by distance.
-    double key_of(Patch& p, CellKey cell, const dataset::PatchGrid& grid) {
+    double key_of(Patch& p, CellKey cell, const lidarscout::PatchGrid& grid) {
         ++patch_visits;
         if (p.key_version == camera_version) return p.key;
         const auto box = cell_box(grid, cell, z_min, z_max);
@@ -250,7 +250,7 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     : dataset_(dataset), options_(std::move(options)), has_rgb_(survey_has_rgb(dataset)),
       state_(std::make_unique<State>()) {
     const auto [ox, oy] = dataset::patch_grid_origin(dataset);
-    grid_ = std::make_unique<dataset::PatchGrid>(ox, oy);
+    grid_ = std::make_unique<lidarscout::PatchGrid>(ox, oy);
     State& s = *state_;
     s.grid = grid_.get();
     s.build.patch.min_points = options_.min_points;
@@ -577,7 +577,7 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     return s.snapshot;
 }
 
-std::shared_ptr<const PatchHeightmap> Scheduler::heightmap(dataset::CellKey cell) const {
+std::shared_ptr<const PatchHeightmap> Scheduler::heightmap(lidarscout::CellKey cell) const {
     std::lock_guard lock(state_->mutex);
     const auto it = state_->patches.find(cell);
     return it == state_->patches.end() ? nullptr : it->second.shown;

@@ -46,7 +46,7 @@
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "render/camera.hpp"
 #include "viewer/heightmap_builder.hpp"
 #include "viewer/residency.hpp"
@@ -60,7 +60,7 @@ struct SchedulerEvent {
     enum class Kind { TileDone, LinearHeightmap, CnnHeightmap, FullResLoaded, FullResReleased };
     Kind kind = Kind::TileDone;
     std::uint32_t tile = 0;     // TileDone, FullRes*
-    dataset::CellKey cell{};    // *Heightmap
+    lidarscout::CellKey cell{};    // *Heightmap
 };
 
 struct SchedulerOptions {
@@ -132,10 +132,10 @@ public:
     SchedulerStats stats() const;
 
     const dataset::Dataset& dataset() const { return dataset_; }
-    const dataset::PatchGrid& grid() const { return *grid_; }
+    const lidarscout::PatchGrid& grid() const { return *grid_; }
     bool has_rgb() const { return has_rgb_; }
     // The heightmap shown now for `cell` (null when none).
-    std::shared_ptr<const PatchHeightmap> heightmap(dataset::CellKey cell) const;
+    std::shared_ptr<const PatchHeightmap> heightmap(lidarscout::CellKey cell) const;
     // True when no work is left for the current camera (chunk points in, every heightmap
     // built, wanted tiles resident or over budget).
     bool idle() const;
@@ -148,18 +148,18 @@ public:
 
 private:
     struct State;
-    void on_tile_done(std::uint32_t tile, std::span<const dataset::CellKey> cells);
+    void on_tile_done(std::uint32_t tile, std::span<const lidarscout::CellKey> cells);
     void heightmap_worker();
     void cnn_worker();
     void loader_watch();
-    void show_detail(const std::vector<dataset::CellKey>& cells);
+    void show_detail(const std::vector<lidarscout::CellKey>& cells);
     ResidencyOptions residency_options();
     void emit(const SchedulerEvent& event) const;
 
     const dataset::Dataset& dataset_;
     SchedulerOptions options_;
     bool has_rgb_ = true;
-    std::unique_ptr<dataset::PatchGrid> grid_;
+    std::unique_ptr<lidarscout::PatchGrid> grid_;
     std::unique_ptr<State> state_;
     std::unique_ptr<Residency> residency_;
     std::unique_ptr<dataset::ChunkPointLoader> loader_;

@@ -72,7 +72,7 @@ double distance_to(const render::Camera& camera, const dataset::Bounds& box) {
                       gap(box.min_z, box.max_z, camera.z));
 }
 
-dataset::Bounds cell_box(const dataset::PatchGrid& grid, dataset::CellKey cell, double z_min, double z_max) {
+dataset::Bounds cell_box(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell, double z_min, double z_max) {
     dataset::Bounds b;
     b.min_x = grid.cell_min_x(cell), b.max_x = b.min_x + grid.patch_size();
     b.min_y = grid.cell_min_y(cell), b.max_y = b.min_y + grid.patch_size();
@@ -80,9 +80,9 @@ dataset::Bounds cell_box(const dataset::PatchGrid& grid, dataset::CellKey cell, 
     return b;
 }
 
-std::vector<dataset::CellKey> visible_cells(const dataset::PatchGrid& grid, const render::Camera& camera,
+std::vector<lidarscout::CellKey> visible_cells(const lidarscout::PatchGrid& grid, const render::Camera& camera,
                                             double z_min, double z_max) {
-    std::vector<dataset::CellKey> out;
+    std::vector<lidarscout::CellKey> out;
     for (const auto cell : grid.cells()) {
         if (box_in_view(camera, cell_box(grid, cell, z_min, z_max))) out.push_back(cell);
     }

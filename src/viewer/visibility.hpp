@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "render/camera.hpp"
 
 namespace lidarscout::viewer {
@@ -27,11 +27,11 @@ double screen_fraction(const render::Camera& camera, const dataset::Bounds& box)
 double distance_to(const render::Camera& camera, const dataset::Bounds& box);
 
 // The box of grid cell `cell` between heights z_min and z_max.
-dataset::Bounds cell_box(const dataset::PatchGrid& grid, dataset::CellKey cell, double z_min, double z_max);
+dataset::Bounds cell_box(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell, double z_min, double z_max);
 
 // The grid's non-empty cells whose box (heights z_min..z_max, e.g. the dataset's range) is in
 // view, sorted.
-std::vector<dataset::CellKey> visible_cells(const dataset::PatchGrid& grid, const render::Camera& camera,
+std::vector<lidarscout::CellKey> visible_cells(const lidarscout::PatchGrid& grid, const render::Camera& camera,
                                             double z_min, double z_max);
 
 struct FullResOptions {

@@ -12,7 +12,7 @@
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "io/file.hpp"
 #include "test_data.hpp"
 

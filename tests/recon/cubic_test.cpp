@@ -38,7 +38,7 @@ TEST(ReconCubic, ExactAtDataPointsAndCloseOnAQuadratic) {
         return 100.0 + 2e-4 * (x - 400.0) * (x - 400.0) + 1e-4 * (y - 520.0) * (y - 520.0) + 3e-5 * x * y;
     };
     // Points on texel centres (so the data points are sampled), jittered lattice.
-    std::vector<dataset::OverviewPoint> points;
+    std::vector<lidarscout::OverviewPoint> points;
     std::mt19937_64 rng(3);
     std::uniform_int_distribution<int> jitter(-2, 2);
     for (int j = 2; j < 96; j += 5) {

@@ -38,10 +38,10 @@ TEST(ReconInterpolation, LinearIsExactOnAPlane) {
 TEST(ReconInterpolation, LinearColourIsExactOnAPlane) {
     // Colours linear in position: r = x / 960 * 255 (as 8-bit, so only where the values are
     // exact integers: points on a 96 m lattice with r = x / 4 exactly).
-    std::vector<dataset::OverviewPoint> points;
+    std::vector<lidarscout::OverviewPoint> points;
     for (int j = 0; j < 10; ++j) {
         for (int i = 0; i < 10; ++i) {
-            dataset::OverviewPoint p;
+            lidarscout::OverviewPoint p;
             p.x = i * 96.0 + 13.0;
             p.y = j * 96.0 + 7.0;
             p.z = 100.0;
@@ -89,7 +89,7 @@ TEST(ReconInterpolation, NearestHoldsTheClosestPointAndLinearFallsBackOutside) {
 }
 
 TEST(ReconInterpolation, RowZeroIsSouth) {
-    std::vector<dataset::OverviewPoint> points;
+    std::vector<lidarscout::OverviewPoint> points;
     for (int i = 0; i < 30; ++i) {
         points.push_back(test::point_at(5.0 + i * 30.0, 5.0, [](double, double) { return 0.0; }));     // south row
         points.push_back(test::point_at(5.0 + i * 30.0, 955.0, [](double, double) { return 96.0; }));  // north row
@@ -120,7 +120,7 @@ TEST(ReconInterpolation, NoColourGivesNaNAndTooFewPointsGivesNothing) {
 }
 
 TEST(ReconInterpolation, DeterministicBytes) {
-    std::vector<dataset::OverviewPoint> points = test::random_window(370, 6, test::terrain);
+    std::vector<lidarscout::OverviewPoint> points = test::random_window(370, 6, test::terrain);
     for (int j = 0; j < 8; ++j) {  // plus a cocircular lattice (ambiguous Delaunay diagonals)
         for (int i = 0; i < 8; ++i) points.push_back(test::point_at(100.0 + i * 40.0, 100.0 + j * 40.0, test::terrain));
     }

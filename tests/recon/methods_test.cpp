@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "dataset/chunk_points.hpp"
+#include "dataset/las_colour.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "recon/methods.hpp"
@@ -60,7 +61,7 @@ TEST(ReconMethods, TooFewPointsMarkedForEveryMethod) {
 
 // Chunk points of the nine eastern Kentucky tiles (US survey feet -> metres) in a patch grid.
 struct SurveyGrid {
-    dataset::PatchGrid grid{0.0, 0.0, 640.0};
+    lidarscout::PatchGrid grid{0.0, 0.0, 640.0};
     double min_z = INFINITY, max_z = -INFINITY;
 };
 
@@ -86,7 +87,7 @@ TEST(ReconMethods, RealChunkPoints) {
     load_kentucky(s);
     ASSERT_GT(s.grid.size(), 200u);
     // The cell whose window holds the most chunk points.
-    dataset::CellKey best{};
+    lidarscout::CellKey best{};
     std::size_t most = 0;
     for (const auto cell : s.grid.cells()) {
         const std::size_t n = s.grid.window(cell, 160.0).size();

@@ -16,8 +16,8 @@ namespace {
 using test::kPatchMin;
 using test::make_patch;
 
-dataset::OverviewPoint pt(double x, double y, double z, dataset::Rgb8 rgb = {}) {
-    dataset::OverviewPoint p;
+lidarscout::OverviewPoint pt(double x, double y, double z, lidarscout::Rgb8 rgb = {}) {
+    lidarscout::OverviewPoint p;
     p.x = x;
     p.y = y;
     p.z = z;
@@ -46,13 +46,13 @@ TEST(ReconPatchSpace, RejectsBadSpecAndPoints) {
     EXPECT_THROW((PatchSpec{10.0, 64, -1}.validate()), Error);
     EXPECT_THROW((PatchSpec{1.0, 500, 16}.validate()), Error);
     EXPECT_NO_THROW((PatchSpec{1.0, 480, 16}.validate()));
-    const std::vector<dataset::OverviewPoint> bad{pt(100, 100, NAN)};
+    const std::vector<lidarscout::OverviewPoint> bad{pt(100, 100, NAN)};
     EXPECT_THROW(make_patch(bad), Error);
 }
 
 TEST(ReconPatchSpace, WindowEdgesAndPatchCoordinates) {
     // Window of the patch at (160, 160): [0, 960)^2.
-    const std::vector<dataset::OverviewPoint> points{
+    const std::vector<lidarscout::OverviewPoint> points{
         pt(0.0, 0.0, 1),        // min corner: inside
         pt(480.0, 480.0, 2),    // centre
         pt(959.999, 10.0, 3),   // just inside
@@ -79,7 +79,7 @@ TEST(ReconPatchSpace, WindowEdgesAndPatchCoordinates) {
 }
 
 TEST(ReconPatchSpace, MedianCentreHeightAndNormalisation) {
-    const std::vector<dataset::OverviewPoint> odd{pt(10, 10, 5), pt(20, 10, 100), pt(30, 10, 7)};
+    const std::vector<lidarscout::OverviewPoint> odd{pt(10, 10, 5), pt(20, 10, 100), pt(30, 10, 7)};
     const PatchPoints p = make_patch(odd, test::opts(1));
     EXPECT_DOUBLE_EQ(p.centre_z, 7.0);
     ASSERT_EQ(p.points.size(), 3u);
@@ -88,12 +88,12 @@ TEST(ReconPatchSpace, MedianCentreHeightAndNormalisation) {
     EXPECT_DOUBLE_EQ(p.to_metres(p.normalise(123.25)), 123.25);
     EXPECT_NEAR(p.to_metres(p.points[1].h), 100.0, 1e-4);
 
-    const std::vector<dataset::OverviewPoint> even{pt(10, 10, 5), pt(20, 10, 100), pt(30, 10, 7), pt(40, 10, 9)};
+    const std::vector<lidarscout::OverviewPoint> even{pt(10, 10, 5), pt(20, 10, 100), pt(30, 10, 7), pt(40, 10, 9)};
     EXPECT_DOUBLE_EQ(make_patch(even, test::opts(1)).centre_z, 8.0);
 }
 
 TEST(ReconPatchSpace, DuplicatesMergedAndColourScaled) {
-    const std::vector<dataset::OverviewPoint> points{pt(100, 100, 10, {255, 0, 10}), pt(100, 100, 20, {0, 0, 20}),
+    const std::vector<lidarscout::OverviewPoint> points{pt(100, 100, 10, {255, 0, 10}), pt(100, 100, 20, {0, 0, 20}),
                                                      pt(300, 100, 30, {51, 102, 204})};
     const PatchPoints p = make_patch(points, test::opts(1));
     EXPECT_EQ(p.window_count, 3u);
@@ -137,13 +137,13 @@ TEST(ReconPatchSpace, TooFewPointsIsMarked) {
 }
 
 TEST(ReconPatchSpace, FromPatchGridMatchesWindow) {
-    dataset::PatchGrid grid(1000.0, 2000.0, 640.0);
+    lidarscout::PatchGrid grid(1000.0, 2000.0, 640.0);
     const auto points = test::random_window(3000, 11, test::terrain);
     for (const auto& p : points) {
         // Spread over a 3 x 3 block of cells around cell (0, 0): shift the 960 m window frame.
         grid.add(1000.0 - 640.0 + p.x * 2.0, 2000.0 - 640.0 + p.y * 2.0, p.z, p.rgb, 0, 2, 0);
     }
-    const dataset::CellKey cell{0, 0};
+    const lidarscout::CellKey cell{0, 0};
     const PatchPoints from_grid = make_patch_points(grid, cell);
     const auto window = grid.window(cell, 160.0);
     const PatchPoints direct = make_patch_points(window, 1000.0, 2000.0);
@@ -152,7 +152,7 @@ TEST(ReconPatchSpace, FromPatchGridMatchesWindow) {
     EXPECT_EQ(from_grid.window_count, window.size());
     for (std::size_t i = 0; i < direct.points.size(); ++i) EXPECT_EQ(from_grid.points[i].gx, direct.points[i].gx);
 
-    dataset::PatchGrid other(0.0, 0.0, 320.0);
+    lidarscout::PatchGrid other(0.0, 0.0, 320.0);
     EXPECT_THROW(make_patch_points(other, cell), Error);
 }
 

@@ -23,8 +23,8 @@ using HeightFn = std::function<double(double x, double y)>;  // metres -> metres
 
 // A chunk point at (x, y) metres (window frame: window min = (0, 0)) with z = f(x, y) and a
 // colour derived from the position.
-inline dataset::OverviewPoint point_at(double x, double y, const HeightFn& f) {
-    dataset::OverviewPoint p;
+inline lidarscout::OverviewPoint point_at(double x, double y, const HeightFn& f) {
+    lidarscout::OverviewPoint p;
     p.x = x;
     p.y = y;
     p.z = f(x, y);
@@ -34,10 +34,10 @@ inline dataset::OverviewPoint point_at(double x, double y, const HeightFn& f) {
 }
 
 // n uniform random points in the default window [0, 960)^2.
-inline std::vector<dataset::OverviewPoint> random_window(std::size_t n, std::uint64_t seed, const HeightFn& f) {
+inline std::vector<lidarscout::OverviewPoint> random_window(std::size_t n, std::uint64_t seed, const HeightFn& f) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0.0, 960.0);
-    std::vector<dataset::OverviewPoint> out;
+    std::vector<lidarscout::OverviewPoint> out;
     for (std::size_t i = 0; i < n; ++i) {
         const double x = u(rng), y = u(rng);
         out.push_back(point_at(x, y, f));
@@ -52,7 +52,7 @@ inline PatchOptions opts(std::size_t min_points, bool has_rgb = true) {
     return o;
 }
 
-inline PatchPoints make_patch(const std::vector<dataset::OverviewPoint>& points, PatchOptions options = {}) {
+inline PatchPoints make_patch(const std::vector<lidarscout::OverviewPoint>& points, PatchOptions options = {}) {
     return make_patch_points(points, kPatchMin, kPatchMin, options);
 }
 

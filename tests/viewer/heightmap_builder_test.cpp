@@ -19,7 +19,7 @@ constexpr double kOx = 600'000.0, kOy = 4'100'000.0;
 double plane(double x, double y) { return 300 + 0.01 * (x - kOx) + 0.02 * (y - kOy); }
 
 // Chunk points every 40 m over cells (0, 0) to (2, 2) on the plane, and 3 stray points in (5, 5).
-void fill(dataset::PatchGrid& grid, dataset::Rgb8 colour) {
+void fill(lidarscout::PatchGrid& grid, lidarscout::Rgb8 colour) {
     for (double x = kOx + 5; x < kOx + 3 * 640; x += 40) {
         for (double y = kOy + 5; y < kOy + 3 * 640; y += 40) grid.add(x, y, plane(x, y), colour, 0, 2, 0);
     }
@@ -37,15 +37,15 @@ TEST(ViewerHeightmapBuilder, FootprintsAreTheTilesHeaderBounds) {
 }
 
 TEST(ViewerHeightmapBuilder, LinearHeightmapsAreExactOnAPlaneAndMaskedTexelByTexel) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     fill(grid, {90, 120, 60});
     ThreadPool pool(2);
     HeightmapBuildOptions options;
-    const std::vector<dataset::CellKey> cells = {{1, 1}, {5, 5}};
+    const std::vector<lidarscout::CellKey> cells = {{1, 1}, {5, 5}};
     const auto maps = build_linear_heightmaps(grid, cells, options, pool);
     ASSERT_EQ(maps.size(), 1u);  // (5, 5) has 3 chunk points: no heightmap
     const auto& h = maps[0];
-    EXPECT_EQ(h.cell, (dataset::CellKey{1, 1}));
+    EXPECT_EQ(h.cell, (lidarscout::CellKey{1, 1}));
     for (int row = 0; row < h.size; row += 7) {
         for (int col = 0; col < h.size; col += 7) {
             const double x = h.origin_x + (col + 0.5) * h.texel_m, y = h.origin_y + (row + 0.5) * h.texel_m;

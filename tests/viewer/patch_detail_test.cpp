@@ -70,7 +70,7 @@ double share_from_points(const render::RgbaImage& points, const render::RgbaImag
 // of the visible patches and every tile's points.
 struct WholeSurvey {
     dataset::Dataset ds;
-    dataset::PatchGrid grid;
+    lidarscout::PatchGrid grid;
     render::Camera camera;
     std::vector<PatchHeightmap> heightmaps;
     std::vector<PointSet> chunk_points, full_points;

@@ -19,7 +19,7 @@ constexpr double kOx = 500'000.0, kOy = 4'200'000.0;  // grid origin, metres
 double plane(double x, double y) { return 250.0 + 0.01 * (x - kOx) - 0.02 * (y - kOy); }
 
 // `n` random chunk points with heights on the plane, over [x0, x1) x [y0, y1) (metres from the origin).
-void add_points(dataset::PatchGrid& grid, int n, double x0, double x1, double y0, double y1, std::uint64_t seed) {
+void add_points(lidarscout::PatchGrid& grid, int n, double x0, double x1, double y0, double y1, std::uint64_t seed) {
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> ux(x0, x1), uy(y0, y1);
     for (int i = 0; i < n; ++i) {
@@ -33,10 +33,10 @@ recon::PatchOptions options(std::size_t min_points = kViewerMinPoints, bool rgb 
 }
 
 TEST(ViewerPatchHeightmap, LinearReproducesAPlaneAtThePatchPlace) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     // Points over the cell (1, 2) and its surroundings, so its whole patch is inside their hull.
     add_points(grid, 600, 640.0 - 200.0, 1280.0 + 200.0, 1280.0 - 200.0, 1920.0 + 200.0, 7);
-    const dataset::CellKey cell{1, 2};
+    const lidarscout::CellKey cell{1, 2};
     const auto h = linear_heightmap(grid, cell, options());
     ASSERT_TRUE(h.has_value());
     EXPECT_EQ(h->cell, cell);
@@ -59,7 +59,7 @@ TEST(ViewerPatchHeightmap, LinearReproducesAPlaneAtThePatchPlace) {
 }
 
 TEST(ViewerPatchHeightmap, TooFewPointsGiveNoneAndNoColourGivesNoTexture) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     add_points(grid, 8, 0.0, 640.0, 0.0, 640.0, 3);
     EXPECT_FALSE(linear_heightmap(grid, {0, 0}, options(12)).has_value());
     const auto h = linear_heightmap(grid, {0, 0}, options(8, false));
@@ -69,7 +69,7 @@ TEST(ViewerPatchHeightmap, TooFewPointsGiveNoneAndNoColourGivesNoTexture) {
 }
 
 TEST(ViewerPatchHeightmap, MaskClearsTexelsOutsideTheFootprints) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     add_points(grid, 200, 0.0, 640.0, 0.0, 640.0, 5);
     auto h = linear_heightmap(grid, {0, 0}, options());
     ASSERT_TRUE(h.has_value());
@@ -91,7 +91,7 @@ TEST(ViewerPatchHeightmap, MaskClearsTexelsOutsideTheFootprints) {
 }
 
 TEST(ViewerHeightmapBuilder, LinearBuildKeepsOrderAndSkipsSparseOrMaskedCells) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     add_points(grid, 300, 0.0, 1280.0, 0.0, 640.0, 11);  // cells (0,0) and (1,0)
     grid.add(kOx + 5000.0, kOy + 5000.0, 100.0, {}, 0, 2, 0);  // a lone point in cell (7,7)
     HeightmapBuildOptions opt;
@@ -99,11 +99,11 @@ TEST(ViewerHeightmapBuilder, LinearBuildKeepsOrderAndSkipsSparseOrMaskedCells) {
     std::size_t progressed = 0;
     opt.progress = [&](std::size_t n) { progressed += n; };
     ThreadPool pool(2);
-    const std::vector<dataset::CellKey> cells{{1, 0}, {7, 7}, {0, 0}};
+    const std::vector<lidarscout::CellKey> cells{{1, 0}, {7, 7}, {0, 0}};
     const auto built = build_linear_heightmaps(grid, cells, opt, pool);
     ASSERT_EQ(built.size(), 2u);
-    EXPECT_EQ(built[0].cell, (dataset::CellKey{1, 0}));
-    EXPECT_EQ(built[1].cell, (dataset::CellKey{0, 0}));
+    EXPECT_EQ(built[0].cell, (lidarscout::CellKey{1, 0}));
+    EXPECT_EQ(built[1].cell, (lidarscout::CellKey{0, 0}));
     EXPECT_EQ(progressed, 3u);
 
     dataset::Bounds west;  // only cell (0, 0)
@@ -111,11 +111,11 @@ TEST(ViewerHeightmapBuilder, LinearBuildKeepsOrderAndSkipsSparseOrMaskedCells) {
     opt.footprints = {west};
     const auto masked = build_linear_heightmaps(grid, cells, opt, pool);
     ASSERT_EQ(masked.size(), 1u);
-    EXPECT_EQ(masked[0].cell, (dataset::CellKey{0, 0}));
+    EXPECT_EQ(masked[0].cell, (lidarscout::CellKey{0, 0}));
 }
 
 TEST(ViewerHeightmapBuilder, ColourIsDetectedFromTheChunkPoints) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     grid.add(kOx + 1, kOy + 1, 0, {}, 0, 2, 0);
     EXPECT_FALSE(chunk_points_have_rgb(grid));
     grid.add(kOx + 2, kOy + 1, 0, {10, 0, 0}, 0, 2, 0);

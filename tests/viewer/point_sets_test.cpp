@@ -19,7 +19,7 @@ namespace {
 constexpr double kOx = 700'000.0, kOy = 3'000'000.0;
 
 TEST(ViewerPointSets, CellPointSetsAreRelativeToTheCellCorner) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     grid.add(kOx + 650.0, kOy + 10.0, 123.5, {1, 2, 3}, 77, 6, 0);
     const auto set = cell_point_set(grid, {1, 0});
     EXPECT_DOUBLE_EQ(set.origin_x, kOx + 640.0);

@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "dataset/dataset.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 #include "test_data.hpp"
 #include "viewer/point_sets.hpp"
 #include "viewer/residency.hpp"
@@ -37,7 +37,7 @@ render::Camera inside(const dataset::Bounds& b) {
 
 struct Fixture {
     const dataset::Dataset& ds = survey();
-    dataset::PatchGrid grid{dataset::patch_grid_origin(survey()).first, dataset::patch_grid_origin(survey()).second};
+    lidarscout::PatchGrid grid{dataset::patch_grid_origin(survey()).first, dataset::patch_grid_origin(survey()).second};
     ResidencyOptions options;
     std::unique_ptr<ResidencyPolicy> policy;
 

@@ -86,7 +86,7 @@ TEST(ViewerResidency, ATileThatMakesRoomKeepsItsCoarseLevels) {
     const std::uint32_t a = tile_named(ds, "N117E379"), b = tile_named(ds, "N119E381");
     const std::uint64_t bytes_b = tile_point_set_bytes(ds.tiles[b]);
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     ResidencyOptions o = one_at_a_time(ds, a, b);
     std::vector<std::pair<std::uint32_t, bool>> events;
     std::mutex mutex;
@@ -124,7 +124,7 @@ TEST(ViewerResidency, ATileThatMakesRoomKeepsItsCoarseLevels) {
 }
 
 // The points behind the detail texels of the cells that tile `t` covers.
-std::uint64_t detail_points(const Residency& r, const dataset::PatchGrid& grid, const dataset::Bounds& b) {
+std::uint64_t detail_points(const Residency& r, const lidarscout::PatchGrid& grid, const dataset::Bounds& b) {
     std::uint64_t n = 0;
     const auto lo = grid.cell_of(b.min_x, b.min_y), hi = grid.cell_of(b.max_x, b.max_y);
     for (auto x = lo.ix; x <= hi.ix; ++x) {
@@ -141,7 +141,7 @@ TEST(ViewerResidency, ATileReloadedAfterAReleaseIsNotFoldedIntoTheDetailTwice) {
     const auto ds = jmo335();
     const std::uint32_t a = tile_named(ds, "N117E379"), b = tile_named(ds, "N119E381");
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     Residency r(ds, grid, one_at_a_time(ds, a, b));
     r.start();
     r.set_camera(inside(ds.tiles[a].bounds_m));
@@ -160,7 +160,7 @@ TEST(ViewerResidency, ATileReloadedAfterAReleaseIsNotFoldedIntoTheDetailTwice) {
 TEST(ViewerResidency, EveryTileInViewEndsAtFullResolutionWhenTheBudgetAllows) {
     const auto ds = jmo335();
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     ResidencyOptions o;
     o.decode_threads = 2;
     o.memory_budget = 2ull << 30;
@@ -190,7 +190,7 @@ TEST(ViewerResidency, ATileLargerThanTheBudgetDoesNotStopTheOthersAndLoadsInPart
     const auto ds = jmo335();
     const std::uint32_t big = tile_named(ds, "N118E380"), small = tile_named(ds, "N118E379");
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     ResidencyOptions o;
     o.decode_threads = 2;
     o.memory_budget = 64ull << 20;  // the big tile's 142 MB never fit; the small one's 39 MB do
@@ -232,7 +232,7 @@ TEST(ViewerResidency, APartlyLoadedTileIsDecodedAgainForAViewOfItsOtherPart) {
     const auto ds = jmo335();
     const std::uint32_t big = tile_named(ds, "N118E380");
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
-    dataset::PatchGrid grid(ox, oy);
+    lidarscout::PatchGrid grid(ox, oy);
     ResidencyOptions o;
     o.decode_threads = 2;
     o.memory_budget = 64ull << 20;  // under half of the big tile's 142 MB
@@ -277,7 +277,7 @@ TEST(ViewerResidency, TinyBudgetsHoldWithDecodingInFlight) {
     const auto ds = jmo335();
     const auto [ox, oy] = dataset::patch_grid_origin(ds);
     for (const std::uint64_t mb : {24, 64}) {
-        dataset::PatchGrid grid(ox, oy);
+        lidarscout::PatchGrid grid(ox, oy);
         ResidencyOptions o;
         o.decode_threads = 2;
         o.memory_budget = mb << 20;

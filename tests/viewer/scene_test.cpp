@@ -15,7 +15,7 @@ namespace {
 
 constexpr double kOx = 700'000.0, kOy = 3'000'000.0;
 
-PatchHeightmap flat(dataset::CellKey cell, double x, double y, float z, std::uint32_t colour) {
+PatchHeightmap flat(lidarscout::CellKey cell, double x, double y, float z, std::uint32_t colour) {
     PatchHeightmap h;
     h.cell = cell;
     h.origin_x = x, h.origin_y = y;
@@ -33,11 +33,11 @@ render::Camera above(double x, double y, double z) {
 }
 
 TEST(ViewerScene, OverviewPointsOnlyWhereNoHeightmap) {
-    dataset::PatchGrid grid(kOx, kOy);
+    lidarscout::PatchGrid grid(kOx, kOy);
     grid.add(kOx + 10, kOy + 10, 1, {}, 0, 2, 0);
     grid.add(kOx + 11, kOy + 10, 1, {}, 0, 2, 0);
     grid.add(kOx + 700, kOy + 10, 1, {}, 0, 2, 0);
-    const std::vector<dataset::CellKey> cells{{0, 0}, {1, 0}};
+    const std::vector<lidarscout::CellKey> cells{{0, 0}, {1, 0}};
     const std::vector<PatchHeightmap> heightmaps{flat({0, 0}, kOx, kOy, 1, 0)};
     const auto sets = overview_point_sets(grid, cells, heightmaps);
     ASSERT_EQ(sets.size(), 1u);

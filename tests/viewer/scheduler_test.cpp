@@ -232,7 +232,7 @@ TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
     ThreadPool pool(2);
     const PointSet set = tile_point_set(tile, ds.las_stride, pool);
     const PatchDetails detail = tile_detail(set, scheduler.grid(), 64);
-    const dataset::CellKey* best_cell = nullptr;
+    const lidarscout::CellKey* best_cell = nullptr;
     std::size_t best_texel = 0;
     std::uint32_t best_count = 0;
     for (const auto& [cell, d] : detail) {

@@ -53,7 +53,7 @@ TEST(ViewerVisibility, ScreenFractionOfABoxOnTheGround) {
 
 TEST(ViewerVisibility, VisibleCellsOfTheGrid) {
     const auto c = top_down();
-    dataset::PatchGrid grid(kX - 640.0 * 10, kY - 640.0 * 10);
+    lidarscout::PatchGrid grid(kX - 640.0 * 10, kY - 640.0 * 10);
     grid.add(kX + 1, kY + 1, 5, {}, 0, 2, 0);        // under the camera
     grid.add(kX + 5000, kY + 1, 5, {}, 0, 2, 0);     // far east
     grid.add(kX - 100, kY + 250, 5, {}, 0, 2, 0);    // near the top edge, in view

@@ -1,6 +1,6 @@
 // The patch grid: binning chunk points into 640 m cells (see patch_grid.hpp), with sharded
 // locks so that many I/O threads can add at once.
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 
 #include "core/error.hpp"
 #include "core/random.hpp"
@@ -10,7 +10,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace lidarscout::dataset {
+namespace lidarscout {
 
 namespace {
 
@@ -24,17 +24,6 @@ std::int32_t checked_index(double scaled) {
 }
 
 }  // namespace
-
-Rgb8 rgb8_from_las(std::uint16_t r, std::uint16_t g, std::uint16_t b) {
-    return rgb8_from_las(r, g, b, r > 255 || g > 255 || b > 255);
-}
-
-Rgb8 rgb8_from_las(std::uint16_t r, std::uint16_t g, std::uint16_t b, bool sixteen_bit) {
-    const auto to8 = [sixteen_bit](std::uint16_t c) {
-        return static_cast<std::uint8_t>(sixteen_bit ? c >> 8 : c);
-    };
-    return {to8(r), to8(g), to8(b)};
-}
 
 std::size_t CellKeyHash::operator()(const CellKey& key) const noexcept {
     const auto packed = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.ix)) << 32) |
@@ -186,4 +175,4 @@ void PatchGrid::shrink_to_fit() {
     }
 }
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout

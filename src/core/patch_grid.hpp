@@ -1,4 +1,5 @@
-// The patch grid: a sparse 2D grid of square cells (640 m patches by default) into which the
+// The patch grid (in core: the per-patch algorithms of recon need nothing else): a sparse 2D
+// grid of square cells (640 m patches by default) into which the
 // chunk points of all tiles are binned as they arrive from many I/O threads, so that the
 // heightmap stage can ask for "the chunk points around this patch" (the cell +- 160 m).
 //
@@ -19,28 +20,12 @@
 #include <unordered_map>
 #include <vector>
 
-namespace lidarscout::dataset {
+namespace lidarscout {
 
 struct Rgb8 {
     std::uint8_t r = 0, g = 0, b = 0;
     bool operator==(const Rgb8&) const = default;
 };
-
-// LAS colour (16-bit channels) to 8 bits: the high byte when any channel exceeds 255 (a
-// true 16-bit colour), else the values as they are (files that store 8-bit colour).
-Rgb8 rgb8_from_las(std::uint16_t r, std::uint16_t g, std::uint16_t b);
-// The same with the depth decided once for a whole file (see colour_is_16bit), so that a
-// dark point of a 16-bit file is not mistaken for an 8-bit one.
-Rgb8 rgb8_from_las(std::uint16_t r, std::uint16_t g, std::uint16_t b, bool sixteen_bit);
-// A file's colour depth from a sample of its points (e.g. its chunk points): 16-bit when
-// any channel of any sample exceeds 255. `max_channel(sample)` gives its largest channel.
-template <typename Range, typename MaxChannel>
-bool colour_is_16bit(const Range& samples, MaxChannel max_channel) {
-    for (const auto& s : samples) {
-        if (max_channel(s) > 255) return true;
-    }
-    return false;
-}
 
 // One chunk point as the grid stores it: 24 bytes (cell key not stored per point).
 struct GridPoint {
@@ -140,4 +125,4 @@ private:
     std::atomic<std::size_t> bytes_{0};  // memory_bytes() less the shards
 };
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "dataset/patch_grid.hpp"
+#include "core/patch_grid.hpp"
 
-namespace lidarscout::dataset {
+namespace lidarscout {
 namespace {
 
 constexpr double kSize = 640.0;
@@ -24,12 +24,6 @@ void add_simple(PatchGrid& grid, double x, double y, double z, std::uint32_t id)
 TEST(PatchGrid, PointIsCompact) {
     EXPECT_LE(sizeof(GridPoint), 32u);
     EXPECT_EQ(sizeof(GridPoint), 24u);
-}
-
-TEST(PatchGrid, RgbFromLas) {
-    EXPECT_EQ(rgb8_from_las(65535, 0, 128), (Rgb8{255, 0, 0}));
-    EXPECT_EQ(rgb8_from_las(256, 511, 0x1234), (Rgb8{1, 1, 0x12}));
-    EXPECT_EQ(rgb8_from_las(200, 100, 255), (Rgb8{200, 100, 255}));
 }
 
 TEST(PatchGrid, CellAssignmentAtEdgesAndNegative) {
@@ -208,4 +202,4 @@ TEST(PatchGrid, MemoryPerPoint) {
 }
 
 }  // namespace
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout
