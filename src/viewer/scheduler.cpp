@@ -96,6 +96,7 @@ struct Scheduler::State {
     std::uint64_t camera_version = 0;
 
     std::unordered_map<CellKey, Patch, CellKeyHash> patches;
+    std::uint64_t table_bytes = 0;  // what `patches` holds itself, counted in the ledger (count_table)
     std::vector<bool> sparse;  // per tile: its cells come from its points (bounds_fit_data)
     CellBlocks blocks;         // the ready, network-ready and drawable cells, by block (cell_blocks.hpp)
     std::size_t candidates = 0, tiles_done = 0, linear_tried = 0, linear_made = 0, cnn_tried = 0;
@@ -220,6 +221,16 @@ struct Scheduler::State {
         }
     }
 
+    // The patch table's own bytes (a country has 600,000 patches: about 90 MB) in the ledger, so
+    // that the budget bounds them too: per entry its node, cached hash, next pointer and malloc
+    // header, and the bucket array. Called after patches are added.
+    void count_table() {
+        constexpr std::uint64_t kEntry = sizeof(std::pair<const CellKey, Patch>) + 2 * sizeof(void*) + 16;
+        const std::uint64_t bytes = patches.size() * kEntry + patches.bucket_count() * sizeof(void*);
+        ledger->add_patch_bytes(static_cast<std::int64_t>(bytes) - static_cast<std::int64_t>(table_bytes));
+        table_bytes = bytes;
+    }
+
     void count_kind(const Patch& p, int delta) {
         if (p.base) (p.base_is_cnn ? shown_cnn : shown_linear) += delta;
     }
@@ -284,6 +295,7 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
 
     s.ledger = std::make_shared<MemoryLedger>(
         options_.memory_budget ? options_.memory_budget : default_memory_budget(), grid_.get());
+    s.count_table();
     residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
     loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, options_.loader);
     loader_->on_tile_done([this](std::uint32_t tile, std::span<const CellKey> cells) { on_tile_done(tile, cells); });
@@ -390,6 +402,7 @@ void Scheduler::on_tile_done(std::uint32_t tile, std::span<const CellKey> cells)
             s.changed_patch(entry.first, p);
             if (s.sparse[tile] && !p.candidate) s.add_sparse_candidate(entry.first, p);
         }
+        s.count_table();
         if (!s.sparse[tile]) {
             s.for_window_cells(dataset_.tiles[tile], [&](Patch& p, CellKey cell) {
                 if (--p.deps == 0) s.push_ready(cell, p);
