@@ -17,18 +17,17 @@
 #include "dataset/dataset.hpp"
 #include "core/patch_grid.hpp"
 #include "dataset/las_colour.hpp"
+#include "dataset/point_reader.hpp"
 #include "dataset/tile_index.hpp"
 #include "las/point_format.hpp"
 
 namespace lidarscout::dataset {
 namespace {
 
-// A chunk point decoded and converted to metres, waiting for the rest of its tile.
+// A chunk point decoded, waiting for the rest of its tile (its colour depth is the tile's).
 struct PendingPoint {
-    double x = 0, y = 0, z = 0;
-    std::uint16_t r = 0, g = 0, b = 0;
-    std::uint16_t intensity = 0;
-    std::uint8_t classification = 0;
+    las::Point point;
+    std::uint64_t offset = 0;  // of its record, for an error
 };
 
 struct TileState {
@@ -185,14 +184,7 @@ private:
                  "chunk point lies outside the header bounds (corrupt chunk table?); not drawn");
             return std::nullopt;
         }
-        double x = p.x, y = p.y, z = p.z;
-        try {
-            tile.place(x, y, z);
-        } catch (const Error& e) {
-            fail(tile.tile.path(), offset, e.cause());
-            return std::nullopt;
-        }
-        return PendingPoint{x, y, z, p.rgb[0], p.rgb[1], p.rgb[2], p.intensity, p.classification};
+        return PendingPoint{p, offset};
     }
 
     void fail(const std::string& path, std::uint64_t offset, const std::string& cause) {
@@ -206,13 +198,22 @@ private:
     }
 
     void publish(std::uint32_t id, const std::vector<PendingPoint>& points) {
-        const bool sixteen_bit =
-            colour_is_16bit(points, [](const PendingPoint& p) { return std::max({p.r, p.g, p.b}); });
+        const bool sixteen_bit = colour_is_16bit(points, [](const PendingPoint& p) {
+            return std::max({p.point.rgb[0], p.point.rgb[1], p.point.rgb[2]});
+        });
+        const auto& tile = ds_.tiles[id];
+        const RecordPlacer placer(tile, sixteen_bit);
         std::vector<CellKey> cells;
-        for (const auto& p : points) {
-            const Rgb8 rgb = rgb8_from_las(p.r, p.g, p.b, sixteen_bit);
+        for (const auto& pending : points) {
+            MetricPoint p;
             try {
-                const CellKey cell = grid_.add(p.x, p.y, p.z, rgb, p.intensity, p.classification, id);
+                p = placer.place(pending.point);
+            } catch (const Error& e) {
+                fail(tile.tile.path(), pending.offset, e.cause());
+                continue;
+            }
+            try {
+                const CellKey cell = grid_.add(p.x, p.y, p.z, p.rgb, p.intensity, p.classification, id);
                 if (cells.empty() || cells.back() != cell) cells.push_back(cell);
                 ++loader_.loaded_;
             } catch (const Error& e) {

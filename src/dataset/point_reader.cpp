@@ -1,4 +1,5 @@
-// RecordBatches (a tile cut into batches, one batch read or decoded) and for_each_record_batch.
+// RecordBatches (a tile cut into batches, one batch read or decoded), for_each_record_batch, and
+// RecordPlacer (records to points in the dataset's metres).
 #include "dataset/point_reader.hpp"
 
 #include <algorithm>
@@ -8,6 +9,8 @@
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/las_colour.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "laz/file_decoder.hpp"
@@ -92,6 +95,40 @@ void for_each_record_batch(const io::File& file, const Tile& tile, ThreadPool& p
         if (read_ahead && k + 1 < batches.size()) next = std::async(std::launch::async, read, k + 1);
         fn(batches.first_point(k), buffers[k % 2]);
     }
+}
+
+RecordPlacer::RecordPlacer(const DatasetTile& tile, bool sixteen_bit, bool rgb)
+    : tile_(tile), format_(las::point_format_info(tile.tile.header.point_format)),
+      has_rgb_(rgb && format_.rgb_offset >= 0), sixteen_bit_(sixteen_bit) {}
+
+MetricPoint RecordPlacer::attributes(const las::Point& p) const {
+    MetricPoint m;
+    if (has_rgb_) {
+        m.rgb = rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit_);
+        m.coloured = (p.rgb[0] | p.rgb[1] | p.rgb[2]) != 0;
+    }
+    m.intensity = p.intensity;
+    m.classification = p.classification;
+    return m;
+}
+
+void RecordPlacer::place(std::span<const std::uint8_t> records, std::size_t first, std::span<MetricPoint> out) const {
+    const std::size_t record = tile_.tile.header.record_length, n = out.size();
+    std::vector<double> xs(n), ys(n), zs(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const auto p = las::decode_point(records.subspan((first + k) * record, record), format_, tile_.tile.header);
+        out[k] = attributes(p);
+        xs[k] = p.x, ys[k] = p.y, zs[k] = p.z;
+    }
+    tile_.place(xs, ys, zs);
+    for (std::size_t k = 0; k < n; ++k) out[k].x = xs[k], out[k].y = ys[k], out[k].z = zs[k];
+}
+
+MetricPoint RecordPlacer::place(const las::Point& point) const {
+    MetricPoint m = attributes(point);
+    m.x = point.x, m.y = point.y, m.z = point.z;
+    tile_.place(m.x, m.y, m.z);
+    return m;
 }
 
 }  // namespace lidarscout::dataset

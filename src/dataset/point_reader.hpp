@@ -1,6 +1,8 @@
 // Streaming all point records of a tile (LAS or LAZ) in file order, batch by batch: LAZ
 // batches are several chunks decoded in parallel, LAS batches are plain reads. Memory stays
-// bounded by the batch size, whatever the file size.
+// bounded by the batch size, whatever the file size. And the one conversion of a record into a
+// point in the dataset's metres with an 8-bit colour (RecordPlacer), which the point stream,
+// the chunk-point loader and the viewer all use.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +12,8 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/patch_grid.hpp"
+#include "las/point_format.hpp"
 #include "laz/chunk_decoder.hpp"
 
 namespace lidarscout {
@@ -25,6 +29,40 @@ struct LazLayout;
 namespace lidarscout::dataset {
 
 struct Tile;
+struct DatasetTile;
+
+// A point in the dataset's frame (metres) with its attributes as the overview keeps them.
+struct MetricPoint {
+    double x = 0, y = 0, z = 0;  // metres, the dataset's frame
+    Rgb8 rgb;                    // 8-bit colour (black when the format has none)
+    bool coloured = false;       // the format has colour and this point's is not all zero
+    std::uint16_t intensity = 0;
+    std::uint8_t classification = 0;
+};
+
+// LAS records of one tile to MetricPoints: decoded (las::decode_point), placed in the dataset's
+// frame (DatasetTile::place: units, reprojection) and coloured at the tile's depth.
+class RecordPlacer {
+public:
+    // `sixteen_bit`: the tile's colour depth (tile_colour_is_16bit, or a decision of the caller's);
+    // `rgb` false leaves every point black.
+    RecordPlacer(const DatasetTile& tile, bool sixteen_bit, bool rgb = true);
+
+    // Records [first, first + out.size()) of `records` (record_length each) into `out`, placed with
+    // one DatasetTile::place call. Throws Error (stage "geo") when a point lies outside the CRSs' area.
+    void place(std::span<const std::uint8_t> records, std::size_t first, std::span<MetricPoint> out) const;
+    // One point already decoded (a chunk point), placed alone.
+    MetricPoint place(const las::Point& point) const;
+
+    const las::PointFormatInfo& format() const { return format_; }
+
+private:
+    MetricPoint attributes(const las::Point& p) const;  // all but the position
+
+    const DatasetTile& tile_;
+    const las::PointFormatInfo& format_;
+    bool has_rgb_, sixteen_bit_;
+};
 
 // A LAZ chunk that could not be decoded and was left out of its batch: its points and why.
 struct SkippedChunk {

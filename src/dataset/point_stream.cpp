@@ -37,36 +37,21 @@ struct TileReader {
         : tile(ds.tiles.at(index)),
           file(io::File::open(tile.tile.path())),
           batches(tile.tile, batch_points),
-          format(las::point_format_info(tile.tile.header.point_format)),
-          has_rgb(format.rgb_offset >= 0 && (fields & laz::fields::kRgb)),
-          sixteen_bit(has_rgb && tile_colour_is_16bit(ds, index)) {}
+          placer(tile, has_colour(tile, fields) && tile_colour_is_16bit(ds, index), has_colour(tile, fields)) {}
+
+    static bool has_colour(const DatasetTile& t, std::uint32_t fields) {
+        return las::point_format_info(t.tile.header.point_format).rgb_offset >= 0 && (fields & laz::fields::kRgb);
+    }
 
     // Records [first, first + out.size()) of `records` into `out`, placed in the dataset's frame.
     void place(std::span<const std::uint8_t> records, std::size_t first, std::span<MetricPoint> out) const {
-        const std::size_t record = tile.tile.header.record_length, n = out.size();
-        std::vector<double> xs(n), ys(n), zs(n);
-        for (std::size_t k = 0; k < n; ++k) {
-            const auto p = las::decode_point(records.subspan((first + k) * record, record), format, tile.tile.header);
-            MetricPoint& m = out[k];
-            xs[k] = p.x, ys[k] = p.y, zs[k] = p.z;
-            if (has_rgb) {
-                m.rgb = rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
-                m.coloured = (p.rgb[0] | p.rgb[1] | p.rgb[2]) != 0;
-            } else {
-                m.rgb = {}, m.coloured = false;
-            }
-            m.intensity = p.intensity;
-            m.classification = p.classification;
-        }
-        tile.place(xs, ys, zs);
-        for (std::size_t k = 0; k < n; ++k) out[k].x = xs[k], out[k].y = ys[k], out[k].z = zs[k];
+        placer.place(records, first, out);
     }
 
     const DatasetTile& tile;
     io::File file;
     RecordBatches batches;
-    const las::PointFormatInfo& format;
-    bool has_rgb, sixteen_bit;
+    RecordPlacer placer;
 };
 
 // A batch made ready for the caller.

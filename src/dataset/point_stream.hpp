@@ -20,14 +20,6 @@ namespace lidarscout::dataset {
 
 struct Dataset;
 
-struct MetricPoint {
-    double x = 0, y = 0, z = 0;  // metres, the dataset's frame
-    Rgb8 rgb;                    // 8-bit colour (black when the format has none)
-    bool coloured = false;       // the format has colour and this point's is not all zero
-    std::uint16_t intensity = 0;
-    std::uint8_t classification = 0;
-};
-
 // Called with the index (in the file) of the batch's first point and the batch's points.
 using MetricBatchFn = std::function<void(std::uint64_t first_point, std::span<const MetricPoint> points)>;
 

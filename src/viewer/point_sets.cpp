@@ -26,33 +26,18 @@ bool colour_is_16bit(std::span<const dataset::ChunkPoint> samples) {
 }
 
 // What converting a tile's records needs, fixed per tile.
+// Records of one tile to PointAttrs relative to a set's origin, through the dataset's one
+// record conversion (dataset::RecordPlacer).
 struct RecordConverter {
-    const dataset::DatasetTile* tile;
-    const las::PointFormatInfo* format;
+    dataset::RecordPlacer placer;
     double origin_x, origin_y, origin_z;
-    bool sixteen_bit;
-
-    render::PointAttr operator()(std::span<const std::uint8_t> record) const {
-        const las::Point p = las::decode_point(record, *format, tile->tile.header);
-        const lidarscout::Rgb8 rgb = dataset::rgb8_from_las(p.rgb[0], p.rgb[1], p.rgb[2], sixteen_bit);
-        render::PointAttr a;
-        double x = p.x, y = p.y, z = p.z;
-        tile->place(x, y, z);
-        a.dx = static_cast<float>(x - origin_x);
-        a.dy = static_cast<float>(y - origin_y);
-        a.dz = static_cast<float>(z - origin_z);
-        a.r = rgb.r, a.g = rgb.g, a.b = rgb.b;
-        a.classification = p.classification;
-        a.intensity = p.intensity;
-        return a;
-    }
+    std::size_t record_length;
 };
 
 RecordConverter converter(const dataset::DatasetTile& tile, const PointSet& set,
                           std::span<const dataset::ChunkPoint> samples) {
-    const auto& format = las::point_format_info(tile.tile.header.point_format);
-    return {&tile,        &format,      set.origin_x,
-            set.origin_y, set.origin_z, format.rgb_offset >= 0 && colour_is_16bit(samples)};
+    return {dataset::RecordPlacer(tile, colour_is_16bit(samples)), set.origin_x, set.origin_y, set.origin_z,
+            tile.tile.header.record_length};
 }
 
 PointSet empty_tile_set(const dataset::DatasetTile& tile) {
@@ -66,14 +51,24 @@ PointSet empty_tile_set(const dataset::DatasetTile& tile) {
 // Converts `records` (record_length each) into `out` (as many points).
 void convert_records(std::span<const std::uint8_t> records, std::span<render::PointAttr> out,
                      const RecordConverter& convert) {
-    const std::size_t record = convert.tile->tile.header.record_length;
-    for (std::size_t k = 0; k < out.size(); ++k) out[k] = convert(records.subspan(k * record, record));
+    std::vector<dataset::MetricPoint> points(out.size());
+    convert.placer.place(records, 0, points);
+    for (std::size_t k = 0; k < out.size(); ++k) {
+        const dataset::MetricPoint& p = points[k];
+        render::PointAttr& a = out[k];
+        a.dx = static_cast<float>(p.x - convert.origin_x);
+        a.dy = static_cast<float>(p.y - convert.origin_y);
+        a.dz = static_cast<float>(p.z - convert.origin_z);
+        a.r = p.rgb.r, a.g = p.rgb.g, a.b = p.rgb.b;
+        a.classification = p.classification;
+        a.intensity = p.intensity;
+    }
 }
 
 // Converts `records` (record_length each) and appends them to `set`, in blocks on `pool`.
 void append_records(PointSet& set, std::span<const std::uint8_t> records, const RecordConverter& convert,
                     ThreadPool& pool) {
-    const std::size_t record = convert.tile->tile.header.record_length;
+    const std::size_t record = convert.record_length;
     const std::size_t n = records.size() / record, first = set.points.size();
     set.points.resize(first + n);
     pool.for_each((n + kConvertBlock - 1) / kConvertBlock, [&](std::size_t block) {
