@@ -29,7 +29,6 @@
 #include <set>
 #include <string>
 #include <thread>
-#include <unordered_map>
 #include <vector>
 
 #include "core/error.hpp"
@@ -37,7 +36,6 @@
 #include "core/throttle.hpp"
 #include "dataset/dataset.hpp"
 #include "core/patch_grid.hpp"
-#include "dataset/tile_index.hpp"
 #include "render/camera.hpp"
 #include "viewer/decode_memory.hpp"
 #include "viewer/memory_ledger.hpp"

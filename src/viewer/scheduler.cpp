@@ -15,7 +15,6 @@
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
 #include "core/ranked_mutex.hpp"
-#include "core/throttle.hpp"
 #include "core/thread_pool.hpp"
 #include "core/thread_priority.hpp"
 #include "nn/heightmap_network.hpp"
@@ -25,9 +24,6 @@
 
 namespace lidarscout::viewer {
 namespace {
-
-using lidarscout::CellKey;
-using lidarscout::CellKeyHash;
 
 constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
