@@ -17,7 +17,7 @@
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "laz/chunk_encoder.hpp"
-#include "laz/file_decoder.hpp"
+#include "laz/laz.hpp"
 
 using namespace lidarscout;
 
@@ -55,7 +55,7 @@ void bench_file(const std::string& path, int runs, const std::string& only) {
         std::uint32_t fields;
     };
     const Mode modes[] = {
-        {"full", laz::fields::kAll}, {"xyz", laz::fields::kXyz}, {"xyz+rgb", laz::fields::kXyz | laz::fields::kRgb}};
+        {"full", las::fields::kAll}, {"xyz", las::fields::kXyz}, {"xyz+rgb", las::fields::kXyz | las::fields::kRgb}};
     for (unsigned threads : {1u, all}) {
         ThreadPool pool(threads);
         for (const auto& m : modes) {
@@ -66,7 +66,7 @@ void bench_file(const std::string& path, int runs, const std::string& only) {
             fmt::print("  decode {:<8} threads {}: {:8.2f} M points/s\n", m.name, threads, rate / 1e6);
         }
         if (!only.empty() && only != "encode") continue;
-        laz::decode_units_parallel(file, layout, 0, layout.units.size(), records, laz::fields::kAll, pool);
+        laz::decode_units_parallel(file, layout, 0, layout.units.size(), records, las::fields::kAll, pool);
         std::vector<std::vector<std::uint8_t>> encoded(layout.units.size());
         const double rate = median_rate(runs, n, [&] {
             pool.for_each(layout.units.size(), [&](std::size_t k) {

@@ -55,7 +55,7 @@ std::string write_points_csv(const dataset::Dataset& ds, const fs::path& dir) {
     for (std::uint32_t t = 0; t < ds.tiles.size(); ++t) {
         dataset::for_each_metric_batch(ds, t, pool, [&](std::uint64_t, std::span<const dataset::MetricPoint> pts) {
             for (const auto& p : pts) std::fprintf(f, "%.6f,%.6f,%.6f\n", p.x / xy, p.y / xy, p.z / z);
-        }, laz::fields::kXyz);
+        }, las::fields::kXyz);
     }
     std::fclose(f);
     FILE* v = std::fopen(vrt.c_str(), "w");

@@ -1,10 +1,12 @@
 # One static library per stage (one folder under src/), with its dependencies declared.
 #
-#   lidarscout_stage(NAME [DEPS stage...] [EXCLUDE regex...] [INTERNAL folder...] [LINK target...])
+#   lidarscout_stage(NAME [DEPS stage...] [EXCLUDE regex...] [FACADE entry...] [LINK target...])
 #
 # builds lidarscout_NAME from src/NAME/**/*.cpp (minus EXCLUDE) and links the DEPS stages.
-# INTERNAL names subfolders of src/NAME that only the stage itself sees: in the views of
-# later stages, src/NAME is a folder of links to its other entries (its public face).
+# FACADE names the entries of src/NAME (files or folders) that later stages see, its public face: in
+# their views src/NAME is a folder of links to those entries only, so including any other header
+# of the stage fails to compile there (the stage itself, tests and benchmarks see all of it).
+# Without FACADE every entry is seen.
 # The layers are enforced by the build: a stage compiles against an include view that holds
 # only itself and the stages it depends on (directly or through them), as symbolic links
 # under build/stage_views/NAME/. So `#include "viewer/..."` in las/ fails to compile: viewer
@@ -19,7 +21,7 @@
 set_property(GLOBAL PROPERTY LIDARSCOUT_STAGES "")  # stages declared so far, in layer order
 
 function(lidarscout_stage name)
-  cmake_parse_arguments(S "" "" "DEPS;EXCLUDE;INTERNAL;LINK" ${ARGN})
+  cmake_parse_arguments(S "" "" "DEPS;EXCLUDE;FACADE;LINK" ${ARGN})
   # the view: this stage and the transitive closure of its dependencies
   get_property(declared GLOBAL PROPERTY LIDARSCOUT_STAGES)
   set(view_stages ${name})
@@ -36,13 +38,13 @@ function(lidarscout_stage name)
   lidarscout_stage_view(${name} view_dir)
   file(REMOVE_RECURSE ${view_dir})
   file(MAKE_DIRECTORY ${view_dir})
-  set_property(GLOBAL PROPERTY LIDARSCOUT_INTERNAL_${name} ${S_INTERNAL})
+  set_property(GLOBAL PROPERTY LIDARSCOUT_FACADE_${name} ${S_FACADE})
   foreach(s IN LISTS view_stages)
-    get_property(internal GLOBAL PROPERTY LIDARSCOUT_INTERNAL_${s})
-    if(s STREQUAL name OR NOT internal)
+    get_property(public GLOBAL PROPERTY LIDARSCOUT_FACADE_${s})
+    if(s STREQUAL name OR NOT public)
       file(CREATE_LINK ${CMAKE_SOURCE_DIR}/src/${s} ${view_dir}/${s} SYMBOLIC)
     else()
-      lidarscout_public_view(${s} "${internal}" ${view_dir}/${s})
+      lidarscout_public_view(${s} "${public}" ${view_dir}/${s})
     endif()
   endforeach()
 
@@ -62,16 +64,15 @@ function(lidarscout_stage name)
   set_property(GLOBAL APPEND PROPERTY LIDARSCOUT_STAGES ${name})
 endfunction()
 
-# The public face of stage `s` in a later stage's view: a folder `dir` with a link to each
-# entry of src/s but the `internal` ones (re-globbed at build time, so a new header shows up).
-function(lidarscout_public_view s internal dir)
+# The public face of stage `s` in a later stage's view: a folder `dir` with a link to each of its
+# `public` entries (an entry that does not exist is a mistake in the stage's declaration).
+function(lidarscout_public_view s public dir)
   file(MAKE_DIRECTORY ${dir})
-  file(GLOB entries CONFIGURE_DEPENDS LIST_DIRECTORIES true RELATIVE ${CMAKE_SOURCE_DIR}/src/${s}
-       ${CMAKE_SOURCE_DIR}/src/${s}/*)
-  foreach(entry IN LISTS entries)
-    if(NOT entry IN_LIST internal)
-      file(CREATE_LINK ${CMAKE_SOURCE_DIR}/src/${s}/${entry} ${dir}/${entry} SYMBOLIC)
+  foreach(entry IN LISTS public)
+    if(NOT EXISTS ${CMAKE_SOURCE_DIR}/src/${s}/${entry})
+      message(FATAL_ERROR "stage ${s} declares FACADE ${entry}, which is not in src/${s}")
     endif()
+    file(CREATE_LINK ${CMAKE_SOURCE_DIR}/src/${s}/${entry} ${dir}/${entry} SYMBOLIC)
   endforeach()
 endfunction()
 

@@ -15,7 +15,7 @@
 #include "las/header_writer.hpp"
 #include "las/point_format.hpp"
 #include "las/vlr.hpp"
-#include "laz/las_writer.hpp"
+#include "laz/laz.hpp"
 
 namespace lidarscout::test {
 

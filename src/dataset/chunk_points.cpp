@@ -4,7 +4,7 @@
 #include "core/error.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
-#include "laz/file_decoder.hpp"
+#include "laz/laz.hpp"
 
 namespace lidarscout::dataset {
 

@@ -1,5 +1,6 @@
-// RecordBatches (a tile cut into batches, one batch read or decoded), for_each_record_batch, and
-// RecordPlacer (records to points in the dataset's metres).
+// DecodeUnits (a LAZ tile's units, decoded one by one or in parallel), RecordBatches (a tile cut
+// into batches, one batch read or decoded), for_each_record_batch, and RecordPlacer (records to
+// points in the dataset's metres).
 #include "dataset/point_reader.hpp"
 
 #include <algorithm>
@@ -13,9 +14,34 @@
 #include "dataset/las_colour.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
-#include "laz/file_decoder.hpp"
+#include "laz/laz.hpp"
 
 namespace lidarscout::dataset {
+
+DecodeUnits::DecodeUnits(const Tile& tile) {
+    if (!tile.compressed() || !tile.laz()) throw Error(tile.path(), std::nullopt, "not a LAZ file (internal error)");
+    if (!tile.chunks()) throw Error(tile.path(), std::nullopt, "chunk table not read (internal error)");
+    layout_ = std::make_unique<laz::LazLayout>(laz::LazLayout{
+        tile.header, *tile.laz(), laz::decode_units(tile.header, *tile.laz(), *tile.chunks(), tile.file_size())});
+}
+
+DecodeUnits::~DecodeUnits() = default;
+DecodeUnits::DecodeUnits(DecodeUnits&&) noexcept = default;
+
+std::size_t DecodeUnits::size() const { return layout_->units.size(); }
+std::uint64_t DecodeUnits::first_point(std::size_t u) const { return layout_->units.at(u).first_point; }
+std::uint64_t DecodeUnits::point_count(std::size_t u) const { return layout_->units.at(u).point_count; }
+std::uint64_t DecodeUnits::byte_offset(std::size_t u) const { return layout_->units.at(u).byte_offset; }
+
+void DecodeUnits::decode(const io::File& file, std::size_t u, std::span<std::uint8_t> out, std::uint32_t fields,
+                         std::vector<std::uint8_t>& scratch) const {
+    laz::decode_unit(file, *layout_, u, out, fields, scratch);
+}
+
+void DecodeUnits::decode(const io::File& file, std::size_t first, std::size_t last, std::span<std::uint8_t> out,
+                         std::uint32_t fields, ThreadPool& pool) const {
+    laz::decode_units_parallel(file, *layout_, first, last, out, fields, pool);
+}
 
 RecordBatches::RecordBatches(const Tile& tile, std::uint64_t batch_points) : tile_(tile) {
     batch_points = std::max<std::uint64_t>(batch_points, 1);
@@ -26,15 +52,12 @@ RecordBatches::RecordBatches(const Tile& tile, std::uint64_t batch_points) : til
         }
         return;
     }
-    if (!tile.chunks()) throw Error(tile.path(), std::nullopt, "chunk table not read (internal error)");
-    layout_ = std::make_unique<laz::LazLayout>(laz::LazLayout{
-        tile.header, *tile.laz(), laz::decode_units(tile.header, *tile.laz(), *tile.chunks(), tile.file_size())});
-    const auto& units = layout_->units;
+    const DecodeUnits& units = units_.emplace(tile);
     for (std::size_t first = 0; first < units.size();) {
-        Batch b{units[first].first_point, 0, first, first};
+        Batch b{units.first_point(first), 0, first, first};
         while (b.last_unit < units.size() &&
-               (b.last_unit == first || b.points + units[b.last_unit].point_count <= batch_points)) {
-            b.points += units[b.last_unit++].point_count;
+               (b.last_unit == first || b.points + units.point_count(b.last_unit) <= batch_points)) {
+            b.points += units.point_count(b.last_unit++);
         }
         batches_.push_back(b);
         first = b.last_unit;
@@ -49,12 +72,12 @@ void RecordBatches::read(const io::File& file, std::size_t k, std::vector<std::u
     const Batch& b = batches_.at(k);
     const auto& h = tile_.header;
     out.resize(b.points * h.record_length);
-    if (!layout_) {
+    if (!units_) {
         file.read_exact(h.offset_to_point_data + b.first_point * h.record_length, out, "point records");
         return;
     }
     try {
-        laz::decode_units_parallel(file, *layout_, b.first_unit, b.last_unit, out, fields, pool);
+        units_->decode(file, b.first_unit, b.last_unit, out, fields, pool);
     } catch (const Error&) {
         if (!skipped) throw;
         read_chunk_by_chunk(file, k, out, fields, pool, *skipped);  // the whole batch again, to find the culprits
@@ -68,15 +91,14 @@ void RecordBatches::read_chunk_by_chunk(const io::File& file, std::size_t k, std
     const std::size_t record = tile_.header.record_length;
     std::size_t kept = 0;  // bytes of `out` holding the records of the chunks decoded so far
     for (std::size_t u = b.first_unit; u < b.last_unit; ++u) {
-        const laz::Chunk& c = layout_->units[u];
-        const auto span = std::span(out).subspan(kept, c.point_count * record);
+        const auto span = std::span(out).subspan(kept, units_->point_count(u) * record);
         try {
-            laz::decode_units_parallel(file, *layout_, u, u + 1, span, fields, pool);
+            units_->decode(file, u, u + 1, span, fields, pool);
             kept += span.size();
         } catch (const Error& e) {
             ErrorRecord error = ErrorRecord::of(e);
-            if (!error.offset) error.offset = c.byte_offset;
-            skipped.push_back({c.first_point, c.point_count, std::move(error)});
+            if (!error.offset) error.offset = units_->byte_offset(u);
+            skipped.push_back({units_->first_point(u), units_->point_count(u), std::move(error)});
         }
     }
     out.resize(kept);

@@ -8,13 +8,14 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "core/error.hpp"
 #include "core/patch_grid.hpp"
+#include "las/point_fields.hpp"
 #include "las/point_format.hpp"
-#include "laz/chunk_decoder.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -64,6 +65,32 @@ private:
     bool has_rgb_, sixteen_bit_;
 };
 
+// A LAZ tile's decode units (the chunks of its chunk table, or one unit spanning the point data of
+// a compressor-1 file), for readers that decode some of them in an order of their own.
+class DecodeUnits {
+public:
+    // Throws lidarscout::Error when `tile` is not a LAZ tile whose chunk table was read.
+    explicit DecodeUnits(const Tile& tile);
+    ~DecodeUnits();
+    DecodeUnits(DecodeUnits&&) noexcept;
+
+    std::size_t size() const;
+    std::uint64_t first_point(std::size_t u) const;  // index in the file of unit u's first point
+    std::uint64_t point_count(std::size_t u) const;
+    std::uint64_t byte_offset(std::size_t u) const;  // where unit u's compressed bytes start
+    // Unit u's records into `out` (point_count(u) * record_length bytes), only `fields` (a las::fields
+    // mask) decoded; `scratch` keeps the compressed bytes between calls (no allocation once grown).
+    // Throws lidarscout::Error (file, chunk) when the unit cannot be decoded.
+    void decode(const io::File& file, std::size_t u, std::span<std::uint8_t> out, std::uint32_t fields,
+                std::vector<std::uint8_t>& scratch) const;
+    // Units [first, last) decoded in parallel on `pool`, their records back to back in `out`.
+    void decode(const io::File& file, std::size_t first, std::size_t last, std::span<std::uint8_t> out,
+                std::uint32_t fields, ThreadPool& pool) const;
+
+private:
+    std::unique_ptr<laz::LazLayout> layout_;
+};
+
 // A LAZ chunk that could not be decoded and was left out of its batch: its points and why.
 struct SkippedChunk {
     std::uint64_t first_point = 0, points = 0;
@@ -101,17 +128,17 @@ private:
         std::size_t first_unit = 0, last_unit = 0;  // LAZ decode units [first, last)
     };
     const Tile& tile_;
-    std::unique_ptr<laz::LazLayout> layout_;  // LAZ tiles only
+    std::optional<DecodeUnits> units_;  // LAZ tiles only
     std::vector<Batch> batches_;
 };
 
-// Reads every record of `tile`; `fields` is a laz::fields mask (LAS files always give all).
+// Reads every record of `tile`; `fields` is a las::fields mask (LAS files always give all).
 // Batches hold about `batch_points` points (at least one whole LAZ chunk). With `read_ahead`
 // the next batch is read or decoded (on `pool`) while fn runs on this one, so fn must not use
 // `pool`; memory is then two batches. With `skipped`, a LAZ chunk that cannot be decoded is
 // left out and appended to it (RecordBatches::read) instead of ending the read with an Error.
 void for_each_record_batch(const io::File& file, const Tile& tile, ThreadPool& pool, const RecordBatchFn& fn,
-                           std::uint32_t fields = laz::fields::kAll, std::uint64_t batch_points = 1u << 20,
+                           std::uint32_t fields = las::fields::kAll, std::uint64_t batch_points = 1u << 20,
                            bool read_ahead = false, std::vector<SkippedChunk>* skipped = nullptr);
 
 }  // namespace lidarscout::dataset

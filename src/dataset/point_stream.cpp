@@ -40,7 +40,7 @@ struct TileReader {
           placer(tile, has_colour(tile, fields) && tile_colour_is_16bit(ds, index), has_colour(tile, fields)) {}
 
     static bool has_colour(const DatasetTile& t, std::uint32_t fields) {
-        return las::point_format_info(t.tile.header.point_format).rgb_offset >= 0 && (fields & laz::fields::kRgb);
+        return las::point_format_info(t.tile.header.point_format).rgb_offset >= 0 && (fields & las::fields::kRgb);
     }
 
     // Records [first, first + out.size()) of `records` into `out`, placed in the dataset's frame.

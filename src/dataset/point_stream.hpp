@@ -10,7 +10,7 @@
 
 #include "core/patch_grid.hpp"
 #include "dataset/point_reader.hpp"
-#include "laz/chunk_decoder.hpp"
+#include "las/point_fields.hpp"
 
 namespace lidarscout {
 class ThreadPool;
@@ -42,14 +42,14 @@ using SkippedFn = std::function<void(std::uint32_t tile, const SkippedChunk& ski
 // chunk (or tile) that cannot be is left out, reported to it, and the stream goes on.
 void for_each_metric_batch(const Dataset& dataset, std::span<const std::uint32_t> tiles, ThreadPool& pool,
                            const TileMetricBatchFn& fn, const TileDoneFn& tile_done,
-                           std::uint32_t fields = laz::fields::kAll, std::uint64_t batch_points = 1u << 20,
+                           std::uint32_t fields = las::fields::kAll, std::uint64_t batch_points = 1u << 20,
                            const SkippedFn& skipped = nullptr);
 
-// Streams tile `tile` of `dataset`; `fields` is a laz::fields mask (fields not asked for read
+// Streams tile `tile` of `dataset`; `fields` is a las::fields mask (fields not asked for read
 // as zero), as the function above does for one tile.
 // Throws lidarscout::Error when the tile cannot be decoded.
 void for_each_metric_batch(const Dataset& dataset, std::uint32_t tile, ThreadPool& pool, const MetricBatchFn& fn,
-                           std::uint32_t fields = laz::fields::kAll);
+                           std::uint32_t fields = las::fields::kAll);
 
 // Whether a tile stores 16-bit colour, judged from its chunk points (colour_is_16bit).
 bool tile_colour_is_16bit(const Dataset& dataset, std::uint32_t tile);

@@ -23,7 +23,7 @@
 #include "las/header.hpp"
 #include "las/laszip_vlr.hpp"
 #include "las/vlr.hpp"
-#include "laz/chunk_table.hpp"
+#include "laz/laz.hpp"
 
 namespace lidarscout::io {
 class File;

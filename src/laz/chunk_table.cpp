@@ -1,7 +1,7 @@
 // Locating, decoding and validating the LAZ chunk table (see chunk_table.hpp for the layout
 // and the rules). The coded entries are read in a window that grows only as decoding needs
 // it, so a garbage chunk count can neither allocate nor read much before it is caught.
-#include "laz/chunk_table.hpp"
+#include "laz/laz.hpp"
 
 #include <algorithm>
 #include <optional>

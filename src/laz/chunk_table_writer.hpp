@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "laz/chunk_table.hpp"
+#include "laz/laz.hpp"
 
 namespace lidarscout::laz {
 

@@ -1,6 +1,6 @@
 // Reading and decoding LAZ decode units, serially or in parallel, with file/chunk context
 // added to every error.
-#include "laz/file_decoder.hpp"
+#include "laz/laz.hpp"
 
 #include <mutex>
 #include <vector>
@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "io/file.hpp"
+#include "laz/chunk_decoder.hpp"
 
 namespace lidarscout::laz {
 

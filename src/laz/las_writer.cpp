@@ -1,6 +1,6 @@
 // LasWriter: header and VLRs first, records as they come (LAZ: whole chunks encoded in
 // parallel, written in order, chunk table at the end), EVLRs, then the final header.
-#include "laz/las_writer.hpp"
+#include "laz/laz.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -9,7 +9,6 @@
 #include "core/thread_pool.hpp"
 #include "las/header_writer.hpp"
 #include "laz/chunk_encoder.hpp"
-#include "laz/chunk_table.hpp"
 #include "laz/chunk_table_writer.hpp"
 #include "laz/laszip_vlr_writer.hpp"
 

@@ -7,7 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
-#include "laz/las_writer.hpp"
+#include "laz/laz.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
 #include "geo/crs_definition.hpp"
@@ -183,7 +183,7 @@ ConvertResult convert_tile(const std::string& in_path, const std::string& out_pa
             writer.add(to_output_format(part, in, plan, converted, losses));
             if (progress) progress(first + (at + part.size()) / record);
         }
-    }, laz::fields::kAll, batch);
+    }, las::fields::kAll, batch);
     if (writer.points() != in.header.point_count) {
         throw Error(in_path, std::nullopt, "internal: the records read do not match the header's point count");
     }

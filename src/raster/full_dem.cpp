@@ -242,7 +242,7 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
         if (!ranges[i].empty()) total += ds.tiles[i].tile.header.point_count;
     }
     const std::uint32_t fields =
-        laz::fields::kXyz | laz::fields::kClassification | (outputs.rgb ? laz::fields::kRgb : 0u);
+        las::fields::kXyz | las::fields::kClassification | (outputs.rgb ? las::fields::kRgb : 0u);
     std::vector<std::uint32_t> order;
     for (const std::uint32_t t : tile_order(ds)) {
         if (!ranges[t].empty()) order.push_back(t);

@@ -13,7 +13,7 @@
 #include "core/error.hpp"
 #include "core/random.hpp"
 #include "core/thread_pool.hpp"
-#include "laz/las_writer.hpp"
+#include "laz/laz.hpp"
 #include "io/file.hpp"
 #include "io/output_file.hpp"
 #include "las/header_writer.hpp"

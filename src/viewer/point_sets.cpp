@@ -10,9 +10,8 @@
 #include "dataset/las_colour.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
+#include "las/point_fields.hpp"
 #include "las/point_format.hpp"
-#include "laz/chunk_decoder.hpp"
-#include "laz/file_decoder.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -78,22 +77,22 @@ void append_records(PointSet& set, std::span<const std::uint8_t> records, const 
     });
 }
 
-constexpr std::uint32_t kDrawnFields = laz::fields::kXyz | laz::fields::kIntensity | laz::fields::kClassification |
-                                       laz::fields::kRgb;
+constexpr std::uint32_t kDrawnFields = las::fields::kXyz | las::fields::kIntensity | las::fields::kClassification |
+                                       las::fields::kRgb;
 
 // The order key of each decode unit: `order` at the middle of its chunk point and the next
 // unit's (its own alone for the last); +infinity without a chunk point.
-std::vector<double> unit_keys(const dataset::DatasetTile& tile, const laz::LazLayout& layout,
+std::vector<double> unit_keys(const dataset::DatasetTile& tile, const dataset::DecodeUnits& units,
                               std::span<const dataset::ChunkPoint> samples, const PointOrder& order) {
     std::unordered_map<std::uint64_t, const las::Point*> at;
     for (const auto& c : samples) at.emplace(c.index, &c.point);
     const auto find = [&](std::size_t u) -> const las::Point* {
-        if (u >= layout.units.size()) return nullptr;
-        const auto it = at.find(layout.units[u].first_point);
+        if (u >= units.size()) return nullptr;
+        const auto it = at.find(units.first_point(u));
         return it == at.end() ? nullptr : it->second;
     };
-    std::vector<double> keys(layout.units.size(), std::numeric_limits<double>::infinity());
-    for (std::size_t u = 0; u < layout.units.size(); ++u) {
+    std::vector<double> keys(units.size(), std::numeric_limits<double>::infinity());
+    for (std::size_t u = 0; u < units.size(); ++u) {
         const las::Point* a = find(u);
         if (!a) continue;
         const las::Point* b = find(u + 1) ? find(u + 1) : a;
@@ -106,16 +105,16 @@ std::vector<double> unit_keys(const dataset::DatasetTile& tile, const laz::LazLa
 
 // Decodes the units `units` (any order) into one point set: each unit converted right after it is
 // decoded, while its records are in cache, by the thread that decoded it.
-PointSet decode_piece(const io::File& file, const laz::LazLayout& layout, std::span<const std::size_t> units,
+PointSet decode_piece(const io::File& file, const dataset::DecodeUnits& all, std::span<const std::size_t> units,
                       const dataset::DatasetTile& tile, const RecordConverter& convert, ThreadPool& pool) {
-    const std::size_t record = layout.header.record_length;
+    const std::size_t record = tile.tile.header.record_length;
     std::vector<std::uint64_t> first(units.size() + 1, 0);  // each unit's first point in the set
-    for (std::size_t k = 0; k < units.size(); ++k) first[k + 1] = first[k] + layout.units[units[k]].point_count;
+    for (std::size_t k = 0; k < units.size(); ++k) first[k + 1] = first[k] + all.point_count(units[k]);
     PointSet set = empty_tile_set(tile);
     set.points.resize(first.back());
     pool.for_each(units.size(), [&](std::size_t k) {
         std::vector<std::uint8_t> scratch, records((first[k + 1] - first[k]) * record);
-        laz::decode_unit(file, layout, units[k], records, kDrawnFields, scratch);
+        all.decode(file, units[k], records, kDrawnFields, scratch);
         convert_records(records, std::span(set.points).subspan(first[k], first[k + 1] - first[k]), convert);
     });
     return set;
@@ -123,7 +122,7 @@ PointSet decode_piece(const io::File& file, const laz::LazLayout& layout, std::s
 
 // Where each piece starts in `units` (and the end): about `piece_points` points each (whole
 // units), as many as fit in `max_points` (at least one).
-std::vector<std::size_t> cut_pieces(const laz::LazLayout& layout, std::span<const std::size_t> units,
+std::vector<std::size_t> cut_pieces(const dataset::DecodeUnits& all, std::span<const std::size_t> units,
                                     std::uint64_t piece_points, std::uint64_t max_points) {
     std::vector<std::size_t> starts{0};
     std::uint64_t total = 0;
@@ -131,7 +130,7 @@ std::vector<std::size_t> cut_pieces(const laz::LazLayout& layout, std::span<cons
         std::size_t last = first;
         std::uint64_t points = 0;
         for (; last < units.size() && (last == first || points < piece_points); ++last) {
-            points += layout.units[units[last]].point_count;
+            points += all.point_count(units[last]);
         }
         total += points;
         if (first > 0 && total > max_points) break;
@@ -222,21 +221,19 @@ void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stri
         return;
     }
     const auto file = io::File::open(tile.tile.path());
-    const laz::LazLayout layout{
-        tile.tile.header, *tile.tile.laz(),
-        laz::decode_units(tile.tile.header, *tile.tile.laz(), *tile.tile.chunks(), tile.tile.file_size())};
+    const dataset::DecodeUnits all(tile.tile);
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
     const RecordConverter convert = converter(tile, empty_tile_set(tile), samples);
-    const std::vector<double> keys = unit_keys(tile, layout, samples, order);
-    std::vector<std::size_t> units(layout.units.size());
+    const std::vector<double> keys = unit_keys(tile, all, samples, order);
+    std::vector<std::size_t> units(all.size());
     for (std::size_t u = 0; u < units.size(); ++u) units[u] = u;
     std::stable_sort(units.begin(), units.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-    const auto pieces = cut_pieces(layout, units, piece_points, max_points);
+    const auto pieces = cut_pieces(all, units, piece_points, max_points);
     // One piece per thread rather than every thread on one piece: no thread waits for the
     // slowest chunk of a piece, and a piece's blocks are built while the next one decodes.
     pool.for_each(pieces.size() - 1, [&](std::size_t i) {
         const auto piece = std::span(units).subspan(pieces[i], pieces[i + 1] - pieces[i]);
-        on_piece(decode_piece(file, layout, piece, tile, convert, pool));
+        on_piece(decode_piece(file, all, piece, tile, convert, pool));
     });
 }
 

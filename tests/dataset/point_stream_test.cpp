@@ -59,7 +59,7 @@ TEST(PointStream, TilesComeInTheGivenOrderEachWholeThenItsTileDone) {
             events.push_back({t, first, p.size(), false});
             digests[t] = digest(digests[t], p);
         },
-        [&](std::uint32_t t) { events.push_back({t, 0, 0, true}); }, laz::fields::kAll, 100'000);
+        [&](std::uint32_t t) { events.push_back({t, 0, 0, true}); }, las::fields::kAll, 100'000);
 
     std::size_t e = 0;
     for (const std::uint32_t t : order) {
@@ -105,9 +105,9 @@ TEST(PointStream, ColourIsReadOnlyWhenAsked) {
             nullptr, fields);
         return std::pair(n, black);
     };
-    const auto with = coloured(laz::fields::kAll);
+    const auto with = coloured(las::fields::kAll);
     EXPECT_GT(with.first, ds.point_count / 2);
-    const auto without = coloured(laz::fields::kXyz | laz::fields::kClassification);
+    const auto without = coloured(las::fields::kXyz | las::fields::kClassification);
     EXPECT_EQ(without.first, 0u);
     EXPECT_EQ(without.second, ds.point_count);  // no colour made up
 }
@@ -131,7 +131,7 @@ TEST_F(PointStreamFiles, ATileCutShortAfterOpeningIsNamedInTheErrorAfterTheTiles
             [&](std::uint32_t t, std::uint64_t, std::span<const dataset::MetricPoint> p) {
                 if (t == 0) first_tile_points += p.size();
             },
-            [&](std::uint32_t t) { done.push_back(t); }, laz::fields::kAll, 50'000);
+            [&](std::uint32_t t) { done.push_back(t); }, las::fields::kAll, 50'000);
         FAIL() << "a tile cut in half streamed without an error";
     } catch (const Error& e) {
         EXPECT_EQ(e.file(), cut);
@@ -151,7 +151,7 @@ TEST_F(PointStreamFiles, CorruptChunkIsSkippedWhenAsked) {
     std::vector<dataset::SkippedChunk> skipped;
     const auto add = [&](std::uint32_t, std::uint64_t, std::span<const dataset::MetricPoint> p) { points += p.size(); };
     const auto skip = [&](std::uint32_t, const dataset::SkippedChunk& s) { skipped.push_back(s); };
-    dataset::for_each_metric_batch(ds, tiles, pool, add, nullptr, laz::fields::kAll, 1u << 20, skip);
+    dataset::for_each_metric_batch(ds, tiles, pool, add, nullptr, las::fields::kAll, 1u << 20, skip);
     ASSERT_EQ(skipped.size(), 1u);
     EXPECT_EQ(skipped[0].first_point, 450'000u);
     EXPECT_EQ(skipped[0].points, test::kDamagedChunkPoints);

@@ -10,7 +10,7 @@
 #include "las/laszip_vlr.hpp"
 #include "laz/chunk_decoder.hpp"
 #include "laz/chunk_encoder.hpp"
-#include "laz/chunk_table.hpp"
+#include "laz/laz.hpp"
 
 namespace lidarscout::laz::codec_test {
 

@@ -31,7 +31,7 @@
 #include "las/point_format.hpp"
 #include "laz/chunk_decoder.hpp"
 #include "laz/chunk_encoder.hpp"
-#include "laz/chunk_table.hpp"
+#include "laz/laz.hpp"
 #include "laz/chunk_table_writer.hpp"
 #include "laz/laszip_vlr_writer.hpp"
 #include "laz/chunk_codec_helpers.hpp"

@@ -19,7 +19,7 @@
 #include "las/header.hpp"
 #include "las/laszip_vlr.hpp"
 #include "las/vlr.hpp"
-#include "laz/chunk_table.hpp"
+#include "laz/laz.hpp"
 #include "laz/integer_models.hpp"
 #include "laz/test_arithmetic_encoder.hpp"
 #include "allocation_counter.hpp"

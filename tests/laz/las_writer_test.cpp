@@ -10,7 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
-#include "laz/las_writer.hpp"
+#include "laz/laz.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
