@@ -1,5 +1,5 @@
-// PointFilter: parsing the CLI's filter options, the checks, the description; the LAS 1.4 class
-// names, the viewer's presets and the counts per class and return kind.
+// PointFilter: parsing the CLI's filter options, the checks, the description; the viewer's presets
+// and the counts per class and return kind.
 #include "dataset/point_filter.hpp"
 
 #include <algorithm>
@@ -165,17 +165,6 @@ std::string PointFilter::describe() const {
     std::string out;
     for (const auto& p : parts) out += (out.empty() ? "" : "; ") + p;
     return out;
-}
-
-std::string_view las_class_name(std::uint8_t code) {
-    static constexpr std::string_view kNames[] = {
-        "Created, never classified", "Unclassified", "Ground", "Low vegetation", "Medium vegetation",
-        "High vegetation", "Building", "Low point (noise)", "Reserved (model key-point)", "Water", "Rail",
-        "Road surface", "Reserved (overlap)", "Wire - guard (shield)", "Wire - conductor (phase)",
-        "Transmission tower", "Wire-structure connector", "Bridge deck", "High noise", "Overhead structure",
-        "Ignored ground", "Snow", "Temporal exclusion"};
-    if (code < std::size(kNames)) return kNames[code];
-    return code < 64 ? "Reserved" : "User definable";
 }
 
 std::span<const FilterPreset> filter_presets() {

@@ -1,6 +1,6 @@
 // Which points a user works with: classes (any code 0-255), return kinds (first, last, single,
 // intermediate) and an intensity range, as the viewer's Filters section and the CLI's --classes,
-// --returns and --intensity set them; the LAS 1.4 class names; the presets (ground, vegetation ...);
+// --returns and --intensity set them (class names: las/classification.hpp); the presets (ground ...);
 // and counts per class and return kind of the points seen.
 #pragma once
 
@@ -61,10 +61,6 @@ public:
     // The classes kept as the CLI writes them ("2-5,9"); empty when every class is kept.
     std::string class_list() const;
 };
-
-// The ASPRS name of class `code` in LAS 1.4 (R15): 0 "Created, never classified", 1 "Unclassified",
-// 2 "Ground" ... 22 "Temporal exclusion"; 23-63 "Reserved"; 64-255 "User definable".
-std::string_view las_class_name(std::uint8_t code);
 
 // The viewer's presets, in menu order.
 struct FilterPreset {

@@ -12,10 +12,12 @@ TEST(LasClassification, StandardClassesHaveTheirNames) {
     EXPECT_EQ(class_name(6), "building");
     EXPECT_EQ(class_name(9), "water");
     EXPECT_EQ(class_name(18), "high noise");
+    EXPECT_EQ(class_name(19), "overhead structure");  // R14/R15's additions
+    EXPECT_EQ(class_name(22), "temporal exclusion");
 }
 
 TEST(LasClassification, ReservedAndUserDefinedRanges) {
-    EXPECT_EQ(class_name(19), "reserved (19)");
+    EXPECT_EQ(class_name(23), "reserved (23)");
     EXPECT_EQ(class_name(63), "reserved (63)");
     EXPECT_EQ(class_name(64), "user defined (64)");
     EXPECT_EQ(class_name(255), "user defined (255)");
