@@ -23,6 +23,7 @@
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
+#include "cli/filter_options.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
@@ -49,6 +50,7 @@ enum class Stage { Overview, Heightmaps, Full };
 
 struct RenderCliOptions {
     std::vector<std::string> paths;
+    FilterTexts filter;  // the points drawn (heightmaps are not filtered)
     std::string camera = "auto";
     double fov = 60;
     std::string size = "1280x720";
@@ -80,6 +82,7 @@ struct RenderPlan {
     std::uint64_t memory_budget = 0;
     unsigned threads = 1;
     render::BackendChoice backend;   // resolved: cpu or cuda (with a note when auto fell back)
+    PointFilter filter;              // the points drawn
 };
 
 struct StageTimes {
@@ -124,6 +127,7 @@ RenderPlan make_plan(const RenderCliOptions& o) {
     std::tie(plan.width, plan.height) = parse_pixels(o.size, 1);
     plan.until = parse_stage(o.until);
     plan.colour = render::parse_colour_mode(o.colour);
+    plan.filter = o.filter.filter();
     if (o.heightmaps != "linear" && o.heightmaps != "cnn") {
         throw Error("unknown --heightmaps '" + o.heightmaps + "' (linear or cnn)");
     }
@@ -252,6 +256,7 @@ viewer::SceneStyle scene_style(const RenderPlan& plan, const RenderCliOptions& o
     style.chunk_point_size = o.chunk_point_size;
     style.resolve.edl_strength = o.edl;
     style.backend = plan.backend.backend;
+    style.filter = plan.filter;
     return style;
 }
 
@@ -397,6 +402,8 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--fixed-point-size", o->fixed_point_size, "Every full-resolution point --point-size pixels wide");
     cmd->add_option("--chunk-point-size", o->chunk_point_size, "Chunk point size in pixels (default 2)")
         ->check(CLI::Range(1, 64));
+    add_filter_options(*cmd, o->filter, "points drawn (chunk points: class and intensity only; heightmaps are "
+                                        "not filtered)");
     cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--memory", o->memory,

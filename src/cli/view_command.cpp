@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/filter_options.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/recon_options.hpp"
@@ -29,6 +30,7 @@ namespace {
 
 struct ViewCliOptions {
     std::vector<std::string> paths;
+    FilterTexts filter;  // the points drawn at first
     std::string size = "1280x720";
     std::string memory;
     std::string model;
@@ -119,6 +121,7 @@ int run_view(const ViewCliOptions& o) {
     v.quit_after = o.quit_after;
     for (const auto& c : o.clicks) v.clicks.push_back(parse_click(c));
     v.measure = o.measure;
+    v.filter = o.filter.filter();
     v.threads = o.threads;
     v.paths = o.paths.empty() ? std::vector<std::string>{demo_folder(o)} : o.paths;
     viewer::app::ViewerTimings timings;
@@ -150,6 +153,7 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     add_output(*cmd, "--window-screenshot", o->window_screenshot,
                "Write the whole window, panels included, to this PNG on exit (scripted use)", io::OutputKind::Png);
     cmd->add_option("--click", o->clicks, "Click at window pixel X,Y just before quitting (scripted use; repeatable)");
+    add_filter_options(*cmd, o->filter, "points drawn at first (the Filters section changes them)");
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
         ->check(non_negative_number());

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/point_filter.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/las_colour.hpp"
@@ -131,6 +132,7 @@ MetricPoint RecordPlacer::attributes(const las::Point& p) const {
     }
     m.intensity = p.intensity;
     m.classification = p.classification;
+    m.return_kinds = returns::kinds_of(p.return_number, p.number_of_returns);
     return m;
 }
 

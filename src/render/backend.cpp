@@ -114,6 +114,7 @@ FrameImage draw_frame_cpu(const Camera& camera, std::span<const HeightmapPatch> 
         ps.point_size = layer.point_size;
         ps.adaptive_size = layer.adaptive_size;
         ps.chunk_points = settings.chunk_points;
+        ps.filter = settings.filter;
         draw_points(fb, camera, layer.batches, ps, pool);
     }
     FrameImage frame{resolve(fb, settings.resolve, pool), count_drawn(fb)};

@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/point_filter.hpp"
 #include "core/thread_pool.hpp"
 #include "render/camera.hpp"
 #include "render/colour_modes.hpp"
@@ -51,6 +52,7 @@ struct FrameSettings {
     HeightmapPassSettings heightmaps;    // its colour settings are replaced by `colour`
     ResolveSettings resolve;
     std::size_t chunk_points = 50'000;   // points per work item (a CUDA thread block)
+    PointFilter filter;                  // points of every layer it does not keep are not drawn
 };
 
 struct FrameImage {

@@ -26,6 +26,7 @@ static_assert(sizeof(LsrPoint) == sizeof(PointAttr));
 static_assert(offsetof(LsrPoint, dz) == offsetof(PointAttr, dz));
 static_assert(offsetof(LsrPoint, classification) == offsetof(PointAttr, classification));
 static_assert(offsetof(LsrPoint, intensity) == offsetof(PointAttr, intensity));
+static_assert(offsetof(LsrPoint, returns) == offsetof(PointAttr, returns));
 
 namespace {
 
@@ -168,6 +169,18 @@ std::string unavailable_reason() { return plugin().failure; }
 
 std::string device_name() { return plugin().device; }
 
+// The filter as the kernels test it.
+LsrPointFilter abi_filter(const PointFilter& filter) {
+    LsrPointFilter f{};
+    f.active = filter.keeps_everything() ? 0 : 1;
+    for (unsigned c = 0; c < 256; ++c) {
+        if (filter.keeps_class(static_cast<std::uint8_t>(c))) f.classes[c / 32] |= 1u << (c % 32);
+    }
+    f.return_kinds = filter.keeps_every_return() ? 0xFFu : filter.return_kinds;
+    f.intensity_min = filter.intensity_min, f.intensity_max = filter.intensity_max;
+    return f;
+}
+
 FrameImage draw_frame(const Camera& camera, std::span<const HeightmapPatch> heightmaps,
                       std::span<const PointLayer> layers, const FrameSettings& settings) {
     Plugin& p = plugin();
@@ -185,6 +198,7 @@ FrameImage draw_frame(const Camera& camera, std::span<const HeightmapPatch> heig
     frame.width = camera.width, frame.height = camera.height;
     frame.near_m = static_cast<float>(camera.near_m), frame.far_m = static_cast<float>(camera.far_m);
     frame.colours = colours.abi;
+    frame.colours.filter = abi_filter(settings.filter);
     frame.heightmaps = heightmap_pass(camera, settings.heightmaps, patches);
     frame.layers = abi_layers.data();
     frame.layer_count = static_cast<std::uint32_t>(abi_layers.size());

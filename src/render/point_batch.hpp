@@ -15,6 +15,7 @@ struct PointAttr {
     std::uint8_t r = 0, g = 0, b = 0;
     std::uint8_t classification = 0;  // ASPRS class
     std::uint16_t intensity = 0;
+    std::uint8_t returns = 0;         // return kinds (core/point_filter.hpp returns::), 0 when unknown
 };
 static_assert(sizeof(PointAttr) == 20);
 

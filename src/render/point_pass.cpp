@@ -40,14 +40,28 @@ struct ClassColour {
     std::uint32_t operator()(const PointAttr& p) const { return palette->classification(p.classification); }
 };
 
+// Whether a point is drawn: every point, or those a filter keeps.
+struct KeepAll {
+    bool operator()(const PointAttr&) const { return true; }
+};
+struct KeepFiltered {
+    const PointFilter* filter;
+    bool operator()(const PointAttr& p) const {
+        return filter->keeps_class(p.classification) && filter->keeps_kinds(p.returns) &&
+               filter->keeps_intensity(p.intensity);
+    }
+};
+
 float row_dot(const std::array<float, 4>& row, const PointAttr& p) {
     return row[0] * p.dx + row[1] * p.dy + row[2] * p.dz + row[3];
 }
 
 // One pixel per point.
-template <typename Colour>
-void draw_single(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour) {
+template <typename Colour, typename Keep>
+void draw_single(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
+                 Keep keep) {
     for (const PointAttr& p : points) {
+        if (!keep(p)) continue;
         const float w = row_dot(s.depth, p);
         if (!(w >= t.near_m && w <= t.far_m)) continue;
         const float inv = 1.0f / w;
@@ -59,11 +73,12 @@ void draw_single(const Target& t, const ScreenTransform& s, std::span<const Poin
 
 // A square per point, side_of(1 / depth) pixels wide (N): columns floor(x) - (N-1)/2 .. + N-1
 // (likewise rows), clipped.
-template <typename Colour, typename Side>
+template <typename Colour, typename Keep, typename Side>
 void draw_squares(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
-                  Side side_of) {
+                  Keep keep, Side side_of) {
     const int last_x = t.fb->width() - 1, last_y = t.fb->height() - 1;
     for (const PointAttr& p : points) {
+        if (!keep(p)) continue;
         const float w = row_dot(s.depth, p);
         if (!(w >= t.near_m && w <= t.far_m)) continue;
         const float inv = 1.0f / w;
@@ -84,19 +99,27 @@ void draw_squares(const Target& t, const ScreenTransform& s, std::span<const Poi
 
 // `scale` > 0: adaptive sizes, ceil(scale / depth) within [size, kMaxAdaptivePointSize] (spacing on
 // screen); else `size` for every point.
-template <typename Colour>
+template <typename Colour, typename Keep>
 void draw_chunk(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
-                int size, float scale) {
+                Keep keep, int size, float scale) {
     if (scale > 0.0f) {
         const auto smallest = static_cast<float>(size), largest = static_cast<float>(kMaxAdaptivePointSize);
-        draw_squares(t, s, points, colour, [=](float inv_depth) {
+        draw_squares(t, s, points, colour, keep, [=](float inv_depth) {
             return static_cast<int>(std::clamp(std::ceil(scale * inv_depth), smallest, largest));
         });
     } else if (size == 1) {
-        draw_single(t, s, points, colour);
+        draw_single(t, s, points, colour, keep);
     } else {
-        draw_squares(t, s, points, colour, [size](float) { return size; });
+        draw_squares(t, s, points, colour, keep, [size](float) { return size; });
     }
+}
+
+// The filter chosen once per chunk, like the colour mode: no test per point without one.
+template <typename Colour>
+void draw_chunk(const Target& t, const ScreenTransform& s, std::span<const PointAttr> points, Colour colour,
+                const PointFilter& filter, int size, float scale) {
+    if (filter.keeps_everything()) draw_chunk(t, s, points, colour, KeepAll{}, size, scale);
+    else draw_chunk(t, s, points, colour, KeepFiltered{&filter}, size, scale);
 }
 
 std::vector<Job> make_jobs(std::span<const PointBatch> batches, std::size_t chunk_points) {
@@ -138,14 +161,16 @@ void draw_points(Framebuffer& fb, const Camera& camera, std::span<const PointBat
         const ScreenTransform s = camera.screen_transform(batch.origin_x, batch.origin_y, batch.origin_z);
         const int size = settings.point_size;
         const float scale = adaptive_scale(settings, batch, camera);
+        const PointFilter& filter = settings.filter;
         switch (palette.mode()) {
-            case ColourMode::Rgb: return draw_chunk(target, s, points, RgbColour{}, size, scale);
+            case ColourMode::Rgb: return draw_chunk(target, s, points, RgbColour{}, filter, size, scale);
             case ColourMode::Elevation:
-                return draw_chunk(target, s, points, ElevationColour{palette.elevation_map(batch.origin_z)}, size,
-                                  scale);
-            case ColourMode::Intensity: return draw_chunk(target, s, points, IntensityColour{&palette}, size, scale);
+                return draw_chunk(target, s, points, ElevationColour{palette.elevation_map(batch.origin_z)}, filter,
+                                  size, scale);
+            case ColourMode::Intensity:
+                return draw_chunk(target, s, points, IntensityColour{&palette}, filter, size, scale);
             case ColourMode::Classification:
-                return draw_chunk(target, s, points, ClassColour{&palette}, size, scale);
+                return draw_chunk(target, s, points, ClassColour{&palette}, filter, size, scale);
         }
     });
 }

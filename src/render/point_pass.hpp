@@ -6,12 +6,13 @@
 // 3x4 transform, one division, a range test and an atomic min; no allocation, no virtual call.
 // With an adaptive size, a point whose batch spacing is more than a pixel on screen (near the
 // camera) is drawn as a square of that spacing, as Potree sizes its points: the surface between
-// them is filled.
+// them is filled. Points a filter leaves out (class, return kind, intensity) are not drawn.
 #pragma once
 
 #include <cstddef>
 #include <span>
 
+#include "core/point_filter.hpp"
 #include "core/thread_pool.hpp"
 #include "render/camera.hpp"
 #include "render/colour_modes.hpp"
@@ -31,6 +32,7 @@ struct PointPassSettings {
     bool adaptive_size = false;
     std::size_t chunk_points = 50'000;   // points per work item
     ColourSettings colour;
+    PointFilter filter;  // points it does not keep are skipped (a point of unknown returns passes on returns)
 };
 
 // What an adaptive point's side is computed from: spacing_m x the focal length in pixels (its

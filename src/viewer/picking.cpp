@@ -32,10 +32,16 @@ bool box_may_cover(const render::Camera& camera, const dataset::Bounds& box, dou
 
 // Keeps in `best` the front-most point of `batch` within the radius (ties: the nearer pixel).
 void pick_in_batch(const render::PointBatch& batch, const render::Camera& camera, double px, double py,
-                   double radius, std::optional<PickedPoint>& best, std::optional<std::uint32_t> tile, bool chunk) {
+                   const PickOptions& options, std::optional<PickedPoint>& best, std::optional<std::uint32_t> tile,
+                   bool chunk) {
     const auto t = camera.screen_transform(batch.origin_x, batch.origin_y, batch.origin_z);
-    const double r2 = radius * radius;
+    const double r2 = options.radius_px * options.radius_px;
+    const PointFilter& filter = options.filter;
     for (const auto& a : batch.points) {
+        if (!filter.keeps_class(a.classification) || !filter.keeps_kinds(a.returns) ||
+            !filter.keeps_intensity(a.intensity)) {
+            continue;
+        }
         const float w = t.depth[0] * a.dx + t.depth[1] * a.dy + t.depth[2] * a.dz + t.depth[3];
         if (!(w >= camera.near_m && w <= camera.far_m)) continue;
         const double sx = (t.sx[0] * a.dx + t.sx[1] * a.dy + t.sx[2] * a.dz + t.sx[3]) / w;
@@ -71,12 +77,12 @@ std::optional<PickedPoint> pick_point(const SceneSnapshot& snapshot, const rende
     for (const auto& block : snapshot.full_points) {
         if (!box_may_cover(camera, block->bounds, px, py, options.radius_px)) continue;
         const auto batch = block->prefix(level_for(*block, camera, options.lod_spacing_px));
-        pick_in_batch(batch, camera, px, py, options.radius_px, best, block->tile, false);
+        pick_in_batch(batch, camera, px, py, options, best, block->tile, false);
     }
     if (!options.chunk_points) return best;
     for (const auto& set : snapshot.chunk_points) {
         if (set->points.empty() || !box_may_cover(camera, set_bounds(*set), px, py, options.radius_px)) continue;
-        pick_in_batch(set->batch(), camera, px, py, options.radius_px, best, std::nullopt, true);
+        pick_in_batch(set->batch(), camera, px, py, options, best, std::nullopt, true);
     }
     return best;
 }

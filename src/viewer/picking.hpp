@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 
+#include "core/point_filter.hpp"
 #include "dataset/dataset.hpp"
 #include "render/camera.hpp"
 #include "viewer/scene_snapshot.hpp"
@@ -32,6 +33,7 @@ struct PickOptions {
     double radius_px = 4;        // how far from the pixel a point may be
     double lod_spacing_px = 0;   // LOD level searched (0: every point held, as a refined frame)
     bool chunk_points = true;    // also the chunk points of cells without a heightmap
+    PointFilter filter;          // only the points it keeps, as they are the ones drawn
 };
 
 // The front-most point held by `snapshot` whose projection at `camera` lies within

@@ -154,6 +154,7 @@ LodBlock make_block(const PointSet& tile, std::span<const std::uint32_t> members
         block.points.points[next[level[i]]++] = tile.points[members[static_cast<std::uint32_t>(keyed[i])]];
     }
     block.bounds = bounds_of(block.points);
+    count_classes(block.points);
     return block;
 }
 
@@ -220,6 +221,7 @@ std::shared_ptr<const LodBlock> coarse_copy(const LodBlock& block, double spacin
     out->level_end = block.level_end, out->level_key = block.level_key;
     out->levels = keep + 1;
     out->points.cache_key = block.level_key[keep];
+    count_classes(out->points);
     out->size_m = block.size_m, out->bounds = block.bounds, out->tile = block.tile;
     return out;
 }

@@ -37,6 +37,8 @@ struct LodBlock {
 
     // Side of the cells of level k (0 for the last level: duplicates of the finest cells).
     double spacing(std::size_t level) const;
+    // Its points and itself; its class counts' few dozen bytes are left out, as in the residency's
+    // estimate of a tile (tile_point_set_bytes), which a larger figure would overrun at tiny budgets.
     std::uint64_t bytes() const { return points.points.capacity() * sizeof(render::PointAttr) + sizeof(LodBlock); }
     // The points of levels 0..level (clamped to the levels held), their spacing that level's
     // cells (at least the tile's mean spacing, which the last level has).

@@ -2,6 +2,7 @@
 #include "viewer/point_sets.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -61,6 +62,7 @@ void convert_records(std::span<const std::uint8_t> records, std::span<render::Po
         a.r = p.rgb.r, a.g = p.rgb.g, a.b = p.rgb.b;
         a.classification = p.classification;
         a.intensity = p.intensity;
+        a.returns = p.return_kinds;
     }
 }
 
@@ -78,7 +80,7 @@ void append_records(PointSet& set, std::span<const std::uint8_t> records, const 
 }
 
 constexpr std::uint32_t kDrawnFields = las::fields::kXyz | las::fields::kIntensity | las::fields::kClassification |
-                                       las::fields::kRgb;
+                                       las::fields::kRgb | las::fields::kReturns;
 
 // The order key of each decode unit: `order` at the middle of its chunk point and the next
 // unit's (its own alone for the last); +infinity without a chunk point.
@@ -160,6 +162,15 @@ std::uint64_t point_count(std::span<const PointSet> sets) {
     std::uint64_t n = 0;
     for (const auto& s : sets) n += s.points.size();
     return n;
+}
+
+void count_classes(PointSet& set) {
+    std::array<std::uint32_t, 256> counts{};
+    for (const auto& p : set.points) ++counts[p.classification];
+    set.class_counts.clear();
+    for (std::size_t c = 0; c < counts.size(); ++c) {
+        if (counts[c]) set.class_counts.emplace_back(static_cast<std::uint8_t>(c), counts[c]);
+    }
 }
 
 PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell) {

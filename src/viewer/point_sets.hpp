@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/thread_pool.hpp"
@@ -21,6 +22,8 @@ struct PointSet {
     std::vector<render::PointAttr> points;
     std::uint64_t cache_key = 0;  // render::PointBatch::cache_key, given to sets shared once complete
     float spacing_m = 0;          // render::PointBatch::spacing_m: a tile's mean point spacing
+    // LOD blocks: their points by class, the classes present only (the Filters panel's counts).
+    std::vector<std::pair<std::uint8_t, std::uint32_t>> class_counts;
 
     render::PointBatch batch() const { return {origin_x, origin_y, origin_z, points, cache_key, spacing_m}; }
 };
@@ -32,6 +35,8 @@ double mean_point_spacing(const dataset::DatasetTile& tile);
 // Batches viewing every set (the sets must outlive them).
 std::vector<render::PointBatch> batches_of(std::span<const PointSet> sets);
 std::uint64_t point_count(std::span<const PointSet> sets);
+// Sets set.class_counts from its points.
+void count_classes(PointSet& set);
 
 // The chunk points stored in `cell` of the grid; origin = the cell's min corner at z = 0; no spacing.
 PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell);

@@ -47,6 +47,7 @@ RenderedScene draw_scene_frame(const render::Camera& camera, std::span<const ren
     settings.colour = frame_colours(style, chunk_points, full_points);
     settings.heightmaps = style.heightmaps;
     settings.resolve = style.resolve;
+    settings.filter = style.filter;
     const render::PointLayer layers[] = {{chunk_points, style.chunk_point_size},
                                          {full_points, style.point_size, style.adaptive_point_size}};
     auto frame = render::draw_frame(style.backend, camera, heightmaps, layers, settings, pool);

@@ -9,8 +9,9 @@
 #include <span>
 #include <vector>
 
-#include "core/thread_pool.hpp"
 #include "core/patch_grid.hpp"
+#include "core/point_filter.hpp"
+#include "core/thread_pool.hpp"
 #include "render/backend.hpp"
 #include "render/camera.hpp"
 #include "render/colour_modes.hpp"
@@ -43,6 +44,7 @@ struct SceneStyle {
     render::HeightmapPassSettings heightmaps;  // its colour settings are replaced by `colour`
     render::ResolveSettings resolve;           // background, eye-dome lighting
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (render/backend.hpp)
+    PointFilter filter;  // the points drawn (every layer); heightmaps are not filtered
 };
 
 // Elevation colours over [z_min, z_max] (e.g. the dataset's range; widened when empty).

@@ -27,4 +27,12 @@ RenderedScene render_snapshot(const SceneSnapshot& snapshot, const render::Camer
     return draw_scene_frame(camera, patches, batches(snapshot.chunk_points, layers.chunk_points), full, style, pool);
 }
 
+std::array<std::uint64_t, 256> loaded_class_counts(const SceneSnapshot& snapshot) {
+    std::array<std::uint64_t, 256> out{};
+    for (const auto& block : snapshot.full_points) {
+        for (const auto& [code, n] : block->points.class_counts) out[code] += n;
+    }
+    return out;
+}
+
 }  // namespace lidarscout::viewer

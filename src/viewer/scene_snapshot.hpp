@@ -3,6 +3,7 @@
 // heightmaps; and its drawing with the renderer's passes, each layer optional.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -31,5 +32,8 @@ struct SceneLayers {
 // the level for style.lod_spacing_px.
 RenderedScene render_snapshot(const SceneSnapshot& snapshot, const render::Camera& camera, const SceneStyle& style,
                               ThreadPool& pool, const SceneLayers& layers = {});
+
+// The full-resolution points held for the view, by class (the LOD blocks' counts: no point visited).
+std::array<std::uint64_t, 256> loaded_class_counts(const SceneSnapshot& snapshot);
 
 }  // namespace lidarscout::viewer

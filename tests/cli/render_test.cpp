@@ -273,7 +273,8 @@ TEST_F(RenderCommand, BadArgumentsAreOneLineErrors) {
     const std::string s = survey("ky-woodford-county");
     for (const std::string args : {"--camera 1,2,3", "--camera 1,2,3,4,north", "--camera 1,2,3,4,100", "--size 320",
                                    "--size 0x240", "--size 320xabc", "--colour purple", "--until everything",
-                                   "--heightmaps magic", "--memory lots", "--heightmaps cnn --model /nonexistent.pt"}) {
+                                   "--heightmaps magic", "--memory lots", "--heightmaps cnn --model /nonexistent.pt",
+                                   "--classes 256", "--returns second", "--intensity 9-2"}) {
         SCOPED_TRACE(args);
         std::string out, err;
         EXPECT_EQ(render(s + " " + args, "bad", out, err), 1);
@@ -281,6 +282,27 @@ TEST_F(RenderCommand, BadArgumentsAreOneLineErrors) {
         EXPECT_EQ(err.rfind("lidarscout: ", 0), 0u) << err;
         EXPECT_FALSE(fs::exists(dir_ / "bad.png"));
     }
+}
+
+// A class filter draws only its points: on an IGN tile in class colours, ground alone leaves out the
+// buildings' red and the vegetation's green, and draws fewer pixels than every class.
+TEST_F(RenderCommand, AClassFilterDrawsOnlyItsClasses) {
+    const std::string args = survey("ign-lidar-hd-1km/test_semis_2021_0382_6565_LA93_IGN69.laz") +
+                             " --size 320x240 --until full --colour classification";
+    const auto all = render_json(args, "all");
+    const auto ground = render_json(args + " --classes 2", "ground");
+    EXPECT_EQ(ground.at("full_res_points"), all.at("full_res_points"));  // filtered when drawn, not when read
+    EXPECT_LT(ground.at("drawn_pixels").get<std::size_t>(), all.at("drawn_pixels").get<std::size_t>());
+    const auto palette = render::Palette(render::ColourSettings{.mode = render::ColourMode::Classification});
+    const auto count = [](const Png& p, std::uint32_t rgba) {
+        return std::count(p.pixels.begin(), p.pixels.end(), rgba);
+    };
+    const Png a = png("all"), g = png("ground");
+    ASSERT_TRUE(a.ok() && g.ok());
+    const std::uint32_t building = palette.classification(6), ground_colour = palette.classification(2);
+    EXPECT_GT(count(a, building), 100);
+    EXPECT_EQ(count(g, building), 0);
+    EXPECT_GT(count(g, ground_colour), 100);
 }
 
 TEST_F(RenderCommand, CnnHeightmapsWhenTheModelExists) {

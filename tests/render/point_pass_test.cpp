@@ -1,9 +1,10 @@
 // Point pass: points land in the expected pixel with their colour, point sizes cover N x N,
 // adaptive sizes follow the batch's spacing on screen (and points on a grid meet),
-// the nearest point wins, clipping, colour modes, and the result does not depend on threads.
+// the nearest point wins, clipping, colour modes, filters, and the result does not depend on threads.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -70,6 +71,33 @@ TEST(RenderPointPass, SinglePointLandsInItsPixelWithItsColour) {
     ASSERT_FALSE(fb.empty_at(36, 20));
     EXPECT_EQ(fragment_rgba(fb.at(36, 20)), pack_rgba(10, 20, 30));
     EXPECT_NEAR(fragment_depth(fb.at(36, 20)), 300.0f, 1e-3);
+}
+
+TEST(RenderPointPass, AFilterDrawsOnlyWhatItKeeps) {
+    const Camera c = test_camera();
+    std::vector<PointAttr> points = {on_screen(0.25, 0.25, 100.0, 200, 100, 50),   // class 2, last, 10
+                                     on_screen(4.5, -3.5, 300.0, 10, 20, 30),      // class 5, first, 900
+                                     on_screen(-6.5, 5.5, 200.0, 1, 2, 3)};        // class 5, unknown returns, 400
+    points[0].classification = 2, points[0].returns = returns::kLast, points[0].intensity = 10;
+    points[1].classification = 5, points[1].returns = returns::kFirst, points[1].intensity = 900;
+    points[2].classification = 5, points[2].returns = 0, points[2].intensity = 400;
+    const PointBatch batch = batch_at(c, points);
+    ThreadPool pool(2);
+    const auto drawn = [&](const char* classes, const char* kinds, const char* intensity) {
+        Framebuffer fb(c.width, c.height);
+        PointPassSettings s;
+        s.filter = PointFilter::parse(classes, kinds, intensity);
+        s.point_size = 1 + (classes[0] == '5');  // squares as well as single pixels
+        draw_points(fb, c, std::span(&batch, 1), s, pool);
+        const int area = s.point_size * s.point_size;
+        return std::array<bool, 4>{!fb.empty_at(32, 24), !fb.empty_at(36, 20), !fb.empty_at(25, 29),
+                                   covered(fb) % area == 0};
+    };
+    EXPECT_EQ(drawn("", "", ""), (std::array<bool, 4>{true, true, true, true}));
+    EXPECT_EQ(drawn("2", "", ""), (std::array<bool, 4>{true, false, false, true}));
+    EXPECT_EQ(drawn("5", "", ""), (std::array<bool, 4>{false, true, true, true}));
+    EXPECT_EQ(drawn("", "first", ""), (std::array<bool, 4>{false, true, true, true}));  // unknown passes
+    EXPECT_EQ(drawn("", "", "100-500"), (std::array<bool, 4>{false, false, true, true}));
 }
 
 TEST(RenderPointPass, PointSizeCoversASquare) {

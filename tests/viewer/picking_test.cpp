@@ -1,6 +1,6 @@
 // Picking and measuring: known points placed by hand (the front-most one under the pixel wins,
 // chunk points too, nothing far from the pixel), a real survey tile (looking down on its highest
-// point picks that point), the readout in the file's own units, and distances between points.
+// point picks that point), a filter (what it hides is not picked), the readout in the file's own units, and distances between points.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -61,6 +61,25 @@ TEST(ViewerPicking, FrontMostPointUnderThePixelWins) {
     ASSERT_TRUE(q);
     EXPECT_EQ(q->classification, 6);
     EXPECT_NEAR(q->pixel_distance, std::sqrt(5.0), 1e-3);
+}
+
+TEST(ViewerPicking, APointFilteredOutIsNotPickedThePointBehindItIs) {
+    PointSet set;
+    set.origin_x = 1000, set.origin_y = 2000, set.origin_z = 100;
+    set.points = {attr(10, 10, 0, 2, 50), attr(10, 10, 25, 5, 900)};  // ground under a tree top
+    const auto snapshot = snapshot_of(set);
+    const auto camera = looking_down(1010, 2010, 500);
+    const auto centre = camera.project(1010, 2010, 125);
+    ASSERT_TRUE(centre);
+    PickOptions ground;
+    ground.filter = PointFilter::parse("2", "", "");
+    const auto p = pick_point(snapshot, camera, centre->x, centre->y, ground);
+    ASSERT_TRUE(p);
+    EXPECT_EQ(p->classification, 2);  // through the hidden tree top, to the ground
+    EXPECT_NEAR(p->z, 100, 1e-4);
+    PickOptions bright;
+    bright.filter = PointFilter::parse("", "", "1000-");
+    EXPECT_FALSE(pick_point(snapshot, camera, centre->x, centre->y, bright));  // nothing drawn, nothing picked
 }
 
 TEST(ViewerPicking, NothingFarFromThePixelIsPicked) {

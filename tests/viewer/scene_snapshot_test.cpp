@@ -1,11 +1,13 @@
 // Drawing a snapshot: a heightmap under the camera fills the image, and each layer can be left
-// out (nothing drawn without any, a few pixels for one chunk point alone).
+// out (nothing drawn without any, a few pixels for one chunk point alone); the points held by class,
+// from the LOD blocks' counts, coarse copies counting only what they keep.
 #include "viewer/scene_snapshot.hpp"
 
 #include <gtest/gtest.h>
 
 #include "render/framebuffer.hpp"
 #include "viewer/cameras.hpp"
+#include "viewer/point_lod.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -34,6 +36,30 @@ TEST(ViewerSchedulerSnapshot, LayersCanBeLeftOut) {
     const auto points = render_snapshot(snapshot, camera, style, pool, points_only);
     EXPECT_GT(points.drawn_pixels, 0u);
     EXPECT_LT(points.drawn_pixels, 20u);
+}
+
+TEST(ViewerSchedulerSnapshot, LoadedClassCountsSumTheBlocksHeld) {
+    PointSet tile;
+    tile.origin_x = 960, tile.origin_y = 1920;  // on the 80 m block grid
+    for (int k = 0; k < 600; ++k) {             // two 80 m blocks, classes 2 and 6 and 200
+        render::PointAttr a;
+        a.dx = static_cast<float>((k * 7) % 160), a.dy = static_cast<float>((k * 13) % 80);
+        a.classification = static_cast<std::uint8_t>(k % 3 == 0 ? 2 : k % 3 == 1 ? 6 : 200);
+        tile.points.push_back(a);
+    }
+    ThreadPool pool(1);
+    SceneSnapshot snapshot;
+    snapshot.full_points = build_lod_blocks(tile, 0, 80, pool);
+    ASSERT_EQ(snapshot.full_points.size(), 2u);
+    auto counts = loaded_class_counts(snapshot);
+    EXPECT_EQ(counts[2], 200u);
+    EXPECT_EQ(counts[6], 200u);
+    EXPECT_EQ(counts[200], 200u);
+    EXPECT_EQ(counts[0], 0u);
+    snapshot.full_points = {coarse_copy(*snapshot.full_points[0], 20.0)};  // a released tile's coarse levels
+    counts = loaded_class_counts(snapshot);
+    EXPECT_EQ(counts[2] + counts[6] + counts[200], snapshot.full_points[0]->points.points.size());
+    EXPECT_LT(counts[2] + counts[6] + counts[200], 300u);
 }
 
 }  // namespace

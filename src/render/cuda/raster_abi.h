@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-#define LIDARSCOUT_CUDA_RASTER_ABI 4
+#define LIDARSCOUT_CUDA_RASTER_ABI 5
 
 /* Offsets -> pixels and depth: w = depth . (p, 1), pixel = (sx . (p, 1), sy . (p, 1)) / w. */
 typedef struct LsrTransform {
@@ -27,8 +27,19 @@ typedef struct LsrPoint {
     float dx, dy, dz;
     uint8_t r, g, b, classification;
     uint16_t intensity;
-    uint16_t padding;
+    uint8_t returns; /* return kinds (core/point_filter.hpp), 0 when unknown */
+    uint8_t padding;
 } LsrPoint;
+
+/* Which points are drawn (core/point_filter.hpp): all when `active` is 0; else a point whose
+ * class bit is set in `classes`, whose return kinds meet `return_kinds` (or are unknown, 0) and
+ * whose intensity lies in [intensity_min, intensity_max]. */
+typedef struct LsrPointFilter {
+    int active;
+    uint32_t classes[8]; /* bit c % 32 of word c / 32: class c kept */
+    uint32_t return_kinds;
+    uint32_t intensity_min, intensity_max;
+} LsrPointFilter;
 
 typedef struct LsrBatch {
     const LsrPoint* points; /* host memory */
@@ -64,6 +75,7 @@ typedef struct LsrColours {
     float heightmap_offset;   /* the ramp offset for heights in world metres */
     const uint32_t* intensity; /* 65536 entries (one per intensity value) */
     const uint32_t* classes;   /* 256 entries */
+    LsrPointFilter filter;     /* the points drawn */
 } LsrColours;
 
 typedef struct LsrHeightmapPass {

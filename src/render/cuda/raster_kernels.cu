@@ -58,6 +58,14 @@ __device__ std::uint32_t point_colour(const DeviceColours& c, const LsrPoint& p,
     }
 }
 
+// render::PointFilter: class, return kinds (unknown passes), intensity.
+__device__ bool keeps(const LsrPointFilter& f, const LsrPoint& p) {
+    if (!f.active) return true;
+    return ((f.classes[p.classification >> 5] >> (p.classification & 31)) & 1u) &&
+           (p.returns == 0 || (p.returns & f.return_kinds) != 0) && p.intensity >= f.intensity_min &&
+           p.intensity <= f.intensity_max;
+}
+
 __device__ float row_dot(const float* row, float x, float y, float z) {
     return row[0] * x + row[1] * y + row[2] * z + row[3];
 }
@@ -93,6 +101,7 @@ __global__ void points_kernel(Target t, DeviceColours c, const DeviceBatch* batc
     const LsrPoint* points = b.points;
     for (std::uint64_t i = job.begin + threadIdx.x; i < job.end; i += blockDim.x) {
         const LsrPoint p = points[i];
+        if (!keeps(c.filter, p)) continue;
         const float w = row_dot(b.screen.depth, p.dx, p.dy, p.dz);
         if (!(w >= t.near_m && w <= t.far_m)) continue;
         const float inv = 1.0f / w;

@@ -26,6 +26,7 @@ struct DeviceColours {
     float ramp_scale, heightmap_offset;
     const std::uint32_t* intensity;
     const std::uint32_t* classes;
+    LsrPointFilter filter;  // the points drawn
 };
 
 // A batch of the point pass: its points in device memory (the frame's upload arena, or the

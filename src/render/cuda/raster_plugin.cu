@@ -316,7 +316,8 @@ DeviceColours device_colours(const LsrFrame& f, const DeviceBuffer& arena, const
                          f.colours.ramp_scale,
                          f.colours.heightmap_offset,
                          arena.at<std::uint32_t>(up.offset(s.intensity)),
-                         arena.at<std::uint32_t>(up.offset(s.classes))};
+                         arena.at<std::uint32_t>(up.offset(s.classes)),
+                         f.colours.filter};
 }
 
 HeightmapFrame heightmap_frame(const LsrFrame& f, const DeviceBuffer& arena, const Upload& up,

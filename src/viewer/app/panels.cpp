@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/point_filter.hpp"
 #include "las/classification.hpp"
 #include "render/backend.hpp"
 #include "render/colour_modes.hpp"
@@ -139,6 +140,54 @@ void settings_section(ViewSettings& v, PanelActions& actions) {
     ImGui::Checkbox("tile boxes", &v.tile_boxes);
 }
 
+// Class checkboxes: the LAS 1.4 classes 0-22 and any other class held, with the points held.
+void class_checkboxes(PointFilter& f, const std::array<std::uint64_t, 256>& held) {
+    if (ImGui::SmallButton("all classes")) f.classes.set();
+    ImGui::SameLine();
+    if (ImGui::SmallButton("no class")) f.classes.reset();
+    for (unsigned c = 0; c < 256; ++c) {
+        if (c > 22 && held[c] == 0) continue;
+        bool keep = f.classes.test(c);
+        const std::string label = std::to_string(c) + " " + las::class_name(static_cast<std::uint8_t>(c)) +
+                                  (held[c] ? " (" + std::to_string(held[c]) + ")" : "");
+        if (ImGui::Checkbox(label.c_str(), &keep)) f.classes.set(c, keep);
+    }
+}
+
+void return_checkboxes(PointFilter& f) {
+    static constexpr std::pair<std::uint8_t, const char*> kKinds[] = {
+        {returns::kFirst, "first"}, {returns::kLast, "last"}, {returns::kSingle, "single"},
+        {returns::kIntermediate, "intermediate"}};
+    ImGui::TextUnformatted("returns:");
+    for (const auto& [bit, name] : kKinds) {
+        ImGui::SameLine();
+        bool on = (f.return_kinds & bit) != 0;
+        if (ImGui::Checkbox(name, &on)) f.return_kinds = on ? (f.return_kinds | bit) : (f.return_kinds & ~bit);
+    }
+}
+
+// Which points are drawn (and picked): presets, classes, return kinds, intensity.
+void filters_section(ViewSettings& v, const PanelState& state) {
+    PointFilter& f = v.style.filter;
+    // Open from the start when the viewer was opened with a filter (view --classes ...).
+    if (!ImGui::CollapsingHeader("Filters", f.keeps_everything() ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const auto presets = filter_presets();
+    for (std::size_t k = 0; k < presets.size(); ++k) {
+        if (k % 3 != 0) ImGui::SameLine();  // three a row: the side window is narrow
+        if (ImGui::SmallButton(std::string(presets[k].name).c_str())) f = presets[k].filter;
+    }
+    ImGui::TextWrapped("drawn: %s", f.describe().c_str());
+    return_checkboxes(f);
+    int range[2] = {f.intensity_min, f.intensity_max};
+    if (ImGui::DragInt2("intensity", range, 16.0f, 0, 65535)) {
+        f.intensity_min = static_cast<std::uint16_t>(std::clamp(std::min(range[0], range[1]), 0, 65535));
+        f.intensity_max = static_cast<std::uint16_t>(std::clamp(std::max(range[0], range[1]), 0, 65535));
+    }
+    ImGui::TextWrapped("Points held for the view by class. Chunk points have no returns (a return filter lets "
+                       "them through); heightmaps are not filtered.");
+    class_checkboxes(f, state.loaded_classes);
+}
+
 // The click tool, the screenshot button and the help line: always shown.
 void tool_bar(PanelState& state, PanelActions& actions) {
     int tool = state.click.tool == ClickTool::Measure;
@@ -211,6 +260,7 @@ PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& 
         stats_section(dataset, stats, frame_ms);
         errors_section(dataset, stats);
         tiles_section(dataset, state, actions);
+        filters_section(settings, state);
         settings_section(settings, actions);
     }
     ImGui::End();

@@ -1,11 +1,13 @@
 // The viewer's Dear ImGui panels: one narrow side window of collapsible sections (stats and
-// progress of each stage; tiles: filter, double-click flies there; settings: memory budget, point
-// sizes, colour mode, EDL, layers; the click tool; the errors, one line per unreadable file with
+// progress of each stage; tiles: filter, double-click flies there; filters: presets, classes with
+// their counts, return kinds, intensity; settings: memory budget, point sizes, colour mode, EDL,
+// layers; the click tool; the errors, one line per unreadable file with
 // its cause) and a small readout window for the picked point or the measurement; while a dataset
 // opens, a progress window. They read the
 // scheduler's stats and write the settings; actions come back as a PanelActions.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -40,6 +42,7 @@ struct PanelState {
     std::string status;  // one line: the last screenshot, an error
     ClickState click;    // the click tool and what it picked
     std::string cursor;  // the ground under the cursor (viewer/cursor_readout.hpp)
+    std::array<std::uint64_t, 256> loaded_classes{};  // full-resolution points held for the view, by class
 };
 
 struct PanelActions {

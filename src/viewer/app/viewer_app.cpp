@@ -176,13 +176,14 @@ private:
 
 // Picks the point under a click (window coordinates) in the frame drawn with `camera`.
 void pick_at_click(GLFWwindow* window, std::pair<double, double> click, const Session& s,
-                   const render::Camera& camera, PanelState& panels) {
+                   const render::Camera& camera, const PointFilter& filter, PanelState& panels) {
     int win_width = 1, win_height = 1;
     glfwGetWindowSize(window, &win_width, &win_height);
     const double sx = static_cast<double>(camera.width) / std::max(1, win_width);
     const double sy = static_cast<double>(camera.height) / std::max(1, win_height);
     PickOptions options;
     options.radius_px = std::max(2.0, 4 * sx);
+    options.filter = filter;  // what is drawn is what can be picked
     auto point = pick(*s.scheduler->snapshot(), camera, click.first * sx, click.second * sy, options);
     if (point && s.cursor) point->lonlat = s.cursor->lonlat(point->x, point->y);
     panels.click.clicked(point);
@@ -227,9 +228,10 @@ std::string screenshot_name() {
     return text;
 }
 
-ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& stats, render::Backend backend) {
+ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& stats, const ViewerOptions& o) {
     ViewSettings v;
-    v.style.backend = backend;
+    v.style.backend = o.backend;
+    v.style.filter = o.filter;
     v.style.colour = colour_settings(render::ColourMode::Rgb, ds.bounds_m.min_z, ds.bounds_m.max_z);
     v.budget_mb = static_cast<int>(std::min<std::uint64_t>(stats.memory_budget >> 20, 1u << 30));
     return v;
@@ -357,7 +359,7 @@ private:
             if (!moved_while_opening_) controller_.frame(session_.dataset->bounds_m, fb_width_, fb_height_);
             moved_while_opening_ = false;
             if (!opened_) {
-                settings_ = initial_settings(*session_.dataset, session_.scheduler->stats(), o_.backend);
+                settings_ = initial_settings(*session_.dataset, session_.scheduler->stats(), o_);
                 opened_ = Clock::now();
                 times_.dataset_open_s = since_start();
             }
@@ -387,7 +389,7 @@ private:
         }
         frame_ms_ = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
         if (const auto click = input_.take_click(); click && session_.open()) {
-            pick_at_click(win_.window, *click, session_, camera_, panels_);
+            pick_at_click(win_.window, *click, session_, camera_, settings_.style.filter, panels_);
         }
         panels_.cursor =
             session_.open() ? cursor_text(win_.window, *session_.cursor, camera_, controller_.target_z) : "";
@@ -406,6 +408,7 @@ private:
         SchedulerStats stats;
         if (session_.open()) {
             stats = session_.scheduler->stats();
+            panels_.loaded_classes = loaded_class_counts(*session_.scheduler->snapshot());
             actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
         }
         if (opening_) draw_opening_panel(opening_->progress());
@@ -436,7 +439,7 @@ private:
         if (quitting && !scripted_clicks_done_) {
             panels_.click.use(o_.measure ? ClickTool::Measure : ClickTool::Inspect);
             for (const auto& c : o_.clicks) {
-                pick_at_click(win_.window, c, session_, camera_, panels_);
+                pick_at_click(win_.window, c, session_, camera_, settings_.style.filter, panels_);
                 print_click(c, *session_.dataset, panels_.click);
             }
             scripted_clicks_done_ = true;

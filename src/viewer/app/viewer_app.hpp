@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/point_filter.hpp"
 #include "render/backend.hpp"
 
 namespace lidarscout::viewer::app {
@@ -27,6 +28,7 @@ struct ViewerOptions {
     double quit_after = 0;           // scripted: seconds after the dataset is open (0 = until closed)
     std::vector<std::pair<double, double>> clicks;  // scripted: window pixels clicked at quit_after
     bool measure = false;            // scripted: the clicks measure instead of inspecting
+    PointFilter filter;              // the points drawn at first (the Filters section changes them)
     unsigned threads = 0;            // rendering threads (0 = all cores)
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (resolved: Cpu or Cuda)
 };

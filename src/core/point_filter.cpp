@@ -1,15 +1,14 @@
 // PointFilter: parsing the CLI's filter options, the checks, the description; the viewer's presets
 // and the counts per class and return kind.
-#include "dataset/point_filter.hpp"
+#include "core/point_filter.hpp"
 
 #include <algorithm>
 #include <charconv>
 #include <vector>
 
 #include "core/error.hpp"
-#include "las/point_format.hpp"
 
-namespace lidarscout::dataset {
+namespace lidarscout {
 namespace {
 
 std::vector<std::string_view> split(std::string_view text, char sep) {
@@ -130,10 +129,6 @@ bool PointFilter::keeps_returns(std::uint8_t r, std::uint8_t n) const {
     return keeps_every_return() || (returns::kinds_of(r, n) & return_kinds) != 0;
 }
 
-bool PointFilter::keeps(const las::Point& p) const {
-    return keeps(p.classification, p.return_number, p.number_of_returns, p.intensity);
-}
-
 bool PointFilter::keeps_everything() const {
     return keeps_every_class() && keeps_every_return() && intensity_min == 0 && intensity_max == 65535;
 }
@@ -189,12 +184,10 @@ void PointCounts::add(std::uint8_t code, std::uint8_t r, std::uint8_t n) {
     intermediate += (kinds & returns::kIntermediate) != 0;
 }
 
-void PointCounts::add(const las::Point& p) { add(p.classification, p.return_number, p.number_of_returns); }
-
 PointCounts& PointCounts::operator+=(const PointCounts& o) {
     for (std::size_t c = 0; c < by_class.size(); ++c) by_class[c] += o.by_class[c];
     first += o.first, last += o.last, single += o.single, intermediate += o.intermediate, total += o.total;
     return *this;
 }
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout

@@ -2,7 +2,7 @@
 // presets; and per-class and per-return counts of real IGN tiles (format 6, classes 1-9, up to
 // several returns a pulse) against a brute-force pass written out field by field, with filters
 // keeping what the brute force keeps.
-#include "dataset/point_filter.hpp"
+#include "core/point_filter.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,10 @@
 #include "las/point_format.hpp"
 #include "test_data.hpp"
 
-namespace lidarscout::dataset {
+namespace lidarscout {
+using dataset::for_each_record_batch;
+using dataset::read_tile;
+
 namespace {
 
 TEST(PointFilter, ParsesClassesReturnsAndIntensity) {
@@ -140,4 +143,4 @@ INSTANTIATE_TEST_SUITE_P(
     [](const auto& info) { return info.param.name; });
 
 }  // namespace
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout

@@ -1,7 +1,9 @@
 // Which points a user works with: classes (any code 0-255), return kinds (first, last, single,
 // intermediate) and an intensity range, as the viewer's Filters section and the CLI's --classes,
 // --returns and --intensity set them (class names: las/classification.hpp); the presets (ground ...);
-// and counts per class and return kind of the points seen.
+// and counts per class and return kind of the points seen. In core, so that the renderer (which
+// skips what is filtered out) and the readers share it; any point type with the LAS fields'
+// names (classification, return_number, number_of_returns, intensity) can be checked.
 #pragma once
 
 #include <array>
@@ -11,11 +13,7 @@
 #include <string>
 #include <string_view>
 
-namespace lidarscout::las {
-struct Point;
-}
-
-namespace lidarscout::dataset {
+namespace lidarscout {
 
 // Return kinds, a bit each. With r the return number and n the number of returns of a point:
 // first r = 1, last r = n, single n = 1, intermediate 1 < r < n. A point may be several (a single
@@ -49,7 +47,14 @@ public:
     bool keeps(std::uint8_t code, std::uint8_t r, std::uint8_t n, std::uint16_t intensity) const {
         return keeps_class(code) && keeps_returns(r, n) && keeps_intensity(intensity);
     }
-    bool keeps(const las::Point& p) const;
+    template <typename Point>
+    bool keeps(const Point& p) const {
+        return keeps(p.classification, p.return_number, p.number_of_returns, p.intensity);
+    }
+    // A point whose return kinds are known as a mask (returns::kinds_of; 0: unknown, passes).
+    bool keeps_kinds(std::uint8_t kinds) const {
+        return keeps_every_return() || kinds == 0 || (kinds & return_kinds) != 0;
+    }
 
     bool keeps_every_class() const { return classes.all(); }
     bool keeps_every_return() const { return return_kinds == returns::kAny; }
@@ -75,8 +80,11 @@ struct PointCounts {
     std::uint64_t first = 0, last = 0, single = 0, intermediate = 0, total = 0;
 
     void add(std::uint8_t code, std::uint8_t r, std::uint8_t n);
-    void add(const las::Point& p);
+    template <typename Point>
+    void add(const Point& p) {
+        add(p.classification, p.return_number, p.number_of_returns);
+    }
     PointCounts& operator+=(const PointCounts& o);
 };
 
-}  // namespace lidarscout::dataset
+}  // namespace lidarscout
