@@ -1,6 +1,7 @@
 // Picking and measuring: known points placed by hand (the front-most one under the pixel wins,
 // chunk points too, nothing far from the pixel), a real survey tile (looking down on its highest
-// point picks that point), a filter (what it hides is not picked), the readout in the file's own units, and distances between points.
+// point picks that point), a filter (what it hides is not picked), the readout in the file's own
+// units, and distances between points.
 #include <gtest/gtest.h>
 
 #include <algorithm>
