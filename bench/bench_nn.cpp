@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "core/error.hpp"
 #include "nn/heightmap_network.hpp"
 #include "nn/network_io.hpp"
@@ -86,8 +87,11 @@ double ms_per_patch(const nn::HeightmapNetwork& net, int batch, const Options& o
 
 }  // namespace
 
+constexpr const char* kUsage =
+    "[--model FILE] [--threads N] [--runs N] [--repeat N] [--batches 1,4,16]";
+
 int main(int argc, char** argv) {
-    try {
+    return lidarscout::bench::bench_main("bench_nn", kUsage, argc, argv, [](int argc, char** argv) {
         const Options o = parse(argc, argv);
         const std::string path = o.model.empty() ? nn::default_model_path() : o.model;
         const auto net = nn::HeightmapNetwork::load(path, o.threads);
@@ -95,8 +99,5 @@ int main(int argc, char** argv) {
         fmt::print("{:>6} {:>12}\n", "batch", "ms/patch");
         for (int b : o.batches) fmt::print("{:>6} {:>12.2f}\n", b, ms_per_patch(net, b, o));
         return 0;
-    } catch (const std::exception& e) {
-        fmt::print(stderr, "bench_nn: {}\n", e.what());
-        return 1;
-    }
+    });
 }

@@ -27,6 +27,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "render/backend.hpp"
@@ -303,8 +304,11 @@ void bench_frames(const Options& o, ThreadPool& all) {
 
 }  // namespace
 
+constexpr const char* kUsage =
+    "[--runs N] [--points MILLIONS] [--patches N] [--threads N] [--png PREFIX] [--frames]";
+
 int main(int argc, char** argv) {
-    try {
+    return lidarscout::bench::bench_main("bench_raster", kUsage, argc, argv, [](int argc, char** argv) {
         const Options o = parse_options(argc, argv);
         ThreadPool single(1), all(o.threads);
         fmt::print("bench_raster: {}x{}, median of {} runs, {} hardware threads\n", kWidth, kHeight, o.runs,
@@ -312,9 +316,6 @@ int main(int argc, char** argv) {
         bench_points(o, single, all);
         bench_heightmaps(o, single, all);
         if (o.frames) bench_frames(o, all);
-    } catch (const Error& e) {
-        fmt::print(stderr, "{}\n", e.what());
-        return 1;
-    }
-    return 0;
+        return 0;
+    });
 }

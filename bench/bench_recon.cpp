@@ -23,6 +23,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
@@ -192,8 +193,11 @@ double median_points(const std::vector<PatchPoints>& patches) {
 
 }  // namespace
 
+constexpr const char* kUsage =
+    "[PATCHES] [SURVEY_DIR]   (default: 1000, ../shared/data/surveys/ky-jmo335-eastern-kentucky)";
+
 int main(int argc, char** argv) {
-    try {
+    return lidarscout::bench::bench_main("bench_recon", kUsage, argc, argv, [](int argc, char** argv) {
         const std::size_t count = argc > 1 ? std::stoul(argv[1]) : 1000;
         const std::filesystem::path survey =
             argc > 2 ? std::filesystem::path(argv[2])
@@ -239,8 +243,5 @@ int main(int argc, char** argv) {
         fmt::print("{:<38} {:>10} {:>10}\n", "stage", "synthetic", "real");
         for (const Row& r : rows) fmt::print("{:<38} {:>10.4f} {:>10.4f}\n", r.stage, r.synthetic, r.real);
         return 0;
-    } catch (const std::exception& e) {
-        fmt::print(stderr, "bench_recon: {}\n", e.what());
-        return 1;
-    }
+    });
 }

@@ -10,7 +10,8 @@
 // (median, 95th percentile, worst), the longest wait for the scheduler (taking the camera and
 // the snapshot: what loading could stall), frames over 100 ms, and memory against the budget, with
 // the resident size before the scheduler and the bytes the dataset's metadata holds per tile
-// (dataset/metadata.hpp).
+// (dataset/metadata.hpp). --classes, --returns and --intensity draw only the points they keep
+// (what the viewer's Filters section does), to measure what a filter costs a frame.
 //
 // --converge: how fast the picture converges to the real points. Three fixed cameras (the whole
 // dataset from above; a medium view about 2 km wide, or the dataset's width when smaller, looking
@@ -64,6 +65,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_main.hpp"
 #include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
@@ -97,11 +99,12 @@ struct Options {
     std::string reference_cache = "/tmp/lidarscout-references";  // --reference-cache: streamed references
     std::uint64_t memory_mb = 1024;
     unsigned threads = 0;          // render threads (0: all cores)
-    viewer::SceneStyle style;      // its backend from --backend
+    viewer::SceneStyle style;      // its backend from --backend, its filter from --classes/--returns/--intensity
 };
 
 Options parse(int argc, char** argv) {
     Options o;
+    std::string classes, returns, intensity;  // the filter's options
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         const auto value = [&] {
@@ -122,9 +125,13 @@ Options parse(int argc, char** argv) {
         else if (a == "--memory") o.memory_mb = std::stoull(value());
         else if (a == "--threads") o.threads = static_cast<unsigned>(std::stoul(value()));
         else if (a == "--backend") o.style.backend = render::choose_backend(render::parse_backend(value())).backend;
+        else if (a == "--classes") classes = value();
+        else if (a == "--returns") returns = value();
+        else if (a == "--intensity") intensity = value();
         else if (a.starts_with("--")) throw std::invalid_argument("unknown option " + a);
         else o.paths.push_back(a);
     }
+    o.style.filter = PointFilter::parse(classes, returns, intensity);
     if (o.paths.empty()) {
         const std::filesystem::path replica = "/work/bench-data/replica-2025";
         o.paths = {std::filesystem::is_directory(replica) ? replica.string()
@@ -274,7 +281,7 @@ int scaling(const Options& o) {
         std::uint64_t metadata = 0;
         {
             const auto ds = dataset::open_dataset({path});
-            if (ds.tiles.empty()) throw std::runtime_error("no readable tiles in " + path);
+            if (ds.tiles.empty()) throw Error(path, std::nullopt, "no readable tiles");
             metadata = dataset::metadata_bytes(ds) / ds.tiles.size();
             r = fly(o, ds);
         }
@@ -602,8 +609,13 @@ int load_cost(const Options& o, const dataset::Dataset& ds) {
 
 }  // namespace
 
+constexpr const char* kUsage =
+    "PATH... [--flight SECONDS [--scaling R1 R2 ...]] [--converge [--camera NAME]... [--png DIR] "
+    "[--reference-cache DIR]] [--load-cost] [--cnn] [--memory MB] [--threads N] [--lod-spacing PX] "
+    "[--backend cpu|cuda|auto] [--classes C] [--returns R] [--intensity MIN-MAX] [--runs N] [--json]";
+
 int main(int argc, char** argv) {
-    try {
+    return lidarscout::bench::bench_main("bench_view", kUsage, argc, argv, [](int argc, char** argv) {
         const Options o = parse(argc, argv);
         if (o.scaling) {
             if (o.flight_s <= 0) throw std::invalid_argument("--scaling needs --flight SECONDS");
@@ -613,12 +625,9 @@ int main(int argc, char** argv) {
         const auto ds = dataset::open_dataset(o.paths);
         const double headers = since(t0);
         for (const auto& skipped : ds.skipped) fmt::print(stderr, "bench_view: skipped {}\n", skipped.error);
-        if (ds.tiles.empty()) throw std::runtime_error("no readable tiles in the paths given: nothing to measure");
+        if (ds.tiles.empty()) throw Error("no readable tiles in the paths given: nothing to measure");
         if (o.converge) return converge(o, ds);
         if (o.load_cost) return load_cost(o, ds);
         return o.flight_s > 0 ? flight(o, ds) : loading(o, ds, headers);
-    } catch (const std::exception& e) {
-        fmt::print(stderr, "bench_view: {}\n", e.what());
-        return 1;
-    }
+    });
 }
