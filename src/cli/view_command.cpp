@@ -24,6 +24,7 @@
 #include "render/backend.hpp"
 #include "synth/terrain_generator.hpp"
 #include "viewer/app/viewer_app.hpp"
+#include "viewer/session_file.hpp"
 
 namespace lidarscout::cli {
 namespace {
@@ -31,6 +32,7 @@ namespace {
 struct ViewCliOptions {
     std::vector<std::string> paths;
     FilterTexts filter;  // the points drawn at first
+    std::string session, save_session;  // --session FILE, --save-session FILE
     std::string size = "1280x720";
     std::string memory;
     std::string model;
@@ -122,8 +124,18 @@ int run_view(const ViewCliOptions& o) {
     for (const auto& c : o.clicks) v.clicks.push_back(parse_click(c));
     v.measure = o.measure;
     v.filter = o.filter.filter();
+    if (!o.session.empty()) {
+        v.session = viewer::read_session(o.session);
+        v.session_path = o.session;
+        if (v.crs.empty()) v.crs = v.session->crs;
+        const bool filtered = !o.filter.classes.empty() || !o.filter.returns.empty() || !o.filter.intensity.empty();
+        if (filtered) v.session->filter = v.filter;  // the command line's filter wins over the saved one
+    }
+    v.save_session = o.save_session;
     v.threads = o.threads;
-    v.paths = o.paths.empty() ? std::vector<std::string>{demo_folder(o)} : o.paths;
+    v.paths = o.paths;
+    if (v.paths.empty() && v.session) v.paths = v.session->paths;  // the session's dataset
+    if (v.paths.empty()) v.paths = {demo_folder(o)};
     viewer::app::ViewerTimings timings;
     const int status = viewer::app::run_viewer(v, &timings);
     if (!o.stats_json.empty()) write_stats_json(o.stats_json, timings);
@@ -154,6 +166,10 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
                "Write the whole window, panels included, to this PNG on exit (scripted use)", io::OutputKind::Png);
     cmd->add_option("--click", o->clicks, "Click at window pixel X,Y just before quitting (scripted use; repeatable)");
     add_filter_options(*cmd, o->filter, "points drawn at first (the Filters section changes them)");
+    cmd->add_option("--session", o->session,
+                    "Open a saved session (.lidarscout.json: its paths unless PATH is given, CRS, camera, filter, "
+                    "colour, measurements, labels); the panel's \"save session\" writes it back");
+    cmd->add_option("--save-session", o->save_session, "Write the session to FILE when the viewer ends (scripted use)");
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
         ->check(non_negative_number());

@@ -50,6 +50,7 @@ std::bitset<256> parse_classes(std::string_view text) {
 }
 
 std::uint8_t parse_returns(std::string_view text) {
+    if (trim(text) == "none") return 0;  // what a filter with every kind unticked writes
     static constexpr std::pair<std::string_view, std::uint8_t> kNames[] = {
         {"first", returns::kFirst}, {"last", returns::kLast}, {"single", returns::kSingle},
         {"intermediate", returns::kIntermediate}};
@@ -78,7 +79,8 @@ void parse_intensity(std::string_view text, PointFilter& f) {
     f.intensity_min = static_cast<std::uint16_t>(lo), f.intensity_max = static_cast<std::uint16_t>(hi);
 }
 
-std::string return_list(std::uint8_t kinds) {
+std::string kinds_list(std::uint8_t kinds) {
+    if (kinds == 0) return "none";
     std::string out;
     for (const auto& [bit, name] : {std::pair{returns::kFirst, "first"}, std::pair{returns::kLast, "last"},
                                     std::pair{returns::kSingle, "single"},
@@ -149,11 +151,13 @@ std::string PointFilter::class_list() const {
     return out;
 }
 
+std::string PointFilter::return_list() const { return keeps_every_return() ? std::string() : kinds_list(return_kinds); }
+
 std::string PointFilter::describe() const {
     if (keeps_everything()) return "all points";
     std::vector<std::string> parts;
     if (!keeps_every_class()) parts.push_back(classes.none() ? "no class" : "classes " + class_list());
-    if (!keeps_every_return()) parts.push_back(return_list(return_kinds) + " returns");
+    if (!keeps_every_return()) parts.push_back(return_list() + " returns");
     if (intensity_min != 0 || intensity_max != 65535) {
         parts.push_back("intensity " + std::to_string(intensity_min) + "-" + std::to_string(intensity_max));
     }

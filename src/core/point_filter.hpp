@@ -31,8 +31,8 @@ public:
     PointFilter();  // keeps every point
 
     // The filter of the CLI's options, each empty for "all": classes "2,9" or "2-5,9" (codes 0-255);
-    // returns "last" or "first,single" (first, last, single, intermediate); intensity "MIN-MAX"
-    // (0-65535, either side may be left out). Throws lidarscout::Error naming the option, what it
+    // returns "last" or "first,single" (first, last, single, intermediate; "none" keeps no kind);
+    // intensity "MIN-MAX" (0-65535, either side may be left out). Throws lidarscout::Error naming the option, what it
     // accepts and what it was given.
     static PointFilter parse(std::string_view classes, std::string_view returns, std::string_view intensity);
 
@@ -65,6 +65,8 @@ public:
     std::string describe() const;
     // The classes kept as the CLI writes them ("2-5,9"); empty when every class is kept.
     std::string class_list() const;
+    // The return kinds kept as the CLI writes them ("last,single", "none"); empty when every kind is kept.
+    std::string return_list() const;
 };
 
 // The viewer's presets, in menu order.

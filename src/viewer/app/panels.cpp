@@ -37,11 +37,18 @@ void progress_line(const char* label, StageProgress p) {
     ImGui::TextUnformatted(label);
 }
 
+// A text field editing `text` (up to 255 bytes); true when it changed.
+bool input_text(const char* label, std::string& text) {
+    char buffer[256];
+    std::snprintf(buffer, sizeof buffer, "%s", text.c_str());
+    if (!ImGui::InputText(label, buffer, sizeof buffer)) return false;
+    text = buffer;
+    return true;
+}
+
 void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& actions) {
     if (!ImGui::CollapsingHeader("Tiles")) return;
-    char buffer[256];
-    std::snprintf(buffer, sizeof buffer, "%s", state.filter.c_str());
-    if (ImGui::InputText("filter", buffer, sizeof buffer)) state.filter = buffer;
+    input_text("filter", state.filter);
     const auto name = [&](std::uint32_t i) {
         return std::filesystem::path(ds.tiles[i].tile.path()).filename().string();
     };
@@ -188,6 +195,39 @@ void filters_section(ViewSettings& v, const PanelState& state) {
     class_checkboxes(f, state.loaded_classes);
 }
 
+// Labels at picked points, measurements kept, the session saved.
+void labels_section(PanelState& state, PanelActions& actions) {
+    if (!ImGui::CollapsingHeader("Labels and session")) return;
+    input_text("label", state.label);
+    ImGui::BeginDisabled(!state.click.picked || state.label.empty());
+    if (ImGui::Button("label the picked point")) {
+        const PickedPoint& p = *state.click.picked;
+        state.annotations.push_back({{p.x, p.y, p.z}, state.label});
+        state.label.clear();
+    }
+    ImGui::EndDisabled();
+    ImGui::BeginDisabled(!state.click.from || !state.click.to);
+    if (ImGui::Button("keep the measurement")) {
+        const PickedPoint &a = *state.click.from, &b = *state.click.to;
+        state.measurements.push_back({{a.x, a.y, a.z}, {b.x, b.y, b.z}});
+    }
+    ImGui::EndDisabled();
+    for (std::size_t k = 0; k < state.annotations.size(); ++k) {
+        ImGui::PushID(static_cast<int>(k));
+        if (ImGui::SmallButton("x")) {
+            state.annotations.erase(state.annotations.begin() + static_cast<std::ptrdiff_t>(k));
+            ImGui::PopID();
+            break;
+        }
+        ImGui::SameLine();
+        ImGui::TextUnformatted(state.annotations[k].text.c_str());
+        ImGui::PopID();
+    }
+    if (!state.measurements.empty() && ImGui::SmallButton("forget the measurements kept")) state.measurements.clear();
+    input_text("session file", state.session_path);
+    if (ImGui::Button("save session")) actions.save_session = true;
+}
+
 // The click tool, the screenshot button and the help line: always shown.
 void tool_bar(PanelState& state, PanelActions& actions) {
     int tool = state.click.tool == ClickTool::Measure;
@@ -261,11 +301,28 @@ PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& 
         errors_section(dataset, stats);
         tiles_section(dataset, state, actions);
         filters_section(settings, state);
+        labels_section(state, actions);
         settings_section(settings, actions);
     }
     ImGui::End();
     readout_window(dataset, state.click);
     return actions;
+}
+
+void draw_labels(const std::vector<Annotation>& labels, const render::Camera& camera) {
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const float sx = display.x / static_cast<float>(std::max(1, camera.width));
+    const float sy = display.y / static_cast<float>(std::max(1, camera.height));
+    ImDrawList* draw = ImGui::GetForegroundDrawList();
+    for (const auto& a : labels) {
+        const auto at = camera.project(a.at[0], a.at[1], a.at[2]);
+        if (!at) continue;
+        const ImVec2 p(static_cast<float>(at->x) * sx, static_cast<float>(at->y) * sy);
+        draw->AddCircleFilled(p, 4.0f, IM_COL32(255, 220, 60, 255));
+        const ImVec2 text(p.x + 7, p.y - 8);
+        draw->AddText(ImVec2(text.x + 1, text.y + 1), IM_COL32(0, 0, 0, 255), a.text.c_str());
+        draw->AddText(text, IM_COL32(255, 240, 160, 255), a.text.c_str());
+    }
 }
 
 void draw_opening_panel(const OpeningProgress& p) {

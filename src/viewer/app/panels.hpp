@@ -1,7 +1,8 @@
 // The viewer's Dear ImGui panels: one narrow side window of collapsible sections (stats and
 // progress of each stage; tiles: filter, double-click flies there; filters: presets, classes with
 // their counts, return kinds, intensity; settings: memory budget, point sizes, colour mode, EDL,
-// layers; the click tool; the errors, one line per unreadable file with
+// layers; labels and the session: text labels at picked points, measurements kept, saving the
+// session; the click tool; the errors, one line per unreadable file with
 // its cause) and a small readout window for the picked point or the measurement; while a dataset
 // opens, a progress window. They read the
 // scheduler's stats and write the settings; actions come back as a PanelActions.
@@ -18,6 +19,7 @@
 #include "viewer/scheduler.hpp"
 #include "viewer/scene.hpp"
 #include "viewer/scene_snapshot.hpp"
+#include "viewer/session_file.hpp"
 #include "viewer/session_opening.hpp"
 
 namespace lidarscout::viewer::app {
@@ -43,17 +45,26 @@ struct PanelState {
     ClickState click;    // the click tool and what it picked
     std::string cursor;  // the ground under the cursor (viewer/cursor_readout.hpp)
     std::array<std::uint64_t, 256> loaded_classes{};  // full-resolution points held for the view, by class
+    std::vector<Annotation> annotations;              // text labels at picked points
+    std::vector<SavedMeasurement> measurements;       // measurements kept (drawn, saved with the session)
+    std::string label;                                // the text of the next label
+    std::string session_path = "view.lidarscout.json";  // where "save session" writes
 };
 
 struct PanelActions {
     std::optional<std::uint32_t> fly_to;  // a tile double-clicked
     bool budget_changed = false;
     bool screenshot = false;
+    bool save_session = false;
 };
 
 // Draws the panels for this frame (between ImGui::NewFrame and ImGui::Render).
 PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& stats, double frame_ms,
                          ViewSettings& settings, PanelState& state);
+
+// The labels over the window: each annotation's text at its point as `camera` (the rendered
+// image's) sees it, scaled to the window.
+void draw_labels(const std::vector<Annotation>& labels, const render::Camera& camera);
 
 // A small window while a dataset opens: files read (failed) of the files found, with a bar.
 void draw_opening_panel(const OpeningProgress& progress);

@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -256,6 +257,10 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
         draw_tile_boxes(frame.image, camera, *s.dataset, *s.places, render::pack_rgba(255, 200, 40), panels.selected);
     }
     draw_click_overlay(frame.image, camera, panels.click);
+    for (const auto& m : panels.measurements) {
+        draw_segment(frame.image, camera, m.from[0], m.from[1], m.from[2], m.to[0], m.to[1], m.to[2],
+                     render::pack_rgba(255, 220, 60));
+    }
     return frame;
 }
 
@@ -311,6 +316,7 @@ public:
           opening_(start_opening(o.paths, o)), previous_(start_),
           scripted_clicks_done_(o.clicks.empty() && !o.measure) {
         install_callbacks(win_.window, events_);
+        if (!o.session_path.empty()) panels_.session_path = o.session_path;  // "save session" writes it back
     }
 
     // One frame; false when the viewer is to quit.
@@ -339,12 +345,54 @@ public:
             times_.skipped = session_.dataset->skipped.size();
         }
         if (timings) *timings = times_;
+        if (!o_.save_session.empty() && session_.open()) write_session(o_.save_session, current_session());
         if (!o_.screenshot.empty()) render::write_png(o_.screenshot, last_.image);
         if (!o_.window_screenshot.empty()) render::write_png(o_.window_screenshot, window_shot_);
         return 0;
     }
 
 private:
+    // The camera, filter, colour, measurements and labels of a saved session (its paths were opened).
+    void apply_session(const SessionFile& s) {
+        if (s.camera) {
+            controller_.target_x = s.camera->target[0], controller_.target_y = s.camera->target[1];
+            controller_.target_z = s.camera->target[2], controller_.distance = s.camera->distance;
+            controller_.yaw_deg = s.camera->yaw_deg, controller_.pitch_deg = s.camera->pitch_deg;
+            controller_.fov_deg = s.camera->fov_deg;
+        }
+        settings_.style.filter = s.filter;
+        if (!s.colour.empty()) settings_.style.colour.mode = render::parse_colour_mode(s.colour);
+        panels_.measurements = s.measurements;
+        panels_.annotations = s.annotations;
+    }
+
+    // What is shown now, as a session (with the fields of the session opened that this version does not know).
+    SessionFile current_session() const {
+        SessionFile s = o_.session.value_or(SessionFile{});
+        s.version = kSessionVersion;
+        s.paths.clear();
+        for (const auto& p : paths_) {  // local paths absolute: the session may be opened from elsewhere
+            s.paths.push_back(p.find("://") == std::string::npos ? std::filesystem::absolute(p).string() : p);
+        }
+        s.crs = o_.crs;
+        s.camera = CameraPose{{controller_.target_x, controller_.target_y, controller_.target_z}, controller_.distance,
+                              controller_.yaw_deg, controller_.pitch_deg, controller_.fov_deg};
+        s.filter = settings_.style.filter;
+        s.colour = std::string(render::colour_mode_name(settings_.style.colour.mode));
+        s.measurements = panels_.measurements;
+        s.annotations = panels_.annotations;
+        return s;
+    }
+
+    void save_session(const std::string& path) {
+        try {
+            write_session(path, current_session());
+            panels_.status = "session saved: " + path;
+        } catch (const Error& e) {
+            panels_.status = e.what();  // one line in the window; the viewer goes on
+        }
+    }
+
     double since_start() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
     // Files dropped on the window start an opening; a finished one replaces the session shown;
@@ -352,6 +400,7 @@ private:
     void open_step() {
         if (!events_.dropped.empty()) {
             opening_ = start_opening(events_.dropped, o_);  // the dataset shown stays until it is open
+            paths_ = events_.dropped;
             events_.dropped.clear();
         }
         if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
@@ -360,6 +409,7 @@ private:
             moved_while_opening_ = false;
             if (!opened_) {
                 settings_ = initial_settings(*session_.dataset, session_.scheduler->stats(), o_);
+                if (o_.session) apply_session(*o_.session);
                 opened_ = Clock::now();
                 times_.dataset_open_s = since_start();
             }
@@ -410,6 +460,7 @@ private:
             stats = session_.scheduler->stats();
             panels_.loaded_classes = loaded_class_counts(*session_.scheduler->snapshot());
             actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
+            draw_labels(panels_.annotations, camera_);
         }
         if (opening_) draw_opening_panel(opening_->progress());
         ImGui::Render();
@@ -425,6 +476,7 @@ private:
             controller_.frame(session_.dataset->tiles[*actions.fly_to].bounds_m, fb_width_, fb_height_);
         }
         if (actions.budget_changed) session_.scheduler->set_memory_budget(std::uint64_t(settings_.budget_mb) << 20);
+        if (actions.save_session) save_session(panels_.session_path);
         if (actions.screenshot || input_.pressed(win_.window, GLFW_KEY_F12)) {  // the picture without the panels
             const std::string name = screenshot_name();
             render::write_png(name, last_.image);
@@ -449,6 +501,7 @@ private:
     }
 
     const ViewerOptions& o_;
+    std::vector<std::string> paths_ = o_.paths;  // of the dataset shown (or opening)
     const Clock::time_point start_;
     GlfwWindow win_;
     InputEvents events_;

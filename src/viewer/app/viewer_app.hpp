@@ -13,6 +13,7 @@
 
 #include "core/point_filter.hpp"
 #include "render/backend.hpp"
+#include "viewer/session_file.hpp"
 
 namespace lidarscout::viewer::app {
 
@@ -29,6 +30,9 @@ struct ViewerOptions {
     std::vector<std::pair<double, double>> clicks;  // scripted: window pixels clicked at quit_after
     bool measure = false;            // scripted: the clicks measure instead of inspecting
     PointFilter filter;              // the points drawn at first (the Filters section changes them)
+    std::optional<SessionFile> session;  // opened with `view --session`: camera, filter, labels ... applied
+    std::string session_path;        // that session's file (where the panel's "save session" writes)
+    std::string save_session;        // scripted: the session written when the viewer ends
     unsigned threads = 0;            // rendering threads (0 = all cores)
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (resolved: Cpu or Cuda)
 };

@@ -1,0 +1,61 @@
+// A saved viewer session (`.lidarscout.json`), without window code: what was open (paths or URLs,
+// the CRS asked for), the camera, the filter and colour mode, the measurements and the
+// annotations (text labels at picked points). Positions are world metres of the dataset's frame
+// (the CRS named in the file). The file has a `version`; a field this version does not know is
+// kept and written back as it was, so that a newer program's sessions survive an older one.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/point_filter.hpp"
+
+namespace lidarscout::viewer {
+
+inline constexpr int kSessionVersion = 1;
+
+// The orbit camera (viewer::app::CameraController's state).
+struct CameraPose {
+    std::array<double, 3> target{};  // the point orbited, world metres
+    double distance = 1000, yaw_deg = 0, pitch_deg = -60, fov_deg = 60;
+    bool operator==(const CameraPose&) const = default;
+};
+
+struct Annotation {
+    std::array<double, 3> at{};  // world metres
+    std::string text;
+    bool operator==(const Annotation&) const = default;
+};
+
+struct SavedMeasurement {
+    std::array<double, 3> from{}, to{};  // world metres
+    bool operator==(const SavedMeasurement&) const = default;
+};
+
+struct SessionFile {
+    int version = kSessionVersion;
+    std::vector<std::string> paths;  // as given to `view` (files, folders, lists, URLs)
+    std::string crs;                 // the CRS tiles were reprojected to ("" = the majority's)
+    std::optional<CameraPose> camera;
+    PointFilter filter;
+    std::string colour;  // render::colour_mode_name ("" = the viewer's default)
+    std::vector<SavedMeasurement> measurements;
+    std::vector<Annotation> annotations;
+    nlohmann::json unknown = nlohmann::json::object();  // fields this version does not read, kept
+};
+
+// Reads `path`; throws lidarscout::Error (the file, the cause) when it cannot be read, is not
+// JSON, is not a session, has a field of the wrong kind, or comes from a newer version.
+SessionFile read_session(const std::string& path);
+// Writes `session` to `path` through a temporary name (refused when it names an input).
+void write_session(const std::string& path, const SessionFile& session);
+
+nlohmann::json session_json(const SessionFile& session);
+// Throws lidarscout::Error naming `path` (used in the message only).
+SessionFile session_from_json(const nlohmann::json& j, const std::string& path);
+
+}  // namespace lidarscout::viewer

@@ -1,0 +1,101 @@
+// Sessions: saved and opened again unchanged (camera, filter, colour, measurements, annotations);
+// fields this version does not know kept; a newer version, a file that is not a session, a field
+// of the wrong kind and a bad filter refused with the file named; written through a temporary name.
+#include "viewer/session_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/error.hpp"
+#include "temp_dir_fixture.hpp"
+
+namespace lidarscout::viewer {
+namespace {
+
+class SessionFileTest : public test::TempDirTest {
+protected:
+    void write_text(const std::string& name, const std::string& text) { std::ofstream(path(name.c_str())) << text; }
+    // The cause of the Error reading `name`, "" when it reads.
+    std::string refusal(const std::string& name) {
+        try {
+            read_session(path(name.c_str()));
+        } catch (const Error& e) {
+            EXPECT_EQ(e.file(), path(name.c_str()));
+            return e.cause();
+        }
+        return "";
+    }
+};
+
+SessionFile example() {
+    SessionFile s;
+    s.paths = {"/data/tiles", "https://example.org/a.laz"};
+    s.crs = "EPSG:2154";
+    s.camera = CameraPose{{654321.5, 6543210.25, 120.0}, 850.0, 30.0, -45.0, 50.0};
+    s.filter = PointFilter::parse("2,9", "last", "10-900");
+    s.colour = "classification";
+    s.measurements = {{{1, 2, 3}, {4, 5, 6.5}}};
+    s.annotations = {{{654300, 6543200, 101.25}, "culvert, blocked"}, {{1, 1, 1}, "ünïcode «label»"}};
+    return s;
+}
+
+TEST_F(SessionFileTest, SavedAndOpenedAgainUnchanged) {
+    const SessionFile s = example();
+    write_session(path("a.lidarscout.json"), s);
+    const SessionFile r = read_session(path("a.lidarscout.json"));
+    EXPECT_EQ(r.version, kSessionVersion);
+    EXPECT_EQ(r.paths, s.paths);
+    EXPECT_EQ(r.crs, s.crs);
+    EXPECT_EQ(r.camera, s.camera);
+    EXPECT_EQ(r.filter, s.filter);
+    EXPECT_EQ(r.colour, s.colour);
+    EXPECT_EQ(r.measurements, s.measurements);
+    EXPECT_EQ(r.annotations, s.annotations);
+    // A filter keeping every kind and one keeping none both survive.
+    SessionFile none = s;
+    none.filter.return_kinds = 0;
+    write_session(path("b.lidarscout.json"), none);
+    EXPECT_EQ(read_session(path("b.lidarscout.json")).filter.return_kinds, 0);
+    for (const auto& e : std::filesystem::directory_iterator(dir)) {
+        EXPECT_EQ(e.path().extension(), ".json") << "a temporary file was left: " << e.path();
+    }
+}
+
+TEST_F(SessionFileTest, FieldsItDoesNotKnowAreKept) {
+    nlohmann::json j = session_json(example());
+    j["profiles"] = {{{"line", {0, 0, 10, 10}}, {"width", 2}}};  // a later version's field
+    j["note"] = "from a newer build";
+    write_text("future.json", j.dump());
+    SessionFile s = read_session(path("future.json"));
+    s.annotations.push_back({{7, 8, 9}, "added here"});
+    write_session(path("again.json"), s);
+    const auto back = nlohmann::json::parse(std::ifstream(path("again.json")));
+    EXPECT_EQ(back.at("profiles"), j.at("profiles"));
+    EXPECT_EQ(back.at("note"), "from a newer build");
+    EXPECT_EQ(back.at("annotations").size(), 3u);
+}
+
+TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
+    write_text("text.json", "hello");
+    EXPECT_EQ(refusal("text.json"), "not JSON");
+    write_text("other.json", R"({"type": "FeatureCollection"})");
+    EXPECT_NE(refusal("other.json").find("not a lidarscout session"), std::string::npos);
+    nlohmann::json newer = session_json(example());
+    newer["version"] = kSessionVersion + 1;
+    write_text("newer.json", newer.dump());
+    EXPECT_NE(refusal("newer.json").find("newer than this program's"), std::string::npos);
+    nlohmann::json wrong = session_json(example());
+    wrong["camera"]["distance"] = "far";
+    write_text("wrong.json", wrong.dump());
+    EXPECT_NE(refusal("wrong.json").find("wrong kind"), std::string::npos);
+    nlohmann::json bad_filter = session_json(example());
+    bad_filter["filter"]["classes"] = "999";
+    write_text("filter.json", bad_filter.dump());
+    EXPECT_NE(refusal("filter.json").find("--classes expects"), std::string::npos);
+    EXPECT_NE(refusal("missing.json").find("cannot open"), std::string::npos);
+    EXPECT_EQ(refusal("newer.json").empty(), false);
+}
+
+}  // namespace
+}  // namespace lidarscout::viewer
