@@ -18,7 +18,9 @@ constexpr const char* kKind = "lidarscout session";
 nlohmann::json filter_json(const PointFilter& f) {
     return {{"classes", f.class_list()},
             {"returns", f.return_list()},
-            {"intensity", std::to_string(f.intensity_min) + "-" + std::to_string(f.intensity_max)}};
+            {"intensity", f.intensity_min == 0 && f.intensity_max == 65535
+                              ? std::string()
+                              : std::to_string(f.intensity_min) + "-" + std::to_string(f.intensity_max)}};
 }
 
 std::array<double, 3> xyz(const nlohmann::json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(),

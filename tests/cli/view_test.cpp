@@ -5,6 +5,7 @@
 // slow link, whose window draws (footprints, progress) before the dataset is open, then the
 // overview, with the missing tile listed; every file of the formats folder opens or is skipped.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -144,6 +145,43 @@ TEST_F(ViewCommand, ScriptedClicksPickPointsAndMeasureBetweenThem) {
     const test::Png png = test::read_png(shot);  // the window with its panels
     ASSERT_TRUE(png.ok());
     EXPECT_EQ(png.width, 480);
+}
+
+// A session opens as saved (its dataset, camera, filter; the click picks only what the filter
+// keeps) and is written back with its labels, measurements and a field this version does not know.
+TEST_F(ViewCommand, ASessionOpensAsSavedAndIsWrittenBack) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    const std::string tile =
+        (test::surveys_dir() / "ign-lidar-hd-1km/test_semis_2021_0382_6565_LA93_IGN69.laz").string();
+    nlohmann::json s = {{"kind", "lidarscout session"}, {"version", 1}, {"paths", {tile}}, {"crs", ""},
+                        {"camera", {{"target", {382500, 6564500, 10}}, {"distance", 300}, {"yaw_deg", 0},
+                                    {"pitch_deg", -89}, {"fov_deg", 60}}},
+                        {"filter", {{"classes", "6"}, {"returns", ""}, {"intensity", ""}}},
+                        {"colour", "classification"},
+                        {"measurements", {{{"from", {382400, 6564400, 5}}, {"to", {382600, 6564600, 7}}}}},
+                        {"annotations", {{{"at", {382500, 6564500, 10}}, {"text", "the square"}}}},
+                        {"profiles", {{{"line", {0, 0, 1, 1}}, {"width", 2}}}}};
+    const fs::path in = dir_ / "in.lidarscout.json", back = dir_ / "back.lidarscout.json";
+    std::ofstream(in) << s.dump();
+    std::string out;
+    ASSERT_EQ(run_xvfb("--session " + in.string() + " --no-cnn --size 480x480 --quit-after 4 --click 240,240 "
+                       "--click 100,380 --save-session " + back.string(), out), 0)
+        << out;
+    int buildings = 0;
+    for (const std::string at : {"240,240", "100,380"}) {  // buildings only: the picked points are of class 6
+        const auto line = out.find("click " + at + ": ");
+        ASSERT_NE(line, std::string::npos) << out;
+        const std::string text = out.substr(line, out.find('\n', line) - line);
+        buildings += text.find("class 6 ") != std::string::npos;
+        EXPECT_TRUE(text.find("no point") != std::string::npos || text.find("class 6 ") != std::string::npos) << text;
+    }
+    EXPECT_GE(buildings, 1) << out;  // a roof under one of the clicks, at least
+    const auto saved = nlohmann::json::parse(std::ifstream(back));
+    for (const char* key : {"paths", "filter", "colour", "measurements", "annotations", "profiles"}) {
+        EXPECT_EQ(saved.at(key), s.at(key)) << key;
+    }
+    EXPECT_NEAR(saved.at("camera").at("distance").get<double>(), 300, 1e-9);
+    EXPECT_NEAR(saved.at("camera").at("target").at(0).get<double>(), 382500, 1e-9);
 }
 
 }  // namespace
