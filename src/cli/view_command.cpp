@@ -33,6 +33,7 @@ struct ViewCliOptions {
     std::vector<std::string> paths;
     FilterTexts filter;  // the points drawn at first
     std::string session, save_session;  // --session FILE, --save-session FILE
+    bool area = false;
     std::string size = "1280x720";
     std::string memory;
     std::string model;
@@ -123,6 +124,7 @@ int run_view(const ViewCliOptions& o) {
     v.quit_after = o.quit_after;
     for (const auto& c : o.clicks) v.clicks.push_back(parse_click(c));
     v.measure = o.measure;
+    v.area = o.area;
     v.filter = o.filter.filter();
     if (!o.session.empty()) {
         v.session = viewer::read_session(o.session);
@@ -170,6 +172,9 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
                     "Open a saved session (.lidarscout.json: its paths unless PATH is given, CRS, camera, filter, "
                     "colour, measurements, labels); the panel's \"save session\" writes it back");
     cmd->add_option("--save-session", o->save_session, "Write the session to FILE when the viewer ends (scripted use)");
+    cmd->add_flag("--area", o->area,
+                  "Scripted clicks are a polygon's vertices: prints its area, surface, and the volume above (cut) "
+                  "and below (fill) the plane through them, from the points held and drawn");
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
         ->check(non_negative_number());

@@ -55,6 +55,10 @@ public:
     bool keeps_kinds(std::uint8_t kinds) const {
         return keeps_every_return() || kinds == 0 || (kinds & return_kinds) != 0;
     }
+    // A drawn point (render::PointAttr): its class, its return kinds as a mask, its intensity.
+    bool keeps_drawn(std::uint8_t code, std::uint8_t kinds, std::uint16_t intensity) const {
+        return keeps_class(code) && keeps_kinds(kinds) && keeps_intensity(intensity);
+    }
 
     bool keeps_every_class() const { return classes.all(); }
     bool keeps_every_return() const { return return_kinds == returns::kAny; }

@@ -46,10 +46,7 @@ struct KeepAll {
 };
 struct KeepFiltered {
     const PointFilter* filter;
-    bool operator()(const PointAttr& p) const {
-        return filter->keeps_class(p.classification) && filter->keeps_kinds(p.returns) &&
-               filter->keeps_intensity(p.intensity);
-    }
+    bool operator()(const PointAttr& p) const { return filter->keeps_drawn(p.classification, p.returns, p.intensity); }
 };
 
 float row_dot(const std::array<float, 4>& row, const PointAttr& p) {

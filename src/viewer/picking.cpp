@@ -38,10 +38,7 @@ void pick_in_batch(const render::PointBatch& batch, const render::Camera& camera
     const double r2 = options.radius_px * options.radius_px;
     const PointFilter& filter = options.filter;
     for (const auto& a : batch.points) {
-        if (!filter.keeps_class(a.classification) || !filter.keeps_kinds(a.returns) ||
-            !filter.keeps_intensity(a.intensity)) {
-            continue;
-        }
+        if (!filter.keeps_drawn(a.classification, a.returns, a.intensity)) continue;
         const float w = t.depth[0] * a.dx + t.depth[1] * a.dy + t.depth[2] * a.dz + t.depth[3];
         if (!(w >= camera.near_m && w <= camera.far_m)) continue;
         const double sx = (t.sx[0] * a.dx + t.sx[1] * a.dy + t.sx[2] * a.dz + t.sx[3]) / w;
@@ -169,6 +166,9 @@ void ClickState::clicked(const std::optional<PickedPoint>& point) {
     if (!point) return;
     if (tool == ClickTool::Inspect) {
         picked = point;
+    } else if (tool == ClickTool::Area) {
+        if (area) polygon.clear(), area.reset();
+        polygon.push_back(*point);
     } else if (!from || to) {
         from = point;
         to.reset();

@@ -147,6 +147,35 @@ TEST_F(ViewCommand, ScriptedClicksPickPointsAndMeasureBetweenThem) {
     EXPECT_EQ(png.width, 480);
 }
 
+// The area tool scripted: four clicks on an IGN tile seen from above make a polygon, measured on
+// the points held; its horizontal area is the shoelace area of the four points printed.
+TEST_F(ViewCommand, ScriptedAreaMeasuresThePolygonClicked) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    const std::string tile =
+        (test::surveys_dir() / "ign-lidar-hd-1km/test_semis_2021_0382_6565_LA93_IGN69.laz").string();
+    const nlohmann::json s = {{"kind", "lidarscout session"}, {"version", 1}, {"paths", {tile}},
+                              {"camera", {{"target", {382500, 6564500, 10}}, {"distance", 300}, {"yaw_deg", 0},
+                                          {"pitch_deg", -89}, {"fov_deg", 60}}}};
+    const fs::path in = dir_ / "area.lidarscout.json";
+    std::ofstream(in) << s.dump();
+    std::string out;
+    ASSERT_EQ(run_xvfb("--session " + in.string() + " --no-cnn --size 480x480 --quit-after 4 --area --click 140,140 "
+                       "--click 340,140 --click 340,340 --click 140,340", out), 0)
+        << out;
+    std::vector<std::array<double, 3>> v;
+    for (const std::string at : {"140,140", "340,140", "340,340", "140,340"}) v.push_back(clicked_xyz(out, at));
+    double twice = 0;
+    for (std::size_t i = 0, j = 3; i < 4; j = i++) twice += v[j][0] * v[i][1] - v[i][0] * v[j][1];
+    double area = 0, cut = 0, fill = 0;
+    const auto line = out.find("area: area ");
+    ASSERT_NE(line, std::string::npos) << out;
+    const char* format = "area: area %lf m2 (surface %*f m2), cut %lf m3, fill %lf m3";
+    ASSERT_EQ(std::sscanf(out.c_str() + line, format, &area, &cut, &fill), 3) << out;
+    EXPECT_NEAR(area, std::abs(twice) / 2, 0.1) << out;
+    EXPECT_GT(area, 1000) << out;
+    EXPECT_GT(cut + fill, 0) << out;
+}
+
 // A session opens as saved (its dataset, camera, filter; the click picks only what the filter
 // keeps) and is written back with its labels, measurements and a field this version does not know.
 TEST_F(ViewCommand, ASessionOpensAsSavedAndIsWrittenBack) {

@@ -93,6 +93,15 @@ void draw_click_overlay(render::RgbaImage& image, const render::Camera& camera, 
     for (const auto* p : {&click.picked, &click.from, &click.to}) {
         if (*p) draw_marker(image, camera, (*p)->x, (*p)->y, (*p)->z, marker);
     }
+    const auto& ring = click.polygon;  // the area tool's outline, closed once it has three vertices
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+        draw_marker(image, camera, ring[k].x, ring[k].y, ring[k].z, marker);
+        const auto& next = ring[(k + 1) % ring.size()];
+        if (k + 1 < ring.size() || ring.size() >= 3) {
+            draw_segment(image, camera, ring[k].x, ring[k].y, ring[k].z, next.x, next.y, next.z,
+                         render::pack_rgba(120, 220, 255));
+        }
+    }
 }
 
 }  // namespace lidarscout::viewer::app

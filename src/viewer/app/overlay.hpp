@@ -1,6 +1,6 @@
 // Lines drawn over a resolved image after the scene: the tiles' outlines on the ground (the
 // "tile boxes" layer, and the footprints of the tiles read while a dataset opens), the selected
-// tile highlighted; the picked point and the measured line.
+// tile highlighted; the picked point, the measured line and the area tool's polygon.
 #pragma once
 
 #include <cstdint>

@@ -230,13 +230,15 @@ void labels_section(PanelState& state, PanelActions& actions) {
 
 // The click tool, the screenshot button and the help line: always shown.
 void tool_bar(PanelState& state, PanelActions& actions) {
-    int tool = state.click.tool == ClickTool::Measure;
+    int tool = static_cast<int>(state.click.tool);
     ImGui::TextUnformatted("click:");
     ImGui::SameLine();
-    ImGui::RadioButton("inspect", &tool, 0);
+    ImGui::RadioButton("inspect", &tool, static_cast<int>(ClickTool::Inspect));
     ImGui::SameLine();
-    ImGui::RadioButton("measure", &tool, 1);
-    state.click.use(tool ? ClickTool::Measure : ClickTool::Inspect);
+    ImGui::RadioButton("measure", &tool, static_cast<int>(ClickTool::Measure));
+    ImGui::SameLine();
+    ImGui::RadioButton("area", &tool, static_cast<int>(ClickTool::Area));
+    state.click.use(static_cast<ClickTool>(tool));
     ImGui::SameLine();
     if (ImGui::Button("screenshot")) actions.screenshot = true;
     if (!state.status.empty()) ImGui::TextWrapped("%s", state.status.c_str());
@@ -264,14 +266,28 @@ void point_lines(const dataset::Dataset& ds, const char* label, const PickedPoin
 }
 
 // The picked point or the measurement, in a small window at the bottom right.
-void readout_window(const dataset::Dataset& ds, const ClickState& click) {
-    const bool any = click.picked || click.from || click.missed;
+// The area tool's readout: the vertices so far, the measurement or how to get it.
+void area_lines(ClickState& click, PanelActions& actions) {
+    ImGui::Text("%zu vertices", click.polygon.size());
+    if (click.area) {
+        ImGui::TextWrapped("%s", click.area->c_str());
+        ImGui::TextUnformatted("the next click starts a new polygon");
+    } else if (click.polygon.size() >= 3) {
+        if (ImGui::Button("measure area and volume")) actions.measure_area = true;
+    } else {
+        ImGui::TextUnformatted("click the polygon's vertices on the ground");
+    }
+}
+
+void readout_window(const dataset::Dataset& ds, ClickState& click, PanelActions& actions) {
+    const bool any = click.picked || click.from || click.missed || !click.polygon.empty();
     if (!any) return;
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x - 10, display.y - 10), ImGuiCond_Always, ImVec2(1, 1));
     ImGui::SetNextWindowBgAlpha(0.8f);
-    const char* title = click.tool == ClickTool::Measure ? "Measure" : "Point";
+    const char* title = click.tool == ClickTool::Measure ? "Measure" : click.tool == ClickTool::Area ? "Area" : "Point";
     if (!ImGui::Begin(title, nullptr, kSmallWindow)) return ImGui::End();
+    if (click.tool == ClickTool::Area) area_lines(click, actions);
     if (click.picked) point_lines(ds, "", *click.picked);
     if (click.from) point_lines(ds, "A", *click.from);
     if (click.to) {
@@ -305,7 +321,7 @@ PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& 
         settings_section(settings, actions);
     }
     ImGui::End();
-    readout_window(dataset, state.click);
+    readout_window(dataset, state.click, actions);
     return actions;
 }
 

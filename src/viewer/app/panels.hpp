@@ -56,6 +56,7 @@ struct PanelActions {
     bool budget_changed = false;
     bool screenshot = false;
     bool save_session = false;
+    bool measure_area = false;  // the area tool's polygon is to be measured
 };
 
 // Draws the panels for this frame (between ImGui::NewFrame and ImGui::Render).

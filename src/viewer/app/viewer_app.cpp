@@ -28,6 +28,7 @@
 #include "viewer/app/gl_presenter.hpp"
 #include "viewer/app/overlay.hpp"
 #include "viewer/app/panels.hpp"
+#include "viewer/area_tool.hpp"
 #include "viewer/cursor_readout.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/picking.hpp"
@@ -213,7 +214,11 @@ render::RgbaImage window_pixels(GLFWwindow* window) {
 
 // Scripted clicks report on stdout: the point (or that there was none) and the measurement.
 void print_click(std::pair<double, double> at, const dataset::Dataset& ds, const ClickState& click) {
-    const auto& point = click.tool == ClickTool::Measure ? (click.to ? click.to : click.from) : click.picked;
+    std::optional<PickedPoint> vertex;
+    if (click.tool == ClickTool::Area && !click.polygon.empty()) vertex = click.polygon.back();
+    const auto& point = click.tool == ClickTool::Measure ? (click.to ? click.to : click.from)
+                        : click.tool == ClickTool::Area  ? vertex
+                                                         : click.picked;
     if (click.missed || !point) std::printf("click %.0f,%.0f: no point\n", at.first, at.second);
     else std::printf("click %.0f,%.0f: %s\n", at.first, at.second, point_summary(ds, *point).c_str());
     if (!click.missed && click.from && click.to) {
@@ -384,6 +389,11 @@ private:
         return s;
     }
 
+    // The area tool's polygon measured on the points held now, as drawn (the filter applied).
+    void measure_area_now() {
+        panels_.click.area = area_line(*session_.scheduler->snapshot(), panels_.click.polygon, settings_.style.filter);
+    }
+
     void save_session(const std::string& path) {
         try {
             write_session(path, current_session());
@@ -477,6 +487,7 @@ private:
         }
         if (actions.budget_changed) session_.scheduler->set_memory_budget(std::uint64_t(settings_.budget_mb) << 20);
         if (actions.save_session) save_session(panels_.session_path);
+        if (actions.measure_area) measure_area_now();
         if (actions.screenshot || input_.pressed(win_.window, GLFW_KEY_F12)) {  // the picture without the panels
             const std::string name = screenshot_name();
             render::write_png(name, last_.image);
@@ -489,10 +500,15 @@ private:
         const bool quitting = opened_ && o_.quit_after > 0 &&
                               std::chrono::duration<double>(Clock::now() - *opened_).count() >= o_.quit_after;
         if (quitting && !scripted_clicks_done_) {
-            panels_.click.use(o_.measure ? ClickTool::Measure : ClickTool::Inspect);
+            panels_.click.use(o_.area ? ClickTool::Area : o_.measure ? ClickTool::Measure : ClickTool::Inspect);
             for (const auto& c : o_.clicks) {
                 pick_at_click(win_.window, c, session_, camera_, settings_.style.filter, panels_);
                 print_click(c, *session_.dataset, panels_.click);
+            }
+            if (o_.area) {
+                measure_area_now();
+                std::printf("%s\n", panels_.click.area->c_str());
+                std::fflush(stdout);
             }
             scripted_clicks_done_ = true;
             frames_to_quit_ = 3;  // a new ImGui window fits its size in its first frame, unseen

@@ -29,6 +29,7 @@ struct ViewerOptions {
     double quit_after = 0;           // scripted: seconds after the dataset is open (0 = until closed)
     std::vector<std::pair<double, double>> clicks;  // scripted: window pixels clicked at quit_after
     bool measure = false;            // scripted: the clicks measure instead of inspecting
+    bool area = false;               // scripted: the clicks are a polygon, measured (area, volume) at the end
     PointFilter filter;              // the points drawn at first (the Filters section changes them)
     std::optional<SessionFile> session;  // opened with `view --session`: camera, filter, labels ... applied
     std::string session_path;        // that session's file (where the panel's "save session" writes)

@@ -1,0 +1,190 @@
+// measure_area_volume: the polygon's area, the points inside gridded, the base, cut and fill.
+#include "recon/area_volume.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <vector>
+
+#include "core/error.hpp"
+#include "recon/texel_stats.hpp"
+
+namespace lidarscout::recon {
+namespace {
+
+double shoelace(std::span<const Point3> ring) {
+    double twice = 0;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        twice += ring[j][0] * ring[i][1] - ring[i][0] * ring[j][1];
+    }
+    return std::abs(twice) / 2;
+}
+
+// Even-odd rule; a point on an edge may fall either way.
+bool inside(std::span<const Point3> ring, double x, double y) {
+    bool in = false;
+    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
+        const double xi = ring[i][0], yi = ring[i][1], xj = ring[j][0], yj = ring[j][1];
+        if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi) in = !in;
+    }
+    return in;
+}
+
+// z = a + b x + c y through the vertices (least squares, centred for precision).
+std::array<double, 3> vertex_plane(std::span<const Point3> ring) {
+    double cx = 0, cy = 0, cz = 0;
+    for (const auto& p : ring) cx += p[0], cy += p[1], cz += p[2];
+    const double n = static_cast<double>(ring.size());
+    cx /= n, cy /= n, cz /= n;
+    double sxx = 0, sxy = 0, syy = 0, sxz = 0, syz = 0;
+    for (const auto& p : ring) {
+        const double x = p[0] - cx, y = p[1] - cy, z = p[2] - cz;
+        sxx += x * x, sxy += x * y, syy += y * y, sxz += x * z, syz += y * z;
+    }
+    const double det = sxx * syy - sxy * sxy;
+    if (!(std::abs(det) > 1e-9 * std::max(1.0, sxx * syy))) {
+        throw Error::in_stage("measure", "the polygon's vertices lie on one line: no base plane through them");
+    }
+    const double b = (sxz * syy - syz * sxy) / det, c = (syz * sxx - sxz * sxy) / det;
+    return {cz - b * cx - c * cy, b, c};
+}
+
+struct Grid {
+    double x0 = 0, y0 = 0, cell = 1;
+    int nx = 0, ny = 0;
+    std::vector<TexelStats> stats;
+    std::vector<char> in;      // the cell's centre lies inside the polygon
+    std::vector<float> height;  // NaN: no point (yet)
+
+    double cx(int i) const { return x0 + (i + 0.5) * cell; }
+    double cy(int j) const { return y0 + (j + 0.5) * cell; }
+    std::size_t at(int i, int j) const { return static_cast<std::size_t>(j) * nx + i; }
+};
+
+Grid make_grid(std::span<const Point3> ring, double cell) {
+    double x0 = ring[0][0], x1 = x0, y0 = ring[0][1], y1 = y0;
+    for (const auto& p : ring) x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]), y0 = std::min(y0, p[1]),
+                               y1 = std::max(y1, p[1]);
+    Grid g;
+    g.cell = cell, g.x0 = x0, g.y0 = y0;
+    const double cells = std::ceil((x1 - x0) / cell) * std::ceil((y1 - y0) / cell);
+    if (!(cells <= 4e7)) {
+        throw Error::in_stage("measure", "the polygon spans " + std::to_string(static_cast<long long>(cells)) +
+                                             " cells of " + std::to_string(cell) + " m: draw a smaller one");
+    }
+    g.nx = std::max(1, static_cast<int>(std::ceil((x1 - x0) / cell)));
+    g.ny = std::max(1, static_cast<int>(std::ceil((y1 - y0) / cell)));
+    g.stats.resize(static_cast<std::size_t>(g.nx) * g.ny);
+    g.in.resize(g.stats.size());
+    g.height.assign(g.stats.size(), std::numeric_limits<float>::quiet_NaN());
+    for (int j = 0; j < g.ny; ++j)
+        for (int i = 0; i < g.nx; ++i) g.in[g.at(i, j)] = inside(ring, g.cx(i), g.cy(j));
+    return g;
+}
+
+// Cells inside without points: the mean of their measured neighbours, ring by ring.
+void fill_gaps(Grid& g, AreaVolume& out) {
+    for (bool changed = true; changed;) {
+        changed = false;
+        std::vector<float> next = g.height;
+        for (int j = 0; j < g.ny; ++j) {
+            for (int i = 0; i < g.nx; ++i) {
+                if (!g.in[g.at(i, j)] || !std::isnan(g.height[g.at(i, j)])) continue;
+                double sum = 0;
+                int n = 0;
+                for (int dj = -1; dj <= 1; ++dj)
+                    for (int di = -1; di <= 1; ++di) {
+                        const int a = i + di, b = j + dj;
+                        if (a < 0 || b < 0 || a >= g.nx || b >= g.ny) continue;
+                        const float h = g.height[g.at(a, b)];
+                        if (!std::isnan(h)) sum += h, ++n;
+                    }
+                if (n == 0) continue;
+                next[g.at(i, j)] = static_cast<float>(sum / n);
+                ++out.cells_filled;
+                changed = true;
+            }
+        }
+        g.height.swap(next);
+    }
+}
+
+// The surface's slope at a cell from its neighbours (central differences, one-sided at an edge).
+double slope_factor(const Grid& g, int i, int j) {
+    const auto h = [&](int a, int b) -> double {
+        if (a < 0 || b < 0 || a >= g.nx || b >= g.ny) return NAN;
+        return g.height[g.at(a, b)];
+    };
+    const auto derivative = [&](double minus, double here, double plus) {
+        if (!std::isnan(minus) && !std::isnan(plus)) return (plus - minus) / (2 * g.cell);
+        if (!std::isnan(plus)) return (plus - here) / g.cell;
+        if (!std::isnan(minus)) return (here - minus) / g.cell;
+        return 0.0;
+    };
+    const double here = h(i, j);
+    const double zx = derivative(h(i - 1, j), here, h(i + 1, j)), zy = derivative(h(i, j - 1), here, h(i, j + 1));
+    return std::sqrt(1 + zx * zx + zy * zy);
+}
+
+double default_cell(std::span<const Point3> ring, std::span<const Point3> points, double area) {
+    std::uint64_t n = 0;
+    for (const auto& p : points) n += inside(ring, p[0], p[1]);
+    if (n == 0) throw Error::in_stage("measure", "no point lies inside the polygon");
+    return std::max(0.01, 2 * std::sqrt(area / static_cast<double>(n)));
+}
+
+}  // namespace
+
+AreaVolume measure_area_volume(std::span<const Point3> polygon, std::span<const Point3> points,
+                               const AreaVolumeOptions& options) {
+    if (polygon.size() < 3) throw Error::in_stage("measure", "an area needs at least 3 vertices");
+    AreaVolume out;
+    out.horizontal_area_m2 = shoelace(polygon);
+    if (!(out.horizontal_area_m2 > 0)) throw Error::in_stage("measure", "the polygon has no area");
+    out.base_plane = options.base_height ? std::array<double, 3>{*options.base_height, 0, 0} : vertex_plane(polygon);
+    char base[64];
+    if (options.base_height) std::snprintf(base, sizeof base, "height %.2f m", *options.base_height);
+    else std::snprintf(base, sizeof base, "plane through the %zu vertices", polygon.size());
+    out.base = base;
+    out.cell_m = options.cell_m > 0 ? options.cell_m : default_cell(polygon, points, out.horizontal_area_m2);
+    Grid g = make_grid(polygon, out.cell_m);
+    for (const auto& p : points) {
+        const double fi = std::floor((p[0] - g.x0) / g.cell), fj = std::floor((p[1] - g.y0) / g.cell);
+        if (!(fi >= 0 && fj >= 0 && fi < g.nx && fj < g.ny) || !inside(polygon, p[0], p[1])) continue;
+        g.stats[g.at(static_cast<int>(fi), static_cast<int>(fj))].add(p[2], {});
+        ++out.points;
+    }
+    if (out.points == 0) throw Error::in_stage("measure", "no point lies inside the polygon");
+    for (std::size_t k = 0; k < g.stats.size(); ++k) g.height[k] = g.stats[k].height(TexelStatistic::Mean);
+    fill_gaps(g, out);
+    const double cell_area = g.cell * g.cell;
+    for (int j = 0; j < g.ny; ++j) {
+        for (int i = 0; i < g.nx; ++i) {
+            if (!g.in[g.at(i, j)]) continue;
+            ++out.cells;
+            const float z = g.height[g.at(i, j)];
+            if (std::isnan(z)) {
+                ++out.cells_unmeasured;
+                continue;
+            }
+            const double dz = z - (out.base_plane[0] + out.base_plane[1] * g.cx(i) + out.base_plane[2] * g.cy(j));
+            (dz > 0 ? out.cut_m3 : out.fill_m3) += std::abs(dz) * cell_area;
+            out.surface_area_m2 += cell_area * slope_factor(g, i, j);
+        }
+    }
+    return out;
+}
+
+std::string area_volume_summary(const AreaVolume& a) {
+    char text[384];
+    std::snprintf(text, sizeof text,
+                  "area %.1f m2 (surface %.1f m2), cut %.1f m3, fill %.1f m3 over the %s; %llu points in %llu "
+                  "cells of %.2f m (%llu filled from neighbours, %llu unmeasured)",
+                  a.horizontal_area_m2, a.surface_area_m2, a.cut_m3, a.fill_m3, a.base.c_str(),
+                  static_cast<unsigned long long>(a.points), static_cast<unsigned long long>(a.cells), a.cell_m,
+                  static_cast<unsigned long long>(a.cells_filled), static_cast<unsigned long long>(a.cells_unmeasured));
+    return text;
+}
+
+}  // namespace lidarscout::recon
