@@ -290,6 +290,7 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"height", plan.height},
                         {"until", stage_name(plan.until)},
                         {"colour", render::colour_mode_name(plan.colour)},
+                        {"points_drawn", plan.filter.describe()},
                         {"heightmap_method", plan.cnn ? "cnn" : "linear"},
                         {"backend", std::string(render::backend_name(plan.backend.backend))},
                         {"camera", camera_json(r.camera, r.frame)},

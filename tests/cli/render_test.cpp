@@ -292,6 +292,8 @@ TEST_F(RenderCommand, AClassFilterDrawsOnlyItsClasses) {
     const auto all = render_json(args, "all");
     const auto ground = render_json(args + " --classes 2", "ground");
     EXPECT_EQ(ground.at("full_res_points"), all.at("full_res_points"));  // filtered when drawn, not when read
+    EXPECT_EQ(ground.at("points_drawn"), "classes 2");
+    EXPECT_EQ(all.at("points_drawn"), "all points");
     EXPECT_LT(ground.at("drawn_pixels").get<std::size_t>(), all.at("drawn_pixels").get<std::size_t>());
     const auto palette = render::Palette(render::ColourSettings{.mode = render::ColourMode::Classification});
     const auto count = [](const Png& p, std::uint32_t rgba) {
