@@ -168,10 +168,12 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
                "Write the whole window, panels included, to this PNG on exit (scripted use)", io::OutputKind::Png);
     cmd->add_option("--click", o->clicks, "Click at window pixel X,Y just before quitting (scripted use; repeatable)");
     add_filter_options(*cmd, o->filter, "points drawn at first (the Filters section changes them)");
+    // A document the user edits, not data: the panel's "save session" saves back to it when asked.
     cmd->add_option("--session", o->session,
                     "Open a saved session (.lidarscout.json: its paths unless PATH is given, CRS, camera, filter, "
-                    "colour, measurements, labels); the panel's \"save session\" writes it back");
-    cmd->add_option("--save-session", o->save_session, "Write the session to FILE when the viewer ends (scripted use)");
+                    "colour, measurements, labels); the panel's \"save session\" saves back to it");
+    add_output(*cmd, "--save-session", o->save_session, "Write the session to this .json when the viewer ends "
+               "(scripted use)", io::OutputKind::Json);
     cmd->add_flag("--area", o->area,
                   "Scripted clicks are a polygon's vertices: prints its area, surface, and the volume above (cut) "
                   "and below (fill) the plane through them, from the points held and drawn");
