@@ -74,8 +74,7 @@ public:
             low = m.cdf(symbol) * length_;
             if (symbol != m.last_symbol()) high = m.cdf(symbol + 1) * length_;
         } else {
-            // cdf(s) * length_ <= value_ exactly when cdf(s) <= value_ / length_ (integers).
-            symbol = m.last_at_or_below(value_ / length_);
+            symbol = m.last_at_or_below(value_, length_);  // no division for small alphabets
             low = m.cdf(symbol) * length_;
             if (symbol != m.last_symbol()) high = m.cdf(symbol + 1) * length_;
         }
