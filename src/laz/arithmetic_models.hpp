@@ -69,11 +69,13 @@ public:
     const std::uint32_t* lookup() const { return lookup_; }
     std::uint32_t lookup_size() const { return lookup_size_; }
     std::uint32_t lookup_shift() const { return lookup_shift_; }
-    // The last symbol s with cdf(s) <= scaled, for models without a lookup table (at most 16
-    // symbols): a branch-free count, as the symbol a code value falls in is hard to predict.
-    std::uint32_t last_at_or_below(std::uint32_t scaled) const {
+    // The last symbol s with cdf(s) * length <= value, i.e. cdf(s) <= value / length, for models
+    // without a lookup table (at most 16 symbols), without dividing: a branch-free count, as the
+    // symbol a code value falls in is hard to predict. No product overflows: cdf(s) < 2^15 and
+    // the decoder's length (its interval length >> 15) is below 2^17.
+    std::uint32_t last_at_or_below(std::uint32_t value, std::uint32_t length) const {
         std::uint32_t s = 0;
-        for (std::uint32_t i = 1; i < symbols_; ++i) s += cdf_[i] <= scaled ? 1u : 0u;
+        for (std::uint32_t i = 1; i < symbols_; ++i) s += cdf_[i] * length <= value ? 1u : 0u;
         return s;
     }
 

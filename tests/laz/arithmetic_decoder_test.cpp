@@ -92,6 +92,40 @@ TEST(ArithSymbolModel, LargeAlphabetsGetALookupTable) {
     EXPECT_EQ(m256.lookup()[257], 255u);
 }
 
+// The small-alphabet search multiplies instead of dividing: it must pick the same symbol as
+// counting cdf(s) <= value / length for every code value and interval length the decoder can
+// hold (length < 2^17), including skewed distributions and corrupt values beyond the interval.
+std::uint32_t count_by_division(const SymbolModel& m, std::uint32_t value, std::uint32_t length) {
+    std::uint32_t s = 0;
+    for (std::uint32_t i = 1; i < m.symbols(); ++i) s += m.cdf(i) <= value / length ? 1u : 0u;
+    return s;
+}
+
+TEST(ArithSymbolModel, SmallAlphabetSearchMatchesDivision) {
+    std::mt19937 rng(32);
+    const std::uint32_t kLongest = 0xFFFFFFFFu >> kSymbolProbabilityBits;
+    for (std::uint32_t symbols = 2; symbols <= 16; ++symbols) {
+        SymbolModel m(symbols);
+        for (int step = 0; step < 40; ++step) {
+            for (int i = 0; i < 50; ++i) m.record(rng() % (1 + rng() % symbols));  // skews the counts
+            for (std::uint32_t length : {1u << 9, (1u << 9) + 1, kLongest - 1, kLongest}) {
+                for (std::uint32_t s = 0; s < symbols; ++s) {  // both sides of every boundary
+                    const std::uint32_t edge = m.cdf(s) * length;
+                    for (std::uint32_t value : {edge, edge - 1, edge + 1, edge + length - 1}) {
+                        ASSERT_EQ(m.last_at_or_below(value, length), count_by_division(m, value, length));
+                    }
+                }
+                ASSERT_EQ(m.last_at_or_below(0xFFFFFFFFu, length), count_by_division(m, 0xFFFFFFFFu, length));
+            }
+            for (int i = 0; i < 2000; ++i) {
+                const std::uint32_t length = (1u << 9) + rng() % (kLongest - (1u << 9) + 1);
+                const std::uint32_t value = rng();
+                ASSERT_EQ(m.last_at_or_below(value, length), count_by_division(m, value, length));
+            }
+        }
+    }
+}
+
 TEST(ArithSymbolModel, RejectsImpossibleAlphabets) {
     EXPECT_THROW(SymbolModel{1}, Error);
     EXPECT_THROW(SymbolModel{kMaxSymbols + 1}, Error);
