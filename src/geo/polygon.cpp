@@ -42,6 +42,23 @@ bool crosses(const XY& a, const XY& b, double x, double y) {
     return x < a.x + t * (b.x - a.x);
 }
 
+// Whether segment a-b meets the box (Liang-Barsky clipping of the segment to the box).
+bool segment_meets_box(const XY& a, const XY& b, double x0, double y0, double x1, double y1) {
+    double t0 = 0, t1 = 1;
+    const double d[2] = {b.x - a.x, b.y - a.y}, lo[2] = {x0 - a.x, y0 - a.y}, hi[2] = {x1 - a.x, y1 - a.y};
+    for (int k = 0; k < 2; ++k) {
+        if (d[k] == 0) {
+            if (lo[k] > 0 || hi[k] < 0) return false;
+            continue;
+        }
+        double enter = lo[k] / d[k], leave = hi[k] / d[k];
+        if (enter > leave) std::swap(enter, leave);
+        t0 = std::max(t0, enter), t1 = std::min(t1, leave);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
 double ring_area(const Ring& r) {
     double twice = 0;
     for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) twice += r[j].x * r[i].y - r[i].x * r[j].y;
@@ -79,6 +96,19 @@ bool MultiPolygon::contains(double x, double y) const {
         }
     }
     return inside;
+}
+
+bool MultiPolygon::touches_box(double x0, double y0, double x1, double y1) const {
+    if (x0 > max_x_ || x1 < min_x_ || y0 > max_y_ || y1 < min_y_) return false;
+    if (contains(x0, y0)) return true;  // the box inside the polygon (or a corner on it)
+    for (const auto& rings : polygons_) {
+        for (const Ring& r : rings) {
+            for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
+                if (segment_meets_box(r[j], r[i], x0, y0, x1, y1)) return true;  // crossing, or inside the box
+            }
+        }
+    }
+    return false;
 }
 
 double MultiPolygon::area() const {

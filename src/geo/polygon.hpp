@@ -29,6 +29,8 @@ public:
     explicit MultiPolygon(std::vector<std::vector<Ring>> polygons);
 
     bool contains(double x, double y) const;
+    // Whether the polygon and the box [min_x, max_x] x [min_y, max_y] share a point (edges count).
+    bool touches_box(double min_x, double min_y, double max_x, double max_y) const;
     // The box around every vertex: min_x, min_y, max_x, max_y.
     double min_x() const { return min_x_; }
     double min_y() const { return min_y_; }

@@ -112,7 +112,7 @@ std::vector<las::Vlr> kept_evlrs(const dataset::Tile& tile, std::vector<std::str
 
 ClipResult clip_to_file(const dataset::Dataset& ds, const ClipRequest& request, ThreadPool& pool) {
     const auto& box = request.region.box;
-    const std::vector<std::uint32_t> tiles = tiles_touching(ds, box);
+    const std::vector<std::uint32_t> tiles = tiles_touching(ds, request.region);
     if (tiles.empty()) {
         const auto& b = ds.bounds_m;
         const double f = ds.frame.xy_to_metres;

@@ -21,6 +21,8 @@ struct Corridor {
     double across(double x, double y) const;
     // |across| <= width / 2 and along in [0, length].
     bool contains(double x, double y) const;
+    // Whether the corridor's rectangle and the box share a point (separating axes).
+    bool touches_box(double min_x, double min_y, double max_x, double max_y) const;
 };
 
 // The corridor as a region. Throws lidarscout::Error for a segment of length 0

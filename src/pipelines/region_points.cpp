@@ -116,6 +116,9 @@ Region box_region(double min_x, double min_y, double max_x, double max_y) {
     r.box.min_z = -INFINITY, r.box.max_z = INFINITY;
     const dataset::Bounds b = r.box;
     r.contains = [b](double x, double y) { return x >= b.min_x && x <= b.max_x && y >= b.min_y && y <= b.max_y; };
+    r.touches = [b](const dataset::Bounds& t) {
+        return t.min_x <= b.max_x && t.max_x >= b.min_x && t.min_y <= b.max_y && t.max_y >= b.min_y;
+    };
     return r;
 }
 
@@ -123,18 +126,19 @@ Region polygon_region(geo::MultiPolygon polygon) {
     const auto shape = std::make_shared<const geo::MultiPolygon>(std::move(polygon));
     Region r = box_region(shape->min_x(), shape->min_y(), shape->max_x(), shape->max_y());
     r.contains = [shape](double x, double y) { return shape->contains(x, y); };
+    r.touches = [shape](const dataset::Bounds& t) { return shape->touches_box(t.min_x, t.min_y, t.max_x, t.max_y); };
     return r;
 }
 
-std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const dataset::Bounds& box) {
+std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Region& region) {
     std::vector<std::uint32_t> out;
     const double f = ds.frame.xy_to_metres;
     for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        const auto& b = ds.tiles[i].bounds_m;
-        if (!b.empty() && b.min_x <= box.max_x * f && b.max_x >= box.min_x * f && b.min_y <= box.max_y * f &&
-            b.max_y >= box.min_y * f) {
-            out.push_back(i);
-        }
+        const auto& m = ds.tiles[i].bounds_m;
+        if (m.empty()) continue;
+        dataset::Bounds b = m;
+        b.min_x /= f, b.min_y /= f, b.max_x /= f, b.max_y /= f;
+        if (region.touches(b)) out.push_back(i);
     }
     return out;
 }

@@ -23,10 +23,12 @@ class MultiPolygon;
 
 namespace lidarscout::pipelines {
 
-// An area in the units of the dataset frame's CRS (as the command line gives it): the box around it
-// (which tiles are read) and the test of one position (x, y), which must never pass outside the box.
+// An area in the units of the dataset frame's CRS (as the command line gives it): the box around it,
+// whether a box (a tile's bounds) shares a point with it (which tiles are read) and the test of one
+// position (x, y); neither test passes outside `box`.
 struct Region {
     dataset::Bounds box;
+    std::function<bool(const dataset::Bounds& b)> touches;
     std::function<bool(double x, double y)> contains;
 };
 
@@ -58,8 +60,8 @@ struct RegionReadStats {
     std::vector<ErrorRecord> skipped;          // those chunks and tiles, named
 };
 
-// The tiles whose bounds (xy) touch `box` (the frame CRS's units), in dataset order.
-std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const dataset::Bounds& box);
+// The tiles whose bounds (xy) the region touches, in dataset order.
+std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Region& region);
 
 using RegionBatchFn = std::function<void(const RegionBatch&)>;
 using PointProgressFn = std::function<void(std::uint64_t points_done, std::uint64_t points_total)>;

@@ -44,6 +44,17 @@ TEST(Polygon, MultiPolygonPartsAndATriangle) {
     EXPECT_DOUBLE_EQ(p.max_y(), 7);
 }
 
+TEST(Polygon, TouchesBox) {
+    const auto p = parse_wkt_polygon("POLYGON ((0 0, 10 0, 0 10), (1 1, 3 1, 1 3))");
+    EXPECT_TRUE(p.touches_box(-5, -5, 20, 20));   // the polygon inside the box
+    EXPECT_TRUE(p.touches_box(0.5, 0.5, 0.6, 0.6));  // the box inside the polygon
+    EXPECT_TRUE(p.touches_box(5, 5, 8, 8));       // a corner on the hypotenuse
+    EXPECT_FALSE(p.touches_box(5.1, 5.1, 8, 8));  // within the polygon's box, beyond the hypotenuse
+    EXPECT_FALSE(p.touches_box(1.2, 1.2, 1.4, 1.4));  // inside the hole
+    EXPECT_TRUE(p.touches_box(-1, 4, 11, 4.5));   // crossing, no vertex inside either
+    EXPECT_FALSE(p.touches_box(11, 0, 12, 1));
+}
+
 TEST(Polygon, GeoJsonFeatureCollection) {
     const auto p = parse_geojson_polygon(R"({"type": "FeatureCollection", "features": [
         {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon",

@@ -165,6 +165,20 @@ TEST_F(ClipGrid, OnlyTouchedTilesAreDecoded) {
     }
 }
 
+TEST_F(ClipGrid, APolygonDecodesOnlyTheTilesItTouches) {
+    const auto ds = dataset::open_dataset(tiles);
+    ClipRequest request;
+    request.output = path("out.laz");
+    // A thin quadrilateral along the diagonal from tile (0,0) to tile (2,2): its box covers all 9 tiles.
+    request.region = polygon_region(geo::parse_wkt_polygon(
+        "POLYGON ((500010 4200008, 500295 4200293, 500293 4200295, 500008 4200010))"));
+    const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+    EXPECT_EQ(r.read.tiles_touched.size(), 3u);
+    EXPECT_EQ(r.read.tiles_decoded, 3u);
+    EXPECT_EQ(r.read.points_read, 3 * 400u);
+    EXPECT_GT(r.points_written, 0u);
+}
+
 TEST_F(ClipGrid, MissingTileIsNamedAndSkipped) {
     const auto ds = dataset::open_dataset(tiles);
     fs::remove(tiles[4]);  // tile (1,1) gone after the dataset was opened

@@ -118,6 +118,12 @@ TEST(Corridor, ContainsIsARectangleAlongTheSegment) {
     EXPECT_FALSE(c.contains(-0.01, 0));
     EXPECT_DOUBLE_EQ(c.along(3, 0.5), 3);
     EXPECT_THROW(corridor_region({1, 1, 1, 1, 2}), Error);
+    const Corridor diagonal{0, 0, 100, 100, 2};
+    EXPECT_TRUE(diagonal.touches_box(40, 40, 60, 60));
+    EXPECT_TRUE(diagonal.touches_box(50.5, 49, 51, 50));    // the corridor's edge passes within a metre
+    EXPECT_FALSE(diagonal.touches_box(80, 0, 100, 20));     // in the segment's box, far from the line
+    EXPECT_FALSE(diagonal.touches_box(101, 101, 110, 110)); // beyond the end
+    EXPECT_TRUE(diagonal.touches_box(-0.5, -0.5, 0, 0));
 }
 
 }  // namespace
