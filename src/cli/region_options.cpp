@@ -12,11 +12,11 @@
 
 namespace lidarscout::cli {
 
-void add_filter_options(CLI::App& cmd, FilterOptionText& text) {
+void add_filter_options(CLI::App& cmd, FilterOptionText& text, const std::string& returns_note) {
     cmd.add_option("--classes", text.classes,
                    "Only these classes, codes 0-255 with ranges, e.g. 2,9 or 2-5 (default all)");
     cmd.add_option("--returns", text.returns,
-                   "Only these return kinds: first, last, single, intermediate (default all)");
+                   "Only these return kinds: first, last, single, intermediate (default all)" + returns_note);
     cmd.add_option("--intensity", text.intensity,
                    "Only intensities in MIN-MAX, 0-65535, e.g. 100-2000 (default all)");
 }

@@ -22,7 +22,8 @@ struct FilterOptionText {
     std::string classes, returns, intensity;
     dataset::PointFilter parse() const { return dataset::PointFilter::parse(classes, returns, intensity); }
 };
-void add_filter_options(CLI::App& cmd, FilterOptionText& text);
+// --classes, --returns and --intensity; `returns_note` is appended to --returns' help.
+void add_filter_options(CLI::App& cmd, FilterOptionText& text, const std::string& returns_note = "");
 
 // open_with_progress, skipped files and warnings on stderr, refused without a readable tile.
 dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,

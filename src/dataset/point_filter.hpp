@@ -50,6 +50,10 @@ public:
         return keeps_class(code) && keeps_returns(r, n) && keeps_intensity(intensity);
     }
     bool keeps(const las::Point& p) const;
+    // A point whose return kinds (returns::kinds_of) are known.
+    bool keeps_kinds(std::uint8_t code, std::uint8_t kinds, std::uint16_t intensity) const {
+        return keeps_class(code) && (keeps_every_return() || (kinds & return_kinds) != 0) && keeps_intensity(intensity);
+    }
 
     bool keeps_every_class() const { return classes.all(); }
     bool keeps_every_return() const { return return_kinds == returns::kAny; }

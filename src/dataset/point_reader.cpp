@@ -2,6 +2,7 @@
 // into batches, one batch read or decoded), for_each_record_batch, and RecordPlacer (records to
 // points in the dataset's metres).
 #include "dataset/point_reader.hpp"
+#include "dataset/point_filter.hpp"
 
 #include <algorithm>
 #include <future>
@@ -131,6 +132,7 @@ MetricPoint RecordPlacer::attributes(const las::Point& p) const {
     }
     m.intensity = p.intensity;
     m.classification = p.classification;
+    m.return_kinds = returns::kinds_of(p.return_number, p.number_of_returns);
     return m;
 }
 

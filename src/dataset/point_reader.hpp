@@ -39,6 +39,7 @@ struct MetricPoint {
     bool coloured = false;       // the format has colour and this point's is not all zero
     std::uint16_t intensity = 0;
     std::uint8_t classification = 0;
+    std::uint8_t return_kinds = 0;  // dataset::returns kinds of the point (kinds_of), when returns were decoded
 };
 
 // LAS records of one tile to MetricPoints: decoded (las::decode_point), placed in the dataset's
