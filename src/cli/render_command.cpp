@@ -25,6 +25,7 @@
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/progress.hpp"
+#include "cli/region_options.hpp"
 #include "cli/size_options.hpp"
 #include "cli/thread_options.hpp"
 #include "core/error.hpp"
@@ -66,6 +67,7 @@ struct RenderCliOptions {
     std::string memory;
     unsigned threads = 0;
     std::string backend = "cpu";
+    FilterOptionText filter;
     bool json = false;
 };
 
@@ -80,6 +82,7 @@ struct RenderPlan {
     std::uint64_t memory_budget = 0;
     unsigned threads = 1;
     render::BackendChoice backend;   // resolved: cpu or cuda (with a note when auto fell back)
+    dataset::PointFilter filter;     // of the full-resolution points
 };
 
 struct StageTimes {
@@ -135,6 +138,7 @@ RenderPlan make_plan(const RenderCliOptions& o) {
         throw Error(plan.model_path + ": no such heightmap network model file");
     }
     plan.memory_budget = parse_memory(o.memory);
+    plan.filter = o.filter.parse();
     plan.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     plan.backend = render::choose_backend(render::parse_backend(o.backend));  // throws for an unavailable cuda
     return plan;
@@ -227,7 +231,8 @@ std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const data
     for (const auto i : choice.tiles) {
         try {  // a corrupt chunk costs its points, a tile that cannot be opened its own
             out.push_back(viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool,
-                                                 [&](std::uint64_t n) { progress.add(n); }, &skipped));
+                                                 [&](std::uint64_t n) { progress.add(n); }, &skipped,
+                                                 &plan.filter));
         } catch (const Error& e) {
             skipped.push_back({0, ds.tiles[i].tile.header.point_count, ErrorRecord::of(e)});
         }
@@ -402,6 +407,8 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--memory", o->memory,
                     "Budget for full-resolution points, e.g. 2G (default: a quarter of the RAM)");
     add_thread_option(*cmd, "--threads", o->threads, "Worker threads (default: all cores)");
+    add_filter_options(*cmd, o->filter, " (the --classes, --returns and --intensity filters apply to the "
+                                        "full-resolution points only, not to the overview or heightmaps)");
     cmd->add_option("--backend", o->backend,
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
                     "available, else cpu)");
