@@ -22,6 +22,10 @@ void register_eval_command(CLI::App& app, std::function<int()>& run);
 void register_train_data_command(CLI::App& app, std::function<int()>& run);
 // Registers `dem` (DEM and orthophoto as Cloud-Optimized GeoTIFF).
 void register_dem_command(CLI::App& app, std::function<int()>& run);
+// Registers `clip` (the points inside a box or polygon as one LAS/LAZ file).
+void register_clip_command(CLI::App& app, std::function<int()>& run);
+// Registers `profile` (the points of a corridor along a line: CSV, LAS/LAZ or PNG).
+void register_profile_command(CLI::App& app, std::function<int()>& run);
 // Registers `render` (headless rendering of a dataset to a PNG).
 void register_render_command(CLI::App& app, std::function<int()>& run);
 // Registers `view` (the interactive viewer).

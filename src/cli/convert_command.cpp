@@ -35,17 +35,9 @@ struct ConvertCliOptions {
     bool json = false;
 };
 
-bool wants_laz(const std::string& out) {
-    std::string ext = out.size() >= 4 ? out.substr(out.size() - 4) : "";
-    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".laz") return true;
-    if (ext == ".las") return false;
-    throw Error(out, std::nullopt, "output must end in .las or .laz");
-}
-
 int run_convert(const ConvertCliOptions& o) {
     pipelines::ConvertOptions opt;
-    opt.compress = wants_laz(o.out);
+    opt.compress = pipelines::wants_laz(o.out);
     if (o.format >= 0) opt.point_format = static_cast<std::uint8_t>(o.format);
     opt.chunk_size = o.chunk_size;
     opt.variable_chunks = o.variable_chunks;

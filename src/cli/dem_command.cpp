@@ -1,5 +1,6 @@
 // `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
 // [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
+// [--returns first,last,single,intermediate] [--intensity MIN-MAX]
 // [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--threads N] [--json]`: a terrain or surface
 // model of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp).
@@ -14,11 +15,13 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/filter_options.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
+#include "cli/region_options.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/thread_options.hpp"
 #include "core/error.hpp"
@@ -35,26 +38,12 @@ struct DemCliOptions {
     std::vector<double> bounds;
     std::string from = "full";
     std::string method;  // empty: mean (full) or linear (overview)
-    std::string classes;
+    FilterTexts filter;
     std::string crs;
     std::optional<double> radius, power, max_edge;  // idw, idw, tin
     unsigned threads = 0;
     bool json = false;
 };
-
-// "2,9" -> {2, 9}: ASPRS class codes 0-255 (0 is "created, never classified").
-std::vector<int> parse_classes(const std::string& text) {
-    std::vector<int> out;
-    for (const std::string& item : split_commas(text)) {
-        const bool digits =
-            !item.empty() && item.size() <= 3 && item.find_first_not_of("0123456789") == std::string::npos;
-        if (!digits || std::stoi(item) > 255) {
-            throw Error("--classes expects class codes 0-255 separated by commas, not '" + text + "'");
-        }
-        out.push_back(std::stoi(item));
-    }
-    return out;
-}
 
 // One progress bar per stage, made when the stage first reports.
 class StageBars {
@@ -101,7 +90,10 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     r.source = raster::dem_source_from_name(o.from);
     r.method = raster::dem_method_from_name(o.method.empty() ? (r.source == raster::DemSource::Full ? "mean" : "linear")
                                                              : o.method, r.source);
-    if (!o.classes.empty()) r.classes = parse_classes(o.classes);
+    r.filter = o.filter.filter();
+    if (r.source == raster::DemSource::Overview && !r.filter.keeps_every_return()) {
+        throw Error("dem: --returns applies to --from full only: chunk points have no reliable returns");
+    }
     apply_method_parameters(o, r);
     r.model = o.model;
     r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
@@ -181,7 +173,9 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--max-edge", o->max_edge,
                     "tin: no height in triangles with a longer edge, metres (default 0: no limit)")
         ->check(non_negative_number());
-    cmd->add_option("--classes", o->classes, "Only these ASPRS classes, e.g. 2,9 for ground and water (default all)");
+    add_filter_options(*cmd, o->filter,
+                       "points gridded (--returns with --from full only: the overview's chunk points have no "
+                       "reliable returns)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
     add_output(*cmd, "--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
                io::OutputKind::GeoTiff);

@@ -231,7 +231,8 @@ std::vector<viewer::PointSet> decode_full_res(const RenderPlan& plan, const data
     for (const auto i : choice.tiles) {
         try {  // a corrupt chunk costs its points, a tile that cannot be opened its own
             out.push_back(viewer::tile_point_set(ds.tiles[i], ds.las_stride, pool,
-                                                 [&](std::uint64_t n) { progress.add(n); }, &skipped));
+                                                 [&](std::uint64_t n) { progress.add(n); }, &skipped,
+                                                 &plan.filter));
         } catch (const Error& e) {
             skipped.push_back({0, ds.tiles[i].tile.header.point_count, ErrorRecord::of(e)});
         }
@@ -403,8 +404,8 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--fixed-point-size", o->fixed_point_size, "Every full-resolution point --point-size pixels wide");
     cmd->add_option("--chunk-point-size", o->chunk_point_size, "Chunk point size in pixels (default 2)")
         ->check(CLI::Range(1, 64));
-    add_filter_options(*cmd, o->filter, "points drawn (chunk points: class and intensity only; heightmaps are "
-                                        "not filtered)");
+    add_filter_options(*cmd, o->filter, "points read and drawn (chunk points: class and intensity only; "
+                                        "heightmaps are not filtered)");
     cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--memory", o->memory,

@@ -2,6 +2,7 @@
 // into batches, one batch read or decoded), for_each_record_batch, and RecordPlacer (records to
 // points in the dataset's metres).
 #include "dataset/point_reader.hpp"
+#include "core/point_filter.hpp"
 
 #include <algorithm>
 #include <future>

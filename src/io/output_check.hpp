@@ -25,6 +25,7 @@ enum class OutputKind {
     Hillshade,     // .tif, .tiff (georeferenced) or .png (with a world file)
     Json,          // .json
     PointCloud,    // .las, .laz
+    Profile,       // .csv, .las, .laz, .png (a profile's points or image)
     TrainingData,  // lidarscout's own layout: any extension but those of the formats above
     Folder,        // a folder, created when missing (its parent must be writable)
 };

@@ -3,6 +3,7 @@
 #include "pipelines/tile_writer.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <vector>
 
 #include "core/error.hpp"
@@ -162,6 +163,14 @@ void check_losses(const las::FormatLosses& losses, const OutputPlan& plan, const
 constexpr std::uint64_t kSlicePoints = 65'536;
 
 }  // namespace
+
+bool wants_laz(const std::string& path) {
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".laz") return true;
+    if (ext == ".las") return false;
+    throw Error(path, std::nullopt, "output must end in .las or .laz");
+}
 
 ConvertResult convert_tile(const std::string& in_path, const std::string& out_path, const ConvertOptions& opt,
                            ThreadPool& pool, const ConvertProgressFn& progress) {

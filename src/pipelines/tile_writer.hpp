@@ -34,6 +34,10 @@ struct ConvertResult {
     std::vector<std::string> warnings;  // values the format cannot hold, written anyway (force)
 };
 
+// Whether a point-cloud output is LAZ (.laz) or LAS (.las), by its extension; throws lidarscout::Error
+// naming the path for another.
+bool wants_laz(const std::string& path);
+
 using ConvertProgressFn = std::function<void(std::uint64_t points_done)>;
 
 ConvertResult convert_tile(const std::string& in_path, const std::string& out_path, const ConvertOptions& options,

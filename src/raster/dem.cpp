@@ -111,13 +111,12 @@ void check_bounds_overlap(const dataset::Dataset& ds, const DemRequest& r, const
 // A DEM without a single point is an error, not an all-nodata file: nothing is written.
 void check_points_used(const DemResult& result, const DemRequest& r) {
     if (result.points_used > 0) return;
-    std::string classes;
-    for (const int c : r.classes) classes += (classes.empty() ? "" : ",") + std::to_string(c);
-    throw Error::in_stage("dem", classes.empty()
+    throw Error::in_stage("dem", r.filter.keeps_everything()
                                      ? "no point lies in the area; nothing written"
-                                     : "no point of the classes " + classes + " lies in the area (" +
+                                     : "no point of " + r.filter.describe() + " lies in the area (" +
                                            std::to_string(result.points_read) +
-                                           " points read); nothing written: leave out --classes or choose others");
+                                           " points read); nothing written: leave out --classes, --returns, "
+                                           "--intensity or choose others");
 }
 
 int block_texels(const DemRequest& r) {
@@ -212,7 +211,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (r.source == DemSource::Full) {
         FullDemOptions opt;
         opt.gridder = gridder_of(r);
-        opt.classes = ClassFilter::only(r.classes);
+        opt.filter = r.filter;
         opt.nodata = nodata;
         opt.progress = [&](std::uint64_t done, std::uint64_t total) {
             if (r.progress) r.progress("points", done, total);
@@ -228,7 +227,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         OverviewDemOptions opt;
         opt.network = r.method == DemMethod::Cnn;
         opt.model = r.model;
-        opt.classes = ClassFilter::only(r.classes);
+        opt.filter = r.filter;
         opt.nodata = nodata;
         opt.progress = [&](std::uint64_t done, std::uint64_t total) {
             if (r.progress) r.progress("patches", done, total);

@@ -44,7 +44,7 @@ struct DemRequest {
     std::optional<Area> area;  // in the dataset's CRS units (not metres); empty: the whole dataset
     DemSource source = DemSource::Full;
     DemMethod method = DemMethod::Mean;
-    std::vector<int> classes;  // empty: all
+    PointFilter filter;  // every point by default (overview: returns are not known, only class and intensity)
     double idw_radius_m = 0;   // idw: search radius around each texel centre (0: the texel's diagonal)
     double idw_power = 2;      // idw: weights 1 / distance^power
     double tin_max_edge_m = 0; // tin: no height in triangles with a longer edge (0: no limit)

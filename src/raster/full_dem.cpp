@@ -15,17 +15,6 @@
 
 namespace lidarscout::raster {
 
-ClassFilter ClassFilter::only(const std::vector<int>& classes) {
-    ClassFilter f;
-    if (classes.empty()) return f;
-    f.keep.fill(false);
-    for (const int c : classes) {
-        if (c < 0 || c > 255) throw Error::in_stage("dem", "a class must be 0-255 (not " + std::to_string(c) + ")");
-        f.keep[static_cast<std::size_t>(c)] = true;
-    }
-    return f;
-}
-
 namespace {
 
 // Blocks (inclusive index ranges) a tile may put points into.
@@ -241,8 +230,8 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
         blocks.expect(ranges[i]);
         if (!ranges[i].empty()) total += ds.tiles[i].tile.header.point_count;
     }
-    const std::uint32_t fields =
-        las::fields::kXyz | las::fields::kClassification | (outputs.rgb ? las::fields::kRgb : 0u);
+    const std::uint32_t fields = las::fields::kXyz | las::fields::kClassification | las::fields::kReturns |
+                                 las::fields::kIntensity | (outputs.rgb ? las::fields::kRgb : 0u);
     std::vector<std::uint32_t> order;
     for (const std::uint32_t t : tile_order(ds)) {
         if (!ranges[t].empty()) order.push_back(t);
@@ -250,7 +239,7 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
     std::vector<std::uint64_t> outside(ds.tiles.size(), 0);  // per tile: points beyond its header bounds
     const auto add = [&](std::uint32_t t, std::uint64_t, std::span<const dataset::MetricPoint> points) {
         for (const auto& p : points) {
-            if (!options.classes.keep[p.classification]) continue;
+            if (!options.filter.keeps_drawn(p.classification, p.return_kinds, p.intensity)) continue;
             const Added a = blocks.add(p, ranges[t]);
             stats.points_used += a == Added::Used;
             outside[t] += a == Added::OutsideTile;

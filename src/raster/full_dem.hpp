@@ -1,5 +1,5 @@
 // DEMs from every point (`lidarscout dem --from full`): tiles are streamed one at a time in
-// south-to-north order (LAZ chunks decoded in parallel), each point of the chosen classes is
+// south-to-north order (LAZ chunks decoded in parallel), each point the filter keeps is
 // given to the blocks within its reach (block_gridders.hpp: its texel for mean/min/max — the
 // same gridding as `eval`'s ground truth, so `--method mean` equals it texel by texel — the
 // texels within the radius for idw, the blocks whose margin holds it for tin), and a block is
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/point_filter.hpp"
 
 #include "raster/block_gridders.hpp"
 #include "raster/dem_grid.hpp"
@@ -28,17 +29,9 @@ struct Dataset;
 
 namespace lidarscout::raster {
 
-// Which ASPRS classes count: all by default.
-struct ClassFilter {
-    std::array<bool, 256> keep;
-    ClassFilter() { keep.fill(true); }
-    // Only the listed classes (an empty list keeps all).
-    static ClassFilter only(const std::vector<int>& classes);
-};
-
 struct FullDemOptions {
     GridderSpec gridder;  // mean/min/max, idw or tin (its rgb flag follows DemOutputs::rgb)
-    ClassFilter classes;
+    PointFilter filter;  // points it does not keep are left out
     float nodata = -9999.0f;
     // Called after each batch of points: (points done, points total).
     std::function<void(std::uint64_t, std::uint64_t)> progress;

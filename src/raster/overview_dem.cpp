@@ -133,7 +133,9 @@ struct PatchSpecs {
 void prepare(PatchJob& job, const lidarscout::PatchGrid& grid, const PatchSpecs& specs,
              const OverviewDemOptions& options) {
     std::vector<lidarscout::OverviewPoint> window = grid.window(job.cell, specs.wide.spec.pad_m());
-    std::erase_if(window, [&](const lidarscout::OverviewPoint& p) { return !options.classes.keep[p.classification]; });
+    std::erase_if(window, [&](const lidarscout::OverviewPoint& p) {
+        return !options.filter.keeps_class(p.classification) || !options.filter.keeps_intensity(p.intensity);
+    });
     const double x0 = grid.cell_min_x(job.cell), y0 = grid.cell_min_y(job.cell);
     job.wide = recon::make_patch_points(window, x0, y0, specs.wide);
     if (!job.ok()) return;

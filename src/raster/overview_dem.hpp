@@ -21,7 +21,7 @@
 
 #include "core/error.hpp"
 #include "raster/dem_grid.hpp"
-#include "raster/full_dem.hpp"  // ClassFilter, DemOutputs (and the declarations of ThreadPool, Dataset)
+#include "raster/full_dem.hpp"  // DemOutputs, PointFilter (and the declarations of ThreadPool, Dataset)
 
 namespace lidarscout::raster {
 
@@ -32,7 +32,8 @@ inline constexpr int kLinearPadTexels = 64;
 struct OverviewDemOptions {
     bool network = false;  // cnn instead of linear
     std::string model;     // empty: the shipped model
-    ClassFilter classes;   // chunk points of other classes are left out
+    // Chunk points it does not keep by class and intensity are left out (they have no returns).
+    PointFilter filter;
     std::size_t min_points = 6;
     float nodata = -9999.0f;
     std::function<void(std::uint64_t, std::uint64_t)> progress;  // (patches done, total)

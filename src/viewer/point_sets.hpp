@@ -11,6 +11,7 @@
 
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "core/point_filter.hpp"
 #include "core/patch_grid.hpp"
 #include "dataset/point_reader.hpp"
 #include "render/point_batch.hpp"
@@ -56,10 +57,11 @@ std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile);
 // bits by the tile's chunk points (dataset::colour_is_16bit), spacing = mean_point_spacing.
 // `progress(points)` is called after each batch of decoded points. Throws lidarscout::Error when
 // the tile cannot be decoded; with `skipped`, only when it cannot be opened: a LAZ chunk that
-// cannot be decoded is left out and appended to it.
+// cannot be decoded is left out and appended to it. With `filter`, only the points it keeps.
 PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
                         const std::function<void(std::uint64_t)>& progress = {},
-                        std::vector<dataset::SkippedChunk>* skipped = nullptr);
+                        std::vector<dataset::SkippedChunk>* skipped = nullptr,
+                        const PointFilter* filter = nullptr);
 
 // A sort key for a world position (metres); lower first.
 using PointOrder = std::function<double(double x, double y, double z)>;

@@ -118,7 +118,28 @@ TEST_F(DemCommand, BadOptionsAreOneLineErrors) {
     EXPECT_NE(out.find("--radius applies to --method idw only"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(base + " --method idw --max-edge 3 2>&1", out), 1);
     EXPECT_NE(out.find("--max-edge applies to --method tin only"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --from overview --returns last 2>&1", out), 1);
+    EXPECT_NE(out.find("--returns applies to --from full only"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --intensity 9-2 2>&1", out), 1);
+    EXPECT_NE(out.find("--intensity"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("x.tif")));
+}
+
+// --returns and --intensity (PointFilter) leave points out of a full-resolution DEM: the
+// Woodford tile's last returns with intensity 10 and more are fewer than all its points.
+TEST_F(DemCommand, ReturnsAndIntensityFilterTheFullDem) {
+    const std::string base = std::string(LIDARSCOUT_CLI) + " dem " +
+                             (test::surveys_dir() / "ky-woodford-county").string() + " --texel 4 --json -o ";
+    std::string out;
+    ASSERT_EQ(test::run_command(base + path("all.tif") + " 2>/dev/null", out), 0) << out;
+    const auto all = nlohmann::json::parse(out);
+    ASSERT_EQ(test::run_command(base + path("last.tif") + " --returns last --intensity 10- 2>/dev/null", out), 0)
+        << out;
+    const auto last = nlohmann::json::parse(out);
+    EXPECT_EQ(last.at("points_read"), all.at("points_read"));
+    EXPECT_EQ(all.at("points_used"), all.at("points_read"));
+    EXPECT_LT(last.at("points_used").get<std::uint64_t>(), all.at("points_used").get<std::uint64_t>());
+    EXPECT_GT(last.at("points_used").get<std::uint64_t>(), 0u);
 }
 
 std::string woodford() { return (test::surveys_dir() / "ky-woodford-county").string(); }
@@ -223,7 +244,7 @@ TEST_F(DemCommand, EmptyResultsAreErrorsThatSayWhy) {
     EXPECT_NE(out.find("do not overlap the data, which lies in "), std::string::npos) << out;
     EXPECT_NE(out.find("in the CRS's units: US survey foot); --bounds are not degrees"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(dem + "--classes 7 2>&1", out), 1);
-    EXPECT_NE(out.find("no point of the classes 7 lies in the area (2563625 points read); nothing written"),
+    EXPECT_NE(out.find("no point of classes 7 lies in the area (2563625 points read); nothing written"),
               std::string::npos) << out;
     EXPECT_TRUE(fs::is_empty(dir)) << "nothing may be left behind";
     EXPECT_EQ(test::run_command(dem + "--classes 0 > /dev/null 2>&1", out), 0);  // the control: its points are class 0

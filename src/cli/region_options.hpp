@@ -1,0 +1,42 @@
+// What `clip` and `profile` share at the CLI edge (their filter options: cli/filter_options.hpp):
+// opening the dataset, the points progress bar, and the report of the
+// region read (tiles touched and decoded, points, skipped tiles and chunks) for people and --json.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+#include "dataset/dataset.hpp"
+#include "pipelines/region_points.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace lidarscout::cli {
+
+// open_with_progress, skipped files and warnings on stderr, refused without a readable tile.
+dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,
+                                     const std::string& command);
+
+// A "COMMAND: points" progress bar for read_region_points.
+class PointsBar {
+public:
+    explicit PointsBar(const std::string& command);
+    ~PointsBar();
+    pipelines::PointProgressFn fn();
+
+private:
+    struct State;
+    std::unique_ptr<State> state_;
+};
+
+// tiles_touched, tiles_decoded, points_read, points_kept, points_skipped, skipped: [{file, offset, cause}]
+// (chunks and tiles left out while reading, then files the dataset could not open).
+nlohmann::json region_stats_json(const pipelines::RegionReadStats& stats, const dataset::Dataset& ds);
+// One stderr line per skipped tile or chunk; the exit status (3 when anything was skipped).
+int report_skips(const pipelines::RegionReadStats& stats, const dataset::Dataset& ds);
+
+}  // namespace lidarscout::cli

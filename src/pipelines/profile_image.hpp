@@ -1,0 +1,22 @@
+// A profile drawn as an image: distance along the line (left to right) against height (bottom to
+// top), each on its own scale (heights exaggerated to fill the image), each point a dot in its ASPRS
+// class colour, over grid lines at round steps of the CRS's units (their spacing is given back: the
+// image has no text).
+#pragma once
+
+#include "pipelines/profile.hpp"
+#include "render/resolve.hpp"
+
+namespace lidarscout::pipelines {
+
+struct ProfileImageScale {
+    double z_min = 0, z_max = 0;  // heights at the plot's bottom and top edges
+    double distance_step = 0, z_step = 0;  // the grid lines' spacing
+};
+
+// An image of width x height pixels, the plot inset by a margin; `scale` (when given) receives what
+// the axes span.
+render::RgbaImage profile_image(const Profile& profile, const Corridor& corridor, int width = 1600, int height = 600,
+                                ProfileImageScale* scale = nullptr);
+
+}  // namespace lidarscout::pipelines

@@ -1,0 +1,161 @@
+// read_region_points: the tiles touching a region, batch by batch, their points filtered in
+// parallel pieces and handed on in file order.
+#include "pipelines/region_points.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "core/thread_pool.hpp"
+#include "dataset/point_reader.hpp"
+#include "geo/polygon.hpp"
+#include "io/file.hpp"
+
+namespace lidarscout::pipelines {
+namespace {
+
+constexpr std::size_t kPiece = 1u << 15;  // records filtered per pool task
+
+// The kept points of one piece of a batch.
+struct Kept {
+    std::vector<std::uint8_t> records;
+    std::vector<RegionPoint> points;
+};
+
+// Where a tile's decoded point lies in the frame CRS's units: as stored when the tile is in that CRS
+// with its units, else placed (reprojected) in metres and divided back.
+struct FrameUnits {
+    FrameUnits(const dataset::DatasetTile& t, const dataset::Frame& frame)
+        : tile(t), f(frame.xy_to_metres), fz(frame.z_to_metres),
+          as_stored(!t.to_frame && t.xy_to_metres == f && t.z_to_metres == fz) {}
+
+    void operator()(const las::Point& p, double& x, double& y, double& z) const {
+        x = p.x, y = p.y, z = p.z;
+        if (as_stored) return;
+        tile.place(x, y, z);
+        x /= f, y /= f, z /= fz;
+    }
+
+    const dataset::DatasetTile& tile;
+    double f, fz;
+    bool as_stored;
+};
+
+void keep_piece(const dataset::DatasetTile& t, const FrameUnits& units, std::span<const std::uint8_t> records,
+                const Region& region, const PointFilter& filter, Kept& out) {
+    const auto& header = t.tile.header;
+    const auto& format = las::point_format_info(header.point_format);
+    const std::size_t length = header.record_length;
+    out.records.clear(), out.points.clear();
+    for (std::size_t at = 0; at + length <= records.size(); at += length) {
+        const auto record = records.subspan(at, length);
+        RegionPoint p{0, 0, 0, las::decode_point(record, format, header)};
+        if (!filter.keeps(p.point)) continue;
+        units(p.point, p.x, p.y, p.z);
+        if (!region.contains(p.x, p.y)) continue;
+        out.records.insert(out.records.end(), record.begin(), record.end());
+        out.points.push_back(p);
+    }
+}
+
+// Filters one batch's records on the pool and hands the kept ones to fn in file order.
+void keep_batch(const dataset::DatasetTile& t, const FrameUnits& units, std::uint32_t tile,
+                std::span<const std::uint8_t> records,
+                const Region& region, const PointFilter& filter, ThreadPool& pool, const RegionBatchFn& fn,
+                RegionReadStats& stats) {
+    const std::size_t length = t.tile.header.record_length, n = records.size() / length;
+    std::vector<Kept> pieces((n + kPiece - 1) / kPiece);
+    pool.for_each(pieces.size(), [&](std::size_t i) {
+        const std::size_t first = i * kPiece, count = std::min(kPiece, n - first);
+        keep_piece(t, units, records.subspan(first * length, count * length), region, filter, pieces[i]);
+    });
+    Kept all;
+    for (auto& piece : pieces) {
+        all.records.insert(all.records.end(), piece.records.begin(), piece.records.end());
+        all.points.insert(all.points.end(), piece.points.begin(), piece.points.end());
+    }
+    stats.points_read += n;
+    stats.points_kept += all.points.size();
+    if (!all.points.empty()) fn(RegionBatch{tile, all.records, all.points});
+}
+
+// One tile's batches; an Error opening it, reading a batch (not a chunk: those are skipped alone)
+// or placing a point leaves the rest of the tile out.
+void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& region,
+               const PointFilter& filter, ThreadPool& pool, const RegionBatchFn& fn, RegionReadStats& stats,
+               const std::function<void(std::uint64_t)>& advanced) {
+    const auto& t = ds.tiles[tile];
+    std::uint64_t done = 0;
+    try {
+        const io::File file = io::File::open(t.tile.path());
+        const dataset::RecordBatches batches(t.tile, 1u << 20);
+        const FrameUnits units(t, ds.frame);
+        ++stats.tiles_decoded;
+        std::vector<std::uint8_t> records;
+        std::vector<dataset::SkippedChunk> skipped;
+        for (std::size_t k = 0; k < batches.size(); ++k) {
+            skipped.clear();
+            batches.read(file, k, records, las::fields::kAll, pool, &skipped);
+            for (const auto& s : skipped) stats.skipped.push_back(s.error), stats.points_skipped += s.points;
+            keep_batch(t, units, tile, records, region, filter, pool, fn, stats);
+            done += batches.point_count(k);
+            advanced(batches.point_count(k));
+        }
+    } catch (const Error& e) {
+        stats.skipped.push_back(ErrorRecord::of(e.file().empty() ? e.with_file(t.tile.path()) : e));
+        stats.points_skipped += t.tile.header.point_count - std::min(done, t.tile.header.point_count);
+        advanced(t.tile.header.point_count - std::min(done, t.tile.header.point_count));
+    }
+}
+
+}  // namespace
+
+Region box_region(double min_x, double min_y, double max_x, double max_y) {
+    Region r;
+    r.box.min_x = min_x, r.box.min_y = min_y, r.box.max_x = max_x, r.box.max_y = max_y;
+    r.box.min_z = -INFINITY, r.box.max_z = INFINITY;
+    const dataset::Bounds b = r.box;
+    r.contains = [b](double x, double y) { return x >= b.min_x && x <= b.max_x && y >= b.min_y && y <= b.max_y; };
+    r.touches = [b](const dataset::Bounds& t) {
+        return t.min_x <= b.max_x && t.max_x >= b.min_x && t.min_y <= b.max_y && t.max_y >= b.min_y;
+    };
+    return r;
+}
+
+Region polygon_region(geo::MultiPolygon polygon) {
+    const auto shape = std::make_shared<const geo::MultiPolygon>(std::move(polygon));
+    Region r = box_region(shape->min_x(), shape->min_y(), shape->max_x(), shape->max_y());
+    r.contains = [shape](double x, double y) { return shape->contains(x, y); };
+    r.touches = [shape](const dataset::Bounds& t) { return shape->touches_box(t.min_x, t.min_y, t.max_x, t.max_y); };
+    return r;
+}
+
+std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Region& region) {
+    std::vector<std::uint32_t> out;
+    const double f = ds.frame.xy_to_metres;
+    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
+        const auto& m = ds.tiles[i].bounds_m;
+        if (m.empty()) continue;
+        dataset::Bounds b = m;
+        b.min_x /= f, b.min_y /= f, b.max_x /= f, b.max_y /= f;
+        if (region.touches(b)) out.push_back(i);
+    }
+    return out;
+}
+
+RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
+                                   const Region& region, const PointFilter& filter, ThreadPool& pool,
+                                   const RegionBatchFn& fn, const PointProgressFn& progress) {
+    RegionReadStats stats;
+    stats.tiles_touched.assign(tiles.begin(), tiles.end());
+    std::uint64_t total = 0, done = 0;
+    for (const auto t : tiles) total += ds.tiles[t].tile.header.point_count;
+    const auto advanced = [&](std::uint64_t n) {
+        done += n;
+        if (progress) progress(done, total);
+    };
+    for (const auto t : tiles) read_tile(ds, t, region, filter, pool, fn, stats, advanced);
+    return stats;
+}
+
+}  // namespace lidarscout::pipelines

@@ -1,0 +1,77 @@
+// The points of a dataset inside an area on the ground, at full resolution: only the tiles whose
+// bounds touch the area are opened and decoded, each point is placed in the dataset's frame and
+// kept when it lies in the area and passes a PointFilter; a tile or LAZ chunk that
+// cannot be read is named and left out. What `clip` and `profile` read (one reader for both).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "core/error.hpp"
+#include "dataset/dataset.hpp"
+#include "core/point_filter.hpp"
+#include "las/point_format.hpp"
+
+namespace lidarscout {
+class ThreadPool;
+}
+namespace lidarscout::geo {
+class MultiPolygon;
+}
+
+namespace lidarscout::pipelines {
+
+// An area in the units of the dataset frame's CRS (as the command line gives it): the box around it,
+// whether a box (a tile's bounds) shares a point with it (which tiles are read) and the test of one
+// position (x, y); neither test passes outside `box`.
+struct Region {
+    dataset::Bounds box;
+    std::function<bool(const dataset::Bounds& b)> touches;
+    std::function<bool(double x, double y)> contains;
+};
+
+// xmin, ymin, xmax, ymax; edges inside.
+Region box_region(double min_x, double min_y, double max_x, double max_y);
+// A polygon (held by the region).
+Region polygon_region(geo::MultiPolygon polygon);
+
+// A kept point: where it lies in the frame CRS's units (the file's coordinates as stored when the
+// tile is in that CRS, else reprojected) and the record decoded.
+struct RegionPoint {
+    double x = 0, y = 0, z = 0;
+    las::Point point;
+};
+
+// Kept points of one tile, in file order: their records (the tile's record_length each, as stored)
+// and the same points decoded and placed.
+struct RegionBatch {
+    std::uint32_t tile = 0;
+    std::span<const std::uint8_t> records;
+    std::span<const RegionPoint> points;
+};
+
+struct RegionReadStats {
+    std::vector<std::uint32_t> tiles_touched;  // tiles whose bounds touch the region's box, in dataset order
+    std::uint64_t tiles_decoded = 0;           // of them, those whose points were decoded
+    std::uint64_t points_read = 0, points_kept = 0;
+    std::uint64_t points_skipped = 0;          // in chunks or tiles that could not be read
+    std::vector<ErrorRecord> skipped;          // those chunks and tiles, named
+};
+
+// The tiles whose bounds (xy) the region touches, in dataset order.
+std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Region& region);
+
+using RegionBatchFn = std::function<void(const RegionBatch&)>;
+using PointProgressFn = std::function<void(std::uint64_t points_done, std::uint64_t points_total)>;
+
+// Reads `tiles` (tiles_touching the region) one after the other, calling fn with the kept points
+// of each batch (about a million points read, decoded in parallel on `pool`). A tile that cannot
+// be opened or placed (a point outside its CRS's area) or a LAZ chunk that cannot be decoded is
+// left out and named in the result. fn may not use `pool`.
+RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
+                                   const Region& region, const PointFilter& filter, ThreadPool& pool,
+                                   const RegionBatchFn& fn, const PointProgressFn& progress = nullptr);
+
+}  // namespace lidarscout::pipelines

@@ -1,0 +1,121 @@
+// `lidarscout clip` and `lidarscout profile` as a user runs them: --json counts, the output read back
+// by `info`; a corrupt chunk named on one stderr line and skipped (exit 3); an output named like an
+// input refused with the input unchanged; bad WKT, bad filters and a missing area as one-line errors
+// (exit 1); a profile as CSV, LAZ and PNG with the same points.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <nlohmann/json.hpp>
+
+#include "core/sha256.hpp"
+#include "damaged_tile.hpp"
+#include "png_test_util.hpp"
+#include "temp_dir_fixture.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+class ClipCommand : public test::TempDirTest {
+protected:
+    static std::string woodford() {
+        return (test::surveys_dir() / "ky-woodford-county" / "5205000_3900000.laz").string();
+    }
+    static std::string cli() { return std::string(LIDARSCOUT_CLI) + " "; }
+    // The western half of the Woodford tile, in its CRS's US survey feet.
+    static constexpr const char* kWest = " --bounds 5208000,3902900,5209000,3905100";
+};
+
+TEST_F(ClipCommand, JsonCountsAndTheOutputReadsBack) {
+    std::string out;
+    ASSERT_EQ(test::run_command(cli() + "clip " + woodford() + kWest + " --returns first -o " + path("west.laz") +
+                                    " --json 2>/dev/null", out), 0) << out;
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("tiles_touched"), 1);
+    EXPECT_EQ(j.at("tiles_decoded"), 1);
+    EXPECT_EQ(j.at("points_read"), 1'012'412u);
+    const auto written = j.at("points_written").get<std::uint64_t>();
+    EXPECT_GT(written, 100'000u);
+    EXPECT_LT(written, 1'012'412u);
+    EXPECT_TRUE(j.at("skipped").empty());
+    ASSERT_EQ(test::run_command(cli() + "info " + path("west.laz") + " 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("EPSG:3089"), std::string::npos) << out;
+    EXPECT_NE(out.find(std::to_string(written).insert(std::to_string(written).size() - 3, ",")), std::string::npos)
+        << out;
+}
+
+TEST_F(ClipCommand, CorruptChunkIsNamedAndSkipped) {
+    const auto tile = test::damaged_tile(dir).string();
+    std::string out;
+    const int status = test::run_command(cli() + "clip " + tile + " --bounds 0,0,1e8,1e8 -o " + path("c.laz") +
+                                             " --json 2>" + path("err.txt"), out);
+    EXPECT_EQ(status, 3) << out;
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("points_written"), 1'012'412u - test::kDamagedChunkPoints);
+    ASSERT_EQ(j.at("skipped").size(), 1u) << out;
+    EXPECT_EQ(j.at("skipped")[0].at("file"), tile);
+    const std::string err = read_text(path("err.txt"));
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    EXPECT_NE(err.find("skipped " + tile + ": at byte "), std::string::npos) << err;
+}
+
+TEST_F(ClipCommand, AnOutputNamedLikeAnInputIsRefused) {
+    fs::copy_file(woodford(), dir / "tile.laz");
+    fs::permissions(dir / "tile.laz", fs::perms::owner_write, fs::perm_options::add);
+    const std::string before = read_text(path("tile.laz"));
+    std::string out;
+    EXPECT_EQ(test::run_command(cli() + "clip " + path("tile.laz") + kWest + " -o " + path("tile.laz") + " 2>&1",
+                                out), 1);
+    EXPECT_NE(out.find("refusing the output of -o"), std::string::npos) << out;
+    EXPECT_EQ(read_text(path("tile.laz")), before);
+    EXPECT_EQ(test::run_command(cli() + "profile " + path("tile.laz") + " --line 5205000,3900000,5206000,3901000 -o " +
+                                    path("tile.laz") + " 2>&1", out), 1);
+    EXPECT_EQ(read_text(path("tile.laz")), before);
+}
+
+TEST_F(ClipCommand, BadOptionsAreOneLineErrors) {
+    std::string out;
+    const std::string base = cli() + "clip " + woodford() + " -o " + path("x.laz");
+    EXPECT_EQ(test::run_command(base + " --polygon 'POLYGON ((0 0, 1 0, 1 1)' 2>&1", out), 1);
+    EXPECT_NE(out.find("expected ')'"), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+    EXPECT_EQ(test::run_command(base + kWest + " --classes 2,300 2>&1", out), 1);
+    EXPECT_NE(out.find("--classes"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " 2>&1", out), 1);
+    EXPECT_NE(out.find("either --bounds or --polygon"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --bounds 0,0,1,1 2>&1", out), 1);
+    EXPECT_NE(out.find("no tile touches the area"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(path("x.laz")));
+}
+
+TEST_F(ClipCommand, ProfileAsCsvLazAndPng) {
+    const std::string base = cli() + "profile " + woodford() + " --line 5205500,3900500,5209500,3904000 --width 10 -o ";
+    std::string out;
+    ASSERT_EQ(test::run_command(base + path("p.csv") + " --json 2>/dev/null", out), 0) << out;
+    const auto points = nlohmann::json::parse(out).at("points_written").get<std::uint64_t>();
+    EXPECT_GT(points, 1000u);
+    const std::string csv = read_text(path("p.csv"));
+    EXPECT_EQ(static_cast<std::uint64_t>(std::count(csv.begin(), csv.end(), '\n')), points + 1);
+    ASSERT_EQ(test::run_command(base + path("p.laz") + " --json 2>/dev/null", out), 0) << out;
+    EXPECT_EQ(nlohmann::json::parse(out).at("points_written").get<std::uint64_t>(), points);
+    ASSERT_EQ(test::run_command(base + path("p.png") + " 2>&1", out), 0) << out;
+    const auto png = test::read_png(path("p.png"));
+    EXPECT_EQ(png.width, 1600);
+    EXPECT_EQ(png.height, 600);
+    EXPECT_EQ(test::run_command(base + path("p.txt") + " 2>&1", out), 1);
+    EXPECT_NE(out.find(".csv"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace lidarscout

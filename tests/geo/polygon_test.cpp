@@ -1,0 +1,81 @@
+// geo::MultiPolygon: points inside, outside, on edges and vertices, in holes and in the parts of a
+// multipolygon; WKT and GeoJSON parsed, and their errors naming what was expected.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "core/error.hpp"
+#include "geo/polygon.hpp"
+
+namespace lidarscout::geo {
+namespace {
+
+std::string error_of(const std::string& wkt) {
+    try {
+        parse_wkt_polygon(wkt);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Polygon, SquareWithHoleEdgesInside) {
+    const auto p = parse_wkt_polygon("POLYGON ((0 0, 10 0, 10 10, 0 10, 0 0), (4 4, 6 4, 6 6, 4 6, 4 4))");
+    EXPECT_TRUE(p.contains(1, 1));
+    EXPECT_TRUE(p.contains(0, 5));    // on an outer edge
+    EXPECT_TRUE(p.contains(10, 10));  // a vertex
+    EXPECT_TRUE(p.contains(4, 5));    // on the hole's edge
+    EXPECT_FALSE(p.contains(5, 5));   // in the hole
+    EXPECT_FALSE(p.contains(10.000001, 5));
+    EXPECT_FALSE(p.contains(-1, 0));  // on the line of the bottom edge, outside
+    EXPECT_FALSE(p.contains(11, 10)); // on the line of the top edge, outside
+    EXPECT_DOUBLE_EQ(p.area(), 96.0);
+}
+
+TEST(Polygon, MultiPolygonPartsAndATriangle) {
+    const auto p = parse_wkt_polygon("multipolygon Z (((0 0 1, 2 0 1, 0 2 1)), ((5 5 0, 7 5 0, 7 7 0, 5 7 0)))");
+    EXPECT_TRUE(p.contains(0.5, 0.5));
+    EXPECT_TRUE(p.contains(1, 1));  // on the hypotenuse
+    EXPECT_FALSE(p.contains(1.01, 1.01));
+    EXPECT_TRUE(p.contains(6, 6));
+    EXPECT_FALSE(p.contains(3, 3));
+    EXPECT_EQ(p.polygons().size(), 2u);
+    EXPECT_DOUBLE_EQ(p.min_x(), 0);
+    EXPECT_DOUBLE_EQ(p.max_y(), 7);
+}
+
+TEST(Polygon, TouchesBox) {
+    const auto p = parse_wkt_polygon("POLYGON ((0 0, 10 0, 0 10), (1 1, 3 1, 1 3))");
+    EXPECT_TRUE(p.touches_box(-5, -5, 20, 20));   // the polygon inside the box
+    EXPECT_TRUE(p.touches_box(0.5, 0.5, 0.6, 0.6));  // the box inside the polygon
+    EXPECT_TRUE(p.touches_box(5, 5, 8, 8));       // a corner on the hypotenuse
+    EXPECT_FALSE(p.touches_box(5.1, 5.1, 8, 8));  // within the polygon's box, beyond the hypotenuse
+    EXPECT_FALSE(p.touches_box(1.2, 1.2, 1.4, 1.4));  // inside the hole
+    EXPECT_TRUE(p.touches_box(-1, 4, 11, 4.5));   // crossing, no vertex inside either
+    EXPECT_FALSE(p.touches_box(11, 0, 12, 1));
+}
+
+TEST(Polygon, GeoJsonFeatureCollection) {
+    const auto p = parse_geojson_polygon(R"({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "properties": {}, "geometry": {"type": "Polygon",
+         "coordinates": [[[0, 0], [10, 0], [10, 10], [0, 10], [0, 0]], [[4, 4], [6, 4], [6, 6], [4, 6], [4, 4]]]}},
+        {"type": "Feature", "geometry": {"type": "MultiPolygon", "coordinates": [[[[20, 0], [30, 0], [30, 10]]]]}}]})");
+    EXPECT_TRUE(p.contains(1, 1));
+    EXPECT_FALSE(p.contains(5, 5));
+    EXPECT_TRUE(p.contains(29, 1));
+    EXPECT_FALSE(p.contains(21, 9));
+    EXPECT_THROW(parse_geojson_polygon(R"({"type": "Point", "coordinates": [1, 2]})"), Error);
+    EXPECT_THROW(parse_geojson_polygon("{not json"), Error);
+}
+
+TEST(Polygon, WktErrorsNameWhatWasExpected) {
+    EXPECT_NE(error_of("LINESTRING (0 0, 1 1)").find("expected POLYGON or MULTIPOLYGON"), std::string::npos);
+    EXPECT_NE(error_of("POLYGON ((0 0, 1 0, 1 1)").find("expected ')' at character 25"), std::string::npos);
+    EXPECT_NE(error_of("POLYGON ((0 0, 1 x, 1 1))").find("expected a number"), std::string::npos);
+    EXPECT_NE(error_of("POLYGON ((0 0, 1 0, 0 0))").find("at least 3 distinct vertices"), std::string::npos);
+    EXPECT_NE(error_of("POLYGON ((0 0, 1 0, 1 1)) junk").find("the end of the text"), std::string::npos);
+    EXPECT_EQ(error_of("POLYGON((0 0,1 0,1 1))"), "");
+}
+
+}  // namespace
+}  // namespace lidarscout::geo

@@ -1,0 +1,235 @@
+// pipelines::clip_to_file and read_region_points: real files of point formats 1, 3, 6 and 7 clipped
+// by a polygon with a hole and a filter give the records a brute-force pass over the file keeps
+// (count and SHA-256 of the records), and the clip decodes again through our decoder with the same
+// SHA; header fields and VLRs kept. On a grid of tiles only the touched tiles are decoded; tiles of
+// mixed point formats are refused naming both; a corrupt tile is named and skipped.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/sha256.hpp"
+#include "core/thread_pool.hpp"
+#include "damaged_tile.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/point_reader.hpp"
+#include "geo/polygon.hpp"
+#include "io/file.hpp"
+#include "las_fixture.hpp"
+#include "pipelines/clip.hpp"
+#include "temp_dir_fixture.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout::pipelines {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Records {
+    std::uint64_t count = 0;
+    std::string sha;
+};
+
+// Every record of a one-tile dataset's tile that `keep` keeps (decoded in file units), hashed.
+template <class Keep>
+Records brute_force(const dataset::Tile& tile, Keep&& keep) {
+    Sha256 sha;
+    Records out;
+    const auto& f = las::point_format_info(tile.header.point_format);
+    const std::size_t n = tile.header.record_length;
+    dataset::for_each_record_batch(io::File::open(tile.path()), tile, ThreadPool::shared(),
+                                   [&](std::uint64_t, std::span<const std::uint8_t> records) {
+                                       for (std::size_t k = 0; k + n <= records.size(); k += n) {
+                                           const auto r = records.subspan(k, n);
+                                           if (!keep(las::decode_point(r, f, tile.header))) continue;
+                                           sha.update(r);
+                                           ++out.count;
+                                       }
+                                   });
+    out.sha = sha.hex_digest();
+    return out;
+}
+
+Records all_records(const std::string& path) {
+    const auto ds = dataset::open_dataset({path});
+    EXPECT_EQ(ds.tiles.size(), 1u);
+    return brute_force(ds.tiles.at(0).tile, [](const las::Point&) { return true; });
+}
+
+// A square over the middle 80% of the tile with a square hole over the middle 20%, as WKT.
+std::string polygon_with_hole(const las::Header& h) {
+    const auto at = [&](int axis, double t) { return h.min[axis] + t * (h.max[axis] - h.min[axis]); };
+    const auto ring = [&](double a, double b) {
+        char s[256];
+        std::snprintf(s, sizeof s, "(%.4f %.4f, %.4f %.4f, %.4f %.4f, %.4f %.4f)", at(0, a), at(1, a), at(0, b),
+                      at(1, a), at(0, b), at(1, b), at(0, a), at(1, b));
+        return std::string(s);
+    };
+    return "POLYGON (" + ring(0.1, 0.9) + ", " + ring(0.4, 0.6) + ")";
+}
+
+class ClipFormats : public test::TempDirTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(ClipFormats, RecordsEqualABruteForcePolygonFilter) {
+    const std::string source = (test::formats_dir() / GetParam()).string();
+    const auto ds = dataset::open_dataset({source});
+    ASSERT_EQ(ds.tiles.size(), 1u) << (ds.skipped.empty() ? "" : ds.skipped[0].error);
+    const auto& tile = ds.tiles[0].tile;
+    const geo::MultiPolygon polygon = geo::parse_wkt_polygon(polygon_with_hole(tile.header));
+    ClipRequest request;
+    request.output = path("clip.laz");
+    request.region = polygon_region(polygon);
+    request.filter = PointFilter::parse("", "", "1-");  // intensity 0 left out
+    const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+
+    const Records expected = brute_force(tile, [&](const las::Point& p) {
+        return p.intensity >= 1 && polygon.contains(p.x, p.y);
+    });
+    EXPECT_GT(expected.count, 0u);
+    EXPECT_LT(expected.count, tile.header.point_count);
+    EXPECT_EQ(r.points_written, expected.count);
+    EXPECT_EQ(r.read.points_read, tile.header.point_count);
+    EXPECT_EQ(r.read.tiles_decoded, 1u);
+    const Records written = all_records(request.output);
+    EXPECT_EQ(written.count, expected.count);
+    EXPECT_EQ(written.sha, expected.sha);
+
+    const auto out = dataset::open_dataset({request.output});
+    const auto& h = out.tiles.at(0).tile.header;
+    EXPECT_EQ(h.point_format, tile.header.point_format);
+    EXPECT_EQ(h.record_length, tile.header.record_length);
+    EXPECT_EQ(h.scale, tile.header.scale);
+    EXPECT_EQ(h.offset, tile.header.offset);
+    EXPECT_EQ(h.version_string(), tile.header.version_string());
+    EXPECT_EQ(h.system_identifier, tile.header.system_identifier);
+    EXPECT_EQ(out.tiles[0].tile.crs().epsg, tile.crs().epsg);
+    EXPECT_EQ(out.tiles[0].tile.vlrs().size(), tile.vlrs().size() + (tile.compressed() ? 0 : 1));  // + LASzip
+    EXPECT_EQ(out.frame.crs, ds.frame.crs);
+    EXPECT_GE(h.min[0], polygon.min_x() - 1e-6);
+    EXPECT_LE(h.max[0], polygon.max_x() + 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    PointFormats1367, ClipFormats,
+    ::testing::Values("r-lidar__lidR/inst__extdata__Topography.laz", "PDAL__PDAL/test__data__laz__autzen_trim.laz",
+                      "IGNF__ctview/data__las__classee__test_data_77050_627755_LA93_IGN69.las",
+                      "PDAL__PDAL/test__data__las__autzen_trim_7.las"));
+
+// A 3 x 3 grid of 100 m tiles (a point every 5 m), each with its own offset.
+class ClipGrid : public test::TempDirTest {
+protected:
+    void SetUp() override {
+        TempDirTest::SetUp();
+        for (int ty = 0; ty < 3; ++ty) {
+            for (int tx = 0; tx < 3; ++tx) {
+                std::vector<test::FixturePoint> points;
+                for (int i = 0; i < 20; ++i) {
+                    for (int j = 0; j < 20; ++j) {
+                        const double x = 500000 + tx * 100 + i * 5 + 1.25, y = 4200000 + ty * 100 + j * 5 + 1.25;
+                        points.push_back({x, y, 100 + 0.01 * i, static_cast<std::uint8_t>(j % 2 ? 2 : 5)});
+                    }
+                }
+                tiles.push_back(path(("t" + std::to_string(tx) + std::to_string(ty) + ".laz").c_str()));
+                test::write_fixture(tiles.back(), points, 32616, true, 100);
+            }
+        }
+    }
+    std::vector<std::string> tiles;
+};
+
+TEST_F(ClipGrid, OnlyTouchedTilesAreDecoded) {
+    const auto ds = dataset::open_dataset(tiles);
+    ASSERT_EQ(ds.tiles.size(), 9u);
+    ClipRequest request;
+    request.output = path("out.las");
+    // Across the border of tiles (0,0) and (1,0) only; classes 2.
+    request.region = box_region(500090, 4200010, 500110, 4200030);
+    request.filter = PointFilter::parse("2", "", "");
+    const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+    EXPECT_EQ(r.read.tiles_touched.size(), 2u);
+    EXPECT_EQ(r.read.tiles_decoded, 2u);
+    EXPECT_EQ(r.read.points_read, 800u);
+    // x in {91.25, 96.25, 101.25, 106.25}, y in {11.25, 16.25, 21.25, 26.25}, j odd (class 2): y 16.25, 26.25.
+    EXPECT_EQ(r.points_written, 8u);
+    const auto out = dataset::open_dataset({request.output});
+    const auto points = test::read_points_back(out);
+    ASSERT_EQ(points.size(), 8u);
+    for (const auto& p : points) {  // re-quantized exactly from the second tile's offset
+        EXPECT_GE(p[0], 500090);
+        EXPECT_LE(p[0], 500110);
+        const double fx = p[0] - 1.25 - 500000, fy = p[1] - 1.25 - 4200000;
+        EXPECT_DOUBLE_EQ(fx / 5, std::round(fx / 5));
+        EXPECT_DOUBLE_EQ(fy / 5, std::round(fy / 5));
+    }
+}
+
+TEST_F(ClipGrid, APolygonDecodesOnlyTheTilesItTouches) {
+    const auto ds = dataset::open_dataset(tiles);
+    ClipRequest request;
+    request.output = path("out.laz");
+    // A thin quadrilateral along the diagonal from tile (0,0) to tile (2,2): its box covers all 9 tiles.
+    request.region = polygon_region(geo::parse_wkt_polygon(
+        "POLYGON ((500010 4200008, 500295 4200293, 500293 4200295, 500008 4200010))"));
+    const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+    EXPECT_EQ(r.read.tiles_touched.size(), 3u);
+    EXPECT_EQ(r.read.tiles_decoded, 3u);
+    EXPECT_EQ(r.read.points_read, 3 * 400u);
+    EXPECT_GT(r.points_written, 0u);
+}
+
+TEST_F(ClipGrid, MissingTileIsNamedAndSkipped) {
+    const auto ds = dataset::open_dataset(tiles);
+    fs::remove(tiles[4]);  // tile (1,1) gone after the dataset was opened
+    ClipRequest request;
+    request.output = path("out.laz");
+    request.region = box_region(500000, 4200000, 500300, 4200300);
+    const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+    EXPECT_EQ(r.points_written, 8 * 400u);
+    EXPECT_EQ(r.read.tiles_decoded, 8u);
+    ASSERT_EQ(r.read.skipped.size(), 1u);
+    EXPECT_NE(r.read.skipped[0].file.find("t11.laz"), std::string::npos);
+    EXPECT_EQ(r.read.points_skipped, 400u);
+}
+
+TEST_F(ClipGrid, CorruptChunkIsNamedAndSkipped) {
+    const auto damaged = test::damaged_tile(dir);
+    const auto ds = dataset::open_dataset({damaged.string()});
+    const auto& h = ds.tiles.at(0).tile.header;
+    ClipRequest request;
+    request.output = path("out.laz");
+    request.region = box_region(h.min[0], h.min[1], h.max[0], h.max[1]);
+    const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+    ASSERT_EQ(r.read.skipped.size(), 1u);
+    EXPECT_NE(r.read.skipped[0].file.find("damaged.laz"), std::string::npos);
+    EXPECT_EQ(r.read.points_skipped, test::kDamagedChunkPoints);
+    EXPECT_EQ(r.points_written, h.point_count - test::kDamagedChunkPoints);
+}
+
+TEST_F(ClipGrid, MixedPointFormatsAreRefusedNamingBoth) {
+    const std::string other = (test::formats_dir() / "PDAL__PDAL/test__data__laz__autzen_trim.laz").string();
+    const auto autzen = dataset::open_dataset({other});
+    const auto& h = autzen.tiles.at(0).tile.header;
+    // A fixture tile without a CRS (taken to be in the frame's, in metres) on autzen's area (in feet).
+    const double f = autzen.frame.xy_to_metres;
+    std::vector<test::FixturePoint> points = {{(h.min[0] + 10) * f, (h.min[1] + 10) * f, h.min[2]}};
+    write_fixture(path("moved.las"), points, 0);
+    const auto ds = dataset::open_dataset({other, path("moved.las")});
+    ASSERT_EQ(ds.tiles.size(), 2u);
+    ClipRequest request;
+    request.output = path("out.laz");
+    request.region = box_region(h.min[0], h.min[1], h.max[0], h.max[1]);
+    try {
+        clip_to_file(ds, request, ThreadPool::shared());
+        FAIL() << "mixed formats were not refused";
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("autzen_trim.laz (format 3"), std::string::npos) << what;
+        EXPECT_NE(what.find("moved.las (format 2"), std::string::npos) << what;
+    }
+    EXPECT_FALSE(fs::exists(request.output));
+}
+
+}  // namespace
+}  // namespace lidarscout::pipelines
