@@ -16,7 +16,7 @@
 #include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
-#include "geo/polygon.hpp"
+#include "core/polygon.hpp"
 #include "pipelines/clip.hpp"
 
 namespace lidarscout::cli {
@@ -33,7 +33,7 @@ struct ClipCliOptions {
 
 pipelines::Region clip_region(const ClipCliOptions& o) {
     if (o.bounds.empty() == o.polygon.empty()) throw Error("clip: give either --bounds or --polygon");
-    if (!o.polygon.empty()) return pipelines::polygon_region(geo::read_polygon_argument(o.polygon));
+    if (!o.polygon.empty()) return pipelines::polygon_region(read_polygon_argument(o.polygon));
     if (!(o.bounds[0] <= o.bounds[2] && o.bounds[1] <= o.bounds[3])) {
         throw Error("clip: --bounds expects xmin,ymin,xmax,ymax with xmin <= xmax and ymin <= ymax");
     }

@@ -8,7 +8,7 @@
 
 #include "core/thread_pool.hpp"
 #include "dataset/point_reader.hpp"
-#include "geo/polygon.hpp"
+#include "core/polygon.hpp"
 #include "io/file.hpp"
 
 namespace lidarscout::pipelines {
@@ -122,8 +122,8 @@ Region box_region(double min_x, double min_y, double max_x, double max_y) {
     return r;
 }
 
-Region polygon_region(geo::MultiPolygon polygon) {
-    const auto shape = std::make_shared<const geo::MultiPolygon>(std::move(polygon));
+Region polygon_region(MultiPolygon polygon) {
+    const auto shape = std::make_shared<const MultiPolygon>(std::move(polygon));
     Region r = box_region(shape->min_x(), shape->min_y(), shape->max_x(), shape->max_y());
     r.contains = [shape](double x, double y) { return shape->contains(x, y); };
     r.touches = [shape](const dataset::Bounds& t) { return shape->touches_box(t.min_x, t.min_y, t.max_x, t.max_y); };

@@ -15,11 +15,9 @@
 #include "las/point_format.hpp"
 
 namespace lidarscout {
-class ThreadPool;
-}
-namespace lidarscout::geo {
 class MultiPolygon;
-}
+class ThreadPool;
+}  // namespace lidarscout
 
 namespace lidarscout::pipelines {
 
@@ -35,7 +33,7 @@ struct Region {
 // xmin, ymin, xmax, ymax; edges inside.
 Region box_region(double min_x, double min_y, double max_x, double max_y);
 // A polygon (held by the region).
-Region polygon_region(geo::MultiPolygon polygon);
+Region polygon_region(MultiPolygon polygon);
 
 // A kept point: where it lies in the frame CRS's units (the file's coordinates as stored when the
 // tile is in that CRS, else reprojected) and the record decoded.

@@ -8,28 +8,11 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/polygon.hpp"
 #include "recon/texel_stats.hpp"
 
 namespace lidarscout::recon {
 namespace {
-
-double shoelace(std::span<const Point3> ring) {
-    double twice = 0;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        twice += ring[j][0] * ring[i][1] - ring[i][0] * ring[j][1];
-    }
-    return std::abs(twice) / 2;
-}
-
-// Even-odd rule; a point on an edge may fall either way.
-bool inside(std::span<const Point3> ring, double x, double y) {
-    bool in = false;
-    for (std::size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++) {
-        const double xi = ring[i][0], yi = ring[i][1], xj = ring[j][0], yj = ring[j][1];
-        if ((yi > y) != (yj > y) && x < (xj - xi) * (y - yi) / (yj - yi) + xi) in = !in;
-    }
-    return in;
-}
 
 // z = a + b x + c y through the vertices (least squares, centred for precision).
 std::array<double, 3> vertex_plane(std::span<const Point3> ring) {
@@ -62,7 +45,14 @@ struct Grid {
     std::size_t at(int i, int j) const { return static_cast<std::size_t>(j) * nx + i; }
 };
 
-Grid make_grid(std::span<const Point3> ring, double cell) {
+// The polygon's outline as a MultiPolygon (the point-in-polygon test and area of clip's).
+MultiPolygon outline(std::span<const Point3> ring) {
+    Ring xy;
+    for (const auto& p : ring) xy.push_back({p[0], p[1]});
+    return MultiPolygon({{xy}});
+}
+
+Grid make_grid(std::span<const Point3> ring, const MultiPolygon& shape, double cell) {
     double x0 = ring[0][0], x1 = x0, y0 = ring[0][1], y1 = y0;
     for (const auto& p : ring) x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]), y0 = std::min(y0, p[1]),
                                y1 = std::max(y1, p[1]);
@@ -79,7 +69,7 @@ Grid make_grid(std::span<const Point3> ring, double cell) {
     g.in.resize(g.stats.size());
     g.height.assign(g.stats.size(), std::numeric_limits<float>::quiet_NaN());
     for (int j = 0; j < g.ny; ++j)
-        for (int i = 0; i < g.nx; ++i) g.in[g.at(i, j)] = inside(ring, g.cx(i), g.cy(j));
+        for (int i = 0; i < g.nx; ++i) g.in[g.at(i, j)] = shape.contains(g.cx(i), g.cy(j));
     return g;
 }
 
@@ -127,9 +117,9 @@ double slope_factor(const Grid& g, int i, int j) {
     return std::sqrt(1 + zx * zx + zy * zy);
 }
 
-double default_cell(std::span<const Point3> ring, std::span<const Point3> points, double area) {
+double default_cell(const MultiPolygon& shape, std::span<const Point3> points, double area) {
     std::uint64_t n = 0;
-    for (const auto& p : points) n += inside(ring, p[0], p[1]);
+    for (const auto& p : points) n += shape.contains(p[0], p[1]);
     if (n == 0) throw Error::in_stage("measure", "no point lies inside the polygon");
     return std::max(0.01, 2 * std::sqrt(area / static_cast<double>(n)));
 }
@@ -140,18 +130,19 @@ AreaVolume measure_area_volume(std::span<const Point3> polygon, std::span<const 
                                const AreaVolumeOptions& options) {
     if (polygon.size() < 3) throw Error::in_stage("measure", "an area needs at least 3 vertices");
     AreaVolume out;
-    out.horizontal_area_m2 = shoelace(polygon);
+    const MultiPolygon shape = outline(polygon);
+    out.horizontal_area_m2 = shape.area();
     if (!(out.horizontal_area_m2 > 0)) throw Error::in_stage("measure", "the polygon has no area");
     out.base_plane = options.base_height ? std::array<double, 3>{*options.base_height, 0, 0} : vertex_plane(polygon);
     char base[64];
     if (options.base_height) std::snprintf(base, sizeof base, "height %.2f m", *options.base_height);
     else std::snprintf(base, sizeof base, "plane through the %zu vertices", polygon.size());
     out.base = base;
-    out.cell_m = options.cell_m > 0 ? options.cell_m : default_cell(polygon, points, out.horizontal_area_m2);
-    Grid g = make_grid(polygon, out.cell_m);
+    out.cell_m = options.cell_m > 0 ? options.cell_m : default_cell(shape, points, out.horizontal_area_m2);
+    Grid g = make_grid(polygon, shape, out.cell_m);
     for (const auto& p : points) {
         const double fi = std::floor((p[0] - g.x0) / g.cell), fj = std::floor((p[1] - g.y0) / g.cell);
-        if (!(fi >= 0 && fj >= 0 && fi < g.nx && fj < g.ny) || !inside(polygon, p[0], p[1])) continue;
+        if (!(fi >= 0 && fj >= 0 && fi < g.nx && fj < g.ny) || !shape.contains(p[0], p[1])) continue;
         g.stats[g.at(static_cast<int>(fi), static_cast<int>(fj))].add(p[2], {});
         ++out.points;
     }

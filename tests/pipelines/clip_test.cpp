@@ -15,7 +15,7 @@
 #include "damaged_tile.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/point_reader.hpp"
-#include "geo/polygon.hpp"
+#include "core/polygon.hpp"
 #include "io/file.hpp"
 #include "las_fixture.hpp"
 #include "pipelines/clip.hpp"
@@ -77,7 +77,7 @@ TEST_P(ClipFormats, RecordsEqualABruteForcePolygonFilter) {
     const auto ds = dataset::open_dataset({source});
     ASSERT_EQ(ds.tiles.size(), 1u) << (ds.skipped.empty() ? "" : ds.skipped[0].error);
     const auto& tile = ds.tiles[0].tile;
-    const geo::MultiPolygon polygon = geo::parse_wkt_polygon(polygon_with_hole(tile.header));
+    const MultiPolygon polygon = parse_wkt_polygon(polygon_with_hole(tile.header));
     ClipRequest request;
     request.output = path("clip.laz");
     request.region = polygon_region(polygon);
@@ -170,7 +170,7 @@ TEST_F(ClipGrid, APolygonDecodesOnlyTheTilesItTouches) {
     ClipRequest request;
     request.output = path("out.laz");
     // A thin quadrilateral along the diagonal from tile (0,0) to tile (2,2): its box covers all 9 tiles.
-    request.region = polygon_region(geo::parse_wkt_polygon(
+    request.region = polygon_region(parse_wkt_polygon(
         "POLYGON ((500010 4200008, 500295 4200293, 500293 4200295, 500008 4200010))"));
     const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
     EXPECT_EQ(r.read.tiles_touched.size(), 3u);

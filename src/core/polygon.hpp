@@ -1,6 +1,6 @@
-// Areas on the ground for clipping: polygons with holes and multipolygons in the dataset CRS's
-// units (plain planar geometry, no PROJ), with an even-odd point-in-polygon test that is exact on
-// edges (a point on an edge or vertex is inside), and their strict parsing from WKT
+// Areas on the ground (clip, the viewer's area tool): polygons with holes and multipolygons in the
+// dataset CRS's units (plain planar geometry, no PROJ), with an even-odd point-in-polygon test that
+// is exact on edges (a point on an edge or vertex is inside), and their strict parsing from WKT
 // (POLYGON / MULTIPOLYGON) and GeoJSON (a Polygon or MultiPolygon geometry, Feature or
 // FeatureCollection of them).
 #pragma once
@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace lidarscout::geo {
+namespace lidarscout {
 
 struct XY {
     double x = 0, y = 0;
@@ -57,4 +57,4 @@ MultiPolygon parse_geojson_polygon(std::string_view text);
 // the path of a GeoJSON file. Throws lidarscout::Error.
 MultiPolygon read_polygon_argument(const std::string& argument);
 
-}  // namespace lidarscout::geo
+}  // namespace lidarscout

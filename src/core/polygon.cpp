@@ -1,5 +1,5 @@
 // MultiPolygon: the even-odd test with points on edges inside, and the WKT and GeoJSON parsers.
-#include "geo/polygon.hpp"
+#include "core/polygon.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -11,7 +11,7 @@
 
 #include "core/error.hpp"
 
-namespace lidarscout::geo {
+namespace lidarscout {
 namespace {
 
 Error polygon_error(const std::string& cause) { return Error::in_stage("polygon", cause); }
@@ -304,4 +304,4 @@ MultiPolygon read_polygon_argument(const std::string& argument) {
     }
 }
 
-}  // namespace lidarscout::geo
+}  // namespace lidarscout

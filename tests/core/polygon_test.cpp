@@ -1,13 +1,13 @@
-// geo::MultiPolygon: points inside, outside, on edges and vertices, in holes and in the parts of a
+// MultiPolygon: points inside, outside, on edges and vertices, in holes and in the parts of a
 // multipolygon; WKT and GeoJSON parsed, and their errors naming what was expected.
 #include <gtest/gtest.h>
 
 #include <string>
 
 #include "core/error.hpp"
-#include "geo/polygon.hpp"
+#include "core/polygon.hpp"
 
-namespace lidarscout::geo {
+namespace lidarscout {
 namespace {
 
 std::string error_of(const std::string& wkt) {
@@ -78,4 +78,4 @@ TEST(Polygon, WktErrorsNameWhatWasExpected) {
 }
 
 }  // namespace
-}  // namespace lidarscout::geo
+}  // namespace lidarscout
