@@ -52,6 +52,8 @@ MultiPolygon outline(std::span<const Point3> ring) {
     return MultiPolygon({{xy}});
 }
 
+constexpr double kMaxCells = 4e6;  // 128 MB of texel statistics
+
 Grid make_grid(std::span<const Point3> ring, const MultiPolygon& shape, double cell) {
     double x0 = ring[0][0], x1 = x0, y0 = ring[0][1], y1 = y0;
     for (const auto& p : ring) x0 = std::min(x0, p[0]), x1 = std::max(x1, p[0]), y0 = std::min(y0, p[1]),
@@ -59,7 +61,7 @@ Grid make_grid(std::span<const Point3> ring, const MultiPolygon& shape, double c
     Grid g;
     g.cell = cell, g.x0 = x0, g.y0 = y0;
     const double cells = std::ceil((x1 - x0) / cell) * std::ceil((y1 - y0) / cell);
-    if (!(cells <= 4e7)) {
+    if (!(cells <= kMaxCells)) {
         throw Error::in_stage("measure", "the polygon spans " + std::to_string(static_cast<long long>(cells)) +
                                              " cells of " + std::to_string(cell) + " m: draw a smaller one");
     }
@@ -73,10 +75,13 @@ Grid make_grid(std::span<const Point3> ring, const MultiPolygon& shape, double c
     return g;
 }
 
-// Cells inside without points: the mean of their measured neighbours, ring by ring.
+// Cells inside without points: the mean of their measured neighbours, ring by ring, at most
+// kFillRings rings from a measured cell (farther ones stay unmeasured: nothing to say there).
+constexpr int kFillRings = 3;
+
 void fill_gaps(Grid& g, AreaVolume& out) {
-    for (bool changed = true; changed;) {
-        changed = false;
+    for (int ring = 0, changed = 1; changed && ring < kFillRings; ++ring) {
+        changed = 0;
         std::vector<float> next = g.height;
         for (int j = 0; j < g.ny; ++j) {
             for (int i = 0; i < g.nx; ++i) {
@@ -93,7 +98,7 @@ void fill_gaps(Grid& g, AreaVolume& out) {
                 if (n == 0) continue;
                 next[g.at(i, j)] = static_cast<float>(sum / n);
                 ++out.cells_filled;
-                changed = true;
+                changed = 1;
             }
         }
         g.height.swap(next);
@@ -139,6 +144,10 @@ AreaVolume measure_area_volume(std::span<const Point3> polygon, std::span<const 
     else std::snprintf(base, sizeof base, "plane through the %zu vertices", polygon.size());
     out.base = base;
     out.cell_m = options.cell_m > 0 ? options.cell_m : default_cell(shape, points, out.horizontal_area_m2);
+    if (options.cell_m <= 0) {  // a polygon too large for cells that fine: coarser cells, not a refusal
+        const double box = (shape.max_x() - shape.min_x()) * (shape.max_y() - shape.min_y());
+        out.cell_m = std::max(out.cell_m, std::sqrt(box / kMaxCells) * 1.01);
+    }
     Grid g = make_grid(polygon, shape, out.cell_m);
     for (const auto& p : points) {
         const double fi = std::floor((p[0] - g.x0) / g.cell), fj = std::floor((p[1] - g.y0) / g.cell);

@@ -3,8 +3,9 @@
 // volume above (cut) and below (fill) a base, the plane through the polygon's vertices (their
 // heights, least squares) or a given height. The points inside are gridded at about their spacing
 // with the same per-texel means as the DEMs (recon/texel_stats.hpp); a cell inside the polygon
-// without points takes the mean of its measured neighbours (counted as filled); cells whose
-// centre lies inside the polygon make up the surface.
+// without points takes the mean of its measured neighbours, up to 3 cells from one (counted as
+// filled; farther ones are unmeasured and left out); cells whose centre lies inside the polygon
+// make up the surface.
 #pragma once
 
 #include <array>
@@ -18,7 +19,7 @@ namespace lidarscout::recon {
 using Point3 = std::array<double, 3>;  // x, y, z in metres
 
 struct AreaVolumeOptions {
-    double cell_m = 0;                 // grid cell side; 0: twice the points' mean spacing inside the polygon
+    double cell_m = 0;  // grid cell side; 0: twice the points' mean spacing inside (coarser past 4 million cells)
     std::optional<double> base_height;  // a horizontal base; unset: the plane through the vertices
 };
 
@@ -35,7 +36,8 @@ struct AreaVolume {
     std::string base;                 // "plane through the 5 vertices" or "height 12.00 m"
 };
 
-// Throws lidarscout::Error (stage "measure") for fewer than 3 vertices, a polygon without area,
+// Throws lidarscout::Error (stage "measure") for fewer than 3 vertices, a polygon without area, a
+// given cell_m making more than 4 million cells,
 // vertices on one line when the base is their plane, or no point inside the polygon.
 AreaVolume measure_area_volume(std::span<const Point3> polygon, std::span<const Point3> points,
                                const AreaVolumeOptions& options = {});

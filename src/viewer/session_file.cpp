@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "io/output_file.hpp"
+#include "render/colour_modes.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -77,6 +78,7 @@ SessionFile session_from_json(const nlohmann::json& j, const std::string& path) 
             s.filter = PointFilter::parse(f.value("classes", ""), f.value("returns", ""), f.value("intensity", ""));
         }
         s.colour = j.value("colour", std::string());
+        if (!s.colour.empty()) render::parse_colour_mode(s.colour);  // refused here, not when applied
         for (const auto& m : j.value("measurements", nlohmann::json::array())) {
             s.measurements.push_back({xyz(m.at("from")), xyz(m.at("to"))});
         }

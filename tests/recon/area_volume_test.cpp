@@ -103,6 +103,10 @@ TEST(AreaVolume, WhatCannotBeMeasuredIsRefused) {
     EXPECT_THROW(measure_area_volume(line, points), Error);  // no area
     const std::vector<Point3> far = square(1000, 1000, 1010, 1010);
     EXPECT_THROW(measure_area_volume(far, points, {.cell_m = 1.0}), Error);  // no point inside
+    EXPECT_THROW(measure_area_volume(square(0, 0, 40, 40), points, {.cell_m = 0.001}), Error);  // 1.6e9 cells
+    const auto huge = measure_area_volume(square(-1e4, -1e4, 1e4, 1e4), points);  // 400 km2: cells grow
+    EXPECT_GE(huge.cell_m, 10.0);
+    EXPECT_GT(huge.cells_unmeasured, huge.cells / 2);  // far from any point: left out, not invented
     std::vector<Point3> collinear_base = {{10, 10, 0}, {30, 10, 0}, {20, 10.000000001, 0}};
     EXPECT_THROW(measure_area_volume(collinear_base, points, {.cell_m = 1.0}), Error);
 }

@@ -94,6 +94,10 @@ TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
     write_text("filter.json", bad_filter.dump());
     EXPECT_NE(refusal("filter.json").find("--classes expects"), std::string::npos);
     EXPECT_NE(refusal("missing.json").find("cannot open"), std::string::npos);
+    nlohmann::json purple = session_json(example());
+    purple["colour"] = "purple";
+    write_text("purple.json", purple.dump());
+    EXPECT_FALSE(refusal("purple.json").empty());
     EXPECT_EQ(refusal("newer.json").empty(), false);
 }
 
