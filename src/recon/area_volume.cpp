@@ -122,11 +122,14 @@ double slope_factor(const Grid& g, int i, int j) {
     return std::sqrt(1 + zx * zx + zy * zy);
 }
 
-double default_cell(const MultiPolygon& shape, std::span<const Point3> points, double area) {
-    std::uint64_t n = 0;
-    for (const auto& p : points) n += shape.contains(p[0], p[1]);
-    if (n == 0) throw Error::in_stage("measure", "no point lies inside the polygon");
-    return std::max(0.01, 2 * std::sqrt(area / static_cast<double>(n)));
+// The points inside the polygon (one point-in-polygon test each).
+std::vector<Point3> points_inside(const MultiPolygon& shape, std::span<const Point3> points) {
+    std::vector<Point3> out;
+    for (const auto& p : points) {
+        if (shape.contains(p[0], p[1])) out.push_back(p);
+    }
+    if (out.empty()) throw Error::in_stage("measure", "no point lies inside the polygon");
+    return out;
 }
 
 }  // namespace
@@ -143,19 +146,20 @@ AreaVolume measure_area_volume(std::span<const Point3> polygon, std::span<const 
     if (options.base_height) std::snprintf(base, sizeof base, "height %.2f m", *options.base_height);
     else std::snprintf(base, sizeof base, "plane through the %zu vertices", polygon.size());
     out.base = base;
-    out.cell_m = options.cell_m > 0 ? options.cell_m : default_cell(shape, points, out.horizontal_area_m2);
+    const std::vector<Point3> inside = points_inside(shape, points);
+    out.points = inside.size();
+    const double spacing = std::sqrt(out.horizontal_area_m2 / static_cast<double>(out.points));
+    out.cell_m = options.cell_m > 0 ? options.cell_m : std::max(0.01, 2 * spacing);
     if (options.cell_m <= 0) {  // a polygon too large for cells that fine: coarser cells, not a refusal
         const double box = (shape.max_x() - shape.min_x()) * (shape.max_y() - shape.min_y());
         out.cell_m = std::max(out.cell_m, std::sqrt(box / kMaxCells) * 1.01);
     }
     Grid g = make_grid(polygon, shape, out.cell_m);
-    for (const auto& p : points) {
-        const double fi = std::floor((p[0] - g.x0) / g.cell), fj = std::floor((p[1] - g.y0) / g.cell);
-        if (!(fi >= 0 && fj >= 0 && fi < g.nx && fj < g.ny) || !shape.contains(p[0], p[1])) continue;
+    for (const auto& p : inside) {  // on the polygon's far edge a point may fall just past the last cell
+        const double fi = std::min(std::floor((p[0] - g.x0) / g.cell), g.nx - 1.0);
+        const double fj = std::min(std::floor((p[1] - g.y0) / g.cell), g.ny - 1.0);
         g.stats[g.at(static_cast<int>(fi), static_cast<int>(fj))].add(p[2], {});
-        ++out.points;
     }
-    if (out.points == 0) throw Error::in_stage("measure", "no point lies inside the polygon");
     for (std::size_t k = 0; k < g.stats.size(); ++k) g.height[k] = g.stats[k].height(TexelStatistic::Mean);
     fill_gaps(g, out);
     const double cell_area = g.cell * g.cell;

@@ -207,23 +207,20 @@ std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile) {
 }
 
 // The records of `records` that `filter` keeps, back to back in `kept`.
-std::span<const std::uint8_t> kept_records(const dataset::DatasetTile& tile, std::span<const std::uint8_t> records,
-                                           const PointFilter& filter, std::vector<std::uint8_t>& kept) {
-    const auto& h = tile.tile.header;
-    const auto& format = las::point_format_info(h.point_format);
-    kept.clear();
-    for (std::size_t at = 0; at + h.record_length <= records.size(); at += h.record_length) {
-        const auto record = records.subspan(at, h.record_length);
-        if (filter.keeps(las::decode_point(record, format, h))) kept.insert(kept.end(), record.begin(), record.end());
-    }
-    return kept;
+// Drops from set.points[first, end) the points `filter` does not keep: their attributes say enough,
+// no record is decoded a second time.
+void drop_filtered(PointSet& set, std::size_t first, const PointFilter& filter) {
+    const auto dropped = [&](const render::PointAttr& a) {
+        return !filter.keeps_drawn(a.classification, a.returns, a.intensity);
+    };
+    const auto from = set.points.begin() + static_cast<std::ptrdiff_t>(first);
+    set.points.erase(std::remove_if(from, set.points.end(), dropped), set.points.end());
 }
 
 PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
                         const std::function<void(std::uint64_t)>& progress,
                         std::vector<dataset::SkippedChunk>* skipped, const PointFilter* filter) {
     if (filter && filter->keeps_everything()) filter = nullptr;
-    std::vector<std::uint8_t> kept;
     const auto file = io::File::open(tile.tile.path());
     PointSet set = empty_tile_set(tile);
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
@@ -232,10 +229,12 @@ PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stri
     dataset::for_each_record_batch(
         file, tile.tile, pool,
         [&](std::uint64_t, std::span<const std::uint8_t> records) {
-            append_records(set, filter ? kept_records(tile, records, *filter, kept) : records, convert, pool);
+            const std::size_t first = set.points.size();
+            append_records(set, records, convert, pool);
+            if (filter) drop_filtered(set, first, *filter);
             if (progress) progress(records.size() / tile.tile.header.record_length);
         },
-        kDrawnFields | (filter ? las::fields::kReturns : 0u), 1u << 20, false, skipped);
+        kDrawnFields, 1u << 20, false, skipped);
     return set;
 }
 

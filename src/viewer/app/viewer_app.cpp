@@ -244,10 +244,11 @@ ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& 
 }
 
 // The frame's picture: the snapshot drawn at the render scale, then the tile outlines;
-// `with_heightmaps` tells whether the snapshot had any.
+// `drawn` gets the snapshot drawn (the panels read it too: no second snapshot per frame).
 RenderedScene draw_frame(const Session& s, const CameraController& controller, const ViewSettings& v,
                          const PanelState& panels, int fb_width, int fb_height, ThreadPool& pool,
-                         FrameRefiner& refiner, render::Camera& camera, bool& with_heightmaps) {
+                         FrameRefiner& refiner, render::Camera& camera,
+                         std::shared_ptr<const SceneSnapshot>& drawn) {
     const int w = std::max(1, static_cast<int>(std::lround(fb_width * v.render_scale)));
     const int h = std::max(1, static_cast<int>(std::lround(fb_height * v.render_scale)));
     camera = controller.camera(w, h);
@@ -255,9 +256,8 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     SceneStyle style = v.style;
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
     const bool loading = s.scheduler->points_loading();  // before the snapshot: when false, it holds all
-    const auto snapshot = s.scheduler->snapshot();
-    RenderedScene frame = refiner.draw(*snapshot, camera, style, pool, v.layers, loading);
-    with_heightmaps = !snapshot->heightmaps.empty();
+    drawn = s.scheduler->snapshot();
+    RenderedScene frame = refiner.draw(*drawn, camera, style, pool, v.layers, loading);
     if (v.tile_boxes) {
         draw_tile_boxes(frame.image, camera, *s.dataset, *s.places, render::pack_rgba(255, 200, 40), panels.selected);
     }
@@ -443,7 +443,8 @@ private:
         with_heightmaps_ = false;
         if (session_.open()) {
             last_ = draw_frame(session_, controller_, settings_, panels_, fb_width_, fb_height_, pool_, refiner_,
-                               camera_, with_heightmaps_);
+                               camera_, drawn_);
+            with_heightmaps_ = !drawn_->heightmaps.empty();
         } else {
             last_ = opening_frame(footprints_, controller_, fb_width_, fb_height_, camera_);
         }
@@ -468,7 +469,7 @@ private:
         SchedulerStats stats;
         if (session_.open()) {
             stats = session_.scheduler->stats();
-            panels_.loaded_classes = loaded_class_counts(*session_.scheduler->snapshot());
+            panels_.loaded_classes = loaded_class_counts(*drawn_);
             actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
             draw_labels(panels_.annotations, camera_);
         }
@@ -544,6 +545,7 @@ private:
     int fb_width_ = 1, fb_height_ = 1;
     render::Camera camera_;
     bool with_heightmaps_ = false;
+    std::shared_ptr<const SceneSnapshot> drawn_;  // the snapshot of the last frame drawn
 };
 
 }  // namespace
