@@ -50,7 +50,7 @@ enum class Stage { Overview, Heightmaps, Full };
 
 struct RenderCliOptions {
     std::vector<std::string> paths;
-    FilterTexts filter;  // the points drawn (heightmaps are not filtered)
+    FilterTexts filter;  // the points drawn (a ground filter also makes the heightmaps bare earth)
     std::string camera = "auto";
     double fov = 60;
     std::string size = "1280x720";
@@ -357,7 +357,8 @@ int run_render(const RenderCliOptions& o) {
         viewer::paint_uncoloured(scene.chunk_points);
         viewer::paint_uncoloured(scene.full_points);
     }
-    viewer::overlay_points(scene.heightmaps, scene.full_points, grid);  // as the viewer, once the tiles are in
+    // As the viewer, once the tiles are in (a ground filter: bare earth where they fell, the rest tinted).
+    viewer::overlay_points(scene.heightmaps, scene.full_points, grid, viewer::surface_of(plan.filter));
     const auto t0 = Clock::now();
     const auto frame = viewer::render_scene(scene, report.camera, scene_style(plan, o, ds), pool);
     check_something_drawn(frame, report.camera, ds);
@@ -404,8 +405,9 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--fixed-point-size", o->fixed_point_size, "Every full-resolution point --point-size pixels wide");
     cmd->add_option("--chunk-point-size", o->chunk_point_size, "Chunk point size in pixels (default 2)")
         ->check(CLI::Range(1, 64));
-    add_filter_options(*cmd, o->filter, "points read and drawn (chunk points: class and intensity only; "
-                                        "heightmaps are not filtered)");
+    add_filter_options(*cmd, o->filter, "points read and drawn (chunk points: class and intensity only; a "
+                                        "filter of classes 2 and/or 9 alone makes the heightmaps bare earth "
+                                        "where full-resolution points were read, the rest tinted)");
     cmd->add_option("--edl", o->edl, "Eye-dome lighting strength (default 0 = off; try 1)")
         ->check(CLI::Range(0.0, 100.0));
     cmd->add_option("--memory", o->memory,

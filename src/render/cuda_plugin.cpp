@@ -110,13 +110,15 @@ static_assert(static_cast<int>(ColourMode::Rgb) == LSR_COLOUR_RGB);
 static_assert(static_cast<int>(ColourMode::Elevation) == LSR_COLOUR_ELEVATION);
 static_assert(static_cast<int>(ColourMode::Intensity) == LSR_COLOUR_INTENSITY);
 static_assert(static_cast<int>(ColourMode::Classification) == LSR_COLOUR_CLASSIFICATION);
+static_assert(static_cast<int>(PatchTint::None) == LSR_TINT_NONE && static_cast<int>(PatchTint::All) == LSR_TINT_ALL);
+static_assert(static_cast<int>(PatchTint::Marked) == LSR_TINT_MARKED);
 
 std::vector<LsrPatch> abi_patches(std::span<const HeightmapPatch> patches) {
     std::vector<LsrPatch> out;
     out.reserve(patches.size());
     for (const HeightmapPatch& p : patches) {
         out.push_back({p.origin_x, p.origin_y, p.texel_m, p.size, p.heights.data(),
-                       p.colours.empty() ? nullptr : p.colours.data(), p.cache_key});
+                       p.colours.empty() ? nullptr : p.colours.data(), p.cache_key, static_cast<int>(p.tint)});
     }
     return out;
 }
@@ -138,6 +140,8 @@ LsrHeightmapPass heightmap_pass(const Camera& camera, const HeightmapPassSetting
     h.ambient = s.ambient;
     h.level_gain = level_gain(h.sun[2], s.ambient);
     h.fill_outline = s.fill_outline ? 1 : 0;
+    for (int k = 0; k < 3; ++k) h.tint_rgb[k] = s.tint_rgb[k];
+    h.tint_strength = s.tint_strength;
     return h;
 }
 

@@ -67,20 +67,22 @@ void check_patch(const HeightmapPatch& patch, std::size_t index) {
     const bool size_ok = patch.size >= 1 && patch.size <= kMaxPatchSize;
     const std::size_t texels = size_ok ? static_cast<std::size_t>(patch.size) * patch.size : 0;
     const bool ok = size_ok && patch.heights.size() == texels &&
-                    (patch.colours.empty() || patch.colours.size() == texels) && patch.texel_m > 0 &&
+                    (patch.colours.empty() || patch.colours.size() == texels) &&
+                    (patch.tint != PatchTint::Marked || !patch.colours.empty()) && patch.texel_m > 0 &&
                     std::isfinite(patch.texel_m) && std::isfinite(patch.origin_x) && std::isfinite(patch.origin_y);
     if (!ok) {
         throw Error("heightmap pass: patch " + std::to_string(index) +
-                    " needs a size in 1..4096, size x size heights (and colours, or none) and a positive texel size");
+                    " needs a size in 1..4096, size x size heights (and colours, or none; a marked tint needs them) and a "
+                    "positive texel size");
     }
 }
 
 void check_settings(const Framebuffer& fb, const Camera& camera, const HeightmapPassSettings& s) {
     fb.check_size(camera.width, camera.height, "heightmap pass");
     if (!(s.depth_bias >= 0.0f) || !(s.lod_quad_px > 0.0f) || s.fixed_step < 0 || !(s.skirt_quads >= 0.0f) ||
-        !(s.ambient >= 0.0f && s.ambient <= 1.0f)) {
-        throw Error("heightmap pass: depth bias, skirt and fixed step must be >= 0, the LOD size > 0 and ambient "
-                    "within [0, 1]");
+        !(s.ambient >= 0.0f && s.ambient <= 1.0f) || !(s.tint_strength >= 0.0f && s.tint_strength <= 1.0f)) {
+        throw Error("heightmap pass: depth bias, skirt and fixed step must be >= 0, the LOD size > 0, ambient "
+                    "and the tint's strength within [0, 1]");
     }
 }
 
@@ -147,12 +149,25 @@ float extrapolated_height(const HeightmapPatch& patch, int ci, int cj, float fal
     return std::isnan(h) ? fallback : h;
 }
 
+// Whether texel t of the patch is drawn tinted (PatchTint).
+bool texel_tinted(const HeightmapPatch& patch, std::size_t t) {
+    return patch.tint == PatchTint::All || (patch.tint == PatchTint::Marked && alpha(patch.colours[t]) < 255);
+}
+
+// What a corner takes from the defined texels around it: their mean height and colour and the
+// share of them drawn tinted.
+struct CornerAttributes {
+    float height = 0.0f;
+    std::array<float, 3> rgb{};
+    float tinted = 0.0f;
+};
+
 // Mean height and colour of the defined texels around corner (ci, cj) (the height
 // extrapolated on the patch boundary); false if none is defined.
-bool corner_attributes(const HeightmapPatch& patch, int ci, int cj, float& height, std::array<float, 3>& rgb) {
+bool corner_attributes(const HeightmapPatch& patch, int ci, int cj, CornerAttributes& out) {
     float sum_h = 0.0f;
     std::array<float, 3> sum_c{};
-    int n = 0;
+    int n = 0, tinted = 0;
     for (int j = std::max(cj - 1, 0); j <= std::min(cj, patch.size - 1); ++j) {
         for (int i = std::max(ci - 1, 0); i <= std::min(ci, patch.size - 1); ++i) {
             const std::size_t t = static_cast<std::size_t>(j) * patch.size + i;
@@ -162,17 +177,17 @@ bool corner_attributes(const HeightmapPatch& patch, int ci, int cj, float& heigh
                 const std::uint32_t c = patch.colours[t];
                 sum_c[0] += red(c), sum_c[1] += green(c), sum_c[2] += blue(c);
             }
+            tinted += texel_tinted(patch, t);
             ++n;
         }
     }
     if (n == 0) return false;
-    height = on_boundary(patch, ci, cj) ? extrapolated_height(patch, ci, cj, sum_h / n) : sum_h / n;
-    rgb = patch.colours.empty() ? std::array<float, 3>{kUntexturedGrey, kUntexturedGrey, kUntexturedGrey}
-                                : std::array<float, 3>{sum_c[0] / n, sum_c[1] / n, sum_c[2] / n};
+    out.height = on_boundary(patch, ci, cj) ? extrapolated_height(patch, ci, cj, sum_h / n) : sum_h / n;
+    out.rgb = patch.colours.empty() ? std::array<float, 3>{kUntexturedGrey, kUntexturedGrey, kUntexturedGrey}
+                                    : std::array<float, 3>{sum_c[0] / n, sum_c[1] / n, sum_c[2] / n};
+    out.tinted = static_cast<float>(tinted) / n;
     return true;
 }
-
-void set_colour(RasterVertex& v, std::uint32_t rgba) { v.r = red(rgba), v.g = green(rgba), v.b = blue(rgba); }
 
 RasterVertex project(const Frame& f, float x, float y, float z) {
     RasterVertex v;
@@ -192,19 +207,20 @@ float corner_offset(double origin, double camera, int corner, double texel_m) {
 // no texel around it is defined or it lies behind the near plane.
 GridVertex make_corner(const Frame& f, const HeightmapPatch& patch, int ci, int cj) {
     GridVertex v;
-    float height = 0.0f;
-    std::array<float, 3> rgb{};
-    if (!corner_attributes(patch, ci, cj, height, rgb)) return v;
+    CornerAttributes a;
+    if (!corner_attributes(patch, ci, cj, a)) return v;
     v.x = corner_offset(patch.origin_x, f.camera->x, ci, patch.texel_m);
     v.y = corner_offset(patch.origin_y, f.camera->y, cj, patch.texel_m);
-    v.z = static_cast<float>(static_cast<double>(height) - f.camera->z);
+    v.z = static_cast<float>(static_cast<double>(a.height) - f.camera->z);
     v.screen = project(f, v.x, v.y, v.z);
     v.drawable = v.screen.depth >= f.near_m;
     if (f.palette.mode() == ColourMode::Elevation) {
-        set_colour(v.screen, f.palette.elevation_map(0.0)(height));
-    } else {
-        v.screen.r = rgb[0], v.screen.g = rgb[1], v.screen.b = rgb[2];
+        const std::uint32_t e = f.palette.elevation_map(0.0)(a.height);
+        a.rgb = {static_cast<float>(red(e)), static_cast<float>(green(e)), static_cast<float>(blue(e))};
     }
+    const float mix = a.tinted * f.settings->tint_strength;
+    for (int k = 0; k < 3; ++k) a.rgb[k] += (f.settings->tint_rgb[k] - a.rgb[k]) * mix;
+    v.screen.r = a.rgb[0], v.screen.g = a.rgb[1], v.screen.b = a.rgb[2];
     return v;
 }
 

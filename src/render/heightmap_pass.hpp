@@ -30,6 +30,11 @@
 // normal with a fixed sun direction, plus ambient, scaled so that level ground shows the
 // texture's own colour (the colour of the points it stands for).
 //
+// Tint: a patch that stands in for a surface it does not show (the viewer's overview heightmap
+// while a ground filter asks for bare earth) is drawn mixed towards tint_rgb by tint_strength:
+// PatchTint::All tints the whole patch, PatchTint::Marked the texels whose colour's alpha is below
+// 255 (the others show the filtered surface). A corner takes the share of tinted texels around it.
+//
 // Outline: a pixel the surface's edge crosses without covering its centre would stay empty,
 // where the points it stands for light it (a point lights the pixel it falls in). Seen from
 // afar, where a tile is a few pixels wide, that empty outline is a large share of the picture:
@@ -51,6 +56,8 @@
 
 namespace lidarscout::render {
 
+enum class PatchTint : std::uint8_t { None, Marked, All };
+
 struct HeightmapPatch {
     double origin_x = 0, origin_y = 0;  // south-west (min x, min y) corner, world metres
     double texel_m = 10;                // texel side, metres
@@ -61,6 +68,7 @@ struct HeightmapPatch {
     std::span<const float> heights;
     std::span<const std::uint32_t> colours;
     std::uint64_t cache_key = 0;  // 0, or new_cache_key() (cache_key.hpp): kept on the GPU
+    PatchTint tint = PatchTint::None;  // Marked needs colours (their alpha marks the tinted texels)
 };
 
 struct HeightmapPassSettings {
@@ -72,6 +80,8 @@ struct HeightmapPassSettings {
     std::array<float, 3> sun = {-0.5f, 0.5f, 0.7071f};  // towards the sun (north-west, 45 deg up)
     float ambient = 0.35f;      // light where the sun does not reach
     bool fill_outline = true;   // empty pixels beside the drawn surface take their nearest drawn neighbour
+    std::array<float, 3> tint_rgb = {200.0f, 60.0f, 200.0f};  // what tinted texels are mixed towards (0..255)
+    float tint_strength = 0.55f;  // how far: 0 = not at all, 1 = the tint colour alone
 };
 
 // What the light is scaled by so that level ground gets 1 (its texture's own colour), for a

@@ -1,17 +1,23 @@
-// Patch detail from full-resolution points: per-texel sums per tile, merged means, the overlay.
+// Patch detail from full-resolution points: per-texel sums per tile (every point, ground and water
+// apart), merged means, the overlay (bare earth with its holes filled by pull-push).
 #include "viewer/patch_detail.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "render/framebuffer.hpp"
 
 namespace lidarscout::viewer {
 namespace {
 
-// One tile's sums over one patch.
+constexpr std::uint8_t kGroundClass = 2, kWaterClass = 9;
+constexpr std::uint32_t kUntexturedGrey = 0xffaaaaaau;  // what the pass draws for an untextured patch
+
+// One tile's sums over one patch, for one layer.
 struct TexelSums {
     std::vector<double> z, r, g, b;
     std::vector<std::uint32_t> n;
@@ -19,26 +25,40 @@ struct TexelSums {
         const std::size_t t = static_cast<std::size_t>(size) * size;
         z.assign(t, 0), r.assign(t, 0), g.assign(t, 0), b.assign(t, 0), n.assign(t, 0);
     }
+    void add(std::size_t t, double height, const render::PointAttr& p) {
+        z[t] += height, r[t] += p.r, g[t] += p.g, b[t] += p.b;
+        ++n[t];
+    }
 };
 
-PatchDetail empty_detail(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell, int size) {
-    PatchDetail d;
-    d.origin_x = grid.cell_min_x(cell), d.origin_y = grid.cell_min_y(cell);
-    d.texel_m = grid.patch_size() / size;
-    d.size = size;
+// The sums of every point of one patch, and of its ground and water points (made when met).
+struct PatchSums {
+    int size;
+    TexelSums all;
+    std::optional<TexelSums> ground, water;
+    explicit PatchSums(int s) : size(s), all(s) {}
+    void add(std::size_t t, double height, const render::PointAttr& p) {
+        all.add(t, height, p);
+        if (p.classification == kGroundClass) (ground ? *ground : ground.emplace(size)).add(t, height, p);
+        if (p.classification == kWaterClass) (water ? *water : water.emplace(size)).add(t, height, p);
+    }
+};
+
+DetailLayer empty_layer(int size) {
     const std::size_t t = static_cast<std::size_t>(size) * size;
-    d.height.assign(t, std::numeric_limits<float>::quiet_NaN());
-    d.count.assign(t, 0);
-    d.colour.assign(t, 0);
-    return d;
+    DetailLayer l;
+    l.height.assign(t, std::numeric_limits<float>::quiet_NaN());
+    l.count.assign(t, 0);
+    l.colour.assign(t, 0);
+    return l;
 }
 
 std::uint8_t channel_mean(double a, std::uint32_t na, double b, std::uint32_t nb) {
     return static_cast<std::uint8_t>(std::lround((a * na + b * nb) / (na + nb)));
 }
 
-PatchDetail detail_from_sums(const PatchGrid& grid, CellKey cell, int size, const TexelSums& s) {
-    PatchDetail d = empty_detail(grid, cell, size);
+DetailLayer layer_from_sums(int size, const TexelSums& s) {
+    DetailLayer d = empty_layer(size);
     for (std::size_t t = 0; t < s.n.size(); ++t) {
         const std::uint32_t n = s.n[t];
         if (n == 0) continue;
@@ -50,32 +70,24 @@ PatchDetail detail_from_sums(const PatchGrid& grid, CellKey cell, int size, cons
     return d;
 }
 
-}  // namespace
-
-PatchDetails tile_detail(const PointSet& set, const lidarscout::PatchGrid& grid, int size) {
-    std::map<lidarscout::CellKey, TexelSums> sums;
-    const double texel = grid.patch_size() / size;
-    TexelSums* s = nullptr;  // the last point's cell (points come in scan order: few switches)
-    lidarscout::CellKey last{};
-    for (const auto& p : set.points) {
-        const double x = set.origin_x + p.dx, y = set.origin_y + p.dy;
-        const lidarscout::CellKey cell = grid.cell_of(x, y);
-        const int col = std::clamp(static_cast<int>((x - grid.cell_min_x(cell)) / texel), 0, size - 1);
-        const int row = std::clamp(static_cast<int>((y - grid.cell_min_y(cell)) / texel), 0, size - 1);
-        if (!s || !(cell == last)) {
-            s = &sums.try_emplace(cell, size).first->second;
-            last = cell;
-        }
-        const std::size_t t = static_cast<std::size_t>(row) * size + col;
-        s->z[t] += set.origin_z + p.dz, s->r[t] += p.r, s->g[t] += p.g, s->b[t] += p.b;
-        ++s->n[t];
-    }
-    PatchDetails out;
-    for (const auto& [cell, s] : sums) out.emplace(cell, detail_from_sums(grid, cell, size, s));
-    return out;
+PatchDetail detail_from_sums(const PatchGrid& grid, CellKey cell, const PatchSums& s) {
+    PatchDetail d;
+    d.origin_x = grid.cell_min_x(cell), d.origin_y = grid.cell_min_y(cell);
+    d.texel_m = grid.patch_size() / s.size;
+    d.size = s.size;
+    d.all = layer_from_sums(s.size, s.all);
+    if (s.ground) d.ground = layer_from_sums(s.size, *s.ground);
+    if (s.water) d.water = layer_from_sums(s.size, *s.water);
+    return d;
 }
 
-void merge_detail(PatchDetail& into, const PatchDetail& from) {
+// Per texel the count-weighted mean of `into` and `from` (same size); an empty `from` adds nothing.
+void merge_layer(DetailLayer& into, const DetailLayer& from) {
+    if (from.empty()) return;
+    if (into.empty()) {
+        into = from;
+        return;
+    }
     for (std::size_t t = 0; t < into.count.size() && t < from.count.size(); ++t) {
         const std::uint32_t a = into.count[t], b = from.count[t];
         if (b == 0) continue;
@@ -92,20 +104,163 @@ void merge_detail(PatchDetail& into, const PatchDetail& from) {
     }
 }
 
-PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& detail) {
+// The layer a surface shows (ground and water merged into `merged`); null for Surface::All.
+const DetailLayer* surface_layer(const PatchDetail& detail, Surface surface, DetailLayer& merged) {
+    switch (surface) {
+        case Surface::Ground: return &detail.ground;
+        case Surface::Water: return &detail.water;
+        case Surface::GroundAndWater:
+            merged = detail.ground;
+            merge_layer(merged, detail.water);
+            return &merged;
+        case Surface::All: break;
+    }
+    return nullptr;
+}
+
+// One level of the pull-push pyramid: values and their weights (0..1).
+struct PyramidLevel {
+    int size = 0;
+    std::vector<float> value, weight;
+};
+
+PyramidLevel pulled(const PyramidLevel& fine) {
+    PyramidLevel c;
+    c.size = (fine.size + 1) / 2;
+    c.value.assign(static_cast<std::size_t>(c.size) * c.size, 0.0f);
+    c.weight.assign(c.value.size(), 0.0f);
+    for (int j = 0; j < fine.size; ++j) {
+        for (int i = 0; i < fine.size; ++i) {
+            const std::size_t f = static_cast<std::size_t>(j) * fine.size + i;
+            const std::size_t p = static_cast<std::size_t>(j / 2) * c.size + i / 2;
+            c.value[p] += fine.weight[f] * fine.value[f];
+            c.weight[p] += fine.weight[f];
+        }
+    }
+    for (std::size_t p = 0; p < c.value.size(); ++p) {
+        if (c.weight[p] > 0.0f) c.value[p] /= c.weight[p];
+        c.weight[p] = std::min(c.weight[p], 1.0f);
+    }
+    return c;
+}
+
+// The coarse level's value at the centre of fine texel (i, j), bilinear between coarse centres.
+float upsampled(const PyramidLevel& coarse, int i, int j) {
+    const auto axis = [&](int k, int& k0, float& u) {
+        const float x = std::clamp((k + 0.5f) / 2.0f - 0.5f, 0.0f, static_cast<float>(coarse.size - 1));
+        k0 = std::min(static_cast<int>(x), std::max(coarse.size - 2, 0));
+        u = x - k0;
+    };
+    int i0 = 0, j0 = 0;
+    float u = 0, v = 0;
+    axis(i, i0, u), axis(j, j0, v);
+    const int i1 = std::min(i0 + 1, coarse.size - 1), j1 = std::min(j0 + 1, coarse.size - 1);
+    const auto at = [&](int a, int b) { return coarse.value[static_cast<std::size_t>(b) * coarse.size + a]; };
+    return (1 - v) * ((1 - u) * at(i0, j0) + u * at(i1, j0)) + v * ((1 - u) * at(i0, j1) + u * at(i1, j1));
+}
+
+void pushed(PyramidLevel& fine, const PyramidLevel& coarse) {
+    for (int j = 0; j < fine.size; ++j) {
+        for (int i = 0; i < fine.size; ++i) {
+            const std::size_t f = static_cast<std::size_t>(j) * fine.size + i;
+            const float w = fine.weight[f];
+            if (w >= 1.0f) continue;
+            fine.value[f] = w * fine.value[f] + (1.0f - w) * upsampled(coarse, i, j);
+        }
+    }
+}
+
+}  // namespace
+
+void hole_fill(std::vector<float>& heights, int size, const std::vector<bool>& wanted) {
+    std::vector<PyramidLevel> levels(1);
+    levels[0].size = size;
+    levels[0].value.resize(heights.size());
+    levels[0].weight.resize(heights.size());
+    bool any = false;
+    for (std::size_t t = 0; t < heights.size(); ++t) {
+        const bool defined = !std::isnan(heights[t]);
+        levels[0].value[t] = defined ? heights[t] : 0.0f;
+        levels[0].weight[t] = defined ? 1.0f : 0.0f;
+        any = any || defined;
+    }
+    if (!any) return;
+    while (levels.back().size > 1) levels.push_back(pulled(levels.back()));
+    for (std::size_t k = levels.size() - 1; k-- > 0;) pushed(levels[k], levels[k + 1]);
+    for (std::size_t t = 0; t < heights.size(); ++t) {
+        if (wanted[t] && std::isnan(heights[t])) heights[t] = levels[0].value[t];
+    }
+}
+
+PatchDetails tile_detail(const PointSet& set, const lidarscout::PatchGrid& grid, int size) {
+    std::map<lidarscout::CellKey, PatchSums> sums;
+    const double texel = grid.patch_size() / size;
+    PatchSums* s = nullptr;  // the last point's cell (points come in scan order: few switches)
+    lidarscout::CellKey last{};
+    for (const auto& p : set.points) {
+        const double x = set.origin_x + p.dx, y = set.origin_y + p.dy;
+        const lidarscout::CellKey cell = grid.cell_of(x, y);
+        const int col = std::clamp(static_cast<int>((x - grid.cell_min_x(cell)) / texel), 0, size - 1);
+        const int row = std::clamp(static_cast<int>((y - grid.cell_min_y(cell)) / texel), 0, size - 1);
+        if (!s || !(cell == last)) {
+            s = &sums.try_emplace(cell, size).first->second;
+            last = cell;
+        }
+        s->add(static_cast<std::size_t>(row) * size + col, set.origin_z + p.dz, p);
+    }
+    PatchDetails out;
+    for (const auto& [cell, s] : sums) out.emplace(cell, detail_from_sums(grid, cell, s));
+    return out;
+}
+
+void merge_detail(PatchDetail& into, const PatchDetail& from) {
+    merge_layer(into.all, from.all);
+    merge_layer(into.ground, from.ground);
+    merge_layer(into.water, from.water);
+}
+
+PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& detail, Surface surface) {
     PatchHeightmap out = base;
     out.cache_key = 0;  // other heights than the base's: share() gives it a key of its own
-    if (detail.size != base.size) return out;
-    for (std::size_t t = 0; t < out.heights.size(); ++t) {
-        if (detail.count[t] == 0) continue;
-        out.heights[t] = detail.height[t];
-        if (!out.colours.empty()) out.colours[t] = detail.colour[t];
+    out.surface = surface;
+    const bool read = detail.size == base.size && !detail.all.empty();  // full-resolution points fell here
+    DetailLayer merged;
+    const DetailLayer* layer = read ? surface_layer(detail, surface, merged) : nullptr;
+    if (surface == Surface::All) {
+        if (!read) return out;
+        for (std::size_t t = 0; t < out.heights.size(); ++t) {
+            if (detail.all.count[t] == 0) continue;
+            out.heights[t] = detail.all.height[t];
+            if (!out.colours.empty()) out.colours[t] = detail.all.colour[t];
+        }
+        return out;
+    }
+    const bool textured = !out.colours.empty();
+    if (!textured) out.colours.assign(out.heights.size(), kUntexturedGrey);
+    std::vector<float> bare(out.heights.size(), std::numeric_limits<float>::quiet_NaN());
+    std::vector<bool> holes(out.heights.size(), false);  // read, but none of the surface's points fell there
+    for (std::size_t t = 0; read && t < bare.size(); ++t) {
+        if (!layer->empty() && layer->count[t] > 0) {
+            bare[t] = layer->height[t];
+            if (textured) out.colours[t] = layer->colour[t];
+        } else {
+            holes[t] = detail.all.count[t] > 0;
+        }
+    }
+    hole_fill(bare, out.size, holes);
+    for (std::size_t t = 0; t < bare.size(); ++t) {
+        if (!std::isnan(bare[t])) {
+            out.heights[t] = bare[t];
+            continue;
+        }
+        const std::uint32_t c = out.colours[t];  // the overview stands here: marked to be tinted
+        out.colours[t] = render::pack_rgba(render::red(c), render::green(c), render::blue(c), kOverviewAlpha);
     }
     return out;
 }
 
 void overlay_points(std::vector<PatchHeightmap>& heightmaps, std::span<const PointSet> sets,
-                    const lidarscout::PatchGrid& grid) {
+                    const lidarscout::PatchGrid& grid, Surface surface) {
     if (heightmaps.empty()) return;
     PatchDetails merged;
     for (const auto& set : sets) {
@@ -115,7 +270,7 @@ void overlay_points(std::vector<PatchHeightmap>& heightmaps, std::span<const Poi
         }
     }
     for (auto& h : heightmaps) {
-        if (const auto it = merged.find(h.cell); it != merged.end()) h = overlay_detail(h, it->second);
+        if (const auto it = merged.find(h.cell); it != merged.end()) h = overlay_detail(h, it->second, surface);
     }
 }
 

@@ -3,6 +3,7 @@
 #include "viewer/patch_heightmap.hpp"
 
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -42,8 +43,29 @@ bool inside_any(std::span<const dataset::Bounds> boxes, double x, double y) {
 
 }  // namespace
 
-render::HeightmapPatch PatchHeightmap::view() const {
-    return {origin_x, origin_y, texel_m, size, heights, colours, cache_key};
+Surface surface_of(const PointFilter& filter) {
+    std::bitset<256> bare;
+    bare.set(2), bare.set(9);
+    if (filter.classes.none() || (filter.classes & ~bare).any()) return Surface::All;
+    if (filter.keeps_class(2)) return filter.keeps_class(9) ? Surface::GroundAndWater : Surface::Ground;
+    return Surface::Water;
+}
+
+const char* surface_name(Surface surface) {
+    switch (surface) {
+        case Surface::Ground: return "ground";
+        case Surface::Water: return "water";
+        case Surface::GroundAndWater: return "ground and water";
+        case Surface::All: break;
+    }
+    return "every point";
+}
+
+render::HeightmapPatch PatchHeightmap::view(Surface wanted) const {
+    render::PatchTint tint = render::PatchTint::None;
+    if (surface != wanted) tint = render::PatchTint::All;
+    else if (wanted != Surface::All && !colours.empty()) tint = render::PatchTint::Marked;
+    return {origin_x, origin_y, texel_m, size, heights, colours, cache_key, tint};
 }
 
 std::shared_ptr<const PatchHeightmap> share(PatchHeightmap heightmap) {

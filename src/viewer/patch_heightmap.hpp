@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "core/point_filter.hpp"
 #include "dataset/dataset.hpp"
 #include "core/patch_grid.hpp"
 #include "recon/methods.hpp"
@@ -17,6 +18,20 @@
 #include "render/heightmap_pass.hpp"
 
 namespace lidarscout::viewer {
+
+// What a heightmap's heights stand for: every point (the overview, and the detail of every point),
+// or the bare earth of the ground (class 2) and/or water (class 9) points a filter keeps.
+enum class Surface : std::uint8_t { All, Ground, Water, GroundAndWater };
+
+// The surface `filter` asks the heightmaps for: a filter that keeps some of classes 2 and 9 and no
+// other class asks for that bare earth (whatever its returns and intensities); any other for All.
+Surface surface_of(const PointFilter& filter);
+// "every point", "ground", "water", "ground and water".
+const char* surface_name(Surface surface);
+
+// A texel's colour alpha in a bare-earth heightmap where it still shows the overview (no
+// full-resolution point read there yet): drawn tinted, never passed off as ground.
+inline constexpr std::uint8_t kOverviewAlpha = 0x80;
 
 struct PatchHeightmap {
     lidarscout::CellKey cell;
@@ -26,9 +41,12 @@ struct PatchHeightmap {
     std::vector<float> heights;         // size x size, row 0 = south; metres, NaN = no data
     std::vector<std::uint32_t> colours; // rgba8 (render/framebuffer.hpp), or empty without colour
     std::uint64_t cache_key = 0;        // render::HeightmapPatch::cache_key (given by share())
+    Surface surface = Surface::All;     // what its heights stand for (texels of alpha kOverviewAlpha excepted)
 
-    // The heightmap pass's view of this patch (spans into this object).
-    render::HeightmapPatch view() const;
+    // The heightmap pass's view of this patch (spans into this object), drawn for a frame that
+    // wants `wanted`: a heightmap of another surface is tinted whole (it stands in for one not
+    // read yet), one of a bare-earth surface has its overview texels tinted.
+    render::HeightmapPatch view(Surface wanted = Surface::All) const;
 };
 
 // The heightmap, complete, shared read-only from now on (with a cache key for the GPU).

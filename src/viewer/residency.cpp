@@ -231,6 +231,7 @@ std::vector<lidarscout::CellKey> Residency::commit(std::uint32_t tile, Decoded d
         }
         auto merged = std::make_shared<PatchDetail>(*it->second);
         merge_detail(*merged, d);
+        details_bytes_ += merged->bytes() - it->second->bytes();  // a layer the cell had none of (merges grow)
         std::lock_guard details_lock(details_mutex_);
         it->second = std::move(merged);
     }
@@ -309,6 +310,14 @@ LodBlocks Residency::blocks() const {
         blocks_version_ = version_;
     }
     return blocks_cache_;
+}
+
+std::vector<lidarscout::CellKey> Residency::detail_cells() const {
+    std::lock_guard lock(details_mutex_);
+    std::vector<lidarscout::CellKey> out;
+    out.reserve(details_.size());
+    for (const auto& entry : details_) out.push_back(entry.first);
+    return out;
 }
 
 std::shared_ptr<const PatchDetail> Residency::detail(lidarscout::CellKey cell) const {

@@ -91,6 +91,8 @@ public:
     LodBlocks blocks() const;
     // The detail folded into cell `cell` (null when none).
     std::shared_ptr<const PatchDetail> detail(lidarscout::CellKey cell) const;
+    // The cells that have detail (takes the details' lock alone, as detail() does).
+    std::vector<lidarscout::CellKey> detail_cells() const;
     // Grows with every change of blocks() or detail.
     std::uint64_t version() const;
     ResidencyStats stats() const;

@@ -78,7 +78,8 @@ std::uint64_t ResidencyPolicy::bookkeeping_bytes(std::uint32_t tile) const {
                static_cast<std::uint64_t>(std::ceil(std::max(b.max_y - b.min_y, 0.0) / side) + 1);
     };
     const auto texels = static_cast<std::uint64_t>(patch_texels_) * patch_texels_;
-    const std::uint64_t detail = texels * 12 + sizeof(PatchDetail);  // height, count and colour per texel
+    // Every point's layer and the ground's (the usual classified survey; water is rarer).
+    const std::uint64_t detail = texels * kDetailLayerTexelBytes * 2 + sizeof(PatchDetail);
     return across(block_m_) * sizeof(LodBlock) + across(grid_.patch_size()) * detail;
 }
 

@@ -58,7 +58,8 @@ RenderedScene render_scene(const Scene& scene, const render::Camera& camera, con
                            ThreadPool& pool) {
     std::vector<render::HeightmapPatch> patches;
     patches.reserve(scene.heightmaps.size());
-    for (const auto& h : scene.heightmaps) patches.push_back(h.view());
+    const Surface wanted = surface_of(style.filter);
+    for (const auto& h : scene.heightmaps) patches.push_back(h.view(wanted));
     return draw_scene_frame(camera, patches, batches_of(scene.chunk_points), batches_of(scene.full_points), style,
                             pool);
 }

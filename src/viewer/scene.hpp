@@ -44,7 +44,9 @@ struct SceneStyle {
     render::HeightmapPassSettings heightmaps;  // its colour settings are replaced by `colour`
     render::ResolveSettings resolve;           // background, eye-dome lighting
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (render/backend.hpp)
-    PointFilter filter;  // the points drawn (every layer); heightmaps are not filtered
+    // The points drawn (every layer); a bare-earth filter (surface_of) also tints the heightmaps
+    // that do not show its surface yet (PatchHeightmap::view).
+    PointFilter filter;
 };
 
 // Elevation colours over [z_min, z_max] (e.g. the dataset's range; widened when empty).

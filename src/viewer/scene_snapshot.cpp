@@ -20,7 +20,8 @@ RenderedScene render_snapshot(const SceneSnapshot& snapshot, const render::Camer
     std::vector<render::HeightmapPatch> patches;
     if (layers.heightmaps) {
         patches.reserve(snapshot.heightmaps.size());
-        for (const auto& h : snapshot.heightmaps) patches.push_back(h->view());
+        const Surface wanted = surface_of(style.filter);
+        for (const auto& h : snapshot.heightmaps) patches.push_back(h->view(wanted));
     }
     const auto full = layers.full_points ? lod_batches(snapshot.full_points, camera, style.lod_spacing_px)
                                          : std::vector<render::PointBatch>{};

@@ -117,6 +117,9 @@ struct Scheduler::State {
 
     HeightmapBuildOptions build;
     double z_min = 0, z_max = 0;
+    Surface surface = Surface::All;  // what the detail is laid over as (set_surface)
+    std::vector<CellKey> restyle;    // patches with detail still showing another surface
+    std::size_t restyling = 0;       // of those, being laid over now (outside the lock)
     // The budget, the grid's bytes and the heightmaps and chunk points held by `patches` (bytes_of),
     // kept as they change (summing 500,000 patches for every look of the residency stalled the
     // frames of a country-sized dataset); shared with the residency.
@@ -196,7 +199,11 @@ struct Scheduler::State {
     // The heightmap shown for a patch: its base with the full-resolution detail over it.
     void update_shown(CellKey cell, Patch& p, const PatchDetail* detail) {
         if (!p.base) return;
-        modify(cell, p, [&] { p.shown = detail ? share(overlay_detail(*p.base, *detail)) : p.base; });
+        set_shown(cell, p, detail ? share(overlay_detail(*p.base, *detail, surface)) : p.base);
+    }
+
+    void set_shown(CellKey cell, Patch& p, std::shared_ptr<const PatchHeightmap> shown) {
+        modify(cell, p, [&] { p.shown = std::move(shown); });
         changed_patch(cell, p);
     }
 
@@ -415,8 +422,12 @@ void Scheduler::heightmap_worker() {
     State& s = *state_;
     std::unique_lock lock(s.mutex);
     while (true) {
-        s.wake.wait(lock, [&] { return s.stopping || s.blocks.size(CellBlocks::Ready) > 0; });
+        s.wake.wait(lock, [&] { return s.stopping || s.blocks.size(CellBlocks::Ready) > 0 || !s.restyle.empty(); });
         if (s.stopping) return;
+        if (!s.restyle.empty()) {  // the user changed the surface: before any new heightmap
+            restyle_some(lock);
+            continue;
+        }
         double key = 0;
         const CellKey cell = *s.take_next(CellBlocks::Ready, &key);
         // A patch out of view waits while the tiles in view decode: their points improve the
@@ -449,6 +460,53 @@ void Scheduler::heightmap_worker() {
         emit({SchedulerEvent::Kind::LinearHeightmap, 0, cell});
         lock.lock();
     }
+}
+
+void Scheduler::restyle_some(std::unique_lock<RankedMutex>& lock) {
+    constexpr std::size_t kChunk = 16;  // patches laid over per turn of the lock
+    State& s = *state_;
+    const Surface surface = s.surface;
+    struct Job {
+        CellKey cell;
+        std::shared_ptr<const PatchHeightmap> base, shown;
+    };
+    std::vector<Job> jobs;
+    while (!s.restyle.empty() && jobs.size() < kChunk) {
+        const CellKey cell = s.restyle.back();
+        s.restyle.pop_back();
+        const auto it = s.patches.find(cell);
+        if (it != s.patches.end() && it->second.base) jobs.push_back({cell, it->second.base, nullptr});
+    }
+    s.restyling += jobs.size();
+    lock.unlock();
+    for (auto& job : jobs) {
+        const auto detail = residency_->detail(job.cell);
+        job.shown = detail ? share(overlay_detail(*job.base, *detail, surface)) : job.base;
+    }
+    lock.lock();
+    s.restyling -= jobs.size();
+    for (auto& job : jobs) {
+        Patch& p = s.patches[job.cell];
+        // Another surface since, or a new base or detail laid over meanwhile (update_shown): theirs is newer.
+        if (s.surface != surface || p.base != job.base || (p.shown && p.shown->surface == surface)) continue;
+        s.set_shown(job.cell, p, std::move(job.shown));
+    }
+}
+
+void Scheduler::set_surface(Surface surface) {
+    State& s = *state_;
+    {
+        std::lock_guard lock(s.mutex);
+        if (s.surface == surface) return;
+        s.surface = surface;
+        s.restyle = residency_->detail_cells();  // the details' lock alone, under ours (the lock order)
+    }
+    s.wake.notify_all();
+}
+
+Surface Scheduler::surface() const {
+    std::lock_guard lock(state_->mutex);
+    return state_->surface;
 }
 
 void Scheduler::cnn_worker() {
@@ -607,6 +665,7 @@ SchedulerStats Scheduler::stats() const {
     st.heightmaps_linear = s.shown_linear, st.heightmaps_cnn = s.shown_cnn;
     st.heightmap_jobs_pending =
         s.blocks.size(CellBlocks::Ready) + s.blocks.size(CellBlocks::CnnReady) + s.in_flight;
+    st.surface_pending = s.restyle.size() + s.restyling;
     st.full_res = {r.wanted_full, r.wanted};
     st.full_res_tiles = r.full_tiles;
     st.coarse_tiles = r.coarse_tiles;
@@ -634,7 +693,7 @@ bool Scheduler::idle() const {
     if (!loader_->finished()) return false;
     std::lock_guard lock(s.mutex);
     return s.loader_finish_handled && s.blocks.size(CellBlocks::Ready) == 0 &&
-           s.blocks.size(CellBlocks::CnnReady) == 0 && s.in_flight == 0 &&
+           s.blocks.size(CellBlocks::CnnReady) == 0 && s.in_flight == 0 && s.restyle.empty() && s.restyling == 0 &&
            !s.network_pending && (!options_.full_res || residency_->idle());
 }
 

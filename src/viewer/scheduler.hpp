@@ -93,6 +93,7 @@ struct SchedulerStats {
     StageProgress cnn;                 // patches refined / patches with a linear heightmap (0 total: no model)
     std::size_t heightmaps_linear = 0, heightmaps_cnn = 0;  // patches showing each kind
     std::size_t heightmap_jobs_pending = 0;                   // queued or running (linear and network)
+    std::size_t surface_pending = 0;   // patches still to be laid over again for the surface set last
     StageProgress full_res;            // wanted tiles resident / wanted tiles
     std::size_t full_res_tiles = 0, coarse_tiles = 0;  // tiles held at full resolution; at coarse levels only
     std::uint64_t full_res_points = 0, lod_points = 0;  // points of the full tiles; of every tile held
@@ -126,6 +127,12 @@ public:
     void set_camera(const render::Camera& camera);
     // Changes the memory budget (bytes; 0 = the default).
     void set_memory_budget(std::uint64_t bytes);
+    // What the heightmaps show where full-resolution points were read: every point, or the bare
+    // earth of a ground filter (patch_detail.hpp). The patches with detail are laid over again in
+    // the background (a few at a time, none under the frame); until then they show the old surface,
+    // which the frame tints (PatchHeightmap::view).
+    void set_surface(Surface surface);
+    Surface surface() const;
 
     // What is ready now; shares data with the scheduler (no points or heightmaps copied).
     std::shared_ptr<const SceneSnapshot> snapshot() const;
@@ -150,6 +157,7 @@ private:
     struct State;
     void on_tile_done(std::uint32_t tile, std::span<const lidarscout::CellKey> cells);
     void heightmap_worker();
+    void restyle_some(std::unique_lock<RankedMutex>& lock);
     void cnn_worker();
     void loader_watch();
     void show_detail(const std::vector<lidarscout::CellKey>& cells);

@@ -21,11 +21,17 @@ namespace {
 
 constexpr double kOx = 500'000.0, kOy = 4'000'000.0;
 
+DetailLayer layer_with(int texel, float height, std::uint32_t count, std::uint32_t colour) {
+    DetailLayer l;
+    l.height.assign(16, NAN), l.count.assign(16, 0), l.colour.assign(16, 0);
+    l.height[texel] = height, l.count[texel] = count, l.colour[texel] = colour;
+    return l;
+}
+
 PatchDetail detail_with(int texel, float height, std::uint32_t count, std::uint32_t colour) {
     PatchDetail d;
     d.origin_x = kOx, d.origin_y = kOy, d.texel_m = 10, d.size = 4;
-    d.height.assign(16, NAN), d.count.assign(16, 0), d.colour.assign(16, 0);
-    d.height[texel] = height, d.count[texel] = count, d.colour[texel] = colour;
+    d.all = layer_with(texel, height, count, colour);
     return d;
 }
 
@@ -33,13 +39,20 @@ TEST(ViewerSchedulerDetail, MergeIsTheCountWeightedMean) {
     auto a = detail_with(5, 10.0f, 1, render::pack_rgba(0, 0, 0));
     const auto b = detail_with(5, 20.0f, 3, render::pack_rgba(200, 100, 40));
     merge_detail(a, b);
-    EXPECT_FLOAT_EQ(a.height[5], 17.5f);
-    EXPECT_EQ(a.count[5], 4u);
-    EXPECT_NEAR(render::red(a.colour[5]), 150, 1);
-    EXPECT_TRUE(std::isnan(a.height[0]));
+    EXPECT_FLOAT_EQ(a.all.height[5], 17.5f);
+    EXPECT_EQ(a.all.count[5], 4u);
+    EXPECT_NEAR(render::red(a.all.colour[5]), 150, 1);
+    EXPECT_TRUE(std::isnan(a.all.height[0]));
     merge_detail(a, detail_with(0, 3.0f, 2, render::pack_rgba(1, 2, 3)));  // a texel only the other has
-    EXPECT_FLOAT_EQ(a.height[0], 3.0f);
-    EXPECT_EQ(a.count[0], 2u);
+    EXPECT_FLOAT_EQ(a.all.height[0], 3.0f);
+    EXPECT_EQ(a.all.count[0], 2u);
+    EXPECT_TRUE(a.ground.empty()) << "neither had ground points";
+    auto g = detail_with(1, 7.0f, 1, 0);
+    g.ground = layer_with(1, 7.0f, 1, 0);
+    merge_detail(a, g);  // a ground layer the cell had none of
+    ASSERT_FALSE(a.ground.empty());
+    EXPECT_FLOAT_EQ(a.ground.height[1], 7.0f);
+    EXPECT_GT(a.bytes(), a.all.bytes());
 }
 
 TEST(ViewerSchedulerDetail, OverlayReplacesOnlyTexelsWithPoints) {

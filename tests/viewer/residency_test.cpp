@@ -130,7 +130,7 @@ std::uint64_t detail_points(const Residency& r, const lidarscout::PatchGrid& gri
     for (auto x = lo.ix; x <= hi.ix; ++x) {
         for (auto y = lo.iy; y <= hi.iy; ++y) {
             if (const auto d = r.detail({x, y})) {
-                for (const auto c : d->count) n += c;
+                for (const auto c : d->all.count) n += c;
             }
         }
     }

@@ -242,8 +242,8 @@ TEST(ViewerScheduler, MemoryBudgetHoldsAndReleasedTilesLeaveTheirDetail) {
                 const auto& b = tile.bounds_m;
                 if (x < b.min_x + 20 || x > b.max_x - 20 || y < b.min_y + 20 || y > b.max_y - 20) continue;
                 const std::size_t t = static_cast<std::size_t>(row) * d.size + col;
-                if (d.count[t] > best_count && scheduler.heightmap(cell)) {
-                    best_cell = &cell, best_texel = t, best_count = d.count[t];
+                if (d.all.count[t] > best_count && scheduler.heightmap(cell)) {
+                    best_cell = &cell, best_texel = t, best_count = d.all.count[t];
                 }
             }
         }

@@ -15,7 +15,7 @@
 extern "C" {
 #endif
 
-#define LIDARSCOUT_CUDA_RASTER_ABI 5
+#define LIDARSCOUT_CUDA_RASTER_ABI 6
 
 /* Offsets -> pixels and depth: w = depth . (p, 1), pixel = (sx . (p, 1), sy . (p, 1)) / w. */
 typedef struct LsrTransform {
@@ -64,7 +64,10 @@ typedef struct LsrPatch {
     const float* heights;    /* size x size, host memory, NaN = no data */
     const uint32_t* colours; /* size x size rgba8, or NULL */
     uint64_t key;            /* 0, or names these exact heights and colours: may be kept on the GPU */
+    int tint;                /* LSR_TINT_*: which texels are mixed towards the tint colour */
 } LsrPatch;
+
+enum { LSR_TINT_NONE = 0, LSR_TINT_MARKED = 1 /* texels whose colour alpha < 255 */, LSR_TINT_ALL = 2 };
 
 enum { LSR_COLOUR_RGB = 0, LSR_COLOUR_ELEVATION = 1, LSR_COLOUR_INTENSITY = 2, LSR_COLOUR_CLASSIFICATION = 3 };
 
@@ -91,6 +94,8 @@ typedef struct LsrHeightmapPass {
     float ambient;
     float level_gain;    /* scales the light so that level ground gets 1 */
     int fill_outline;    /* 1: empty pixels beside the drawn surface take their nearest drawn neighbour */
+    float tint_rgb[3];   /* what tinted texels are mixed towards, 0..255 */
+    float tint_strength; /* how far, 0..1 */
 } LsrHeightmapPass;
 
 typedef struct LsrResolve {

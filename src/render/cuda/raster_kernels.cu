@@ -335,11 +335,17 @@ __device__ float extrapolated_height(const float* heights, int size, int ci, int
     return isnan(h) ? fallback : h;
 }
 
-// corner_attributes.
-__device__ bool corner_attributes(const float* heights, const std::uint32_t* colours, int size, int ci, int cj,
-                                  float& height, float* rgb) {
+// texel_tinted and corner_attributes.
+__device__ bool texel_tinted(const DevicePatch& p, int t) {
+    return p.tint == LSR_TINT_ALL || (p.tint == LSR_TINT_MARKED && p.colours && (p.colours[t] >> 24) < 255u);
+}
+
+__device__ bool corner_attributes(const DevicePatch& p, const std::uint32_t* colours, int ci, int cj,
+                                  float& height, float* rgb, float& tinted_share) {
+    const float* heights = p.heights;
+    const int size = p.size;
     float sum_h = 0.0f, sum_c[3] = {0.0f, 0.0f, 0.0f};
-    int n = 0;
+    int n = 0, tinted = 0;
     for (int j = max(cj - 1, 0); j <= min(cj, size - 1); ++j) {
         for (int i = max(ci - 1, 0); i <= min(ci, size - 1); ++i) {
             const int t = j * size + i;
@@ -349,6 +355,7 @@ __device__ bool corner_attributes(const float* heights, const std::uint32_t* col
                 const std::uint32_t c = colours[t];
                 sum_c[0] += red(c), sum_c[1] += green(c), sum_c[2] += blue(c);
             }
+            tinted += texel_tinted(p, t);
             ++n;
         }
     }
@@ -356,6 +363,7 @@ __device__ bool corner_attributes(const float* heights, const std::uint32_t* col
     const bool boundary = ci == 0 || cj == 0 || ci == size || cj == size;
     height = boundary ? extrapolated_height(heights, size, ci, cj, sum_h / n) : sum_h / n;
     for (int k = 0; k < 3; ++k) rgb[k] = colours ? sum_c[k] / n : kUntexturedGrey;
+    tinted_share = static_cast<float>(tinted) / n;
     return true;
 }
 
@@ -367,10 +375,9 @@ __device__ GridVertex grid_vertex(const HeightmapFrame& h, const Target& t, cons
                                   const DevicePatch& p, int step, int ki, int kj) {
     GridVertex v{};
     const int ci = corner_at(ki, step, p.size), cj = corner_at(kj, step, p.size);
-    const float* heights = p.heights;
     const std::uint32_t* colours = p.textured ? p.colours : nullptr;
-    float height = 0.0f, rgb[3];
-    if (!corner_attributes(heights, colours, p.size, ci, cj, height, rgb)) return v;
+    float height = 0.0f, rgb[3], tinted = 0.0f;
+    if (!corner_attributes(p, colours, ci, cj, height, rgb, tinted)) return v;
     v.x = corner_offset(p.origin_x, h.camera_x, ci, p.texel_m);
     v.y = corner_offset(p.origin_y, h.camera_y, cj, p.texel_m);
     v.z = static_cast<float>(static_cast<double>(height) - h.camera_z);
@@ -378,6 +385,8 @@ __device__ GridVertex grid_vertex(const HeightmapFrame& h, const Target& t, cons
         const std::uint32_t e = ramp_colour(c, c.heightmap_offset, height);
         rgb[0] = red(e), rgb[1] = green(e), rgb[2] = blue(e);
     }
+    const float mix = tinted * h.tint_strength;
+    for (int k = 0; k < 3; ++k) rgb[k] += (h.tint_rgb[k] - rgb[k]) * mix;
     const RasterVertex s = project(h, v.x, v.y, v.z, rgb[0], rgb[1], rgb[2]);
     v.sx = s.x, v.sy = s.y, v.depth = s.depth, v.r = s.r, v.g = s.g, v.b = s.b;
     v.drawable = s.depth >= t.near_m;

@@ -50,6 +50,7 @@ struct DevicePatch {
     const float* heights;            // size x size, device memory
     const std::uint32_t* colours;    // size x size, device memory (used when textured)
     int textured;
+    int tint;                        // LSR_TINT_*
 };
 
 // What the first heightmap kernel decides per patch.
@@ -89,6 +90,7 @@ struct HeightmapFrame {
     float depth_scale, lod_quad_px, skirt_quads, ambient, level_gain;
     float sun[3];
     int fixed_step;
+    float tint_rgb[3], tint_strength;
 };
 
 struct TriangleQueue {

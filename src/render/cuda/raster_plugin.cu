@@ -221,7 +221,8 @@ HostFrame describe(const LsrFrame& f) {
     HostFrame h;
     for (std::uint32_t i = 0; i < f.heightmaps.patch_count; ++i) {
         const LsrPatch& p = f.heightmaps.patches[i];
-        h.patches.push_back({p.origin_x, p.origin_y, p.texel_m, p.size, nullptr, nullptr, p.colours != nullptr});
+        h.patches.push_back({p.origin_x, p.origin_y, p.texel_m, p.size, nullptr, nullptr, p.colours != nullptr,
+                             p.tint});
     }
     const std::uint64_t chunk = std::max<std::uint32_t>(1, f.chunk_points);
     for (std::uint32_t l = 0; l < f.layer_count; ++l) {
@@ -330,7 +331,8 @@ HeightmapFrame heightmap_frame(const LsrFrame& f, const DeviceBuffer& arena, con
     h.focal_px = p.focal_px, h.near_m = p.near_m;
     h.depth_scale = p.depth_scale, h.lod_quad_px = p.lod_quad_px, h.skirt_quads = p.skirt_quads;
     h.ambient = p.ambient, h.level_gain = p.level_gain, h.fixed_step = p.fixed_step;
-    for (int k = 0; k < 3; ++k) h.sun[k] = p.sun[k];
+    for (int k = 0; k < 3; ++k) h.sun[k] = p.sun[k], h.tint_rgb[k] = p.tint_rgb[k];
+    h.tint_strength = p.tint_strength;
     return h;
 }
 

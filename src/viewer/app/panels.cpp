@@ -13,6 +13,7 @@
 #include "las/classification.hpp"
 #include "render/backend.hpp"
 #include "render/colour_modes.hpp"
+#include "viewer/patch_heightmap.hpp"
 
 namespace lidarscout::viewer::app {
 namespace {
@@ -94,6 +95,7 @@ void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double f
     progress_line("chunk points", s.chunk_points);
     progress_line("linear", s.linear);
     if (s.cnn.total) progress_line("network", s.cnn);
+    if (s.surface_pending) ImGui::Text("surface: %zu patches to lay over again", s.surface_pending);
     progress_line("full-res", s.full_res);
     for (const auto& note : s.notes) ImGui::TextWrapped("%s", note.c_str());
 }
@@ -190,8 +192,14 @@ void filters_section(ViewSettings& v, const PanelState& state) {
         f.intensity_min = static_cast<std::uint16_t>(std::clamp(std::min(range[0], range[1]), 0, 65535));
         f.intensity_max = static_cast<std::uint16_t>(std::clamp(std::max(range[0], range[1]), 0, 65535));
     }
+    if (const Surface surface = surface_of(f); surface != Surface::All) {
+        ImGui::TextColored(ImVec4(0.85f, 0.35f, 0.85f, 1.0f), "Heightmaps: %s (bare earth) where tiles were read;",
+                           surface_name(surface));
+        ImGui::TextColored(ImVec4(0.85f, 0.35f, 0.85f, 1.0f), "tinted violet: the overview of every point, not "
+                           "filtered (tiles not read yet).");
+    }
     ImGui::TextWrapped("Points held for the view by class. Chunk points have no returns (a return filter lets "
-                       "them through); heightmaps are not filtered.");
+                       "them through); heightmaps follow a ground or water filter only.");
     class_checkboxes(f, state.loaded_classes);
 }
 

@@ -253,6 +253,7 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     const int h = std::max(1, static_cast<int>(std::lround(fb_height * v.render_scale)));
     camera = controller.camera(w, h);
     s.scheduler->set_camera(camera);
+    s.scheduler->set_surface(surface_of(v.style.filter));  // a ground filter shows bare earth (cheap when unchanged)
     SceneStyle style = v.style;
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
     const bool loading = s.scheduler->points_loading();  // before the snapshot: when false, it holds all
