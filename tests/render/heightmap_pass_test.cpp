@@ -19,8 +19,9 @@ struct OwnedPatch {
     int size = 64;
     std::vector<float> heights;
     std::vector<std::uint32_t> colours;
+    PatchTint tint = PatchTint::None;
 
-    HeightmapPatch view() const { return {origin_x, origin_y, texel_m, size, heights, colours}; }
+    HeightmapPatch view() const { return {origin_x, origin_y, texel_m, size, heights, colours, 0, tint}; }
     float& height(int row, int col) { return heights[static_cast<std::size_t>(row) * size + col]; }
 };
 
@@ -335,6 +336,37 @@ TEST(RenderHeightmapPass, PatchBehindTheCameraDrawsNothing) {
         for (int x = 0; x < 64; ++x) ASSERT_TRUE(fb.empty_at(x, y));
 }
 
+TEST(RenderHeightmapPass, ATintMixesTheMarkedTexelsOrTheWholePatchTowardsItsColour) {
+    // A level grey patch whose western half is marked (alpha below 255): the viewer's overview
+    // texels where a ground filter wants bare earth.
+    OwnedPatch patch = flat_patch(kX0, kY0, 0.0f, pack_rgba(100, 100, 100));
+    for (int row = 0; row < 64; ++row)
+        for (int col = 0; col < 32; ++col) patch.colours[static_cast<std::size_t>(row) * 64 + col] = 0x80646464u;
+    const Camera c = top_down(kX0 + 320.0, kY0 + 320.0, 1500.0);
+    const HeightmapPassSettings s = centres_only();
+    const auto west = [&](const Framebuffer& fb) { return fragment_rgba(fb.at(95, 128)); };
+    const auto east = [&](const Framebuffer& fb) { return fragment_rgba(fb.at(160, 128)); };
+    const Framebuffer none = render(c, {patch}, s);
+    EXPECT_EQ(west(none), east(none)) << "untinted, the alpha is not drawn";
+    EXPECT_NEAR(red(east(none)), 100, 2);
+    patch.tint = PatchTint::Marked;
+    const Framebuffer marked = render(c, {patch}, s);
+    EXPECT_EQ(east(marked), east(none)) << "unmarked texels keep their colour";
+    const float mix = s.tint_strength;  // level ground: the texture's own colour, mixed
+    EXPECT_NEAR(red(west(marked)), 100 + (s.tint_rgb[0] - 100) * mix, 3);
+    EXPECT_NEAR(green(west(marked)), 100 + (s.tint_rgb[1] - 100) * mix, 3);
+    patch.tint = PatchTint::All;
+    const Framebuffer all = render(c, {patch}, s);
+    EXPECT_EQ(east(all), west(marked));
+    EXPECT_EQ(west(all), west(marked));
+    HeightmapPassSettings elevation = s;  // the ramp's colours are tinted too
+    elevation.colour.mode = ColourMode::Elevation;
+    const Framebuffer ramp = render(c, {patch}, elevation);
+    patch.tint = PatchTint::None;
+    const Framebuffer plain_ramp = render(c, {patch}, elevation);
+    EXPECT_NE(west(ramp), west(plain_ramp));
+}
+
 TEST(RenderHeightmapPass, RejectsMalformedPatches) {
     const Camera c = top_down(kX0, kY0, 1000.0, 32);
     Framebuffer fb(32, 32);
@@ -350,6 +382,10 @@ TEST(RenderHeightmapPass, RejectsMalformedPatches) {
     patch.colours.clear();  // untextured is fine
     patches = {patch.view()};
     EXPECT_NO_THROW(draw_heightmaps(fb, c, patches, {}, pool));
+    patch.tint = PatchTint::Marked;  // but its marks are in the colours
+    patches = {patch.view()};
+    EXPECT_THROW(draw_heightmaps(fb, c, patches, {}, pool), Error);
+    patch.tint = PatchTint::None;
     patch.texel_m = 0;
     patches = {patch.view()};
     EXPECT_THROW(draw_heightmaps(fb, c, patches, {}, pool), Error);

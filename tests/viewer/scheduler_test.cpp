@@ -373,6 +373,53 @@ TEST(ViewerScheduler, IdleFrameEqualsEveryPointOfTheVisibleTiles) {
     EXPECT_LT(lod, render::kIdenticalPsnrDb);
 }
 
+TEST(ViewerScheduler, AGroundSurfaceLaysTheDetailOverAgainAsBareEarth) {
+    // ky-woodford-county read whole, then a ground filter: every patch with detail shows bare earth
+    // (its ground texels at the mean of their ground points), laid over in the background; the
+    // frame meanwhile tints what still shows every point. Back to every point, the detail returns.
+    const auto ds = open_survey("ky-woodford-county");
+    render::Camera camera = above_tile(ds.tiles[0], 1500);
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 1ull << 30;
+    o.camera = camera;
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    ThreadPool pool(2);
+    const PatchDetails details = tile_detail(tile_point_set(ds.tiles[0], ds.las_stride, pool), scheduler.grid(), 64);
+    const auto shown_surfaces = [&](Surface wanted) {
+        std::size_t n = 0, checked = 0;
+        for (const auto& [cell, d] : details) {
+            const auto h = scheduler.heightmap(cell);
+            if (!h) continue;
+            ++n;
+            EXPECT_EQ(h->surface, wanted);
+            const DetailLayer& layer = wanted == Surface::Ground ? d.ground : d.all;
+            for (std::size_t t = 0; t < h->heights.size() && !layer.empty(); ++t) {
+                if (layer.count[t] == 0) continue;
+                EXPECT_NEAR(h->heights[t], layer.height[t], 1e-3) << "texel " << t;
+                ++checked;
+            }
+        }
+        return std::pair{n, checked};
+    };
+    const auto [patches, all_texels] = shown_surfaces(Surface::All);
+    ASSERT_GT(patches, 0u);
+    ASSERT_GT(all_texels, 0u);
+    scheduler.set_surface(Surface::Ground);
+    EXPECT_EQ(scheduler.surface(), Surface::Ground);
+    EXPECT_FALSE(scheduler.idle() && scheduler.stats().surface_pending > 0);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    EXPECT_EQ(scheduler.stats().surface_pending, 0u);
+    const auto [ground_patches, ground_texels] = shown_surfaces(Surface::Ground);
+    EXPECT_EQ(ground_patches, patches);
+    EXPECT_GT(ground_texels, all_texels / 4) << "a classified survey: ground in much of it";
+    EXPECT_LT(ground_texels, all_texels) << "and roofs or trees where there is none";
+    scheduler.set_surface(Surface::All);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    EXPECT_EQ(shown_surfaces(Surface::All).second, all_texels);
+}
+
 // A replica made by the test itself: the 9 ky-jmo335 tiles on a 6x6 grid (36 tiles, 63 M
 // points, ~1.3 GB as full-resolution points), in a temporary folder removed at the end.
 class Replica {
