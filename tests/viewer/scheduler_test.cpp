@@ -340,16 +340,21 @@ TEST(ViewerScheduler, HeightmapsOutOfViewShowAtTheNextCameraMove) {
 // Once idle with a budget that holds the survey, the still frame (refined: every point held)
 // equals a frame drawing every point of the tile decoded here, over the same heightmaps; the
 // frame drawn while moving (LOD at half a pixel) is close to it but not equal.
+// Linear heightmaps and full resolution within 1 GiB, starting at `camera`.
+SchedulerOptions linear_full_res(const render::Camera& camera) {
+    SchedulerOptions o;
+    o.cnn = false;
+    o.memory_budget = 1ull << 30;
+    o.camera = camera;
+    return o;
+}
+
 TEST(ViewerScheduler, IdleFrameEqualsEveryPointOfTheVisibleTiles) {
     const auto ds = open_survey("ky-woodford-county");
     ASSERT_EQ(ds.tiles.size(), 1u);
     render::Camera camera = above_tile(ds.tiles[0], 1500);
     camera.width = 480, camera.height = 360;
-    SchedulerOptions o;
-    o.cnn = false;
-    o.memory_budget = 1ull << 30;
-    o.camera = camera;
-    Scheduler scheduler(ds, o);
+    Scheduler scheduler(ds, linear_full_res(camera));
     ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
     EXPECT_EQ(scheduler.stats().full_res.done, 1u);
     const auto snap = scheduler.snapshot();
@@ -378,12 +383,7 @@ TEST(ViewerScheduler, AGroundSurfaceLaysTheDetailOverAgainAsBareEarth) {
     // (its ground texels at the mean of their ground points), laid over in the background; the
     // frame meanwhile tints what still shows every point. Back to every point, the detail returns.
     const auto ds = open_survey("ky-woodford-county");
-    render::Camera camera = above_tile(ds.tiles[0], 1500);
-    SchedulerOptions o;
-    o.cnn = false;
-    o.memory_budget = 1ull << 30;
-    o.camera = camera;
-    Scheduler scheduler(ds, o);
+    Scheduler scheduler(ds, linear_full_res(above_tile(ds.tiles[0], 1500)));
     ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
     ThreadPool pool(2);
     const PatchDetails details = tile_detail(tile_point_set(ds.tiles[0], ds.las_stride, pool), scheduler.grid(), 64);
