@@ -22,6 +22,8 @@ void register_eval_command(CLI::App& app, std::function<int()>& run);
 void register_train_data_command(CLI::App& app, std::function<int()>& run);
 // Registers `dem` (DEM and orthophoto as Cloud-Optimized GeoTIFF).
 void register_dem_command(CLI::App& app, std::function<int()>& run);
+// Registers `catalog` (a dataset as a QGIS virtual point cloud, .vpc).
+void register_catalog_command(CLI::App& app, std::function<int()>& run);
 // Registers `clip` (the points inside a box or polygon as one LAS/LAZ file).
 void register_clip_command(CLI::App& app, std::function<int()>& run);
 // Registers `profile` (the points of a corridor along a line: CSV, LAS/LAZ or PNG).

@@ -146,7 +146,7 @@ void print_text(const FileReport& r, bool chunks) {
     for (const auto& w : t.crs().warnings) {
         std::printf("  CRS %s: %s\n", level_name(w.level), display_text(w.message).c_str());
     }
-    if (const auto ll = tile_lonlat_bounds(t)) {
+    if (const auto ll = dataset::tile_lonlat_bounds(t)) {
         std::printf("  lon/lat: %.6f .. %.6f, %.6f .. %.6f (WGS 84)\n", ll->west, ll->east, ll->south, ll->north);
     }
     for (const auto* list : {&t.vlrs(), &t.evlrs()}) {

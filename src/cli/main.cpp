@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
     lidarscout::cli::register_eval_command(app, run);
     lidarscout::cli::register_train_data_command(app, run);
     lidarscout::cli::register_dem_command(app, run);
+    lidarscout::cli::register_catalog_command(app, run);
     lidarscout::cli::register_clip_command(app, run);
     lidarscout::cli::register_profile_command(app, run);
     lidarscout::cli::register_render_command(app, run);

@@ -110,7 +110,7 @@ json tile_to_json(const dataset::Tile& t) {
             {"vlrs", vlrs_json(t.vlrs())},
             {"evlrs", vlrs_json(t.evlrs())},
             {"crs", crs_json(t.crs())},
-            {"lonlat_bounds", lonlat_json(tile_lonlat_bounds(t))},
+            {"lonlat_bounds", lonlat_json(dataset::tile_lonlat_bounds(t))},
             {"laz", laz_json(t)},
             {"copc", copc_json(t)},
             {"warnings", t.warnings().messages()},
@@ -155,17 +155,6 @@ json chunk_points_to_json(const std::vector<dataset::ChunkPoint>& points, const 
                        {"nir", fmt.nir_offset >= 0 ? json(p.nir) : json(nullptr)}});
     }
     return out;
-}
-
-std::optional<geo::LonLatBounds> tile_lonlat_bounds(const dataset::Tile& tile) {
-    const std::string def = geo::crs_definition(tile.crs());
-    if (def.empty() || tile.header.point_count == 0) return std::nullopt;
-    const auto& h = tile.header;
-    try {
-        return geo::lonlat_bounds(def, h.min[0], h.min[1], h.max[0], h.max[1]);
-    } catch (const Error&) {
-        return std::nullopt;  // a CRS PROJ does not know: the file's CRS report says what it is
-    }
 }
 
 json failed_tile_json(const std::string& path, const std::string& error) {

@@ -17,11 +17,8 @@ namespace lidarscout::cli {
 nlohmann::json tile_to_json(const dataset::Tile& tile);
 nlohmann::json chunks_to_json(const dataset::Tile& tile);
 nlohmann::json chunk_points_to_json(const std::vector<dataset::ChunkPoint>& points, const dataset::Tile& tile);
-// The object of a file that could not be read: every field null but `path` and `error`.
-// The tile's header bounds in longitude/latitude (WGS 84) through PROJ; empty when its CRS is
-// unknown or PROJ cannot transform them.
-std::optional<geo::LonLatBounds> tile_lonlat_bounds(const dataset::Tile& tile);
 
+// The object of a file that could not be read: every field null but `path` and `error`.
 nlohmann::json failed_tile_json(const std::string& path, const std::string& error);
 // Errors kept while working on: [{"file": ..., "offset": n or null, "cause": ...}, ...].
 nlohmann::json error_list_json(const std::vector<ErrorRecord>& errors);

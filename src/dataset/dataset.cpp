@@ -5,6 +5,7 @@
 #include "dataset/dataset.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <future>
@@ -18,6 +19,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "geo/crs_definition.hpp"
 #include "geo/projection.hpp"
@@ -157,6 +159,16 @@ private:
     std::mutex mutex_;
     std::map<std::string, std::shared_future<Result>> sources_;
 };
+
+// Why a tile's header disagrees with what its catalog item said ("" when it agrees or none did).
+std::string catalog_disagreement(const TileSource& source, const DatasetTile& t) {
+    if (!source.item) return {};
+    const auto& h = t.tile.header;
+    const std::array<double, 6> bounds = {h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]};
+    const std::string why = item_disagreement(*source.item, h.point_count, bounds, t.tile.crs().epsg.value_or(0));
+    return why.empty() ? why : "its header disagrees with its catalog item in " + source.item->document + " (" +
+                                   why + "): the header is used";
+}
 
 std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, TileReads& reads,
                                     std::string& error) {
@@ -325,6 +337,35 @@ void require_tiles(const Dataset& ds, const std::string& stage) {
     throw Error::in_stage(stage, "no readable LAS/LAZ tile in the given paths" + why);
 }
 
+std::optional<Bounds> catalog_footprint(const CatalogItem& item) {
+    if (!item.bbox) return std::nullopt;
+    // Units per CRS text, looked up once (a catalog's items mostly share one CRS).
+    static std::mutex mutex;
+    static std::map<std::string, std::optional<std::pair<double, double>>> units;
+    std::optional<std::pair<double, double>> unit{{1.0, 1.0}};
+    if (!item.crs.empty()) {
+        std::lock_guard lock(mutex);
+        const auto [it, added] = units.try_emplace(item.crs);
+        if (added) {
+            try {
+                const geo::CrsInfo info = geo::crs_info(item.crs);
+                if (!info.geographic) it->second = std::pair{info.xy_to_metres, info.z_to_metres};
+            } catch (const Error&) {
+                // unknown to PROJ: no footprint before the header
+            }
+        }
+        unit = it->second;
+    }
+    if (!unit) return std::nullopt;
+    const auto [xy, z] = *unit;
+    const auto& b = *item.bbox;
+    Bounds out;
+    out.min_x = b[0] * xy, out.min_y = b[1] * xy, out.max_x = b[3] * xy, out.max_y = b[4] * xy;
+    out.min_z = std::isnan(b[2]) ? 0.0 : b[2] * z;
+    out.max_z = std::isnan(b[5]) ? 0.0 : b[5] * z;
+    return out;
+}
+
 std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
     if (ds.bounds_m.empty()) return {0.0, 0.0};
     return {std::floor(ds.bounds_m.min_x / patch) * patch, std::floor(ds.bounds_m.min_y / patch) * patch};
@@ -336,9 +377,10 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     FoundSources found = find_tile_sources(paths);
     ds.skipped = std::move(found.errors);
     const std::vector<TileSource>& sources = found.sources;
+    if (options.sources_found) options.sources_found(sources);
     const std::size_t n = sources.size();
     std::vector<DatasetTile> tiles(n);  // a tile not read has no file
-    std::vector<std::string> errors(n);
+    std::vector<std::string> errors(n), disagreements(n);
     std::atomic<std::size_t> done{0};
     std::vector<std::string> source_paths;
     source_paths.reserve(n);
@@ -352,6 +394,7 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
         if (cancelled()) return;
         if (auto tile = read_one(sources[i], options.las_stride, reads, errors[i])) {
             tiles[i] = std::move(*tile);
+            disagreements[i] = catalog_disagreement(sources[i], tiles[i]);
             if (options.tile_read) options.tile_read(tiles[i]);
         }
         const std::size_t d = done.fetch_add(1) + 1;
@@ -360,6 +403,10 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     if (cancelled()) throw Error::in_stage("dataset", "opening cancelled");
     for (std::size_t i = 0; i < n; ++i) {
         if (!tiles[i].tile.file) ds.skipped.push_back({io::display_path(sources[i].path), errors[i]});
+        if (!disagreements[i].empty()) {
+            ds.warnings.add({DiagnosticLevel::warning, io::display_path(sources[i].path), std::nullopt,
+                             disagreements[i]});
+        }
     }
     std::erase_if(tiles, [](const DatasetTile& t) { return !t.tile.file; });
     ds.tiles = std::move(tiles);

@@ -9,6 +9,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -93,6 +94,9 @@ struct DatasetOptions {
     unsigned io_threads = 16;  // header reads in flight (I/O bound: more than the cores)
     std::uint64_t las_stride = 50'000;  // chunk-point stride for uncompressed LAS tiles
     std::string crs;  // the frame's CRS ("EPSG:32632", WKT); empty: the CRS most tiles use
+    // Called once the paths are expanded, before any header is read: the tiles to read (a STAC
+    // catalog's with what its items say of them: catalog_footprint places them at once).
+    std::function<void(std::span<const TileSource>)> sources_found;
     // Called from reader threads as files finish: (files done, files total).
     std::function<void(std::size_t, std::size_t)> progress;
     // Called from reader threads for each tile read, before `progress` counts it (a tile in
@@ -107,6 +111,11 @@ struct DatasetOptions {
 // manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`;
 // throws only when options.cancel asked it to stop.
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options = {});
+
+// Where a STAC catalog item says its tile lies, in metres of the item's CRS (its proj:bbox scaled by
+// the CRS's units; z from 0 when the bbox is 2D): the tile's footprint before its header is read.
+// Empty without a bbox, or with a CRS PROJ does not know or in degrees.
+std::optional<Bounds> catalog_footprint(const CatalogItem& item);
 
 // Throws Error (of `stage`) when the dataset has no readable tile, naming why: the first skipped
 // paths with their causes and how many more there are.

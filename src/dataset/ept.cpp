@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "dataset/json_file.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
 #include "net/url.hpp"
@@ -62,13 +63,7 @@ std::optional<NodeKey> parse_key(const std::string& key) {
     return k;
 }
 
-nlohmann::json read_json(const io::File& file) {
-    if (file.size() > kMaxJson) throw Error(file.path(), std::nullopt, "JSON file too large");
-    const auto bytes = file.read_vector(0, static_cast<std::size_t>(file.size()), "JSON document");
-    auto json = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
-    if (json.is_discarded() || !json.is_object()) throw Error(file.path(), std::nullopt, "not a JSON object");
-    return json;
-}
+nlohmann::json read_json(const io::File& file) { return read_json_object(file, kMaxJson); }
 
 nlohmann::json read_json(const std::string& path) { return read_json(io::File::open(path)); }
 

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
@@ -154,11 +155,26 @@ void expand_ept(const std::string& metadata, FoundFiles& out) {
     for (auto& e : nodes.errors) out.errors.push_back({io::display_path(metadata), std::move(e)});
 }
 
+// A STAC catalog or virtual point cloud: its items' data assets are the tiles.
+void expand_catalog(const std::string& path, FoundFiles& out) {
+    Catalog catalog = read_catalog(path);
+    for (auto& e : catalog.errors) out.errors.push_back({io::display_path(path), std::move(e)});
+    if (catalog.items.empty() && catalog.errors.empty()) {
+        out.errors.push_back({io::display_path(path), io::display_path(path) + ": a STAC catalog without items"});
+    }
+    for (auto& item : catalog.items) {
+        out.files.push_back(item.href);
+        const std::string href = item.href;  // (the move below would come first)
+        out.items[href] = std::make_shared<const CatalogItem>(std::move(item));
+    }
+}
+
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
     if (const std::string problem = net::url_problem(p); !problem.empty()) {
         return out.errors.push_back({io::display_path(p), io::display_path(p) + ": " + problem});
     }
     if (is_ept_metadata(p)) return expand_ept(p, out);
+    if (allow_lists && is_stac_catalog(p)) return expand_catalog(p, out);
     if (net::is_url(p)) return expand_url(p, allow_lists, out);
     std::error_code ec;
     auto st = fs::status(p, ec);
@@ -211,7 +227,11 @@ FoundSources find_tile_sources(const std::vector<std::string>& given) {
         const std::string p = replica_or_path(g);
         if (!is_virtual_replica(p)) {
             FoundFiles found = find_point_cloud_files({p});
-            for (auto& f : found.files) out.sources.push_back({std::move(f), std::nullopt, {}});
+            for (auto& f : found.files) {
+                const auto item = found.items.find(f);
+                auto what = item == found.items.end() ? nullptr : item->second;
+                out.sources.push_back({std::move(f), std::nullopt, {}, std::move(what)});
+            }
             out.errors.insert(out.errors.end(), found.errors.begin(), found.errors.end());
             continue;
         }
@@ -240,6 +260,8 @@ void add_local_input(const std::string& p, bool allow_lists, std::vector<std::st
         } catch (const Error&) {
             // a malformed manifest is reported when the dataset is opened
         }
+    } else if (allow_lists && is_stac_catalog(p)) {
+        for (const auto& item : read_catalog(p).items) add_local_input(item.href, false, out);
     } else if (allow_lists && is_tile_list(p)) {
         FoundFiles ignored;
         for (const auto& entry : read_tile_list(p, ignored).value_or(std::vector<std::string>{})) {

@@ -1,15 +1,20 @@
 // Finding the tiles of a dataset: paths given by the user, folders searched recursively for
 // .las/.laz files (case-insensitive), in a stable sorted order, tile lists (text files
-// naming one tile or folder per line), EPT datasets (ept.json / entwine.json: the LAZ nodes)
-// and http(s) URLs of any of these but folders.
+// naming one tile or folder per line), EPT datasets (ept.json / entwine.json: the LAZ nodes),
+// STAC catalogs and QGIS virtual point clouds (.vpc / .json: dataset/stac_catalog.hpp) and
+// http(s) URLs of any of these but folders.
 #pragma once
 
 #include <array>
+#include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace lidarscout::dataset {
+
+struct CatalogItem;
 
 // A path that gives no tile: the path as the user (or a list) named it, and one line naming it
 // and the cause.
@@ -21,6 +26,8 @@ struct SkippedFile {
 struct FoundFiles {
     std::vector<std::string> files;   // LAS/LAZ files, folders expanded, sorted per argument
     std::vector<SkippedFile> errors;  // one per path that does not exist / cannot be listed / holds no tile
+    // What a STAC catalog says of the files it named (by file), to place them before their headers are read.
+    std::map<std::string, std::shared_ptr<const CatalogItem>> items;
 };
 
 bool has_point_cloud_extension(const std::string& path);
@@ -33,8 +40,9 @@ bool is_tile_list(const std::string& path);
 // Expands every path: a folder is searched recursively for .las/.laz files; a tile list is
 // read line by line (blank lines and lines starting with '#' skipped; relative entries are
 // relative to the list's folder or URL; entries may be files, folders, URLs or EPT metadata,
-// not further lists); an EPT metadata file gives its nodes; any other file or URL is kept as
-// given (whatever its extension; reading it reports what is wrong).
+// not further lists); an EPT metadata file gives its nodes; a STAC catalog its items' data
+// assets; any other file or URL is kept as given (whatever its extension; reading it reports
+// what is wrong).
 FoundFiles find_point_cloud_files(const std::vector<std::string>& paths);
 
 // A tile to read: a file, or a virtual replica's source with its x/y shift (in its own units)
@@ -43,6 +51,7 @@ struct TileSource {
     std::string path;
     std::optional<std::array<double, 2>> shift;
     std::string name;  // "" for a plain file
+    std::shared_ptr<const CatalogItem> item;  // what a STAC catalog says of it (null when none named it)
 };
 
 struct FoundSources {

@@ -2,6 +2,7 @@
 #include "dataset/tile.hpp"
 
 #include "core/error.hpp"
+#include "geo/crs_definition.hpp"
 #include "geo/projection.hpp"
 #include "io/file.hpp"
 
@@ -87,6 +88,17 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     f->records = options.shared_records ? options.shared_records->intern(std::move(r), wkt_flag) : std::move(r);
     t.file = std::move(f);
     return t;
+}
+
+std::optional<geo::LonLatBounds> tile_lonlat_bounds(const Tile& tile) {
+    const std::string def = geo::crs_definition(tile.crs());
+    if (def.empty() || tile.header.point_count == 0) return std::nullopt;
+    const auto& h = tile.header;
+    try {
+        return geo::lonlat_bounds(def, h.min[0], h.min[1], h.max[0], h.max[1]);
+    } catch (const Error&) {
+        return std::nullopt;  // a CRS PROJ does not know: the file's CRS report says what it is
+    }
 }
 
 }  // namespace lidarscout::dataset

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/diagnostic.hpp"
+#include "geo/projection.hpp"
 #include "las/copc.hpp"
 #include "las/crs.hpp"
 #include "las/header.hpp"
@@ -94,5 +95,9 @@ struct TileOptions {
 
 // Reads the tile's metadata; throws lidarscout::Error (file, offset, cause) on bad input.
 Tile read_tile(const io::File& file, const TileOptions& options = {});
+
+// The tile's header bounds in longitude/latitude (WGS 84) through PROJ; empty when its CRS is
+// unknown, it has no points, or PROJ cannot transform them.
+std::optional<geo::LonLatBounds> tile_lonlat_bounds(const Tile& tile);
 
 }  // namespace lidarscout::dataset

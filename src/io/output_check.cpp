@@ -60,6 +60,7 @@ std::vector<std::string_view> extensions_of(OutputKind kind) {
         case OutputKind::Png: return {".png"};
         case OutputKind::Hillshade: return {".tif", ".tiff", ".png"};
         case OutputKind::Json: return {".json"};
+        case OutputKind::Catalog: return {".vpc"};
         case OutputKind::PointCloud: return {".las", ".laz"};
         case OutputKind::Profile: return {".csv", ".las", ".laz", ".png"};
         case OutputKind::TrainingData:

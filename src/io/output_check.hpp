@@ -24,6 +24,7 @@ enum class OutputKind {
     Png,           // .png
     Hillshade,     // .tif, .tiff (georeferenced) or .png (with a world file)
     Json,          // .json
+    Catalog,       // .vpc (a QGIS virtual point cloud)
     PointCloud,    // .las, .laz
     Profile,       // .csv, .las, .laz, .png (a profile's points or image)
     TrainingData,  // lidarscout's own layout: any extension but those of the formats above

@@ -72,8 +72,8 @@ void check_patch(const HeightmapPatch& patch, std::size_t index) {
                     std::isfinite(patch.texel_m) && std::isfinite(patch.origin_x) && std::isfinite(patch.origin_y);
     if (!ok) {
         throw Error("heightmap pass: patch " + std::to_string(index) +
-                    " needs a size in 1..4096, size x size heights (and colours, or none; a marked tint needs them) and a "
-                    "positive texel size");
+                    " needs a size in 1..4096, size x size heights (and colours, or none; a marked tint needs "
+                    "them) and a positive texel size");
     }
 }
 

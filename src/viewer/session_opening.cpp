@@ -20,6 +20,15 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
     dataset::DatasetOptions d;
     d.crs = options.crs;
     d.cancel = &cancel_;
+    d.sources_found = [this](std::span<const dataset::TileSource> sources) {
+        std::vector<dataset::Bounds> placed;  // a catalog's tiles, where its items say (CRS lookups outside the lock)
+        for (const auto& s : sources) {
+            if (const auto b = s.item ? dataset::catalog_footprint(*s.item) : std::nullopt) placed.push_back(*b);
+        }
+        std::lock_guard lock(mutex_);
+        progress_.total = sources.size();
+        for (const auto& b : placed) footprints_.push_back(b), progress_.extent.extend(b);
+    };
     d.tile_read = [this](const dataset::DatasetTile& t) {
         std::lock_guard lock(mutex_);
         ++progress_.read;

@@ -1,8 +1,9 @@
 // Progressive opening of the viewer's dataset: the tiles' metadata are read (and the Scheduler
 // built on them) on a background thread, while the window keeps drawing. Until it is done the
 // window shows what is known: how many tiles are read, failed and to go, and the footprints of
-// the tiles read so far. Destroying an opening that is not finished cancels it: files not yet
-// started are not read, and the destructor waits only for the reads in progress.
+// the tiles read so far (a STAC catalog's every tile at once, where its items place them).
+// Destroying an opening that is not finished cancels it: files not yet started are not read,
+// and the destructor waits only for the reads in progress.
 #pragma once
 
 #include <atomic>

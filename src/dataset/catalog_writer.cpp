@@ -1,0 +1,193 @@
+// A dataset as a virtual point cloud: one STAC item per tile (ids unique, hrefs relative to the
+// catalog's folder), written through a temporary name.
+#include "dataset/catalog_writer.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "geo/crs_definition.hpp"
+#include "geo/projection.hpp"
+#include "io/output_file.hpp"
+#include "net/url.hpp"
+
+namespace lidarscout::dataset {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using nlohmann::ordered_json;
+
+namespace {
+
+constexpr const char* kPointcloudExtension = "https://stac-extensions.github.io/pointcloud/v1.0.0/schema.json";
+constexpr const char* kProjectionExtension = "https://stac-extensions.github.io/projection/v1.1.0/schema.json";
+
+bool has_gps_time(int f) { return f == 1 || f >= 3; }
+bool has_rgb(int f) { return f == 2 || f == 3 || f == 5 || f == 7 || f == 8 || f == 10; }
+bool has_nir(int f) { return f == 8 || f == 10; }
+bool has_waveform(int f) { return f == 4 || f == 5 || f == 9 || f == 10; }
+
+// The dimensions of a point format, named as PDAL names them (what QGIS shows).
+json point_schema(int format) {
+    json out = json::array();
+    const auto add = [&](const char* name, const char* type, int size) {
+        out.push_back({{"name", name}, {"size", size}, {"type", type}});
+    };
+    for (const char* axis : {"X", "Y", "Z"}) add(axis, "floating", 8);
+    add("Intensity", "unsigned", 2);
+    add("ReturnNumber", "unsigned", 1);
+    add("NumberOfReturns", "unsigned", 1);
+    add("ScanDirectionFlag", "unsigned", 1);
+    add("EdgeOfFlightLine", "unsigned", 1);
+    add("Classification", "unsigned", 1);
+    add("ScanAngleRank", "floating", 4);
+    add("UserData", "unsigned", 1);
+    add("PointSourceId", "unsigned", 2);
+    if (format >= 6) add("ScanChannel", "unsigned", 1), add("ClassFlags", "unsigned", 1);
+    if (has_gps_time(format)) add("GpsTime", "floating", 8);
+    if (has_rgb(format)) add("Red", "unsigned", 2), add("Green", "unsigned", 2), add("Blue", "unsigned", 2);
+    if (has_nir(format)) add("Infrared", "unsigned", 2);
+    if (has_waveform(format)) {
+        add("WavePacketDescriptorIndex", "unsigned", 1);
+        add("WaveformDataOffset", "unsigned", 8);
+        add("WaveformPacketSize", "unsigned", 4);
+        add("ReturnPointWaveformLocation", "floating", 4);
+        for (const char* t : {"Xt", "Yt", "Zt"}) add(t, "floating", 4);
+    }
+    return out;
+}
+
+// A closed ring around the box, as GeoJSON polygon coordinates.
+json box_polygon(double x0, double y0, double x1, double y1) {
+    return {{"type", "Polygon"}, {"coordinates", {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}, {x0, y0}}}}};
+}
+
+std::string utc_date(int year, int day_of_year) {
+    std::tm t{};
+    t.tm_year = year - 1900, t.tm_mon = 0, t.tm_mday = day_of_year;  // timegm normalises the day
+    const std::time_t when = timegm(&t);
+    std::tm n{};
+    gmtime_r(&when, &n);
+    char text[32];
+    std::snprintf(text, sizeof text, "%04d-%02d-%02dT00:00:00Z", n.tm_year + 1900, n.tm_mon + 1, n.tm_mday);
+    return text;
+}
+
+std::string utc_now() {
+    const std::time_t now = std::time(nullptr);
+    std::tm n{};
+    gmtime_r(&now, &n);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &n);
+    return text;
+}
+
+// datetime: the header's creation day; when it has none, null between 1970 and now (STAC's rule).
+void add_dates(const las::Header& h, ordered_json& props) {
+    if (h.creation_year >= 1970 && h.creation_day >= 1 && h.creation_day <= 366) {
+        props["datetime"] = utc_date(h.creation_year, h.creation_day);
+        return;
+    }
+    props["datetime"] = nullptr;
+    props["start_datetime"] = "1970-01-01T00:00:00Z";
+    props["end_datetime"] = utc_now();
+}
+
+// The asset href: a URL as it is, a local file relative to the catalog's folder ("./name").
+std::string href_of(const std::string& path, const fs::path& catalog_folder) {
+    if (net::is_url(path)) return path;
+    const fs::path relative = fs::absolute(path).lexically_proximate(catalog_folder);
+    const std::string r = relative.generic_string();
+    return relative.is_absolute() || r.rfind("../", 0) == 0 ? r : "./" + r;
+}
+
+std::string unique_id(const std::string& path, std::set<std::string>& used) {
+    const std::string plain = net::is_url(path) ? path.substr(0, path.find_first_of("?#")) : path;
+    std::string stem = fs::path(plain).filename().string();
+    for (const char* ext : {".copc.laz", ".laz", ".las"}) {
+        const std::string e = ext;
+        if (stem.size() > e.size() && stem.compare(stem.size() - e.size(), e.size(), e) == 0) {
+            stem.resize(stem.size() - e.size());
+            break;
+        }
+    }
+    std::string id = stem;
+    for (int k = 2; !used.insert(id).second; ++k) id = stem + "-" + std::to_string(k);
+    return id;
+}
+
+ordered_json item_json(const Tile& tile, const std::string& id, const fs::path& folder, bool& without_crs) {
+    const las::Header& h = tile.header;
+    ordered_json props;
+    add_dates(h, props);
+    props["pc:count"] = h.point_count;
+    props["pc:type"] = "lidar";
+    props["pc:encoding"] = tile.copc ? "application/vnd.laszip+copc" : tile.compressed() ? "laszip" : "binary";
+    props["pc:schemas"] = point_schema(h.point_format);
+    props["proj:bbox"] = {h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]};
+    props["proj:geometry"] = box_polygon(h.min[0], h.min[1], h.max[0], h.max[1]);
+    const std::string def = geo::crs_definition(tile.crs());
+    std::string wkt;
+    try {
+        if (!def.empty()) wkt = geo::crs_info(def).wkt;
+    } catch (const Error&) {
+        // a CRS PROJ does not know: written without one (the tile's own header still says it)
+    }
+    props["proj:wkt2"] = wkt;
+    if (tile.crs().epsg && !wkt.empty()) props["proj:epsg"] = *tile.crs().epsg;
+    without_crs = wkt.empty();
+    const auto ll = tile_lonlat_bounds(tile);
+    ordered_json item;
+    item["type"] = "Feature";
+    item["stac_version"] = "1.0.0";
+    item["stac_extensions"] = {kPointcloudExtension, kProjectionExtension};
+    item["id"] = id;
+    // GeoJSON wants WGS 84; a tile without a usable CRS keeps its own box (as PDAL wrench does).
+    item["geometry"] = ll ? box_polygon(ll->west, ll->south, ll->east, ll->north)
+                          : box_polygon(h.min[0], h.min[1], h.max[0], h.max[1]);
+    item["bbox"] = ll ? json{ll->west, ll->south, h.min[2], ll->east, ll->north, h.max[2]}
+                      : json{h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]};
+    item["properties"] = std::move(props);
+    item["links"] = json::array();
+    item["assets"] = {{"data",
+                       {{"href", href_of(tile.path(), folder)},
+                        {"roles", {"data"}},
+                        {"type", tile.compressed() ? "application/vnd.laszip" : "application/vnd.las"}}}};
+    return item;
+}
+
+}  // namespace
+
+CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& output) {
+    std::set<std::string> paths;
+    for (const auto& t : dataset.tiles) {
+        if (!paths.insert(t.tile.path()).second) {
+            throw Error::in_stage("catalog", t.tile.path() + " stands for several tiles (a virtual replica): a "
+                                             "catalog names files, so write the replica's tiles first "
+                                             "(synth replicate without --virtual)");
+        }
+    }
+    const fs::path folder = fs::absolute(output).parent_path();
+    CatalogWriteResult result;
+    std::set<std::string> ids;
+    ordered_json features = ordered_json::array();
+    for (const auto& t : dataset.tiles) {
+        bool without_crs = false;
+        features.push_back(item_json(t.tile, unique_id(t.tile.path(), ids), folder, without_crs));
+        result.without_crs += without_crs;
+        ++result.items;
+    }
+    const ordered_json doc = {{"type", "FeatureCollection"}, {"features", std::move(features)}};
+    const std::string text = doc.dump(1) + "\n";
+    io::AtomicOutputFile out(output);
+    out.write(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+    out.commit();
+    return result;
+}
+
+}  // namespace lidarscout::dataset

@@ -1,0 +1,59 @@
+// STAC catalogs as tile lists: a QGIS virtual point cloud (.vpc, a STAC ItemCollection of the
+// tiles), a STAC ItemCollection or Item, or a STAC Catalog or Collection whose "item" and "child"
+// links are followed; local files or URLs. Each item's data asset (the asset whose roles hold
+// "data", else the one named "data", else the first) is a tile; its href is resolved against the
+// document that names it (a remote document's against its URL, keeping its origin: net/
+// origin_policy.hpp). What the item says of its tile -- pc:count, proj:bbox, proj:epsg /
+// proj:wkt2 / proj:projjson -- is kept (CatalogItem) so that the tile can be placed before its
+// header is read; the header wins where they disagree (dataset.hpp names it in a warning).
+//
+// Bounded and honest: documents are read once each (a cycle of links costs nothing more), links
+// followed at most kMaxDepth deep, and the documents, bytes and items are bounded (CatalogLimits,
+// named in the error when passed). A malformed item, field or link gets one line naming the
+// document and the item; the rest is read.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace lidarscout::dataset {
+
+struct CatalogItem {
+    std::string href;                          // the tile: a path or URL, resolved
+    std::string id;                            // the item's id ("" when it has none)
+    std::string document;                      // the catalog document that holds it
+    std::optional<std::uint64_t> count;        // pc:count
+    std::optional<std::array<double, 6>> bbox; // proj:bbox: min x, y, z, max x, y, z (z NaN when 2D), CRS units
+    std::string crs;                           // "EPSG:n", WKT2 or PROJJSON text; "" when the item gives none
+};
+
+struct CatalogLimits {
+    std::uint64_t max_documents = 100'000;
+    std::uint64_t max_items = 4'000'000;
+    std::uint64_t max_bytes = 1ull << 30;      // all documents together
+    std::uint64_t max_document_bytes = 256u << 20;
+};
+
+struct Catalog {
+    std::vector<CatalogItem> items;   // in document order, links followed breadth-first
+    std::vector<std::string> errors;  // one line per document, item or link that could not be used
+    std::uint64_t documents = 0;      // documents read
+};
+
+// True for a path or URL whose file name ends in .vpc or .json (case-insensitive) and is not EPT
+// metadata (ept.json, entwine.json): what is read as a STAC catalog.
+bool is_stac_catalog(const std::string& path);
+
+// The items of the catalog at `path` and of every document it links, with what could not be used.
+Catalog read_catalog(const std::string& path, const CatalogLimits& limits = {});
+
+// Why what the item says disagrees with what the tile's header says ("" when it agrees): a count
+// or bounds (beyond 1% of the extent plus a millimetre) or EPSG code that differs. `bounds` in the
+// header's units (min x, y, z, max x, y, z); `epsg` 0 when the header has none.
+std::string item_disagreement(const CatalogItem& item, std::uint64_t count, const std::array<double, 6>& bounds,
+                              int epsg);
+
+}  // namespace lidarscout::dataset
