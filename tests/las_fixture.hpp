@@ -12,6 +12,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
+#include "las/crs_records.hpp"
 #include "las/header_writer.hpp"
 #include "las/point_format.hpp"
 #include "las/vlr.hpp"
@@ -27,23 +28,7 @@ struct FixturePoint {
 
 // A GeoTIFF key directory (LASF_Projection 34735): a projected CRS `epsg` in its own units,
 // with the vertical CRS `vertical_epsg` when it is not 0 (a compound CRS).
-inline las::Vlr epsg_vlr(int epsg, int vertical_epsg = 0) {
-    std::vector<std::uint16_t> keys = {1, 1, 0, 2, 1024, 0, 1, 1, 3072, 0, 1, static_cast<std::uint16_t>(epsg)};
-    if (vertical_epsg) {
-        keys[3] = 3;
-        for (const int k : {4096, 0, 1, vertical_epsg}) keys.push_back(static_cast<std::uint16_t>(k));
-    }
-    las::Vlr v;
-    v.user_id = "LASF_Projection";
-    v.record_id = 34735;
-    for (const std::uint16_t k : keys) {
-        v.data.push_back(static_cast<std::uint8_t>(k & 0xff));
-        v.data.push_back(static_cast<std::uint8_t>(k >> 8));
-    }
-    v.data_size = v.data.size();
-    v.data_loaded = true;
-    return v;
-}
+inline las::Vlr epsg_vlr(int epsg, int vertical_epsg = 0) { return las::geotiff_epsg_vlr(epsg, vertical_epsg); }
 
 // Writes `points` as a LAS 1.2 file of point format 2 (with colour), scale 1 mm, header bounds
 // from the points, CRS `epsg` (0: none; + `vertical_epsg` if not 0); LAZ with `chunk_size`-point

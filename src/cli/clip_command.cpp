@@ -93,7 +93,7 @@ void register_clip_command(CLI::App& app, std::function<int()>& run) {
     add_filter_options(*cmd, o->filter, "points clipped");
     cmd->add_option("--crs", o->crs,
                     "The dataset's CRS, e.g. EPSG:32616 (default: the CRS most tiles use); tiles in another CRS are "
-                    "refused, not reprojected");
+                    "reprojected into it and the output is then written in it");
     add_thread_option(*cmd, "--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_flag("--json", o->json,
                   "Print the result as JSON (tiles_touched, tiles_decoded, points_read, points_written, skipped)");

@@ -15,15 +15,25 @@ std::string crs_definition(const las::Crs& crs) {
     return crs.wkt;
 }
 
-int epsg_of_definition(const std::string& definition) {
-    if (definition.size() < 6) return 0;
+EpsgCodes epsg_codes_of_definition(const std::string& definition) {
+    if (definition.size() < 6) return {};
     std::string prefix = definition.substr(0, 5);
     for (char& c : prefix) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-    if (prefix != "EPSG:") return 0;
-    int code = 0;
+    if (prefix != "EPSG:") return {};
+    EpsgCodes codes;
     const char* end = definition.data() + definition.size();
-    const auto [ptr, ec] = std::from_chars(definition.data() + 5, end, code);
-    return ec == std::errc() && ptr == end && code > 0 ? code : 0;
+    const auto [ptr, ec] = std::from_chars(definition.data() + 5, end, codes.horizontal);
+    if (ec != std::errc() || codes.horizontal <= 0) return {};
+    if (ptr == end) return codes;
+    if (*ptr != '+') return {};
+    const auto [vptr, vec] = std::from_chars(ptr + 1, end, codes.vertical);
+    if (vec != std::errc() || vptr != end || codes.vertical <= 0) return {};
+    return codes;
+}
+
+int epsg_of_definition(const std::string& definition) {
+    const EpsgCodes codes = epsg_codes_of_definition(definition);
+    return codes.vertical ? 0 : codes.horizontal;
 }
 
 }  // namespace lidarscout::geo

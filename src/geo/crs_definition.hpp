@@ -17,4 +17,10 @@ std::string crs_definition(const las::Crs& crs);
 // "EPSG:3089" -> 3089 for a definition that is exactly "EPSG:n" (any case), else 0.
 int epsg_of_definition(const std::string& definition);
 
+// "EPSG:h" -> {h, 0}, "EPSG:h+v" -> {h, v} (any case); {0, 0} for anything else.
+struct EpsgCodes {
+    int horizontal = 0, vertical = 0;
+};
+EpsgCodes epsg_codes_of_definition(const std::string& definition);
+
 }  // namespace lidarscout::geo

@@ -1,16 +1,21 @@
-// clip_to_file: the touched tiles checked alike, the output's header from the first, the kept
-// records streamed into a LasWriter, bounds and return counts set at the end.
+// clip_to_file: the touched tiles checked alike, the output's header from the first (its CRS and
+// scale/offset the frame's when a touched tile is reprojected), the kept records streamed into a
+// LasWriter, bounds and return counts set at the end.
 #include "pipelines/clip.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
 
 #include "core/thread_pool.hpp"
+#include "geo/crs_definition.hpp"
+#include "geo/projection.hpp"
 #include "io/file.hpp"
+#include "las/crs_records.hpp"
 #include "laz/laz.hpp"
 #include "pipelines/tile_writer.hpp"
 
@@ -21,7 +26,7 @@ Error clip_error(const std::string& cause) { return Error::in_stage("clip", caus
 
 std::string tile_name(const dataset::Dataset& ds, std::uint32_t t) { return io::display_path(ds.tiles[t].tile.path()); }
 
-// The touched tiles must share a point format and record length, and be in the frame's CRS.
+// The touched tiles must share a point format and record length.
 void check_tiles_alike(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles) {
     const auto& first = ds.tiles[tiles[0]].tile.header;
     for (const auto t : tiles) {
@@ -32,12 +37,82 @@ void check_tiles_alike(const dataset::Dataset& ds, std::span<const std::uint32_t
                                          tile_name(ds, tiles[0]), first.point_format, first.record_length,
                                          tile_name(ds, t), h.point_format, h.record_length));
         }
-        if (ds.tiles[t].to_frame) {
-            throw clip_error(fmt::format("{} is not in the dataset's CRS ({}): clip does not reproject raw "
-                                         "coordinates; clip its tiles apart or choose their CRS with --crs",
-                                         tile_name(ds, t), ds.frame.crs.empty() ? "unknown" : ds.frame.crs));
-        }
     }
+}
+
+// Whether a tile's coordinates as stored are the frame's: its CRS (not reprojected) and units.
+bool stored_in_frame(const dataset::DatasetTile& t, const dataset::Frame& frame) {
+    return !t.to_frame && t.xy_to_metres == frame.xy_to_metres && t.z_to_metres == frame.z_to_metres;
+}
+
+std::size_t reprojected_count(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles) {
+    return static_cast<std::size_t>(std::count_if(tiles.begin(), tiles.end(), [&](std::uint32_t t) {
+        return ds.tiles[t].to_frame != nullptr;
+    }));
+}
+
+// A power of ten at most `s` (0.001 for 0.0025).
+double power_of_ten_at_most(double s) { return std::pow(10.0, std::floor(std::log10(s) + 1e-9)); }
+
+// The output's scale and offset when it is written in the frame's CRS: those of the first touched tile
+// stored in the frame, else, per axis, a power of ten no coarser than any touched tile's scale in the
+// frame's units and an x/y offset rounded to 1000 units near the middle of the touched tiles' bounds
+// within the area (z offset 0).
+void frame_scale_offset(las::Header& out, const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
+                        const Region& region) {
+    for (const auto t : tiles) {
+        if (!stored_in_frame(ds.tiles[t], ds.frame)) continue;
+        out.scale = ds.tiles[t].tile.header.scale;
+        out.offset = ds.tiles[t].tile.header.offset;
+        return;
+    }
+    const double f = ds.frame.xy_to_metres, fz = ds.frame.z_to_metres;
+    std::array<double, 3> finest{INFINITY, INFINITY, INFINITY};
+    dataset::Bounds b;
+    for (const auto t : tiles) {
+        const auto& dt = ds.tiles[t];
+        const auto& s = dt.tile.header.scale;
+        finest[0] = std::min(finest[0], s[0] * dt.xy_to_metres / f);
+        finest[1] = std::min(finest[1], s[1] * dt.xy_to_metres / f);
+        finest[2] = std::min(finest[2], s[2] * dt.z_to_metres / fz);
+        b.extend(dt.bounds_m);
+    }
+    const auto middle = [](double lo, double hi, double area_lo, double area_hi) {
+        return 0.5 * (std::max(lo, area_lo) + std::min(hi, area_hi));
+    };
+    const auto& a = region.box;
+    const double mx = middle(b.min_x / f, b.max_x / f, a.min_x, a.max_x);
+    const double my = middle(b.min_y / f, b.max_y / f, a.min_y, a.max_y);
+    for (int k = 0; k < 3; ++k) out.scale[k] = power_of_ten_at_most(finest[k]);
+    out.offset = {std::round(mx / 1000) * 1000, std::round(my / 1000) * 1000, 0.0};
+}
+
+// Replaces the CRS records of the output (from its first tile) by the frame's CRS: the OGC WKT (global
+// encoding bit 4) for point formats 6-10 or a header that already says WKT, else GeoTIFF keys of its EPSG
+// code(s), else WKT for a LAS 1.4 header. Throws Error when none of these can hold it.
+void set_frame_crs(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr>& evlrs,
+                   const std::string& crs) {
+    std::erase_if(vlrs, las::is_crs_record);
+    std::erase_if(evlrs, las::is_crs_record);
+    const geo::EpsgCodes codes = geo::epsg_codes_of_definition(crs);
+    const bool wkt = las::point_format_info(h.point_format).extended || (h.global_encoding & 0x10) ||
+                     (!codes.horizontal && h.version_major == 1 && h.version_minor >= 4);
+    if (!wkt && !codes.horizontal) {
+        throw clip_error(fmt::format("the output (point format {}, LAS {}) can name its CRS only by an EPSG code "
+                                     "and the dataset's CRS has none: choose one with --crs EPSG:n",
+                                     h.point_format, h.version_string()));
+    }
+    if (!wkt) {
+        h.global_encoding &= static_cast<std::uint16_t>(~0x10);
+        vlrs.push_back(las::geotiff_epsg_vlr(codes.horizontal, codes.vertical));
+        return;
+    }
+    try {
+        vlrs.push_back(las::wkt_vlr(geo::crs_wkt1(crs)));
+    } catch (const Error& e) {
+        throw clip_error(std::string("the dataset's CRS cannot be written as WKT: ") + e.what());
+    }
+    h.global_encoding |= 0x10;
 }
 
 // The header of the output: the first tile's, its structural fields left to the writer.
@@ -51,50 +126,61 @@ las::Header output_header(const las::Header& first) {
     return h;
 }
 
-// Writes kept batches: records copied, or their X/Y/Z re-quantized to the output's scale/offset.
+// Writes kept batches: records copied, or their X/Y/Z re-quantized to the output's scale/offset, from
+// their coordinates as stored or, for an output in the frame's CRS, from where they lie in the frame.
 class ClipSink {
 public:
-    ClipSink(laz::LasWriter& writer, const dataset::Dataset& ds) : writer_(writer), ds_(ds) {}
+    ClipSink(laz::LasWriter& writer, const dataset::Dataset& ds, bool in_frame)
+        : writer_(writer), ds_(ds), in_frame_(in_frame) {}
 
     void add(const RegionBatch& b) {
-        const auto& h = ds_.tiles[b.tile].tile.header;
-        auto& out = writer_.header();
-        if (h.scale == out.scale && h.offset == out.offset) {
+        const auto& t = ds_.tiles[b.tile];
+        const auto& h = t.tile.header;
+        const auto& out = writer_.header();
+        const bool as_stored = !in_frame_ || stored_in_frame(t, ds_.frame);
+        if (as_stored && h.scale == out.scale && h.offset == out.offset) {
             writer_.add(b.records);
-        } else {
-            requantized_.assign(b.records.begin(), b.records.end());
-            for (std::size_t i = 0; i < b.points.size(); ++i) requantize(b.points[i].point, i * h.record_length);
-            writer_.add(requantized_);
+            for (const auto& p : b.points) count({p.point.x, p.point.y, p.point.z}, p.point.return_number);
+            return;
         }
-        for (const auto& p : b.points) count(p.point);
+        requantized_.assign(b.records.begin(), b.records.end());
+        for (std::size_t i = 0; i < b.points.size(); ++i) {
+            const auto& p = b.points[i];
+            const std::array<double, 3> v = in_frame_ ? std::array{p.x, p.y, p.z}
+                                                      : std::array{p.point.x, p.point.y, p.point.z};
+            count(requantize(v, i * h.record_length), p.point.return_number);
+        }
+        writer_.add(requantized_);
     }
 
 private:
-    void requantize(const las::Point& p, std::size_t at) {
+    // Writes the raw X/Y/Z of `v` at `at`; returns the coordinates they stand for.
+    std::array<double, 3> requantize(const std::array<double, 3>& v, std::size_t at) {
         const auto& out = writer_.header();
-        const double v[3] = {p.x, p.y, p.z};
+        std::array<double, 3> stored{};
         for (int k = 0; k < 3; ++k) {
             const double q = std::round((v[k] - out.offset[k]) / out.scale[k]);
             if (!(std::abs(q) <= std::numeric_limits<std::int32_t>::max())) {
-                throw clip_error("a point's coordinate does not fit the output's scale and offset (those of its "
-                                 "first tile)");
+                throw clip_error("a point's coordinate does not fit the output's scale and offset");
             }
             const auto raw = static_cast<std::int32_t>(q);
             std::memcpy(requantized_.data() + at + 4 * k, &raw, 4);
+            stored[k] = raw * out.scale[k] + out.offset[k];
         }
+        return stored;
     }
 
-    void count(const las::Point& p) {
+    void count(const std::array<double, 3>& v, int return_number) {
         auto& h = writer_.header();
-        const double v[3] = {p.x, p.y, p.z};
         for (int k = 0; k < 3; ++k) h.min[k] = std::min(h.min[k], v[k]), h.max[k] = std::max(h.max[k], v[k]);
-        const int r = std::clamp<int>(p.return_number, 1, 15);
+        const int r = std::clamp(return_number, 1, 15);
         ++h.points_by_return[r - 1];
         if (r <= 5) ++h.legacy_points_by_return[r - 1];
     }
 
     laz::LasWriter& writer_;
     const dataset::Dataset& ds_;
+    bool in_frame_;
     std::vector<std::uint8_t> requantized_;
 };
 
@@ -124,11 +210,19 @@ ClipResult clip_to_file(const dataset::Dataset& ds, const ClipRequest& request, 
     check_tiles_alike(ds, tiles);
     ClipResult result;
     const auto& first = ds.tiles[tiles[0]].tile;
-    const std::vector<las::Vlr> evlrs = kept_evlrs(first, result.notes);
+    std::vector<las::Vlr> vlrs = first.vlrs(), evlrs = kept_evlrs(first, result.notes);
+    las::Header header = output_header(first.header);
+    const std::size_t reprojected = reprojected_count(ds, tiles);
+    if (reprojected) {  // the output is written in the frame's CRS, as dem writes it
+        frame_scale_offset(header, ds, tiles, request.region);
+        set_frame_crs(header, vlrs, evlrs, ds.frame.crs);
+        result.notes.push_back(fmt::format("{} of the {} tiles touched reprojected into {}: the output is in that CRS",
+                                           reprojected, tiles.size(), ds.frame.crs));
+    }
     laz::LasWriterOptions options;
     options.compress = wants_laz(request.output);
-    laz::LasWriter writer(request.output, output_header(first.header), first.vlrs(), options, pool);
-    ClipSink sink(writer, ds);
+    laz::LasWriter writer(request.output, header, vlrs, options, pool);
+    ClipSink sink(writer, ds, reprojected != 0);
     result.read = read_region_points(ds, tiles, request.region, request.filter, pool,
                                      [&](const RegionBatch& b) { sink.add(b); }, request.progress);
     if (writer.points() == 0) writer.header().min = writer.header().max = {0, 0, 0};

@@ -3,7 +3,12 @@
 // through a temporary name): the first touched tile's point format, header fields (version,
 // scale/offset, system identifier, software), VLRs (hence CRS) and loaded EVLRs are kept, and the
 // records of the kept points are copied byte for byte (their X/Y/Z re-quantized only for a tile
-// whose scale or offset differs from the output's). Also what `profile -o OUT.laz` writes.
+// whose scale or offset differs from the output's). When a touched tile is in another CRS than the
+// dataset's frame (reprojected into it, as dem does), the output is written in the frame's CRS
+// instead: its CRS records replaced by the frame's (WKT for point formats 6-10, else GeoTIFF keys of
+// its EPSG code), its scale/offset those of a touched tile in that CRS (else chosen), and every
+// record's X/Y/Z re-quantized from where the point lies in the frame. Also what `profile -o OUT.laz`
+// writes.
 #pragma once
 
 #include <cstdint>
@@ -28,8 +33,8 @@ struct ClipResult {
 };
 
 // Throws lidarscout::Error (stage "clip") when no tile touches the area, when the touched tiles
-// have different point formats or record lengths (naming two of them), or when a touched tile is
-// reprojected into the dataset's frame (its raw coordinates would need a new CRS: naming it).
+// have different point formats or record lengths (naming two of them), or when the output must be in
+// the frame's CRS and cannot name it (a LAS 1.0-1.3 output of formats 0-5 and a CRS without EPSG code).
 ClipResult clip_to_file(const dataset::Dataset& ds, const ClipRequest& request, ThreadPool& pool);
 
 }  // namespace lidarscout::pipelines

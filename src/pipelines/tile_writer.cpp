@@ -14,6 +14,7 @@
 #include "geo/crs_definition.hpp"
 #include "geo/projection.hpp"
 #include "io/file.hpp"
+#include "las/crs_records.hpp"
 #include "las/header_writer.hpp"
 #include "las/point_format.hpp"
 
@@ -106,13 +107,7 @@ void plan_wkt(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
         return;
     }
     std::erase_if(plan.vlrs, is_geotiff_record);
-    las::Vlr v;
-    v.user_id = "LASF_Projection";
-    v.record_id = 2112;
-    v.description = "OGC WKT (lidarscout)";
-    v.data.assign(wkt.begin(), wkt.end());
-    v.data.push_back(0);
-    plan.vlrs.push_back(std::move(v));
+    plan.vlrs.push_back(las::wkt_vlr(wkt));
     plan.notes.push_back("GeoTIFF keys replaced by the WKT of " + definition + " (LAS 1.4 requires WKT for point " +
                          "format " + std::to_string(h.point_format) + ")");
     const std::string fallback = geo::vertical_fallback_message(in.crs());

@@ -1,18 +1,23 @@
 // `lidarscout clip` and `lidarscout profile` as a user runs them: --json counts, the output read back
 // by `info`; a corrupt chunk named on one stderr line and skipped (exit 3); an output named like an
 // input refused with the input unchanged; bad WKT, bad filters and a missing area as one-line errors
-// (exit 1); a profile as CSV, LAZ and PNG with the same points.
+// (exit 1); a profile as CSV, LAZ and PNG with the same points; tiles in two UTM zones clipped with
+// --crs written in that CRS, with a note.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "core/sha256.hpp"
 #include "damaged_tile.hpp"
+#include "geo/projection.hpp"
+#include "las_fixture.hpp"
 #include "png_test_util.hpp"
 #include "temp_dir_fixture.hpp"
 #include "test_data.hpp"
@@ -97,6 +102,37 @@ TEST_F(ClipCommand, BadOptionsAreOneLineErrors) {
     EXPECT_EQ(test::run_command(base + " --bounds 0,0,1,1 2>&1", out), 1);
     EXPECT_NE(out.find("no tile touches the area"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("x.laz")));
+}
+
+TEST_F(ClipCommand, MixedCrsAreWrittenInTheCrsAsked) {
+    // A tile in UTM 32N and one in UTM 33N; the area in UTM 33N around both.
+    std::vector<test::FixturePoint> west, east;
+    for (int i = 0; i < 10; ++i) {
+        west.push_back({500000.5 + 10 * i, 5400000.5 + 5 * i, 100.0 + i});
+        east.push_back({500100.5 + 10 * i, 5400000.5 + 5 * i, 200.0 + i});
+    }
+    std::vector<double> x, y;
+    for (const auto& p : east) x.push_back(p.x), y.push_back(p.y);
+    std::vector<double> cx = {499900, 500300}, cy = {5399900, 5400200};
+    geo::CrsTransform("EPSG:32632", "EPSG:32633").apply(x, y, {});
+    geo::CrsTransform("EPSG:32632", "EPSG:32633").apply(cx, cy, {});
+    for (std::size_t i = 0; i < east.size(); ++i) east[i].x = x[i], east[i].y = y[i];
+    test::write_fixture(path("west.las"), west, 32632);
+    test::write_fixture(path("east.las"), east, 32633);
+    const std::string bounds = " --bounds " + std::to_string(std::min(cx[0], cx[1])) + "," +
+                               std::to_string(std::min(cy[0], cy[1])) + "," + std::to_string(std::max(cx[0], cx[1])) +
+                               "," + std::to_string(std::max(cy[0], cy[1]));
+    std::string out;
+    ASSERT_EQ(test::run_command(cli() + "clip " + path("west.las") + " " + path("east.las") + bounds +
+                                    " --crs EPSG:32633 -o " + path("both.laz") + " --json 2>/dev/null", out), 0)
+        << out;
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("points_written"), 20u);
+    ASSERT_EQ(j.at("notes").size(), 1u) << out;
+    EXPECT_NE(j.at("notes")[0].get<std::string>().find("1 of the 2 tiles touched reprojected into EPSG:32633"),
+              std::string::npos) << out;
+    ASSERT_EQ(test::run_command(cli() + "info " + path("both.laz") + " 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("EPSG:32633"), std::string::npos) << out;
 }
 
 TEST_F(ClipCommand, ProfileAsCsvLazAndPng) {

@@ -2,23 +2,29 @@
 // by a polygon with a hole and a filter give the records a brute-force pass over the file keeps
 // (count and SHA-256 of the records), and the clip decodes again through our decoder with the same
 // SHA; header fields and VLRs kept. On a grid of tiles only the touched tiles are decoded; tiles of
-// mixed point formats are refused naming both; a corrupt tile is named and skipped.
+// mixed point formats are refused naming both; a corrupt tile is named and skipped. Tiles in two UTM
+// zones clipped together are written in the frame's CRS (GeoTIFF keys for format 2, WKT for format 7),
+// their points where a brute-force reprojection puts them, within the output's quantization.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/sha256.hpp"
 #include "core/thread_pool.hpp"
 #include "damaged_tile.hpp"
+#include "geo/projection.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/point_reader.hpp"
 #include "core/polygon.hpp"
 #include "io/file.hpp"
 #include "las_fixture.hpp"
 #include "pipelines/clip.hpp"
+#include "pipelines/tile_writer.hpp"
 #include "temp_dir_fixture.hpp"
 #include "test_data.hpp"
 
@@ -230,6 +236,111 @@ TEST_F(ClipGrid, MixedPointFormatsAreRefusedNamingBoth) {
     }
     EXPECT_FALSE(fs::exists(request.output));
 }
+
+// Two tiles side by side on a 5 m grid: west.las in EPSG:32632 (x 500000-500100), east.las made in
+// EPSG:32632 (x 500100-500200) and written in EPSG:32633; as LAS 1.2 format 2 (GeoTIFF keys) or
+// converted to LAS 1.4 format 7 (WKT). Clipped with the frame in GetParam()'s CRS.
+struct MixedCrsCase {
+    const char* frame;
+    int format;
+};
+
+class ClipMixedCrs : public test::TempDirTest, public ::testing::WithParamInterface<MixedCrsCase> {
+protected:
+    void SetUp() override {
+        TempDirTest::SetUp();
+        const auto grid = [](double x0) {
+            std::vector<test::FixturePoint> points;
+            for (int i = 0; i < 20; ++i) {
+                for (int j = 0; j < 20; ++j) {
+                    points.push_back({x0 + i * 5 + 1.25, 5400000 + j * 5 + 1.25, 100.0 + i + j});
+                }
+            }
+            return points;
+        };
+        std::vector<test::FixturePoint> east = grid(500100);
+        std::vector<double> x, y;
+        for (const auto& p : east) x.push_back(p.x), y.push_back(p.y);
+        geo::CrsTransform("EPSG:32632", "EPSG:32633").apply(x, y, {});
+        for (std::size_t i = 0; i < east.size(); ++i) east[i].x = x[i], east[i].y = y[i];
+        test::write_fixture(path("west.las"), grid(500000), 32632);
+        test::write_fixture(path("east.las"), east, 32633);
+        tiles = {path("west.las"), path("east.las")};
+        if (GetParam().format == 7) {
+            ConvertOptions options;
+            options.point_format = 7;
+            for (auto& t : tiles) {
+                const std::string converted = t.substr(0, t.size() - 4) + "7.laz";
+                convert_tile(t, converted, options, ThreadPool::shared());
+                t = converted;
+            }
+        }
+    }
+
+    // The points of each tile (read alone, in its own CRS) placed in `frame`, in dataset order, that lie in
+    // `polygon`.
+    std::vector<std::array<double, 3>> brute_force(const std::string& frame, const MultiPolygon& polygon) const {
+        std::vector<std::array<double, 3>> out;
+        for (const auto& t : tiles) {
+            const auto alone = dataset::open_dataset({t});
+            auto points = test::read_points_back(alone);
+            std::vector<double> x, y;
+            for (const auto& p : points) x.push_back(p[0]), y.push_back(p[1]);
+            if (alone.frame.crs != frame) geo::CrsTransform(alone.frame.crs, frame).apply(x, y, {});
+            for (std::size_t i = 0; i < points.size(); ++i) {
+                if (polygon.contains(x[i], y[i])) out.push_back({x[i], y[i], points[i][2]});
+            }
+        }
+        return out;
+    }
+
+    std::vector<std::string> tiles;
+};
+
+TEST_P(ClipMixedCrs, PointsAreWrittenReprojectedIntoTheFramesCrs) {
+    const std::string frame = GetParam().frame;
+    dataset::DatasetOptions options;
+    options.crs = frame;
+    const auto ds = dataset::open_dataset(tiles, options);
+    ASSERT_EQ(ds.tiles.size(), 2u);
+    ASSERT_TRUE(ds.tiles[0].to_frame || ds.tiles[1].to_frame);
+    // Across both tiles: a quadrilateral drawn in EPSG:32632, its corners placed in the frame's CRS.
+    std::vector<double> x = {500050, 500150, 500160, 500040}, y = {5400010, 5400005, 5400090, 5400080};
+    if (frame != "EPSG:32632") geo::CrsTransform("EPSG:32632", frame).apply(x, y, {});
+    Ring ring;
+    for (std::size_t i = 0; i < x.size(); ++i) ring.push_back({x[i], y[i]});
+    const MultiPolygon polygon({{ring}});
+    ClipRequest request;
+    request.output = path("out.laz");
+    request.region = polygon_region(polygon);
+    const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+    EXPECT_EQ(r.read.tiles_decoded, 2u);
+    ASSERT_FALSE(r.notes.empty());
+    EXPECT_NE(r.notes.back().find("reprojected into " + frame), std::string::npos) << r.notes.back();
+
+    const auto expected = brute_force(frame, polygon);
+    ASSERT_GT(expected.size(), 100u);
+    EXPECT_EQ(r.points_written, expected.size());
+    const auto out = dataset::open_dataset({request.output});
+    ASSERT_EQ(out.tiles.size(), 1u);
+    EXPECT_EQ(out.frame.crs, frame);
+    const auto& h = out.tiles[0].tile.header;
+    EXPECT_EQ(h.point_format, GetParam().format);
+    EXPECT_EQ(h.scale[0], 0.001);
+    EXPECT_EQ(out.tiles[0].tile.crs().source, GetParam().format == 7 ? "wkt" : "geotiff");
+    const auto written = test::read_points_back(out);
+    ASSERT_EQ(written.size(), expected.size());
+    for (std::size_t i = 0; i < written.size(); ++i) {
+        for (int a = 0; a < 3; ++a) ASSERT_NEAR(written[i][a], expected[i][a], 0.0005 + 1e-7) << i << " " << a;
+        EXPECT_GE(written[i][0], h.min[0]);
+        EXPECT_LE(written[i][1], h.max[1]);
+    }
+}
+
+// The frame in the first tile's CRS (its scale/offset kept), in the second's, and in neither (chosen).
+INSTANTIATE_TEST_SUITE_P(Frames, ClipMixedCrs,
+                         ::testing::Values(MixedCrsCase{"EPSG:32632", 2}, MixedCrsCase{"EPSG:32633", 2},
+                                           MixedCrsCase{"EPSG:25832", 2}, MixedCrsCase{"EPSG:32632", 7}));
 
 }  // namespace
 }  // namespace lidarscout::pipelines
