@@ -18,7 +18,7 @@ struct ClipRequest {
     std::string output;  // .las or .laz (by the extension)
     Region region;
     PointFilter filter;
-    PointProgressFn progress;
+    ReadWatch watch;  // progress; a cancel ends it with an Error, nothing written
 };
 
 struct ClipResult {
@@ -29,7 +29,8 @@ struct ClipResult {
 
 // Throws lidarscout::Error (stage "clip") when no tile touches the area, when the touched tiles
 // have different point formats or record lengths (naming two of them), or when a touched tile is
-// reprojected into the dataset's frame (its raw coordinates would need a new CRS: naming it).
+// reprojected into the dataset's frame (its raw coordinates would need a new CRS: naming it), and
+// when request.watch cancels it ("clip: cancelled"; the temporary file removed).
 ClipResult clip_to_file(const dataset::Dataset& ds, const ClipRequest& request, ThreadPool& pool);
 
 }  // namespace lidarscout::pipelines
