@@ -70,6 +70,9 @@ public:
     ProfileJob(const ProfileJob&) = delete;
     ProfileJob& operator=(const ProfileJob&) = delete;
 
+    // Stops the read before its next batch (status().done then comes soon: destroying the job no
+    // longer waits for a batch).
+    void cancel() { counters_.cancel(); }
     const pipelines::Corridor& corridor() const { return corridor_; }
     const PointFilter& filter() const { return filter_; }
     ProfileStatus status() const;

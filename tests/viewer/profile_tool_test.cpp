@@ -149,6 +149,12 @@ TEST_F(ViewerProfileJob, ClosedWhileReadingItStops) {
             while (job.status().read.points_read == 0 && !job.status().done) std::this_thread::yield();
         }
     }
+    ProfileJob job(ds, corridor, PointFilter(), ProfileLook{}, 2);
+    job.cancel();  // the read stops; the job is done (its profile whole, or none when it stopped early)
+    job.wait();
+    EXPECT_TRUE(job.status().done);
+    EXPECT_EQ(job.status().error, "");
+    if (!job.profile()) EXPECT_LT(job.status().read.points_read, ds.tiles[0].tile.header.point_count);
     std::atomic<bool> cancel{true};  // a read told to stop before it starts returns no point
     pipelines::ReadWatch watch;
     watch.cancel = &cancel;

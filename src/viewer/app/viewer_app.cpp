@@ -546,6 +546,7 @@ private:
     // The profiles and exports read the dataset shown: ended (cancelled) before it is replaced.
     void close_background() {
         profile_.reset();
+        retired_.clear();
         export_.reset();
         panels_.exports.running = false;
     }
@@ -553,7 +554,7 @@ private:
     // Opens a profile (replacing, so cancelling, the one shown); `z` (world metres) is where its
     // corridor is drawn until points show the ground.
     void start_profile(const pipelines::Corridor& c, double z) {
-        profile_.reset();
+        retire_profile();
         ProfileLook look;
         look.colours = panels_.profile.elevation ? pipelines::ProfileColours::Elevation
                                                  : pipelines::ProfileColours::Classification;
@@ -582,8 +583,17 @@ private:
         start_profile(c, (click.from->z + click.to->z) / 2);
     }
 
+    // A profile closed or replaced: its read cancelled, the job ended once the read stops (the frame
+    // does not wait for a batch being decoded).
+    void retire_profile() {
+        if (!profile_) return;
+        profile_->cancel();
+        retired_.push_back(std::move(profile_));
+    }
+
     // The profile's panel from its job: the newest image, the progress, what the plot spans.
     void profile_step() {
+        std::erase_if(retired_, [](const auto& job) { return job->status().done; });
         auto& p = panels_.profile;
         p.open = profile_ != nullptr;
         if (!profile_) return;
@@ -615,7 +625,7 @@ private:
 
     void profile_actions(const PanelActions& a) {
         auto& p = panels_.profile;
-        if (a.close_profile) profile_.reset(), p.open = false;
+        if (a.close_profile) retire_profile(), p.open = false;
         if (a.reread_profile && profile_) start_profile(profile_->corridor(), profile_z_);
         if (a.open_kept_profile && *a.open_kept_profile < p.kept.size()) {
             const SavedProfile& k = p.kept[*a.open_kept_profile];
@@ -777,6 +787,7 @@ private:
     GlTexture profile_texture_;                   // the profile's plot
     // Last: they read session_'s dataset, so they end (cancelled) before it goes.
     std::unique_ptr<ProfileJob> profile_;
+    std::vector<std::unique_ptr<ProfileJob>> retired_;  // closed, ended once their reads stop
     std::uint64_t profile_seen_ = 0;  // the generation of the profile image uploaded
     double profile_z_ = 0;            // where its corridor is drawn until points show the ground
     std::unique_ptr<ExportTask> export_;
