@@ -555,10 +555,8 @@ private:
     // corridor is drawn until points show the ground.
     void start_profile(const pipelines::Corridor& c, double z) {
         retire_profile();
-        ProfileLook look;
-        look.colours = panels_.profile.elevation ? pipelines::ProfileColours::Elevation
-                                                 : pipelines::ProfileColours::Classification;
-        profile_ = std::make_unique<ProfileJob>(*session_.dataset, c, settings_.style.filter, look, job_threads());
+        profile_ = std::make_unique<ProfileJob>(*session_.dataset, c, settings_.style.filter, profile_look(),
+                                                job_threads());
         profile_seen_ = 0, profile_z_ = z;
         auto& p = panels_.profile;
         p.texture = 0, p.texture_width = p.texture_height = 0;
@@ -591,10 +589,22 @@ private:
         retired_.push_back(std::move(profile_));
     }
 
+    ProfileLook profile_look() const {
+        ProfileLook look;
+        look.colours = panels_.profile.elevation ? pipelines::ProfileColours::Elevation
+                                                 : pipelines::ProfileColours::Classification;
+        return look;
+    }
+
     // The profile's panel from its job: the newest image, the progress, what the plot spans.
     void profile_step() {
         std::erase_if(retired_, [](const auto& job) { return job->status().done; });
         auto& p = panels_.profile;
+        if (settings_.style.colour.mode != view_colours_) {  // coloured like the view: by elevation or by class
+            view_colours_ = settings_.style.colour.mode;
+            p.elevation = view_colours_ == render::ColourMode::Elevation;
+            if (profile_) profile_->set_look(profile_look());
+        }
         p.open = profile_ != nullptr;
         if (!profile_) return;
         if (const auto image = profile_->image_since(profile_seen_)) {
@@ -636,12 +646,7 @@ private:
             const SavedProfile kept{{c.x0, c.y0, c.x1, c.y1}, c.width};
             if (std::find(p.kept.begin(), p.kept.end(), kept) == p.kept.end()) p.kept.push_back(kept);
         }
-        if (a.profile_colours && profile_) {
-            ProfileLook look;
-            look.colours =
-                p.elevation ? pipelines::ProfileColours::Elevation : pipelines::ProfileColours::Classification;
-            profile_->set_look(look);
-        }
+        if (a.profile_colours && profile_) profile_->set_look(profile_look());
         if (a.export_profile && profile_) {
             start_export(p.export_path, io::OutputKind::Profile, [&] {
                 return export_profile(*session_.dataset, p.export_path, profile_->corridor(), profile_->filter(),
@@ -790,6 +795,7 @@ private:
     std::vector<std::unique_ptr<ProfileJob>> retired_;  // closed, ended once their reads stop
     std::uint64_t profile_seen_ = 0;  // the generation of the profile image uploaded
     double profile_z_ = 0;            // where its corridor is drawn until points show the ground
+    render::ColourMode view_colours_ = render::ColourMode::Rgb;  // the view's, which the profile's follow
     std::unique_ptr<ExportTask> export_;
     bool pending_clip_out_ = false, pending_profile_out_ = !o_.profile_out.empty();
     int script_status_ = 0;
