@@ -4,6 +4,8 @@
 // the CRS's units (their spacing is given back: the image has no text).
 #pragma once
 
+#include <cmath>
+
 #include "pipelines/profile.hpp"
 #include "render/resolve.hpp"
 
@@ -17,9 +19,11 @@ struct ProfileImageScale {
 enum class ProfileColours { Classification, Elevation };
 
 // An image of width x height pixels, the plot inset by a margin; `scale` (when given) receives what
-// the axes span.
+// the axes span. The elevation ramp spans ramp_min - ramp_max (the frame CRS's units, e.g. the whole
+// dataset's heights, as the viewer colours its points), or the plot's heights when they are NaN.
 render::RgbaImage profile_image(const Profile& profile, const Corridor& corridor, int width = 1600, int height = 600,
                                 ProfileImageScale* scale = nullptr,
-                                ProfileColours colours = ProfileColours::Classification);
+                                ProfileColours colours = ProfileColours::Classification, double ramp_min = NAN,
+                                double ramp_max = NAN);
 
 }  // namespace lidarscout::pipelines

@@ -133,7 +133,8 @@ void ProfileJob::draw(const pipelines::Profile& profile) {
     }
     pipelines::ProfileImageScale scale;
     auto image = std::make_shared<const render::RgbaImage>(
-        pipelines::profile_image(profile, corridor_, look.width, look.height, &scale, look.colours));
+        pipelines::profile_image(profile, corridor_, look.width, look.height, &scale, look.colours, look.ramp_min,
+                                 look.ramp_max));
     auto heights = lowest_along(profile.points, corridor_.length(), kLineBins);
     const std::lock_guard lock(mutex_);
     image_ = std::move(image), line_heights_ = std::move(heights), scale_ = scale;

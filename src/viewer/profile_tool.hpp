@@ -8,6 +8,7 @@
 
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
@@ -41,6 +42,7 @@ pipelines::Corridor corridor_between(const PickedPoint& a, const PickedPoint& b,
 // How the profile is drawn: its colours and the image's size in pixels.
 struct ProfileLook {
     pipelines::ProfileColours colours = pipelines::ProfileColours::Classification;
+    double ramp_min = NAN, ramp_max = NAN;  // the elevation ramp's range (profile_image), the frame CRS's units
     int width = 960, height = 360;
     bool operator==(const ProfileLook&) const = default;
 };

@@ -593,6 +593,9 @@ private:
         ProfileLook look;
         look.colours = panels_.profile.elevation ? pipelines::ProfileColours::Elevation
                                                  : pipelines::ProfileColours::Classification;
+        const dataset::Dataset& ds = *session_.dataset;  // the view's ramp: the dataset's heights
+        look.ramp_min = ds.bounds_m.min_z / ds.frame.z_to_metres;
+        look.ramp_max = ds.bounds_m.max_z / ds.frame.z_to_metres;
         return look;
     }
 
@@ -699,6 +702,7 @@ private:
         if (!export_->done()) return;
         if (export_->failed()) report_failure(export_->status());
         else if (o_.quit_after > 0) std::printf("%s\n", export_->status().c_str()), std::fflush(stdout);
+        frames_to_quit_ = std::max(frames_to_quit_, 3);  // scripted: a few frames show the result line
         export_.reset();
         panels_.exports.running = false;
     }
