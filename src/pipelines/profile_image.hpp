@@ -1,6 +1,6 @@
 // A profile drawn as an image: distance along the line (left to right) against height (bottom to
 // top), each on its own scale (heights exaggerated to fill the image), each point a dot in its ASPRS
-// class colour (or the elevation ramp over the plot's heights), over grid lines at round steps of
+// class colour (or on an elevation ramp), over grid lines at round steps of
 // the CRS's units (their spacing is given back: the image has no text).
 #pragma once
 
