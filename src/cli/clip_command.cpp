@@ -66,7 +66,7 @@ int run_clip(const ClipCliOptions& o) {
     const dataset::Dataset ds = open_region_dataset(o.paths, o.crs, "clip");
     request.region = clip_region(o);
     PointsBar bar("clip");
-    request.progress = bar.fn();
+    request.watch.progress = bar.fn();
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
     const pipelines::ClipResult r = pipelines::clip_to_file(ds, request, pool);
     const int status = report_skips(r.read, ds);

@@ -54,7 +54,7 @@ nlohmann::json write_points(const ProfileCliOptions& o, const dataset::Dataset& 
     request.filter = o.filter.filter();
     request.region = pipelines::corridor_region(corridor(o));
     PointsBar bar("profile");
-    request.progress = bar.fn();
+    request.watch.progress = bar.fn();
     const auto r = pipelines::clip_to_file(ds, request, pool);
     status = report_skips(r.read, ds);
     nlohmann::json j = region_stats_json(r.read, ds);
@@ -65,7 +65,9 @@ nlohmann::json write_points(const ProfileCliOptions& o, const dataset::Dataset& 
 // CSV or PNG from the points read.
 nlohmann::json write_profile(const ProfileCliOptions& o, const dataset::Dataset& ds, ThreadPool& pool, int& status) {
     PointsBar bar("profile");
-    const pipelines::Profile p = pipelines::read_profile(ds, corridor(o), o.filter.filter(), pool, bar.fn());
+    pipelines::ReadWatch watch;
+    watch.progress = bar.fn();
+    const pipelines::Profile p = pipelines::read_profile(ds, corridor(o), o.filter.filter(), pool, watch);
     nlohmann::json j = region_stats_json(p.read, ds);
     if (extension(o.output) == ".png") {
         pipelines::ProfileImageScale s;

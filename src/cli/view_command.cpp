@@ -24,6 +24,7 @@
 #include "render/backend.hpp"
 #include "synth/terrain_generator.hpp"
 #include "viewer/app/viewer_app.hpp"
+#include "viewer/profile_tool.hpp"
 #include "viewer/session_file.hpp"
 
 namespace lidarscout::cli {
@@ -34,6 +35,8 @@ struct ViewCliOptions {
     FilterTexts filter;  // the points drawn at first
     std::string session, save_session;  // --session FILE, --save-session FILE
     bool area = false;
+    std::string clip_out;               // --clip-out FILE.laz (with --area)
+    std::string profile, profile_out;   // --profile x0,y0,x1,y1,width, --profile-out FILE
     std::string size = "1280x720";
     std::string memory;
     std::string model;
@@ -125,6 +128,15 @@ int run_view(const ViewCliOptions& o) {
     for (const auto& c : o.clicks) v.clicks.push_back(parse_click(c));
     v.measure = o.measure;
     v.area = o.area;
+    if (!o.clip_out.empty() && (!o.area || o.clicks.size() < 3 || o.quit_after <= 0)) {
+        throw Error::in_stage("view", "--clip-out wants --area, at least three --click vertices and --quit-after");
+    }
+    v.clip_out = o.clip_out;
+    if (!o.profile.empty()) v.profile = viewer::parse_corridor(o.profile);
+    if (!o.profile_out.empty() && (!v.profile || o.quit_after <= 0)) {
+        throw Error::in_stage("view", "--profile-out wants --profile and --quit-after");
+    }
+    v.profile_out = o.profile_out;
     v.filter = o.filter.filter();
     if (!o.session.empty()) {
         v.session = viewer::read_session(o.session);
@@ -177,6 +189,17 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_flag("--area", o->area,
                   "Scripted clicks are a polygon's vertices: prints its area, surface, and the volume above (cut) "
                   "and below (fill) the plane through them, from the points held and drawn");
+    add_output(*cmd, "--clip-out", o->clip_out,
+               "With --area: write the points inside the clicked polygon (every point of the tiles under it that "
+               "the filter keeps, as `clip` writes them) to this .laz/.las (scripted use)",
+               io::OutputKind::PointCloud);
+    cmd->add_option("--profile", o->profile,
+                    "Open the profile of the corridor x0,y0,x1,y1,width (the dataset CRS's units, as `profile "
+                    "--line` and `--width`) at start");
+    add_output(*cmd, "--profile-out", o->profile_out,
+               "With --profile: write it, once read, to this .csv, .laz/.las or .png, as `profile -o` does, and "
+               "print its points count (scripted use)",
+               io::OutputKind::Profile);
     cmd->add_flag("--measure", o->measure, "Scripted clicks measure between points instead of inspecting one");
     cmd->add_option("--quit-after", o->quit_after, "Quit this many seconds after the dataset is open (scripted use)")
         ->check(non_negative_number());

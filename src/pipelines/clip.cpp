@@ -224,7 +224,8 @@ ClipResult clip_to_file(const dataset::Dataset& ds, const ClipRequest& request, 
     laz::LasWriter writer(request.output, header, vlrs, options, pool);
     ClipSink sink(writer, ds, reprojected != 0);
     result.read = read_region_points(ds, tiles, request.region, request.filter, pool,
-                                     [&](const RegionBatch& b) { sink.add(b); }, request.progress);
+                                     [&](const RegionBatch& b) { sink.add(b); }, request.watch);
+    if (result.read.cancelled) throw clip_error("cancelled");  // the writer removes its temporary file
     if (writer.points() == 0) writer.header().min = writer.header().max = {0, 0, 0};
     const laz::LasWriterResult written = writer.finish(evlrs);
     result.points_written = written.points;

@@ -23,7 +23,7 @@ struct ClipRequest {
     std::string output;  // .las or .laz (by the extension)
     Region region;
     PointFilter filter;
-    PointProgressFn progress;
+    ReadWatch watch;  // progress; a cancel ends it with an Error, nothing written
 };
 
 struct ClipResult {
@@ -33,8 +33,9 @@ struct ClipResult {
 };
 
 // Throws lidarscout::Error (stage "clip") when no tile touches the area, when the touched tiles
-// have different point formats or record lengths (naming two of them), or when the output must be in
-// the frame's CRS and cannot name it (a LAS 1.0-1.3 output of formats 0-5 and a CRS without EPSG code).
+// have different point formats or record lengths (naming two of them), when the output must be in
+// the frame's CRS and cannot name it (a LAS 1.0-1.3 output of formats 0-5 and a CRS without EPSG
+// code), and when request.watch cancels it ("clip: cancelled"; the temporary file removed).
 ClipResult clip_to_file(const dataset::Dataset& ds, const ClipRequest& request, ThreadPool& pool);
 
 }  // namespace lidarscout::pipelines

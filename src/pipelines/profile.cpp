@@ -56,20 +56,22 @@ Region corridor_region(const Corridor& c) {
 }
 
 Profile read_profile(const dataset::Dataset& ds, const Corridor& corridor, const PointFilter& filter,
-                     ThreadPool& pool, const PointProgressFn& progress) {
+                     ThreadPool& pool, const ReadWatch& watch, const ProfilePointsFn& points) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
     const Region region = corridor_region(corridor);
     Profile profile;
     const auto add = [&](const RegionBatch& b) {
         if (profile.points.empty()) profile.seconds_to_first_points = since();
+        const std::size_t first = profile.points.size();
         for (const auto& p : b.points) {
             profile.points.push_back({corridor.along(p.x, p.y), p.x, p.y, p.z, p.point.intensity,
                                       p.point.classification, p.point.return_number, p.point.number_of_returns,
                                       b.tile});
         }
+        if (points) points(std::span(profile.points).subspan(first));
     };
-    profile.read = read_region_points(ds, tiles_touching(ds, region), region, filter, pool, add, progress);
+    profile.read = read_region_points(ds, tiles_touching(ds, region), region, filter, pool, add, watch);
     profile.seconds = since();
     return profile;
 }

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,9 +44,13 @@ struct Profile {
     double seconds_to_first_points = -1, seconds = 0;  // -1: none found
 };
 
-// Every point of the corridor passing `filter`.
+// The points of each batch as they are read (who shows a profile while it is read).
+using ProfilePointsFn = std::function<void(std::span<const ProfilePoint> points)>;
+
+// Every point of the corridor passing `filter`; `watch` follows and may stop the read (the points
+// read until then are returned, profile.read.cancelled set); `points` sees them batch by batch.
 Profile read_profile(const dataset::Dataset& ds, const Corridor& corridor, const PointFilter& filter,
-                     ThreadPool& pool, const PointProgressFn& progress = nullptr);
+                     ThreadPool& pool, const ReadWatch& watch = {}, const ProfilePointsFn& points = nullptr);
 
 // CSV: distance,x,y,z,class,intensity,return,returns,source_file (a header line), through a
 // temporary name. Throws lidarscout::Error.

@@ -59,14 +59,18 @@ void draw_grid(render::RgbaImage& image, const Plot& plot, double d_step, double
 }  // namespace
 
 render::RgbaImage profile_image(const Profile& profile, const Corridor& corridor, int width, int height,
-                                ProfileImageScale* scale) {
+                                ProfileImageScale* scale, ProfileColours colours, double ramp_min, double ramp_max) {
     const Plot plot = plot_of(profile, corridor, width, height);
     render::RgbaImage image{plot.width, plot.height, {}};
     image.pixels.assign(std::size_t(image.width) * image.height, render::pack_rgba(24, 26, 32));
     const double d_step = round_step(plot.length, 10), z_step = round_step(plot.z_max - plot.z_min, 6);
     draw_grid(image, plot, d_step, z_step);
+    if (!(ramp_max > ramp_min)) ramp_min = plot.z_min, ramp_max = plot.z_max;
     for (const auto& p : profile.points) {
-        const std::uint32_t c = render::classification_colour(p.classification);
+        const std::uint32_t c =
+            colours == ProfileColours::Elevation
+                ? render::elevation_ramp(static_cast<float>((p.z - ramp_min) / (ramp_max - ramp_min)))
+                : render::classification_colour(p.classification);
         const int x = plot.px(p.distance), y = plot.py(p.z);
         put(image, x, y, c), put(image, x + 1, y, c), put(image, x, y + 1, c), put(image, x + 1, y + 1, c);
     }

@@ -83,7 +83,7 @@ void keep_batch(const dataset::DatasetTile& t, const FrameUnits& units, std::uin
 // or placing a point leaves the rest of the tile out.
 void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& region,
                const PointFilter& filter, ThreadPool& pool, const RegionBatchFn& fn, RegionReadStats& stats,
-               const std::function<void(std::uint64_t)>& advanced) {
+               const std::function<void(std::uint64_t)>& advanced, const ReadWatch& watch) {
     const auto& t = ds.tiles[tile];
     std::uint64_t done = 0;
     try {
@@ -94,6 +94,7 @@ void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& reg
         std::vector<std::uint8_t> records;
         std::vector<dataset::SkippedChunk> skipped;
         for (std::size_t k = 0; k < batches.size(); ++k) {
+            if (watch.cancelled()) return void(stats.cancelled = true);
             skipped.clear();
             batches.read(file, k, records, las::fields::kAll, pool, &skipped);
             for (const auto& s : skipped) stats.skipped.push_back(s.error), stats.points_skipped += s.points;
@@ -145,16 +146,20 @@ std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Regi
 
 RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
                                    const Region& region, const PointFilter& filter, ThreadPool& pool,
-                                   const RegionBatchFn& fn, const PointProgressFn& progress) {
+                                   const RegionBatchFn& fn, const ReadWatch& watch) {
     RegionReadStats stats;
     stats.tiles_touched.assign(tiles.begin(), tiles.end());
     std::uint64_t total = 0, done = 0;
     for (const auto t : tiles) total += ds.tiles[t].tile.header.point_count;
     const auto advanced = [&](std::uint64_t n) {
         done += n;
-        if (progress) progress(done, total);
+        if (watch.progress) watch.progress(done, total);
     };
-    for (const auto t : tiles) read_tile(ds, t, region, filter, pool, fn, stats, advanced);
+    for (std::size_t k = 0; k < tiles.size() && !stats.cancelled; ++k) {
+        if (watch.cancelled()) stats.cancelled = true;
+        else read_tile(ds, tiles[k], region, filter, pool, fn, stats, advanced, watch);
+        if (watch.tiles && !stats.cancelled) watch.tiles(k + 1, tiles.size());
+    }
     return stats;
 }
 

@@ -4,6 +4,7 @@
 // cannot be read is named and left out. What `clip` and `profile` read (one reader for both).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -56,6 +57,7 @@ struct RegionReadStats {
     std::uint64_t points_read = 0, points_kept = 0;
     std::uint64_t points_skipped = 0;          // in chunks or tiles that could not be read
     std::vector<ErrorRecord> skipped;          // those chunks and tiles, named
+    bool cancelled = false;                    // stopped by ReadWatch::cancel before the end
 };
 
 // The tiles whose bounds (xy) the region touches, in dataset order.
@@ -63,6 +65,17 @@ std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Regi
 
 using RegionBatchFn = std::function<void(const RegionBatch&)>;
 using PointProgressFn = std::function<void(std::uint64_t points_done, std::uint64_t points_total)>;
+using TileProgressFn = std::function<void(std::size_t tiles_done, std::size_t tiles_total)>;
+
+// What the caller of a read may follow and stop (from another thread): the points read of the
+// touched tiles' total, the tiles finished of those touched, and a flag that, once true, ends the
+// read before its next batch (about a million points; RegionReadStats::cancelled).
+struct ReadWatch {
+    PointProgressFn progress;
+    TileProgressFn tiles;
+    const std::atomic<bool>* cancel = nullptr;
+    bool cancelled() const { return cancel && cancel->load(std::memory_order_relaxed); }
+};
 
 // Reads `tiles` (tiles_touching the region) one after the other, calling fn with the kept points
 // of each batch (about a million points read, decoded in parallel on `pool`). A tile that cannot
@@ -70,6 +83,6 @@ using PointProgressFn = std::function<void(std::uint64_t points_done, std::uint6
 // left out and named in the result. fn may not use `pool`.
 RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
                                    const Region& region, const PointFilter& filter, ThreadPool& pool,
-                                   const RegionBatchFn& fn, const PointProgressFn& progress = nullptr);
+                                   const RegionBatchFn& fn, const ReadWatch& watch = {});
 
 }  // namespace lidarscout::pipelines

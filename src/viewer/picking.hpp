@@ -70,20 +70,21 @@ Measurement measure(const PickedPoint& a, const PickedPoint& b);
 // One line: "distance D m, horizontal H m, height difference +Z m, slope S deg".
 std::string measurement_summary(const Measurement& m);
 
-// What a click in the picture does: show the point under it, or measure between two points.
-enum class ClickTool { Inspect, Measure, Area };
+// What a click in the picture does: show the point under it, measure between two points, add a
+// polygon's vertex, or give a profile's line (its two ends).
+enum class ClickTool { Inspect, Measure, Area, Profile };
 
 struct ClickState {
     ClickTool tool = ClickTool::Inspect;
     std::optional<PickedPoint> picked;  // Inspect: the last point clicked
-    std::optional<PickedPoint> from;    // Measure: the first point
-    std::optional<PickedPoint> to;      // Measure: the second point
+    std::optional<PickedPoint> from;    // Measure, Profile: the first point
+    std::optional<PickedPoint> to;      // Measure, Profile: the second point
     std::vector<PickedPoint> polygon;   // Area: the vertices clicked so far
     std::optional<std::string> area;    // Area: the last measurement's summary (or why it failed)
     bool missed = false;                // the last click found no point
 
-    // A click's result: Inspect keeps the point; Measure fills the first point, then the second,
-    // then starts again from the next one; Area adds a vertex (after a measurement, a new polygon).
+    // A click's result: Inspect keeps the point; Measure and Profile fill the first point, then the
+    // second, then start again from the next one; Area adds a vertex (after a measurement, a new polygon).
     // A miss changes nothing but `missed`.
     void clicked(const std::optional<PickedPoint>& point);
     // Switches the tool, forgetting what the other one picked.

@@ -13,7 +13,7 @@ namespace lidarscout::viewer {
 namespace {
 
 const std::set<std::string> kKnown = {"version", "paths", "crs", "camera", "filter", "colour", "measurements",
-                                      "annotations", "kind"};
+                                      "annotations", "profiles", "kind"};
 constexpr const char* kKind = "lidarscout session";
 
 nlohmann::json filter_json(const PointFilter& f) {
@@ -55,6 +55,8 @@ nlohmann::json session_json(const SessionFile& s) {
     for (const auto& m : s.measurements) j["measurements"].push_back({{"from", m.from}, {"to", m.to}});
     j["annotations"] = nlohmann::json::array();
     for (const auto& a : s.annotations) j["annotations"].push_back({{"at", a.at}, {"text", a.text}});
+    j["profiles"] = nlohmann::json::array();
+    for (const auto& p : s.profiles) j["profiles"].push_back({{"line", p.line}, {"width", p.width}});
     return j;
 }
 
@@ -84,6 +86,14 @@ SessionFile session_from_json(const nlohmann::json& j, const std::string& path) 
         }
         for (const auto& a : j.value("annotations", nlohmann::json::array())) {
             s.annotations.push_back({xyz(a.at("at")), a.at("text").get<std::string>()});
+        }
+        for (const auto& p : j.value("profiles", nlohmann::json::array())) {
+            const auto& l = p.at("line");
+            if (l.size() != 4) throw Error(path, std::nullopt, "a profile's \"line\" is not [x0, y0, x1, y1]");
+            s.profiles.push_back({{l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>(),
+                                   l.at(3).get<double>()},
+                                  p.value("width", 2.0)});
+            if (!(s.profiles.back().width > 0)) throw Error(path, std::nullopt, "a profile's width is not positive");
         }
     } catch (const nlohmann::json::exception& e) {
         throw Error(path, std::nullopt, std::string("a session field is missing or of the wrong kind: ") + e.what());

@@ -1,8 +1,10 @@
 // A saved viewer session (`.lidarscout.json`), without window code: what was open (paths or URLs,
-// the CRS asked for), the camera, the filter and colour mode, the measurements and the
-// annotations (text labels at picked points). Positions are world metres of the dataset's frame
-// (the CRS named in the file). The file has a `version`; a field this version does not know is
-// kept and written back as it was, so that a newer program's sessions survive an older one.
+// the CRS asked for), the camera, the filter and colour mode, the measurements, the
+// annotations (text labels at picked points) and the profiles' corridors. Positions are world
+// metres of the dataset's frame (the CRS named in the file), but a profile's line and width are in
+// that CRS's units, as `view --profile` and `lidarscout profile --line` take them. The file has a
+// `version`; a field this version does not know is kept and written back as it was, so that a newer
+// program's sessions survive an older one.
 #pragma once
 
 #include <array>
@@ -36,6 +38,13 @@ struct SavedMeasurement {
     bool operator==(const SavedMeasurement&) const = default;
 };
 
+// A profile's corridor: the line x0, y0, x1, y1 and its full width (the dataset CRS's units).
+struct SavedProfile {
+    std::array<double, 4> line{};
+    double width = 2;
+    bool operator==(const SavedProfile&) const = default;
+};
+
 struct SessionFile {
     int version = kSessionVersion;
     std::vector<std::string> paths;  // as given to `view` (files, folders, lists, URLs)
@@ -45,6 +54,7 @@ struct SessionFile {
     std::string colour;  // render::colour_mode_name ("" = the viewer's default)
     std::vector<SavedMeasurement> measurements;
     std::vector<Annotation> annotations;
+    std::vector<SavedProfile> profiles;
     nlohmann::json unknown = nlohmann::json::object();  // fields this version does not read, kept
 };
 

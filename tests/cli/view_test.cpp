@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <unistd.h>
@@ -62,6 +63,18 @@ protected:
         return test::run_command(cmd, out);
     }
     static bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
+
+    static std::string ign_tile() {
+        return (test::surveys_dir() / "ign-lidar-hd-1km/test_semis_2021_0382_6565_LA93_IGN69.laz").string();
+    }
+    // A session (written to `name` in the scratch folder) of an IGN tile seen from 300 m above its middle.
+    fs::path ign_from_above(const std::string& name) const {
+        const nlohmann::json s = {{"kind", "lidarscout session"}, {"version", 1}, {"paths", {ign_tile()}},
+                                  {"camera", {{"target", {382500, 6564500, 10}}, {"distance", 300}, {"yaw_deg", 0},
+                                              {"pitch_deg", -89}, {"fov_deg", 60}}}};
+        std::ofstream(dir_ / name) << s.dump();
+        return dir_ / name;
+    }
 
     fs::path dir_;
 };
@@ -151,13 +164,7 @@ TEST_F(ViewCommand, ScriptedClicksPickPointsAndMeasureBetweenThem) {
 // the points held; its horizontal area is the shoelace area of the four points printed.
 TEST_F(ViewCommand, ScriptedAreaMeasuresThePolygonClicked) {
     ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
-    const std::string tile =
-        (test::surveys_dir() / "ign-lidar-hd-1km/test_semis_2021_0382_6565_LA93_IGN69.laz").string();
-    const nlohmann::json s = {{"kind", "lidarscout session"}, {"version", 1}, {"paths", {tile}},
-                              {"camera", {{"target", {382500, 6564500, 10}}, {"distance", 300}, {"yaw_deg", 0},
-                                          {"pitch_deg", -89}, {"fov_deg", 60}}}};
-    const fs::path in = dir_ / "area.lidarscout.json";
-    std::ofstream(in) << s.dump();
+    const fs::path in = ign_from_above("area.lidarscout.json");
     std::string out;
     ASSERT_EQ(run_xvfb("--session " + in.string() + " --no-cnn --size 480x480 --quit-after 4 --area --click 140,140 "
                        "--click 340,140 --click 340,340 --click 140,340", out), 0)
@@ -174,6 +181,75 @@ TEST_F(ViewCommand, ScriptedAreaMeasuresThePolygonClicked) {
     EXPECT_NEAR(area, std::abs(twice) / 2, 0.1) << out;
     EXPECT_GT(area, 1000) << out;
     EXPECT_GT(cut + fill, 0) << out;
+}
+
+std::string file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// "WHAT: N points written to FILE": N (-1 when the line is missing).
+long long points_written(const std::string& out, const std::string& what, const fs::path& file) {
+    const std::string tail = " points written to " + file.string();
+    const auto end = out.find(tail);
+    const auto start = out.rfind(what + ": ", end);
+    if (end == std::string::npos || start == std::string::npos) return -1;
+    return std::stoll(out.substr(start + what.size() + 2, end - start - what.size() - 2));
+}
+
+// A profile opened with --profile (the dataset CRS's units, filtered as drawn) and written once
+// read: the CSV and the LAZ are the files `lidarscout profile` writes for the same line, width and
+// filter, byte for byte.
+TEST_F(ViewCommand, ScriptedProfileIsWhatTheProfileCommandWrites) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    const std::string tile = (test::surveys_dir() / "ky-woodford-county" / "5205000_3900000.laz").string();
+    const std::string line = "5208400.5,3903200.25,5209700,3904700", width = "6";
+    for (const std::string ext : {".csv", ".laz"}) {
+        SCOPED_TRACE(ext);
+        const fs::path viewed = dir_ / ("viewed" + ext), expected = dir_ / ("expected" + ext);
+        std::string out;
+        ASSERT_EQ(run_xvfb(tile + " --no-cnn --size 480x480 --classes 2,6 --quit-after 1 --profile " + line + "," +
+                           width + " --profile-out " + viewed.string(), out, "timeout 300"), 0) << out;
+        const long long n = points_written(out, "profile", viewed);
+        EXPECT_GT(n, 100) << out;
+        std::string cli;
+        ASSERT_EQ(test::run_command(LIDARSCOUT_CLI " profile " + tile + " --line " + line + " --width " + width +
+                                    " --classes 2,6 -o " + expected.string() + " 2>&1", cli), 0) << cli;
+        EXPECT_NE(cli.find(std::to_string(n) + " points in a corridor"), std::string::npos) << cli;
+        EXPECT_EQ(file_bytes(viewed), file_bytes(expected));
+    }
+    std::string out;  // refused before a window opens: a width of 0, an output without its profile
+    EXPECT_EQ(run_xvfb(tile + " --quit-after 1 --profile " + line + ",0", out), 1) << out;
+    EXPECT_NE(out.find("the width must be positive"), std::string::npos) << out;
+    EXPECT_EQ(run_xvfb(tile + " --quit-after 1 --profile-out " + (dir_ / "p.csv").string(), out), 1) << out;
+    EXPECT_NE(out.find("--profile-out wants --profile"), std::string::npos) << out;
+    EXPECT_EQ(run_xvfb(tile + " --quit-after 1 --profile " + line + ",2 --profile-out " + tile, out), 1) << out;
+    EXPECT_FALSE(fs::exists(dir_ / "p.csv"));
+}
+
+// The area tool's polygon clipped (--clip-out): the LAZ is the file `lidarscout clip --polygon`
+// writes for the polygon the viewer prints, byte for byte.
+TEST_F(ViewCommand, ScriptedClipOutIsWhatTheClipCommandWrites) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    const fs::path in = ign_from_above("clip.lidarscout.json"), viewed = dir_ / "viewed.laz";
+    const fs::path expected = dir_ / "expected.laz";
+    const std::string tile = ign_tile();
+    std::string out;
+    ASSERT_EQ(run_xvfb("--session " + in.string() + " --no-cnn --size 480x480 --quit-after 4 --area --click 140,140 "
+                       "--click 340,160 --click 300,340 --click 150,300 --clip-out " + viewed.string(), out,
+                       "timeout 300"), 0) << out;
+    const auto at = out.find("clip polygon: POLYGON ((");
+    ASSERT_NE(at, std::string::npos) << out;
+    const std::string wkt = out.substr(at + 14, out.find('\n', at) - at - 14);
+    const long long n = points_written(out, "clip", viewed);
+    EXPECT_GT(n, 1000) << out;
+    std::string cli;
+    ASSERT_EQ(test::run_command(LIDARSCOUT_CLI " clip " + tile + " --polygon '" + wkt + "' -o " + expected.string() +
+                                " --json 2>&1", cli), 0) << cli;
+    EXPECT_NE(cli.find("\"points_written\": " + std::to_string(n)), std::string::npos) << cli;
+    EXPECT_EQ(file_bytes(viewed), file_bytes(expected));
+    EXPECT_EQ(run_xvfb(tile + " --quit-after 1 --clip-out " + viewed.string(), out), 1) << out;  // no --area
+    EXPECT_NE(out.find("--clip-out wants --area"), std::string::npos) << out;
 }
 
 // A session opens as saved (its dataset, camera, filter; the click picks only what the filter

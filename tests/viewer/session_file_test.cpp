@@ -1,6 +1,7 @@
-// Sessions: saved and opened again unchanged (camera, filter, colour, measurements, annotations);
+// Sessions: saved and opened again unchanged (camera, filter, colour, measurements, annotations,
+// profiles);
 // fields this version does not know kept; a newer version, a file that is not a session, a field
-// of the wrong kind and a bad filter refused with the file named; written through a temporary name.
+// of the wrong kind, a bad filter and a bad profile refused with the file named; written through a temporary name.
 #include "viewer/session_file.hpp"
 
 #include <gtest/gtest.h>
@@ -37,6 +38,7 @@ SessionFile example() {
     s.colour = "classification";
     s.measurements = {{{1, 2, 3}, {4, 5, 6.5}}};
     s.annotations = {{{654300, 6543200, 101.25}, "culvert, blocked"}, {{1, 1, 1}, "ünïcode «label»"}};
+    s.profiles = {{{5208145.5, 3902993.25, 5209000.125, 3904000.0}, 6.5}, {{0, 0, 1, 1}, 2}};
     return s;
 }
 
@@ -52,6 +54,7 @@ TEST_F(SessionFileTest, SavedAndOpenedAgainUnchanged) {
     EXPECT_EQ(r.colour, s.colour);
     EXPECT_EQ(r.measurements, s.measurements);
     EXPECT_EQ(r.annotations, s.annotations);
+    EXPECT_EQ(r.profiles, s.profiles);
     // A filter keeping every kind and one keeping none both survive.
     SessionFile none = s;
     none.filter.return_kinds = 0;
@@ -64,13 +67,14 @@ TEST_F(SessionFileTest, SavedAndOpenedAgainUnchanged) {
 
 TEST_F(SessionFileTest, FieldsItDoesNotKnowAreKept) {
     nlohmann::json j = session_json(example());
-    j["profiles"] = {{{"line", {0, 0, 10, 10}}, {"width", 2}}};  // a later version's field
+    j["volumes"] = {{{"polygon", {0, 0, 10, 10}}, {"depth", 2}}};  // a later version's field
     j["note"] = "from a newer build";
     write_text("future.json", j.dump());
     SessionFile s = read_session(path("future.json"));
     s.annotations.push_back({{7, 8, 9}, "added here"});
     write_session(path("again.json"), s);
     const auto back = nlohmann::json::parse(std::ifstream(path("again.json")));
+    EXPECT_EQ(back.at("volumes"), j.at("volumes"));
     EXPECT_EQ(back.at("profiles"), j.at("profiles"));
     EXPECT_EQ(back.at("note"), "from a newer build");
     EXPECT_EQ(back.at("annotations").size(), 3u);
@@ -99,6 +103,14 @@ TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
     write_text("purple.json", purple.dump());
     EXPECT_FALSE(refusal("purple.json").empty());
     EXPECT_EQ(refusal("newer.json").empty(), false);
+    nlohmann::json short_line = session_json(example());
+    short_line["profiles"][0]["line"] = {1, 2, 3};
+    write_text("line.json", short_line.dump());
+    EXPECT_NE(refusal("line.json").find("[x0, y0, x1, y1]"), std::string::npos);
+    nlohmann::json flat = session_json(example());
+    flat["profiles"][0]["width"] = 0;
+    write_text("width.json", flat.dump());
+    EXPECT_NE(refusal("width.json").find("width is not positive"), std::string::npos);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "render/framebuffer.hpp"
 #include "viewer/visibility.hpp"
@@ -101,6 +102,32 @@ void draw_click_overlay(render::RgbaImage& image, const render::Camera& camera, 
             draw_segment(image, camera, ring[k].x, ring[k].y, ring[k].z, next.x, next.y, next.z,
                          render::pack_rgba(120, 220, 255));
         }
+    }
+}
+
+void draw_corridor(render::RgbaImage& image, const render::Camera& camera, const std::array<double, 4>& line,
+                   double half_width, std::span<const double> heights, double z, std::uint32_t rgba) {
+    const double dx = line[2] - line[0], dy = line[3] - line[1], length = std::hypot(dx, dy);
+    if (!(length > 0)) return;
+    const double nx = -dy / length * half_width, ny = dx / length * half_width;  // across the line
+    // Vertices at the ends and the middle of every piece, each at its piece's height.
+    std::vector<std::array<double, 2>> along;  // {t, z}
+    const std::size_t n = heights.size();
+    along.push_back({0.0, n ? heights[0] : z});
+    for (std::size_t k = 0; k < n; ++k) along.push_back({(k + 0.5) / n, heights[k]});
+    along.push_back({1.0, n ? heights[n - 1] : z});
+    const auto at = [&](const std::array<double, 2>& v, double side) {
+        return std::array<double, 3>{line[0] + v[0] * dx + side * nx, line[1] + v[0] * dy + side * ny, v[1]};
+    };
+    for (const double side : {-1.0, 0.0, 1.0}) {
+        for (std::size_t k = 0; k + 1 < along.size(); ++k) {
+            const auto a = at(along[k], side), b = at(along[k + 1], side);
+            draw_segment(image, camera, a[0], a[1], a[2], b[0], b[1], b[2], rgba);
+        }
+    }
+    for (const auto& end : {along.front(), along.back()}) {
+        const auto a = at(end, -1), b = at(end, 1);
+        draw_segment(image, camera, a[0], a[1], a[2], b[0], b[1], b[2], rgba);
     }
 }
 

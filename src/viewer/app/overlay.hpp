@@ -1,9 +1,11 @@
 // Lines drawn over a resolved image after the scene: the tiles' outlines on the ground (the
 // "tile boxes" layer, and the footprints of the tiles read while a dataset opens), the selected
-// tile highlighted; the picked point, the measured line and the area tool's polygon.
+// tile highlighted; the picked point, the measured line, the area tool's polygon and a profile's
+// corridor.
 #pragma once
 
 #include <cstdint>
+#include <array>
 #include <optional>
 #include <span>
 
@@ -34,5 +36,11 @@ void draw_marker(render::RgbaImage& image, const render::Camera& camera, double 
 
 // The click tool's points as markers, and the line between the two measured points.
 void draw_click_overlay(render::RgbaImage& image, const render::Camera& camera, const ClickState& click);
+
+// A profile's corridor from line[0..1] to line[2..3] (world metres), its centre line and its two
+// sides half_width away, over the ground: heights (world metres) of equal pieces of the line, or
+// `z` all along when there are none.
+void draw_corridor(render::RgbaImage& image, const render::Camera& camera, const std::array<double, 4>& line,
+                   double half_width, std::span<const double> heights, double z, std::uint32_t rgba);
 
 }  // namespace lidarscout::viewer::app

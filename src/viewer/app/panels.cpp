@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -232,28 +233,47 @@ void labels_section(PanelState& state, PanelActions& actions) {
         ImGui::PopID();
     }
     if (!state.measurements.empty() && ImGui::SmallButton("forget the measurements kept")) state.measurements.clear();
+    auto& kept = state.profile.kept;
+    for (std::size_t k = 0; k < kept.size(); ++k) {  // the profiles kept: open one again, or forget it
+        ImGui::PushID(static_cast<int>(1000000 + k));
+        if (ImGui::SmallButton("x")) {
+            kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(k));
+            ImGui::PopID();
+            break;
+        }
+        ImGui::SameLine();
+        if (ImGui::SmallButton("open")) actions.open_kept_profile = k;
+        ImGui::SameLine();
+        ImGui::Text("profile %.1f,%.1f - %.1f,%.1f (%.2f wide)", kept[k].line[0], kept[k].line[1], kept[k].line[2],
+                    kept[k].line[3], kept[k].width);
+        ImGui::PopID();
+    }
     input_text("session file", state.session_path);
     if (ImGui::Button("save session")) actions.save_session = true;
 }
 
 // The click tool, the screenshot button and the help line: always shown.
 void tool_bar(PanelState& state, PanelActions& actions) {
-    int tool = static_cast<int>(state.click.tool);
-    ImGui::TextUnformatted("click:");
-    ImGui::SameLine();
+    int tool = static_cast<int>(state.click.tool);  // what a click does
     ImGui::RadioButton("inspect", &tool, static_cast<int>(ClickTool::Inspect));
     ImGui::SameLine();
     ImGui::RadioButton("measure", &tool, static_cast<int>(ClickTool::Measure));
     ImGui::SameLine();
     ImGui::RadioButton("area", &tool, static_cast<int>(ClickTool::Area));
-    state.click.use(static_cast<ClickTool>(tool));
     ImGui::SameLine();
+    ImGui::RadioButton("profile", &tool, static_cast<int>(ClickTool::Profile));
+    state.click.use(static_cast<ClickTool>(tool));
     if (ImGui::Button("screenshot")) actions.screenshot = true;
     if (!state.status.empty()) ImGui::TextWrapped("%s", state.status.c_str());
+    if (!state.exports.status.empty()) {
+        ImGui::TextWrapped("%s", state.exports.status.c_str());
+        if (state.exports.running && ImGui::SmallButton("cancel the export")) actions.cancel_export = true;
+    }
     if (!state.cursor.empty()) ImGui::TextWrapped("cursor %s", state.cursor.c_str());
     if (ImGui::CollapsingHeader("Help")) {
         ImGui::TextWrapped("left drag: orbit, right drag: pan, wheel: zoom, WASD/QE: fly (shift: faster); "
-                           "click: inspect a point or measure; F12: screenshot; drop a folder or files to open them");
+                           "click: inspect a point, measure, an area's vertices or a profile's line; F12: "
+                           "screenshot; drop a folder or files to open them");
     }
 }
 
@@ -275,8 +295,16 @@ void point_lines(const dataset::Dataset& ds, const char* label, const PickedPoin
 
 // The picked point or the measurement, in a small window at the bottom right.
 // The area tool's readout: the vertices so far, the measurement or how to get it.
-void area_lines(ClickState& click, PanelActions& actions) {
+void area_lines(ClickState& click, ExportPanel& exports, PanelActions& actions) {
     ImGui::Text("%zu vertices", click.polygon.size());
+    if (click.polygon.size() >= 3) {  // the points inside, every one of the tiles under it, as LAZ
+        ImGui::SetNextItemWidth(160);
+        input_text("##clip", exports.clip_path);
+        ImGui::SameLine();
+        ImGui::BeginDisabled(exports.running);
+        if (ImGui::Button("export the points inside")) actions.export_clip = true;
+        ImGui::EndDisabled();
+    }
     if (click.area) {
         ImGui::TextWrapped("%s", click.area->c_str());
         ImGui::TextUnformatted("the next click starts a new polygon");
@@ -287,26 +315,80 @@ void area_lines(ClickState& click, PanelActions& actions) {
     }
 }
 
-void readout_window(const dataset::Dataset& ds, ClickState& click, PanelActions& actions) {
-    const bool any = click.picked || click.from || click.missed || !click.polygon.empty();
+// The profile tool's readout: the width of the next corridor, the ends clicked so far.
+void profile_lines(const ClickState& click, ProfilePanel& profile) {
+    ImGui::SetNextItemWidth(120);
+    if (ImGui::InputDouble(("width (" + profile.unit + ")").c_str(), &profile.width, 0, 0, "%.2f")) {
+        profile.width = std::max(profile.width, 0.01);
+    }
+    ImGui::TextUnformatted(!click.from ? "click the line's first end on the ground"
+                           : !click.to ? "click its second end"
+                                       : "the next click starts a new line");
+}
+
+void readout_window(const dataset::Dataset& ds, ClickState& click, PanelState& state, PanelActions& actions) {
+    const bool any = click.picked || click.from || click.missed || !click.polygon.empty() ||
+                     click.tool == ClickTool::Profile;
     if (!any) return;
     const ImVec2 display = ImGui::GetIO().DisplaySize;
     ImGui::SetNextWindowPos(ImVec2(display.x - 10, display.y - 10), ImGuiCond_Always, ImVec2(1, 1));
     ImGui::SetNextWindowBgAlpha(0.8f);
-    const char* title = click.tool == ClickTool::Measure ? "Measure" : click.tool == ClickTool::Area ? "Area" : "Point";
+    const char* title = click.tool == ClickTool::Measure   ? "Measure"
+                        : click.tool == ClickTool::Area    ? "Area"
+                        : click.tool == ClickTool::Profile ? "Profile line"
+                                                           : "Point";
     if (!ImGui::Begin(title, nullptr, kSmallWindow)) return ImGui::End();
-    if (click.tool == ClickTool::Area) area_lines(click, actions);
+    if (click.tool == ClickTool::Area) area_lines(click, state.exports, actions);
+    if (click.tool == ClickTool::Profile) profile_lines(click, state.profile);
     if (click.picked) point_lines(ds, "", *click.picked);
     if (click.from) point_lines(ds, "A", *click.from);
     if (click.to) {
         point_lines(ds, "B", *click.to);
         ImGui::Separator();
         ImGui::TextWrapped("%s", measurement_summary(measure(*click.from, *click.to)).c_str());
-    } else if (click.from) {
+    } else if (click.from && click.tool == ClickTool::Measure) {
         ImGui::TextUnformatted("click the second point");
     }
     if (click.missed) ImGui::TextUnformatted("nothing under the cursor (sky, or a hole in the data)");
     ImGui::End();
+}
+
+// The profile's window at the top right: the plot (distance left to right, height bottom to top),
+// what it spans, the read's progress, colours, export, keep, close.
+void profile_window(ProfilePanel& p, const ExportPanel& exports, PanelActions& actions) {
+    if (!p.open) return;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const float width = std::clamp(display.x - kSideWidth - 40, 240.0f, 760.0f);
+    ImGui::SetNextWindowPos(ImVec2(display.x - 10, 10), ImGuiCond_FirstUseEver, ImVec2(1, 0));
+    ImGui::SetNextWindowSize(ImVec2(width, 0), ImGuiCond_Always);  // 0: the height fits the plot and its lines
+    ImGui::SetNextWindowBgAlpha(0.9f);
+    bool open = true;
+    if (ImGui::Begin("Profile", &open, ImGuiWindowFlags_NoSavedSettings)) {
+        ImGui::TextWrapped("%s", p.title.c_str());
+        if (p.texture && p.texture_width > 0) {
+            const float w = ImGui::GetContentRegionAvail().x;
+            ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(p.texture)),
+                         ImVec2(w, w * p.texture_height / p.texture_width));
+        }
+        if (!p.axes.empty()) ImGui::TextWrapped("%s", p.axes.c_str());
+        ImGui::TextWrapped("%s", p.status.c_str());
+        if (ImGui::Checkbox("coloured by elevation (else by class)", &p.elevation)) actions.profile_colours = true;
+        if (p.filter_changed) {
+            ImGui::TextWrapped("read with another filter than the one drawn now");
+            if (ImGui::SmallButton("read again with the filter drawn")) actions.reread_profile = true;
+        }
+        ImGui::SetNextItemWidth(std::max(100.0f, ImGui::GetContentRegionAvail().x - 230));
+        input_text("##export", p.export_path);
+        ImGui::SameLine();
+        ImGui::BeginDisabled(exports.running);
+        if (ImGui::Button("export .csv/.laz/.png")) actions.export_profile = true;
+        ImGui::EndDisabled();
+        if (ImGui::Button("keep (saved with the session)")) actions.keep_profile = true;
+        ImGui::SameLine();
+        if (ImGui::Button("close")) open = false;
+    }
+    ImGui::End();
+    if (!open) actions.close_profile = true;
 }
 
 }  // namespace
@@ -329,7 +411,8 @@ PanelActions draw_panels(const dataset::Dataset& dataset, const SchedulerStats& 
         settings_section(settings, actions);
     }
     ImGui::End();
-    readout_window(dataset, state.click, actions);
+    readout_window(dataset, state.click, state, actions);
+    profile_window(state.profile, state.exports, actions);
     return actions;
 }
 

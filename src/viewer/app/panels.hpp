@@ -3,8 +3,9 @@
 // their counts, return kinds, intensity; settings: memory budget, point sizes, colour mode, EDL,
 // layers; labels and the session: text labels at picked points, measurements kept, saving the
 // session; the click tool; the errors, one line per unreadable file with
-// its cause) and a small readout window for the picked point or the measurement; while a dataset
-// opens, a progress window. They read the
+// its cause), a small readout window for the picked point, the measurement or the area (with its
+// clip export), a profile window (the plot, its progress and exports); while a dataset opens, a
+// progress window. They read the
 // scheduler's stats and write the settings; actions come back as a PanelActions.
 #pragma once
 
@@ -32,6 +33,29 @@ struct ViewSettings {
     float render_scale = 1.0f;  // rendered pixels per window pixel (lower = faster)
 };
 
+// The profile shown (the loop fills it every frame) and what its window edits.
+struct ProfilePanel {
+    double width = 2;          // the corridor's width for the next line clicked, the CRS's units
+    std::string unit = "m";    // the CRS's horizontal unit
+    bool open = false;         // a profile is shown
+    std::string title;         // its line and width
+    std::string status;        // the read's progress, then its points (or why it failed)
+    std::string axes;          // what the plot spans (the image has no text)
+    unsigned texture = 0;      // the plot (GL texture) and its size in pixels
+    int texture_width = 0, texture_height = 0;
+    bool elevation = false;        // coloured by elevation, not by class
+    bool filter_changed = false;   // read with another filter than the one drawn now
+    std::string export_path = "profile.csv";
+    std::vector<SavedProfile> kept;  // profiles kept (saved with the session)
+};
+
+// The background export (one at a time): its file names and the line it shows.
+struct ExportPanel {
+    std::string clip_path = "area.laz";
+    std::string status;
+    bool running = false;
+};
+
 struct PanelState {
     std::string filter;
     // The tiles the filter lets through, found again only when the filter or the dataset changes
@@ -49,6 +73,8 @@ struct PanelState {
     std::vector<SavedMeasurement> measurements;       // measurements kept (drawn, saved with the session)
     std::string label;                                // the text of the next label
     std::string session_path = "view.lidarscout.json";  // where "save session" writes
+    ProfilePanel profile;
+    ExportPanel exports;
 };
 
 struct PanelActions {
@@ -57,6 +83,9 @@ struct PanelActions {
     bool screenshot = false;
     bool save_session = false;
     bool measure_area = false;  // the area tool's polygon is to be measured
+    bool close_profile = false, reread_profile = false, keep_profile = false, profile_colours = false;
+    std::optional<std::size_t> open_kept_profile;  // of ProfilePanel::kept
+    bool export_profile = false, export_clip = false, cancel_export = false;
 };
 
 // Draws the panels for this frame (between ImGui::NewFrame and ImGui::Render).

@@ -28,10 +28,13 @@
 #include "viewer/app/gl_presenter.hpp"
 #include "viewer/app/overlay.hpp"
 #include "viewer/app/panels.hpp"
+#include "core/polygon.hpp"
 #include "viewer/area_tool.hpp"
+#include "viewer/background_reads.hpp"
 #include "viewer/cursor_readout.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/picking.hpp"
+#include "viewer/profile_tool.hpp"
 #include "viewer/surface_pick.hpp"
 #include "viewer/scheduler.hpp"
 #include "viewer/session_opening.hpp"
@@ -216,12 +219,13 @@ render::RgbaImage window_pixels(GLFWwindow* window) {
 void print_click(std::pair<double, double> at, const dataset::Dataset& ds, const ClickState& click) {
     std::optional<PickedPoint> vertex;
     if (click.tool == ClickTool::Area && !click.polygon.empty()) vertex = click.polygon.back();
-    const auto& point = click.tool == ClickTool::Measure ? (click.to ? click.to : click.from)
+    const bool two = click.tool == ClickTool::Measure || click.tool == ClickTool::Profile;
+    const auto& point = two                             ? (click.to ? click.to : click.from)
                         : click.tool == ClickTool::Area  ? vertex
                                                          : click.picked;
     if (click.missed || !point) std::printf("click %.0f,%.0f: no point\n", at.first, at.second);
     else std::printf("click %.0f,%.0f: %s\n", at.first, at.second, point_summary(ds, *point).c_str());
-    if (!click.missed && click.from && click.to) {
+    if (!click.missed && click.tool == ClickTool::Measure && click.from && click.to) {
         std::printf("measure: %s\n", measurement_summary(measure(*click.from, *click.to)).c_str());
     }
     std::fflush(stdout);
@@ -354,7 +358,7 @@ public:
         if (!o_.save_session.empty() && session_.open()) write_session(o_.save_session, current_session());
         if (!o_.screenshot.empty()) render::write_png(o_.screenshot, last_.image);
         if (!o_.window_screenshot.empty()) render::write_png(o_.window_screenshot, window_shot_);
-        return 0;
+        return script_status_;
     }
 
 private:
@@ -370,6 +374,7 @@ private:
         if (!s.colour.empty()) settings_.style.colour.mode = render::parse_colour_mode(s.colour);
         panels_.measurements = s.measurements;
         panels_.annotations = s.annotations;
+        panels_.profile.kept = s.profiles;
     }
 
     // What is shown now, as a session (with the fields of the session opened that this version does not know).
@@ -387,6 +392,12 @@ private:
         s.colour = std::string(render::colour_mode_name(settings_.style.colour.mode));
         s.measurements = panels_.measurements;
         s.annotations = panels_.annotations;
+        s.profiles = panels_.profile.kept;
+        if (profile_) {  // the profile shown, unless it is kept already
+            const auto& c = profile_->corridor();
+            const SavedProfile shown{{c.x0, c.y0, c.x1, c.y1}, c.width};
+            if (std::find(s.profiles.begin(), s.profiles.end(), shown) == s.profiles.end()) s.profiles.push_back(shown);
+        }
         return s;
     }
 
@@ -414,6 +425,7 @@ private:
             paths_ = events_.dropped;
             events_.dropped.clear();
         }
+        if (opening_ && opening_->finished()) close_background();  // they read the dataset shown
         if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
             refiner_.invalidate();
             if (!moved_while_opening_) controller_.frame(session_.dataset->bounds_m, fb_width_, fb_height_);
@@ -421,6 +433,7 @@ private:
             if (!opened_) {
                 settings_ = initial_settings(*session_.dataset, session_.scheduler->stats(), o_);
                 if (o_.session) apply_session(*o_.session);
+                if (o_.profile) start_profile(*o_.profile, controller_.target_z);
                 opened_ = Clock::now();
                 times_.dataset_open_s = since_start();
             }
@@ -446,12 +459,14 @@ private:
             last_ = draw_frame(session_, controller_, settings_, panels_, fb_width_, fb_height_, pool_, refiner_,
                                camera_, drawn_);
             with_heightmaps_ = !drawn_->heightmaps.empty();
+            draw_profile_corridor();
         } else {
             last_ = opening_frame(footprints_, controller_, fb_width_, fb_height_, camera_);
         }
         frame_ms_ = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
         if (const auto click = input_.take_click(); click && session_.open()) {
             pick_at_click(win_.window, *click, session_, camera_, settings_.style.filter, panels_);
+            profile_after_click();
         }
         panels_.cursor =
             session_.open() ? cursor_text(win_.window, *session_.cursor, camera_, controller_.target_z) : "";
@@ -471,6 +486,8 @@ private:
         if (session_.open()) {
             stats = session_.scheduler->stats();
             panels_.loaded_classes = loaded_class_counts(*drawn_);
+            profile_step();
+            export_step();
             actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
             draw_labels(panels_.annotations, camera_);
         }
@@ -490,6 +507,12 @@ private:
         if (actions.budget_changed) session_.scheduler->set_memory_budget(std::uint64_t(settings_.budget_mb) << 20);
         if (actions.save_session) save_session(panels_.session_path);
         if (actions.measure_area) measure_area_now();
+        profile_actions(actions);
+        if (actions.export_clip) start_export(panels_.exports.clip_path, io::OutputKind::PointCloud, [&] {
+            return export_clip(*session_.dataset, panels_.exports.clip_path, area_region(), settings_.style.filter,
+                               job_threads());
+        });
+        if (actions.cancel_export && export_) export_->cancel();
         if (actions.screenshot || input_.pressed(win_.window, GLFW_KEY_F12)) {  // the picture without the panels
             const std::string name = screenshot_name();
             render::write_png(name, last_.image);
@@ -507,6 +530,7 @@ private:
                 pick_at_click(win_.window, c, session_, camera_, settings_.style.filter, panels_);
                 print_click(c, *session_.dataset, panels_.click);
             }
+            pending_clip_out_ = !o_.clip_out.empty();
             if (o_.area) {
                 measure_area_now();
                 std::printf("%s\n", panels_.click.area->c_str());
@@ -515,7 +539,230 @@ private:
             scripted_clicks_done_ = true;
             frames_to_quit_ = 3;  // a new ImGui window fits its size in its first frame, unseen
         }
-        return quitting && frames_to_quit_-- <= 0;
+        return quitting && scripted_outputs_done() && frames_to_quit_-- <= 0;
+    }
+
+    unsigned job_threads() const { return std::max(1u, std::thread::hardware_concurrency()); }
+
+    // The profiles and exports read the dataset shown: ended (cancelled) before it is replaced.
+    void close_background() {
+        profile_.reset();
+        retired_.clear();
+        export_.reset();
+        panels_.exports.running = false;
+    }
+
+    // Opens a profile (replacing, so cancelling, the one shown); `z` (world metres) is where its
+    // corridor is drawn until points show the ground.
+    void start_profile(const pipelines::Corridor& c, double z) {
+        retire_profile();
+        profile_ = std::make_unique<ProfileJob>(*session_.dataset, c, settings_.style.filter, profile_look(),
+                                                job_threads());
+        profile_seen_ = 0, profile_z_ = z;
+        auto& p = panels_.profile;
+        p.texture = 0, p.texture_width = p.texture_height = 0;
+        const double f = session_.dataset->frame.xy_to_metres;
+        PickedPoint start;  // the units of the first tile (the frame's, for tiles reprojected into it)
+        start.x = c.x0 * f, start.y = c.y0 * f, start.tile = 0;
+        const PointReadout units = point_readout(*session_.dataset, start);
+        p.unit = units.horizontal_unit;
+        char title[256];
+        std::snprintf(title, sizeof title, "%.3f, %.3f to %.3f, %.3f: %.1f long, %.2f wide (%s)", c.x0, c.y0, c.x1,
+                      c.y1, c.length(), c.width, p.unit.c_str());
+        p.title = title;
+    }
+
+    // The profile tool's second click opens the profile between the two ends.
+    void profile_after_click() {
+        const ClickState& click = panels_.click;
+        if (click.tool != ClickTool::Profile || click.missed || !click.from || !click.to) return;
+        const pipelines::Corridor c =
+            corridor_between(*click.from, *click.to, panels_.profile.width, session_.dataset->frame);
+        if (!(c.length() > 0)) return void(panels_.status = "profile: the two ends are the same point");
+        start_profile(c, (click.from->z + click.to->z) / 2);
+    }
+
+    // A profile closed or replaced: its read cancelled, the job ended once the read stops (the frame
+    // does not wait for a batch being decoded).
+    void retire_profile() {
+        if (!profile_) return;
+        profile_->cancel();
+        retired_.push_back(std::move(profile_));
+    }
+
+    ProfileLook profile_look() const {
+        ProfileLook look;
+        look.colours = panels_.profile.elevation ? pipelines::ProfileColours::Elevation
+                                                 : pipelines::ProfileColours::Classification;
+        const dataset::Dataset& ds = *session_.dataset;  // the view's ramp: the dataset's heights
+        look.ramp_min = ds.bounds_m.min_z / ds.frame.z_to_metres;
+        look.ramp_max = ds.bounds_m.max_z / ds.frame.z_to_metres;
+        return look;
+    }
+
+    // The profile's panel from its job: the newest image, the progress, what the plot spans.
+    void profile_step() {
+        std::erase_if(retired_, [](const auto& job) { return job->status().done; });
+        auto& p = panels_.profile;
+        if (settings_.style.colour.mode != view_colours_) {  // coloured like the view: by elevation or by class
+            view_colours_ = settings_.style.colour.mode;
+            p.elevation = view_colours_ == render::ColourMode::Elevation;
+            if (profile_) profile_->set_look(profile_look());
+        }
+        p.open = profile_ != nullptr;
+        if (!profile_) return;
+        if (const auto image = profile_->image_since(profile_seen_)) {
+            profile_texture_.upload(*image);
+            p.texture = profile_texture_.id();
+            p.texture_width = profile_texture_.width(), p.texture_height = profile_texture_.height();
+        }
+        const ProfileStatus st = profile_->status();
+        char text[256];
+        if (!st.error.empty()) {
+            p.status = st.error;
+        } else if (!st.done) {
+            std::snprintf(text, sizeof text, "reading: %s; %llu points in the corridor", st.read.line().c_str(),
+                          (unsigned long long)st.points);
+            p.status = text;
+        } else {
+            std::snprintf(text, sizeof text, "%llu points in the corridor (%s)", (unsigned long long)st.points,
+                          st.read.line().c_str());
+            p.status = text;
+        }
+        const pipelines::ProfileImageScale sc = profile_->scale();
+        std::snprintf(text, sizeof text, "distance 0 - %.1f left to right (grid every %g), height %.1f - %.1f "
+                      "bottom to top (grid every %g), %s", profile_->corridor().length(), sc.distance_step, sc.z_min,
+                      sc.z_max, sc.z_step, p.unit.c_str());
+        p.axes = sc.distance_step > 0 ? text : "";
+        p.filter_changed = !(profile_->filter() == settings_.style.filter);
+    }
+
+    void profile_actions(const PanelActions& a) {
+        auto& p = panels_.profile;
+        if (a.close_profile) retire_profile(), p.open = false;
+        if (a.reread_profile && profile_) start_profile(profile_->corridor(), profile_z_);
+        if (a.open_kept_profile && *a.open_kept_profile < p.kept.size()) {
+            const SavedProfile& k = p.kept[*a.open_kept_profile];
+            start_profile({k.line[0], k.line[1], k.line[2], k.line[3], k.width}, controller_.target_z);
+        }
+        if (a.keep_profile && profile_) {
+            const auto& c = profile_->corridor();
+            const SavedProfile kept{{c.x0, c.y0, c.x1, c.y1}, c.width};
+            if (std::find(p.kept.begin(), p.kept.end(), kept) == p.kept.end()) p.kept.push_back(kept);
+        }
+        if (a.profile_colours && profile_) profile_->set_look(profile_look());
+        if (a.export_profile && profile_) {
+            start_export(p.export_path, io::OutputKind::Profile, [&] {
+                return export_profile(*session_.dataset, p.export_path, profile_->corridor(), profile_->filter(),
+                                      profile_->profile(), job_threads());
+            });
+        }
+    }
+
+    // The profile's corridor over the picture, following the lowest points read along it.
+    void draw_profile_corridor() {
+        if (!profile_) return;
+        const auto& c = profile_->corridor();
+        const auto& frame = session_.dataset->frame;
+        const double f = frame.xy_to_metres;
+        std::vector<double> heights = profile_->line_heights();
+        if (!heights.empty() && std::isnan(heights[0])) heights.clear();
+        for (auto& z : heights) z *= frame.z_to_metres;
+        draw_corridor(last_.image, camera_, {c.x0 * f, c.y0 * f, c.x1 * f, c.y1 * f}, c.width / 2 * f, heights,
+                      profile_z_, render::pack_rgba(255, 120, 40));
+    }
+
+    // The area tool's polygon as a region in the dataset CRS's units; throws lidarscout::Error.
+    pipelines::Region area_region() const {
+        const double f = session_.dataset->frame.xy_to_metres;
+        Ring ring;
+        for (const auto& v : panels_.click.polygon) ring.push_back({v.x / f, v.y / f});
+        return pipelines::polygon_region(MultiPolygon({{ring}}));
+    }
+
+    // Starts an export (one at a time) after checking its output as the command line would; an error
+    // is the status line (and, scripted, an error).
+    template <typename Make>
+    void start_export(const std::string& path, io::OutputKind kind, Make make) {
+        if (export_ && !export_->done()) return void(panels_.status = "an export is running");
+        try {
+            check_export(path, kind, paths_);
+            export_ = make();
+            panels_.exports.running = true;
+            panels_.exports.status = "writing " + path;
+        } catch (const Error& e) {
+            panels_.exports.status = e.what();
+            if (o_.quit_after > 0) report_failure(e.what());
+        }
+    }
+
+    // The export's progress, and its end: the result line (on stdout when scripted).
+    void export_step() {
+        if (!export_) return;
+        panels_.exports.status = export_->status();
+        if (!export_->done()) return;
+        if (export_->failed()) report_failure(export_->status());
+        else if (o_.quit_after > 0) std::printf("%s\n", export_->status().c_str()), std::fflush(stdout);
+        frames_to_quit_ = std::max(frames_to_quit_, 3);  // scripted: a few frames show the result line
+        export_.reset();
+        panels_.exports.running = false;
+    }
+
+    void report_failure(const std::string& line) {
+        if (o_.quit_after <= 0) return;
+        std::fprintf(stderr, "lidarscout: %s\n", line.c_str());
+        script_status_ = 1;
+    }
+
+    // --clip-out (after the clicks) and --profile-out (once the profile is read), one after the
+    // other; true when both are written (or failed).
+    bool scripted_outputs_done() {
+        if (export_) {
+            export_step();
+            if (export_) return false;
+        }
+        if (pending_clip_out_) {
+            pending_clip_out_ = false;
+            try {
+                const pipelines::Region region = area_region();
+                std::printf("clip polygon: %s\n", polygon_wkt().c_str());
+                start_export(o_.clip_out, io::OutputKind::PointCloud, [&] {
+                    return export_clip(*session_.dataset, o_.clip_out, region, settings_.style.filter, job_threads());
+                });
+            } catch (const Error& e) {
+                report_failure(std::string("--clip-out: ") + e.what());
+            }
+            return false;
+        }
+        if (pending_profile_out_) {
+            if (profile_ && !profile_->status().done) return false;
+            pending_profile_out_ = false;
+            const std::string error = profile_ ? profile_->status().error : "--profile-out: no profile open";
+            if (!error.empty()) {
+                report_failure(error);
+                return true;
+            }
+            start_export(o_.profile_out, io::OutputKind::Profile, [&] {
+                return export_profile(*session_.dataset, o_.profile_out, profile_->corridor(), profile_->filter(),
+                                      profile_->profile(), job_threads());
+            });
+            return false;
+        }
+        return true;
+    }
+
+    // The area tool's polygon as WKT in the dataset CRS's units, every digit (`lidarscout clip --polygon`).
+    std::string polygon_wkt() const {
+        const double f = session_.dataset->frame.xy_to_metres;
+        std::string wkt = "POLYGON ((";
+        char xy[80];
+        const auto& ring = panels_.click.polygon;
+        for (std::size_t k = 0; k <= ring.size(); ++k) {
+            const auto& v = ring[k % ring.size()];
+            std::snprintf(xy, sizeof xy, "%s%.17g %.17g", k ? ", " : "", v.x / f, v.y / f);
+            wkt += xy;
+        }
+        return wkt + "))";
     }
 
     const ViewerOptions& o_;
@@ -547,6 +794,16 @@ private:
     render::Camera camera_;
     bool with_heightmaps_ = false;
     std::shared_ptr<const SceneSnapshot> drawn_;  // the snapshot of the last frame drawn
+    GlTexture profile_texture_;                   // the profile's plot
+    // Last: they read session_'s dataset, so they end (cancelled) before it goes.
+    std::unique_ptr<ProfileJob> profile_;
+    std::vector<std::unique_ptr<ProfileJob>> retired_;  // closed, ended once their reads stop
+    std::uint64_t profile_seen_ = 0;  // the generation of the profile image uploaded
+    double profile_z_ = 0;            // where its corridor is drawn until points show the ground
+    render::ColourMode view_colours_ = render::ColourMode::Rgb;  // the view's, which the profile's follow
+    std::unique_ptr<ExportTask> export_;
+    bool pending_clip_out_ = false, pending_profile_out_ = !o_.profile_out.empty();
+    int script_status_ = 0;
 };
 
 }  // namespace

@@ -1,7 +1,8 @@
 // The interactive viewer (`lidarscout view`): a GLFW window showing the software rasterizer's
 // image of a Scheduler's snapshot every frame, Dear ImGui panels, mouse and keyboard camera
-// controls, picking and measuring by clicks, drag-and-drop of folders or files, F12 screenshots,
-// and a scripted mode that clicks, writes the last frame (or the whole window) and quits after a time.
+// controls, picking, measuring, areas and profiles by clicks, exports of a profile or of an area's
+// points, drag-and-drop of folders or files, F12 screenshots, and a scripted mode that clicks, writes
+// the last frame (or the whole window), a profile or an area's points and quits after a time.
 #pragma once
 
 #include <cstddef>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "core/point_filter.hpp"
+#include "pipelines/profile.hpp"
 #include "render/backend.hpp"
 #include "viewer/session_file.hpp"
 
@@ -30,6 +32,9 @@ struct ViewerOptions {
     std::vector<std::pair<double, double>> clicks;  // scripted: window pixels clicked at quit_after
     bool measure = false;            // scripted: the clicks measure instead of inspecting
     bool area = false;               // scripted: the clicks are a polygon, measured (area, volume) at the end
+    std::string clip_out;            // scripted (with area): the polygon's points written to this .laz/.las
+    std::optional<pipelines::Corridor> profile;  // a profile opened at start (the dataset CRS's units)
+    std::string profile_out;         // scripted: that profile written here (.csv/.laz/.las/.png) once read
     PointFilter filter;              // the points drawn at first (the Filters section changes them)
     std::optional<SessionFile> session;  // opened with `view --session`: camera, filter, labels ... applied
     std::string session_path;        // that session's file (where the panel's "save session" writes)
@@ -51,7 +56,8 @@ struct ViewerTimings {
 
 // Opens the window at once and the dataset in the background (the window shows the tiles'
 // footprints and a progress line meanwhile), and runs until the window is closed (or
-// quit_after); `timings`, when given, gets the figures above. Throws lidarscout::Error when no
+// quit_after, the scripted outputs written); `timings`, when given, gets the figures above. Returns
+// 1 when a scripted output (profile_out, clip_out) failed, else 0. Throws lidarscout::Error when no
 // window can be opened (no display) or nothing readable is in the paths.
 int run_viewer(const ViewerOptions& options, ViewerTimings* timings = nullptr);
 
