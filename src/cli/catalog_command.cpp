@@ -49,7 +49,7 @@ void register_catalog_command(CLI::App& app, std::function<int()>& run) {
                "LAS/LAZ files, folders (searched recursively), tile lists, EPT, STAC catalogs or URLs")
         ->required();
     add_output(*cmd, "-o,--output", o->output,
-               "The .vpc to write (through a temporary name); local tiles are named relative to its folder",
+               "The .vpc to write (through a temporary name); local tiles are named by relative paths from it",
                io::OutputKind::Catalog)
         ->required();
     cmd->add_flag("--json", o->json, "Print the result as JSON (output, items, without_crs, points, skipped)");

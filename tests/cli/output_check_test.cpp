@@ -144,6 +144,7 @@ const std::map<std::string, std::string>& command_lines() {
         {"train-data", "{IN} -o={DIR}/ok.bin"},
         {"dem", "{IN} -o={DIR}/ok.tif"},
         {"render", "{IN} -o={DIR}/ok.png"},
+        {"catalog", "{IN} -o={DIR}/ok.vpc"},
         {"clip", "{IN} -o={DIR}/ok.laz --bounds 0,0,1,1"},
         {"profile", "{IN} -o={DIR}/ok.csv --line 0,0,1,1"},
         {"view", "{IN} --quit-after 0"},

@@ -175,8 +175,8 @@ TEST_F(StacCatalog, OpenedAsADatasetItGivesTheFolderTilesAndNamesADisagreement) 
     std::vector<std::string> lines;
     for (const auto& w : ds.warnings) lines.push_back(w.file + ": " + w.message);
     const auto named = std::count_if(lines.begin(), lines.end(), [](const std::string& l) {
-        return l.find(kBridgeEast) != std::string::npos &&
-               l.find("disagrees with its catalog item") != std::string::npos && l.find("pc:count 12") != std::string::npos;
+        return l.find(kBridgeEast) != std::string::npos && l.find("pc:count 12") != std::string::npos &&
+               l.find("disagrees with its catalog item") != std::string::npos;
     });
     EXPECT_EQ(named, 1) << "the east tile's item is wrong, and only it";
     EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
