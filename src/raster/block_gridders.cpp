@@ -1,4 +1,5 @@
-// The block gridders of full DEMs: texel statistics, inverse distance weighting, and a TIN.
+// The block gridders of full DEMs: texel statistics, inverse distance weighting, a TIN, and the
+// highest point per texel with a TIN through the holes.
 #include "raster/block_gridders.hpp"
 
 #include <algorithm>
@@ -38,13 +39,17 @@ public:
 
     void add(const dataset::MetricPoint& p, const recon::TexelLocation* own) override {
         if (!own) throw Error::in_stage("dem", "a point was routed to a block it does not fall in (internal error)");
-        texels_[static_cast<std::size_t>(own->row) * block_ + own->col].add(p.z, p.rgb);
+        const double v = spec_.value == GridValue::Intensity ? double(p.intensity) : p.z;
+        texels_[static_cast<std::size_t>(own->row) * block_ + own->col].add(v, p.rgb);
     }
 
     BlockImages finish() override {
         BlockImages out;
         out.heights_m.resize(texels_.size());
-        for (std::size_t i = 0; i < texels_.size(); ++i) out.heights_m[i] = texels_[i].height(spec_.statistic);
+        for (std::size_t i = 0; i < texels_.size(); ++i) {
+            out.heights_m[i] = spec_.value == GridValue::Count ? static_cast<float>(texels_[i].count)
+                                                               : texels_[i].height(spec_.statistic);
+        }
         if (spec_.rgb) {
             out.rgba = rgba_planes(texels_.size(), [&](std::size_t i) {
                 const auto& t = texels_[i];
@@ -228,6 +233,60 @@ private:
     std::vector<Held> points_;
 };
 
+// The highest point of each texel of the block and its margin; the block's texels without one
+// are interpolated in the TIN of those points (a TinGridder given them), within its edge limit.
+class HighestTinGridder final : public BlockGridder {
+public:
+    HighestTinGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
+        : tin_(spec, grid, block), grid_(grid), side_(grid.block + 2 * kTinMarginTexels),
+          first_col_(block.ix * grid.block - kTinMarginTexels), first_row_(block.iy * grid.block - kTinMarginTexels),
+          highest_(static_cast<std::size_t>(side_) * side_) {}
+
+    void add(const dataset::MetricPoint& p, const recon::TexelLocation*) override {
+        // The texel in the whole grid's lattice (as every block sees it, so neighbours pick alike).
+        const auto at = recon::locate_texel(grid_.block_spec(), grid_.origin_x, grid_.origin_y, p.x, p.y);
+        if (!at) return;
+        const long col = long(at->cell.ix) * grid_.block + at->col - first_col_;
+        const long row = long(at->cell.iy) * grid_.block + at->row - first_row_;
+        if (col < 0 || row < 0 || col >= side_ || row >= side_) return;
+        Highest& h = highest_[static_cast<std::size_t>(row) * side_ + col];
+        if (h.set && !(p.z > h.z)) return;
+        h = {p.x, p.y, p.z, true};
+    }
+
+    BlockImages finish() override {
+        dataset::MetricPoint p;
+        for (const Highest& h : highest_) {
+            if (!h.set) continue;
+            p.x = h.x, p.y = h.y, p.z = h.z;
+            tin_.add(p, nullptr);
+        }
+        BlockImages out = tin_.finish();
+        const int n = grid_.block;
+        for (int row = 0; row < n; ++row) {
+            for (int col = 0; col < n; ++col) {
+                const Highest& h = highest_[static_cast<std::size_t>(row + kTinMarginTexels) * side_ + col +
+                                            kTinMarginTexels];
+                if (h.set) out.heights_m[static_cast<std::size_t>(row) * n + col] = static_cast<float>(h.z);
+            }
+        }
+        std::vector<Highest>().swap(highest_);
+        return out;
+    }
+
+private:
+    struct Highest {
+        double x = 0, y = 0, z = 0;
+        bool set = false;
+    };
+
+    TinGridder tin_;
+    DemGrid grid_;
+    int side_;
+    long first_col_, first_row_;
+    std::vector<Highest> highest_;
+};
+
 void validate(const GridderSpec& spec, const DemGrid& grid) {
     if (spec.method == GridMethod::Idw) {
         if (!(spec.idw_radius_m >= 0) || !std::isfinite(spec.idw_radius_m)) {
@@ -237,7 +296,7 @@ void validate(const GridderSpec& spec, const DemGrid& grid) {
             throw Error::in_stage("dem", "--power must be a positive number");
         }
     }
-    if (spec.method == GridMethod::Tin) {
+    if (spec.method == GridMethod::Tin || spec.method == GridMethod::HighestTin) {
         if (!(spec.tin_max_edge_m >= 0) || !std::isfinite(spec.tin_max_edge_m)) {
             throw Error::in_stage("dem", "--max-edge must be 0 (no limit) or a positive number of metres");
         }
@@ -254,7 +313,8 @@ double gridder_reach_m(const GridderSpec& spec, double texel_m) {
     switch (spec.method) {
     case GridMethod::Statistic: return 0;
     case GridMethod::Idw: return spec.idw_radius_m > 0 ? spec.idw_radius_m : texel_m * std::sqrt(2.0);
-    case GridMethod::Tin: return kTinMarginTexels * texel_m;
+    case GridMethod::Tin:
+    case GridMethod::HighestTin: return kTinMarginTexels * texel_m;
     }
     return 0;
 }
@@ -265,6 +325,7 @@ std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const 
     case GridMethod::Statistic: return std::make_unique<StatisticGridder>(spec, grid);
     case GridMethod::Idw: return std::make_unique<IdwGridder>(spec, grid, block);
     case GridMethod::Tin: return std::make_unique<TinGridder>(spec, grid, block);
+    case GridMethod::HighestTin: return std::make_unique<HighestTinGridder>(spec, grid, block);
     }
     return nullptr;
 }

@@ -5,6 +5,8 @@
 //                   weighting, or a TIN (full_dem.hpp, block_gridders.hpp)
 //   from overview:  the chunk points only, per 64-texel patch the linear interpolation or the
 //                   heightmap network (overview_dem.hpp)
+//   products:       from every point, several rasters in one read (dtm, dsm, chm, density,
+//                   pulse-density, intensity, count; products.hpp)
 #pragma once
 
 #include <cstdint>
@@ -17,6 +19,7 @@
 #include "core/error.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/full_dem.hpp"
+#include "raster/products.hpp"
 
 namespace lidarscout::dataset {
 struct Dataset;
@@ -49,6 +52,10 @@ struct DemRequest {
     double idw_power = 2;      // idw: weights 1 / distance^power
     double tin_max_edge_m = 0; // tin: no height in triangles with a longer edge (0: no limit)
     std::string model;         // the network for cnn; empty: the shipped one
+    // Products (from full only): when given, these instead of one DEM by `method`, all in one read
+    // of the points, written to product_paths(output, products); `filter` is then not used.
+    std::vector<Product> products;
+    ProductOptions product_options;
     unsigned threads = 1;
     // Bytes the DEM may hold at once (0: half of what the process may use, usable_memory_bytes()).
     // A DEM estimated to need more is refused before anything is allocated (dem_memory_bytes).
@@ -58,6 +65,7 @@ struct DemRequest {
 
 struct DemResult {
     DemGrid grid;
+    std::vector<std::string> outputs;  // the rasters written (the DEM, or each product's)
     std::uint64_t points_read = 0, points_used = 0;
     std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
     std::uint64_t points_skipped = 0;
