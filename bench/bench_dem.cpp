@@ -3,9 +3,10 @@
 // Times `dem --from full --method mean` (gridding + COG, median of --runs) on a dataset
 // (default ../shared/data/surveys/ky-jmo335-eastern-kentucky), or `--from overview` with
 // --overview. With --product it also times `dem --product LIST` (one read of the points for all),
-// each run right after a run of the plain DEM, and prints both medians and their ratio. With --gdal-grid it also writes the same points as CSV (in the CRS's units) and
-// grids them with gdal-bin's `gdal_grid -a average` (search radius half a texel, the circle
-// inscribed in our square texel) on the same grid, timed once, and prints the speed ratio and
+// each run right after a run of the plain DEM, and prints both medians and their ratio. With
+// --gdal-grid it also writes the same points as CSV (in the CRS's units) and grids them with
+// gdal-bin's `gdal_grid -a average` (search radius half a texel, the circle inscribed in our
+// square texel) on the same grid, timed once, and prints the speed ratio and
 // how the two rasters compare: texels where both have a value, and how many agree within
 // float rounding (they differ where points fall in a texel's corners, outside the circle).
 #include <fmt/format.h>

@@ -55,7 +55,8 @@ inline constexpr int kTinBlockTexels = 384;
 double gridder_reach_m(const GridderSpec& spec, double texel_m);
 
 // A finished block: heights in metres (NaN where none; for GridValue Intensity or Count, that
-// value), block x block texels, rows from the south; with colour, RGBA planes (4 x block x block bytes; alpha 255 where a height is).
+// value), block x block texels, rows from the south; with colour, RGBA planes (4 x block x block
+// bytes; alpha 255 where a height is).
 struct BlockImages {
     std::vector<float> heights_m;
     std::vector<std::uint8_t> rgba;
@@ -66,6 +67,12 @@ public:
     virtual ~BlockGridder() = default;
     // A point within reach of the block; `own` is its texel when it falls inside this block.
     virtual void add(const dataset::MetricPoint& point, const recon::TexelLocation* own) = 0;
+    // The same with the point's texel in the grid's lattice (`at`, whichever block it falls in) already
+    // located, for gridders that want it for points of other blocks too.
+    virtual void add_located(const dataset::MetricPoint& point, const recon::TexelLocation* own,
+                             const recon::TexelLocation& at) {
+        add(point, own);
+    }
     virtual BlockImages finish() = 0;
 };
 

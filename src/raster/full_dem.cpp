@@ -75,7 +75,7 @@ public:
         if (reach_ == 0 || (mask & ~own_only_) == 0) {
             if (!inside) return Added::Missed;
             if (!range.contains(at->cell)) return Added::OutsideTile;
-            add_to(at->cell, p, &*at, mask);
+            add_to(at->cell, p, &*at, *at, mask);
             return Added::Used;
         }
         const BlockRange reached = blocks_within(p.x, p.y);
@@ -83,7 +83,7 @@ public:
         if (!range.contains(reached)) return Added::OutsideTile;
         visit(reached, [&](lidarscout::CellKey c) {
             const bool own = c == at->cell && inside;
-            add_to(c, p, own ? &*at : nullptr, own ? mask : mask & ~own_only_);
+            add_to(c, p, own ? &*at : nullptr, *at, own ? mask : mask & ~own_only_);
         });
         return Added::Used;
     }
@@ -142,11 +142,11 @@ private:
     }
 
     void add_to(lidarscout::CellKey c, const dataset::MetricPoint& p, const recon::TexelLocation* own,
-                std::uint32_t mask) {
+                const recon::TexelLocation& at, std::uint32_t mask) {
         if (mask == 0) return;
         Gridders& g = gridders_of(c);
         for (std::size_t i = 0; mask != 0; ++i, mask >>= 1) {
-            if (mask & 1u) g[i]->add(p, own);
+            if (mask & 1u) g[i]->add_located(p, own, at);
         }
     }
 
@@ -232,7 +232,8 @@ std::uint64_t full_dem_peak_bytes(const dataset::Dataset& ds, const DemGrid& gri
 std::vector<float> heights_in_file_units(std::span<const float> metres, double z_to_metres, float nodata) {
     std::vector<float> out(metres.size(), nodata);
     for (std::size_t i = 0; i < metres.size(); ++i) {
-        if (!std::isnan(metres[i])) out[i] = z_to_metres == 1.0 ? metres[i] : static_cast<float>(metres[i] / z_to_metres);
+        if (std::isnan(metres[i])) continue;
+        out[i] = z_to_metres == 1.0 ? metres[i] : static_cast<float>(metres[i] / z_to_metres);
     }
     return out;
 }
