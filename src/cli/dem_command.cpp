@@ -1,11 +1,12 @@
 // `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
 // [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
 // [--returns first,last,single,intermediate] [--intensity MIN-MAX]
-// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--threads N] [--json]`: a terrain or surface
-// model of a dataset as a float32 Cloud-Optimized
+// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--contours INTERVAL] [--threads N] [--json]`:
+// a terrain or surface model of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp); with
 // `--product dtm,dsm,chm,density,pulse-density,intensity,count` those rasters instead, in one read of
-// the points (raster/products.hpp), each to OUT_NAME.tif (to OUT.tif when there is one).
+// the points (raster/products.hpp), each to OUT_NAME.tif (to OUT.tif when there is one); contour
+// lines of the height raster to RASTER_contours.gpkg (raster/contours.hpp).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -28,6 +29,7 @@
 #include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "dataset/dataset.hpp"
+#include "raster/contours.hpp"
 #include "raster/dem.hpp"
 
 namespace lidarscout::cli {
@@ -44,6 +46,7 @@ struct DemCliOptions {
     std::string crs;
     std::optional<double> radius, power, max_edge;  // idw, idw, tin and products
     std::string product;  // empty: one DEM by --method
+    std::optional<double> contours;  // interval, in the raster's height unit
     unsigned threads = 0;
     bool json = false;
 };
@@ -63,6 +66,7 @@ private:
     static std::string label(std::string_view stage) {
         if (stage == "points") return "dem: points";
         if (stage == "patches") return "dem: patches";
+        if (stage == "contours") return "dem: contours";
         return "dem: writing COG";
     }
     std::map<std::string, std::unique_ptr<Progress>> bars_;
@@ -114,6 +118,7 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     r.source = raster::dem_source_from_name(o.from);
     r.model = o.model;
     r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    r.contours_interval = o.contours.value_or(0);
     if (!o.product.empty()) {
         apply_products(o, r);
         return r;
@@ -157,6 +162,11 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
             }
             j["max_edge_m"] = raster::ProductPass(r.products, r.product_options, r.texel_m).max_edge_m();
         }
+        if (!d.contours.empty()) {
+            j["contours"] = d.contours;
+            j["contour_lines"] = d.contour_lines;
+            j["seconds_contours"] = d.seconds_contours;
+        }
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
@@ -173,6 +183,10 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
     }
     if (!r.rgb.empty()) std::printf("%s: orthophoto (RGBA)\n", r.rgb.c_str());
     if (!r.hillshade.empty()) std::printf("%s: hillshade\n", r.hillshade.c_str());
+    if (!d.contours.empty()) {
+        std::printf("%s: %llu contour lines every %g\n", d.contours.c_str(), (unsigned long long)d.contour_lines,
+                    r.contours_interval);
+    }
 }
 
 int run_dem(const DemCliOptions& o) {
@@ -221,15 +235,24 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
                     "Instead of one DEM, these rasters in one read of the points, separated by commas: dtm "
                     "(TIN of the --classes, default 2,9), dsm (highest first return, holes by TIN), chm (dsm - dtm), "
                     "density, pulse-density (per m2), intensity (mean), count; several go to OUT_NAME.tif");
+    cmd->add_option("--contours", o->contours,
+                    "Also write contour lines every INTERVAL (the raster's height unit) of the DEM, or of the first "
+                    "dtm, dsm or chm product, to RASTER_contours.gpkg (GeoPackage, attribute elevation)")
+        ->check(positive_number());
     add_derived_outputs(*cmd, [o] {
         std::vector<io::OutputTarget> out;
-        if (o->product.empty() || o->output.empty()) return out;
-        const auto products = raster::products_from_names(o->product);
-        if (products.size() < 2) return out;  // one product is -o itself
-        const auto paths = raster::product_paths(o->output, products);
-        for (std::size_t i = 0; i < paths.size(); ++i) {
-            out.push_back({paths[i], "-o/--output (--product " + std::string(raster::product_name(products[i])) + ")",
+        if (o->output.empty()) return out;
+        raster::DemRequest r;
+        r.output = o->output;
+        if (!o->product.empty()) r.products = raster::products_from_names(o->product);
+        const auto paths = raster::product_paths(o->output, r.products);
+        for (std::size_t i = 0; r.products.size() > 1 && i < paths.size(); ++i) {  // one product is -o itself
+            out.push_back({paths[i], "-o/--output (--product " + std::string(raster::product_name(r.products[i])) + ")",
                            io::OutputKind::GeoTiff});
+        }
+        const std::string heights = raster::contour_source(r);
+        if (o->contours && !heights.empty()) {
+            out.push_back({raster::contours_path(heights), "--contours", io::OutputKind::GeoPackage});
         }
         return out;
     });

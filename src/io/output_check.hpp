@@ -23,6 +23,7 @@ enum class OutputKind {
     GeoTiff,       // .tif, .tiff
     Png,           // .png
     Hillshade,     // .tif, .tiff (georeferenced) or .png (with a world file)
+    GeoPackage,    // .gpkg
     Json,          // .json
     PointCloud,    // .las, .laz
     Profile,       // .csv, .las, .laz, .png (a profile's points or image)

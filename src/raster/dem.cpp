@@ -1,4 +1,5 @@
-// make_dem: the grid, the rasters, the gridding (full or overview), the COGs, the hillshade.
+// make_dem: the grid, the rasters, the gridding (full, overview or products), the COGs, the hillshade
+// and the contours.
 #include "raster/dem.hpp"
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "dataset/dataset.hpp"
 #include "raster/block_raster.hpp"
 #include "raster/dem_grid.hpp"
+#include "raster/contours.hpp"
 #include "raster/hillshade.hpp"
 #include "raster/overview_dem.hpp"
 
@@ -170,10 +172,6 @@ void make_products(const dataset::Dataset& ds, const DemRequest& r, const Raster
                    DemResult& result) {
     if (r.source != DemSource::Full) throw Error::in_stage("dem", "--product applies to --from full only");
     if (!r.rgb.empty()) throw Error::in_stage("dem", "--rgb does not apply to --product");
-    const auto height = std::find_if(r.products.begin(), r.products.end(), is_height_product);
-    if (!r.hillshade.empty() && height == r.products.end()) {
-        throw Error::in_stage("dem", "--hillshade needs a dtm, dsm or chm product");
-    }
     const ProductPass pass(r.products, r.product_options, r.texel_m);
     result.outputs = product_paths(r.output, r.products);
     std::vector<std::unique_ptr<BlockRaster>> rasters;
@@ -202,10 +200,24 @@ void make_products(const dataset::Dataset& ds, const DemRequest& r, const Raster
     t0 = Clock::now();
     for (auto& raster : rasters) finish_raster(*raster, r);
     result.seconds_cog = seconds_since(t0);
-    if (r.hillshade.empty()) return;
-    t0 = Clock::now();
-    write_hillshade(result.outputs[static_cast<std::size_t>(height - r.products.begin())], r.hillshade);
-    result.seconds_hillshade = seconds_since(t0);
+}
+
+// The hillshade and the contours of the height raster, once it is written.
+void write_from_heights(const DemRequest& r, float nodata, DemResult& result) {
+    const std::string heights = contour_source(r);
+    if (!r.hillshade.empty()) {
+        const auto t0 = Clock::now();
+        write_hillshade(heights, r.hillshade);
+        result.seconds_hillshade = seconds_since(t0);
+    }
+    if (r.contours_interval > 0) {
+        const auto t0 = Clock::now();
+        result.contours = contours_path(heights);
+        result.contour_lines = write_contours(heights, result.contours, r.contours_interval, nodata, [&](double f) {
+            if (r.progress) r.progress("contours", static_cast<std::uint64_t>(f * 1000), 1000);
+        });
+        result.seconds_contours = seconds_since(t0);
+    }
 }
 
 }  // namespace
@@ -250,9 +262,23 @@ std::uint64_t dem_memory_bytes(const dataset::Dataset& ds, const DemGrid& g, con
     return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
 }
 
+std::string contour_source(const DemRequest& r) {
+    if (r.products.empty()) return r.output;
+    const auto height = std::find_if(r.products.begin(), r.products.end(), is_height_product);
+    if (height == r.products.end()) return {};
+    return product_paths(r.output, r.products)[static_cast<std::size_t>(height - r.products.begin())];
+}
+
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     if (!r.hillshade.empty()) hillshade_is_png(r.hillshade);  // an unknown extension refused before any work
+    if ((!r.hillshade.empty() || r.contours_interval > 0) && contour_source(r).empty()) {
+        throw Error::in_stage("dem", std::string(r.hillshade.empty() ? "--contours" : "--hillshade") +
+                                         " needs a dtm, dsm or chm product");
+    }
+    if (r.contours_interval < 0 || !std::isfinite(r.contours_interval)) {
+        throw Error::in_stage("dem", "--contours must be a positive interval");
+    }
     DemResult result;
     const Area area = area_in_metres(ds, r);
     check_bounds_overlap(ds, r, area);
@@ -263,6 +289,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     const float nodata = -9999.0f;
     if (!r.products.empty()) {
         make_products(ds, r, geometry, nodata, result);
+        write_from_heights(r, nodata, result);
         return result;
     }
     result.outputs = {r.output};
@@ -303,11 +330,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     finish_raster(heights, r);
     if (rgb) finish_raster(*rgb, r);
     result.seconds_cog = seconds_since(t0);
-    if (!r.hillshade.empty()) {
-        t0 = Clock::now();
-        write_hillshade(r.output, r.hillshade);
-        result.seconds_hillshade = seconds_since(t0);
-    }
+    write_from_heights(r, nodata, result);
     return result;
 }
 

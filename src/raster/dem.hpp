@@ -56,6 +56,9 @@ struct DemRequest {
     // of the points, written to product_paths(output, products); `filter` is then not used.
     std::vector<Product> products;
     ProductOptions product_options;
+    // Contour lines every this many height units (0: none) of the DEM, or of the first height
+    // product, to contours_path() of that raster (contours.hpp).
+    double contours_interval = 0;
     unsigned threads = 1;
     // Bytes the DEM may hold at once (0: half of what the process may use, usable_memory_bytes()).
     // A DEM estimated to need more is refused before anything is allocated (dem_memory_bytes).
@@ -66,17 +69,22 @@ struct DemRequest {
 struct DemResult {
     DemGrid grid;
     std::vector<std::string> outputs;  // the rasters written (the DEM, or each product's)
+    std::string contours;              // the contours' GeoPackage, empty for none
+    std::uint64_t contour_lines = 0;
     std::uint64_t points_read = 0, points_used = 0;
     std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
     std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0, peak_blocks = 0;
-    double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0;
+    double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0, seconds_contours = 0;
 };
 
 // The memory the DEM of `grid` needs at once, estimated: for --from full the blocks in flight
 // (full_dem_peak_bytes), for both the rasters' tile indexes (GDAL keeps two 8-byte offsets per
 // 512 x 512 tile and band group, in the scratch raster and in the COG).
 std::uint64_t dem_memory_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const DemRequest& request);
+
+// The raster contours are drawn from: the DEM, or the first height product (empty when none).
+std::string contour_source(const DemRequest& request);
 
 // Throws Error for a method that does not fit the source, a raster far larger than the tiles
 // cover, or one whose memory estimate exceeds the budget (naming the size and the way out:

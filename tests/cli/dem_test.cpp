@@ -197,6 +197,46 @@ TEST_F(DemCommand, ProductOptionsAreCheckedBeforeAnyWork) {
     EXPECT_EQ(files_in(dir), 0u);
 }
 
+// --contours: GDAL's contour lines of the dtm (the first height product) or of the DEM, every
+// INTERVAL feet here, in a GeoPackage beside it with the raster's CRS, as ogrinfo reads it back:
+// lines with an elevation that is a multiple of the interval, within the raster's heights.
+TEST_F(DemCommand, ContoursOfTheHeightRasterInAGeoPackage) {
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 2 --json -o " +
+                                    path("c.tif") + " --product density,dtm --contours 5 2>/dev/null", out), 0) << out;
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("contours"), path("c_dtm_contours.gpkg"));
+    EXPECT_GT(j.at("contour_lines").get<int>(), 10);
+    ASSERT_EQ(test::run_command("ogrinfo -so -al " + path("c_dtm_contours.gpkg") + " 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("Geometry: Line String"), std::string::npos) << out;
+    EXPECT_NE(out.find("Feature Count: " + std::to_string(j.at("contour_lines").get<int>())), std::string::npos);
+    EXPECT_NE(out.find("Kentucky Single Zone (ftUS)"), std::string::npos) << out;
+    EXPECT_NE(out.find("elevation: Real"), std::string::npos) << out;
+    ASSERT_EQ(test::run_command("ogrinfo -q -sql \"SELECT MIN(elevation) AS lo, MAX(elevation) AS hi, "
+                                "SUM(elevation - 5 * CAST(elevation / 5 AS INTEGER)) AS off FROM contours\" " +
+                                    path("c_dtm_contours.gpkg") + " 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("off (Real) = 0"), std::string::npos) << out;  // every line on a multiple of 5 ft
+    const auto dtm = test::read_raster(path("c_dtm.tif"));
+    float lo = 1e9f, hi = -1e9f;
+    for (const float v : dtm.values) {
+        if (v != -9999.0f) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    const auto value = [&](const std::string& name) {
+        const auto at = out.find(name + " (Real) = ");
+        return at == std::string::npos ? -1e9 : std::stod(out.substr(at + name.size() + 10));
+    };
+    EXPECT_GE(value("lo"), lo);
+    EXPECT_LE(value("hi"), hi);
+    // the plain DEM's contours; a product set without a height raster has none to draw
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 -o " + path("m.tif") +
+                                    " --contours 10 2>/dev/null", out), 0) << out;
+    EXPECT_TRUE(fs::exists(path("m_contours.gpkg")));
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 -o " + path("n.tif") +
+                                    " --product count --contours 10 2>&1", out), 1);
+    EXPECT_NE(out.find("--contours needs a dtm, dsm or chm product"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(path("n.tif")));
+}
+
 TEST_F(DemCommand, HugeRasterIsRefusedBeforeAllocation) {
     fs::create_directories(dir / "out");
     const auto run = test::run_measured(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " -o " +
