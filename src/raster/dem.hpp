@@ -1,6 +1,6 @@
 // `lidarscout dem` as a library call: the DEM of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the dataset's CRS (its native units, nodata -9999), optionally its orthophoto
-// (RGBA COG of the mean point colours) and a hillshade PNG.
+// (RGBA COG of the mean point colours), a hillshade PNG and contour lines (GeoPackage).
 //   from full:      every point, per texel the mean, min or max height, or inverse distance
 //                   weighting, or a TIN (full_dem.hpp, block_gridders.hpp)
 //   from overview:  the chunk points only, per 64-texel patch the linear interpolation or the
