@@ -300,34 +300,43 @@ private:
     std::size_t index(int row, int col) const { return static_cast<std::size_t>(row) * side_ + col; }
 
     // The TIN's height at the centre of hole (row, col) of the extended grid, from the points of the
-    // texels within k of it, k = 1..kLocalTexels: true (value set, NaN for a triangle with a long edge)
-    // when a triangle is proven to be the TIN's.
+    // texels within kLocalTexels of it: true (value set, NaN for a triangle with a long edge) when a
+    // triangle is proven to be the TIN's. Corners are sought among the nearest texels' points first
+    // (the eight around the hole, nearly always enough), then among all.
     bool fill_locally(int row, int col, float& value) const {
+        const int k = kLocalTexels;
+        if (row - k < 0 || col - k < 0 || row + k >= side_ || col + k >= side_) return false;
         const double t = grid_.texel_m;
         const double cx = grid_.origin_x + (first_col_ + col + 0.5) * t;
         const double cy = grid_.origin_y + (first_row_ + row + 0.5) * t;
         std::array<std::array<double, 3>, (2 * kLocalTexels + 1) * (2 * kLocalTexels + 1)> pts;
-        for (int k = 1; k <= kLocalTexels; ++k) {
-            if (row - k < 0 || col - k < 0 || row + k >= side_ || col + k >= side_) return false;
-            std::size_t count = 0;
-            for (int r = row - k; r <= row + k; ++r) {
-                for (int c = col - k; c <= col + k; ++c) {
-                    const Highest& h = highest_[index(r, c)];
-                    if (h.set) pts[count++] = {h.x - cx, h.y - cy, h.z};
-                }
-            }
-            const double half = (k + 0.5) * t;  // the texels' square around the centre
-            if (proven_triangle_at_centre(std::span(pts.data(), count), half, value)) return true;
+        std::size_t count = 0;
+        const auto gather = [&](int r, int c) {
+            const Highest& h = highest_[index(r, c)];
+            if (h.set) pts[count++] = {h.x - cx, h.y - cy, h.z};
+        };
+        for (int r = row - 1; r <= row + 1; ++r) {
+            for (int c = col - 1; c <= col + 1; ++c) gather(r, c);
         }
-        return false;
+        const std::size_t near = count;
+        for (int r = row - k; r <= row + k; ++r) {
+            for (int c = col - k; c <= col + k; ++c) {
+                if (std::abs(r - row) > 1 || std::abs(c - col) > 1) gather(r, c);
+            }
+        }
+        const std::span<const std::array<double, 3>> all(pts.data(), count);
+        const double half = (k + 0.5) * t;  // the texels' square around the centre
+        return proven_triangle_at_centre(all, near, half, value) ||
+               (count > near && proven_triangle_at_centre(all, count, half, value));
     }
 
-    // Among `pts` (relative to the centre), a triangle holding the origin with no other point in its
-    // circumcircle and its circumcircle inside [-half, half]^2 (so no point outside it is in it):
-    // true, its height at the origin in `value`.
-    bool proven_triangle_at_centre(std::span<const std::array<double, 3>> pts, double half, float& value) const {
+    // A triangle of the first `corners` of `pts` (relative to the centre) holding the origin, with no
+    // other of `pts` in its circumcircle and its circumcircle inside [-half, half]^2 (so no point
+    // outside it is in it): true, its height at the origin in `value`.
+    bool proven_triangle_at_centre(std::span<const std::array<double, 3>> pts, std::size_t corners, double half,
+                                   float& value) const {
         const auto cross = [](const auto& a, const auto& b) { return a[0] * b[1] - a[1] * b[0]; };
-        const std::size_t n = pts.size();
+        const std::size_t n = corners, all = pts.size();
         for (std::size_t i = 0; i < n; ++i) {
             for (std::size_t j = i + 1; j < n; ++j) {
                 for (std::size_t k = j + 1; k < n; ++k) {
@@ -345,7 +354,7 @@ private:
                     const double uy = (a2 * (c[0] - b[0]) + b2 * (a[0] - c[0]) + c2 * (b[0] - a[0])) / d;
                     const double r2 = (a[0] - ux) * (a[0] - ux) + (a[1] - uy) * (a[1] - uy);
                     bool empty = true;
-                    for (std::size_t q = 0; q < n && empty; ++q) {
+                    for (std::size_t q = 0; q < all && empty; ++q) {
                         if (q == i || q == j || q == k) continue;
                         const double dx = pts[q][0] - ux, dy = pts[q][1] - uy;
                         empty = dx * dx + dy * dy >= r2 * (1 - 1e-12);
