@@ -1,9 +1,10 @@
 // bench_dem [PATH...] [--texel M] [--runs N] [--threads N] [--gdal-grid] [--overview linear|cnn]
-//           [--product dtm,dsm,chm]
+//           [--product dtm,dsm,chm [--classes 2,9]]
 // Times `dem --from full --method mean` (gridding + COG, median of --runs) on a dataset
 // (default ../shared/data/surveys/ky-jmo335-eastern-kentucky), or `--from overview` with
 // --overview. With --product it also times `dem --product LIST` (one read of the points for all),
-// each run right after a run of the plain DEM, and prints both medians and their ratio. With
+// each run right after a run of the plain DEM, and prints both medians and their ratio (--classes:
+// the dtm's, as `dem --product --classes`). With
 // --gdal-grid it also writes the same points as CSV (in the CRS's units) and grids them with
 // gdal-bin's `gdal_grid -a average` (search radius half a texel, the circle inscribed in our
 // square texel) on the same grid, timed once, and prints the speed ratio and
@@ -100,7 +101,7 @@ int run(int argc, char** argv) {
     int runs = 5;
     unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     bool gdal_grid = false;
-    std::string overview, products;
+    std::string overview, products, classes;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--texel" && i + 1 < argc) texel = std::stod(argv[++i]);
@@ -108,6 +109,7 @@ int run(int argc, char** argv) {
         else if (a == "--threads" && i + 1 < argc) threads = static_cast<unsigned>(std::stoul(argv[++i]));
         else if (a == "--overview" && i + 1 < argc) overview = argv[++i];
         else if (a == "--product" && i + 1 < argc) products = argv[++i];
+        else if (a == "--classes" && i + 1 < argc) classes = argv[++i];
         else if (a == "--gdal-grid") gdal_grid = true;
         else paths.push_back(a);
     }
@@ -126,6 +128,7 @@ int run(int argc, char** argv) {
     raster::DemRequest pr = r;
     pr.output = (dir / "product.tif").string();
     if (!products.empty()) pr.products = raster::products_from_names(products);
+    if (!classes.empty()) pr.product_options.dtm_classes = PointFilter::parse(classes, "", "");
     std::vector<double> seconds, product_seconds, product_cpu;
     raster::DemResult result, product_result;
     double ours_cpu = 0;
@@ -202,6 +205,6 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
     return lidarscout::bench::bench_main("bench_dem",
                                          "[PATH...] [--texel M] [--runs N] [--threads N] [--gdal-grid] "
-                                         "[--overview linear|cnn] [--product dtm,dsm,chm]",
+                                         "[--overview linear|cnn] [--product dtm,dsm,chm [--classes 2,9]]",
                                          argc, argv, run);
 }

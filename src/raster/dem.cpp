@@ -188,15 +188,16 @@ void make_products(const dataset::Dataset& ds, const DemRequest& r, const Raster
     };
     ThreadPool pool(std::max(1u, r.threads));
     auto t0 = Clock::now();
-    copy_stats(grid_full_layers(ds, grid, pass.layers(), write, pool,
-                                [&](std::uint64_t done, std::uint64_t total) {
-                                    if (r.progress) r.progress("points", done, total);
-                                }),
-               result);
+    const FullDemStats stats = grid_full_layers(ds, grid, pass.layers(), write, pool,
+                                                [&](std::uint64_t done, std::uint64_t total) {
+                                                    if (r.progress) r.progress("points", done, total);
+                                                });
+    copy_stats(stats, result);
     result.seconds_grid = seconds_since(t0);
     if (result.points_used == 0) {
         throw Error::in_stage("dem", "no point of the products lies in the area; nothing written");
     }
+    pass.check_points(r.products, stats.layer_points, result.points_read);
     t0 = Clock::now();
     for (auto& raster : rasters) finish_raster(*raster, r);
     result.seconds_cog = seconds_since(t0);

@@ -243,6 +243,7 @@ FullDemStats grid_full_layers(const dataset::Dataset& ds, const DemGrid& grid, s
                               const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
     if (layers.empty() || layers.size() > 32) throw Error::in_stage("dem", "1 to 32 layers per pass (internal error)");
     FullDemStats stats;
+    stats.layer_points.assign(layers.size(), 0);
     BlockSet blocks(grid, layers, write, stats);
     std::vector<BlockRange> ranges(ds.tiles.size());
     std::uint64_t total = 0;
@@ -267,7 +268,10 @@ FullDemStats grid_full_layers(const dataset::Dataset& ds, const DemGrid& grid, s
             }
             if (mask == 0) continue;
             const Added a = blocks.add(p, ranges[t], mask);
-            stats.points_used += a == Added::Used;
+            if (a == Added::Used) {
+                ++stats.points_used;
+                for (std::size_t i = 0; mask != 0; ++i, mask >>= 1) stats.layer_points[i] += mask & 1u;
+            }
             outside[t] += a == Added::OutsideTile;
         }
         stats.points_read += points.size();

@@ -64,6 +64,7 @@ struct FullDemStats {
     std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0;
     std::size_t peak_blocks = 0;  // blocks held at once
+    std::vector<std::uint64_t> layer_points;  // per layer of grid_full_layers: the points it was given
 };
 
 // Bytes grid_full_dem may hold at once, estimated before anything is allocated: the blocks of a

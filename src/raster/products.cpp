@@ -153,6 +153,29 @@ std::vector<float> ProductPass::values(Product p, std::span<const BlockImages> l
     return {};
 }
 
+void ProductPass::check_points(std::span<const Product> products, std::span<const std::uint64_t> layer_points,
+                               std::uint64_t points_read) const {
+    const auto empty = [&](int layer) {
+        return layer >= 0 && static_cast<std::size_t>(layer) < layer_points.size() && layer_points[layer] == 0;
+    };
+    for (const Product p : products) {
+        std::string what;
+        if (empty(p == Product::Dsm ? -1 : layer_of(p == Product::Chm ? Product::Dtm : p))) {
+            what = p == Product::Dtm || p == Product::Chm ? "of the dtm's classes " + layers_[dtm_].filter.class_list()
+                   : p == Product::PulseDensity          ? "that is a first return (noise left out)"
+                                                         : "but noise";
+        } else if ((p == Product::Dsm || p == Product::Chm) && empty(dsm_)) {
+            what = "that is a first return (noise left out)";
+        } else {
+            continue;
+        }
+        throw Error::in_stage("dem", "no point " + what + " lies in the area (" + std::to_string(points_read) +
+                                         " points read), so the " + std::string(product_name(p)) +
+                                         " would be empty; nothing written" +
+                                         (p == Product::Dtm || p == Product::Chm ? ": give --classes" : ""));
+    }
+}
+
 RasterLayout ProductPass::layout(Product p, const std::string& height_unit, float nodata) const {
     RasterLayout l;
     l.nodata = nodata;

@@ -57,6 +57,11 @@ public:
     std::vector<float> values(Product p, std::span<const BlockImages> layers, double z_to_metres,
                               float nodata) const;
 
+    // Throws Error (nothing is written) when a product's layers got no point (`layer_points`, per
+    // layer): no silent empty product, e.g. a dtm of a survey without ground classes.
+    void check_points(std::span<const Product> products, std::span<const std::uint64_t> layer_points,
+                      std::uint64_t points_read) const;
+
     // The band's unit and description for product `p` (heights in `height_unit`).
     RasterLayout layout(Product p, const std::string& height_unit, float nodata) const;
 

@@ -2,7 +2,8 @@
 // feet), each against a brute-force computation over every point: count, density and pulse density
 // equal to counts per texel, intensity the mean, the dsm the highest first return wherever one
 // is, the dtm equal to `--method tin` of the ground and water points, the chm the dsm minus the
-// dtm clamped at 0, texel for texel; all made in one read of the points, as gdalinfo sees them.
+// dtm clamped at 0, texel for texel; all made in one read of the points, as gdalinfo sees them;
+// a product no point goes to is an error.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -149,6 +150,24 @@ TEST_F(Products, OneProductIsTheOutputItself) {
     r.output = path("e.tif");
     EXPECT_THROW(raster::make_dem(ds, r), Error);
     EXPECT_FALSE(std::filesystem::exists(path("e.tif")));
+}
+
+// No silent empty product: a dtm (or chm) of classes no point has is an error naming them, and
+// none of the products is written.
+TEST_F(Products, AProductWithoutPointsIsAnError) {
+    const auto ds = dataset::open_dataset({woodford()});
+    raster::DemRequest r = request("q.tif");
+    r.texel_m = 4;
+    r.products = raster::products_from_names("density,chm");
+    r.product_options.dtm_classes = PointFilter::parse("200", "", "");
+    try {
+        raster::make_dem(ds, r);
+        ADD_FAILURE() << "an empty chm was written";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no point of the dtm's classes 200 lies in the area"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
 TEST_F(Products, NamesAndPaths) {
