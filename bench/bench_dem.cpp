@@ -1,9 +1,13 @@
 // bench_dem [PATH...] [--texel M] [--runs N] [--threads N] [--gdal-grid] [--overview linear|cnn]
+//           [--product dtm,dsm,chm [--classes 2,9]]
 // Times `dem --from full --method mean` (gridding + COG, median of --runs) on a dataset
 // (default ../shared/data/surveys/ky-jmo335-eastern-kentucky), or `--from overview` with
-// --overview. With --gdal-grid it also writes the same points as CSV (in the CRS's units) and
-// grids them with gdal-bin's `gdal_grid -a average` (search radius half a texel, the circle
-// inscribed in our square texel) on the same grid, timed once, and prints the speed ratio and
+// --overview. With --product it also times `dem --product LIST` (one read of the points for all),
+// each run right after a run of the plain DEM, and prints both medians and their ratio (--classes:
+// the dtm's, as `dem --product --classes`). With
+// --gdal-grid it also writes the same points as CSV (in the CRS's units) and grids them with
+// gdal-bin's `gdal_grid -a average` (search radius half a texel, the circle inscribed in our
+// square texel) on the same grid, timed once, and prints the speed ratio and
 // how the two rasters compare: texels where both have a value, and how many agree within
 // float rounding (they differ where points fall in a texel's corners, outside the circle).
 #include <fmt/format.h>
@@ -97,13 +101,15 @@ int run(int argc, char** argv) {
     int runs = 5;
     unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     bool gdal_grid = false;
-    std::string overview;
+    std::string overview, products, classes;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--texel" && i + 1 < argc) texel = std::stod(argv[++i]);
         else if (a == "--runs" && i + 1 < argc) runs = std::stoi(argv[++i]);
         else if (a == "--threads" && i + 1 < argc) threads = static_cast<unsigned>(std::stoul(argv[++i]));
         else if (a == "--overview" && i + 1 < argc) overview = argv[++i];
+        else if (a == "--product" && i + 1 < argc) products = argv[++i];
+        else if (a == "--classes" && i + 1 < argc) classes = argv[++i];
         else if (a == "--gdal-grid") gdal_grid = true;
         else paths.push_back(a);
     }
@@ -119,16 +125,27 @@ int run(int argc, char** argv) {
         r.source = raster::DemSource::Overview;
         r.method = raster::dem_method_from_name(overview, r.source);
     }
-    std::vector<double> seconds;
-    raster::DemResult result;
-    const double cpu0 = cpu_seconds(RUSAGE_SELF);
+    raster::DemRequest pr = r;
+    pr.output = (dir / "product.tif").string();
+    if (!products.empty()) pr.products = raster::products_from_names(products);
+    if (!classes.empty()) pr.product_options.dtm_classes = PointFilter::parse(classes, "", "");
+    std::vector<double> seconds, product_seconds, product_cpu;
+    raster::DemResult result, product_result;
+    double ours_cpu = 0;
     for (int k = 0; k < runs; ++k) {
-        const auto t0 = Clock::now();
+        double cpu0 = cpu_seconds(RUSAGE_SELF);
+        auto t0 = Clock::now();
         result = raster::make_dem(ds, r);
         seconds.push_back(seconds_since(t0));
+        ours_cpu += (cpu_seconds(RUSAGE_SELF) - cpu0) / std::max(1, runs);
+        if (products.empty()) continue;
+        cpu0 = cpu_seconds(RUSAGE_SELF);
+        t0 = Clock::now();
+        product_result = raster::make_dem(ds, pr);
+        product_seconds.push_back(seconds_since(t0));
+        product_cpu.push_back(cpu_seconds(RUSAGE_SELF) - cpu0);
     }
     const double ours = median(seconds);
-    const double ours_cpu = (cpu_seconds(RUSAGE_SELF) - cpu0) / std::max(1, runs);
     std::printf("dem %s (%s): %zu tiles, %llu points, %d x %d texels of %g m, %u threads\n",
                 overview.empty() ? "full" : "overview", std::string(raster::dem_method_name(r.method)).c_str(),
                 ds.tiles.size(), (unsigned long long)ds.point_count, result.grid.width, result.grid.height, texel,
@@ -137,6 +154,13 @@ int run(int argc, char** argv) {
         "  median of %d: %.3f s (last run: gridding %.3f s, COG %.3f s), %.1f M points/s, peak %zu blocks, "
         "%.2f CPU s per run\n",
         runs, ours, result.seconds_grid, result.seconds_cog, ds.point_count / ours / 1e6, result.peak_blocks, ours_cpu);
+    if (!products.empty()) {
+        const double p = median(product_seconds);
+        std::printf("dem --product %s: median of %d: %.3f s (last run: gridding %.3f s, COG %.3f s), %.2f CPU s per "
+                    "run (median), peak %zu blocks; %.2fx the plain DEM\n",
+                    products.c_str(), runs, p, product_result.seconds_grid, product_result.seconds_cog,
+                    median(product_cpu), product_result.peak_blocks, p / ours);
+    }
     std::fflush(stdout);
     if (gdal_grid) {
         const std::string vrt = write_points_csv(ds, dir);
@@ -181,6 +205,6 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
     return lidarscout::bench::bench_main("bench_dem",
                                          "[PATH...] [--texel M] [--runs N] [--threads N] [--gdal-grid] "
-                                         "[--overview linear|cnn]",
+                                         "[--overview linear|cnn] [--product dtm,dsm,chm [--classes 2,9]]",
                                          argc, argv, run);
 }

@@ -1,9 +1,12 @@
 // `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
 // [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
 // [--returns first,last,single,intermediate] [--intensity MIN-MAX]
-// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--threads N] [--json]`: a terrain or surface
-// model of a dataset as a float32 Cloud-Optimized
-// GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp).
+// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--contours INTERVAL] [--threads N] [--json]`:
+// a terrain or surface model of a dataset as a float32 Cloud-Optimized
+// GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp); with
+// `--product dtm,dsm,chm,density,pulse-density,intensity,count` those rasters instead, in one read of
+// the points (raster/products.hpp), each to OUT_NAME.tif (to OUT.tif when there is one); contour
+// lines of the height raster to RASTER_contours.gpkg (raster/contours.hpp).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -26,6 +29,7 @@
 #include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "dataset/dataset.hpp"
+#include "raster/contours.hpp"
 #include "raster/dem.hpp"
 
 namespace lidarscout::cli {
@@ -40,7 +44,9 @@ struct DemCliOptions {
     std::string method;  // empty: mean (full) or linear (overview)
     FilterTexts filter;
     std::string crs;
-    std::optional<double> radius, power, max_edge;  // idw, idw, tin
+    std::optional<double> radius, power, max_edge;  // idw, idw, tin and products
+    std::string product;  // empty: one DEM by --method
+    std::optional<double> contours;  // interval, in the raster's height unit
     unsigned threads = 0;
     bool json = false;
 };
@@ -60,6 +66,7 @@ private:
     static std::string label(std::string_view stage) {
         if (stage == "points") return "dem: points";
         if (stage == "patches") return "dem: patches";
+        if (stage == "contours") return "dem: contours";
         return "dem: writing COG";
     }
     std::map<std::string, std::unique_ptr<Progress>> bars_;
@@ -80,6 +87,27 @@ void apply_method_parameters(const DemCliOptions& o, raster::DemRequest& r) {
     if (only_for(o.max_edge, "--max-edge", raster::DemMethod::Tin)) r.tin_max_edge_m = *o.max_edge;
 }
 
+// --product: the products, the dtm's classes (--classes) and the maximum edge (--max-edge); the
+// options that choose points or a method another way are refused.
+void apply_products(const DemCliOptions& o, raster::DemRequest& r) {
+    r.products = raster::products_from_names(o.product);
+    const auto refuse = [](bool given, const char* option) {
+        if (given) throw Error(std::string("dem: ") + option + " does not apply to --product");
+    };
+    refuse(o.from != "full", "--from overview");
+    refuse(!o.method.empty(), "--method");
+    refuse(o.radius.has_value(), "--radius");
+    refuse(o.power.has_value(), "--power");
+    refuse(!o.rgb.empty(), "--rgb");
+    refuse(!o.filter.returns.empty(), "--returns (the products choose their returns)");
+    refuse(!o.filter.intensity.empty(), "--intensity");
+    if (!o.filter.classes.empty()) r.product_options.dtm_classes = PointFilter::parse(o.filter.classes, "", "");
+    if (o.max_edge) {
+        if (!(*o.max_edge > 0)) throw Error("dem: --max-edge with --product must be a positive number of metres");
+        r.product_options.max_edge_m = *o.max_edge;
+    }
+}
+
 raster::DemRequest make_request(const DemCliOptions& o) {
     raster::DemRequest r;
     r.output = o.output;
@@ -88,6 +116,13 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     r.texel_m = o.texel;
     if (o.bounds.size() == 4) r.area = raster::Area{o.bounds[0], o.bounds[1], o.bounds[2], o.bounds[3]};
     r.source = raster::dem_source_from_name(o.from);
+    r.model = o.model;
+    r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+    r.contours_interval = o.contours.value_or(0);
+    if (!o.product.empty()) {
+        apply_products(o, r);
+        return r;
+    }
     r.method = raster::dem_method_from_name(o.method.empty() ? (r.source == raster::DemSource::Full ? "mean" : "linear")
                                                              : o.method, r.source);
     r.filter = o.filter.filter();
@@ -95,8 +130,6 @@ raster::DemRequest make_request(const DemCliOptions& o) {
         throw Error("dem: --returns applies to --from full only: chunk points have no reliable returns");
     }
     apply_method_parameters(o, r);
-    r.model = o.model;
-    r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     return r;
 }
 
@@ -121,15 +154,39 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
                             {"seconds_cog", d.seconds_cog},
                             {"seconds_hillshade", d.seconds_hillshade},
                             {"seconds", seconds}};
+        if (!r.products.empty()) {
+            j.erase("method");
+            j["products"] = nlohmann::json::object();
+            for (std::size_t i = 0; i < r.products.size(); ++i) {
+                j["products"][std::string(raster::product_name(r.products[i]))] = d.outputs[i];
+            }
+            j["max_edge_m"] = raster::ProductPass(r.products, r.product_options, r.texel_m).max_edge_m();
+        }
+        if (!d.contours.empty()) {
+            j["contours"] = d.contours;
+            j["contour_lines"] = d.contour_lines;
+            j["seconds_contours"] = d.seconds_contours;
+        }
         std::printf("%s\n", j.dump(2).c_str());
         return;
     }
+    std::string what = std::string(raster::dem_method_name(r.method));
+    if (!r.products.empty()) what = "products: " + o.product;
     std::printf("%s: %d x %d texels of %g m (%s, %s), %llu of %llu points used, %.2f s (gridding %.2f s, COG %.2f s)\n",
-                r.output.c_str(), d.grid.width, d.grid.height, r.texel_m, o.from.c_str(),
-                std::string(raster::dem_method_name(r.method)).c_str(), (unsigned long long)d.points_used,
-                (unsigned long long)d.points_read, seconds, d.seconds_grid, d.seconds_cog);
+                r.output.c_str(), d.grid.width, d.grid.height, r.texel_m, o.from.c_str(), what.c_str(),
+                (unsigned long long)d.points_used, (unsigned long long)d.points_read, seconds, d.seconds_grid,
+                d.seconds_cog);
+    if (!r.products.empty()) {
+        for (std::size_t i = 0; i < r.products.size(); ++i) {
+            std::printf("%s: %s\n", d.outputs[i].c_str(), std::string(raster::product_name(r.products[i])).c_str());
+        }
+    }
     if (!r.rgb.empty()) std::printf("%s: orthophoto (RGBA)\n", r.rgb.c_str());
     if (!r.hillshade.empty()) std::printf("%s: hillshade\n", r.hillshade.c_str());
+    if (!d.contours.empty()) {
+        std::printf("%s: %llu contour lines every %g\n", d.contours.c_str(), (unsigned long long)d.contour_lines,
+                    r.contours_interval);
+    }
 }
 
 int run_dem(const DemCliOptions& o) {
@@ -171,8 +228,34 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
         ->check(positive_number());
     cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(positive_number());
     cmd->add_option("--max-edge", o->max_edge,
-                    "tin: no height in triangles with a longer edge, metres (default 0: no limit)")
+                    "tin: no height in triangles with a longer edge, metres (default 0: no limit); --product "
+                    "dtm, dsm, chm: the same (default 20 texels)")
         ->check(non_negative_number());
+    cmd->add_option("--product", o->product,
+                    "Instead of one DEM, these rasters in one read of the points, separated by commas: dtm "
+                    "(TIN of the --classes, default 2,9), dsm (highest first return, holes by TIN), chm (dsm - dtm), "
+                    "density, pulse-density (per m2), intensity (mean), count; several go to OUT_NAME.tif");
+    cmd->add_option("--contours", o->contours,
+                    "Also write contour lines every INTERVAL (the raster's height unit) of the DEM, or of the first "
+                    "dtm, dsm or chm product, to RASTER_contours.gpkg (GeoPackage, attribute elevation)")
+        ->check(positive_number());
+    add_derived_outputs(*cmd, [o] {
+        std::vector<io::OutputTarget> out;
+        if (o->output.empty()) return out;
+        raster::DemRequest r;
+        r.output = o->output;
+        if (!o->product.empty()) r.products = raster::products_from_names(o->product);
+        const auto paths = raster::product_paths(o->output, r.products);
+        for (std::size_t i = 0; r.products.size() > 1 && i < paths.size(); ++i) {  // one product is -o itself
+            out.push_back({paths[i], "-o/--output (--product " + std::string(raster::product_name(r.products[i])) + ")",
+                           io::OutputKind::GeoTiff});
+        }
+        const std::string heights = raster::contour_source(r);
+        if (o->contours && !heights.empty()) {
+            out.push_back({raster::contours_path(heights), "--contours", io::OutputKind::GeoPackage});
+        }
+        return out;
+    });
     add_filter_options(*cmd, o->filter,
                        "points gridded (--returns with --from full only: the overview's chunk points have no "
                        "reliable returns)");

@@ -21,6 +21,7 @@ struct Declared {
     std::vector<const std::vector<std::string>*> input_lists;
     std::vector<const std::string*> inputs;
     std::vector<DeclaredOutput> outputs;
+    std::vector<DerivedOutputsFn> derived;
 };
 
 // Subcommands live as long as the program's CLI::App; the options' strings as long as the
@@ -64,6 +65,10 @@ CLI::Option* add_output(CLI::App& cmd, const std::string& name, std::string& pat
     return cmd.add_option(name, path, help)->group(kOutputGroup);
 }
 
+void add_derived_outputs(CLI::App& cmd, DerivedOutputsFn derive) {
+    registry()[&cmd].derived.push_back(std::move(derive));
+}
+
 void check_parsed_outputs(const CLI::App& app) {
     const auto it = registry().find(parsed_leaf(app));
     if (it == registry().end()) return;
@@ -76,6 +81,9 @@ void check_parsed_outputs(const CLI::App& app) {
     std::vector<io::OutputTarget> outputs;
     for (const auto& o : d.outputs) {
         if (!o.path->empty()) outputs.push_back({*o.path, o.option, o.kind});
+    }
+    for (const auto& derive : d.derived) {
+        for (auto& o : derive()) outputs.push_back(std::move(o));
     }
     if (outputs.empty()) {  // nothing named to write: no need to read lists and manifests twice
         io::protect_inputs(paths);

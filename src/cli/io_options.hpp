@@ -5,6 +5,7 @@
 // group kOutputGroup, which the tests walk.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,12 @@ CLI::Option* add_input(CLI::App& cmd, const std::string& name, std::string& path
 // An option naming a file or folder the command writes, of `kind` (its extensions).
 CLI::Option* add_output(CLI::App& cmd, const std::string& name, std::string& path, const std::string& help,
                         io::OutputKind kind);
+
+// Outputs whose names follow from other options (`dem --product dtm,dsm -o out.tif` writes
+// out_dtm.tif and out_dsm.tif), listed by `derive` once the command line is parsed and checked
+// as the declared ones are.
+using DerivedOutputsFn = std::function<std::vector<io::OutputTarget>()>;
+void add_derived_outputs(CLI::App& cmd, DerivedOutputsFn derive);
 
 // Checks the outputs of the (sub)command that was parsed against its inputs, expanded through
 // tile lists, virtual replica manifests and EPT datasets. Throws lidarscout::Error.

@@ -59,6 +59,7 @@ std::vector<std::string_view> extensions_of(OutputKind kind) {
         case OutputKind::GeoTiff: return {".tif", ".tiff"};
         case OutputKind::Png: return {".png"};
         case OutputKind::Hillshade: return {".tif", ".tiff", ".png"};
+        case OutputKind::GeoPackage: return {".gpkg"};
         case OutputKind::Json: return {".json"};
         case OutputKind::Catalog: return {".vpc"};
         case OutputKind::PointCloud: return {".las", ".laz"};

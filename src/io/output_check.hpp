@@ -23,6 +23,7 @@ enum class OutputKind {
     GeoTiff,       // .tif, .tiff
     Png,           // .png
     Hillshade,     // .tif, .tiff (georeferenced) or .png (with a world file)
+    GeoPackage,    // .gpkg
     Json,          // .json
     Catalog,       // .vpc (a QGIS virtual point cloud)
     PointCloud,    // .las, .laz

@@ -1,4 +1,5 @@
-// The block gridders of full DEMs: texel statistics, inverse distance weighting, and a TIN.
+// The block gridders of full DEMs: texel statistics, inverse distance weighting, a TIN, and the
+// highest point per texel with a TIN through the holes.
 #include "raster/block_gridders.hpp"
 
 #include <algorithm>
@@ -38,13 +39,17 @@ public:
 
     void add(const dataset::MetricPoint& p, const recon::TexelLocation* own) override {
         if (!own) throw Error::in_stage("dem", "a point was routed to a block it does not fall in (internal error)");
-        texels_[static_cast<std::size_t>(own->row) * block_ + own->col].add(p.z, p.rgb);
+        const double v = spec_.value == GridValue::Intensity ? double(p.intensity) : p.z;
+        texels_[static_cast<std::size_t>(own->row) * block_ + own->col].add(v, p.rgb);
     }
 
     BlockImages finish() override {
         BlockImages out;
         out.heights_m.resize(texels_.size());
-        for (std::size_t i = 0; i < texels_.size(); ++i) out.heights_m[i] = texels_[i].height(spec_.statistic);
+        for (std::size_t i = 0; i < texels_.size(); ++i) {
+            out.heights_m[i] = spec_.value == GridValue::Count ? static_cast<float>(texels_[i].count)
+                                                               : texels_[i].height(spec_.statistic);
+        }
         if (spec_.rgb) {
             out.rgba = rgba_planes(texels_.size(), [&](std::size_t i) {
                 const auto& t = texels_[i];
@@ -228,6 +233,188 @@ private:
     std::vector<Held> points_;
 };
 
+// The highest point of each texel of the block and its margin; the block's texels without one
+// take the TIN of those points (the Delaunay triangulation of all of them), within its edge limit.
+// Most such holes are a texel or two among texels with points, so the triangle over a hole's centre
+// is first sought among the points of the few texels around it: a triangle that holds the centre,
+// has no other of those points in its circumcircle and a circumcircle inside those texels has no
+// point at all in it, so it is the triangle the whole TIN has there. The holes that this does not
+// settle (wide gaps, the data's edge) get a TinGridder of the points within the edge limit of them:
+// the TIN's triangle over such a hole, when short enough, has all its corners among those.
+class HighestTinGridder final : public BlockGridder {
+public:
+    HighestTinGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
+        : spec_(spec), tin_(spec, grid, block), grid_(grid), side_(grid.block + 2 * kTinMarginTexels),
+          first_col_(block.ix * grid.block - kTinMarginTexels), first_row_(block.iy * grid.block - kTinMarginTexels),
+          highest_(static_cast<std::size_t>(side_) * side_) {}
+
+    void add(const dataset::MetricPoint& p, const recon::TexelLocation* own) override {
+        const auto at = recon::locate_texel(grid_.block_spec(), grid_.origin_x, grid_.origin_y, p.x, p.y);
+        if (at) add_located(p, own, *at);
+    }
+
+    // `at`: the texel in the whole grid's lattice (as every block sees it, so neighbours pick alike).
+    void add_located(const dataset::MetricPoint& p, const recon::TexelLocation*,
+                     const recon::TexelLocation& at) override {
+        const long col = long(at.cell.ix) * grid_.block + at.col - first_col_;
+        const long row = long(at.cell.iy) * grid_.block + at.row - first_row_;
+        if (col < 0 || row < 0 || col >= side_ || row >= side_) return;
+        Highest& h = highest_[index(static_cast<int>(row), static_cast<int>(col))];
+        if (h.set && !(p.z > h.z)) return;
+        h = {p.x, p.y, p.z, true};
+    }
+
+    BlockImages finish() override {
+        const int n = grid_.block, m = kTinMarginTexels;
+        BlockImages out;
+        out.heights_m.assign(static_cast<std::size_t>(n) * n, recon::kNoValue);
+        std::vector<std::pair<int, int>> unsettled;  // (row, col) in the block
+        for (int row = 0; row < n; ++row) {
+            for (int col = 0; col < n; ++col) {
+                const Highest& h = highest_[index(row + m, col + m)];
+                float& value = out.heights_m[static_cast<std::size_t>(row) * n + col];
+                if (h.set) value = static_cast<float>(h.z);
+                else if (!fill_locally(row + m, col + m, value)) unsettled.emplace_back(row, col);
+            }
+        }
+        if (!unsettled.empty()) {
+            const BlockImages tin = tin_of_points_near(unsettled);
+            for (const auto& [row, col] : unsettled) {
+                const std::size_t i = static_cast<std::size_t>(row) * n + col;
+                out.heights_m[i] = tin.heights_m[i];
+            }
+        }
+        std::vector<Highest>().swap(highest_);
+        return out;
+    }
+
+private:
+    struct Highest {
+        double x = 0, y = 0, z = 0;
+        bool set = false;
+    };
+
+    // Texels around a hole searched before the TIN: up to this many on each side.
+    static constexpr int kLocalTexels = 2;
+
+    std::size_t index(int row, int col) const { return static_cast<std::size_t>(row) * side_ + col; }
+
+    // The TIN's height at the centre of hole (row, col) of the extended grid, from the points of the
+    // texels within kLocalTexels of it: true (value set, NaN for a triangle with a long edge) when a
+    // triangle is proven to be the TIN's. Corners are sought among the nearest texels' points first
+    // (the eight around the hole, nearly always enough), then among all.
+    bool fill_locally(int row, int col, float& value) const {
+        const int k = kLocalTexels;
+        if (row - k < 0 || col - k < 0 || row + k >= side_ || col + k >= side_) return false;
+        const double t = grid_.texel_m;
+        const double cx = grid_.origin_x + (first_col_ + col + 0.5) * t;
+        const double cy = grid_.origin_y + (first_row_ + row + 0.5) * t;
+        std::array<std::array<double, 3>, (2 * kLocalTexels + 1) * (2 * kLocalTexels + 1)> pts;
+        std::size_t count = 0;
+        const auto gather = [&](int r, int c) {
+            const Highest& h = highest_[index(r, c)];
+            if (h.set) pts[count++] = {h.x - cx, h.y - cy, h.z};
+        };
+        for (int r = row - 1; r <= row + 1; ++r) {
+            for (int c = col - 1; c <= col + 1; ++c) gather(r, c);
+        }
+        const std::size_t near = count;
+        for (int r = row - k; r <= row + k; ++r) {
+            for (int c = col - k; c <= col + k; ++c) {
+                if (std::abs(r - row) > 1 || std::abs(c - col) > 1) gather(r, c);
+            }
+        }
+        const std::span<const std::array<double, 3>> all(pts.data(), count);
+        const double half = (k + 0.5) * t;  // the texels' square around the centre
+        return proven_triangle_at_centre(all, near, half, value) ||
+               (count > near && proven_triangle_at_centre(all, count, half, value));
+    }
+
+    // A triangle of the first `corners` of `pts` (relative to the centre) holding the origin, with no
+    // other of `pts` in its circumcircle and its circumcircle inside [-half, half]^2 (so no point
+    // outside it is in it): true, its height at the origin in `value`.
+    bool proven_triangle_at_centre(std::span<const std::array<double, 3>> pts, std::size_t corners, double half,
+                                   float& value) const {
+        const auto cross = [](const auto& a, const auto& b) { return a[0] * b[1] - a[1] * b[0]; };
+        const std::size_t n = corners, all = pts.size();
+        for (std::size_t i = 0; i < n; ++i) {
+            for (std::size_t j = i + 1; j < n; ++j) {
+                for (std::size_t k = j + 1; k < n; ++k) {
+                    const auto &a = pts[i], &b = pts[j], &c = pts[k];
+                    // barycentric weights of the origin: twice the areas opposite each corner
+                    const double wa = cross(b, c), wb = cross(c, a), wc = cross(a, b), area = wa + wb + wc;
+                    if (area == 0) continue;
+                    const double s = area > 0 ? 1 : -1;
+                    if (wa * s < 0 || wb * s < 0 || wc * s < 0) continue;
+                    // circumcircle
+                    const double d = 2 * (a[0] * (b[1] - c[1]) + b[0] * (c[1] - a[1]) + c[0] * (a[1] - b[1]));
+                    const double a2 = a[0] * a[0] + a[1] * a[1], b2 = b[0] * b[0] + b[1] * b[1],
+                                 c2 = c[0] * c[0] + c[1] * c[1];
+                    const double ux = (a2 * (b[1] - c[1]) + b2 * (c[1] - a[1]) + c2 * (a[1] - b[1])) / d;
+                    const double uy = (a2 * (c[0] - b[0]) + b2 * (a[0] - c[0]) + c2 * (b[0] - a[0])) / d;
+                    const double r2 = (a[0] - ux) * (a[0] - ux) + (a[1] - uy) * (a[1] - uy);
+                    bool empty = true;
+                    for (std::size_t q = 0; q < all && empty; ++q) {
+                        if (q == i || q == j || q == k) continue;
+                        const double dx = pts[q][0] - ux, dy = pts[q][1] - uy;
+                        empty = dx * dx + dy * dy >= r2 * (1 - 1e-12);
+                    }
+                    if (!empty) continue;
+                    const double r = std::sqrt(r2);
+                    if (std::abs(ux) + r > half || std::abs(uy) + r > half) return false;
+                    value = too_long(a, b) || too_long(b, c) || too_long(c, a)
+                                ? recon::kNoValue
+                                : static_cast<float>((wa * a[2] + wb * b[2] + wc * c[2]) / area);
+                    return true;
+                }
+            }
+        }
+        return false;
+    }
+
+    bool too_long(const std::array<double, 3>& a, const std::array<double, 3>& b) const {
+        const double e = spec_.tin_max_edge_m;
+        return e > 0 && (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) > e * e;
+    }
+
+    // The TinGridder of the highest points within the edge limit (all of them without one) of the
+    // unsettled holes: texels of the extended grid within that many texels of one, found through a
+    // summed-area table of the holes.
+    BlockImages tin_of_points_near(const std::vector<std::pair<int, int>>& holes) {
+        const int m = kTinMarginTexels;
+        const double e = spec_.tin_max_edge_m;
+        const int reach = e > 0 ? static_cast<int>(std::ceil(e / grid_.texel_m)) + 1 : side_;
+        std::vector<std::uint32_t> sum(static_cast<std::size_t>(side_ + 1) * (side_ + 1), 0);
+        const auto at = [&](int r, int c) -> std::uint32_t& {
+            return sum[static_cast<std::size_t>(r) * (side_ + 1) + c];
+        };
+        for (const auto& [row, col] : holes) at(row + m + 1, col + m + 1) = 1;
+        for (int r = 1; r <= side_; ++r) {
+            for (int c = 1; c <= side_; ++c) at(r, c) += at(r - 1, c) + at(r, c - 1) - at(r - 1, c - 1);
+        }
+        dataset::MetricPoint p;
+        for (int r = 0; r < side_; ++r) {
+            const int r0 = std::max(0, r - reach), r1 = std::min(side_, r + reach + 1);
+            for (int c = 0; c < side_; ++c) {
+                const Highest& h = highest_[index(r, c)];
+                if (!h.set) continue;
+                const int c0 = std::max(0, c - reach), c1 = std::min(side_, c + reach + 1);
+                if (at(r1, c1) + at(r0, c0) - at(r0, c1) - at(r1, c0) == 0) continue;
+                p.x = h.x, p.y = h.y, p.z = h.z;
+                tin_.add(p, nullptr);
+            }
+        }
+        return tin_.finish();
+    }
+
+    GridderSpec spec_;
+    TinGridder tin_;
+    DemGrid grid_;
+    int side_;
+    long first_col_, first_row_;
+    std::vector<Highest> highest_;
+};
+
 void validate(const GridderSpec& spec, const DemGrid& grid) {
     if (spec.method == GridMethod::Idw) {
         if (!(spec.idw_radius_m >= 0) || !std::isfinite(spec.idw_radius_m)) {
@@ -237,7 +424,7 @@ void validate(const GridderSpec& spec, const DemGrid& grid) {
             throw Error::in_stage("dem", "--power must be a positive number");
         }
     }
-    if (spec.method == GridMethod::Tin) {
+    if (spec.method == GridMethod::Tin || spec.method == GridMethod::HighestTin) {
         if (!(spec.tin_max_edge_m >= 0) || !std::isfinite(spec.tin_max_edge_m)) {
             throw Error::in_stage("dem", "--max-edge must be 0 (no limit) or a positive number of metres");
         }
@@ -254,7 +441,8 @@ double gridder_reach_m(const GridderSpec& spec, double texel_m) {
     switch (spec.method) {
     case GridMethod::Statistic: return 0;
     case GridMethod::Idw: return spec.idw_radius_m > 0 ? spec.idw_radius_m : texel_m * std::sqrt(2.0);
-    case GridMethod::Tin: return kTinMarginTexels * texel_m;
+    case GridMethod::Tin:
+    case GridMethod::HighestTin: return kTinMarginTexels * texel_m;
     }
     return 0;
 }
@@ -265,6 +453,7 @@ std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const 
     case GridMethod::Statistic: return std::make_unique<StatisticGridder>(spec, grid);
     case GridMethod::Idw: return std::make_unique<IdwGridder>(spec, grid, block);
     case GridMethod::Tin: return std::make_unique<TinGridder>(spec, grid, block);
+    case GridMethod::HighestTin: return std::make_unique<HighestTinGridder>(spec, grid, block);
     }
     return nullptr;
 }

@@ -11,6 +11,10 @@
 //                   linearly in its triangle (as gdal_grid -a linear, LAStools las2dem);
 //                   nodata outside the hull and in triangles with an edge longer than
 //                   `tin_max_edge_m` (0: no limit)
+//   highest-tin     the highest point of each texel (of the block and its margin); texels without
+//                   one get the TIN of those highest points, as tin does (a DSM: holes up to
+//                   the maximum edge filled)
+// mean, min, max can also grid the points' intensity, or count them (GridValue).
 // A block receives every point within reach of it (gridder_reach_m), so blocks meet without
 // seams: texels near a border see the same points whichever block holds them. For tin this
 // holds where the triangles' circumcircles fit in the margin (everywhere the points are denser than
@@ -27,14 +31,18 @@
 
 namespace lidarscout::raster {
 
-enum class GridMethod { Statistic, Idw, Tin };
+enum class GridMethod { Statistic, Idw, Tin, HighestTin };
+// What a Statistic gridder makes of a texel's points: their height's statistic, their intensity's
+// statistic, or their number (0, not NaN, where none).
+enum class GridValue { Height, Intensity, Count };
 
 struct GridderSpec {
     GridMethod method = GridMethod::Statistic;
     recon::TexelStatistic statistic = recon::TexelStatistic::Mean;  // for Statistic
+    GridValue value = GridValue::Height;                            // for Statistic
     double idw_radius_m = 0;    // for Idw; 0: the texel's diagonal (texel x sqrt 2)
     double idw_power = 2;       // for Idw
-    double tin_max_edge_m = 0;  // for Tin; 0: no limit
+    double tin_max_edge_m = 0;  // for Tin and HighestTin; 0: no limit
     bool rgb = false;           // also grid the colours
 };
 
@@ -46,8 +54,9 @@ inline constexpr int kTinBlockTexels = 384;
 // How far (metres) from a block a point still changes it.
 double gridder_reach_m(const GridderSpec& spec, double texel_m);
 
-// A finished block: heights in metres (NaN where none), block x block texels, rows from the
-// south; with colour, RGBA planes (4 x block x block bytes; alpha 255 where a height is).
+// A finished block: heights in metres (NaN where none; for GridValue Intensity or Count, that
+// value), block x block texels, rows from the south; with colour, RGBA planes (4 x block x block
+// bytes; alpha 255 where a height is).
 struct BlockImages {
     std::vector<float> heights_m;
     std::vector<std::uint8_t> rgba;
@@ -58,6 +67,12 @@ public:
     virtual ~BlockGridder() = default;
     // A point within reach of the block; `own` is its texel when it falls inside this block.
     virtual void add(const dataset::MetricPoint& point, const recon::TexelLocation* own) = 0;
+    // The same with the point's texel in the grid's lattice (`at`, whichever block it falls in) already
+    // located, for gridders that want it for points of other blocks too.
+    virtual void add_located(const dataset::MetricPoint& point, const recon::TexelLocation* own,
+                             const recon::TexelLocation& at) {
+        add(point, own);
+    }
     virtual BlockImages finish() = 0;
 };
 

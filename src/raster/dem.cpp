@@ -1,4 +1,5 @@
-// make_dem: the grid, the rasters, the gridding (full or overview), the COGs, the hillshade.
+// make_dem: the grid, the rasters, the gridding (full, overview or products), the COGs, the hillshade
+// and the contours.
 #include "raster/dem.hpp"
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include "dataset/dataset.hpp"
 #include "raster/block_raster.hpp"
 #include "raster/dem_grid.hpp"
+#include "raster/contours.hpp"
 #include "raster/hillshade.hpp"
 #include "raster/overview_dem.hpp"
 
@@ -121,6 +123,9 @@ void check_points_used(const DemResult& result, const DemRequest& r) {
 
 int block_texels(const DemRequest& r) {
     if (r.source == DemSource::Overview) return kOverviewPatchTexels;
+    if (!r.products.empty()) {
+        return ProductPass(r.products, r.product_options, r.texel_m).triangulates() ? kTinBlockTexels : 512;
+    }
     return r.method == DemMethod::Tin ? kTinBlockTexels : 512;
 }
 
@@ -129,6 +134,15 @@ Area area_in_metres(const dataset::Dataset& ds, const DemRequest& r) {
     if (!r.area) return dataset_area(ds);
     const double f = ds.frame.xy_to_metres;
     return {r.area->min_x * f, r.area->min_y * f, r.area->max_x * f, r.area->max_y * f};
+}
+
+void copy_stats(const FullDemStats& s, DemResult& result) {
+    result.points_read = s.points_read;
+    result.points_used = s.points_used;
+    result.skipped = s.skipped;
+    result.points_skipped = s.points_skipped;
+    result.blocks_written = s.blocks_written;
+    result.peak_blocks = s.peak_blocks;
 }
 
 RasterLayout height_layout(const dataset::Dataset& ds, float nodata) {
@@ -151,6 +165,60 @@ void finish_raster(BlockRaster& raster, const DemRequest& r) {
     raster.finish(r.threads, [&](double f) {
         if (r.progress) r.progress("cog", static_cast<std::uint64_t>(f * 1000), 1000);
     });
+}
+
+// The products of r.products in one pass: a raster each, made block by block from the shared layers.
+void make_products(const dataset::Dataset& ds, const DemRequest& r, const RasterGeometry& geometry, float nodata,
+                   DemResult& result) {
+    if (r.source != DemSource::Full) throw Error::in_stage("dem", "--product applies to --from full only");
+    if (!r.rgb.empty()) throw Error::in_stage("dem", "--rgb does not apply to --product");
+    const ProductPass pass(r.products, r.product_options, r.texel_m);
+    result.outputs = product_paths(r.output, r.products);
+    std::vector<std::unique_ptr<BlockRaster>> rasters;
+    for (std::size_t i = 0; i < r.products.size(); ++i) {
+        rasters.push_back(std::make_unique<BlockRaster>(result.outputs[i], geometry,
+                                                        pass.layout(r.products[i], height_unit(ds.frame), nodata)));
+    }
+    const DemGrid& grid = result.grid;
+    const BlockWriteFn write = [&](lidarscout::CellKey c, std::vector<BlockImages>& layers) {
+        for (std::size_t i = 0; i < r.products.size(); ++i) {
+            const std::vector<float> values = pass.values(r.products[i], layers, ds.frame.z_to_metres, nodata);
+            write_block(*rasters[i], grid, 1, c.ix, c.iy, std::span<const float>(values));
+        }
+    };
+    ThreadPool pool(std::max(1u, r.threads));
+    auto t0 = Clock::now();
+    const FullDemStats stats = grid_full_layers(ds, grid, pass.layers(), write, pool,
+                                                [&](std::uint64_t done, std::uint64_t total) {
+                                                    if (r.progress) r.progress("points", done, total);
+                                                });
+    copy_stats(stats, result);
+    result.seconds_grid = seconds_since(t0);
+    if (result.points_used == 0) {
+        throw Error::in_stage("dem", "no point of the products lies in the area; nothing written");
+    }
+    pass.check_points(r.products, stats.layer_points, result.points_read);
+    t0 = Clock::now();
+    for (auto& raster : rasters) finish_raster(*raster, r);
+    result.seconds_cog = seconds_since(t0);
+}
+
+// The hillshade and the contours of the height raster, once it is written.
+void write_from_heights(const DemRequest& r, float nodata, DemResult& result) {
+    const std::string heights = contour_source(r);
+    if (!r.hillshade.empty()) {
+        const auto t0 = Clock::now();
+        write_hillshade(heights, r.hillshade);
+        result.seconds_hillshade = seconds_since(t0);
+    }
+    if (r.contours_interval > 0) {
+        const auto t0 = Clock::now();
+        result.contours = contours_path(heights);
+        result.contour_lines = write_contours(heights, result.contours, r.contours_interval, nodata, [&](double f) {
+            if (r.progress) r.progress("contours", static_cast<std::uint64_t>(f * 1000), 1000);
+        });
+        result.seconds_contours = seconds_since(t0);
+    }
 }
 
 }  // namespace
@@ -185,15 +253,33 @@ std::uint64_t dem_memory_bytes(const dataset::Dataset& ds, const DemGrid& g, con
     const double tiff_tiles = std::ceil(g.width / 512.0) * std::ceil(g.height / 512.0);
     const double rasters = r.rgb.empty() ? 1 : 2;
     double bytes = tiff_tiles * rasters * 2 * 16;  // scratch and COG: an offset and a size per tile
-    if (r.source == DemSource::Full) {
+    if (!r.products.empty()) {
+        bytes = tiff_tiles * static_cast<double>(r.products.size()) * 2 * 16;
+        const ProductPass pass(r.products, r.product_options, r.texel_m);
+        bytes += static_cast<double>(full_layers_peak_bytes(ds, g, pass.layers()));
+    } else if (r.source == DemSource::Full) {
         bytes += static_cast<double>(full_dem_peak_bytes(ds, g, gridder_of(r), !r.rgb.empty()));
     }
     return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
 }
 
+std::string contour_source(const DemRequest& r) {
+    if (r.products.empty()) return r.output;
+    const auto height = std::find_if(r.products.begin(), r.products.end(), is_height_product);
+    if (height == r.products.end()) return {};
+    return product_paths(r.output, r.products)[static_cast<std::size_t>(height - r.products.begin())];
+}
+
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     if (!r.hillshade.empty()) hillshade_is_png(r.hillshade);  // an unknown extension refused before any work
+    if ((!r.hillshade.empty() || r.contours_interval > 0) && contour_source(r).empty()) {
+        throw Error::in_stage("dem", std::string(r.hillshade.empty() ? "--contours" : "--hillshade") +
+                                         " needs a dtm, dsm or chm product");
+    }
+    if (r.contours_interval < 0 || !std::isfinite(r.contours_interval)) {
+        throw Error::in_stage("dem", "--contours must be a positive interval");
+    }
     DemResult result;
     const Area area = area_in_metres(ds, r);
     check_bounds_overlap(ds, r, area);
@@ -202,6 +288,13 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     check_memory(ds, result.grid, r);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
+    if (!r.products.empty()) {
+        make_products(ds, r, geometry, nodata, result);
+        write_from_heights(r, nodata, result);
+        return result;
+    }
+    result.outputs = {r.output};
+    if (!r.rgb.empty()) result.outputs.push_back(r.rgb);
     BlockRaster heights(r.output, geometry, height_layout(ds, nodata));
     std::unique_ptr<BlockRaster> rgb;
     if (!r.rgb.empty()) rgb = std::make_unique<BlockRaster>(r.rgb, geometry, rgba_layout());
@@ -216,13 +309,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         opt.progress = [&](std::uint64_t done, std::uint64_t total) {
             if (r.progress) r.progress("points", done, total);
         };
-        const FullDemStats s = grid_full_dem(ds, result.grid, opt, outputs, pool);
-        result.points_read = s.points_read;
-        result.points_used = s.points_used;
-        result.skipped = s.skipped;
-        result.points_skipped = s.points_skipped;
-        result.blocks_written = s.blocks_written;
-        result.peak_blocks = s.peak_blocks;
+        copy_stats(grid_full_dem(ds, result.grid, opt, outputs, pool), result);
     } else {
         OverviewDemOptions opt;
         opt.network = r.method == DemMethod::Cnn;
@@ -244,11 +331,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     finish_raster(heights, r);
     if (rgb) finish_raster(*rgb, r);
     result.seconds_cog = seconds_since(t0);
-    if (!r.hillshade.empty()) {
-        t0 = Clock::now();
-        write_hillshade(r.output, r.hillshade);
-        result.seconds_hillshade = seconds_since(t0);
-    }
+    write_from_heights(r, nodata, result);
     return result;
 }
 

@@ -1,10 +1,12 @@
 // `lidarscout dem` as a library call: the DEM of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the dataset's CRS (its native units, nodata -9999), optionally its orthophoto
-// (RGBA COG of the mean point colours) and a hillshade PNG.
+// (RGBA COG of the mean point colours), a hillshade PNG and contour lines (GeoPackage).
 //   from full:      every point, per texel the mean, min or max height, or inverse distance
 //                   weighting, or a TIN (full_dem.hpp, block_gridders.hpp)
 //   from overview:  the chunk points only, per 64-texel patch the linear interpolation or the
 //                   heightmap network (overview_dem.hpp)
+//   products:       from every point, several rasters in one read (dtm, dsm, chm, density,
+//                   pulse-density, intensity, count; products.hpp)
 #pragma once
 
 #include <cstdint>
@@ -17,6 +19,7 @@
 #include "core/error.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/full_dem.hpp"
+#include "raster/products.hpp"
 
 namespace lidarscout::dataset {
 struct Dataset;
@@ -49,6 +52,13 @@ struct DemRequest {
     double idw_power = 2;      // idw: weights 1 / distance^power
     double tin_max_edge_m = 0; // tin: no height in triangles with a longer edge (0: no limit)
     std::string model;         // the network for cnn; empty: the shipped one
+    // Products (from full only): when given, these instead of one DEM by `method`, all in one read
+    // of the points, written to product_paths(output, products); `filter` is then not used.
+    std::vector<Product> products;
+    ProductOptions product_options;
+    // Contour lines every this many height units (0: none) of the DEM, or of the first height
+    // product, to contours_path() of that raster (contours.hpp).
+    double contours_interval = 0;
     unsigned threads = 1;
     // Bytes the DEM may hold at once (0: half of what the process may use, usable_memory_bytes()).
     // A DEM estimated to need more is refused before anything is allocated (dem_memory_bytes).
@@ -58,17 +68,23 @@ struct DemRequest {
 
 struct DemResult {
     DemGrid grid;
+    std::vector<std::string> outputs;  // the rasters written (the DEM, or each product's)
+    std::string contours;              // the contours' GeoPackage, empty for none
+    std::uint64_t contour_lines = 0;
     std::uint64_t points_read = 0, points_used = 0;
     std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
     std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0, peak_blocks = 0;
-    double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0;
+    double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0, seconds_contours = 0;
 };
 
 // The memory the DEM of `grid` needs at once, estimated: for --from full the blocks in flight
 // (full_dem_peak_bytes), for both the rasters' tile indexes (GDAL keeps two 8-byte offsets per
 // 512 x 512 tile and band group, in the scratch raster and in the COG).
 std::uint64_t dem_memory_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const DemRequest& request);
+
+// The raster contours are drawn from: the DEM, or the first height product (empty when none).
+std::string contour_source(const DemRequest& request);
 
 // Throws Error for a method that does not fit the source, a raster far larger than the tiles
 // cover, or one whose memory estimate exceeds the budget (naming the size and the way out:

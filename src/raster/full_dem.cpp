@@ -48,61 +48,73 @@ BlockRange tile_blocks(const DemGrid& g, const dataset::Bounds& b, double reach_
 
 enum class Added { Used, Missed, OutsideTile };
 
+// The blocks in flight, each with one gridder per layer.
 class BlockSet {
 public:
-    BlockSet(const DemGrid& grid, const FullDemOptions& options, const DemOutputs& outputs, FullDemStats& stats)
-        : grid_(grid), spec_(grid.block_spec()), gridder_(options.gridder), options_(options), outputs_(outputs),
-          stats_(stats), reach_(gridder_reach_m(options.gridder, grid.texel_m)),
+    BlockSet(const DemGrid& grid, std::span<const GridLayer> layers, const BlockWriteFn& write, FullDemStats& stats)
+        : grid_(grid), spec_(grid.block_spec()), layers_(layers), write_(write), stats_(stats), reach_(0),
           pending_(static_cast<std::size_t>(grid.blocks_x()) * grid.blocks_y(), 0) {
-        gridder_.rgb = outputs.rgb != nullptr;
+        for (std::size_t i = 0; i < layers.size(); ++i) {
+            const double reach = gridder_reach_m(layers[i].gridder, grid.texel_m);
+            reach_ = std::max(reach_, reach);
+            if (reach == 0) own_only_ |= 1u << i;
+        }
     }
 
     double reach_m() const { return reach_; }
 
     void expect(const BlockRange& r) { visit(r, [&](lidarscout::CellKey c) { ++pending_[slot(c)]; }); }
 
-    // Adds a point of a tile whose blocks are `range`: Used, Missed when it reaches no block,
-    // OutsideTile (and not added) when it reaches a block beyond the tile's header bounds, which
-    // may already be written.
-    Added add(const dataset::MetricPoint& p, const BlockRange& range) {
+    // Adds a point of a tile whose blocks are `range` to the layers of `mask`: Used, Missed when it
+    // reaches no block, OutsideTile (and not added) when it reaches a block beyond the tile's header
+    // bounds, which may already be written. A layer of reach 0 gets only the points in its block.
+    Added add(const dataset::MetricPoint& p, const BlockRange& range, std::uint32_t mask) {
         const auto at = recon::locate_texel(spec_, grid_.origin_x, grid_.origin_y, p.x, p.y);
         if (!at) return Added::Missed;
-        if (reach_ == 0) {
-            if (!inside_raster(*at)) return Added::Missed;
+        const bool inside = inside_raster(*at);
+        if (reach_ == 0 || (mask & ~own_only_) == 0) {
+            if (!inside) return Added::Missed;
             if (!range.contains(at->cell)) return Added::OutsideTile;
-            gridder_of(at->cell).add(p, &*at);
+            add_to(at->cell, p, &*at, *at, mask);
             return Added::Used;
         }
         const BlockRange reached = blocks_within(p.x, p.y);
         if (reached.empty()) return Added::Missed;
         if (!range.contains(reached)) return Added::OutsideTile;
         visit(reached, [&](lidarscout::CellKey c) {
-            const bool own = c == at->cell && inside_raster(*at);
-            gridder_of(c).add(p, own ? &*at : nullptr);
+            const bool own = c == at->cell && inside;
+            add_to(c, p, own ? &*at : nullptr, *at, own ? mask : mask & ~own_only_);
         });
         return Added::Used;
     }
 
     // The blocks the tile was the last to reach are gridded in parallel, then written in order.
     void tile_done(const BlockRange& r, ThreadPool& pool) {
-        std::vector<std::pair<lidarscout::CellKey, std::unique_ptr<BlockGridder>>> done;
+        std::vector<std::pair<lidarscout::CellKey, Gridders>> done;
         visit(r, [&](lidarscout::CellKey c) {
             if (--pending_[slot(c)] != 0) return;
             const auto it = blocks_.find(c);  // blocks no point reached are left to the raster's nodata
             if (it == blocks_.end()) return;
-            if (last_ == it->second.get()) last_ = nullptr;
+            if (last_ == &it->second) last_ = nullptr;
             done.emplace_back(c, std::move(it->second));
             blocks_.erase(it);
         });
-        std::vector<BlockImages> images(done.size());
-        pool.for_each(done.size(), [&](std::size_t i) {
-            images[i] = done[i].second->finish();
-            done[i].second.reset();
+        const std::size_t n = layers_.size();
+        std::vector<std::vector<BlockImages>> images(done.size(), std::vector<BlockImages>(n));
+        pool.for_each(done.size() * n, [&](std::size_t i) {
+            auto& gridder = done[i / n].second[i % n];
+            images[i / n][i % n] = gridder->finish();
+            gridder.reset();
         });
-        for (std::size_t i = 0; i < done.size(); ++i) write(done[i].first, images[i]);
+        for (std::size_t i = 0; i < done.size(); ++i) {
+            write_(done[i].first, images[i]);
+            ++stats_.blocks_written;
+        }
     }
 
 private:
+    using Gridders = std::vector<std::unique_ptr<BlockGridder>>;
+
     std::size_t slot(lidarscout::CellKey c) const { return static_cast<std::size_t>(c.iy) * grid_.blocks_x() + c.ix; }
 
     bool inside_raster(const recon::TexelLocation& at) const {
@@ -129,51 +141,38 @@ private:
         }
     }
 
-    BlockGridder& gridder_of(lidarscout::CellKey c) {
+    void add_to(lidarscout::CellKey c, const dataset::MetricPoint& p, const recon::TexelLocation* own,
+                const recon::TexelLocation& at, std::uint32_t mask) {
+        if (mask == 0) return;
+        Gridders& g = gridders_of(c);
+        for (std::size_t i = 0; mask != 0; ++i, mask >>= 1) {
+            if (mask & 1u) g[i]->add_located(p, own, at);
+        }
+    }
+
+    Gridders& gridders_of(lidarscout::CellKey c) {
         if (last_ && last_key_ == c) return *last_;
         auto [it, created] = blocks_.try_emplace(c);
         if (created) {
-            it->second = make_block_gridder(gridder_, grid_, c);
+            for (const GridLayer& l : layers_) it->second.push_back(make_block_gridder(l.gridder, grid_, c));
             stats_.peak_blocks = std::max(stats_.peak_blocks, blocks_.size());
         }
         last_key_ = c;
-        last_ = it->second.get();
+        last_ = &it->second;
         return *last_;
-    }
-
-    void write(lidarscout::CellKey c, const BlockImages& images) {
-        write_block(*outputs_.heights, grid_, 1, c.ix, c.iy, std::span<const float>(in_file_units(images.heights_m)));
-        if (outputs_.rgb) {
-            const std::size_t plane = images.heights_m.size();
-            for (int band = 0; band < 4; ++band) {
-                write_block(*outputs_.rgb, grid_, band + 1, c.ix, c.iy,
-                            std::span<const std::uint8_t>(images.rgba.data() + band * plane, plane));
-            }
-        }
-        ++stats_.blocks_written;
-    }
-
-    // Heights in the frame's vertical unit, nodata where there is none.
-    std::vector<float> in_file_units(const std::vector<float>& metres) const {
-        std::vector<float> out(metres.size(), options_.nodata);
-        const double f = outputs_.z_to_metres;
-        for (std::size_t i = 0; i < metres.size(); ++i) {
-            if (!std::isnan(metres[i])) out[i] = f == 1.0 ? metres[i] : static_cast<float>(metres[i] / f);
-        }
-        return out;
     }
 
     const DemGrid& grid_;
     recon::PatchSpec spec_;
-    GridderSpec gridder_;
-    const FullDemOptions& options_;
-    const DemOutputs& outputs_;
+    std::span<const GridLayer> layers_;
+    const BlockWriteFn& write_;
     FullDemStats& stats_;
     double reach_;
+    std::uint32_t own_only_ = 0;  // layers of reach 0
     std::vector<int> pending_;
-    std::unordered_map<lidarscout::CellKey, std::unique_ptr<BlockGridder>, lidarscout::CellKeyHash> blocks_;
+    std::unordered_map<lidarscout::CellKey, Gridders, lidarscout::CellKeyHash> blocks_;
     lidarscout::CellKey last_key_;
-    BlockGridder* last_ = nullptr;
+    Gridders* last_ = nullptr;
 };
 
 // Tile indices south to north, then west to east, so finished rows of blocks free early.
@@ -189,22 +188,28 @@ std::vector<std::uint32_t> tile_order(const dataset::Dataset& ds) {
 
 // What a block's gridder holds per texel (block_gridders.cpp) plus its finished images (heights
 // and colour): TexelStats is 32 bytes; idw sums 16, colour sums 24; tin about one held point of
-// 48 bytes per texel at survey densities.
-std::uint64_t gridder_bytes_per_texel(const GridderSpec& g, bool rgb) {
-    const std::uint64_t images = 4 + (rgb ? 4 : 0);
+// 48 bytes per texel at survey densities; highest-tin a highest point of 32 bytes per texel of the
+// block and its margin (1.8 times the block's) and the tin of those.
+std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
+    const std::uint64_t images = 4 + (g.rgb ? 4 : 0);
     switch (g.method) {
         case GridMethod::Statistic: return 32 + images;
-        case GridMethod::Idw: return 16 + (rgb ? 24 : 0) + images;
+        case GridMethod::Idw: return 16 + (g.rgb ? 24 : 0) + images;
         case GridMethod::Tin: return 48 + images;
+        case GridMethod::HighestTin: return 58 + 48 + images;
     }
     return 48 + images;
 }
 
 }  // namespace
 
-std::uint64_t full_dem_peak_bytes(const dataset::Dataset& ds, const DemGrid& grid, const GridderSpec& gridder,
-                                  bool rgb) {
-    const double reach = gridder_reach_m(gridder, grid.texel_m);
+std::uint64_t full_layers_peak_bytes(const dataset::Dataset& ds, const DemGrid& grid,
+                                     std::span<const GridLayer> layers) {
+    double reach = 0, per_texel = 0;
+    for (const GridLayer& l : layers) {
+        reach = std::max(reach, gridder_reach_m(l.gridder, grid.texel_m));
+        per_texel += static_cast<double>(gridder_bytes_per_texel(l.gridder));
+    }
     double rows = 0;
     for (const auto& t : ds.tiles) {
         const BlockRange r = tile_blocks(grid, t.bounds_m, reach);
@@ -213,16 +218,33 @@ std::uint64_t full_dem_peak_bytes(const dataset::Dataset& ds, const DemGrid& gri
     const double blocks = static_cast<double>(grid.blocks_x()) * grid.blocks_y();
     const double held = std::min(blocks, rows * grid.blocks_x());
     const double block_texels = static_cast<double>(grid.block) * grid.block;
-    const double bytes = held * block_texels * static_cast<double>(gridder_bytes_per_texel(gridder, rgb)) +
-                         blocks * sizeof(int);
+    const double bytes = held * block_texels * per_texel + blocks * sizeof(int);
     return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
 }
 
-FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, const FullDemOptions& options,
-                           const DemOutputs& outputs, ThreadPool& pool) {
-    if (!outputs.heights) throw Error::in_stage("dem", "no height raster to write (internal error)");
+std::uint64_t full_dem_peak_bytes(const dataset::Dataset& ds, const DemGrid& grid, const GridderSpec& gridder,
+                                  bool rgb) {
+    GridLayer layer{gridder, PointFilter()};
+    layer.gridder.rgb = rgb;
+    return full_layers_peak_bytes(ds, grid, std::span<const GridLayer>(&layer, 1));
+}
+
+std::vector<float> heights_in_file_units(std::span<const float> metres, double z_to_metres, float nodata) {
+    std::vector<float> out(metres.size(), nodata);
+    for (std::size_t i = 0; i < metres.size(); ++i) {
+        if (std::isnan(metres[i])) continue;
+        out[i] = z_to_metres == 1.0 ? metres[i] : static_cast<float>(metres[i] / z_to_metres);
+    }
+    return out;
+}
+
+FullDemStats grid_full_layers(const dataset::Dataset& ds, const DemGrid& grid, std::span<const GridLayer> layers,
+                              const BlockWriteFn& write, ThreadPool& pool,
+                              const std::function<void(std::uint64_t, std::uint64_t)>& progress) {
+    if (layers.empty() || layers.size() > 32) throw Error::in_stage("dem", "1 to 32 layers per pass (internal error)");
     FullDemStats stats;
-    BlockSet blocks(grid, options, outputs, stats);
+    stats.layer_points.assign(layers.size(), 0);
+    BlockSet blocks(grid, layers, write, stats);
     std::vector<BlockRange> ranges(ds.tiles.size());
     std::uint64_t total = 0;
     for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
@@ -230,8 +252,9 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
         blocks.expect(ranges[i]);
         if (!ranges[i].empty()) total += ds.tiles[i].tile.header.point_count;
     }
+    const bool rgb = std::any_of(layers.begin(), layers.end(), [](const GridLayer& l) { return l.gridder.rgb; });
     const std::uint32_t fields = las::fields::kXyz | las::fields::kClassification | las::fields::kReturns |
-                                 las::fields::kIntensity | (outputs.rgb ? las::fields::kRgb : 0u);
+                                 las::fields::kIntensity | (rgb ? las::fields::kRgb : 0u);
     std::vector<std::uint32_t> order;
     for (const std::uint32_t t : tile_order(ds)) {
         if (!ranges[t].empty()) order.push_back(t);
@@ -239,13 +262,20 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
     std::vector<std::uint64_t> outside(ds.tiles.size(), 0);  // per tile: points beyond its header bounds
     const auto add = [&](std::uint32_t t, std::uint64_t, std::span<const dataset::MetricPoint> points) {
         for (const auto& p : points) {
-            if (!options.filter.keeps_drawn(p.classification, p.return_kinds, p.intensity)) continue;
-            const Added a = blocks.add(p, ranges[t]);
-            stats.points_used += a == Added::Used;
+            std::uint32_t mask = 0;
+            for (std::size_t i = 0; i < layers.size(); ++i) {
+                if (layers[i].filter.keeps_drawn(p.classification, p.return_kinds, p.intensity)) mask |= 1u << i;
+            }
+            if (mask == 0) continue;
+            const Added a = blocks.add(p, ranges[t], mask);
+            if (a == Added::Used) {
+                ++stats.points_used;
+                for (std::size_t i = 0; mask != 0; ++i, mask >>= 1) stats.layer_points[i] += mask & 1u;
+            }
             outside[t] += a == Added::OutsideTile;
         }
         stats.points_read += points.size();
-        if (options.progress) options.progress(stats.points_read, total);
+        if (progress) progress(stats.points_read, total);
     };
     const auto skipped = [&](std::uint32_t, const dataset::SkippedChunk& s) {
         stats.skipped.push_back(s.error);
@@ -261,6 +291,26 @@ FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, cons
         stats.points_skipped += outside[t];
     }
     return stats;
+}
+
+FullDemStats grid_full_dem(const dataset::Dataset& ds, const DemGrid& grid, const FullDemOptions& options,
+                           const DemOutputs& outputs, ThreadPool& pool) {
+    if (!outputs.heights) throw Error::in_stage("dem", "no height raster to write (internal error)");
+    GridLayer layer{options.gridder, options.filter};
+    layer.gridder.rgb = outputs.rgb != nullptr;
+    const BlockWriteFn write = [&](lidarscout::CellKey c, std::vector<BlockImages>& layers) {
+        const BlockImages& images = layers.front();
+        write_block(*outputs.heights, grid, 1, c.ix, c.iy,
+                    std::span<const float>(heights_in_file_units(images.heights_m, outputs.z_to_metres,
+                                                                 options.nodata)));
+        if (!outputs.rgb) return;
+        const std::size_t plane = images.heights_m.size();
+        for (int band = 0; band < 4; ++band) {
+            write_block(*outputs.rgb, grid, band + 1, c.ix, c.iy,
+                        std::span<const std::uint8_t>(images.rgba.data() + band * plane, plane));
+        }
+    };
+    return grid_full_layers(ds, grid, std::span<const GridLayer>(&layer, 1), write, pool, options.progress);
 }
 
 }  // namespace lidarscout::raster

@@ -7,11 +7,14 @@
 // Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its
 // tile's header bounds (beyond a texel; its block may already be written) and a LAZ chunk that
 // cannot be decoded cost their points only, named and counted (FullDemStats::skipped).
+// One pass can grid several layers at once (grid_full_layers: `dem --product`), each with its own
+// points (filter) and gridder; a block holds one gridder per layer and is finished for all at once.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "core/error.hpp"
@@ -37,6 +40,15 @@ struct FullDemOptions {
     std::function<void(std::uint64_t, std::uint64_t)> progress;
 };
 
+// One accumulation of a pass: the points `filter` keeps, gridded by `gridder`.
+struct GridLayer {
+    GridderSpec gridder;
+    PointFilter filter;
+};
+
+// Given each finished block (its key) with one BlockImages per layer, in the layers' order.
+using BlockWriteFn = std::function<void(CellKey block, std::vector<BlockImages>& layers)>;
+
 // Where the finished blocks go: heights (band 1, the frame's vertical unit) and, when `rgb` is
 // set, colour (bands 1-3) with alpha (band 4, 255 where a height is).
 struct DemOutputs {
@@ -52,6 +64,7 @@ struct FullDemStats {
     std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0;
     std::size_t peak_blocks = 0;  // blocks held at once
+    std::vector<std::uint64_t> layer_points;  // per layer of grid_full_layers: the points it was given
 };
 
 // Bytes grid_full_dem may hold at once, estimated before anything is allocated: the blocks of a
@@ -59,6 +72,18 @@ struct FullDemStats {
 // the row of tiles above them is done), at the gridder's bytes per texel, and a count per block.
 std::uint64_t full_dem_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const GridderSpec& gridder,
                                   bool rgb);
+// The same for several layers gridded in one pass.
+std::uint64_t full_layers_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid,
+                                     std::span<const GridLayer> layers);
+
+// Heights in metres (NaN: none) in a file's vertical unit (metres / z_to_metres), `nodata` where none.
+std::vector<float> heights_in_file_units(std::span<const float> metres, double z_to_metres, float nodata);
+
+// Every layer in one read of the points (a point goes to each layer whose filter keeps it), each
+// finished block given to `write`. `progress`: (points done, points total) after each batch.
+FullDemStats grid_full_layers(const dataset::Dataset& dataset, const DemGrid& grid, std::span<const GridLayer> layers,
+                              const BlockWriteFn& write, ThreadPool& pool,
+                              const std::function<void(std::uint64_t, std::uint64_t)>& progress = {});
 
 FullDemStats grid_full_dem(const dataset::Dataset& dataset, const DemGrid& grid, const FullDemOptions& options,
                            const DemOutputs& outputs, ThreadPool& pool);

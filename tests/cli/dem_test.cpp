@@ -1,7 +1,8 @@
 // `lidarscout dem`: a Kentucky DEM in the tiles' CRS (US survey feet, as gdalinfo reads it),
 // with its orthophoto and hillshade, JSON output; bad options are one-line errors (exit 1); a
 // raster over the memory budget is refused before it is allocated, a hostile --threads capped,
-// and a corrupt chunk costs only its points (exit 3).
+// and a corrupt chunk costs only its points (exit 3); --product writes several rasters in one
+// read, each to its own checked name.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -150,6 +151,92 @@ std::size_t files_in(const fs::path& dir) {
 }
 
 // --texel 0.001 on a 600 m tile: 565,208 x 611,565 texels (1.4 TB); it was killed at 24 GB.
+// --product: several rasters from one read of the points, each to OUT_NAME.tif, each a COG with the
+// survey's CRS and nodata as gdalinfo reads it; --json names them; -o itself is not written.
+TEST_F(DemCommand, ProductsInOneReadEachToItsFile) {
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 --json -o " +
+                                    path("plain.tif") + " 2>/dev/null", out), 0) << out;
+    const auto plain = nlohmann::json::parse(out);
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 --json -o " +
+                                    path("w.tif") + " --product dtm,dsm,chm,density --hillshade " + path("w.png") +
+                                    " 2>/dev/null", out), 0) << out;
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("points_read"), plain.at("points_read"));
+    EXPECT_EQ(j.at("max_edge_m").get<double>(), 80.0);  // 20 texels
+    for (const std::string name : {"dtm", "dsm", "chm", "density"}) {
+        EXPECT_EQ(j.at("products").at(name), (dir / ("w_" + name + ".tif")).string());
+        const auto info = test::gdalinfo((dir / ("w_" + name + ".tif")).string());
+        ASSERT_TRUE(info.contains("bands")) << name;
+        EXPECT_EQ(info.at("metadata").at("IMAGE_STRUCTURE").at("LAYOUT"), "COG") << name;
+        const std::string wkt = info.at("coordinateSystem").at("wkt");
+        EXPECT_NE(wkt.find("Kentucky Single Zone (ftUS)"), std::string::npos) << name;
+        EXPECT_EQ(info.at("bands").at(0).at("noDataValue").get<double>(), -9999.0) << name;
+        EXPECT_EQ(info.at("bands").at(0).contains("unit"), name != "density") << name;
+    }
+    EXPECT_FALSE(fs::exists(path("w.tif")));
+    EXPECT_TRUE(fs::exists(path("w.png")));
+}
+
+// Options that do not fit products, an unknown product, a derived name another output takes and a
+// hillshade without a height product are refused in one line before anything is written.
+TEST_F(DemCommand, ProductOptionsAreCheckedBeforeAnyWork) {
+    std::string out;
+    const std::string base = std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 -o " + path("x.tif");
+    EXPECT_EQ(test::run_command(base + " --product canopy 2>&1", out), 1);
+    EXPECT_NE(out.find("unknown product 'canopy'"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dtm --method tin 2>&1", out), 1);
+    EXPECT_NE(out.find("--method does not apply to --product"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dsm --returns last 2>&1", out), 1);
+    EXPECT_NE(out.find("--returns"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dtm,dsm --hillshade " + path("x_dsm.tif") + " 2>&1", out), 1);
+    EXPECT_NE(out.find("it is also the output of"), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+    EXPECT_EQ(test::run_command(base + " --product density --hillshade " + path("h.png") + " 2>&1", out), 1);
+    EXPECT_NE(out.find("--hillshade needs a dtm, dsm or chm product"), std::string::npos) << out;
+    EXPECT_EQ(files_in(dir), 0u);
+}
+
+// --contours: GDAL's contour lines of the dtm (the first height product) or of the DEM, every
+// INTERVAL feet here, in a GeoPackage beside it with the raster's CRS, as ogrinfo reads it back:
+// lines with an elevation that is a multiple of the interval, within the raster's heights.
+TEST_F(DemCommand, ContoursOfTheHeightRasterInAGeoPackage) {
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 2 --json -o " +
+                                    path("c.tif") + " --product density,dtm --contours 5 2>/dev/null", out), 0) << out;
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j.at("contours"), path("c_dtm_contours.gpkg"));
+    EXPECT_GT(j.at("contour_lines").get<int>(), 10);
+    ASSERT_EQ(test::run_command("ogrinfo -so -al " + path("c_dtm_contours.gpkg") + " 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("Geometry: Line String"), std::string::npos) << out;
+    EXPECT_NE(out.find("Feature Count: " + std::to_string(j.at("contour_lines").get<int>())), std::string::npos);
+    EXPECT_NE(out.find("Kentucky Single Zone (ftUS)"), std::string::npos) << out;
+    EXPECT_NE(out.find("elevation: Real"), std::string::npos) << out;
+    ASSERT_EQ(test::run_command("ogrinfo -q -sql \"SELECT MIN(elevation) AS lo, MAX(elevation) AS hi, "
+                                "SUM(elevation - 5 * CAST(elevation / 5 AS INTEGER)) AS off FROM contours\" " +
+                                    path("c_dtm_contours.gpkg") + " 2>&1", out), 0) << out;
+    EXPECT_NE(out.find("off (Real) = 0"), std::string::npos) << out;  // every line on a multiple of 5 ft
+    const auto dtm = test::read_raster(path("c_dtm.tif"));
+    float lo = 1e9f, hi = -1e9f;
+    for (const float v : dtm.values) {
+        if (v != -9999.0f) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    const auto value = [&](const std::string& name) {
+        const auto at = out.find(name + " (Real) = ");
+        return at == std::string::npos ? -1e9 : std::stod(out.substr(at + name.size() + 10));
+    };
+    EXPECT_GE(value("lo"), lo);
+    EXPECT_LE(value("hi"), hi);
+    // the plain DEM's contours; a product set without a height raster has none to draw
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 -o " + path("m.tif") +
+                                    " --contours 10 2>/dev/null", out), 0) << out;
+    EXPECT_TRUE(fs::exists(path("m_contours.gpkg")));
+    EXPECT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 -o " + path("n.tif") +
+                                    " --product count --contours 10 2>&1", out), 1);
+    EXPECT_NE(out.find("--contours needs a dtm, dsm or chm product"), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(path("n.tif")));
+}
+
 TEST_F(DemCommand, HugeRasterIsRefusedBeforeAllocation) {
     fs::create_directories(dir / "out");
     const auto run = test::run_measured(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " -o " +

@@ -1,10 +1,12 @@
 // The block gridders on points placed by hand: idw's weights and radius, a tin exact on a plane
-// with nodata outside the hull and in triangles with long edges, and the reach of each method.
+// with nodata outside the hull and in triangles with long edges, highest-tin equal to a tin of the
+// highest point per texel in its holes, and the reach of each method.
 #include "raster/block_gridders.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "core/error.hpp"
 
@@ -93,6 +95,56 @@ TEST(BlockGridders, TinLeavesNodataInTrianglesWithLongEdges) {
     EXPECT_FLOAT_EQ(filled.heights_m[gap], 5.0f);
     EXPECT_TRUE(std::isnan(killed.heights_m[gap]));
     EXPECT_FLOAT_EQ(killed.heights_m[strip], 5.0f);
+}
+
+// highest-tin: the highest point where a texel has one; elsewhere exactly the TIN of those highest
+// points (a Tin gridder given them), with the same edge limit: over scattered holes (settled from
+// the texels around them), a wide gap and beyond the data (settled by the TIN of the points near them).
+TEST(BlockGridders, HighestTinIsTheTinOfTheHighestPointsInItsHoles) {
+    const int n = 64;
+    DemGrid g = small_grid(n);
+    g.width = g.height = 3 * n;
+    g.origin_x -= n, g.origin_y -= n;  // block (1, 1) has a block of points on every side
+    GridderSpec spec;
+    spec.method = GridMethod::HighestTin;
+    spec.tin_max_edge_m = 6;
+    auto highest = make_block_gridder(spec, g, {1, 1});
+    std::map<std::pair<long, long>, dataset::MetricPoint> top;  // the highest point per texel
+    std::uint32_t seed = 12345;
+    const auto random = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+    for (int i = 0; i < 24000; ++i) {
+        const double x = 1000 - 40 + random() * 90, y = 2000 - 40 + random() * 130;  // none east of x 1050
+        if (std::hypot(x - 1030, y - 2035) < 9) continue;  // a pond
+        const auto p = point(x, y, 50 + 3 * std::sin(x * 0.3) + random() * 2);
+        highest->add(p, nullptr);
+        const std::pair<long, long> t{std::lround(std::floor(x - g.origin_x)), std::lround(std::floor(y - g.origin_y))};
+        if (!top.count(t) || top[t].z < p.z) top[t] = p;
+    }
+    spec.method = GridMethod::Tin;
+    auto tin = make_block_gridder(spec, g, {1, 1});
+    for (const auto& [texel, p] : top) tin->add(p, nullptr);
+    const auto a = highest->finish(), b = tin->finish();
+    std::size_t holes = 0, filled = 0;
+    for (int row = 0; row < n; ++row) {
+        for (int col = 0; col < n; ++col) {
+            const std::size_t i = static_cast<std::size_t>(row) * n + col;
+            const auto it = top.find({col + n, row + n});
+            if (it != top.end()) {
+                EXPECT_FLOAT_EQ(a.heights_m[i], static_cast<float>(it->second.z)) << col << ", " << row;
+                continue;
+            }
+            ++holes;
+            filled += !std::isnan(a.heights_m[i]);
+            if (std::isnan(b.heights_m[i])) {
+                EXPECT_TRUE(std::isnan(a.heights_m[i])) << col << ", " << row;
+            } else {
+                EXPECT_NEAR(a.heights_m[i], b.heights_m[i], 1e-3) << col << ", " << row;
+            }
+        }
+    }
+    EXPECT_GT(holes, 400u);  // scattered, the pond, beyond the data
+    EXPECT_GT(filled, 100u);
+    EXPECT_LT(filled, holes);
 }
 
 TEST(BlockGridders, ReachAndParametersAreChecked) {

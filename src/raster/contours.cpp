@@ -1,0 +1,91 @@
+// write_contours: GDALContourGenerateEx into an OGR GeoPackage layer under a temporary name.
+#include "raster/contours.hpp"
+
+#include <cpl_error.h>
+#include <cpl_string.h>
+#include <gdal_alg.h>
+#include <gdal_priv.h>
+#include <ogrsf_frmts.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "core/error.hpp"
+#include "io/output_file.hpp"
+#include "raster/block_raster.hpp"
+
+namespace lidarscout::raster {
+namespace {
+
+[[noreturn]] void fail(const std::string& file, const std::string& what) {
+    const std::string gdal = last_gdal_error();
+    throw Error(file, std::nullopt, what + (gdal.empty() ? "" : " (GDAL: " + gdal + ")"));
+}
+
+int progress_callback(double done, const char*, void* data) {
+    const auto* fn = static_cast<const std::function<void(double)>*>(data);
+    if (fn && *fn) (*fn)(done);
+    return TRUE;
+}
+
+// Closes GDAL datasets however the function is left.
+struct Closer {
+    GDALDataset* dataset = nullptr;
+    ~Closer() {
+        if (dataset) GDALClose(dataset);
+    }
+};
+
+}  // namespace
+
+std::string contours_path(const std::string& raster_path) {
+    std::filesystem::path p(raster_path);
+    p.replace_filename(p.stem().string() + "_contours.gpkg");
+    return p.string();
+}
+
+std::uint64_t write_contours(const std::string& raster_path, const std::string& gpkg_path, double interval,
+                             double nodata, const std::function<void(double)>& progress) {
+    if (!(interval > 0) || !std::isfinite(interval)) {
+        throw Error(gpkg_path, std::nullopt, "--contours must be a positive interval");
+    }
+    GDALAllRegister();
+    CPLErrorReset();
+    Closer raster{static_cast<GDALDataset*>(GDALOpen(raster_path.c_str(), GA_ReadOnly))};
+    if (!raster.dataset) fail(raster_path, "cannot open the height raster for its contours");
+    GDALDriver* gpkg = GetGDALDriverManager()->GetDriverByName("GPKG");
+    if (!gpkg) fail(gpkg_path, "GDAL has no GPKG driver");
+    io::AtomicOutputFile out(gpkg_path);
+    std::filesystem::remove(out.temp_path());  // GDAL's GeoPackage makes its own file
+    std::uint64_t lines = 0;
+    {
+        Closer vectors{gpkg->Create(out.temp_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr)};
+        if (!vectors.dataset) fail(gpkg_path, "cannot create the GeoPackage");
+        const OGRSpatialReference* crs = raster.dataset->GetSpatialRef();
+        std::unique_ptr<OGRSpatialReference> srs(crs ? crs->Clone() : nullptr);
+        OGRLayer* layer = vectors.dataset->CreateLayer("contours", srs.get(), wkbLineString, nullptr);
+        if (!layer) fail(gpkg_path, "cannot create the contour layer");
+        OGRFieldDefn id("id", OFTInteger64), elevation("elevation", OFTReal);
+        if (layer->CreateField(&id) != OGRERR_NONE || layer->CreateField(&elevation) != OGRERR_NONE) {
+            fail(gpkg_path, "cannot create the contour attributes");
+        }
+        char** options = nullptr;
+        options = CSLSetNameValue(options, "LEVEL_INTERVAL", CPLSPrintf("%.17g", interval));
+        options = CSLSetNameValue(options, "NODATA", CPLSPrintf("%.17g", nodata));
+        options = CSLSetNameValue(options, "ID_FIELD", "0");
+        options = CSLSetNameValue(options, "ELEV_FIELD", "1");
+        if (layer->StartTransaction() != OGRERR_NONE) fail(gpkg_path, "cannot start writing the contours");
+        const CPLErr e = GDALContourGenerateEx(raster.dataset->GetRasterBand(1), OGRLayer::ToHandle(layer), options,
+                                               progress_callback, const_cast<std::function<void(double)>*>(&progress));
+        CSLDestroy(options);
+        if (e != CE_None) fail(gpkg_path, "cannot compute the contours");
+        if (layer->CommitTransaction() != OGRERR_NONE) fail(gpkg_path, "cannot write the contours");
+        lines = static_cast<std::uint64_t>(layer->GetFeatureCount());
+    }
+    if (CPLGetLastErrorType() >= CE_Failure) fail(gpkg_path, "cannot complete the GeoPackage");
+    out.commit();
+    return lines;
+}
+
+}  // namespace lidarscout::raster

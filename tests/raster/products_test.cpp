@@ -1,0 +1,183 @@
+// The products of `dem --product` on a real classified survey (the Woodford County tile, US survey
+// feet), each against a brute-force computation over every point: count, density and pulse density
+// equal to counts per texel, intensity the mean, the dsm the highest first return wherever one
+// is, the dtm equal to `--method tin` of the ground and water points, the chm the dsm minus the
+// dtm clamped at 0, texel for texel; all made in one read of the points, as gdalinfo sees them;
+// a product no point goes to is an error.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/thread_pool.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/point_stream.hpp"
+#include "raster/dem.hpp"
+#include "raster/gdal_test_util.hpp"
+#include "recon/texel_stats.hpp"
+#include "temp_dir_fixture.hpp"
+
+namespace lidarscout {
+namespace {
+
+// Per texel of a DEM grid (rows from the north, as the file), what the products count.
+struct BruteForce {
+    std::vector<std::uint32_t> all, first;  // points and first returns but noise
+    std::vector<double> intensity_sum;
+    std::vector<double> highest_first;      // metres, -inf where none
+};
+
+bool noise(std::uint8_t c) { return c == 7 || c == 18; }
+
+BruteForce brute_force(const dataset::Dataset& ds, const raster::DemGrid& g) {
+    const std::size_t n = static_cast<std::size_t>(g.width) * g.height;
+    BruteForce b{std::vector<std::uint32_t>(n, 0), std::vector<std::uint32_t>(n, 0), std::vector<double>(n, 0),
+                 std::vector<double>(n, -std::numeric_limits<double>::infinity())};
+    ThreadPool pool(2);
+    for (std::uint32_t t = 0; t < ds.tiles.size(); ++t) {
+        dataset::for_each_metric_batch(ds, t, pool, [&](std::uint64_t, std::span<const dataset::MetricPoint> points) {
+            for (const auto& p : points) {
+                if (noise(p.classification)) continue;
+                const auto at = recon::locate_texel(g.block_spec(), g.origin_x, g.origin_y, p.x, p.y);
+                if (!at) continue;
+                const long col = long(at->cell.ix) * g.block + at->col, row = long(at->cell.iy) * g.block + at->row;
+                if (col < 0 || row < 0 || col >= g.width || row >= g.height) continue;
+                const std::size_t i = static_cast<std::size_t>(g.height - 1 - row) * g.width + col;
+                ++b.all[i];
+                b.intensity_sum[i] += p.intensity;
+                if (p.return_kinds & returns::kFirst) {
+                    ++b.first[i];
+                    b.highest_first[i] = std::max(b.highest_first[i], p.z);
+                }
+            }
+        });
+    }
+    return b;
+}
+
+class Products : public test::TempDirTest {
+protected:
+    static std::string woodford() { return (test::surveys_dir() / "ky-woodford-county").string(); }
+
+    raster::DemRequest request(const std::string& name) const {
+        raster::DemRequest r;
+        r.output = (dir / name).string();
+        r.texel_m = 1.0;
+        r.threads = 2;
+        return r;
+    }
+};
+
+TEST_F(Products, EveryProductAgainstABruteForceComputation) {
+    const auto ds = dataset::open_dataset({woodford()});
+    raster::DemRequest r = request("p.tif");
+    r.products = raster::products_from_names("dtm,dsm,chm,density,pulse-density,intensity,count");
+    const raster::DemResult d = raster::make_dem(ds, r);
+    const std::uint64_t total = ds.tiles.front().tile.header.point_count;
+    EXPECT_EQ(d.points_read, total);  // one read for all seven
+    ASSERT_EQ(d.outputs.size(), 7u);
+    EXPECT_EQ(d.outputs[0], path("p_dtm.tif"));
+    EXPECT_EQ(d.outputs[4], path("p_pulse-density.tif"));
+
+    const auto dtm = test::read_raster(path("p_dtm.tif")), dsm = test::read_raster(path("p_dsm.tif"));
+    const auto chm = test::read_raster(path("p_chm.tif")), density = test::read_raster(path("p_density.tif"));
+    const auto pulses = test::read_raster(path("p_pulse-density.tif"));
+    const auto intensity = test::read_raster(path("p_intensity.tif")), count = test::read_raster(path("p_count.tif"));
+    const std::size_t n = static_cast<std::size_t>(d.grid.width) * d.grid.height;
+    for (const auto* raster : {&dtm, &dsm, &chm, &density, &pulses, &intensity, &count}) {
+        ASSERT_EQ(raster->values.size(), n);
+        EXPECT_EQ(raster->nodata, -9999.0);
+        EXPECT_EQ(raster->epsg, 3089);  // Kentucky Single Zone (ftUS), as every dem output
+    }
+
+    const BruteForce b = brute_force(ds, d.grid);
+    const double f = ds.frame.z_to_metres, area = r.texel_m * r.texel_m;
+    std::size_t highest = 0, filled = 0, canopy = 0, ground = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(count.values[i], static_cast<float>(b.all[i])) << i;
+        ASSERT_FLOAT_EQ(density.values[i], static_cast<float>(b.all[i] / area)) << i;
+        ASSERT_FLOAT_EQ(pulses.values[i], static_cast<float>(b.first[i] / area)) << i;
+        if (b.all[i] == 0) {
+            ASSERT_EQ(intensity.values[i], -9999.0f) << i;
+        } else {
+            ASSERT_NEAR(intensity.values[i], b.intensity_sum[i] / b.all[i], 1e-3) << i;
+        }
+        if (b.first[i] > 0) {
+            ASSERT_NEAR(dsm.values[i], b.highest_first[i] / f, 1e-3) << i;  // the highest first return
+            ++highest;
+        } else if (dsm.values[i] != -9999.0f) {
+            ++filled;  // a hole within the maximum edge, by TIN
+        }
+        // chm = dsm - dtm, clamped at 0, exactly as the files hold them
+        if (dsm.values[i] == -9999.0f || dtm.values[i] == -9999.0f) {
+            ASSERT_EQ(chm.values[i], -9999.0f) << i;
+        } else {
+            ASSERT_EQ(chm.values[i], std::max(0.0f, dsm.values[i] - dtm.values[i])) << i;
+            canopy += chm.values[i] > 2 / f;
+            ++ground;
+        }
+    }
+    EXPECT_GT(highest, n / 2);
+    EXPECT_GT(filled, 0u);
+    EXPECT_GT(canopy, 0u);
+    EXPECT_GT(ground, n / 2);
+
+    // The dtm is `--method tin --classes 2,9` with the same maximum edge, texel for texel.
+    raster::DemRequest tin = request("tin.tif");
+    tin.method = raster::DemMethod::Tin;
+    tin.filter = PointFilter::parse("2,9", "", "");
+    tin.tin_max_edge_m = raster::kDefaultProductMaxEdgeTexels * r.texel_m;
+    raster::make_dem(ds, tin);
+    const auto reference = test::read_raster(path("tin.tif"));
+    ASSERT_EQ(reference.values.size(), n);
+    EXPECT_EQ(reference.values, dtm.values);
+}
+
+// One product is written to -o itself; a product with no point in the area is an error, and a
+// hillshade needs a height product.
+TEST_F(Products, OneProductIsTheOutputItself) {
+    const auto ds = dataset::open_dataset({woodford()});
+    raster::DemRequest r = request("d.tif");
+    r.texel_m = 4;
+    r.products = {raster::Product::PulseDensity};
+    const raster::DemResult d = raster::make_dem(ds, r);
+    ASSERT_EQ(d.outputs, std::vector<std::string>{path("d.tif")});
+    const auto info = test::gdalinfo(path("d.tif"));
+    EXPECT_EQ(info.at("bands").at(0).at("description"), "first returns per square metre");
+    EXPECT_EQ(info.at("metadata").at("IMAGE_STRUCTURE").at("LAYOUT"), "COG");
+    r.hillshade = path("h.png");
+    r.output = path("e.tif");
+    EXPECT_THROW(raster::make_dem(ds, r), Error);
+    EXPECT_FALSE(std::filesystem::exists(path("e.tif")));
+}
+
+// No silent empty product: a dtm (or chm) of classes no point has is an error naming them, and
+// none of the products is written.
+TEST_F(Products, AProductWithoutPointsIsAnError) {
+    const auto ds = dataset::open_dataset({woodford()});
+    raster::DemRequest r = request("q.tif");
+    r.texel_m = 4;
+    r.products = raster::products_from_names("density,chm");
+    r.product_options.dtm_classes = PointFilter::parse("200", "", "");
+    try {
+        raster::make_dem(ds, r);
+        ADD_FAILURE() << "an empty chm was written";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("no point of the dtm's classes 200 lies in the area"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST_F(Products, NamesAndPaths) {
+    EXPECT_EQ(raster::products_from_names("chm,count").size(), 2u);
+    EXPECT_THROW(raster::products_from_names("dtm,dtm"), Error);
+    EXPECT_THROW(raster::products_from_names("dtm,"), Error);
+    EXPECT_THROW(raster::products_from_names("canopy"), Error);
+    const std::vector<raster::Product> two = {raster::Product::Dtm, raster::Product::Chm};
+    EXPECT_EQ(raster::product_paths("/a/b.tif", two), (std::vector<std::string>{"/a/b_dtm.tif", "/a/b_chm.tif"}));
+}
+
+}  // namespace
+}  // namespace lidarscout
