@@ -15,7 +15,6 @@ namespace lidarscout::viewer {
 namespace {
 
 constexpr std::uint8_t kGroundClass = 2, kWaterClass = 9;
-constexpr std::uint32_t kUntexturedGrey = 0xffaaaaaau;  // what the pass draws for an untextured patch
 
 // One tile's sums over one patch, for one layer.
 struct TexelSums {
@@ -236,7 +235,7 @@ PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& det
         return out;
     }
     const bool textured = !out.colours.empty();
-    if (!textured) out.colours.assign(out.heights.size(), kUntexturedGrey);
+    if (!textured) out.colours.assign(out.heights.size(), kNoColourGrey);
     std::vector<float> bare(out.heights.size(), std::numeric_limits<float>::quiet_NaN());
     std::vector<bool> holes(out.heights.size(), false);  // read, but none of the surface's points fell there
     for (std::size_t t = 0; read && t < bare.size(); ++t) {

@@ -13,8 +13,6 @@
 namespace lidarscout::viewer {
 namespace {
 
-constexpr std::uint32_t kNoColourGrey = 0xffaaaaaau;
-
 std::uint8_t to_byte(float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); }
 
 // rgba8 per texel from a 3-channel image in [0, 1]; empty when the image has no colour at all.

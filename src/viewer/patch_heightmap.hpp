@@ -33,6 +33,9 @@ const char* surface_name(Surface surface);
 // full-resolution point read there yet): drawn tinted, never passed off as ground.
 inline constexpr std::uint8_t kOverviewAlpha = 0x80;
 
+// The colour of a texel without one (rgba8 grey, what the heightmap pass draws for an untextured patch).
+inline constexpr std::uint32_t kNoColourGrey = 0xffaaaaaau;
+
 struct PatchHeightmap {
     lidarscout::CellKey cell;
     double origin_x = 0, origin_y = 0;  // south-west corner of the patch, world metres
