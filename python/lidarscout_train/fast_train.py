@@ -1,0 +1,352 @@
+"""Trains heightmap networks within a wall-clock deadline, the data held on the device (issue 35: the
+folds and the final model of both sizes in one GPU run of at most 8 minutes).
+
+    python3 -m lidarscout_train.fast_train plan WINDOWS [--tiny]
+        the run names for the unpacked windows (window_pack unpack): for each size (shipped, paper)
+        SIZE-fold-SURVEY for every survey and SIZE-final; and shipped-fp32-fold-FIRST (the same
+        fold without bf16, to see what mixed precision costs). --tiny: two shipped runs.
+    python3 -m lidarscout_train.fast_train train WINDOWS --run NAME --out DIR --deadline UNIX_TIME
+        [--device cuda|cpu] [--seed 1] [--tiny]
+        one run until the deadline; DIR/checkpoint.pt every epoch (a rerun resumes from it),
+        DIR/state.pt (float16 weights) and DIR/history.json at the end
+    python3 -m lidarscout_train.fast_train bundle RUNS --out DIR
+        every run's state.pt into DIR/models-K.pt files of at most 15 MiB, histories in DIR/histories.json
+    python3 -m lidarscout_train.fast_train unbundle DIR --out RUNS
+        back on this machine: RUNS/NAME/state_dict.pt (train.py's format), model.pt (TorchScript
+        with this machine's torch) and history.json for every run in DIR's bundles
+
+The recipe: the windows of every source but the fold's survey; per step a random batch of them
+(an epoch is one pass in random order), augmented on the device (batch_augment.py: flips and
+rotations, z-scale 0.3..2, colour); AdamW (eps 1e-5, weight decay 1e-2) at a learning rate that
+follows the clock: a linear warm-up over the first 3% of the time given, then a cosine decay to
+1% of the peak at the deadline, so the decay always happens inside the time there is; bf16 autocast
+on CUDA (the residual heads add their correction to the float32 linear input).
+
+The loss is train.py's masked MSE, each window weighed by its group (one train-data file at one
+texel size: one source, one density): the mean linear-interpolation error of all windows over
+that of its group. Every group then counts by how much better than linear the network does on
+it, as the evaluation does (a ratio to linear per survey), so that a flat survey, where linear
+interpolation is already close and any invented relief costs a large ratio, weighs as much as a
+steep one (issue 35, item 3: without it, windows of steep terrain dominated the loss and the
+network added relief to flat farmland). The weights are clipped to [0.1, 10].
+"""
+import argparse
+import contextlib
+import json
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import torch
+
+from .batch_augment import BatchAugment
+from .model import PAD, PATCH, RGB_FILL, HeightmapNet, count_parameters
+from .train import export_torchscript
+
+SIZES = {
+    "shipped": {"decoder": "upsample", "width": 8, "head_kernel": 5, "lr": 4e-4},
+    "paper": {"decoder": "upsample", "width": 16, "head_kernel": 9, "lr": 2e-4},
+}
+BATCH = 64
+WARMUP = 0.03
+FINAL_LR = 0.01
+Z_RANGE = (0.3, 2.0)
+WEIGHT_CLIP = (0.1, 10.0)
+BUNDLE_BYTES = 15 * 1024 * 1024
+
+
+def plan(meta, tiny=False):
+    surveys = meta["surveys"]
+    if tiny:
+        return [f"shipped-fold-{surveys[0]}", "shipped-final"]
+    runs = [f"{size}-{kind}" for size in SIZES for kind in [f"fold-{s}" for s in surveys] + ["final"]]
+    return runs + [f"shipped-fp32-fold-{surveys[0]}"]
+
+
+def parse_run(name):
+    """(size, bf16 allowed, held-out survey or None) of a run name."""
+    size, rest = name.split("-", 1)
+    if size not in SIZES:
+        raise SystemExit(f"{name}: unknown size {size!r} (one of {', '.join(SIZES)})")
+    bf16 = not rest.startswith("fp32-")
+    rest = rest[len("fp32-"):] if not bf16 else rest
+    if rest == "final":
+        return size, bf16, None
+    if not rest.startswith("fold-"):
+        raise SystemExit(f"{name}: expected SIZE-final or SIZE-fold-SURVEY")
+    return size, bf16, rest[len("fold-"):]
+
+
+def load_meta(folder):
+    with open(os.path.join(folder, "meta.json")) as f:
+        return json.load(f)
+
+
+def to_tensors(folder, rows, device, chunk=512):
+    """x [N, 8, 96, 96] and target [N, 6, 64, 64] (height, r, g, b, mask_h, mask_rgb) in float16 on
+    the device, NaN replaced as dataset.py does, and has_rgb [N] bool."""
+    a = {k: np.load(os.path.join(folder, k + ".npy"), mmap_mode="r")
+         for k in ("height_in", "rgb_in", "height_gt", "rgb_gt", "mask", "has_rgb")}
+    n = len(rows)
+    x = torch.empty((n, 8, 96, 96), dtype=torch.float16, device=device)
+    tgt = torch.empty((n, 6, 64, 64), dtype=torch.float16, device=device)
+    for lo in range(0, n, chunk):
+        r = rows[lo:lo + chunk]
+        has = a["has_rgb"][r].astype(bool)
+        h_in = np.nan_to_num(a["height_in"][r].astype(np.float32), nan=0.0)
+        c_in = np.where(has[:, None, None, None], a["rgb_in"][r].astype(np.float32) / 255.0, RGB_FILL)
+        gt = a["height_gt"][r].astype(np.float32)
+        mask_h = (a["mask"][r] != 0) & np.isfinite(gt)
+        rgb = a["rgb_gt"][r].astype(np.float32) / 255.0
+        t = np.concatenate([np.where(mask_h, gt, 0.0)[:, None], rgb, mask_h[:, None],
+                            (mask_h & has[:, None, None])[:, None]], axis=1)
+        x[lo:lo + len(r)] = torch.from_numpy(np.concatenate([h_in, c_in], axis=1)).to(device, torch.float16)
+        tgt[lo:lo + len(r)] = torch.from_numpy(t.astype(np.float32)).to(device, torch.float16)
+    has_rgb = torch.from_numpy(a["has_rgb"][rows].astype(bool)).to(device)
+    return x, tgt, has_rgb
+
+
+def group_weights(groups, lin_mse):
+    """Per window: mean linear MSE of all windows / that of its group, clipped (see the docstring)."""
+    ok = np.isfinite(lin_mse)
+    overall = float(np.mean(lin_mse[ok]))
+    w = np.ones(len(groups), dtype=np.float32)
+    for g in np.unique(groups):
+        sel = (groups == g) & ok
+        if sel.any() and np.mean(lin_mse[sel]) > 0:
+            w[groups == g] = overall / float(np.mean(lin_mse[sel]))
+    return np.clip(w, *WEIGHT_CLIP)
+
+
+def weighted_loss(pred, tgt, weight):
+    """train.masked_losses on a packed target: weighted height MSE + colour MSE over valid texels."""
+    mh, mc = tgt[:, 4], tgt[:, 5]
+    dh = (pred[:, 0] - tgt[:, 0]) ** 2 * weight.view(-1, 1, 1)
+    lh = (dh * mh).sum() / mh.sum().clamp(min=1.0)
+    dc = ((pred[:, 1:4] - tgt[:, 1:4]) ** 2).sum(dim=1)
+    lc = (dc * mc).sum() / (3.0 * mc.sum()).clamp(min=1.0)
+    return lh + lc
+
+
+def learning_rate(peak, frac):
+    warm = min(1.0, frac / WARMUP) if WARMUP > 0 else 1.0
+    frac = min(max(frac, 0.0), 1.0)
+    return peak * warm * (FINAL_LR + (1.0 - FINAL_LR) * 0.5 * (1.0 + math.cos(math.pi * frac)))
+
+
+def heldout_figures(model, x, tgt, radius, texel, density, device, bf16, batch=64):
+    """Per (texel, density): windows, mean per-window height RMSE (m) of the network and of the
+    linear input, and their ratio (as `lidarscout eval` reports it per survey)."""
+    model.eval()
+    rmse_cnn, rmse_lin = [], []
+    with torch.no_grad():
+        for lo in range(0, len(x), batch):
+            xb, tb = x[lo:lo + batch].float(), tgt[lo:lo + batch].float()
+            with autocast(bf16):
+                pred = model(xb)
+            r = radius[lo:lo + batch].view(-1, 1, 1)
+            m = tb[:, 4]
+            lin = xb[:, 1, PAD:PAD + PATCH, PAD:PAD + PATCH]
+            n = m.sum(dim=(1, 2)).clamp(min=1.0)
+            rmse_cnn.append(torch.sqrt((((pred[:, 0].float() - tb[:, 0]) * r) ** 2 * m).sum(dim=(1, 2)) / n))
+            rmse_lin.append(torch.sqrt((((lin - tb[:, 0]) * r) ** 2 * m).sum(dim=(1, 2)) / n))
+    rc, rl = torch.cat(rmse_cnn).cpu().numpy(), torch.cat(rmse_lin).cpu().numpy()
+    out = []
+    for t, d in sorted(set(zip(texel.tolist(), density.tolist()))):
+        sel = (texel == t) & (density == d)
+        cnn, lin = float(rc[sel].mean()), float(rl[sel].mean())
+        out.append({"texel_m": t, "density": d, "windows": int(sel.sum()), "cnn_rmse_m": cnn, "linear_rmse_m": lin,
+                    "ratio": cnn / lin if lin > 0 else None})
+    model.train()
+    return out
+
+
+def autocast(bf16):
+    """bf16 autocast on CUDA, or nothing (torch 1.13 on a CPU cannot even build a disabled CUDA autocast)."""
+    return torch.autocast(device_type="cuda", dtype=torch.bfloat16) if bf16 else contextlib.nullcontext()
+
+
+def save_atomic(obj, path):
+    torch.save(obj, path + ".tmp")
+    os.replace(path + ".tmp", path)
+
+
+def train(args):
+    size, bf16, held = parse_run(args.run)
+    cfg = SIZES[size]
+    device = args.device
+    bf16 = bf16 and device.startswith("cuda")
+    torch.manual_seed(args.seed)
+    torch.set_num_threads(1)
+    os.makedirs(args.out, exist_ok=True)
+    meta = load_meta(args.windows)
+    source = np.load(os.path.join(args.windows, "source.npy"))
+    held_id = meta["sources"].index(held) if held is not None else -1
+    rows = np.nonzero(source != held_id)[0]
+    batch = 8 if args.tiny else BATCH
+    t_load = time.time()
+    x, tgt, has_rgb = to_tensors(args.windows, rows, device)
+    lin_mse = np.load(os.path.join(args.windows, "lin_mse.npy"))[rows]
+    groups = np.load(os.path.join(args.windows, "group.npy"))[rows]
+    weight = torch.from_numpy(group_weights(groups, lin_mse)).to(device)
+    n = len(rows)
+
+    model = HeightmapNet(decoder=cfg["decoder"], width=cfg["width"], head_kernel=cfg["head_kernel"]).to(device)
+    extra = {"fused": True} if device.startswith("cuda") else {}
+    opt = torch.optim.AdamW(model.parameters(), lr=cfg["lr"], eps=1e-5, weight_decay=1e-2, **extra)
+    aug = BatchAugment(device, args.seed, z_range=Z_RANGE)
+    perm_gen = torch.Generator(device=device)
+    perm_gen.manual_seed(args.seed)
+    history = {"run": args.run, "config": cfg | {"batch": batch, "bf16": bf16, "held_out": held, "windows": n,
+                                                 "parameters": count_parameters(model), "z_range": Z_RANGE,
+                                                 "warmup": WARMUP, "final_lr": FINAL_LR,
+                                                 "weight_clip": WEIGHT_CLIP, "seed": args.seed},
+               "load_seconds": round(time.time() - t_load, 2), "epochs": []}
+    ckpt = os.path.join(args.out, "checkpoint.pt")
+    used = 0.0
+    if os.path.exists(ckpt):
+        c = torch.load(ckpt, map_location=device)
+        model.load_state_dict(c["model"])
+        opt.load_state_dict(c["opt"])
+        aug.gen.set_state(c["aug_gen"])
+        perm_gen.set_state(c["perm_gen"])
+        history["epochs"], used = c["epochs"], c["seconds"]
+        print(f"{args.run}: resumed after {len(history['epochs'])} epochs, {used:.0f} s", flush=True)
+    print(f"{args.run}: {n} windows, {history['config']['parameters']} parameters, bf16 {bf16}, "
+          f"loaded in {history['load_seconds']} s", flush=True)
+
+    start = time.time()
+    reserve = 5.0 if held is None else 12.0  # the held-out figures and saving
+    total = used + max(1.0, args.deadline - reserve - start)
+    steps_per_epoch = max(1, n // batch)
+    done = False
+    while not done:
+        perm = torch.randperm(n, generator=perm_gen, device=device)
+        t_epoch, loss_sum = time.time(), torch.zeros((), device=device)
+        steps = 0
+        for k in range(steps_per_epoch):
+            frac = (used + time.time() - start) / total
+            if frac >= 1.0:
+                done = True
+                break
+            lr = learning_rate(cfg["lr"], frac)
+            for g in opt.param_groups:
+                g["lr"] = lr
+            idx = perm[k * batch:(k + 1) * batch]
+            xb, tb = aug(x[idx].float(), tgt[idx].float(), has_rgb[idx])
+            with autocast(bf16):
+                pred = model(xb)
+            loss = weighted_loss(pred.float(), tb, weight[idx])
+            opt.zero_grad(set_to_none=True)
+            loss.backward()
+            opt.step()
+            loss_sum += loss.detach()
+            steps += 1
+        if steps == 0:
+            break
+        history["epochs"].append({"epoch": len(history["epochs"]) + 1, "steps": steps, "lr_end": lr,
+                                  "train_loss": float(loss_sum) / steps, "seconds": round(time.time() - t_epoch, 3)})
+        save_atomic({"model": model.state_dict(), "opt": opt.state_dict(), "aug_gen": aug.gen.get_state(),
+                     "perm_gen": perm_gen.get_state(), "epochs": history["epochs"],
+                     "seconds": used + time.time() - start}, ckpt)
+    seconds = used + time.time() - start
+    steps = sum(e["steps"] for e in history["epochs"])
+    history |= {"train_seconds": round(seconds, 2), "steps": steps,
+                "windows_per_second": round(steps * batch / max(seconds, 1e-9), 1)}
+    if held is not None:
+        hrows = np.nonzero(source == held_id)[0]
+        if args.tiny:
+            hrows = hrows[:32]
+        hx, ht, _ = to_tensors(args.windows, hrows, device)
+        radius = torch.from_numpy(np.load(os.path.join(args.windows, "radius_m.npy"))[hrows]).to(device)
+        texel = np.load(os.path.join(args.windows, "texel_m.npy"))[hrows]
+        density = np.load(os.path.join(args.windows, "density.npy"))[hrows]
+        history["held_out"] = heldout_figures(model, hx, ht, radius, texel, density, device, bf16)
+    model = model.cpu()
+    save_atomic({"state_dict": {k: v.half() for k, v in model.state_dict().items()}, "decoder": cfg["decoder"],
+                 "width": cfg["width"], "head_kernel": cfg["head_kernel"], "residual": True, "run": args.run},
+                os.path.join(args.out, "state.pt"))
+    with open(os.path.join(args.out, "history.json"), "w") as f:
+        json.dump(history, f, indent=1)
+    print(json.dumps({k: history[k] for k in ("run", "steps", "train_seconds", "windows_per_second")} |
+                     {"held_out": history.get("held_out")}), flush=True)
+
+
+def bundle(runs_dir, out):
+    os.makedirs(out, exist_ok=True)
+    names = sorted(d for d in os.listdir(runs_dir) if os.path.exists(os.path.join(runs_dir, d, "state.pt")))
+    bundles, current, current_bytes, histories = [], {}, 0, {}
+    for name in names:
+        state = torch.load(os.path.join(runs_dir, name, "state.pt"), map_location="cpu")
+        nbytes = sum(v.numel() * v.element_size() for v in state["state_dict"].values()) + 64 * 1024
+        if current and current_bytes + nbytes > BUNDLE_BYTES:
+            bundles.append(current)
+            current, current_bytes = {}, 0
+        current[name] = state
+        current_bytes += nbytes
+        with open(os.path.join(runs_dir, name, "history.json")) as f:
+            histories[name] = json.load(f)
+    if current:
+        bundles.append(current)
+    for k, b in enumerate(bundles):
+        torch.save(b, os.path.join(out, f"models-{k}.pt"))
+    with open(os.path.join(out, "histories.json"), "w") as f:
+        json.dump(histories, f, indent=1)
+    print(f"{out}: {len(names)} runs in {len(bundles)} bundle(s)")
+
+
+def unbundle(folder, out):
+    from .export import load_model
+    with open(os.path.join(folder, "histories.json")) as f:
+        histories = json.load(f)
+    count = 0
+    for fname in sorted(os.listdir(folder)):
+        if not (fname.startswith("models-") and fname.endswith(".pt")):
+            continue
+        for name, state in torch.load(os.path.join(folder, fname), map_location="cpu").items():
+            run = os.path.join(out, name)
+            os.makedirs(run, exist_ok=True)
+            state = dict(state, state_dict={k: v.float() for k, v in state["state_dict"].items()})
+            torch.save(state, os.path.join(run, "state_dict.pt"))
+            export_torchscript(load_model(os.path.join(run, "state_dict.pt")), os.path.join(run, "model.pt"))
+            with open(os.path.join(run, "history.json"), "w") as f:
+                json.dump(histories.get(name, {}), f, indent=1)
+            count += 1
+    print(f"{out}: {count} runs exported")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    p = sub.add_parser("plan")
+    p.add_argument("windows")
+    p.add_argument("--tiny", action="store_true")
+    t = sub.add_parser("train")
+    t.add_argument("windows")
+    t.add_argument("--run", required=True)
+    t.add_argument("--out", required=True)
+    t.add_argument("--deadline", type=float, required=True, help="Unix time at which the run must be over")
+    t.add_argument("--device", default="cuda")
+    t.add_argument("--seed", type=int, default=1)
+    t.add_argument("--tiny", action="store_true", help="batch 8 and 32 held-out windows (an end-to-end check)")
+    b = sub.add_parser("bundle")
+    b.add_argument("runs")
+    b.add_argument("--out", required=True)
+    u = sub.add_parser("unbundle")
+    u.add_argument("folder")
+    u.add_argument("--out", required=True)
+    args = ap.parse_args(argv)
+    if args.cmd == "plan":
+        print(" ".join(plan(load_meta(args.windows), args.tiny)))
+    elif args.cmd == "train":
+        train(args)
+    elif args.cmd == "bundle":
+        bundle(args.runs, args.out)
+    else:
+        unbundle(args.folder, args.out)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
