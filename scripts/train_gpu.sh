@@ -143,6 +143,7 @@ stage_run() {
   for name in $runs; do echo "== $name"; tail -n 3 "$scratch/$name.log"; done
   (cd python && "$py_bin" -m lidarscout_train.fast_train bundle "$scratch/runs" --out "$out")
   cat "$scratch"/*.log > "$out/train.log"
+  rm -rf "$scratch"
   [ "$failed" = 0 ] || { echo "train_gpu.sh: $failed run(s) failed" >&2; exit 1; }
 }
 

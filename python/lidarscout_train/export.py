@@ -15,7 +15,7 @@ def load_model(path):
     """The HeightmapNet of a state_dict.pt written by train.py, in eval mode on the CPU."""
     saved = torch.load(path, map_location="cpu")
     model = HeightmapNet(decoder=saved["decoder"], width=saved["width"], head_kernel=saved.get("head_kernel", 9),
-                         residual=saved.get("residual", False))
+                         residual=saved.get("residual", False), relief_scale=saved.get("relief_scale", False))
     model.load_state_dict(saved["state_dict"])
     return model.eval()
 

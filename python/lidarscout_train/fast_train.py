@@ -1,10 +1,14 @@
 """Trains heightmap networks within a wall-clock deadline, the data held on the device (issue 35: the
-folds and the final model of both sizes in one GPU run of at most 8 minutes).
+leave-one-survey-out folds and the final model in one GPU run of at most 8 minutes).
 
     python3 -m lidarscout_train.fast_train plan WINDOWS [--tiny]
-        the run names for the unpacked windows (window_pack unpack): for each size (shipped, paper)
-        SIZE-fold-SURVEY for every survey and SIZE-final; and shipped-fp32-fold-FIRST (the same
-        fold without bf16, to see what mixed precision costs). --tiny: two shipped runs.
+        the run names for the unpacked windows (window_pack unpack): shipped-fold-SURVEY for every
+        survey and shipped-final, the same with relief-scaled heights (shipped-scaled-..., model.py),
+        shipped-fp32-fold-FIRST (the first fold without bf16: what mixed
+        precision costs) and shipped-unweighted-fold-ky-woodford-county (the flat survey's fold with
+        train.py's texel-size weights instead of the group weights below). --tiny: two runs.
+        The paper size ("paper": width 16, 9 x 9 heads) trains too when named, but is not planned:
+        it costs 21 ms per patch at batch 16 on 2 cores (models/README.md), five times the 4 ms budget.
     python3 -m lidarscout_train.fast_train train WINDOWS --run NAME --out DIR --deadline UNIX_TIME
         [--device cuda|cpu] [--seed 1] [--tiny]
         one run until the deadline; DIR/checkpoint.pt every epoch (a rerun resumes from it),
@@ -27,8 +31,7 @@ texel size: one source, one density): the mean linear-interpolation error of all
 that of its group. Every group then counts by how much better than linear the network does on
 it, as the evaluation does (a ratio to linear per survey), so that a flat survey, where linear
 interpolation is already close and any invented relief costs a large ratio, weighs as much as a
-steep one (issue 35, item 3: without it, windows of steep terrain dominated the loss and the
-network added relief to flat farmland). The weights are clipped to [0.1, 10].
+steep one (issue 35, item 3: flat ground left flat). The weights are clipped to [0.1, 10].
 """
 import argparse
 import contextlib
@@ -49,6 +52,7 @@ SIZES = {
     "shipped": {"decoder": "upsample", "width": 8, "head_kernel": 5, "lr": 4e-4},
     "paper": {"decoder": "upsample", "width": 16, "head_kernel": 9, "lr": 2e-4},
 }
+FLAT_SURVEY = "ky-woodford-county"  # the flat farmland survey of the unweighted comparison run
 BATCH = 64
 WARMUP = 0.03
 FINAL_LR = 0.01
@@ -61,22 +65,27 @@ def plan(meta, tiny=False):
     surveys = meta["surveys"]
     if tiny:
         return [f"shipped-fold-{surveys[0]}", "shipped-final"]
-    runs = [f"{size}-{kind}" for size in SIZES for kind in [f"fold-{s}" for s in surveys] + ["final"]]
-    return runs + [f"shipped-fp32-fold-{surveys[0]}"]
+    runs = [f"shipped{variant}-{kind}" for variant in ("", "-scaled")
+            for kind in [f"fold-{s}" for s in surveys] + ["final"]]
+    flat = [s for s in surveys if s == FLAT_SURVEY]
+    return runs + [f"shipped-fp32-fold-{surveys[0]}"] + [f"shipped-unweighted-fold-{s}" for s in flat]
 
 
 def parse_run(name):
-    """(size, bf16 allowed, held-out survey or None) of a run name."""
+    """{size, bf16, weighted, scaled, held_out (a survey or None)} of a run name:
+    SIZE[-scaled][-fp32][-unweighted]-(final|fold-SURVEY)."""
     size, rest = name.split("-", 1)
     if size not in SIZES:
         raise SystemExit(f"{name}: unknown size {size!r} (one of {', '.join(SIZES)})")
-    bf16 = not rest.startswith("fp32-")
-    rest = rest[len("fp32-"):] if not bf16 else rest
+    run = {"size": size, "bf16": True, "weighted": True, "scaled": False, "held_out": None}
+    for flag, key, value in (("scaled-", "scaled", True), ("fp32-", "bf16", False), ("unweighted-", "weighted", False)):
+        if rest.startswith(flag):
+            run[key], rest = value, rest[len(flag):]
     if rest == "final":
-        return size, bf16, None
+        return run
     if not rest.startswith("fold-"):
-        raise SystemExit(f"{name}: expected SIZE-final or SIZE-fold-SURVEY")
-    return size, bf16, rest[len("fold-"):]
+        raise SystemExit(f"{name}: expected SIZE[-scaled][-fp32][-unweighted]-(final|fold-SURVEY)")
+    return run | {"held_out": rest[len("fold-"):]}
 
 
 def load_meta(folder):
@@ -174,10 +183,10 @@ def save_atomic(obj, path):
 
 
 def train(args):
-    size, bf16, held = parse_run(args.run)
-    cfg = SIZES[size]
+    run = parse_run(args.run)
+    cfg, held = SIZES[run["size"]], run["held_out"]
     device = args.device
-    bf16 = bf16 and device.startswith("cuda")
+    bf16 = run["bf16"] and device.startswith("cuda")
     torch.manual_seed(args.seed)
     torch.set_num_threads(1)
     os.makedirs(args.out, exist_ok=True)
@@ -189,17 +198,20 @@ def train(args):
     t_load = time.time()
     x, tgt, has_rgb = to_tensors(args.windows, rows, device)
     lin_mse = np.load(os.path.join(args.windows, "lin_mse.npy"))[rows]
-    groups = np.load(os.path.join(args.windows, "group.npy"))[rows]
+    groups = np.load(os.path.join(args.windows, "group.npy" if run["weighted"] else "texel_m.npy"))[rows]
     weight = torch.from_numpy(group_weights(groups, lin_mse)).to(device)
     n = len(rows)
 
-    model = HeightmapNet(decoder=cfg["decoder"], width=cfg["width"], head_kernel=cfg["head_kernel"]).to(device)
+    model = HeightmapNet(decoder=cfg["decoder"], width=cfg["width"], head_kernel=cfg["head_kernel"],
+                         relief_scale=run["scaled"]).to(device)
     extra = {"fused": True} if device.startswith("cuda") else {}
     opt = torch.optim.AdamW(model.parameters(), lr=cfg["lr"], eps=1e-5, weight_decay=1e-2, **extra)
     aug = BatchAugment(device, args.seed, z_range=Z_RANGE)
     perm_gen = torch.Generator(device=device)
     perm_gen.manual_seed(args.seed)
     history = {"run": args.run, "config": cfg | {"batch": batch, "bf16": bf16, "held_out": held, "windows": n,
+                                                 "weights": "group" if run["weighted"] else "texel",
+                                                 "relief_scale": run["scaled"],
                                                  "parameters": count_parameters(model), "z_range": Z_RANGE,
                                                  "warmup": WARMUP, "final_lr": FINAL_LR,
                                                  "weight_clip": WEIGHT_CLIP, "seed": args.seed},
@@ -266,7 +278,8 @@ def train(args):
         history["held_out"] = heldout_figures(model, hx, ht, radius, texel, density, device, bf16)
     model = model.cpu()
     save_atomic({"state_dict": {k: v.half() for k, v in model.state_dict().items()}, "decoder": cfg["decoder"],
-                 "width": cfg["width"], "head_kernel": cfg["head_kernel"], "residual": True, "run": args.run},
+                 "width": cfg["width"], "head_kernel": cfg["head_kernel"], "residual": True,
+                 "relief_scale": run["scaled"], "run": args.run},
                 os.path.join(args.out, "state.pt"))
     with open(os.path.join(args.out, "history.json"), "w") as f:
         json.dump(history, f, indent=1)

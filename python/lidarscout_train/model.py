@@ -36,6 +36,11 @@ Architecture (after the paper's description, written from scratch):
     interpolation and training only has to learn what linear gets wrong. (The paper's
     network has to rebuild the height from the skip inputs; with our small training set this
     converges much faster and never falls behind linear interpolation on flat ground.)
+  - relief scaling (`relief_scale=True`, our addition, issue 35): the heights enter the network
+    divided by the window's relief (the standard deviation of h_lin over the window, at least
+    RELIEF_FLOOR) and the height correction leaves it multiplied by the same, so the correction
+    scales with the relief the chunk points show: a window with no relief gets none, whatever
+    the network learned on steep terrain;
   - crop to the centre 64 x 64 (16 texels of padding on each side).
 """
 import torch
@@ -49,6 +54,7 @@ PATCH = 64
 PAD = (WINDOW - PATCH) // 2
 HEIGHT_FILL = 0.0
 RGB_FILL = 0.5
+RELIEF_FLOOR = 1e-3  # normalised height (0.48 m at 10 m texels, radius 480 m)
 
 # Sizes along the encoder (conv 3x3 stride 3, no padding) and back along the decoder.
 _SIZES = (96, 32, 10, 3, 1)
@@ -142,13 +148,16 @@ class HeightmapNet(nn.Module):
     width scales every channel count; the default (16) gives about 2.5 M parameters.
     head_kernel: size of the three final convolutions (9 as the paper). residual: see above."""
 
-    def __init__(self, decoder="transposed", width=16, head_kernel=9, residual=True):
+    def __init__(self, decoder="transposed", width=16, head_kernel=9, residual=True, relief_scale=False):
         super().__init__()
         w = width
         self.decoder_kind = decoder
         self.width = width
         self.head_kernel = head_kernel
         self.residual = residual
+        self.relief_scale = relief_scale
+        if relief_scale and not residual:
+            raise ValueError("relief scaling scales the residual correction: it needs residual heads")
         enc = (2 * w, 4 * w, 8 * w, 8 * w)  # 32, 64, 128, 128
         feat = enc[-1]
         merged = 32 * w  # 512
@@ -169,6 +178,10 @@ class HeightmapNet(nn.Module):
         self.head_rgb = Head(dec[-1] + 8, head_mid, 3, head_kernel, zero_last=residual)
 
     def forward(self, x):
+        raw = x
+        if self.relief_scale:
+            relief = x[:, 1].flatten(1).std(dim=1).clamp(min=RELIEF_FLOOR).view(-1, 1, 1, 1)
+            x = torch.cat([x[:, 0:2] / relief, x[:, 2:8]], dim=1)
         v = torch.cat([
             self.enc_h_nn(x[:, 0:1]),
             self.enc_h_lin(x[:, 1:2]),
@@ -181,7 +194,9 @@ class HeightmapNet(nn.Module):
         h = self.head_h(torch.cat([fh, x], dim=1))
         c = self.head_rgb(torch.cat([fc, x], dim=1))
         if self.residual:
-            centre = x[:, :, PAD:PAD + PATCH, PAD:PAD + PATCH]
+            centre = raw[:, :, PAD:PAD + PATCH, PAD:PAD + PATCH]
+            if self.relief_scale:
+                h = h * relief
             h = h + centre[:, 1:2]
             c = c + centre[:, 5:8]
         else:

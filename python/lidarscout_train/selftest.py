@@ -15,7 +15,10 @@ import sys
 import numpy as np
 import torch
 
+from .batch_augment import BatchAugment
 from .dataset import augment_colour, augment_geometry
+from .fast_train import group_weights, learning_rate, parse_run
+from .window_pack import decode, encode, from_ordered, to_ordered
 from .model import PAD, PATCH, HeightmapNet, count_parameters, replace_nan
 from .train import masked_losses
 
@@ -41,6 +44,73 @@ def synthetic_batch(b, gen):
 def check(cond, what):
     if not cond:
         raise AssertionError(what)
+
+
+def check_relief_scale(gen):
+    """A relief-scaled network's height correction scales with the window's heights: the same
+    window at a tenth of the relief gets a tenth of the correction, and a flat window none."""
+    net = HeightmapNet(decoder="upsample", width=4, head_kernel=5, relief_scale=True)
+    with torch.no_grad():
+        for p in net.parameters():  # random weights: the zero-started heads would make no correction
+            p.copy_(torch.randn(p.shape, generator=gen) * 0.1)
+    xb = replace_nan(synthetic_batch(1, gen)["x"])
+    lin = xb[:, 1:2, PAD:PAD + PATCH, PAD:PAD + PATCH]
+    with torch.no_grad():
+        full = net(xb)[:, 0:1] - lin
+        small = xb.clone()
+        small[:, 0:2] *= 0.1
+        tenth = net(small)[:, 0:1] - 0.1 * lin
+        flat = xb.clone()
+        flat[:, 0:2] = 0.0
+        none = net(flat)[:, 0:1]
+    check(float(full.abs().max()) > 0, "relief scale: the test network makes no correction")
+    check(float((tenth - 0.1 * full).abs().max()) < 1e-5 * float(full.abs().max()) + 1e-7, "relief scale: not linear")
+    check(float(none.abs().max()) < 1e-2 * float(full.abs().max()), "relief scale: a flat window got relief")
+
+
+def check_batch_augment():
+    """The batched augmentation equals dataset.py's per-sample flips, z-scale and colour change."""
+    aug = BatchAugment("cpu", 3)
+    x, tgt = torch.rand(5, 8, 96, 96), torch.rand(5, 6, 64, 64)
+    has = torch.tensor([True, False, True, True, False])
+    params = aug.draw(5)
+    got_x, got_t = aug.apply(x, tgt, has, *params)
+    t, s, gain, gc, o = params
+    check(len(set(t.tolist())) > 1, "batch augment: one transform for every sample")
+    for i in range(5):
+        k, flip = int(t[i]) // 2, bool(int(t[i]) % 2)
+        xi, ti = augment_geometry(x[i].numpy(), k, flip), augment_geometry(tgt[i].numpy(), k, flip)
+        xi[0:2] *= float(s[i])
+        ti[0] *= float(s[i])
+        if has[i]:
+            scale = np.tile(gc[i].numpy() * float(gain[i]), 2).reshape(-1, 1, 1)
+            xi[2:8] = np.clip(xi[2:8] * scale + float(o[i]), 0, 1)
+            ti[1:4] = np.clip(ti[1:4] * scale[:3] + float(o[i]), 0, 1)
+        check(float(np.abs(got_x[i].numpy() - xi).max()) < 1e-6, f"batch augment: window {i}")
+        check(float(np.abs(got_t[i].numpy() - ti).max()) < 1e-6, f"batch augment: target {i}")
+
+
+def check_window_pack():
+    """Packing is lossless: float16 (NaN and signs included) and 8-bit rows come back bit for bit."""
+    h = np.array([[0.0, -0.0, 1.5, -2.25, np.nan, 65504.0, -1e-4, 3e-3]], dtype=np.float16)
+    back = from_ordered(decode(encode(to_ordered(h))))
+    check(np.array_equal(back.view(np.uint16), h.view(np.uint16)), "window_pack float16 round trip")
+    check(bool(np.all(np.diff(to_ordered(np.array([-2, -1, 0, 1, 2], dtype=np.float16)).astype(int)) > 0)),
+          "window_pack: ordered integers keep the float order")
+    c = np.random.default_rng(1).integers(0, 256, size=(2, 3, 5), dtype=np.uint8)
+    check(np.array_equal(decode(encode(c)), c), "window_pack uint8 round trip")
+
+
+def check_fast_train_rules():
+    """The clock's learning rate: warm-up, peak, decay to 1% at the deadline; group weights; run names."""
+    check(learning_rate(1.0, 0.0) == 0.0 and abs(learning_rate(1.0, 0.03) - 1.0) < 1e-2, "lr warm-up")
+    check(abs(learning_rate(1.0, 1.0) - 0.01) < 1e-9 and learning_rate(1.0, 0.5) < learning_rate(1.0, 0.2), "lr decay")
+    w = group_weights(np.array([0, 0, 1, 1]), np.array([1.0, 1.0, 0.01, 0.01], dtype=np.float32))
+    check(w[2] == 10.0 and w[0] < 1.0 and w[2] > w[0], f"group weights {w}")
+    check(parse_run("shipped-unweighted-fold-a-b") == {"size": "shipped", "bf16": True, "weighted": False,
+                                                       "scaled": False, "held_out": "a-b"}, "run name with dashes")
+    check(parse_run("shipped-scaled-final")["scaled"] is True, "relief-scaled run name")
+    check(parse_run("shipped-fp32-final")["bf16"] is False, "fp32 run name")
 
 
 def main():
@@ -73,6 +143,10 @@ def main():
           "augment_colour: the same change for inputs and target")
     check(not np.allclose(changed_gt, c_gt) and float(np.nanmax(changed_in)) <= 1.0, "augment_colour changes colours within [0, 1]")
 
+    check_batch_augment()
+    check_window_pack()
+    check_fast_train_rules()
+
     # The residual network starts as linear interpolation; the padded ('same') and the
     # cropped ('valid') head agree on the centre.
     xb = replace_nan(synthetic_batch(2, gen)["x"])
@@ -88,6 +162,7 @@ def main():
         ref = torch.nn.functional.conv2d(ref, layer.weight, layer.bias, padding=4) if isinstance(layer, torch.nn.Conv2d) else torch.relu(ref)
     with torch.no_grad():
         check(float((head(hx) - ref[:, :, PAD:PAD + PATCH, PAD:PAD + PATCH]).abs().max()) < 1e-5, "valid head != padded head")
+    check_relief_scale(gen)
 
     for kind in ("transposed", "upsample"):
         model = HeightmapNet(decoder=kind)
