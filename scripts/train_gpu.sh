@@ -1,7 +1,8 @@
 #!/bin/bash
 # The heightmap network trained in one short GPU run (issue 35): the seven leave-one-survey-out
-# folds and the final model, for the shipped size and the paper size, all at once on one GPU
-# within a wall-clock budget, then exported and scored on this machine.
+# folds and the final model, for the shipped network and its relief-scaled variant (with two
+# comparison folds: without bf16, without the group weights), all at once on one GPU within a
+# wall-clock budget (python/lidarscout_train/fast_train.py), then exported and scored here.
 #
 #   scripts/train_gpu.sh data   [--work DIR] [--extra DIR] [--threads N]
 #       training windows of every survey of ../shared/data/surveys and every extra source of
@@ -9,24 +10,26 @@
 #       10 m windows at six chunk-point densities (scripts/density_windows.sh) and 2.5 + 5 m
 #       windows at the auto stride. Resumable.
 #   scripts/train_gpu.sh pack   [--work DIR] [--per-group N] [--tree DIR]
-#       a random N windows of every (file, texel size) group, losslessly into DIR/windows.xz (default .gpu-train, git-ignored); fails above 60 MiB
-#       (what travels to the device machine, this repository included, is at most 64 MiB).
+#       a random N windows (default 60) of every (file, texel size) group, losslessly into
+#       DIR/windows.xz (default .gpu-train, git-ignored); what travels to the device machine (this
+#       repository's files and the tree) is at most 64 MiB, so it fails when the tree does not fit.
 #   scripts/train_gpu.sh run    [--tree DIR] [--budget S] [--out DIR] [--device cuda|cpu] [--tiny]
 #       ON THE GPU MACHINE (from the repository root, the tree carried): unpacks the windows, starts
 #       one training process per model (python3 -m lidarscout_train.fast_train) with a common
-#       deadline S seconds ahead (default 400), waits, and writes to --out (default $OUT) the
-#       float16 state dicts in bundles of at most 15 MiB and one JSON of every run's history.
-#       --tiny: two small models for 20 s on the CPU (the end-to-end check of this machine).
+#       deadline S seconds ahead (default 450, unpacking and loading included), waits, and writes
+#       to --out (default $OUT) the float16 state dicts in bundles of at most 15 MiB, one JSON of
+#       every run's history and the runs' logs. --tiny: two runs at batch 8 (with --device cpu: the
+#       end-to-end check on this machine).
 #   scripts/train_gpu.sh export [--from DIR] [--work DIR]
 #       the bundles brought back -> one TorchScript model.pt per run (Debian's torch), under
 #       DIR/runs/NAME/.
-#   scripts/train_gpu.sh eval   [--work DIR] [--released FILE] [--size shipped|paper]
-#       LOSO: every fold's model on its held-out survey (lidarscout eval, 10 m, 150 patches, 8
+#   scripts/train_gpu.sh eval   [--work DIR] [--released FILE] [--variant shipped|shipped-scaled]
+#       LOSO: every fold's model (runs/VARIANT-fold-SURVEY) on its held-out survey (lidarscout eval, 10 m, 150 patches, 8
 #       lattices; 40 and 1,500 chunk points per window too) beside linear and the released
 #       model, tables as in scripts/loso_eval.sh.
 #
-# The device-side command (one call, timeout 560 s):
-#   scripts/train_gpu.sh run --tree .gpu-train --budget 400
+# The device-side command (one call, timeout 540 s; .gpu-train carried):
+#   scripts/train_gpu.sh run --tree .gpu-train --budget 450
 set -euo pipefail
 
 # All in one function, so that bash reads the whole file before running any of it.
@@ -39,14 +42,14 @@ work=/work/nnwork/gpu
 extra=/work/traindata
 tree=.gpu-train
 threads=2
-per_group=90
-budget=400
+per_group=60
+budget=450
 out="${OUT:-}"
 from=""
 device=cuda
 tiny=0
 released=""
-size=shipped
+variant=shipped
 while [ $# -gt 0 ]; do
   case "$1" in
     --work) work="$2"; shift 2 ;;
@@ -60,7 +63,7 @@ while [ $# -gt 0 ]; do
     --device) device="$2"; shift 2 ;;
     --tiny) tiny=1; shift ;;
     --released) released="$(realpath "$2")"; shift 2 ;;
-    --size) size="$2"; shift 2 ;;
+    --variant) variant="$2"; shift 2 ;;
     *) echo "train_gpu.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -113,10 +116,13 @@ stage_pack() {
   mkdir -p "$tree"
   py lidarscout_train.window_pack pack "${files[@]}" --out "$(realpath "$tree")/windows.xz" --per-group "$per_group" \
     --surveys "$(cd "$surveys" && ls | paste -sd, -)"
-  local bytes
+  # What travels to the device machine (this repository's files and the tree) is at most 64 MiB.
+  local bytes repo_bytes limit
   bytes=$(du -sb "$tree" | cut -f1)
-  echo "$tree: $bytes bytes"
-  [ "$bytes" -le $((60 * 1024 * 1024)) ] || { echo "train_gpu.sh: $tree is over 60 MiB" >&2; exit 1; }
+  repo_bytes=$(git ls-files -z | xargs -0 du -cb | tail -n 1 | cut -f1)
+  limit=$((64 * 1024 * 1024 - repo_bytes - 1024 * 1024))
+  echo "$tree: $bytes bytes (at most $limit beside the repository's $repo_bytes)"
+  [ "$bytes" -le "$limit" ] || { echo "train_gpu.sh: $tree is too large for the device machine: fewer --per-group" >&2; exit 1; }
 }
 
 stage_run() {
@@ -153,17 +159,17 @@ stage_export() {
 }
 
 stage_eval() {
-  mkdir -p "$work/eval/$size" "$work/released"
+  mkdir -p "$work/eval/$variant" "$work/released"
   local s held fold model common=(--texel 10 --patches 150 --offsets 8 --threads 2 --json)
   for s in "$surveys"/*; do
     held=$(basename "$s")
-    model="$work/runs/$size-fold-$held/model.pt"
+    model="$work/runs/$variant-fold-$held/model.pt"
     [ -f "$model" ] || { echo "train_gpu.sh: no $model" >&2; exit 1; }
     local probe="$work/data/$held.probe"
     for cp in "" 40 1500; do
       local tag="" stride=()
       [ -n "$cp" ] && { tag=".cp$cp"; stride=(--stride "$(py lidarscout_train.loso stride "$probe" "$cp")"); }
-      local o="$work/eval/$size/$held$tag.json" r="$work/released/$held$tag.json"
+      local o="$work/eval/$variant/$held$tag.json" r="$work/released/$held$tag.json"
       [ -f "$o" ] || { "$bin" eval "$s" --methods linear,cnn --model "$model" "${common[@]}" "${stride[@]}" > "$o.tmp"
                        mv "$o.tmp" "$o"; }
       if [ -n "$released" ] && [ ! -f "$r" ]; then
@@ -174,9 +180,9 @@ stage_eval() {
   done
   for cp in "" 40 1500; do
     echo
-    echo "LOSO, $size size, 10 m, ${cp:-auto (about 369)} chunk points per window:"
-    py lidarscout_train.loso table $(for s in "$surveys"/*; do echo "$work/eval/$size/$(basename "$s")${cp:+.cp$cp}.json"; done) \
-      --released-dir "$work/released" --json "$work/eval/$size/loso${cp:+.cp$cp}.json"
+    echo "LOSO, $variant, 10 m, ${cp:-auto (about 369)} chunk points per window:"
+    py lidarscout_train.loso table $(for s in "$surveys"/*; do echo "$work/eval/$variant/$(basename "$s")${cp:+.cp$cp}.json"; done) \
+      --released-dir "$work/released" --json "$work/eval/$variant/loso${cp:+.cp$cp}.json"
   done
 }
 

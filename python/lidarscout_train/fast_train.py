@@ -182,6 +182,63 @@ def save_atomic(obj, path):
     os.replace(path + ".tmp", path)
 
 
+class Fold:
+    """The windows of one run on the device: training (every source but the held-out survey) and
+    held-out (that survey's windows, for the figures in the history)."""
+
+    def __init__(self, windows, held, device, weighted, tiny):
+        meta = load_meta(windows)
+        source = np.load(os.path.join(windows, "source.npy"))
+        held_id = meta["sources"].index(held) if held is not None else -1
+        rows = np.nonzero(source != held_id)[0]
+        self.x, self.tgt, self.has_rgb = to_tensors(windows, rows, device)
+        lin_mse = np.load(os.path.join(windows, "lin_mse.npy"))[rows]
+        groups = np.load(os.path.join(windows, "group.npy" if weighted else "texel_m.npy"))[rows]
+        self.weight = torch.from_numpy(group_weights(groups, lin_mse)).to(device)
+        self.n = len(rows)
+        self.held = None
+        if held is not None:
+            hrows = np.nonzero(source == held_id)[0][:32 if tiny else None]
+            hx, ht, _ = to_tensors(windows, hrows, device)
+            radius = torch.from_numpy(np.load(os.path.join(windows, "radius_m.npy"))[hrows]).to(device)
+            self.held = (hx, ht, radius, np.load(os.path.join(windows, "texel_m.npy"))[hrows],
+                         np.load(os.path.join(windows, "density.npy"))[hrows])
+
+    def figures(self, model, device, bf16):
+        return None if self.held is None else heldout_figures(model, *self.held, device, bf16)
+
+
+def save_state(model, cfg, run, name, path):
+    """The float16 weights and the configuration export.load_model needs."""
+    save_atomic({"state_dict": {k: v.detach().cpu().half() for k, v in model.state_dict().items()},
+                 "decoder": cfg["decoder"], "width": cfg["width"], "head_kernel": cfg["head_kernel"],
+                 "residual": True, "relief_scale": run["scaled"], "run": name}, path)
+
+
+def train_epoch(model, opt, aug, fold, perm, batch, bf16, peak_lr, clock, first):
+    """One pass over perm (or until clock() reaches 1; the first epoch of a run makes at least one
+    step, however late it starts); returns (steps, last lr, loss sum tensor)."""
+    loss_sum, steps, lr = torch.zeros((), device=fold.x.device), 0, 0.0
+    for k in range(max(1, fold.n // batch)):
+        frac = clock()
+        if frac >= 1.0 and not (first and k == 0):
+            break
+        lr = learning_rate(peak_lr, frac)
+        for g in opt.param_groups:
+            g["lr"] = lr
+        idx = perm[k * batch:(k + 1) * batch]
+        xb, tb = aug(fold.x[idx].float(), fold.tgt[idx].float(), fold.has_rgb[idx])
+        with autocast(bf16):
+            pred = model(xb)
+        loss = weighted_loss(pred.float(), tb, fold.weight[idx])
+        opt.zero_grad(set_to_none=True)
+        loss.backward()
+        opt.step()
+        loss_sum += loss.detach()
+        steps += 1
+    return steps, lr, loss_sum
+
+
 def train(args):
     run = parse_run(args.run)
     cfg, held = SIZES[run["size"]], run["held_out"]
@@ -189,19 +246,11 @@ def train(args):
     bf16 = run["bf16"] and device.startswith("cuda")
     torch.manual_seed(args.seed)
     torch.set_num_threads(1)
+    torch.backends.cudnn.benchmark = True
     os.makedirs(args.out, exist_ok=True)
-    meta = load_meta(args.windows)
-    source = np.load(os.path.join(args.windows, "source.npy"))
-    held_id = meta["sources"].index(held) if held is not None else -1
-    rows = np.nonzero(source != held_id)[0]
     batch = 8 if args.tiny else BATCH
     t_load = time.time()
-    x, tgt, has_rgb = to_tensors(args.windows, rows, device)
-    lin_mse = np.load(os.path.join(args.windows, "lin_mse.npy"))[rows]
-    groups = np.load(os.path.join(args.windows, "group.npy" if run["weighted"] else "texel_m.npy"))[rows]
-    weight = torch.from_numpy(group_weights(groups, lin_mse)).to(device)
-    n = len(rows)
-
+    fold = Fold(args.windows, held, device, run["weighted"], args.tiny)
     model = HeightmapNet(decoder=cfg["decoder"], width=cfg["width"], head_kernel=cfg["head_kernel"],
                          relief_scale=run["scaled"]).to(device)
     extra = {"fused": True} if device.startswith("cuda") else {}
@@ -209,14 +258,14 @@ def train(args):
     aug = BatchAugment(device, args.seed, z_range=Z_RANGE)
     perm_gen = torch.Generator(device=device)
     perm_gen.manual_seed(args.seed)
-    history = {"run": args.run, "config": cfg | {"batch": batch, "bf16": bf16, "held_out": held, "windows": n,
+    history = {"run": args.run, "config": cfg | {"batch": batch, "bf16": bf16, "held_out": held, "windows": fold.n,
                                                  "weights": "group" if run["weighted"] else "texel",
                                                  "relief_scale": run["scaled"],
                                                  "parameters": count_parameters(model), "z_range": Z_RANGE,
                                                  "warmup": WARMUP, "final_lr": FINAL_LR,
                                                  "weight_clip": WEIGHT_CLIP, "seed": args.seed},
                "load_seconds": round(time.time() - t_load, 2), "epochs": []}
-    ckpt = os.path.join(args.out, "checkpoint.pt")
+    ckpt, state_path = os.path.join(args.out, "checkpoint.pt"), os.path.join(args.out, "state.pt")
     used = 0.0
     if os.path.exists(ckpt):
         c = torch.load(ckpt, map_location=device)
@@ -226,36 +275,18 @@ def train(args):
         perm_gen.set_state(c["perm_gen"])
         history["epochs"], used = c["epochs"], c["seconds"]
         print(f"{args.run}: resumed after {len(history['epochs'])} epochs, {used:.0f} s", flush=True)
-    print(f"{args.run}: {n} windows, {history['config']['parameters']} parameters, bf16 {bf16}, "
+    print(f"{args.run}: {fold.n} windows, {history['config']['parameters']} parameters, bf16 {bf16}, "
           f"loaded in {history['load_seconds']} s", flush=True)
 
     start = time.time()
     reserve = 5.0 if held is None else 12.0  # the held-out figures and saving
     total = used + max(1.0, args.deadline - reserve - start)
-    steps_per_epoch = max(1, n // batch)
-    done = False
-    while not done:
-        perm = torch.randperm(n, generator=perm_gen, device=device)
-        t_epoch, loss_sum = time.time(), torch.zeros((), device=device)
-        steps = 0
-        for k in range(steps_per_epoch):
-            frac = (used + time.time() - start) / total
-            if frac >= 1.0:
-                done = True
-                break
-            lr = learning_rate(cfg["lr"], frac)
-            for g in opt.param_groups:
-                g["lr"] = lr
-            idx = perm[k * batch:(k + 1) * batch]
-            xb, tb = aug(x[idx].float(), tgt[idx].float(), has_rgb[idx])
-            with autocast(bf16):
-                pred = model(xb)
-            loss = weighted_loss(pred.float(), tb, weight[idx])
-            opt.zero_grad(set_to_none=True)
-            loss.backward()
-            opt.step()
-            loss_sum += loss.detach()
-            steps += 1
+    clock = lambda: (used + time.time() - start) / total  # noqa: E731
+    while True:
+        t_epoch = time.time()
+        perm = torch.randperm(fold.n, generator=perm_gen, device=device)
+        steps, lr, loss_sum = train_epoch(model, opt, aug, fold, perm, batch, bf16, cfg["lr"], clock,
+                                          first=not history["epochs"])
         if steps == 0:
             break
         history["epochs"].append({"epoch": len(history["epochs"]) + 1, "steps": steps, "lr_end": lr,
@@ -263,24 +294,15 @@ def train(args):
         save_atomic({"model": model.state_dict(), "opt": opt.state_dict(), "aug_gen": aug.gen.get_state(),
                      "perm_gen": perm_gen.get_state(), "epochs": history["epochs"],
                      "seconds": used + time.time() - start}, ckpt)
+        if len(history["epochs"]) == 1:  # the end's paths early (a failure there shows in seconds, not minutes)
+            history["held_out_epoch1"] = fold.figures(model, device, bf16)
+            save_state(model, cfg, run, args.run, state_path)
     seconds = used + time.time() - start
     steps = sum(e["steps"] for e in history["epochs"])
     history |= {"train_seconds": round(seconds, 2), "steps": steps,
                 "windows_per_second": round(steps * batch / max(seconds, 1e-9), 1)}
-    if held is not None:
-        hrows = np.nonzero(source == held_id)[0]
-        if args.tiny:
-            hrows = hrows[:32]
-        hx, ht, _ = to_tensors(args.windows, hrows, device)
-        radius = torch.from_numpy(np.load(os.path.join(args.windows, "radius_m.npy"))[hrows]).to(device)
-        texel = np.load(os.path.join(args.windows, "texel_m.npy"))[hrows]
-        density = np.load(os.path.join(args.windows, "density.npy"))[hrows]
-        history["held_out"] = heldout_figures(model, hx, ht, radius, texel, density, device, bf16)
-    model = model.cpu()
-    save_atomic({"state_dict": {k: v.half() for k, v in model.state_dict().items()}, "decoder": cfg["decoder"],
-                 "width": cfg["width"], "head_kernel": cfg["head_kernel"], "residual": True,
-                 "relief_scale": run["scaled"], "run": args.run},
-                os.path.join(args.out, "state.pt"))
+    save_state(model, cfg, run, args.run, state_path)
+    history["held_out"] = fold.figures(model, device, bf16)
     with open(os.path.join(args.out, "history.json"), "w") as f:
         json.dump(history, f, indent=1)
     print(json.dumps({k: history[k] for k in ("run", "steps", "train_seconds", "windows_per_second")} |
