@@ -27,8 +27,8 @@ follows the clock: a linear warm-up over the first 3% of the time given, then a 
 on CUDA (the residual heads add their correction to the float32 linear input).
 
 The loss is train.py's masked MSE, each window weighed by its group (one train-data file at one
-texel size: one source, one density): the mean linear-interpolation error of all windows over
-that of its group. Every group then counts by how much better than linear the network does on
+texel size: one source, one density): the median of the groups' mean linear-interpolation errors
+over that of its group. Every group then counts by how much better than linear the network does on
 it, as the evaluation does (a ratio to linear per survey), so that a flat survey, where linear
 interpolation is already close and any invented relief costs a large ratio, weighs as much as a
 steep one (issue 35, item 3: flat ground left flat). The weights are clipped to [0.1, 10].
@@ -118,14 +118,16 @@ def to_tensors(folder, rows, device, chunk=512):
 
 
 def group_weights(groups, lin_mse):
-    """Per window: mean linear MSE of all windows / that of its group, clipped (see the docstring)."""
+    """Per window: the median over groups of their mean linear MSE / that of its group, clipped
+    (see the docstring; the median, so that the clip bounds the flattest and the steepest groups
+    alike)."""
     ok = np.isfinite(lin_mse)
-    overall = float(np.mean(lin_mse[ok]))
+    means = {g: float(np.mean(lin_mse[(groups == g) & ok])) for g in np.unique(groups) if ((groups == g) & ok).any()}
+    reference = float(np.median([m for m in means.values() if m > 0])) if means else 1.0
     w = np.ones(len(groups), dtype=np.float32)
-    for g in np.unique(groups):
-        sel = (groups == g) & ok
-        if sel.any() and np.mean(lin_mse[sel]) > 0:
-            w[groups == g] = overall / float(np.mean(lin_mse[sel]))
+    for g, m in means.items():
+        if m > 0:
+            w[groups == g] = reference / m
     return np.clip(w, *WEIGHT_CLIP)
 
 
