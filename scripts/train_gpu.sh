@@ -158,31 +158,47 @@ stage_export() {
   py lidarscout_train.fast_train unbundle "$(realpath "$from")" --out "$work/runs"
 }
 
+score() {  # out.json eval-args...: one `lidarscout eval --json` into out.json unless it is there; a
+  # density at which a small survey holds no patch is left out of the table (said so)
+  local out="$1"
+  shift
+  [ -f "$out" ] && return
+  if ! "$bin" eval "$@" 2> "$out.err" > "$out.tmp"; then
+    grep -q "no patch could be scored" "$out.err" || { cat "$out.err" >&2; exit 1; }
+    echo "train_gpu.sh: $(tail -n 1 "$out.err") (left out)" >&2
+    rm -f "$out.tmp" "$out.err"
+    return
+  fi
+  rm -f "$out.err"
+  mv "$out.tmp" "$out"
+}
+
 stage_eval() {
   mkdir -p "$work/eval/$variant" "$work/released"
-  local s held fold model common=(--texel 10 --patches 150 --offsets 8 --threads 2 --json)
+  local s held model cp tag stride common=(--texel 10 --patches 150 --offsets 8 --threads 2 --json)
   for s in "$surveys"/*; do
     held=$(basename "$s")
     model="$work/runs/$variant-fold-$held/model.pt"
     [ -f "$model" ] || { echo "train_gpu.sh: no $model" >&2; exit 1; }
-    local probe="$work/data/$held.probe"
     for cp in "" 40 1500; do
-      local tag="" stride=()
-      [ -n "$cp" ] && { tag=".cp$cp"; stride=(--stride "$(py lidarscout_train.loso stride "$probe" "$cp")"); }
-      local o="$work/eval/$variant/$held$tag.json" r="$work/released/$held$tag.json"
-      [ -f "$o" ] || { "$bin" eval "$s" --methods linear,cnn --model "$model" "${common[@]}" "${stride[@]}" > "$o.tmp"
-                       mv "$o.tmp" "$o"; }
-      if [ -n "$released" ] && [ ! -f "$r" ]; then
-        "$bin" eval "$s" --methods linear,released --released-model "$released" "${common[@]}" "${stride[@]}" > "$r.tmp"
-        mv "$r.tmp" "$r"
-      fi
+      tag="" stride=()
+      [ -n "$cp" ] && { tag=".cp$cp"; stride=(--stride "$(py lidarscout_train.loso stride "$work/data/$held.probe" "$cp")"); }
+      score "$work/eval/$variant/$held$tag.json" "$s" --methods linear,cnn --model "$model" "${common[@]}" "${stride[@]}"
+      [ -z "$released" ] || score "$work/released/$held$tag.json" "$s" --methods linear,released \
+        --released-model "$released" "${common[@]}" "${stride[@]}"
     done
   done
+  local files f
   for cp in "" 40 1500; do
     echo
     echo "LOSO, $variant, 10 m, ${cp:-auto (about 369)} chunk points per window:"
-    py lidarscout_train.loso table $(for s in "$surveys"/*; do echo "$work/eval/$variant/$(basename "$s")${cp:+.cp$cp}.json"; done) \
-      --released-dir "$work/released" --json "$work/eval/$variant/loso${cp:+.cp$cp}.json"
+    files=()
+    for s in "$surveys"/*; do
+      f="$work/eval/$variant/$(basename "$s")${cp:+.cp$cp}.json"
+      [ -f "$f" ] && files+=("$f")
+    done
+    py lidarscout_train.loso table "${files[@]}" --released-dir "$work/released" \
+      --json "$work/eval/$variant/loso${cp:+.cp$cp}.json"
   done
 }
 

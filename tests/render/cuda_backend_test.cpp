@@ -126,6 +126,33 @@ TEST_P(CudaBackend, DrawsWhatTheCpuDraws) {
     EXPECT_GE(share_close(cpu.image, gpu.image), 0.99) << "on " << cuda_device_name();
 }
 
+// Bare-earth tint (render::PatchTint, ABI 6): a patch tinted whole and one whose left half is
+// marked (colour alpha below 255) change the CPU's frame, and draw on the GPU what they draw there.
+TEST(CudaBackendTint, TintedPatchesDrawWhatTheCpuDraws) {
+    TestScene scene;
+    add_patches(scene);
+    for (int j = 0; j < kSize; ++j) {
+        for (int i = 0; i < kSize / 2; ++i) {
+            std::uint32_t& c = scene.colours[2][static_cast<std::size_t>(j) * kSize + i];
+            c = (c & 0x00FFFFFFu) | (128u << 24);
+        }
+    }
+    std::vector<HeightmapPatch> tinted = scene.patches;
+    tinted[0].tint = PatchTint::All;
+    tinted[2].tint = PatchTint::Marked;
+    FrameSettings settings;
+    settings.colour.mode = ColourMode::Rgb;
+    ThreadPool pool(2);
+    const Camera cam = test_camera();
+    const FrameImage plain = draw_frame(Backend::Cpu, cam, scene.patches, {}, settings, pool);
+    const FrameImage cpu = draw_frame(Backend::Cpu, cam, tinted, {}, settings, pool);
+    EXPECT_LT(share_close(plain.image, cpu.image), 0.9);  // the tint covers much of the view
+    const std::string reason = cuda_unavailable_reason();
+    if (!reason.empty()) GTEST_SKIP() << "CUDA backend unavailable: " << reason;
+    const FrameImage gpu = draw_frame(Backend::Cuda, cam, tinted, {}, settings, pool);
+    EXPECT_GE(share_close(cpu.image, gpu.image), 0.99) << "on " << cuda_device_name();
+}
+
 // Batches and patches with cache keys are kept on the GPU: later frames draw them from there,
 // and every frame is the image drawn from data uploaded with the frame.
 TEST(CudaBackendKept, KeptDataDrawsWhatUploadedDataDraws) {
