@@ -1,14 +1,14 @@
 #!/bin/bash
 # The heightmap network trained in one short GPU run (issue 35): the seven leave-one-survey-out
-# folds and the final model, for the shipped network and its relief-scaled variant (with two
-# comparison folds: without bf16, without the group weights), all at once on one GPU within a
-# wall-clock budget (python/lidarscout_train/fast_train.py), then exported and scored here.
+# folds and the final model, for the shipped (relief-scaled) network and the plain one, with two
+# comparison folds (bf16; texel-size weights instead of group weights), all at once on one GPU
+# within a wall-clock budget (python/lidarscout_train/fast_train.py), then exported and scored here.
 #
 #   scripts/train_gpu.sh data   [--work DIR] [--extra DIR] [--threads N]
 #       training windows of every survey of ../shared/data/surveys and every extra source of
 #       scripts/build_training_set.sh (less the three held out for the unseen comparison):
-#       10 m windows at six chunk-point densities (scripts/density_windows.sh) and 2.5 + 5 m
-#       windows at the auto stride. Resumable.
+#       10 m windows at six chunk-point densities (scripts/density_windows.sh) and 1, 2.5 and 5 m
+#       windows at the auto stride (the first run had 2.5 and 5 m only). Resumable.
 #   scripts/train_gpu.sh pack   [--work DIR] [--per-group N] [--tree DIR]
 #       a random N windows (default 60) of every (file, texel size) group, losslessly into
 #       DIR/windows.xz (default .gpu-train, git-ignored); what travels to the device machine (this
@@ -22,7 +22,7 @@
 #       end-to-end check on this machine).
 #   scripts/train_gpu.sh export [--from DIR] [--work DIR]
 #       the bundles brought back -> one TorchScript model.pt per run (Debian's torch), under
-#       DIR/runs/NAME/.
+#       DIR/runs/NAME/; ship DIR/runs/shipped-scaled-final/model.pt as models/heightmap_cnn.pt.
 #   scripts/train_gpu.sh eval   [--work DIR] [--released FILE] [--variant shipped|shipped-scaled]
 #       LOSO: every fold's model (runs/VARIANT-fold-SURVEY) on its held-out survey (lidarscout eval, 10 m, 150 patches, 8
 #       lattices; 40 and 1,500 chunk points per window too) beside linear and the released
@@ -101,7 +101,7 @@ stage_data() {
     name=$(basename "$s")
     density_windows "$repo" "$bin" "$s" "$work/data/$name" 300 "$threads" > /dev/null
     if [ ! -f "$work/data/$name.fine.bin" ]; then
-      "$bin" train-data "$s" -o "$work/data/$name.fine.tmp" --texel 2.5,5 --patches 60 --offsets 4 \
+      "$bin" train-data "$s" -o "$work/data/$name.fine.tmp" --texel 1,2.5,5 --patches 60 --offsets 4 \
         --val-fraction 0 --threads "$threads" > /dev/null
       mv "$work/data/$name.fine.tmp" "$work/data/$name.fine.bin"
     fi

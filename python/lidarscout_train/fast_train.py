@@ -2,11 +2,12 @@
 leave-one-survey-out folds and the final model in one GPU run of at most 8 minutes).
 
     python3 -m lidarscout_train.fast_train plan WINDOWS [--tiny]
-        the run names for the unpacked windows (window_pack unpack): shipped-fold-SURVEY for every
-        survey and shipped-final, the same with relief-scaled heights (shipped-scaled-..., model.py),
-        shipped-fp32-fold-FIRST (the first fold without bf16: what mixed
-        precision costs) and shipped-unweighted-fold-ky-woodford-county (the flat survey's fold with
-        train.py's texel-size weights instead of the group weights below). --tiny: two runs.
+        the run names for the unpacked windows (window_pack unpack): shipped-scaled-fold-SURVEY for
+        every survey and shipped-scaled-final (the shipped network: relief-scaled heights, model.py),
+        the same without relief scaling (shipped-...), and two comparison folds of the first:
+        shipped-scaled-bf16-fold-FIRST (bf16 autocast: what mixed precision costs) and
+        shipped-scaled-unweighted-fold-ky-woodford-county (the flat survey's fold with train.py's
+        texel-size weights instead of the group weights below). --tiny: two runs.
         The paper size ("paper": width 16, 9 x 9 heads) trains too when named, but is not planned:
         it costs 21 ms per patch at batch 16 on 2 cores (models/README.md), five times the 4 ms budget.
     python3 -m lidarscout_train.fast_train train WINDOWS --run NAME --out DIR --deadline UNIX_TIME
@@ -23,8 +24,9 @@ The recipe: the windows of every source but the fold's survey; per step a random
 (an epoch is one pass in random order), augmented on the device (batch_augment.py: flips and
 rotations, z-scale 0.3..2, colour); AdamW (eps 1e-5, weight decay 1e-2) at a learning rate that
 follows the clock: a linear warm-up over the first 3% of the time given, then a cosine decay to
-1% of the peak at the deadline, so the decay always happens inside the time there is; bf16 autocast
-on CUDA (the residual heads add their correction to the float32 linear input).
+1% of the peak at the deadline, so the decay always happens inside the time there is; float32
+(the first GPU run trained in bf16 autocast: on its float32 comparison fold bf16 cost 0.004-0.014
+of the ratio to linear for 4% more steps, so runs named -bf16- only use it).
 
 The loss is train.py's masked MSE, each window weighed by its group (one train-data file at one
 texel size: one source, one density): the median of the groups' mean linear-interpolation errors
@@ -64,27 +66,27 @@ BUNDLE_BYTES = 15 * 1024 * 1024
 def plan(meta, tiny=False):
     surveys = meta["surveys"]
     if tiny:
-        return [f"shipped-fold-{surveys[0]}", "shipped-final"]
-    runs = [f"shipped{variant}-{kind}" for variant in ("", "-scaled")
+        return [f"shipped-scaled-fold-{surveys[0]}", "shipped-scaled-final"]
+    runs = [f"shipped{variant}-{kind}" for variant in ("-scaled", "")
             for kind in [f"fold-{s}" for s in surveys] + ["final"]]
     flat = [s for s in surveys if s == FLAT_SURVEY]
-    return runs + [f"shipped-fp32-fold-{surveys[0]}"] + [f"shipped-unweighted-fold-{s}" for s in flat]
+    return runs + [f"shipped-scaled-bf16-fold-{surveys[0]}"] + [f"shipped-scaled-unweighted-fold-{s}" for s in flat]
 
 
 def parse_run(name):
     """{size, bf16, weighted, scaled, held_out (a survey or None)} of a run name:
-    SIZE[-scaled][-fp32][-unweighted]-(final|fold-SURVEY)."""
+    SIZE[-scaled][-bf16][-unweighted]-(final|fold-SURVEY)."""
     size, rest = name.split("-", 1)
     if size not in SIZES:
         raise SystemExit(f"{name}: unknown size {size!r} (one of {', '.join(SIZES)})")
-    run = {"size": size, "bf16": True, "weighted": True, "scaled": False, "held_out": None}
-    for flag, key, value in (("scaled-", "scaled", True), ("fp32-", "bf16", False), ("unweighted-", "weighted", False)):
+    run = {"size": size, "bf16": False, "weighted": True, "scaled": False, "held_out": None}
+    for flag, key, value in (("scaled-", "scaled", True), ("bf16-", "bf16", True), ("unweighted-", "weighted", False)):
         if rest.startswith(flag):
             run[key], rest = value, rest[len(flag):]
     if rest == "final":
         return run
     if not rest.startswith("fold-"):
-        raise SystemExit(f"{name}: expected SIZE[-scaled][-fp32][-unweighted]-(final|fold-SURVEY)")
+        raise SystemExit(f"{name}: expected SIZE[-scaled][-bf16][-unweighted]-(final|fold-SURVEY)")
     return run | {"held_out": rest[len("fold-"):]}
 
 

@@ -107,10 +107,10 @@ def check_fast_train_rules():
     check(abs(learning_rate(1.0, 1.0) - 0.01) < 1e-9 and learning_rate(1.0, 0.5) < learning_rate(1.0, 0.2), "lr decay")
     w = group_weights(np.array([0, 0, 1, 1]), np.array([1.0, 1.0, 0.01, 0.01], dtype=np.float32))
     check(w[2] == 10.0 and w[0] < 1.0 and w[2] > w[0], f"group weights {w}")
-    check(parse_run("shipped-unweighted-fold-a-b") == {"size": "shipped", "bf16": True, "weighted": False,
+    check(parse_run("shipped-unweighted-fold-a-b") == {"size": "shipped", "bf16": False, "weighted": False,
                                                        "scaled": False, "held_out": "a-b"}, "run name with dashes")
     check(parse_run("shipped-scaled-final")["scaled"] is True, "relief-scaled run name")
-    check(parse_run("shipped-fp32-final")["bf16"] is False, "fp32 run name")
+    check(parse_run("shipped-bf16-final")["bf16"] is True, "bf16 run name")
 
 
 def main():
