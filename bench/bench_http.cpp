@@ -12,7 +12,12 @@
 // Every figure is the median of --runs runs (default 3).
 // With --https, nginx is reached over TLS and HTTP/2 (its test CA trusted): one multiplexed
 // connection instead of a pool of HTTP/1.1 ones.
-// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args "..."]] FOLDER
+// With --s3, the tiles are served by the tests' S3 server (tests/s3_server.hpp, signed requests,
+// its store linked to FOLDER's files) as s3://bench/, behind the same proxy; with --vpc PROGRAM
+// too, the dataset is the QGIS virtual point cloud `PROGRAM catalog s3://bench/` writes (its
+// items place every tile before any header is read).
+// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--vpc PROGRAM]]
+//                   [--view PROGRAM [--view-args "..."]] FOLDER
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -38,7 +43,9 @@
 #include "net/range_cache.hpp"
 #include "net/remote_file.hpp"
 #include "delay_proxy.hpp"
+#include "net/s3_config.hpp"
 #include "nginx_server.hpp"
+#include "s3_server.hpp"
 
 using namespace lidarscout;
 
@@ -135,6 +142,36 @@ std::string write_tile_list(const test::NginxServer& server, const std::filesyst
     return "lists/tiles.txt";
 }
 
+// An S3 server whose bucket "bench" holds FOLDER's tiles (links, nothing copied).
+std::unique_ptr<test::S3Server> s3_server_of(const std::filesystem::path& folder, std::uint64_t& dataset_bytes) {
+    const auto tiles = dataset::find_point_cloud_files({folder.string()}).files;
+    return std::make_unique<test::S3Server>(std::vector<std::string>{"bench"}, [&](const std::filesystem::path& data) {
+        for (const auto& f : tiles) {
+            test::S3Server::link_object(data, "bench", std::filesystem::relative(f, folder).string(), f);
+            dataset_bytes += std::filesystem::file_size(f);
+        }
+    });
+}
+
+// s3:// requests (here and in the programs run) signed for the S3 server, through the proxy at `port`.
+void use_s3_endpoint(int port) {
+    const std::string endpoint = "http://127.0.0.1:" + std::to_string(port);
+    ::setenv("AWS_ENDPOINT_URL", endpoint.c_str(), 1);
+    ::setenv("AWS_ACCESS_KEY_ID", test::S3Server::kKey, 1);
+    ::setenv("AWS_SECRET_ACCESS_KEY", test::S3Server::kSecret, 1);
+    ::setenv("AWS_SHARED_CREDENTIALS_FILE", "/dev/null", 1);
+    net::set_s3_config(std::nullopt);  // read again
+}
+
+// The VPC `program catalog` writes of the S3 bucket (a temporary file).
+std::string write_vpc(const std::string& program) {
+    const auto vpc = std::filesystem::temp_directory_path() / ("bench_http_" + std::to_string(::getpid()) + ".vpc");
+    std::filesystem::remove(vpc);
+    const std::string cmd = program + " catalog s3://bench/ -o " + vpc.string() + " >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) throw Error("failed: " + cmd);
+    return vpc.string();
+}
+
 }  // namespace
 
 namespace {
@@ -143,7 +180,8 @@ int run(int argc, char** argv) {
     int runs = 3;
     std::vector<int> rtts = {0, 20, 50};
     std::string folder, view_program, view_args;
-    bool https = false;
+    bool https = false, s3 = false;
+    std::string vpc_program;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc) {
@@ -158,6 +196,10 @@ int run(int argc, char** argv) {
             }
         } else if (a == "--https") {
             https = true;
+        } else if (a == "--s3") {
+            s3 = true;
+        } else if (a == "--vpc" && i + 1 < argc) {
+            vpc_program = argv[++i];
         } else if (a == "--view" && i + 1 < argc) {
             view_program = argv[++i];
         } else if (a == "--view-args" && i + 1 < argc) {
@@ -168,8 +210,8 @@ int run(int argc, char** argv) {
     }
     if (folder.empty()) {
         fmt::print(stderr,
-                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args ARGS]] "
-                   "FOLDER\n");
+                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--vpc PROGRAM]] "
+                   "[--view PROGRAM [--view-args ARGS]] FOLDER\n");
         return 2;
     }
     try {
@@ -182,11 +224,17 @@ int run(int argc, char** argv) {
             view_args += " --cacert " + settings.ca_file;
         }
         std::uint64_t dataset_bytes = 0;
-        const std::string list = write_tile_list(server, folder, dataset_bytes);
+        const std::string list = s3 ? std::string() : write_tile_list(server, folder, dataset_bytes);
+        const auto s3_server = s3 ? s3_server_of(folder, dataset_bytes) : nullptr;
         for (const int rtt : rtts) {
-            test::DelayProxy proxy(https ? server.tls_port() : server.port(), std::chrono::microseconds(rtt * 500));
-            const std::string url =
+            const int upstream = s3 ? s3_server->port() : https ? server.tls_port() : server.port();
+            test::DelayProxy proxy(upstream, std::chrono::microseconds(rtt * 500));
+            std::string url =
                 (https ? "https" : "http") + std::string("://127.0.0.1:") + std::to_string(proxy.port()) + "/" + list;
+            if (s3) {
+                use_s3_endpoint(proxy.port());
+                url = vpc_program.empty() ? "s3://bench/" : write_vpc(vpc_program);
+            }
             if (!view_program.empty()) {
                 bench_view(view_program, view_args, url, rtt, runs);
                 continue;
@@ -225,6 +273,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return lidarscout::bench::bench_main("bench_http", "[--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM "
-                                         "[--view-args \"...\"]] FOLDER", argc, argv, run);
+    return lidarscout::bench::bench_main("bench_http", "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--vpc PROGRAM]] "
+                                         "[--view PROGRAM [--view-args \"...\"]] FOLDER", argc, argv, run);
 }

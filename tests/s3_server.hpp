@@ -3,7 +3,9 @@
 // buckets "tiles", "many" and "paid". It checks AWS Signature V4: requests signed with a wrong
 // secret get SignatureDoesNotMatch; anonymous requests are served. One server per test process,
 // stopped when the process exits (and killed with it if it dies), as nginx_server.hpp does.
-// put() stores an object (a signed PUT, by libcurl's own AWS Signature V4).
+// put() stores an object (a signed PUT, by libcurl's own AWS Signature V4). bench_http makes
+// a server of its own whose store it fills before the start (link_object: the server's files
+// as links to a dataset's, nothing copied).
 #pragma once
 
 #include <curl/curl.h>
@@ -15,10 +17,12 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "net/s3_config.hpp"
 
@@ -30,8 +34,28 @@ public:
     static constexpr const char* kSecret = "S3RVER";
 
     static S3Server& instance() {
-        static S3Server server;
+        static S3Server server({"tiles", "many", "paid"});
         return server;
+    }
+
+    // A server with `buckets`, its store (data_dir()) filled by `fill` before it starts.
+    explicit S3Server(const std::vector<std::string>& buckets,
+                      const std::function<void(const std::filesystem::path&)>& fill = {}) {
+        dir_ = std::filesystem::temp_directory_path() /
+               ("lidarscout_s3_" + std::to_string(::getpid()) + "_" + std::to_string(++count()));
+        std::filesystem::create_directories(dir_ / "data");
+        if (fill) fill(dir_ / "data");
+        start(buckets);
+    }
+
+    // In the store at `data`: bucket/key as a link to `file`, with a fixed ETag (the server
+    // would read the whole file for its MD5 otherwise). The server must not be running yet.
+    static void link_object(const std::filesystem::path& data, const std::string& bucket, const std::string& key,
+                            const std::filesystem::path& file) {
+        const std::filesystem::path object = data / bucket / (key + "._S3rver_object");
+        std::filesystem::create_directories(object.parent_path());
+        std::filesystem::create_symlink(std::filesystem::absolute(file), object);
+        std::ofstream(object.string() + ".md5") << "0123456789abcdef0123456789abcdef";
     }
 
     int port() const { return port_; }
@@ -63,7 +87,8 @@ public:
         curl_easy_setopt(easy, CURLOPT_AWS_SIGV4, "aws:amz:us-east-1:s3");
         curl_easy_setopt(easy, CURLOPT_USERNAME, kKey);
         curl_easy_setopt(easy, CURLOPT_PASSWORD, kSecret);
-        curl_easy_setopt(easy, CURLOPT_WRITEFUNCTION, +[](char*, std::size_t s, std::size_t n, void*) { return s * n; });
+        const auto discard = +[](char*, std::size_t s, std::size_t n, void*) { return s * n; };
+        curl_easy_setopt(easy, CURLOPT_WRITEFUNCTION, discard);
         const CURLcode code = curl_easy_perform(easy);
         long status = 0;
         curl_easy_getinfo(easy, CURLINFO_RESPONSE_CODE, &status);
@@ -90,9 +115,12 @@ public:
     }
 
 private:
-    S3Server() {
-        dir_ = std::filesystem::temp_directory_path() / ("lidarscout_s3_" + std::to_string(::getpid()));
-        std::filesystem::create_directories(dir_ / "data");
+    static int& count() {
+        static int n = 0;
+        return n;
+    }
+
+    void start(const std::vector<std::string>& buckets) {
         const std::string script = std::string(LIDARSCOUT_SOURCE_DIR) + "/tests/s3_server.js";
         const std::string data = (dir_ / "data").string(), port_file = (dir_ / "port").string();
         const std::string log = (dir_ / "server.log").string();
@@ -100,8 +128,10 @@ private:
         if (pid_ == 0) {
             ::prctl(PR_SET_PDEATHSIG, SIGTERM);
             std::freopen(log.c_str(), "w", stderr);
-            ::execlp("node", "node", script.c_str(), data.c_str(), port_file.c_str(), "tiles", "many", "paid",
-                     static_cast<char*>(nullptr));
+            std::vector<const char*> argv = {"node", script.c_str(), data.c_str(), port_file.c_str()};
+            for (const auto& b : buckets) argv.push_back(b.c_str());
+            argv.push_back(nullptr);
+            ::execvp("node", const_cast<char* const*>(argv.data()));
             ::_exit(127);
         }
         for (int i = 0; i < 1000 && port_ == 0; ++i) {

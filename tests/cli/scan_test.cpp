@@ -217,7 +217,8 @@ TEST(ScanCommand, S3PrefixGivesTheSameResultAsLocalFoldersAndNeverShowsTheSecret
     EXPECT_NE(out.find("bucket \"tiles\", key \"scan/ky-woodford-county/5205000_3900000.laz\""), std::string::npos)
         << out;
     EXPECT_EQ(out.find("wrong-cli-secret-91"), std::string::npos) << out;
-    status = test::run_command(aws + "wrong-cli-secret-91 " + LIDARSCOUT_CLI + " scan --json s3://tiles/scan/ 2>&1", out);
+    status =
+        test::run_command(aws + "wrong-cli-secret-91 " + LIDARSCOUT_CLI + " scan --json s3://tiles/scan/ 2>&1", out);
     EXPECT_NE(status, 0);
     EXPECT_NE(out.find("SignatureDoesNotMatch"), std::string::npos) << out;
     EXPECT_EQ(out.find("wrong-cli-secret-91"), std::string::npos) << out;

@@ -25,6 +25,7 @@ namespace lidarscout::net {
 namespace {
 
 namespace fs = std::filesystem;
+using test::Fault;
 
 const char* const kTile = "surveys/ky-woodford-county/5205000_3900000.laz";
 
