@@ -128,7 +128,9 @@ private:
         if (pid_ == 0) {
             ::prctl(PR_SET_PDEATHSIG, SIGTERM);
             std::freopen(log.c_str(), "w", stderr);
-            std::vector<const char*> argv = {"node", script.c_str(), data.c_str(), port_file.c_str()};
+            // (the server's continuation tokens are DES-encrypted: OpenSSL 3 keeps DES in its legacy provider)
+            std::vector<const char*> argv = {"node", "--openssl-legacy-provider", script.c_str(), data.c_str(),
+                                             port_file.c_str()};
             for (const auto& b : buckets) argv.push_back(b.c_str());
             argv.push_back(nullptr);
             ::execvp("node", const_cast<char* const*>(argv.data()));

@@ -2,7 +2,8 @@
 // by scripts/setup.sh, on 127.0.0.1 at an ephemeral port, storing its objects in the folder
 // given, with the buckets given; it checks AWS Signature V4 (access key S3RVER, secret S3RVER)
 // and writes its port to the file given once it listens.
-// Usage: node s3_server.js DATA_DIR PORT_FILE BUCKET...
+// Usage: node --openssl-legacy-provider s3_server.js DATA_DIR PORT_FILE BUCKET...
+// (its continuation tokens are DES-encrypted: OpenSSL 3 keeps DES in its legacy provider)
 'use strict';
 
 const { execSync } = require('child_process');

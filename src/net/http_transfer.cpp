@@ -238,7 +238,7 @@ std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, v
         if (!t->accept_body_start()) return 0;  // stops the transfer: nothing more is downloaded
     }
     t->attempt_body_ += bytes;
-    if (t->status_ >= 400) return t->keep_error_body(data, bytes);
+    if (t->status_ >= 300) return t->keep_error_body(data, bytes);
     if (t->body_.size() - t->attempt_start_ + bytes > t->body_limit()) {
         t->abort_ = TransferOutcome::Fail;
         t->message_ = "the server sent more bytes than were asked for";
@@ -266,11 +266,17 @@ std::string HttpTransfer::status_message() const {
     if (code.empty()) return message;
     std::string text = xml_text(error_body_, "Message");
     if (text.size() > 200) text = text.substr(0, 200) + "...";
-    return message + ", error " + code + (text.empty() ? "" : " (" + text + ")");
+    message += ", error " + code + (text.empty() ? "" : " (" + text + ")");
+    // (S3 names the bucket's region or endpoint when the request went to the wrong one)
+    for (const char* tag : {"Region", "Endpoint"}) {
+        const std::string value = xml_text(error_body_, tag);
+        if (!value.empty() && value.size() < 200) message += std::string(", ") + tag + " " + value;
+    }
+    return message;
 }
 
 bool HttpTransfer::accept_body_start() {
-    if (status_ >= 400) return true;  // its body names the cause
+    if (status_ >= 300) return true;  // its body names the cause (a redirect here had no Location)
     if (job_->request.whole) {
         if (status_ == 200) return true;
         abort_ = TransferOutcome::Fail;
@@ -367,7 +373,7 @@ TransferOutcome HttpTransfer::judge_status() {
         message_ = status_message();
         return TransferOutcome::Retry;
     }
-    if (status_ >= 400 && status_ != 416) return fail(status_message());
+    if (status_ >= 300 && status_ != 416) return fail(status_message());
     if (job_->request.whole) return status_ == 200 ? take_whole() : fail(status_message());
     if (status_ == 200) return ranges_.size() > 1 ? TransferOutcome::NoMultiRange :
         fail("the server ignores Range requests (status 200); a full download is not done");

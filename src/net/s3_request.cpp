@@ -85,12 +85,12 @@ std::optional<S3Location> parse_s3_url(std::string_view url) {
 }
 
 std::string s3_http_url(const S3Config& config, const S3Location& where, const std::string& query) {
-    const std::string key = "/" + uri_encode(where.key, true);
+    const std::string key = "/" + uri_encode(where.key, true);  // (a bucket's own: "/" virtual, "" path-style)
     const std::string endpoint =
         config.endpoint.empty() ? "https://s3." + config.region + ".amazonaws.com" : config.endpoint;
     std::string url;
     if (config.path_style(where.bucket)) {
-        url = endpoint + "/" + uri_encode(where.bucket, false) + key;
+        url = endpoint + "/" + uri_encode(where.bucket, false) + (where.key.empty() ? "" : key);
     } else {
         const auto [scheme, host] = split_endpoint(endpoint);
         url = scheme + where.bucket + "." + host + key;
