@@ -283,7 +283,8 @@ bool HttpTransfer::accept_body_start() {
         message_ = "HTTP status " + std::to_string(status_);
         return false;
     }
-    if (status_ == 206) return ranges_.size() > 1 || check_single_range_start();
+    if (status_ == 206 && ranges_.size() > 1) return accept_multipart_start();
+    if (status_ == 206) return check_single_range_start();
     if (status_ == 200) {
         abort_ = ranges_.size() > 1 ? TransferOutcome::NoMultiRange : TransferOutcome::Fail;
         message_ = "the server ignores Range requests (status 200); a full download is not done";
@@ -291,6 +292,15 @@ bool HttpTransfer::accept_body_start() {
         abort_ = TransferOutcome::Fail;
         message_ = "HTTP status " + std::to_string(status_);
     }
+    return false;
+}
+
+// A 206 to a multi-range request that is not multipart/byteranges (one range spanning them all,
+// or the whole file as a 206) is not downloaded: the ranges are asked one by one instead.
+bool HttpTransfer::accept_multipart_start() {
+    if (!multipart_boundary(content_type_).empty()) return true;
+    abort_ = TransferOutcome::NoMultiRange;
+    message_ = "the server answers multi-range requests with one range";
     return false;
 }
 

@@ -63,6 +63,7 @@ private:
     static int on_progress(void* self, curl_off_t, curl_off_t, curl_off_t, curl_off_t);
     void header_line(std::string_view line);
     bool accept_body_start();
+    bool accept_multipart_start();
     std::size_t keep_error_body(const char* data, std::size_t bytes);
     std::string status_message() const;
     void set_signing();

@@ -149,6 +149,16 @@ TEST_F(HttpFaults, MultiRangeFallsBackToSingleRangesWithoutAFullDownload) {
     EXPECT_EQ(server.requests(), 7);
 }
 
+// A server answering a multi-range request with one 206 range (the whole file) is asked range by
+// range too, that body not downloaded.
+TEST_F(HttpFaults, MultiRangeAnsweredByOneRangeFallsBackToSingleRanges) {
+    server.multi_range_206 = true;
+    const std::vector<ByteRange> r = {{0, 10}, {5000, 20}, {299990, 10}};
+    expect_bytes(fetch(r), r);
+    EXPECT_EQ(server.requests(), 4);
+    EXPECT_LT(client.stats().body_bytes, 1000u);
+}
+
 TEST_F(HttpFaults, RangeAtTheEndOfTheFileMayBeShortened) {
     const auto reply = fetch({{data.size() - 10, 4096}});
     ASSERT_EQ(reply.error, "");
