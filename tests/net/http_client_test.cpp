@@ -208,6 +208,24 @@ TEST(HttpClient, Http2OverTlsMultiplexesRequestsOnOneConnection) {
     EXPECT_EQ(stats.connections, 1u);
 }
 
+// nginx's redirects: one within the scheme is followed for a ranged request, where it led
+// given to the caller (who keeps it for the file); one from https to http is refused.
+TEST(HttpClient, RedirectsWithinTheSchemeAreFollowedDowngradesRefused) {
+    const auto& server = test::NginxServer::instance();
+    const auto local = file_bytes(test::data_dir() / test::NginxServer::kRedirected);
+    HttpSettings settings;
+    settings.ca_file = server.ca_file().string();
+    HttpClient client(settings);
+    const RangeReply moved = client.fetch({server.url("moved.laz"), {{100, 50}}, {}});
+    ASSERT_EQ(moved.error, "");
+    EXPECT_TRUE(std::equal(moved.parts[0].begin(), moved.parts[0].end(), local.begin() + 100));
+    EXPECT_EQ(moved.final_url, server.url(test::NginxServer::kRedirected));
+    const RangeReply downgraded = client.fetch({server.https_url("downgrade.laz"), {{100, 50}}, {}});
+    EXPECT_NE(downgraded.error.find("a redirect to another scheme is refused"), std::string::npos)
+        << downgraded.error;
+    EXPECT_TRUE(downgraded.parts.empty());
+}
+
 TEST(HttpClient, PlainHttpIsHttp1) {
     const auto& server = test::NginxServer::instance();
     HttpClient client;
