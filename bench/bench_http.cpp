@@ -15,8 +15,10 @@
 // With --s3, the tiles are served by the tests' S3 server (tests/s3_server.hpp, signed requests,
 // its store linked to FOLDER's files) as s3://bench/, behind the same proxy; with --vpc PROGRAM
 // too, the dataset is the QGIS virtual point cloud `PROGRAM catalog s3://bench/` writes (its
-// items place every tile before any header is read).
-// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--vpc PROGRAM]]
+// items place every tile before any header is read). --s3-copies N serves FOLDER's tiles N times
+// over (keys copyK/...: N x the tiles, each copy where the original lies) for a catalog of
+// thousands of items from a small folder.
+// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]]
 //                   [--view PROGRAM [--view-args "..."]] FOLDER
 #include <fmt/format.h>
 #include <unistd.h>
@@ -142,13 +144,17 @@ std::string write_tile_list(const test::NginxServer& server, const std::filesyst
     return "lists/tiles.txt";
 }
 
-// An S3 server whose bucket "bench" holds FOLDER's tiles (links, nothing copied).
-std::unique_ptr<test::S3Server> s3_server_of(const std::filesystem::path& folder, std::uint64_t& dataset_bytes) {
+// An S3 server whose bucket "bench" holds FOLDER's tiles `copies` times (links, nothing copied).
+std::unique_ptr<test::S3Server> s3_server_of(const std::filesystem::path& folder, int copies,
+                                             std::uint64_t& dataset_bytes) {
     const auto tiles = dataset::find_point_cloud_files({folder.string()}).files;
     return std::make_unique<test::S3Server>(std::vector<std::string>{"bench"}, [&](const std::filesystem::path& data) {
-        for (const auto& f : tiles) {
-            test::S3Server::link_object(data, "bench", std::filesystem::relative(f, folder).string(), f);
-            dataset_bytes += std::filesystem::file_size(f);
+        for (int k = 0; k < copies; ++k) {
+            const std::string prefix = copies > 1 ? "copy" + std::to_string(k) + "/" : "";
+            for (const auto& f : tiles) {
+                test::S3Server::link_object(data, "bench", prefix + std::filesystem::relative(f, folder).string(), f);
+                dataset_bytes += std::filesystem::file_size(f);
+            }
         }
     });
 }
@@ -181,6 +187,7 @@ int run(int argc, char** argv) {
     std::vector<int> rtts = {0, 20, 50};
     std::string folder, view_program, view_args;
     bool https = false, s3 = false;
+    int s3_copies = 1;
     std::string vpc_program;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -198,6 +205,8 @@ int run(int argc, char** argv) {
             https = true;
         } else if (a == "--s3") {
             s3 = true;
+        } else if (a == "--s3-copies" && i + 1 < argc) {
+            s3_copies = std::max(1, std::atoi(argv[++i]));
         } else if (a == "--vpc" && i + 1 < argc) {
             vpc_program = argv[++i];
         } else if (a == "--view" && i + 1 < argc) {
@@ -210,7 +219,7 @@ int run(int argc, char** argv) {
     }
     if (folder.empty()) {
         fmt::print(stderr,
-                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--vpc PROGRAM]] "
+                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
                    "[--view PROGRAM [--view-args ARGS]] FOLDER\n");
         return 2;
     }
@@ -225,7 +234,7 @@ int run(int argc, char** argv) {
         }
         std::uint64_t dataset_bytes = 0;
         const std::string list = s3 ? std::string() : write_tile_list(server, folder, dataset_bytes);
-        const auto s3_server = s3 ? s3_server_of(folder, dataset_bytes) : nullptr;
+        const auto s3_server = s3 ? s3_server_of(folder, s3_copies, dataset_bytes) : nullptr;
         for (const int rtt : rtts) {
             const int upstream = s3 ? s3_server->port() : https ? server.tls_port() : server.port();
             test::DelayProxy proxy(upstream, std::chrono::microseconds(rtt * 500));
@@ -273,6 +282,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return lidarscout::bench::bench_main("bench_http", "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--vpc PROGRAM]] "
+    return lidarscout::bench::bench_main("bench_http", "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
                                          "[--view PROGRAM [--view-args \"...\"]] FOLDER", argc, argv, run);
 }
