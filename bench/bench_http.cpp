@@ -93,8 +93,8 @@ Run run_once(const std::string& list_url) {
 }
 
 struct ViewRun {
-    double first_frame = 0, open = 0, overview = 0, frames_while_opening = 0;
-    std::optional<double> chunk_points;  // unset: not within the run
+    double first_frame = 0, open = 0, frames_while_opening = 0;
+    std::optional<double> overview, chunk_points;  // unset: not within the run
 };
 
 double seconds_field(const nlohmann::json& j, const char* key) {
@@ -114,7 +114,8 @@ ViewRun view_once(const std::string& program, const std::string& args, const std
     const auto j = nlohmann::json::parse(in);
     std::filesystem::remove(stats);
     ViewRun r{seconds_field(j, "first_frame_s"), seconds_field(j, "dataset_open_s"),
-              seconds_field(j, "first_overview_s"), j.at("frames_while_opening").get<double>(), std::nullopt};
+              j.at("frames_while_opening").get<double>(), std::nullopt, std::nullopt};
+    if (!j.at("first_overview_s").is_null()) r.overview = j.at("first_overview_s").get<double>();
     if (!j.at("chunk_points_s").is_null()) r.chunk_points = j.at("chunk_points_s").get<double>();
     return r;
 }
@@ -123,13 +124,15 @@ void bench_view(const std::string& program, const std::string& args, const std::
     std::vector<double> first, open, overview, points, frames;
     for (int k = 0; k < runs; ++k) {
         const ViewRun r = view_once(program, args, url);
-        first.push_back(r.first_frame), open.push_back(r.open), overview.push_back(r.overview);
+        first.push_back(r.first_frame), open.push_back(r.open);
+        if (r.overview) overview.push_back(*r.overview);
         frames.push_back(r.frames_while_opening);
         if (r.chunk_points) points.push_back(*r.chunk_points);
     }
     fmt::print("rtt {:>3} ms: view: first frame {:.3f} s; dataset open {:.3f} s ({:.0f} frames before); first overview "
-               "{:.3f} s; all chunk points {:.3f} s (in {} of {} runs)\n",
-               rtt, median(first), median(open), median(frames), median(overview), median(points), points.size(), runs);
+               "{:.3f} s (in {} of {} runs); all chunk points {:.3f} s (in {} of {} runs)\n",
+               rtt, median(first), median(open), median(frames), median(overview), overview.size(), runs,
+               median(points), points.size(), runs);
 }
 
 // Writes the server's lists/tiles.txt naming every tile of `folder` (relative URLs); returns

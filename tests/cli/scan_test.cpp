@@ -224,5 +224,34 @@ TEST(ScanCommand, S3PrefixGivesTheSameResultAsLocalFoldersAndNeverShowsTheSecret
     EXPECT_EQ(out.find("wrong-cli-secret-91"), std::string::npos) << out;
 }
 
+// --requester-pays (and AWS_REQUEST_PAYER=requester) put x-amz-request-payer on every request of
+// an s3:// dataset; without either, no request has it.
+TEST(ScanCommand, RequesterPaysReachesTheServer) {
+    const auto path = test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz";
+    std::ifstream in(path, std::ios::binary);
+    test::FaultServer server({std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()});
+    const std::string endpoint = server.url().substr(0, server.url().rfind('/'));
+    const std::string env = "AWS_SHARED_CREDENTIALS_FILE=/dev/null AWS_ACCESS_KEY_ID=AKIATEST "
+                            "AWS_SECRET_ACCESS_KEY=cli-secret-3 AWS_ENDPOINT_URL=" + endpoint + " ";
+    const auto paid = [&] {
+        std::size_t n = 0;
+        for (const auto& head : server.requests_seen()) {
+            n += head.find("x-amz-request-payer: requester") != std::string::npos;
+        }
+        return n;
+    };
+    std::string out;
+    const std::string scan = std::string(LIDARSCOUT_CLI) + " scan --cache-size 0 s3://bucket/tile.laz";
+    ASSERT_EQ(test::run_command(env + scan + " 2>&1", out), 0) << out;
+    const auto requests = server.requests_seen().size();
+    EXPECT_GE(requests, 3u);
+    EXPECT_EQ(paid(), 0u);
+    ASSERT_EQ(test::run_command(env + scan + " --requester-pays 2>&1", out), 0) << out;
+    EXPECT_EQ(paid(), server.requests_seen().size() - requests);
+    ASSERT_EQ(test::run_command(env + "AWS_REQUEST_PAYER=requester " + scan + " 2>&1", out), 0) << out;
+    EXPECT_EQ(paid(), server.requests_seen().size() - requests);  // every request of the last two runs
+    for (const auto& head : server.requests_seen()) EXPECT_EQ(head.find("cli-secret-3"), std::string::npos) << head;
+}
+
 }  // namespace
 }  // namespace lidarscout
