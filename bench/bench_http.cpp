@@ -285,8 +285,9 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return lidarscout::bench::bench_main("bench_http",
-                                         "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
-                                         "[--view PROGRAM [--view-args \"...\"]] FOLDER",
-                                         argc, argv, run);
+    return lidarscout::bench::bench_main(
+        "bench_http",
+        "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
+        "[--view PROGRAM [--view-args \"...\"]] FOLDER",
+        argc, argv, run);
 }

@@ -41,7 +41,8 @@ std::string redact_url(std::string_view url);
 std::string url_scheme(std::string_view url);
 
 // "scheme://host:port" of `url`, scheme and host in lower case, the port always given (80
-// and 443 by default); "s3://bucket" for an s3 URL; empty when `url` is not a URL.
+// and 443 by default); "s3://bucket" for an s3 URL (the bucket as written: its name is
+// case-sensitive); empty when `url` is not a URL.
 std::string url_origin(std::string_view url);
 
 // `reference` resolved against `base` (RFC 3986 in its common forms): an absolute URL as
