@@ -12,7 +12,14 @@
 // Every figure is the median of --runs runs (default 3).
 // With --https, nginx is reached over TLS and HTTP/2 (its test CA trusted): one multiplexed
 // connection instead of a pool of HTTP/1.1 ones.
-// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args "..."]] FOLDER
+// With --s3, the tiles are served by the tests' S3 server (tests/s3_server.hpp, signed requests,
+// its store linked to FOLDER's files) as s3://bench/, behind the same proxy; with --vpc PROGRAM
+// too, the dataset is the QGIS virtual point cloud `PROGRAM catalog s3://bench/` writes (its
+// items place every tile before any header is read). --s3-copies N serves FOLDER's tiles N times
+// over (keys copyK/...: N x the tiles, each copy where the original lies) for a catalog of
+// thousands of items from a small folder.
+// Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]]
+//                   [--view PROGRAM [--view-args "..."]] FOLDER
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -38,7 +45,9 @@
 #include "net/range_cache.hpp"
 #include "net/remote_file.hpp"
 #include "delay_proxy.hpp"
+#include "net/s3_config.hpp"
 #include "nginx_server.hpp"
+#include "s3_server.hpp"
 
 using namespace lidarscout;
 
@@ -84,8 +93,8 @@ Run run_once(const std::string& list_url) {
 }
 
 struct ViewRun {
-    double first_frame = 0, open = 0, overview = 0, frames_while_opening = 0;
-    std::optional<double> chunk_points;  // unset: not within the run
+    double first_frame = 0, open = 0, frames_while_opening = 0;
+    std::optional<double> overview, chunk_points;  // unset: not within the run
 };
 
 double seconds_field(const nlohmann::json& j, const char* key) {
@@ -105,7 +114,8 @@ ViewRun view_once(const std::string& program, const std::string& args, const std
     const auto j = nlohmann::json::parse(in);
     std::filesystem::remove(stats);
     ViewRun r{seconds_field(j, "first_frame_s"), seconds_field(j, "dataset_open_s"),
-              seconds_field(j, "first_overview_s"), j.at("frames_while_opening").get<double>(), std::nullopt};
+              j.at("frames_while_opening").get<double>(), std::nullopt, std::nullopt};
+    if (!j.at("first_overview_s").is_null()) r.overview = j.at("first_overview_s").get<double>();
     if (!j.at("chunk_points_s").is_null()) r.chunk_points = j.at("chunk_points_s").get<double>();
     return r;
 }
@@ -114,13 +124,15 @@ void bench_view(const std::string& program, const std::string& args, const std::
     std::vector<double> first, open, overview, points, frames;
     for (int k = 0; k < runs; ++k) {
         const ViewRun r = view_once(program, args, url);
-        first.push_back(r.first_frame), open.push_back(r.open), overview.push_back(r.overview);
+        first.push_back(r.first_frame), open.push_back(r.open);
+        if (r.overview) overview.push_back(*r.overview);
         frames.push_back(r.frames_while_opening);
         if (r.chunk_points) points.push_back(*r.chunk_points);
     }
     fmt::print("rtt {:>3} ms: view: first frame {:.3f} s; dataset open {:.3f} s ({:.0f} frames before); first overview "
-               "{:.3f} s; all chunk points {:.3f} s (in {} of {} runs)\n",
-               rtt, median(first), median(open), median(frames), median(overview), median(points), points.size(), runs);
+               "{:.3f} s (in {} of {} runs); all chunk points {:.3f} s (in {} of {} runs)\n",
+               rtt, median(first), median(open), median(frames), median(overview), overview.size(), runs,
+               median(points), points.size(), runs);
 }
 
 // Writes the server's lists/tiles.txt naming every tile of `folder` (relative URLs); returns
@@ -135,6 +147,40 @@ std::string write_tile_list(const test::NginxServer& server, const std::filesyst
     return "lists/tiles.txt";
 }
 
+// An S3 server whose bucket "bench" holds FOLDER's tiles `copies` times (links, nothing copied).
+std::unique_ptr<test::S3Server> s3_server_of(const std::filesystem::path& folder, int copies,
+                                             std::uint64_t& dataset_bytes) {
+    const auto tiles = dataset::find_point_cloud_files({folder.string()}).files;
+    return std::make_unique<test::S3Server>(std::vector<std::string>{"bench"}, [&](const std::filesystem::path& data) {
+        for (int k = 0; k < copies; ++k) {
+            const std::string prefix = copies > 1 ? "copy" + std::to_string(k) + "/" : "";
+            for (const auto& f : tiles) {
+                test::S3Server::link_object(data, "bench", prefix + std::filesystem::relative(f, folder).string(), f);
+                dataset_bytes += std::filesystem::file_size(f);
+            }
+        }
+    });
+}
+
+// s3:// requests (here and in the programs run) signed for the S3 server, through the proxy at `port`.
+void use_s3_endpoint(int port) {
+    const std::string endpoint = "http://127.0.0.1:" + std::to_string(port);
+    ::setenv("AWS_ENDPOINT_URL", endpoint.c_str(), 1);
+    ::setenv("AWS_ACCESS_KEY_ID", test::S3Server::kKey, 1);
+    ::setenv("AWS_SECRET_ACCESS_KEY", test::S3Server::kSecret, 1);
+    ::setenv("AWS_SHARED_CREDENTIALS_FILE", "/dev/null", 1);
+    net::set_s3_config(std::nullopt);  // read again
+}
+
+// The VPC `program catalog` writes of the S3 bucket (a temporary file).
+std::string write_vpc(const std::string& program) {
+    const auto vpc = std::filesystem::temp_directory_path() / ("bench_http_" + std::to_string(::getpid()) + ".vpc");
+    std::filesystem::remove(vpc);
+    const std::string cmd = program + " catalog s3://bench/ -o " + vpc.string() + " >/dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) throw Error("failed: " + cmd);
+    return vpc.string();
+}
+
 }  // namespace
 
 namespace {
@@ -143,7 +189,9 @@ int run(int argc, char** argv) {
     int runs = 3;
     std::vector<int> rtts = {0, 20, 50};
     std::string folder, view_program, view_args;
-    bool https = false;
+    bool https = false, s3 = false;
+    int s3_copies = 1;
+    std::string vpc_program;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc) {
@@ -158,6 +206,12 @@ int run(int argc, char** argv) {
             }
         } else if (a == "--https") {
             https = true;
+        } else if (a == "--s3") {
+            s3 = true;
+        } else if (a == "--s3-copies" && i + 1 < argc) {
+            s3_copies = std::max(1, std::atoi(argv[++i]));
+        } else if (a == "--vpc" && i + 1 < argc) {
+            vpc_program = argv[++i];
         } else if (a == "--view" && i + 1 < argc) {
             view_program = argv[++i];
         } else if (a == "--view-args" && i + 1 < argc) {
@@ -168,8 +222,8 @@ int run(int argc, char** argv) {
     }
     if (folder.empty()) {
         fmt::print(stderr,
-                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM [--view-args ARGS]] "
-                   "FOLDER\n");
+                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
+                   "[--view PROGRAM [--view-args ARGS]] FOLDER\n");
         return 2;
     }
     try {
@@ -182,11 +236,17 @@ int run(int argc, char** argv) {
             view_args += " --cacert " + settings.ca_file;
         }
         std::uint64_t dataset_bytes = 0;
-        const std::string list = write_tile_list(server, folder, dataset_bytes);
+        const std::string list = s3 ? std::string() : write_tile_list(server, folder, dataset_bytes);
+        const auto s3_server = s3 ? s3_server_of(folder, s3_copies, dataset_bytes) : nullptr;
         for (const int rtt : rtts) {
-            test::DelayProxy proxy(https ? server.tls_port() : server.port(), std::chrono::microseconds(rtt * 500));
-            const std::string url =
+            const int upstream = s3 ? s3_server->port() : https ? server.tls_port() : server.port();
+            test::DelayProxy proxy(upstream, std::chrono::microseconds(rtt * 500));
+            std::string url =
                 (https ? "https" : "http") + std::string("://127.0.0.1:") + std::to_string(proxy.port()) + "/" + list;
+            if (s3) {
+                use_s3_endpoint(proxy.port());
+                url = vpc_program.empty() ? "s3://bench/" : write_vpc(vpc_program);
+            }
             if (!view_program.empty()) {
                 bench_view(view_program, view_args, url, rtt, runs);
                 continue;
@@ -225,6 +285,9 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    return lidarscout::bench::bench_main("bench_http", "[--runs N] [--rtt-ms 0,20,50] [--https] [--view PROGRAM "
-                                         "[--view-args \"...\"]] FOLDER", argc, argv, run);
+    return lidarscout::bench::bench_main(
+        "bench_http",
+        "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
+        "[--view PROGRAM [--view-args \"...\"]] FOLDER",
+        argc, argv, run);
 }

@@ -37,6 +37,17 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
+# Tests of s3:// datasets: an S3 server on loopback that verifies AWS Signature V4 signatures
+# (@20minutes/s3rver, a maintained fork of s3rver; the original does not check V4 signatures),
+# run by node. npm comes with Debian's nodejs (apt's npm package) or with a NodeSource nodejs.
+if ! command -v npm >/dev/null; then
+  $SUDO apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends nodejs npm
+fi
+if [ ! -d "$(npm root -g)/@20minutes/s3rver" ]; then
+  $SUDO npm install -g --no-fund --no-audit @20minutes/s3rver@4.0.4
+fi
+
 # OpenBLAS with OpenMP threads: the reference BLAS that libtorch may pull in is ~5x slower.
 if [ -x /usr/sbin/update-alternatives ] || command -v update-alternatives >/dev/null; then
   for alt in libblas.so.3-x86_64-linux-gnu liblapack.so.3-x86_64-linux-gnu; do

@@ -4,7 +4,8 @@
 // server per test process, stopped when the process exits (and killed with it if it dies).
 // It also serves the same root over HTTPS and HTTP/2, with a certificate signed by a test CA
 // (both made by the openssl command), which a verifying client refuses unless given that CA.
-// (bench_http serves its replica with one of its own.)
+// (bench_http serves its replica with one of its own.) Two redirects: /moved.laz (301, over
+// HTTP) and /downgrade.laz (302 from HTTPS to HTTP) lead to the Woodford tile.
 #pragma once
 
 #include <arpa/inet.h>
@@ -29,6 +30,8 @@ namespace lidarscout::test {
 
 class NginxServer {
 public:
+    static constexpr const char* kRedirected = "surveys/ky-woodford-county/5205000_3900000.laz";
+
     // The process's server, started on first use.
     static NginxServer& instance() {
         static NginxServer server;
@@ -109,8 +112,10 @@ private:
           << "  scgi_temp_path " << d << "/scgi;\n  default_type application/octet-stream;\n"
           << "  keepalive_requests 100000;\n"
           << "  server {\n    listen 127.0.0.1:" << port << ";\n    root " << root_.string()
-          << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n"
+          << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n"
+          << "    location = /moved.laz { return 301 /" << kRedirected << "; }\n  }\n"
           << "  server {\n    listen 127.0.0.1:" << tls_port_ << " ssl http2;\n"
+          << "    location = /downgrade.laz { return 302 http://127.0.0.1:" << port << "/" << kRedirected << "; }\n"
           << "    ssl_certificate " << d << "/cert.pem;\n"
           << "    ssl_certificate_key " << d << "/key.pem;\n    root " << root_.string()
           << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n  }\n}\n";

@@ -87,7 +87,9 @@ void register_convert_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ConvertCliOptions>();
     auto* cmd = app.add_subcommand(
         "convert", "Convert LAS <-> LAZ (by the output's extension), optionally to another point format");
-    add_input(*cmd, "input", o->in, "Input LAS/LAZ file or http(s) URL")->required()->check(existing_file_or_url());
+    add_input(*cmd, "input", o->in, "Input LAS/LAZ file or http(s) or s3:// URL")
+        ->required()
+        ->check(existing_file_or_url());
     add_output(*cmd, "output", o->out, "Output .las or .laz file (written to a temporary name, then renamed)",
                io::OutputKind::PointCloud)
         ->required();

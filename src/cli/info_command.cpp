@@ -235,7 +235,7 @@ void register_info_command(CLI::App& app, std::function<int()>& run) {
     auto opt = std::make_shared<InfoOptions>();
     auto* cmd = app.add_subcommand("info", "Describe LAS/LAZ files: header, VLRs, CRS and units, LAZ layout, chunks");
     add_inputs(*cmd, "paths", opt->paths,
-               "LAS/LAZ files, folders (searched recursively), tile lists, EPT datasets; or http(s) URLs")
+               "LAS/LAZ files, folders (searched recursively), tile lists, EPT datasets; or http(s) or s3:// URLs")
         ->required();
     cmd->add_flag("--json", opt->json, "Print one JSON array with an object per file");
     cmd->add_flag("--chunks", opt->chunks, "Add the LAZ chunk table and the chunk points");

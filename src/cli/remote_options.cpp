@@ -1,5 +1,6 @@
 // --cache-size: the bound of the on-disk cache of remote byte ranges; --cacert: the CAs to trust;
-// --allow-origins: other origins a dataset's URLs may lead to; --min-rate: the request deadline.
+// --allow-origins: other origins a dataset's URLs may lead to; --min-rate: the request deadline;
+// --requester-pays: s3 requests that the requester pays for.
 #include "cli/remote_options.hpp"
 
 #include <functional>
@@ -9,6 +10,7 @@
 #include "net/http_client.hpp"
 #include "net/origin_policy.hpp"
 #include "net/range_cache.hpp"
+#include "net/s3_config.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::cli {
@@ -66,6 +68,10 @@ void add_remote_options(CLI::App& cmd) {
            "Remote datasets: a request fails when its bytes arrive slower than this many per second after 30 s, "
            "e.g. 16K (the default) or 1M; 0 turns the deadline off (env LIDARSCOUT_MIN_RATE)")
         ->envname("LIDARSCOUT_MIN_RATE");
+    cmd.add_flag_callback(
+        "--requester-pays", [] { net::set_s3_requester_pays(true); },
+        "s3:// datasets: the requester pays for the transfer (header x-amz-request-payer: requester; "
+        "env AWS_REQUEST_PAYER=requester)");
 }
 
 CLI::Validator existing_file_or_url() {

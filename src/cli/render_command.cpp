@@ -379,7 +379,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
                                              "a stage (overview, heightmaps, full) is complete");
     add_inputs(*cmd, "paths", o->paths,
                "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-               "or http(s) URLs")
+               "or http(s) or s3:// URLs")
         ->required();
     add_output(*cmd, "-o,--output", o->output, "The PNG to write", io::OutputKind::Png)->required();
     cmd->add_option("--camera", o->camera,

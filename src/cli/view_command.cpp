@@ -163,7 +163,7 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     auto* cmd = app.add_subcommand("view", "Open a window on LAS/LAZ tiles (or the built-in demo) and explore them: "
                                            "chunk points at once, heightmaps, full resolution near the camera");
     add_inputs(*cmd, "paths", o->paths,
-               "LAS/LAZ files, folders, tile lists, EPT datasets or http(s) URLs (none: the demo landscape)");
+               "LAS/LAZ files, folders, tile lists, EPT datasets or http(s) or s3:// URLs (none: the demo landscape)");
     cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
     cmd->add_option("--memory", o->memory, "Memory budget, e.g. 4G (default: a quarter of the RAM)");
     cmd->add_option("--model", o->model, "Heightmap network (default: models/heightmap_cnn.pt; none: linear only)");

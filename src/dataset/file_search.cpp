@@ -1,4 +1,4 @@
-// Recursive search for .las/.laz files, tile lists (local or remote) and URLs.
+// Recursive search for .las/.laz files, tile lists (local or remote), URLs and s3 prefixes.
 #include "dataset/file_search.hpp"
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
+#include "dataset/s3_prefix.hpp"
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
@@ -169,10 +170,21 @@ void expand_catalog(const std::string& path, FoundFiles& out) {
     }
 }
 
+// An s3 prefix: its LAS/LAZ objects.
+void expand_s3_prefix(const std::string& prefix, FoundFiles& out) {
+    try {
+        const auto tiles = s3_prefix_tiles(prefix);
+        out.files.insert(out.files.end(), tiles.begin(), tiles.end());
+    } catch (const Error& e) {
+        out.errors.push_back({prefix, e.what()});
+    }
+}
+
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
     if (const std::string problem = net::url_problem(p); !problem.empty()) {
         return out.errors.push_back({io::display_path(p), io::display_path(p) + ": " + problem});
     }
+    if (is_s3_prefix(p)) return expand_s3_prefix(p, out);
     if (is_ept_metadata(p)) return expand_ept(p, out);
     if (allow_lists && is_stac_catalog(p)) return expand_catalog(p, out);
     if (net::is_url(p)) return expand_url(p, allow_lists, out);

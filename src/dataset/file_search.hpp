@@ -2,7 +2,8 @@
 // .las/.laz files (case-insensitive), in a stable sorted order, tile lists (text files
 // naming one tile or folder per line), EPT datasets (ept.json / entwine.json: the LAZ nodes),
 // STAC catalogs and QGIS virtual point clouds (.vpc / .json: dataset/stac_catalog.hpp) and
-// http(s) URLs of any of these but folders.
+// http(s) and s3 URLs of any of these but folders; s3 prefixes ("s3://bucket/prefix/", listed:
+// dataset/s3_prefix.hpp) as folders.
 #pragma once
 
 #include <array>

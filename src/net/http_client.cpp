@@ -102,7 +102,7 @@ struct HttpClient::Impl {
 
     void start_job(const std::shared_ptr<HttpJob>& job) {
         if (job->request.ranges.empty()) return finish_job(*job);
-        const bool multi_ok = !single_range_origins.contains(origin_of(job->request.url));
+        const bool multi_ok = !single_range_origins.contains(origin_of(job->request.asked()));
         const HttpSettings s = current_settings();
         for (auto& group : range_groups(job->request, s.max_range_header, multi_ok)) {
             ++job->pending;
@@ -188,7 +188,7 @@ struct HttpClient::Impl {
     // now and for later requests to the same origin.
     void split(std::unique_ptr<HttpTransfer> t, const HttpSettings& s) {
         HttpJob& job = t->job();
-        single_range_origins.insert(origin_of(job.request.url));
+        single_range_origins.insert(origin_of(job.request.asked()));
         for (const auto i : t->ranges()) {
             ++job.pending;
             launch(std::make_unique<HttpTransfer>(t->job_ptr(), std::vector<std::size_t>{i}), s);

@@ -7,7 +7,9 @@
 // Every response is validated: status 206, a Content-Range equal to what was asked (a range
 // may only be shortened at the end of the file), exactly the bytes asked, and the same ETag
 // (or Last-Modified) as the one the caller pinned. A server that ignores Range (status 200)
-// is an error, and its body is not downloaded; neither is any response larger than asked.
+// is an error, and its body is not downloaded; neither is any response larger than asked. The
+// body of an error status is read (up to 16 KiB) for the cause it names (an S3 error code).
+// A 206 is accepted on its Content-Range alone (no Accept-Ranges header is required).
 // Time-outs, dropped connections, 429 and 5xx are retried with exponential backoff; a cut
 // single-range body resumes where it stopped. TLS peers are verified against the system CA
 // store (or the CAs of HttpSettings::ca_file), and redirects may not change the scheme or
@@ -42,10 +44,24 @@ struct HttpSettings {
     std::string ca_file;                             // PEM CAs to verify TLS peers with ("" = the system's)
 };
 
+// How a request is signed: AWS Signature V4 computed by libcurl itself (CURLOPT_AWS_SIGV4),
+// and the headers it adds (x-amz-security-token, x-amz-request-payer, ...). Never shown.
+struct RequestSigning {
+    std::string aws_sigv4;             // "aws:amz:REGION:s3"; "" = not signed
+    std::string access_key, secret;    // the signing credentials
+    std::vector<std::string> headers;  // "Name: value" lines sent with the request (signed too)
+};
+
 struct RangeRequest {
-    std::string url;                 // may carry credentials; never shown
+    std::string url;                 // the file's name (shown redacted, the cache's key); may carry credentials
     std::vector<ByteRange> ranges;   // at least one
     std::string validator;           // ETag or Last-Modified that responses must carry ("" = any)
+    std::string target;              // the http(s) URL asked ("" = url): an s3:// file's, a redirect's end
+    RequestSigning signing;
+    // A plain GET of a whole (small) response, status 200 and no Range: ranges holds one range
+    // {0, the most bytes accepted}, and parts[0] the body (an S3 listing).
+    bool whole = false;
+    const std::string& asked() const { return target.empty() ? url : target; }
 };
 
 struct RangeReply {
@@ -53,6 +69,8 @@ struct RangeReply {
     std::optional<std::uint64_t> total;            // the file's size, from Content-Range
     std::string validator;                         // ETag (or Last-Modified) of the responses
     std::string error;                             // non-empty: the request failed (after retries)
+    long status = 0;                               // the last response's HTTP status (0: none)
+    std::string final_url;                         // where redirects led, when they did ("" = none)
 };
 
 struct HttpStats {

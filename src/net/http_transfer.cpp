@@ -10,6 +10,7 @@
 #include "core/text.hpp"
 #include "net/origin_policy.hpp"
 #include "net/url.hpp"
+#include "net/xml_text.hpp"
 
 namespace lidarscout::net {
 
@@ -23,6 +24,8 @@ std::string_view trim(std::string_view s) {
 
 // Multipart framing allowed per part on top of its data (delimiter, Content-Type, Content-Range).
 constexpr std::uint64_t kPartFraming = 512;
+// The bytes of an error response's body read for its cause.
+constexpr std::size_t kErrorBody = 16 * 1024;
 
 // Whether `got` answers `asked`: the same start, and the same end or one cut at the file's end.
 bool answers(const ContentRange& got, const ByteRange& asked) {
@@ -71,7 +74,7 @@ std::uint64_t HttpTransfer::asked_bytes() const {
 }
 
 std::uint64_t HttpTransfer::body_limit() const {
-    if (ranges_.size() == 1) return asked_now().length;
+    if (ranges_.size() == 1) return asked_now().length;  // (a whole GET: the most bytes accepted)
     std::uint64_t sum = 0;
     for (const auto i : ranges_) sum += job_->request.ranges[i].length + kPartFraming;
     return sum + kPartFraming;
@@ -86,8 +89,9 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     content_range_.clear(), content_type_.clear(), etag_.clear(), last_modified_.clear();
     body_started_ = false;
     abort_ = TransferOutcome::Done;
-    if (ranges_.size() > 1) body_.clear();
+    if (ranges_.size() > 1 || job_->request.whole) body_.clear();
     attempt_start_ = body_.size();
+    error_body_.clear();
     attempt_body_ = attempt_headers_ = 0;
     curl_error_[0] = '\0';
     location_.clear();
@@ -103,12 +107,14 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
         for (const auto i : ranges_) asked.push_back(job_->request.ranges[i]);
     }
     const std::string range = "Range: " + range_header(asked);
-    headers_ = curl_slist_append(headers_, range.c_str());
+    if (!job_->request.whole) headers_ = curl_slist_append(headers_, range.c_str());
     headers_ = curl_slist_append(headers_, "Accept-Encoding: identity");
+    for (const auto& line : job_->request.signing.headers) headers_ = curl_slist_append(headers_, line.c_str());
 
     easy_ = curl_easy_init();
-    const std::string scheme = url_scheme(job_->request.url);
-    curl_easy_setopt(easy_, CURLOPT_URL, job_->request.url.c_str());
+    const std::string scheme = url_scheme(job_->request.asked());
+    curl_easy_setopt(easy_, CURLOPT_URL, job_->request.asked().c_str());
+    set_signing();
     curl_easy_setopt(easy_, CURLOPT_HTTPHEADER, headers_);
     curl_easy_setopt(easy_, CURLOPT_PROTOCOLS_STR, "http,https");
     curl_easy_setopt(easy_, CURLOPT_FOLLOWLOCATION, 1L);
@@ -134,6 +140,15 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     curl_easy_setopt(easy_, CURLOPT_WRITEDATA, this);
     curl_easy_setopt(easy_, CURLOPT_PRIVATE, this);
     return easy_;
+}
+
+// AWS Signature V4, computed by libcurl for each request (and each redirect to the same host).
+void HttpTransfer::set_signing() {
+    const RequestSigning& s = job_->request.signing;
+    if (s.aws_sigv4.empty()) return;
+    curl_easy_setopt(easy_, CURLOPT_AWS_SIGV4, s.aws_sigv4.c_str());
+    curl_easy_setopt(easy_, CURLOPT_USERNAME, s.access_key.c_str());
+    curl_easy_setopt(easy_, CURLOPT_PASSWORD, s.secret.c_str());
 }
 
 bool HttpTransfer::used_http2() const {
@@ -202,8 +217,8 @@ bool HttpTransfer::check_redirect() {
     if (location_.empty()) return true;  // nothing to follow
     const char* current = nullptr;
     curl_easy_getinfo(easy_, CURLINFO_EFFECTIVE_URL, &current);
-    const std::string target = resolve_url(current ? current : job_->request.url, location_);
-    const std::string& asked = job_->request.url;
+    const std::string& asked = job_->request.asked();
+    const std::string target = resolve_url(current ? current : asked, location_);
     if (url_scheme(target) != url_scheme(asked)) {
         message_ = "a redirect to another scheme is refused (to " + redact_url(target) + ")";
     } else if (const std::string refusal = derived_url_refusal(asked, target); !refusal.empty()) {
@@ -223,6 +238,7 @@ std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, v
         if (!t->accept_body_start()) return 0;  // stops the transfer: nothing more is downloaded
     }
     t->attempt_body_ += bytes;
+    if (t->status_ >= 300) return t->keep_error_body(data, bytes);
     if (t->body_.size() - t->attempt_start_ + bytes > t->body_limit()) {
         t->abort_ = TransferOutcome::Fail;
         t->message_ = "the server sent more bytes than were asked for";
@@ -232,15 +248,59 @@ std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, v
     return bytes;
 }
 
+// An error response's body, kept (bounded) for the cause it names.
+std::size_t HttpTransfer::keep_error_body(const char* data, std::size_t bytes) {
+    if (error_body_.size() + bytes > kErrorBody) {
+        abort_ = (status_ == 429 || status_ >= 500) ? TransferOutcome::Retry : TransferOutcome::Fail;
+        message_ = status_message();
+        return 0;
+    }
+    error_body_.append(data, bytes);
+    return bytes;
+}
+
+// "HTTP status 403", with the error code and message of an XML error body (S3's).
+std::string HttpTransfer::status_message() const {
+    std::string message = "HTTP status " + std::to_string(status_);
+    const std::string code = xml_text(error_body_, "Code");
+    if (code.empty()) return message;
+    std::string text = xml_text(error_body_, "Message");
+    if (text.size() > 200) text = text.substr(0, 200) + "...";
+    message += ", error " + code + (text.empty() ? "" : " (" + text + ")");
+    // (S3 names the bucket's region or endpoint when the request went to the wrong one)
+    for (const char* tag : {"Region", "Endpoint"}) {
+        const std::string value = xml_text(error_body_, tag);
+        if (!value.empty() && value.size() < 200) message += std::string(", ") + tag + " " + value;
+    }
+    return message;
+}
+
 bool HttpTransfer::accept_body_start() {
-    if (status_ == 206) return ranges_.size() > 1 || check_single_range_start();
+    if (status_ >= 300) return true;  // its body names the cause (a redirect here had no Location)
+    if (job_->request.whole) {
+        if (status_ == 200) return true;
+        abort_ = TransferOutcome::Fail;
+        message_ = "HTTP status " + std::to_string(status_);
+        return false;
+    }
+    if (status_ == 206 && ranges_.size() > 1) return accept_multipart_start();
+    if (status_ == 206) return check_single_range_start();
     if (status_ == 200) {
         abort_ = ranges_.size() > 1 ? TransferOutcome::NoMultiRange : TransferOutcome::Fail;
         message_ = "the server ignores Range requests (status 200); a full download is not done";
     } else {
-        abort_ = (status_ == 429 || status_ >= 500) ? TransferOutcome::Retry : TransferOutcome::Fail;
+        abort_ = TransferOutcome::Fail;
         message_ = "HTTP status " + std::to_string(status_);
     }
+    return false;
+}
+
+// A 206 to a multi-range request that is not multipart/byteranges (one range spanning them all,
+// or the whole file as a 206) is not downloaded: the ranges are asked one by one instead.
+bool HttpTransfer::accept_multipart_start() {
+    if (!multipart_boundary(content_type_).empty()) return true;
+    abort_ = TransferOutcome::NoMultiRange;
+    message_ = "the server answers multi-range requests with one range";
     return false;
 }
 
@@ -320,19 +380,23 @@ TransferOutcome HttpTransfer::judge_transport(CURLcode code) {
 
 TransferOutcome HttpTransfer::judge_status() {
     if (status_ == 429 || status_ >= 500) {
-        message_ = "HTTP status " + std::to_string(status_);
+        message_ = status_message();
         return TransferOutcome::Retry;
     }
+    if (status_ >= 300 && status_ != 416) return fail(status_message());
+    if (job_->request.whole) return status_ == 200 ? take_whole() : fail(status_message());
     if (status_ == 200) return ranges_.size() > 1 ? TransferOutcome::NoMultiRange :
         fail("the server ignores Range requests (status 200); a full download is not done");
     if (status_ == 416) return fail("HTTP status 416: the range lies beyond the end of the file");
-    if (status_ != 206) return fail("HTTP status " + std::to_string(status_));
+    if (status_ != 206) return fail(status_message());
     if (!body_started_ && ranges_.size() == 1 && !check_single_range_start()) return TransferOutcome::Fail;
     return ranges_.size() == 1 ? take_single() : take_multipart();
 }
 
 TransferOutcome HttpTransfer::finish_attempt(CURLcode code) {
     const TransferOutcome outcome = judge_attempt(code);
+    job_->reply.status = status_;
+    if (outcome == TransferOutcome::Done) keep_final_url();
     if (outcome == TransferOutcome::Retry && past_deadline()) return fail(deadline_message());
     return outcome;
 }
@@ -349,6 +413,19 @@ TransferOutcome HttpTransfer::judge_attempt(CURLcode code) {
     } catch (const Error& e) {  // a malformed multipart body
         return fail(e.what());
     }
+}
+
+// Where the redirects of a successful attempt led (kept by the caller for its next requests).
+void HttpTransfer::keep_final_url() {
+    const char* effective = nullptr;
+    curl_easy_getinfo(easy_, CURLINFO_EFFECTIVE_URL, &effective);
+    if (effective && job_->request.asked() != effective) job_->reply.final_url = effective;
+}
+
+TransferOutcome HttpTransfer::take_whole() {
+    job_->reply.parts[ranges_.front()] = std::move(body_);
+    body_.clear();
+    return TransferOutcome::Done;
 }
 
 TransferOutcome HttpTransfer::take_single() {

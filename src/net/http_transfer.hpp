@@ -1,5 +1,6 @@
 // One HTTP attempt at some of a request's ranges: the libcurl easy handle with its options
-// (TLS verification, same-scheme redirects, time-outs, the deadline), the header and body
+// (TLS verification, same-scheme redirects, time-outs, the deadline, AWS Signature V4 by
+// libcurl), the header and body
 // callbacks that stop a wrong response early (status 200 to a Range request, a body larger
 // than asked, a redirect to another scheme or origin), and the validation of the finished
 // response (206, Content-Range, length, validator).
@@ -62,6 +63,12 @@ private:
     static int on_progress(void* self, curl_off_t, curl_off_t, curl_off_t, curl_off_t);
     void header_line(std::string_view line);
     bool accept_body_start();
+    bool accept_multipart_start();
+    std::size_t keep_error_body(const char* data, std::size_t bytes);
+    std::string status_message() const;
+    void set_signing();
+    void keep_final_url();
+    TransferOutcome take_whole();
     bool check_single_range_start();
     TransferOutcome judge_attempt(CURLcode code);
     TransferOutcome judge_transport(CURLcode code);
@@ -84,6 +91,7 @@ private:
     curl_slist* headers_ = nullptr;
     unsigned attempts_ = 0;
     std::vector<std::uint8_t> body_;  // single range: all bytes so far (kept across attempts)
+    std::string error_body_;          // of an error status (bounded)
     std::uint64_t attempt_start_ = 0; // body_.size() when this attempt started
     std::uint64_t attempt_body_ = 0, attempt_headers_ = 0;
 

@@ -24,8 +24,9 @@ AllowedOrigins parse_allowed_origins(std::string_view list);
 void set_allowed_origins(AllowedOrigins allowed);
 AllowedOrigins allowed_origins();
 
-// Why `derived` may not be read for the dataset at `base` (both http(s) URLs), or "" when it
-// may: another scheme or origin than base's (not allowed), or http after https.
+// Why `derived` may not be read for the dataset at `base` (both http(s) or s3 URLs; an s3
+// URL's origin is its bucket), or "" when it may: another scheme or origin than base's (not
+// allowed), or http after https.
 std::string derived_url_refusal(std::string_view base, std::string_view derived);
 
 }  // namespace lidarscout::net

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "net/range_cache.hpp"
+#include "net/s3_request.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::net {
@@ -51,12 +52,12 @@ std::shared_ptr<const RemoteFile> register_file(const std::string& url, std::sha
     return kept;
 }
 
-RangeRequest head_request(const std::string& url) { return {url, {{0, RemoteFile::kEdge}}, {}}; }
+RangeRequest head_request(const std::string& url) { return remote_request(url, {{0, RemoteFile::kEdge}}, {}); }
 
-// The tail request for a file opened by `head`, or nothing when the head held it all.
-std::optional<RangeRequest> tail_request(const std::string& url, const RemoteFile& f) {
+// The tail range of a file opened by its head, or nothing when the head held it all.
+std::optional<ByteRange> tail_range(const RemoteFile& f) {
     if (f.size() <= 2 * RemoteFile::kEdge) return std::nullopt;
-    return RangeRequest{url, {{f.size() - RemoteFile::kEdge, RemoteFile::kEdge}}, f.validator()};
+    return ByteRange{f.size() - RemoteFile::kEdge, RemoteFile::kEdge};
 }
 
 // Submits `request`, answered from the on-disk cache when it holds it (then at once, on this
@@ -76,24 +77,71 @@ void fetch_cached(RangeRequest request, HttpClient::Callback done) {
     });
 }
 
-RangeReply fetch_cached(RangeRequest request) {
-    std::promise<RangeReply> promise;
-    auto future = promise.get_future();
-    fetch_cached(std::move(request), [&promise](RangeReply&& reply) { promise.set_value(std::move(reply)); });
-    return future.get();
+[[noreturn]] void throw_reply_error(const std::string& url, std::uint64_t offset, const std::string& error) {
+    throw Error(redact_url(url), offset, error + s3_error_context(url));
 }
 
-[[noreturn]] void throw_reply_error(const std::string& url, std::uint64_t offset, const std::string& error) {
-    throw Error(redact_url(url), offset, error);
+}  // namespace
+
+// Where the redirects of a file's requests led: its next requests go there directly, and back
+// to the file's own URL when that answers 403 (a signed URL that expired).
+struct RemoteFile::Redirect {
+    std::mutex mutex;
+    std::string target;  // "" = none
+
+    std::string get() {
+        std::lock_guard lock(mutex);
+        return target;
+    }
+    void keep(const RangeReply& reply) {
+        std::lock_guard lock(mutex);
+        if (!reply.final_url.empty()) target = reply.final_url;
+    }
+    void forget(const std::string& expired) {
+        std::lock_guard lock(mutex);
+        if (target == expired) target.clear();
+    }
+};
+
+namespace {
+
+// Fetches `request` at the file's redirected URL when it has one; a 403 there asks the file's
+// own URL again, once.
+void fetch_following(RangeRequest request, std::shared_ptr<RemoteFile::Redirect> redirect,
+                     HttpClient::Callback done) {
+    const std::string redirected = redirect->get();
+    auto original = std::make_shared<RangeRequest>(request);
+    if (!redirected.empty()) request.target = redirected;
+    fetch_cached(std::move(request), [=, done = std::move(done)](RangeReply&& reply) mutable {
+        const bool expired = !reply.error.empty() && reply.status == 403 && !redirected.empty();
+        if (!expired) {
+            redirect->keep(reply);
+            return done(std::move(reply));
+        }
+        redirect->forget(redirected);
+        fetch_cached(std::move(*original), [redirect, done = std::move(done)](RangeReply&& again) {
+            redirect->keep(again);
+            done(std::move(again));
+        });
+    });
 }
 
 }  // namespace
 
 RemoteFile::RemoteFile(std::string url, RangeReply&& head)
-    : url_(std::move(url)), display_url_(redact_url(url_)), validator_(std::move(head.validator)) {
+    : url_(std::move(url)), display_url_(redact_url(url_)), validator_(std::move(head.validator)),
+      redirect_(std::make_shared<Redirect>()) {
     if (!head.total) throw Error(display_url_, std::nullopt, "the server does not give the file's size");
     size_ = *head.total;
     head_ = std::move(head.parts.at(0));
+    redirect_->keep(head);
+}
+
+RangeReply RemoteFile::fetch_now(std::vector<ByteRange> ranges) const {
+    std::promise<RangeReply> promise;
+    auto future = promise.get_future();
+    fetch_async(std::move(ranges), [&promise](RangeReply&& reply) { promise.set_value(std::move(reply)); });
+    return future.get();
 }
 
 void RemoteFile::set_tail(RangeReply&& reply) { tail_ = std::move(reply.parts.at(0)); }
@@ -109,9 +157,9 @@ std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
     RangeReply head = HttpClient::shared().fetch(head_request(url));
     if (!head.error.empty()) throw_reply_error(url, 0, head.error);
     auto file = std::make_shared<RemoteFile>(url, std::move(head));
-    if (auto tail = tail_request(url, *file)) {
-        RangeReply reply = fetch_cached(*tail);
-        if (!reply.error.empty()) throw_reply_error(url, tail->ranges[0].offset, reply.error);
+    if (auto tail = tail_range(*file)) {
+        RangeReply reply = file->fetch_now({*tail});
+        if (!reply.error.empty()) throw_reply_error(url, tail->offset, reply.error);
         file->set_tail(std::move(reply));
     }
     return register_file(url, std::move(file));
@@ -134,9 +182,9 @@ void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared
     HttpClient::shared().submit(head_request(url), [url, finish](RangeReply&& head) {
         if (!head.error.empty() || !head.total) return finish(nullptr);
         auto file = std::make_shared<RemoteFile>(url, std::move(head));
-        auto tail = tail_request(url, *file);
+        auto tail = tail_range(*file);
         if (!tail) return finish(std::move(file));
-        fetch_cached(std::move(*tail), [finish, file](RangeReply&& reply) {
+        file->fetch_async({*tail}, [finish, file](RangeReply&& reply) {
             if (!reply.error.empty()) return finish(nullptr);
             file->set_tail(std::move(reply));
             finish(file);
@@ -156,7 +204,13 @@ void RemoteFile::prefetch(std::span<const std::string> urls) {
             if (r.files.contains(url) || r.opening.contains(url)) continue;
             r.opening.emplace(url, opened->get_future().share());
         }
-        open_async(url, std::move(opened));
+        try {
+            open_async(url, std::move(opened));
+        } catch (const Error&) {  // (an s3 URL without a key, a bad S3 setting): open() reports it
+            auto& r = registry();
+            std::lock_guard lock(r.mutex);
+            r.opening.erase(url);
+        }
     }
 }
 
@@ -169,7 +223,7 @@ void RemoteFile::forget_all() {
 
 void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     if (out.empty()) return;
-    RangeReply reply = fetch_cached({url_, {{offset, out.size()}}, validator_});
+    RangeReply reply = fetch_now({{offset, out.size()}});
     if (!reply.error.empty()) throw_reply_error(url_, offset, reply.error);
     const auto& part = reply.parts.at(0);
     if (part.size() != out.size()) {
@@ -180,7 +234,7 @@ void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
 }
 
 void RemoteFile::fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const {
-    fetch_cached({url_, std::move(ranges), validator_}, std::move(done));
+    fetch_following(remote_request(url_, std::move(ranges), validator_), redirect_, std::move(done));
 }
 
 }  // namespace lidarscout::net

@@ -6,7 +6,9 @@
 // loader, the viewer, a second command in the same process) costs no request, and every
 // response for it is checked against the same validator: a file that changes on the server
 // during a session is an error, never a mix of two versions. URLs are shown without their
-// credentials (display_url).
+// credentials (display_url). An s3:// URL is read the same way, through its http(s) URL and
+// signing (net/s3_request.hpp). Where redirects lead is kept per file: later requests go there
+// directly, and a 403 there (an expired signed URL) resolves the file's own URL again, once.
 #pragma once
 
 #include <cstdint>
@@ -45,11 +47,17 @@ public:
     // client's thread with one part per range, or with an error.
     void fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const;
 
+    // Fetches the ranges and waits; the reply's error is set when it failed.
+    RangeReply fetch_now(std::vector<ByteRange> ranges) const;
+
     RemoteFile(std::string url, RangeReply&& head);  // from the reply to the head request
     void set_tail(RangeReply&& reply);
 
+    struct Redirect;  // where the file's redirects led
+
 private:
     std::string url_, display_url_, validator_;
+    std::shared_ptr<Redirect> redirect_;
     std::uint64_t size_ = 0;
     std::vector<std::uint8_t> head_, tail_;
 };

@@ -116,7 +116,7 @@ std::string url_scheme(std::string_view url) {
     const auto colon = url.find("://");
     if (colon == std::string_view::npos) return {};
     const std::string scheme = ascii_lower(url.substr(0, colon));
-    return scheme == "http" || scheme == "https" ? scheme : std::string();
+    return scheme == "http" || scheme == "https" || scheme == "s3" ? scheme : std::string();
 }
 
 bool is_url(std::string_view path) { return !url_scheme(path).empty(); }
@@ -183,6 +183,7 @@ std::string redact_url(std::string_view url) {
 std::string url_origin(std::string_view url) {
     const auto p = parse_url(url);
     if (!p) return {};
+    if (p->scheme == "s3") return "s3://" + p->host;  // a bucket
     const std::string port = p->port.empty() ? (p->scheme == "https" ? "443" : "80") : p->port;
     return p->scheme + "://" + ascii_lower(p->host) + ":" + port;
 }

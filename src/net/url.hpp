@@ -1,4 +1,4 @@
-// URLs as paths: telling an http(s) URL from a file path, parsing one into its parts (RFC
+// URLs as paths: telling an http(s) or s3 URL from a file path, parsing one into its parts (RFC
 // 3986's generic syntax), removing the secrets a URL may carry (its "user:password@" and
 // query parameters that are credentials: signed S3, GCS and Azure URLs, tokens, keys) before
 // it is shown anywhere, refusing one whose credentials hold unencoded delimiters, and
@@ -11,10 +11,11 @@
 
 namespace lidarscout::net {
 
-// True for "http://..." and "https://..." (scheme case-insensitive).
+// True for "http://...", "https://..." and "s3://bucket/key" (scheme case-insensitive).
 bool is_url(std::string_view path);
 
-// The parts of an http(s) URL "scheme://userinfo@host:port/path?query#fragment", as written.
+// The parts of an http(s) URL "scheme://userinfo@host:port/path?query#fragment", as written
+// (of an s3 URL: the bucket as host, "/key" as path).
 struct UrlParts {
     std::string scheme;              // lower case
     std::optional<std::string> userinfo;
@@ -36,11 +37,12 @@ std::string url_problem(std::string_view url);
 // replaced by "REDACTED". Anything that is not a URL is returned as it is.
 std::string redact_url(std::string_view url);
 
-// The scheme in lower case ("http" or "https"); empty when `url` is not one.
+// The scheme in lower case ("http", "https" or "s3"); empty when `url` is not one.
 std::string url_scheme(std::string_view url);
 
 // "scheme://host:port" of `url`, scheme and host in lower case, the port always given (80
-// and 443 by default); empty when `url` is not an http(s) URL.
+// and 443 by default); "s3://bucket" for an s3 URL (the bucket as written: its name is
+// case-sensitive); empty when `url` is not a URL.
 std::string url_origin(std::string_view url);
 
 // `reference` resolved against `base` (RFC 3986 in its common forms): an absolute URL as

@@ -14,6 +14,7 @@
 #include "io/file.hpp"
 #include "net/fault_server.hpp"
 #include "nginx_server.hpp"
+#include "s3_server.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout {
@@ -183,6 +184,73 @@ TEST(ScanCommand, EveryChunkPointFailedIsAnError) {
     EXPECT_EQ(j.at("tiles"), 1);
     EXPECT_EQ(j.at("chunk_points"), 0);
     EXPECT_GT(j.at("chunk_points_failed").get<int>(), 0);
+}
+
+// An s3 prefix holding two surveys (put on the test S3 server, which checks AWS Signature V4)
+// scans like the local folders; a wrong secret is an error naming the bucket, key and S3 error
+// code, and the secret appears nowhere in what the command writes.
+TEST(ScanCommand, S3PrefixGivesTheSameResultAsLocalFoldersAndNeverShowsTheSecret) {
+    auto& server = test::S3Server::instance();
+    const std::vector<std::string> surveys = {"isprs-filter-test-sites", "ky-woodford-county"};
+    std::string local_args;
+    for (const auto& s : surveys) {
+        local_args += " " + (test::surveys_dir() / s).string();
+        for (const auto& f : dataset::find_point_cloud_files({(test::surveys_dir() / s).string()}).files) {
+            server.put_file("tiles", "scan/" + s + "/" + std::filesystem::path(f).filename().string(), f);
+        }
+    }
+    const std::string aws = "AWS_SHARED_CREDENTIALS_FILE=/dev/null AWS_ENDPOINT_URL=" + server.endpoint() +
+                            " AWS_ACCESS_KEY_ID=" + test::S3Server::kKey + " AWS_SECRET_ACCESS_KEY=";
+    int status = -1;
+    const auto local = scan_json(local_args, status);
+    ASSERT_EQ(status, 0);
+    const auto remote = scan_json("s3://tiles/scan/ --cache-size 0", status, aws + test::S3Server::kSecret);
+    EXPECT_EQ(status, 0);
+    EXPECT_EQ(without_timings(remote).dump(2), without_timings(local).dump(2));
+
+    std::string out;
+    status = test::run_command(aws + "wrong-cli-secret-91 " + LIDARSCOUT_CLI +
+                                   " scan --cache-size 0 s3://tiles/scan/ky-woodford-county/5205000_3900000.laz 2>&1",
+                               out);
+    EXPECT_NE(status, 0);
+    EXPECT_NE(out.find("SignatureDoesNotMatch"), std::string::npos) << out;
+    EXPECT_NE(out.find("bucket \"tiles\", key \"scan/ky-woodford-county/5205000_3900000.laz\""), std::string::npos)
+        << out;
+    EXPECT_EQ(out.find("wrong-cli-secret-91"), std::string::npos) << out;
+    status =
+        test::run_command(aws + "wrong-cli-secret-91 " + LIDARSCOUT_CLI + " scan --json s3://tiles/scan/ 2>&1", out);
+    EXPECT_NE(status, 0);
+    EXPECT_NE(out.find("SignatureDoesNotMatch"), std::string::npos) << out;
+    EXPECT_EQ(out.find("wrong-cli-secret-91"), std::string::npos) << out;
+}
+
+// --requester-pays (and AWS_REQUEST_PAYER=requester) put x-amz-request-payer on every request of
+// an s3:// dataset; without either, no request has it.
+TEST(ScanCommand, RequesterPaysReachesTheServer) {
+    const auto path = test::data_dir() / "surveys/ky-woodford-county/5205000_3900000.laz";
+    std::ifstream in(path, std::ios::binary);
+    test::FaultServer server({std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()});
+    const std::string endpoint = server.url().substr(0, server.url().rfind('/'));
+    const std::string env = "AWS_SHARED_CREDENTIALS_FILE=/dev/null AWS_ACCESS_KEY_ID=AKIATEST "
+                            "AWS_SECRET_ACCESS_KEY=cli-secret-3 AWS_ENDPOINT_URL=" + endpoint + " ";
+    const auto paid = [&] {
+        std::size_t n = 0;
+        for (const auto& head : server.requests_seen()) {
+            n += head.find("x-amz-request-payer: requester") != std::string::npos;
+        }
+        return n;
+    };
+    std::string out;
+    const std::string scan = std::string(LIDARSCOUT_CLI) + " scan --cache-size 0 s3://bucket/tile.laz";
+    ASSERT_EQ(test::run_command(env + scan + " 2>&1", out), 0) << out;
+    const auto requests = server.requests_seen().size();
+    EXPECT_GE(requests, 3u);
+    EXPECT_EQ(paid(), 0u);
+    ASSERT_EQ(test::run_command(env + scan + " --requester-pays 2>&1", out), 0) << out;
+    EXPECT_EQ(paid(), server.requests_seen().size() - requests);
+    ASSERT_EQ(test::run_command(env + "AWS_REQUEST_PAYER=requester " + scan + " 2>&1", out), 0) << out;
+    EXPECT_EQ(paid(), server.requests_seen().size() - requests);  // every request of the last two runs
+    for (const auto& head : server.requests_seen()) EXPECT_EQ(head.find("cli-secret-3"), std::string::npos) << head;
 }
 
 }  // namespace

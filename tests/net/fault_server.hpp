@@ -5,7 +5,9 @@
 // ETag, a redirect to another scheme; and hostile answers: a body trickled a few bytes at a
 // time, a Content-Length larger than the Content-Range, stray bytes after a body on a kept-alive
 // connection, a redirect to any URL, 404 for every request after the first few. Multi-range
-// requests are answered with the whole buffer and status 200, as object stores do.
+// requests are answered with the whole buffer and status 200, as object stores do. S3's faults:
+// 503 SlowDown with its XML body, 403 (an expired signed URL). No answer has an Accept-Ranges
+// header. The head of every request is kept (requests_seen) for the tests of what is sent.
 #pragma once
 
 #include <arpa/inet.h>
@@ -37,7 +39,9 @@ enum class Fault {
     Trickle,            // the right headers, then the body `trickle_bytes` every `trickle_ms`
     LyingLength,        // 206, the right Content-Range and body, Content-Length 1000 more; then closed
     StrayBytes,         // the right answer, then 16 bytes more (sent when the next request has come)
-    Redirect,           // 302 to `redirect_to`
+    Redirect,           // `redirect_status` (302) to `redirect_to`
+    SlowDown,           // 503 with S3's XML error body, code SlowDown
+    Forbidden,          // 403 with S3's XML error body, code AccessDenied
 };
 
 class FaultServer {
@@ -77,12 +81,19 @@ public:
     int trickle_ms = 20;
     std::size_t trickle_bytes = 2;
     std::string redirect_to;
+    int redirect_status = 302;
+    bool multi_range_206 = false;  // a multi-range request gets 206 with the whole file (as s3rver answers)
     int answer_first = 1 << 30;  // requests answered; 404 for the ones after
     std::vector<std::string> ranges_seen() {
         std::lock_guard lock(mutex_);
         return ranges_;
     }
     int requests() const { return requests_.load(); }
+    // The request line and headers of every request so far.
+    std::vector<std::string> requests_seen() {
+        std::lock_guard lock(mutex_);
+        return heads_;
+    }
 
 private:
     void accept_loop() {
@@ -142,6 +153,7 @@ private:
         {
             std::lock_guard lock(mutex_);
             ranges_.push_back(range);
+            heads_.push_back(request);
         }
         if (stray_next_.exchange(false)) send_all(fd, "STRAY BYTES HERE");  // as if they ended the last body
         const Fault fault = take_fault();
@@ -157,7 +169,19 @@ private:
             return true;
         }
         if (fault == Fault::Redirect) {
-            send_all(fd, "HTTP/1.1 302 Found\r\nLocation: " + redirect_to + "\r\nContent-Length: 0\r\n\r\n");
+            send_all(fd, "HTTP/1.1 " + std::to_string(redirect_status) + " Redirect\r\nLocation: " + redirect_to +
+                             "\r\nContent-Length: 0\r\n\r\n");
+            return true;
+        }
+        if (fault == Fault::SlowDown || fault == Fault::Forbidden) {
+            const bool slow = fault == Fault::SlowDown;
+            const std::string xml = std::string("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Error><Code>") +
+                                    (slow ? "SlowDown" : "AccessDenied") + "</Code><Message>" +
+                                    (slow ? "Please reduce your request rate." : "Request has expired") +
+                                    "</Message></Error>";
+            send_all(fd, std::string(slow ? "HTTP/1.1 503 Slow Down" : "HTTP/1.1 403 Forbidden") +
+                             "\r\nContent-Type: application/xml\r\nContent-Length: " + std::to_string(xml.size()) +
+                             "\r\n\r\n" + xml);
             return true;
         }
         if (fault == Fault::RedirectToHttps) {
@@ -166,6 +190,12 @@ private:
             return true;
         }
         const bool single = range.rfind("bytes=", 0) == 0 && range.find(',') == std::string::npos;
+        if (!single && multi_range_206) {
+            send_all(fd, "HTTP/1.1 206 Partial Content\r\nETag: " + etag + "\r\nContent-Range: bytes 0-" +
+                             std::to_string(body.size() - 1) + "/" + std::to_string(body.size()) +
+                             "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
+            return true;
+        }
         if (fault == Fault::IgnoreRange || !single) {
             send_all(fd, "HTTP/1.1 200 OK\r\nETag: " + etag + "\r\nContent-Length: " + std::to_string(body.size()) +
                              "\r\n\r\n" + body);
@@ -229,6 +259,7 @@ private:
     Fault fault_ = Fault::None;
     int fault_count_ = 0;
     std::vector<std::string> ranges_;
+    std::vector<std::string> heads_;
 };
 
 }  // namespace lidarscout::test

@@ -149,6 +149,16 @@ TEST_F(HttpFaults, MultiRangeFallsBackToSingleRangesWithoutAFullDownload) {
     EXPECT_EQ(server.requests(), 7);
 }
 
+// A server answering a multi-range request with one 206 range (the whole file) is asked range by
+// range too, that body not downloaded.
+TEST_F(HttpFaults, MultiRangeAnsweredByOneRangeFallsBackToSingleRanges) {
+    server.multi_range_206 = true;
+    const std::vector<ByteRange> r = {{0, 10}, {5000, 20}, {299990, 10}};
+    expect_bytes(fetch(r), r);
+    EXPECT_EQ(server.requests(), 4);
+    EXPECT_LT(client.stats().body_bytes, 1000u);
+}
+
 TEST_F(HttpFaults, RangeAtTheEndOfTheFileMayBeShortened) {
     const auto reply = fetch({{data.size() - 10, 4096}});
     ASSERT_EQ(reply.error, "");
@@ -196,6 +206,24 @@ TEST(HttpClient, Http2OverTlsMultiplexesRequestsOnOneConnection) {
     EXPECT_EQ(stats.requests, kRequests);
     EXPECT_EQ(stats.http2_responses, kRequests);
     EXPECT_EQ(stats.connections, 1u);
+}
+
+// nginx's redirects: one within the scheme is followed for a ranged request, where it led
+// given to the caller (who keeps it for the file); one from https to http is refused.
+TEST(HttpClient, RedirectsWithinTheSchemeAreFollowedDowngradesRefused) {
+    const auto& server = test::NginxServer::instance();
+    const auto local = file_bytes(test::data_dir() / test::NginxServer::kRedirected);
+    HttpSettings settings;
+    settings.ca_file = server.ca_file().string();
+    HttpClient client(settings);
+    const RangeReply moved = client.fetch({server.url("moved.laz"), {{100, 50}}, {}});
+    ASSERT_EQ(moved.error, "");
+    EXPECT_TRUE(std::equal(moved.parts[0].begin(), moved.parts[0].end(), local.begin() + 100));
+    EXPECT_EQ(moved.final_url, server.url(test::NginxServer::kRedirected));
+    const RangeReply downgraded = client.fetch({server.https_url("downgrade.laz"), {{100, 50}}, {}});
+    EXPECT_NE(downgraded.error.find("a redirect to another scheme is refused"), std::string::npos)
+        << downgraded.error;
+    EXPECT_TRUE(downgraded.parts.empty());
 }
 
 TEST(HttpClient, PlainHttpIsHttp1) {

@@ -21,6 +21,10 @@ TEST_F(OriginPolicy, DerivedUrlsKeepTheDatasetsOrigin) {
     EXPECT_NE(derived_url_refusal(base, "http://data.example/x.laz").find("downgrade from https to http"),
               std::string::npos);
     EXPECT_NE(derived_url_refusal("http://h/list.txt", "https://h/x.laz").find("another origin"), std::string::npos);
+    // an s3 dataset's: its bucket
+    EXPECT_EQ(derived_url_refusal("s3://b/set/list.txt", "s3://b/other/x.laz"), "");
+    EXPECT_NE(derived_url_refusal("s3://b/list.txt", "s3://c/x.laz").find("another origin"), std::string::npos);
+    EXPECT_NE(derived_url_refusal("s3://b/list.txt", "https://b/x.laz").find("another origin"), std::string::npos);
 }
 
 TEST_F(OriginPolicy, AllowedOriginsMayBeUsedButNeverDowngraded) {

@@ -1,7 +1,8 @@
 // net/remote_file through io::File against nginx on loopback: remote reads equal the local
 // file's bytes everywhere, a tile's ranges go out as one multi-range request, URLs are shown
 // without credentials, a file that changes on the server during a session is an error, and
-// open() joins a prefetch in flight.
+// open() joins a prefetch in flight; redirects are kept per file and resolved again when they
+// expire.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,8 +12,10 @@
 
 #include "core/error.hpp"
 #include "delay_proxy.hpp"
+#include "fault_server.hpp"
 #include "io/file.hpp"
 #include "net/http_client.hpp"
+#include "net/origin_policy.hpp"
 #include "net/range_cache.hpp"
 #include "net/remote_file.hpp"
 #include "nginx_server.hpp"
@@ -130,6 +133,41 @@ TEST(RemoteFile, AFileChangedDuringTheSessionIsAnError) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("changed on the server"), std::string::npos) << e.what();
     }
+}
+
+// Redirects (301, 302, 307, 308) of ranged requests are followed; the file's later requests go
+// where they led, and a 403 there (a signed URL that expired) asks the file's own URL again, once.
+TEST(RemoteFile, RedirectsAreKeptPerFileAndResolvedAgainWhenTheyExpire) {
+    std::vector<std::uint8_t> data(100000);
+    for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<std::uint8_t>(i * 7);
+    net::RangeCache::configure({{}, 0});
+    for (const int status : {301, 302, 307, 308}) {
+        test::FaultServer origin(data), signed_host(data);
+        set_allowed_origins(parse_allowed_origins(signed_host.url()));
+        origin.redirect_to = signed_host.url();
+        origin.redirect_status = status;
+        origin.inject(test::Fault::Redirect, 1000);
+        const auto f = RemoteFile::open(origin.url());  // head (redirected), tail (straight there)
+        EXPECT_EQ(origin.requests(), 1) << status;
+        EXPECT_EQ(signed_host.requests(), 2) << status;
+        std::vector<std::uint8_t> got(1000);
+        f->read(5000, got);
+        EXPECT_TRUE(std::equal(got.begin(), got.end(), data.begin() + 5000)) << status;
+        EXPECT_EQ(origin.requests(), 1) << status;
+        signed_host.inject(test::Fault::Forbidden, 1);  // expired: resolved again from the origin
+        f->read(9000, got);
+        EXPECT_TRUE(std::equal(got.begin(), got.end(), data.begin() + 9000)) << status;
+        EXPECT_EQ(origin.requests(), 2) << status;
+        signed_host.inject(test::Fault::Forbidden, 2);  // still refused after resolving again: the error
+        try {
+            f->read(20000, got);
+            FAIL() << "a 403 after resolving again was not an error";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("403, error AccessDenied"), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(origin.requests(), 3) << status;
+    }
+    set_allowed_origins({});
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
 // net/url: URLs told from paths and parsed, credentials (userinfo, signed query strings)
 // removed before display, credentials holding unencoded delimiters refused, origins compared,
-// relative entries of a tile list resolved against the list's URL.
+// relative entries of a tile list resolved against the list's URL; s3 URLs among them.
 #include <gtest/gtest.h>
 
 #include "net/url.hpp"
@@ -15,6 +15,16 @@ TEST(Url, TellsUrlsFromPaths) {
     EXPECT_FALSE(is_url("ftp://host/a.laz"));
     EXPECT_FALSE(is_url("tiles.txt"));
     EXPECT_EQ(url_scheme("HTTPS://h/x"), "https");
+}
+
+// s3 URLs are URLs too (read remotely, relative entries resolved within their bucket), the
+// bucket their origin.
+TEST(Url, S3UrlsAreUrlsWhoseOriginIsTheirBucket) {
+    EXPECT_TRUE(is_url("s3://bucket/tiles/a.laz"));
+    EXPECT_EQ(url_scheme("S3://bucket/k"), "s3");
+    EXPECT_EQ(url_origin("s3://Bucket/k"), "s3://Bucket");  // (bucket names are case-sensitive)
+    EXPECT_EQ(resolve_url("s3://bucket/lists/tiles.txt", "../t/a.laz"), "s3://bucket/t/a.laz");
+    EXPECT_EQ(resolve_url("s3://bucket/lists/tiles.txt", "/t/a.laz"), "s3://bucket/t/a.laz");
 }
 
 TEST(Url, CredentialsAreRemoved) {

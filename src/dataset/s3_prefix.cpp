@@ -1,0 +1,32 @@
+// The tiles of an s3 prefix: its listing, filtered to point cloud files.
+#include "dataset/s3_prefix.hpp"
+
+#include "core/error.hpp"
+#include "dataset/file_search.hpp"
+#include "net/s3_request.hpp"
+
+namespace lidarscout::dataset {
+
+bool is_s3_prefix(const std::string& url) {
+    const auto where = net::parse_s3_url(url);
+    return where && (where->key.empty() || where->key.back() == '/');
+}
+
+std::vector<std::string> s3_prefix_tiles(const std::string& prefix) {
+    const auto where = net::parse_s3_url(prefix);
+    if (!where) throw Error(prefix, std::nullopt, "not an s3 URL (s3://bucket/prefix/)");
+    const auto objects = net::list_s3_objects(prefix);
+    std::vector<std::string> tiles;
+    for (const auto& o : objects) {
+        std::string url = "s3://" + where->bucket + "/" + o.key;
+        if (has_point_cloud_extension(url)) tiles.push_back(std::move(url));
+    }
+    if (tiles.empty()) {
+        throw Error(prefix, std::nullopt, "no .las/.laz object under this prefix (" + std::to_string(objects.size()) +
+                                              " objects listed in bucket \"" + where->bucket + "\", prefix \"" +
+                                              where->key + "\")");
+    }
+    return tiles;
+}
+
+}  // namespace lidarscout::dataset

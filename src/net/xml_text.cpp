@@ -1,0 +1,85 @@
+// XML elements and entities of object store answers.
+#include "net/xml_text.hpp"
+
+#include <array>
+#include <cstdlib>
+#include <utility>
+
+namespace lidarscout::net {
+
+namespace {
+
+// Appends the UTF-8 encoding of `code`.
+void append_utf8(std::string& out, unsigned long code) {
+    if (code < 0x80) {
+        out += static_cast<char>(code);
+    } else if (code < 0x800) {
+        out += static_cast<char>(0xC0 | (code >> 6));
+        out += static_cast<char>(0x80 | (code & 0x3F));
+    } else if (code < 0x10000) {
+        out += static_cast<char>(0xE0 | (code >> 12));
+        out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+        out += static_cast<char>(0x80 | (code & 0x3F));
+    } else {
+        out += static_cast<char>(0xF0 | (code >> 18));
+        out += static_cast<char>(0x80 | ((code >> 12) & 0x3F));
+        out += static_cast<char>(0x80 | ((code >> 6) & 0x3F));
+        out += static_cast<char>(0x80 | (code & 0x3F));
+    }
+}
+
+// The entity between '&' and ';' decoded into `out`; false when it is not one.
+bool decode_entity(std::string_view name, std::string& out) {
+    static constexpr std::array<std::pair<std::string_view, char>, 5> kNamed = {
+        {{"amp", '&'}, {"lt", '<'}, {"gt", '>'}, {"quot", '"'}, {"apos", '\''}}};
+    for (const auto& [n, c] : kNamed) {
+        if (name == n) return out += c, true;
+    }
+    if (name.size() < 2 || name[0] != '#') return false;
+    const bool hex = name[1] == 'x' || name[1] == 'X';
+    const std::string digits(name.substr(hex ? 2 : 1));
+    char* end = nullptr;
+    const unsigned long code = std::strtoul(digits.c_str(), &end, hex ? 16 : 10);
+    if (digits.empty() || *end != '\0' || code > 0x10FFFF) return false;
+    append_utf8(out, code);
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::string_view> xml_elements(std::string_view xml, std::string_view tag) {
+    std::vector<std::string_view> out;
+    const std::string open = "<" + std::string(tag) + ">", close = "</" + std::string(tag) + ">";
+    std::size_t at = 0;
+    for (;;) {
+        const auto start = xml.find(open, at);
+        if (start == std::string_view::npos) break;
+        const auto end = xml.find(close, start + open.size());
+        if (end == std::string_view::npos) break;
+        out.push_back(xml.substr(start + open.size(), end - start - open.size()));
+        at = end + close.size();
+    }
+    return out;
+}
+
+std::string xml_text(std::string_view xml, std::string_view tag) {
+    const auto elements = xml_elements(xml, tag);
+    return elements.empty() ? std::string() : xml_decode(elements.front());
+}
+
+std::string xml_decode(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const auto semicolon = text[i] == '&' ? text.find(';', i) : std::string_view::npos;
+        if (semicolon != std::string_view::npos && semicolon - i <= 10 &&
+            decode_entity(text.substr(i + 1, semicolon - i - 1), out)) {
+            i = semicolon;
+            continue;
+        }
+        out += text[i];
+    }
+    return out;
+}
+
+}  // namespace lidarscout::net
