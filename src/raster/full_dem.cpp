@@ -17,16 +17,6 @@ namespace lidarscout::raster {
 
 namespace {
 
-// Blocks (inclusive index ranges) a tile may put points into.
-struct BlockRange {
-    int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
-    bool empty() const { return x1 < x0 || y1 < y0; }
-    bool contains(lidarscout::CellKey c) const { return c.ix >= x0 && c.ix <= x1 && c.iy >= y0 && c.iy <= y1; }
-    bool contains(const BlockRange& r) const {
-        return contains(lidarscout::CellKey{r.x0, r.y0}) && contains(lidarscout::CellKey{r.x1, r.y1});
-    }
-};
-
 int block_index(double v, double origin, double block_m, int count) {
     const double i = std::floor((v - origin) / block_m);
     return static_cast<int>(std::clamp(i, -1.0, static_cast<double>(count)));
@@ -53,7 +43,7 @@ class BlockSet {
 public:
     BlockSet(const DemGrid& grid, std::span<const GridLayer> layers, const BlockWriteFn& write, FullDemStats& stats)
         : grid_(grid), spec_(grid.block_spec()), layers_(layers), write_(write), stats_(stats), reach_(0),
-          pending_(static_cast<std::size_t>(grid.blocks_x()) * grid.blocks_y(), 0) {
+          selected_(grid.selected_blocks()), pending_(static_cast<std::size_t>(grid.blocks_x()) * grid.blocks_y(), 0) {
         for (std::size_t i = 0; i < layers.size(); ++i) {
             const double reach = gridder_reach_m(layers[i].gridder, grid.texel_m);
             reach_ = std::max(reach_, reach);
@@ -63,7 +53,9 @@ public:
 
     double reach_m() const { return reach_; }
 
-    void expect(const BlockRange& r) { visit(r, [&](lidarscout::CellKey c) { ++pending_[slot(c)]; }); }
+    void expect(const BlockRange& r) {
+        visit(r.intersection(selected_), [&](lidarscout::CellKey c) { ++pending_[slot(c)]; });
+    }
 
     // Adds a point of a tile whose blocks are `range` to the layers of `mask`: Used, Missed when it
     // reaches no block, OutsideTile (and not added) when it reaches a block beyond the tile's header
@@ -91,7 +83,7 @@ public:
     // The blocks the tile was the last to reach are gridded in parallel, then written in order.
     void tile_done(const BlockRange& r, ThreadPool& pool) {
         std::vector<std::pair<lidarscout::CellKey, Gridders>> done;
-        visit(r, [&](lidarscout::CellKey c) {
+        visit(r.intersection(selected_), [&](lidarscout::CellKey c) {
             if (--pending_[slot(c)] != 0) return;
             const auto it = blocks_.find(c);  // blocks no point reached are left to the raster's nodata
             if (it == blocks_.end()) return;
@@ -143,7 +135,7 @@ private:
 
     void add_to(lidarscout::CellKey c, const dataset::MetricPoint& p, const recon::TexelLocation* own,
                 const recon::TexelLocation& at, std::uint32_t mask) {
-        if (mask == 0) return;
+        if (mask == 0 || !selected_.contains(c)) return;  // a block of another `dem --block`
         Gridders& g = gridders_of(c);
         for (std::size_t i = 0; mask != 0; ++i, mask >>= 1) {
             if (mask & 1u) g[i]->add_located(p, own, at);
@@ -168,6 +160,7 @@ private:
     const BlockWriteFn& write_;
     FullDemStats& stats_;
     double reach_;
+    BlockRange selected_;
     std::uint32_t own_only_ = 0;  // layers of reach 0
     std::vector<int> pending_;
     std::unordered_map<lidarscout::CellKey, Gridders, lidarscout::CellKeyHash> blocks_;
@@ -210,13 +203,14 @@ std::uint64_t full_layers_peak_bytes(const dataset::Dataset& ds, const DemGrid& 
         reach = std::max(reach, gridder_reach_m(l.gridder, grid.texel_m));
         per_texel += static_cast<double>(gridder_bytes_per_texel(l.gridder));
     }
+    const BlockRange selected = grid.selected_blocks();
     double rows = 0;
     for (const auto& t : ds.tiles) {
-        const BlockRange r = tile_blocks(grid, t.bounds_m, reach);
+        const BlockRange r = tile_blocks(grid, t.bounds_m, reach).intersection(selected);
         if (!r.empty()) rows = std::max(rows, static_cast<double>(r.y1 - r.y0 + 2));
     }
     const double blocks = static_cast<double>(grid.blocks_x()) * grid.blocks_y();
-    const double held = std::min(blocks, rows * grid.blocks_x());
+    const double held = std::min(static_cast<double>(selected.count()), rows * (selected.x1 - selected.x0 + 1));
     const double block_texels = static_cast<double>(grid.block) * grid.block;
     const double bytes = held * block_texels * per_texel + blocks * sizeof(int);
     return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
@@ -250,14 +244,14 @@ FullDemStats grid_full_layers(const dataset::Dataset& ds, const DemGrid& grid, s
     for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
         ranges[i] = tile_blocks(grid, ds.tiles[i].bounds_m, blocks.reach_m());
         blocks.expect(ranges[i]);
-        if (!ranges[i].empty()) total += ds.tiles[i].tile.header.point_count;
+        if (!ranges[i].intersection(grid.selected_blocks()).empty()) total += ds.tiles[i].tile.header.point_count;
     }
     const bool rgb = std::any_of(layers.begin(), layers.end(), [](const GridLayer& l) { return l.gridder.rgb; });
     const std::uint32_t fields = las::fields::kXyz | las::fields::kClassification | las::fields::kReturns |
                                  las::fields::kIntensity | (rgb ? las::fields::kRgb : 0u);
     std::vector<std::uint32_t> order;
     for (const std::uint32_t t : tile_order(ds)) {
-        if (!ranges[t].empty()) order.push_back(t);
+        if (!ranges[t].intersection(grid.selected_blocks()).empty()) order.push_back(t);
     }
     std::vector<std::uint64_t> outside(ds.tiles.size(), 0);  // per tile: points beyond its header bounds
     const auto add = [&](std::uint32_t t, std::uint64_t, std::span<const dataset::MetricPoint> points) {
