@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -55,6 +56,7 @@ struct DemCliOptions {
     std::string product;  // empty: one DEM by --method
     std::optional<double> contours;  // interval, in the raster's height unit
     std::string block;   // "I/N", empty: the whole DEM
+    int plan = 0;        // --plan N: print the N pieces, make nothing
     std::string memory;  // the budget ("4G"), empty: half of what the process may use
     unsigned threads = 0;
     bool json = false;
@@ -224,6 +226,43 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
     }
 }
 
+// --plan N: the grid and its N pieces (for --block I/N) with the points the tile headers put in
+// each, as the Dask driver reads them; nothing is made.
+int print_plan(const DemCliOptions& o, const dataset::Dataset& ds, const raster::DemRequest& r) {
+    const raster::DemGrid grid = raster::dem_grid(ds, r);
+    const std::vector<double> points = raster::block_point_estimates(ds, grid);
+    nlohmann::json pieces = nlohmann::json::array();
+    const auto all = raster::dem_block_pieces(ds, grid, o.plan);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        raster::DemGrid piece = grid;
+        piece.selection = all[i];
+        const raster::BlockRange& b = all[i];
+        const double estimate = raster::points_in(points, grid, b);
+        const raster::DemGrid::Window w = piece.window();
+        pieces.push_back({{"index", i + 1}, {"blocks", {b.x0, b.y0, b.x1, b.y1}},
+                          {"window", {w.col, w.row, w.width, w.height}}, {"points", std::llround(estimate)}});
+    }
+    std::uint64_t total = 0;
+    for (const auto& t : ds.tiles) total += t.tile.header.point_count;
+    const nlohmann::json j = {{"width", grid.width},         {"height", grid.height},
+                              {"texel_m", grid.texel_m},     {"block_texels", grid.block},
+                              {"blocks", grid.all_blocks().count()}, {"tiles", ds.tiles.size()},
+                              {"points", total},             {"pieces", pieces}};
+    if (o.json) {
+        std::printf("%s\n", j.dump(2).c_str());
+        return 0;
+    }
+    std::printf("%d x %d texels of %g m in %lld blocks of %d texels, %zu tiles, %llu points; %d pieces:\n", grid.width,
+                grid.height, grid.texel_m, (long long)grid.all_blocks().count(), grid.block, ds.tiles.size(),
+                (unsigned long long)total, o.plan);
+    for (const auto& p : pieces) {
+        std::printf("  --block %d/%d: texels %d x %d at column %d, row %d; about %lld points\n",
+                    p["index"].get<int>(), o.plan, p["window"][2].get<int>(), p["window"][3].get<int>(),
+                    p["window"][0].get<int>(), p["window"][1].get<int>(), p["points"].get<long long>());
+    }
+    return 0;
+}
+
 int run_dem(const DemCliOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     raster::DemRequest r = make_request(o);
@@ -233,6 +272,7 @@ int run_dem(const DemCliOptions& o) {
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     print_diagnostics(ds.warnings);
     dataset::require_tiles(ds, "dem");
+    if (o.plan > 0) return print_plan(o, ds, r);
     StageBars bars;
     r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) {
         bars.update(stage, done, total);
@@ -305,6 +345,10 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
                     "Make only piece I of N (e.g. 3/16) of the DEM's grid (of the whole dataset or --bounds), cut "
                     "by point count: the N pieces mosaic into one whole run texel for texel (--from full; the Dask "
                     "driver python3 -m lidarscout_dask runs them on a cluster)");
+    cmd->add_option("--plan", o->plan,
+                    "Print the N pieces of --block I/N (their texels and the points the tile headers put in them) "
+                    "and make nothing")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--memory", o->memory,
                     "Memory the DEM may hold at once, e.g. 4G (default: half of what this process may use); a DEM "
                     "estimated to need more is refused before any work");

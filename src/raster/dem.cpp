@@ -290,6 +290,12 @@ std::string contour_source(const DemRequest& r) {
     return product_paths(r.output, r.products)[static_cast<std::size_t>(height - r.products.begin())];
 }
 
+DemGrid dem_grid(const dataset::Dataset& ds, const DemRequest& r) {
+    const Area area = area_in_metres(ds, r);
+    check_bounds_overlap(ds, r, area);
+    return make_dem_grid(area, r.texel_m, block_texels(r));
+}
+
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     if (!r.hillshade.empty()) hillshade_is_png(r.hillshade);  // an unknown extension refused before any work
@@ -301,9 +307,7 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         throw Error::in_stage("dem", "--contours must be a positive interval");
     }
     DemResult result;
-    const Area area = area_in_metres(ds, r);
-    check_bounds_overlap(ds, r, area);
-    result.grid = make_dem_grid(area, r.texel_m, block_texels(r));
+    result.grid = dem_grid(ds, r);
     check_mostly_empty(ds, result.grid);
     if (r.block_count > 0) select_piece(ds, r, result.grid);
     check_memory(ds, result.grid, r, result);

@@ -93,6 +93,10 @@ std::uint64_t dem_memory_bytes(const dataset::Dataset& dataset, const DemGrid& g
 // The raster contours are drawn from: the DEM, or the first height product (empty when none).
 std::string contour_source(const DemRequest& request);
 
+// The grid make_dem makes `request`'s rasters on (the whole grid, no piece selected): the request's
+// area (or the dataset's bounds) at its texel, in blocks of the size its method needs.
+DemGrid dem_grid(const dataset::Dataset& dataset, const DemRequest& request);
+
 // Throws Error for a method that does not fit the source, a raster far larger than the tiles
 // cover, or one whose memory estimate exceeds the budget (naming the size and the way out:
 // a larger --texel, or --bounds).

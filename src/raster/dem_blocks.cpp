@@ -125,6 +125,14 @@ std::vector<double> block_point_estimates(const dataset::Dataset& ds, const DemG
     return w;
 }
 
+double points_in(const std::vector<double>& estimates, const DemGrid& g, const BlockRange& b) {
+    double sum = 0;
+    for (int iy = b.y0; iy <= b.y1; ++iy) {
+        for (int ix = b.x0; ix <= b.x1; ++ix) sum += estimates[static_cast<std::size_t>(iy) * g.blocks_x() + ix];
+    }
+    return sum;
+}
+
 std::vector<BlockRange> dem_block_pieces(const dataset::Dataset& ds, const DemGrid& grid, int count) {
     const BlockRange all = grid.all_blocks();
     if (count < 1 || count > all.count()) {

@@ -28,5 +28,7 @@ std::vector<BlockRange> dem_block_pieces(const dataset::Dataset& dataset, const 
 
 // Points per block of the grid (slot iy * blocks_x + ix), estimated from the tiles' headers.
 std::vector<double> block_point_estimates(const dataset::Dataset& dataset, const DemGrid& grid);
+// The sum of those estimates over `blocks`.
+double points_in(const std::vector<double>& estimates, const DemGrid& grid, const BlockRange& blocks);
 
 }  // namespace lidarscout::raster
