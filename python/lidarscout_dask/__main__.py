@@ -3,4 +3,7 @@ import sys
 
 from lidarscout_dask.driver import main
 
-sys.exit(main(sys.argv[1:]))
+try:
+    sys.exit(main(sys.argv[1:]))
+except RuntimeError as e:  # a failed command or piece: one line naming it
+    sys.exit(f"lidarscout_dask: {e}")
