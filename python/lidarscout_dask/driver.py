@@ -16,7 +16,7 @@ import time
 
 from lidarscout_dask import pieces as piece_runner
 from lidarscout_dask.mosaic import mosaic
-from lidarscout_dask.plan import choose_count, plan
+from lidarscout_dask.plan import choose_count, fitting_plan, parse_bytes, plan
 
 # Options of `lidarscout dem` a piece cannot make: they need the whole raster (make them from the mosaic).
 REFUSED = ("--hillshade", "--contours", "--rgb", "--from", "--block", "--plan", "--threads", "--json", "-o",
@@ -38,7 +38,8 @@ def parse(argv):
                         "--points-per-piece; at most one per block of the grid)")
     d.add_argument("--points-per-piece", type=float, default=200e6, help="(default 2e8)")
     d.add_argument("--memory", default="", help="memory one piece may hold, e.g. 4G (dem --memory; default: "
-                                                "half of what the worker's machine may use)")
+                                                "half of what the worker's machine may use); without --pieces, "
+                                                "the pieces are doubled until each one's estimate fits")
     d.add_argument("--piece-threads", type=int, default=1, help="threads of each piece's dem (default 1)")
     d.add_argument("--retries", type=int, default=2, help="tries more for a piece that fails (default 2)")
     d.add_argument("--program", default="lidarscout", help="lidarscout on the workers (default: on their PATH)")
@@ -142,8 +143,11 @@ def main(argv):
     client, cluster = client_for(args)
     try:
         workers = max(1, len(client.scheduler_info()["workers"]))
-        count = args.pieces or choose_count(plan(program, args.paths, dem_args, 1), workers, args.points_per_piece)
-        layout = plan(program, args.paths, dem_args, count)
+        grid = plan(program, args.paths, dem_args, 1)
+        count = args.pieces or choose_count(grid, workers, args.points_per_piece)
+        budget = parse_bytes(args.memory) if args.memory and not args.pieces else 0
+        layout = fitting_plan(program, args.paths, dem_args, count, budget, grid["blocks"])
+        count = len(layout["pieces"])
         check_same_run(pieces_dir, args, dem_args, count)
         order = [p["index"] for p in sorted(layout["pieces"], key=lambda p: -p["points"])]  # heaviest first
         records = run_pieces(client, args, dem_args, count, order, pieces_dir)

@@ -227,7 +227,7 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
 }
 
 // --plan N: the grid and its N pieces (for --block I/N) with the points the tile headers put in
-// each, as the Dask driver reads them; nothing is made.
+// each and the memory each is estimated to need, as the Dask driver reads them; nothing is made.
 int print_plan(const DemCliOptions& o, const dataset::Dataset& ds, const raster::DemRequest& r) {
     const raster::DemGrid grid = raster::dem_grid(ds, r);
     const std::vector<double> points = raster::block_point_estimates(ds, grid);
@@ -240,7 +240,8 @@ int print_plan(const DemCliOptions& o, const dataset::Dataset& ds, const raster:
         const double estimate = raster::points_in(points, grid, b);
         const raster::DemGrid::Window w = piece.window();
         pieces.push_back({{"index", i + 1}, {"blocks", {b.x0, b.y0, b.x1, b.y1}},
-                          {"window", {w.col, w.row, w.width, w.height}}, {"points", std::llround(estimate)}});
+                          {"window", {w.col, w.row, w.width, w.height}}, {"points", std::llround(estimate)},
+                          {"memory_estimate_bytes", raster::dem_memory_bytes(ds, piece, r)}});
     }
     std::uint64_t total = 0;
     for (const auto& t : ds.tiles) total += t.tile.header.point_count;
@@ -256,9 +257,10 @@ int print_plan(const DemCliOptions& o, const dataset::Dataset& ds, const raster:
                 grid.height, grid.texel_m, (long long)grid.all_blocks().count(), grid.block, ds.tiles.size(),
                 (unsigned long long)total, o.plan);
     for (const auto& p : pieces) {
-        std::printf("  --block %d/%d: texels %d x %d at column %d, row %d; about %lld points\n",
+        std::printf("  --block %d/%d: texels %d x %d at column %d, row %d; about %lld points, %.3g GB\n",
                     p["index"].get<int>(), o.plan, p["window"][2].get<int>(), p["window"][3].get<int>(),
-                    p["window"][0].get<int>(), p["window"][1].get<int>(), p["points"].get<long long>());
+                    p["window"][0].get<int>(), p["window"][1].get<int>(), p["points"].get<long long>(),
+                    p["memory_estimate_bytes"].get<double>() / 1e9);
     }
     return 0;
 }
