@@ -202,7 +202,8 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
     std::string what = std::string(raster::dem_method_name(r.method));
     if (!r.products.empty()) what = "products: " + o.product;
     std::printf("%s: %d x %d texels of %g m (%s, %s), %llu of %llu points used, %.2f s (gridding %.2f s, COG %.2f s)\n",
-                r.output.c_str(), d.grid.window().width, d.grid.window().height, r.texel_m, o.from.c_str(), what.c_str(),
+                r.output.c_str(), d.grid.window().width, d.grid.window().height, r.texel_m, o.from.c_str(),
+                what.c_str(),
                 (unsigned long long)d.points_used, (unsigned long long)d.points_read, seconds, d.seconds_grid,
                 d.seconds_cog);
     if (!r.products.empty()) {

@@ -94,7 +94,9 @@ int parse_positive(std::string_view text, std::string_view whole) {
 
 std::pair<int, int> parse_block_piece(std::string_view text) {
     const auto slash = text.find('/');
-    if (slash == std::string_view::npos) throw Error("--block must be I/N, e.g. 3/16 (not '" + std::string(text) + "')");
+    if (slash == std::string_view::npos) {
+        throw Error("--block must be I/N, e.g. 3/16 (not '" + std::string(text) + "')");
+    }
     const int i = parse_positive(text.substr(0, slash), text), n = parse_positive(text.substr(slash + 1), text);
     if (i > n) throw Error("--block must be I/N with 1 <= I <= N (not '" + std::string(text) + "')");
     return {i, n};
