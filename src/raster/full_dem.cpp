@@ -196,11 +196,13 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 }
 
 // A tin block holds every point of the block and its margin until it is finished (24 bytes each, up
-// to twice that in a growing vector), then a 48-byte copy of each while it triangulates: where the
-// points are denser than a texel, these outweigh the per-texel bytes. The points (the tile headers'
-// counts spread over their bounds, grown by the margin): each held block the selected blocks' mean,
-// and the densest one finishing on top (on the 100-tile replica at 10 m, 22.9 GB estimated for 12.5 GB
-// measured; 115 MB before the points were counted).
+// to twice that in a growing vector); finishing one copies them, sorts them into the patch and
+// triangulates them (about 240 bytes a point at its peak, measured). Where the points are denser
+// than a texel, these outweigh the per-texel bytes. The points (the tile headers' counts spread over
+// their bounds, grown by the margin): each held block the selected blocks' mean, and the densest one
+// finishing on top. Measured on the 100-tile replica's 10 m dtm of every point: the whole run held
+// 12.5 GB (estimated 19.1 GB; 115 MB before the points were counted), its densest piece of 16 8.3 GB
+// (estimated 10.7 GB).
 struct TinPoints {
     double held_bytes_per_block = 0, finishing_bytes = 0;
 };
@@ -220,7 +222,7 @@ TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::
     }
     const double grown = (grid.block + 2.0 * kTinMarginTexels) / grid.block * (grid.block + 2.0 * kTinMarginTexels) /
                          grid.block * static_cast<double>(tins);
-    return {filled > 0 ? sum / filled * grown * 96 : 0, densest * grown * 72};
+    return {filled > 0 ? sum / filled * grown * 48 : 0, densest * grown * 240};
 }
 
 }  // namespace
