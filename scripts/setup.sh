@@ -22,6 +22,8 @@ PACKAGES=(
   libglfw3-dev libimgui-dev libepoxy-dev xvfb xauth
   # training (run by /usr/bin/python3)
   python3 python3-torch python3-numpy
+  # the Dask driver of `dem --block` (python/lidarscout_dask): Dask's distributed scheduler, GDAL's Python
+  python3-distributed python3-gdal
 )
 
 SUDO=""

@@ -1,21 +1,26 @@
 // `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
 // [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
 // [--returns first,last,single,intermediate] [--intensity MIN-MAX]
-// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--contours INTERVAL] [--threads N] [--json]`:
+// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--contours INTERVAL] [--block I/N] [--memory SIZE]
+// [--threads N] [--json]`:
 // a terrain or surface model of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp); with
 // `--product dtm,dsm,chm,density,pulse-density,intensity,count` those rasters instead, in one read of
 // the points (raster/products.hpp), each to OUT_NAME.tif (to OUT.tif when there is one); contour
-// lines of the height raster to RASTER_contours.gpkg (raster/contours.hpp).
+// lines of the height raster to RASTER_contours.gpkg (raster/contours.hpp). `--block I/N` makes piece I
+// of N of the grid only (raster/dem_blocks.hpp: the pieces mosaic into the whole run exactly; the Dask
+// driver python/lidarscout_dask runs them on a cluster); `--memory` bounds what the DEM may hold.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
 #include <optional>
 #include <thread>
+#include <tuple>
 
 #include "cli/commands.hpp"
 #include "cli/filter_options.hpp"
@@ -24,13 +29,16 @@
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
 #include "cli/recon_options.hpp"
+#include "cli/size_options.hpp"
 #include "cli/region_options.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/thread_options.hpp"
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "dataset/dataset.hpp"
 #include "raster/contours.hpp"
 #include "raster/dem.hpp"
+#include "raster/dem_blocks.hpp"
 
 namespace lidarscout::cli {
 namespace {
@@ -47,6 +55,9 @@ struct DemCliOptions {
     std::optional<double> radius, power, max_edge;  // idw, idw, tin and products
     std::string product;  // empty: one DEM by --method
     std::optional<double> contours;  // interval, in the raster's height unit
+    std::string block;   // "I/N", empty: the whole DEM
+    int plan = 0;        // --plan N: print the N pieces, make nothing
+    std::string memory;  // the budget ("4G"), empty: half of what the process may use
     unsigned threads = 0;
     bool json = false;
 };
@@ -119,6 +130,8 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     r.model = o.model;
     r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     r.contours_interval = o.contours.value_or(0);
+    if (!o.block.empty()) std::tie(r.block_index, r.block_count) = raster::parse_block_piece(o.block);
+    if (!o.memory.empty()) r.memory_budget = parse_bytes(o.memory, "--memory");
     if (!o.product.empty()) {
         apply_products(o, r);
         return r;
@@ -131,6 +144,18 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     }
     apply_method_parameters(o, r);
     return r;
+}
+
+// --block: which piece, its blocks of the grid and its texels in the whole raster (column, row from the north).
+nlohmann::json block_json(const raster::DemRequest& r, const raster::DemGrid& g) {
+    const raster::BlockRange b = g.selected_blocks();
+    const raster::DemGrid::Window w = g.window();
+    return {{"index", r.block_index},
+            {"count", r.block_count},
+            {"blocks", {b.x0, b.y0, b.x1, b.y1}},
+            {"grid_width", g.width},
+            {"grid_height", g.height},
+            {"window", {w.col, w.row, w.width, w.height}}};
 }
 
 void print_result(const DemCliOptions& o, const raster::DemRequest& r, const raster::DemResult& d, double seconds) {
@@ -152,6 +177,9 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
                             {"peak_blocks", d.peak_blocks},
                             {"seconds_grid", d.seconds_grid},
                             {"seconds_cog", d.seconds_cog},
+                            {"memory_estimate_bytes", d.memory_estimate},
+                            {"memory_budget_bytes", d.memory_budget},
+                            {"peak_resident_bytes", peak_resident_bytes()},
                             {"seconds_hillshade", d.seconds_hillshade},
                             {"seconds", seconds}};
         if (!r.products.empty()) {
@@ -162,6 +190,7 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
             }
             j["max_edge_m"] = raster::ProductPass(r.products, r.product_options, r.texel_m).max_edge_m();
         }
+        if (r.block_count > 0) j["block"] = block_json(r, d.grid);
         if (!d.contours.empty()) {
             j["contours"] = d.contours;
             j["contour_lines"] = d.contour_lines;
@@ -173,7 +202,8 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
     std::string what = std::string(raster::dem_method_name(r.method));
     if (!r.products.empty()) what = "products: " + o.product;
     std::printf("%s: %d x %d texels of %g m (%s, %s), %llu of %llu points used, %.2f s (gridding %.2f s, COG %.2f s)\n",
-                r.output.c_str(), d.grid.width, d.grid.height, r.texel_m, o.from.c_str(), what.c_str(),
+                r.output.c_str(), d.grid.window().width, d.grid.window().height, r.texel_m, o.from.c_str(),
+                what.c_str(),
                 (unsigned long long)d.points_used, (unsigned long long)d.points_read, seconds, d.seconds_grid,
                 d.seconds_cog);
     if (!r.products.empty()) {
@@ -181,12 +211,59 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
             std::printf("%s: %s\n", d.outputs[i].c_str(), std::string(raster::product_name(r.products[i])).c_str());
         }
     }
+    if (r.block_count > 0) {
+        const raster::DemGrid::Window w = d.grid.window();
+        std::printf("piece %d of %d: texels %d..%d x %d..%d (rows from the north) of the %d x %d grid\n",
+                    r.block_index, r.block_count, w.col, w.col + w.width - 1, w.row, w.row + w.height - 1,
+                    d.grid.width, d.grid.height);
+    }
+    std::printf("memory: estimated %.3g GB (budget %.3g GB), peak resident %.3g GB\n", d.memory_estimate / 1e9,
+                d.memory_budget / 1e9, peak_resident_bytes() / 1e9);
     if (!r.rgb.empty()) std::printf("%s: orthophoto (RGBA)\n", r.rgb.c_str());
     if (!r.hillshade.empty()) std::printf("%s: hillshade\n", r.hillshade.c_str());
     if (!d.contours.empty()) {
         std::printf("%s: %llu contour lines every %g\n", d.contours.c_str(), (unsigned long long)d.contour_lines,
                     r.contours_interval);
     }
+}
+
+// --plan N: the grid and its N pieces (for --block I/N) with the points the tile headers put in
+// each and the memory each is estimated to need, as the Dask driver reads them; nothing is made.
+int print_plan(const DemCliOptions& o, const dataset::Dataset& ds, const raster::DemRequest& r) {
+    const raster::DemGrid grid = raster::dem_grid(ds, r);
+    const std::vector<double> points = raster::block_point_estimates(ds, grid);
+    nlohmann::json pieces = nlohmann::json::array();
+    const auto all = raster::dem_block_pieces(ds, grid, o.plan);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        raster::DemGrid piece = grid;
+        piece.selection = all[i];
+        const raster::BlockRange& b = all[i];
+        const double estimate = raster::points_in(points, grid, b);
+        const raster::DemGrid::Window w = piece.window();
+        pieces.push_back({{"index", i + 1}, {"blocks", {b.x0, b.y0, b.x1, b.y1}},
+                          {"window", {w.col, w.row, w.width, w.height}}, {"points", std::llround(estimate)},
+                          {"memory_estimate_bytes", raster::dem_memory_bytes(ds, piece, r)}});
+    }
+    std::uint64_t total = 0;
+    for (const auto& t : ds.tiles) total += t.tile.header.point_count;
+    const nlohmann::json j = {{"width", grid.width},         {"height", grid.height},
+                              {"texel_m", grid.texel_m},     {"block_texels", grid.block},
+                              {"blocks", grid.all_blocks().count()}, {"tiles", ds.tiles.size()},
+                              {"points", total},             {"pieces", pieces}};
+    if (o.json) {
+        std::printf("%s\n", j.dump(2).c_str());
+        return 0;
+    }
+    std::printf("%d x %d texels of %g m in %lld blocks of %d texels, %zu tiles, %llu points; %d pieces:\n", grid.width,
+                grid.height, grid.texel_m, (long long)grid.all_blocks().count(), grid.block, ds.tiles.size(),
+                (unsigned long long)total, o.plan);
+    for (const auto& p : pieces) {
+        std::printf("  --block %d/%d: texels %d x %d at column %d, row %d; about %lld points, %.3g GB\n",
+                    p["index"].get<int>(), o.plan, p["window"][2].get<int>(), p["window"][3].get<int>(),
+                    p["window"][0].get<int>(), p["window"][1].get<int>(), p["points"].get<long long>(),
+                    p["memory_estimate_bytes"].get<double>() / 1e9);
+    }
+    return 0;
 }
 
 int run_dem(const DemCliOptions& o) {
@@ -198,6 +275,7 @@ int run_dem(const DemCliOptions& o) {
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     print_diagnostics(ds.warnings);
     dataset::require_tiles(ds, "dem");
+    if (o.plan > 0) return print_plan(o, ds, r);
     StageBars bars;
     r.progress = [&](std::string_view stage, std::uint64_t done, std::uint64_t total) {
         bars.update(stage, done, total);
@@ -266,6 +344,17 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
                "Also write a hillshade of the DEM: .tif (GeoTIFF) or .png (with its world file .pgw, .aux.xml)",
                io::OutputKind::Hillshade);
     cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
+    cmd->add_option("--block", o->block,
+                    "Make only piece I of N (e.g. 3/16) of the DEM's grid (of the whole dataset or --bounds), cut "
+                    "by point count: the N pieces mosaic into one whole run texel for texel (--from full; the Dask "
+                    "driver python3 -m lidarscout_dask runs them on a cluster)");
+    cmd->add_option("--plan", o->plan,
+                    "Print the N pieces of --block I/N (their texels and the points the tile headers put in them) "
+                    "and make nothing")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--memory", o->memory,
+                    "Memory the DEM may hold at once, e.g. 4G (default: half of what this process may use); a DEM "
+                    "estimated to need more is refused before any work");
     add_thread_option(*cmd, "--threads", o->threads, "Threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_dem(*o); }; });

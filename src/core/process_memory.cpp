@@ -7,7 +7,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
+#include <string>
 
 namespace lidarscout {
 
@@ -16,6 +18,15 @@ std::uint64_t resident_bytes() {
     std::uint64_t size = 0, resident = 0;
     if (!(in >> size >> resident)) return 0;
     return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+std::uint64_t peak_resident_bytes() {
+    std::ifstream in("/proc/self/status");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.rfind("VmHWM:", 0) == 0) return std::strtoull(line.c_str() + 6, nullptr, 10) * 1024;  // kB
+    }
+    return 0;
 }
 
 std::uint64_t usable_memory_bytes() {

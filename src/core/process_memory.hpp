@@ -10,6 +10,8 @@ namespace lidarscout {
 
 // Bytes resident now (/proc/self/statm); 0 where it cannot be read.
 std::uint64_t resident_bytes();
+// The most bytes ever resident (the high-water mark, VmHWM of /proc/self/status); 0 where unknown.
+std::uint64_t peak_resident_bytes();
 
 // The memory this process may use: the least of the machine's RAM, the address-space and data
 // limits (ulimit -v, -d) and the cgroup's memory.max; 1 GiB when none can be read.

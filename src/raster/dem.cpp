@@ -15,6 +15,7 @@
 #include "raster/block_raster.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/contours.hpp"
+#include "raster/dem_blocks.hpp"
 #include "raster/hillshade.hpp"
 #include "raster/overview_dem.hpp"
 
@@ -75,19 +76,23 @@ std::string gigabytes(double bytes) {
 
 // Refuses a DEM whose memory estimate exceeds the budget, suggesting a texel that fits (the
 // estimate falls with the square of the texel).
-void check_memory(const dataset::Dataset& ds, const DemGrid& g, const DemRequest& r) {
-    const double need = static_cast<double>(dem_memory_bytes(ds, g, r));
-    const double budget = static_cast<double>(r.memory_budget ? r.memory_budget : usable_memory_bytes() / 2);
+void check_memory(const dataset::Dataset& ds, const DemGrid& g, const DemRequest& r, DemResult& result) {
+    result.memory_estimate = dem_memory_bytes(ds, g, r);
+    result.memory_budget = r.memory_budget ? r.memory_budget : usable_memory_bytes() / 2;
+    const double need = static_cast<double>(result.memory_estimate);
+    const double budget = static_cast<double>(result.memory_budget);
     if (need <= budget) return;
     const double texel = r.texel_m * std::sqrt(need / budget) * 1.1;
     const double step = std::pow(10.0, std::floor(std::log10(texel)) - 1);  // two significant digits
     char text[512];
     std::snprintf(text, sizeof text,
                   "the DEM would be %d x %d texels of %g m (%s as float32) and need about %s of memory at once, "
-                  "over the budget of %s (half of the memory this process may use): give a larger --texel "
-                  "(e.g. --texel %g) or a smaller --bounds",
-                  g.width, g.height, g.texel_m, gigabytes(4.0 * g.width * g.height).c_str(), gigabytes(need).c_str(),
-                  gigabytes(budget).c_str(), std::ceil(texel / step) * step);
+                  "over the budget of %s (%s): give a larger --texel (e.g. --texel %g), a smaller --bounds or "
+                  "more --block pieces",
+                  g.window().width, g.window().height, g.texel_m,
+                  gigabytes(4.0 * g.window().width * g.window().height).c_str(), gigabytes(need).c_str(),
+                  gigabytes(budget).c_str(), r.memory_budget ? "--memory" : "half of the memory this process may use",
+                  std::ceil(texel / step) * step);
     throw Error::in_stage("dem", text);
 }
 
@@ -112,7 +117,7 @@ void check_bounds_overlap(const dataset::Dataset& ds, const DemRequest& r, const
 
 // A DEM without a single point is an error, not an all-nodata file: nothing is written.
 void check_points_used(const DemResult& result, const DemRequest& r) {
-    if (result.points_used > 0) return;
+    if (result.points_used > 0 || r.block_count > 0) return;  // a piece of a DEM may be empty
     throw Error::in_stage("dem", r.filter.keeps_everything()
                                      ? "no point lies in the area; nothing written"
                                      : "no point of " + r.filter.describe() + " lies in the area (" +
@@ -194,13 +199,28 @@ void make_products(const dataset::Dataset& ds, const DemRequest& r, const Raster
                                                 });
     copy_stats(stats, result);
     result.seconds_grid = seconds_since(t0);
-    if (result.points_used == 0) {
-        throw Error::in_stage("dem", "no point of the products lies in the area; nothing written");
+    if (r.block_count == 0) {  // a piece of a DEM may be empty
+        if (result.points_used == 0) {
+            throw Error::in_stage("dem", "no point of the products lies in the area; nothing written");
+        }
+        pass.check_points(r.products, stats.layer_points, result.points_read);
     }
-    pass.check_points(r.products, stats.layer_points, result.points_read);
     t0 = Clock::now();
     for (auto& raster : rasters) finish_raster(*raster, r);
     result.seconds_cog = seconds_since(t0);
+}
+
+// --block I/N: the grid's piece I of N, for what a piece can make.
+void select_piece(const dataset::Dataset& ds, const DemRequest& r, DemGrid& grid) {
+    if (r.source != DemSource::Full) throw Error::in_stage("dem", "--block applies to --from full only");
+    if (!r.hillshade.empty() || r.contours_interval > 0) {
+        throw Error::in_stage("dem", std::string(r.hillshade.empty() ? "--contours" : "--hillshade") +
+                                         " does not apply to --block (make it from the mosaic of the pieces)");
+    }
+    if (r.block_index < 1 || r.block_index > r.block_count) {
+        throw Error::in_stage("dem", "--block I/N needs 1 <= I <= N (internal error)");
+    }
+    grid.selection = dem_block_pieces(ds, grid, r.block_count)[static_cast<std::size_t>(r.block_index - 1)];
 }
 
 // The hillshade and the contours of the height raster, once it is written.
@@ -250,7 +270,7 @@ std::string_view dem_method_name(DemMethod method) {
 }
 
 std::uint64_t dem_memory_bytes(const dataset::Dataset& ds, const DemGrid& g, const DemRequest& r) {
-    const double tiff_tiles = std::ceil(g.width / 512.0) * std::ceil(g.height / 512.0);
+    const double tiff_tiles = std::ceil(g.window().width / 512.0) * std::ceil(g.window().height / 512.0);
     const double rasters = r.rgb.empty() ? 1 : 2;
     double bytes = tiff_tiles * rasters * 2 * 16;  // scratch and COG: an offset and a size per tile
     if (!r.products.empty()) {
@@ -270,6 +290,12 @@ std::string contour_source(const DemRequest& r) {
     return product_paths(r.output, r.products)[static_cast<std::size_t>(height - r.products.begin())];
 }
 
+DemGrid dem_grid(const dataset::Dataset& ds, const DemRequest& r) {
+    const Area area = area_in_metres(ds, r);
+    check_bounds_overlap(ds, r, area);
+    return make_dem_grid(area, r.texel_m, block_texels(r));
+}
+
 DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     if (!fits(r.method, r.source)) throw Error::in_stage("dem", "the method does not fit the source");
     if (!r.hillshade.empty()) hillshade_is_png(r.hillshade);  // an unknown extension refused before any work
@@ -281,11 +307,10 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
         throw Error::in_stage("dem", "--contours must be a positive interval");
     }
     DemResult result;
-    const Area area = area_in_metres(ds, r);
-    check_bounds_overlap(ds, r, area);
-    result.grid = make_dem_grid(area, r.texel_m, block_texels(r));
+    result.grid = dem_grid(ds, r);
     check_mostly_empty(ds, result.grid);
-    check_memory(ds, result.grid, r);
+    if (r.block_count > 0) select_piece(ds, r, result.grid);
+    check_memory(ds, result.grid, r, result);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
     if (!r.products.empty()) {

@@ -7,6 +7,7 @@
 //                   heightmap network (overview_dem.hpp)
 //   products:       from every point, several rasters in one read (dtm, dsm, chm, density,
 //                   pulse-density, intensity, count; products.hpp)
+// Any of the --from full rasters may be made in pieces that mosaic exactly (DemRequest::block_count).
 #pragma once
 
 #include <cstdint>
@@ -59,6 +60,11 @@ struct DemRequest {
     // Contour lines every this many height units (0: none) of the DEM, or of the first height
     // product, to contours_path() of that raster (contours.hpp).
     double contours_interval = 0;
+    // `dem --block I/N` (block_count 0: the whole DEM): only piece block_index (1-based) of the
+    // grid's blocks cut in block_count (dem_blocks.hpp), written as a raster of that rectangle on
+    // the whole grid's lattice; an empty piece is a raster of nodata, not an error. --from full only;
+    // no hillshade or contours (they need the neighbours: make them from the mosaic).
+    int block_index = 0, block_count = 0;
     unsigned threads = 1;
     // Bytes the DEM may hold at once (0: half of what the process may use, usable_memory_bytes()).
     // A DEM estimated to need more is refused before anything is allocated (dem_memory_bytes).
@@ -75,6 +81,7 @@ struct DemResult {
     std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
     std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0, peak_blocks = 0;
+    std::uint64_t memory_estimate = 0, memory_budget = 0;  // bytes (dem_memory_bytes; the budget applied)
     double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0, seconds_contours = 0;
 };
 
@@ -85,6 +92,10 @@ std::uint64_t dem_memory_bytes(const dataset::Dataset& dataset, const DemGrid& g
 
 // The raster contours are drawn from: the DEM, or the first height product (empty when none).
 std::string contour_source(const DemRequest& request);
+
+// The grid make_dem makes `request`'s rasters on (the whole grid, no piece selected): the request's
+// area (or the dataset's bounds) at its texel, in blocks of the size its method needs.
+DemGrid dem_grid(const dataset::Dataset& dataset, const DemRequest& request);
 
 // Throws Error for a method that does not fit the source, a raster far larger than the tiles
 // cover, or one whose memory estimate exceeds the budget (naming the size and the way out:

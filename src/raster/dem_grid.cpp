@@ -15,6 +15,13 @@ namespace lidarscout::raster {
 int DemGrid::block_width(int ix) const { return std::min(block, width - ix * block); }
 int DemGrid::block_height(int iy) const { return std::min(block, height - iy * block); }
 
+DemGrid::Window DemGrid::window() const {
+    const BlockRange b = selected_blocks();
+    const int col1 = std::min(width, (b.x1 + 1) * block), south = b.y0 * block;
+    const int north = std::min(height, (b.y1 + 1) * block);
+    return {b.x0 * block, height - north, col1 - b.x0 * block, north - south};
+}
+
 DemGrid make_dem_grid(const Area& area, double texel_m, int block) {
     if (!(texel_m > 0 && std::isfinite(texel_m))) throw Error::in_stage("dem", "the texel size must be positive");
     if (!(area.min_x <= area.max_x && area.min_y <= area.max_y)) throw Error::in_stage("dem", "the area is empty");
@@ -39,11 +46,12 @@ Area dataset_area(const dataset::Dataset& ds) {
 RasterGeometry raster_geometry(const DemGrid& grid, const dataset::Frame& frame) {
     RasterGeometry g;
     const double f = frame.xy_to_metres;
-    g.west = grid.origin_x / f;
-    g.north = (grid.origin_y + grid.height * grid.texel_m) / f;
+    const DemGrid::Window w = grid.window();  // the whole grid's corner exactly when it starts there
+    g.west = (w.col == 0 ? grid.origin_x : grid.origin_x + w.col * grid.texel_m) / f;
+    g.north = (grid.origin_y + (grid.height - w.row) * grid.texel_m) / f;
     g.pixel_x = g.pixel_y = grid.texel_m / f;
-    g.width = grid.width;
-    g.height = grid.height;
+    g.width = w.width;
+    g.height = w.height;
     if (!frame.crs.empty()) g.crs_wkt = geo::crs_info(frame.crs).wkt;
     return g;
 }
@@ -67,8 +75,9 @@ void write_flipped(BlockRaster& raster, const DemGrid& grid, int band, int ix, i
         const T* src = values.data() + static_cast<std::size_t>(h - 1 - r) * grid.block;
         std::copy(src, src + w, rows.begin() + static_cast<std::ptrdiff_t>(r) * w);
     }
+    const DemGrid::Window window = grid.window();
     const int top = grid.height - (iy * grid.block + h);
-    raster.write(band, ix * grid.block, top, w, h, std::span<const T>(rows));
+    raster.write(band, ix * grid.block - window.col, top - window.row, w, h, std::span<const T>(rows));
 }
 
 }  // namespace

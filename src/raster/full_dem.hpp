@@ -7,6 +7,8 @@
 // Memory is therefore the blocks under the tiles in flight, not the raster. A point outside its
 // tile's header bounds (beyond a texel; its block may already be written) and a LAZ chunk that
 // cannot be decoded cost their points only, named and counted (FullDemStats::skipped).
+// Only the grid's selected blocks are made (DemGrid::selection, `dem --block`), from the tiles that
+// reach them; each is the same, texel for texel, as in a run of every block.
 // One pass can grid several layers at once (grid_full_layers: `dem --product`), each with its own
 // points (filter) and gridder; a block holds one gridder per layer and is finished for all at once.
 #pragma once
@@ -68,8 +70,10 @@ struct FullDemStats {
 };
 
 // Bytes grid_full_dem may hold at once, estimated before anything is allocated: the blocks of a
-// band as wide as the raster and as tall as the tallest tile's blocks plus one (blocks finish when
-// the row of tiles above them is done), at the gridder's bytes per texel, and a count per block.
+// band as wide as the grid's selected blocks and as tall as the tallest tile's blocks plus one
+// (blocks finish when the row of tiles above them is done), at the gridder's bytes per texel (a tin
+// block: or the points it holds, from the tile headers' counts, where more), and a count per block of
+// the grid.
 std::uint64_t full_dem_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const GridderSpec& gridder,
                                   bool rgb);
 // The same for several layers gridded in one pass.

@@ -1,0 +1,206 @@
+"""`python3 -m lidarscout_dask dem PATH... -o OUT.tif [--product dtm,dsm,chm] [--texel M] [DEM OPTIONS]
+(--scheduler tcp://HOST:8786 | --local N) [--pieces N] [--memory 4G] [--program lidarscout]`:
+the DEM of `lidarscout dem` made in pieces on a Dask cluster. The pieces are planned from the tile
+headers (`lidarscout dem --plan N`: about equal point counts), submitted heaviest first, each one
+`lidarscout dem --block I/N` subprocess on a worker (pieces.py: retried when it fails; finished
+pieces kept in the pieces directory, so a rerun after a dead worker or a stopped driver makes only
+the missing ones), then mosaicked (mosaic.py) into OUT.tif, or OUT_NAME.tif per product, equal texel
+for texel to one `lidarscout dem` run. Options it does not know go to `lidarscout dem` as they are
+(e.g. --classes 2,9 --max-edge 20)."""
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+
+from lidarscout_dask import pieces as piece_runner
+from lidarscout_dask.mosaic import mosaic
+from lidarscout_dask.plan import choose_count, fitting_plan, parse_bytes, plan
+
+# Options of `lidarscout dem` a piece cannot make: they need the whole raster (make them from the mosaic).
+REFUSED = ("--hillshade", "--contours", "--rgb", "--from", "--block", "--plan", "--threads", "--json", "-o",
+           "--output")
+
+
+def parse(argv):
+    p = argparse.ArgumentParser(prog="python3 -m lidarscout_dask",
+                                description="lidarscout dem on a Dask cluster, in pieces that mosaic exactly")
+    sub = p.add_subparsers(dest="command", required=True)
+    d = sub.add_parser("dem", help="a DEM or --product rasters, made in pieces on the workers")
+    d.add_argument("paths", nargs="+", help="LAS/LAZ files, directories or tile lists, as every worker sees them")
+    d.add_argument("-o", "--output", required=True, help="the Cloud-Optimized GeoTIFF to write (.tif)")
+    where = d.add_mutually_exclusive_group(required=True)
+    where.add_argument("--scheduler", help="the Dask scheduler's address, e.g. tcp://head:8786")
+    where.add_argument("--local", type=int, metavar="N", help="a LocalCluster of N workers of one thread")
+    d.add_argument("--pieces", type=int, default=0,
+                   help="pieces to cut the DEM in (default: 4 per worker, more when one would exceed "
+                        "--points-per-piece; at most one per block of the grid)")
+    d.add_argument("--points-per-piece", type=float, default=200e6, help="(default 2e8)")
+    d.add_argument("--memory", default="", help="memory one piece may hold, e.g. 4G (dem --memory; default: "
+                                                "half of what the worker's machine may use); without --pieces, "
+                                                "the pieces are doubled until each one's estimate fits")
+    d.add_argument("--piece-threads", type=int, default=1, help="threads of each piece's dem (default 1)")
+    d.add_argument("--retries", type=int, default=2, help="tries more for a piece that fails (default 2)")
+    d.add_argument("--program", default="lidarscout", help="lidarscout on the workers (default: on their PATH)")
+    d.add_argument("--pieces-dir", default="",
+                   help="where the pieces go, shared by every worker (default OUT.pieces beside the output); "
+                        "a rerun skips the pieces found there")
+    d.add_argument("--keep-pieces", action="store_true", help="keep the pieces after the mosaic")
+    d.add_argument("--json", action="store_true", help="print the result as JSON")
+    args, dem_args = d.parse_known_args(argv[1:]) if argv and argv[0] == "dem" else p.parse_known_args(argv)
+    if not argv or argv[0] != "dem":
+        p.error("the command must be dem")
+    for option in dem_args:
+        if option.split("=")[0] in REFUSED:
+            d.error(f"{option} does not apply to a DEM made in pieces")
+    return args, dem_args
+
+
+def check_output(args):
+    """The output may not be an input, nor one of the files an input directory holds."""
+    out = os.path.realpath(args.output)
+    if not out.lower().endswith((".tif", ".tiff")):
+        raise SystemExit(f"lidarscout_dask: {args.output}: the output must be a .tif")
+    for path in args.paths:
+        real = os.path.realpath(path)
+        if out == real or out.startswith(real.rstrip(os.sep) + os.sep) and os.path.exists(out):
+            raise SystemExit(f"lidarscout_dask: {args.output}: the output is an input ({path})")
+
+
+def product_outputs(output, files):
+    """{raster name: final output}: -o itself for one raster, OUT_NAME.tif for several."""
+    if len(files) == 1:
+        return {name: output for name in files}
+    stem, ext = os.path.splitext(output)
+    return {name: f"{stem}_{name}{ext}" for name in files}
+
+
+def client_for(args):
+    from distributed import Client, LocalCluster
+
+    if args.scheduler:
+        return Client(args.scheduler), None
+    cluster = LocalCluster(n_workers=args.local, threads_per_worker=1, processes=True, dashboard_address=None)
+    return Client(cluster), cluster
+
+
+class Bar:
+    """A progress bar on stderr: pieces finished of all."""
+
+    def __init__(self, total, label):
+        self.total, self.label, self.done, self.t0 = total, label, 0, time.monotonic()
+
+    def add(self, n=1):
+        self.done += n
+        width = 30
+        filled = width * self.done // max(1, self.total)
+        sys.stderr.write(f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
+                         f"{time.monotonic() - self.t0:.0f} s")
+        if self.done >= self.total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def run_pieces(client, args, dem_args, count, order, pieces_dir):
+    from distributed import as_completed
+
+    futures = [client.submit(piece_runner.run_piece, os.path.abspath(args.program) if os.sep in args.program
+                             else args.program, [os.path.abspath(p) for p in args.paths], dem_args, pieces_dir,
+                             index, count, args.piece_threads, args.memory, key=f"lidarscout-piece-{index}-of-{count}",
+                             retries=args.retries, pure=False)
+               for index in order]
+    bar = Bar(len(futures), "lidarscout_dask: pieces")
+    records = []
+    for future in as_completed(futures):
+        records.append(future.result())  # a piece that failed every try raises here, naming its error
+        bar.add()
+    return sorted(records, key=lambda r: r["index"])
+
+
+def summary(records, outputs, seconds, workers):
+    made = [r for r in records if not r["skipped"]]
+    times = [r["seconds"] for r in made]
+    total_piece_seconds = sum(times)
+    out = {"outputs": outputs, "pieces": len(records), "pieces_made": len(made),
+           "pieces_skipped": len(records) - len(made), "workers": workers, "seconds": seconds,
+           "piece_seconds": {r["index"]: round(r["seconds"], 3) for r in made},
+           "piece_seconds_median": statistics.median(times) if times else 0,
+           "piece_seconds_max": max(times) if times else 0, "piece_seconds_total": total_piece_seconds,
+           "peak_resident_bytes_max": max((r.get("peak_resident_bytes") or 0 for r in made), default=0),
+           "memory_estimate_bytes_max": max((r.get("memory_estimate_bytes") or 0 for r in made), default=0),
+           "memory_budget_bytes": max((r.get("memory_budget_bytes") or 0 for r in made), default=0)}
+    return out
+
+
+def main(argv):
+    args, dem_args = parse(argv)
+    check_output(args)
+    program = os.path.abspath(args.program) if os.sep in args.program else args.program
+    t0 = time.monotonic()
+    pieces_dir = os.path.abspath(args.pieces_dir or args.output + ".pieces")
+    os.makedirs(pieces_dir, exist_ok=True)
+    client, cluster = client_for(args)
+    try:
+        workers = max(1, len(client.scheduler_info()["workers"]))
+        grid = plan(program, args.paths, dem_args, 1)
+        count = args.pieces or choose_count(grid, workers, args.points_per_piece)
+        budget = parse_bytes(args.memory) if args.memory and not args.pieces else 0
+        layout = fitting_plan(program, args.paths, dem_args, count, budget, grid["blocks"])
+        count = len(layout["pieces"])
+        check_same_run(pieces_dir, args, dem_args, count)
+        order = [p["index"] for p in sorted(layout["pieces"], key=lambda p: -p["points"])]  # heaviest first
+        records = run_pieces(client, args, dem_args, count, order, pieces_dir)
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+    outputs = product_outputs(args.output, records[0]["files"])
+    bar = Bar(len(outputs), "lidarscout_dask: mosaic")
+    for name, output in outputs.items():
+        files = [os.path.join(pieces_dir, r["files"][name]) for r in records]
+        mosaic(files, os.path.join(pieces_dir, f"mosaic_{name}.vrt"), output, os.cpu_count() or 1)
+        bar.add()
+    result = summary(records, outputs, time.monotonic() - t0, workers)
+    if not args.keep_pieces:
+        remove_pieces(pieces_dir, records, outputs)
+    print_result(args, result, layout)
+    return 0
+
+
+def check_same_run(pieces_dir, args, dem_args, count):
+    """The pieces directory is of this run (the same inputs, dem options and pieces), or new."""
+    run = {"paths": [os.path.abspath(p) for p in args.paths], "dem_args": dem_args, "pieces": count}
+    path = os.path.join(pieces_dir, "run.json")
+    if os.path.exists(path):
+        with open(path, encoding="utf-8") as f:
+            if json.load(f) != run:
+                raise SystemExit(f"lidarscout_dask: {pieces_dir} holds the pieces of another run (see its run.json): "
+                                 "remove it or give another --pieces-dir")
+        return
+    piece_runner.write_atomic(path, json.dumps(run, indent=1))
+
+
+def remove_pieces(pieces_dir, records, outputs):
+    for r in records:
+        for name in r["files"].values():
+            os.remove(os.path.join(pieces_dir, name))
+        os.remove(piece_runner.record_path(pieces_dir, r["index"], r["count"]))
+    for name in outputs:
+        os.remove(os.path.join(pieces_dir, f"mosaic_{name}.vrt"))
+    os.remove(os.path.join(pieces_dir, "run.json"))
+    os.rmdir(pieces_dir)
+
+
+def print_result(args, result, layout):
+    if args.json:
+        result["grid"] = {k: layout[k] for k in ("width", "height", "texel_m", "blocks", "tiles", "points")}
+        print(json.dumps(result, indent=2))
+        return
+    for name, output in result["outputs"].items():
+        print(f"{output}: {name}, {layout['width']} x {layout['height']} texels of {layout['texel_m']:g} m")
+    print(f"{result['pieces']} pieces ({result['pieces_made']} made, {result['pieces_skipped']} found done) on "
+          f"{result['workers']} workers in {result['seconds']:.1f} s; per piece median "
+          f"{result['piece_seconds_median']:.1f} s, longest {result['piece_seconds_max']:.1f} s; memory per piece: "
+          f"peak resident {result['peak_resident_bytes_max'] / 1e9:.3g} GB, estimated "
+          f"{result['memory_estimate_bytes_max'] / 1e9:.3g} GB (budget {result['memory_budget_bytes'] / 1e9:.3g} GB)")
