@@ -2,6 +2,7 @@
 //   decode points/s: full records, XYZ only, XYZ + RGB (the latter two skip layers of
 //   layered files), single-threaded and with all threads; encode points/s likewise.
 // Usage: bench_codec FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode] (default: all modes)
+//        [--threads N] (default: one thread, then all; one count keeps callgrind runs short)
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -36,7 +37,7 @@ double median_rate(int runs, std::uint64_t items, Fn&& fn) {
     return rates[rates.size() / 2];
 }
 
-void bench_file(const std::string& path, int runs, const std::string& only) {
+void bench_file(const std::string& path, int runs, const std::string& only, unsigned only_threads) {
     auto file = io::File::open(path);
     auto tile = dataset::read_tile(file);
     if (!tile.laz()) {
@@ -57,6 +58,7 @@ void bench_file(const std::string& path, int runs, const std::string& only) {
     const Mode modes[] = {
         {"full", las::fields::kAll}, {"xyz", las::fields::kXyz}, {"xyz+rgb", las::fields::kXyz | las::fields::kRgb}};
     for (unsigned threads : {1u, all}) {
+        if (only_threads != 0 && threads != only_threads) continue;
         ThreadPool pool(threads);
         for (const auto& m : modes) {
             if (!only.empty() && only != m.name) continue;
@@ -89,19 +91,22 @@ namespace {
 int run(int argc, char** argv) {
     int runs = 5;
     std::string only;
+    unsigned only_threads = 0;
     std::vector<std::string> files;
     for (int i = 1; i < argc; ++i) {
         if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
         else if (std::strcmp(argv[i], "--mode") == 0 && i + 1 < argc) only = argv[++i];
+        else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) only_threads = std::atoi(argv[++i]);
         else files.push_back(argv[i]);
     }
     if (files.empty()) {
-        fmt::print(stderr, "usage: bench_codec FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode]\n");
+        fmt::print(stderr,
+                   "usage: bench_codec FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode] [--threads N]\n");
         return 2;
     }
     for (const auto& f : files) {
         try {
-            bench_file(f, runs, only);
+            bench_file(f, runs, only, only_threads);
         } catch (const Error& e) {
             fmt::print(stderr, "{}\n", e.what());
             return 1;
@@ -114,6 +119,6 @@ int run(int argc, char** argv) {
 
 int main(int argc, char** argv) {
     return lidarscout::bench::bench_main("bench_codec",
-                                         "FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode]",
+                                         "FILE.laz... [--runs N] [--mode full|xyz|xyz+rgb|encode] [--threads N]",
                                          argc, argv, run);
 }

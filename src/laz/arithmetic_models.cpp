@@ -56,7 +56,7 @@ SymbolModel::SymbolModel(std::uint32_t symbols) : symbols_(symbols) {
         lookup_shift_ = kSymbolProbabilityBits - bits;
         lookup_entries = lookup_size_ + 2;
     }
-    storage_ = std::make_unique<std::uint32_t[]>(2 * std::size_t{symbols} + lookup_entries);
+    storage_ = std::make_unique<Entry[]>(2 * std::size_t{symbols} + lookup_entries);
     cdf_ = storage_.get();
     counts_ = cdf_ + symbols;
     lookup_ = lookup_entries ? counts_ + symbols : nullptr;

@@ -92,6 +92,20 @@ TEST(ArithSymbolModel, LargeAlphabetsGetALookupTable) {
     EXPECT_EQ(m256.lookup()[257], 255u);
 }
 
+// The tables hold 16-bit entries: a symbol coded over and over (a constant field) must keep
+// nearly the whole range, at every point of its update schedule (a count that wrapped would
+// collapse it), in the smallest and the largest alphabets.
+TEST(ArithSymbolModel, OneSymbolCodedMillionsOfTimesKeepsTheRange) {
+    for (std::uint32_t symbols : {2u, 16u, 17u, 256u, kMaxSymbols}) {
+        SymbolModel m(symbols);
+        for (int i = 0; i < 3'000'000; ++i) {
+            m.record(0);
+            if (i > 200'000) ASSERT_GT(m.cdf(1), 3u * kSymbolCountLimit / 4) << symbols << " symbols, record " << i;
+        }
+        EXPECT_EQ(m.cdf(0), 0u);
+    }
+}
+
 // The small-alphabet search multiplies instead of dividing: it must pick the same symbol as
 // counting cdf(s) <= value / length for every code value and interval length the decoder can
 // hold (length < 2^17), including skewed distributions and corrupt values beyond the interval.
