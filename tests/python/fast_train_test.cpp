@@ -29,7 +29,8 @@ TEST(PythonFastTrain, TinyRunEndToEndOnTheCpu) {
     std::string out;
     // Two sources, named as `train_gpu.sh data` names its files (SOURCE.cpN.bin, SOURCE.fine.bin).
     ASSERT_EQ(run(cli + " train-data " + (test::surveys_dir() / "ky-woodford-county").string() + " -o " +
-                      (dir / "data" / "flat.cp369.bin").string() + " --texel 10 --patches 3 --offsets 2 --val-fraction 0",
+                      (dir / "data" / "flat.cp369.bin").string() +
+                      " --texel 10 --patches 3 --offsets 2 --val-fraction 0",
                   out),
               0)
         << out;
