@@ -2,8 +2,10 @@
 // largest resident size of it and its own children (wait4's rusage, for that child only, unlike
 // getrusage(RUSAGE_CHILDREN)), and the most threads it ran at once (its /proc task list, polled
 // while it runs). For the checks that hostile options stay within a memory and thread bound.
+// And the end of a server a fixture started (nginx, the S3 server): stop it, remove its folder.
 #pragma once
 
+#include <signal.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -55,6 +57,16 @@ inline ChildRun run_measured(const std::string& command, const std::filesystem::
     std::ifstream in(err_file);
     run.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     return run;
+}
+
+// Stops the server child `pid` (SIGTERM, then reaped) if it runs, and removes its folder.
+inline void stop_server(pid_t pid, const std::filesystem::path& dir) {
+    if (pid > 0) {
+        ::kill(pid, SIGTERM);
+        ::waitpid(pid, nullptr, 0);
+    }
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
 }
 
 }  // namespace lidarscout::test

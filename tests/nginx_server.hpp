@@ -24,6 +24,7 @@
 #include <string>
 #include <thread>
 
+#include "child_process.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout::test {
@@ -65,14 +66,7 @@ public:
     NginxServer(const NginxServer&) = delete;
     NginxServer& operator=(const NginxServer&) = delete;
 
-    ~NginxServer() {
-        if (pid_ > 0) {
-            ::kill(pid_, SIGTERM);
-            ::waitpid(pid_, nullptr, 0);
-        }
-        std::error_code ec;
-        std::filesystem::remove_all(dir_, ec);
-    }
+    ~NginxServer() { stop_server(pid_, dir_); }
 
 private:
     NginxServer() : NginxServer(data_dir()) {}

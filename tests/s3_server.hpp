@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "child_process.hpp"
 #include "net/s3_config.hpp"
 
 namespace lidarscout::test {
@@ -105,14 +106,7 @@ public:
 
     S3Server(const S3Server&) = delete;
     S3Server& operator=(const S3Server&) = delete;
-    ~S3Server() {
-        if (pid_ > 0) {
-            ::kill(pid_, SIGTERM);
-            ::waitpid(pid_, nullptr, 0);
-        }
-        std::error_code ec;
-        std::filesystem::remove_all(dir_, ec);
-    }
+    ~S3Server() { stop_server(pid_, dir_); }
 
 private:
     static int& count() {

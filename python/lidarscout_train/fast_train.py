@@ -48,7 +48,7 @@ import torch
 
 from .batch_augment import BatchAugment
 from .model import PAD, PATCH, RGB_FILL, HeightmapNet, count_parameters
-from .train import export_torchscript
+from .train import export_torchscript, masked_losses
 
 SIZES = {
     "shipped": {"decoder": "upsample", "width": 8, "head_kernel": 5, "lr": 4e-4},
@@ -134,13 +134,9 @@ def group_weights(groups, lin_mse):
 
 
 def weighted_loss(pred, tgt, weight):
-    """train.masked_losses on a packed target: weighted height MSE + colour MSE over valid texels."""
-    mh, mc = tgt[:, 4], tgt[:, 5]
-    dh = (pred[:, 0] - tgt[:, 0]) ** 2 * weight.view(-1, 1, 1)
-    lh = (dh * mh).sum() / mh.sum().clamp(min=1.0)
-    dc = ((pred[:, 1:4] - tgt[:, 1:4]) ** 2).sum(dim=1)
-    lc = (dc * mc).sum() / (3.0 * mc.sum()).clamp(min=1.0)
-    return lh + lc
+    """train.masked_losses (weighted height MSE + colour MSE over valid texels) of a packed target."""
+    batch = {"height": tgt[:, 0], "rgb": tgt[:, 1:4], "mask_h": tgt[:, 4], "mask_rgb": tgt[:, 5], "weight": weight}
+    return masked_losses(pred, batch)[0]
 
 
 def learning_rate(peak, frac):
