@@ -5,7 +5,7 @@
 // HTTP requests (per tile), and bytes moved (response bodies and headers) against the bytes
 // of the dataset. Every run starts cold: no open remote file, no range cache.
 // With --view PROGRAM, the viewer instead: for each latency `PROGRAM view` opens the tile list
-// (cold: --cache-size 0) and quits soon after the dataset is open; it reports the seconds from
+// (cold: --cache-size 0) and quits --view-seconds (default 5) after the dataset is open; it reports the seconds from
 // its start to the first frame presented, to the dataset open, to the first frame with
 // heightmaps and to the first with all chunk points (view --stats-json). Run it under
 // `xvfb-run -a` (or on a display).
@@ -19,7 +19,7 @@
 // over (keys copyK/...: N x the tiles, each copy where the original lies) for a catalog of
 // thousands of items from a small folder.
 // Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]]
-//                   [--view PROGRAM [--view-args "..."]] FOLDER
+//                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] FOLDER
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -103,11 +103,12 @@ double seconds_field(const nlohmann::json& j, const char* key) {
     return v.get<double>();
 }
 
-// One cold `view` of `url`, quitting 5 s after the dataset is open.
-ViewRun view_once(const std::string& program, const std::string& args, const std::string& url) {
+// One cold `view` of `url`, quitting `quit_after` seconds after the dataset is open.
+ViewRun view_once(const std::string& program, const std::string& args, const std::string& url, double quit_after) {
     const auto stats =
         std::filesystem::temp_directory_path() / ("bench_http_view_" + std::to_string(::getpid()) + ".json");
-    const std::string cmd = program + " view '" + url + "' --cache-size 0 --size 960x540 --quit-after 5 --stats-json " +
+    const std::string cmd = program + " view '" + url + "' --cache-size 0 --size 960x540 --quit-after " +
+                            std::to_string(quit_after) + " --stats-json " +
                             stats.string() + " " + args + " >/dev/null 2>&1";
     if (std::system(cmd.c_str()) != 0) throw Error("failed: " + cmd);
     std::ifstream in(stats);
@@ -120,10 +121,11 @@ ViewRun view_once(const std::string& program, const std::string& args, const std
     return r;
 }
 
-void bench_view(const std::string& program, const std::string& args, const std::string& url, int rtt, int runs) {
+void bench_view(const std::string& program, const std::string& args, const std::string& url, int rtt, int runs,
+                double quit_after) {
     std::vector<double> first, open, overview, points, frames;
     for (int k = 0; k < runs; ++k) {
-        const ViewRun r = view_once(program, args, url);
+        const ViewRun r = view_once(program, args, url, quit_after);
         first.push_back(r.first_frame), open.push_back(r.open);
         if (r.overview) overview.push_back(*r.overview);
         frames.push_back(r.frames_while_opening);
@@ -192,6 +194,7 @@ int run(int argc, char** argv) {
     bool https = false, s3 = false;
     int s3_copies = 1;
     std::string vpc_program;
+    double view_seconds = 5;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--runs" && i + 1 < argc) {
@@ -214,6 +217,8 @@ int run(int argc, char** argv) {
             vpc_program = argv[++i];
         } else if (a == "--view" && i + 1 < argc) {
             view_program = argv[++i];
+        } else if (a == "--view-seconds" && i + 1 < argc) {
+            view_seconds = std::max(0.5, std::atof(argv[++i]));
         } else if (a == "--view-args" && i + 1 < argc) {
             view_args = argv[++i];
         } else {
@@ -223,7 +228,7 @@ int run(int argc, char** argv) {
     if (folder.empty()) {
         fmt::print(stderr,
                    "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
-                   "[--view PROGRAM [--view-args ARGS]] FOLDER\n");
+                   "[--view PROGRAM [--view-args ARGS] [--view-seconds S]] FOLDER\n");
         return 2;
     }
     try {
@@ -248,7 +253,7 @@ int run(int argc, char** argv) {
                 url = vpc_program.empty() ? "s3://bench/" : write_vpc(vpc_program);
             }
             if (!view_program.empty()) {
-                bench_view(view_program, view_args, url, rtt, runs);
+                bench_view(view_program, view_args, url, rtt, runs, view_seconds);
                 continue;
             }
             std::vector<double> headers, points, rate, requests, header_requests, retries, bytes;
@@ -288,6 +293,6 @@ int main(int argc, char** argv) {
     return lidarscout::bench::bench_main(
         "bench_http",
         "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
-        "[--view PROGRAM [--view-args \"...\"]] FOLDER",
+        "[--view PROGRAM [--view-args \"...\"] [--view-seconds S]] FOLDER",
         argc, argv, run);
 }
