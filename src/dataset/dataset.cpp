@@ -372,9 +372,34 @@ std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
 }
 
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options) {
+    return open_sources(find_tile_sources(paths), options);
+}
+
+std::vector<TileSource> central_sources(std::span<const TileSource> sources, double radius_m, std::size_t most) {
+    std::vector<std::pair<double, std::size_t>> near;  // (distance to the centre, source)
+    std::vector<Bounds> footprints;
+    footprints.reserve(sources.size());
+    Bounds extent;
+    for (const auto& s : sources) {
+        const auto b = s.item ? catalog_footprint(*s.item) : std::nullopt;
+        if (!b) return {};
+        footprints.push_back(*b), extent.extend(*b);
+    }
+    if (extent.empty()) return {};
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        const double d = footprints[i].distance_xy(extent.centre_x(), extent.centre_y());
+        if (d <= radius_m) near.emplace_back(d, i);
+    }
+    std::sort(near.begin(), near.end());
+    near.resize(std::min(near.size(), most));
+    std::vector<TileSource> out;
+    for (const auto& [d, i] : near) out.push_back(sources[i]);
+    return out;
+}
+
+Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     Dataset ds;
     ds.las_stride = options.las_stride;
-    FoundSources found = find_tile_sources(paths);
     ds.skipped = std::move(found.errors);
     const std::vector<TileSource>& sources = found.sources;
     if (options.sources_found) options.sources_found(sources);

@@ -111,6 +111,13 @@ struct DatasetOptions {
 // manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`;
 // throws only when options.cancel asked it to stop.
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options = {});
+// open_dataset of sources found already (find_tile_sources).
+Dataset open_sources(FoundSources found, const DatasetOptions& options = {});
+
+// The sources nearest to the centre of a catalog's extent, where their items place them (the tiles
+// a viewer can show first while the rest of a large catalog opens): those within `radius_m` of the
+// centre, nearest first, at most `most`. Empty unless every source has a catalog footprint.
+std::vector<TileSource> central_sources(std::span<const TileSource> sources, double radius_m, std::size_t most);
 
 // Where a STAC catalog item says its tile lies, in metres of the item's CRS (its proj:bbox scaled by
 // the CRS's units; z from 0 when the bbox is 2D): the tile's footprint before its header is read.

@@ -1,8 +1,10 @@
 // SessionOpening: open_dataset on a thread of its own, its per-tile callbacks gathered under a
-// lock for the window, then the Scheduler built on the dataset.
+// lock for the window, then the Scheduler built on the dataset; a large catalog's central tiles
+// opened before as a preview session.
 #include "viewer/session_opening.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <exception>
 #include <utility>
 
@@ -16,19 +18,55 @@ SessionOpening::~SessionOpening() {
     if (thread_.joinable()) thread_.join();
 }
 
+void SessionOpening::note_sources(std::span<const dataset::TileSource> sources) {
+    std::vector<dataset::Bounds> placed;  // a catalog's tiles, where its items say (CRS lookups outside the lock)
+    for (const auto& s : sources) {
+        if (const auto b = s.item ? dataset::catalog_footprint(*s.item) : std::nullopt) placed.push_back(*b);
+    }
+    std::lock_guard lock(mutex_);
+    progress_.total = sources.size();
+    for (const auto& b : placed) footprints_.push_back(b), progress_.extent.extend(b);
+}
+
+// Opens the preview (SessionOptions::preview_above) and waits until its chunk points are in, at most
+// preview_wait_s: its reads go first, not behind every header of the catalog. Without a preview (a
+// small or unplaced catalog, no central tile readable, a cancel) it returns at once; whatever stops
+// the preview stops the whole opening too, which reports it.
+void SessionOpening::open_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options) {
+    if (options.preview_above == 0 || sources.size() <= options.preview_above) return;
+    auto central = dataset::central_sources(sources, options.preview_radius_m, options.preview_tiles);
+    if (central.empty()) return;
+    dataset::DatasetOptions d;
+    d.crs = options.crs;
+    d.cancel = &cancel_;
+    auto preview = std::make_shared<Session>();
+    try {
+        preview->dataset = std::make_unique<dataset::Dataset>(dataset::open_sources({std::move(central), {}}, d));
+    } catch (const Error&) {
+        return;
+    }
+    if (preview->dataset->tiles.empty() || cancel_) return;
+    SchedulerOptions so = options.scheduler;
+    so.cnn = false, so.full_res = false;  // the terrain at once; the whole dataset's scheduler does the rest
+    preview->places = std::make_unique<dataset::TileIndex>(*preview->dataset);
+    preview->cursor = std::make_unique<CursorReadout>(preview->dataset->frame);
+    preview->scheduler = std::make_unique<Scheduler>(*preview->dataset, so);
+    {
+        std::lock_guard lock(mutex_);
+        preview_ = preview;
+    }
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.preview_wait_s);
+    while (!cancel_ && std::chrono::steady_clock::now() < until) {
+        const StageProgress loaded = preview->scheduler->stats().tiles_loaded;
+        if (loaded.done >= loaded.total) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+}
+
 void SessionOpening::run(const std::vector<std::string>& paths, const SessionOptions& options) {
     dataset::DatasetOptions d;
     d.crs = options.crs;
     d.cancel = &cancel_;
-    d.sources_found = [this](std::span<const dataset::TileSource> sources) {
-        std::vector<dataset::Bounds> placed;  // a catalog's tiles, where its items say (CRS lookups outside the lock)
-        for (const auto& s : sources) {
-            if (const auto b = s.item ? dataset::catalog_footprint(*s.item) : std::nullopt) placed.push_back(*b);
-        }
-        std::lock_guard lock(mutex_);
-        progress_.total = sources.size();
-        for (const auto& b : placed) footprints_.push_back(b), progress_.extent.extend(b);
-    };
     d.tile_read = [this](const dataset::DatasetTile& t) {
         std::lock_guard lock(mutex_);
         ++progress_.read;
@@ -41,8 +79,11 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         progress_.total = total;
     };
     try {
+        dataset::FoundSources found = dataset::find_tile_sources(paths);
+        note_sources(found.sources);
+        open_preview(found.sources, options);
         Session s;
-        s.dataset = std::make_unique<dataset::Dataset>(dataset::open_dataset(paths, d));
+        s.dataset = std::make_unique<dataset::Dataset>(dataset::open_sources(std::move(found), d));
         dataset::require_tiles(*s.dataset, "view");
         {
             std::lock_guard lock(mutex_);
@@ -61,6 +102,11 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         error_ = Error(std::string("view: opening failed: ") + e.what());
     }
     finished_ = true;
+}
+
+std::shared_ptr<const Session> SessionOpening::preview() const {
+    std::lock_guard lock(mutex_);
+    return preview_;
 }
 
 OpeningProgress SessionOpening::progress() const {

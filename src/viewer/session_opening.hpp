@@ -2,6 +2,10 @@
 // built on them) on a background thread, while the window keeps drawing. Until it is done the
 // window shows what is known: how many tiles are read, failed and to go, and the footprints of
 // the tiles read so far (a STAC catalog's every tile at once, where its items place them).
+// A large catalog (thousands of items, each header a request to a server) first opens the few
+// tiles at its centre as a preview session of their own (chunk points and linear heightmaps,
+// no full resolution), whose reads end before the rest of the headers are asked for: the window
+// shows real terrain there within a second or two, long before every header is in.
 // Destroying an opening that is not finished cancels it: files not yet started are not read,
 // and the destructor waits only for the reads in progress.
 #pragma once
@@ -11,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -37,6 +42,12 @@ struct Session {
 struct SessionOptions {
     std::string crs;                 // the frame's CRS; empty: the majority's
     SchedulerOptions scheduler;      // its camera, if set, is the first one
+    // A catalog of more tiles than preview_above (0: never), whose items place every tile, first
+    // opens its tiles within preview_radius_m of its centre (at most preview_tiles) as a preview.
+    std::size_t preview_above = 64;
+    double preview_radius_m = 1000.0;
+    std::size_t preview_tiles = 64;
+    double preview_wait_s = 3.0;     // the longest the rest waits for the preview's chunk points
 };
 
 // Where an opening stands, for a progress line.
@@ -56,6 +67,9 @@ public:
     SessionOpening& operator=(const SessionOpening&) = delete;
 
     OpeningProgress progress() const;
+    // The preview session of a large catalog's centre, once it is open (null before, and for a
+    // dataset without one). It stays valid for as long as the caller holds it.
+    std::shared_ptr<const Session> preview() const;
     // Appends the footprints read since the last call (those after footprints.size()).
     void footprints(std::vector<dataset::Bounds>& out) const;
     // True when take() will not wait.
@@ -66,11 +80,14 @@ public:
 
 private:
     void run(const std::vector<std::string>& paths, const SessionOptions& options);
+    void note_sources(std::span<const dataset::TileSource> sources);
+    void open_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options);
 
     mutable std::mutex mutex_;
     OpeningProgress progress_;
     std::vector<dataset::Bounds> footprints_;
     std::optional<Session> session_;
+    std::shared_ptr<const Session> preview_;
     std::optional<Error> error_;
     std::atomic<bool> cancel_{false}, finished_{false};
     std::thread thread_;

@@ -18,6 +18,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
 #include "dataset/point_stream.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "geo/projection.hpp"
 #include "las_fixture.hpp"
 #include "test_data.hpp"
@@ -308,6 +309,30 @@ TEST(Dataset, PatchGridOriginIsOnTheMetricLattice) {
     EXPECT_LE(ox, ds.bounds_m.min_x);
     EXPECT_GT(ox + 640.0, ds.bounds_m.min_x);
     EXPECT_LE(oy, ds.bounds_m.min_y);
+}
+
+// A source that a catalog item places at [x0, x0 + 100] x [0, 100] (metres, EPSG:32632).
+TileSource placed_source(const std::string& name, double x0) {
+    auto item = std::make_shared<CatalogItem>();
+    item->href = name, item->crs = "EPSG:32632";
+    item->bbox = std::array<double, 6>{x0, 0, 0, x0 + 100, 100, 10};
+    return {name, std::nullopt, "", item};
+}
+
+TEST(Dataset, CentralSourcesAreTheNearestToTheCatalogsCentre) {
+    std::vector<TileSource> row;  // ten tiles in a row: 0-1000 m, the centre at 500 m
+    for (int i = 0; i < 10; ++i) row.push_back(placed_source("t" + std::to_string(i), 100.0 * i));
+    const auto names = [](const std::vector<TileSource>& s) {
+        std::vector<std::string> out;
+        for (const auto& t : s) out.push_back(t.path);
+        return out;
+    };
+    EXPECT_EQ(names(central_sources(row, 0, 10)), (std::vector<std::string>{"t4", "t5"}));  // touching it
+    EXPECT_EQ(names(central_sources(row, 150, 10)), (std::vector<std::string>{"t4", "t5", "t3", "t6"}));
+    EXPECT_EQ(central_sources(row, 150, 3).size(), 3u);
+    EXPECT_EQ(central_sources(row, 1e6, 100).size(), 10u);
+    row.push_back({"plain.laz", std::nullopt, "", nullptr});  // a tile no item places: no centre known
+    EXPECT_TRUE(central_sources(row, 1e6, 100).empty());
 }
 
 TEST(Dataset, BoundsDistance) {

@@ -1,7 +1,8 @@
 // SessionOpening: a survey opened in the background gives the same tiles as open_dataset, with
 // every footprint and the progress counted on the way and a running scheduler at the end; a
-// path without tiles ends in the viewer's one-line error; an opening destroyed while it reads
-// cancels without a hang.
+// large catalog opens its central tiles first as a preview whose chunk points are in before the
+// rest is read; a path without tiles ends in the viewer's one-line error; an opening destroyed
+// while it reads cancels without a hang.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -9,6 +10,7 @@
 #include <thread>
 
 #include "core/error.hpp"
+#include "dataset/catalog_writer.hpp"
 #include "dataset/dataset.hpp"
 #include "test_data.hpp"
 #include "viewer/session_opening.hpp"
@@ -50,6 +52,44 @@ TEST(SessionOpening, OpensASurveyWithItsFootprintsOnTheWay) {
     EXPECT_EQ(footprints.size(), expected.tiles.size());
     EXPECT_EQ(session.scheduler->stats().tiles, expected.tiles.size());
     EXPECT_THROW(opening.take(), Error);  // once only
+}
+
+TEST(SessionOpening, ALargeCatalogOpensItsCentreFirstAsAPreview) {
+    const auto folder = (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string();
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_opening_vpc_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string vpc = (dir / "ky.vpc").string();
+    dataset::write_catalog(dataset::open_dataset({folder}), vpc);
+    {
+        SessionOpening small({vpc}, no_network());  // 9 items: no preview at the default size
+        EXPECT_TRUE(small.take().open());
+        EXPECT_EQ(small.preview(), nullptr);
+    }
+    SessionOptions o = no_network();
+    o.preview_above = 4, o.preview_radius_m = 800, o.preview_wait_s = 60;
+    const auto sources = dataset::find_tile_sources({vpc}).sources;
+    const auto central = dataset::central_sources(sources, o.preview_radius_m, o.preview_tiles);
+    ASSERT_GE(central.size(), 2u);
+    ASSERT_LT(central.size(), sources.size());
+    SessionOpening opening({vpc}, o);
+    const Session session = opening.take();
+    ASSERT_TRUE(session.open());
+    EXPECT_EQ(session.dataset->tiles.size(), sources.size());
+    const auto preview = opening.preview();
+    ASSERT_NE(preview, nullptr);
+    ASSERT_EQ(preview->dataset->tiles.size(), central.size());
+    for (std::size_t i = 0; i < central.size(); ++i) {
+        EXPECT_EQ(preview->dataset->tiles[i].tile.path(), central[i].path);
+    }
+    const SchedulerStats stats = preview->scheduler->stats();
+    EXPECT_EQ(stats.tiles_loaded.done, stats.tiles_loaded.total) << "the rest opened before the preview's reads ended";
+    EXPECT_EQ(stats.full_res.total, 0u) << "a preview decodes no tile";
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (preview->scheduler->stats().heightmaps_linear == 0 && std::chrono::steady_clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    EXPECT_GT(preview->scheduler->stats().heightmaps_linear, 0u);
+    fs::remove_all(dir);
 }
 
 TEST(SessionOpening, NoReadableTileIsTheViewersError) {

@@ -308,11 +308,11 @@ void wait_for_next_frame(Clock::time_point frame_start) {
 void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats& stats, bool with_heightmaps,
                  double seconds) {
     if (!t.first_frame_s) t.first_frame_s = seconds;
+    if (!t.first_overview_s && with_heightmaps) t.first_overview_s = seconds;  // a large catalog's preview too
     if (!session.open()) {
         ++t.frames_while_opening;
         return;
     }
-    if (!t.first_overview_s && with_heightmaps) t.first_overview_s = seconds;
     if (!t.chunk_points_s && stats.tiles_loaded.done == stats.tiles_loaded.total) t.chunk_points_s = seconds;
 }
 
@@ -441,6 +441,9 @@ private:
         if (!session_.open()) {
             const OpeningProgress progress = opening_->progress();
             opening_->footprints(footprints_);
+            if (!preview_ && (preview_ = opening_->preview())) {
+                preview_settings_ = initial_settings(*preview_->dataset, preview_->scheduler->stats(), o_);
+            }
             if (!moved_while_opening_ && !progress.extent.empty())
                 controller_.frame(progress.extent, fb_width_, fb_height_);
         }
@@ -455,7 +458,21 @@ private:
     // The picture (the dataset's, or the footprints while it opens), a click's pick, the cursor readout.
     void draw_step(Clock::time_point now) {
         with_heightmaps_ = false;
-        if (session_.open()) {
+        if (preview_ && session_.open()) {
+            session_.scheduler->set_camera(camera_);
+            drawn_ = session_.scheduler->snapshot();  // for the panels
+            if (!drawn_->heightmaps.empty()) {
+                preview_.reset();  // the dataset's own terrain is in: the preview ends
+                refiner_.invalidate();
+            }
+        }
+        if (preview_) {  // the centre of a large catalog, with every tile's footprint, until the dataset draws
+            std::shared_ptr<const SceneSnapshot> shown;
+            last_ = draw_frame(*preview_, controller_, preview_settings_, panels_, fb_width_, fb_height_, pool_,
+                               refiner_, camera_, shown);
+            draw_footprints(last_.image, camera_, footprints_, render::pack_rgba(255, 200, 40));
+            with_heightmaps_ = !shown->heightmaps.empty();
+        } else if (session_.open()) {
             last_ = draw_frame(session_, controller_, settings_, panels_, fb_width_, fb_height_, pool_, refiner_,
                                camera_, drawn_);
             with_heightmaps_ = !drawn_->heightmaps.empty();
@@ -776,6 +793,8 @@ private:
     std::unique_ptr<SessionOpening> opening_;
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens
+    std::shared_ptr<const Session> preview_;   // a large catalog's centre, drawn until the dataset draws
+    ViewSettings preview_settings_;
     bool moved_while_opening_ = false;         // then the camera stays where the user put it
     CameraController controller_;
     ViewSettings settings_;
