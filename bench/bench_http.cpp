@@ -6,8 +6,8 @@
 // of the dataset. Every run starts cold: no open remote file, no range cache.
 // With --view PROGRAM, the viewer instead: for each latency `PROGRAM view` opens the tile list
 // (cold: --cache-size 0) and quits --view-seconds (default 5) after the dataset is open; it reports the seconds from
-// its start to the first frame presented, to the dataset open, to the first frame with
-// heightmaps and to the first with all chunk points (view --stats-json). Run it under
+// its start to the first frame presented, to the first with every tile's footprint, to the dataset
+// open, to the first frame with heightmaps and to the first with all chunk points (view --stats-json). Run it under
 // `xvfb-run -a` (or on a display).
 // Every figure is the median of --runs runs (default 3).
 // With --https, nginx is reached over TLS and HTTP/2 (its test CA trusted): one multiplexed
@@ -94,7 +94,7 @@ Run run_once(const std::string& list_url) {
 
 struct ViewRun {
     double first_frame = 0, open = 0, frames_while_opening = 0;
-    std::optional<double> overview, chunk_points;  // unset: not within the run
+    std::optional<double> footprints, overview, chunk_points;  // unset: not within the run (or not reported)
 };
 
 double seconds_field(const nlohmann::json& j, const char* key) {
@@ -116,6 +116,7 @@ ViewRun view_once(const std::string& program, const std::string& args, const std
     std::filesystem::remove(stats);
     ViewRun r{seconds_field(j, "first_frame_s"), seconds_field(j, "dataset_open_s"),
               j.at("frames_while_opening").get<double>(), std::nullopt, std::nullopt};
+    if (j.contains("footprints_s") && !j.at("footprints_s").is_null()) r.footprints = j.at("footprints_s").get<double>();
     if (!j.at("first_overview_s").is_null()) r.overview = j.at("first_overview_s").get<double>();
     if (!j.at("chunk_points_s").is_null()) r.chunk_points = j.at("chunk_points_s").get<double>();
     return r;
@@ -123,18 +124,20 @@ ViewRun view_once(const std::string& program, const std::string& args, const std
 
 void bench_view(const std::string& program, const std::string& args, const std::string& url, int rtt, int runs,
                 double quit_after) {
-    std::vector<double> first, open, overview, points, frames;
+    std::vector<double> first, footprints, open, overview, points, frames;
     for (int k = 0; k < runs; ++k) {
         const ViewRun r = view_once(program, args, url, quit_after);
         first.push_back(r.first_frame), open.push_back(r.open);
+        if (r.footprints) footprints.push_back(*r.footprints);
         if (r.overview) overview.push_back(*r.overview);
         frames.push_back(r.frames_while_opening);
         if (r.chunk_points) points.push_back(*r.chunk_points);
     }
-    fmt::print("rtt {:>3} ms: view: first frame {:.3f} s; dataset open {:.3f} s ({:.0f} frames before); first overview "
-               "{:.3f} s (in {} of {} runs); all chunk points {:.3f} s (in {} of {} runs)\n",
-               rtt, median(first), median(open), median(frames), median(overview), overview.size(), runs,
-               median(points), points.size(), runs);
+    fmt::print("rtt {:>3} ms: view: first frame {:.3f} s; every footprint {:.3f} s (in {} of {} runs); dataset open "
+               "{:.3f} s ({:.0f} frames before); first overview {:.3f} s (in {} of {} runs); all chunk points {:.3f} s "
+               "(in {} of {} runs)\n",
+               rtt, median(first), median(footprints), footprints.size(), runs, median(open), median(frames),
+               median(overview), overview.size(), runs, median(points), points.size(), runs);
 }
 
 // Writes the server's lists/tiles.txt naming every tile of `folder` (relative URLs); returns

@@ -101,6 +101,7 @@ nlohmann::json seconds(const std::optional<double>& s) { return s ? nlohmann::js
 // --stats-json: when the window showed what (viewer_app.hpp's ViewerTimings), null for never.
 void write_stats_json(const std::string& path, const viewer::app::ViewerTimings& t) {
     const nlohmann::json j = {{"first_frame_s", seconds(t.first_frame_s)},
+                              {"footprints_s", seconds(t.footprints_s)},
                               {"dataset_open_s", seconds(t.dataset_open_s)},
                               {"first_overview_s", seconds(t.first_overview_s)},
                               {"chunk_points_s", seconds(t.chunk_points_s)},
@@ -208,8 +209,9 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
                     "Rasterizer: cpu (default), cuda (the GPU plugin; an error when unavailable) or auto (cuda when "
                     "available, else cpu)");
     add_output(*cmd, "--stats-json", o->stats_json,
-               "Write to this JSON file on exit the seconds from the start to the first frame, to the dataset "
-               "open, to the first frame with heightmaps and to all chunk points in (scripted use)",
+               "Write to this JSON file on exit the seconds from the start to the first frame, to the first with "
+               "every tile's footprint, to the dataset open, to the first frame with heightmaps and to all chunk "
+               "points in (scripted use)",
                io::OutputKind::Json);
     cmd->callback([o, &run] { run = [o] { return run_view(*o); }; });
 }

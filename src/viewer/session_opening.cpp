@@ -26,6 +26,13 @@ void SessionOpening::note_sources(std::span<const dataset::TileSource> sources) 
     std::lock_guard lock(mutex_);
     progress_.total = sources.size();
     for (const auto& b : placed) footprints_.push_back(b), progress_.extent.extend(b);
+    sources_noted_ = true;
+    sources_known_.notify_all();
+}
+
+bool SessionOpening::wait_for_sources(std::chrono::milliseconds timeout) const {
+    std::unique_lock lock(mutex_);
+    return sources_known_.wait_for(lock, timeout, [&] { return sources_noted_ || finished_.load(); });
 }
 
 // Opens the preview (SessionOptions::preview_above) and waits until its chunk points are in, at most
@@ -101,7 +108,9 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         std::lock_guard lock(mutex_);
         error_ = Error(std::string("view: opening failed: ") + e.what());
     }
+    std::lock_guard lock(mutex_);
     finished_ = true;
+    sources_known_.notify_all();
 }
 
 std::shared_ptr<const Session> SessionOpening::preview() const {

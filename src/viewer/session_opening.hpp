@@ -11,6 +11,8 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <memory>
 #include <mutex>
@@ -74,6 +76,9 @@ public:
     void footprints(std::vector<dataset::Bounds>& out) const;
     // True when take() will not wait.
     bool finished() const { return finished_.load(); }
+    // Waits until the paths are expanded (a catalog's every footprint known) or the opening ends, at
+    // most `timeout`: a window's first frame can then show them. True when they are.
+    bool wait_for_sources(std::chrono::milliseconds timeout) const;
     // Waits for the end; the session, or the Error that ended the opening (no readable tile,
     // a CRS that cannot be used). Once only.
     Session take();
@@ -90,6 +95,8 @@ private:
     std::shared_ptr<const Session> preview_;
     std::optional<Error> error_;
     std::atomic<bool> cancel_{false}, finished_{false};
+    mutable std::condition_variable sources_known_;  // under mutex_: progress_.total set, or finished
+    bool sources_noted_ = false;
     std::thread thread_;
 };
 

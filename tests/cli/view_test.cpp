@@ -3,7 +3,8 @@
 // scripted screenshot in which the terrain covers most of the image; scripted clicks that pick
 // two points of a real tile and measure between them; a remote tile list behind nginx and a
 // slow link, whose window draws (footprints, progress) before the dataset is open, then the
-// overview, with the missing tile listed; every file of the formats folder opens or is skipped.
+// overview, with the missing tile listed; a large catalog's footprints in the first frame and its
+// centre first; every file of the formats folder opens or is skipped.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -327,6 +328,26 @@ TEST_F(ViewCommand, RemoteDatasetDrawsBeforeItIsOpenThenTheOverview) {
     EXPECT_EQ(j.at("tiles").get<std::size_t>(), tiles) << j.dump();
     EXPECT_EQ(j.at("skipped").get<std::size_t>(), 1u) << j.dump();
     fs::remove(server.lists_dir() / list);
+}
+
+// A catalog of 72 items (one IGN tile copied onto a 9x8 grid, as files): every footprint is in the first
+// frame, and its centre opens first as a preview, which the window draws until the dataset's own terrain
+// shows: here to the end, as these tiles have too few chunk points for any heightmap.
+TEST_F(ViewCommand, ALargeCatalogShowsEveryFootprintFirstThenItsCentre) {
+    if (!have_xvfb()) GTEST_SKIP() << "xvfb-run is missing: scripts/setup.sh installs it";
+    const auto tile = (test::surveys_dir() / "ign-lidar-hd-1km/Semis_2022_0906_6665_LA93_IGN69_ok.laz").string();
+    const fs::path rep = dir_ / "rep", vpc = dir_ / "rep.vpc", stats = dir_ / "stats.json";
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " synth replicate " + tile + " --grid 9x8 -o " +
+                                    rep.string() + " 2>&1", out), 0) << out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " catalog " + rep.string() + " -o " + vpc.string() +
+                                    " 2>&1", out), 0) << out;
+    ASSERT_EQ(run_xvfb(vpc.string() + " --no-cnn --size 320x240 --quit-after 1 --stats-json " + stats.string(), out),
+              0) << out;
+    const auto j = test::read_json(stats);
+    ASSERT_TRUE(j.at("footprints_s").is_number()) << j.dump();
+    EXPECT_EQ(j.at("footprints_s").get<double>(), j.at("first_frame_s").get<double>()) << j.dump();
+    EXPECT_EQ(j.at("tiles").get<std::size_t>(), 72u) << j.dump();  // (too few chunk points for a heightmap)
 }
 
 // The 35 KB pdrf6 file (bounds +-2.1e9 m) and the whole formats folder hung in the scheduler,

@@ -303,11 +303,13 @@ void wait_for_next_frame(Clock::time_point frame_start) {
     if (left > 0) glfwWaitEventsTimeout(left);
 }
 
-// Notes the times of the first frame presented, of the first with a heightmap, and of the first
-// with every tile's chunk points in (`stats`: the scheduler's, taken for this frame's panels).
-void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats& stats, bool with_heightmaps,
-                 double seconds) {
+// Notes the times of the first frame presented, of the first with every tile's footprint (or the
+// dataset open), of the first with a heightmap, and of the first with every tile's chunk points in
+// (`stats`: the scheduler's, taken for this frame's panels).
+void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats& stats, bool every_footprint,
+                 bool with_heightmaps, double seconds) {
     if (!t.first_frame_s) t.first_frame_s = seconds;
+    if (!t.footprints_s && (every_footprint || session.open())) t.footprints_s = seconds;
     if (!t.first_overview_s && with_heightmaps) t.first_overview_s = seconds;  // a large catalog's preview too
     if (!session.open()) {
         ++t.frames_while_opening;
@@ -327,6 +329,7 @@ public:
           scripted_clicks_done_(o.clicks.empty() && !o.measure) {
         install_callbacks(win_.window, events_);
         if (!o.session_path.empty()) panels_.session_path = o.session_path;  // "save session" writes it back
+        opening_->wait_for_sources(std::chrono::seconds(1));  // a catalog's footprints in the first frame
     }
 
     // One frame; false when the viewer is to quit.
@@ -441,6 +444,7 @@ private:
         if (!session_.open()) {
             const OpeningProgress progress = opening_->progress();
             opening_->footprints(footprints_);
+            every_footprint_ = progress.total > 0 && footprints_.size() >= progress.total;
             if (!preview_ && (preview_ = opening_->preview())) {
                 preview_settings_ = initial_settings(*preview_->dataset, preview_->scheduler->stats(), o_);
             }
@@ -513,7 +517,7 @@ private:
         ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
         if (!o_.window_screenshot.empty()) window_shot_ = window_pixels(win_.window);  // scripted use only
         glfwSwapBuffers(win_.window);
-        count_frame(times_, session_, stats, with_heightmaps_, since_start());
+        count_frame(times_, session_, stats, every_footprint_, with_heightmaps_, since_start());
         return actions;
     }
 
@@ -794,6 +798,7 @@ private:
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens
     std::shared_ptr<const Session> preview_;   // a large catalog's centre, drawn until the dataset draws
+    bool every_footprint_ = false;             // footprints_ holds every tile's (a catalog's, or all read)
     ViewSettings preview_settings_;
     bool moved_while_opening_ = false;         // then the camera stays where the user put it
     CameraController controller_;

@@ -47,6 +47,7 @@ struct ViewerOptions {
 // unset: never happened.
 struct ViewerTimings {
     std::optional<double> first_frame_s;     // the first frame presented (the dataset may still be opening)
+    std::optional<double> footprints_s;      // the first frame with every tile's footprint (or the dataset open)
     std::optional<double> dataset_open_s;    // every tile's metadata read, the scheduler started
     std::optional<double> first_overview_s;  // the first frame presented with a heightmap
     std::optional<double> chunk_points_s;    // the first frame presented with every tile's chunk points in
