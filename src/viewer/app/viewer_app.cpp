@@ -53,9 +53,12 @@ struct InputEvents {
 };
 
 // Starts opening `paths` in the background (viewer/session_opening.hpp).
-std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& paths, const ViewerOptions& o) {
+// `first`: nothing is shown yet (else a preview of a large catalog would only delay its opening).
+std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& paths, const ViewerOptions& o,
+                                              bool first) {
     SessionOptions so;
     so.crs = o.crs;
+    if (!first) so.preview_above = 0;
     so.scheduler.memory_budget = o.memory_budget;
     so.scheduler.cnn = o.cnn;
     so.scheduler.model_path = o.model;
@@ -325,7 +328,7 @@ public:
     explicit ViewerLoop(const ViewerOptions& o)
         : o_(o), start_(Clock::now()), win_(o.width, o.height, "lidarscout"), gui_(win_.window),
           pool_(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency())),
-          opening_(start_opening(o.paths, o)), previous_(start_),
+          opening_(start_opening(o.paths, o, true)), previous_(start_),
           scripted_clicks_done_(o.clicks.empty() && !o.measure) {
         install_callbacks(win_.window, events_);
         if (!o.session_path.empty()) panels_.session_path = o.session_path;  // "save session" writes it back
@@ -424,9 +427,10 @@ private:
     // while the first one opens, the camera follows the tiles read so far.
     void open_step() {
         if (!events_.dropped.empty()) {
-            opening_ = start_opening(events_.dropped, o_);  // the dataset shown stays until it is open
+            opening_ = start_opening(events_.dropped, o_, !session_.open());  // what is shown stays until then
             paths_ = events_.dropped;
             events_.dropped.clear();
+            if (!session_.open()) footprints_.clear(), preview_.reset();  // of the opening given up
         }
         if (opening_ && opening_->finished()) close_background();  // they read the dataset shown
         if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
