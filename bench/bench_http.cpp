@@ -116,7 +116,9 @@ ViewRun view_once(const std::string& program, const std::string& args, const std
     std::filesystem::remove(stats);
     ViewRun r{seconds_field(j, "first_frame_s"), seconds_field(j, "dataset_open_s"),
               j.at("frames_while_opening").get<double>(), std::nullopt, std::nullopt};
-    if (j.contains("footprints_s") && !j.at("footprints_s").is_null()) r.footprints = j.at("footprints_s").get<double>();
+    if (j.contains("footprints_s") && !j.at("footprints_s").is_null()) {  // absent from older viewers
+        r.footprints = j.at("footprints_s").get<double>();
+    }
     if (!j.at("first_overview_s").is_null()) r.overview = j.at("first_overview_s").get<double>();
     if (!j.at("chunk_points_s").is_null()) r.chunk_points = j.at("chunk_points_s").get<double>();
     return r;
