@@ -22,6 +22,7 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "render/resolve.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/app/camera_controller.hpp"
@@ -332,7 +333,9 @@ public:
           scripted_clicks_done_(o.clicks.empty() && !o.measure) {
         install_callbacks(win_.window, events_);
         if (!o.session_path.empty()) panels_.session_path = o.session_path;  // "save session" writes it back
-        opening_->wait_for_sources(std::chrono::seconds(1));  // a catalog's footprints in the first frame
+        if (std::any_of(o.paths.begin(), o.paths.end(), dataset::is_stac_catalog)) {
+            opening_->wait_for_sources(std::chrono::seconds(1));  // a catalog's footprints in the first frame
+        }
     }
 
     // One frame; false when the viewer is to quit.
