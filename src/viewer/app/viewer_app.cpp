@@ -23,6 +23,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/stac_catalog.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "render/resolve.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/app/camera_controller.hpp"
@@ -333,7 +334,10 @@ public:
           scripted_clicks_done_(o.clicks.empty() && !o.measure) {
         install_callbacks(win_.window, events_);
         if (!o.session_path.empty()) panels_.session_path = o.session_path;  // "save session" writes it back
-        if (std::any_of(o.paths.begin(), o.paths.end(), dataset::is_stac_catalog)) {
+        const auto catalog = [](const std::string& p) {
+            return dataset::is_stac_catalog(p) && !dataset::is_virtual_replica(p);  // both may end in .json
+        };
+        if (std::any_of(o.paths.begin(), o.paths.end(), catalog)) {
             opening_->wait_for_sources(std::chrono::seconds(1));  // a catalog's footprints in the first frame
         }
     }
