@@ -302,7 +302,11 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
     loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, options_.loader);
     loader_->on_tile_done([this](std::uint32_t tile, std::span<const CellKey> cells) { on_tile_done(tile, cells); });
-    if (options_.camera) set_camera(*options_.camera);
+    if (options_.camera) {
+        set_camera(*options_.camera);
+    } else if (!dataset.bounds_m.empty()) {  // until a camera comes: the middle, not the tiles nearest (0, 0)
+        loader_->set_focus(dataset.bounds_m.centre_x(), dataset.bounds_m.centre_y());
+    }
     loader_->start();
     for (unsigned i = 0; i < std::clamp(options_.heightmap_threads, 1u, max_threads()); ++i) {
         threads_.emplace_back([this] { heightmap_worker(); });

@@ -476,17 +476,18 @@ private:
         if (preview_ && session_.open()) {
             session_.scheduler->set_camera(camera_);
             drawn_ = session_.scheduler->snapshot();  // for the panels
-            if (!drawn_->heightmaps.empty()) {
-                preview_.reset();  // the dataset's own terrain is in: the preview ends
+            if (!drawn_->heightmaps.empty() && drawn_->heightmaps.size() >= preview_heightmaps_) {
+                preview_.reset();  // the dataset's own terrain shows as much: the preview ends
                 refiner_.invalidate();
             }
         }
-        if (preview_) {  // the centre of a large catalog, with every tile's footprint, until the dataset draws
+        if (preview_) {  // a large catalog's centre among every footprint, until the dataset draws as much
             std::shared_ptr<const SceneSnapshot> shown;
             last_ = draw_frame(*preview_, controller_, preview_settings_, panels_, fb_width_, fb_height_, pool_,
                                refiner_, camera_, shown);
             draw_footprints(last_.image, camera_, footprints_, render::pack_rgba(255, 200, 40));
             with_heightmaps_ = !shown->heightmaps.empty();
+            preview_heightmaps_ = shown->heightmaps.size();
         } else if (session_.open()) {
             last_ = draw_frame(session_, controller_, settings_, panels_, fb_width_, fb_height_, pool_, refiner_,
                                camera_, drawn_);
@@ -809,6 +810,7 @@ private:
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens
     std::shared_ptr<const Session> preview_;   // a large catalog's centre, drawn until the dataset draws
+    std::size_t preview_heightmaps_ = 0;       // in its last frame
     bool every_footprint_ = false;             // footprints_ holds every tile's (a catalog's, or all read)
     ViewSettings preview_settings_;
     bool moved_while_opening_ = false;         // then the camera stays where the user put it
