@@ -127,6 +127,22 @@ TEST(ViewerScheduler, FromAfarTheHeightmapsCoverWhatThePointsCover) {
     EXPECT_LT(without, with_fill - 0.05) << "the control: centres alone leave the rim empty";
 }
 
+// Without a first camera (the viewer's dataset opening), the chunk points start from the dataset's
+// middle: the survey's middle tile is done first, not the tile nearest the CRS origin.
+TEST(ViewerScheduler, WithoutACameraChunkPointsStartFromTheMiddle) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    SchedulerOptions o;
+    o.cnn = false, o.full_res = false;
+    o.loader.reads.threads = 1;
+    EventLog log;
+    o.on_event = [&](const SchedulerEvent& e) { log.add(e); };
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    const auto done = log.tiles(Kind::TileDone);
+    ASSERT_EQ(done.size(), 9u);
+    EXPECT_EQ(done.front(), tile_named(ds, "N118E380"));
+}
+
 TEST(ViewerScheduler, HeightmapsStartBeforeAllChunkPointsAreIn) {
     const auto ds = open_survey("ky-jmo335-eastern-kentucky");
     ASSERT_EQ(ds.tiles.size(), 9u);
