@@ -375,19 +375,25 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
     return open_sources(find_tile_sources(paths), options);
 }
 
-std::vector<TileSource> central_sources(std::span<const TileSource> sources, double radius_m, std::size_t most) {
-    std::vector<std::pair<double, std::size_t>> near;  // (distance to the centre, source)
-    std::vector<Bounds> footprints;
-    footprints.reserve(sources.size());
+std::vector<std::optional<Bounds>> catalog_footprints(std::span<const TileSource> sources) {
+    std::vector<std::optional<Bounds>> out;
+    out.reserve(sources.size());
+    for (const auto& s : sources) out.push_back(s.item ? catalog_footprint(*s.item) : std::nullopt);
+    return out;
+}
+
+std::vector<TileSource> central_sources(std::span<const TileSource> sources,
+                                        std::span<const std::optional<Bounds>> footprints, double radius_m,
+                                        std::size_t most) {
     Bounds extent;
-    for (const auto& s : sources) {
-        const auto b = s.item ? catalog_footprint(*s.item) : std::nullopt;
+    for (const auto& b : footprints) {
         if (!b) return {};
-        footprints.push_back(*b), extent.extend(*b);
+        extent.extend(*b);
     }
     if (extent.empty()) return {};
+    std::vector<std::pair<double, std::size_t>> near;  // (distance to the centre, source)
     for (std::size_t i = 0; i < sources.size(); ++i) {
-        const double d = footprints[i].distance_xy(extent.centre_x(), extent.centre_y());
+        const double d = footprints[i]->distance_xy(extent.centre_x(), extent.centre_y());
         if (d <= radius_m) near.emplace_back(d, i);
     }
     std::sort(near.begin(), near.end());

@@ -114,10 +114,16 @@ Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions
 // open_dataset of sources found already (find_tile_sources).
 Dataset open_sources(FoundSources found, const DatasetOptions& options = {});
 
-// The sources nearest to the centre of a catalog's extent, where their items place them (the tiles
-// a viewer can show first while the rest of a large catalog opens): those within `radius_m` of the
-// centre, nearest first, at most `most`. Empty unless every source has a catalog footprint.
-std::vector<TileSource> central_sources(std::span<const TileSource> sources, double radius_m, std::size_t most);
+// catalog_footprint of each source (empty for a source no catalog item places).
+std::vector<std::optional<Bounds>> catalog_footprints(std::span<const TileSource> sources);
+
+// The sources nearest to the centre of a catalog's extent, where their items place them
+// (`footprints`: catalog_footprints of the sources; the tiles a viewer can show first while the rest
+// of a large catalog opens): those within `radius_m` of the centre, nearest first, at most `most`.
+// Empty unless every source has a catalog footprint.
+std::vector<TileSource> central_sources(std::span<const TileSource> sources,
+                                        std::span<const std::optional<Bounds>> footprints, double radius_m,
+                                        std::size_t most);
 
 // Where a STAC catalog item says its tile lies, in metres of the item's CRS (its proj:bbox scaled by
 // the CRS's units; z from 0 when the bbox is 2D): the tile's footprint before its header is read.

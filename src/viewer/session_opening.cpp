@@ -18,14 +18,13 @@ SessionOpening::~SessionOpening() {
     if (thread_.joinable()) thread_.join();
 }
 
-void SessionOpening::note_sources(std::span<const dataset::TileSource> sources) {
-    std::vector<dataset::Bounds> placed;  // a catalog's tiles, where its items say (CRS lookups outside the lock)
-    for (const auto& s : sources) {
-        if (const auto b = s.item ? dataset::catalog_footprint(*s.item) : std::nullopt) placed.push_back(*b);
-    }
+// `placed`: the sources' catalog footprints (looked up outside the lock).
+void SessionOpening::note_sources(std::size_t sources, std::span<const std::optional<dataset::Bounds>> placed) {
     std::lock_guard lock(mutex_);
-    progress_.total = sources.size();
-    for (const auto& b : placed) footprints_.push_back(b), progress_.extent.extend(b);
+    progress_.total = sources;
+    for (const auto& b : placed) {
+        if (b) footprints_.push_back(*b), progress_.extent.extend(*b);
+    }
     sources_noted_ = true;
     sources_known_.notify_all();
 }
@@ -39,9 +38,11 @@ bool SessionOpening::wait_for_sources(std::chrono::milliseconds timeout) const {
 // preview_wait_s: its reads go first, not behind every header of the catalog. Without a preview (a
 // small or unplaced catalog, no central tile readable, a cancel) it returns at once; whatever stops
 // the preview stops the whole opening too, which reports it.
-void SessionOpening::open_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options) {
+void SessionOpening::open_preview(std::span<const dataset::TileSource> sources,
+                                  std::span<const std::optional<dataset::Bounds>> placed,
+                                  const SessionOptions& options) {
     if (options.preview_above == 0 || sources.size() <= options.preview_above) return;
-    auto central = dataset::central_sources(sources, options.preview_radius_m, options.preview_tiles);
+    auto central = dataset::central_sources(sources, placed, options.preview_radius_m, options.preview_tiles);
     if (central.empty()) return;
     dataset::DatasetOptions d;
     d.crs = options.crs;
@@ -87,8 +88,9 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
     };
     try {
         dataset::FoundSources found = dataset::find_tile_sources(paths);
-        note_sources(found.sources);
-        open_preview(found.sources, options);
+        const auto placed = dataset::catalog_footprints(found.sources);
+        note_sources(found.sources.size(), placed);
+        open_preview(found.sources, placed, options);
         Session s;
         s.dataset = std::make_unique<dataset::Dataset>(dataset::open_sources(std::move(found), d));
         dataset::require_tiles(*s.dataset, "view");

@@ -85,8 +85,9 @@ public:
 
 private:
     void run(const std::vector<std::string>& paths, const SessionOptions& options);
-    void note_sources(std::span<const dataset::TileSource> sources);
-    void open_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options);
+    void note_sources(std::size_t sources, std::span<const std::optional<dataset::Bounds>> placed);
+    void open_preview(std::span<const dataset::TileSource> sources,
+                      std::span<const std::optional<dataset::Bounds>> placed, const SessionOptions& options);
 
     mutable std::mutex mutex_;
     OpeningProgress progress_;

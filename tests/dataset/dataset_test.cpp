@@ -322,17 +322,20 @@ TileSource placed_source(const std::string& name, double x0) {
 TEST(Dataset, CentralSourcesAreTheNearestToTheCatalogsCentre) {
     std::vector<TileSource> row;  // ten tiles in a row: 0-1000 m, the centre at 500 m
     for (int i = 0; i < 10; ++i) row.push_back(placed_source("t" + std::to_string(i), 100.0 * i));
+    const auto central = [](const std::vector<TileSource>& s, double radius, std::size_t most) {
+        return central_sources(s, catalog_footprints(s), radius, most);
+    };
     const auto names = [](const std::vector<TileSource>& s) {
         std::vector<std::string> out;
         for (const auto& t : s) out.push_back(t.path);
         return out;
     };
-    EXPECT_EQ(names(central_sources(row, 0, 10)), (std::vector<std::string>{"t4", "t5"}));  // touching it
-    EXPECT_EQ(names(central_sources(row, 150, 10)), (std::vector<std::string>{"t4", "t5", "t3", "t6"}));
-    EXPECT_EQ(central_sources(row, 150, 3).size(), 3u);
-    EXPECT_EQ(central_sources(row, 1e6, 100).size(), 10u);
+    EXPECT_EQ(names(central(row, 0, 10)), (std::vector<std::string>{"t4", "t5"}));  // touching it
+    EXPECT_EQ(names(central(row, 150, 10)), (std::vector<std::string>{"t4", "t5", "t3", "t6"}));
+    EXPECT_EQ(central(row, 150, 3).size(), 3u);
+    EXPECT_EQ(central(row, 1e6, 100).size(), 10u);
     row.push_back({"plain.laz", std::nullopt, "", nullptr});  // a tile no item places: no centre known
-    EXPECT_TRUE(central_sources(row, 1e6, 100).empty());
+    EXPECT_TRUE(central(row, 1e6, 100).empty());
 }
 
 TEST(Dataset, BoundsDistance) {

@@ -68,7 +68,8 @@ TEST(SessionOpening, ALargeCatalogOpensItsCentreFirstAsAPreview) {
     SessionOptions o = no_network();
     o.preview_above = 4, o.preview_radius_m = 800, o.preview_wait_s = 60;
     const auto sources = dataset::find_tile_sources({vpc}).sources;
-    const auto central = dataset::central_sources(sources, o.preview_radius_m, o.preview_tiles);
+    const auto central =
+        dataset::central_sources(sources, dataset::catalog_footprints(sources), o.preview_radius_m, o.preview_tiles);
     ASSERT_GE(central.size(), 2u);
     ASSERT_LT(central.size(), sources.size());
     SessionOpening opening({vpc}, o);
