@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 
+#include "recon/hole_fill.hpp"
 #include "render/framebuffer.hpp"
 
 namespace lidarscout::viewer {
@@ -117,79 +118,7 @@ const DetailLayer* surface_layer(const PatchDetail& detail, Surface surface, Det
     return nullptr;
 }
 
-// One level of the pull-push pyramid: values and their weights (0..1).
-struct PyramidLevel {
-    int size = 0;
-    std::vector<float> value, weight;
-};
-
-PyramidLevel pulled(const PyramidLevel& fine) {
-    PyramidLevel c;
-    c.size = (fine.size + 1) / 2;
-    c.value.assign(static_cast<std::size_t>(c.size) * c.size, 0.0f);
-    c.weight.assign(c.value.size(), 0.0f);
-    for (int j = 0; j < fine.size; ++j) {
-        for (int i = 0; i < fine.size; ++i) {
-            const std::size_t f = static_cast<std::size_t>(j) * fine.size + i;
-            const std::size_t p = static_cast<std::size_t>(j / 2) * c.size + i / 2;
-            c.value[p] += fine.weight[f] * fine.value[f];
-            c.weight[p] += fine.weight[f];
-        }
-    }
-    for (std::size_t p = 0; p < c.value.size(); ++p) {
-        if (c.weight[p] > 0.0f) c.value[p] /= c.weight[p];
-        c.weight[p] = std::min(c.weight[p], 1.0f);
-    }
-    return c;
-}
-
-// The coarse level's value at the centre of fine texel (i, j), bilinear between coarse centres.
-float upsampled(const PyramidLevel& coarse, int i, int j) {
-    const auto axis = [&](int k, int& k0, float& u) {
-        const float x = std::clamp((k + 0.5f) / 2.0f - 0.5f, 0.0f, static_cast<float>(coarse.size - 1));
-        k0 = std::min(static_cast<int>(x), std::max(coarse.size - 2, 0));
-        u = x - k0;
-    };
-    int i0 = 0, j0 = 0;
-    float u = 0, v = 0;
-    axis(i, i0, u), axis(j, j0, v);
-    const int i1 = std::min(i0 + 1, coarse.size - 1), j1 = std::min(j0 + 1, coarse.size - 1);
-    const auto at = [&](int a, int b) { return coarse.value[static_cast<std::size_t>(b) * coarse.size + a]; };
-    return (1 - v) * ((1 - u) * at(i0, j0) + u * at(i1, j0)) + v * ((1 - u) * at(i0, j1) + u * at(i1, j1));
-}
-
-void pushed(PyramidLevel& fine, const PyramidLevel& coarse) {
-    for (int j = 0; j < fine.size; ++j) {
-        for (int i = 0; i < fine.size; ++i) {
-            const std::size_t f = static_cast<std::size_t>(j) * fine.size + i;
-            const float w = fine.weight[f];
-            if (w >= 1.0f) continue;
-            fine.value[f] = w * fine.value[f] + (1.0f - w) * upsampled(coarse, i, j);
-        }
-    }
-}
-
 }  // namespace
-
-void hole_fill(std::vector<float>& heights, int size, const std::vector<bool>& wanted) {
-    std::vector<PyramidLevel> levels(1);
-    levels[0].size = size;
-    levels[0].value.resize(heights.size());
-    levels[0].weight.resize(heights.size());
-    bool any = false;
-    for (std::size_t t = 0; t < heights.size(); ++t) {
-        const bool defined = !std::isnan(heights[t]);
-        levels[0].value[t] = defined ? heights[t] : 0.0f;
-        levels[0].weight[t] = defined ? 1.0f : 0.0f;
-        any = any || defined;
-    }
-    if (!any) return;
-    while (levels.back().size > 1) levels.push_back(pulled(levels.back()));
-    for (std::size_t k = levels.size() - 1; k-- > 0;) pushed(levels[k], levels[k + 1]);
-    for (std::size_t t = 0; t < heights.size(); ++t) {
-        if (wanted[t] && std::isnan(heights[t])) heights[t] = levels[0].value[t];
-    }
-}
 
 PatchDetails tile_detail(const PointSet& set, const lidarscout::PatchGrid& grid, int size) {
     std::map<lidarscout::CellKey, PatchSums> sums;
@@ -246,7 +175,7 @@ PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& det
             holes[t] = detail.all.count[t] > 0;
         }
     }
-    hole_fill(bare, out.size, holes);
+    recon::hole_fill(bare, out.size, holes);
     for (std::size_t t = 0; t < bare.size(); ++t) {
         if (!std::isnan(bare[t])) {
             out.heights[t] = bare[t];

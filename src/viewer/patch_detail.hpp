@@ -57,12 +57,6 @@ void merge_detail(PatchDetail& into, const PatchDetail& from);
 // PatchHeightmap::view). The result always has colours then (grey for an untextured base).
 PatchHeightmap overlay_detail(const PatchHeightmap& base, const PatchDetail& detail, Surface surface = Surface::All);
 
-// Fills the NaN texels of `heights` (size x size) that `wanted` marks by pull-push interpolation
-// from the defined ones: each coarser level averages the defined texels below it, then every
-// wanted hole takes the value of the finest level that defines it, blended bilinearly. Leaves
-// every other texel as it is; no-op when no texel is defined.
-void hole_fill(std::vector<float>& heights, int size, const std::vector<bool>& wanted);
-
 // Lays the detail of every point of `sets` (tiles decoded whole) over the heightmaps of the cells
 // they fall in, as the scheduler does once those tiles are resident: the surface under real
 // points stands at their height, not at the interpolation's, so that it does not hide them.

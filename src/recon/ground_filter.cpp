@@ -1,0 +1,208 @@
+// The simple morphological ground filter (see ground_filter.hpp): minimum surface, low outliers,
+// progressive opening with square windows (separable running minima and maxima, van Herk /
+// Gil-Werman: three comparisons per cell whatever the window), provisional surface, and the
+// points within a slope-dependent threshold of it.
+#include "recon/ground_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "core/error.hpp"
+#include "recon/hole_fill.hpp"
+
+namespace lidarscout::recon {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr double kLowOutlierSlope = 5.0;  // SMRF's pits: steeper than this against a neighbour
+
+using Raster = std::vector<float>;  // cells x cells, rows from the south
+
+struct Lattice {
+    int n;
+    std::size_t at(int i, int j) const { return static_cast<std::size_t>(j) * n + i; }
+};
+
+// out[i] = op over in[i - r .. i + r] (clipped to 0 .. m - 1), for a running min (`Min` true) or max.
+template <bool Min>
+void running_1d(const float* in, float* out, int m, int r, std::vector<float>& g, std::vector<float>& h) {
+    const float identity = Min ? kInf : -kInf;
+    const auto op = [](float a, float b) { return Min ? std::min(a, b) : std::max(a, b); };
+    const int w = 2 * r + 1;
+    const int padded = (m + 2 * r + w - 1) / w * w;
+    g.resize(padded), h.resize(padded);
+    const auto value = [&](int k) { return k >= r && k < m + r ? in[k - r] : identity; };
+    for (int k = 0; k < padded; ++k) g[k] = k % w == 0 ? value(k) : op(g[k - 1], value(k));
+    for (int k = padded - 1; k >= 0; --k) h[k] = k % w == w - 1 ? value(k) : op(h[k + 1], value(k));
+    for (int i = 0; i < m; ++i) out[i] = op(h[i], g[i + w - 1]);
+}
+
+// The running min or max over a square window of half-width r (rows, then columns).
+template <bool Min>
+Raster running_2d(const Raster& in, const Lattice& l, int r) {
+    Raster out(in.size());
+    std::vector<float> g, h, column(l.n), result(l.n);
+    for (int j = 0; j < l.n; ++j) running_1d<Min>(&in[l.at(0, j)], &out[l.at(0, j)], l.n, r, g, h);
+    for (int i = 0; i < l.n; ++i) {
+        for (int j = 0; j < l.n; ++j) column[j] = out[l.at(i, j)];
+        running_1d<Min>(column.data(), result.data(), l.n, r, g, h);
+        for (int j = 0; j < l.n; ++j) out[l.at(i, j)] = result[j];
+    }
+    return out;
+}
+
+Raster opened(const Raster& z, const Lattice& l, int r) {
+    return running_2d<false>(running_2d<true>(z, l, r), l, r);
+}
+
+// SMRF's progressive filter: 1 where a cell drops by more than slope x radius x cell when the
+// surface is opened with radius 1 .. max_radius (each opening of the last: with square windows
+// that equals opening the surface itself at the larger radius).
+std::vector<std::uint8_t> object_mask(const Raster& z, const Lattice& l, double slope, double cell_m,
+                                      int max_radius) {
+    std::vector<std::uint8_t> object(z.size(), 0);
+    Raster last = z;
+    for (int r = 1; r <= max_radius; ++r) {
+        Raster now = opened(last, l, r);
+        const float limit = static_cast<float>(slope * r * cell_m);
+        for (std::size_t c = 0; c < z.size(); ++c) {
+            if (last[c] - now[c] > limit) object[c] = 1;
+        }
+        last = std::move(now);
+    }
+    return object;
+}
+
+// `z` with its NaN cells filled; false when no cell is defined.
+bool filled(Raster& z, const Lattice& l) {
+    const bool any = std::any_of(z.begin(), z.end(), [](float v) { return !std::isnan(v); });
+    if (any) hole_fill(z, l.n, std::vector<bool>(z.size(), true));
+    return any;
+}
+
+// Rise over run of the surface at each cell (central differences, one-sided at the edges).
+Raster slopes(const Raster& z, const Lattice& l, double cell_m) {
+    Raster out(z.size());
+    const auto diff = [&](int a0, int a1, float va0, float va1) {
+        return (va1 - va0) / static_cast<float>((a1 - a0) * cell_m);
+    };
+    for (int j = 0; j < l.n; ++j) {
+        for (int i = 0; i < l.n; ++i) {
+            const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, l.n - 1);
+            const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, l.n - 1);
+            const float gx = i1 > i0 ? diff(i0, i1, z[l.at(i0, j)], z[l.at(i1, j)]) : 0.0f;
+            const float gy = j1 > j0 ? diff(j0, j1, z[l.at(i, j0)], z[l.at(i, j1)]) : 0.0f;
+            out[l.at(i, j)] = std::sqrt(gx * gx + gy * gy);
+        }
+    }
+    return out;
+}
+
+// A sample's position in cells from the lattice's south-west corner.
+std::pair<double, double> in_cells(const GroundLattice& l, const GroundSample& s) {
+    return {(s.x - l.min_x) / l.cell_m, (s.y - l.min_y) / l.cell_m};
+}
+
+void check_positive(double v, const char* what, double most) {
+    if (!(v > 0) || !(v <= most)) {
+        throw Error(std::string(what) + " must be a positive number of at most " + std::to_string(most).substr(0, 5) +
+                    " (it is " + std::to_string(v) + ")");
+    }
+}
+
+// The lattice with cells as large as the samples' spacing where they are sparser than one per
+// cell: a cell without a point has no lowest point, and a surface made mostly of filled holes
+// would make single points look like objects. The density is counted over the coarse cells
+// (8 x 8 cells) that hold samples, so that the edge of a survey does not look sparse.
+GroundLattice sparse_adapted(std::span<const GroundSample> samples, const GroundLattice& lattice) {
+    constexpr int kCoarse = 8;
+    const int n = (lattice.cells + kCoarse - 1) / kCoarse;
+    std::vector<std::uint8_t> occupied(static_cast<std::size_t>(n) * n, 0);
+    std::size_t inside = 0;
+    for (const GroundSample& s : samples) {
+        const auto [u, v] = in_cells(lattice, s);
+        if (!(u >= 0 && u < lattice.cells && v >= 0 && v < lattice.cells)) continue;
+        occupied[static_cast<std::size_t>(v / kCoarse) * n + static_cast<std::size_t>(u / kCoarse)] = 1;
+        ++inside;
+    }
+    const auto coarse_cells = static_cast<double>(std::count(occupied.begin(), occupied.end(), 1));
+    if (inside == 0) return lattice;
+    const double area = coarse_cells * kCoarse * kCoarse * lattice.cell_m * lattice.cell_m;
+    const double spacing = std::sqrt(area / static_cast<double>(inside));
+    if (spacing <= lattice.cell_m) return lattice;
+    GroundLattice out = lattice;
+    const double side = lattice.cells * lattice.cell_m;
+    out.cells = std::max(1, static_cast<int>(std::ceil(side / spacing)));
+    out.cell_m = side / out.cells;
+    return out;
+}
+
+}  // namespace
+
+void check_ground_params(const GroundFilterParams& p) {
+    check_positive(p.cell_m, "--ground-cell (metres)", 100);
+    check_positive(p.slope, "--ground-slope (rise over run)", 10);
+    check_positive(p.window_m, "--ground-window (metres)", 1000);
+    check_positive(p.threshold_m, "--ground-threshold (metres)", 100);
+    if (!(p.scalar >= 0) || !(p.scalar <= 100)) throw Error("the ground filter's scalar must be in 0 .. 100");
+    if (p.window_m < p.cell_m) {
+        throw Error("--ground-window (" + std::to_string(p.window_m) + " m) must be at least the cell (" +
+                    std::to_string(p.cell_m) + " m)");
+    }
+}
+
+GroundLattice ground_lattice(double min_x, double min_y, double side_m, const GroundFilterParams& p, int max_cells) {
+    GroundLattice l;
+    l.min_x = min_x, l.min_y = min_y;
+    l.cell_m = std::max(p.cell_m, side_m / max_cells);
+    l.cells = std::max(1, static_cast<int>(std::ceil(side_m / l.cell_m - 1e-9)));
+    return l;
+}
+
+std::vector<std::uint8_t> find_ground(std::span<const GroundSample> samples, const GroundLattice& given,
+                                      const GroundFilterParams& p) {
+    const GroundLattice lattice = sparse_adapted(samples, given);
+    const Lattice l{lattice.cells};
+    std::vector<std::uint8_t> ground(samples.size(), 0);
+    std::vector<std::int64_t> cell_of(samples.size(), -1);
+    Raster zmin(static_cast<std::size_t>(l.n) * l.n, kInf);
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+        const auto [u, v] = in_cells(lattice, samples[s]);
+        if (!(u >= 0 && u < l.n && v >= 0 && v < l.n)) continue;
+        const std::size_t c = l.at(static_cast<int>(u), static_cast<int>(v));
+        cell_of[s] = static_cast<std::int64_t>(c);
+        zmin[c] = std::min(zmin[c], samples[s].z);
+    }
+    std::vector<std::uint8_t> empty(zmin.size());
+    for (std::size_t c = 0; c < zmin.size(); ++c) {
+        empty[c] = zmin[c] == kInf;
+        if (empty[c]) zmin[c] = NAN;
+    }
+    if (!filled(zmin, l)) return ground;
+
+    Raster negated(zmin.size());
+    std::transform(zmin.begin(), zmin.end(), negated.begin(), [](float z) { return -z; });
+    const std::vector<std::uint8_t> low = object_mask(negated, l, kLowOutlierSlope, lattice.cell_m, 1);
+    const int max_radius = std::max(1, static_cast<int>(std::ceil(p.window_m / lattice.cell_m)));
+    const std::vector<std::uint8_t> object = object_mask(zmin, l, p.slope, lattice.cell_m, max_radius);
+
+    Raster surface = zmin;
+    for (std::size_t c = 0; c < surface.size(); ++c) {
+        if (empty[c] || low[c] || object[c]) surface[c] = NAN;
+    }
+    if (!filled(surface, l)) return ground;
+    const Raster slope = slopes(surface, l, lattice.cell_m);
+
+    for (std::size_t s = 0; s < samples.size(); ++s) {
+        if (cell_of[s] < 0) continue;
+        const auto [u, v] = in_cells(lattice, samples[s]);
+        const float limit = static_cast<float>(p.threshold_m + p.scalar * slope[static_cast<std::size_t>(cell_of[s])]);
+        ground[s] = std::abs(samples[s].z - sample_bilinear(surface, l.n, u, v)) <= limit ? 1 : 0;
+    }
+    return ground;
+}
+
+}  // namespace lidarscout::recon
