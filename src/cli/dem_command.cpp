@@ -1,6 +1,7 @@
 // `lidarscout dem PATH... -o out.tif [--texel 1] [--bounds xmin,ymin,xmax,ymax] [--from full|overview]
 // [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
-// [--returns first,last,single,intermediate] [--intensity MIN-MAX]
+// [--returns first,last,single,intermediate] [--intensity MIN-MAX] [--ground classes|smrf] [--ground-cell M]
+// [--ground-slope S] [--ground-window M] [--ground-threshold M]
 // [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--contours INTERVAL] [--block I/N] [--memory SIZE]
 // [--threads N] [--json]`:
 // a terrain or surface model of a dataset as a float32 Cloud-Optimized
@@ -13,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -39,6 +41,7 @@
 #include "raster/contours.hpp"
 #include "raster/dem.hpp"
 #include "raster/dem_blocks.hpp"
+#include "recon/ground_filter.hpp"
 
 namespace lidarscout::cli {
 namespace {
@@ -54,6 +57,9 @@ struct DemCliOptions {
     std::string crs;
     std::optional<double> radius, power, max_edge;  // idw, idw, tin and products
     std::string product;  // empty: one DEM by --method
+    std::string ground = "classes";  // the dtm's ground: the --classes, or smrf (the ground filter)
+    recon::GroundFilterParams ground_params;
+    std::vector<std::string> ground_options;  // the --ground-* options given
     std::optional<double> contours;  // interval, in the raster's height unit
     std::string block;   // "I/N", empty: the whole DEM
     int plan = 0;        // --plan N: print the N pieces, make nothing
@@ -98,6 +104,21 @@ void apply_method_parameters(const DemCliOptions& o, raster::DemRequest& r) {
     if (only_for(o.max_edge, "--max-edge", raster::DemMethod::Tin)) r.tin_max_edge_m = *o.max_edge;
 }
 
+// --ground smrf and its parameters (--ground-*), for a dtm or chm only.
+void apply_ground(const DemCliOptions& o, raster::DemRequest& r) {
+    if (o.ground != "smrf") {
+        if (o.ground != "classes") throw Error("dem: --ground must be classes or smrf (it is '" + o.ground + "')");
+        if (!o.ground_options.empty()) throw Error("dem: " + o.ground_options.front() + " applies to --ground smrf");
+        return;
+    }
+    const bool terrain = std::any_of(r.products.begin(), r.products.end(), [](raster::Product p) {
+        return p == raster::Product::Dtm || p == raster::Product::Chm;
+    });
+    if (!terrain) throw Error("dem: --ground applies to the dtm and chm products");
+    recon::check_ground_params(o.ground_params);
+    r.product_options.ground = o.ground_params;
+}
+
 // --product: the products, the dtm's classes (--classes) and the maximum edge (--max-edge); the
 // options that choose points or a method another way are refused.
 void apply_products(const DemCliOptions& o, raster::DemRequest& r) {
@@ -113,6 +134,8 @@ void apply_products(const DemCliOptions& o, raster::DemRequest& r) {
     refuse(!o.filter.returns.empty(), "--returns (the products choose their returns)");
     refuse(!o.filter.intensity.empty(), "--intensity");
     if (!o.filter.classes.empty()) r.product_options.dtm_classes = PointFilter::parse(o.filter.classes, "", "");
+    r.product_options.classes_given = !o.filter.classes.empty();
+    apply_ground(o, r);
     if (o.max_edge) {
         if (!(*o.max_edge > 0)) throw Error("dem: --max-edge with --product must be a positive number of metres");
         r.product_options.max_edge_m = *o.max_edge;
@@ -135,6 +158,9 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     if (!o.product.empty()) {
         apply_products(o, r);
         return r;
+    }
+    if (o.ground != "classes" || !o.ground_options.empty()) {
+        throw Error("dem: --ground applies to --product dtm or chm");
     }
     r.method = raster::dem_method_from_name(o.method.empty() ? (r.source == raster::DemSource::Full ? "mean" : "linear")
                                                              : o.method, r.source);
@@ -189,6 +215,10 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
                 j["products"][std::string(raster::product_name(r.products[i]))] = d.outputs[i];
             }
             j["max_edge_m"] = raster::ProductPass(r.products, r.product_options, r.texel_m).max_edge_m();
+            if (const auto& g = r.product_options.ground) {
+                j["ground"] = {{"filter", "smrf"}, {"cell_m", g->cell_m}, {"slope", g->slope},
+                               {"window_m", g->window_m}, {"threshold_m", g->threshold_m}, {"scalar", g->scalar}};
+            }
         }
         if (r.block_count > 0) j["block"] = block_json(r, d.grid);
         if (!d.contours.empty()) {
@@ -313,6 +343,22 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
                     "Instead of one DEM, these rasters in one read of the points, separated by commas: dtm "
                     "(TIN of the --classes, default 2,9), dsm (highest first return, holes by TIN), chm (dsm - dtm), "
                     "density, pulse-density (per m2), intensity (mean), count; several go to OUT_NAME.tif");
+    cmd->add_option("--ground", o->ground,
+                    "The dtm's ground: classes (the --classes, default 2,9) or smrf (found among every point but "
+                    "noise, or among the --classes, by the simple morphological filter: for unclassified surveys)");
+    const auto ground_option = [&](const char* name, double& value, const char* help) {
+        cmd->add_option(name, value, help)->each([o, name](const std::string&) {
+            o->ground_options.push_back(name);
+        });
+    };
+    ground_option("--ground-cell", o->ground_params.cell_m,
+                  "smrf: cell of its minimum surface, metres (default 1; larger where the points are sparser)");
+    ground_option("--ground-slope", o->ground_params.slope,
+                  "smrf: the steepest ground, rise over run (default 0.15; raise it for steep terrain)");
+    ground_option("--ground-window", o->ground_params.window_m,
+                  "smrf: the largest object's half-width, metres (default 18)");
+    ground_option("--ground-threshold", o->ground_params.threshold_m,
+                  "smrf: the height above or below the ground surface still ground, metres (default 0.5)");
     cmd->add_option("--contours", o->contours,
                     "Also write contour lines every INTERVAL (the raster's height unit) of the DEM, or of the first "
                     "dtm, dsm or chm product, to RASTER_contours.gpkg (GeoPackage, attribute elevation)")

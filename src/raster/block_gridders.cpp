@@ -159,6 +159,7 @@ public:
         options.spec = {grid_.texel_m, grid_.block, kTinMarginTexels};
         options.min_points = 3;
         options.has_rgb = spec_.rgb;
+        if (spec_.ground) keep_ground(*spec_.ground);
         const recon::PatchPoints patch = recon::make_patch_points(expanded(), min_x_, min_y_, options);
         std::vector<Held>().swap(points_);
         BlockImages out;
@@ -187,6 +188,22 @@ private:
         float dz;
         lidarscout::Rgb8 rgb;
     };
+
+    // Drops the held points the ground filter does not find on the ground of the block and its margin.
+    void keep_ground(const recon::GroundFilterParams& params) {
+        const double margin = kTinMarginTexels * grid_.texel_m;
+        const recon::GroundLattice lattice = recon::ground_lattice(
+            min_x_ - margin, min_y_ - margin, (grid_.block + 2.0 * kTinMarginTexels) * grid_.texel_m, params);
+        std::vector<recon::GroundSample> samples(points_.size());
+        for (std::size_t i = 0; i < points_.size(); ++i) samples[i] = {points_[i].x, points_[i].y, points_[i].dz};
+        const std::vector<std::uint8_t> ground = recon::find_ground(samples, lattice, params);
+        std::vector<recon::GroundSample>().swap(samples);
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < points_.size(); ++i) {
+            if (ground[i]) points_[kept++] = points_[i];
+        }
+        points_.resize(kept);
+    }
 
     std::vector<lidarscout::OverviewPoint> expanded() const {
         std::vector<lidarscout::OverviewPoint> out(points_.size());

@@ -6,7 +6,8 @@
 //                   the texel is the inverse-distance weighted mean (weights 1 / d^power) of
 //                   those points, nodata where none (as gdal_grid -a invdist with a radius,
 //                   PDAL writers.gdal output_type idw)
-//   tin             the block's points and those of a margin around it are triangulated
+//   tin             the block's points and those of a margin around it (with `ground`, those of
+//                   them the ground filter finds) are triangulated
 //                   (Delaunay, recon/triangulation.hpp) and each texel centre is interpolated
 //                   linearly in its triangle (as gdal_grid -a linear, LAStools las2dem);
 //                   nodata outside the hull and in triangles with an edge longer than
@@ -23,10 +24,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "dataset/point_stream.hpp"
 #include "raster/dem_grid.hpp"
+#include "recon/ground_filter.hpp"
 #include "recon/texel_stats.hpp"
 
 namespace lidarscout::raster {
@@ -43,6 +46,9 @@ struct GridderSpec {
     double idw_radius_m = 0;    // for Idw; 0: the texel's diagonal (texel x sqrt 2)
     double idw_power = 2;       // for Idw
     double tin_max_edge_m = 0;  // for Tin and HighestTin; 0: no limit
+    // For Tin: triangulate only the points the ground filter finds among those received (run on
+    // the block and its margin, recon/ground_filter.hpp).
+    std::optional<recon::GroundFilterParams> ground;
     bool rgb = false;           // also grid the colours
 };
 

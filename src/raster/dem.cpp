@@ -200,10 +200,10 @@ void make_products(const dataset::Dataset& ds, const DemRequest& r, const Raster
     copy_stats(stats, result);
     result.seconds_grid = seconds_since(t0);
     if (r.block_count == 0) {  // a piece of a DEM may be empty
+        pass.check_points(r.products, stats.layer_points, result.points_read);  // names the empty product
         if (result.points_used == 0) {
             throw Error::in_stage("dem", "no point of the products lies in the area; nothing written");
         }
-        pass.check_points(r.products, stats.layer_points, result.points_read);
     }
     t0 = Clock::now();
     for (auto& raster : rasters) finish_raster(*raster, r);

@@ -203,6 +203,20 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 // finishing on top. Measured on the 100-tile replica's 10 m dtm of every point: the whole run held
 // 12.5 GB (estimated 19.1 GB; 115 MB before the points were counted), its densest piece of 16 8.3 GB
 // (estimated 10.7 GB).
+// A tin block with the ground filter also holds, while it finishes, its lattice (about 60 bytes a
+// cell at the peak: the surfaces, the masks, the running extremes, the pull-push pyramid) and 33
+// bytes per point (a sample, its cell, its verdict).
+double ground_filter_bytes(const DemGrid& grid, std::span<const GridLayer> layers, double points) {
+    double bytes = 0;
+    const double side = (grid.block + 2.0 * kTinMarginTexels) * grid.texel_m;
+    for (const GridLayer& l : layers) {
+        if (l.gridder.method != GridMethod::Tin || !l.gridder.ground) continue;
+        const double cells = recon::ground_lattice(0, 0, side, *l.gridder.ground).cells;
+        bytes += cells * cells * 60 + points * 33;
+    }
+    return bytes;
+}
+
 struct TinPoints {
     double held_bytes_per_block = 0, finishing_bytes = 0;
 };
@@ -222,7 +236,8 @@ TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::
     }
     const double grown = (grid.block + 2.0 * kTinMarginTexels) / grid.block * (grid.block + 2.0 * kTinMarginTexels) /
                          grid.block * static_cast<double>(tins);
-    return {filled > 0 ? sum / filled * grown * 48 : 0, densest * grown * 240};
+    const double finishing = densest * grown;  // points
+    return {filled > 0 ? sum / filled * grown * 48 : 0, finishing * 240 + ground_filter_bytes(grid, layers, finishing)};
 }
 
 }  // namespace

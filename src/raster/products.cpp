@@ -91,7 +91,12 @@ ProductPass::ProductPass(std::span<const Product> products, const ProductOptions
     GridderSpec tin;
     tin.method = GridMethod::Tin;
     tin.tin_max_edge_m = max_edge_m_;
-    if (wants({Product::Dtm, Product::Chm})) dtm_ = add(tin, options.dtm_classes);
+    if (wants({Product::Dtm, Product::Chm})) {
+        GridderSpec dtm = tin;
+        dtm.ground = options.ground;
+        const bool all = options.ground && !options.classes_given;
+        dtm_ = add(dtm, all ? without_noise(returns::kAny) : options.dtm_classes);
+    }
     if (wants({Product::Dsm, Product::Chm})) {
         GridderSpec highest = tin;
         highest.method = GridMethod::HighestTin;
@@ -172,7 +177,10 @@ void ProductPass::check_points(std::span<const Product> products, std::span<cons
         throw Error::in_stage("dem", "no point " + what + " lies in the area (" + std::to_string(points_read) +
                                          " points read), so the " + std::string(product_name(p)) +
                                          " would be empty; nothing written" +
-                                         (p == Product::Dtm || p == Product::Chm ? ": give --classes" : ""));
+                                         (p == Product::Dtm || p == Product::Chm
+                                              ? ": give --classes, or --ground smrf to find the ground among "
+                                                "unclassified points"
+                                              : ""));
     }
 }
 

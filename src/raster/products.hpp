@@ -2,7 +2,8 @@
 // a raster computed from a few layers (full_dem.hpp's GridLayer: the points a filter keeps, gridded
 // one way) that products share:
 //   dtm            TIN of the ground and water points (DTM classes, default 2,9), nodata in
-//                  triangles with an edge longer than the maximum edge (as `--method tin`)
+//                  triangles with an edge longer than the maximum edge (as `--method tin`); with
+//                  the ground filter (`--ground smrf`), TIN of the points it finds on the ground
 //   dsm            the highest first return per texel; texels without one get the TIN of those
 //                  highest points within the maximum edge (block_gridders.hpp's highest-tin)
 //   chm            dsm - dtm, clamped at 0, where both are (in the file's unit)
@@ -14,6 +15,7 @@
 // and count are 0, not nodata, where no point fell.
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -22,6 +24,7 @@
 #include "core/point_filter.hpp"
 #include "raster/block_raster.hpp"
 #include "raster/full_dem.hpp"
+#include "recon/ground_filter.hpp"
 
 namespace lidarscout::raster {
 
@@ -42,6 +45,10 @@ inline constexpr double kDefaultProductMaxEdgeTexels = 20;
 struct ProductOptions {
     PointFilter dtm_classes = PointFilter::parse("2,9", "", "");  // the points of the dtm's TIN
     double max_edge_m = 0;                                        // 0: kDefaultProductMaxEdgeTexels texels
+    // Set: the dtm is the TIN of the points the ground filter finds among every point but noise
+    // (or among `dtm_classes` when `classes_given`), for surveys without a ground class.
+    std::optional<recon::GroundFilterParams> ground;
+    bool classes_given = false;
 };
 
 // The layers a set of products needs, and each product's values from a finished block's layers.

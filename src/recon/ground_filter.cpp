@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <utility>
@@ -26,31 +27,57 @@ struct Lattice {
     std::size_t at(int i, int j) const { return static_cast<std::size_t>(j) * n + i; }
 };
 
-// out[i] = op over in[i - r .. i + r] (clipped to 0 .. m - 1), for a running min (`Min` true) or max.
 template <bool Min>
-void running_1d(const float* in, float* out, int m, int r, std::vector<float>& g, std::vector<float>& h) {
-    const float identity = Min ? kInf : -kInf;
-    const auto op = [](float a, float b) { return Min ? std::min(a, b) : std::max(a, b); };
-    const int w = 2 * r + 1;
-    const int padded = (m + 2 * r + w - 1) / w * w;
-    g.resize(padded), h.resize(padded);
-    const auto value = [&](int k) { return k >= r && k < m + r ? in[k - r] : identity; };
-    for (int k = 0; k < padded; ++k) g[k] = k % w == 0 ? value(k) : op(g[k - 1], value(k));
-    for (int k = padded - 1; k >= 0; --k) h[k] = k % w == w - 1 ? value(k) : op(h[k + 1], value(k));
-    for (int i = 0; i < m; ++i) out[i] = op(h[i], g[i + w - 1]);
+float pick(float a, float b) {
+    return Min ? std::min(a, b) : std::max(a, b);
 }
 
-// The running min or max over a square window of half-width r (rows, then columns).
+// The running min (`Min` true) or max over windows of 2r + 1 along one axis (van Herk / Gil-Werman:
+// prefix and suffix extremes within runs of 2r + 1, two of them per output), out of range
+// ignored. `line(k)` gives the k-th of `m` lines (each `width` floats, a row or a single value);
+// the same code filters along rows (width 1, lines the texels of a row) and along columns (lines
+// whole rows, so that every step is a vectorisable loop over a row).
+template <bool Min>
+void running_axis(const float* in, float* out, int m, std::size_t width, std::size_t stride, int r,
+                  std::vector<float>& g, std::vector<float>& h) {
+    const int w = 2 * r + 1;
+    const int padded = (m + 2 * r + w - 1) / w * w;
+    g.resize(static_cast<std::size_t>(padded) * width), h.resize(g.size());
+    const float identity = Min ? kInf : -kInf;
+    const auto at = [&](std::vector<float>& v, int k) { return v.data() + static_cast<std::size_t>(k) * width; };
+    const auto value = [&](int k, std::size_t x) { return k >= r && k < m + r ? in[(k - r) * stride + x] : identity; };
+    for (int k = 0; k < padded; ++k) {
+        float* gk = at(g, k);
+        if (k % w == 0) {
+            for (std::size_t x = 0; x < width; ++x) gk[x] = value(k, x);
+        } else {
+            const float* prev = at(g, k - 1);
+            for (std::size_t x = 0; x < width; ++x) gk[x] = pick<Min>(prev[x], value(k, x));
+        }
+    }
+    for (int k = padded - 1; k >= 0; --k) {
+        float* hk = at(h, k);
+        if (k % w == w - 1) {
+            for (std::size_t x = 0; x < width; ++x) hk[x] = value(k, x);
+        } else {
+            const float* next = at(h, k + 1);
+            for (std::size_t x = 0; x < width; ++x) hk[x] = pick<Min>(next[x], value(k, x));
+        }
+    }
+    for (int i = 0; i < m; ++i) {
+        const float *hi = at(h, i), *gi = at(g, i + w - 1);
+        for (std::size_t x = 0; x < width; ++x) out[i * stride + x] = pick<Min>(hi[x], gi[x]);
+    }
+}
+
+// The running min or max over a square window of half-width r (along rows, then columns).
 template <bool Min>
 Raster running_2d(const Raster& in, const Lattice& l, int r) {
-    Raster out(in.size());
-    std::vector<float> g, h, column(l.n), result(l.n);
-    for (int j = 0; j < l.n; ++j) running_1d<Min>(&in[l.at(0, j)], &out[l.at(0, j)], l.n, r, g, h);
-    for (int i = 0; i < l.n; ++i) {
-        for (int j = 0; j < l.n; ++j) column[j] = out[l.at(i, j)];
-        running_1d<Min>(column.data(), result.data(), l.n, r, g, h);
-        for (int j = 0; j < l.n; ++j) out[l.at(i, j)] = result[j];
-    }
+    Raster rows(in.size()), out(in.size());
+    std::vector<float> g, h;
+    const auto n = static_cast<std::size_t>(l.n);
+    for (int j = 0; j < l.n; ++j) running_axis<Min>(&in[l.at(0, j)], &rows[l.at(0, j)], l.n, 1, 1, r, g, h);
+    running_axis<Min>(rows.data(), out.data(), l.n, n, n, r, g, h);
     return out;
 }
 
@@ -106,10 +133,16 @@ std::pair<double, double> in_cells(const GroundLattice& l, const GroundSample& s
     return {(s.x - l.min_x) / l.cell_m, (s.y - l.min_y) / l.cell_m};
 }
 
+std::string number(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
 void check_positive(double v, const char* what, double most) {
     if (!(v > 0) || !(v <= most)) {
-        throw Error(std::string(what) + " must be a positive number of at most " + std::to_string(most).substr(0, 5) +
-                    " (it is " + std::to_string(v) + ")");
+        throw Error(std::string(what) + " must be a positive number of at most " + number(most) + " (it is " +
+                    number(v) + ")");
     }
 }
 
@@ -149,8 +182,8 @@ void check_ground_params(const GroundFilterParams& p) {
     check_positive(p.threshold_m, "--ground-threshold (metres)", 100);
     if (!(p.scalar >= 0) || !(p.scalar <= 100)) throw Error("the ground filter's scalar must be in 0 .. 100");
     if (p.window_m < p.cell_m) {
-        throw Error("--ground-window (" + std::to_string(p.window_m) + " m) must be at least the cell (" +
-                    std::to_string(p.cell_m) + " m)");
+        throw Error("--ground-window (" + number(p.window_m) + " m) must be at least the cell (" + number(p.cell_m) +
+                    " m)");
     }
 }
 

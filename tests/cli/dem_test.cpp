@@ -2,7 +2,7 @@
 // with its orthophoto and hillshade, JSON output; bad options are one-line errors (exit 1); a
 // raster over the memory budget is refused before it is allocated, a hostile --threads capped,
 // and a corrupt chunk costs only its points (exit 3); --product writes several rasters in one
-// read, each to its own checked name.
+// read, each to its own checked name; --ground smrf makes the dtm of an unclassified survey.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -195,6 +195,45 @@ TEST_F(DemCommand, ProductOptionsAreCheckedBeforeAnyWork) {
     EXPECT_EQ(test::run_command(base + " --product density --hillshade " + path("h.png") + " 2>&1", out), 1);
     EXPECT_NE(out.find("--hillshade needs a dtm, dsm or chm product"), std::string::npos) << out;
     EXPECT_EQ(files_in(dir), 0u);
+}
+
+// --ground smrf: an unclassified survey, whose dtm the ground classes cannot make (the error says
+// what to give), gets one from the ground filter, reported in the JSON; its options are refused
+// where they do not apply, before any work.
+TEST_F(DemCommand, AGroundFilterMakesTheDtmOfAnUnclassifiedSurvey) {
+    std::string out;
+    const std::string base = std::string(LIDARSCOUT_CLI) + " dem " + ky() + " --texel 5 -o " + path("g.tif");
+    EXPECT_EQ(test::run_command(base + " --product dtm 2>&1", out), 1);
+    EXPECT_NE(out.find("no point of the dtm's classes 2,9 lies in the area (2563625 points read), so the dtm would "
+                       "be empty; nothing written: give --classes, or --ground smrf"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dsm --ground smrf 2>&1", out), 1);
+    EXPECT_NE(out.find("--ground applies to the dtm and chm products"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dtm --ground-slope 0.3 2>&1", out), 1);
+    EXPECT_NE(out.find("--ground-slope applies to --ground smrf"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dtm --ground smrf --ground-window 0 2>&1", out), 1);
+    EXPECT_NE(out.find("--ground-window (metres) must be a positive number"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --ground smrf 2>&1", out), 1);
+    EXPECT_NE(out.find("--ground applies to --product dtm or chm"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dtm --ground lasground 2>&1", out), 1);
+    EXPECT_NE(out.find("--ground must be classes or smrf"), std::string::npos) << out;
+    EXPECT_TRUE(fs::is_empty(dir)) << out;
+
+    ASSERT_EQ(test::run_command(base + " --product dtm,dsm,chm --ground smrf --ground-slope 0.3 --json 2>/dev/null",
+                                out), 0) << out;
+    const auto j = nlohmann::json::parse(out);
+    EXPECT_EQ(j["ground"]["filter"], "smrf");
+    EXPECT_EQ(j["ground"]["slope"], 0.3);
+    EXPECT_EQ(j["ground"]["window_m"], 18.0);
+    const auto dtm = test::read_raster(path("g_dtm.tif")), dsm = test::read_raster(path("g_dsm.tif"));
+    ASSERT_EQ(dtm.values.size(), dsm.values.size());
+    std::size_t both = 0, below = 0;
+    for (std::size_t i = 0; i < dtm.values.size(); ++i) {
+        if (dtm.values[i] == -9999.0f || dsm.values[i] == -9999.0f) continue;
+        ++both;
+        below += dtm.values[i] <= dsm.values[i] + 0.01f;
+    }
+    EXPECT_GT(both, dtm.values.size() * 9 / 10) << "the terrain under nearly every texel";
+    EXPECT_GT(below, both * 99 / 100) << "the terrain under the surface";
 }
 
 // --contours: GDAL's contour lines of the dtm (the first height product) or of the DEM, every

@@ -2,8 +2,8 @@
 // the tile headers hold; each piece is a raster on the whole grid's lattice; and the pieces,
 // mosaicked by their geotransforms, equal one whole run texel for texel (the decoded float32
 // values compared byte for byte, nodata included): the products of the 9 unclassified tiles of
-// ky-jmo335 (the dsm's TIN crossing pieces and tiles), the dtm and chm of the classified Woodford
-// tile, and the --from full methods there. What a piece cannot make (a hillshade, contours,
+// ky-jmo335 (the dsm's TIN crossing pieces and tiles) and its dtm and chm by the ground filter, the
+// dtm and chm of the classified Woodford tile, and the --from full methods there. What a piece cannot make (a hillshade, contours,
 // --from overview) is refused.
 #include <gtest/gtest.h>
 
@@ -135,6 +135,21 @@ TEST_F(DemBlocks, ClassifiedDtmPiecesMosaicIntoTheWholeRun) {
     r.products = raster::products_from_names("dtm,chm");
     const raster::DemResult whole = raster::make_dem(ds, r);
     expect_pieces_equal_whole(ds, r, whole, 3);
+}
+
+// The dtm of two tiles of the unclassified survey from the ground filter (run per block on its
+// points and margin, so a piece makes the same blocks as the whole run), and the chm from it.
+TEST_F(DemBlocks, GroundFilteredDtmPiecesMosaicIntoTheWholeRun) {
+    const std::string folder = survey("ky-jmo335-eastern-kentucky");
+    const auto ds = dataset::open_dataset({folder + "/N117E379.laz", folder + "/N117E380.laz"});
+    raster::DemRequest r = request("whole.tif", 1.0);
+    r.products = raster::products_from_names("dtm,chm");
+    recon::GroundFilterParams ground;
+    ground.window_m = 6;  // fewer openings: this checks the stitching, not the terrain
+    r.product_options.ground = ground;
+    const raster::DemResult whole = raster::make_dem(ds, r);
+    ASSERT_GE(whole.grid.all_blocks().count(), 4);
+    expect_pieces_equal_whole(ds, r, whole, 2);
 }
 
 // The --from full methods (tin with a maximum edge, idw with a wide radius) on one tile.
