@@ -3,8 +3,8 @@
 // mosaicked by their geotransforms, equal one whole run texel for texel (the decoded float32
 // values compared byte for byte, nodata included): the products of the 9 unclassified tiles of
 // ky-jmo335 (the dsm's TIN crossing pieces and tiles) and its dtm and chm by the ground filter, the
-// dtm and chm of the classified Woodford tile, and the --from full methods there. What a piece cannot make (a hillshade, contours,
-// --from overview) is refused.
+// dtm and chm of the classified Woodford tile, and the --from full methods there. What a piece
+// cannot make (a hillshade, contours, --from overview) is refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
