@@ -192,7 +192,7 @@ private:
         if (patch.status != recon::PatchStatus::Ok) return !narrow;
         const recon::Triangulation tri =
             recon::triangulate(recon::grid_positions(patch), patch.spec.grid_extent(), /*pad_corners=*/false);
-        recon::FaceMap map = recon::build_face_map(tri, patch.size());
+        recon::FaceMap map = recon::build_face_map(tri, patch.size(), margin);  // the block's texels only
         if (narrow && !narrow_agrees(tri, map, OutsidePoints(points, patch))) return false;
         map = without_long_edges(tri, std::move(map));
         recon::Image heights(patch.size(), 1);

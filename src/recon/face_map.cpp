@@ -17,13 +17,14 @@ constexpr double kUnit = static_cast<double>(kGridUnitsPerTexel);
 
 std::int64_t floor_div(std::int64_t a, std::int64_t b) { return a / b - (a % b != 0 && a < 0); }
 
-// Texel indices whose centres (i + 1/2) * unit lie in [lo, hi] (integer grid units), clipped.
-std::pair<int, int> texel_range(double lo, double hi, int size) {
+// Texel indices whose centres (i + 1/2) * unit lie in [lo, hi] (integer grid units), clipped to
+// [inset, size - 1 - inset].
+std::pair<int, int> texel_range(double lo, double hi, int size, int inset) {
     constexpr std::int64_t unit = kGridUnitsPerTexel, half = unit / 2;
     const std::int64_t first = -floor_div(half - static_cast<std::int64_t>(lo), unit);  // ceil((lo - half) / unit)
     const std::int64_t last = floor_div(static_cast<std::int64_t>(hi) - half, unit);
-    return {static_cast<int>(std::max<std::int64_t>(first, 0)),
-            static_cast<int>(std::min<std::int64_t>(last, size - 1))};
+    return {static_cast<int>(std::max<std::int64_t>(first, inset)),
+            static_cast<int>(std::min<std::int64_t>(last, size - 1 - inset))};
 }
 
 // One edge function e(p) = orient(from, to, p) on the texel centres: one texel right adds
@@ -60,11 +61,11 @@ std::pair<int, int> edge_span(const Edge& edge, double value, int width) {
     return {0, k};
 }
 
-void scan_triangle(const Triangulation& t, std::int32_t index, FaceMap& map) {
+void scan_triangle(const Triangulation& t, std::int32_t index, FaceMap& map, int inset) {
     const auto& tri = t.triangles[index];
     const GridXY a = t.vertices[tri[0]], b = t.vertices[tri[1]], c = t.vertices[tri[2]];
-    const auto [col0, col1] = texel_range(std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}), map.size);
-    const auto [row0, row1] = texel_range(std::min({a.y, b.y, c.y}), std::max({a.y, b.y, c.y}), map.size);
+    const auto [col0, col1] = texel_range(std::min({a.x, b.x, c.x}), std::max({a.x, b.x, c.x}), map.size, inset);
+    const auto [row0, row1] = texel_range(std::min({a.y, b.y, c.y}), std::max({a.y, b.y, c.y}), map.size, inset);
     if (col0 > col1 || row0 > row1) return;
     const int width = col1 - col0 + 1;
     const double inv_area = 1.0 / orient(a, b, c);
@@ -92,14 +93,14 @@ void scan_triangle(const Triangulation& t, std::int32_t index, FaceMap& map) {
 
 }  // namespace
 
-FaceMap build_face_map(const Triangulation& triangulation, int size) {
+FaceMap build_face_map(const Triangulation& triangulation, int size, int inset) {
     FaceMap map;
     map.size = size;
     const std::size_t texels = static_cast<std::size_t>(size) * size;
     map.face.assign(texels, -1);
     map.bary.assign(texels, {0.0f, 0.0f, 0.0f});
     for (std::size_t t = 0; t < triangulation.triangles.size(); ++t) {
-        if (triangulation.is_real(t)) scan_triangle(triangulation, static_cast<std::int32_t>(t), map);
+        if (triangulation.is_real(t)) scan_triangle(triangulation, static_cast<std::int32_t>(t), map, inset);
     }
     return map;
 }

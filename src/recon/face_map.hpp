@@ -27,7 +27,9 @@ struct FaceMap {
     std::int32_t at(int row, int col) const { return face[static_cast<std::size_t>(row) * size + col]; }
 };
 
-FaceMap build_face_map(const Triangulation& triangulation, int size);
+// With `inset` > 0, only the texels at least `inset` texels from every edge of the window are
+// mapped (the others stay -1): for callers that keep only the window's centre.
+FaceMap build_face_map(const Triangulation& triangulation, int size, int inset = 0);
 
 // Calls fn(texel, triangle, barycentrics) for every texel inside a real triangle, in texel order
 // (texel = row * size + col).
