@@ -219,7 +219,11 @@ private:
                 const recon::GridXY g{(p.x - patch.window_min_x) * scale, (p.y - patch.window_min_y) * scale};
                 if (g.x >= 0 && g.x < extent_ && g.y >= 0 && g.y < extent_) continue;  // in the window
                 const int bx = bucket_of(g.x), by = bucket_of(g.y);
-                if (bx >= 0 && by >= 0 && bx < side_ && by < side_) buckets_[by * side_ + bx].push_back(g);
+                if (bx >= 0 && by >= 0 && bx < side_ && by < side_) {
+                    buckets_[by * side_ + bx].push_back(g);
+                } else {
+                    far_.push_back(g);  // beyond the full margin (none, as held): always looked at
+                }
             }
         }
 
@@ -228,28 +232,31 @@ private:
         // buckets that hold points).
         bool none_in(recon::GridXY centre, double radius) const {
             const double r = radius + 16.0;
-            const auto clamped = [&](double g) { return std::clamp(g / bucket_, -1.0, side_ + 1.0); };
-            const int x0 = std::max(bucket_of_clamped(clamped(centre.x - r)), 0);
-            const int x1 = std::min(bucket_of_clamped(clamped(centre.x + r)), side_ - 1);
-            const int y0 = std::max(bucket_of_clamped(clamped(centre.y - r)), 0);
-            const int y1 = std::min(bucket_of_clamped(clamped(centre.y + r)), side_ - 1);
+            const int x0 = std::max(bucket_of(centre.x - r), 0), x1 = std::min(bucket_of(centre.x + r), side_ - 1);
+            const int y0 = std::max(bucket_of(centre.y - r), 0), y1 = std::min(bucket_of(centre.y + r), side_ - 1);
+            const auto outside = [&](const std::vector<recon::GridXY>& points) {
+                return std::none_of(points.begin(), points.end(), [&](const recon::GridXY& g) {
+                    const double dx = g.x - centre.x, dy = g.y - centre.y;
+                    return dx * dx + dy * dy <= r * r;
+                });
+            };
             for (int by = y0; by <= y1; ++by) {
                 for (int bx = x0; bx <= x1; ++bx) {
-                    if (!reaches(bx, by, centre, r)) continue;
-                    for (const recon::GridXY& g : buckets_[by * side_ + bx]) {
-                        const double dx = g.x - centre.x, dy = g.y - centre.y;
-                        if (dx * dx + dy * dy <= r * r) return false;
-                    }
+                    if (reaches(bx, by, centre, r) && !outside(buckets_[by * side_ + bx])) return false;
                 }
             }
-            return true;
+            return outside(far_);
         }
 
         double extent() const { return extent_; }
 
     private:
-        int bucket_of(double g) const { return static_cast<int>(std::floor(g / bucket_)) - first_; }
-        int bucket_of_clamped(double buckets) const { return static_cast<int>(std::floor(buckets)) - first_; }
+        // The bucket of a grid coordinate, -1 or side_ beyond the buckets on either side (huge circles
+        // reach far beyond them: the coordinate is clamped before it becomes an int).
+        int bucket_of(double g) const {
+            const double b = std::floor(g / bucket_) - first_;
+            return static_cast<int>(std::clamp(b, -1.0, static_cast<double>(side_)));
+        }
 
         // Whether the circle reaches bucket (bx, by): the bucket's nearest point to the centre is
         // within r.
@@ -263,6 +270,7 @@ private:
         double extent_, bucket_;
         int first_, side_;  // the bucket index of the window's corner is -first_; buckets per side
         std::vector<std::vector<recon::GridXY>> buckets_;
+        std::vector<recon::GridXY> far_;
     };
 
     // Whether the narrow margin's TIN gives each texel of the block what the full margin's does.
