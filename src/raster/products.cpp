@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "core/error.hpp"
@@ -31,6 +32,22 @@ GridderSpec counting() {
     GridderSpec g;
     g.value = GridValue::Count;
     return g;
+}
+
+// The ground filter runs in each TIN block on the block and its margin: its openings (reaching
+// twice the window) must stay within the margin for blocks to agree near their edges, and bound
+// its work.
+void check_ground_reach(const recon::GroundFilterParams& ground, double texel_m) {
+    recon::check_ground_params(ground);
+    const double most = kTinMarginTexels * texel_m / 2;
+    if (ground.window_m > most) {
+        char text[200];
+        std::snprintf(text, sizeof text,
+                      "--ground-window %g m is more than half the %d-texel margin a block sees at --texel %g (%g m): "
+                      "give a larger --texel or a smaller window",
+                      ground.window_m, kTinMarginTexels, texel_m, most);
+        throw Error::in_stage("dem", text);
+    }
 }
 
 }  // namespace
@@ -91,6 +108,7 @@ ProductPass::ProductPass(std::span<const Product> products, const ProductOptions
     GridderSpec tin;
     tin.method = GridMethod::Tin;
     tin.tin_max_edge_m = max_edge_m_;
+    if (options.ground) check_ground_reach(*options.ground, texel_m);
     if (wants({Product::Dtm, Product::Chm})) {
         GridderSpec dtm = tin;
         dtm.ground = options.ground;
