@@ -216,7 +216,8 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
             }
             j["max_edge_m"] = raster::ProductPass(r.products, r.product_options, r.texel_m).max_edge_m();
             if (const auto& g = r.product_options.ground) {
-                j["ground"] = {{"filter", "smrf"}, {"cell_m", g->cell_m}, {"slope", g->slope},
+                j["ground"] = {{"filter", "smrf"}, {"cell_m", g->cell_m},
+                               {"slope", g->slope > 0 ? nlohmann::json(g->slope) : nlohmann::json("terrain")},
                                {"window_m", g->window_m}, {"threshold_m", g->threshold_m}, {"scalar", g->scalar}};
             }
         }
@@ -354,7 +355,8 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     ground_option("--ground-cell", o->ground_params.cell_m,
                   "smrf: cell of its minimum surface, metres (default 1; larger where the points are sparser)");
     ground_option("--ground-slope", o->ground_params.slope,
-                  "smrf: the steepest ground, rise over run (default 0.15; raise it for steep terrain)");
+                  "smrf: the steepest ground, rise over run (default: the terrain's, from the lowest points "
+                  "of window-sized cells, at least 0.15)");
     ground_option("--ground-window", o->ground_params.window_m,
                   "smrf: the largest object's half-width, metres (default 18)");
     ground_option("--ground-threshold", o->ground_params.threshold_m,

@@ -19,6 +19,7 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr double kLowOutlierSlope = 5.0;  // SMRF's pits: steeper than this against a neighbour
+constexpr double kDefaultSlope = 0.15;    // PDAL's
 
 using Raster = std::vector<float>;  // cells x cells, rows from the south
 
@@ -145,6 +146,39 @@ void check_positive(double v, const char* what, double most) {
     }
 }
 
+// SMRF's slope when none is given: the terrain's steepness, the 75th percentile of the slopes
+// between neighbouring window-sized cells' lowest points (objects narrower than the window leave
+// those on the ground), at least PDAL's default 0.15 (flat and rolling land keep it) and at most
+// 1. The filter's default is too strict for steep land: on the Red River Gorge tile it left 5.6 %
+// of the 1 m dtm empty (cliffs and slopes taken for objects), with this 2.2 %.
+double terrain_slope(const Raster& zmin, const std::vector<std::uint8_t>& empty, const Lattice& l, double cell_m,
+                     double window_m) {
+    const int k = std::max(1, static_cast<int>(std::round(window_m / cell_m)));
+    const int m = (l.n + k - 1) / k;
+    Raster lowest(static_cast<std::size_t>(m) * m, kInf);
+    for (int j = 0; j < l.n; ++j) {
+        for (int i = 0; i < l.n; ++i) {
+            float& c = lowest[static_cast<std::size_t>(j / k) * m + i / k];
+            if (!empty[l.at(i, j)]) c = std::min(c, zmin[l.at(i, j)]);
+        }
+    }
+    std::vector<float> slopes;
+    const auto add = [&](float a, float b) {
+        if (a != kInf && b != kInf) slopes.push_back(std::abs(a - b) / static_cast<float>(k * cell_m));
+    };
+    for (int j = 0; j < m; ++j) {
+        for (int i = 0; i < m; ++i) {
+            const float a = lowest[static_cast<std::size_t>(j) * m + i];
+            if (i + 1 < m) add(a, lowest[static_cast<std::size_t>(j) * m + i + 1]);
+            if (j + 1 < m) add(a, lowest[static_cast<std::size_t>(j + 1) * m + i]);
+        }
+    }
+    if (slopes.empty()) return kDefaultSlope;
+    auto q = slopes.begin() + static_cast<std::ptrdiff_t>(slopes.size() * 3 / 4);
+    std::nth_element(slopes.begin(), q, slopes.end());
+    return std::clamp(static_cast<double>(*q), kDefaultSlope, 1.0);
+}
+
 // The lattice with cells as large as the samples' spacing where they are sparser than one per
 // cell: a cell without a point has no lowest point, and a surface made mostly of filled holes
 // would make single points look like objects. The density is counted over the coarse cells
@@ -176,7 +210,7 @@ GroundLattice sparse_adapted(std::span<const GroundSample> samples, const Ground
 
 void check_ground_params(const GroundFilterParams& p) {
     check_positive(p.cell_m, "--ground-cell (metres)", 100);
-    check_positive(p.slope, "--ground-slope (rise over run)", 10);
+    if (p.slope != 0) check_positive(p.slope, "--ground-slope (rise over run)", 10);  // 0: from the terrain
     check_positive(p.window_m, "--ground-window (metres)", 1000);
     check_positive(p.threshold_m, "--ground-threshold (metres)", 100);
     if (!(p.scalar >= 0) || !(p.scalar <= 100)) throw Error("the ground filter's scalar must be in 0 .. 100");
@@ -219,7 +253,8 @@ std::vector<std::uint8_t> find_ground(std::span<const GroundSample> samples, con
     std::transform(zmin.begin(), zmin.end(), negated.begin(), [](float z) { return -z; });
     const std::vector<std::uint8_t> low = object_mask(negated, l, kLowOutlierSlope, lattice.cell_m, 1);
     const int max_radius = std::max(1, static_cast<int>(std::ceil(p.window_m / lattice.cell_m)));
-    const std::vector<std::uint8_t> object = object_mask(zmin, l, p.slope, lattice.cell_m, max_radius);
+    const double steepest = p.slope > 0 ? p.slope : terrain_slope(zmin, empty, l, lattice.cell_m, p.window_m);
+    const std::vector<std::uint8_t> object = object_mask(zmin, l, steepest, lattice.cell_m, max_radius);
 
     Raster surface = zmin;
     for (std::size_t c = 0; c < surface.size(); ++c) {

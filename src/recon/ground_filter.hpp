@@ -5,7 +5,8 @@
 //   2. low outliers (pits deeper than a slope of 5 against their neighbours) left out;
 //   3. the surface opened (erosion then dilation, square windows) with radii of 1 .. window / cell
 //      cells: a cell whose height drops by more than slope x radius x cell at an opening stands on
-//      an object (a roof, a tree), not on the ground;
+//      an object (a roof, a tree), not on the ground; the slope, unless given, from the terrain
+//      (the steepness between window-sized cells' lowest points; PDAL's 0.15 on gentle land);
 //   4. the provisional ground surface: the lowest points of the other cells, holes filled;
 //   5. a point is ground when it lies within threshold + scalar x local slope of that surface.
 // Everything is local to the lattice it is given, so equal inputs give equal results: the DEM's
@@ -18,10 +19,10 @@
 
 namespace lidarscout::recon {
 
-// SMRF's parameters, PDAL's defaults (metres, slopes as rise over run).
+// SMRF's parameters, PDAL's defaults but the slope (metres, slopes as rise over run).
 struct GroundFilterParams {
     double cell_m = 1.0;       // the lattice's cell
-    double slope = 0.15;       // the steepest terrain kept as ground
+    double slope = 0;          // the steepest terrain kept as ground; 0: from the terrain (at least 0.15)
     double window_m = 18.0;    // the largest opening's radius: about half the widest building
     double threshold_m = 0.5;  // the height above (or below) the provisional surface still ground
     double scalar = 1.25;      // how much the surface's local slope widens the threshold

@@ -170,6 +170,42 @@ TEST_F(Products, AGroundFilteredDtmMatchesTheClassifiedOne) {
     EXPECT_LT(only_classes, d.size() / 100);
 }
 
+// On the steep, forested Red River Gorge tile (unclassified) the slope the filter takes from the
+// terrain keeps more of the hillsides and cliffs as ground than PDAL's fixed 0.15, and still
+// takes the canopy away: its dtm has fewer nodata texels, and its chm's median height stays
+// within a metre of the fixed slope's.
+TEST_F(Products, TheGroundFiltersSlopeFromTheTerrainKeepsSteepGround) {
+    const auto ds = dataset::open_dataset({(test::surveys_dir() / "ky-red-river-gorge").string()});
+    struct Run {
+        double valid = 0, chm_median = 0;
+    };
+    const auto run = [&](const char* name, double slope) {
+        raster::DemRequest r = request(name);
+        r.texel_m = 2;
+        r.products = raster::products_from_names("dtm,chm");
+        recon::GroundFilterParams ground;
+        ground.slope = slope;
+        r.product_options.ground = ground;
+        const auto outputs = raster::make_dem(ds, r).outputs;
+        const auto dtm = test::read_raster(outputs[0]), chm = test::read_raster(outputs[1]);
+        std::vector<float> heights;
+        std::size_t valid = 0;
+        for (std::size_t i = 0; i < dtm.values.size(); ++i) {
+            valid += dtm.values[i] != -9999.0f;
+            if (chm.values[i] != -9999.0f) heights.push_back(chm.values[i]);
+        }
+        std::sort(heights.begin(), heights.end());
+        return Run{double(valid) / dtm.values.size(), heights.empty() ? NAN : heights[heights.size() / 2] * 0.3048};
+    };
+    const Run fixed = run("fixed.tif", 0.15), terrain = run("terrain.tif", 0);
+    std::printf("Red River Gorge 2 m dtm: texels with a height %.2f %% at slope 0.15, %.2f %% at the terrain's; chm "
+                "median %.2f m and %.2f m\n", 100 * fixed.valid, 100 * terrain.valid, fixed.chm_median,
+                terrain.chm_median);
+    EXPECT_GT(terrain.valid, fixed.valid + 0.01);
+    EXPECT_NEAR(terrain.chm_median, fixed.chm_median, 1.0);
+    EXPECT_GT(terrain.chm_median, 5.0) << "a forest";
+}
+
 // One product is written to -o itself; a product with no point in the area is an error, and a
 // hillshade needs a height product.
 TEST_F(Products, OneProductIsTheOutputItself) {

@@ -94,8 +94,10 @@ TEST(GroundFilter, TheLatticeGrowsItsCellsToStayWithinItsSize) {
 TEST(GroundFilter, ParametersOutOfRangeAreRefused) {
     GroundFilterParams p;
     EXPECT_NO_THROW(check_ground_params(p));
-    p.slope = 0;
+    p.slope = -1;
     EXPECT_THROW(check_ground_params(p), Error);
+    p.slope = 0;  // from the terrain
+    EXPECT_NO_THROW(check_ground_params(p));
     p = {};
     p.window_m = std::nan("");
     EXPECT_THROW(check_ground_params(p), Error);
