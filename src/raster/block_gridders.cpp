@@ -159,20 +159,29 @@ public:
     // full margin gives (narrow_agrees); else the TIN of every point held.
     BlockImages finish() override {
         if (spec_.ground) keep_ground(*spec_.ground);
-        const std::vector<lidarscout::OverviewPoint> points = expanded();
-        std::vector<Held>().swap(points_);
         BlockImages out;
         out.heights_m.assign(texel_count(grid_), recon::kNoValue);
         if (spec_.rgb) out.rgba.assign(4 * texel_count(grid_), 0);
         out.tin_margin_texels = kNarrowMarginTexels;
-        if (narrow_margin_applies() && interpolate(points, kNarrowMarginTexels, out)) return out;
-        out.tin_margin_texels = kTinMarginTexels;
-        interpolate(points, kTinMarginTexels, out);
+        if (!narrow_margin_applies() || !interpolate(kNarrowMarginTexels, out)) {
+            out.tin_margin_texels = kTinMarginTexels;
+            interpolate(kTinMarginTexels, out);
+        }
+        std::vector<Held>().swap(points_);
         return out;
     }
 
 private:
     static constexpr int kNarrowMarginTexels = 24;
+
+    // A point as held until the block is finished: 24 bytes instead of 48. The position stays
+    // exact (every block sees the same coordinates, so ties between Delaunay triangulations are
+    // broken alike); the height is kept from the first point's, in float (well under 0.1 mm).
+    struct Held {
+        double x, y;
+        float dz;
+        lidarscout::Rgb8 rgb;
+    };
 
     // The proof of narrow_agrees needs a maximum edge shorter than the narrow margin.
     bool narrow_margin_applies() const {
@@ -182,18 +191,18 @@ private:
 
     // Interpolates the block's texels into `out` from the TIN of the points within `margin` texels
     // of it. With the narrow margin, only when narrow_agrees (false, `out` untouched, otherwise).
-    bool interpolate(const std::vector<lidarscout::OverviewPoint>& points, int margin, BlockImages& out) const {
+    bool interpolate(int margin, BlockImages& out) const {
         const bool narrow = margin != kTinMarginTexels;
         recon::PatchOptions options;
         options.spec = {grid_.texel_m, grid_.block, margin};
         options.min_points = 3;
         options.has_rgb = spec_.rgb;
-        const recon::PatchPoints patch = recon::make_patch_points(points, min_x_, min_y_, options);
+        const recon::PatchPoints patch = recon::make_patch_points(expanded(), min_x_, min_y_, options);
         if (patch.status != recon::PatchStatus::Ok) return !narrow;
         const recon::Triangulation tri =
             recon::triangulate(recon::grid_positions(patch), patch.spec.grid_extent(), /*pad_corners=*/false);
         recon::FaceMap map = recon::build_face_map(tri, patch.size(), margin);  // the block's texels only
-        if (narrow && !narrow_agrees(tri, map, OutsidePoints(points, patch))) return false;
+        if (narrow && !narrow_agrees(tri, map, OutsidePoints(points_, patch))) return false;
         map = without_long_edges(tri, std::move(map));
         recon::Image heights(patch.size(), 1);
         recon::fill_linear(heights, tri, map, recon::height_values(patch));
@@ -209,7 +218,7 @@ private:
     // leave a slack far above a snap), in buckets of 16 texels for circle queries.
     class OutsidePoints {
     public:
-        OutsidePoints(const std::vector<lidarscout::OverviewPoint>& points, const recon::PatchPoints& patch)
+        OutsidePoints(const std::vector<Held>& points, const recon::PatchPoints& patch)
             : extent_(static_cast<double>(patch.spec.grid_extent())), bucket_(16.0 * recon::kGridUnitsPerTexel),
               first_(-std::ceil((kTinMarginTexels - patch.spec.pad_texels) / 16.0) - 1),
               side_(static_cast<int>(std::ceil(extent_ / bucket_)) - 2 * first_) {
@@ -325,14 +334,6 @@ private:
         return false;
     }
 
-    // A point as held until the block is finished: 24 bytes instead of 48. The position stays
-    // exact (every block sees the same coordinates, so ties between Delaunay triangulations are
-    // broken alike); the height is kept from the first point's, in float (well under 0.1 mm).
-    struct Held {
-        double x, y;
-        float dz;
-        lidarscout::Rgb8 rgb;
-    };
 
     // Drops the held points the ground filter does not find on the ground of the block and its margin.
     void keep_ground(const recon::GroundFilterParams& params) {
