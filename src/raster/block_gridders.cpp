@@ -154,26 +154,33 @@ public:
         points_.push_back({p.x, p.y, static_cast<float>(p.z - base_z_), p.rgb});
     }
 
-    // The TIN of the points within a narrow margin first (a third fewer points than the full
-    // margin at the largest blocks), kept when it provably gives every texel of the block what the
-    // full margin gives (narrow_agrees); else the TIN of every point held.
     BlockImages finish() override {
+        recon::PatchOptions options;
+        options.spec = {grid_.texel_m, grid_.block, kTinMarginTexels};
+        options.min_points = 3;
+        options.has_rgb = spec_.rgb;
         if (spec_.ground) keep_ground(*spec_.ground);
+        const recon::PatchPoints patch = recon::make_patch_points(expanded(), min_x_, min_y_, options);
+        std::vector<Held>().swap(points_);
         BlockImages out;
         out.heights_m.assign(texel_count(grid_), recon::kNoValue);
         if (spec_.rgb) out.rgba.assign(4 * texel_count(grid_), 0);
-        out.tin_margin_texels = kNarrowMarginTexels;
-        if (!narrow_margin_applies() || !interpolate(kNarrowMarginTexels, out)) {
-            out.tin_margin_texels = kTinMarginTexels;
-            interpolate(kTinMarginTexels, out);
+        if (patch.status != recon::PatchStatus::Ok) return out;
+        const recon::Triangulation tri =
+            recon::triangulate(recon::grid_positions(patch), patch.spec.grid_extent(), /*pad_corners=*/false);
+        const recon::FaceMap map =  // the block's own texels only: the margin's are cropped away
+            without_long_edges(tri, recon::build_face_map(tri, patch.size(), kTinMarginTexels));
+        recon::Image heights(patch.size(), 1);
+        recon::fill_linear(heights, tri, map, recon::height_values(patch));
+        const recon::Image block = recon::crop_centre(heights, grid_.block);
+        for (std::size_t i = 0; i < out.heights_m.size(); ++i) {
+            if (!std::isnan(block.values[i])) out.heights_m[i] = static_cast<float>(patch.to_metres(block.values[i]));
         }
-        std::vector<Held>().swap(points_);
+        if (spec_.rgb) out.rgba = colours(patch, tri, map);
         return out;
     }
 
 private:
-    static constexpr int kNarrowMarginTexels = 24;
-
     // A point as held until the block is finished: 24 bytes instead of 48. The position stays
     // exact (every block sees the same coordinates, so ties between Delaunay triangulations are
     // broken alike); the height is kept from the first point's, in float (well under 0.1 mm).
@@ -182,158 +189,6 @@ private:
         float dz;
         lidarscout::Rgb8 rgb;
     };
-
-    // The proof of narrow_agrees needs a maximum edge shorter than the narrow margin.
-    bool narrow_margin_applies() const {
-        return spec_.tin_narrow_first && spec_.tin_max_edge_m > 0 &&
-               spec_.tin_max_edge_m < (kNarrowMarginTexels - 1) * grid_.texel_m;
-    }
-
-    // Interpolates the block's texels into `out` from the TIN of the points within `margin` texels
-    // of it. With the narrow margin, only when narrow_agrees (false, `out` untouched, otherwise).
-    bool interpolate(int margin, BlockImages& out) const {
-        const bool narrow = margin != kTinMarginTexels;
-        recon::PatchOptions options;
-        options.spec = {grid_.texel_m, grid_.block, margin};
-        options.min_points = 3;
-        options.has_rgb = spec_.rgb;
-        const recon::PatchPoints patch = recon::make_patch_points(expanded(), min_x_, min_y_, options);
-        if (patch.status != recon::PatchStatus::Ok) return !narrow;
-        const recon::Triangulation tri =
-            recon::triangulate(recon::grid_positions(patch), patch.spec.grid_extent(), /*pad_corners=*/false);
-        recon::FaceMap map = recon::build_face_map(tri, patch.size(), margin);  // the block's texels only
-        if (narrow && !narrow_agrees(tri, map, OutsidePoints(points_, patch))) return false;
-        map = without_long_edges(tri, std::move(map));
-        recon::Image heights(patch.size(), 1);
-        recon::fill_linear(heights, tri, map, recon::height_values(patch));
-        const recon::Image block = recon::crop_centre(heights, grid_.block);
-        for (std::size_t i = 0; i < out.heights_m.size(); ++i) {
-            if (!std::isnan(block.values[i])) out.heights_m[i] = static_cast<float>(patch.to_metres(block.values[i]));
-        }
-        if (spec_.rgb) out.rgba = colours(patch, tri, map);
-        return true;
-    }
-
-    // The held points beyond a narrow window, in its grid units (not snapped: the tests below
-    // leave a slack far above a snap), in buckets of 16 texels for circle queries.
-    class OutsidePoints {
-    public:
-        OutsidePoints(const std::vector<Held>& points, const recon::PatchPoints& patch)
-            : extent_(static_cast<double>(patch.spec.grid_extent())), bucket_(16.0 * recon::kGridUnitsPerTexel),
-              first_(-std::ceil((kTinMarginTexels - patch.spec.pad_texels) / 16.0) - 1),
-              side_(static_cast<int>(std::ceil(extent_ / bucket_)) - 2 * first_) {
-            buckets_.resize(static_cast<std::size_t>(side_) * side_);
-            const double scale = recon::kGridUnitsPerTexel / patch.spec.texel_m;
-            for (const auto& p : points) {
-                const recon::GridXY g{(p.x - patch.window_min_x) * scale, (p.y - patch.window_min_y) * scale};
-                if (g.x >= 0 && g.x < extent_ && g.y >= 0 && g.y < extent_) continue;  // in the window
-                const int bx = bucket_of(g.x), by = bucket_of(g.y);
-                if (bx >= 0 && by >= 0 && bx < side_ && by < side_) {
-                    buckets_[by * side_ + bx].push_back(g);
-                } else {
-                    far_.push_back(g);  // beyond the full margin (none, as held): always looked at
-                }
-            }
-        }
-
-        // Whether no point lies in (or within a slack of) the circle. Only the buckets the circle
-        // reaches are looked through (a huge one, along the straight edge of a survey, reaches few
-        // buckets that hold points).
-        bool none_in(recon::GridXY centre, double radius) const {
-            const double r = radius + 16.0;
-            const int x0 = std::max(bucket_of(centre.x - r), 0), x1 = std::min(bucket_of(centre.x + r), side_ - 1);
-            const int y0 = std::max(bucket_of(centre.y - r), 0), y1 = std::min(bucket_of(centre.y + r), side_ - 1);
-            const auto outside = [&](const std::vector<recon::GridXY>& points) {
-                return std::none_of(points.begin(), points.end(), [&](const recon::GridXY& g) {
-                    const double dx = g.x - centre.x, dy = g.y - centre.y;
-                    return dx * dx + dy * dy <= r * r;
-                });
-            };
-            for (int by = y0; by <= y1; ++by) {
-                for (int bx = x0; bx <= x1; ++bx) {
-                    if (reaches(bx, by, centre, r) && !outside(buckets_[by * side_ + bx])) return false;
-                }
-            }
-            return outside(far_);
-        }
-
-        double extent() const { return extent_; }
-
-    private:
-        // The bucket of a grid coordinate, -1 or side_ beyond the buckets on either side (huge circles
-        // reach far beyond them: the coordinate is clamped before it becomes an int).
-        int bucket_of(double g) const {
-            const double b = std::floor(g / bucket_) - first_;
-            return static_cast<int>(std::clamp(b, -1.0, static_cast<double>(side_)));
-        }
-
-        // Whether the circle reaches bucket (bx, by): the bucket's nearest point to the centre is
-        // within r.
-        bool reaches(int bx, int by, recon::GridXY centre, double r) const {
-            const double x0 = (bx + first_) * bucket_, y0 = (by + first_) * bucket_;
-            const double dx = std::max({x0 - centre.x, 0.0, centre.x - (x0 + bucket_)});
-            const double dy = std::max({y0 - centre.y, 0.0, centre.y - (y0 + bucket_)});
-            return dx * dx + dy * dy <= r * r;
-        }
-
-        double extent_, bucket_;
-        int first_, side_;  // the bucket index of the window's corner is -first_; buckets per side
-        std::vector<std::vector<recon::GridXY>> buckets_;
-        std::vector<recon::GridXY> far_;
-    };
-
-    // Whether the narrow margin's TIN gives each texel of the block what the full margin's does.
-    // With a maximum edge L shorter than the narrow margin: a triangle of the full TIN over a block
-    // texel with no edge longer than L has its corners within L of the texel, so within the narrow
-    // margin, and (its circumcircle empty of all points) is a triangle of the narrow TIN too. So
-    // where the narrow TIN leaves a texel uncovered or under a long edge, the full one has no
-    // height there either. Where it covers one with a short-edged triangle, that triangle is the
-    // full TIN's when no point beyond the narrow window falls in its circumcircle (those within
-    // cannot, as it is Delaunay): checked here, triangle by triangle.
-    bool narrow_agrees(const recon::Triangulation& tri, const recon::FaceMap& map, const OutsidePoints& outside) const {
-        std::vector<std::int8_t> verdict(tri.triangles.size(), -1);  // -1: not yet known
-        const int margin = (map.size - grid_.block) / 2;
-        for (int row = margin; row < margin + grid_.block; ++row) {
-            for (int col = margin; col < margin + grid_.block; ++col) {
-                const std::int32_t f = map.face[static_cast<std::size_t>(row) * map.size + col];
-                if (f < 0) continue;
-                std::int8_t& v = verdict[static_cast<std::size_t>(f)];
-                if (v < 0) v = long_edged(tri, static_cast<std::size_t>(f)) || empty_beyond(tri, f, outside);
-                if (v == 0) return false;
-            }
-        }
-        return true;
-    }
-
-    // Whether the triangle's circumcircle holds no point beyond the narrow window: it lies inside
-    // the window (with a slack far above the rounding of the computation), or the points beyond
-    // it near the circle all lie outside it.
-    static bool empty_beyond(const recon::Triangulation& tri, std::int32_t f, const OutsidePoints& outside) {
-        const auto& v = tri.triangles[static_cast<std::size_t>(f)];
-        const recon::GridXY a = tri.vertices[v[0]], b = tri.vertices[v[1]], c = tri.vertices[v[2]];
-        const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
-        const double d = 2 * (bx * cy - by * cx);
-        if (d == 0) return false;
-        const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-        const double ux = (cy * b2 - by * c2) / d, uy = (bx * c2 - cx * b2) / d;
-        const double r = std::sqrt(ux * ux + uy * uy) + 16.0;  // 16 grid units: 1/4096 of a texel
-        const recon::GridXY centre{a.x + ux, a.y + uy};
-        const double e = outside.extent();
-        if (centre.x - r > 0 && centre.y - r > 0 && centre.x + r < e && centre.y + r < e) return true;
-        return outside.none_in(centre, r);
-    }
-
-    // Whether a triangle has an edge longer than the maximum edge.
-    bool long_edged(const recon::Triangulation& tri, std::size_t t) const {
-        const double limit = spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel);
-        const auto& v = tri.triangles[t];
-        for (int k = 0; k < 3; ++k) {
-            const auto &a = tri.vertices[v[k]], &b = tri.vertices[v[(k + 1) % 3]];
-            if ((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) > limit * limit) return true;
-        }
-        return false;
-    }
-
 
     // Drops the held points the ground filter does not find on the ground of the block and its margin.
     void keep_ground(const recon::GroundFilterParams& params) {
@@ -363,8 +218,16 @@ private:
     // The face map with the texels of triangles whose longest edge exceeds the limit cleared.
     recon::FaceMap without_long_edges(const recon::Triangulation& tri, recon::FaceMap map) const {
         if (!(spec_.tin_max_edge_m > 0)) return map;
+        const double limit = spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel);
+        const double limit2 = limit * limit;
         std::vector<char> killed(tri.triangles.size(), 0);
-        for (std::size_t t = 0; t < tri.triangles.size(); ++t) killed[t] = long_edged(tri, t);
+        for (std::size_t t = 0; t < tri.triangles.size(); ++t) {
+            const auto& v = tri.triangles[t];
+            for (int k = 0; k < 3; ++k) {
+                const auto &a = tri.vertices[v[k]], &b = tri.vertices[v[(k + 1) % 3]];
+                if ((a.x - b.x) * (a.x - b.x) + (a.y - b.y) * (a.y - b.y) > limit2) killed[t] = 1;
+            }
+        }
         for (auto& f : map.face) {
             if (f >= 0 && killed[static_cast<std::size_t>(f)]) f = -1;
         }

@@ -7,8 +7,7 @@
 //                   those points, nodata where none (as gdal_grid -a invdist with a radius,
 //                   PDAL writers.gdal output_type idw)
 //   tin             the block's points and those of a margin around it (with `ground`, those of
-//                   them the ground filter finds) are triangulated (those of a narrower margin
-//                   first, kept where that provably gives the same texels)
+//                   them the ground filter finds) are triangulated
 //                   (Delaunay, recon/triangulation.hpp) and each texel centre is interpolated
 //                   linearly in its triangle (as gdal_grid -a linear, LAStools las2dem);
 //                   nodata outside the hull and in triangles with an edge longer than
@@ -50,9 +49,6 @@ struct GridderSpec {
     // For Tin: triangulate only the points the ground filter finds among those received (run on
     // the block and its margin, recon/ground_filter.hpp).
     std::optional<recon::GroundFilterParams> ground;
-    // For Tin with a maximum edge shorter than the narrow margin: triangulate the points within it
-    // first, kept where it provably gives the full margin's texels (false: the full margin always).
-    bool tin_narrow_first = true;
     bool rgb = false;           // also grid the colours
 };
 
@@ -70,7 +66,6 @@ double gridder_reach_m(const GridderSpec& spec, double texel_m);
 struct BlockImages {
     std::vector<float> heights_m;
     std::vector<std::uint8_t> rgba;
-    int tin_margin_texels = 0;  // the margin a tin block was triangulated with (0 for the other methods)
 };
 
 class BlockGridder {

@@ -197,8 +197,7 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 
 // A tin block holds every point of the block and its margin until it is finished (24 bytes each, up
 // to twice that in a growing vector); finishing one copies them, sorts them into the patch and
-// triangulates them (about 240 bytes a point at its peak, measured, and the 24 held kept through
-// it, for the full margin after a narrow one that could not be proved). Where the points are denser
+// triangulates them (about 240 bytes a point at its peak, measured). Where the points are denser
 // than a texel, these outweigh the per-texel bytes. The points (the tile headers' counts spread over
 // their bounds, grown by the margin): each held block the selected blocks' mean, and the densest one
 // finishing on top. Measured on the 100-tile replica's 10 m dtm of every point: the whole run held
@@ -238,7 +237,7 @@ TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::
     const double grown = (grid.block + 2.0 * kTinMarginTexels) / grid.block * (grid.block + 2.0 * kTinMarginTexels) /
                          grid.block * static_cast<double>(tins);
     const double finishing = densest * grown;  // points
-    return {filled > 0 ? sum / filled * grown * 48 : 0, finishing * 264 + ground_filter_bytes(grid, layers, finishing)};
+    return {filled > 0 ? sum / filled * grown * 48 : 0, finishing * 240 + ground_filter_bytes(grid, layers, finishing)};
 }
 
 }  // namespace

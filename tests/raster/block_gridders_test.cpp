@@ -1,6 +1,5 @@
 // The block gridders on points placed by hand: idw's weights and radius, a tin exact on a plane
-// with nodata outside the hull and in triangles with long edges, the same from a narrower margin
-// where that is proved to agree (and the full margin where not), highest-tin equal to a tin of the
+// with nodata outside the hull and in triangles with long edges, highest-tin equal to a tin of the
 // highest point per texel in its holes, and the reach of each method.
 #include "raster/block_gridders.hpp"
 
@@ -96,75 +95,6 @@ TEST(BlockGridders, TinLeavesNodataInTrianglesWithLongEdges) {
     EXPECT_FLOAT_EQ(filled.heights_m[gap], 5.0f);
     EXPECT_TRUE(std::isnan(killed.heights_m[gap]));
     EXPECT_FLOAT_EQ(killed.heights_m[strip], 5.0f);
-}
-
-// tin with a maximum edge: the TIN of the narrow margin's points where it provably gives the full
-// margin's texels, the full margin's otherwise; the same texels either way (up to the float
-// rounding of another median height), nodata included.
-struct NarrowCase {
-    BlockImages narrow_first, full;
-};
-
-NarrowCase both_margins(const std::vector<dataset::MetricPoint>& points, double max_edge) {
-    GridderSpec spec;
-    spec.method = GridMethod::Tin;
-    spec.tin_max_edge_m = max_edge;
-    const auto g = small_grid(128);
-    NarrowCase c;
-    for (const bool narrow : {true, false}) {
-        spec.tin_narrow_first = narrow;
-        auto gridder = make_block_gridder(spec, g, {0, 0});
-        for (const auto& p : points) gridder->add(p, nullptr);
-        (narrow ? c.narrow_first : c.full) = gridder->finish();
-    }
-    EXPECT_EQ(c.full.tin_margin_texels, kTinMarginTexels);
-    for (std::size_t i = 0; i < c.full.heights_m.size(); ++i) {
-        const float a = c.narrow_first.heights_m[i], b = c.full.heights_m[i];
-        EXPECT_EQ(std::isnan(a), std::isnan(b)) << i;
-        if (!std::isnan(a)) EXPECT_NEAR(a, b, 1e-4) << i;
-    }
-    return c;
-}
-
-TEST(BlockGridders, TinFromTheNarrowMarginWhereItProvablyAgrees) {
-    // Rolling terrain sampled every 1.3 m (jittered) over the block and its full margin, with a lake
-    // of 15 m radius across the block's edge and the survey's edge 10 m east of the block.
-    std::vector<dataset::MetricPoint> points;
-    std::uint32_t seed = 1;
-    const auto jitter = [&] { return ((seed = seed * 1664525u + 1013904223u) >> 8) / double(1u << 24) - 0.5; };
-    for (double y = -70; y < 200; y += 1.3) {
-        for (double x = -70; x < 138; x += 1.3) {
-            const double px = x + 0.6 * jitter(), py = y + 0.6 * jitter();
-            if (std::hypot(px - 128, py - 60) < 15) continue;
-            points.push_back(point(1000 + px, 2000 + py, 50 + 5 * std::sin(px / 17) + 3 * std::cos(py / 11)));
-        }
-    }
-    const NarrowCase c = both_margins(points, 10);
-    EXPECT_EQ(c.narrow_first.tin_margin_texels, 24) << "the narrow margin sufficed";
-    EXPECT_TRUE(std::isnan(c.full.heights_m[60 * 128 + 127])) << "the lake";
-    EXPECT_TRUE(std::isnan(c.full.heights_m[100 * 128 + 127]) == false);
-    // Without a maximum edge (or with one as long as the narrow margin) the full margin is used.
-    EXPECT_EQ(both_margins(points, 0).narrow_first.tin_margin_texels, kTinMarginTexels);
-    EXPECT_EQ(both_margins(points, 30).narrow_first.tin_margin_texels, kTinMarginTexels);
-}
-
-TEST(BlockGridders, TinFallsBackToTheFullMarginWhereAPointBeyondTheNarrowOneCounts) {
-    // Points 4 m apart over most of the block and, at its north edge, a flat triangle (edges 18 and
-    // 9 m) over block texels whose circumcircle (radius 68 m) reaches far north, empty of the
-    // narrow margin's points; a point 52 m north of it, beyond the narrow margin but within the full
-    // one, falls in that circle: in the full TIN the texels under the flat triangle lie under
-    // triangles with 53 m edges instead, so have no height.
-    std::vector<dataset::MetricPoint> points;
-    for (double y = 0; y <= 120; y += 4) {
-        for (double x = 0; x < 128; x += 4) points.push_back(point(1000 + x + 0.3, 2000 + y + 0.01 * x, 10));
-    }
-    for (const auto& [x, y] : {std::pair{50.0, 127.8}, {68.0, 127.8}, {59.0, 127.2}}) {
-        points.push_back(point(1000 + x, 2000 + y, 12));
-    }
-    points.push_back(point(1000 + 59, 2000 + 180, 30));
-    const NarrowCase c = both_margins(points, 20);
-    EXPECT_EQ(c.narrow_first.tin_margin_texels, kTinMarginTexels) << "the narrow TIN could not be proved";
-    EXPECT_TRUE(std::isnan(c.full.heights_m[127 * 128 + 58])) << "under the long triangles of the full TIN";
 }
 
 // highest-tin: the highest point where a texel has one; elsewhere exactly the TIN of those highest
