@@ -115,6 +115,12 @@ void apply_ground(const DemCliOptions& o, raster::DemRequest& r) {
         return p == raster::Product::Dtm || p == raster::Product::Chm;
     });
     if (!terrain) throw Error("dem: --ground applies to the dtm and chm products");
+    const auto given = [&](const char* name) {
+        return std::find(o.ground_options.begin(), o.ground_options.end(), std::string(name)) != o.ground_options.end();
+    };
+    if (given("--ground-slope") && !(o.ground_params.slope > 0)) {  // 0 stands for the terrain's: not to be typed
+        throw Error("dem: --ground-slope must be a positive rise over run (leave it out for the terrain's)");
+    }
     recon::check_ground_params(o.ground_params);
     r.product_options.ground = o.ground_params;
 }

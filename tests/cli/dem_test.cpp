@@ -212,6 +212,8 @@ TEST_F(DemCommand, AGroundFilterMakesTheDtmOfAnUnclassifiedSurvey) {
     EXPECT_NE(out.find("--ground-slope applies to --ground smrf"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(base + " --product dtm --ground smrf --ground-window 0 2>&1", out), 1);
     EXPECT_NE(out.find("--ground-window (metres) must be a positive number"), std::string::npos) << out;
+    EXPECT_EQ(test::run_command(base + " --product dtm --ground smrf --ground-slope 0 2>&1", out), 1);
+    EXPECT_NE(out.find("--ground-slope must be a positive rise over run"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(base + " --product dtm --ground smrf --ground-window 200 2>&1", out), 1);
     EXPECT_NE(out.find("--ground-window 200 m is more than half the 64-texel margin a block sees at --texel 5 (160 m)"),
               std::string::npos) << out;
