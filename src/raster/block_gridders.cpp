@@ -192,9 +192,7 @@ private:
 
     // Drops the held points the ground filter does not find on the ground of the block and its margin.
     void keep_ground(const recon::GroundFilterParams& params) {
-        const double margin = kTinMarginTexels * grid_.texel_m;
-        const recon::GroundLattice lattice = recon::ground_lattice(
-            min_x_ - margin, min_y_ - margin, (grid_.block + 2.0 * kTinMarginTexels) * grid_.texel_m, params);
+        const recon::GroundLattice lattice = tin_ground_lattice(grid_, min_x_, min_y_, params);
         std::vector<recon::GroundSample> samples(points_.size());
         for (std::size_t i = 0; i < points_.size(); ++i) samples[i] = {points_[i].x, points_[i].y, points_[i].dz};
         const std::vector<std::uint8_t> ground = recon::find_ground(samples, lattice, params);
@@ -463,6 +461,13 @@ double gridder_reach_m(const GridderSpec& spec, double texel_m) {
     case GridMethod::HighestTin: return kTinMarginTexels * texel_m;
     }
     return 0;
+}
+
+recon::GroundLattice tin_ground_lattice(const DemGrid& grid, double block_min_x, double block_min_y,
+                                        const recon::GroundFilterParams& params) {
+    const double margin = kTinMarginTexels * grid.texel_m;
+    return recon::ground_lattice(block_min_x - margin, block_min_y - margin,
+                                 (grid.block + 2.0 * kTinMarginTexels) * grid.texel_m, params);
 }
 
 std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, CellKey block) {

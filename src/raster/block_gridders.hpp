@@ -57,6 +57,11 @@ struct GridderSpec {
 inline constexpr int kTinMarginTexels = 64;
 inline constexpr int kTinBlockTexels = 384;
 
+// The ground filter's lattice for a tin block whose south-west corner is (block_min_x, block_min_y):
+// the block and its margin.
+recon::GroundLattice tin_ground_lattice(const DemGrid& grid, double block_min_x, double block_min_y,
+                                        const recon::GroundFilterParams& params);
+
 // How far (metres) from a block a point still changes it.
 double gridder_reach_m(const GridderSpec& spec, double texel_m);
 

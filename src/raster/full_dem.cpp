@@ -208,10 +208,9 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 // bytes per point (a sample, its cell, its verdict).
 double ground_filter_bytes(const DemGrid& grid, std::span<const GridLayer> layers, double points) {
     double bytes = 0;
-    const double side = (grid.block + 2.0 * kTinMarginTexels) * grid.texel_m;
     for (const GridLayer& l : layers) {
         if (l.gridder.method != GridMethod::Tin || !l.gridder.ground) continue;
-        const double cells = recon::ground_lattice(0, 0, side, *l.gridder.ground).cells;
+        const double cells = tin_ground_lattice(grid, 0, 0, *l.gridder.ground).cells;
         bytes += cells * cells * 60 + points * 33;
     }
     return bytes;

@@ -35,9 +35,9 @@ float pick(float a, float b) {
 
 // The running min (`Min` true) or max over windows of 2r + 1 along one axis (van Herk / Gil-Werman:
 // prefix and suffix extremes within runs of 2r + 1, two of them per output), out of range
-// ignored. `line(k)` gives the k-th of `m` lines (each `width` floats, a row or a single value);
-// the same code filters along rows (width 1, lines the texels of a row) and along columns (lines
-// whole rows, so that every step is a vectorisable loop over a row).
+// ignored. The input is `m` lines of `width` floats, `stride` floats apart: the same code filters
+// along a row (width 1, each line one texel) and along columns (each line a whole row, so that
+// every step is a vectorisable loop over a row).
 template <bool Min>
 void running_axis(const float* in, float* out, int m, std::size_t width, std::size_t stride, int r,
                   std::vector<float>& g, std::vector<float>& h) {
@@ -104,11 +104,7 @@ std::vector<std::uint8_t> object_mask(const Raster& z, const Lattice& l, double 
 }
 
 // `z` with its NaN cells filled; false when no cell is defined.
-bool filled(Raster& z, const Lattice& l) {
-    const bool any = std::any_of(z.begin(), z.end(), [](float v) { return !std::isnan(v); });
-    if (any) hole_fill(z, l.n, std::vector<bool>(z.size(), true));
-    return any;
-}
+bool filled(Raster& z, const Lattice& l) { return hole_fill(z, l.n, std::vector<bool>(z.size(), true)); }
 
 // Rise over run of the surface at each cell (central differences, one-sided at the edges).
 Raster slopes(const Raster& z, const Lattice& l, double cell_m) {

@@ -54,7 +54,7 @@ void pushed(PyramidLevel& fine, const PyramidLevel& coarse) {
 
 }  // namespace
 
-void hole_fill(std::vector<float>& heights, int size, const std::vector<bool>& wanted) {
+bool hole_fill(std::vector<float>& heights, int size, const std::vector<bool>& wanted) {
     std::vector<PyramidLevel> levels(1);
     levels[0].size = size;
     levels[0].value.resize(heights.size());
@@ -66,12 +66,13 @@ void hole_fill(std::vector<float>& heights, int size, const std::vector<bool>& w
         levels[0].weight[t] = defined ? 1.0f : 0.0f;
         any = any || defined;
     }
-    if (!any) return;
+    if (!any) return false;
     while (levels.back().size > 1) levels.push_back(pulled(levels.back()));
     for (std::size_t k = levels.size() - 1; k-- > 0;) pushed(levels[k], levels[k + 1]);
     for (std::size_t t = 0; t < heights.size(); ++t) {
         if (wanted[t] && std::isnan(heights[t])) heights[t] = levels[0].value[t];
     }
+    return true;
 }
 
 float sample_bilinear(const std::vector<float>& raster, int size, double u, double v) {
