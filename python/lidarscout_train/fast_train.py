@@ -4,10 +4,10 @@ leave-one-survey-out folds and the final model in one GPU run of at most 8 minut
     python3 -m lidarscout_train.fast_train plan WINDOWS [--tiny]
         the run names for the unpacked windows (window_pack unpack): shipped-scaled-fold-SURVEY for
         every survey and shipped-scaled-final (the shipped network: relief-scaled heights, model.py),
-        the same without relief scaling (shipped-...), and two comparison folds of the first:
-        shipped-scaled-bf16-fold-FIRST (bf16 autocast: what mixed precision costs) and
-        shipped-scaled-unweighted-fold-ky-woodford-county (the flat survey's fold with train.py's
-        texel-size weights instead of the group weights below). --tiny: two runs.
+        and the same with the per-window RMSE loss below (shipped-scaled-rmse-...). The first GPU run
+        also trained the plain network (worse in every fold), a bf16 fold and a fold with texel-size
+        weights; their names still parse (SIZE[-scaled][-bf16][-unweighted][-rmse]-(final|fold-SURVEY)).
+        --tiny: two runs (a fold of the first recipe, the final model of the second).
         The paper size ("paper": width 16, 9 x 9 heads) trains too when named, but is not planned:
         it costs 21 ms per patch at batch 16 on 2 cores (models/README.md), five times the 4 ms budget.
     python3 -m lidarscout_train.fast_train train WINDOWS --run NAME --out DIR --deadline UNIX_TIME
@@ -34,6 +34,10 @@ over that of its group. Every group then counts by how much better than linear t
 it, as the evaluation does (a ratio to linear per survey), so that a flat survey, where linear
 interpolation is already close and any invented relief costs a large ratio, weighs as much as a
 steep one (issue 35, item 3: flat ground left flat). The weights are clipped to [0.1, 10].
+Runs named -rmse- optimise what the evaluation measures, the mean over windows of each window's
+height RMSE: each window's RMSE weighed by the median group's mean linear RMSE over its group's
+(pooled MSE lets the windows with the largest errors dominate within a group; with a per-window
+RMSE a dense window, whose linear error is small, counts as much as a sparse one).
 """
 import argparse
 import contextlib
@@ -54,7 +58,6 @@ SIZES = {
     "shipped": {"decoder": "upsample", "width": 8, "head_kernel": 5, "lr": 4e-4},
     "paper": {"decoder": "upsample", "width": 16, "head_kernel": 9, "lr": 2e-4},
 }
-FLAT_SURVEY = "ky-woodford-county"  # the flat farmland survey of the unweighted comparison run
 BATCH = 64
 WARMUP = 0.03
 FINAL_LR = 0.01
@@ -66,27 +69,26 @@ BUNDLE_BYTES = 15 * 1024 * 1024
 def plan(meta, tiny=False):
     surveys = meta["surveys"]
     if tiny:
-        return [f"shipped-scaled-fold-{surveys[0]}", "shipped-scaled-final"]
-    runs = [f"shipped{variant}-{kind}" for variant in ("-scaled", "")
+        return [f"shipped-scaled-fold-{surveys[0]}", "shipped-scaled-rmse-final"]
+    return [f"shipped-scaled{variant}-{kind}" for variant in ("", "-rmse")
             for kind in [f"fold-{s}" for s in surveys] + ["final"]]
-    flat = [s for s in surveys if s == FLAT_SURVEY]
-    return runs + [f"shipped-scaled-bf16-fold-{surveys[0]}"] + [f"shipped-scaled-unweighted-fold-{s}" for s in flat]
 
 
 def parse_run(name):
-    """{size, bf16, weighted, scaled, held_out (a survey or None)} of a run name:
-    SIZE[-scaled][-bf16][-unweighted]-(final|fold-SURVEY)."""
+    """{size, bf16, weighted, scaled, loss (mse or rmse), held_out (a survey or None)} of a run name:
+    SIZE[-scaled][-bf16][-unweighted][-rmse]-(final|fold-SURVEY)."""
     size, rest = name.split("-", 1)
     if size not in SIZES:
         raise SystemExit(f"{name}: unknown size {size!r} (one of {', '.join(SIZES)})")
-    run = {"size": size, "bf16": False, "weighted": True, "scaled": False, "held_out": None}
-    for flag, key, value in (("scaled-", "scaled", True), ("bf16-", "bf16", True), ("unweighted-", "weighted", False)):
+    run = {"size": size, "bf16": False, "weighted": True, "scaled": False, "loss": "mse", "held_out": None}
+    for flag, key, value in (("scaled-", "scaled", True), ("bf16-", "bf16", True), ("unweighted-", "weighted", False),
+                             ("rmse-", "loss", "rmse")):
         if rest.startswith(flag):
             run[key], rest = value, rest[len(flag):]
     if rest == "final":
         return run
     if not rest.startswith("fold-"):
-        raise SystemExit(f"{name}: expected SIZE[-scaled][-bf16][-unweighted]-(final|fold-SURVEY)")
+        raise SystemExit(f"{name}: expected SIZE[-scaled][-bf16][-unweighted][-rmse]-(final|fold-SURVEY)")
     return run | {"held_out": rest[len("fold-"):]}
 
 
@@ -119,12 +121,13 @@ def to_tensors(folder, rows, device, chunk=512):
     return x, tgt, has_rgb
 
 
-def group_weights(groups, lin_mse):
-    """Per window: the median over groups of their mean linear MSE / that of its group, clipped
-    (see the docstring; the median, so that the clip bounds the flattest and the steepest groups
-    alike)."""
-    ok = np.isfinite(lin_mse)
-    means = {g: float(np.mean(lin_mse[(groups == g) & ok])) for g in np.unique(groups) if ((groups == g) & ok).any()}
+def group_weights(groups, lin_error):
+    """Per window: the median over groups of their mean linear error (MSE, or RMSE for -rmse- runs) /
+    that of its group, clipped (see the docstring; the median, so that the clip bounds the flattest
+    and the steepest groups alike)."""
+    ok = np.isfinite(lin_error)
+    means = {g: float(np.mean(lin_error[(groups == g) & ok])) for g in np.unique(groups)
+             if ((groups == g) & ok).any()}
     reference = float(np.median([m for m in means.values() if m > 0])) if means else 1.0
     w = np.ones(len(groups), dtype=np.float32)
     for g, m in means.items():
@@ -133,10 +136,23 @@ def group_weights(groups, lin_mse):
     return np.clip(w, *WEIGHT_CLIP)
 
 
-def weighted_loss(pred, tgt, weight):
-    """train.masked_losses (weighted height MSE + colour MSE over valid texels) of a packed target."""
+def weighted_loss(pred, tgt, weight, loss="mse"):
+    """train.masked_losses (weighted height MSE + colour MSE over valid texels) of a packed target; with
+    loss "rmse" the height term is the weighted mean of the windows' own RMSEs instead (the colour
+    term stays)."""
     batch = {"height": tgt[:, 0], "rgb": tgt[:, 1:4], "mask_h": tgt[:, 4], "mask_rgb": tgt[:, 5], "weight": weight}
-    return masked_losses(pred, batch)[0]
+    if loss == "mse":
+        return masked_losses(pred, batch)[0]
+    _, _, colour = masked_losses(pred, batch)
+    return window_rmse(pred[:, 0], tgt[:, 0], tgt[:, 4], weight) + colour
+
+
+def window_rmse(pred_h, height, mask, weight):
+    """The mean over windows of weight x the window's height RMSE over its valid texels (a window
+    without one adds nothing)."""
+    n = mask.sum(dim=(1, 2))
+    mse = (((pred_h - height) ** 2) * mask).sum(dim=(1, 2)) / n.clamp(min=1.0)
+    return (weight * torch.sqrt(mse + 1e-12) * (n > 0)).mean()
 
 
 def learning_rate(peak, frac):
@@ -186,7 +202,7 @@ class Fold:
     """The windows of one run on the device: training (every source but the held-out survey) and
     held-out (that survey's windows, for the figures in the history)."""
 
-    def __init__(self, windows, held, device, weighted, tiny):
+    def __init__(self, windows, held, device, weighted, loss, tiny):
         meta = load_meta(windows)
         source = np.load(os.path.join(windows, "source.npy"))
         held_id = meta["sources"].index(held) if held is not None else -1
@@ -194,7 +210,8 @@ class Fold:
         self.x, self.tgt, self.has_rgb = to_tensors(windows, rows, device)
         lin_mse = np.load(os.path.join(windows, "lin_mse.npy"))[rows]
         groups = np.load(os.path.join(windows, "group.npy" if weighted else "texel_m.npy"))[rows]
-        self.weight = torch.from_numpy(group_weights(groups, lin_mse)).to(device)
+        lin_error = lin_mse if loss == "mse" else np.sqrt(np.maximum(lin_mse, 0.0))  # NaN stays NaN
+        self.weight = torch.from_numpy(group_weights(groups, lin_error)).to(device)
         self.n = len(rows)
         self.held = None
         if held is not None:
@@ -215,7 +232,7 @@ def save_state(model, cfg, run, name, path):
                  "residual": True, "relief_scale": run["scaled"], "run": name}, path)
 
 
-def train_epoch(model, opt, aug, fold, perm, batch, bf16, peak_lr, clock, first):
+def train_epoch(model, opt, aug, fold, perm, batch, bf16, peak_lr, clock, first, loss_kind):
     """One pass over perm (or until clock() reaches 1; the first epoch of a run makes at least one
     step, however late it starts); returns (steps, last lr, loss sum tensor)."""
     loss_sum, steps, lr = torch.zeros((), device=fold.x.device), 0, 0.0
@@ -230,7 +247,7 @@ def train_epoch(model, opt, aug, fold, perm, batch, bf16, peak_lr, clock, first)
         xb, tb = aug(fold.x[idx].float(), fold.tgt[idx].float(), fold.has_rgb[idx])
         with autocast(bf16):
             pred = model(xb)
-        loss = weighted_loss(pred.float(), tb, fold.weight[idx])
+        loss = weighted_loss(pred.float(), tb, fold.weight[idx], loss_kind)
         opt.zero_grad(set_to_none=True)
         loss.backward()
         opt.step()
@@ -250,7 +267,7 @@ def train(args):
     os.makedirs(args.out, exist_ok=True)
     batch = 8 if args.tiny else BATCH
     t_load = time.time()
-    fold = Fold(args.windows, held, device, run["weighted"], args.tiny)
+    fold = Fold(args.windows, held, device, run["weighted"], run["loss"], args.tiny)
     model = HeightmapNet(decoder=cfg["decoder"], width=cfg["width"], head_kernel=cfg["head_kernel"],
                          relief_scale=run["scaled"]).to(device)
     extra = {"fused": True} if device.startswith("cuda") else {}
@@ -260,7 +277,7 @@ def train(args):
     perm_gen.manual_seed(args.seed)
     history = {"run": args.run, "config": cfg | {"batch": batch, "bf16": bf16, "held_out": held, "windows": fold.n,
                                                  "weights": "group" if run["weighted"] else "texel",
-                                                 "relief_scale": run["scaled"],
+                                                 "relief_scale": run["scaled"], "loss": run["loss"],
                                                  "parameters": count_parameters(model), "z_range": Z_RANGE,
                                                  "warmup": WARMUP, "final_lr": FINAL_LR,
                                                  "weight_clip": WEIGHT_CLIP, "seed": args.seed},
@@ -286,7 +303,7 @@ def train(args):
         t_epoch = time.time()
         perm = torch.randperm(fold.n, generator=perm_gen, device=device)
         steps, lr, loss_sum = train_epoch(model, opt, aug, fold, perm, batch, bf16, cfg["lr"], clock,
-                                          first=not history["epochs"])
+                                          first=not history["epochs"], loss_kind=run["loss"])
         if steps == 0:
             break
         history["epochs"].append({"epoch": len(history["epochs"]) + 1, "steps": steps, "lr_end": lr,

@@ -10,6 +10,7 @@ must change), and exports to TorchScript, reloads it and compares its output wit
 model.
 """
 import io
+import math
 import sys
 
 import numpy as np
@@ -17,7 +18,7 @@ import torch
 
 from .batch_augment import BatchAugment
 from .dataset import augment_colour, augment_geometry
-from .fast_train import group_weights, learning_rate, parse_run
+from .fast_train import group_weights, learning_rate, parse_run, window_rmse
 from .window_pack import decode, encode, from_ordered, to_ordered
 from .model import PAD, PATCH, HeightmapNet, count_parameters, replace_nan
 from .train import masked_losses
@@ -108,7 +109,16 @@ def check_fast_train_rules():
     w = group_weights(np.array([0, 0, 1, 1]), np.array([1.0, 1.0, 0.01, 0.01], dtype=np.float32))
     check(w[2] == 10.0 and w[0] < 1.0 and w[2] > w[0], f"group weights {w}")
     check(parse_run("shipped-unweighted-fold-a-b") == {"size": "shipped", "bf16": False, "weighted": False,
-                                                       "scaled": False, "held_out": "a-b"}, "run name with dashes")
+                                                       "scaled": False, "loss": "mse", "held_out": "a-b"},
+          "run name with dashes")
+    check(parse_run("shipped-scaled-rmse-fold-rmse-x") == {"size": "shipped", "bf16": False, "weighted": True,
+                                                           "scaled": True, "loss": "rmse", "held_out": "rmse-x"},
+          "rmse run name")
+    # The per-window RMSE loss: a window's RMSE over its valid texels, weighed, averaged over windows.
+    pred, height = torch.zeros(2, 2, 2), torch.tensor([[[3.0, 4.0], [9.0, 9.0]], [[1.0, 1.0], [1.0, 1.0]]])
+    mask = torch.tensor([[[1.0, 1.0], [0.0, 0.0]], [[0.0, 0.0], [0.0, 0.0]]])
+    got = float(window_rmse(pred, height, mask, torch.tensor([2.0, 5.0])))
+    check(abs(got - 2.0 * math.sqrt(12.5) / 2) < 1e-5, f"window_rmse {got}")
     check(parse_run("shipped-scaled-final")["scaled"] is True, "relief-scaled run name")
     check(parse_run("shipped-bf16-final")["bf16"] is True, "bf16 run name")
 

@@ -1,8 +1,8 @@
 // The short-GPU-run training path (scripts/train_gpu.sh, python/lidarscout_train/window_pack.py and
 // fast_train.py) end to end on the CPU: windows of two real surveys packed and unpacked, two runs
-// (a leave-one-survey-out fold and the final model of the shipped recipe, relief-scaled) trained
-// until a deadline, bundled in float16, exported to TorchScript with Debian's torch and loaded by
-// `lidarscout eval`.
+// (a leave-one-survey-out fold of the shipped recipe, relief-scaled, and the final model of the same
+// with the per-window RMSE loss) trained until a deadline, bundled in float16, exported to TorchScript
+// with Debian's torch and loaded by `lidarscout eval`.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -60,13 +60,17 @@ TEST(PythonFastTrain, TinyRunEndToEndOnTheCpu) {
         << out;
     const fs::path fold = dir / "work" / "runs" / "shipped-scaled-fold-flat";
     ASSERT_TRUE(fs::is_regular_file(fold / "model.pt")) << out;
-    EXPECT_TRUE(fs::is_regular_file(dir / "work" / "runs" / "shipped-scaled-final" / "model.pt")) << out;
+    const fs::path final_run = dir / "work" / "runs" / "shipped-scaled-rmse-final";
+    EXPECT_TRUE(fs::is_regular_file(final_run / "model.pt")) << out;
+    std::ifstream hf(final_run / "history.json");
+    EXPECT_EQ(nlohmann::json::parse(hf).at("config").at("loss").get<std::string>(), "rmse");
 
     std::ifstream h(fold / "history.json");
     const auto history = nlohmann::json::parse(h);
     EXPECT_GT(history.at("steps").get<int>(), 0);
     EXPECT_EQ(history.at("config").at("held_out").get<std::string>(), "flat");
     EXPECT_EQ(history.at("config").at("weights").get<std::string>(), "group");
+    EXPECT_EQ(history.at("config").at("loss").get<std::string>(), "mse");
     EXPECT_TRUE(history.at("config").at("relief_scale").get<bool>());
     const auto& figures = history.at("held_out");
     ASSERT_EQ(figures.size(), 1u);  // the flat survey's 10 m windows at one density
