@@ -1,8 +1,7 @@
 #!/bin/bash
 # The heightmap network trained in one short GPU run (issue 35): the seven leave-one-survey-out
-# folds and the final model, for the shipped (relief-scaled) network and the plain one, with two
-# comparison folds (bf16; texel-size weights instead of group weights), all at once on one GPU
-# within a wall-clock budget (python/lidarscout_train/fast_train.py), then exported and scored here.
+# folds and the final model of the relief-scaled network, with the shipped per-window RMSE loss and
+# with the pooled MSE (fast_train plan), all at once on one GPU within a wall-clock budget (python/lidarscout_train/fast_train.py), then exported and scored here.
 #
 #   scripts/train_gpu.sh data   [--work DIR] [--extra DIR] [--threads N]
 #       training windows of every survey of ../shared/data/surveys and every extra source of
@@ -10,7 +9,7 @@
 #       10 m windows at six chunk-point densities (scripts/density_windows.sh) and 1, 2.5 and 5 m
 #       windows at the auto stride (the first run had 2.5 and 5 m only). Resumable.
 #   scripts/train_gpu.sh pack   [--work DIR] [--per-group N] [--tree DIR]
-#       a random N windows (default 60) of every (file, texel size) group, losslessly into
+#       a random N windows (default 42) of every (file, texel size) group, losslessly into
 #       DIR/windows.xz (default .gpu-train, git-ignored); what travels to the device machine (this
 #       repository's files and the tree) is at most 64 MiB, so it fails when the tree does not fit.
 #   scripts/train_gpu.sh run    [--tree DIR] [--budget S] [--out DIR] [--device cuda|cpu] [--tiny]
@@ -22,8 +21,8 @@
 #       end-to-end check on this machine).
 #   scripts/train_gpu.sh export [--from DIR] [--work DIR]
 #       the bundles brought back -> one TorchScript model.pt per run (Debian's torch), under
-#       DIR/runs/NAME/; ship DIR/runs/shipped-scaled-final/model.pt as models/heightmap_cnn.pt.
-#   scripts/train_gpu.sh eval   [--work DIR] [--released FILE] [--variant shipped|shipped-scaled]
+#       DIR/runs/NAME/; ship DIR/runs/shipped-scaled-rmse-final/model.pt as models/heightmap_cnn.pt.
+#   scripts/train_gpu.sh eval   [--work DIR] [--released FILE] [--variant shipped-scaled-rmse|shipped-scaled]
 #       LOSO: every fold's model (runs/VARIANT-fold-SURVEY) on its held-out survey (lidarscout eval, 10 m, 150 patches, 8
 #       lattices; 40 and 1,500 chunk points per window too) beside linear and the released
 #       model, tables as in scripts/loso_eval.sh.
@@ -42,14 +41,14 @@ work=/work/nnwork/gpu
 extra=/work/traindata
 tree=.gpu-train
 threads=2
-per_group=60
+per_group=42
 budget=450
 out="${OUT:-}"
 from=""
 device=cuda
 tiny=0
 released=""
-variant=shipped
+variant=shipped-scaled-rmse
 while [ $# -gt 0 ]; do
   case "$1" in
     --work) work="$2"; shift 2 ;;
