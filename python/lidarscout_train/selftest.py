@@ -18,7 +18,7 @@ import torch
 
 from .batch_augment import BatchAugment
 from .dataset import augment_colour, augment_geometry
-from .fast_train import group_weights, learning_rate, parse_run, window_rmse
+from .fast_train import group_weights, learning_rate, parse_run, plan, window_rmse
 from .window_pack import decode, encode, from_ordered, to_ordered
 from .model import PAD, PATCH, HeightmapNet, count_parameters, replace_nan
 from .train import masked_losses
@@ -109,11 +109,19 @@ def check_fast_train_rules():
     w = group_weights(np.array([0, 0, 1, 1]), np.array([1.0, 1.0, 0.01, 0.01], dtype=np.float32))
     check(w[2] == 10.0 and w[0] < 1.0 and w[2] > w[0], f"group weights {w}")
     check(parse_run("shipped-unweighted-fold-a-b") == {"size": "shipped", "bf16": False, "weighted": False,
-                                                       "scaled": False, "loss": "mse", "held_out": "a-b"},
+                                                       "scaled": False, "loss": "mse", "no1m": False, "seed": None,
+                                                       "held_out": "a-b"},
           "run name with dashes")
     check(parse_run("shipped-scaled-rmse-fold-rmse-x") == {"size": "shipped", "bf16": False, "weighted": True,
-                                                           "scaled": True, "loss": "rmse", "held_out": "rmse-x"},
+                                                           "scaled": True, "loss": "rmse", "no1m": False,
+                                                           "seed": None, "held_out": "rmse-x"},
           "rmse run name")
+    control = parse_run("shipped-scaled-rmse-no1m-s2-fold-x")
+    check(control["no1m"] is True and control["seed"] == 2 and control["loss"] == "rmse", f"control run {control}")
+    runs = plan({"surveys": ["flat", "ky-jmo335-eastern-kentucky"]})
+    check(len(runs) == 8 and "shipped-scaled-rmse-no1m-fold-ky-jmo335-eastern-kentucky" in runs
+          and "shipped-scaled-rmse-s2-fold-ky-jmo335-eastern-kentucky" in runs and all(parse_run(r) for r in runs),
+          f"plan {runs}")
     # The per-window RMSE loss: a window's RMSE over its valid texels, weighed, averaged over windows.
     pred, height = torch.zeros(2, 2, 2), torch.tensor([[[3.0, 4.0], [9.0, 9.0]], [[1.0, 1.0], [1.0, 1.0]]])
     mask = torch.tensor([[[1.0, 1.0], [0.0, 0.0]], [[0.0, 0.0], [0.0, 0.0]]])
