@@ -12,13 +12,13 @@
 #       a random N windows (default 42) of every (file, texel size) group, losslessly into
 #       DIR/windows.xz (default .gpu-train, git-ignored); what travels to the device machine (this
 #       repository's files and the tree) is at most 64 MiB, so it fails when the tree does not fit.
-#   scripts/train_gpu.sh run    [--tree DIR] [--budget S] [--out DIR] [--device cuda|cpu] [--tiny]
+#   scripts/train_gpu.sh run    [--tree DIR] [--budget S] [--out DIR] [--device cuda|cpu] [--tiny] [--runs A,B]
 #       ON THE GPU MACHINE (from the repository root, the tree carried): unpacks the windows, starts
 #       one training process per model (python3 -m lidarscout_train.fast_train) with a common
 #       deadline S seconds ahead (default 450, unpacking and loading included), waits, and writes
 #       to --out (default $OUT) the float16 state dicts in bundles of at most 15 MiB, one JSON of
 #       every run's history and the runs' logs. --tiny: two runs at batch 8 (with --device cpu: the
-#       end-to-end check on this machine).
+#       end-to-end check on this machine). --runs: these runs instead of the plan (a subset or controls).
 #   scripts/train_gpu.sh export [--from DIR] [--work DIR]
 #       the bundles brought back -> one TorchScript model.pt per run (Debian's torch), under
 #       DIR/runs/NAME/; ship DIR/runs/shipped-scaled-rmse-final/model.pt as models/heightmap_cnn.pt.
@@ -47,6 +47,7 @@ out="${OUT:-}"
 from=""
 device=cuda
 tiny=0
+only_runs=""
 released=""
 variant=shipped-scaled-rmse
 while [ $# -gt 0 ]; do
@@ -61,6 +62,7 @@ while [ $# -gt 0 ]; do
     --from) from="$2"; shift 2 ;;
     --device) device="$2"; shift 2 ;;
     --tiny) tiny=1; shift ;;
+    --runs) only_runs="$2"; shift 2 ;;
     --released) released="$(realpath "$2")"; shift 2 ;;
     --variant) variant="$2"; shift 2 ;;
     *) echo "train_gpu.sh: unknown option $1" >&2; exit 2 ;;
@@ -136,6 +138,7 @@ stage_run() {
   xz=$(realpath "$tree/windows.xz")
   (cd python && PYTHONUNBUFFERED=1 "$py_bin" -m lidarscout_train.window_pack unpack "$xz" "$scratch/windows")
   runs=$(cd python && "$py_bin" -m lidarscout_train.fast_train plan "$scratch/windows" $([ "$tiny" = 1 ] && echo --tiny))
+  [ -z "$only_runs" ] || runs="${only_runs//,/ }"
   local name pids=()
   for name in $runs; do
     (cd python && PYTHONUNBUFFERED=1 "$py_bin" -m lidarscout_train.fast_train train "$scratch/windows" \
