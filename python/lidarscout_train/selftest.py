@@ -110,18 +110,18 @@ def check_fast_train_rules():
     check(w[2] == 10.0 and w[0] < 1.0 and w[2] > w[0], f"group weights {w}")
     check(parse_run("shipped-unweighted-fold-a-b") == {"size": "shipped", "bf16": False, "weighted": False,
                                                        "scaled": False, "loss": "mse", "no1m": False, "seed": None,
-                                                       "held_out": "a-b"},
+                                                       "time_fraction": 1.0, "held_out": "a-b"},
           "run name with dashes")
     check(parse_run("shipped-scaled-rmse-fold-rmse-x") == {"size": "shipped", "bf16": False, "weighted": True,
                                                            "scaled": True, "loss": "rmse", "no1m": False,
-                                                           "seed": None, "held_out": "rmse-x"},
+                                                           "seed": None, "time_fraction": 1.0, "held_out": "rmse-x"},
           "rmse run name")
     control = parse_run("shipped-scaled-rmse-no1m-s2-fold-x")
     check(control["no1m"] is True and control["seed"] == 2 and control["loss"] == "rmse", f"control run {control}")
-    runs = plan({"surveys": ["flat", "ky-jmo335-eastern-kentucky"]})
-    check(len(runs) == 8 and "shipped-scaled-rmse-no1m-fold-ky-jmo335-eastern-kentucky" in runs
-          and "shipped-scaled-rmse-s2-fold-ky-jmo335-eastern-kentucky" in runs and all(parse_run(r) for r in runs),
-          f"plan {runs}")
+    check(parse_run("shipped-scaled-rmse-quarter-final")["time_fraction"] == 0.25, "quarter-length run name")
+    runs = plan({"surveys": ["a", "b"]})
+    check(len(runs) == 12 and "shipped-scaled-rmse-half-fold-b" in runs and "shipped-scaled-rmse-quarter-final" in runs
+          and sorted(parse_run(r)["time_fraction"] for r in runs)[::4] == [0.25, 0.5, 1.0], f"plan {runs}")
     # The per-window RMSE loss: a window's RMSE over its valid texels, weighed, averaged over windows.
     pred, height = torch.zeros(2, 2, 2), torch.tensor([[[3.0, 4.0], [9.0, 9.0]], [[1.0, 1.0], [1.0, 1.0]]])
     mask = torch.tensor([[[1.0, 1.0], [0.0, 0.0]], [[0.0, 0.0], [0.0, 0.0]]])
