@@ -1,7 +1,8 @@
 #!/bin/bash
 # The heightmap network trained in one short GPU run (issue 35): the seven leave-one-survey-out
-# folds and the final model of the relief-scaled network, with the shipped per-window RMSE loss and
-# with the pooled MSE (fast_train plan), all at once on one GPU within a wall-clock budget (python/lidarscout_train/fast_train.py), then exported and scored here.
+# folds and the final model of the relief-scaled network with the shipped per-window RMSE loss, at
+# the whole, half and quarter length (fast_train plan), all at once on one GPU within a wall-clock
+# budget (python/lidarscout_train/fast_train.py), then exported and scored here.
 #
 #   scripts/train_gpu.sh data   [--work DIR] [--extra DIR] [--threads N]
 #       training windows of every survey of ../shared/data/surveys and every extra source of
