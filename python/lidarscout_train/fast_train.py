@@ -12,7 +12,7 @@ leave-one-survey-out folds and the final model in one GPU run of at most 8 minut
         without -rmse- the pooled MSE of the first GPU run (worse in every row of the second), and
         what earlier runs settled and the plan leaves out: the plain network (without -scaled-),
         bf16, texel-size weights (-unweighted-), 1 m windows left out (-no1m-), seed 2 (-s2-).
-        --tiny: two runs (a fold of the first recipe, the final model of the second).
+        --tiny: two runs (a fold with the pooled MSE, the final model with the RMSE loss).
         The paper size ("paper": width 16, 9 x 9 heads) trains too when named, but is not planned:
         it costs 21 ms per patch at batch 16 on 2 cores (models/README.md), five times the 4 ms budget.
     python3 -m lidarscout_train.fast_train train WINDOWS --run NAME --out DIR --deadline UNIX_TIME
