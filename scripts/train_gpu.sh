@@ -23,8 +23,9 @@
 #   scripts/train_gpu.sh export [--from DIR] [--work DIR]
 #       the bundles brought back -> one TorchScript model.pt per run (Debian's torch), under
 #       DIR/runs/NAME/; ship DIR/runs/shipped-scaled-rmse-final/model.pt as models/heightmap_cnn.pt.
-#   scripts/train_gpu.sh eval   [--work DIR] [--released FILE] [--variant shipped-scaled-rmse|shipped-scaled]
-#       LOSO: every fold's model (runs/VARIANT-fold-SURVEY) on its held-out survey (lidarscout eval, 10 m, 150 patches, 8
+#   scripts/train_gpu.sh eval   [--work DIR] [--released FILE] [--variant NAME]
+#       LOSO: every fold's model (runs/NAME-fold-SURVEY; NAME default shipped-scaled-rmse, or e.g.
+#       shipped-scaled-rmse-half) on its held-out survey (lidarscout eval, 10 m, 150 patches, 8
 #       lattices; 40 and 1,500 chunk points per window too) beside linear and the released
 #       model, tables as in scripts/loso_eval.sh.
 #
