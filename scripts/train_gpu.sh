@@ -79,7 +79,7 @@ case "$stage" in
   run) stage_run ;;
   export) stage_export ;;
   eval) stage_eval ;;
-  *) sed -n '2,30p' "$0" >&2; exit 2 ;;
+  *) sed -n '2,33p' "$0" >&2; exit 2 ;;
 esac
 }
 
