@@ -57,7 +57,7 @@ import torch
 
 from .batch_augment import BatchAugment
 from .model import PAD, PATCH, RGB_FILL, HeightmapNet, count_parameters
-from .train import export_torchscript, masked_losses
+from .train import colour_mse, export_torchscript, masked_losses
 
 SIZES = {
     "shipped": {"decoder": "upsample", "width": 8, "head_kernel": 5, "lr": 4e-4},
@@ -151,8 +151,7 @@ def weighted_loss(pred, tgt, weight, loss="mse"):
     batch = {"height": tgt[:, 0], "rgb": tgt[:, 1:4], "mask_h": tgt[:, 4], "mask_rgb": tgt[:, 5], "weight": weight}
     if loss == "mse":
         return masked_losses(pred, batch)[0]
-    _, _, colour = masked_losses(pred, batch)
-    return window_rmse(pred[:, 0], tgt[:, 0], tgt[:, 4], weight) + colour
+    return window_rmse(pred[:, 0], tgt[:, 0], tgt[:, 4], weight) + colour_mse(pred, batch)
 
 
 def window_rmse(pred_h, height, mask, weight):

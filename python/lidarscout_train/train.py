@@ -47,14 +47,19 @@ def masked_losses(pred, batch):
     """Returns (total, height_mse, rgb_mse) averaged over the valid texels of the batch; the
     height error of each sample is scaled by its weight (batch["weight"], default 1)."""
     mh = batch["mask_h"]
-    mc = batch["mask_rgb"]
     dh = (pred[:, 0] - batch["height"]) ** 2
     if "weight" in batch:
         dh = dh * batch["weight"].view(-1, 1, 1)
     lh = (dh * mh).sum() / mh.sum().clamp(min=1.0)
-    dc = ((pred[:, 1:4] - batch["rgb"]) ** 2).sum(dim=1)
-    lc = (dc * mc).sum() / (3.0 * mc.sum()).clamp(min=1.0)
+    lc = colour_mse(pred, batch)
     return lh + lc, lh, lc
+
+
+def colour_mse(pred, batch):
+    """The colour MSE averaged over the valid colour texels (and channels) of the batch."""
+    mc = batch["mask_rgb"]
+    dc = ((pred[:, 1:4] - batch["rgb"]) ** 2).sum(dim=1)
+    return (dc * mc).sum() / (3.0 * mc.sum()).clamp(min=1.0)
 
 
 def to_device(batch, device):
