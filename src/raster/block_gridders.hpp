@@ -15,6 +15,10 @@
 //   highest-tin     the highest point of each texel (of the block and its margin); texels without
 //                   one get the TIN of those highest points, as tin does (a DSM: holes up to
 //                   the maximum edge filled)
+// A tin finds each texel's triangle (TinSearch) from the points around the texel's centre
+// (recon/local_delaunay.hpp: proven to be the Delaunay triangulation's, without triangulating),
+// triangulating only the points near the texels where that is not proven; or triangulates every
+// point (CGAL). Both give the same triangles; by default the first where points are dense enough.
 // mean, min, max can also grid the points' intensity, or count them (GridValue).
 // A block receives every point within reach of it (gridder_reach_m), so blocks meet without
 // seams: texels near a border see the same points whichever block holds them. For tin this
@@ -38,6 +42,9 @@ enum class GridMethod { Statistic, Idw, Tin, HighestTin };
 // What a Statistic gridder makes of a texel's points: their height's statistic, their intensity's
 // statistic, or their number (0, not NaN, where none).
 enum class GridValue { Height, Intensity, Count };
+// How a tin finds the triangle over each texel centre: Auto (Local from 0.5 points per texel on,
+// and for highest-tin's holes; else Triangulate), Local, Triangulate.
+enum class TinSearch { Auto, Local, Triangulate };
 
 struct GridderSpec {
     GridMethod method = GridMethod::Statistic;
@@ -50,6 +57,7 @@ struct GridderSpec {
     // the block and its margin, recon/ground_filter.hpp).
     std::optional<recon::GroundFilterParams> ground;
     bool rgb = false;           // also grid the colours
+    TinSearch tin_search = TinSearch::Auto;  // for Tin and HighestTin
 };
 
 // The margin (texels on each side) a tin block triangulates beyond its own texels, and the

@@ -147,6 +147,82 @@ TEST(BlockGridders, HighestTinIsTheTinOfTheHighestPointsInItsHoles) {
     EXPECT_LT(filled, holes);
 }
 
+// TinSearch: the triangles found locally (with the points near the unproven texels triangulated)
+// give the rasters that triangulating every point gives: random points with colour (5 and 0.3 per
+// texel: the sparse ones leave slivers along the hull unproven), a pond and no points beyond
+// x 1050, with and without an edge limit.
+TEST(BlockGridders, TinFindsTheSameTrianglesLocallyAsByTriangulating) {
+    const int n = 64;
+    DemGrid g = small_grid(n);
+    g.width = g.height = 3 * n;
+    g.origin_x -= n, g.origin_y -= n;
+    for (const int count : {60000, 3500})
+    for (const double max_edge : {0.0, 6.0}) {
+        std::vector<dataset::MetricPoint> points;
+        std::uint32_t seed = 777;
+        const auto random = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+        for (int i = 0; i < count; ++i) {
+            const double x = 1000 - 40 + random() * 90, y = 2000 - 40 + random() * 130;
+            if (std::hypot(x - 1030, y - 2035) < 9) continue;
+            const double z = 50 + 3 * std::sin(x * 0.3) + random() * 2;
+            points.push_back(point(x, y, z, static_cast<std::uint8_t>(random() * 255)));
+        }
+        const auto grid_with = [&](TinSearch search) {
+            GridderSpec spec;
+            spec.method = GridMethod::Tin;
+            spec.rgb = true;
+            spec.tin_max_edge_m = max_edge;
+            spec.tin_search = search;
+            auto gridder = make_block_gridder(spec, g, {1, 1});
+            for (const auto& p : points) gridder->add(p, nullptr);
+            return gridder->finish();
+        };
+        const BlockImages local = grid_with(TinSearch::Local), whole = grid_with(TinSearch::Triangulate);
+        std::size_t values = 0;
+        for (std::size_t i = 0; i < whole.heights_m.size(); ++i) {
+            ASSERT_EQ(std::isnan(local.heights_m[i]), std::isnan(whole.heights_m[i])) << i << " at " << max_edge;
+            if (std::isnan(whole.heights_m[i])) continue;
+            ++values;
+            EXPECT_NEAR(local.heights_m[i], whole.heights_m[i], 1e-4) << i;
+        }
+        for (std::size_t i = 0; i < whole.rgba.size(); ++i) EXPECT_NEAR(local.rgba[i], whole.rgba[i], 1) << i;
+        EXPECT_GT(values, 2000u);
+        EXPECT_LT(values, std::size_t(n * n) - 300);  // the pond (at a 6 m limit) and beyond x 1050 stay empty
+    }
+}
+
+// A pond too wide for the local search among dense points (40 per square metre, 20 m of radius):
+// the texels over it are settled by triangulating the points near them, as the whole TIN has them.
+TEST(BlockGridders, TinTriangulatesThePointsNearWhatItCannotProve) {
+    const int n = 64;
+    DemGrid g = small_grid(n);
+    g.width = g.height = 3 * n;
+    g.origin_x -= n, g.origin_y -= n;
+    std::vector<dataset::MetricPoint> points;
+    std::uint32_t seed = 99;
+    const auto random = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+    for (int i = 0; i < 282000; ++i) {
+        const double x = 990 + random() * 84, y = 1990 + random() * 84;
+        if (std::hypot(x - 1032, y - 2032) < 20) continue;
+        points.push_back(point(x, y, 10 + 0.1 * x - 0.05 * y + random()));
+    }
+    const auto grid_with = [&](TinSearch search) {
+        GridderSpec spec;
+        spec.method = GridMethod::Tin;
+        spec.tin_search = search;
+        auto gridder = make_block_gridder(spec, g, {1, 1});
+        for (const auto& p : points) gridder->add(p, nullptr);
+        return gridder->finish();
+    };
+    const BlockImages local = grid_with(TinSearch::Local), whole = grid_with(TinSearch::Triangulate);
+    const std::size_t centre = 32 * 64 + 32;
+    ASSERT_FALSE(std::isnan(whole.heights_m[centre]));  // the pond is spanned by long triangles
+    for (std::size_t i = 0; i < whole.heights_m.size(); ++i) {
+        ASSERT_EQ(std::isnan(local.heights_m[i]), std::isnan(whole.heights_m[i])) << i;
+        if (!std::isnan(whole.heights_m[i])) EXPECT_NEAR(local.heights_m[i], whole.heights_m[i], 1e-4) << i;
+    }
+}
+
 TEST(BlockGridders, ReachAndParametersAreChecked) {
     GridderSpec spec;
     EXPECT_EQ(gridder_reach_m(spec, 2.0), 0.0);
