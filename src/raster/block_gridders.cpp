@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
-#include <optional>
 
 #include "core/error.hpp"
 #include "recon/face_map.hpp"
@@ -33,34 +31,6 @@ std::vector<std::uint8_t> rgba_planes(std::size_t n, const auto& colour_of) {
         out[3 * n + i] = 255;
     }
     return out;
-}
-
-// The texels a TIN's triangle over a texel centre can have its corners in when no edge is longer
-// than the limit: up to this many on each side (all of a window without a limit).
-int edge_reach_texels(const GridderSpec& spec, double texel_m) {
-    const double e = spec.tin_max_edge_m;
-    return e > 0 ? static_cast<int>(std::ceil(e / texel_m)) + 1 : std::numeric_limits<int>::max() / 4;
-}
-
-// Which texels of a side x side window lie within `reach` texels (on each axis) of one of `holes`
-// ((row, col) of the window), by a summed-area table of the holes: [row * side + col].
-std::vector<char> texels_near(int side, const std::vector<std::pair<int, int>>& holes, int reach) {
-    const std::size_t w = static_cast<std::size_t>(side) + 1;
-    std::vector<std::uint32_t> sum(w * w, 0);
-    const auto at = [&](int r, int c) -> std::uint32_t& { return sum[static_cast<std::size_t>(r) * w + c]; };
-    for (const auto& [row, col] : holes) at(row + 1, col + 1) = 1;
-    for (int r = 1; r <= side; ++r) {
-        for (int c = 1; c <= side; ++c) at(r, c) += at(r - 1, c) + at(r, c - 1) - at(r - 1, c - 1);
-    }
-    std::vector<char> near(static_cast<std::size_t>(side) * side, 0);
-    for (int r = 0; r < side; ++r) {
-        const int r0 = std::max(0, r - reach), r1 = std::min(side, r + reach + 1);
-        for (int c = 0; c < side; ++c) {
-            const int c0 = std::max(0, c - reach), c1 = std::min(side, c + reach + 1);
-            near[static_cast<std::size_t>(r) * side + c] = at(r1, c1) + at(r0, c0) - at(r0, c1) - at(r1, c0) > 0;
-        }
-    }
-    return near;
 }
 
 // mean / min / max of the points in each texel.
@@ -208,9 +178,8 @@ public:
 
 private:
     // From this many points per texel of the block and its margin on (and for a few wanted texels),
-    // TinSearch::Auto seeks each texel's triangle among the points around it: measured on
-    // ky-jmo335, as fast as CGAL's triangulation at 0.65 points per texel, 1.6x faster at 2.6 and
-    // 3x at 16 and more.
+    // TinSearch::Auto walks to each texel's triangle: on ky-jmo335 about as fast as CGAL's
+    // triangulation at 0.65 points per texel, faster above (3x at 16 and more).
     static constexpr double kLocalPointsPerTexel = 0.5;
 
     BlockImages no_values() const {
@@ -237,22 +206,21 @@ private:
         return out;
     }
 
-    // The same at the wanted texels, each texel's triangle found from the points around it where
-    // that is proven (recon/local_delaunay.hpp), the rest from the TIN of the points near them.
+    // The same at the wanted texels, each texel's triangle found from the points around it
+    // (recon/local_delaunay.hpp); should a walk there not end (never seen), the whole TIN.
     BlockImages local_images(const recon::PatchPoints& patch, const std::vector<char>* wanted) const {
         const int n = grid_.block, m = kTinMarginTexels;
         const recon::LocalDelaunay local(recon::grid_positions(patch), patch.spec.grid_extent());
         const double max_edge = spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel);
         BlockImages out = no_values();
         std::vector<std::array<float, 3>> rgb(spec_.rgb ? out.heights_m.size() : 0, {recon::kNoValue, 0.f, 0.f});
-        std::vector<std::pair<int, int>> unsettled;  // (row, col) of the window
         for (int row = 0; row < n; ++row) {
             for (int col = 0; col < n; ++col) {
                 const std::size_t i = static_cast<std::size_t>(row) * n + col;
                 if (wanted && !(*wanted)[i]) continue;
                 const recon::GridXY q{recon::texel_centre(col + m), recon::texel_centre(row + m)};
                 const recon::LocalDelaunay::Found found = local.triangle_at(q, max_edge);
-                if (found.answer == recon::LocalDelaunay::Answer::Unproven) unsettled.emplace_back(row + m, col + m);
+                if (found.answer == recon::LocalDelaunay::Answer::Unproven) return tin_images(patch);
                 if (found.answer != recon::LocalDelaunay::Answer::Triangle) continue;
                 const auto interpolate = [&](float recon::PatchPoint::*channel) {
                     float v = 0;
@@ -270,33 +238,7 @@ private:
             }
         }
         if (spec_.rgb) out.rgba = rgba_planes(rgb.size(), [&](std::size_t i) { return rgb[i]; });
-        if (!unsettled.empty()) settle_by_tin(patch, unsettled, out);
         return out;
-    }
-
-    // The unsettled texels ((row, col) of the window) from the TIN of the points within the edge
-    // limit of them (all without one): the TIN's triangle over such a texel, when short enough, has
-    // its corners among those.
-    void settle_by_tin(const recon::PatchPoints& patch, const std::vector<std::pair<int, int>>& unsettled,
-                       BlockImages& out) const {
-        const int n = grid_.block, m = kTinMarginTexels, side = patch.size();
-        const std::vector<char> near = texels_near(side, unsettled, edge_reach_texels(spec_, grid_.texel_m));
-        recon::PatchPoints subset = patch;
-        std::erase_if(subset.points, [&](const recon::PatchPoint& p) {
-            const int col = std::min<int>(p.gx / recon::kGridUnitsPerTexel, side - 1);
-            const int row = std::min<int>(p.gy / recon::kGridUnitsPerTexel, side - 1);
-            return !near[static_cast<std::size_t>(row) * side + col];
-        });
-        if (subset.points.size() < 3) return;
-        const BlockImages tin = tin_images(subset);
-        const std::size_t texels = out.heights_m.size();
-        for (const auto& [row, col] : unsettled) {
-            const std::size_t i = static_cast<std::size_t>(row - m) * n + (col - m);
-            out.heights_m[i] = tin.heights_m[i];
-            for (std::size_t c = 0; c < out.rgba.size() / texels; ++c) {
-                out.rgba[c * texels + i] = tin.rgba[c * texels + i];
-            }
-        }
     }
 
     // A point as held until the block is finished: 24 bytes instead of 48. The position stays

@@ -15,10 +15,10 @@
 //   highest-tin     the highest point of each texel (of the block and its margin); texels without
 //                   one get the TIN of those highest points, as tin does (a DSM: holes up to
 //                   the maximum edge filled)
-// A tin finds each texel's triangle (TinSearch) from the points around the texel's centre
-// (recon/local_delaunay.hpp: proven to be the Delaunay triangulation's, without triangulating),
-// triangulating only the points near the texels where that is not proven; or triangulates every
-// point (CGAL). Both give the same triangles; by default the first where points are dense enough.
+// A tin finds each texel's triangle (TinSearch) by a walk over the Delaunay triangles near the
+// texel's centre, built one at a time from the points around it (recon/local_delaunay.hpp: exact,
+// no triangulation of every point), or triangulates every point (CGAL). Both give the same
+// triangles; by default the walk where points are dense enough.
 // mean, min, max can also grid the points' intensity, or count them (GridValue).
 // A block receives every point within reach of it (gridder_reach_m), so blocks meet without
 // seams: texels near a border see the same points whichever block holds them. For tin this

@@ -1,4 +1,4 @@
-// The buckets, the gift-wrapping walk and the certificate of local_delaunay.hpp.
+// The buckets, the nearest-point search, the gift-wrapping step and the walk of local_delaunay.hpp.
 #include "recon/local_delaunay.hpp"
 
 #include <algorithm>
@@ -13,7 +13,6 @@ namespace {
 
 using Point = LocalDelaunay::Point;
 
-constexpr int kMaxWalkSteps = 32;  // a walk longer than this is left to the triangulation
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 GridXY xy(const Point& p) { return {static_cast<double>(p.x), static_cast<double>(p.y)}; }
@@ -66,53 +65,13 @@ double squared_distance(const Point& a, GridXY q) {
     return dx * dx + dy * dy;
 }
 
-// The point of `pts` nearest to q, other than `skip` (the first of equals), or nullptr.
-const Point* nearest(std::span<const Point> pts, GridXY q, const Point* skip = nullptr) {
-    const Point* best = nullptr;
-    double best_d2 = kInfinity;
-    for (const Point& p : pts) {
-        if (&p == skip) continue;
-        const double d2 = squared_distance(p, q);
-        if (d2 < best_d2) best = &p, best_d2 = d2;
-    }
-    return best;
-}
-
-// The apex of the Delaunay triangle of `pts` left of the Delaunay edge a -> b: the point left of
-// it whose circle through a and b holds no other point left of it (nullptr: none is left of it).
-// The circles through a and b are nested on that side: the circle through a, b and d has its
-// centre at the edge's midpoint plus t(d) times its left normal, t(d) = (d - a).(d - b) / (2 x
-// orient(a, b, d)), and d lies inside the circle through a, b and c exactly when t(d) < t(c); the
-// fractions are compared exactly (128-bit cross products), equal ones by the perturbed in-circle.
-const Point* wrap(const Point& a, const Point& b, std::span<const Point> pts) {
-    const Point* apex = nullptr;
-    std::int64_t best_num = 0, best_den = 1;
-    for (const Point& d : pts) {
-        const std::int64_t den = orient(a, b, d);
-        if (den <= 0) continue;
-        const std::int64_t num = (d.x - a.x) * (d.x - b.x) + (d.y - a.y) * (d.y - b.y);
-        const __int128 lhs = static_cast<__int128>(num) * best_den, rhs = static_cast<__int128>(best_num) * den;
-        if (!apex || lhs < rhs || (lhs == rhs && inside_circle(a, b, *apex, d))) {
-            apex = &d, best_num = num, best_den = den;
-        }
-    }
-    return apex;
+// The squared distance from (x, y) to the rectangle [x0, x1] x [y0, y1] (0 inside).
+double squared_distance_to(const auto& rect, double x, double y) {
+    const double dx = std::max({rect.x0 - x, 0.0, x - rect.x1}), dy = std::max({rect.y0 - y, 0.0, y - rect.y1});
+    return dx * dx + dy * dy;
 }
 
 using Triangle = std::array<const Point*, 3>;  // counter-clockwise
-
-// The first Delaunay triangle of the walk: on the edge from the point nearest q to its own
-// nearest neighbour (a Delaunay edge), on q's side where there is a triangle there.
-std::optional<Triangle> first_triangle(std::span<const Point> pts, GridXY q) {
-    const Point* a = nearest(pts, q);
-    const Point* b = a ? nearest(pts, xy(*a), a) : nullptr;
-    if (!b) return std::nullopt;
-    const bool left = orient(xy(*a), xy(*b), q) >= 0;
-    const Point *from = left ? a : b, *to = left ? b : a;
-    if (const Point* c = wrap(*from, *to, pts)) return Triangle{from, to, c};
-    if (const Point* c = wrap(*to, *from, pts)) return Triangle{to, from, c};
-    return std::nullopt;  // every point on one line
-}
 
 // The edge of t (index k: t[k] -> t[k + 1]) that q lies beyond, or -1 when t holds q.
 int edge_beyond(const Triangle& t, GridXY q) {
@@ -122,55 +81,6 @@ int edge_beyond(const Triangle& t, GridXY q) {
         if (e < 0 || (e == 0 && !edge_owns_ties(from, to))) return k;
     }
     return -1;
-}
-
-// The circumcircle of t in doubles (computed relative to its first corner), and the margin that
-// covers its rounding: a point farther than r + slack from the centre is outside it, a circle
-// more than r + slack from a line does not reach it.
-struct Circle {
-    double x, y, r, slack;
-};
-
-Circle circumcircle(const Triangle& t) {
-    const Point &a = *t[0], &b = *t[1], &c = *t[2];
-    const double bx = double(b.x - a.x), by = double(b.y - a.y), cx = double(c.x - a.x), cy = double(c.y - a.y);
-    const double d = 2 * (bx * cy - by * cx), b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
-    const double ux = (cy * b2 - by * c2) / d, uy = (bx * c2 - cx * b2) / d;
-    const double r = std::sqrt(ux * ux + uy * uy);
-    return {double(a.x) + ux, double(a.y) + uy, r, 1e-9 * r + 4};
-}
-
-// Where a walk toward q over the Delaunay triangles of `pts` ends: in triangle t, which holds q
-// (checked empty of the other points: every step was a Delaunay one, but the check is cheap),
-// beyond the hull of the points, or lost (all points on a line, a walk over kMaxWalkSteps).
-struct Walk {
-    enum Kind { Holds, Outside, Lost } kind = Lost;
-    Triangle t{};
-    Circle circle{};
-};
-
-Walk walk_to(GridXY q, std::span<const Point> pts) {
-    if (pts.size() < 3) return {Walk::Outside, {}};  // no triangle at all
-    std::optional<Triangle> t = first_triangle(pts, q);
-    if (!t) return {Walk::Outside, {}};  // every point on one line: no triangle at all
-    for (int step = 0; step < kMaxWalkSteps; ++step) {
-        const int k = edge_beyond(*t, q);
-        if (k < 0) break;
-        const Point &from = *(*t)[k], &to = *(*t)[(k + 1) % 3];  // cross to the other side
-        const Point* apex = wrap(to, from, pts);
-        if (!apex) return {Walk::Outside, {}};
-        t = Triangle{&to, &from, apex};
-    }
-    if (edge_beyond(*t, q) >= 0) return {Walk::Lost, {}};
-    const Point &a = *(*t)[0], &b = *(*t)[1], &c = *(*t)[2];
-    const Circle circle = circumcircle(*t);
-    const double near2 = (circle.r + circle.slack) * (circle.r + circle.slack);
-    for (const Point& d : pts) {
-        const double dx = double(d.x) - circle.x, dy = double(d.y) - circle.y;
-        if (dx * dx + dy * dy > near2 || &d == &a || &d == &b || &d == &c) continue;
-        if (inside_circle(a, b, c, d)) return {Walk::Lost, {}};
-    }
-    return {Walk::Holds, *t, circle};
 }
 
 bool has_long_edge(const Triangle& t, double max_edge) {
@@ -197,12 +107,6 @@ std::vector<Point> convex_hull(std::span<const GridXY> sorted) {
     return hull;
 }
 
-// Whether the circle lies inside the rectangle [x0, x1] x [y0, y1].
-bool circle_inside(const Circle& c, const auto& region) {
-    const double reach = c.r + c.slack;
-    return c.x - reach > region.x0 && c.x + reach < region.x1 && c.y - reach > region.y0 && c.y + reach < region.y1;
-}
-
 }  // namespace
 
 LocalDelaunay::LocalDelaunay(std::span<const GridXY> positions, std::int64_t extent, double points_per_bucket)
@@ -210,11 +114,24 @@ LocalDelaunay::LocalDelaunay(std::span<const GridXY> positions, std::int64_t ext
     if (extent <= 0 || extent > (std::int64_t{1} << 26) || !(points_per_bucket > 0)) {
         throw Error::in_stage("recon", "local Delaunay: bad extent or bucket size (internal error)");
     }
+    const auto by_y_then_x = [](const GridXY& a, const GridXY& b) { return a.y < b.y || (a.y == b.y && a.x < b.x); };
+    if (!std::is_sorted(positions.begin(), positions.end(), by_y_then_x) ||
+        std::adjacent_find(positions.begin(), positions.end()) != positions.end()) {
+        throw Error::in_stage("recon", "local Delaunay: positions not distinct and sorted by (y, x) (internal error)");
+    }
+    if (positions.size() >= 3) hull_ = convex_hull(positions);
+    for (const Point& p : hull_) {
+        box_ = {std::min(box_.x0, double(p.x)), std::min(box_.y0, double(p.y)), std::max(box_.x1, double(p.x)),
+                std::max(box_.y1, double(p.y))};
+    }
     // The occupied area, from a coarse 64 x 64 lattice, over the points: the area per point.
     constexpr long kCoarse = 64;
     const double coarse = static_cast<double>(extent) / kCoarse;
     std::vector<char> occupied(kCoarse * kCoarse, 0);
     for (const GridXY& p : positions) {
+        if (!(p.x >= 0 && p.y >= 0 && p.x <= static_cast<double>(extent) && p.y <= static_cast<double>(extent))) {
+            throw Error::in_stage("recon", "local Delaunay: a position outside the window (internal error)");
+        }
         const long cx = std::min<long>(static_cast<long>(p.x / coarse), kCoarse - 1);
         const long cy = std::min<long>(static_cast<long>(p.y / coarse), kCoarse - 1);
         occupied[cy * kCoarse + cx] = 1;
@@ -226,28 +143,22 @@ LocalDelaunay::LocalDelaunay(std::span<const GridXY> positions, std::int64_t ext
     const std::int64_t smallest = std::max<std::int64_t>(64, (extent + kMaxSide - 1) / kMaxSide);
     cell_ = std::clamp<std::int64_t>(std::llround(std::sqrt(points_per_bucket * per_point)), smallest, extent);
     side_ = static_cast<long>(extent / cell_) + 1;
+    group_ = std::max<long>(4, side_ / 128);
+    groups_ = (side_ + group_ - 1) / group_;
 
     const auto bucket_of = [&](const GridXY& p) {
         return static_cast<std::size_t>(p.y / static_cast<double>(cell_)) * side_ +
                static_cast<std::size_t>(p.x / static_cast<double>(cell_));
     };
     start_.assign(static_cast<std::size_t>(side_) * side_ + 1, 0);
+    grouped_.assign(static_cast<std::size_t>(groups_) * groups_, 0);
     for (const GridXY& p : positions) {
-        if (!(p.x >= 0 && p.y >= 0 && p.x <= static_cast<double>(extent) && p.y <= static_cast<double>(extent))) {
-            throw Error::in_stage("recon", "local Delaunay: a position outside the window (internal error)");
-        }
         ++start_[bucket_of(p) + 1];
+        const long bx = static_cast<long>(p.x / static_cast<double>(cell_));
+        const long by = static_cast<long>(p.y / static_cast<double>(cell_));
+        ++grouped_[static_cast<std::size_t>(by / group_) * groups_ + bx / group_];
     }
     for (std::size_t b = 1; b < start_.size(); ++b) start_[b] += start_[b - 1];
-    const auto by_y_then_x = [](const GridXY& a, const GridXY& b) { return a.y < b.y || (a.y == b.y && a.x < b.x); };
-    if (!std::is_sorted(positions.begin(), positions.end(), by_y_then_x)) {
-        throw Error::in_stage("recon", "local Delaunay: positions not sorted by (y, x) (internal error)");
-    }
-    if (positions.size() >= 3) hull_ = convex_hull(positions);
-    for (const Point& p : hull_) {
-        box_ = {std::min(box_[0], double(p.x)), std::min(box_[1], double(p.y)), std::max(box_[2], double(p.x)),
-                std::max(box_[3], double(p.y))};
-    }
     sorted_.resize(positions.size());
     std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -257,64 +168,160 @@ LocalDelaunay::LocalDelaunay(std::span<const GridXY> positions, std::int64_t ext
     }
 }
 
-LocalDelaunay::Found LocalDelaunay::triangle_at(GridXY q, double max_edge, std::size_t max_points) const {
-    thread_local std::vector<Point> gathered;
-    gathered.clear();
-    const double c = static_cast<double>(cell_);
-    const long bx = std::clamp<long>(static_cast<long>(std::floor(q.x / c)), 0, side_ - 1);
-    const long by = std::clamp<long>(static_cast<long>(std::floor(q.y / c)), 0, side_ - 1);
-    gather_ring(bx, by, 0, gathered);
-    int gathered_rings = 0;
-    for (int ring = 1; ring <= side_; ring = std::max(ring + 1, ring * 3 / 2)) {
-        if (ring == 2 && outside_hull(q)) return {Answer::None, {}};  // the data's edge: no triangle
-        while (gathered_rings < ring) gather_ring(bx, by, ++gathered_rings, gathered);
-        const Region region = region_of(bx, by, ring);
-        const bool covers = max_edge > 0 && q.x - max_edge > region.x0 && q.x + max_edge < region.x1 &&
-                            q.y - max_edge > region.y0 && q.y + max_edge < region.y1;
-        const Walk walk = walk_to(q, gathered);
-        if (walk.kind == Walk::Holds) {
-            const bool too_long = has_long_edge(walk.t, max_edge);
-            if (covers && too_long) return {Answer::None, {}};
-            if (circle_inside(walk.circle, region)) {
-                if (too_long) return {Answer::None, {}};
-                const Point &a = *walk.t[0], &b = *walk.t[1], &c3 = *walk.t[2];
-                return {Answer::Triangle, {{a.index, b.index, c3.index}, barycentric(xy(a), xy(b), xy(c3), q)}};
-            }
-        } else if (walk.kind == Walk::Outside && covers) {
-            return {Answer::None, {}};
-        }
-        const double buckets = (2.0 * ring + 1) * (2.0 * ring + 1);
-        if (gathered.size() > max_points || buckets > 16.0 * static_cast<double>(max_points)) break;
-    }
-    return {Answer::Unproven, {}};
-}
-
-bool LocalDelaunay::outside_hull(GridXY q) const {
-    if (hull_.size() < 3) return true;
-    if (q.x < box_[0] || q.y < box_[1] || q.x > box_[2] || q.y > box_[3]) return true;
-    for (std::size_t i = 0; i < hull_.size(); ++i) {
-        if (orient(xy(hull_[i]), xy(hull_[(i + 1) % hull_.size()]), q) < 0) return true;
-    }
-    return false;
-}
-
-void LocalDelaunay::gather_ring(long bx, long by, int ring, std::vector<Point>& out) const {
-    const auto add = [&](long x, long y) {
-        if (x < 0 || y < 0 || x >= side_ || y >= side_) return;
-        const std::size_t b = static_cast<std::size_t>(y) * side_ + x;
-        out.insert(out.end(), sorted_.begin() + start_[b], sorted_.begin() + start_[b + 1]);
+template <typename Wanted, typename Visit>
+void LocalDelaunay::scan(const Rect& area, const Wanted& wanted, const Visit& visit) const {
+    const double c = static_cast<double>(cell_), g = c * static_cast<double>(group_);
+    const auto first = [&](double v) { return std::max(0L, static_cast<long>(std::floor(std::max(v, -1.0) / c))); };
+    const auto last = [&](double v) {
+        return std::min(side_ - 1, static_cast<long>(std::floor(std::min(v, double(extent_) + c) / c)));
     };
-    if (ring == 0) return add(bx, by);
-    for (long x = bx - ring; x <= bx + ring; ++x) add(x, by - ring), add(x, by + ring);
-    for (long y = by - ring + 1; y <= by + ring - 1; ++y) add(bx - ring, y), add(bx + ring, y);
+    const long bx0 = first(area.x0), by0 = first(area.y0), bx1 = last(area.x1), by1 = last(area.y1);
+    for (long gy = by0 / group_; gy <= by1 / group_; ++gy) {
+        for (long gx = bx0 / group_; gx <= bx1 / group_; ++gx) {
+            if (!grouped_[static_cast<std::size_t>(gy) * groups_ + gx]) continue;
+            if (!wanted(Rect{double(gx) * g, double(gy) * g, double(gx + 1) * g, double(gy + 1) * g})) continue;
+            for (long by = std::max(by0, gy * group_); by <= std::min(by1, (gy + 1) * group_ - 1); ++by) {
+                for (long bx = std::max(bx0, gx * group_); bx <= std::min(bx1, (gx + 1) * group_ - 1); ++bx) {
+                    const std::size_t b = static_cast<std::size_t>(by) * side_ + bx;
+                    if (start_[b] == start_[b + 1]) continue;
+                    if (!wanted(Rect{double(bx) * c, double(by) * c, double(bx + 1) * c, double(by + 1) * c})) continue;
+                    for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) visit(sorted_[i]);
+                }
+            }
+        }
+    }
 }
 
-LocalDelaunay::Region LocalDelaunay::region_of(long bx, long by, int ring) const {
+const Point* LocalDelaunay::nearest(GridXY q, const Point* skip, double limit) const {
+    const Point* best = nullptr;
+    double best_d2 = kInfinity;
+    const auto wanted = [&](const Rect& r) { return squared_distance_to(r, q.x, q.y) <= best_d2; };
+    const auto visit = [&](const Point& p) {
+        const double d2 = squared_distance(p, q);
+        if (&p != skip && d2 < best_d2) best = &p, best_d2 = d2;
+    };
+    for (double h = static_cast<double>(cell_);; h *= 2) {  // squares of growing half-side h around q
+        scan({q.x - h, q.y - h, q.x + h, q.y + h}, wanted, visit);
+        if (best && best_d2 <= h * h) return best;  // every point within h has been seen
+        if (h >= limit) return best && best_d2 <= limit * limit ? best : nullptr;
+        if (q.x - h <= 0 && q.y - h <= 0 && q.x + h >= double(extent_) && q.y + h >= double(extent_)) return best;
+    }
+}
+
+// The circles through a and b are nested on its left: the circle through a, b and d has its centre
+// at the edge's midpoint plus t(d) times its left normal, t(d) = (d - a).(d - b) / (2 x orient(a, b,
+// d)), and d lies inside the circle through a, b and c exactly when t(d) < t(c); the fractions are
+// compared exactly (128-bit cross products), equal ones by the perturbed in-circle test. Buckets are
+// visited in rings around the midpoint's, so that near points shrink the circle early, skipping
+// those right of the edge or outside the best circle so far, until that circle lies inside the
+// rings seen.
+const Point* LocalDelaunay::wrap(const Point& a, const Point& b) const {
+    const Point* apex = nullptr;
+    std::int64_t best_num = 0, best_den = 1;
+    double cx = 0, cy = 0, reach = kInfinity;  // the best circle so far, grown by its rounding
+    const double mx = 0.5 * double(a.x + b.x), my = 0.5 * double(a.y + b.y);
+    const double nx = -double(b.y - a.y), ny = double(b.x - a.x);  // the left normal
     const double c = static_cast<double>(cell_);
-    return {bx - ring <= 0 ? -kInfinity : static_cast<double>(bx - ring) * c,
-            by - ring <= 0 ? -kInfinity : static_cast<double>(by - ring) * c,
-            bx + ring >= side_ - 1 ? kInfinity : static_cast<double>(bx + ring + 1) * c,
-            by + ring >= side_ - 1 ? kInfinity : static_cast<double>(by + ring + 1) * c};
+    const auto visit_bucket = [&](long bx, long by) {
+        const std::size_t bucket = static_cast<std::size_t>(by) * side_ + bx;
+        if (start_[bucket] == start_[bucket + 1]) return;
+        const Rect r{double(bx) * c, double(by) * c, double(bx + 1) * c, double(by + 1) * c};
+        const double ex = nx > 0 ? r.x1 : r.x0, ey = ny > 0 ? r.y1 : r.y0;  // its corner farthest left
+        if (!(nx * (ex - double(a.x)) + ny * (ey - double(a.y)) > 0)) return;
+        if (squared_distance_to(r, cx, cy) > reach * reach) return;
+        for (std::uint32_t i = start_[bucket]; i < start_[bucket + 1]; ++i) {
+            const Point& d = sorted_[i];
+            const std::int64_t den = orient(a, b, d);
+            if (den <= 0 || &d == apex) continue;
+            const std::int64_t num = (d.x - a.x) * (d.x - b.x) + (d.y - a.y) * (d.y - b.y);
+            const __int128 lhs = static_cast<__int128>(num) * best_den, rhs = static_cast<__int128>(best_num) * den;
+            if (apex && !(lhs < rhs || (lhs == rhs && inside_circle(a, b, *apex, d)))) continue;
+            apex = &d, best_num = num, best_den = den;
+            const double t = double(num) / (2.0 * double(den));
+            cx = mx + t * nx, cy = my + t * ny;
+            const double r2 = (cx - double(a.x)) * (cx - double(a.x)) + (cy - double(a.y)) * (cy - double(a.y));
+            const double radius = std::sqrt(r2);
+            reach = radius + 1e-9 * radius + 4;
+        }
+    };
+    const auto wanted = [&](const Rect& r) {
+        const double ex = nx > 0 ? r.x1 : r.x0, ey = ny > 0 ? r.y1 : r.y0;  // its corner farthest left
+        return nx * (ex - double(a.x)) + ny * (ey - double(a.y)) > 0 && squared_distance_to(r, cx, cy) <= reach * reach;
+    };
+    // The rings of cells of `unit` buckets around the midpoint's, each cell visited by visit_cell;
+    // true when the best circle lies inside the rings seen (or they hold every bucket).
+    const auto rings = [&](long unit, long cells, long first, long last, const auto& visit_cell) {
+        const long cx0 = std::clamp<long>(static_cast<long>(mx / c), 0, side_ - 1) / unit;
+        const long cy0 = std::clamp<long>(static_cast<long>(my / c), 0, side_ - 1) / unit;
+        const double u = c * double(unit);
+        for (long k = first; k <= last; ++k) {
+            const long x0 = cx0 - k, x1 = cx0 + k, y0 = cy0 - k, y1 = cy0 + k;
+            for (long x = std::max(x0, 0L); x <= std::min(x1, cells - 1); ++x) {
+                if (y0 >= 0) visit_cell(x, y0);
+                if (y1 < cells && k > 0) visit_cell(x, y1);
+            }
+            for (long y = std::max(y0 + 1, 0L); y <= std::min(y1 - 1, cells - 1); ++y) {
+                if (x0 >= 0) visit_cell(x0, y);
+                if (x1 < cells && k > 0) visit_cell(x1, y);
+            }
+            // the rings seen cover this (unbounded where they reach the last cells: no point beyond)
+            const Rect seen{x0 <= 0 ? -kInfinity : double(x0) * u, y0 <= 0 ? -kInfinity : double(y0) * u,
+                            x1 >= cells - 1 ? kInfinity : double(x1 + 1) * u,
+                            y1 >= cells - 1 ? kInfinity : double(y1 + 1) * u};
+            if (apex && cx - reach > seen.x0 && cx + reach < seen.x1 && cy - reach > seen.y0 && cy + reach < seen.y1) {
+                return true;
+            }
+            if (seen.x0 < 0 && seen.y0 < 0 && seen.x1 == kInfinity && seen.y1 == kInfinity) return true;
+        }
+        return false;
+    };
+    // near rings bucket by bucket; then, for the few circles that reach far (slivers along a hull,
+    // wide voids), rings of groups of buckets, skipping the empty groups and those the circle misses
+    constexpr long kBucketRings = 8;
+    if (rings(1, side_, 0, kBucketRings, visit_bucket)) return apex;
+    if (!apex && nothing_left_of(a, b)) return nullptr;  // a hull edge
+    const auto visit_group = [&](long gx, long gy) {
+        if (!grouped_[static_cast<std::size_t>(gy) * groups_ + gx]) return;
+        const double g = c * double(group_);
+        if (!wanted(Rect{double(gx) * g, double(gy) * g, double(gx + 1) * g, double(gy + 1) * g})) return;
+        for (long by = gy * group_; by < std::min(side_, (gy + 1) * group_); ++by) {
+            for (long bx = gx * group_; bx < std::min(side_, (gx + 1) * group_); ++bx) visit_bucket(bx, by);
+        }
+    };
+    rings(group_, groups_, 0, groups_, visit_group);
+    return apex;
+}
+
+bool LocalDelaunay::nothing_left_of(const Point& a, const Point& b) const {
+    return std::none_of(hull_.begin(), hull_.end(), [&](const Point& h) { return orient(a, b, h) > 0; });
+}
+
+LocalDelaunay::Found LocalDelaunay::triangle_at(GridXY q, double max_edge, int max_steps) const {
+    if (q.x < box_.x0 || q.y < box_.y0 || q.x > box_.x1 || q.y > box_.y1) return {Answer::None, {}};  // beyond the hull
+    // a short triangle over q has a corner within max_edge / sqrt(3) of it
+    const Point* a = nearest(q, nullptr, max_edge > 0 ? max_edge / std::sqrt(3.0) : kInfinity);
+    const Point* b = a ? nearest(xy(*a), a, kInfinity) : nullptr;
+    if (!b) return {Answer::None, {}};
+    // the first triangle, on the edge from q's nearest point to its nearest neighbour (a Delaunay
+    // edge), on q's side where there is one
+    const bool left = orient(xy(*a), xy(*b), q) >= 0;
+    const Point *from = left ? a : b, *to = left ? b : a;
+    Triangle t;
+    if (const Point* c = wrap(*from, *to)) t = {from, to, c};
+    else if (const Point* c2 = wrap(*to, *from)) t = {to, from, c2};
+    else return {Answer::None, {}};  // every point on one line: no triangle at all
+    for (int step = 0;; ++step) {
+        const int k = edge_beyond(t, q);
+        if (k < 0) break;
+        if (step == max_steps) return {Answer::Unproven, {}};
+        const Point &edge_from = *t[k], &edge_to = *t[(k + 1) % 3];  // cross to the other side
+        const Point* apex = wrap(edge_to, edge_from);
+        if (!apex) return {Answer::None, {}};  // q beyond the hull
+        t = {&edge_to, &edge_from, apex};
+    }
+    if (has_long_edge(t, max_edge)) return {Answer::None, {}};
+    const auto weights = barycentric(xy(*t[0]), xy(*t[1]), xy(*t[2]), q);
+    return {Answer::Triangle, {{t[0]->index, t[1]->index, t[2]->index}, weights}};
 }
 
 }  // namespace lidarscout::recon

@@ -191,9 +191,9 @@ TEST(BlockGridders, TinFindsTheSameTrianglesLocallyAsByTriangulating) {
     }
 }
 
-// A pond too wide for the local search among dense points (40 per square metre, 20 m of radius):
-// the texels over it are settled by triangulating the points near them, as the whole TIN has them.
-TEST(BlockGridders, TinTriangulatesThePointsNearWhatItCannotProve) {
+// A wide pond among dense points (40 per square metre, 20 m of radius): the long triangles over it
+// found from the points of its rim, as the whole TIN has them.
+TEST(BlockGridders, TinOverAWidePondIsTheWholeTins) {
     const int n = 64;
     DemGrid g = small_grid(n);
     g.width = g.height = 3 * n;
