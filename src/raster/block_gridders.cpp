@@ -172,16 +172,11 @@ public:
         const double texels = double(patch.size()) * patch.size();
         const bool local = spec_.tin_search == TinSearch::Local ||
                            (spec_.tin_search == TinSearch::Auto &&
-                            (wanted || double(patch.points.size()) >= kLocalPointsPerTexel * texels));
+                            (wanted || double(patch.points.size()) >= kTinWalkPointsPerTexel * texels));
         return local ? local_images(patch, wanted) : tin_images(patch);
     }
 
 private:
-    // From this many points per texel of the block and its margin on (and for a few wanted texels),
-    // TinSearch::Auto walks to each texel's triangle: on ky-jmo335 about as fast as CGAL's
-    // triangulation at 0.65 points per texel, faster above (3x at 16 and more).
-    static constexpr double kLocalPointsPerTexel = 0.5;
-
     BlockImages no_values() const {
         BlockImages out;
         out.heights_m.assign(texel_count(grid_), recon::kNoValue);

@@ -197,12 +197,12 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 
 // A tin block holds every point of the block and its margin until it is finished (24 bytes each, up
 // to twice that in a growing vector); finishing one copies them, sorts them into the patch and
-// triangulates them (about 240 bytes a point at its peak, measured). Where the points are denser
-// than a texel, these outweigh the per-texel bytes. The points (the tile headers' counts spread over
-// their bounds, grown by the margin): each held block the selected blocks' mean, and the densest one
+// triangulates them (about 240 bytes a point at its peak, measured) or, from kTinWalkPointsPerTexel
+// on, sorts them into buckets and walks (about 120 bytes). Where the points are denser than a
+// texel, these outweigh the per-texel bytes. The points (the tile headers' counts spread over their
+// bounds, grown by the margin): each held block the selected blocks' mean, and the densest one
 // finishing on top. Measured on the 100-tile replica's 10 m dtm of every point: the whole run held
-// 12.5 GB (estimated 19.1 GB; 115 MB before the points were counted), its densest piece of 16 8.3 GB
-// (estimated 10.7 GB).
+// 12.5 GB when it triangulated (estimated 19.1 GB), 7.0 GB when it walked (estimated 14.6 GB).
 // A tin block with the ground filter also holds, while it finishes, its lattice (about 60 bytes a
 // cell at the peak: the surfaces, the masks, the running extremes, the pull-push pyramid) and 33
 // bytes per point (a sample, its cell, its verdict).
@@ -236,7 +236,11 @@ TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::
     const double grown = (grid.block + 2.0 * kTinMarginTexels) / grid.block * (grid.block + 2.0 * kTinMarginTexels) /
                          grid.block * static_cast<double>(tins);
     const double finishing = densest * grown;  // points
-    return {filled > 0 ? sum / filled * grown * 48 : 0, finishing * 240 + ground_filter_bytes(grid, layers, finishing)};
+    const double window_texels = (grid.block + 2.0 * kTinMarginTexels) * (grid.block + 2.0 * kTinMarginTexels);
+    const bool walks = finishing / static_cast<double>(tins) >= kTinWalkPointsPerTexel * window_texels;
+    const double per_point = walks ? 120 : 240;
+    return {filled > 0 ? sum / filled * grown * 48 : 0,
+            finishing * per_point + ground_filter_bytes(grid, layers, finishing)};
 }
 
 }  // namespace
