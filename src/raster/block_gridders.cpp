@@ -177,6 +177,11 @@ public:
     }
 
 private:
+    // Below this many points per texel a walk starts from the last texel's triangle (on ky-jmo335
+    // at 1 m: the three products 10.35 -> 9.70 s), above it from the texel's nearest point (at
+    // 10 m, 60 points a texel: 6.55 s against 6.96 from the last triangle).
+    static constexpr double kChainedPointsPerTexel = 4;
+
     BlockImages no_values() const {
         BlockImages out;
         out.heights_m.assign(texel_count(grid_), recon::kNoValue);
@@ -208,13 +213,20 @@ private:
         const recon::LocalDelaunay local(recon::grid_positions(patch), patch.spec.grid_extent());
         const double max_edge = spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel);
         BlockImages out = no_values();
+        // few points a texel: each walk starts where the one of the texel before it (in its row) ended
+        const bool chained = double(patch.points.size()) < kChainedPointsPerTexel * double(patch.size()) * patch.size();
+        recon::LocalDelaunay::Hint hint;
         std::vector<std::array<float, 3>> rgb(spec_.rgb ? out.heights_m.size() : 0, {recon::kNoValue, 0.f, 0.f});
         for (int row = 0; row < n; ++row) {
+            hint.has_last = false;
             for (int col = 0; col < n; ++col) {
                 const std::size_t i = static_cast<std::size_t>(row) * n + col;
-                if (wanted && !(*wanted)[i]) continue;
+                if (wanted && !(*wanted)[i]) {
+                    hint.has_last = false;
+                    continue;
+                }
                 const recon::GridXY q{recon::texel_centre(col + m), recon::texel_centre(row + m)};
-                const recon::LocalDelaunay::Found found = local.triangle_at(q, max_edge);
+                const recon::LocalDelaunay::Found found = local.triangle_at(q, max_edge, chained ? &hint : nullptr);
                 if (found.answer == recon::LocalDelaunay::Answer::Unproven) return tin_images(patch);
                 if (found.answer != recon::LocalDelaunay::Answer::Triangle) continue;
                 const auto interpolate = [&](float recon::PatchPoint::*channel) {

@@ -296,29 +296,41 @@ bool LocalDelaunay::nothing_left_of(const Point& a, const Point& b) const {
     return std::none_of(hull_.begin(), hull_.end(), [&](const Point& h) { return orient(a, b, h) > 0; });
 }
 
-LocalDelaunay::Found LocalDelaunay::triangle_at(GridXY q, double max_edge, int max_steps) const {
-    if (q.x < box_.x0 || q.y < box_.y0 || q.x > box_.x1 || q.y > box_.y1) return {Answer::None, {}};  // beyond the hull
-    // a short triangle over q has a corner within max_edge / sqrt(3) of it
-    const Point* a = nearest(q, nullptr, max_edge > 0 ? max_edge / std::sqrt(3.0) : kInfinity);
-    const Point* b = a ? nearest(xy(*a), a, kInfinity) : nullptr;
-    if (!b) return {Answer::None, {}};
-    // the first triangle, on the edge from q's nearest point to its nearest neighbour (a Delaunay
-    // edge), on q's side where there is one
-    const bool left = orient(xy(*a), xy(*b), q) >= 0;
-    const Point *from = left ? a : b, *to = left ? b : a;
+LocalDelaunay::Found LocalDelaunay::triangle_at(GridXY q, double max_edge, Hint* hint, int max_steps) const {
+    const auto none = [&] {
+        if (hint) hint->has_last = false;
+        return Found{Answer::None, {}};
+    };
+    if (q.x < box_.x0 || q.y < box_.y0 || q.x > box_.x1 || q.y > box_.y1) return none();  // beyond the hull
     Triangle t;
-    if (const Point* c = wrap(*from, *to)) t = {from, to, c};
-    else if (const Point* c2 = wrap(*to, *from)) t = {to, from, c2};
-    else return {Answer::None, {}};  // every point on one line: no triangle at all
+    if (hint && hint->has_last) {
+        t = hint->last;
+    } else {
+        // a short triangle over q has a corner within max_edge / sqrt(3) of it
+        const Point* a = nearest(q, nullptr, max_edge > 0 ? max_edge / std::sqrt(3.0) : kInfinity);
+        const Point* b = a ? nearest(xy(*a), a, kInfinity) : nullptr;
+        if (!b) return none();
+        // the first triangle, on the edge from q's nearest point to its nearest neighbour (a
+        // Delaunay edge), on q's side where there is one
+        const bool left = orient(xy(*a), xy(*b), q) >= 0;
+        const Point *from = left ? a : b, *to = left ? b : a;
+        if (const Point* c = wrap(*from, *to)) t = {from, to, c};
+        else if (const Point* c2 = wrap(*to, *from)) t = {to, from, c2};
+        else return none();  // every point on one line: no triangle at all
+    }
     for (int step = 0;; ++step) {
         const int k = edge_beyond(t, q);
         if (k < 0) break;
-        if (step == max_steps) return {Answer::Unproven, {}};
+        if (step == max_steps) {
+            if (hint) hint->has_last = false;
+            return {Answer::Unproven, {}};
+        }
         const Point &edge_from = *t[k], &edge_to = *t[(k + 1) % 3];  // cross to the other side
         const Point* apex = wrap(edge_to, edge_from);
-        if (!apex) return {Answer::None, {}};  // q beyond the hull
+        if (!apex) return none();  // q beyond the hull
         t = {&edge_to, &edge_from, apex};
     }
+    if (hint) hint->last = t, hint->has_last = true;
     if (has_long_edge(t, max_edge)) return {Answer::None, {}};
     const auto weights = barycentric(xy(*t[0]), xy(*t[1]), xy(*t[2]), q);
     return {Answer::Triangle, {{t[0]->index, t[1]->index, t[2]->index}, weights}};

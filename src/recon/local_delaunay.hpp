@@ -50,14 +50,24 @@ public:
         LocalTriangle triangle;
     };
 
-    // The triangle holding `q` (under the tie rule) if none of its edges is longer than `max_edge`
-    // grid units (0: no limit).
-    Found triangle_at(GridXY q, double max_edge, int max_steps = 4096) const;
-
     struct Point {
         std::int64_t x, y;
         std::uint32_t index;
     };
+
+    // Where a caller's next walk may start: the last walk's triangle, for a position next to the
+    // last one where points are few per texel (where they are many, the walk from the position's
+    // nearest point is shorter). Every triangle is the triangulation's, so answers do not depend
+    // on it.
+    struct Hint {
+        std::array<const Point*, 3> last{};
+        bool has_last = false;
+    };
+
+    // The triangle holding `q` (under the tie rule) if none of its edges is longer than `max_edge`
+    // grid units (0: no limit); with a hint, the walk starts from its triangle and leaves the last
+    // triangle in it.
+    Found triangle_at(GridXY q, double max_edge, Hint* hint = nullptr, int max_steps = 4096) const;
 
 private:
     struct Rect {

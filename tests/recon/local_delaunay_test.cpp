@@ -69,16 +69,18 @@ struct Tally {
     std::size_t triangles = 0, none = 0, unproven = 0;
 };
 
-// Every texel centre of the window: the local answer against the whole triangulation's.
-Tally check_against_cgal(const std::vector<GridXY>& points, double max_edge) {
+// Every texel centre of the window, row by row: the local answer against the whole triangulation's;
+// with `chained`, each walk starting where the last ended.
+Tally check_against_cgal(const std::vector<GridXY>& points, double max_edge, bool chained = false) {
     const Triangulation tri = triangulate(points, kExtent, /*pad_corners=*/false);
     const FaceMap map = build_face_map(tri, kTexels);
     const LocalDelaunay local(points, kExtent);
+    LocalDelaunay::Hint hint;
     Tally tally;
     for (int row = 0; row < kTexels; ++row) {
         for (int col = 0; col < kTexels; ++col) {
             const GridXY q{texel_centre(col), texel_centre(row)};
-            const LocalDelaunay::Found found = local.triangle_at(q, max_edge);
+            const LocalDelaunay::Found found = local.triangle_at(q, max_edge, chained ? &hint : nullptr);
             const std::int32_t face = map.at(row, col);
             const bool whole_has_value = face >= 0 && !long_triangle(tri, face, max_edge);
             switch (found.answer) {
@@ -106,16 +108,18 @@ Tally check_against_cgal(const std::vector<GridXY>& points, double max_edge) {
 
 TEST(LocalDelaunay, RandomPointsGiveTheWholeTriangulationsTriangles) {
     for (const std::size_t n : {2000u, 30000u, 200000u}) {  // 0.2 to 20 points per texel
-        const Tally t = check_against_cgal(random_points(n, n), 0);
-        EXPECT_EQ(t.unproven, 0u) << n;
-        EXPECT_GT(t.triangles, 9000u) << n;  // all but the few texels beyond the hull
+        for (const bool chained : {false, true}) {
+            const Tally t = check_against_cgal(random_points(n, n), 0, chained);
+            EXPECT_EQ(t.unproven, 0u) << n;
+            EXPECT_GT(t.triangles, 9000u) << n;  // all but the few texels beyond the hull
+        }
     }
 }
 
 TEST(LocalDelaunay, LatticeTiesAreBrokenAsCgalBreaksThem) {
     // cocircular everywhere: on a pure lattice every empty circle holds four points
     for (const double jitter : {0.0, 0.3}) {
-        const Tally t = check_against_cgal(lattice_points(kGridUnitsPerTexel / 2 + 7, jitter, 5), 0);
+        const Tally t = check_against_cgal(lattice_points(kGridUnitsPerTexel / 2 + 7, jitter, 5), 0, jitter > 0);
         EXPECT_EQ(t.unproven, 0u) << jitter;
         EXPECT_GT(t.triangles, 9000u) << jitter;
     }
@@ -135,9 +139,11 @@ TEST(LocalDelaunay, ClustersAndVoidsGiveTheWholeTriangulationsTriangles) {
     const Tally open = check_against_cgal(points, 0);
     EXPECT_GT(open.triangles, 4000u);  // long triangles across the voids
     EXPECT_EQ(open.unproven, 0u);
-    const Tally cut = check_against_cgal(points, 4.0 * kGridUnitsPerTexel);
-    EXPECT_GT(cut.none, 5000u);  // the voids between the clusters
-    EXPECT_EQ(cut.unproven, 0u);
+    for (const bool chained : {false, true}) {
+        const Tally cut = check_against_cgal(points, 4.0 * kGridUnitsPerTexel, chained);
+        EXPECT_GT(cut.none, 5000u);  // the voids between the clusters
+        EXPECT_EQ(cut.unproven, 0u);
+    }
 }
 
 TEST(LocalDelaunay, VoidsWiderThanTheEdgeLimitAreProvenEmpty) {
@@ -165,7 +171,7 @@ TEST(LocalDelaunay, AWalkCutShortIsUnproven) {
     std::size_t unproven = 0, triangles = 0;
     for (int col = 0; col < kTexels; col += 5) {
         const GridXY q{texel_centre(col), texel_centre(40)};
-        unproven += local.triangle_at(q, 0, 0).answer == LocalDelaunay::Answer::Unproven;
+        unproven += local.triangle_at(q, 0, nullptr, 0).answer == LocalDelaunay::Answer::Unproven;
         triangles += local.triangle_at(q, 0).answer == LocalDelaunay::Answer::Triangle;
     }
     EXPECT_GT(unproven, 0u);  // the first triangle does not always hold the centre
