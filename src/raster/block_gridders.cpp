@@ -318,8 +318,7 @@ private:
 
 // The highest point of each texel of the block and its margin; the block's texels without one
 // take the TIN of those points (the Delaunay triangulation of all of them), within its edge limit:
-// a TinGridder of them asked for the holes only (which it settles from the points around each,
-// or from a TIN of the points near those it cannot).
+// a TinGridder of them asked for the holes only, which walks to each hole's triangle.
 class HighestTinGridder final : public BlockGridder {
 public:
     HighestTinGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
@@ -356,20 +355,21 @@ public:
                 else holes[i] = 1;
             }
         }
-        if (std::find(holes.begin(), holes.end(), 1) != holes.end()) {
+        const bool any_hole = std::find(holes.begin(), holes.end(), 1) != holes.end();
+        if (any_hole) {
             dataset::MetricPoint p;
             for (const Highest& h : highest_) {
                 if (!h.set) continue;
                 p.x = h.x, p.y = h.y, p.z = h.z;
                 tin_.add(p, nullptr);
             }
-            std::vector<Highest>().swap(highest_);
-            const BlockImages tin = tin_.finish_at(&holes);
-            for (std::size_t i = 0; i < holes.size(); ++i) {
-                if (holes[i]) out.heights_m[i] = tin.heights_m[i];
-            }
         }
         std::vector<Highest>().swap(highest_);
+        if (!any_hole) return out;
+        const BlockImages tin = tin_.finish_at(&holes);
+        for (std::size_t i = 0; i < holes.size(); ++i) {
+            if (holes[i]) out.heights_m[i] = tin.heights_m[i];
+        }
         return out;
     }
 

@@ -60,11 +60,6 @@ bool inside_circle(const Point& a, const Point& b, const Point& c, const Point& 
     return false;
 }
 
-double squared_distance(const Point& a, GridXY q) {
-    const double dx = static_cast<double>(a.x) - q.x, dy = static_cast<double>(a.y) - q.y;
-    return dx * dx + dy * dy;
-}
-
 // The squared distance from (x, y) to the rectangle [x0, x1] x [y0, y1] (0 inside).
 double squared_distance_to(const auto& rect, double x, double y) {
     const double dx = std::max({rect.x0 - x, 0.0, x - rect.x1}), dy = std::max({rect.y0 - y, 0.0, y - rect.y1});
@@ -86,7 +81,7 @@ int edge_beyond(const Triangle& t, GridXY q) {
 bool has_long_edge(const Triangle& t, double max_edge) {
     if (!(max_edge > 0)) return false;
     for (int k = 0; k < 3; ++k) {
-        if (squared_distance(*t[k], xy(*t[(k + 1) % 3])) > max_edge * max_edge) return true;
+        if (squared_distance(xy(*t[k]), xy(*t[(k + 1) % 3])) > max_edge * max_edge) return true;
     }
     return false;
 }
@@ -146,17 +141,13 @@ LocalDelaunay::LocalDelaunay(std::span<const GridXY> positions, std::int64_t ext
     group_ = std::max<long>(4, side_ / 128);
     groups_ = (side_ + group_ - 1) / group_;
 
-    const auto bucket_of = [&](const GridXY& p) {
-        return static_cast<std::size_t>(p.y / static_cast<double>(cell_)) * side_ +
-               static_cast<std::size_t>(p.x / static_cast<double>(cell_));
-    };
+    const auto column = [&](double v) { return static_cast<long>(v / static_cast<double>(cell_)); };
+    const auto bucket_of = [&](const GridXY& p) { return static_cast<std::size_t>(column(p.y)) * side_ + column(p.x); };
     start_.assign(static_cast<std::size_t>(side_) * side_ + 1, 0);
     grouped_.assign(static_cast<std::size_t>(groups_) * groups_, 0);
     for (const GridXY& p : positions) {
         ++start_[bucket_of(p) + 1];
-        const long bx = static_cast<long>(p.x / static_cast<double>(cell_));
-        const long by = static_cast<long>(p.y / static_cast<double>(cell_));
-        ++grouped_[static_cast<std::size_t>(by / group_) * groups_ + bx / group_];
+        ++grouped_[static_cast<std::size_t>(column(p.y) / group_) * groups_ + column(p.x) / group_];
     }
     for (std::size_t b = 1; b < start_.size(); ++b) start_[b] += start_[b - 1];
     sorted_.resize(positions.size());
@@ -197,7 +188,7 @@ const Point* LocalDelaunay::nearest(GridXY q, const Point* skip, double limit) c
     double best_d2 = kInfinity;
     const auto wanted = [&](const Rect& r) { return squared_distance_to(r, q.x, q.y) <= best_d2; };
     const auto visit = [&](const Point& p) {
-        const double d2 = squared_distance(p, q);
+        const double d2 = squared_distance(xy(p), q);
         if (&p != skip && d2 < best_d2) best = &p, best_d2 = d2;
     };
     for (double h = static_cast<double>(cell_);; h *= 2) {  // squares of growing half-side h around q
@@ -222,13 +213,15 @@ const Point* LocalDelaunay::wrap(const Point& a, const Point& b) const {
     const double mx = 0.5 * double(a.x + b.x), my = 0.5 * double(a.y + b.y);
     const double nx = -double(b.y - a.y), ny = double(b.x - a.x);  // the left normal
     const double c = static_cast<double>(cell_);
+    // a rectangle partly left of the edge that the best circle so far reaches
+    const auto wanted = [&](const Rect& r) {
+        const double ex = nx > 0 ? r.x1 : r.x0, ey = ny > 0 ? r.y1 : r.y0;  // its corner farthest left
+        return nx * (ex - double(a.x)) + ny * (ey - double(a.y)) > 0 && squared_distance_to(r, cx, cy) <= reach * reach;
+    };
     const auto visit_bucket = [&](long bx, long by) {
         const std::size_t bucket = static_cast<std::size_t>(by) * side_ + bx;
         if (start_[bucket] == start_[bucket + 1]) return;
-        const Rect r{double(bx) * c, double(by) * c, double(bx + 1) * c, double(by + 1) * c};
-        const double ex = nx > 0 ? r.x1 : r.x0, ey = ny > 0 ? r.y1 : r.y0;  // its corner farthest left
-        if (!(nx * (ex - double(a.x)) + ny * (ey - double(a.y)) > 0)) return;
-        if (squared_distance_to(r, cx, cy) > reach * reach) return;
+        if (!wanted(Rect{double(bx) * c, double(by) * c, double(bx + 1) * c, double(by + 1) * c})) return;
         for (std::uint32_t i = start_[bucket]; i < start_[bucket + 1]; ++i) {
             const Point& d = sorted_[i];
             const std::int64_t den = orient(a, b, d);
@@ -243,10 +236,6 @@ const Point* LocalDelaunay::wrap(const Point& a, const Point& b) const {
             const double radius = std::sqrt(r2);
             reach = radius + 1e-9 * radius + 4;
         }
-    };
-    const auto wanted = [&](const Rect& r) {
-        const double ex = nx > 0 ? r.x1 : r.x0, ey = ny > 0 ? r.y1 : r.y0;  // its corner farthest left
-        return nx * (ex - double(a.x)) + ny * (ey - double(a.y)) > 0 && squared_distance_to(r, cx, cy) <= reach * reach;
     };
     // The rings of cells of `unit` buckets around the midpoint's, each cell visited by visit_cell;
     // true when the best circle lies inside the rings seen (or they hold every bucket).
