@@ -148,7 +148,8 @@ private:
 class TinGridder final : public BlockGridder {
 public:
     TinGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
-        : spec_(spec), grid_(grid), min_x_(grid.origin_x + double(block.ix) * grid.block * grid.texel_m),
+        : spec_(spec), grid_(grid), margin_(tin_margin_texels(spec, grid.texel_m)),
+          min_x_(grid.origin_x + double(block.ix) * grid.block * grid.texel_m),
           min_y_(grid.origin_y + double(block.iy) * grid.block * grid.texel_m) {}
 
     void add(const dataset::MetricPoint& p, const recon::TexelLocation*) override {
@@ -162,7 +163,7 @@ public:
     // without it), nodata at the others.
     BlockImages finish_at(const std::vector<char>* wanted) {
         recon::PatchOptions options;
-        options.spec = {grid_.texel_m, grid_.block, kTinMarginTexels};
+        options.spec = {grid_.texel_m, grid_.block, margin_};
         options.min_points = 3;
         options.has_rgb = spec_.rgb;
         if (spec_.ground) keep_ground(*spec_.ground);
@@ -195,7 +196,7 @@ private:
         const recon::Triangulation tri =
             recon::triangulate(recon::grid_positions(patch), patch.spec.grid_extent(), /*pad_corners=*/false);
         const recon::FaceMap map =  // the block's own texels only: the margin's are cropped away
-            without_long_edges(tri, recon::build_face_map(tri, patch.size(), kTinMarginTexels));
+            without_long_edges(tri, recon::build_face_map(tri, patch.size(), margin_));
         recon::Image heights(patch.size(), 1);
         recon::fill_linear(heights, tri, map, recon::height_values(patch));
         const recon::Image block = recon::crop_centre(heights, grid_.block);
@@ -209,7 +210,7 @@ private:
     // The same at the wanted texels, each texel's triangle found from the points around it
     // (recon/local_delaunay.hpp); should a walk there not end (never seen), the whole TIN.
     BlockImages local_images(const recon::PatchPoints& patch, const std::vector<char>* wanted) const {
-        const int n = grid_.block, m = kTinMarginTexels;
+        const int n = grid_.block, m = margin_;
         const recon::LocalDelaunay local(recon::grid_positions(patch), patch.spec.grid_extent());
         const double max_edge = spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel);
         BlockImages out = no_values();
@@ -259,7 +260,7 @@ private:
 
     // Drops the held points the ground filter does not find on the ground of the block and its margin.
     void keep_ground(const recon::GroundFilterParams& params) {
-        const recon::GroundLattice lattice = tin_ground_lattice(grid_, min_x_, min_y_, params);
+        const recon::GroundLattice lattice = tin_ground_lattice(grid_, margin_, min_x_, min_y_, params);
         std::vector<recon::GroundSample> samples(points_.size());
         for (std::size_t i = 0; i < points_.size(); ++i) samples[i] = {points_[i].x, points_[i].y, points_[i].dz};
         const std::vector<std::uint8_t> ground = recon::find_ground(samples, lattice, params);
@@ -312,6 +313,7 @@ private:
 
     GridderSpec spec_;
     DemGrid grid_;
+    int margin_;
     double min_x_, min_y_, base_z_ = 0;
     std::vector<Held> points_;
 };
@@ -322,9 +324,9 @@ private:
 class HighestTinGridder final : public BlockGridder {
 public:
     HighestTinGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
-        : tin_(spec, grid, block), grid_(grid), side_(grid.block + 2 * kTinMarginTexels),
-          first_col_(block.ix * grid.block - kTinMarginTexels), first_row_(block.iy * grid.block - kTinMarginTexels),
-          highest_(static_cast<std::size_t>(side_) * side_) {}
+        : tin_(spec, grid, block), grid_(grid), margin_(tin_margin_texels(spec, grid.texel_m)),
+          side_(grid.block + 2 * margin_), first_col_(long(block.ix) * grid.block - margin_),
+          first_row_(long(block.iy) * grid.block - margin_), highest_(static_cast<std::size_t>(side_) * side_) {}
 
     void add(const dataset::MetricPoint& p, const recon::TexelLocation* own) override {
         const auto at = recon::locate_texel(grid_.block_spec(), grid_.origin_x, grid_.origin_y, p.x, p.y);
@@ -343,7 +345,7 @@ public:
     }
 
     BlockImages finish() override {
-        const int n = grid_.block, m = kTinMarginTexels;
+        const int n = grid_.block, m = margin_;
         BlockImages out;
         out.heights_m.assign(static_cast<std::size_t>(n) * n, recon::kNoValue);
         std::vector<char> holes(out.heights_m.size(), 0);
@@ -381,7 +383,7 @@ private:
 
     TinGridder tin_;
     DemGrid grid_;
-    int side_;
+    int margin_, side_;
     long first_col_, first_row_;
     std::vector<Highest> highest_;
 };
@@ -399,7 +401,7 @@ void validate(const GridderSpec& spec, const DemGrid& grid) {
         if (!(spec.tin_max_edge_m >= 0) || !std::isfinite(spec.tin_max_edge_m)) {
             throw Error::in_stage("dem", "--max-edge must be 0 (no limit) or a positive number of metres");
         }
-        if (grid.block + 2 * kTinMarginTexels > 512) {
+        if (grid.block + 2 * tin_margin_texels(spec, grid.texel_m) > kTinWindowTexels) {
             throw Error::in_stage("dem", "tin blocks of " + std::to_string(grid.block) +
                                              " texels leave no room for the margin (internal error)");
         }
@@ -413,16 +415,32 @@ double gridder_reach_m(const GridderSpec& spec, double texel_m) {
     case GridMethod::Statistic: return 0;
     case GridMethod::Idw: return spec.idw_radius_m > 0 ? spec.idw_radius_m : texel_m * std::sqrt(2.0);
     case GridMethod::Tin:
-    case GridMethod::HighestTin: return kTinMarginTexels * texel_m;
+    case GridMethod::HighestTin: return tin_margin_texels(spec, texel_m) * texel_m;
     }
     return 0;
 }
 
-recon::GroundLattice tin_ground_lattice(const DemGrid& grid, double block_min_x, double block_min_y,
+int tin_margin_texels(const GridderSpec& spec, double texel_m) {
+    if (spec.method != GridMethod::Tin && spec.method != GridMethod::HighestTin) return 0;
+    if (!(spec.tin_max_edge_m > 0)) return kMaxTinMarginTexels;
+    double reach_m = spec.tin_max_edge_m;
+    if (spec.ground) {
+        const recon::GroundLattice lattice = recon::ground_lattice(0, 0, kTinWindowTexels * texel_m, *spec.ground);
+        const double openings = 2 * std::ceil(spec.ground->window_m / lattice.cell_m);
+        reach_m = std::max(reach_m, (openings + 2) * lattice.cell_m);
+    }
+    constexpr int kSpareTexels = 4;
+    const double texels = std::ceil(reach_m / texel_m - 1e-9) + kSpareTexels;
+    return static_cast<int>(std::min<double>(texels, kMaxTinMarginTexels));
+}
+
+int tin_block_texels(int margin) { return margin > 0 ? kTinWindowTexels - 2 * margin : kTinWindowTexels; }
+
+recon::GroundLattice tin_ground_lattice(const DemGrid& grid, int margin, double block_min_x, double block_min_y,
                                         const recon::GroundFilterParams& params) {
-    const double margin = kTinMarginTexels * grid.texel_m;
-    return recon::ground_lattice(block_min_x - margin, block_min_y - margin,
-                                 (grid.block + 2.0 * kTinMarginTexels) * grid.texel_m, params);
+    const double margin_m = margin * grid.texel_m;
+    return recon::ground_lattice(block_min_x - margin_m, block_min_y - margin_m,
+                                 (grid.block + 2.0 * margin) * grid.texel_m, params);
 }
 
 std::unique_ptr<BlockGridder> make_block_gridder(const GridderSpec& spec, const DemGrid& grid, CellKey block) {

@@ -128,10 +128,8 @@ void check_points_used(const DemResult& result, const DemRequest& r) {
 
 int block_texels(const DemRequest& r) {
     if (r.source == DemSource::Overview) return kOverviewPatchTexels;
-    if (!r.products.empty()) {
-        return ProductPass(r.products, r.product_options, r.texel_m).triangulates() ? kTinBlockTexels : 512;
-    }
-    return r.method == DemMethod::Tin ? kTinBlockTexels : 512;
+    if (!r.products.empty()) return ProductPass(r.products, r.product_options, r.texel_m).block_texels();
+    return tin_block_texels(tin_margin_texels(gridder_of(r), r.texel_m));
 }
 
 // The request's area in metres, or the dataset's bounds.

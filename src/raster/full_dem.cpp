@@ -206,14 +206,10 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 // A tin block with the ground filter also holds, while it finishes, its lattice (about 60 bytes a
 // cell at the peak: the surfaces, the masks, the running extremes, the pull-push pyramid) and 33
 // bytes per point (a sample, its cell, its verdict).
-double ground_filter_bytes(const DemGrid& grid, std::span<const GridLayer> layers, double points) {
-    double bytes = 0;
-    for (const GridLayer& l : layers) {
-        if (l.gridder.method != GridMethod::Tin || !l.gridder.ground) continue;
-        const double cells = tin_ground_lattice(grid, 0, 0, *l.gridder.ground).cells;
-        bytes += cells * cells * 60 + points * 33;
-    }
-    return bytes;
+double ground_filter_bytes(const DemGrid& grid, const GridderSpec& tin, double points) {
+    const int margin = tin_margin_texels(tin, grid.texel_m);
+    const double cells = tin_ground_lattice(grid, margin, 0, 0, *tin.ground).cells;
+    return cells * cells * 60 + points * 33;
 }
 
 struct TinPoints {
@@ -221,9 +217,8 @@ struct TinPoints {
 };
 
 TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::span<const GridLayer> layers) {
-    const auto tins = std::count_if(layers.begin(), layers.end(),
-                                    [](const GridLayer& l) { return l.gridder.method == GridMethod::Tin; });
-    if (tins == 0) return {};
+    const auto is_tin = [](const GridLayer& l) { return l.gridder.method == GridMethod::Tin; };
+    if (std::none_of(layers.begin(), layers.end(), is_tin)) return {};
     const std::vector<double> points = block_point_estimates(ds, grid);
     const BlockRange selected = grid.selected_blocks();
     double densest = 0, sum = 0, filled = 0;
@@ -233,14 +228,17 @@ TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::
             densest = std::max(densest, p), sum += p, filled += p > 0;
         }
     }
-    const double grown = (grid.block + 2.0 * kTinMarginTexels) / grid.block * (grid.block + 2.0 * kTinMarginTexels) /
-                         grid.block * static_cast<double>(tins);
-    const double finishing = densest * grown;  // points
-    const double window_texels = (grid.block + 2.0 * kTinMarginTexels) * (grid.block + 2.0 * kTinMarginTexels);
-    const bool walks = finishing / static_cast<double>(tins) >= kTinWalkPointsPerTexel * window_texels;
-    const double per_point = walks ? 120 : 240;
-    return {filled > 0 ? sum / filled * grown * 48 : 0,
-            finishing * per_point + ground_filter_bytes(grid, layers, finishing)};
+    double held = 0, finishing = 0;
+    for (const GridLayer& l : layers) {
+        if (!is_tin(l)) continue;
+        const double window = grid.block + 2.0 * tin_margin_texels(l.gridder, grid.texel_m);
+        const double grown = window / grid.block * window / grid.block;
+        const double seen = densest * grown;  // points
+        held += filled > 0 ? sum / filled * grown * 48 : 0;
+        finishing += seen * (seen >= kTinWalkPointsPerTexel * window * window ? 120 : 240);
+        if (l.gridder.ground) finishing += ground_filter_bytes(grid, l.gridder, seen);
+    }
+    return {held, finishing};
 }
 
 }  // namespace

@@ -35,17 +35,17 @@ GridderSpec counting() {
 }
 
 // The ground filter runs in each TIN block on the block and its margin: its openings (reaching
-// twice the window) must stay within the margin for blocks to agree near their edges, and bound
-// its work.
+// twice the window) must stay within the widest margin (tin_margin_texels) for blocks to agree near
+// their edges, and bound its work.
 void check_ground_reach(const recon::GroundFilterParams& ground, double texel_m) {
     recon::check_ground_params(ground);
-    const double most = kTinMarginTexels * texel_m / 2;
+    const double most = kMaxTinMarginTexels * texel_m / 2;
     if (ground.window_m > most) {
         char text[200];
         std::snprintf(text, sizeof text,
-                      "--ground-window %g m is more than half the %d-texel margin a block sees at --texel %g (%g m): "
-                      "give a larger --texel or a smaller window",
-                      ground.window_m, kTinMarginTexels, texel_m, most);
+                      "--ground-window %g m is more than half the %d-texel margin a block sees at --texel %g "
+                      "(%g m): give a larger --texel or a smaller window",
+                      ground.window_m, kMaxTinMarginTexels, texel_m, most);
         throw Error::in_stage("dem", text);
     }
 }
@@ -129,7 +129,11 @@ ProductPass::ProductPass(std::span<const Product> products, const ProductOptions
     }
 }
 
-bool ProductPass::triangulates() const { return dtm_ >= 0 || dsm_ >= 0; }
+int ProductPass::block_texels() const {
+    int margin = 0;
+    for (const GridLayer& l : layers_) margin = std::max(margin, tin_margin_texels(l.gridder, texel_m_));
+    return tin_block_texels(margin);
+}
 
 int ProductPass::layer_of(Product p) const {
     switch (p) {

@@ -57,7 +57,7 @@ public:
     ProductPass(std::span<const Product> products, const ProductOptions& options, double texel_m);
 
     std::span<const GridLayer> layers() const { return layers_; }
-    bool triangulates() const;  // a layer is a TIN (its blocks must leave room for the margin)
+    int block_texels() const;   // the pass's blocks: room for its widest tin margin
     double max_edge_m() const { return max_edge_m_; }
 
     // Product `p`'s block in the file's units (heights / z_to_metres), `nodata` where none.

@@ -3,11 +3,13 @@
 #include "recon/patch_space.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 #include <tuple>
 
 #include "core/error.hpp"
+#include "core/radix_sort.hpp"
 
 namespace lidarscout::recon {
 namespace {
@@ -36,8 +38,17 @@ std::vector<Snapped> snap_window(std::span<const lidarscout::OverviewPoint> poin
         out.push_back({static_cast<std::int32_t>(std::llround(dx * units_per_metre)),
                        static_cast<std::int32_t>(std::llround(dy * units_per_metre)), p.z, p.rgb});
     }
-    // A canonical order (not the input order) so that the result does not depend on it.
-    std::sort(out.begin(), out.end(), [](const Snapped& a, const Snapped& b) { return a.key() < b.key(); });
+    // A canonical order (not the input order) so that the result does not depend on it: by
+    // position (a radix sort), then the few points at one position by height and colour.
+    const int bits = std::bit_width(static_cast<std::uint64_t>(spec.grid_extent()));
+    radix_sort(out, [bits](const Snapped& s) { return std::uint64_t(s.gy) << bits | std::uint64_t(s.gx); }, 2 * bits);
+    for (std::size_t i = 0; i < out.size();) {
+        std::size_t j = i + 1;
+        while (j < out.size() && out[j].gx == out[i].gx && out[j].gy == out[i].gy) ++j;
+        const auto by_key = [](const Snapped& a, const Snapped& b) { return a.key() < b.key(); };
+        if (j - i > 1) std::sort(out.begin() + i, out.begin() + j, by_key);
+        i = j;
+    }
     return out;
 }
 

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <unordered_map>
 
+#include "core/radix_sort.hpp"
 #include "render/cache_key.hpp"
 #include "viewer/visibility.hpp"
 
@@ -28,17 +29,8 @@ std::uint32_t spread_bits(std::uint32_t v) {
 
 std::uint32_t axis_cell(double t) { return static_cast<std::uint32_t>(std::clamp(t * 65536.0, 0.0, 65535.0)); }
 
-// Sorts `keyed` (code << 32 | index) by code, stably (radix sort on the code's four bytes).
-void sort_by_code(std::vector<std::uint64_t>& keyed) {
-    std::vector<std::uint64_t> other(keyed.size());
-    for (int shift = 32; shift < 64; shift += 8) {
-        std::array<std::uint32_t, 257> start{};
-        for (const auto k : keyed) ++start[((k >> shift) & 0xff) + 1];
-        for (std::size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
-        for (const auto k : keyed) other[start[(k >> shift) & 0xff]++] = k;
-        keyed.swap(other);
-    }
-}
+// Sorts `keyed` (code << 32 | index) by code, stably.
+void sort_by_code(std::vector<std::uint64_t>& keyed) { radix_sort(keyed, [](std::uint64_t k) { return k >> 32; }, 32); }
 
 // Which block of the world grid each point falls in; blocks numbered in order of first appearance.
 struct BlockIndex {

@@ -232,10 +232,31 @@ TEST(BlockGridders, ReachAndParametersAreChecked) {
     EXPECT_EQ(gridder_reach_m(spec, 2.0), 5.0);
     spec.idw_power = 0;
     EXPECT_THROW(make_block_gridder(spec, small_grid(8), {0, 0}), Error);
-    spec.method = GridMethod::Tin;
-    EXPECT_EQ(gridder_reach_m(spec, 2.0), kTinMarginTexels * 2.0);
+    spec.method = GridMethod::Tin;  // no edge limit: the widest margin
+    EXPECT_EQ(gridder_reach_m(spec, 2.0), kMaxTinMarginTexels * 2.0);
     EXPECT_THROW(make_block_gridder(spec, small_grid(512), {0, 0}), Error);  // no room for the margin
-    EXPECT_NO_THROW(make_block_gridder(spec, small_grid(kTinBlockTexels), {0, 0}));
+    EXPECT_NO_THROW(make_block_gridder(spec, small_grid(tin_block_texels(kMaxTinMarginTexels)), {0, 0}));
+}
+
+TEST(BlockGridders, TinMarginsAreWhatTheGridderReaches) {
+    GridderSpec spec;
+    EXPECT_EQ(tin_margin_texels(spec, 1.0), 0);  // not a tin
+    EXPECT_EQ(tin_block_texels(0), 512);
+    spec.method = GridMethod::HighestTin;
+    spec.tin_max_edge_m = 20;
+    EXPECT_EQ(tin_margin_texels(spec, 1.0), 24);  // the longest edge and 4 texels
+    EXPECT_EQ(tin_margin_texels(spec, 10.0), 6);
+    EXPECT_EQ(gridder_reach_m(spec, 10.0), 60.0);
+    spec.method = GridMethod::Tin;
+    spec.ground = recon::GroundFilterParams{};  // 1 m cells, an 18 m window: openings reaching 36 cells
+    EXPECT_EQ(tin_margin_texels(spec, 1.0), 42);  // 36 + 2 cells (slopes, sampling) + 4 texels
+    EXPECT_EQ(tin_margin_texels(spec, 0.5), 64);  // 80 texels needed: at most the widest
+    spec.tin_max_edge_m = 1000;
+    EXPECT_EQ(tin_margin_texels(spec, 1.0), kMaxTinMarginTexels);
+    EXPECT_EQ(tin_block_texels(42), 428);
+    // a block of the widest margin's size has room; one of a narrower margin's has not
+    spec.tin_max_edge_m = 0;
+    EXPECT_THROW(make_block_gridder(spec, small_grid(tin_block_texels(42)), {0, 0}), Error);
 }
 
 }  // namespace
