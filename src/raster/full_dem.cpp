@@ -18,6 +18,9 @@ namespace lidarscout::raster {
 
 namespace {
 
+// Points read and placed at a time (a batch of a tile; the next one is read while this one is gridded).
+constexpr std::uint64_t kReadBatchPoints = 1u << 20;
+
 int block_index(double v, double origin, double block_m, int count) {
     const double i = std::floor((v - origin) / block_m);
     return static_cast<int>(std::clamp(i, -1.0, static_cast<double>(count)));
@@ -212,6 +215,16 @@ double ground_filter_bytes(const DemGrid& grid, const GridderSpec& tin, double p
     return cells * cells * 60 + points * 33;
 }
 
+// The reading: two batches at once, each as placed points, as records and (at most about as large)
+// their compressed bytes; and the program itself (its code and libraries, about 50 MB resident).
+// On ky-jmo335 at 1 m the plain mean DEM held 0.36 GB at its peak, 0.24 GB estimated without these.
+double reading_bytes(const dataset::Dataset& ds) {
+    constexpr double kProgramBytes = 64e6;
+    double record = 0;
+    for (const auto& t : ds.tiles) record = std::max(record, static_cast<double>(t.tile.header.record_length));
+    return kProgramBytes + 2.0 * kReadBatchPoints * (sizeof(dataset::MetricPoint) + 2 * record);
+}
+
 struct TinPoints {
     double held_bytes_per_block = 0, finishing_bytes = 0;
 };
@@ -261,7 +274,7 @@ std::uint64_t full_layers_peak_bytes(const dataset::Dataset& ds, const DemGrid& 
     const double block_texels = static_cast<double>(grid.block) * grid.block;
     const TinPoints tin = tin_point_bytes(ds, grid, layers);
     const double bytes = held * (block_texels * per_texel + tin.held_bytes_per_block) + tin.finishing_bytes +
-                         blocks * sizeof(int);
+                         blocks * sizeof(int) + reading_bytes(ds);
     return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
 }
 
@@ -325,7 +338,7 @@ FullDemStats grid_full_layers(const dataset::Dataset& ds, const DemGrid& grid, s
         stats.points_skipped += s.points;
     };
     dataset::for_each_metric_batch(ds, order, pool, add, [&](std::uint32_t t) { blocks.tile_done(ranges[t], pool); },
-                                   fields, 1u << 20, skipped);
+                                   fields, kReadBatchPoints, skipped);
     for (std::size_t t = 0; t < ds.tiles.size(); ++t) {
         if (outside[t] == 0) continue;
         stats.skipped.push_back({ds.tiles[t].tile.path(), std::nullopt,

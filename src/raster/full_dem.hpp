@@ -72,8 +72,8 @@ struct FullDemStats {
 // Bytes grid_full_dem may hold at once, estimated before anything is allocated: the blocks of a
 // band as wide as the grid's selected blocks and as tall as the tallest tile's blocks plus one
 // (blocks finish when the row of tiles above them is done), at the gridder's bytes per texel (a tin
-// block: or the points it holds, from the tile headers' counts, where more), and a count per block of
-// the grid.
+// block: or the points it holds, from the tile headers' counts, where more), a count per block of
+// the grid, the batches of points being read and the program itself.
 std::uint64_t full_dem_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const GridderSpec& gridder,
                                   bool rgb);
 // The same for several layers gridded in one pass.

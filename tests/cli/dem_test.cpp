@@ -2,7 +2,8 @@
 // with its orthophoto and hillshade, JSON output; bad options are one-line errors (exit 1); a
 // raster over the memory budget is refused before it is allocated, a hostile --threads capped,
 // and a corrupt chunk costs only its points (exit 3); --product writes several rasters in one
-// read, each to its own checked name; --ground smrf makes the dtm of an unclassified survey.
+// read, each to its own checked name; --ground smrf makes the dtm of an unclassified survey; the memory
+// estimate bounds the peak.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -380,6 +381,24 @@ TEST_F(DemCommand, EmptyResultsAreErrorsThatSayWhy) {
     EXPECT_TRUE(fs::is_empty(dir)) << "nothing may be left behind";
     EXPECT_EQ(test::run_command(dem + "--classes 0 > /dev/null 2>&1", out), 0);  // the control: its points are class 0
     EXPECT_TRUE(fs::exists(path("x.tif")));
+}
+
+// The memory estimate (what --memory is checked against) bounds what the run holds at its peak
+// (the whole process, reading included), and not by far more than twice.
+TEST_F(DemCommand, MemoryEstimateBoundsThePeak) {
+    for (const char* args : {"--texel 1", "--texel 1 --product dtm,dsm,chm", "--texel 2 --method tin"}) {
+        std::string out;
+        ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " " + args + " --json -o " +
+                                        path("m.tif") + " 2>/dev/null",
+                                    out),
+                  0)
+            << args;
+        const auto j = nlohmann::json::parse(out);
+        const auto estimate = j.at("memory_estimate_bytes").get<double>();
+        const auto peak = j.at("peak_resident_bytes").get<double>();
+        EXPECT_GE(estimate, peak) << args;
+        EXPECT_LT(estimate, 2.5 * peak) << args;
+    }
 }
 
 }  // namespace
