@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 
+#include "core/chunked_vector.hpp"
 #include "core/error.hpp"
 #include "recon/face_map.hpp"
 #include "recon/grid_geometry.hpp"
@@ -168,7 +169,7 @@ public:
         options.has_rgb = spec_.rgb;
         if (spec_.ground) keep_ground(*spec_.ground);
         const recon::PatchPoints patch = recon::make_patch_points(expanded(), min_x_, min_y_, options);
-        std::vector<Held>().swap(points_);
+        points_.clear();
         if (patch.status != recon::PatchStatus::Ok) return no_values();
         const double texels = double(patch.size()) * patch.size();
         const bool local = spec_.tin_search == TinSearch::Local ||
@@ -269,7 +270,7 @@ private:
         for (std::size_t i = 0; i < points_.size(); ++i) {
             if (ground[i]) points_[kept++] = points_[i];
         }
-        points_.resize(kept);
+        points_.truncate(kept);
     }
 
     std::vector<lidarscout::OverviewPoint> expanded() const {
@@ -315,7 +316,7 @@ private:
     DemGrid grid_;
     int margin_;
     double min_x_, min_y_, base_z_ = 0;
-    std::vector<Held> points_;
+    ChunkedVector<Held> points_;
 };
 
 // The highest point of each texel of the block and its margin; the block's texels without one

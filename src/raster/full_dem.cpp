@@ -198,14 +198,15 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
     return 48 + images;
 }
 
-// A tin block holds every point of the block and its margin until it is finished (24 bytes each, up
-// to twice that in a growing vector); finishing one copies them, sorts them into the patch and
+// A tin block holds every point of the block and its margin until it is finished (24 bytes each, in
+// chunks of 65,536: at most one chunk more); finishing one copies them, sorts them into the patch and
 // triangulates them (about 240 bytes a point at its peak, measured) or, from kTinWalkPointsPerTexel
 // on, sorts them into buckets and walks (about 120 bytes). Where the points are denser than a
 // texel, these outweigh the per-texel bytes. The points (the tile headers' counts spread over their
 // bounds, grown by the margin): each held block the selected blocks' mean, and the densest one
 // finishing on top. Measured on the 100-tile replica's 10 m dtm of every point: the whole run held
-// 12.5 GB when it triangulated (estimated 19.1 GB), 7.0 GB when it walked (estimated 14.6 GB).
+// 12.5 GB when it triangulated (estimated 19.1 GB), 7.0 GB when it walked (estimated 14.6 GB), before
+// the held points were chunked and the reading counted.
 // A tin block with the ground filter also holds, while it finishes, its lattice (about 60 bytes a
 // cell at the peak: the surfaces, the masks, the running extremes, the pull-push pyramid) and 33
 // bytes per point (a sample, its cell, its verdict).
@@ -224,6 +225,8 @@ double reading_bytes(const dataset::Dataset& ds) {
     for (const auto& t : ds.tiles) record = std::max(record, static_cast<double>(t.tile.header.record_length));
     return kProgramBytes + 2.0 * kReadBatchPoints * (sizeof(dataset::MetricPoint) + 2 * record);
 }
+
+constexpr double kHeldChunkBytes = 65536.0 * 24;
 
 struct TinPoints {
     double held_bytes_per_block = 0, finishing_bytes = 0;
@@ -247,7 +250,7 @@ TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::
         const double window = grid.block + 2.0 * tin_margin_texels(l.gridder, grid.texel_m);
         const double grown = window / grid.block * window / grid.block;
         const double seen = densest * grown;  // points
-        held += filled > 0 ? sum / filled * grown * 48 : 0;
+        held += filled > 0 ? sum / filled * grown * 24 + kHeldChunkBytes : 0;
         finishing += seen * (seen >= kTinWalkPointsPerTexel * window * window ? 120 : 240);
         if (l.gridder.ground) finishing += ground_filter_bytes(grid, l.gridder, seen);
     }

@@ -52,39 +52,35 @@ std::vector<Snapped> snap_window(std::span<const lidarscout::OverviewPoint> poin
     return out;
 }
 
-// Points at the same grid position become one with the mean height and colour.
-struct Merged {
-    std::int32_t gx, gy;
-    double z;
-    double r, g, b;  // 0..255
-};
-
-std::vector<Merged> merge_duplicates(const std::vector<Snapped>& sorted) {
-    std::vector<Merged> out;
+// Points at the same grid position become one with the mean height and colour: the patch points
+// (their colours final, their heights 0) and their mean heights in `mean_z`, from which the caller
+// sets the heights once it knows the centre's.
+std::vector<PatchPoint> merge_duplicates(const std::vector<Snapped>& sorted, bool has_rgb,
+                                         std::vector<double>& mean_z) {
+    std::vector<PatchPoint> out;
+    out.reserve(sorted.size()), mean_z.clear(), mean_z.reserve(sorted.size());
+    const float no_colour = kNoValue;
     for (std::size_t i = 0; i < sorted.size();) {
         std::size_t j = i;
-        Merged m{sorted[i].gx, sorted[i].gy, 0, 0, 0, 0};
-        for (; j < sorted.size() && sorted[j].gx == m.gx && sorted[j].gy == m.gy; ++j) {
-            m.z += sorted[j].z;
-            m.r += sorted[j].rgb.r;
-            m.g += sorted[j].rgb.g;
-            m.b += sorted[j].rgb.b;
+        double z = 0, r = 0, g = 0, b = 0;  // 0..255
+        for (; j < sorted.size() && sorted[j].gx == sorted[i].gx && sorted[j].gy == sorted[i].gy; ++j) {
+            z += sorted[j].z, r += sorted[j].rgb.r, g += sorted[j].rgb.g, b += sorted[j].rgb.b;
         }
         const double n = static_cast<double>(j - i);
-        m.z /= n;
-        m.r /= n;
-        m.g /= n;
-        m.b /= n;
-        out.push_back(m);
+        PatchPoint p;
+        p.gx = sorted[i].gx, p.gy = sorted[i].gy, p.h = 0;
+        p.r = has_rgb ? static_cast<float>(r / n / 255.0) : no_colour;
+        p.g = has_rgb ? static_cast<float>(g / n / 255.0) : no_colour;
+        p.b = has_rgb ? static_cast<float>(b / n / 255.0) : no_colour;
+        out.push_back(p);
+        mean_z.push_back(z / n);
         i = j;
     }
     return out;
 }
 
-double median_height(const std::vector<Merged>& points) {
-    if (points.empty()) return std::numeric_limits<double>::quiet_NaN();
-    std::vector<double> z(points.size());
-    std::transform(points.begin(), points.end(), z.begin(), [](const Merged& m) { return m.z; });
+double median_height(std::vector<double> z) {
+    if (z.empty()) return std::numeric_limits<double>::quiet_NaN();
     const std::size_t mid = z.size() / 2;
     std::nth_element(z.begin(), z.begin() + mid, z.end());
     if (z.size() % 2 == 1) return z[mid];
@@ -117,21 +113,12 @@ PatchPoints make_patch_points(std::span<const lidarscout::OverviewPoint> points,
 
     const auto snapped = snap_window(points, options.spec, patch.window_min_x, patch.window_min_y);
     patch.window_count = snapped.size();
-    const auto merged = merge_duplicates(snapped);
-    patch.centre_z = median_height(merged);
-
+    std::vector<double> mean_z;
+    patch.points = merge_duplicates(snapped, options.has_rgb, mean_z);
+    patch.centre_z = median_height(mean_z);
     const double radius = options.spec.radius_m();
-    const float no_colour = kNoValue;
-    patch.points.reserve(merged.size());
-    for (const Merged& m : merged) {
-        PatchPoint p;
-        p.gx = m.gx;
-        p.gy = m.gy;
-        p.h = static_cast<float>((m.z - patch.centre_z) / radius);
-        p.r = options.has_rgb ? static_cast<float>(m.r / 255.0) : no_colour;
-        p.g = options.has_rgb ? static_cast<float>(m.g / 255.0) : no_colour;
-        p.b = options.has_rgb ? static_cast<float>(m.b / 255.0) : no_colour;
-        patch.points.push_back(p);
+    for (std::size_t i = 0; i < patch.points.size(); ++i) {
+        patch.points[i].h = static_cast<float>((mean_z[i] - patch.centre_z) / radius);
     }
     const std::size_t needed = std::max<std::size_t>(options.min_points, 1);
     patch.status = patch.points.size() >= needed ? PatchStatus::Ok : PatchStatus::TooFewPoints;
