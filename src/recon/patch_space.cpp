@@ -42,10 +42,10 @@ std::vector<Snapped> snap_window(std::span<const lidarscout::OverviewPoint> poin
     // position (a radix sort), then the few points at one position by height and colour.
     const int bits = std::bit_width(static_cast<std::uint64_t>(spec.grid_extent()));
     radix_sort(out, [bits](const Snapped& s) { return std::uint64_t(s.gy) << bits | std::uint64_t(s.gx); }, 2 * bits);
+    const auto by_key = [](const Snapped& a, const Snapped& b) { return a.key() < b.key(); };
     for (std::size_t i = 0; i < out.size();) {
         std::size_t j = i + 1;
         while (j < out.size() && out[j].gx == out[i].gx && out[j].gy == out[i].gy) ++j;
-        const auto by_key = [](const Snapped& a, const Snapped& b) { return a.key() < b.key(); };
         if (j - i > 1) std::sort(out.begin() + i, out.begin() + j, by_key);
         i = j;
     }
