@@ -160,6 +160,8 @@ public:
 
     BlockImages finish() override { return finish_at(nullptr); }
 
+    int margin() const { return margin_; }  // texels seen on each side beyond the block's
+
     // The heights (and colours) at the block's texels that `wanted` marks ([row * block + col]; all
     // without it), nodata at the others.
     BlockImages finish_at(const std::vector<char>* wanted) {
@@ -325,9 +327,9 @@ private:
 class HighestTinGridder final : public BlockGridder {
 public:
     HighestTinGridder(const GridderSpec& spec, const DemGrid& grid, lidarscout::CellKey block)
-        : tin_(spec, grid, block), grid_(grid), margin_(tin_margin_texels(spec, grid.texel_m)),
-          side_(grid.block + 2 * margin_), first_col_(long(block.ix) * grid.block - margin_),
-          first_row_(long(block.iy) * grid.block - margin_), highest_(static_cast<std::size_t>(side_) * side_) {}
+        : tin_(spec, grid, block), grid_(grid), side_(grid.block + 2 * tin_.margin()),
+          first_col_(long(block.ix) * grid.block - tin_.margin()),
+          first_row_(long(block.iy) * grid.block - tin_.margin()), highest_(static_cast<std::size_t>(side_) * side_) {}
 
     void add(const dataset::MetricPoint& p, const recon::TexelLocation* own) override {
         const auto at = recon::locate_texel(grid_.block_spec(), grid_.origin_x, grid_.origin_y, p.x, p.y);
@@ -346,7 +348,7 @@ public:
     }
 
     BlockImages finish() override {
-        const int n = grid_.block, m = margin_;
+        const int n = grid_.block, m = tin_.margin();
         BlockImages out;
         out.heights_m.assign(static_cast<std::size_t>(n) * n, recon::kNoValue);
         std::vector<char> holes(out.heights_m.size(), 0);
@@ -384,7 +386,7 @@ private:
 
     TinGridder tin_;
     DemGrid grid_;
-    int margin_, side_;
+    int side_;
     long first_col_, first_row_;
     std::vector<Highest> highest_;
 };
@@ -427,8 +429,7 @@ int tin_margin_texels(const GridderSpec& spec, double texel_m) {
     double reach_m = spec.tin_max_edge_m;
     if (spec.ground) {
         const recon::GroundLattice lattice = recon::ground_lattice(0, 0, kTinWindowTexels * texel_m, *spec.ground);
-        const double openings = 2 * std::ceil(spec.ground->window_m / lattice.cell_m);
-        reach_m = std::max(reach_m, (openings + 2) * lattice.cell_m);
+        reach_m = std::max(reach_m, recon::ground_filter_reach_m(*spec.ground, lattice.cell_m));
     }
     constexpr int kSpareTexels = 4;
     const double texels = std::ceil(reach_m / texel_m - 1e-9) + kSpareTexels;

@@ -72,11 +72,11 @@ inline constexpr int kTinWindowTexels = 512;
 inline constexpr double kTinWalkPointsPerTexel = 0.5;
 
 // The margin of a Tin or HighestTin block (0 for the others): its longest edge and, with the ground
-// filter, the reach of its openings (twice the window, in whole lattice cells) and of the slopes and
-// the sampling of the surface (a cell each), plus 4 texels; kMaxTinMarginTexels without an edge limit
-// and at most that. Every point of a margin is filtered, sorted and bucketed again by each block that
-// sees it: on ky-jmo335 at 1 m the three products with the ground filter took 8.5-8.8 s with margins of
-// 40 against 10.3 s with the 64 texels every tin had before (one run each, the same hour).
+// filter, the filter's reach on the block's lattice (recon::ground_filter_reach_m), plus 4 texels;
+// kMaxTinMarginTexels without an edge limit and at most that. Every point of a margin is filtered,
+// sorted and bucketed again by each block that sees it: on ky-jmo335 at 1 m the three products with
+// the ground filter took 8.5-8.8 s with margins of 40 against 10.3 s with the 64 texels every tin had
+// before (one run each, the same hour).
 int tin_margin_texels(const GridderSpec& spec, double texel_m);
 // The blocks of a pass whose widest tin margin is `margin` (512 without a tin).
 int tin_block_texels(int margin);

@@ -258,6 +258,14 @@ GroundLattice ground_lattice(double min_x, double min_y, double side_m, const Gr
     return l;
 }
 
+int opening_radius_cells(const GroundFilterParams& p, double cell_m) {
+    return std::max(1, static_cast<int>(std::ceil(p.window_m / cell_m)));
+}
+
+double ground_filter_reach_m(const GroundFilterParams& p, double cell_m) {
+    return (2.0 * opening_radius_cells(p, cell_m) + 2) * cell_m;
+}
+
 std::vector<std::uint8_t> find_ground(std::span<const GroundSample> samples, const GroundLattice& given,
                                       const GroundFilterParams& p) {
     const GroundLattice lattice = sparse_adapted(samples, given);
@@ -282,7 +290,7 @@ std::vector<std::uint8_t> find_ground(std::span<const GroundSample> samples, con
     Raster negated(zmin.size());
     std::transform(zmin.begin(), zmin.end(), negated.begin(), [](float z) { return -z; });
     const std::vector<std::uint8_t> low = object_mask(negated, l, kLowOutlierSlope, lattice.cell_m, 1);
-    const int max_radius = std::max(1, static_cast<int>(std::ceil(p.window_m / lattice.cell_m)));
+    const int max_radius = opening_radius_cells(p, lattice.cell_m);
     const double steepest = p.slope > 0 ? p.slope : terrain_slope(zmin, empty, l, lattice.cell_m, p.window_m);
     const std::vector<std::uint8_t> object = object_mask(zmin, l, steepest, lattice.cell_m, max_radius);
 

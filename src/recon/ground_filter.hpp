@@ -45,6 +45,13 @@ struct GroundLattice {
 GroundLattice ground_lattice(double min_x, double min_y, double side_m, const GroundFilterParams& p,
                              int max_cells = 2048);
 
+// The openings' largest radius, in cells of `cell_m`.
+int opening_radius_cells(const GroundFilterParams& p, double cell_m);
+// How far from a cell the filter's verdict there looks, in metres, on cells of `cell_m`: the
+// opening (an erosion and a dilation of the largest radius), the slopes and the sampling of the
+// surface (a cell each).
+double ground_filter_reach_m(const GroundFilterParams& p, double cell_m);
+
 struct GroundSample {
     double x = 0, y = 0;
     float z = 0;  // any datum common to all samples (only differences matter)

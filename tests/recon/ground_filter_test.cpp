@@ -91,6 +91,16 @@ TEST(GroundFilter, TheLatticeGrowsItsCellsToStayWithinItsSize) {
     EXPECT_DOUBLE_EQ(wide.cell_m, 2.5);
 }
 
+TEST(GroundFilter, ItsReachIsTheLargestOpeningAndTwoCells) {
+    GroundFilterParams p;  // an 18 m window
+    EXPECT_EQ(opening_radius_cells(p, 1.0), 18);
+    EXPECT_DOUBLE_EQ(ground_filter_reach_m(p, 1.0), 38.0);   // 2 x 18 + 2 cells of 1 m
+    EXPECT_EQ(opening_radius_cells(p, 2.5), 8);              // whole cells: 7.2 rounded up
+    EXPECT_DOUBLE_EQ(ground_filter_reach_m(p, 2.5), 45.0);  // 2 x 8 + 2 cells of 2.5 m
+    p.window_m = 0.5;
+    EXPECT_EQ(opening_radius_cells(p, 1.0), 1);  // at least one cell
+}
+
 TEST(GroundFilter, ParametersOutOfRangeAreRefused) {
     GroundFilterParams p;
     EXPECT_NO_THROW(check_ground_params(p));
