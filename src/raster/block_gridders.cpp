@@ -12,6 +12,7 @@
 #include "recon/grid_geometry.hpp"
 #include "recon/interpolation.hpp"
 #include "recon/local_delaunay.hpp"
+#include "recon/texel_counts.hpp"
 #include "recon/triangulation.hpp"
 
 namespace lidarscout::raster {
@@ -165,19 +166,31 @@ public:
     // The heights (and colours) at the block's texels that `wanted` marks ([row * block + col]; all
     // without it), nodata at the others.
     BlockImages finish_at(const std::vector<char>* wanted) {
-        recon::PatchOptions options;
-        options.spec = {grid_.texel_m, grid_.block, margin_};
-        options.min_points = 3;
-        options.has_rgb = spec_.rgb;
+        const recon::PatchOptions options = patch_options();
         if (spec_.ground) keep_ground(*spec_.ground);
+        BlockImages out = no_values();
+        std::vector<char> rest;  // what the thinned walks left to every point
+        if (!wanted && thins()) {
+            rest = thinned_walks(options, out);
+            if (std::find(rest.begin(), rest.end(), 1) == rest.end()) {
+                points_.clear();
+                return out;
+            }
+            wanted = &rest;
+        }
         const recon::PatchPoints patch = recon::make_patch_points(expanded(), min_x_, min_y_, options);
         points_.clear();
-        if (patch.status != recon::PatchStatus::Ok) return no_values();
+        if (patch.status != recon::PatchStatus::Ok) return out;
         const double texels = double(patch.size()) * patch.size();
         const bool local = spec_.tin_search == TinSearch::Local ||
                            (spec_.tin_search == TinSearch::Auto &&
                             (wanted || double(patch.points.size()) >= kTinWalkPointsPerTexel * texels));
-        return local ? local_images(patch, wanted) : tin_images(patch);
+        if (local && walk(patch, wanted, out)) return out;
+        const BlockImages whole = tin_images(patch);  // a walk that did not end (never seen): the whole TIN
+        for (std::size_t i = 0; i < out.heights_m.size(); ++i) {
+            if (!wanted || (*wanted)[i]) copy_texel(whole, out, i);
+        }
+        return out;
     }
 
 private:
@@ -185,12 +198,33 @@ private:
     // at 1 m: the three products 10.35 -> 9.70 s), above it from the texel's nearest point (at
     // 10 m, 60 points a texel: 6.55 s against 6.96 from the last triangle).
     static constexpr double kChainedPointsPerTexel = 4;
+    // A thinned walk keeps the points within kThinRadius / sqrt(points per texel) texels of a texel
+    // centre (at most kThinMaxRadius): about 50 points a texel, so that nearly every triangle over
+    // a centre has its circle within that reach.
+    static constexpr double kThinRadius = 4, kThinMaxRadius = 0.45;
+    // The later thinned walks are skipped when they would see more than this share of the points; a
+    // circle is checked for points left out over at most this many texels.
+    static constexpr double kThinSecondShare = 0.5, kThinMostClearTexels = 65536;
+
+    recon::PatchOptions patch_options() const {
+        recon::PatchOptions options;
+        options.spec = {grid_.texel_m, grid_.block, margin_};
+        options.min_points = 3;
+        options.has_rgb = spec_.rgb;
+        return options;
+    }
 
     BlockImages no_values() const {
         BlockImages out;
         out.heights_m.assign(texel_count(grid_), recon::kNoValue);
         if (spec_.rgb) out.rgba.assign(4 * texel_count(grid_), 0);
         return out;
+    }
+
+    static void copy_texel(const BlockImages& from, BlockImages& to, std::size_t i) {
+        to.heights_m[i] = from.heights_m[i];
+        const std::size_t n = to.heights_m.size();
+        for (std::size_t c = 0; c < to.rgba.size(); c += n) to.rgba[c + i] = from.rgba[c + i];
     }
 
     // The TIN of the patch's points (at least 3) at every texel centre of the block.
@@ -210,17 +244,33 @@ private:
         return out;
     }
 
-    // The same at the wanted texels, each texel's triangle found from the points around it
-    // (recon/local_delaunay.hpp); should a walk there not end (never seen), the whole TIN.
-    BlockImages local_images(const recon::PatchPoints& patch, const std::vector<char>* wanted) const {
+    // The height (and colour) of `found`'s triangle of `patch` at texel i of `out`.
+    void interpolate(const recon::PatchPoints& patch, const recon::LocalTriangle& found, std::size_t i,
+                     BlockImages& out) const {
+        const auto at = [&](float recon::PatchPoint::*channel) {
+            float v = 0;
+            for (int k = 0; k < 3; ++k) {
+                v += static_cast<float>(found.weights[k]) * patch.points[found.corners[k]].*channel;
+            }
+            return v;
+        };
+        out.heights_m[i] = static_cast<float>(patch.to_metres(at(&recon::PatchPoint::h)));
+        const std::size_t n = out.heights_m.size();
+        if (out.rgba.empty()) return;
+        const float r = at(&recon::PatchPoint::r);
+        if (std::isnan(r)) return;
+        out.rgba[i] = colour_byte(r), out.rgba[n + i] = colour_byte(at(&recon::PatchPoint::g));
+        out.rgba[2 * n + i] = colour_byte(at(&recon::PatchPoint::b)), out.rgba[3 * n + i] = 255;
+    }
+
+    // The wanted texels (all without `wanted`) of `out`, each texel's triangle found from the points
+    // around it (recon/local_delaunay.hpp); false should a walk there not end (never seen).
+    bool walk(const recon::PatchPoints& patch, const std::vector<char>* wanted, BlockImages& out) const {
         const int n = grid_.block, m = margin_;
         const recon::LocalDelaunay local(recon::grid_positions(patch), patch.spec.grid_extent());
-        const double max_edge = spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel);
-        BlockImages out = no_values();
         // few points a texel: each walk starts where the one of the texel before it (in its row) ended
         const bool chained = double(patch.points.size()) < kChainedPointsPerTexel * double(patch.size()) * patch.size();
         recon::LocalDelaunay::Hint hint;
-        std::vector<std::array<float, 3>> rgb(spec_.rgb ? out.heights_m.size() : 0, {recon::kNoValue, 0.f, 0.f});
         for (int row = 0; row < n; ++row) {
             hint.has_last = false;
             for (int col = 0; col < n; ++col) {
@@ -230,26 +280,161 @@ private:
                     continue;
                 }
                 const recon::GridXY q{recon::texel_centre(col + m), recon::texel_centre(row + m)};
-                const recon::LocalDelaunay::Found found = local.triangle_at(q, max_edge, chained ? &hint : nullptr);
-                if (found.answer == recon::LocalDelaunay::Answer::Unproven) return tin_images(patch);
-                if (found.answer != recon::LocalDelaunay::Answer::Triangle) continue;
-                const auto interpolate = [&](float recon::PatchPoint::*channel) {
-                    float v = 0;
-                    for (int k = 0; k < 3; ++k) {
-                        const recon::PatchPoint& corner = patch.points[found.triangle.corners[k]];
-                        v += static_cast<float>(found.triangle.weights[k]) * corner.*channel;
-                    }
-                    return v;
-                };
-                out.heights_m[i] = static_cast<float>(patch.to_metres(interpolate(&recon::PatchPoint::h)));
-                if (spec_.rgb) {
-                    rgb[i] = {interpolate(&recon::PatchPoint::r), interpolate(&recon::PatchPoint::g),
-                              interpolate(&recon::PatchPoint::b)};
-                }
+                const auto found = local.triangle_at(q, max_edge_units(), chained ? &hint : nullptr);
+                if (found.answer == recon::LocalDelaunay::Answer::Unproven) return false;
+                if (found.answer == recon::LocalDelaunay::Answer::Triangle) interpolate(patch, found.triangle, i, out);
             }
         }
-        if (spec_.rgb) out.rgba = rgba_planes(rgb.size(), [&](std::size_t i) { return rgb[i]; });
-        return out;
+        return true;
+    }
+
+    double max_edge_units() const { return spec_.tin_max_edge_m / grid_.texel_m * double(recon::kGridUnitsPerTexel); }
+
+    // Whether this block walks a thinned set first (GridderSpec::tin_thinning): an edge limit (which
+    // bounds what a "no value" depends on), a walk, and points dense enough to leave most out.
+    bool thins() const {
+        if (!spec_.tin_thinning || !(spec_.tin_max_edge_m > 0) || spec_.tin_search == TinSearch::Triangulate) {
+            return false;
+        }
+        const double window = grid_.block + 2.0 * margin_;
+        return double(points_.size()) >= kTinThinFromPointsPerTexel * window * window;
+    }
+
+    // The thinned walks. First over the held points within D (kThinRadius) of the block's texel
+    // centres: every point left out is farther than D from every centre, so a triangle whose circle
+    // lies within D of its centre is the whole set's (its circle is empty of every point), and a
+    // texel with no point within the edge limit E around it has no value. Then the texels left, over
+    // the points within E (and a texel) of them: there a "no value" is the whole set's too, since a
+    // triangle over a centre with no edge over E has its corners within E, and a triangle of the
+    // whole triangulation is one of any subset that holds its corners. Writes what is proven into
+    // `out` and returns the texels left (1) for the walk over every point.
+    std::vector<char> thinned_walks(const recon::PatchOptions& options, BlockImages& out) const {
+        const int n = grid_.block, m = margin_, side = n + 2 * m;
+        const double unit = double(recon::kGridUnitsPerTexel), edge = max_edge_units();
+        std::vector<GridPoint> at(points_.size());
+        recon::TexelCounts held(side, unit);
+        std::size_t inside = 0, occupied = 0;  // held points in the window, texels holding any
+        for (std::size_t i = 0; i < points_.size(); ++i) {
+            GridPoint& g = at[i];
+            g.inside = recon::snap_to_grid(points_[i].x, points_[i].y, options.spec, min_x_ - options.spec.pad_m(),
+                                           min_y_ - options.spec.pad_m(), g.gx, g.gy);
+            if (!g.inside) continue;
+            g.col = std::min(side - 1, int(g.gx / recon::kGridUnitsPerTexel));
+            g.row = std::min(side - 1, int(g.gy / recon::kGridUnitsPerTexel));
+            occupied += held.add(g.col, g.row, g.gx, g.gy) == 1;
+            ++inside;
+        }
+        held.summed();
+        const int reach_texels = static_cast<int>(std::ceil(edge / unit)) + 1;  // all within E of a centre
+        const double density = double(inside) / double(std::max<std::size_t>(occupied, 1));  // where points are
+        const double near = std::min(kThinMaxRadius, kThinRadius / std::sqrt(density)) * unit;
+        const auto near_centre = [&](const GridPoint& g) {
+            if (g.col < m || g.row < m || g.col >= m + n || g.row >= m + n) return false;
+            const double dx = g.gx - recon::texel_centre(g.col), dy = g.gy - recon::texel_centre(g.row);
+            return dx * dx + dy * dy <= near * near;
+        };
+        const std::vector<char> all(static_cast<std::size_t>(n) * n, 1);
+        const auto unknown = [](const recon::Circle&) { return false; };
+        std::vector<char> left =
+            proven_walk(options, at, near_centre, unknown, all, near, false, held, reach_texels, out);
+        const auto count = [](const std::vector<char>& v) { return std::uint64_t(std::count(v.begin(), v.end(), 1)); };
+        const std::uint64_t after_first = count(left);
+        const auto tally = [&] {
+            if (!spec_.thinning_tally) return;
+            spec_.thinning_tally->blocks += 1, spec_.thinning_tally->first += all.size() - after_first;
+            spec_.thinning_tally->later += after_first - count(left), spec_.thinning_tally->whole += count(left);
+        };
+        if (after_first == 0) {
+            tally();
+            return left;
+        }
+        // the texels left, over the points near them: within 2 texels (most triangles near an edge of
+        // the survey), then within the edge limit (where "no value" is proven too)
+        for (const int texels : {2, reach_texels}) {
+            recon::TexelCounts marks(side, unit);
+            for (std::size_t i = 0; i < left.size(); ++i) {
+                if (left[i]) marks.add(int(i % n) + m, int(i / n) + m, 0, 0);
+            }
+            marks.summed();
+            const auto near_left = [&](const GridPoint& g) { return marks.around(g.col, g.row, texels) > 0; };
+            const auto seen = std::count_if(at.begin(), at.end(), [&](const GridPoint& g) {
+                return g.inside && near_left(g);
+            });
+            if (double(seen) > kThinSecondShare * double(inside)) break;
+            // a circle is clear of the points left out when no texel beyond those seen has a point in it
+            const auto clear = [&](const recon::Circle& c) {
+                const auto texel = [&](double v) {  // clamped first: a sliver's circle can be vast
+                    return static_cast<int>(std::clamp(std::floor(v / unit), -1.0, double(side)));
+                };
+                const int c0 = std::max(texel(c.x - c.radius), 0), c1 = std::min(texel(c.x + c.radius), side - 1);
+                const int r0 = std::max(texel(c.y - c.radius), 0), r1 = std::min(texel(c.y + c.radius), side - 1);
+                if (double(c1 - c0 + 1) * (r1 - r0 + 1) > kThinMostClearTexels) return false;
+                for (int row = r0; row <= r1; ++row) {
+                    for (int col = c0; col <= c1; ++col) {
+                        if (marks.around(col, row, texels) == 0 && held.meets_disc(col, row, c.x, c.y, c.radius)) {
+                            return false;
+                        }
+                    }
+                }
+                return true;
+            };
+            const bool none_proven = texels == reach_texels;
+            left = proven_walk(options, at, near_left, clear, left, (texels - 0.5) * unit, none_proven, held,
+                               reach_texels, out);
+            if (std::find(left.begin(), left.end(), 1) == left.end()) break;
+        }
+        tally();
+        return left;
+    }
+
+    // Where a held point falls in the window: its grid position and texel.
+    struct GridPoint {
+        std::int32_t gx = 0, gy = 0;
+        int col = 0, row = 0;
+        bool inside = false;
+    };
+
+    // The wanted texels walked over the held points `keep` selects, a set that holds every point
+    // within `reach` grid units of each wanted centre: a triangle is written to `out` when its circle
+    // lies within that reach. A texel has no value for certain when `held` shows no point within
+    // `reach_texels` (the edge limit's reach) of it or all of them on one side of it, or, with
+    // `none_proven` (a reach of the edge limit), when the walk finds none. Returns the texels left.
+    template <typename Keep, typename Clear>
+    std::vector<char> proven_walk(const recon::PatchOptions& options, const std::vector<GridPoint>& at,
+                                  const Keep& keep, const Clear& clear, const std::vector<char>& wanted, double reach,
+                                  bool none_proven, const recon::TexelCounts& held, int reach_texels,
+                                  BlockImages& out) const {
+        std::vector<lidarscout::OverviewPoint> kept;
+        for (std::size_t i = 0; i < at.size(); ++i) {
+            if (at[i].inside && keep(at[i])) kept.push_back(expanded(points_[i]));
+        }
+        const recon::PatchPoints patch = recon::make_patch_points(kept, min_x_, min_y_, options);
+        std::vector<lidarscout::OverviewPoint>().swap(kept);
+        if (patch.status != recon::PatchStatus::Ok) return wanted;
+        const int n = grid_.block, m = margin_;
+        const recon::LocalDelaunay local(recon::grid_positions(patch), patch.spec.grid_extent());
+        std::vector<char> left(wanted.size(), 0);
+        for (std::size_t i = 0; i < wanted.size(); ++i) {
+            if (!wanted[i]) continue;
+            const int col = int(i % n) + m, row = int(i / n) + m;
+            const recon::GridXY q{recon::texel_centre(col), recon::texel_centre(row)};
+            const auto found = local.triangle_at(q, max_edge_units());
+            if (found.answer == recon::LocalDelaunay::Answer::Triangle) {
+                const auto& c = found.triangle.corners;
+                const recon::Circle circle =
+                    recon::circumcircle(patch.points[c[0]].xy(), patch.points[c[1]].xy(), patch.points[c[2]].xy());
+                if (recon::circle_within(circle, q, reach) || clear(circle)) {
+                    interpolate(patch, found.triangle, i, out);
+                    continue;
+                }
+            }
+            const bool none = found.answer == recon::LocalDelaunay::Answer::None;
+            left[i] = (none && none_proven) || held.around(col, row, reach_texels) == 0 ||
+                              held.beside(col, row, reach_texels)
+                          ? 0
+                          : 1;
+        }
+        return left;
     }
 
     // A point as held until the block is finished: 24 bytes instead of 48. The position stays
@@ -275,12 +460,15 @@ private:
         points_.truncate(kept);
     }
 
+    lidarscout::OverviewPoint expanded(const Held& h) const {
+        lidarscout::OverviewPoint p;
+        p.x = h.x, p.y = h.y, p.z = base_z_ + h.dz, p.rgb = h.rgb;
+        return p;
+    }
+
     std::vector<lidarscout::OverviewPoint> expanded() const {
         std::vector<lidarscout::OverviewPoint> out(points_.size());
-        for (std::size_t i = 0; i < points_.size(); ++i) {
-            const Held& h = points_[i];
-            out[i].x = h.x, out[i].y = h.y, out[i].z = base_z_ + h.dz, out[i].rgb = h.rgb;
-        }
+        for (std::size_t i = 0; i < points_.size(); ++i) out[i] = expanded(points_[i]);
         return out;
     }
 

@@ -26,6 +26,7 @@
 // the margin is wide; gaps wider than it, like lakes, may triangulate differently per block).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -46,6 +47,12 @@ enum class GridValue { Height, Intensity, Count };
 // and for highest-tin's holes; else Triangulate), Local, Triangulate.
 enum class TinSearch { Auto, Local, Triangulate };
 
+// How the thinned walks of tin blocks went (GridderSpec::thinning_tally): blocks that thinned, and
+// their texels proven by the first walk, by the later ones, and left to the walk over every point.
+struct TinThinningTally {
+    std::atomic<std::uint64_t> blocks{0}, first{0}, later{0}, whole{0};
+};
+
 struct GridderSpec {
     GridMethod method = GridMethod::Statistic;
     recon::TexelStatistic statistic = recon::TexelStatistic::Mean;  // for Statistic
@@ -58,6 +65,11 @@ struct GridderSpec {
     std::optional<recon::GroundFilterParams> ground;
     bool rgb = false;           // also grid the colours
     TinSearch tin_search = TinSearch::Auto;  // for Tin and HighestTin
+    // For Tin with an edge limit: a block with kTinThinFromPointsPerTexel points a texel and more walks
+    // over the points near its texel centres first, keeping only the answers proven to be the whole
+    // set's (the same triangles; heights equal within float rounding); false: over every point.
+    bool tin_thinning = true;
+    TinThinningTally* thinning_tally = nullptr;  // where to count how thinning went (tests, benchmarks)
 };
 
 // The margin (texels on each side) a tin block sees beyond its own texels is what its gridder
@@ -70,6 +82,9 @@ inline constexpr int kTinWindowTexels = 512;
 // texel's triangle: on ky-jmo335 about as fast as CGAL's triangulation at 0.65 points per texel,
 // faster above (3x at 16 and more).
 inline constexpr double kTinWalkPointsPerTexel = 0.5;
+// From this many points per texel of a tin block and its margin on, the walk is thinned
+// (GridderSpec::tin_thinning).
+inline constexpr double kTinThinFromPointsPerTexel = 24;
 
 // The margin of a Tin or HighestTin block (0 for the others): its longest edge and, with the ground
 // filter, the filter's reach on the block's lattice (recon::ground_filter_reach_m), plus 4 texels;

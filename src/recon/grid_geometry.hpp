@@ -1,10 +1,13 @@
 // Exact geometry on the fixed-point texel grid (see patch_space.hpp): texel centres, the
-// orientation test, squared distances and the tie rule for texel centres on a triangle edge.
+// orientation test, squared distances, the tie rule for texel centres on a triangle edge, and
+// a triangle's circumcircle (and whether it stays near a texel centre).
 // Grid coordinates are integers below 2^25 held in doubles, so every product of two
-// differences is below 2^50 and the expressions here are computed without rounding.
+// differences is below 2^50 and the expressions here are computed without rounding (all but the
+// circumcircle test, which leaves room for it).
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 
 #include "recon/patch_space.hpp"
@@ -45,6 +48,25 @@ inline std::array<double, 3> barycentric(GridXY a, GridXY b, GridXY c, GridXY p)
     const double la = orient(b, c, p) * inv_area;
     const double lb = orient(c, a, p) * inv_area;
     return {la, lb, 1.0 - la - lb};
+}
+
+// The circumcircle of the triangle (a, b, c) (non-degenerate), computed in doubles: its centre
+// and radius, grown by a few units and a relative 1e-9 to cover their rounding.
+struct Circle {
+    double x = 0, y = 0, radius = 0;
+};
+inline Circle circumcircle(GridXY a, GridXY b, GridXY c) {
+    const double bx = b.x - a.x, by = b.y - a.y, cx = c.x - a.x, cy = c.y - a.y;
+    const double d = 2.0 * (bx * cy - by * cx);
+    const double b2 = bx * bx + by * by, c2 = cx * cx + cy * cy;
+    const double ux = (cy * b2 - by * c2) / d, uy = (bx * c2 - cx * b2) / d;  // the centre, from a
+    const double radius = std::sqrt(ux * ux + uy * uy);
+    return {a.x + ux, a.y + uy, radius * (1.0 + 1e-9) + 4.0};
+}
+
+// Whether the circle lies inside the disc of radius `reach` around q.
+inline bool circle_within(const Circle& circle, GridXY q, double reach) {
+    return std::hypot(circle.x - q.x, circle.y - q.y) + circle.radius < reach * (1.0 - 1e-9);
 }
 
 }  // namespace lidarscout::recon

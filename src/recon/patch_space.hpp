@@ -122,6 +122,12 @@ PatchPoints make_patch_points(std::span<const lidarscout::OverviewPoint> points,
 PatchPoints make_patch_points(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell,
                               const PatchOptions& options = {});
 
+// The grid position (gx, gy) of a point at (x, y) metres in the window of `spec` whose min corner
+// is (window_min_x, window_min_y), as make_patch_points snaps it; false for a point outside the
+// window (or with a non-finite coordinate).
+bool snap_to_grid(double x, double y, const PatchSpec& spec, double window_min_x, double window_min_y,
+                  std::int32_t& gx, std::int32_t& gy);
+
 // The positions of the points, in their order.
 std::vector<GridXY> grid_positions(const PatchPoints& patch);
 

@@ -1,6 +1,7 @@
 // The block gridders on points placed by hand: idw's weights and radius, a tin exact on a plane
 // with nodata outside the hull and in triangles with long edges, highest-tin equal to a tin of the
-// highest point per texel in its holes, and the reach of each method.
+// highest point per texel in its holes, a thinned tin equal to the whole one, and the reach of each
+// method.
 #include "raster/block_gridders.hpp"
 
 #include <gtest/gtest.h>
@@ -17,6 +18,28 @@ DemGrid small_grid(int block) {
     DemGrid g;
     g.origin_x = 1000, g.origin_y = 2000, g.texel_m = 1, g.width = block, g.height = block, g.block = block;
     return g;
+}
+
+// A grid of 3 x 3 blocks of n texels whose middle block, {1, 1}, is small_grid(n)'s block.
+DemGrid middle_block_grid(int n) {
+    DemGrid g = small_grid(n);
+    g.width = g.height = 3 * n;
+    g.origin_x -= n, g.origin_y -= n;
+    return g;
+}
+
+// A repeatable random number in [0, 1) (a linear congruential generator).
+struct Random {
+    std::uint32_t seed;
+    double operator()() { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; }
+};
+
+// What a tin gridder of `spec` (its method set to Tin) makes of `points` in block {1, 1} of `g`.
+BlockImages tin_block(GridderSpec spec, const DemGrid& g, const std::vector<dataset::MetricPoint>& points) {
+    spec.method = GridMethod::Tin;
+    auto gridder = make_block_gridder(spec, g, {1, 1});
+    for (const auto& p : points) gridder->add(p, nullptr);
+    return gridder->finish();
 }
 
 dataset::MetricPoint point(double x, double y, double z, std::uint8_t red = 0) {
@@ -102,16 +125,13 @@ TEST(BlockGridders, TinLeavesNodataInTrianglesWithLongEdges) {
 // the texels around them), a wide gap and beyond the data (settled by the TIN of the points near them).
 TEST(BlockGridders, HighestTinIsTheTinOfTheHighestPointsInItsHoles) {
     const int n = 64;
-    DemGrid g = small_grid(n);
-    g.width = g.height = 3 * n;
-    g.origin_x -= n, g.origin_y -= n;  // block (1, 1) has a block of points on every side
+    const DemGrid g = middle_block_grid(n);  // block (1, 1) has a block of points on every side
     GridderSpec spec;
     spec.method = GridMethod::HighestTin;
     spec.tin_max_edge_m = 6;
     auto highest = make_block_gridder(spec, g, {1, 1});
     std::map<std::pair<long, long>, dataset::MetricPoint> top;  // the highest point per texel
-    std::uint32_t seed = 12345;
-    const auto random = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+    Random random{12345};
     for (int i = 0; i < 24000; ++i) {
         const double x = 1000 - 40 + random() * 90, y = 2000 - 40 + random() * 130;  // none east of x 1050
         if (std::hypot(x - 1030, y - 2035) < 9) continue;  // a pond
@@ -153,14 +173,11 @@ TEST(BlockGridders, HighestTinIsTheTinOfTheHighestPointsInItsHoles) {
 // x 1050, with and without an edge limit.
 TEST(BlockGridders, TinFindsTheSameTrianglesLocallyAsByTriangulating) {
     const int n = 64;
-    DemGrid g = small_grid(n);
-    g.width = g.height = 3 * n;
-    g.origin_x -= n, g.origin_y -= n;
+    const DemGrid g = middle_block_grid(n);
     for (const int count : {60000, 3500})
     for (const double max_edge : {0.0, 6.0}) {
         std::vector<dataset::MetricPoint> points;
-        std::uint32_t seed = 777;
-        const auto random = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+        Random random{777};
         for (int i = 0; i < count; ++i) {
             const double x = 1000 - 40 + random() * 90, y = 2000 - 40 + random() * 130;
             if (std::hypot(x - 1030, y - 2035) < 9) continue;
@@ -169,13 +186,10 @@ TEST(BlockGridders, TinFindsTheSameTrianglesLocallyAsByTriangulating) {
         }
         const auto grid_with = [&](TinSearch search) {
             GridderSpec spec;
-            spec.method = GridMethod::Tin;
             spec.rgb = true;
             spec.tin_max_edge_m = max_edge;
             spec.tin_search = search;
-            auto gridder = make_block_gridder(spec, g, {1, 1});
-            for (const auto& p : points) gridder->add(p, nullptr);
-            return gridder->finish();
+            return tin_block(spec, g, points);
         };
         const BlockImages local = grid_with(TinSearch::Local), whole = grid_with(TinSearch::Triangulate);
         std::size_t values = 0;
@@ -195,12 +209,9 @@ TEST(BlockGridders, TinFindsTheSameTrianglesLocallyAsByTriangulating) {
 // found from the points of its rim, as the whole TIN has them.
 TEST(BlockGridders, TinOverAWidePondIsTheWholeTins) {
     const int n = 64;
-    DemGrid g = small_grid(n);
-    g.width = g.height = 3 * n;
-    g.origin_x -= n, g.origin_y -= n;
+    const DemGrid g = middle_block_grid(n);
     std::vector<dataset::MetricPoint> points;
-    std::uint32_t seed = 99;
-    const auto random = [&] { return (seed = seed * 1664525u + 1013904223u) / 4294967296.0; };
+    Random random{99};
     for (int i = 0; i < 282000; ++i) {
         const double x = 990 + random() * 84, y = 1990 + random() * 84;
         if (std::hypot(x - 1032, y - 2032) < 20) continue;
@@ -208,11 +219,8 @@ TEST(BlockGridders, TinOverAWidePondIsTheWholeTins) {
     }
     const auto grid_with = [&](TinSearch search) {
         GridderSpec spec;
-        spec.method = GridMethod::Tin;
         spec.tin_search = search;
-        auto gridder = make_block_gridder(spec, g, {1, 1});
-        for (const auto& p : points) gridder->add(p, nullptr);
-        return gridder->finish();
+        return tin_block(spec, g, points);
     };
     const BlockImages local = grid_with(TinSearch::Local), whole = grid_with(TinSearch::Triangulate);
     const std::size_t centre = 32 * 64 + 32;
@@ -221,6 +229,60 @@ TEST(BlockGridders, TinOverAWidePondIsTheWholeTins) {
         ASSERT_EQ(std::isnan(local.heights_m[i]), std::isnan(whole.heights_m[i])) << i;
         if (!std::isnan(whole.heights_m[i])) EXPECT_NEAR(local.heights_m[i], whole.heights_m[i], 1e-4) << i;
     }
+}
+
+// Thinning (GridderSpec::tin_thinning): a dense block (60 points per square metre) with a pond wider
+// than the edge limit, a diagonal edge of the survey, two sparse strips and a lattice of points with
+// ties (on texel centres, four on a circle) gives what the walk over every point and CGAL's whole
+// triangulation give, texel for texel; the tally shows every stage at work.
+TEST(BlockGridders, ThinnedTinIsTheWholeTin) {
+    const int n = 64;
+    const DemGrid g = middle_block_grid(n);
+    std::vector<dataset::MetricPoint> points;
+    Random random{4242};
+    const auto height = [](double x, double y) { return 50 + 3 * std::sin(x * 0.2) + 0.1 * y; };
+    const auto colour = [&] { return static_cast<std::uint8_t>(random() * 255); };
+    for (int i = 0; i < 440000; ++i) {
+        const double x = 985 + random() * 94, y = 1985 + random() * 94;
+        if (std::hypot(x - 1025, y - 2025) < 10) continue;       // the pond
+        if (x > 1050 + 0.3 * (y - 2000)) continue;                  // beyond the survey's edge
+        if (y > 2050 && y < 2054 && random() > 0.03) continue;     // the sparse strip: 2 a square metre
+        if (y > 2008 && y < 2016 && random() > 0.003) continue;    // a sparser one: 0.2 (triangles of 2-5 m)
+        points.push_back(point(x, y, height(x, y) + random() * 0.5, colour()));
+    }
+    for (double x = 1005; x <= 1015; x += 0.25) {  // the lattice: ties everywhere
+        for (double y = 2040; y <= 2046; y += 0.25) points.push_back(point(x, y, height(x, y), colour()));
+    }
+    const auto grid_with = [&](bool thinning, TinSearch search, TinThinningTally* tally) {
+        GridderSpec spec;
+        spec.rgb = true;
+        spec.tin_max_edge_m = 6;
+        spec.tin_search = search;
+        spec.tin_thinning = thinning;
+        spec.thinning_tally = tally;
+        return tin_block(spec, g, points);
+    };
+    TinThinningTally tally;
+    const BlockImages thinned = grid_with(true, TinSearch::Auto, &tally);
+    const BlockImages every = grid_with(false, TinSearch::Auto, nullptr);
+    const BlockImages whole = grid_with(false, TinSearch::Triangulate, nullptr);
+    std::size_t values = 0;
+    for (std::size_t i = 0; i < every.heights_m.size(); ++i) {
+        ASSERT_EQ(std::isnan(thinned.heights_m[i]), std::isnan(every.heights_m[i])) << i;
+        ASSERT_EQ(std::isnan(thinned.heights_m[i]), std::isnan(whole.heights_m[i])) << i;
+        if (std::isnan(every.heights_m[i])) continue;
+        ++values;
+        EXPECT_NEAR(thinned.heights_m[i], every.heights_m[i], 1e-4) << i;
+        EXPECT_NEAR(thinned.heights_m[i], whole.heights_m[i], 1e-4) << i;
+    }
+    EXPECT_EQ(thinned.rgba, every.rgba);
+    for (std::size_t i = 0; i < whole.rgba.size(); ++i) EXPECT_NEAR(thinned.rgba[i], whole.rgba[i], 1) << i;
+    EXPECT_GT(values, 2500u);
+    EXPECT_LT(values, std::size_t(n * n) - 400);  // the pond and beyond the edge stay empty
+    EXPECT_EQ(tally.blocks.load(), 1u);
+    EXPECT_EQ(tally.first + tally.later + tally.whole, std::uint64_t(n * n));
+    EXPECT_GT(tally.first.load(), std::uint64_t(n * n) / 2);
+    EXPECT_GT(tally.later.load(), 0u);
 }
 
 TEST(BlockGridders, ReachAndParametersAreChecked) {

@@ -128,6 +128,19 @@ TEST_F(DemBlocks, ProductPiecesMosaicIntoTheWholeRun) {
     expect_pieces_equal_whole(ds, r, whole, 5);
 }
 
+// The dtm of every point at 5 m (65 points a texel: each block walks a thinned set first, proving
+// its texels from the points near them), in pieces and whole.
+TEST_F(DemBlocks, ThinnedDtmPiecesMosaicIntoTheWholeRun) {
+    const auto ds = dataset::open_dataset({survey("ky-jmo335-eastern-kentucky")});
+    raster::DemRequest r = request("whole.tif", 5.0);  // 2 x 2 blocks of 464 texels
+    r.products = raster::products_from_names("dtm");
+    r.product_options.dtm_classes = lidarscout::PointFilter::parse("0", "", "");
+    r.product_options.classes_given = true;
+    const raster::DemResult whole = raster::make_dem(ds, r);
+    ASSERT_GE(whole.grid.all_blocks().count(), 4);
+    expect_pieces_equal_whole(ds, r, whole, 3);
+}
+
 // The ground and water TIN of a classified tile, and the chm from it.
 TEST_F(DemBlocks, ClassifiedDtmPiecesMosaicIntoTheWholeRun) {
     const auto ds = dataset::open_dataset({survey("ky-woodford-county")});
