@@ -302,12 +302,15 @@ private:
 
     // The thinned walks. First over the held points within D (kThinRadius) of the block's texel
     // centres: every point left out is farther than D from every centre, so a triangle whose circle
-    // lies within D of its centre is the whole set's (its circle is empty of every point), and a
-    // texel with no point within the edge limit E around it has no value. Then the texels left, over
-    // the points within E (and a texel) of them: there a "no value" is the whole set's too, since a
-    // triangle over a centre with no edge over E has its corners within E, and a triangle of the
-    // whole triangulation is one of any subset that holds its corners. Writes what is proven into
-    // `out` and returns the texels left (1) for the walk over every point.
+    // lies within D of its centre is the whole set's (its circle is empty of every point, and the
+    // points on it are all kept, so ties fall as they would). A texel with no point within the edge
+    // limit E around it, or with all of those on one side of its centre, has no short triangle over
+    // it. Then the texels left, over the points of the texels within 2 texels of them, and last
+    // within E: a triangle is also proven when no texel outside those holds a point in its circle;
+    // and within E a "no value" is the whole set's too, since a triangle over a centre with no edge
+    // over E has its corners within E, and a triangle of the whole triangulation is one of any subset
+    // that holds its corners. Writes what is proven into `out` and returns the texels left (1) for
+    // the walk over every point.
     std::vector<char> thinned_walks(const recon::PatchOptions& options, BlockImages& out) const {
         const int n = grid_.block, m = margin_, side = n + 2 * m;
         const double unit = double(recon::kGridUnitsPerTexel), edge = max_edge_units();
