@@ -359,11 +359,17 @@ private:
                 if (left[i]) marks.add(int(i % n) + m, int(i / n) + m, 0, 0);
             }
             marks.summed();
-            const auto near_left = [&](const GridPoint& g) { return marks.around(g.col, g.row, texels) > 0; };
-            const auto seen = std::count_if(at.begin(), at.end(), [&](const GridPoint& g) {
+            std::vector<char> seen(static_cast<std::size_t>(side) * side);  // texels within `texels` of one left
+            for (int row = 0; row < side; ++row) {
+                for (int col = 0; col < side; ++col) {
+                    seen[std::size_t(row) * side + col] = marks.around(col, row, texels) > 0;
+                }
+            }
+            const auto near_left = [&](const GridPoint& g) { return seen[std::size_t(g.row) * side + g.col] != 0; };
+            const auto seen_points = std::count_if(at.begin(), at.end(), [&](const GridPoint& g) {
                 return g.inside && near_left(g);
             });
-            if (double(seen) > kThinSecondShare * double(inside)) break;
+            if (double(seen_points) > kThinSecondShare * double(inside)) break;
             // a circle is clear of the points left out when no texel beyond those seen has a point in it
             const auto clear = [&](const recon::Circle& c) {
                 const auto texel = [&](double v) {  // clamped first: a sliver's circle can be vast
@@ -374,9 +380,8 @@ private:
                 if (double(c1 - c0 + 1) * (r1 - r0 + 1) > kThinMostClearTexels) return false;
                 for (int row = r0; row <= r1; ++row) {
                     for (int col = c0; col <= c1; ++col) {
-                        if (marks.around(col, row, texels) == 0 && held.meets_disc(col, row, c.x, c.y, c.radius)) {
-                            return false;
-                        }
+                        const bool out_of_sight = !seen[std::size_t(row) * side + col];
+                        if (out_of_sight && held.meets_disc(col, row, c.x, c.y, c.radius)) return false;
                     }
                 }
                 return true;
