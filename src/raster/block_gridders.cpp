@@ -314,13 +314,13 @@ private:
     std::vector<char> thinned_walks(const recon::PatchOptions& options, BlockImages& out) const {
         const int n = grid_.block, m = margin_, side = n + 2 * m;
         const double unit = double(recon::kGridUnitsPerTexel), edge = max_edge_units();
+        const recon::GridSnap grid(options.spec, min_x_ - options.spec.pad_m(), min_y_ - options.spec.pad_m());
         std::vector<GridPoint> at(points_.size());
         recon::TexelCounts held(side, unit);
         std::size_t inside = 0, occupied = 0;  // held points in the window, texels holding any
         for (std::size_t i = 0; i < points_.size(); ++i) {
             GridPoint& g = at[i];
-            g.inside = recon::snap_to_grid(points_[i].x, points_[i].y, options.spec, min_x_ - options.spec.pad_m(),
-                                           min_y_ - options.spec.pad_m(), g.gx, g.gy);
+            g.inside = grid.snap(points_[i].x, points_[i].y, g.gx, g.gy);
             if (!g.inside) continue;
             g.col = std::min(side - 1, int(g.gx / recon::kGridUnitsPerTexel));
             g.row = std::min(side - 1, int(g.gy / recon::kGridUnitsPerTexel));
@@ -339,7 +339,7 @@ private:
         const std::vector<char> all(static_cast<std::size_t>(n) * n, 1);
         const auto unknown = [](const recon::Circle&) { return false; };
         std::vector<char> left =
-            proven_walk(options, at, near_centre, unknown, all, near, false, held, reach_texels, out);
+            proven_walk(options, at, near_centre, unknown, all, near, false, &held, reach_texels, out);
         const auto count = [](const std::vector<char>& v) { return std::uint64_t(std::count(v.begin(), v.end(), 1)); };
         const std::uint64_t after_first = count(left);
         const auto tally = [&] {
@@ -387,7 +387,7 @@ private:
                 return true;
             };
             const bool none_proven = texels == reach_texels;
-            left = proven_walk(options, at, near_left, clear, left, (texels - 0.5) * unit, none_proven, held,
+            left = proven_walk(options, at, near_left, clear, left, (texels - 0.5) * unit, none_proven, nullptr,
                                reach_texels, out);
             if (std::find(left.begin(), left.end(), 1) == left.end()) break;
         }
@@ -404,13 +404,15 @@ private:
 
     // The wanted texels walked over the held points `keep` selects, a set that holds every point
     // within `reach` grid units of each wanted centre: a triangle is written to `out` when its circle
-    // lies within that reach. A texel has no value for certain when `held` shows no point within
-    // `reach_texels` (the edge limit's reach) of it or all of them on one side of it, or, with
-    // `none_proven` (a reach of the edge limit), when the walk finds none. Returns the texels left.
+    // lies within that reach or `clear` finds it empty of the points left out. A texel has no value
+    // for certain when `held` (given to the first walk only: the texels it leaves fail its test)
+    // shows no point within `reach_texels` (the edge limit's reach) of it or all of them on one side
+    // of it, or, with `none_proven` (a reach of the edge limit), when the walk finds none. Returns
+    // the texels left.
     template <typename Keep, typename Clear>
     std::vector<char> proven_walk(const recon::PatchOptions& options, const std::vector<GridPoint>& at,
                                   const Keep& keep, const Clear& clear, const std::vector<char>& wanted, double reach,
-                                  bool none_proven, const recon::TexelCounts& held, int reach_texels,
+                                  bool none_proven, const recon::TexelCounts* held, int reach_texels,
                                   BlockImages& out) const {
         std::vector<lidarscout::OverviewPoint> kept;
         for (std::size_t i = 0; i < at.size(); ++i) {
@@ -437,10 +439,9 @@ private:
                 }
             }
             const bool none = found.answer == recon::LocalDelaunay::Answer::None;
-            left[i] = (none && none_proven) || held.around(col, row, reach_texels) == 0 ||
-                              held.beside(col, row, reach_texels)
-                          ? 0
-                          : 1;
+            const bool empty_around =
+                held && (held->around(col, row, reach_texels) == 0 || held->beside(col, row, reach_texels));
+            left[i] = (none && none_proven) || empty_around ? 0 : 1;
         }
         return left;
     }

@@ -25,6 +25,7 @@ struct Snapped {
 
 std::vector<Snapped> snap_window(std::span<const lidarscout::OverviewPoint> points, const PatchSpec& spec,
                                  double window_min_x, double window_min_y) {
+    const GridSnap grid(spec, window_min_x, window_min_y);
     std::vector<Snapped> out;
     out.reserve(points.size());
     for (const auto& p : points) {
@@ -32,7 +33,7 @@ std::vector<Snapped> snap_window(std::span<const lidarscout::OverviewPoint> poin
             throw Error::in_stage("recon", "chunk point with a non-finite coordinate");
         }
         std::int32_t gx = 0, gy = 0;
-        if (snap_to_grid(p.x, p.y, spec, window_min_x, window_min_y, gx, gy)) out.push_back({gx, gy, p.z, p.rgb});
+        if (grid.snap(p.x, p.y, gx, gy)) out.push_back({gx, gy, p.z, p.rgb});
     }
     // A canonical order (not the input order) so that the result does not depend on it: by
     // position (a radix sort), then the few points at one position by height and colour.
@@ -130,17 +131,6 @@ PatchPoints make_patch_points(const PatchGrid& grid, CellKey cell, const PatchOp
     }
     const auto window = grid.window(cell, options.spec.pad_m());
     return make_patch_points(window, grid.cell_min_x(cell), grid.cell_min_y(cell), options);
-}
-
-bool snap_to_grid(double x, double y, const PatchSpec& spec, double window_min_x, double window_min_y,
-                  std::int32_t& gx, std::int32_t& gy) {
-    const double units_per_metre = kGridUnitsPerTexel / spec.texel_m;
-    const double window_m = spec.window_m();
-    const double dx = x - window_min_x, dy = y - window_min_y;
-    if (!(dx >= 0.0 && dx < window_m && dy >= 0.0 && dy < window_m)) return false;
-    gx = static_cast<std::int32_t>(std::llround(dx * units_per_metre));
-    gy = static_cast<std::int32_t>(std::llround(dy * units_per_metre));
-    return true;
 }
 
 std::vector<GridXY> grid_positions(const PatchPoints& patch) {

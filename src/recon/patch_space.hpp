@@ -122,11 +122,25 @@ PatchPoints make_patch_points(std::span<const lidarscout::OverviewPoint> points,
 PatchPoints make_patch_points(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell,
                               const PatchOptions& options = {});
 
-// The grid position (gx, gy) of a point at (x, y) metres in the window of `spec` whose min corner
-// is (window_min_x, window_min_y), as make_patch_points snaps it; false for a point outside the
-// window (or with a non-finite coordinate).
-bool snap_to_grid(double x, double y, const PatchSpec& spec, double window_min_x, double window_min_y,
-                  std::int32_t& gx, std::int32_t& gy);
+// Snaps points to the grid of the window of `spec` whose min corner is (window_min_x,
+// window_min_y), as make_patch_points does: snap() gives a point's grid position (gx, gy), or
+// false for a point outside the window (or with a non-finite coordinate).
+class GridSnap {
+public:
+    GridSnap(const PatchSpec& spec, double window_min_x, double window_min_y)
+        : units_per_metre_(kGridUnitsPerTexel / spec.texel_m), window_m_(spec.window_m()), min_x_(window_min_x),
+          min_y_(window_min_y) {}
+    bool snap(double x, double y, std::int32_t& gx, std::int32_t& gy) const {
+        const double dx = x - min_x_, dy = y - min_y_;
+        if (!(dx >= 0.0 && dx < window_m_ && dy >= 0.0 && dy < window_m_)) return false;
+        gx = static_cast<std::int32_t>(std::llround(dx * units_per_metre_));
+        gy = static_cast<std::int32_t>(std::llround(dy * units_per_metre_));
+        return true;
+    }
+
+private:
+    double units_per_metre_, window_m_, min_x_, min_y_;
+};
 
 // The positions of the points, in their order.
 std::vector<GridXY> grid_positions(const PatchPoints& patch);

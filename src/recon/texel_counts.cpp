@@ -49,11 +49,14 @@ bool TexelCounts::meets_disc(int col, int row, double x, double y, double r) con
 
 bool TexelCounts::beside(int col, int row, int radius) const {
     constexpr int kDirections = 16;
-    std::array<std::array<double, 2>, kDirections> u{};
-    for (int k = 0; k < kDirections; ++k) {
-        const double a = 2.0 * std::numbers::pi * k / kDirections;
-        u[k] = {std::cos(a), std::sin(a)};
-    }
+    static const auto u = [] {
+        std::array<std::array<double, 2>, kDirections> out{};
+        for (int k = 0; k < kDirections; ++k) {
+            const double a = 2.0 * std::numbers::pi * k / kDirections;
+            out[k] = {std::cos(a), std::sin(a)};
+        }
+        return out;
+    }();
     std::array<bool, kDirections> open{};  // no box so far reaches the side of the centre u[k] points to
     open.fill(true);
     const double qx = (col + 0.5) * unit_, qy = (row + 0.5) * unit_;
