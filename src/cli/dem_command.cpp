@@ -207,6 +207,7 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
                             {"skipped_chunks", skipped_json(d.skipped)},
                             {"blocks_written", d.blocks_written},
                             {"peak_blocks", d.peak_blocks},
+                            {"peak_held_points", d.peak_held_points},
                             {"seconds_grid", d.seconds_grid},
                             {"seconds_cog", d.seconds_cog},
                             {"memory_estimate_bytes", d.memory_estimate},

@@ -160,6 +160,7 @@ public:
     }
 
     BlockImages finish() override { return finish_at(nullptr); }
+    std::uint64_t held_points() const override { return points_.size(); }
 
     int margin() const { return margin_; }  // texels seen on each side beyond the block's
 

@@ -124,6 +124,8 @@ public:
         add(point, own);
     }
     virtual BlockImages finish() = 0;
+    // The points it holds until it is finished (a tin block's; the others hold texels only).
+    virtual std::uint64_t held_points() const { return 0; }
 };
 
 // The gridder of block `block` of `grid`. Throws Error for a spec that does not fit (a radius

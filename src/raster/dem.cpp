@@ -146,6 +146,7 @@ void copy_stats(const FullDemStats& s, DemResult& result) {
     result.points_skipped = s.points_skipped;
     result.blocks_written = s.blocks_written;
     result.peak_blocks = s.peak_blocks;
+    result.peak_held_points = s.peak_held_points;
 }
 
 RasterLayout height_layout(const dataset::Dataset& ds, float nodata) {

@@ -81,6 +81,7 @@ struct DemResult {
     std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
     std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0, peak_blocks = 0;
+    std::uint64_t peak_held_points = 0;  // FullDemStats::peak_held_points
     std::uint64_t memory_estimate = 0, memory_budget = 0;  // bytes (dem_memory_bytes; the budget applied)
     double seconds_grid = 0, seconds_cog = 0, seconds_hillshade = 0, seconds_contours = 0;
 };

@@ -86,6 +86,11 @@ public:
 
     // The blocks the tile was the last to reach are gridded in parallel, then written in order.
     void tile_done(const BlockRange& r, ThreadPool& pool) {
+        std::uint64_t held = 0;
+        for (const auto& [key, gridders] : blocks_) {
+            for (const auto& g : gridders) held += g->held_points();
+        }
+        stats_.peak_held_points = std::max(stats_.peak_held_points, held);
         std::vector<std::pair<lidarscout::CellKey, Gridders>> done;
         visit(r.intersection(selected_), [&](lidarscout::CellKey c) {
             if (--pending_[slot(c)] != 0) return;
@@ -202,11 +207,10 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 // chunks of 65,536: at most one chunk more); finishing one copies them, sorts them into the patch and
 // triangulates them (about 240 bytes a point at its peak, measured) or, from kTinWalkPointsPerTexel
 // on, sorts them into buckets and walks (about 120 bytes). Where the points are denser than a
-// texel, these outweigh the per-texel bytes. The points (the tile headers' counts spread over their
-// bounds, grown by the margin): each held block the selected blocks' mean, and the densest one
-// finishing on top. Measured on the 100-tile replica's 10 m dtm of every point: the whole run held
-// 12.5 GB when it triangulated (estimated 19.1 GB), 7.0 GB when it walked (estimated 14.6 GB), before
-// the held points were chunked and the reading counted.
+// texel, these outweigh the per-texel bytes. The points held at once lie in one band across the
+// selected blocks (held_points_estimate), and the densest block finishes on top. Measured on the
+// 2,025-tile replica's 10 m dtm of every point: the run held GB_MEASURED at its peak; the blocks'
+// mean times the rows of blocks a tile reaches plus one had estimated 24.7 GB.
 // A tin block with the ground filter also holds, while it finishes, its lattice (about 60 bytes a
 // cell at the peak: the surfaces, the masks, the running extremes, the pull-push pyramid) and 33
 // bytes per point (a sample, its cell, its verdict).
@@ -228,33 +232,90 @@ double reading_bytes(const dataset::Dataset& ds) {
 
 constexpr double kHeldChunkBytes = 65536.0 * 24;
 
+// The height of the band that holds every point held at once. Tiles are read south to north (by
+// their southern edge, tile_order) and a block is finished when the last tile that reaches it is
+// done; so when the tiles up to a southern edge y are done, a block still held reaches a tile not
+// yet read, whose grown range (tile_blocks) starts at y - texel - reach at the lowest: the block's
+// northern edge lies above that, and its points (its margin included) above y - texel - 2 reach -
+// block. The points read so far end at y + the tallest tile's height + a texel (a point further
+// outside its tile's bounds is refused).
+double held_band_m(const dataset::Dataset& ds, const DemGrid& g, double reach_m) {
+    double tallest = 0;
+    for (const auto& t : ds.tiles) tallest = std::max(tallest, t.bounds_m.max_y - t.bounds_m.min_y);
+    return g.block * g.texel_m + 2 * g.texel_m + 2 * reach_m + tallest;
+}
+
+// The most points (the tiles' headers, spread evenly over their bounds) in any band `band_m` high
+// across the selected blocks and their reach: summed over strips of an eighth of the band, the
+// band's nine strips that hold the most (so at most an eighth too many).
+double densest_band_points(const dataset::Dataset& ds, const DemGrid& g, double band_m, double reach_m) {
+    const BlockRange sel = g.selected_blocks();
+    const double m = g.block * g.texel_m;
+    const double x0 = g.origin_x + sel.x0 * m - reach_m, x1 = g.origin_x + (sel.x1 + 1) * m + reach_m;
+    const double y0 = g.origin_y + sel.y0 * m - reach_m, y1 = g.origin_y + (sel.y1 + 1) * m + reach_m;
+    constexpr int kStripsPerBand = 8;
+    const double strip = band_m / kStripsPerBand;
+    const auto strips = static_cast<std::size_t>(std::clamp(std::ceil((y1 - y0) / strip), 1.0, double(1 << 22)));
+    std::vector<double> in_strip(strips, 0.0);
+    const auto strip_of = [&](double y) {
+        return static_cast<std::size_t>(std::clamp(std::floor((y - y0) / strip), 0.0, double(strips - 1)));
+    };
+    for (const auto& t : ds.tiles) {
+        const auto& b = t.bounds_m;
+        const double points = static_cast<double>(t.tile.header.point_count);
+        const double w = b.max_x - b.min_x, h = b.max_y - b.min_y;
+        const double across = std::min(b.max_x, x1) - std::max(b.min_x, x0);
+        if (across < 0 || b.max_y < y0 || b.min_y > y1) continue;
+        const double share = w > 0 ? across / w : 1.0;  // a tile without width goes whole
+        for (std::size_t i = strip_of(b.min_y); i <= strip_of(b.max_y); ++i) {
+            const double s0 = y0 + double(i) * strip;
+            const double over = std::min(b.max_y, s0 + strip) - std::max(b.min_y, s0);
+            in_strip[i] += points * share * (h > 0 ? std::max(0.0, over) / h : 1.0);
+        }
+    }
+    double window = 0, most = 0;
+    for (std::size_t i = 0; i < strips; ++i) {
+        window += in_strip[i];
+        if (i >= kStripsPerBand + 1) window -= in_strip[i - kStripsPerBand - 1];
+        most = std::max(most, window);
+    }
+    return most;
+}
+
+bool is_tin(const GridLayer& l) { return l.gridder.method == GridMethod::Tin; }
+
+// The margins' share: points within the reach of two or four blocks are held by each.
+double grown_by_margin(const DemGrid& grid, const GridLayer& l) {
+    const double window = grid.block + 2.0 * tin_margin_texels(l.gridder, grid.texel_m);
+    return window / grid.block * window / grid.block;
+}
+
 struct TinPoints {
-    double held_bytes_per_block = 0, finishing_bytes = 0;
+    double held_bytes = 0, finishing_bytes = 0;  // all the blocks held at once; the densest block's finishing
+    int layers = 0;                               // tin layers
 };
 
 TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::span<const GridLayer> layers) {
-    const auto is_tin = [](const GridLayer& l) { return l.gridder.method == GridMethod::Tin; };
     if (std::none_of(layers.begin(), layers.end(), is_tin)) return {};
     const std::vector<double> points = block_point_estimates(ds, grid);
     const BlockRange selected = grid.selected_blocks();
-    double densest = 0, sum = 0, filled = 0;
+    double densest = 0;
     for (int iy = selected.y0; iy <= selected.y1; ++iy) {
         for (int ix = selected.x0; ix <= selected.x1; ++ix) {
-            const double p = points[static_cast<std::size_t>(iy) * grid.blocks_x() + ix];
-            densest = std::max(densest, p), sum += p, filled += p > 0;
+            densest = std::max(densest, points[static_cast<std::size_t>(iy) * grid.blocks_x() + ix]);
         }
     }
-    double held = 0, finishing = 0;
+    TinPoints out;
+    out.held_bytes = held_points_estimate(ds, grid, layers) * 24;
     for (const GridLayer& l : layers) {
         if (!is_tin(l)) continue;
         const double window = grid.block + 2.0 * tin_margin_texels(l.gridder, grid.texel_m);
-        const double grown = window / grid.block * window / grid.block;
-        const double seen = densest * grown;  // points
-        held += filled > 0 ? sum / filled * grown * 24 + kHeldChunkBytes : 0;
-        finishing += seen * (seen >= kTinWalkPointsPerTexel * window * window ? 120 : 240);
-        if (l.gridder.ground) finishing += ground_filter_bytes(grid, l.gridder, seen);
+        const double seen = densest * grown_by_margin(grid, l);  // points
+        out.finishing_bytes += seen * (seen >= kTinWalkPointsPerTexel * window * window ? 120 : 240);
+        if (l.gridder.ground) out.finishing_bytes += ground_filter_bytes(grid, l.gridder, seen);
+        ++out.layers;
     }
-    return {held, finishing};
+    return out;
 }
 
 }  // namespace
@@ -276,9 +337,19 @@ std::uint64_t full_layers_peak_bytes(const dataset::Dataset& ds, const DemGrid& 
     const double held = std::min(static_cast<double>(selected.count()), rows * (selected.x1 - selected.x0 + 1));
     const double block_texels = static_cast<double>(grid.block) * grid.block;
     const TinPoints tin = tin_point_bytes(ds, grid, layers);
-    const double bytes = held * (block_texels * per_texel + tin.held_bytes_per_block) + tin.finishing_bytes +
-                         blocks * sizeof(int) + reading_bytes(ds);
+    const double bytes = held * (block_texels * per_texel + tin.layers * kHeldChunkBytes) + tin.held_bytes +
+                         tin.finishing_bytes + blocks * sizeof(int) + reading_bytes(ds);
     return bytes >= 1.8e19 ? ~0ull : static_cast<std::uint64_t>(bytes);
+}
+
+double held_points_estimate(const dataset::Dataset& ds, const DemGrid& grid, std::span<const GridLayer> layers) {
+    double reach = 0, grown = 0;
+    for (const GridLayer& l : layers) {
+        reach = std::max(reach, gridder_reach_m(l.gridder, grid.texel_m));
+        if (is_tin(l)) grown += grown_by_margin(grid, l);
+    }
+    if (grown == 0) return 0;
+    return densest_band_points(ds, grid, held_band_m(ds, grid, reach), reach) * grown;
 }
 
 std::uint64_t full_dem_peak_bytes(const dataset::Dataset& ds, const DemGrid& grid, const GridderSpec& gridder,

@@ -66,19 +66,26 @@ struct FullDemStats {
     std::uint64_t points_skipped = 0;
     std::size_t blocks_written = 0;
     std::size_t peak_blocks = 0;  // blocks held at once
+    std::uint64_t peak_held_points = 0;  // points the blocks held at once (tin blocks; before a tile's blocks finish)
     std::vector<std::uint64_t> layer_points;  // per layer of grid_full_layers: the points it was given
 };
 
 // Bytes grid_full_dem may hold at once, estimated before anything is allocated: the blocks of a
 // band as wide as the grid's selected blocks and as tall as the tallest tile's blocks plus one
-// (blocks finish when the row of tiles above them is done), at the gridder's bytes per texel (a tin
-// block: or the points it holds, from the tile headers' counts, where more), a count per block of
-// the grid, the batches of points being read and the program itself.
+// (blocks finish when the row of tiles above them is done) at the gridder's bytes per texel, the
+// points the tin blocks hold (held_points_estimate) and the densest one's finishing, a count per
+// block of the grid, the batches of points being read and the program itself.
 std::uint64_t full_dem_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const GridderSpec& gridder,
                                   bool rgb);
 // The same for several layers gridded in one pass.
 std::uint64_t full_layers_peak_bytes(const dataset::Dataset& dataset, const DemGrid& grid,
                                      std::span<const GridLayer> layers);
+
+// The points the tin layers' blocks may hold at once, from the tile headers' counts (spread evenly
+// over their bounds): the most in a band across the selected blocks as tall as a block, its
+// margins and the tallest tile (the tiles are read south to north), times the share of points that
+// two or four blocks hold. 0 without a tin layer.
+double held_points_estimate(const dataset::Dataset& dataset, const DemGrid& grid, std::span<const GridLayer> layers);
 
 // Heights in metres (NaN: none) in a file's vertical unit (metres / z_to_metres), `nodata` where none.
 std::vector<float> heights_in_file_units(std::span<const float> metres, double z_to_metres, float nodata);

@@ -15,6 +15,7 @@
 #include "las_fixture.hpp"
 #include "pipelines/survey_samples.hpp"
 #include "raster/dem.hpp"
+#include "raster/full_dem.hpp"
 #include "raster/gdal_test_util.hpp"
 #include "temp_dir_fixture.hpp"
 
@@ -252,6 +253,46 @@ TEST_F(FullDem, IdwAndTinHaveNoSeamsAtBlockBorders) {
         }
         EXPECT_GT(same, 50000u);
     }
+}
+
+// A tin DEM holds the points of a band of blocks, not of the whole dataset: tiles are read south
+// to north and a block is finished when the last tile that reaches it is done. Twelve 100 m tiles
+// (2 x 6) of 1 point per m2 under blocks of 64 m: the points held at once (counted before each
+// tile's blocks finish) stay within the estimate the memory check uses, and the estimate is a band,
+// well under the whole dataset, and not far above what was held.
+TEST_F(FullDem, TinBlocksHoldABandOfPointsAsEstimated) {
+    std::vector<std::string> files;
+    std::uint64_t total = 0;
+    for (int ty = 0; ty < 6; ++ty) {
+        for (int tx = 0; tx < 2; ++tx) {
+            std::vector<test::FixturePoint> points;
+            for (int i = 0; i < 10000; ++i) {
+                const double u = std::fmod(i * 0.6180339887, 1.0), v = (i + 0.5) / 10000.0;
+                points.push_back({500000.0 + 100 * tx + 99.9 * u, 5400000.0 + 100 * ty + 99.9 * v, 200.0 + u + v});
+            }
+            const std::string name = "t" + std::to_string(tx) + "_" + std::to_string(ty) + ".las";
+            files.push_back(path(name.c_str()));
+            test::write_fixture(files.back(), points, 32632);
+            total += points.size();
+        }
+    }
+    const auto ds = dataset::open_dataset(files);
+    ASSERT_EQ(ds.tiles.size(), 12u);
+    raster::GridLayer layer;
+    layer.gridder.method = raster::GridMethod::Tin;
+    layer.gridder.tin_max_edge_m = 5;
+    const raster::DemGrid grid = raster::make_dem_grid(raster::dataset_area(ds), 1.0, 64);
+    ASSERT_GE(grid.blocks_y(), 9);
+    ThreadPool pool(2);
+    const auto stats = raster::grid_full_layers(ds, grid, std::span<const raster::GridLayer>(&layer, 1),
+                                                [](CellKey, std::vector<raster::BlockImages>&) {}, pool);
+    EXPECT_EQ(stats.points_used, total);
+    const double estimate = raster::held_points_estimate(ds, grid, std::span<const raster::GridLayer>(&layer, 1));
+    const double held = static_cast<double>(stats.peak_held_points);
+    EXPECT_GT(held, 0.2 * double(total));
+    EXPECT_GE(estimate, held);
+    EXPECT_LT(estimate, 2.0 * held);
+    EXPECT_LT(estimate, 0.75 * double(total));
 }
 
 // Two small tiles 2,100 km apart would make a 2,100,000 x 1,000 texel raster that is nearly all
