@@ -209,8 +209,8 @@ std::uint64_t gridder_bytes_per_texel(const GridderSpec& g) {
 // on, sorts them into buckets and walks (about 120 bytes). Where the points are denser than a
 // texel, these outweigh the per-texel bytes. The points held at once lie in one band across the
 // selected blocks (held_points_estimate), and the densest block finishes on top. Measured on the
-// 2,025-tile replica's 10 m dtm of every point: the run held GB_MEASURED at its peak; the blocks'
-// mean times the rows of blocks a tile reaches plus one had estimated 24.7 GB.
+// 2,025-tile replica's 10 m dtm of every point: the run held 9.76 GB at its peak, estimated 16.4 GB
+// (the blocks' mean times the rows of blocks a tile reaches plus one had estimated 24.7 GB).
 // A tin block with the ground filter also holds, while it finishes, its lattice (about 60 bytes a
 // cell at the peak: the surfaces, the masks, the running extremes, the pull-push pyramid) and 33
 // bytes per point (a sample, its cell, its verdict).
