@@ -284,9 +284,14 @@ double densest_band_points(const dataset::Dataset& ds, const DemGrid& g, double 
 
 bool is_tin(const GridLayer& l) { return l.gridder.method == GridMethod::Tin; }
 
+// A tin block's window side in texels: the block and its margin.
+double tin_window_texels(const DemGrid& grid, const GridLayer& l) {
+    return grid.block + 2.0 * tin_margin_texels(l.gridder, grid.texel_m);
+}
+
 // The margins' share: points within the reach of two or four blocks are held by each.
 double grown_by_margin(const DemGrid& grid, const GridLayer& l) {
-    const double window = grid.block + 2.0 * tin_margin_texels(l.gridder, grid.texel_m);
+    const double window = tin_window_texels(grid, l);
     return window / grid.block * window / grid.block;
 }
 
@@ -309,7 +314,7 @@ TinPoints tin_point_bytes(const dataset::Dataset& ds, const DemGrid& grid, std::
     out.held_bytes = held_points_estimate(ds, grid, layers) * 24;
     for (const GridLayer& l : layers) {
         if (!is_tin(l)) continue;
-        const double window = grid.block + 2.0 * tin_margin_texels(l.gridder, grid.texel_m);
+        const double window = tin_window_texels(grid, l);
         const double seen = densest * grown_by_margin(grid, l);  // points
         out.finishing_bytes += seen * (seen >= kTinWalkPointsPerTexel * window * window ? 120 : 240);
         if (l.gridder.ground) out.finishing_bytes += ground_filter_bytes(grid, l.gridder, seen);
