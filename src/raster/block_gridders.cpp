@@ -21,6 +21,9 @@ namespace {
 
 std::size_t texel_count(const DemGrid& g) { return static_cast<std::size_t>(g.block) * g.block; }
 
+// Whether a texel mask ([row * block + col], 1: marked) marks any texel.
+bool any_marked(const std::vector<char>& mask) { return std::find(mask.begin(), mask.end(), 1) != mask.end(); }
+
 std::uint8_t colour_byte(double v) { return static_cast<std::uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L)); }
 
 // RGBA planes from per-texel colours in [0, 1] (NaN: no value there).
@@ -173,7 +176,7 @@ public:
         std::vector<char> rest;  // what the thinned walks left to every point
         if (!wanted && thins()) {
             rest = thinned_walks(options, out);
-            if (std::find(rest.begin(), rest.end(), 1) == rest.end()) {
+            if (!any_marked(rest)) {
                 points_.clear();
                 return out;
             }
@@ -390,7 +393,7 @@ private:
             const bool none_proven = texels == reach_texels;
             left = proven_walk(options, at, near_left, clear, left, (texels - 0.5) * unit, none_proven, nullptr,
                                reach_texels, out);
-            if (std::find(left.begin(), left.end(), 1) == left.end()) break;
+            if (!any_marked(left)) break;
         }
         tally();
         return left;
@@ -558,7 +561,7 @@ public:
                 else holes[i] = 1;
             }
         }
-        const bool any_hole = std::find(holes.begin(), holes.end(), 1) != holes.end();
+        const bool any_hole = any_marked(holes);
         if (any_hole) {
             dataset::MetricPoint p;
             for (const Highest& h : highest_) {
