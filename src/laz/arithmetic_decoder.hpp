@@ -15,6 +15,7 @@
 #include <span>
 
 #include "laz/arithmetic_models.hpp"
+#include "laz/decode_trace.hpp"
 
 namespace lidarscout::laz {
 
@@ -32,6 +33,9 @@ public:
         length_ = kMaxLength;
         value_ = 0;
         for (int i = 0; i < 4; ++i) value_ = (value_ << 8) | next_byte();
+#ifdef LIDARSCOUT_LAZ_TRACE
+        if (decode_trace_sink) decode_trace_sink->on_start(stream);
+#endif
     }
 
     // Bytes taken from the stream so far (including made-up ones past the end).
@@ -51,6 +55,9 @@ public:
         }
         if (length_ < kMinLength) renormalize();
         m.record(bit);
+#ifdef LIDARSCOUT_LAZ_TRACE
+        if (decode_trace_sink) decode_trace_sink->on_bit({data_, size_}, m, bit);
+#endif
         return bit;
     }
 
@@ -82,6 +89,9 @@ public:
         length_ = high - low;
         renormalize();
         m.record(symbol);
+#ifdef LIDARSCOUT_LAZ_TRACE
+        if (decode_trace_sink) decode_trace_sink->on_symbol({data_, size_}, m, symbol);
+#endif
         return symbol;
     }
 
@@ -144,6 +154,9 @@ private:
         value_ -= length_ * v;
         renormalize();
         if (v >> bits) [[unlikely]] fail_corrupt(bits);
+#ifdef LIDARSCOUT_LAZ_TRACE
+        if (decode_trace_sink) decode_trace_sink->on_raw({data_, size_}, bits, v);
+#endif
         return v;
     }
 

@@ -1,0 +1,384 @@
+// Benchmark: how much of a LAZ decode is the arithmetic decoding itself. In two steps:
+//   --record T: decodes FILE once on one thread and writes to T every stream its arithmetic
+//     decoders start and every symbol, bit and raw field they decode (laz/decode_trace.hpp;
+//     needs a build configured with -DLIDARSCOUT_LAZ_TRACE=ON);
+//   --trace T: in a default build (no hooks in the decoder), times the full decode of FILE and
+//     replays T alone: the same streams, calls and models in the same order (fresh models in
+//     their start state, as at a chunk's start), without the item decoders that choose the
+//     models and turn symbols into fields; and the replay with two streams stepped alternately
+//     in one loop (what interleaving chunks could gain at best). Every replayed value is checked
+//     against the recorded one before the timing.
+// Usage: bench_replay FILE.laz --record T | --trace T [--runs N]
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <map>
+#include <span>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_main.hpp"
+#include "core/error.hpp"
+#include "core/thread_pool.hpp"
+#include "dataset/tile.hpp"
+#include "io/file.hpp"
+#include "io/output_file.hpp"
+#include "laz/arithmetic_decoder.hpp"
+#include "laz/laz.hpp"
+
+using namespace lidarscout;
+
+namespace {
+
+enum class OpKind : std::uint32_t { Symbol, Bit, Raw };
+
+// One recorded decoder call: the model (an index into the stream's own models) or the raw width.
+struct Op {
+    OpKind kind;
+    std::uint32_t arg;  // model index, or raw bits
+    std::uint32_t result;
+};
+
+// One arithmetic-coded stream (a chunk, or a layer of one) and the calls made on it.
+struct RecordedStream {
+    std::vector<std::uint8_t> bytes;
+    std::vector<Op> ops;
+    std::map<const void*, std::uint32_t> model_index;  // recorded model -> index
+    std::vector<std::uint32_t> model_symbols;           // per index: alphabet size, 0 for a bit model
+};
+
+// Collects the streams and calls of every decoder, one thread at a time.
+class Recorder final : public laz::DecodeTraceSink {
+public:
+    std::vector<RecordedStream> streams;
+
+    void on_start(Stream stream) override {
+        current_[key(stream)] = streams.size();
+        streams.push_back({{stream.begin(), stream.end()}, {}, {}, {}});
+    }
+    void on_symbol(Stream stream, laz::SymbolModel& model, std::uint32_t symbol) override {
+        auto& s = streams[current_.at(key(stream))];
+        s.ops.push_back({OpKind::Symbol, index_of(s, &model, model.symbols()), symbol});
+    }
+    void on_bit(Stream stream, laz::BitModel& model, std::uint32_t bit) override {
+        auto& s = streams[current_.at(key(stream))];
+        s.ops.push_back({OpKind::Bit, index_of(s, &model, 0), bit});
+    }
+    void on_raw(Stream stream, std::uint32_t bits, std::uint32_t value) override {
+        streams[current_.at(key(stream))].ops.push_back({OpKind::Raw, bits, value});
+    }
+
+private:
+    static std::uint32_t index_of(RecordedStream& s, const void* model, std::uint32_t symbols) {
+        const auto [it, added] = s.model_index.try_emplace(model, static_cast<std::uint32_t>(s.model_symbols.size()));
+        if (added) s.model_symbols.push_back(symbols);
+        return it->second;
+    }
+    static std::pair<const void*, std::size_t> key(Stream s) { return {s.data(), s.size()}; }
+    std::map<std::pair<const void*, std::size_t>, std::size_t> current_;  // a stream's latest start
+};
+
+// ---- The trace file: little-endian u32 words. A stream count, then per stream: its byte count and
+// bytes (padded to 4), its model count and each model's alphabet (0: bit model), its call count
+// and per call (kind << 30 | model index or raw bits, result).
+class TraceWriter {
+public:
+    explicit TraceWriter(io::AtomicOutputFile& out) : out_(out) {}
+    void word(std::uint32_t v) {
+        const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+        buffer_.insert(buffer_.end(), p, p + 4);
+        flush_if_full();
+    }
+    void bytes(std::span<const std::uint8_t> b) {
+        word(static_cast<std::uint32_t>(b.size()));
+        buffer_.insert(buffer_.end(), b.begin(), b.end());
+        buffer_.resize((buffer_.size() + 3) / 4 * 4, 0);
+        flush_if_full();
+    }
+    void flush() { out_.write(buffer_); buffer_.clear(); }
+
+private:
+    void flush_if_full() {
+        if (buffer_.size() > (1u << 20)) flush();
+    }
+    io::AtomicOutputFile& out_;
+    std::vector<std::uint8_t> buffer_;
+};
+
+void write_trace(const std::vector<RecordedStream>& streams, const std::string& path, const std::string& input) {
+    io::AtomicOutputFile out(path, input);
+    TraceWriter w(out);
+    w.word(static_cast<std::uint32_t>(streams.size()));
+    for (const RecordedStream& s : streams) {
+        w.bytes(s.bytes);
+        w.word(static_cast<std::uint32_t>(s.model_symbols.size()));
+        for (std::uint32_t m : s.model_symbols) w.word(m);
+        w.word(static_cast<std::uint32_t>(s.ops.size()));
+        for (const Op& op : s.ops) {
+            w.word(static_cast<std::uint32_t>(op.kind) << 30 | op.arg);
+            w.word(op.result);
+        }
+    }
+    w.flush();
+    out.commit();
+}
+
+class TraceReader {
+public:
+    explicit TraceReader(const std::string& path) : file_(io::File::open(path)), data_(file_.size()) {
+        if (file_.read_at(0, data_) != data_.size()) throw Error(path, 0, "short read");
+    }
+    std::uint32_t word() {
+        if (at_ + 4 > data_.size()) throw Error(file_.path(), at_, "trace ends early");
+        std::uint32_t v;
+        std::memcpy(&v, data_.data() + at_, 4);
+        at_ += 4;
+        return v;
+    }
+    std::vector<std::uint8_t> bytes() {
+        const std::size_t n = word();
+        if (at_ + n > data_.size()) throw Error(file_.path(), at_, "trace ends early");
+        std::vector<std::uint8_t> b(data_.begin() + static_cast<std::ptrdiff_t>(at_),
+                                    data_.begin() + static_cast<std::ptrdiff_t>(at_ + n));
+        at_ += (n + 3) / 4 * 4;
+        return b;
+    }
+
+private:
+    io::File file_;
+    std::vector<std::uint8_t> data_;
+    std::size_t at_ = 0;
+};
+
+std::vector<RecordedStream> read_trace(const std::string& path) {
+    TraceReader r(path);
+    std::vector<RecordedStream> streams(r.word());
+    for (RecordedStream& s : streams) {
+        s.bytes = r.bytes();
+        s.model_symbols.resize(r.word());
+        for (std::uint32_t& m : s.model_symbols) {
+            m = r.word();
+            if (m == 1 || m > laz::kMaxSymbols) throw Error(path, 0, "bad model size in the trace");
+        }
+        s.ops.resize(r.word());
+        for (Op& op : s.ops) {
+            const std::uint32_t head = r.word();
+            if ((head >> 30) > 2) throw Error(path, 0, "bad call kind in the trace");
+            op = {static_cast<OpKind>(head >> 30), head & 0x3FFFFFFFu, r.word()};
+            if (op.kind != OpKind::Raw && op.arg >= s.model_symbols.size()) throw Error(path, 0, "bad model index");
+            if ((op.kind == OpKind::Symbol) != (op.kind != OpKind::Raw && s.model_symbols[op.arg] != 0)) {
+                throw Error(path, 0, "a call does not match its model's kind");
+            }
+            if (op.kind == OpKind::Raw && (op.arg < 1 || op.arg > 19)) throw Error(path, 0, "bad raw width");
+        }
+    }
+    return streams;
+}
+
+// A stream's models for replaying, in their start state.
+struct ReplayModels {
+    std::vector<laz::SymbolModel> symbol_models;
+    std::vector<laz::BitModel> bit_models;
+    std::vector<std::uint32_t> slot;  // model index -> index into its vector
+
+    explicit ReplayModels(const RecordedStream& s) {
+        for (std::uint32_t symbols : s.model_symbols) {
+            if (symbols == 0) {
+                slot.push_back(static_cast<std::uint32_t>(bit_models.size()));
+                bit_models.emplace_back();
+            } else {
+                slot.push_back(static_cast<std::uint32_t>(symbol_models.size()));
+                symbol_models.emplace_back(symbols);
+            }
+        }
+    }
+    void reset() {
+        for (auto& m : symbol_models) m.reset();
+        for (auto& m : bit_models) m.reset();
+    }
+};
+
+// The recorded ops with their models resolved, ready to run back to back.
+struct ReplayOp {
+    OpKind kind;
+    std::uint32_t bits;
+    void* model;
+    std::uint32_t result;
+};
+
+std::vector<ReplayOp> resolve(const RecordedStream& s, ReplayModels& models) {
+    std::vector<ReplayOp> out;
+    out.reserve(s.ops.size());
+    for (const Op& op : s.ops) {
+        void* model = nullptr;
+        if (op.kind == OpKind::Symbol) model = &models.symbol_models[models.slot[op.arg]];
+        if (op.kind == OpKind::Bit) model = &models.bit_models[models.slot[op.arg]];
+        out.push_back({op.kind, op.kind == OpKind::Raw ? op.arg : 0u, model, op.result});
+    }
+    return out;
+}
+
+inline std::uint32_t replay_op(laz::ArithmeticDecoder& dec, const ReplayOp& op) {
+    if (op.kind == OpKind::Symbol) [[likely]] return dec.decode_symbol(*static_cast<laz::SymbolModel*>(op.model));
+    if (op.kind == OpKind::Bit) return dec.decode_bit(*static_cast<laz::BitModel*>(op.model));
+    return dec.read_bits(op.bits);
+}
+
+struct Replay {
+    std::vector<RecordedStream> streams;
+    std::vector<std::unique_ptr<ReplayModels>> models;
+    std::vector<std::vector<ReplayOp>> ops;
+
+    void reset() {
+        for (auto& m : models) m->reset();
+    }
+
+    // Every stream once, in order; with `check`, each value against the recorded one.
+    std::uint64_t run_sequential(bool check) {
+        std::uint64_t sum = 0;
+        for (std::size_t i = 0; i < ops.size(); ++i) {
+            laz::ArithmeticDecoder dec(streams[i].bytes);
+            for (const ReplayOp& op : ops[i]) {
+                const std::uint32_t v = replay_op(dec, op);
+                if (check && v != op.result) throw Error("replay of stream " + std::to_string(i) + " differs");
+                sum += v;
+            }
+        }
+        return sum;
+    }
+
+    // Streams two at a time, one call of each in turn.
+    std::uint64_t run_paired() {
+        std::uint64_t sum = 0;
+        for (std::size_t i = 0; i < ops.size(); i += 2) {
+            if (i + 1 == ops.size()) {
+                laz::ArithmeticDecoder dec(streams[i].bytes);
+                for (const ReplayOp& op : ops[i]) sum += replay_op(dec, op);
+                break;
+            }
+            laz::ArithmeticDecoder a(streams[i].bytes);
+            laz::ArithmeticDecoder b(streams[i + 1].bytes);
+            const auto& oa = ops[i];
+            const auto& ob = ops[i + 1];
+            const std::size_t both = std::min(oa.size(), ob.size());
+            for (std::size_t k = 0; k < both; ++k) sum += replay_op(a, oa[k]) + replay_op(b, ob[k]);
+            for (std::size_t k = both; k < oa.size(); ++k) sum += replay_op(a, oa[k]);
+            for (std::size_t k = both; k < ob.size(); ++k) sum += replay_op(b, ob[k]);
+        }
+        return sum;
+    }
+};
+
+template <class Fn>
+double median_seconds(int runs, Fn&& fn) {
+    std::vector<double> s;
+    for (int r = 0; r < runs; ++r) {
+        const auto t0 = std::chrono::steady_clock::now();
+        fn();
+        s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(s.begin(), s.end());
+    return s[s.size() / 2];
+}
+
+// The decoder of FILE on one thread, the reference for the replay.
+struct FileDecode {
+    io::File file;
+    dataset::Tile tile;
+    laz::LazLayout layout;
+    std::vector<std::uint8_t> records;
+    ThreadPool pool{1};
+
+    explicit FileDecode(const std::string& path)
+        : file(io::File::open(path)), tile(dataset::read_tile(file)),
+          layout(make_layout(path, tile)), records(tile.header.point_count * tile.header.record_length) {}
+    static laz::LazLayout make_layout(const std::string& path, const dataset::Tile& tile) {
+        if (!tile.laz()) throw Error(path, 0, "not a LAZ file");
+        const las::LaszipVlr& vlr = *tile.laz();
+        return {tile.header, vlr, laz::decode_units(tile.header, vlr, *tile.chunks(), tile.file_size())};
+    }
+    void decode() {
+        laz::decode_units_parallel(file, layout, 0, layout.units.size(), records, las::fields::kAll, pool);
+    }
+};
+
+void record(const std::string& path, const std::string& trace) {
+    if (!laz::kDecodeTraceBuilt) throw Error("--record needs a build configured with -DLIDARSCOUT_LAZ_TRACE=ON");
+    FileDecode f(path);
+    Recorder recorder;
+    laz::decode_trace_sink = &recorder;
+    f.decode();
+    laz::decode_trace_sink = nullptr;
+    write_trace(recorder.streams, trace, path);
+    fmt::print("{}: {} streams recorded to {}\n", path, recorder.streams.size(), trace);
+}
+
+void replay(const std::string& path, const std::string& trace, int runs) {
+    if (laz::kDecodeTraceBuilt) {
+        throw Error("--trace times the decoder: use a build without -DLIDARSCOUT_LAZ_TRACE (its hooks slow it)");
+    }
+    FileDecode f(path);
+    f.decode();  // warm-up
+    const double full = median_seconds(runs, [&] { f.decode(); });
+    Replay replay{read_trace(trace), {}, {}};
+    std::size_t symbols = 0, bits = 0, raws = 0;
+    for (const RecordedStream& s : replay.streams) {
+        replay.models.push_back(std::make_unique<ReplayModels>(s));
+        replay.ops.push_back(resolve(s, *replay.models.back()));
+        for (const Op& op : s.ops) {
+            symbols += op.kind == OpKind::Symbol;
+            bits += op.kind == OpKind::Bit;
+            raws += op.kind == OpKind::Raw;
+        }
+    }
+    replay.reset();
+    replay.run_sequential(true);
+    std::vector<double> alone, paired;
+    for (int r = 0; r < runs; ++r) {  // the two forms alternate, each from the start state
+        replay.reset();
+        alone.push_back(median_seconds(1, [&] { replay.run_sequential(false); }));
+        replay.reset();
+        paired.push_back(median_seconds(1, [&] { replay.run_paired(); }));
+    }
+    std::sort(alone.begin(), alone.end());
+    std::sort(paired.begin(), paired.end());
+    const double n = static_cast<double>(f.tile.header.point_count);
+    const double per = 1e9 / n;
+    fmt::print("{}: {} points, format {}, {} streams; per point {:.2f} symbols, {:.2f} bits, {:.2f} raw fields\n",
+               path, f.tile.header.point_count, f.tile.header.point_format, replay.streams.size(), symbols / n,
+               bits / n, raws / n);
+    fmt::print("  full decode, one thread:              {:7.1f} ns/point\n", full * per);
+    fmt::print("  arithmetic decoding alone (replay):   {:7.1f} ns/point ({:.0f} % of the full decode)\n",
+               alone[alone.size() / 2] * per, 100 * alone[alone.size() / 2] / full);
+    fmt::print("  the same, two streams interleaved:    {:7.1f} ns/point\n", paired[paired.size() / 2] * per);
+}
+
+constexpr const char* kUsage = "FILE.laz --record TRACE | --trace TRACE [--runs N]";
+
+int run(int argc, char** argv) {
+    int runs = 5;
+    std::string file, record_to, trace;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
+        else if (std::strcmp(argv[i], "--record") == 0 && i + 1 < argc) record_to = argv[++i];
+        else if (std::strcmp(argv[i], "--trace") == 0 && i + 1 < argc) trace = argv[++i];
+        else if (file.empty()) file = argv[i];
+        else throw Error(std::string("unexpected argument ") + argv[i] + "; see --help");
+    }
+    if (file.empty() || record_to.empty() == trace.empty()) {
+        fmt::print(stderr, "usage: bench_replay {}\n", kUsage);
+        return 2;
+    }
+    if (!record_to.empty()) record(file, record_to);
+    else replay(file, trace, runs);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    return lidarscout::bench::bench_main("bench_replay", kUsage, argc, argv, run);
+}
