@@ -47,17 +47,7 @@ public:
     std::uint32_t decode_bit(BitModel& m) {
         const std::uint32_t split = m.zero_probability() * (length_ >> kBitProbabilityBits);
         const std::uint32_t bit = value_ >= split;
-        if (bit == 0) {
-            length_ = split;
-        } else {
-            value_ -= split;
-            length_ -= split;
-        }
-        if (length_ < kMinLength) renormalize();
-        m.record(bit);
-#ifdef LIDARSCOUT_LAZ_TRACE
-        if (decode_trace_sink) decode_trace_sink->on_bit({data_, size_}, m, bit);
-#endif
+        take_bit(m, bit, split);
         return bit;
     }
 
@@ -66,33 +56,36 @@ public:
         const std::uint32_t full = length_;
         length_ >>= kSymbolProbabilityBits;
         std::uint32_t symbol;
-        std::uint32_t low;           // scaled lower end of the symbol's interval
-        std::uint32_t high = full;   // scaled upper end (the whole length for the last symbol)
         if (m.has_lookup()) {
             const std::uint32_t scaled = value_ / length_;
-            // The clamp only matters for corrupt streams (code value beyond the interval).
+            // The clamps only matter for corrupt streams (a code value beyond the interval): the
+            // slot stays in the table, and the scan stops at the sentinel past the last symbol.
             const std::uint32_t slot = std::min(scaled >> m.lookup_shift(), m.lookup_size());
-            symbol = m.lookup()[slot];
-            std::uint32_t above = m.lookup()[slot + 1] + 1;
-            while (above > symbol + 1) {  // bisect within the candidates
-                const std::uint32_t mid = (symbol + above) >> 1;
-                if (m.cdf(mid) > scaled) above = mid; else symbol = mid;
-            }
-            low = m.cdf(symbol) * length_;
-            if (symbol != m.last_symbol()) high = m.cdf(symbol + 1) * length_;
+            const std::uint32_t bound = std::min(scaled, SymbolModel::kSentinel - 1);
+            symbol = m.lookup()[slot];  // the first candidate; rarely more than one or two
+            while (m.cdf(symbol + 1) <= bound) ++symbol;
         } else {
             symbol = m.last_at_or_below(value_, length_);  // no division for small alphabets
-            low = m.cdf(symbol) * length_;
-            if (symbol != m.last_symbol()) high = m.cdf(symbol + 1) * length_;
         }
-        value_ -= low;
-        length_ = high - low;
-        renormalize();
-        m.record(symbol);
-#ifdef LIDARSCOUT_LAZ_TRACE
-        if (decode_trace_sink) decode_trace_sink->on_symbol({data_, size_}, m, symbol);
-#endif
+        take_symbol(m, symbol, full);
         return symbol;
+    }
+
+    // ---- For bench_replay's floor: a value known in advance taken as the decode calls above take
+    // what they find (interval, renormalisation, model adaptation), without finding it. Only
+    // the value the stream holds keeps the decoder in step.
+    void take_known_symbol(SymbolModel& m, std::uint32_t symbol) {
+        const std::uint32_t full = length_;
+        length_ >>= kSymbolProbabilityBits;
+        take_symbol(m, symbol, full);
+    }
+    void take_known_bit(BitModel& m, std::uint32_t bit) {
+        take_bit(m, bit, m.zero_probability() * (length_ >> kBitProbabilityBits));
+    }
+    void take_known_raw(std::uint32_t bits, std::uint32_t v) {
+        length_ >>= bits;
+        value_ -= length_ * v;
+        renormalize();
     }
 
     // Raw (equiprobable) fields.
@@ -124,6 +117,36 @@ private:
         const std::uint32_t b = pos_ < size_ ? data_[pos_] : 0u;
         ++pos_;
         return b;
+    }
+
+    // The interval of `symbol` (`full`: the length before the >> 15 scaling), then renormalise
+    // and adapt the model.
+    void take_symbol(SymbolModel& m, std::uint32_t symbol, std::uint32_t full) {
+        const std::uint32_t low = m.cdf(symbol) * length_;  // scaled ends of the symbol's interval
+        const std::uint32_t above = m.cdf(symbol + 1) * length_;  // (the sentinel past the last symbol)
+        const std::uint32_t high = symbol == m.last_symbol() ? full : above;  // the whole length for the last
+        value_ -= low;
+        length_ = high - low;
+        renormalize();
+        m.record(symbol);
+#ifdef LIDARSCOUT_LAZ_TRACE
+        if (decode_trace_sink) decode_trace_sink->on_symbol({data_, size_}, m, symbol);
+#endif
+    }
+
+    // The side of `split` that `bit` names, then renormalise and adapt the model.
+    void take_bit(BitModel& m, std::uint32_t bit, std::uint32_t split) {
+        if (bit == 0) {
+            length_ = split;
+        } else {
+            value_ -= split;
+            length_ -= split;
+        }
+        if (length_ < kMinLength) renormalize();
+        m.record(bit);
+#ifdef LIDARSCOUT_LAZ_TRACE
+        if (decode_trace_sink) decode_trace_sink->on_bit({data_, size_}, m, bit);
+#endif
     }
 
     // Shifts in the whole bytes that bring length_ back to at least 2^24 (none when it is):

@@ -56,9 +56,11 @@ SymbolModel::SymbolModel(std::uint32_t symbols) : symbols_(symbols) {
         lookup_shift_ = kSymbolProbabilityBits - bits;
         lookup_entries = lookup_size_ + 2;
     }
-    storage_ = std::make_unique<Entry[]>(2 * std::size_t{symbols} + lookup_entries);
+    const std::size_t cdf_entries = std::max<std::size_t>(symbols + 1, lookup_entries ? 0 : kPlainWidth);
+    storage_ = std::make_unique<Entry[]>(cdf_entries + std::size_t{symbols} + lookup_entries);
     cdf_ = storage_.get();
-    counts_ = cdf_ + symbols;
+    std::fill(cdf_ + symbols, cdf_ + cdf_entries, Entry{kSentinel});
+    counts_ = cdf_ + cdf_entries;
     lookup_ = lookup_entries ? counts_ + symbols : nullptr;
     reset();
 }

@@ -5,6 +5,7 @@
 // (later) the encoder; the decoder lookup table is only an accelerator.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 
@@ -68,7 +69,8 @@ public:
 
     std::uint32_t symbols() const { return symbols_; }
     std::uint32_t last_symbol() const { return symbols_ - 1; }
-    // Lower end of symbol s in the cumulative distribution, scaled to 2^15 (s < symbols()).
+    // Lower end of symbol s in the cumulative distribution, scaled to 2^15 (s < symbols()), and
+    // kSentinel for s == symbols() (and up to kPlainWidth in models without a lookup table).
     std::uint32_t cdf(std::uint32_t s) const { return cdf_[s]; }
     bool has_lookup() const { return lookup_ != nullptr; }
     // Lookup table (lookup_size() + 2 entries) and the shift that maps a 15-bit scaled
@@ -77,14 +79,21 @@ public:
     std::uint32_t lookup_size() const { return lookup_size_; }
     std::uint32_t lookup_shift() const { return lookup_shift_; }
     // The last symbol s with cdf(s) * length <= value, i.e. cdf(s) <= value / length, for models
-    // without a lookup table (at most 16 symbols), without dividing: a branch-free count, as the
-    // symbol a code value falls in is hard to predict. No product overflows: cdf(s) < 2^15 and
-    // the decoder's length (its interval length >> 15) is below 2^17.
+    // without a lookup table (at most 16 symbols), without dividing: a branch-free count over a
+    // fixed kPlainWidth entries, as the symbol a code value falls in is hard to predict, and so is
+    // a loop whose length is the alphabet's. The products are taken in 64 bits (a sentinel times
+    // the decoder's length, below 2^17, exceeds 32).
     std::uint32_t last_at_or_below(std::uint32_t value, std::uint32_t length) const {
         std::uint32_t s = 0;
-        for (std::uint32_t i = 1; i < symbols_; ++i) s += cdf_[i] * length <= value ? 1u : 0u;
-        return s;
+        for (std::uint32_t i = 1; i < kPlainWidth; ++i) s += std::uint64_t{cdf_[i]} * length <= value ? 1u : 0u;
+        return std::min(s, symbols_ - 1);  // only a corrupt code value passes a sentinel
     }
+    // The cdf entries past the last symbol hold kSentinel: above every valid scaled code value
+    // (below 2^15 + 2^6), and kSentinel * length above every valid code value (below
+    // (length + 1) * 2^15). Every model has one such entry, cdf(symbols()), so that a search may
+    // look one past its candidate; models without a lookup table have them up to kPlainWidth.
+    static constexpr std::uint32_t kSentinel = 0xFFFF;
+    static constexpr std::uint32_t kPlainWidth = 16;
 
     // Records one coded symbol; re-estimates the distribution when an update is due.
     void record(std::uint32_t s) {
