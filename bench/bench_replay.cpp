@@ -5,9 +5,10 @@
 //   --trace T: in a default build (no hooks in the decoder), times the full decode of FILE and
 //     replays T alone: the same streams, calls and models in the same order (fresh models in
 //     their start state, as at a chunk's start), without the item decoders that choose the
-//     models and turn symbols into fields; and the replay with two streams stepped alternately
-//     in one loop (what interleaving chunks could gain at best). Every replayed value is checked
-//     against the recorded one before the timing.
+//     models and turn symbols into fields; the replay with two and with four streams stepped
+//     in turn in one loop (what interleaving chunks could gain at best); and the replay with
+//     every value known in advance (no search: the floor under any way of searching). Every
+//     replayed value is checked against the recorded one before the timing.
 // Usage: bench_replay FILE.laz --record T | --trace T [--runs N]
 #include <fmt/format.h>
 
@@ -272,23 +273,46 @@ struct Replay {
         return consumed;
     }
 
-    // Streams two at a time, one call of each in turn.
+    // Streams two or four at a time, one call of each in turn (what interleaving chunks could
+    // gain): the decoders are named locals, so that the compiler can keep their state in registers.
+    std::uint64_t run_one(laz::ArithmeticDecoder& dec, std::size_t stream, std::size_t from) {
+        std::uint64_t sum = 0;
+        for (std::size_t k = from; k < ops[stream].size(); ++k) sum += replay_op(dec, ops[stream][k]);
+        return sum;
+    }
     std::uint64_t run_paired() {
         std::uint64_t sum = 0;
-        for (std::size_t i = 0; i < ops.size(); i += 2) {
-            if (i + 1 == ops.size()) {
-                laz::ArithmeticDecoder dec(streams[i].bytes);
-                for (const ReplayOp& op : ops[i]) sum += replay_op(dec, op);
-                break;
-            }
-            laz::ArithmeticDecoder a(streams[i].bytes);
-            laz::ArithmeticDecoder b(streams[i + 1].bytes);
-            const auto& oa = ops[i];
-            const auto& ob = ops[i + 1];
+        std::size_t i = 0;
+        for (; i + 2 <= ops.size(); i += 2) {
+            laz::ArithmeticDecoder a(streams[i].bytes), b(streams[i + 1].bytes);
+            const auto &oa = ops[i], &ob = ops[i + 1];
             const std::size_t both = std::min(oa.size(), ob.size());
             for (std::size_t k = 0; k < both; ++k) sum += replay_op(a, oa[k]) + replay_op(b, ob[k]);
-            for (std::size_t k = both; k < oa.size(); ++k) sum += replay_op(a, oa[k]);
-            for (std::size_t k = both; k < ob.size(); ++k) sum += replay_op(b, ob[k]);
+            sum += run_one(a, i, both) + run_one(b, i + 1, both);
+        }
+        return sum + run_rest(i);
+    }
+    std::uint64_t run_four() {
+        std::uint64_t sum = 0;
+        std::size_t i = 0;
+        for (; i + 4 <= ops.size(); i += 4) {
+            laz::ArithmeticDecoder a(streams[i].bytes), b(streams[i + 1].bytes);
+            laz::ArithmeticDecoder c(streams[i + 2].bytes), d(streams[i + 3].bytes);
+            const auto &oa = ops[i], &ob = ops[i + 1], &oc = ops[i + 2], &od = ops[i + 3];
+            const std::size_t all = std::min({oa.size(), ob.size(), oc.size(), od.size()});
+            for (std::size_t k = 0; k < all; ++k) {
+                sum += replay_op(a, oa[k]) + replay_op(b, ob[k]) + replay_op(c, oc[k]) + replay_op(d, od[k]);
+            }
+            sum += run_one(a, i, all) + run_one(b, i + 1, all) + run_one(c, i + 2, all) + run_one(d, i + 3, all);
+        }
+        return sum + run_rest(i);
+    }
+    // The streams from `first` on, one by one.
+    std::uint64_t run_rest(std::size_t first) {
+        std::uint64_t sum = 0;
+        for (std::size_t i = first; i < ops.size(); ++i) {
+            laz::ArithmeticDecoder dec(streams[i].bytes);
+            sum += run_one(dec, i, 0);
         }
         return sum;
     }
@@ -358,7 +382,7 @@ void replay(const std::string& path, const std::string& trace, int runs) {
     }
     replay.reset();
     replay.run_sequential(true);
-    std::vector<double> alone, paired, known;
+    std::vector<double> alone, paired, four, known;
     volatile std::uint64_t sink = 0;  // keeps the replays' results alive
     for (int r = 0; r < runs; ++r) {  // the forms alternate, each from the start state
         replay.reset();
@@ -366,9 +390,11 @@ void replay(const std::string& path, const std::string& trace, int runs) {
         replay.reset();
         paired.push_back(median_seconds(1, [&] { sink = sink + replay.run_paired(); }));
         replay.reset();
+        four.push_back(median_seconds(1, [&] { sink = sink + replay.run_four(); }));
+        replay.reset();
         known.push_back(median_seconds(1, [&] { sink = sink + replay.run_known(); }));
     }
-    for (auto* v : {&alone, &paired, &known}) std::sort(v->begin(), v->end());
+    for (auto* v : {&alone, &paired, &four, &known}) std::sort(v->begin(), v->end());
     const double n = static_cast<double>(f.tile.header.point_count);
     const double per = 1e9 / n;
     fmt::print("{}: {} points, format {}, {} streams; per point {:.2f} symbols, {:.2f} bits, {:.2f} raw fields\n",
@@ -378,6 +404,7 @@ void replay(const std::string& path, const std::string& trace, int runs) {
     fmt::print("  arithmetic decoding alone (replay):   {:7.1f} ns/point ({:.0f} % of the full decode)\n",
                alone[alone.size() / 2] * per, 100 * alone[alone.size() / 2] / full);
     fmt::print("  the same, two streams interleaved:    {:7.1f} ns/point\n", paired[paired.size() / 2] * per);
+    fmt::print("  the same, four streams interleaved:   {:7.1f} ns/point\n", four[four.size() / 2] * per);
     fmt::print("  the same, every value known (no search): {:5.1f} ns/point\n", known[known.size() / 2] * per);
 }
 
