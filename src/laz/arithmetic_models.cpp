@@ -12,7 +12,8 @@ namespace {
 // 2^31 / total: probabilities are computed in 31-bit fixed point, then shifted down.
 constexpr std::uint32_t kFixedPointOne = 0x80000000u;
 constexpr std::uint32_t kSmallestLookupBits = 3;
-constexpr std::uint32_t kLargestPlainAlphabet = 16;  // larger alphabets get a lookup table
+// Larger alphabets get a lookup table; smaller ones are searched over a fixed width.
+constexpr std::uint32_t kLargestPlainAlphabet = SymbolModel::kPlainWidth;
 constexpr std::uint32_t kBitMaxUpdateInterval = 64;
 
 }  // namespace
