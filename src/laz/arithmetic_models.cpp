@@ -87,22 +87,29 @@ void SymbolModel::update() {
 
     const std::uint32_t scale = kFixedPointOne / total_count_;
     std::uint32_t sum = 0;
-    std::uint32_t filled = 0;  // lookup entries 1..filled are set
+    if (lookup_) std::fill(lookup_, lookup_ + lookup_size_ + 2, Entry{0});
     for (std::uint32_t s = 0; s < symbols_; ++s) {
-        cdf_[s] = (scale * sum) >> (31 - kSymbolProbabilityBits);
+        cdf_[s] = static_cast<Entry>((scale * sum) >> (31 - kSymbolProbabilityBits));
         sum += counts_[s];
-        if (lookup_) {
-            const std::uint32_t slot = cdf_[s] >> lookup_shift_;
-            while (filled < slot) lookup_[++filled] = s - 1;
-        }
+        if (lookup_) ++lookup_[(cdf_[s] >> lookup_shift_) + 1];  // how many symbols start in each slot
     }
-    if (lookup_) {
-        lookup_[0] = 0;
-        while (filled <= lookup_size_) lookup_[++filled] = symbols_ - 1;
-    }
+    if (lookup_) fill_lookup();
 
     update_interval_ = std::min((5 * update_interval_) >> 2, (symbols_ + 6) << 3);
     until_update_ = update_interval_;
+}
+
+// Turns the per-slot counts in lookup_[1 ..] into the table: entry j (1 .. lookup_size_ + 1) is
+// the last symbol that starts in a slot below j, i.e. (the symbols starting below j) - 1, the
+// first candidate for a code value in slot j - 1 ... (entry 0: symbol 0). A prefix sum, without
+// the branches of filling slot ranges symbol by symbol.
+void SymbolModel::fill_lookup() {
+    std::uint32_t below = 0;
+    for (std::uint32_t j = 1; j <= lookup_size_ + 1; ++j) {
+        below += lookup_[j];
+        lookup_[j] = static_cast<Entry>(below - 1);
+    }
+    lookup_[0] = 0;
 }
 
 }  // namespace lidarscout::laz

@@ -103,6 +103,7 @@ public:
 
 private:
     void update();
+    void fill_lookup();
 
     std::uint32_t symbols_ = 0;
     std::unique_ptr<Entry[]> storage_;  // cdf, counts, lookup table in one block
