@@ -121,7 +121,9 @@ TEST(ArithSymbolModel, OneSymbolCodedMillionsOfTimesKeepsTheRange) {
         SymbolModel m(symbols);
         for (int i = 0; i < 3'000'000; ++i) {
             m.record(0);
-            if (i > 200'000) ASSERT_GT(m.cdf(1), 3u * kSymbolCountLimit / 4) << symbols << " symbols, record " << i;
+            if (i > 200'000) {
+                ASSERT_GT(m.cdf(1), 3u * kSymbolCountLimit / 4) << symbols << " symbols, record " << i;
+            }
         }
         EXPECT_EQ(m.cdf(0), 0u);
     }
