@@ -82,7 +82,8 @@ private:
     std::map<std::pair<const void*, std::size_t>, std::size_t> current_;  // a stream's latest start
 };
 
-// ---- The trace file: little-endian u32 words. A stream count, then per stream: its byte count and
+// ---- The trace file: little-endian u32 words. The recorded file's point count (low word first)
+// and a stream count, then per stream: its byte count and
 // bytes (padded to 4), its model count and each model's alphabet (0: bit model), its call count
 // and per call (kind << 30 | model index or raw bits, result).
 class TraceWriter {
@@ -109,9 +110,12 @@ private:
     std::vector<std::uint8_t> buffer_;
 };
 
-void write_trace(const std::vector<RecordedStream>& streams, const std::string& path, const std::string& input) {
+void write_trace(const std::vector<RecordedStream>& streams, std::uint64_t points, const std::string& path,
+                 const std::string& input) {
     io::AtomicOutputFile out(path, input);
     TraceWriter w(out);
+    w.word(static_cast<std::uint32_t>(points));
+    w.word(static_cast<std::uint32_t>(points >> 32));
     w.word(static_cast<std::uint32_t>(streams.size()));
     for (const RecordedStream& s : streams) {
         w.bytes(s.bytes);
@@ -154,8 +158,15 @@ private:
     std::size_t at_ = 0;
 };
 
-std::vector<RecordedStream> read_trace(const std::string& path) {
+// The trace's streams; refuses one recorded from a file of another point count than `points`.
+std::vector<RecordedStream> read_trace(const std::string& path, std::uint64_t points) {
     TraceReader r(path);
+    std::uint64_t recorded = r.word();
+    recorded |= std::uint64_t{r.word()} << 32;
+    if (recorded != points) {
+        throw Error(path, 0, "recorded from a file of " + std::to_string(recorded) + " points, not this one's " +
+                                 std::to_string(points));
+    }
     std::vector<RecordedStream> streams(r.word());
     for (RecordedStream& s : streams) {
         s.bytes = r.bytes();
@@ -248,18 +259,14 @@ struct Replay {
         for (auto& m : models) m->reset();
     }
 
-    // Every stream once, in order; with `check`, each value against the recorded one.
-    std::uint64_t run_sequential(bool check) {
-        std::uint64_t sum = 0;
+    // Every stream once, in order, each value against the recorded one (untimed).
+    void check() {
         for (std::size_t i = 0; i < ops.size(); ++i) {
             laz::ArithmeticDecoder dec(streams[i].bytes);
             for (const ReplayOp& op : ops[i]) {
-                const std::uint32_t v = replay_op(dec, op);
-                if (check && v != op.result) throw Error("replay of stream " + std::to_string(i) + " differs");
-                sum += v;
+                if (replay_op(dec, op) != op.result) throw Error("replay of stream " + std::to_string(i) + " differs");
             }
         }
-        return sum;
     }
 
     // Every stream once, each value taken as known; returns the bytes consumed (to keep the work).
@@ -307,7 +314,7 @@ struct Replay {
         }
         return sum + run_rest(i);
     }
-    // The streams from `first` on, one by one.
+    // The streams from `first` on, one by one (from 0: the plain replay).
     std::uint64_t run_rest(std::size_t first) {
         std::uint64_t sum = 0;
         for (std::size_t i = first; i < ops.size(); ++i) {
@@ -358,7 +365,7 @@ void record(const std::string& path, const std::string& trace) {
     laz::decode_trace_sink = &recorder;
     f.decode();
     laz::decode_trace_sink = nullptr;
-    write_trace(recorder.streams, trace, path);
+    write_trace(recorder.streams, f.tile.header.point_count, trace, path);
     fmt::print("{}: {} streams recorded to {}\n", path, recorder.streams.size(), trace);
 }
 
@@ -369,7 +376,7 @@ void replay(const std::string& path, const std::string& trace, int runs) {
     FileDecode f(path);
     f.decode();  // warm-up
     const double full = median_seconds(runs, [&] { f.decode(); });
-    Replay replay{read_trace(trace), {}, {}};
+    Replay replay{read_trace(trace, f.tile.header.point_count), {}, {}};
     std::size_t symbols = 0, bits = 0, raws = 0;
     for (const RecordedStream& s : replay.streams) {
         replay.models.push_back(std::make_unique<ReplayModels>(s));
@@ -381,12 +388,12 @@ void replay(const std::string& path, const std::string& trace, int runs) {
         }
     }
     replay.reset();
-    replay.run_sequential(true);
+    replay.check();
     std::vector<double> alone, paired, four, known;
     volatile std::uint64_t sink = 0;  // keeps the replays' results alive
     for (int r = 0; r < runs; ++r) {  // the forms alternate, each from the start state
         replay.reset();
-        alone.push_back(median_seconds(1, [&] { sink = sink + replay.run_sequential(false); }));
+        alone.push_back(median_seconds(1, [&] { sink = sink + replay.run_rest(0); }));
         replay.reset();
         paired.push_back(median_seconds(1, [&] { sink = sink + replay.run_paired(); }));
         replay.reset();
