@@ -185,6 +185,10 @@ std::vector<RecordedStream> read_trace(const std::string& path, std::uint64_t po
                 throw Error(path, 0, "a call does not match its model's kind");
             }
             if (op.kind == OpKind::Raw && (op.arg < 1 || op.arg > 19)) throw Error(path, 0, "bad raw width");
+            const std::uint64_t values = op.kind == OpKind::Symbol ? s.model_symbols[op.arg]
+                                         : op.kind == OpKind::Bit  ? 2u
+                                                                   : std::uint64_t{1} << op.arg;
+            if (op.result >= values) throw Error(path, 0, "a recorded value outside its alphabet");
         }
     }
     return streams;
