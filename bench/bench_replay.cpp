@@ -13,15 +13,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstring>
 #include <map>
-#include <span>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "bench_main.hpp"
+#include "bench_timing.hpp"
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/tile.hpp"
@@ -329,16 +329,12 @@ struct Replay {
     }
 };
 
+// Wall-clock seconds of one call of fn.
 template <class Fn>
-double median_seconds(int runs, Fn&& fn) {
-    std::vector<double> s;
-    for (int r = 0; r < runs; ++r) {
-        const auto t0 = std::chrono::steady_clock::now();
-        fn();
-        s.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
-    std::sort(s.begin(), s.end());
-    return s[s.size() / 2];
+double seconds_of(Fn&& fn) {
+    const auto t0 = bench::Clock::now();
+    fn();
+    return bench::seconds_since(t0);
 }
 
 // The decoder of FILE on one thread, the reference for the replay.
@@ -379,7 +375,9 @@ void replay(const std::string& path, const std::string& trace, int runs) {
     }
     FileDecode f(path);
     f.decode();  // warm-up
-    const double full = median_seconds(runs, [&] { f.decode(); });
+    std::vector<double> full_runs;
+    for (int r = 0; r < runs; ++r) full_runs.push_back(seconds_of([&] { f.decode(); }));
+    const double full = bench::median(full_runs);
     Replay replay{read_trace(trace, f.tile.header.point_count), {}, {}};
     std::size_t symbols = 0, bits = 0, raws = 0;
     for (const RecordedStream& s : replay.streams) {
@@ -397,15 +395,14 @@ void replay(const std::string& path, const std::string& trace, int runs) {
     volatile std::uint64_t sink = 0;  // keeps the replays' results alive
     for (int r = 0; r < runs; ++r) {  // the forms alternate, each from the start state
         replay.reset();
-        alone.push_back(median_seconds(1, [&] { sink = sink + replay.run_rest(0); }));
+        alone.push_back(seconds_of([&] { sink = sink + replay.run_rest(0); }));
         replay.reset();
-        paired.push_back(median_seconds(1, [&] { sink = sink + replay.run_paired(); }));
+        paired.push_back(seconds_of([&] { sink = sink + replay.run_paired(); }));
         replay.reset();
-        four.push_back(median_seconds(1, [&] { sink = sink + replay.run_four(); }));
+        four.push_back(seconds_of([&] { sink = sink + replay.run_four(); }));
         replay.reset();
-        known.push_back(median_seconds(1, [&] { sink = sink + replay.run_known(); }));
+        known.push_back(seconds_of([&] { sink = sink + replay.run_known(); }));
     }
-    for (auto* v : {&alone, &paired, &four, &known}) std::sort(v->begin(), v->end());
     const double n = static_cast<double>(f.tile.header.point_count);
     const double per = 1e9 / n;
     fmt::print("{}: {} points, format {}, {} streams; per point {:.2f} symbols, {:.2f} bits, {:.2f} raw fields\n",
@@ -413,10 +410,10 @@ void replay(const std::string& path, const std::string& trace, int runs) {
                bits / n, raws / n);
     fmt::print("  full decode, one thread:              {:7.1f} ns/point\n", full * per);
     fmt::print("  arithmetic decoding alone (replay):   {:7.1f} ns/point ({:.0f} % of the full decode)\n",
-               alone[alone.size() / 2] * per, 100 * alone[alone.size() / 2] / full);
-    fmt::print("  the same, two streams interleaved:    {:7.1f} ns/point\n", paired[paired.size() / 2] * per);
-    fmt::print("  the same, four streams interleaved:   {:7.1f} ns/point\n", four[four.size() / 2] * per);
-    fmt::print("  the same, every value known (no search): {:5.1f} ns/point\n", known[known.size() / 2] * per);
+               bench::median(alone) * per, 100 * bench::median(alone) / full);
+    fmt::print("  the same, two streams interleaved:    {:7.1f} ns/point\n", bench::median(paired) * per);
+    fmt::print("  the same, four streams interleaved:   {:7.1f} ns/point\n", bench::median(four) * per);
+    fmt::print("  the same, every value known (no search): {:5.1f} ns/point\n", bench::median(known) * per);
 }
 
 constexpr const char* kUsage = "FILE.laz --record TRACE | --trace TRACE [--runs N]";
