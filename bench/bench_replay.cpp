@@ -34,7 +34,9 @@ using namespace lidarscout;
 
 namespace {
 
-enum class OpKind : std::uint32_t { Symbol, Bit, Raw };
+enum class OpKind : std::uint32_t { Symbol, Bit, Raw, LikelySymbol };  // LikelySymbol: decode_likely_symbol
+
+bool is_symbol(OpKind k) { return k == OpKind::Symbol || k == OpKind::LikelySymbol; }
 
 // One recorded decoder call: the model (an index into the stream's own models) or the raw width.
 struct Op {
@@ -60,9 +62,10 @@ public:
         current_[key(stream)] = streams.size();
         streams.push_back({{stream.begin(), stream.end()}, {}, {}, {}});
     }
-    void on_symbol(Stream stream, laz::SymbolModel& model, std::uint32_t symbol) override {
+    void on_symbol(Stream stream, laz::SymbolModel& model, std::uint32_t symbol, bool likely) override {
         auto& s = streams[current_.at(key(stream))];
-        s.ops.push_back({OpKind::Symbol, index_of(s, &model, model.symbols()), symbol});
+        const OpKind kind = likely ? OpKind::LikelySymbol : OpKind::Symbol;
+        s.ops.push_back({kind, index_of(s, &model, model.symbols()), symbol});
     }
     void on_bit(Stream stream, laz::BitModel& model, std::uint32_t bit) override {
         auto& s = streams[current_.at(key(stream))];
@@ -178,14 +181,13 @@ std::vector<RecordedStream> read_trace(const std::string& path, std::uint64_t po
         s.ops.resize(r.word());
         for (Op& op : s.ops) {
             const std::uint32_t head = r.word();
-            if ((head >> 30) > 2) throw Error(path, 0, "bad call kind in the trace");
             op = {static_cast<OpKind>(head >> 30), head & 0x3FFFFFFFu, r.word()};
             if (op.kind != OpKind::Raw && op.arg >= s.model_symbols.size()) throw Error(path, 0, "bad model index");
-            if ((op.kind == OpKind::Symbol) != (op.kind != OpKind::Raw && s.model_symbols[op.arg] != 0)) {
+            if (is_symbol(op.kind) != (op.kind != OpKind::Raw && s.model_symbols[op.arg] != 0)) {
                 throw Error(path, 0, "a call does not match its model's kind");
             }
             if (op.kind == OpKind::Raw && (op.arg < 1 || op.arg > 19)) throw Error(path, 0, "bad raw width");
-            const std::uint64_t values = op.kind == OpKind::Symbol ? s.model_symbols[op.arg]
+            const std::uint64_t values = is_symbol(op.kind) ? s.model_symbols[op.arg]
                                          : op.kind == OpKind::Bit  ? 2u
                                                                    : std::uint64_t{1} << op.arg;
             if (op.result >= values) throw Error(path, 0, "a recorded value outside its alphabet");
@@ -230,7 +232,7 @@ std::vector<ReplayOp> resolve(const RecordedStream& s, ReplayModels& models) {
     out.reserve(s.ops.size());
     for (const Op& op : s.ops) {
         void* model = nullptr;
-        if (op.kind == OpKind::Symbol) model = &models.symbol_models[models.slot[op.arg]];
+        if (is_symbol(op.kind)) model = &models.symbol_models[models.slot[op.arg]];
         if (op.kind == OpKind::Bit) model = &models.bit_models[models.slot[op.arg]];
         out.push_back({op.kind, op.kind == OpKind::Raw ? op.arg : 0u, model, op.result});
     }
@@ -239,7 +241,7 @@ std::vector<ReplayOp> resolve(const RecordedStream& s, ReplayModels& models) {
 
 // The call with its value known in advance: no search (the floor under any way of searching).
 inline void take_op(laz::ArithmeticDecoder& dec, const ReplayOp& op) {
-    if (op.kind == OpKind::Symbol) [[likely]] {
+    if (is_symbol(op.kind)) [[likely]] {
         dec.take_known_symbol(*static_cast<laz::SymbolModel*>(op.model), op.result);
     } else if (op.kind == OpKind::Bit) {
         dec.take_known_bit(*static_cast<laz::BitModel*>(op.model), op.result);
@@ -250,6 +252,7 @@ inline void take_op(laz::ArithmeticDecoder& dec, const ReplayOp& op) {
 
 inline std::uint32_t replay_op(laz::ArithmeticDecoder& dec, const ReplayOp& op) {
     if (op.kind == OpKind::Symbol) [[likely]] return dec.decode_symbol(*static_cast<laz::SymbolModel*>(op.model));
+    if (op.kind == OpKind::LikelySymbol) return dec.decode_likely_symbol(*static_cast<laz::SymbolModel*>(op.model));
     if (op.kind == OpKind::Bit) return dec.decode_bit(*static_cast<laz::BitModel*>(op.model));
     return dec.read_bits(op.bits);
 }
@@ -384,7 +387,7 @@ void replay(const std::string& path, const std::string& trace, int runs) {
         replay.models.push_back(std::make_unique<ReplayModels>(s));
         replay.ops.push_back(resolve(s, *replay.models.back()));
         for (const Op& op : s.ops) {
-            symbols += op.kind == OpKind::Symbol;
+            symbols += is_symbol(op.kind);
             bits += op.kind == OpKind::Bit;
             raws += op.kind == OpKind::Raw;
         }

@@ -87,16 +87,30 @@ void SymbolModel::update() {
 
     const std::uint32_t scale = kFixedPointOne / total_count_;
     std::uint32_t sum = 0;
+    std::uint32_t most_frequent = 0;
     if (lookup_) std::fill(lookup_, lookup_ + lookup_size_ + 2, Entry{0});
     for (std::uint32_t s = 0; s < symbols_; ++s) {
         cdf_[s] = static_cast<Entry>((scale * sum) >> (31 - kSymbolProbabilityBits));
         sum += counts_[s];
+        if (counts_[s] > counts_[most_frequent]) most_frequent = s;
         if (lookup_) ++lookup_[(cdf_[s] >> lookup_shift_) + 1];  // how many symbols start in each slot
     }
     if (lookup_) fill_lookup();
+    choose_guess(most_frequent);
 
     update_interval_ = std::min((5 * update_interval_) >> 2, (symbols_ + 6) << 3);
     until_update_ = update_interval_;
+}
+
+// The guess after a re-estimation (see Guess). Below half the counts, a guess misses more often
+// than it saves a search.
+void SymbolModel::choose_guess(std::uint32_t most_frequent) {
+    guess_ = {};
+    if (counts_[most_frequent] < (total_count_ >> 1)) return;
+    guess_.symbol = static_cast<Entry>(most_frequent);
+    guess_.low = cdf_[most_frequent];
+    guess_.last = most_frequent == last_symbol();
+    guess_.high = guess_.last ? Entry{0} : cdf_[most_frequent + 1];
 }
 
 // Turns the per-slot counts in lookup_[1 ..] into the table: entry j (1 .. lookup_size_ + 1) is

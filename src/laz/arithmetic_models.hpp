@@ -95,6 +95,18 @@ public:
     static constexpr std::uint32_t kSentinel = 0xFFFF;
     static constexpr std::uint32_t kPlainWidth = 16;
 
+    // The symbol ArithmeticDecoder::decode_likely_symbol tries first, without searching: the most
+    // frequent one at the last re-estimation, when its count is at least half the total (else an
+    // empty interval, which no code value falls in). Its interval [low, high) in cdf units; `last`:
+    // it is the last symbol, whose interval runs to the end of the decoder's length (high unused).
+    struct Guess {
+        Entry symbol = 0;
+        Entry low = 0;
+        Entry high = 0;
+        bool last = false;
+    };
+    const Guess& guess() const { return guess_; }
+
     // Records one coded symbol; re-estimates the distribution when an update is due.
     void record(std::uint32_t s) {
         ++counts_[s];
@@ -104,6 +116,7 @@ public:
 private:
     void update();
     void fill_lookup();
+    void choose_guess(std::uint32_t most_frequent);
 
     std::uint32_t symbols_ = 0;
     std::unique_ptr<Entry[]> storage_;  // cdf, counts, lookup table in one block
@@ -115,6 +128,7 @@ private:
     std::uint32_t total_count_ = 0;
     std::uint32_t update_interval_ = 0;
     std::uint32_t until_update_ = 0;
+    Guess guess_;
 };
 
 }  // namespace lidarscout::laz

@@ -26,7 +26,8 @@ public:
     using Stream = std::span<const std::uint8_t>;
     virtual ~DecodeTraceSink() = default;
     virtual void on_start(Stream stream) = 0;
-    virtual void on_symbol(Stream stream, SymbolModel& model, std::uint32_t symbol) = 0;
+    // `likely`: decoded by decode_likely_symbol (its guess tried first).
+    virtual void on_symbol(Stream stream, SymbolModel& model, std::uint32_t symbol, bool likely) = 0;
     virtual void on_bit(Stream stream, BitModel& model, std::uint32_t bit) = 0;
     // A raw field of 1..19 bits (wider reads report their parts).
     virtual void on_raw(Stream stream, std::uint32_t bits, std::uint32_t value) = 0;

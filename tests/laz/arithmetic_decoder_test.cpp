@@ -163,6 +163,27 @@ TEST(ArithSymbolModel, SmallAlphabetSearchMatchesDivision) {
     }
 }
 
+// The guess is the symbol of the largest count when that count is at least half the total, with
+// its interval in cdf units; otherwise an empty interval.
+TEST(ArithSymbolModel, GuessIsTheSymbolHoldingHalfTheCounts) {
+    SymbolModel m(17);
+    EXPECT_EQ(m.guess().low, m.guess().high);  // uniform: nothing to guess
+    EXPECT_FALSE(m.guess().last);
+    for (int i = 0; i < 200; ++i) m.record(5);
+    EXPECT_EQ(m.guess().symbol, 5u);
+    EXPECT_EQ(m.guess().low, m.cdf(5));
+    EXPECT_EQ(m.guess().high, m.cdf(6));
+    EXPECT_GT(m.cdf(6) - m.cdf(5), 1u << 14);  // it does hold half
+    EXPECT_FALSE(m.guess().last);
+    for (int i = 0; i < 2000; ++i) m.record(16);
+    EXPECT_EQ(m.guess().symbol, 16u);
+    EXPECT_EQ(m.guess().low, m.cdf(16));
+    EXPECT_TRUE(m.guess().last);
+    for (std::uint32_t s = 0; s < 17 * 400; ++s) m.record(s % 17);  // counts even out below half
+    EXPECT_EQ(m.guess().low, m.guess().high);
+    EXPECT_FALSE(m.guess().last);
+}
+
 TEST(ArithSymbolModel, RejectsImpossibleAlphabets) {
     EXPECT_THROW(SymbolModel{1}, Error);
     EXPECT_THROW(SymbolModel{kMaxSymbols + 1}, Error);
@@ -244,6 +265,14 @@ TEST(ArithDecoder, RoundTripsBitsUnderAModel) {
 
 class ArithSymbolRoundTrip : public ::testing::TestWithParam<std::uint32_t> {};
 
+// `symbols` coded under one adaptive model of `n` symbols.
+std::vector<std::uint8_t> encode_symbols(std::uint32_t n, const std::vector<std::uint32_t>& symbols) {
+    TestEncoder enc;
+    SymbolModel em(n);
+    for (auto s : symbols) enc.encode_symbol(em, s);
+    return enc.finish();
+}
+
 TEST_P(ArithSymbolRoundTrip, DecodesWhatWasEncoded) {
     const std::uint32_t n = GetParam();
     std::mt19937 rng(n);
@@ -251,14 +280,47 @@ TEST_P(ArithSymbolRoundTrip, DecodesWhatWasEncoded) {
     std::vector<std::uint32_t> symbols(30000);
     for (auto& s : symbols) s = std::min(skewed(rng), n - 1);
     symbols[7] = n - 1;  // the last symbol takes the other branch
-    TestEncoder enc;
-    SymbolModel em(n);
-    for (auto s : symbols) enc.encode_symbol(em, s);
-    const auto stream = enc.finish();
+    const auto stream = encode_symbols(n, symbols);
 
     ArithmeticDecoder dec(stream);
     SymbolModel dm(n);
     for (std::size_t i = 0; i < symbols.size(); ++i) ASSERT_EQ(dec.decode_symbol(dm), symbols[i]) << "symbol " << i;
+    EXPECT_EQ(dec.bytes_consumed(), stream.size());
+}
+
+// The guess tested first: a source whose most frequent symbol moves from 1 to the last one (whose
+// interval runs to the end of the length) and then holds about half the counts (so the guess comes
+// and goes, also at updates right after it was taken), decoded with and without the guess from the
+// same models, symbol by symbol.
+TEST_P(ArithSymbolRoundTrip, LikelySymbolDecodesWhatWasEncoded) {
+    const std::uint32_t n = GetParam();
+    std::mt19937 rng(n + 1);
+    std::uniform_int_distribution<std::uint32_t> any(0, n - 1);
+    std::bernoulli_distribution usual(0.8), half(0.5 * (n - 2) / (n - 1));  // a share of 1/2 for 1
+    std::vector<std::uint32_t> symbols(70000);
+    for (std::size_t i = 0; i < symbols.size(); ++i) {
+        if (i < 40000) symbols[i] = usual(rng) ? (i < 10000 ? 1 : n - 1) : any(rng);
+        else symbols[i] = half(rng) ? 1 : any(rng);  // about half: the guess comes and goes at updates
+    }
+    // The first update comes after (n + 6) / 2 symbols; models of 2 and 3 symbols start with a guess
+    // of 0. Taking it at the update that moves the guess to the last symbol must still give 0.
+    const std::uint32_t first_update = (n + 6) / 2;
+    std::fill(symbols.begin(), symbols.begin() + first_update - 1, n - 1);
+    symbols[first_update - 1] = 0;
+    const auto stream = encode_symbols(n, symbols);
+
+    ArithmeticDecoder dec(stream);
+    SymbolModel dm(n);
+    std::size_t guessed = 0, guessed_last = 0;
+    for (std::size_t i = 0; i < symbols.size(); ++i) {
+        const SymbolModel::Guess guess = dm.guess();
+        if (guess.low != guess.high || guess.last) ++guessed;
+        if (guess.last) ++guessed_last;
+        const std::uint32_t got = i % 3 == 2 ? dec.decode_symbol(dm) : dec.decode_likely_symbol(dm);
+        ASSERT_EQ(got, symbols[i]) << "symbol " << i;
+    }
+    EXPECT_GT(guessed, 25000u);  // the guess was in play for most of the first four fifths
+    EXPECT_GT(guessed_last, 10000u);
     EXPECT_EQ(dec.bytes_consumed(), stream.size());
 }
 
@@ -351,6 +413,7 @@ TEST(ArithDecoder, GarbageNeverEscapesTheModels) {
         BitModel bm;
         for (int i = 0; i < 20000; ++i) {
             ASSERT_LT(dec.decode_symbol(m), symbols);
+            ASSERT_LT(dec.decode_likely_symbol(m), symbols);
             ASSERT_LE(dec.decode_bit(bm), 1u);
         }
     }

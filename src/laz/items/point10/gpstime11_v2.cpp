@@ -66,7 +66,7 @@ void GpsTime11DecoderV2::start_new_sequence(ArithmeticDecoder& dec) {
             return;
         }
 
-        const std::uint32_t s = dec.decode_symbol(multiple_model_);
+        const std::uint32_t s = dec.decode_likely_symbol(multiple_model_);
         if (s == kFull) {
             start_new_sequence(dec);
             return;

@@ -87,7 +87,7 @@ public:
     void init(const std::uint8_t* first);
 
     void decode(ArithmeticDecoder& dec, std::uint8_t* out) {
-        const std::uint32_t changed = dec.decode_symbol(changed_mask_);
+        const std::uint32_t changed = dec.decode_likely_symbol(changed_mask_);
         if (changed != 0) decode_attributes(dec, changed);
         const std::uint32_t n = last_.number_of_returns();
         const std::uint32_t r = last_.return_number();

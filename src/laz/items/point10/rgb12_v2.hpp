@@ -57,7 +57,7 @@ public:
     using Rgb12StateV2::init;
 
     void decode(ArithmeticDecoder& dec, std::uint8_t* out) {
-        const std::uint32_t mask = dec.decode_symbol(changed_mask_);
+        const std::uint32_t mask = dec.decode_likely_symbol(changed_mask_);
         // Bytes of the colour: [2c] low byte, [2c + 1] high byte of channel c (r, g, b).
         std::array<std::uint8_t, 6> c;
         c[0] = next_byte(dec, mask, 0, last_[0]);

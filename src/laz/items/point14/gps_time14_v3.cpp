@@ -82,7 +82,7 @@ private:
                 m.current = (s + symbol - 1) & 3u;
                 continue;
             }
-            const std::uint32_t symbol = dec.decode_symbol(m.multiple);
+            const std::uint32_t symbol = dec.decode_likely_symbol(m.multiple);
             if (symbol == 1) {
                 add_delta(m, m.delta.decompress(dec, m.reference[s], kSameDelta));
                 m.extreme_run[s] = 0;

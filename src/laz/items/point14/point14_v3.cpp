@@ -149,7 +149,7 @@ void ReturnsXyzLayer::decode_z(ArithmeticDecoder& dec, Models& m, Value& last) {
         const std::uint32_t last_kind = (last->return_number == 1 ? 1u : 0u) |
                                         (last->return_number >= last->returns ? 2u : 0u) |
                                         (last->gps_time_changed ? 4u : 0u);
-        const std::uint32_t changed = dec.decode_symbol(m->changed[last_kind]);
+        const std::uint32_t changed = dec.decode_likely_symbol(m->changed[last_kind]);
         std::uint32_t item_context = hand_on_channel_ ? contexts_.channel() : 0;
         if (changed & kChannelChanged) [[unlikely]] {
             const std::uint32_t step = dec.decode_symbol(m->channel_step);
