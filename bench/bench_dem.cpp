@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "bench_main.hpp"
+#include "bench_timing.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/point_stream.hpp"
@@ -31,22 +32,17 @@
 
 namespace fs = std::filesystem;
 using namespace lidarscout;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::median;
+using bench::seconds_since;
 
 namespace {
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // User + system CPU seconds of this process (RUSAGE_SELF) or of its finished children.
 double cpu_seconds(int who) {
     rusage u{};
     getrusage(who, &u);
     return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
 // Every point as "x,y,z" in the frame's native units, plus the OGR VRT that gdal_grid reads.
