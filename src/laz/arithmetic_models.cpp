@@ -87,12 +87,16 @@ void SymbolModel::update() {
 
     const std::uint32_t scale = kFixedPointOne / total_count_;
     std::uint32_t sum = 0;
-    std::uint32_t most_frequent = 0;
+    std::uint32_t most_frequent = 0, largest = 0;
     if (lookup_) std::fill(lookup_, lookup_ + lookup_size_ + 2, Entry{0});
     for (std::uint32_t s = 0; s < symbols_; ++s) {
         cdf_[s] = static_cast<Entry>((scale * sum) >> (31 - kSymbolProbabilityBits));
-        sum += counts_[s];
-        if (counts_[s] > counts_[most_frequent]) most_frequent = s;
+        const std::uint32_t count = counts_[s];
+        sum += count;
+        if (count > largest) {
+            largest = count;
+            most_frequent = s;
+        }
         if (lookup_) ++lookup_[(cdf_[s] >> lookup_shift_) + 1];  // how many symbols start in each slot
     }
     if (lookup_) fill_lookup();
