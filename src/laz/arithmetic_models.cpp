@@ -106,8 +106,8 @@ void SymbolModel::update() {
     until_update_ = update_interval_;
 }
 
-// The guess after a re-estimation (see Guess). Below half the counts, a guess misses more often
-// than it saves a search.
+// The guess after a re-estimation (see Guess). Below half the counts it would miss more often
+// than it hits, and every miss costs a misprediction on top of the search.
 void SymbolModel::choose_guess(std::uint32_t most_frequent) {
     guess_ = {};
     if (counts_[most_frequent] < (total_count_ >> 1)) return;

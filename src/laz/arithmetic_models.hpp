@@ -2,7 +2,7 @@
 // multi-symbol model. Their update schedules are part of the LAZ format: a decoder only
 // reproduces a file's points if it adapts exactly as the writer did, so every constant and
 // rounding step below follows the format, not taste. The same models serve the decoder and
-// (later) the encoder; the decoder lookup table is only an accelerator.
+// the encoder; the decoder's lookup table and guess are only accelerators.
 #pragma once
 
 #include <algorithm>
