@@ -100,7 +100,7 @@ void SymbolModel::update() {
         if (lookup_) ++lookup_[(cdf_[s] >> lookup_shift_) + 1];  // how many symbols start in each slot
     }
     if (lookup_) fill_lookup();
-    choose_guess(most_frequent);
+    choose_guess(most_frequent, largest);
 
     update_interval_ = std::min((5 * update_interval_) >> 2, (symbols_ + 6) << 3);
     until_update_ = update_interval_;
@@ -108,9 +108,9 @@ void SymbolModel::update() {
 
 // The guess after a re-estimation (see Guess). Below half the counts it would miss more often
 // than it hits, and every miss costs a misprediction on top of the search.
-void SymbolModel::choose_guess(std::uint32_t most_frequent) {
+void SymbolModel::choose_guess(std::uint32_t most_frequent, std::uint32_t count) {
     guess_ = {};
-    if (counts_[most_frequent] < (total_count_ >> 1)) return;
+    if (count < (total_count_ >> 1)) return;
     guess_.symbol = static_cast<Entry>(most_frequent);
     guess_.low = cdf_[most_frequent];
     guess_.last = most_frequent == last_symbol();

@@ -116,7 +116,7 @@ public:
 private:
     void update();
     void fill_lookup();
-    void choose_guess(std::uint32_t most_frequent);
+    void choose_guess(std::uint32_t most_frequent, std::uint32_t count);  // count: most_frequent's
 
     std::uint32_t symbols_ = 0;
     std::unique_ptr<Entry[]> storage_;  // cdf, counts, lookup table in one block

@@ -324,7 +324,7 @@ TEST_P(ArithSymbolRoundTrip, LikelySymbolDecodesWhatWasEncoded) {
     EXPECT_EQ(dec.bytes_consumed(), stream.size());
 }
 
-// Both decoding paths (bisection up to 16 symbols, lookup table above) and the extremes.
+// Both search paths (a count over a fixed width up to 16 symbols, a lookup table above) and the extremes.
 INSTANTIATE_TEST_SUITE_P(Alphabets, ArithSymbolRoundTrip, ::testing::Values(2u, 3u, 16u, 17u, 33u, 256u, 2048u));
 
 TEST(ArithDecoder, RoundTripsRawFieldsOfEveryWidth) {
