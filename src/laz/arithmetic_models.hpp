@@ -72,6 +72,9 @@ public:
     // Lower end of symbol s in the cumulative distribution, scaled to 2^15 (s < symbols()), and
     // kSentinel for s == symbols() (and up to kPlainWidth in models without a lookup table).
     std::uint32_t cdf(std::uint32_t s) const { return cdf_[s]; }
+    // The cdf table itself (symbols() + 1 entries, at least kPlainWidth), for searches that read
+    // many entries at once (bench_lanes' vector searches).
+    const Entry* cdf_table() const { return cdf_; }
     bool has_lookup() const { return lookup_ != nullptr; }
     // Lookup table (lookup_size() + 2 entries) and the shift that maps a 15-bit scaled
     // value to its index.
