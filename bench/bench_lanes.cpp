@@ -116,7 +116,7 @@ struct LaneTables {
 // Offset of `p` from `base`; the gathers take 32-bit offsets.
 std::int32_t offset_from(const void* base, const void* p) {
     const std::ptrdiff_t d = static_cast<const char*>(p) - static_cast<const char*>(base);
-    if (d < INT32_MIN || d > INT32_MAX) throw Error("bench_lanes: model tables more than 2 GiB apart");
+    if (d < INT32_MIN || d > INT32_MAX) throw Error("model tables more than 2 GiB apart");
     return static_cast<std::int32_t>(d);
 }
 
@@ -297,7 +297,7 @@ double ns_per_symbol(const char* what, int runs, std::size_t symbols, Decode&& d
         const auto t0 = bench::Clock::now();
         const std::uint64_t wrong = decode();
         t.push_back(bench::seconds_since(t0) * 1e9 / static_cast<double>(symbols));
-        if (wrong) throw Error(fmt::format("bench_lanes: {} decoded {} symbols wrong", what, wrong));
+        if (wrong) throw Error(fmt::format("{} decoded {} symbols wrong", what, wrong));
     }
     return bench::median(t);
 }
@@ -311,9 +311,9 @@ int main(int argc, char** argv) {
             const std::string a = argv[i];
             if (a == "--symbols" && i + 1 < argc) n = std::stoi(argv[++i]);
             else if (a == "--runs" && i + 1 < argc) runs = std::stoi(argv[++i]);
-            else throw Error("bench_lanes: unknown argument " + a + "; see --help");
+            else throw Error("unknown argument " + a + "; see --help");
         }
-        if (n < kSlots || runs < 1) throw Error("bench_lanes: --symbols must be at least 6 and --runs at least 1");
+        if (n < kSlots || runs < 1) throw Error("--symbols must be at least 6 and --runs at least 1");
         const Source mixed = make_source(kLanes, n, kAlphabets);
         const std::uint32_t classes[4] = {33, 33, 33, 33};
         const Source single = make_source(1, kLanes * n, classes);
@@ -327,7 +327,7 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (const std::uint64_t wrong = decode_lanes(mixed, true)) {
-            throw Error(fmt::format("bench_lanes: the lanes decoded {} symbols wrong", wrong));
+            throw Error(fmt::format("the lanes decoded {} symbols wrong", wrong));
         }
         const double lanes = ns_per_symbol("the lanes", runs, total, [&] { return decode_lanes(mixed, false); });
         fmt::print("  16 streams in AVX-512 lanes:         {:6.2f} ns/symbol ({:.2f}x)\n", lanes, library / lanes);
