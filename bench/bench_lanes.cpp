@@ -139,8 +139,9 @@ LIDARSCOUT_AVX512_INLINE __m512i gather16(__m512i byte_offsets, const void* base
     return _mm512_and_si512(_mm512_i32gather_epi32(byte_offsets, base, 1), _mm512_set1_epi32(0xFFFF));
 }
 
-// floor(value / length) per lane, exact: through doubles (a quotient below 2^32 of a 32-bit
-// value by a length of at least 2^9 rounds to no integer it is not).
+// floor(value / length) per lane, exact through doubles: a quotient that is not an integer lies at
+// least 1 / length below the next one, and rounding a quotient below 2^32 / length to a double moves
+// it by less than 2^-21 / length.
 LIDARSCOUT_AVX512_INLINE __m512i quotient(__m512i value, __m512i length) {
     const __m512d vl = _mm512_cvtepu32_pd(_mm512_castsi512_si256(value));
     const __m512d vh = _mm512_cvtepu32_pd(_mm512_extracti64x4_epi64(value, 1));
@@ -239,9 +240,9 @@ LIDARSCOUT_AVX512_INLINE __mmask16 count_half(const SymbolModel::Entry* cdf, std
                                    _mm512_set1_epi32(static_cast<int>(value)));
 }
 
-// The last symbol s of a model of at most 33 symbols with cdf(s) * length <= value: a count over
-// cdf(1 .. 32), each entry capped at 2^15 so that its product with a length below 2^17 fits in
-// 32 bits (only the sentinel past the last symbol exceeds 2^15, and it never counts).
+// The last symbol s of a 33-symbol model with cdf(s) * length <= value: a count over cdf(1 .. 32)
+// (its table holds 34 entries, the sentinel last). The cap at 2^15 only guards the products' 32 bits:
+// every entry read is below it, and a length is below 2^17.
 LIDARSCOUT_AVX512_INLINE std::uint32_t count_at_or_below(const SymbolModel& m, std::uint32_t value,
                                                          std::uint32_t length) {
     const SymbolModel::Entry* cdf = m.cdf_table();
