@@ -23,9 +23,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -107,6 +109,7 @@ std::uint64_t decode_library(const Source& src, std::span<const std::uint32_t> a
 // ---- 16 streams in AVX-512 lanes
 
 // Per slot, per lane: where a lane's model tables lie (byte offsets from `base`) and its shape.
+// Every alphabet of kAlphabets is above 16 symbols, so every model has a lookup table.
 struct LaneTables {
     alignas(64) std::int32_t cdf[kSlots][kLanes];
     alignas(64) std::int32_t lookup[kSlots][kLanes];
@@ -135,6 +138,9 @@ LaneTables lane_tables(const std::vector<std::vector<std::unique_ptr<SymbolModel
     return t;
 }
 
+// The 16-bit table entries at `byte_offsets` from `base`, one per lane. Each gather reads 4 bytes:
+// the entry and the next one, which every table here has (a cdf table's sentinel, a lookup
+// table's extra entry).
 LIDARSCOUT_AVX512_INLINE __m512i gather16(__m512i byte_offsets, const void* base) {
     return _mm512_and_si512(_mm512_i32gather_epi32(byte_offsets, base, 1), _mm512_set1_epi32(0xFFFF));
 }
@@ -159,7 +165,7 @@ struct LaneState {
 // One symbol in every lane under slot `s`'s models: the decoder's search (lookup table, then
 // a scan up the cdf while any lane needs it), interval and renormalisation; returns the symbols.
 LIDARSCOUT_AVX512_INLINE __m512i lane_symbol(LaneState& st, const LaneTables& t, int s, const void* base,
-                                      const std::uint8_t* arena) {
+                                             const std::uint8_t* arena) {
     const __m512i one = _mm512_set1_epi32(1);
     const __m512i full = st.length;
     const __m512i length = _mm512_srli_epi32(st.length, laz::kSymbolProbabilityBits);
