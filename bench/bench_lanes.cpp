@@ -92,6 +92,11 @@ Source make_source(int streams, int n, std::span<const std::uint32_t> alphabets)
     return src;
 }
 
+// The code value a stream starts with: its first four bytes, big-endian (as ArithmeticDecoder::start).
+std::uint32_t first_code_value(const std::vector<std::uint8_t>& b) {
+    return (std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | b[3];
+}
+
 // Decodes every stream with the library; returns the symbols that differ from the source.
 std::uint64_t decode_library(const Source& src, std::span<const std::uint32_t> alphabets) {
     std::uint64_t wrong = 0;
@@ -208,7 +213,7 @@ LIDARSCOUT_AVX512 std::uint64_t decode_lanes(const Source& src, bool check) {
     alignas(64) std::uint32_t value[kLanes], pos[kLanes], got[kLanes];
     for (int l = 0; l < kLanes; ++l) {
         const auto& b = src.bytes[l];
-        value[l] = (std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | b[3];
+        value[l] = first_code_value(b);
         pos[l] = static_cast<std::uint32_t>(arena.size() + 4);
         arena.insert(arena.end(), b.begin(), b.end());
     }
@@ -265,7 +270,7 @@ struct CompareDecoder {
 
     explicit CompareDecoder(const std::vector<std::uint8_t>& b)
         : data(b.data()),
-          value((std::uint32_t{b[0]} << 24) | (std::uint32_t{b[1]} << 16) | (std::uint32_t{b[2]} << 8) | b[3]) {}
+          value(first_code_value(b)) {}
 
     LIDARSCOUT_AVX512_INLINE std::uint32_t decode(SymbolModel& m) {
         const std::uint32_t full = length;
