@@ -63,7 +63,7 @@ std::string derived_url_refusal(std::string_view base, std::string_view derived)
     if (to == "s3") {  // (its origin is its bucket: the key must stay inside it, however spelled)
         std::string refusal;
         if (const auto where = parse_s3_url(derived)) normalise_s3_key(where->key, {}, refusal);
-        if (!refusal.empty()) return "its key is refused: " + refusal;
+        if (!refusal.empty()) return "its key " + refusal;
     }
     const std::string origin = url_origin(derived);
     if (origin == url_origin(base)) return {};

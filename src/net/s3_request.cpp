@@ -51,12 +51,15 @@ std::string list_query(const std::string& prefix, const std::string& token, unsi
 }
 
 // Why `bucket` cannot name a bucket ("" when it can): S3's names hold letters, digits, '.', '-'
-// and (older ones) '_', which keeps a virtual-hosted URL's host the one meant.
+// and (older ones) '_', and begin and end with a letter or digit, which keeps a virtual-hosted
+// URL's host the one meant and a path-style URL's first segment a bucket (never "..").
 std::string bucket_problem(const std::string& bucket) {
-    const bool allowed = std::all_of(bucket.begin(), bucket.end(), [](unsigned char c) {
-        return std::isalnum(c) || c == '.' || c == '-' || c == '_';
+    const auto alnum = [](unsigned char c) { return std::isalnum(c) != 0; };
+    const bool allowed = std::all_of(bucket.begin(), bucket.end(), [&](unsigned char c) {
+        return alnum(c) || c == '.' || c == '-' || c == '_';
     });
-    return allowed ? std::string() : "the bucket name \"" + server_text(bucket) + "\" holds characters S3 does not allow";
+    if (allowed && alnum(bucket.front()) && alnum(bucket.back())) return {};
+    return "the bucket name \"" + server_text(bucket) + "\" is not one S3 allows";
 }
 
 // The normalised key of `where` (net/url.hpp) under `prefix`; throws Error naming `url` when
@@ -67,7 +70,9 @@ std::string checked_key(const std::string& url, const S3Location& where, std::st
     }
     std::string refusal;
     std::string key = normalise_s3_key(where.key, prefix, refusal);
-    if (!refusal.empty()) throw Error(url, std::nullopt, "the key \"" + server_text(where.key) + "\" is refused: " + refusal);
+    if (!refusal.empty()) {
+        throw Error(url, std::nullopt, "the key \"" + server_text(where.key) + "\" " + refusal);
+    }
     return key;
 }
 
@@ -143,7 +148,7 @@ private:
         std::string key = xml_text(contents, "Key");
         std::string refusal;
         std::string normalised = normalise_s3_key(key, prefix_, refusal);
-        if (!refusal.empty()) fail("the key \"" + server_text(key) + "\" is refused: " + refusal);
+        if (!refusal.empty()) fail("the key \"" + server_text(key) + "\" " + refusal);
         if (listed_ > 0 && key <= previous_) {
             fail("the key \"" + server_text(key) + "\" does not come after \"" + server_text(previous_) +
                  "\" (keys are listed once each, in order)");

@@ -182,17 +182,17 @@ bool key_forms(std::string_view key, std::string& written, std::string& decoded)
 std::string normalise_s3_key(std::string_view key, std::string_view prefix, std::string& refusal) {
     refusal.clear();
     if (key.size() > kMaxS3Key) {
-        refusal = "it is longer than S3's " + std::to_string(kMaxS3Key) + " bytes (" + std::to_string(key.size()) + ")";
+        refusal = "is longer than S3's " + std::to_string(kMaxS3Key) + " bytes (" + std::to_string(key.size()) + ")";
         return {};
     }
     std::string written, decoded, prefix_written, prefix_decoded;
     if (!key_forms(key, written, decoded)) {
-        refusal = "it leaves its bucket (a \"..\" segment above the bucket's root)";
+        refusal = "leaves its bucket (a \"..\" segment above the bucket's root)";
         return {};
     }
     if (!prefix.empty() && (!key_forms(prefix, prefix_written, prefix_decoded) ||
                             written.rfind(prefix_written, 0) != 0 || decoded.rfind(prefix_decoded, 0) != 0)) {
-        refusal = "it leaves the prefix listed (\"" + std::string(prefix) + "\")";
+        refusal = "leaves the prefix listed (\"" + std::string(prefix) + "\")";
         return {};
     }
     return written;

@@ -51,9 +51,9 @@ constexpr std::size_t kMaxS3Key = 1024;
 
 // The S3 key `key` as it is requested: its "." and ".." segments removed ("a/./b/../c" is
 // "a/c"), also those spelled with percent-escapes or XML character references ("%2e%2e",
-// "&#46;&#46;"). `refusal` says why it may not be requested ("" when it may): it is longer than
-// kMaxS3Key bytes, or it leaves its bucket or `prefix` (given as written; "" for the whole
-// bucket), either as written or read the way a server that decodes too much would read it
+// "&#46;&#46;"). `refusal` says why it may not be requested ("" when it may), to follow "the
+// key": "is longer than" kMaxS3Key bytes, or "leaves its bucket" or `prefix` (given as written;
+// "" for the whole bucket), either as written or read the way a server that decodes too much would read it
 // (every escape and reference decoded, repeatedly, and '\' taken as '/').
 std::string normalise_s3_key(std::string_view key, std::string_view prefix, std::string& refusal);
 

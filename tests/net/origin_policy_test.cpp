@@ -34,7 +34,7 @@ TEST_F(OriginPolicy, AnS3KeyLeavingItsBucketIsAnotherOrigin) {
     for (const char* href : {"s3://cat/../secret/x.laz", "s3://cat/%2e%2e/secret/x.laz",
                              "s3://cat/a/../../secret/x.laz", "s3://cat/&#46;&#46;/secret/x.laz",
                              "s3://cat/a?/../../secret/x.laz"}) {
-        EXPECT_NE(derived_url_refusal(base, href).find("its key is refused: it leaves its bucket"), std::string::npos)
+        EXPECT_NE(derived_url_refusal(base, href).find("its key leaves its bucket"), std::string::npos)
             << href;
     }
     set_allowed_origins(parse_allowed_origins("*"));  // (other origins allowed: a key still stays in its bucket)

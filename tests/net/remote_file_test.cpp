@@ -148,8 +148,8 @@ TEST(RemoteFile, AServerWithoutValidatorSwitchingFilesIsAnError) {
         const std::string body(end - first, static_cast<char>(size / 1000));
         return std::make_shared<const std::string>(
             "HTTP/1.1 206 Partial Content\r\nContent-Range: bytes " + std::to_string(first) + "-" +
-            std::to_string(end - 1) + "/" + std::to_string(size) + "\r\nContent-Length: " + std::to_string(body.size()) +
-            "\r\n\r\n" + body);
+            std::to_string(end - 1) + "/" + std::to_string(size) +
+            "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
     };
     const auto f = RemoteFile::open(server.url());
     EXPECT_EQ(f->size(), 10000u);
