@@ -122,7 +122,7 @@ TEST(Url, S3KeysLeavingTheirBucketAreRefusedHoweverSpelled) {
         EXPECT_NE(key_or_refusal(key).find("refused: leaves its bucket"), std::string::npos) << key;
     }
     EXPECT_EQ(key_or_refusal("/../t.laz"), "t.laz");  // (the empty segment after the bucket: still inside)
-    EXPECT_NE(key_or_refusal(std::string(1025, 'k')).find("refused: is longer than S3's 1024 bytes (1025)"), std::string::npos);
+    EXPECT_EQ(key_or_refusal(std::string(1025, 'k')), "refused: is longer than S3's 1024 bytes (1025)");
     EXPECT_EQ(key_or_refusal(std::string(1024, 'k')).size(), 1024u);
 }
 
