@@ -1,4 +1,5 @@
-// MultiPolygon: the even-odd test with points on edges inside, and the WKT and GeoJSON parsers.
+// MultiPolygon: the union of even-odd polygons with points on edges inside, tested through an index of
+// the edges by bands of y; and the WKT and GeoJSON parsers.
 #include "core/polygon.hpp"
 
 #include <nlohmann/json.hpp>
@@ -6,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <limits>
 #include <fstream>
 #include <sstream>
 
@@ -59,53 +61,126 @@ bool segment_meets_box(const XY& a, const XY& b, double x0, double y0, double x1
     return true;
 }
 
-double ring_area(const Ring& r) {
+// The shoelace area of a ring given with its closing vertex repeated.
+double ring_area(std::span<const XY> closed) {
     double twice = 0;
-    for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) twice += r[j].x * r[i].y - r[i].x * r[j].y;
+    for (std::size_t i = 0; i + 1 < closed.size(); ++i) {
+        twice += closed[i].x * closed[i + 1].y - closed[i + 1].x * closed[i].y;
+    }
     return std::abs(twice) / 2;
+}
+
+// The index names vertices, and counts its entries, in 32 bits: about 4 entries per edge at most.
+constexpr std::size_t kMaxVertices = std::numeric_limits<std::uint32_t>::max() / 8;
+
+// How many bands: one per edge at most, and fewer when the edges' y-spans add up to more than 2
+// polygon heights, so that bands times summed spans (in heights) stays within 2 edges. An edge meets
+// at most its span in bands plus 2, so the index holds at most about 4 entries per edge.
+std::size_t band_count(std::size_t edges, double summed_spans, double height) {
+    if (!(height > 0) || !std::isfinite(height) || !std::isfinite(summed_spans)) return 1;
+    const double n = static_cast<double>(edges), bands = std::min(n, 2 * n / std::max(summed_spans / height, 2.0));
+    return std::max<std::size_t>(1, static_cast<std::size_t>(bands));
+}
+
+// Calls fn with each edge's first vertex: ring r's edges start at ring_starts[r] .. ring_starts[r + 1] - 2.
+template <typename Fn>
+void for_each_edge(std::span<const std::uint32_t> ring_starts, Fn&& fn) {
+    for (std::size_t r = 0; r + 1 < ring_starts.size(); ++r) {
+        for (std::uint32_t i = ring_starts[r]; i + 1 < ring_starts[r + 1]; ++i) fn(i);
+    }
 }
 
 }  // namespace
 
 MultiPolygon::MultiPolygon(std::vector<std::vector<Ring>> polygons) {
     if (polygons.empty()) throw polygon_error("the polygon has no rings");
+    std::size_t total = 0;  // vertices_'s size: every ring with its closing vertex
+    for (auto& rings : polygons) {
+        if (rings.empty()) throw polygon_error("a polygon has no outer ring");
+        for (auto& ring : rings) ring = closed_ring(std::move(ring)), total += ring.size() + 1;
+    }
+    if (total > kMaxVertices) throw polygon_error("the polygon has more than " + std::to_string(kMaxVertices) +
+                                                  " vertices");
+    vertices_.reserve(total);
     min_x_ = min_y_ = INFINITY;
     max_x_ = max_y_ = -INFINITY;
     for (auto& rings : polygons) {
-        if (rings.empty()) throw polygon_error("a polygon has no outer ring");
+        polygon_starts_.push_back(static_cast<std::uint32_t>(vertices_.size()));
         for (auto& ring : rings) {
-            ring = closed_ring(std::move(ring));
+            ring_starts_.push_back(static_cast<std::uint32_t>(vertices_.size()));
             for (const XY& v : ring) {
                 min_x_ = std::min(min_x_, v.x), max_x_ = std::max(max_x_, v.x);
                 min_y_ = std::min(min_y_, v.y), max_y_ = std::max(max_y_, v.y);
             }
+            vertices_.insert(vertices_.end(), ring.begin(), ring.end());
+            vertices_.push_back(ring.front());
+            Ring().swap(ring);  // copied: the input's memory goes as it is read
         }
     }
-    polygons_ = std::move(polygons);
+    ring_starts_.push_back(static_cast<std::uint32_t>(vertices_.size()));
+    polygon_starts_.push_back(static_cast<std::uint32_t>(vertices_.size()));
+    build_index();
+}
+
+// Counts each band's edges, then lists them (edges in ascending order, so each band is sorted).
+void MultiPolygon::build_index() {
+    double spans = 0;
+    for_each_edge(ring_starts_, [&](std::uint32_t i) { spans += std::abs(vertices_[i + 1].y - vertices_[i].y); });
+    std::size_t bands = band_count(vertex_count(), spans, max_y_ - min_y_);
+    band_scale_ = static_cast<double>(bands) / (max_y_ - min_y_);
+    if (bands == 1 || !std::isfinite(band_scale_)) bands = 1, band_scale_ = 0;
+    band_starts_.assign(bands + 1, 0);
+    const auto bands_of = [&](std::uint32_t i) {
+        const auto [lo, hi] = std::minmax(vertices_[i].y, vertices_[i + 1].y);
+        return std::pair{band_of(lo), band_of(hi)};
+    };
+    for_each_edge(ring_starts_, [&](std::uint32_t i) {
+        for (auto [b, last] = bands_of(i); b <= last; ++b) ++band_starts_[b + 1];
+    });
+    for (std::size_t b = 1; b <= bands; ++b) band_starts_[b] += band_starts_[b - 1];
+    std::vector<std::uint32_t> next(band_starts_.begin(), band_starts_.end() - 1);
+    band_edges_.resize(band_starts_.back());
+    for_each_edge(ring_starts_, [&](std::uint32_t i) {
+        for (auto [b, last] = bands_of(i); b <= last; ++b) band_edges_[next[b]++] = i;
+    });
+}
+
+std::size_t MultiPolygon::band_of(double y) const {
+    const double b = std::floor((y - min_y_) * band_scale_);
+    if (!(b > 0)) return 0;  // also NaN
+    const std::size_t last = band_starts_.size() - 2;
+    return b >= static_cast<double>(last) ? last : static_cast<std::size_t>(b);
+}
+
+std::span<const std::uint32_t> MultiPolygon::band(std::size_t b) const {
+    return std::span(band_edges_).subspan(band_starts_[b], band_starts_[b + 1] - band_starts_[b]);
 }
 
 bool MultiPolygon::contains(double x, double y) const {
-    if (!(x >= min_x_ && x <= max_x_ && y >= min_y_ && y <= max_y_)) return false;
-    bool inside = false;
-    for (const auto& rings : polygons_) {
-        for (const Ring& r : rings) {
-            for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
-                if (on_segment(r[j], r[i], x, y)) return true;
-                if (crosses(r[j], r[i], x, y)) inside = !inside;
-            }
+    if (band_starts_.empty() || !in_box(x, y)) return false;
+    std::uint32_t polygon_end = 0;
+    bool inside = false;  // in the polygon whose edges are being read
+    for (const std::uint32_t i : band(band_of(y))) {
+        if (i >= polygon_end) {  // the first edge of a later polygon: the previous one is decided
+            if (inside) return true;
+            polygon_end = *std::upper_bound(polygon_starts_.begin(), polygon_starts_.end(), i);
         }
+        if (on_segment(vertices_[i], vertices_[i + 1], x, y)) return true;
+        if (crosses(vertices_[i], vertices_[i + 1], x, y)) inside = !inside;
     }
     return inside;
 }
 
+std::size_t MultiPolygon::edges_examined(double x, double y) const {
+    return band_starts_.empty() || !in_box(x, y) ? 0 : band(band_of(y)).size();
+}
+
 bool MultiPolygon::touches_box(double x0, double y0, double x1, double y1) const {
-    if (x0 > max_x_ || x1 < min_x_ || y0 > max_y_ || y1 < min_y_) return false;
+    if (band_starts_.empty() || x0 > max_x_ || x1 < min_x_ || y0 > max_y_ || y1 < min_y_) return false;
     if (contains(x0, y0)) return true;  // the box inside the polygon (or a corner on it)
-    for (const auto& rings : polygons_) {
-        for (const Ring& r : rings) {
-            for (std::size_t i = 0, j = r.size() - 1; i < r.size(); j = i++) {
-                if (segment_meets_box(r[j], r[i], x0, y0, x1, y1)) return true;  // crossing, or inside the box
-            }
+    for (std::size_t b = band_of(std::max(y0, min_y_)), last = band_of(std::min(y1, max_y_)); b <= last; ++b) {
+        for (const std::uint32_t i : band(b)) {  // crossing the box, or inside it
+            if (segment_meets_box(vertices_[i], vertices_[i + 1], x0, y0, x1, y1)) return true;
         }
     }
     return false;
@@ -113,10 +188,17 @@ bool MultiPolygon::touches_box(double x0, double y0, double x1, double y1) const
 
 double MultiPolygon::area() const {
     double a = 0;
-    for (const auto& rings : polygons_) {
-        for (std::size_t k = 0; k < rings.size(); ++k) a += (k == 0 ? 1 : -1) * ring_area(rings[k]);
+    for (std::size_t r = 0, p = 0; r + 1 < ring_starts_.size(); ++r) {
+        const bool outer = ring_starts_[r] == polygon_starts_[p];
+        if (outer) ++p;
+        const std::size_t first = ring_starts_[r], size = ring_starts_[r + 1] - first;
+        a += (outer ? 1 : -1) * ring_area(std::span(vertices_).subspan(first, size));
     }
     return a;
+}
+
+std::size_t MultiPolygon::vertex_count() const {
+    return ring_starts_.empty() ? 0 : vertices_.size() - (ring_starts_.size() - 1);
 }
 
 // ---- WKT

@@ -1,9 +1,15 @@
 // MultiPolygon: points inside, outside, on edges and vertices, in holes and in the parts of a
-// multipolygon; WKT and GeoJSON parsed, and their errors naming what was expected.
+// multipolygon (their union); the indexed test against a brute-force reference on random polygons,
+// its work and memory counted; WKT and GeoJSON parsed, and their errors naming what was expected.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
 #include <string>
 
+#include "allocation_counter.hpp"
 #include "core/error.hpp"
 #include "core/polygon.hpp"
 
@@ -39,7 +45,8 @@ TEST(Polygon, MultiPolygonPartsAndATriangle) {
     EXPECT_FALSE(p.contains(1.01, 1.01));
     EXPECT_TRUE(p.contains(6, 6));
     EXPECT_FALSE(p.contains(3, 3));
-    EXPECT_EQ(p.polygons().size(), 2u);
+    EXPECT_EQ(p.polygon_count(), 2u);
+    EXPECT_EQ(p.vertex_count(), 7u);
     EXPECT_DOUBLE_EQ(p.min_x(), 0);
     EXPECT_DOUBLE_EQ(p.max_y(), 7);
 }
@@ -75,6 +82,253 @@ TEST(Polygon, WktErrorsNameWhatWasExpected) {
     EXPECT_NE(error_of("POLYGON ((0 0, 1 0, 0 0))").find("at least 3 distinct vertices"), std::string::npos);
     EXPECT_NE(error_of("POLYGON ((0 0, 1 0, 1 1)) junk").find("the end of the text"), std::string::npos);
     EXPECT_EQ(error_of("POLYGON((0 0,1 0,1 1))"), "");
+}
+
+
+using Polygons = std::vector<std::vector<Ring>>;
+
+// The reference test, every edge of every polygon: on an edge (exact cross product), or an odd number
+// of a polygon's edges straddling y to the right of the point (the side by the cross product's sign,
+// not by the tested code's interpolation); inside the whole when inside any polygon.
+bool reference_contains(const Polygons& polygons, double x, double y) {
+    for (const auto& rings : polygons) {
+        int crossings = 0;
+        for (const Ring& r : rings) {
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                const XY a = r[i], b = r[(i + 1) % r.size()];
+                const double cross = (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
+                const bool in_box = std::min(a.x, b.x) <= x && x <= std::max(a.x, b.x) &&
+                                    std::min(a.y, b.y) <= y && y <= std::max(a.y, b.y);
+                if (cross == 0 && in_box) return true;
+                if ((a.y > y) != (b.y > y) && (cross > 0) == (b.y > a.y)) ++crossings;
+            }
+        }
+        if (crossings % 2 == 1) return true;
+    }
+    return false;
+}
+
+double orientation(XY a, XY b, XY c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
+
+// Whether closed segments p-q and r-s meet (orientations; exact for the small dyadic coordinates used).
+bool segments_meet(XY p, XY q, XY r, XY s) {
+    const double o1 = orientation(p, q, r), o2 = orientation(p, q, s), o3 = orientation(r, s, p),
+                 o4 = orientation(r, s, q);
+    const auto within = [](XY a, XY b, XY c) {  // c, collinear with a-b, lies on it
+        return std::min(a.x, b.x) <= c.x && c.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= c.y &&
+               c.y <= std::max(a.y, b.y);
+    };
+    if (o1 == 0 && within(p, q, r)) return true;
+    if (o2 == 0 && within(p, q, s)) return true;
+    if (o3 == 0 && within(r, s, p)) return true;
+    if (o4 == 0 && within(r, s, q)) return true;
+    return (o1 > 0) != (o2 > 0) && o1 != 0 && o2 != 0 && (o3 > 0) != (o4 > 0) && o3 != 0 && o4 != 0;
+}
+
+// The reference box test: a corner of the box inside, or an edge with an end in the box or meeting a side.
+bool reference_touches(const Polygons& polygons, double x0, double y0, double x1, double y1) {
+    if (reference_contains(polygons, x0, y0)) return true;
+    const XY c[4] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+    for (const auto& rings : polygons) {
+        for (const Ring& r : rings) {
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                const XY a = r[i], b = r[(i + 1) % r.size()];
+                if (a.x >= x0 && a.x <= x1 && a.y >= y0 && a.y <= y1) return true;
+                for (int k = 0; k < 4; ++k) {
+                    if (segments_meet(a, b, c[k], c[(k + 1) % 4])) return true;
+                }
+            }
+        }
+    }
+    return false;
+}
+
+// 1 to 3 polygons of 1 to 3 rings of 3 to 12 vertices on the integers 0..16 (rings that cross
+// themselves and each other, holes outside their polygon, repeated and collinear vertices, many
+// horizontal edges: all the degenerate cases at once).
+Polygons random_grid_polygons(std::mt19937& rng) {
+    std::uniform_int_distribution<int> coordinate(0, 16), count(1, 3), size(3, 12);
+    Polygons out(count(rng));
+    for (auto& rings : out) {
+        rings.resize(count(rng));
+        for (Ring& r : rings) {
+            r.resize(size(rng));
+            for (XY& v : r) v = {double(coordinate(rng)), double(coordinate(rng))};
+            if (r.front() == r.back()) r.back().x = r.front().x == 0 ? 1 : 0;
+        }
+    }
+    return out;
+}
+
+// A ring around (0, 0): n vertices at radius r(angle).
+template <typename Radius>
+Ring radial_ring(std::size_t n, Radius r) {
+    Ring ring(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double a = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
+        ring[i] = {r(i) * std::cos(a), r(i) * std::sin(a)};
+    }
+    return ring;
+}
+
+TEST(Polygon, OverlappingPartsAreTheirUnion) {
+    // The issue's case: two overlapping squares from a FeatureCollection (the overlap was a hole).
+    const auto squares = parse_geojson_polygon(R"({"type": "FeatureCollection", "features": [
+        {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [10, 0], [10, 10], [0, 10]]]}},
+        {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[5, 5], [15, 5], [15, 15], [5, 15]]]}}
+        ]})");
+    EXPECT_TRUE(squares.contains(7, 7));  // in both
+    EXPECT_TRUE(squares.contains(2, 2));
+    EXPECT_TRUE(squares.contains(12, 12));
+    EXPECT_TRUE(squares.contains(10, 7));  // one square's edge inside the other
+    EXPECT_FALSE(squares.contains(2, 12));
+    EXPECT_DOUBLE_EQ(squares.area(), 200.0);  // the documented sum over parts (their union is 175)
+    // Two identical triangles: their inside, not only their edges.
+    const auto twins = parse_wkt_polygon("MULTIPOLYGON (((0 0, 10 0, 0 10)), ((0 0, 10 0, 0 10)))");
+    EXPECT_TRUE(twins.contains(2, 2));
+    EXPECT_TRUE(twins.contains(5, 5));
+    EXPECT_FALSE(twins.contains(6, 6));
+    // A bow-tie (one ring crossing itself) stays even-odd within its polygon: both lobes inside.
+    const auto bow_tie = parse_wkt_polygon("POLYGON ((0 0, 10 10, 10 0, 0 10))");
+    EXPECT_TRUE(bow_tie.contains(1, 5));
+    EXPECT_TRUE(bow_tie.contains(9, 5));
+    EXPECT_FALSE(bow_tie.contains(5, 9));
+}
+
+TEST(Polygon, AHoleCutsItsOwnPolygonOnly) {
+    // A's hole (4..6) covered by B (3..7): inside. C, an island in D's hole: inside, D's hole around it out.
+    const auto p = parse_wkt_polygon("MULTIPOLYGON (((0 0, 10 0, 10 10, 0 10), (4 4, 6 4, 6 6, 4 6)),"
+                                     " ((3 3, 7 3, 7 7, 3 7)),"
+                                     " ((20 0, 30 0, 30 10, 20 10), (22 2, 28 2, 28 8, 22 8)),"
+                                     " ((24 4, 26 4, 26 6, 24 6)))");
+    EXPECT_TRUE(p.contains(5, 5));
+    EXPECT_TRUE(p.contains(3.5, 5));
+    EXPECT_TRUE(p.contains(25, 5));
+    EXPECT_FALSE(p.contains(23, 5));
+    EXPECT_TRUE(p.contains(22, 5));  // on D's hole's edge
+    EXPECT_FALSE(p.contains(15, 5));
+    EXPECT_TRUE(p.touches_box(4.5, 4.5, 5.5, 5.5));  // inside B, within A's hole
+    EXPECT_FALSE(p.touches_box(22.5, 2.5, 23, 3));   // within D's hole, beside C
+    EXPECT_DOUBLE_EQ(p.area(), 96.0 + 16.0 + 64.0 + 4.0);
+}
+
+TEST(Polygon, IndexAgreesWithTheReferenceOnDegenerateGridPolygons) {
+    // Every half-integer point and box corner: on vertices, on edges (horizontal ones too), on the
+    // bands' boundaries (the integers, for most band counts), inside and out.
+    std::mt19937 rng(52);
+    std::uniform_int_distribution<int> half(-2, 34);
+    std::size_t points = 0, inside = 0;
+    for (int trial = 0; trial < 400; ++trial) {
+        const Polygons polygons = random_grid_polygons(rng);
+        const MultiPolygon p(polygons);
+        for (int i = -2; i <= 34; ++i) {
+            for (int j = -2; j <= 34; ++j) {
+                const bool expected = reference_contains(polygons, i / 2.0, j / 2.0);
+                ASSERT_EQ(p.contains(i / 2.0, j / 2.0), expected) << "trial " << trial << " at " << i / 2.0 << ", "
+                                                                  << j / 2.0;
+                ++points, inside += expected;
+            }
+        }
+        for (int k = 0; k < 200; ++k) {
+            const auto [x0, x1] = std::minmax(half(rng) / 2.0, half(rng) / 2.0);
+            const auto [y0, y1] = std::minmax(half(rng) / 2.0, half(rng) / 2.0);
+            ASSERT_EQ(p.touches_box(x0, y0, x1, y1), reference_touches(polygons, x0, y0, x1, y1))
+                << "trial " << trial << " box " << x0 << ", " << y0 << ", " << x1 << ", " << y1;
+        }
+    }
+    EXPECT_GT(inside, points / 10);  // both answers well represented
+    EXPECT_LT(inside, points * 9 / 10);
+}
+
+TEST(Polygon, IndexAgreesWithTheReferenceOnRandomBlobsAndStars) {
+    std::mt19937 rng(53);
+    std::uniform_real_distribution<double> unit(0, 1);
+    for (int trial = 0; trial < 40; ++trial) {
+        const std::size_t n = 3 + static_cast<std::size_t>(unit(rng) * 3000);
+        const double spikes = trial % 2 ? 0.9 : 0.2;  // stars: long edges over many bands; blobs: short ones
+        Polygons polygons{{radial_ring(n, [&](std::size_t i) { return i % 2 ? 100 * (1 - spikes * unit(rng)) : 100; })},
+                          {radial_ring(n / 2 + 3, [&](std::size_t) { return 60 + 10 * unit(rng); }),
+                           radial_ring(n / 3 + 3, [&](std::size_t) { return 20 + 10 * unit(rng); })}};
+        for (XY& v : polygons[1][0]) v.x += 50;  // overlapping the first, its hole partly over it
+        for (XY& v : polygons[1][1]) v.x += 50;
+        const MultiPolygon p(polygons);
+        for (int k = 0; k < 2000; ++k) {
+            const double x = -120 + 300 * unit(rng), y = -120 + 240 * unit(rng);
+            ASSERT_EQ(p.contains(x, y), reference_contains(polygons, x, y)) << "trial " << trial << " at " << x
+                                                                            << ", " << y;
+        }
+        const XY v = polygons[0][0][n / 2];  // a vertex
+        EXPECT_TRUE(p.contains(v.x, v.y));
+    }
+}
+
+TEST(Polygon, EdgesOnBandBoundariesAndHorizontalEdges) {
+    // A 4 x 4 square with a vertex on every integer of its sides, and a comb of horizontal edges:
+    // 16 edges over 16 bands of 0.25 with boundaries at every integer; every quarter point checked.
+    Ring square;
+    for (int i = 0; i < 4; ++i) square.push_back({double(i), 0});
+    for (int i = 0; i < 4; ++i) square.push_back({4, double(i)});
+    for (int i = 4; i > 0; --i) square.push_back({double(i), 4});
+    for (int i = 4; i > 0; --i) square.push_back({0, double(i)});
+    const Ring comb = {{10, 0}, {14, 0}, {14, 1}, {11, 1}, {11, 2}, {14, 2}, {14, 3}, {10, 3}, {10, 2}, {10, 1}};
+    const Polygons polygons = {{square}, {comb}};
+    const MultiPolygon p(polygons);
+    for (int i = -4; i <= 64; ++i) {
+        for (int j = -4; j <= 20; ++j) {
+            ASSERT_EQ(p.contains(i / 4.0, j / 4.0), reference_contains(polygons, i / 4.0, j / 4.0))
+                << i / 4.0 << ", " << j / 4.0;
+        }
+    }
+    EXPECT_TRUE(p.contains(12, 1));     // on the comb's inner horizontal edge
+    EXPECT_FALSE(p.contains(12, 1.5));  // between its teeth
+    EXPECT_TRUE(p.contains(4, 2));      // a vertex on the boundary between bands
+    // A ring with no height (all on one line): its edges only.
+    const MultiPolygon flat(Polygons{{{{0, 0}, {1, 0}, {2, 0}}}});
+    EXPECT_TRUE(flat.contains(0.5, 0));
+    EXPECT_FALSE(flat.contains(0.5, 1e-9));
+    EXPECT_TRUE(flat.touches_box(1.5, -1, 3, 1));
+    EXPECT_FALSE(MultiPolygon().contains(0, 0));
+    EXPECT_FALSE(MultiPolygon().touches_box(-1, -1, 1, 1));
+}
+
+TEST(Polygon, PointTestWorkFollowsPointsPlusVertices) {
+    // 100k vertices around a circle (radii varying by less than the vertices' spacing, as a surveyed
+    // outline) and 20k points over its box: the edges examined are a few per point (every edge for
+    // every point would be 2 * 10^9). A point examines the edges of its band: about the edges a
+    // horizontal line crosses there, plus edges per band.
+    std::mt19937 rng(54);
+    std::uniform_real_distribution<double> unit(0, 1);
+    const std::size_t n = 100'000, points = 20'000;
+    const Polygons polygons{{radial_ring(n, [&](std::size_t) { return 1000 + 0.05 * unit(rng); })}};
+    const MultiPolygon p(polygons);
+    std::size_t examined = 0;
+    for (std::size_t k = 0; k < points; ++k) {
+        const double x = -1000 + 2000 * unit(rng), y = -1000 + 2000 * unit(rng);
+        examined += p.edges_examined(x, y);
+        if (k % 40 == 0) {
+            ASSERT_EQ(p.contains(x, y), reference_contains(polygons, x, y)) << x << ", " << y;
+        }
+    }
+    EXPECT_LE(examined, 10 * points);
+    EXPECT_LE(p.index_entries(), 4 * n);
+}
+
+TEST(Polygon, LongEdgesKeepTheIndexLinear) {
+    // A star of 200k vertices whose spikes reach from radius 1 to 1000: each edge spans half the
+    // height. One band per edge would hold 10^10 entries; the index stays near 4 per edge.
+    const std::size_t n = 200'000;
+    Polygons polygons{{radial_ring(n, [](std::size_t i) { return i % 2 ? 1.0 : 1000.0; })}};
+    const Polygons copy = polygons;
+    const test::AllocationCounter counter;
+    const MultiPolygon star(std::move(polygons));
+    EXPECT_LE(star.index_entries(), 4 * n + n / 8);
+    EXPECT_LE(counter.bytes(), 48 * n);  // vertices 16 bytes, index entries 4 each, bands 4 each
+    std::mt19937 rng(55);
+    std::uniform_real_distribution<double> unit(-1000, 1000);
+    for (int k = 0; k < 300; ++k) {
+        const double x = unit(rng), y = unit(rng);
+        ASSERT_EQ(star.contains(x, y), reference_contains(copy, x, y)) << x << ", " << y;
+    }
 }
 
 }  // namespace
