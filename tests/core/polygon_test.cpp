@@ -1,7 +1,12 @@
 // MultiPolygon: points inside, outside, on edges and vertices, in holes and in the parts of a
-// multipolygon; WKT and GeoJSON parsed, and their errors naming what was expected.
+// multipolygon; WKT and GeoJSON parsed, and their errors naming what was expected; GeoJSON nested
+// 60k deep, or with a field of the wrong kind, one Error (never a crash, never a JSON library's).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "core/error.hpp"
@@ -75,6 +80,56 @@ TEST(Polygon, WktErrorsNameWhatWasExpected) {
     EXPECT_NE(error_of("POLYGON ((0 0, 1 0, 0 0))").find("at least 3 distinct vertices"), std::string::npos);
     EXPECT_NE(error_of("POLYGON ((0 0, 1 0, 1 1)) junk").find("the end of the text"), std::string::npos);
     EXPECT_EQ(error_of("POLYGON((0 0,1 0,1 1))"), "");
+}
+
+std::string geojson_error(const std::string& text) {
+    try {
+        parse_geojson_polygon(text);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Polygon, GeoJsonNestedDeepIsOneErrorNotACrash) {
+    // A FeatureCollection of FeatureCollections, 60k deep.
+    std::string deep;
+    for (int i = 0; i < 60'000; ++i) deep += R"({"type": "FeatureCollection", "features": [)";
+    for (int i = 0; i < 60'000; ++i) deep += "]}";
+    EXPECT_NE(geojson_error(deep).find("polygon: GeoJSON: arrays and objects nested more than the limit of 256 deep"),
+              std::string::npos);
+    const std::string coordinates = R"({"type": "Polygon", "coordinates": )" + std::string(100'000, '[') +
+                                    std::string(100'000, ']') + "}";
+    EXPECT_NE(geojson_error(coordinates).find("nested more than"), std::string::npos);
+    // Read from a file: the file named.
+    const auto file = std::filesystem::temp_directory_path() / ("lidarscout_deep_" + std::to_string(::getpid()) +
+                                                                ".geojson");
+    std::ofstream(file) << deep;
+    try {
+        read_polygon_argument(file.string());
+        ADD_FAILURE() << "read";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), file.string());
+        EXPECT_NE(e.cause().find("nested more than"), std::string::npos);
+    }
+    std::filesystem::remove(file);
+}
+
+TEST(Polygon, GeoJsonOfTheWrongKindIsNamed) {
+    EXPECT_NE(geojson_error(R"({"type": 5, "coordinates": []})").find("GeoJSON: \"type\" is a number, not a string"),
+              std::string::npos);
+    EXPECT_NE(geojson_error(R"({"type": "FeatureCollection", "features": [{"type": "Feature", "geometry":
+              {"type": ["Polygon"]}}]})").find("\"type\" is an array, not a string"), std::string::npos);
+    EXPECT_NE(geojson_error(R"({"type": "FeatureCollection", "features": 3})").find("without a features array"),
+              std::string::npos);
+    EXPECT_NE(geojson_error(R"({"type": "Polygon", "coordinates": [[[0, 0], [1, "a"], [1, 1]]]})")
+                  .find("a position is not an array of at least two numbers"),
+              std::string::npos);
+    const std::string long_type = geojson_error(R"({"type": ")" + std::string(100'000, 'T') + "\"}");
+    EXPECT_NE(long_type.find("... (100000 bytes)"), std::string::npos);
+    EXPECT_LT(long_type.size(), 400u);
+    EXPECT_NE(geojson_error("{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [1, 0], [1, 1]]]} x").find("not JSON"),
+              std::string::npos);
 }
 
 }  // namespace
