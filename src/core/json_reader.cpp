@@ -17,7 +17,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr std::size_t kFirstChunk = 64u << 10, kLastChunk = 4u << 20;  // the chunk grows to the last size
+constexpr std::size_t kFirstChunk = 64u << 10, kLastChunk = 1u << 20;  // the chunk grows to the last size
 
 // Where and why reading stopped short of the document's end (a limit).
 struct Stop {

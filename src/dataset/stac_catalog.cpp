@@ -58,15 +58,16 @@ struct Walk {
 };
 
 // What one document's streamed arrays ("features", "links") gave, used once the whole document is
-// read and its type known: items are kept only from an ItemCollection read to its end (or to the
-// item limit), links followed only where its type follows them.
+// read and its type known: items (appended to the catalog's as they come) are kept only from an
+// ItemCollection read to its end (or to the item limit), links followed only where its type
+// follows them.
 struct Streamed {
     struct Link {
         std::string rel;    // "" when the link's rel could not be read
         std::string href;   // "" when it has none that can be followed
         std::string error;  // why it cannot be followed ("" when it can)
     };
-    std::vector<CatalogItem> items;
+    std::size_t first_item = 0;            // where its items start in the catalog's
     std::vector<std::string> item_errors;  // lines about its items
     std::vector<Link> links;               // the links whose rel is followed somewhere, and broken ones
 };
@@ -235,10 +236,9 @@ void take_link(const json& link, std::size_t index, Streamed& s) {
     s.links.push_back({*rel, std::move(*href), ""});
 }
 
-// Whether the catalog holds its limit of items already (with `pending` more of this document):
-// then nothing more is read, and a line says so.
-bool at_item_limit(std::size_t pending, const std::string& document, Walk& w) {
-    if (w.out.items.size() + pending < w.limits.max_items) return false;
+// Whether the catalog holds its limit of items already: then nothing more is read, and a line says so.
+bool at_item_limit(const std::string& document, Walk& w) {
+    if (w.out.items.size() < w.limits.max_items) return false;
     w.full = true;
     w.error(document, "more than " + std::to_string(w.limits.max_items) + " items: the rest is not read");
     return true;
@@ -248,8 +248,8 @@ bool at_item_limit(std::size_t pending, const std::string& document, Walk& w) {
 bool take_element(const std::string& key, std::size_t index, const json& element, const std::string& document,
                   Streamed& s, Walk& w) {
     if (key == "links") return take_link(element, index, s), true;
-    if (at_item_limit(s.items.size(), document, w)) return false;
-    if (auto item = item_of(element, document, index, s.item_errors)) s.items.push_back(std::move(*item));
+    if (at_item_limit(document, w)) return false;
+    if (auto item = item_of(element, document, index, s.item_errors)) w.out.items.push_back(std::move(*item));
     return true;
 }
 
@@ -292,26 +292,32 @@ std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk
 }
 
 void read_document(const std::string& document, int depth, Walk& w) {
-    Streamed s;
+    Streamed s{w.out.items.size(), {}, {}};
     const bool was_full = w.full;
     const auto doc = read_streamed(document, s, w);
+    std::optional<std::string> type;
+    std::string type_error;
+    try {
+        if (doc) type = json_optional_string(*doc, "type");
+    } catch (const Error& e) {
+        type_error = e.cause();
+    }
+    // Its items are kept from an ItemCollection read whole (or to the item limit, which may leave a
+    // "type" written after them unread).
+    const bool collection =
+        doc && type_error.empty() && (type == "FeatureCollection" || (!type && w.full && !was_full));
+    const json* features = collection ? json_field(*doc, "features") : nullptr;
+    if (!features || !features->is_array()) w.out.items.resize(s.first_item);
     if (!doc) return;
     ++w.out.documents;
-    std::optional<std::string> type;
-    try {
-        type = json_optional_string(*doc, "type");
-    } catch (const Error& e) {
-        return w.error(document, "not a STAC catalog: " + e.cause());
-    }
-    // (reading stopped at the item limit may leave a "type" written after the items unread)
-    if (type == "FeatureCollection" || (!type && w.full && !was_full)) {
-        const json* features = json_field(*doc, "features");
+    if (!type_error.empty()) {
+        w.error(document, "not a STAC catalog: " + type_error);
+    } else if (collection) {
         if (!features || !features->is_array()) return w.error(document, "an ItemCollection without features");
         for (const auto& line : s.item_errors) w.error(document, line);
-        for (auto& item : s.items) w.out.items.push_back(std::move(item));
         follow_links(s, document, depth, {"next"}, w);  // a STAC API search's further pages
     } else if (type == "Feature") {
-        if (at_item_limit(0, document, w)) return;
+        if (at_item_limit(document, w)) return;
         std::vector<std::string> lines;
         if (auto item = item_of(*doc, document, 0, lines)) w.out.items.push_back(std::move(*item));
         for (const auto& line : lines) w.error(document, line);

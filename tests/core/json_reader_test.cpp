@@ -154,7 +154,7 @@ TEST(JsonReader, StreamedArraysAreHandedOverAnElementAtATime) {
 }
 
 TEST(JsonReader, AStreamedArrayHoldsOneElementAtATime) {
-    const std::string text = collection(20'000, 200);  // ~5 MB
+    const std::string text = collection(20'000, 1000);  // ~20 MB
     std::size_t seen = 0;
     const JsonStreaming streaming{{"features"}, [&](const std::string&, std::size_t, json&&) { return ++seen, true; }};
     const test::AllocationCounter counter;

@@ -15,9 +15,10 @@
 namespace lidarscout {
 namespace {
 
-std::string error_of(const std::string& wkt) {
+// The message of the Error parsing `text` ("" when it parses).
+std::string error_of(const std::string& text, MultiPolygon (*parse)(std::string_view) = parse_wkt_polygon) {
     try {
-        parse_wkt_polygon(wkt);
+        parse(text);
     } catch (const Error& e) {
         return e.what();
     }
@@ -82,14 +83,7 @@ TEST(Polygon, WktErrorsNameWhatWasExpected) {
     EXPECT_EQ(error_of("POLYGON((0 0,1 0,1 1))"), "");
 }
 
-std::string geojson_error(const std::string& text) {
-    try {
-        parse_geojson_polygon(text);
-    } catch (const Error& e) {
-        return e.what();
-    }
-    return "";
-}
+std::string geojson_error(const std::string& text) { return error_of(text, parse_geojson_polygon); }
 
 TEST(Polygon, GeoJsonNestedDeepIsOneErrorNotACrash) {
     // A FeatureCollection of FeatureCollections, 60k deep.
