@@ -1,4 +1,4 @@
-// display_text: UTF-8 where valid, else Latin-1, control characters escaped.
+// display_text: UTF-8 where valid, else Latin-1, control characters escaped; display_excerpt: its cut form.
 #include "core/text.hpp"
 
 #include <cstdint>
@@ -67,6 +67,14 @@ std::string display_text(std::string_view bytes) {
         i += n;
     }
     return out;
+}
+
+std::string display_excerpt(std::string_view bytes, std::size_t max_bytes) {
+    if (bytes.size() <= max_bytes) return display_text(bytes);
+    std::size_t cut = max_bytes;
+    // back to the start of a UTF-8 sequence (at most 3 continuation bytes), so no character is split
+    for (int k = 0; k < 3 && cut > 0 && (static_cast<std::uint8_t>(bytes[cut]) & 0xC0) == 0x80; ++k) --cut;
+    return display_text(bytes.substr(0, cut)) + "... (" + std::to_string(bytes.size()) + " bytes)";
 }
 
 std::string ascii_lower(std::string_view s) {
