@@ -246,6 +246,24 @@ struct MixedCrsCase {
     int format;
 };
 
+// A 20 x 20 grid of 5 m from (x0, y0), heights rising to the north-east.
+std::vector<test::FixturePoint> grid_at(double x0, double y0) {
+    std::vector<test::FixturePoint> points;
+    for (int i = 0; i < 20; ++i) {
+        for (int j = 0; j < 20; ++j) points.push_back({x0 + i * 5 + 1.25, y0 + j * 5 + 1.25, 100.0 + i + j});
+    }
+    return points;
+}
+
+// `points` moved from the CRS `from` into `to`.
+std::vector<test::FixturePoint> placed(std::vector<test::FixturePoint> points, const char* from, const char* to) {
+    std::vector<double> x, y;
+    for (const auto& p : points) x.push_back(p.x), y.push_back(p.y);
+    geo::CrsTransform(from, to).apply(x, y, {});
+    for (std::size_t i = 0; i < points.size(); ++i) points[i].x = x[i], points[i].y = y[i];
+    return points;
+}
+
 // The points of each tile (read alone, in its own CRS) placed in `frame`, in dataset order, that lie in
 // `polygon`.
 std::vector<std::array<double, 3>> placed_in(const std::vector<std::string>& tiles, const std::string& frame,
@@ -275,22 +293,8 @@ class ClipMixedCrs : public test::TempDirTest, public ::testing::WithParamInterf
 protected:
     void SetUp() override {
         TempDirTest::SetUp();
-        const auto grid = [](double x0) {
-            std::vector<test::FixturePoint> points;
-            for (int i = 0; i < 20; ++i) {
-                for (int j = 0; j < 20; ++j) {
-                    points.push_back({x0 + i * 5 + 1.25, 5400000 + j * 5 + 1.25, 100.0 + i + j});
-                }
-            }
-            return points;
-        };
-        std::vector<test::FixturePoint> east = grid(500100);
-        std::vector<double> x, y;
-        for (const auto& p : east) x.push_back(p.x), y.push_back(p.y);
-        geo::CrsTransform("EPSG:32632", "EPSG:32633").apply(x, y, {});
-        for (std::size_t i = 0; i < east.size(); ++i) east[i].x = x[i], east[i].y = y[i];
-        test::write_fixture(path("west.las"), grid(500000), 32632);
-        test::write_fixture(path("east.las"), east, 32633);
+        test::write_fixture(path("west.las"), grid_at(500000, 5400000), 32632);
+        test::write_fixture(path("east.las"), placed(grid_at(500100, 5400000), "EPSG:32632", "EPSG:32633"), 32633);
         tiles = {path("west.las"), path("east.las")};
         if (GetParam().format == 7) {
             ConvertOptions options;
@@ -357,20 +361,9 @@ class ClipDegrees : public test::TempDirTest {
 protected:
     void SetUp() override {
         TempDirTest::SetUp();
-        const auto grid = [](double x0) {
-            std::vector<test::FixturePoint> points;
-            for (int i = 0; i < 20; ++i) {
-                for (int j = 0; j < 20; ++j) points.push_back({x0 + i * 5 + 1.25, 4878000 + j * 5 + 1.25, 130.0 + i});
-            }
-            return points;
-        };
-        std::vector<test::FixturePoint> east = grid(494100);
-        std::vector<double> x, y;
-        for (const auto& p : east) x.push_back(p.x), y.push_back(p.y);
-        geo::CrsTransform("EPSG:32610", "EPSG:4326").apply(x, y, {});
-        for (std::size_t i = 0; i < east.size(); ++i) east[i].x = x[i], east[i].y = y[i];
-        test::write_fixture(path("utm.las"), grid(494000), 32610);
-        test::write_fixture(path("degrees.las"), east, test::FixtureCrs{4326, 0, true, 1e-7});
+        test::write_fixture(path("utm.las"), grid_at(494000, 4878000), 32610);
+        test::write_fixture(path("degrees.las"), placed(grid_at(494100, 4878000), "EPSG:32610", "EPSG:4326"),
+                            test::FixtureCrs{4326, 0, true, 1e-7});
     }
 
     // Clips `tiles` opened in `frame` (accepting degrees) to the box across both grids (drawn in UTM 10N,
