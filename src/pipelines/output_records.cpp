@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "geo/crs_definition.hpp"
 #include "geo/projection.hpp"
@@ -71,10 +73,17 @@ std::vector<std::string> keep_crs(las::Header& h, std::vector<las::Vlr>& vlrs, s
         return {fmt::format("GeoTIFF keys replaced by the WKT of {} (LAS 1.4 requires WKT for point format {})",
                             definition, h.point_format)};
     }
+    // GeoTIFF keys without an EPSG code (user-defined) keep the WKT beside them: it is what names the
+    // CRS to PROJ (crs_definition); liblas's copy goes when that WKT is there.
+    const bool keys_name_it = form == las::CrsForm::Wkt || crs.epsg.has_value();
+    const auto is_wkt = [](const las::Vlr& v) { return las::crs_record_form(v) == las::CrsForm::Wkt; };
+    const bool has_wkt =
+        std::any_of(vlrs.begin(), vlrs.end(), is_wkt) || std::any_of(evlrs.begin(), evlrs.end(), is_wkt);
     std::string dropped;
     const auto other_form = [&](const las::Vlr& v) {
         const las::CrsForm f = las::crs_record_form(v);
-        if (f == las::CrsForm::None || f == form) return false;
+        const bool needed = f == las::CrsForm::Wkt || (f == las::CrsForm::LiblasWkt && !has_wkt);
+        if (f == las::CrsForm::None || f == form || (!keys_name_it && needed)) return false;
         dropped += (dropped.empty() ? "" : ", ") + record_name(v);
         return true;
     };

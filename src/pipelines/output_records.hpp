@@ -27,7 +27,9 @@ void write_crs(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr
 
 // Keeps the CRS the records say (`crs`, read from them) written once: the records of its form (the one
 // read_crs used) as they are, those of any other form dropped, the WKT bit set to match; for point
-// formats 6-10 a CRS stated by GeoTIFF keys is rewritten as WKT (write_crs). Records of a CRS that
+// formats 6-10 a CRS stated by GeoTIFF keys is rewritten as WKT (write_crs). GeoTIFF keys without an
+// EPSG code keep the WKT record the file has beside them (what names that CRS to PROJ), and liblas's
+// copy of it when it is the only one. Records of a CRS that
 // could not be read (crs.source "none") are left as they are (the WKT bit set for formats 6-10).
 // Returns what changed, one note each.
 std::vector<std::string> keep_crs(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr>& evlrs,

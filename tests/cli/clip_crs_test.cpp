@@ -201,7 +201,7 @@ TEST_F(ClipCrs, TilesInDegreesAreClippedInDegreesOrReprojected) {
     EXPECT_EQ(run("profile " + autzen_4326() + line + " --crs EPSG:32610 -o " + path("p.csv"), out, err), 0) << err;
     EXPECT_EQ(run("dem " + autzen_4326() + " --crs EPSG:32610 --texel 5 -o " + path("d.tif"), out, err), 0) << err;
     EXPECT_TRUE(fs::exists(path("d.tif")));
-    for (const std::string command : {"dem " + autzen_4326() + " --texel 5 -o " + path("d2.tif"),
+    for (const std::string& command : {"dem " + autzen_4326() + " --texel 5 -o " + path("d2.tif"),
                                       "profile " + autzen_4326() + line + " -o " + path("p2.csv")}) {
         EXPECT_EQ(run(command, out, err), 1) << command;
         EXPECT_NE(err.find("coordinates are in degrees (longitude, latitude); give --crs EPSG:32610 (WGS 84 / UTM "

@@ -1,7 +1,8 @@
 // pipelines::write_crs and keep_crs: the records of a written file state one CRS in the form its point
 // format expects. bcts_2.laz (GeoTIFF keys of EPSG:3005+5713 beside liblas's WKT copy) keeps its keys
 // alone; its CRS for point format 6 becomes one WKT record; a CRS in degrees gets geographic GeoTIFF
-// keys; a CRS without EPSG code cannot be GeoTIFF keys on LAS 1.2 (refused, records untouched).
+// keys; a CRS without EPSG code cannot be GeoTIFF keys on LAS 1.2 (refused, records untouched);
+// GeoTIFF keys without EPSG code (autzen_trim.las) keep the WKT that names their CRS.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,11 +27,12 @@ struct Records {
     las::Crs crs;
 };
 
-Records bcts_2() {
-    const auto file = io::File::open((test::surveys_dir() / "lasr-bcts-strips" / "bcts_2.laz").string());
-    const dataset::Tile t = dataset::read_tile(file);
+Records records_of(const std::string& path) {
+    const dataset::Tile t = dataset::read_tile(io::File::open(path));
     return {t.header, t.vlrs(), t.evlrs(), t.crs()};
 }
+
+Records bcts_2() { return records_of((test::surveys_dir() / "lasr-bcts-strips" / "bcts_2.laz").string()); }
 
 // The forms of the CRS records among `vlrs`, in order.
 std::vector<las::CrsForm> forms(const std::vector<las::Vlr>& vlrs) {
@@ -58,6 +60,18 @@ TEST(OutputRecords, TheSourcesOtherFormIsDropped) {
                             "(EPSG:3005+5713)"), std::string::npos) << notes[0];
     EXPECT_EQ(r.header.global_encoding & 0x10, 0);
     EXPECT_TRUE(keep_crs(r.header, r.vlrs, r.evlrs, r.crs, "clip").empty());  // already so: nothing to say
+}
+
+TEST(OutputRecords, UserDefinedKeysKeepTheWktThatNamesThem) {
+    // autzen_trim.las: GeoTIFF keys of a Lambert conic without EPSG code, its WKT, liblas's copy of it.
+    Records r = records_of((test::formats_dir() / "PDAL__PDAL/test__data__las__autzen_trim.las").string());
+    ASSERT_EQ(r.crs.source, "geotiff");
+    ASSERT_FALSE(r.crs.epsg);
+    const auto notes = keep_crs(r.header, r.vlrs, r.evlrs, r.crs, "clip");
+    EXPECT_EQ(forms(r.vlrs), (std::vector{las::CrsForm::GeoTiff, las::CrsForm::GeoTiff, las::CrsForm::GeoTiff,
+                                          las::CrsForm::Wkt}));
+    ASSERT_EQ(notes.size(), 1u);
+    EXPECT_NE(notes[0].find("dropped the liblas 2112 VLR"), std::string::npos) << notes[0];
 }
 
 TEST(OutputRecords, FormatsSixToTenGetOneWktRecord) {
