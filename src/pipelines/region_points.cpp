@@ -197,9 +197,10 @@ void require_kept_points(const dataset::Dataset& ds, std::span<const std::uint32
     const std::uint64_t inside = filter.keeps_everything() ? 0 : read_region_points(
         ds, tiles, region, PointFilter(), pool, [](const RegionBatch&) {}).points_kept;
     if (inside == 0) {
-        throw Error::in_stage(stage, fmt::format("no point lies in {}: none of the {} points of the {} {} it touches{}; "
-                                                 "nothing written", where, fmt::group_digits(stats.points_read),
-                                                 fmt::group_digits(tiles.size()), tiles.size() == 1 ? "tile" : "tiles",
+        const char* tile_word = tiles.size() == 1 ? "tile" : "tiles";
+        throw Error::in_stage(stage, fmt::format("no point lies in {}: none of the {} points of the {} {} it "
+                                                 "touches{}; nothing written", where,
+                                                 fmt::group_digits(stats.points_read), tiles.size(), tile_word,
                                                  unread));
     }
     throw Error::in_stage(stage, fmt::format("no point of {} in {} ({} points in it{}); nothing written: leave out "

@@ -1,11 +1,12 @@
 // pipelines::clip_to_file and read_region_points: real files of point formats 1, 3, 6 and 7 clipped
 // by a polygon with a hole and a filter give the records a brute-force pass over the file keeps
 // (count and SHA-256 of the records), and the clip decodes again through our decoder with the same
-// SHA; header fields and VLRs kept (but liblas's copy of the WKT). On a grid of tiles only the touched tiles are decoded; tiles of
-// mixed point formats are refused naming both; a corrupt tile is named and skipped. Tiles in two UTM
-// zones clipped together are written in the frame's CRS (GeoTIFF keys for format 2, WKT for format 7),
-// their points where a brute-force reprojection puts them, within the output's quantization; so are a
-// tile in degrees and one in UTM 10N, clipped in degrees (scale 1e-7) or in metres.
+// SHA; header fields and VLRs kept (but liblas's copy of the WKT). On a grid of tiles only the
+// touched tiles are decoded; tiles of mixed point formats are refused naming both; a corrupt tile
+// is named and skipped. Tiles in two UTM zones clipped together are written in the frame's CRS
+// (GeoTIFF keys for format 2, WKT for format 7), their points where a brute-force reprojection puts
+// them, within the output's quantization; so are a tile in degrees and one in UTM 10N, clipped in
+// degrees (scale 1e-7) or in metres.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-// convert_tile: LAS->LAZ->LAS is lossless (but for liblas's copy of the CRS), LAZ chunks equal the reference encoder's, format
-// conversion keeps coordinates, the output appears atomically and never replaces the input;
+// convert_tile: LAS->LAZ->LAS is lossless (but for liblas's copy of the CRS), LAZ chunks equal the
+// reference encoder's, format conversion keeps coordinates, the output appears atomically and never replaces the input;
 // values the target format cannot hold are refused with their count, or written clamped when forced.
 #include <gtest/gtest.h>
 
