@@ -53,6 +53,8 @@ nlohmann::json write_points(const ProfileCliOptions& o, const dataset::Dataset& 
     request.output = o.output;
     request.filter = o.filter.filter();
     request.region = pipelines::corridor_region(corridor(o));
+    request.command = "profile";
+    request.where = pipelines::kCorridor;
     PointsBar bar("profile");
     request.watch.progress = bar.fn();
     const auto r = pipelines::clip_to_file(ds, request, pool);
@@ -68,6 +70,7 @@ nlohmann::json write_profile(const ProfileCliOptions& o, const dataset::Dataset&
     pipelines::ReadWatch watch;
     watch.progress = bar.fn();
     const pipelines::Profile p = pipelines::read_profile(ds, corridor(o), o.filter.filter(), pool, watch);
+    pipelines::require_profile_points(ds, corridor(o), o.filter.filter(), p, pool);  // nothing written when empty
     nlohmann::json j = region_stats_json(p.read, ds);
     if (extension(o.output) == ".png") {
         pipelines::ProfileImageScale s;

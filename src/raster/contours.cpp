@@ -37,6 +37,20 @@ struct Closer {
     }
 };
 
+// Why a raster has no contour line every `interval`: its heights (nodata left out) hold no multiple
+// of it, or it has no height at all.
+std::string no_lines_cause(GDALRasterBand* band, double interval) {
+    double range[2] = {0, 0};
+    CPLPushErrorHandler(CPLQuietErrorHandler);  // an all-nodata band is an answer here, not a failure
+    const CPLErr e = band->ComputeRasterMinMax(FALSE, range);
+    CPLPopErrorHandler();
+    const std::string every = CPLSPrintf("no contour line every %g", interval);
+    if (e != CE_None) return every + ": the raster has no height";
+    if (range[0] == range[1]) return every + CPLSPrintf(": the raster is flat, at %.6g", range[0]);
+    return every + CPLSPrintf(": the heights range from %.6g to %.6g and no line falls between them; give "
+                              "--contours under %.3g", range[0], range[1], range[1] - range[0]);
+}
+
 }  // namespace
 
 std::string contours_path(const std::string& raster_path) {
@@ -84,6 +98,10 @@ std::uint64_t write_contours(const std::string& raster_path, const std::string& 
         lines = static_cast<std::uint64_t>(layer->GetFeatureCount());
     }
     if (CPLGetLastErrorType() >= CE_Failure) fail(gpkg_path, "cannot complete the GeoPackage");
+    if (lines == 0) {  // no silent empty product: the temporary GeoPackage goes with `out`
+        throw Error(gpkg_path, std::nullopt,
+                    no_lines_cause(raster.dataset->GetRasterBand(1), interval) + "; nothing written");
+    }
     out.commit();
     return lines;
 }

@@ -14,8 +14,9 @@ namespace lidarscout::raster {
 std::string contours_path(const std::string& raster_path);
 
 // Writes the contours of band 1 of `raster_path` (nodata `nodata`) every `interval` to `gpkg_path`;
-// returns how many lines. Throws lidarscout::Error naming the file that failed, or for an
-// interval that is not a positive number. `progress` gets the fraction done (0..1).
+// returns how many lines. Throws lidarscout::Error naming the file that failed, for an interval
+// that is not a positive number, and when there is no line (the heights' range said, nothing
+// written). `progress` gets the fraction done (0..1).
 std::uint64_t write_contours(const std::string& raster_path, const std::string& gpkg_path, double interval,
                              double nodata, const std::function<void(double)>& progress = {});
 

@@ -12,6 +12,7 @@
 #include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "geo/geographic.hpp"
 #include "raster/block_raster.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/contours.hpp"
@@ -103,8 +104,7 @@ void check_bounds_overlap(const dataset::Dataset& ds, const DemRequest& r, const
     if (!r.area || (a.min_x < b.max_x && a.max_x > b.min_x && a.min_y < b.max_y && a.max_y > b.min_y)) return;
     const double f = ds.frame.xy_to_metres;
     const std::string unit = linear_unit_name(f);
-    const bool degrees = std::max({std::abs(r.area->min_x), std::abs(r.area->max_x)}) <= 360 &&
-                         std::max({std::abs(r.area->min_y), std::abs(r.area->max_y)}) <= 90;
+    const bool degrees = geo::looks_like_degrees(r.area->min_x, r.area->min_y, r.area->max_x, r.area->max_y);
     char text[512];
     std::snprintf(text, sizeof text,
                   "--bounds %.10g,%.10g,%.10g,%.10g do not overlap the data, which lies in %.3f,%.3f,%.3f,%.3f "

@@ -100,7 +100,7 @@ TEST_F(ClipCommand, BadOptionsAreOneLineErrors) {
     EXPECT_EQ(test::run_command(base + " 2>&1", out), 1);
     EXPECT_NE(out.find("either --bounds or --polygon"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(base + " --bounds 0,0,1,1 2>&1", out), 1);
-    EXPECT_NE(out.find("no tile touches the area"), std::string::npos) << out;
+    EXPECT_NE(out.find("no tile touches the region"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("x.laz")));
 }
 
