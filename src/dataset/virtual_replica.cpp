@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "core/regular_file.hpp"
 
 namespace lidarscout::dataset {
 namespace {
@@ -19,6 +20,7 @@ constexpr std::size_t kSniffBytes = 4096;
 
 // The manifest's JSON; throws Error naming it.
 json parse_manifest(const std::string& path) {
+    require_regular_file(path);  // a FIFO would hang the read
     std::ifstream in(path);
     if (!in) throw Error(path, std::nullopt, "cannot read the virtual replica manifest");
     try {
@@ -38,7 +40,8 @@ const json& field(const json& object, const char* name, const std::string& path)
 }  // namespace
 
 bool is_virtual_replica(const std::string& path) {
-    if (fs::path(path).extension() != ".json") return false;
+    std::error_code ec;
+    if (fs::path(path).extension() != ".json" || !fs::is_regular_file(path, ec)) return false;  // (a FIFO hangs)
     std::ifstream in(path);
     std::string head(kSniffBytes, '\0');
     in.read(head.data(), static_cast<std::streamsize>(head.size()));

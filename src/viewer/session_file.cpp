@@ -6,6 +6,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/regular_file.hpp"
 #include "io/output_file.hpp"
 #include "render/colour_modes.hpp"
 
@@ -108,6 +109,7 @@ SessionFile session_from_json(const nlohmann::json& j, const std::string& path) 
 }
 
 SessionFile read_session(const std::string& path) {
+    require_regular_file(path);  // a FIFO would hang the read
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path, std::nullopt, "cannot open the session file");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
