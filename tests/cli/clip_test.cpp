@@ -160,7 +160,7 @@ TEST_F(ClipCommand, ATileNamedManyTimesIsClippedOnce) {
     test::write_fixture(path("t.las"), points, 32632);
     fs::create_directories(dir / "sub");
     nlohmann::json features = nlohmann::json::array();
-    for (const std::string href : {"../t.las", path("t.las"), std::string("../sub/../t.las")}) {
+    for (const std::string& href : std::vector<std::string>{"../t.las", path("t.las"), "../sub/../t.las"}) {
         features.push_back({{"type", "Feature"}, {"id", href}, {"properties", nlohmann::json::object()},
                             {"assets", {{"data", {{"href", href}, {"roles", {"data"}}}}}}});
     }
@@ -171,7 +171,8 @@ TEST_F(ClipCommand, ATileNamedManyTimesIsClippedOnce) {
                                     path("c.laz") + " --json 2>" + path("err.txt"), out), 0) << out;
     EXPECT_EQ(nlohmann::json::parse(out).at("points_written"), 5028u);
     const std::string err = read_text(path("err.txt"));
-    const std::string warning = "warning: 4 inputs name tiles already named, read once: " + path("t.las") + " (5 times)";
+    const std::string warning =
+        "warning: 4 inputs name tiles already named, read once: " + path("t.las") + " (5 times)";
     EXPECT_NE(err.find(warning), std::string::npos) << err;
     EXPECT_EQ(err.find("already named"), err.rfind("already named")) << "one warning: " << err;
     ASSERT_EQ(test::run_command(cli() + "scan --json " + inputs + " 2>/dev/null", out), 0) << out;

@@ -46,7 +46,8 @@ std::string refusal(const std::function<void()>& read) {
 
 TEST_F(RegularFile, WhatIsNotARegularFileIsRefusedByKind) {
     const std::string pipe = fifo("pipe");
-    EXPECT_EQ(refusal([&] { require_regular_file(pipe); }), pipe + ": is a FIFO (named pipe), not a regular file: not read");
+    EXPECT_EQ(refusal([&] { require_regular_file(pipe); }),
+              pipe + ": is a FIFO (named pipe), not a regular file: not read");
     EXPECT_NE(refusal([&] { require_regular_file(dir.string()); }).find("is a folder, not a regular file"),
               std::string::npos);
     EXPECT_NE(refusal([] { require_regular_file("/dev/null"); }).find("is a character device"), std::string::npos);

@@ -392,9 +392,8 @@ protected:
 };
 
 TEST_F(DatasetInputs, ThreeCatalogItemsNamingOneTileReadItOnce) {
-    const std::string catalog = write_json(
-        "sub/cat.json", {{"type", "FeatureCollection"},
-                         {"features", {item("../t.las"), item(path("t.las")), item("../sub/../t.las"), item("../u.las")}}});
+    const nlohmann::json items = {item("../t.las"), item(path("t.las")), item("../sub/../t.las"), item("../u.las")};
+    const std::string catalog = write_json("sub/cat.json", {{"type", "FeatureCollection"}, {"features", items}});
     const Dataset ds = open_dataset({catalog});
     ASSERT_EQ(ds.tiles.size(), 2u);
     EXPECT_TRUE(ds.skipped.empty());

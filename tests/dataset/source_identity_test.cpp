@@ -38,7 +38,7 @@ TEST(NormalisedUrl, NamesOfOtherResourcesStayApart) {
                               "http://example.org/d/t.laz"}) {
         EXPECT_NE(normalised_url(other), plain) << other;
     }
-    EXPECT_NE(normalised_url("s3://Bucket/t.laz"), normalised_url("s3://bucket/t.laz")) << "bucket names are as written";
+    EXPECT_NE(normalised_url("s3://Bucket/t.laz"), normalised_url("s3://bucket/t.laz")) << "a bucket as written";
     EXPECT_NE(normalised_url("s3://bucket/%41.laz"), normalised_url("s3://bucket/A.laz")) << "an s3 key is literal";
     EXPECT_EQ(normalised_url("tiles/t.laz"), "tiles/t.laz") << "not a URL: as it is";
 }
