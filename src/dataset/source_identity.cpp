@@ -95,13 +95,18 @@ std::string list_repeated(const std::vector<std::pair<std::string, std::size_t>>
 std::string normalised_url(std::string_view url) {
     const auto p = net::parse_url(url);
     if (!p) return std::string(url);
-    const bool s3 = p->scheme == "s3";  // an s3 key is literal: "%41" is not "A" there (net/s3_request.hpp)
-    const std::string host = s3 ? p->host : ascii_lower(normalise_percent(p->host));
-    const std::string origin = p->scheme + "://" + host + (default_port(*p) ? "" : ":" + p->port);
+    if (p->scheme == "s3") {  // the key as it is requested (a key that leaves its bucket as written: never read)
+        std::string refusal;
+        const std::string key = net::normalise_s3_key(std::string_view(p->path).substr(p->path.empty() ? 0 : 1), "",
+                                                      refusal);
+        return "s3://" + p->host + "/" + (refusal.empty() ? key : p->path);
+    }
+    const std::string origin =
+        p->scheme + "://" + ascii_lower(normalise_percent(p->host)) + (default_port(*p) ? "" : ":" + p->port);
     // The path resolved as a relative reference to the origin's root ("." first: a path "//x" is no host).
-    const std::string path = s3 ? p->path : normalise_percent(p->path);
+    const std::string path = normalise_percent(p->path);
     std::string out = net::resolve_url(origin + "/", "." + (path.empty() ? std::string("/") : path));
-    if (!p->query.empty()) out += "?" + (s3 ? p->query : normalise_percent(p->query));
+    if (!p->query.empty()) out += "?" + normalise_percent(p->query);
     return out;
 }
 

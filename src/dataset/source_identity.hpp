@@ -13,11 +13,12 @@
 
 namespace lidarscout::dataset {
 
-// `url` in a normal form, for comparison only (RFC 3986, 6.2.2): scheme and host in lower case (an
-// s3 bucket as written: its name is case-sensitive), the default port dropped, credentials and
-// fragment dropped, percent-encodings of unreserved characters decoded and the others' hex digits
-// in upper case, then "." and ".." segments of the path resolved. Anything not a URL as it is.
-// (net/url.hpp has no normaliser; this is the one the dataset needs to compare tiles.)
+// `url` in a normal form, for comparison only (RFC 3986, 6.2.2): scheme and host in lower case, the
+// default port dropped, credentials and fragment dropped, percent-encodings of unreserved characters
+// decoded and the others' hex digits in upper case, then "." and ".." segments of the path
+// resolved. An s3 URL: its bucket as written (the name is case-sensitive) and its key as it is
+// requested (net::normalise_s3_key; otherwise literal: "%41" is not "A" there). Anything not a URL
+// as it is. (net/url.hpp has no normaliser of whole URLs; this is the one the dataset needs.)
 std::string normalised_url(std::string_view url);
 
 // What names the tile of `source`: "file:DEVICE:INODE" for a local file that exists (stat follows

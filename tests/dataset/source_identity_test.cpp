@@ -28,6 +28,7 @@ TEST(NormalisedUrl, NamesOfOneResourceMeet) {
     EXPECT_EQ(normalised_url("http://example.com"), "http://example.com/");
     EXPECT_EQ(normalised_url("http://example.com/a%2fb?x=%7e%2a"), "http://example.com/a%2Fb?x=~%2A");
     EXPECT_EQ(normalised_url("s3://bucket/d/../t.laz"), "s3://bucket/t.laz");
+    EXPECT_EQ(normalised_url("s3://bucket/d/%2e%2e/./t.laz"), "s3://bucket/t.laz") << "the key as requested";
 }
 
 TEST(NormalisedUrl, NamesOfOtherResourcesStayApart) {
