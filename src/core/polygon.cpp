@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "core/json_reader.hpp"
 #include "core/text.hpp"
+#include "core/regular_file.hpp"
 
 namespace lidarscout {
 namespace {
@@ -415,6 +416,7 @@ MultiPolygon read_polygon_argument(const std::string& argument) {
     for (const char c : argument.substr(0, 20)) head += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     head.erase(0, head.find_first_not_of(" \t\n"));
     if (head.starts_with("POLYGON") || head.starts_with("MULTIPOLYGON")) return parse_wkt_polygon(argument);
+    require_regular_file(argument);  // a FIFO would hang the read
     std::ifstream in(argument, std::ios::binary);
     if (!in) throw Error(argument, std::nullopt, "--polygon: neither WKT (POLYGON, MULTIPOLYGON) nor a readable file");
     try {

@@ -446,6 +446,7 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     Dataset ds;
     ds.las_stride = options.las_stride;
     ds.skipped = std::move(found.errors);
+    ds.warnings = std::move(found.warnings);
     const std::vector<TileSource>& sources = found.sources;
     if (options.sources_found) options.sources_found(sources);
     const std::size_t n = sources.size();

@@ -44,7 +44,8 @@ ShiftedSource tile_of(const json& t, const std::vector<std::string>& sources) {
 }  // namespace
 
 bool is_virtual_replica(const std::string& path) {
-    if (fs::path(path).extension() != ".json") return false;
+    std::error_code ec;
+    if (fs::path(path).extension() != ".json" || !fs::is_regular_file(path, ec)) return false;  // (a FIFO hangs)
     std::ifstream in(path);
     std::string head(kSniffBytes, '\0');
     in.read(head.data(), static_cast<std::streamsize>(head.size()));

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/json_reader.hpp"
+#include "core/regular_file.hpp"
 #include "io/output_file.hpp"
 #include "render/colour_modes.hpp"
 
@@ -175,6 +176,7 @@ SessionFile session_from_json(const json& j, const std::string& path) {
 }
 
 SessionFile read_session(const std::string& path) {
+    require_regular_file(path);  // a FIFO would hang the read
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path, std::nullopt, "cannot open the session file");
     JsonLimits limits;

@@ -101,15 +101,18 @@ void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double f
     for (const auto& note : s.notes) ImGui::TextWrapped("%s", note.c_str());
 }
 
-// One line per file that could not be opened, and per failure while streaming (file, offset, cause).
+// One line per file that could not be opened, per failure while streaming (file, offset, cause), and
+// per warning about the dataset (tiles named more than once, CRSs mixed).
 void errors_section(const dataset::Dataset& ds, const SchedulerStats& s) {
     const auto per_file = first_error_per_file(s.errors);
     const std::size_t count = ds.skipped.size() + per_file.size();
-    if (count == 0) return;
-    const std::string title = "Errors: " + std::to_string(count) + " files###errors";
+    if (count + ds.warnings.size() == 0) return;
+    const std::string title = "Errors: " + std::to_string(count) + " files, " + std::to_string(ds.warnings.size()) +
+                              " warnings###errors";
     if (!ImGui::CollapsingHeader(title.c_str())) return;
-    ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * count)), true,
+    ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * (count + ds.warnings.size()))), true,
                       ImGuiWindowFlags_HorizontalScrollbar);
+    for (const auto& w : ds.warnings) ImGui::TextWrapped("%s: %s", level_name(w.level), w.message.c_str());
     for (const auto& f : ds.skipped) ImGui::TextWrapped("skipped: %s", f.error.c_str());
     for (const auto& e : per_file) {
         if (e.count == 1) ImGui::TextWrapped("%s", e.first.message().c_str());
