@@ -166,15 +166,18 @@ def run_pieces(client, args, dem_args, count, order, pieces_dir):
                              retries=args.retries, pure=False)
                for index in order]
     bar = Bar(len(futures), "lidarscout_dask: pieces")
-    records = []
+    records, failures = [], []
     try:
         for future in as_completed(futures):
-            records.append(future.result())  # a piece that failed every try raises here, naming its error
+            try:
+                records.append(future.result())
+            except Exception as e:  # pylint: disable=broad-except  (failed every try: the others go on, kept for a rerun)
+                failures.append(str(e) if isinstance(e, RuntimeError) else f"{type(e).__name__}: {e}")
             bar.add()
-    except RuntimeError as e:
-        raise Failure(str(e)) from None
     finally:
         bar.close()
+    if failures:
+        raise Failure(failures[0] + (f" (and {len(failures) - 1} more pieces failed)" if len(failures) > 1 else ""))
     return sorted(records, key=lambda r: r["index"])
 
 
