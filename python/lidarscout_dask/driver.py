@@ -171,7 +171,8 @@ def run_pieces(client, args, dem_args, count, order, pieces_dir):
         for future in as_completed(futures):
             try:
                 records.append(future.result())
-            except Exception as e:  # pylint: disable=broad-except  (failed every try: the others go on, kept for a rerun)
+            except Exception as e:  # pylint: disable=broad-except
+                # failed every try: the others go on (a rerun makes only the failed ones)
                 failures.append(str(e) if isinstance(e, RuntimeError) else f"{type(e).__name__}: {e}")
             bar.add()
     finally:

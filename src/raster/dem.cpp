@@ -314,11 +314,11 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     check_memory(ds, result.grid, r, result);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
-    io::OutputGroup outputs;  // every file of the run appears at the end, or none does
+    io::OutputGroup files;  // every file of the run appears at the end, or none does
     if (!r.products.empty()) {
-        make_products(ds, r, geometry, nodata, result, outputs);
-        write_from_heights(r, nodata, result, outputs);
-        outputs.commit();
+        make_products(ds, r, geometry, nodata, result, files);
+        write_from_heights(r, nodata, result, files);
+        files.commit();
         return result;
     }
     result.outputs = {r.output};
@@ -356,11 +356,11 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     result.seconds_grid = seconds_since(t0);
     check_points_used(result, r);
     t0 = Clock::now();
-    finish_raster(heights, r, outputs);
-    if (rgb) finish_raster(*rgb, r, outputs);
+    finish_raster(heights, r, files);
+    if (rgb) finish_raster(*rgb, r, files);
     result.seconds_cog = seconds_since(t0);
-    write_from_heights(r, nodata, result, outputs);
-    outputs.commit();
+    write_from_heights(r, nodata, result, files);
+    files.commit();
     return result;
 }
 

@@ -30,9 +30,9 @@ namespace {
 }
 
 // Closes a GDAL dataset however the function is left.
-struct Dataset {
+struct GdalHandle {
     GDALDatasetH handle = nullptr;
-    ~Dataset() {
+    ~GdalHandle() {
         if (handle) GDALClose(handle);
     }
 };
@@ -56,7 +56,7 @@ void write_png_sidecars(const std::string& png, const std::string& temp, GDALDat
     if (GDALGetGeoTransform(dem, gt.data()) != CE_None) fail(png, "the DEM has no geotransform");
     write_world_file(png, gt, outputs);
     outputs.add(temp + ".aux.xml", png + ".aux.xml");  // guarded before GDAL writes it
-    Dataset shade{GDALOpen(temp.c_str(), GA_ReadOnly)};
+    GdalHandle shade{GDALOpen(temp.c_str(), GA_ReadOnly)};
     if (!shade.handle) fail(png, "cannot reopen the hillshade for its .aux.xml");
     GDALSetGeoTransform(shade.handle, gt.data());
     if (const char* wkt = GDALGetProjectionRef(dem); wkt && *wkt) GDALSetProjection(shade.handle, wkt);
@@ -79,7 +79,7 @@ void write_hillshade(const std::string& dem_path, const std::string& path, io::O
     const bool png = hillshade_is_png(path);
     GDALAllRegister();
     CPLErrorReset();
-    Dataset dem{GDALOpen(outputs.path_of(dem_path).c_str(), GA_ReadOnly)};
+    GdalHandle dem{GDALOpen(outputs.path_of(dem_path).c_str(), GA_ReadOnly)};
     if (!dem.handle) fail(dem_path, "cannot open the DEM");
     std::vector<const char*> args = {"-compute_edges", "-az", "315", "-alt", "45", "-of", png ? "PNG" : "GTiff"};
     if (!png) args.insert(args.end(), {"-co", "COMPRESS=DEFLATE", "-co", "TILED=YES"});

@@ -77,10 +77,10 @@ protected:
     }
 
     // Exit 1, one line on stderr `expected` (a start of it, when `whole` is false) and, on stdout, the
-    // JSON error of kind "usage" with the same message.
+    // JSON error of kind "usage" with the same message (--json is added: put it where the command has it).
     void expect_usage_error(const std::string& args, const std::string& expected, bool whole = true) const {
         SCOPED_TRACE(args);
-        const Run r = run(args + " --json");
+        const Run r = run(args.find("--json") == std::string::npos ? args + " --json" : args);
         EXPECT_EQ(r.status, 1) << r.err;
         EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
         if (whole) {
@@ -102,18 +102,26 @@ TEST_F(UsageErrors, EveryCommandNamesAMisspeltOptionAndAMissingRequiredOne) {
     std::size_t options = 0, required = 0;
     for (const auto& [command, page] : commands) {
         for (const std::string& option : page.long_options) {
+            if (option.size() < 5) continue;  // "--km": no two letters to swap
             const std::string typo = misspelt(option);
-            if (std::find(page.long_options.begin(), page.long_options.end(), typo) != page.long_options.end()) continue;
+            const auto& known = page.long_options;
+            if (std::find(known.begin(), known.end(), typo) != known.end()) continue;  // "--seed": no typo
             expect_usage_error(command + " " + typo, "lidarscout: " + command + ": unknown option '" + typo +
                                                          "' (did you mean '" + option + "'?)");
             ++options;
         }
         if (!page.subcommands.empty()) {  // synth: a command is required, and a misspelt one is named
-            expect_usage_error(command, "lidarscout: " + command + ": a command is required: ", false);
+            const Run r = run(command);  // (--json is not an option of synth: it would be the unknown option)
+            EXPECT_EQ(r.status, 1) << r.err;
+            std::string listed;
+            for (const auto& sub : page.subcommands) listed += (listed.empty() ? "" : ", ") + sub;
+            EXPECT_EQ(r.err, "lidarscout: " + command + ": a command is required: " + listed + " (see lidarscout " +
+                                 command + " --help)\n");
             const std::string sub = page.subcommands.front();
             expect_usage_error(command + " " + sub.substr(0, sub.size() - 1),
                                "lidarscout: " + command + ": unknown command '" + sub.substr(0, sub.size() - 1) +
                                    "' (did you mean '" + sub + "'?)");
+            expect_usage_error(command + " " + sub + " --json", "lidarscout: " + command + " " + sub + ": ", false);
             ++required;
         } else if (page.requires_something) {  // nothing given: the first required option or input is named
             const Run r = run(command);
@@ -139,8 +147,12 @@ TEST_F(UsageErrors, TheIssuesExamples) {
     expect_usage_error("dem a.laz -o d.tif --lines=1,2,3,4", "lidarscout: dem: unknown option '--lines'", false);
     expect_usage_error("frobnicate", "lidarscout: unknown command 'frobnicate' (the commands: info, ", false);
     expect_usage_error("dem x.laz -o x.tif --texel 0", "lidarscout: dem: --texel: must be more than 0, not '0'");
-    expect_usage_error("clip a.laz -o b.laz --bounds -84.75,38.04", "lidarscout: clip: ", false);  // a count, not a typo
-    expect_usage_error("", "lidarscout: a command is required: info, ", false);
+    // a negative number is a value, not an option: CLI11's own reason, with the way to the help
+    expect_usage_error("clip a.laz -o b.laz --bounds -84.75,38.04",
+                       "lidarscout: clip: --bounds: At least 4 required but received 2 (see lidarscout clip --help)");
+    const Run none = run("--json");  // --json belongs to the commands: without one, it is the unknown option
+    EXPECT_EQ(none.status, 1);
+    EXPECT_EQ(none.err, "lidarscout: unknown option '--json' (see lidarscout --help)\n");
     for (const std::string help : {"--help", "dem --help", "synth replicate --help"}) {
         const Run r = run(help);
         EXPECT_EQ(r.status, 0) << help;

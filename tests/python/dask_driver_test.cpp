@@ -151,10 +151,10 @@ TEST_F(DaskDriver, FailuresBeforeAnyWorkAreOneLineAndLeaveNothing) {
                    "/nonexistent/lidarscout: cannot run it: No such file or directory", "input");
     expect_failure(driver("dem /nonexistent/a.laz -o " + path("x.tif") + " --local 2" + cli),
                    "/nonexistent/a.laz: no such file or folder", "input");
-    expect_failure(driver(dem + "--local 2 --textel 4" + cli), "dem: unknown option '--textel' (did you mean '--texel'?)",
-                   "usage");
-    expect_failure(driver(dem + "--local 2 --pices 4" + cli), "dem: unknown option '--pices' (did you mean '--pieces'?)",
-                   "usage");
+    expect_failure(driver(dem + "--local 2 --textel 4" + cli),
+                   "dem: unknown option '--textel' (did you mean '--texel'?)", "usage");  // dem's, named by lidarscout
+    expect_failure(driver(dem + "--local 2 --pices 4" + cli),
+                   "dem: unknown option '--pices' (did you mean '--pieces'?)", "usage");  // the driver's own
     expect_failure(driver(dem + "--locl 2" + cli), "dem: unknown option '--locl' (did you mean '--local'?)", "usage");
     expect_failure(driver(dem + cli), "dem: one of the arguments --scheduler --local is required", "usage");
     expect_failure(driver(dem + "--local 2 --radius 0" + cli), "dem: --radius: must be more than 0, not '0'", "usage");
