@@ -13,8 +13,9 @@ try:
 except Failure as e:
     report(e, wants_json(ARGV))
     sys.exit(2 if e.kind == "internal" else 1)
-except KeyboardInterrupt:
-    sys.stderr.write("\nlidarscout_dask: interrupted\n")
+except KeyboardInterrupt as e:
+    kept = getattr(e, "kept", "")
+    sys.stderr.write(f"\nlidarscout_dask: interrupted{f' ({kept})' if kept else ''}\n")
     sys.stderr.flush()
     signal.signal(signal.SIGINT, signal.SIG_DFL)
     os.kill(os.getpid(), signal.SIGINT)

@@ -14,6 +14,7 @@ import argparse
 import json
 import logging
 import os
+import shutil
 import signal
 import statistics
 import sys
@@ -129,8 +130,12 @@ def client_for(args):
 
     if args.scheduler:
         return Client(args.scheduler), None
-    cluster = LocalCluster(n_workers=args.local, threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.CRITICAL)  # a failed piece is reported once, by the driver
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # the workers leave Ctrl-C to the driver (and the pieces)
+    try:
+        cluster = LocalCluster(n_workers=args.local, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.CRITICAL)  # a failed piece is reported once, by the driver
+    finally:
+        signal.signal(signal.SIGINT, previous)
     return Client(cluster), cluster
 
 
@@ -206,24 +211,26 @@ def main(argv):
     grid = plan(program, args.paths, args.output, dem_args, 1)  # the program, inputs and options, before any work
     pieces_dir = os.path.abspath(args.pieces_dir or args.output + ".pieces")
     client, cluster = client_for(args)
-    try:
-        workers = max(1, len(client.scheduler_info()["workers"]))
-        count = args.pieces or choose_count(grid, workers, args.points_per_piece)
-        budget = parse_bytes(args.memory) if args.memory and not args.pieces else 0
-        layout = fitting_plan(program, args.paths, args.output, dem_args, count, budget, grid["blocks"])
-        count = len(layout["pieces"])
-        order = [p["index"] for p in sorted(layout["pieces"], key=lambda p: -p["points"])]  # heaviest first
-        run = {"paths": [os.path.abspath(p) for p in args.paths], "dem_args": dem_args, "pieces": count}
-        check_same_run(pieces_dir, run)
-        with PiecesDir(pieces_dir):
+    pieces = PiecesDir(pieces_dir, local=cluster is not None)
+    with pieces:  # left once the cluster is closed: a LocalCluster's workers have ended
+        try:
+            workers = max(1, len(client.scheduler_info()["workers"]))
+            count = args.pieces or choose_count(grid, workers, args.points_per_piece)
+            budget = parse_bytes(args.memory) if args.memory and not args.pieces else 0
+            layout = fitting_plan(program, args.paths, args.output, dem_args, count, budget, grid["blocks"])
+            count = len(layout["pieces"])
+            order = [p["index"] for p in sorted(layout["pieces"], key=lambda p: -p["points"])]  # heaviest first
+            run = {"paths": [os.path.abspath(p) for p in args.paths], "dem_args": dem_args, "pieces": count}
+            check_same_run(pieces_dir, run)
+            pieces.make()
             run_path = os.path.join(pieces_dir, "run.json")
             if not os.path.exists(run_path):
                 piece_runner.write_atomic(run_path, json.dumps(run, indent=1))
             records = run_pieces(client, args, dem_args, count, order, pieces_dir)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
     outputs = product_outputs(args.output, records[0]["files"])
     write_mosaics(pieces_dir, records, outputs)
     result = summary(records, outputs, time.monotonic() - t0, workers)
@@ -234,14 +241,18 @@ def main(argv):
 
 
 class PiecesDir:
-    """The pieces directory, made when the pieces are about to run. When they fail or are interrupted, what
-    this run made goes again (its run.json, the directory itself) unless a finished piece is there for a
-    rerun, which the error then names."""
+    """The pieces directory, made (make()) when the pieces are about to run. When they fail or are
+    interrupted, what this run made goes again (its run.json, the directory itself, the work folders a
+    LocalCluster's workers left) unless a finished piece is there for a rerun, which the error then names."""
 
-    def __init__(self, path):
-        self.path, self.created = path, False
+    def __init__(self, path, local):
+        self.path, self.local, self.made, self.created = path, local, False, False
 
     def __enter__(self):
+        return self
+
+    def make(self):
+        self.made = True
         try:
             os.makedirs(self.path)
             self.created = True
@@ -252,15 +263,20 @@ class PiecesDir:
         except OSError as e:
             raise Failure(f"{self.path}: cannot make the pieces directory: {e.strerror}", file=self.path,
                           cause=f"cannot make the pieces directory: {e.strerror}") from None
-        return self
 
     def __exit__(self, kind, error, _traceback):
-        if kind is None:
+        if kind is None or not self.made:
             return False
+        if self.local:  # the workers have ended: a piece they were making is no one's
+            for name in os.listdir(self.path):
+                if name.startswith(".piece_") and ".work-" in name:
+                    shutil.rmtree(os.path.join(self.path, name), ignore_errors=True)
         finished = [n for n in os.listdir(self.path) if n.startswith("piece_") and n.endswith(".json")]
-        if finished and isinstance(error, Failure):
-            error.message += (f" ({len(finished)} finished pieces kept in {self.path}: a rerun makes only the "
-                              "others; remove it to start again)")
+        if finished:  # named by the error's line (__main__.py for Ctrl-C)
+            error.kept = (f"{len(finished)} finished pieces kept in {self.path}: a rerun makes only the others; "
+                          "remove it to start again")
+            if isinstance(error, Failure):
+                error.message += f" ({error.kept})"
         elif not finished and self.created:
             run = os.path.join(self.path, "run.json")
             if os.path.exists(run):
