@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "io/file.hpp"
 #include "io/output_check.hpp"
+#include "io/output_group.hpp"
 #include "io/temporary_files.hpp"
 
 namespace lidarscout::io {
@@ -93,10 +94,20 @@ void AtomicOutputFile::copy_from(const File& source, std::uint64_t offset, std::
     }
 }
 
-void AtomicOutputFile::commit() {
+void AtomicOutputFile::sync_and_close() {
     if (::fsync(fd_) != 0) throw Error(target_, std::nullopt, std::string("fsync failed: ") + std::strerror(errno));
     ::close(fd_);
     fd_ = -1;
+}
+
+void AtomicOutputFile::commit(OutputGroup& group) {
+    sync_and_close();
+    group.add(temp_, target_);
+    committed_ = true;  // the group removes it now, unless it renames it
+}
+
+void AtomicOutputFile::commit() {
+    sync_and_close();
     if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
         throw Error(target_, std::nullopt, std::string("cannot rename the temporary file: ") + std::strerror(errno));
     }

@@ -13,6 +13,8 @@
 
 #include "core/error.hpp"
 #include "io/output_file.hpp"
+#include "io/output_group.hpp"
+#include "io/temporary_files.hpp"
 #include "raster/block_raster.hpp"
 
 namespace lidarscout::raster {
@@ -60,18 +62,20 @@ std::string contours_path(const std::string& raster_path) {
 }
 
 std::uint64_t write_contours(const std::string& raster_path, const std::string& gpkg_path, double interval,
-                             double nodata, const std::function<void(double)>& progress) {
+                             double nodata, io::OutputGroup& outputs, const std::function<void(double)>& progress) {
     if (!(interval > 0) || !std::isfinite(interval)) {
         throw Error(gpkg_path, std::nullopt, "--contours must be a positive interval");
     }
     GDALAllRegister();
     CPLErrorReset();
-    Closer raster{static_cast<GDALDataset*>(GDALOpen(raster_path.c_str(), GA_ReadOnly))};
+    Closer raster{static_cast<GDALDataset*>(GDALOpen(outputs.path_of(raster_path).c_str(), GA_ReadOnly))};
     if (!raster.dataset) fail(raster_path, "cannot open the height raster for its contours");
     GDALDriver* gpkg = GetGDALDriverManager()->GetDriverByName("GPKG");
     if (!gpkg) fail(gpkg_path, "GDAL has no GPKG driver");
     io::AtomicOutputFile out(gpkg_path);
     std::filesystem::remove(out.temp_path());  // GDAL's GeoPackage makes its own file
+    const std::string journal = out.temp_path() + "-journal", wal = out.temp_path() + "-wal";  // SQLite's, beside it
+    const io::TemporaryFileGuard journal_guard(journal), wal_guard(wal);  // removed by Ctrl-C too
     std::uint64_t lines = 0;
     {
         Closer vectors{gpkg->Create(out.temp_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr)};
@@ -102,7 +106,7 @@ std::uint64_t write_contours(const std::string& raster_path, const std::string& 
         throw Error(gpkg_path, std::nullopt,
                     no_lines_cause(raster.dataset->GetRasterBand(1), interval) + "; nothing written");
     }
-    out.commit();
+    out.commit(outputs);
     return lines;
 }
 

@@ -1,5 +1,5 @@
 // make_dem: the grid, the rasters, the gridding (full, overview or products), the COGs, the hillshade
-// and the contours.
+// and the contours, all under temporary names renamed together at the end (io::OutputGroup).
 #include "raster/dem.hpp"
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "geo/geographic.hpp"
+#include "io/output_group.hpp"
 #include "raster/block_raster.hpp"
 #include "raster/dem_grid.hpp"
 #include "raster/contours.hpp"
@@ -165,15 +166,15 @@ RasterLayout rgba_layout() {
     return l;
 }
 
-void finish_raster(BlockRaster& raster, const DemRequest& r) {
-    raster.finish(r.threads, [&](double f) {
+void finish_raster(BlockRaster& raster, const DemRequest& r, io::OutputGroup& outputs) {
+    raster.finish(r.threads, outputs, [&](double f) {
         if (r.progress) r.progress("cog", static_cast<std::uint64_t>(f * 1000), 1000);
     });
 }
 
 // The products of r.products in one pass: a raster each, made block by block from the shared layers.
 void make_products(const dataset::Dataset& ds, const DemRequest& r, const RasterGeometry& geometry, float nodata,
-                   DemResult& result) {
+                   DemResult& result, io::OutputGroup& outputs) {
     if (r.source != DemSource::Full) throw Error::in_stage("dem", "--product applies to --from full only");
     if (!r.rgb.empty()) throw Error::in_stage("dem", "--rgb does not apply to --product");
     const ProductPass pass(r.products, r.product_options, r.texel_m);
@@ -205,7 +206,7 @@ void make_products(const dataset::Dataset& ds, const DemRequest& r, const Raster
         }
     }
     t0 = Clock::now();
-    for (auto& raster : rasters) finish_raster(*raster, r);
+    for (auto& raster : rasters) finish_raster(*raster, r, outputs);
     result.seconds_cog = seconds_since(t0);
 }
 
@@ -222,20 +223,21 @@ void select_piece(const dataset::Dataset& ds, const DemRequest& r, DemGrid& grid
     grid.selection = dem_block_pieces(ds, grid, r.block_count)[static_cast<std::size_t>(r.block_index - 1)];
 }
 
-// The hillshade and the contours of the height raster, once it is written.
-void write_from_heights(const DemRequest& r, float nodata, DemResult& result) {
+// The hillshade and the contours of the height raster, once it is written (under its temporary name).
+void write_from_heights(const DemRequest& r, float nodata, DemResult& result, io::OutputGroup& outputs) {
     const std::string heights = contour_source(r);
     if (!r.hillshade.empty()) {
         const auto t0 = Clock::now();
-        write_hillshade(heights, r.hillshade);
+        write_hillshade(heights, r.hillshade, outputs);
         result.seconds_hillshade = seconds_since(t0);
     }
     if (r.contours_interval > 0) {
         const auto t0 = Clock::now();
         result.contours = contours_path(heights);
-        result.contour_lines = write_contours(heights, result.contours, r.contours_interval, nodata, [&](double f) {
+        const auto progress = [&](double f) {
             if (r.progress) r.progress("contours", static_cast<std::uint64_t>(f * 1000), 1000);
-        });
+        };
+        result.contour_lines = write_contours(heights, result.contours, r.contours_interval, nodata, outputs, progress);
         result.seconds_contours = seconds_since(t0);
     }
 }
@@ -312,9 +314,11 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     check_memory(ds, result.grid, r, result);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
+    io::OutputGroup files;  // every file of the run appears at the end, or none does
     if (!r.products.empty()) {
-        make_products(ds, r, geometry, nodata, result);
-        write_from_heights(r, nodata, result);
+        make_products(ds, r, geometry, nodata, result, files);
+        write_from_heights(r, nodata, result, files);
+        files.commit();
         return result;
     }
     result.outputs = {r.output};
@@ -352,10 +356,11 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     result.seconds_grid = seconds_since(t0);
     check_points_used(result, r);
     t0 = Clock::now();
-    finish_raster(heights, r);
-    if (rgb) finish_raster(*rgb, r);
+    finish_raster(heights, r, files);
+    if (rgb) finish_raster(*rgb, r, files);
     result.seconds_cog = seconds_since(t0);
-    write_from_heights(r, nodata, result);
+    write_from_heights(r, nodata, result, files);
+    files.commit();
     return result;
 }
 

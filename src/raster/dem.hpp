@@ -100,7 +100,10 @@ DemGrid dem_grid(const dataset::Dataset& dataset, const DemRequest& request);
 
 // Throws Error for a method that does not fit the source, a raster far larger than the tiles
 // cover, or one whose memory estimate exceeds the budget (naming the size and the way out:
-// a larger --texel, or --bounds).
+// a larger --texel, or --bounds). Every file of the request (rasters, hillshade and its sidecars,
+// contours) is written under a temporary name and all are renamed together at the end
+// (io/output_group.hpp): an error or Ctrl-C leaves none of them, and the files they would replace
+// untouched.
 DemResult make_dem(const dataset::Dataset& dataset, const DemRequest& request);
 
 }  // namespace lidarscout::raster
