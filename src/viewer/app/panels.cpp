@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/point_filter.hpp"
+#include "core/text.hpp"
 #include "las/classification.hpp"
 #include "render/backend.hpp"
 #include "render/colour_modes.hpp"
@@ -82,12 +83,14 @@ void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& 
 
 void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double frame_ms) {
     if (!ImGui::CollapsingHeader("Stats and progress", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    ImGui::Text("tiles %zu (%zu skipped), %.2f G points", s.tiles, ds.skipped.size(), ds.point_count / 1e9);
+    ImGui::Text("tiles %zu (%zu skipped), %s points", s.tiles, ds.skipped.size(),
+                count_text(static_cast<double>(ds.point_count)).c_str());
     ImGui::Text("chunk points %llu", (unsigned long long)s.chunk_points_loaded);
     ImGui::Text("heightmaps: %zu linear, %zu network", s.heightmaps_linear, s.heightmaps_cnn);
-    ImGui::Text("full-res: %zu tiles, %.1f M points, %zu released", s.full_res_tiles, s.full_res_points / 1e6,
-                s.full_res_released);
-    ImGui::Text("coarse kept: %zu tiles; LOD %.1f M points", s.coarse_tiles, s.lod_points / 1e6);
+    ImGui::Text("full-res: %zu tiles, %s points, %zu released", s.full_res_tiles,
+                count_text(static_cast<double>(s.full_res_points)).c_str(), s.full_res_released);
+    ImGui::Text("coarse kept: %zu tiles; LOD %s points", s.coarse_tiles,
+                count_text(static_cast<double>(s.lod_points)).c_str());
     ImGui::Text("memory %.0f / %.0f MiB (peak %.0f)", s.bytes_used / 1048576.0, s.memory_budget / 1048576.0,
                 s.peak_bytes_used / 1048576.0);
     ImGui::Text("frame %.1f ms (%.1f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
