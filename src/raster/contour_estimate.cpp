@@ -171,6 +171,12 @@ void seam_crossings(std::span<const float> a, std::span<const float> b, float no
     }
 }
 
+// GDAL's messages kept for our error (last_gdal_error) instead of printed while it lives.
+struct QuietGdal {
+    QuietGdal() { CPLPushErrorHandler(CPLQuietErrorHandler); }
+    ~QuietGdal() { CPLPopErrorHandler(); }
+};
+
 struct OpenRaster {
     GDALDataset* dataset = nullptr;
     ~OpenRaster() {
@@ -182,6 +188,7 @@ struct OpenRaster {
 
 std::vector<ContourCount> count_contours(const std::string& path, double nodata, std::span<const double> intervals) {
     GDALAllRegister();
+    const QuietGdal quiet;
     const OpenRaster in{static_cast<GDALDataset*>(GDALOpen(path.c_str(), GA_ReadOnly))};
     if (!in.dataset) throw Error(path, std::nullopt, "cannot open the height raster: " + last_gdal_error());
     GDALRasterBand* band = in.dataset->GetRasterBand(1);

@@ -254,7 +254,6 @@ void check_contours(const std::string& heights, const DemRequest& r, float nodat
         text += " and need about " + gigabytes(double(contour_memory_bytes(asked, texels))) +
                 " of memory, over the budget of " + gigabytes(double(result.memory_budget));
     }
-    text += "; nothing written";
     const auto coarser = std::find_if(counts.begin() + 1, counts.end(), fits);
     if (coarser != counts.end()) {
         text += ": try --contours " + number_text(coarser->interval) + " (about " + count_text(coarser->lines) +

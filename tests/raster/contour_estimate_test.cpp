@@ -75,7 +75,8 @@ void write_raster(const std::string& path, int width, int height, Fn z) {
     std::vector<float> row(static_cast<std::size_t>(width));
     for (int y = 0; y < height; ++y) {
         for (int x = 0; x < width; ++x) row[x] = z(x, y);
-        (void)out->GetRasterBand(1)->RasterIO(GF_Write, 0, y, width, 1, row.data(), width, 1, GDT_Float32, 0, 0);
+        EXPECT_EQ(out->GetRasterBand(1)->RasterIO(GF_Write, 0, y, width, 1, row.data(), width, 1, GDT_Float32, 0, 0),
+                  CE_None);
     }
     GDALClose(out);
 }
