@@ -27,7 +27,10 @@ AtomicOutputFile::AtomicOutputFile(std::string target, const std::string& protec
     refuse_protected_input(target_);
     const auto dir = fs::path(target_).parent_path();
     const auto name = fs::path(target_).filename().string();
-    temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()))).string();
+    // ".out.gpkg.tmp-PID.gpkg": hidden, and ending in the target's extension, which writers that write by
+    // name check (GDAL's GeoPackage driver warns on any other).
+    const std::string ext = fs::path(target_).extension().string();
+    temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()) + ext)).string();
     guard_ = std::make_unique<TemporaryFileGuard>(temp_);
     fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd_ < 0) {

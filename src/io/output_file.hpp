@@ -34,7 +34,7 @@ public:
     std::uint64_t size() const noexcept { return size_; }
     const std::string& target() const noexcept { return target_; }
     // The temporary file's name, for writers that write by name (GDAL): what they write there
-    // is what commit() renames.
+    // is what commit() renames. It ends in the target's extension (".x.gpkg.tmp-PID.gpkg").
     const std::string& temp_path() const noexcept { return temp_; }
 
     // Flushes, syncs and renames the temporary file to the target.

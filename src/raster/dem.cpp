@@ -10,12 +10,14 @@
 
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
+#include "core/text.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "geo/geographic.hpp"
 #include "io/output_group.hpp"
 #include "raster/block_raster.hpp"
 #include "raster/dem_grid.hpp"
+#include "raster/contour_estimate.hpp"
 #include "raster/contours.hpp"
 #include "raster/dem_blocks.hpp"
 #include "raster/hillshade.hpp"
@@ -73,6 +75,12 @@ void check_mostly_empty(const dataset::Dataset& ds, const DemGrid& g) {
 std::string gigabytes(double bytes) {
     char text[32];
     std::snprintf(text, sizeof text, "%.3g GB", bytes / 1e9);
+    return text;
+}
+
+std::string number_text(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
     return text;
 }
 
@@ -223,9 +231,45 @@ void select_piece(const dataset::Dataset& ds, const DemRequest& r, DemGrid& grid
     grid.selection = dem_block_pieces(ds, grid, r.block_count)[static_cast<std::size_t>(r.block_index - 1)];
 }
 
+// The contours of `heights` counted before GDAL draws them (contour_estimate.hpp): refused past the
+// line limit or the memory budget, with the finest interval of 1, 2 or 5 times a power of ten that
+// stays under both; the memory estimate then covers them.
+void check_contours(const std::string& heights, const DemRequest& r, float nodata, DemResult& result) {
+    const std::vector<ContourCount> counts = count_contours(heights, nodata, contour_intervals(r.contours_interval));
+    const double texels = double(result.grid.window().width) * result.grid.window().height;
+    const auto lines_fit = [&](const ContourCount& c) {
+        return r.contour_line_limit == 0 || c.lines <= static_cast<double>(r.contour_line_limit);
+    };
+    const auto fits = [&](const ContourCount& c) {
+        return lines_fit(c) && contour_memory_bytes(c, texels) <= result.memory_budget;
+    };
+    const ContourCount& asked = counts.front();
+    result.contour_lines_estimate = asked.lines, result.contour_points_estimate = asked.vertices;
+    result.memory_estimate = std::max(result.memory_estimate, contour_memory_bytes(asked, texels));
+    if (fits(asked)) return;
+    std::string text = "--contours " + number_text(asked.interval) + " would draw about " + count_text(asked.lines) +
+                       " lines of " + count_text(asked.vertices) + " points";
+    if (!lines_fit(asked)) {
+        text += " (limit " + count_text(static_cast<double>(r.contour_line_limit)) + " lines)";
+    } else {
+        text += " and need about " + gigabytes(double(contour_memory_bytes(asked, texels))) +
+                " of memory, over the budget of " + gigabytes(double(result.memory_budget));
+    }
+    const auto coarser = std::find_if(counts.begin() + 1, counts.end(), fits);
+    if (coarser != counts.end()) {
+        text += ": try --contours " + number_text(coarser->interval) + " (about " + count_text(coarser->lines) +
+                " lines)";
+    }
+    if (!lines_fit(asked)) text += coarser != counts.end() ? ", or --force to draw them all" : ": give --force";
+    throw Error::in_stage("dem", text);
+}
+
 // The hillshade and the contours of the height raster, once it is written (under its temporary name).
 void write_from_heights(const DemRequest& r, float nodata, DemResult& result, io::OutputGroup& outputs) {
     const std::string heights = contour_source(r);
+    if (r.contours_interval > 0) {  // before any of the two is made
+        check_contours(outputs.path_of(heights), r, nodata, result);
+    }
     if (!r.hillshade.empty()) {
         const auto t0 = Clock::now();
         write_hillshade(heights, r.hillshade, outputs);
