@@ -29,11 +29,12 @@ max_len() {
   case $1 in
     tile|report) echo 262144 ;;
     chunk) echo 70000 ;;
+    catalog|session|polygon) echo 65536 ;;
     *) echo 4096 ;;
   esac
 }
 
-for name in tile chunk report multipart; do
+for name in tile chunk report multipart catalog session polygon; do
   mkdir -p "$out/work-$name"
   [ -d "$here/corpus/$name" ] && cp -n "$here/corpus/$name"/* "$out/work-$name"/ 2>/dev/null || true
   # shellcheck disable=SC2046
@@ -44,7 +45,7 @@ for name in tile chunk report multipart; do
 done
 wait
 
-for name in tile chunk report multipart; do
+for name in tile chunk report multipart catalog session polygon; do
   rm -rf "$out/$name" && mkdir -p "$out/$name"
   "$build/fuzz/fuzz_$name" -merge=1 -max_len="$max_keep" "$out/$name" "$out/work-$name" \
     > "$out/$name.merge.log" 2>&1

@@ -17,6 +17,9 @@ public:
 
     // Bytes asked of operator new since this counter started (frees are not subtracted).
     std::size_t bytes() const;
+    // The most bytes held at once since this counter started: blocks allocated less blocks freed
+    // (as malloc sized them; a block freed that was allocated before the counter counts too).
+    std::size_t peak_bytes() const;
 };
 
 }  // namespace lidarscout::test

@@ -20,5 +20,16 @@ TEST(AllocationCounter, CountsWhatIsAllocatedWhileItLives) {
     before.reset();
 }
 
+TEST(AllocationCounter, PeakIsTheMostHeldAtOnce) {
+    const AllocationCounter counter;
+    for (int i = 0; i < 8; ++i) {
+        std::vector<char> block(1 << 20);  // one MiB at a time, freed before the next
+        asm volatile("" : : "g"(block.data()) : "memory");
+    }
+    EXPECT_GE(counter.bytes(), 8u << 20);
+    EXPECT_GE(counter.peak_bytes(), 1u << 20);
+    EXPECT_LT(counter.peak_bytes(), 2u << 20);
+}
+
 }  // namespace
 }  // namespace lidarscout::test

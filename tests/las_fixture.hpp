@@ -1,5 +1,5 @@
-// Small LAS files made by the tests with our own writer: given points in a projected EPSG CRS
-// (GeoTIFF keys), for the DEM and reprojection tests.
+// Small LAS files made by the tests with our own writer: given points in an EPSG CRS (GeoTIFF keys;
+// projected, or longitude/latitude), for the DEM and reprojection tests.
 #pragma once
 
 #include <array>
@@ -30,22 +30,28 @@ struct FixturePoint {
 // with the vertical CRS `vertical_epsg` when it is not 0 (a compound CRS).
 inline las::Vlr epsg_vlr(int epsg, int vertical_epsg = 0) { return las::geotiff_epsg_vlr(epsg, vertical_epsg); }
 
-// Writes `points` as a LAS 1.2 file of point format 2 (with colour), scale 1 mm, header bounds
-// from the points, CRS `epsg` (0: none; + `vertical_epsg` if not 0); LAZ with `chunk_size`-point
-// chunks when `compress`.
-inline void write_fixture(const std::string& path, const std::vector<FixturePoint>& points, int epsg,
-                          bool compress = false, std::uint32_t chunk_size = 50'000, int vertical_epsg = 0) {
+// A fixture's CRS (GeoTIFF keys of EPSG codes; none when epsg is 0) and x/y scale.
+struct FixtureCrs {
+    int epsg = 0, vertical_epsg = 0;
+    bool geographic = false;  // x/y are longitude/latitude degrees
+    double xy_scale = 0.001;
+};
+
+// Writes `points` as a LAS 1.2 file of point format 2 (with colour), scale crs.xy_scale (z 1 mm),
+// header bounds from the points, CRS `crs`; LAZ with `chunk_size`-point chunks when `compress`.
+inline void write_fixture(const std::string& path, const std::vector<FixturePoint>& points, const FixtureCrs& crs,
+                          bool compress = false, std::uint32_t chunk_size = 50'000) {
     las::Header h;
     h.version_major = 1;
     h.version_minor = 2;
     h.header_size = las::standard_header_size(1, 2);
     h.point_format = 2;
     h.record_length = las::point_format_info(2).size;
-    h.scale = {0.001, 0.001, 0.001};
+    h.scale = {crs.xy_scale, crs.xy_scale, 0.001};
     h.offset = {points.empty() ? 0.0 : std::floor(points[0].x), points.empty() ? 0.0 : std::floor(points[0].y), 0.0};
     h.generating_software = "lidarscout tests";
     std::vector<las::Vlr> vlrs;
-    if (epsg) vlrs.push_back(epsg_vlr(epsg, vertical_epsg));
+    if (crs.epsg) vlrs.push_back(las::geotiff_epsg_vlr(crs.epsg, crs.vertical_epsg, crs.geographic));
     ThreadPool pool(1);
     laz::LasWriter writer(path, h, vlrs, {compress, chunk_size, false}, pool);
     const auto& f = las::point_format_info(2);
@@ -70,6 +76,12 @@ inline void write_fixture(const std::string& path, const std::vector<FixturePoin
     writer.header().min = lo;
     writer.header().max = hi;
     writer.finish();
+}
+
+// The same in the projected CRS `epsg` (0: none; + `vertical_epsg` if not 0), scale 1 mm.
+inline void write_fixture(const std::string& path, const std::vector<FixturePoint>& points, int epsg,
+                          bool compress = false, std::uint32_t chunk_size = 50'000, int vertical_epsg = 0) {
+    write_fixture(path, points, FixtureCrs{epsg, vertical_epsg}, compress, chunk_size);
 }
 
 // Every point of a one-tile dataset as stored (x, y, z in the file's units).

@@ -5,16 +5,23 @@ headers (`lidarscout dem --plan N`: about equal point counts), submitted heavies
 `lidarscout dem --block I/N` subprocess on a worker (pieces.py: retried when it fails; finished
 pieces kept in the pieces directory, so a rerun after a dead worker or a stopped driver makes only
 the missing ones), then mosaicked (mosaic.py) into OUT.tif, or OUT_NAME.tif per product, equal texel
-for texel to one `lidarscout dem` run. Options it does not know go to `lidarscout dem` as they are
-(e.g. --classes 2,9 --max-edge 20)."""
+for texel to one `lidarscout dem` run; the rasters of a run appear together, or none does. Options it
+does not know go to `lidarscout dem` as they are (e.g. --classes 2,9 --max-edge 20). The program, the
+inputs, the output and every option are checked (by `lidarscout dem --plan 1`) before the cluster starts
+and before anything is written; a failure is one line (errors.py) and leaves nothing behind but the
+finished pieces of a run that a rerun can use."""
 import argparse
 import json
+import logging
 import os
+import shutil
+import signal
 import statistics
 import sys
 import time
 
 from lidarscout_dask import pieces as piece_runner
+from lidarscout_dask.errors import Failure, closest_name
 from lidarscout_dask.mosaic import mosaic
 from lidarscout_dask.plan import choose_count, fitting_plan, parse_bytes, plan
 
@@ -23,11 +30,43 @@ REFUSED = ("--hillshade", "--contours", "--rgb", "--from", "--block", "--plan", 
            "--output")
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse that fails as the driver does (a Failure of kind "usage"), not with its usage text and status 2."""
+
+    def error(self, message):
+        command = "dem: " if self.prog.endswith(" dem") else ""
+        raise Failure(f"{command}{message} (see {self.prog} --help)", "usage")
+
+
+def check_command(argv):
+    """The command is dem (or --help): another word is named with the closest one."""
+    if argv and argv[0] in ("dem", "-h", "--help"):
+        return
+    if not argv:
+        raise Failure("a command is required: dem (see python3 -m lidarscout_dask --help)", "usage")
+    best = closest_name(argv[0], ["dem"])
+    raise Failure(f"unknown command '{argv[0]}'" + (f" (did you mean '{best}'?)" if best else " (the command is dem)"),
+                  "usage")
+
+
+def check_own_options(parser, argv):
+    """An option close to one of the driver's own but not it (--pices, --locl) is a typo, named here; the
+    others that are not the driver's go to `lidarscout dem`, which names its own typos."""
+    names = [n for action in parser._actions for n in action.option_strings]
+    for arg in argv:
+        word = arg.split("=")[0]
+        if word.startswith("--") and word not in names:
+            best = closest_name(word, [n for n in names if n.startswith("--")])
+            if best:
+                raise Failure(f"dem: unknown option '{word}' (did you mean '{best}'?)", "usage")
+
+
 def parse(argv):
-    p = argparse.ArgumentParser(prog="python3 -m lidarscout_dask",
-                                description="lidarscout dem on a Dask cluster, in pieces that mosaic exactly")
-    sub = p.add_subparsers(dest="command", required=True)
-    d = sub.add_parser("dem", help="a DEM or --product rasters, made in pieces on the workers")
+    check_command(argv)
+    p = Parser(prog="python3 -m lidarscout_dask", allow_abbrev=False,
+               description="lidarscout dem on a Dask cluster, in pieces that mosaic exactly")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
+    d = sub.add_parser("dem", help="a DEM or --product rasters, made in pieces on the workers", allow_abbrev=False)
     d.add_argument("paths", nargs="+", help="LAS/LAZ files, directories or tile lists, as every worker sees them")
     d.add_argument("-o", "--output", required=True, help="the Cloud-Optimized GeoTIFF to write (.tif)")
     where = d.add_mutually_exclusive_group(required=True)
@@ -47,10 +86,11 @@ def parse(argv):
                    help="where the pieces go, shared by every worker (default OUT.pieces beside the output); "
                         "a rerun skips the pieces found there")
     d.add_argument("--keep-pieces", action="store_true", help="keep the pieces after the mosaic")
-    d.add_argument("--json", action="store_true", help="print the result as JSON")
-    args, dem_args = d.parse_known_args(argv[1:]) if argv and argv[0] == "dem" else p.parse_known_args(argv)
-    if not argv or argv[0] != "dem":
-        p.error("the command must be dem")
+    d.add_argument("--json", action="store_true", help="print the result as JSON (and an error as JSON)")
+    if argv[0] != "dem":
+        p.parse_args(argv)  # --help: prints it and exits 0
+    check_own_options(d, argv[1:])
+    args, dem_args = d.parse_known_args(argv[1:])
     for option in dem_args:
         if option.split("=")[0] in REFUSED:
             d.error(f"{option} does not apply to a DEM made in pieces")
@@ -61,11 +101,20 @@ def check_output(args):
     """The output may not be an input, nor one of the files an input directory holds."""
     out = os.path.realpath(args.output)
     if not out.lower().endswith((".tif", ".tiff")):
-        raise SystemExit(f"lidarscout_dask: {args.output}: the output must be a .tif")
+        raise Failure(f"{args.output}: the output must be a .tif", file=args.output,
+                      cause="the output must be a .tif")
     for path in args.paths:
         real = os.path.realpath(path)
         if out == real or out.startswith(real.rstrip(os.sep) + os.sep) and os.path.exists(out):
-            raise SystemExit(f"lidarscout_dask: {args.output}: the output is an input ({path})")
+            raise Failure(f"{args.output}: the output is an input ({path})", file=args.output,
+                          cause=f"the output is an input ({path})")
+
+
+def check_inputs(paths):
+    """Every local input exists (a missing one among others would make every piece fail)."""
+    for path in paths:
+        if "://" not in path and not os.path.exists(path):
+            raise Failure(f"{path}: no such file or folder", file=path, cause="no such file or folder")
 
 
 def product_outputs(output, files):
@@ -81,7 +130,12 @@ def client_for(args):
 
     if args.scheduler:
         return Client(args.scheduler), None
-    cluster = LocalCluster(n_workers=args.local, threads_per_worker=1, processes=True, dashboard_address=None)
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)  # the workers leave Ctrl-C to the driver (and the pieces)
+    try:
+        cluster = LocalCluster(n_workers=args.local, threads_per_worker=1, processes=True, dashboard_address=None,
+                               silence_logs=logging.CRITICAL)  # a failed piece is reported once, by the driver
+    finally:
+        signal.signal(signal.SIGINT, previous)
     return Client(cluster), cluster
 
 
@@ -101,6 +155,12 @@ class Bar:
             sys.stderr.write("\n")
         sys.stderr.flush()
 
+    def close(self):
+        """Ends the line of a bar that stopped early (so that an error starts its own line)."""
+        if 0 < self.done < self.total:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
 
 def run_pieces(client, args, dem_args, count, order, pieces_dir):
     from distributed import as_completed
@@ -111,10 +171,19 @@ def run_pieces(client, args, dem_args, count, order, pieces_dir):
                              retries=args.retries, pure=False)
                for index in order]
     bar = Bar(len(futures), "lidarscout_dask: pieces")
-    records = []
-    for future in as_completed(futures):
-        records.append(future.result())  # a piece that failed every try raises here, naming its error
-        bar.add()
+    records, failures = [], []
+    try:
+        for future in as_completed(futures):
+            try:
+                records.append(future.result())
+            except Exception as e:  # pylint: disable=broad-except
+                # failed every try: the others go on (a rerun makes only the failed ones)
+                failures.append(str(e) if isinstance(e, RuntimeError) else f"{type(e).__name__}: {e}")
+            bar.add()
+    finally:
+        bar.close()
+    if failures:
+        raise Failure(failures[0] + (f" (and {len(failures) - 1} more pieces failed)" if len(failures) > 1 else ""))
     return sorted(records, key=lambda r: r["index"])
 
 
@@ -136,31 +205,34 @@ def summary(records, outputs, seconds, workers):
 def main(argv):
     args, dem_args = parse(argv)
     check_output(args)
+    check_inputs(args.paths)
     program = os.path.abspath(args.program) if os.sep in args.program else args.program
     t0 = time.monotonic()
+    grid = plan(program, args.paths, args.output, dem_args, 1)  # the program, inputs and options, before any work
     pieces_dir = os.path.abspath(args.pieces_dir or args.output + ".pieces")
-    os.makedirs(pieces_dir, exist_ok=True)
     client, cluster = client_for(args)
-    try:
-        workers = max(1, len(client.scheduler_info()["workers"]))
-        grid = plan(program, args.paths, dem_args, 1)
-        count = args.pieces or choose_count(grid, workers, args.points_per_piece)
-        budget = parse_bytes(args.memory) if args.memory and not args.pieces else 0
-        layout = fitting_plan(program, args.paths, dem_args, count, budget, grid["blocks"])
-        count = len(layout["pieces"])
-        check_same_run(pieces_dir, args, dem_args, count)
-        order = [p["index"] for p in sorted(layout["pieces"], key=lambda p: -p["points"])]  # heaviest first
-        records = run_pieces(client, args, dem_args, count, order, pieces_dir)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    pieces = PiecesDir(pieces_dir, local=cluster is not None)
+    with pieces:  # left once the cluster is closed: a LocalCluster's workers have ended
+        try:
+            workers = max(1, len(client.scheduler_info()["workers"]))
+            count = args.pieces or choose_count(grid, workers, args.points_per_piece)
+            budget = parse_bytes(args.memory) if args.memory and not args.pieces else 0
+            layout = fitting_plan(program, args.paths, args.output, dem_args, count, budget, grid["blocks"])
+            count = len(layout["pieces"])
+            order = [p["index"] for p in sorted(layout["pieces"], key=lambda p: -p["points"])]  # heaviest first
+            run = {"paths": [os.path.abspath(p) for p in args.paths], "dem_args": dem_args, "pieces": count}
+            check_same_run(pieces_dir, run)
+            pieces.make()
+            run_path = os.path.join(pieces_dir, "run.json")
+            if not os.path.exists(run_path):
+                piece_runner.write_atomic(run_path, json.dumps(run, indent=1))
+            records = run_pieces(client, args, dem_args, count, order, pieces_dir)
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
     outputs = product_outputs(args.output, records[0]["files"])
-    bar = Bar(len(outputs), "lidarscout_dask: mosaic")
-    for name, output in outputs.items():
-        files = [os.path.join(pieces_dir, r["files"][name]) for r in records]
-        mosaic(files, os.path.join(pieces_dir, f"mosaic_{name}.vrt"), output, os.cpu_count() or 1)
-        bar.add()
+    write_mosaics(pieces_dir, records, outputs)
     result = summary(records, outputs, time.monotonic() - t0, workers)
     if not args.keep_pieces:
         remove_pieces(pieces_dir, records, outputs)
@@ -168,17 +240,95 @@ def main(argv):
     return 0
 
 
-def check_same_run(pieces_dir, args, dem_args, count):
-    """The pieces directory is of this run (the same inputs, dem options and pieces), or new."""
-    run = {"paths": [os.path.abspath(p) for p in args.paths], "dem_args": dem_args, "pieces": count}
+class PiecesDir:
+    """The pieces directory, made (make()) when the pieces are about to run. When they fail or are
+    interrupted, what this run made goes again (its run.json, the directory itself, the work folders a
+    LocalCluster's workers left) unless a finished piece is there for a rerun, which the error then names."""
+
+    def __init__(self, path, local):
+        self.path, self.local, self.made, self.created = path, local, False, False
+
+    def __enter__(self):
+        return self
+
+    def make(self):
+        self.made = True
+        try:
+            os.makedirs(self.path)
+            self.created = True
+        except FileExistsError:
+            if not os.path.isdir(self.path):
+                raise Failure(f"{self.path}: the pieces directory is a file (give another --pieces-dir)",
+                              file=self.path, cause="the pieces directory is a file") from None
+        except OSError as e:
+            raise Failure(f"{self.path}: cannot make the pieces directory: {e.strerror}", file=self.path,
+                          cause=f"cannot make the pieces directory: {e.strerror}") from None
+
+    def __exit__(self, kind, error, _traceback):
+        if kind is None or not self.made:
+            return False
+        if self.local:  # the workers have ended: a piece they were making is no one's
+            for name in os.listdir(self.path):
+                if name.startswith(".piece_") and ".work-" in name:
+                    shutil.rmtree(os.path.join(self.path, name), ignore_errors=True)
+        finished = [n for n in os.listdir(self.path) if n.startswith("piece_") and n.endswith(".json")]
+        if finished:  # named by the error's line (__main__.py for Ctrl-C)
+            error.kept = (f"{len(finished)} finished pieces kept in {self.path}: a rerun makes only the others; "
+                          "remove it to start again")
+            if isinstance(error, Failure):
+                error.message += f" ({error.kept})"
+        elif not finished and self.created:
+            run = os.path.join(self.path, "run.json")
+            if os.path.exists(run):
+                os.remove(run)
+            if not os.listdir(self.path):
+                os.rmdir(self.path)
+        return False
+
+
+def write_mosaics(pieces_dir, records, outputs):
+    """Every raster of the run mosaicked to a temporary name, then all renamed together: none appears unless
+    all do (Ctrl-C waits for the last rename)."""
+    bar = Bar(len(outputs), "lidarscout_dask: mosaic")
+    made = {}
+    try:
+        for name, output in outputs.items():
+            files = [os.path.join(pieces_dir, r["files"][name]) for r in records]
+            made[mosaic(files, os.path.join(pieces_dir, f"mosaic_{name}.vrt"), output, os.cpu_count() or 1)] = output
+            bar.add()
+        rename_together(made)
+        made = {}
+    except (RuntimeError, OSError) as e:  # GDAL's errors are RuntimeErrors
+        raise Failure(f"the mosaic: {e}") from None
+    finally:
+        bar.close()
+        for temp in made:
+            if os.path.exists(temp):
+                os.remove(temp)
+
+
+def rename_together(renames):
+    """{temporary: final} renamed with SIGINT and SIGTERM held until the last is done (then raised again)."""
+    held = []
+    hold = [signal.signal(s, lambda number, _frame: held.append(number)) for s in (signal.SIGINT, signal.SIGTERM)]
+    try:
+        for temp, final in renames.items():
+            os.replace(temp, final)
+    finally:
+        signal.signal(signal.SIGINT, hold[0])
+        signal.signal(signal.SIGTERM, hold[1])
+    if held:
+        signal.raise_signal(held[0])
+
+
+def check_same_run(pieces_dir, run):
+    """The pieces directory holds the pieces of this run (the same inputs, dem options and pieces), or none."""
     path = os.path.join(pieces_dir, "run.json")
     if os.path.exists(path):
         with open(path, encoding="utf-8") as f:
             if json.load(f) != run:
-                raise SystemExit(f"lidarscout_dask: {pieces_dir} holds the pieces of another run (see its run.json): "
-                                 "remove it or give another --pieces-dir")
-        return
-    piece_runner.write_atomic(path, json.dumps(run, indent=1))
+                raise Failure(f"{pieces_dir} holds the pieces of another run (see its run.json): remove it or give "
+                              "another --pieces-dir", file=pieces_dir, cause="it holds the pieces of another run")
 
 
 def remove_pieces(pieces_dir, records, outputs):

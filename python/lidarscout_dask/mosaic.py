@@ -1,7 +1,7 @@
 """The pieces' rasters into one Cloud-Optimized GeoTIFF with GDAL's Python bindings: a VRT of the
 pieces (gdal.BuildVRT, at the pieces' own resolution so no texel moves), given the first piece's band
 description and unit, converted by the COG driver (the options `lidarscout dem` writes with) to a
-temporary name beside the output, renamed to it when complete."""
+temporary name beside the output, which the caller renames with the run's other rasters."""
 import os
 
 from osgeo import gdal
@@ -31,6 +31,7 @@ def build_vrt(vrt_path, pieces):
 
 
 def write_cog(vrt_path, output, threads, progress=None):
+    """The COG of `output` at a temporary name beside it, returned (removed if it fails)."""
     temp = os.path.join(os.path.dirname(os.path.abspath(output)), f".{os.path.basename(output)}.tmp-{os.getpid()}")
     try:
         callback = None
@@ -44,13 +45,14 @@ def write_cog(vrt_path, output, threads, progress=None):
         if cog is None:
             raise RuntimeError(f"{output}: GDAL cannot write the Cloud-Optimized GeoTIFF")
         cog = None
-        os.replace(temp, output)
-    finally:
+        return temp
+    except BaseException:
         if os.path.exists(temp):
             os.remove(temp)
+        raise
 
 
 def mosaic(pieces, vrt_path, output, threads, progress=None):
-    """The pieces (paths) into `output` (a COG) through `vrt_path`."""
+    """The pieces (paths) into the COG of `output` through `vrt_path`; returns its temporary name."""
     build_vrt(vrt_path, pieces)
-    write_cog(vrt_path, output, threads, progress)
+    return write_cog(vrt_path, output, threads, progress)

@@ -9,6 +9,8 @@ import socket
 import subprocess
 import time
 
+from lidarscout_dask.plan import program_error
+
 
 def piece_stem(index, count):
     return f"piece_{index:05d}_of_{count:05d}"
@@ -63,11 +65,14 @@ def run_piece(program, paths, dem_args, pieces_dir, index, count, threads, memor
         if memory:
             command += ["--memory", memory]
         t0 = time.monotonic()
-        done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+        where = f"piece {index}/{count} on {socket.gethostname()}"
+        try:
+            done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+        except OSError as e:  # raised (a RuntimeError, which Dask carries back): Dask retries the piece
+            raise RuntimeError(f"{where}: {program}: cannot run it: {e.strerror}") from None
         seconds = time.monotonic() - t0
-        if done.returncode != 0:  # raised: Dask retries the piece (on this or another worker)
-            raise RuntimeError(f"piece {index}/{count} on {socket.gethostname()}: {program} dem exit status "
-                               f"{done.returncode}: {done.stderr.strip()[-2000:]}")
+        if done.returncode != 0:
+            raise RuntimeError(f"{where}: {program_error(done)['message']}")
         result = json.loads(done.stdout)
         files = {}
         for name, path in made_files(result).items():

@@ -1,22 +1,38 @@
 """The pieces of a DEM as `lidarscout dem --plan N --json` prints them (cut by the points the tile
-headers hold), and the choice of N."""
+headers hold), and the choice of N. The first plan checks what the run is given before any work: the
+program, the inputs, the output and every option `lidarscout dem` gets."""
 import json
 import math
 import subprocess
 
+from lidarscout_dask.errors import Failure
+
+
+def program_error(done):
+    """The `{"error": ...}` a failed `lidarscout ... --json` printed, or one made of its last stderr line."""
+    try:
+        return json.loads(done.stdout)["error"]
+    except (ValueError, KeyError, TypeError):
+        lines = [line for line in done.stderr.splitlines() if line.strip()]
+        return {"message": f"exit status {done.returncode}" + (f": {lines[-1]}" if lines else ""), "kind": "input"}
+
 
 def run_json(command):
-    """Runs `command` (a list) and returns its standard output parsed as JSON; raises RuntimeError
-    with its standard error when it fails."""
-    done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+    """Runs `command` (a list, ending in --json) and returns its standard output parsed as JSON; raises a
+    Failure with the program's own error when it fails, or when it cannot be run."""
+    try:
+        done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+    except OSError as e:
+        raise Failure(f"{command[0]}: cannot run it: {e.strerror} (--program names lidarscout; default: lidarscout "
+                      "on the PATH)", file=command[0], cause=f"cannot run it: {e.strerror}") from None
     if done.returncode != 0:
-        raise RuntimeError(f"{' '.join(command)}: exit status {done.returncode}: {done.stderr.strip()}")
+        raise Failure.of_program(program_error(done))
     return json.loads(done.stdout)
 
 
-def plan(program, paths, dem_args, count):
-    """The grid and its `count` pieces."""
-    return run_json([program, "dem", *paths, "-o", "plan.tif", *dem_args, "--plan", str(count), "--json"])
+def plan(program, paths, output, dem_args, count):
+    """The grid and its `count` pieces (of the DEM `output`, which the plan checks but does not write)."""
+    return run_json([program, "dem", *paths, "-o", output, *dem_args, "--plan", str(count), "--json"])
 
 
 def parse_bytes(text):
@@ -28,11 +44,11 @@ def parse_bytes(text):
     return float(text)
 
 
-def fitting_plan(program, paths, dem_args, count, budget, most):
+def fitting_plan(program, paths, output, dem_args, count, budget, most):
     """The plan of `count` pieces, doubled until every piece's memory estimate fits `budget` bytes
     (0: no budget) or the grid has no more blocks; the last plan when none fits (its pieces refuse)."""
     while True:
-        layout = plan(program, paths, dem_args, count)
+        layout = plan(program, paths, output, dem_args, count)
         heaviest = max(p["memory_estimate_bytes"] for p in layout["pieces"])
         if not budget or heaviest <= budget or count >= most:
             return layout

@@ -37,6 +37,9 @@ pipelines::Region clip_region(const ClipCliOptions& o) {
     if (!(o.bounds[0] <= o.bounds[2] && o.bounds[1] <= o.bounds[3])) {
         throw Error("clip: --bounds expects xmin,ymin,xmax,ymax with xmin <= xmax and ymin <= ymax");
     }
+    if (o.bounds[0] == o.bounds[2] || o.bounds[1] == o.bounds[3]) {
+        throw Error("clip: --bounds enclose no area (xmin = xmax or ymin = ymax); nothing written");
+    }
     return pipelines::box_region(o.bounds[0], o.bounds[1], o.bounds[2], o.bounds[3]);
 }
 
@@ -63,8 +66,8 @@ int run_clip(const ClipCliOptions& o) {
     pipelines::ClipRequest request;
     request.filter = o.filter.filter();
     request.output = o.output;
-    const dataset::Dataset ds = open_region_dataset(o.paths, o.crs, "clip");
-    request.region = clip_region(o);
+    request.region = clip_region(o);  // (option errors before any work)
+    const dataset::Dataset ds = open_region_dataset(o.paths, o.crs, "clip", true);
     PointsBar bar("clip");
     request.watch.progress = bar.fn();
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
@@ -85,7 +88,8 @@ void register_clip_command(CLI::App& app, std::function<int()>& run) {
     add_output(*cmd, "-o,--output", o->output, "The .laz or .las to write (through a temporary name)",
                io::OutputKind::PointCloud)
         ->required();
-    cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (edges inside)")
+    cmd->add_option("--bounds", o->bounds,
+                    "xmin,ymin,xmax,ymax in the CRS's units (degrees for data in longitude/latitude; edges inside)")
         ->delimiter(',')->expected(4);
     cmd->add_option("--polygon", o->polygon,
                     "A GeoJSON file (Polygon, MultiPolygon, Feature(Collection)) or WKT 'POLYGON ((x y, ...))' / "
@@ -93,7 +97,7 @@ void register_clip_command(CLI::App& app, std::function<int()>& run) {
     add_filter_options(*cmd, o->filter, "points clipped");
     cmd->add_option("--crs", o->crs,
                     "The dataset's CRS, e.g. EPSG:32616 (default: the CRS most tiles use); tiles in another CRS are "
-                    "reprojected into it and the output is then written in it");
+                    "reprojected into it (tiles in degrees too) and the output is then written in it");
     add_thread_option(*cmd, "--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
     cmd->add_flag("--json", o->json,
                   "Print the result as JSON (tiles_touched, tiles_decoded, points_read, points_written, skipped)");

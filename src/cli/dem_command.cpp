@@ -2,8 +2,8 @@
 // [--method mean|min|max|idw|tin|linear|cnn] [--radius M] [--power P] [--max-edge M] [--classes 2,9]
 // [--returns first,last,single,intermediate] [--intensity MIN-MAX] [--ground classes|smrf] [--ground-cell M]
 // [--ground-slope S] [--ground-window M] [--ground-threshold M]
-// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--contours INTERVAL] [--block I/N] [--memory SIZE]
-// [--threads N] [--json]`:
+// [--crs EPSG:n] [--rgb out_rgb.tif] [--hillshade out.png] [--contours INTERVAL [--force]] [--block I/N]
+// [--memory SIZE] [--threads N] [--json]`:
 // a terrain or surface model of a dataset as a float32 Cloud-Optimized
 // GeoTIFF in the tiles' CRS, from every point or from the overview (raster/dem.hpp); with
 // `--product dtm,dsm,chm,density,pulse-density,intensity,count` those rasters instead, in one read of
@@ -37,6 +37,7 @@
 #include "cli/thread_options.hpp"
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
+#include "core/text.hpp"
 #include "dataset/dataset.hpp"
 #include "raster/contours.hpp"
 #include "raster/dem.hpp"
@@ -61,6 +62,7 @@ struct DemCliOptions {
     recon::GroundFilterParams ground_params;
     std::vector<std::string> ground_options;  // the --ground-* options given
     std::optional<double> contours;  // interval, in the raster's height unit
+    bool force = false;  // contours past raster::kContourLineLimit
     std::string block;   // "I/N", empty: the whole DEM
     int plan = 0;        // --plan N: print the N pieces, make nothing
     std::string memory;  // the budget ("4G"), empty: half of what the process may use
@@ -159,6 +161,7 @@ raster::DemRequest make_request(const DemCliOptions& o) {
     r.model = o.model;
     r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
     r.contours_interval = o.contours.value_or(0);
+    if (o.force) r.contour_line_limit = 0;
     if (!o.block.empty()) std::tie(r.block_index, r.block_count) = raster::parse_block_piece(o.block);
     if (!o.memory.empty()) r.memory_budget = parse_bytes(o.memory, "--memory");
     if (!o.product.empty()) {
@@ -232,6 +235,8 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
         if (!d.contours.empty()) {
             j["contours"] = d.contours;
             j["contour_lines"] = d.contour_lines;
+            j["contour_lines_estimate"] = std::llround(d.contour_lines_estimate);
+            j["contour_points_estimate"] = std::llround(d.contour_points_estimate);
             j["seconds_contours"] = d.seconds_contours;
         }
         std::printf("%s\n", j.dump(2).c_str());
@@ -372,6 +377,10 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
                     "Also write contour lines every INTERVAL (the raster's height unit) of the DEM, or of the first "
                     "dtm, dsm or chm product, to RASTER_contours.gpkg (GeoPackage, attribute elevation)")
         ->check(positive_number());
+    cmd->add_flag("--force", o->force,
+                  "Draw the --contours even when they are counted at more than " +
+                      count_text(double(raster::kContourLineLimit)) +
+                      " lines (refused otherwise, before they are drawn)");
     add_derived_outputs(*cmd, [o] {
         std::vector<io::OutputTarget> out;
         if (o->output.empty()) return out;

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/tile_json.hpp"
@@ -211,6 +212,7 @@ int run_info(const InfoOptions& opt) {
     }
     bool failed = !found.errors.empty();
     for (const auto& e : found.errors) std::fprintf(stderr, "lidarscout: %s\n", display_text(e.error).c_str());
+    print_diagnostics(found.warnings);  // tiles named more than once (each is described once)
     for (const auto& r : reports) {
         if (!r.tile) {
             failed = true;

@@ -1,12 +1,11 @@
-// Entry point of the `lidarscout` command: parses the subcommand and turns library errors (and a
-// failed allocation) into one clear line on stderr and a non-zero exit status.
+// Entry point of the `lidarscout` command: parses the subcommand and turns usage errors, library
+// errors (and a failed allocation) into one clear line on stderr and a non-zero exit status.
 #include <CLI/CLI.hpp>
 
 #include <malloc.h>
 
 #include <cstdio>
 #include <cstring>
-#include <new>
 #include <functional>
 #include <new>
 #include <string>
@@ -17,6 +16,7 @@
 #include "cli/io_options.hpp"
 #include "cli/number_options.hpp"
 #include "cli/remote_options.hpp"
+#include "cli/usage_error.hpp"
 #include "core/error.hpp"
 #include "io/temporary_files.hpp"
 #include "net/range_cache.hpp"
@@ -76,9 +76,9 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        if (!json || e.get_exit_code() == 0) return app.exit(e);  // --help, --version: as CLI11 prints them
-        lidarscout::cli::report_failure({"usage", e.what(), {}, std::nullopt, e.what()}, true);
-        return e.get_exit_code();
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version: as CLI11 prints them
+        lidarscout::cli::report_failure(lidarscout::cli::usage_failure(app, argc, argv, e), json);
+        return 1;  // a usage error is an error like the others (CLI11's own codes are 105-114)
     }
     int status = 0;
     try {

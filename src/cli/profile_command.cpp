@@ -1,5 +1,5 @@
-// `lidarscout profile PATH... --line x0,y0,x1,y1 [--width W] -o OUT.csv|.laz|.las|.png [--classes ..]
-// [--returns ..] [--intensity ..] [--crs EPSG:n] [--threads N] [--json]`: every full-resolution point
+// `lidarscout profile PATH... --line x0,y0,x1,y1 [--width W] -o OUT.csv|.laz|.las|.png [--exaggeration F]
+// [--classes ..] [--returns ..] [--intensity ..] [--crs EPSG:n] [--threads N] [--json]`: every full-resolution point
 // in a corridor along a line (pipelines/profile.hpp), as CSV, as LAS/LAZ (as clip writes them) or as
 // an image of distance against height coloured by class.
 #include <CLI/CLI.hpp>
@@ -30,7 +30,7 @@ struct ProfileCliOptions {
     std::vector<std::string> paths;
     std::string output, crs;
     std::vector<double> line;
-    double width = 2;
+    double width = 2, exaggeration = 1;
     FilterTexts filter;
     unsigned threads = 0;
     bool json = false;
@@ -53,6 +53,8 @@ nlohmann::json write_points(const ProfileCliOptions& o, const dataset::Dataset& 
     request.output = o.output;
     request.filter = o.filter.filter();
     request.region = pipelines::corridor_region(corridor(o));
+    request.command = "profile";
+    request.where = pipelines::kCorridor;
     PointsBar bar("profile");
     request.watch.progress = bar.fn();
     const auto r = pipelines::clip_to_file(ds, request, pool);
@@ -68,12 +70,16 @@ nlohmann::json write_profile(const ProfileCliOptions& o, const dataset::Dataset&
     pipelines::ReadWatch watch;
     watch.progress = bar.fn();
     const pipelines::Profile p = pipelines::read_profile(ds, corridor(o), o.filter.filter(), pool, watch);
+    pipelines::require_profile_points(ds, corridor(o), o.filter.filter(), p, pool);  // nothing written when empty
     nlohmann::json j = region_stats_json(p.read, ds);
     if (extension(o.output) == ".png") {
         pipelines::ProfileImageScale s;
-        render::write_png(o.output, pipelines::profile_image(p, corridor(o), 1600, 600, &s));
-        j["image"] = {{"z_min", s.z_min}, {"z_max", s.z_max}, {"distance_grid_step", s.distance_step},
-                      {"z_grid_step", s.z_step}};
+        const auto image = pipelines::profile_image(p, corridor(o), pipelines::profile_png_options(ds.frame,
+                                                                                                   o.exaggeration), &s);
+        render::write_png(o.output, image);
+        j["image"] = {{"width", image.width}, {"height", image.height}, {"z_min", s.z_min}, {"z_max", s.z_max},
+                      {"distance_grid_step", s.distance_step}, {"z_grid_step", s.z_step},
+                      {"exaggeration", s.exaggeration}};
     } else {
         pipelines::write_profile_csv(o.output, ds, p);
     }
@@ -117,12 +123,16 @@ void register_profile_command(CLI::App& app, std::function<int()>& run) {
         ->required();
     add_output(*cmd, "-o,--output", o->output,
                "The profile: .csv (distance,x,y,z,class,intensity,return,returns,source_file), .laz/.las (the points "
-               "as clip writes them) or .png (distance against height, coloured by class)",
+               "as clip writes them) or .png (distance against height at true scale, coloured by class, ground on "
+               "top, labelled axes)",
                io::OutputKind::Profile)
         ->required();
     cmd->add_option("--line", o->line, "x0,y0,x1,y1: the line, in the CRS's units")
         ->delimiter(',')->expected(4)->required();
     cmd->add_option("--width", o->width, "The corridor's full width, in the CRS's units (default 2)")
+        ->check(positive_number());
+    cmd->add_option("--exaggeration", o->exaggeration,
+                    "The PNG's vertical scale over its horizontal one (default 1: true scale)")
         ->check(positive_number());
     add_filter_options(*cmd, o->filter, "points in the profile");
     cmd->add_option("--crs", o->crs, "The dataset's CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");

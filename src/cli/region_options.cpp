@@ -13,9 +13,10 @@
 namespace lidarscout::cli {
 
 dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,
-                                     const std::string& command) {
+                                     const std::string& command, bool accept_degrees) {
     dataset::DatasetOptions options;
     options.crs = crs;
+    options.accept_degrees = accept_degrees;
     dataset::Dataset ds = open_with_progress(paths, options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     print_diagnostics(ds.warnings);

@@ -17,9 +17,10 @@ class App;
 
 namespace lidarscout::cli {
 
-// open_with_progress, skipped files and warnings on stderr, refused without a readable tile.
+// open_with_progress, skipped files and warnings on stderr, refused without a readable tile; a frame
+// in degrees only when `accept_degrees` (dataset::DatasetOptions).
 dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,
-                                     const std::string& command);
+                                     const std::string& command, bool accept_degrees = false);
 
 // A "COMMAND: points" progress bar for read_region_points.
 class PointsBar {

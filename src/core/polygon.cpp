@@ -9,9 +9,11 @@
 #include <cmath>
 #include <limits>
 #include <fstream>
-#include <sstream>
 
 #include "core/error.hpp"
+#include "core/json_reader.hpp"
+#include "core/text.hpp"
+#include "core/regular_file.hpp"
 
 namespace lidarscout {
 namespace {
@@ -325,9 +327,24 @@ private:
 
 // ---- GeoJSON
 
-Ring json_ring(const nlohmann::json& j) {
+// The most vertices a GeoJSON polygon may have (what its document then holds stays under ~500 MB).
+constexpr std::uint64_t kMaxGeoJsonVertices = 5'000'000;
+
+// The bounded reader's limits for a GeoJSON document: each position is an array and two numbers.
+JsonLimits geojson_limits() {
+    JsonLimits limits;
+    limits.max_bytes = 512ull << 20;
+    limits.kept = {3 * kMaxGeoJsonVertices + 1'000'000, 64ull << 20};
+    return limits;
+}
+
+Ring json_ring(const nlohmann::json& j, std::uint64_t& vertices) {
     if (!j.is_array()) throw polygon_error("GeoJSON: a ring is not an array of positions");
+    if ((vertices += j.size()) > kMaxGeoJsonVertices) {
+        throw polygon_error("GeoJSON: more than the limit of " + std::to_string(kMaxGeoJsonVertices) + " vertices");
+    }
     Ring r;
+    r.reserve(j.size());
     for (const auto& p : j) {
         if (!p.is_array() || p.size() < 2 || !p[0].is_number() || !p[1].is_number()) {
             throw polygon_error("GeoJSON: a position is not an array of at least two numbers");
@@ -337,34 +354,62 @@ Ring json_ring(const nlohmann::json& j) {
     return r;
 }
 
-std::vector<Ring> json_polygon(const nlohmann::json& j) {
+std::vector<Ring> json_polygon(const nlohmann::json& j, std::uint64_t& vertices) {
     if (!j.is_array() || j.empty()) throw polygon_error("GeoJSON: a Polygon's coordinates are not an array of rings");
     std::vector<Ring> rings;
-    for (const auto& r : j) rings.push_back(json_ring(r));
+    for (const auto& r : j) rings.push_back(json_ring(r, vertices));
     return rings;
 }
 
-void add_geometry(const nlohmann::json& j, std::vector<std::vector<Ring>>& out) {
-    const std::string type = j.is_object() ? j.value("type", "") : "";
+// The "type" of a GeoJSON object ("" when it has none; a type that is not a string is refused).
+std::string geojson_type(const nlohmann::json& j) {
+    try {
+        return json_optional_string(j, "type").value_or("");
+    } catch (const Error& e) {
+        throw polygon_error("GeoJSON: " + e.cause());
+    }
+}
+
+// (Nesting is bounded by the reader's depth limit, so the recursion is too.)
+void add_geometry(const nlohmann::json& j, std::vector<std::vector<Ring>>& out, std::uint64_t& vertices) {
+    const std::string type = geojson_type(j);
     if (type == "Feature") {
-        if (!j.contains("geometry")) throw polygon_error("GeoJSON: a Feature without a geometry");
-        return add_geometry(j["geometry"], out);
+        const nlohmann::json* geometry = json_field(j, "geometry");
+        if (!geometry) throw polygon_error("GeoJSON: a Feature without a geometry");
+        return add_geometry(*geometry, out, vertices);
     }
     if (type == "FeatureCollection") {
-        if (!j.contains("features") || !j["features"].is_array()) {
+        const nlohmann::json* features = json_field(j, "features");
+        if (!features || !features->is_array()) {
             throw polygon_error("GeoJSON: a FeatureCollection without a features array");
         }
-        for (const auto& f : j["features"]) add_geometry(f, out);
+        for (const auto& f : *features) add_geometry(f, out, vertices);
         return;
     }
     if (type != "Polygon" && type != "MultiPolygon") {
         throw polygon_error("GeoJSON: expected a Polygon or MultiPolygon geometry, found " +
-                            (type.empty() ? std::string("no type") : "'" + type + "'"));
+                            (type.empty() ? std::string("no type") : "'" + display_excerpt(type) + "'"));
     }
-    const auto& c = j.contains("coordinates") ? j["coordinates"] : nlohmann::json();
-    if (type == "Polygon") return out.push_back(json_polygon(c));
+    const nlohmann::json* found = json_field(j, "coordinates");
+    const nlohmann::json& c = found ? *found : nlohmann::json();
+    if (type == "Polygon") return out.push_back(json_polygon(c, vertices));
     if (!c.is_array()) throw polygon_error("GeoJSON: a MultiPolygon's coordinates are not an array");
-    for (const auto& p : c) out.push_back(json_polygon(p));
+    for (const auto& p : c) out.push_back(json_polygon(p, vertices));
+}
+
+// The polygon of the GeoJSON document read from `source`; a reader's error is the polygon stage's.
+MultiPolygon read_geojson_polygon(const JsonSource& source) {
+    nlohmann::json j;
+    try {
+        j = read_json(source, "", geojson_limits());
+    } catch (const Error& e) {
+        throw Error(e.file(), e.offset(), "polygon: GeoJSON: " + e.cause());
+    }
+    std::vector<std::vector<Ring>> polygons;
+    std::uint64_t vertices = 0;
+    add_geometry(j, polygons, vertices);
+    j = nlohmann::json();  // (the document goes before the polygon checks its rings)
+    return MultiPolygon(std::move(polygons));
 }
 
 }  // namespace
@@ -372,11 +417,7 @@ void add_geometry(const nlohmann::json& j, std::vector<std::vector<Ring>>& out) 
 MultiPolygon parse_wkt_polygon(std::string_view text) { return WktReader(text).read(); }
 
 MultiPolygon parse_geojson_polygon(std::string_view text) {
-    const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-    if (j.is_discarded()) throw polygon_error("GeoJSON: not valid JSON");
-    std::vector<std::vector<Ring>> polygons;
-    add_geometry(j, polygons);
-    return MultiPolygon(std::move(polygons));
+    return read_geojson_polygon(text_json_source(text));
 }
 
 MultiPolygon read_polygon_argument(const std::string& argument) {
@@ -384,12 +425,11 @@ MultiPolygon read_polygon_argument(const std::string& argument) {
     for (const char c : argument.substr(0, 20)) head += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
     head.erase(0, head.find_first_not_of(" \t\n"));
     if (head.starts_with("POLYGON") || head.starts_with("MULTIPOLYGON")) return parse_wkt_polygon(argument);
+    require_regular_file(argument);  // a FIFO would hang the read
     std::ifstream in(argument, std::ios::binary);
     if (!in) throw Error(argument, std::nullopt, "--polygon: neither WKT (POLYGON, MULTIPOLYGON) nor a readable file");
-    std::stringstream s;
-    s << in.rdbuf();
     try {
-        return parse_geojson_polygon(s.str());
+        return read_geojson_polygon(istream_json_source(in));
     } catch (const Error& e) {
         throw e.with_file(argument);
     }

@@ -1,8 +1,11 @@
-// display_text: UTF-8 where valid, else Latin-1, control characters escaped.
+// display_text: UTF-8 where valid, else Latin-1, control characters escaped; display_excerpt: its cut
+// form; count_text.
 #include "core/text.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <iterator>
 
 namespace lidarscout {
 namespace {
@@ -69,12 +72,38 @@ std::string display_text(std::string_view bytes) {
     return out;
 }
 
+std::string display_excerpt(std::string_view bytes, std::size_t max_bytes) {
+    if (bytes.size() <= max_bytes) return display_text(bytes);
+    std::size_t cut = max_bytes;
+    // back to the start of a UTF-8 sequence (at most 3 continuation bytes), so no character is split
+    for (int k = 0; k < 3 && cut > 0 && (static_cast<std::uint8_t>(bytes[cut]) & 0xC0) == 0x80; ++k) --cut;
+    return display_text(bytes.substr(0, cut)) + "... (" + std::to_string(bytes.size()) + " bytes)";
+}
+
 std::string ascii_lower(std::string_view s) {
     std::string out(s);
     for (char& c : out) {
         if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
     }
     return out;
+}
+
+std::string count_text(double count) {
+    if (std::isnan(count)) return "?";
+    if (count < 0) return "-" + count_text(-count);
+    char text[32];
+    if (std::round(count) < 1000) {
+        std::snprintf(text, sizeof text, "%.0f", count);
+        return text;
+    }
+    static constexpr const char* kUnits[] = {"k", "M", "G", "T"};
+    double value = count / 1e3;
+    std::size_t unit = 0;
+    // Past 999.5 a unit shows as 1000 at three digits: the next unit then ("1.00 M", not "1000 k").
+    while (unit + 1 < std::size(kUnits) && value >= 999.5) value /= 1e3, ++unit;
+    const int decimals = value < 9.995 ? 2 : value < 99.95 ? 1 : 0;
+    std::snprintf(text, sizeof text, "%.*f %s", decimals, value, kUnits[unit]);
+    return text;
 }
 
 }  // namespace lidarscout

@@ -22,6 +22,7 @@
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "geo/crs_definition.hpp"
+#include "geo/geographic.hpp"
 #include "geo/projection.hpp"
 #include "io/file.hpp"
 
@@ -71,12 +72,8 @@ std::string crs_key(const las::Crs& crs) {
 
 DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
     const las::Crs& crs = tile.crs();
-    if (crs.geographic) {
-        throw Error(tile.path(), std::nullopt,
-                    "coordinates are geographic (degrees); patches need a projected CRS in metres or feet");
-    }
-    DatasetTile t;
-    t.xy_to_metres = usable_factor(crs.horizontal_to_metres) ? crs.horizontal_to_metres : 1.0;
+    DatasetTile t;  // degrees (no linear unit) stay degrees: the frame is in degrees or reprojects them
+    t.xy_to_metres = usable_factor(crs.horizontal_to_metres) && !crs.geographic ? crs.horizontal_to_metres : 1.0;
     const double z = crs.z_to_metres();
     t.z_to_metres = usable_factor(z) ? z : t.xy_to_metres;
     const auto& h = tile.header;
@@ -200,7 +197,7 @@ void add_crs_warnings(Dataset& ds) {
     std::size_t without_unit = 0;
     for (const auto& t : ds.tiles) {
         ++by_crs[crs_key(t.tile.crs())];
-        if (!usable_factor(t.tile.crs().horizontal_to_metres)) ++without_unit;
+        if (!t.tile.crs().geographic && !usable_factor(t.tile.crs().horizontal_to_metres)) ++without_unit;
     }
     if (without_unit > 0) {
         ds.warnings.warn(std::to_string(without_unit) + " of " + std::to_string(ds.tiles.size()) +
@@ -230,27 +227,61 @@ ThreadPool& header_pool(unsigned threads) {
     return *pool;
 }
 
-// The frame: the CRS asked for, else the one most tiles use (the first such tile's).
-void choose_frame(Dataset& ds, const std::string& wanted) {
-    if (!wanted.empty()) {
-        const geo::CrsInfo info = geo::crs_info(wanted);
-        if (info.geographic) {
-            throw Error::in_stage("dataset", "the CRS " + shorten(wanted) + " is geographic; patches need metres");
+// Where to reproject data in degrees: the UTM zone at the centre of the tiles in degrees (their
+// bounds are longitude/latitude), else of the first tile PROJ can place in longitude/latitude.
+std::string utm_hint(const Dataset& ds) {
+    Bounds lonlat;
+    for (const auto& t : ds.tiles) {
+        if (t.tile.crs().geographic && t.tile.header.point_count > 0) lonlat.extend(t.bounds_m);
+    }
+    for (std::size_t i = 0; lonlat.empty() && i < ds.tiles.size(); ++i) {
+        const auto& h = ds.tiles[i].tile.header;
+        try {
+            const auto b = geo::lonlat_bounds(geo::crs_definition(ds.tiles[i].tile.crs()), h.min[0], h.min[1],
+                                              h.max[0], h.max[1]);
+            lonlat.min_x = b.west, lonlat.min_y = b.south, lonlat.max_x = b.east, lonlat.max_y = b.north;
+        } catch (const Error&) {
+            // no CRS, or one PROJ cannot place: the next tile
         }
-        ds.frame = {wanted, info.xy_to_metres, info.z_to_metres};
+    }
+    if (lonlat.empty()) return "--crs with a projected CRS (the UTM zone of the data)";
+    const geo::UtmZone zone = geo::utm_zone_at(lonlat.centre_x(), lonlat.centre_y());
+    return "--crs " + zone.crs + " (" + zone.name + ", at the data's centre)";
+}
+
+// Whether a tile in the CRS `def` is in the frame's CRS: the same definition, or the horizontal EPSG
+// CRS the frame names alone (its heights then stay as stored, as a reprojection would leave them).
+bool in_frame_crs(const std::string& def, const Frame& frame) {
+    if (def == frame.crs) return true;
+    const geo::EpsgCodes tile = geo::epsg_codes_of_definition(def), wanted = geo::epsg_codes_of_definition(frame.crs);
+    return tile.horizontal && tile.horizontal == wanted.horizontal && !wanted.vertical;
+}
+
+// The frame: the CRS asked for, else the one most tiles use (the first such tile's); a CRS in degrees
+// only when the caller accepts degrees.
+void choose_frame(Dataset& ds, const DatasetOptions& options) {
+    if (!options.crs.empty()) {
+        const geo::CrsInfo info = geo::crs_info(options.crs);
+        if (info.geographic && !options.accept_degrees) {
+            throw Error::in_stage("dataset", "the CRS " + shorten(options.crs) + " is in degrees (longitude, "
+                                  "latitude); a projected CRS in metres or feet is needed here: give " + utm_hint(ds));
+        }
+        ds.frame = {options.crs, info.geographic ? 1.0 : info.xy_to_metres,
+                    usable_factor(info.z_to_metres) ? info.z_to_metres : 1.0, info.geographic};
         return;
     }
+    const auto votes = [&](const DatasetTile& t) { return options.accept_degrees || !t.tile.crs().geographic; };
     std::map<std::string, std::size_t> count;
     std::string best;
     std::size_t best_count = 0;
     for (const auto& t : ds.tiles) {
         const std::string key = crs_key(t.tile.crs());
-        if (key.empty()) continue;
+        if (key.empty() || !votes(t)) continue;
         if (++count[key] > best_count) best_count = count[key], best = key;
     }
     for (const auto& t : ds.tiles) {
-        if (!best.empty() && crs_key(t.tile.crs()) == best) {
-            ds.frame = {geo::crs_definition(t.tile.crs()), t.xy_to_metres, t.z_to_metres};
+        if (!best.empty() && votes(t) && crs_key(t.tile.crs()) == best) {
+            ds.frame = {geo::crs_definition(t.tile.crs()), t.xy_to_metres, t.z_to_metres, t.tile.crs().geographic};
             return;
         }
     }
@@ -274,7 +305,7 @@ void warn_if_ballpark(const DatasetTile& t, const geo::CrsTransform& transform, 
 using TransformCache = std::map<std::string, std::shared_ptr<const geo::CrsTransform>>;
 void reproject(DatasetTile& t, const Frame& frame, TransformCache& cache, Diagnostics& warnings) {
     const std::string def = geo::crs_definition(t.tile.crs());
-    if (def.empty() || frame.crs.empty() || def == frame.crs) return;
+    if (def.empty() || frame.crs.empty() || in_frame_crs(def, frame)) return;
     auto& transform = cache[def];
     if (!transform) {
         transform = std::make_shared<const geo::CrsTransform>(def, frame.crs);
@@ -301,14 +332,22 @@ void reproject(DatasetTile& t, const Frame& frame, TransformCache& cache, Diagno
     }
 }
 
-// Reprojects the tiles not in the frame's CRS; a tile PROJ cannot place is skipped.
+// Reprojects the tiles not in the frame's CRS; a tile PROJ cannot place is skipped, and so is a tile
+// in degrees left in degrees in a frame that is not (naming the --crs that would place it).
 void place_tiles(Dataset& ds, const DatasetOptions& options) {
-    choose_frame(ds, options.crs);
+    choose_frame(ds, options);
     TransformCache cache;
+    const bool degrees = std::any_of(ds.tiles.begin(), ds.tiles.end(), [](const DatasetTile& t) {
+        return t.tile.crs().geographic;
+    });
+    const std::string hint = degrees && !ds.frame.geographic ? utm_hint(ds) : "";
     std::size_t kept = 0;  // the tiles kept move down in place (no second vector of 100,000s)
     for (auto& t : ds.tiles) {
         try {
             reproject(t, ds.frame, cache, ds.warnings);
+            if (t.tile.crs().geographic && !t.to_frame && !ds.frame.geographic) {
+                throw Error("coordinates are in degrees (longitude, latitude); give " + hint + " to work in metres");
+            }
             if (&t != &ds.tiles[kept]) ds.tiles[kept] = std::move(t);
             ++kept;
         } catch (const Error& e) {
@@ -407,6 +446,7 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     Dataset ds;
     ds.las_stride = options.las_stride;
     ds.skipped = std::move(found.errors);
+    ds.warnings = std::move(found.warnings);
     const std::vector<TileSource>& sources = found.sources;
     if (options.sources_found) options.sources_found(sources);
     const std::size_t n = sources.size();

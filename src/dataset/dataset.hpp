@@ -44,7 +44,7 @@ struct Bounds {
 
 struct DatasetTile {
     Tile tile;
-    double xy_to_metres = 1.0;  // file units -> metres, horizontal
+    double xy_to_metres = 1.0;  // file units -> metres, horizontal (1 for a tile in degrees: see Frame)
     double z_to_metres = 1.0;   // file units -> metres, vertical
     Bounds bounds_m;            // the header's bounds, in metres (of the dataset's frame)
     std::uint64_t chunk_points = 0;
@@ -77,6 +77,9 @@ struct Frame {
     std::string crs;            // definition for PROJ/GDAL (geo/crs_definition.hpp); "" when unknown
     double xy_to_metres = 1.0;  // native horizontal unit -> metres
     double z_to_metres = 1.0;   // native vertical unit -> metres
+    // x/y are degrees (longitude, latitude; DatasetOptions::accept_degrees): the "metres" of the
+    // dataset (bounds_m, DatasetTile::place) are then degrees, xy_to_metres 1.
+    bool geographic = false;
 };
 
 struct Dataset {
@@ -94,13 +97,18 @@ struct DatasetOptions {
     unsigned io_threads = 16;  // header reads in flight (I/O bound: more than the cores)
     std::uint64_t las_stride = 50'000;  // chunk-point stride for uncompressed LAS tiles
     std::string crs;  // the frame's CRS ("EPSG:32632", WKT); empty: the CRS most tiles use
+    // Whether the frame may be in degrees (a caller that works in the CRS's units, as clip does).
+    // Without it, tiles in degrees are reprojected into a projected frame (the CRS asked for, else
+    // the one most projected tiles use), a geographic `crs` is refused, and with no projected CRS to
+    // go to they are skipped naming the --crs to give (the UTM zone of the data's centre).
+    bool accept_degrees = false;
     // Called once the paths are expanded, before any header is read: the tiles to read (a STAC
     // catalog's with what its items say of them: catalog_footprint places them at once).
     std::function<void(std::span<const TileSource>)> sources_found;
     // Called from reader threads as files finish: (files done, files total).
     std::function<void(std::size_t, std::size_t)> progress;
     // Called from reader threads for each tile read, before `progress` counts it (a tile in
-    // another CRS than the frame's still has its bounds in its own CRS's metres here).
+    // another CRS than the frame's still has its bounds in its own CRS's metres, or degrees, here).
     std::function<void(const DatasetTile&)> tile_read;
     // When it turns true, files not yet started are not read and open_dataset throws Error
     // ("opening cancelled") once the reads in progress have ended.
@@ -138,8 +146,8 @@ void require_tiles(const Dataset& dataset, const std::string& stage);
 // `patch_size_m`, so patches fall on the same metric lattice whatever tiles are opened.
 std::pair<double, double> patch_grid_origin(const Dataset& dataset, double patch_size_m = 640.0);
 
-// Wraps a tile already read: unit factors and bounds in metres. Throws Error for tiles that
-// cannot be placed on a metric grid (geographic coordinates).
+// Wraps a tile already read: unit factors and bounds in metres (in degrees for a tile in degrees,
+// xy_to_metres 1, z in its vertical unit or metres).
 DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride = 50'000);
 
 }  // namespace lidarscout::dataset

@@ -14,6 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/json_reader.hpp"
+#include "core/text.hpp"
 #include "dataset/json_file.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
@@ -118,7 +120,8 @@ private:
             const std::string& node = item.key();
             const auto k = parse_key(node);
             if (!k) {
-                throw Error(file.path(), std::nullopt, "hierarchy entry \"" + node + "\" is not a node key D-X-Y-Z");
+                throw Error(file.path(), std::nullopt,
+                            "hierarchy entry \"" + display_excerpt(node) + "\" is not a node key D-X-Y-Z");
             }
             if (!item.value().is_number_integer()) {
                 throw Error(file.path(), std::nullopt, "hierarchy entry " + node + " is not a count");
@@ -153,10 +156,11 @@ EptNodes ept_nodes(const std::string& metadata_path, const EptLimits& limits) {
     EptNodes out;
     try {
         const auto meta = read_json(metadata_path);
-        const auto type = meta.value("dataType", std::string());
+        const auto type = json_optional_string(meta, "dataType").value_or("");
         if (type != "laszip") {
             throw Error(io::display_path(metadata_path), std::nullopt,
-                        "EPT data type \"" + type + "\" is not supported (only laszip nodes are tiles)");
+                        "EPT data type \"" + display_excerpt(type) +
+                            "\" is not supported (only laszip nodes are tiles)");
         }
         const Layout layout = layout_of(metadata_path);
         HierarchyReader reader(metadata_path, layout, limits);

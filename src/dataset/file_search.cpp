@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
 #include "dataset/s3_prefix.hpp"
+#include "dataset/source_identity.hpp"
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
@@ -253,6 +254,7 @@ FoundSources find_tile_sources(const std::vector<std::string>& given) {
             out.errors.push_back({p, e.what()});
         }
     }
+    drop_duplicate_sources(out);  // where every kind of source meets: each tile read once
     return out;
 }
 

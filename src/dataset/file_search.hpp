@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "core/diagnostic.hpp"
+
 namespace lidarscout::dataset {
 
 struct CatalogItem;
@@ -58,11 +60,13 @@ struct TileSource {
 struct FoundSources {
     std::vector<TileSource> sources;
     std::vector<SkippedFile> errors;
+    Diagnostics warnings;  // sources left out because they name a tile named before
 };
 
 // find_point_cloud_files, with virtual replica manifests (dataset/virtual_replica.hpp) among the
 // paths opened as their shifted tiles: what every command that reads tiles opens, so that a
-// folder, a tile list and a manifest mean the same to all of them.
+// folder, a tile list and a manifest mean the same to all of them. Each tile once, however many
+// items, entries and paths name it (dataset/source_identity.hpp), said in one warning.
 FoundSources find_tile_sources(const std::vector<std::string>& paths);
 
 // Every local file and folder that reading `paths` touches, for the output check

@@ -7,16 +7,35 @@
 
 namespace lidarscout::dataset {
 
-nlohmann::json read_json_object(const io::File& file, std::uint64_t max_bytes) {
-    if (file.size() > max_bytes) {
-        throw Error(file.path(), std::nullopt,
+JsonSource file_json_source(const io::File& file) {
+    return [&file, offset = std::uint64_t{0}](std::span<char> out) mutable {
+        const std::size_t n = file.read_at(offset, {reinterpret_cast<std::uint8_t*>(out.data()), out.size()});
+        offset += n;
+        return n;
+    };
+}
+
+nlohmann::json read_json_file(const io::File& file, const JsonLimits& limits, const JsonStreaming* streaming) {
+    const std::string name = io::display_path(file.path());
+    if (file.size() > limits.max_bytes) {
+        throw Error(name, std::nullopt,
                     "JSON file too large (" + std::to_string(file.size()) + " bytes, at most " +
-                        std::to_string(max_bytes) + ")");
+                        std::to_string(limits.max_bytes) + ")");
     }
-    const auto bytes = file.read_vector(0, static_cast<std::size_t>(file.size()), "JSON document");
-    auto json = nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, false);
-    if (json.is_discarded() || !json.is_object()) throw Error(file.path(), std::nullopt, "not a JSON object");
+    return read_json(file_json_source(file), name, limits, streaming);
+}
+
+nlohmann::json read_json_object(const io::File& file, const JsonLimits& limits, const JsonStreaming* streaming) {
+    auto json = read_json_file(file, limits, streaming);
+    if (!json.is_object()) throw Error(io::display_path(file.path()), std::nullopt, "not a JSON object");
     return json;
+}
+
+nlohmann::json read_json_object(const io::File& file, std::uint64_t max_bytes) {
+    JsonLimits limits;
+    limits.max_bytes = max_bytes;
+    limits.kept = {max_bytes, max_bytes};
+    return read_json_object(file, limits);
 }
 
 }  // namespace lidarscout::dataset

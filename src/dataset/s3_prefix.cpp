@@ -1,4 +1,4 @@
-// The tiles of an s3 prefix: its listing, filtered to point cloud files.
+// The tiles of an s3 prefix: its listing, filtered to point cloud files as it is read.
 #include "dataset/s3_prefix.hpp"
 
 #include "core/error.hpp"
@@ -15,14 +15,15 @@ bool is_s3_prefix(const std::string& url) {
 std::vector<std::string> s3_prefix_tiles(const std::string& prefix) {
     const auto where = net::parse_s3_url(prefix);
     if (!where) throw Error(prefix, std::nullopt, "not an s3 URL (s3://bucket/prefix/)");
-    const auto objects = net::list_s3_objects(prefix);
-    std::vector<std::string> tiles;
-    for (const auto& o : objects) {
+    std::vector<std::string> tiles;  // (only the tiles are held while the listing goes on)
+    const std::uint64_t listed = net::for_each_s3_object(prefix, [&](net::S3Object&& o) {
         std::string url = "s3://" + where->bucket + "/" + o.key;
-        if (has_point_cloud_extension(url)) tiles.push_back(std::move(url));
-    }
+        if (!has_point_cloud_extension(url)) return false;
+        tiles.push_back(std::move(url));
+        return true;
+    });
     if (tiles.empty()) {
-        throw Error(prefix, std::nullopt, "no .las/.laz object under this prefix (" + std::to_string(objects.size()) +
+        throw Error(prefix, std::nullopt, "no .las/.laz object under this prefix (" + std::to_string(listed) +
                                               " objects listed in bucket \"" + where->bucket + "\", prefix \"" +
                                               where->key + "\")");
     }

@@ -1,6 +1,7 @@
 // An s3 prefix as a dataset: "s3://bucket/prefix/" (or "s3://bucket" for the whole bucket)
 // names the LAS/LAZ objects whose keys start with the prefix, listed with ListObjectsV2
-// (net/s3_request.hpp, every page), in key order.
+// (net/s3_request.hpp, every page, within its limits), in key order; keys are normalised and
+// kept inside the bucket and prefix.
 #pragma once
 
 #include <string>

@@ -14,6 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/json_reader.hpp"
+#include "core/text.hpp"
 #include "dataset/json_file.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
@@ -39,6 +41,9 @@ bool ends_with(const std::string& s, const std::string& end) {
     return s.size() >= end.size() && s.compare(s.size() - end.size(), end.size(), end) == 0;
 }
 
+// `text` from a catalog (an id, an href, a path or URL, a type) as put in a line: cut.
+std::string shown(const std::string& text) { return display_excerpt(text); }
+
 struct Walk {
     const CatalogLimits& limits;
     Catalog out;
@@ -48,8 +53,23 @@ struct Walk {
     bool full = false;  // a limit was reached: nothing more is read
 
     void error(const std::string& document, const std::string& what) {
-        out.errors.push_back(io::display_path(document) + ": " + what);
+        out.errors.push_back(shown(io::display_path(document)) + ": " + what);
     }
+};
+
+// What one document's streamed arrays ("features", "links") gave, used once the whole document is
+// read and its type known: items (appended to the catalog's as they come) are kept only from an
+// ItemCollection read to its end (or to the item limit), links followed only where its type
+// follows them.
+struct Streamed {
+    struct Link {
+        std::string rel;    // "" when the link's rel could not be read
+        std::string href;   // "" when it has none that can be followed
+        std::string error;  // why it cannot be followed ("" when it can)
+    };
+    std::size_t first_item = 0;            // where its items start in the catalog's
+    std::vector<std::string> item_errors;  // lines about its items
+    std::vector<Link> links;               // the links whose rel is followed somewhere, and broken ones
 };
 
 // Whether `s` starts with a URI scheme ("file:", "s3:"; a Windows drive letter is not one).
@@ -72,20 +92,20 @@ std::optional<std::string> resolve(const std::string& document, const std::strin
     if (!net::is_url(document)) {
         if (href.rfind("file://", 0) == 0) return href.substr(7);  // a local catalog's file URI
         if (other_scheme) {
-            refusal = "\"" + href + "\" is neither a path nor an http(s) URL";
+            refusal = "\"" + shown(href) + "\" is neither a path nor an http(s) URL";
             return std::nullopt;
         }
         if (net::is_url(href) || fs::path(href).is_absolute()) return href;
         return (fs::path(document).parent_path() / href).lexically_normal().string();
     }
     if (other_scheme) {
-        refusal = "\"" + href + "\" refused: a remote catalog names http(s) URLs only";
+        refusal = "\"" + shown(href) + "\" refused: a remote catalog names http(s) URLs only";
         return std::nullopt;
     }
     std::string url = net::resolve_url(document, href);
     refusal = net::derived_url_refusal(document, url);
     if (!refusal.empty()) {
-        refusal = io::display_path(url) + " refused: " + refusal;
+        refusal = shown(io::display_path(url)) + " refused: " + display_excerpt(refusal, 3 * kExcerptBytes);
         return std::nullopt;
     }
     return url;
@@ -96,7 +116,7 @@ void follow(const std::string& document, int depth, const std::string& href, Wal
     const auto target = resolve(document, href, refusal);
     if (!target) return w.error(document, "link not followed: " + refusal);
     if (depth + 1 > kMaxDepth) {
-        return w.error(document, "link " + io::display_path(*target) + " not followed: more than " +
+        return w.error(document, "link " + shown(io::display_path(*target)) + " not followed: more than " +
                                      std::to_string(kMaxDepth) + " links deep");
     }
     if (w.seen.insert(*target).second) w.queue.emplace_back(*target, depth + 1);
@@ -118,115 +138,194 @@ const json* data_asset(const json& assets) {
     return nullptr;
 }
 
+// A line about a field read through a typed accessor: "ITEM: CAUSE"; false when it threw.
+template <typename Read>
+bool field(const std::string& name, std::vector<std::string>& lines, Read&& read) {
+    try {
+        read();
+        return true;
+    } catch (const Error& e) {
+        lines.push_back(name + ": " + e.cause());
+        return false;
+    }
+}
+
+std::optional<std::array<double, 6>> bbox_of(const json& b) {
+    const bool numbers = b.is_array() && (b.size() == 4 || b.size() == 6) &&
+                         std::all_of(b.begin(), b.end(), [](const json& v) {
+                             return v.is_number() && std::isfinite(v.get<double>());
+                         });
+    if (!numbers) return std::nullopt;
+    const std::size_t half = b.size() / 2;
+    std::array<double, 6> box{};
+    box[2] = box[5] = std::nan("");
+    for (std::size_t k = 0; k < half; ++k) box[k] = b[k].get<double>(), box[3 + k] = b[half + k].get<double>();
+    if (!(box[0] <= box[3] && box[1] <= box[4])) return std::nullopt;
+    return box;
+}
+
 // The item's pc:count, proj:bbox and CRS; a field of the wrong kind gets a line (the tile is read anyway).
-void read_properties(const json& props, const std::string& document, const std::string& name, CatalogItem& item,
-                     Walk& w) {
-    if (const auto c = props.find("pc:count"); c != props.end() && !c->is_null()) {
-        if (c->is_number_unsigned() || (c->is_number_integer() && c->get<std::int64_t>() >= 0)) {
-            item.count = c->get<std::uint64_t>();
-        } else {
-            w.error(document, name + ": pc:count is not a count of points (" + c->dump() + ")");
-        }
+void read_properties(const json& props, const std::string& name, CatalogItem& item, std::vector<std::string>& lines) {
+    field(name, lines, [&] { item.count = json_optional_count(props, "pc:count"); });
+    if (const json* b = json_field(props, "proj:bbox")) {
+        item.bbox = bbox_of(*b);
+        if (!item.bbox) lines.push_back(name + ": proj:bbox is not 4 or 6 numbers, mins before maxes");
     }
-    if (const auto b = props.find("proj:bbox"); b != props.end() && !b->is_null()) {
-        const bool numbers = b->is_array() && (b->size() == 4 || b->size() == 6) &&
-                             std::all_of(b->begin(), b->end(), [](const json& v) {
-                                 return v.is_number() && std::isfinite(v.get<double>());
-                             });
-        if (numbers) {
-            const std::size_t half = b->size() / 2;
-            std::array<double, 6> box{};
-            box[2] = box[5] = std::nan("");
-            for (std::size_t k = 0; k < half; ++k) box[k] = (*b)[k], box[3 + k] = (*b)[half + k];
-            if (box[0] <= box[3] && box[1] <= box[4]) item.bbox = box;
-        }
-        if (!item.bbox) w.error(document, name + ": proj:bbox is not 4 or 6 numbers, mins before maxes");
-    }
-    if (const auto e = props.find("proj:epsg"); e != props.end() && e->is_number_integer() && *e > 0) {
-        item.crs = "EPSG:" + std::to_string(e->get<std::int64_t>());
-    } else if (const auto wkt = props.find("proj:wkt2"); wkt != props.end() && wkt->is_string() &&
-                                                         !wkt->get<std::string>().empty()) {
+    const json* epsg = json_field(props, "proj:epsg");
+    const json* wkt = json_field(props, "proj:wkt2");
+    const json* projjson = json_field(props, "proj:projjson");
+    if (epsg && epsg->is_number_integer() && epsg->get<std::int64_t>() > 0) {
+        item.crs = "EPSG:" + std::to_string(epsg->get<std::int64_t>());
+    } else if (wkt && wkt->is_string() && !wkt->get_ref<const std::string&>().empty()) {
         item.crs = wkt->get<std::string>();
-    } else if (const auto pj = props.find("proj:projjson"); pj != props.end() && pj->is_object()) {
-        item.crs = pj->dump();
+    } else if (projjson && projjson->is_object()) {
+        item.crs = projjson->dump(-1, ' ', false, json::error_handler_t::replace);
     }
 }
 
-void add_item(const json& feature, const std::string& document, std::size_t index, Walk& w) {
-    if (w.out.items.size() >= w.limits.max_items) {
-        w.full = true;
-        return w.error(document, "more than " + std::to_string(w.limits.max_items) + " items: the rest is not read");
-    }
+// Adds `what` to `lines`: where something is not an item, `return refuse(lines, why)`.
+std::nullopt_t refuse(std::vector<std::string>& lines, std::string what) {
+    lines.push_back(std::move(what));
+    return std::nullopt;
+}
+
+// The item `feature` (the index-th of its document), or nullopt with a line saying why it is not one.
+std::optional<CatalogItem> item_of(const json& feature, const std::string& document, std::size_t index,
+                                   std::vector<std::string>& lines) {
+    std::string name = "item #" + std::to_string(index + 1);
+    if (!feature.is_object()) return refuse(lines, name + " is not a STAC item");
     CatalogItem item;
-    item.document = io::display_path(document);
-    if (!feature.is_object()) return w.error(document, "item #" + std::to_string(index + 1) + " is not a STAC item");
-    if (const auto id = feature.find("id"); id != feature.end() && id->is_string()) item.id = *id;
-    const std::string name = "item " + (item.id.empty() ? "#" + std::to_string(index + 1) : "'" + item.id + "'");
-    if (feature.value("type", json()) != "Feature") return w.error(document, name + " is not a STAC item (a Feature)");
-    const auto assets = feature.find("assets");
-    const json* asset = assets != feature.end() && assets->is_object() ? data_asset(*assets) : nullptr;
-    const auto href = asset ? asset->find("href") : json::const_iterator{};
-    if (!asset || href == asset->end() || !href->is_string()) {
-        return w.error(document, name + " has no data asset href");
-    }
+    item.document = shown(io::display_path(document));
+    field(name, lines, [&] { item.id = json_optional_string(feature, "id").value_or(""); });
+    if (!item.id.empty()) name = "item '" + shown(item.id) + "'";
+    std::optional<std::string> type;
+    if (!field(name, lines, [&] { type = json_optional_string(feature, "type"); })) return std::nullopt;
+    if (type != "Feature") return refuse(lines, name + " is not a STAC item (a Feature)");
+    const json* assets = nullptr;
+    if (!field(name, lines, [&] { assets = json_optional_object(feature, "assets"); })) return std::nullopt;
+    const json* asset = assets ? data_asset(*assets) : nullptr;
+    std::optional<std::string> href;
+    if (asset && !field(name, lines, [&] { href = json_optional_string(*asset, "href"); })) return std::nullopt;
+    if (!href) return refuse(lines, name + " has no data asset href");
     std::string refusal;
-    const auto resolved = resolve(document, href->get<std::string>(), refusal);
-    if (!resolved) return w.error(document, name + ": " + refusal);
+    const auto resolved = resolve(document, *href, refusal);
+    if (!resolved) return refuse(lines, name + ": " + refusal);
     item.href = *resolved;
-    if (const auto props = feature.find("properties"); props != feature.end() && props->is_object()) {
-        read_properties(*props, document, name, item, w);
-    }
-    w.out.items.push_back(std::move(item));
+    const json* props = nullptr;
+    field(name, lines, [&] { props = json_optional_object(feature, "properties"); });
+    if (props) read_properties(*props, name, item, lines);
+    return item;
 }
 
-// Follows the links of `doc` whose rel is one of `rels`.
-void follow_links(const json& doc, const std::string& document, int depth, std::initializer_list<const char*> rels,
+bool followed_somewhere(const std::string& rel) { return rel == "next" || rel == "child" || rel == "item"; }
+
+void take_link(const json& link, std::size_t index, Streamed& s) {
+    if (!link.is_object()) return;
+    std::optional<std::string> rel, href;
+    try {
+        rel = json_optional_string(link, "rel");
+    } catch (const Error& e) {
+        return s.links.push_back({"", "", "link #" + std::to_string(index + 1) + ": " + e.cause()});
+    }
+    if (!rel || !followed_somewhere(*rel)) return;
+    try {
+        href = json_optional_string(link, "href");
+    } catch (const Error&) {
+    }
+    if (!href) return s.links.push_back({*rel, "", "a '" + *rel + "' link without an href"});
+    s.links.push_back({*rel, std::move(*href), ""});
+}
+
+// Whether the catalog holds its limit of items already: then nothing more is read, and a line says so.
+bool at_item_limit(const std::string& document, Walk& w) {
+    if (w.out.items.size() < w.limits.max_items) return false;
+    w.full = true;
+    w.error(document, "more than " + std::to_string(w.limits.max_items) + " items: the rest is not read");
+    return true;
+}
+
+// Takes one element of the document's "features" or "links"; false when the item limit is reached.
+bool take_element(const std::string& key, std::size_t index, const json& element, const std::string& document,
+                  Streamed& s, Walk& w) {
+    if (key == "links") return take_link(element, index, s), true;
+    if (at_item_limit(document, w)) return false;
+    if (auto item = item_of(element, document, index, s.item_errors)) w.out.items.push_back(std::move(*item));
+    return true;
+}
+
+// Follows the links whose rel is one of `rels` (a line for each broken link that could be one).
+void follow_links(const Streamed& s, const std::string& document, int depth, std::initializer_list<const char*> rels,
                   Walk& w) {
-    const auto links = doc.find("links");
-    if (links == doc.end() || !links->is_array()) return;
-    for (const auto& link : *links) {
-        if (!link.is_object()) continue;
-        const std::string rel = link.value("rel", "");
-        if (std::none_of(rels.begin(), rels.end(), [&](const char* r) { return rel == r; })) continue;
-        const auto href = link.find("href");
-        if (href == link.end() || !href->is_string()) {
-            w.error(document, "a '" + rel + "' link without an href");
-            continue;
+    for (const auto& link : s.links) {
+        const bool wanted = std::any_of(rels.begin(), rels.end(), [&](const char* r) { return link.rel == r; });
+        if (!link.rel.empty() && !wanted) continue;
+        if (!link.error.empty()) {
+            w.error(document, link.error);
+        } else if (!w.full) {
+            follow(document, depth, link.href, w);
         }
-        follow(document, depth, *href, w);
     }
 }
 
-void read_document(const std::string& document, int depth, Walk& w) {
-    json doc;
+// The document's JSON, its "features" and "links" streamed into `s`; nullopt when it could not be read.
+std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk& w) {
+    JsonLimits limits;
+    limits.max_bytes = w.limits.max_document_bytes;
+    limits.kept = limits.element = {200'000, 32u << 20};
+    const JsonStreaming streaming{{"features", "links"}, [&](const std::string& key, std::size_t i, json&& element) {
+                                      return take_element(key, i, element, document, s, w);
+                                  }};
     try {
         const io::File file = io::File::open(document);
         if (w.bytes + file.size() > w.limits.max_bytes) {
             w.full = true;
-            return w.error(document, "the catalog's documents pass " + std::to_string(w.limits.max_bytes >> 20) +
-                                         " MiB together: it and the rest are not read");
+            w.error(document, "the catalog's documents pass " + std::to_string(w.limits.max_bytes >> 20) +
+                                  " MiB together: it and the rest are not read");
+            return std::nullopt;
         }
         w.bytes += file.size();
-        doc = read_json_object(file, w.limits.max_document_bytes);
+        return read_json_object(file, limits, &streaming);
     } catch (const Error& e) {
-        w.out.errors.push_back(e.file().empty() ? io::display_path(document) + ": " + e.what() : e.what());
-        return;
+        w.out.errors.push_back(e.file().empty() ? shown(io::display_path(document)) + ": " + e.what() : e.what());
+        return std::nullopt;
     }
+}
+
+void read_document(const std::string& document, int depth, Walk& w) {
+    Streamed s{w.out.items.size(), {}, {}};
+    const bool was_full = w.full;
+    const auto doc = read_streamed(document, s, w);
+    std::optional<std::string> type;
+    std::string type_error;
+    try {
+        if (doc) type = json_optional_string(*doc, "type");
+    } catch (const Error& e) {
+        type_error = e.cause();
+    }
+    // Its items are kept from an ItemCollection read whole (or to the item limit, which may leave a
+    // "type" written after them unread).
+    const bool collection =
+        doc && type_error.empty() && (type == "FeatureCollection" || (!type && w.full && !was_full));
+    const json* features = collection ? json_field(*doc, "features") : nullptr;
+    if (!features || !features->is_array()) w.out.items.resize(s.first_item);
+    if (!doc) return;
     ++w.out.documents;
-    const std::string type = doc.value("type", json("")).is_string() ? doc.value("type", "") : "";
-    if (type == "FeatureCollection") {
-        const auto features = doc.find("features");
-        if (features == doc.end() || !features->is_array()) {
-            return w.error(document, "an ItemCollection without features");
-        }
-        for (std::size_t i = 0; i < features->size() && !w.full; ++i) add_item((*features)[i], document, i, w);
-        follow_links(doc, document, depth, {"next"}, w);  // a STAC API search's further pages
+    if (!type_error.empty()) {
+        w.error(document, "not a STAC catalog: " + type_error);
+    } else if (collection) {
+        if (!features || !features->is_array()) return w.error(document, "an ItemCollection without features");
+        for (const auto& line : s.item_errors) w.error(document, line);
+        follow_links(s, document, depth, {"next"}, w);  // a STAC API search's further pages
     } else if (type == "Feature") {
-        add_item(doc, document, 0, w);
+        if (at_item_limit(document, w)) return;
+        std::vector<std::string> lines;
+        if (auto item = item_of(*doc, document, 0, lines)) w.out.items.push_back(std::move(*item));
+        for (const auto& line : lines) w.error(document, line);
     } else if (type == "Catalog" || type == "Collection") {
-        follow_links(doc, document, depth, {"child", "item"}, w);
+        follow_links(s, document, depth, {"child", "item"}, w);
     } else {
-        w.error(document, "not a STAC catalog, collection, item or item collection (its type is '" + type + "')");
+        w.error(document, "not a STAC catalog, collection, item or item collection (its type is '" +
+                              shown(type.value_or("")) + "')");
     }
 }
 

@@ -9,8 +9,12 @@
 //
 // Bounded and honest: documents are read once each (a cycle of links costs nothing more), links
 // followed at most kMaxDepth deep, and the documents, bytes and items are bounded (CatalogLimits,
-// named in the error when passed). A malformed item, field or link gets one line naming the
-// document and the item; the rest is read.
+// named in the error when passed). Each document goes through the bounded JSON reader
+// (core/json_reader.hpp): its "features" and "links" are streamed, an item at a time, so that
+// memory holds the items kept and one item being read, whatever the document's size; a document
+// nested too deep, or holding a string too long, is one line. A malformed item, field or link (a
+// field of the wrong kind too) gets one line naming the document and the item; the rest is read.
+// Text from the catalog put in a line (ids, hrefs, types) is cut to a couple of hundred characters.
 #pragma once
 
 #include <array>
@@ -24,7 +28,7 @@ namespace lidarscout::dataset {
 struct CatalogItem {
     std::string href;                          // the tile: a path or URL, resolved
     std::string id;                            // the item's id ("" when it has none)
-    std::string document;                      // the catalog document that holds it
+    std::string document;                      // the catalog document that holds it, as shown (cut)
     std::optional<std::uint64_t> count;        // pc:count
     std::optional<std::array<double, 6>> bbox; // proj:bbox: min x, y, z, max x, y, z (z NaN when 2D), CRS units
     std::string crs;                           // "EPSG:n", WKT2 or PROJJSON text; "" when the item gives none

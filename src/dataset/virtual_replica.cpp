@@ -1,4 +1,5 @@
-// Reading virtual replica manifests and shifting a tile's header.
+// Reading virtual replica manifests (through the bounded JSON reader, each field by its kind) and
+// shifting a tile's header.
 #include "dataset/virtual_replica.hpp"
 
 #include <nlohmann/json.hpp>
@@ -8,6 +9,9 @@
 #include <fstream>
 
 #include "core/error.hpp"
+#include "core/json_reader.hpp"
+#include "dataset/json_file.hpp"
+#include "io/file.hpp"
 
 namespace lidarscout::dataset {
 namespace {
@@ -17,28 +21,31 @@ using nlohmann::json;
 
 constexpr std::size_t kSniffBytes = 4096;
 
-// The manifest's JSON; throws Error naming it.
+// The manifest's JSON, read by the bounded reader; throws Error naming it.
 json parse_manifest(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw Error(path, std::nullopt, "cannot read the virtual replica manifest");
+    JsonLimits limits;
+    limits.max_bytes = 256ull << 20;
+    limits.kept = {4'000'000, 64ull << 20};
     try {
-        return json::parse(in);
-    } catch (const json::exception& e) {
-        throw Error(path, std::nullopt, std::string("not a valid virtual replica manifest: ") + e.what());
+        return read_json_object(io::File::open(path), limits);
+    } catch (const Error& e) {
+        throw Error(path, e.offset(), "not a valid virtual replica manifest: " + e.cause());
     }
 }
 
-const json& field(const json& object, const char* name, const std::string& path) {
-    if (!object.is_object() || !object.contains(name)) {
-        throw Error(path, std::nullopt, std::string("virtual replica manifest: missing \"") + name + "\"");
-    }
-    return object.at(name);
+ShiftedSource tile_of(const json& t, const std::vector<std::string>& sources) {
+    const auto index = json_optional_count(t, "source");
+    const json& shift = json_array(t, "shift");
+    if (!index || *index >= sources.size() || shift.size() != 2) throw Error("a tile's source or shift is invalid");
+    return {sources[*index], {json_finite(shift[0], "a shift"), json_finite(shift[1], "a shift")},
+            json_optional_string(t, "file").value_or("")};
 }
 
 }  // namespace
 
 bool is_virtual_replica(const std::string& path) {
-    if (fs::path(path).extension() != ".json") return false;
+    std::error_code ec;
+    if (fs::path(path).extension() != ".json" || !fs::is_regular_file(path, ec)) return false;  // (a FIFO hangs)
     std::ifstream in(path);
     std::string head(kSniffBytes, '\0');
     in.read(head.data(), static_cast<std::streamsize>(head.size()));
@@ -49,26 +56,17 @@ bool is_virtual_replica(const std::string& path) {
 
 std::vector<ShiftedSource> read_virtual_replica(const std::string& path) {
     const json m = parse_manifest(path);
-    if (!m.value("virtual", false)) throw Error(path, std::nullopt, "not a virtual replica (no \"virtual\": true)");
-    std::vector<std::string> sources;
     try {
-        for (const auto& s : field(m, "sources", path)) sources.push_back(field(s, "path", path).get<std::string>());
-        std::vector<ShiftedSource> out;
-        for (const auto& t : field(m, "tiles", path)) {
-            const auto index = field(t, "source", path).get<std::size_t>();
-            const auto& shift = field(t, "shift", path);
-            if (index >= sources.size() || !shift.is_array() || shift.size() != 2) {
-                throw Error(path, std::nullopt, "virtual replica manifest: a tile's source or shift is invalid");
-            }
-            ShiftedSource s{sources[index], {shift[0].get<double>(), shift[1].get<double>()}, t.value("file", "")};
-            if (!std::isfinite(s.shift[0]) || !std::isfinite(s.shift[1])) {
-                throw Error(path, std::nullopt, "virtual replica manifest: a shift is not finite");
-            }
-            out.push_back(std::move(s));
+        if (!json_optional_bool(m, "virtual").value_or(false)) {
+            throw Error("not a virtual replica (no \"virtual\": true)");
         }
+        std::vector<std::string> sources;
+        for (const auto& s : json_array(m, "sources")) sources.push_back(json_string(s, "path"));
+        std::vector<ShiftedSource> out;
+        for (const auto& t : json_array(m, "tiles")) out.push_back(tile_of(t, sources));
         return out;
-    } catch (const json::exception& e) {
-        throw Error(path, std::nullopt, std::string("virtual replica manifest: ") + e.what());
+    } catch (const Error& e) {
+        throw Error(path, std::nullopt, "virtual replica manifest: " + e.cause());
     }
 }
 

@@ -37,7 +37,7 @@ struct ReadRequest {
 // the file system has it) or a remote file (path an http(s) URL).
 class ReadTarget {
 public:
-    // Throws lidarscout::Error when the path cannot be opened.
+    // Throws lidarscout::Error when the path cannot be opened or is not a regular file.
     static ReadTarget open(const std::string& path, bool direct);
 
     ReadTarget() = default;

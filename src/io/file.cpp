@@ -1,4 +1,4 @@
-// io::File: POSIX for local files (open O_RDONLY, fstat, pread loop), range requests for URLs.
+// io::File: POSIX for local files (open O_RDONLY, regular files only, fstat, pread loop), range requests for URLs.
 #include "io/file.hpp"
 
 #include <fcntl.h>
@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/regular_file.hpp"
 #include "net/remote_file.hpp"
 #include "net/url.hpp"
 
@@ -35,11 +36,10 @@ File File::open(const std::string& path) {
     if (net::is_url(path)) return open_remote(path);
     File f;
     f.path_ = path;
-    f.fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    f.fd_ = open_regular_file(path);  // a FIFO, device or folder refused before a read could hang
     if (f.fd_ < 0) throw Error(path, std::nullopt, std::string("cannot open: ") + std::strerror(errno));
     struct stat st {};
     if (::fstat(f.fd_, &st) != 0) throw Error(path, std::nullopt, std::string("cannot stat: ") + std::strerror(errno));
-    if (S_ISDIR(st.st_mode)) throw Error(path, std::nullopt, "is a directory");
     f.size_ = static_cast<std::uint64_t>(st.st_size);
     f.head_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(f.size_, kCachedEdge)));
     f.head_.resize(f.read_uncached(0, f.head_));

@@ -27,7 +27,9 @@ std::string display_path(const std::string& path);
 
 class File {
 public:
-    // Opens `path` (a file or an http(s) URL) read-only; throws lidarscout::Error if it cannot.
+    // Opens `path` (a file or an http(s) URL) read-only; throws lidarscout::Error if it cannot, or
+    // when a local path is not a regular file (a FIFO, device, socket or folder: refused before any
+    // read could wait forever, core/regular_file.hpp).
     static File open(const std::string& path);
     // Starts opening the remote files among `paths` together (many requests in flight) and
     // returns at once; the open() calls that follow wait only for their own file. Local paths

@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "io/file.hpp"
 #include "io/output_check.hpp"
+#include "io/output_group.hpp"
 #include "io/temporary_files.hpp"
 
 namespace lidarscout::io {
@@ -26,7 +27,10 @@ AtomicOutputFile::AtomicOutputFile(std::string target, const std::string& protec
     refuse_protected_input(target_);
     const auto dir = fs::path(target_).parent_path();
     const auto name = fs::path(target_).filename().string();
-    temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()))).string();
+    // ".out.gpkg.tmp-PID.gpkg": hidden, and ending in the target's extension, which writers that write by
+    // name check (GDAL's GeoPackage driver warns on any other).
+    const std::string ext = fs::path(target_).extension().string();
+    temp_ = ((dir.empty() ? fs::path(".") : dir) / ("." + name + ".tmp-" + std::to_string(::getpid()) + ext)).string();
     guard_ = std::make_unique<TemporaryFileGuard>(temp_);
     fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
     if (fd_ < 0) {
@@ -93,10 +97,20 @@ void AtomicOutputFile::copy_from(const File& source, std::uint64_t offset, std::
     }
 }
 
-void AtomicOutputFile::commit() {
+void AtomicOutputFile::sync_and_close() {
     if (::fsync(fd_) != 0) throw Error(target_, std::nullopt, std::string("fsync failed: ") + std::strerror(errno));
     ::close(fd_);
     fd_ = -1;
+}
+
+void AtomicOutputFile::commit(OutputGroup& group) {
+    sync_and_close();
+    group.add(temp_, target_);
+    committed_ = true;  // the group removes it now, unless it renames it
+}
+
+void AtomicOutputFile::commit() {
+    sync_and_close();
     if (std::rename(temp_.c_str(), target_.c_str()) != 0) {
         throw Error(target_, std::nullopt, std::string("cannot rename the temporary file: ") + std::strerror(errno));
     }

@@ -1,7 +1,8 @@
 // A file that appears under its final name only when complete: data goes to a temporary
 // file beside the target, which commit() renames over the target. Without commit() (an
 // error, an interrupted run: see temporary_files.hpp for Ctrl-C) the temporary file is removed
-// and the target never sees a half-written file.
+// and the target never sees a half-written file. A file of a set that must appear together is
+// handed to an OutputGroup instead (commit(group)), which renames the set at the end.
 #pragma once
 
 #include <cstdint>
@@ -12,6 +13,7 @@
 namespace lidarscout::io {
 
 class File;
+class OutputGroup;
 class TemporaryFileGuard;
 
 class AtomicOutputFile {
@@ -32,13 +34,17 @@ public:
     std::uint64_t size() const noexcept { return size_; }
     const std::string& target() const noexcept { return target_; }
     // The temporary file's name, for writers that write by name (GDAL): what they write there
-    // is what commit() renames.
+    // is what commit() renames. It ends in the target's extension (".x.gpkg.tmp-PID.gpkg").
     const std::string& temp_path() const noexcept { return temp_; }
 
     // Flushes, syncs and renames the temporary file to the target.
     void commit();
+    // Flushes and syncs it and hands it to `group`, whose commit() renames it with the others.
+    void commit(OutputGroup& group);
 
 private:
+    void sync_and_close();
+
     std::string target_;
     std::string temp_;
     std::unique_ptr<TemporaryFileGuard> guard_;  // removes temp_ if a signal ends the process

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/regular_file.hpp"
 #include "io/batch_reader.hpp"
 #include "net/remote_file.hpp"
 #include "net/url.hpp"
@@ -15,13 +16,13 @@ namespace lidarscout::io {
 
 namespace {
 
+// (regular files only: core/regular_file.hpp)
 int open_descriptor(const std::string& path, bool direct) {
-    const int flags = O_RDONLY | O_CLOEXEC;
     if (direct) {
-        const int fd = ::open(path.c_str(), flags | O_DIRECT);
+        const int fd = open_regular_file(path, O_DIRECT);
         if (fd >= 0 || errno != EINVAL) return fd;  // EINVAL: the file system has no O_DIRECT
     }
-    return ::open(path.c_str(), flags);
+    return open_regular_file(path);
 }
 
 }  // namespace

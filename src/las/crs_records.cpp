@@ -6,15 +6,22 @@
 
 namespace lidarscout::las {
 
-bool is_crs_record(const Vlr& v) {
-    return v.user_id == "LASF_Projection" && ((v.record_id >= 34735 && v.record_id <= 34737) || v.record_id == 2111 ||
-                                              v.record_id == 2112);
+CrsForm crs_record_form(const Vlr& v) {
+    if (v.user_id == "liblas" && v.record_id == 2112) return CrsForm::LiblasWkt;
+    if (v.user_id != "LASF_Projection") return CrsForm::None;
+    if (v.record_id >= 34735 && v.record_id <= 34737) return CrsForm::GeoTiff;
+    if (v.record_id == 2111 || v.record_id == 2112) return CrsForm::Wkt;
+    return CrsForm::None;
 }
 
-Vlr geotiff_epsg_vlr(int epsg, int vertical_epsg) {
-    // Header (version 1, revision 1.0, key count), then GTModelType = projected, ProjectedCSType = epsg
-    // and VerticalCSType = vertical_epsg: each key id, location 0 (the value is inline), count 1, value.
-    std::vector<std::uint16_t> keys = {1, 1, 0, 2, 1024, 0, 1, 1, 3072, 0, 1, static_cast<std::uint16_t>(epsg)};
+bool is_crs_record(const Vlr& v) { return crs_record_form(v) != CrsForm::None; }
+
+Vlr geotiff_epsg_vlr(int epsg, int vertical_epsg, bool geographic) {
+    // Header (version 1, revision 1.0, key count), then GTModelType = projected (1) or geographic (2),
+    // ProjectedCSType or GeographicType = epsg and VerticalCSType = vertical_epsg: each key id,
+    // location 0 (the value is inline), count 1, value; in the order of their ids.
+    const std::uint16_t model = geographic ? 2 : 1, type_key = geographic ? 2048 : 3072;
+    std::vector<std::uint16_t> keys = {1, 1, 0, 2, 1024, 0, 1, model, type_key, 0, 1, static_cast<std::uint16_t>(epsg)};
     if (vertical_epsg) {
         keys[3] = 3;
         for (const int k : {4096, 0, 1, vertical_epsg}) keys.push_back(static_cast<std::uint16_t>(k));

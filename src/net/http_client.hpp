@@ -6,9 +6,10 @@
 //
 // Every response is validated: status 206, a Content-Range equal to what was asked (a range
 // may only be shortened at the end of the file), exactly the bytes asked, and the same ETag
-// (or Last-Modified) as the one the caller pinned. A server that ignores Range (status 200)
-// is an error, and its body is not downloaded; neither is any response larger than asked. The
-// body of an error status is read (up to 16 KiB) for the cause it names (an S3 error code).
+// (or Last-Modified) and file size (Content-Range's total) as the caller pinned. A server that
+// ignores Range (status 200) is an error, and its body is not downloaded; neither is any
+// response larger than asked. The body of an error status is read (up to 16 KiB) for the cause
+// it names (an S3 error code), every text of it shown cut and redacted (net/server_text.hpp).
 // A 206 is accepted on its Content-Range alone (no Accept-Ranges header is required).
 // Time-outs, dropped connections, 429 and 5xx are retried with exponential backoff; a cut
 // single-range body resumes where it stopped. TLS peers are verified against the system CA
@@ -56,8 +57,14 @@ struct RangeRequest {
     std::string url;                 // the file's name (shown redacted, the cache's key); may carry credentials
     std::vector<ByteRange> ranges;   // at least one
     std::string validator;           // ETag or Last-Modified that responses must carry ("" = any)
+    // The file's size that responses' Content-Range must give (pinned by the first response): a
+    // server that sends no validator still cannot switch files unnoticed. Nothing: any.
+    std::optional<std::uint64_t> total;
     std::string target;              // the http(s) URL asked ("" = url): an s3:// file's, a redirect's end
     RequestSigning signing;
+    // The target's path is sent exactly as built (an S3 key's, normalised by net/url.hpp), never
+    // tidied by libcurl (CURLOPT_PATH_AS_IS).
+    bool path_as_is = false;
     // A plain GET of a whole (small) response, status 200 and no Range: ranges holds one range
     // {0, the most bytes accepted}, and parts[0] the body (an S3 listing).
     bool whole = false;

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/text.hpp"
 #include "net/origin_policy.hpp"
+#include "net/server_text.hpp"
 #include "net/url.hpp"
 #include "net/xml_text.hpp"
 
@@ -114,6 +115,7 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     easy_ = curl_easy_init();
     const std::string scheme = url_scheme(job_->request.asked());
     curl_easy_setopt(easy_, CURLOPT_URL, job_->request.asked().c_str());
+    if (job_->request.path_as_is) curl_easy_setopt(easy_, CURLOPT_PATH_AS_IS, 1L);
     set_signing();
     curl_easy_setopt(easy_, CURLOPT_HTTPHEADER, headers_);
     curl_easy_setopt(easy_, CURLOPT_PROTOCOLS_STR, "http,https");
@@ -220,9 +222,9 @@ bool HttpTransfer::check_redirect() {
     const std::string& asked = job_->request.asked();
     const std::string target = resolve_url(current ? current : asked, location_);
     if (url_scheme(target) != url_scheme(asked)) {
-        message_ = "a redirect to another scheme is refused (to " + redact_url(target) + ")";
+        message_ = "a redirect to another scheme is refused (to " + server_text(redact_url(target)) + ")";
     } else if (const std::string refusal = derived_url_refusal(asked, target); !refusal.empty()) {
-        message_ = "a redirect to " + redact_url(target) + " is refused: " + refusal;
+        message_ = "a redirect to " + server_text(redact_url(target)) + " is refused: " + server_text(refusal);
     } else {
         return true;
     }
@@ -241,7 +243,9 @@ std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, v
     if (t->status_ >= 300) return t->keep_error_body(data, bytes);
     if (t->body_.size() - t->attempt_start_ + bytes > t->body_limit()) {
         t->abort_ = TransferOutcome::Fail;
-        t->message_ = "the server sent more bytes than were asked for";
+        t->message_ = t->job_->request.whole
+                          ? "the response is larger than the " + std::to_string(t->body_limit()) + " bytes accepted"
+                          : std::string("the server sent more bytes than were asked for");
         return 0;
     }
     t->body_.insert(t->body_.end(), data, data + bytes);
@@ -259,18 +263,18 @@ std::size_t HttpTransfer::keep_error_body(const char* data, std::size_t bytes) {
     return bytes;
 }
 
-// "HTTP status 403", with the error code and message of an XML error body (S3's).
+// "HTTP status 403", with the error code and message of an XML error body (S3's), each cut and
+// redacted (net/server_text.hpp).
 std::string HttpTransfer::status_message() const {
     std::string message = "HTTP status " + std::to_string(status_);
     const std::string code = xml_text(error_body_, "Code");
     if (code.empty()) return message;
-    std::string text = xml_text(error_body_, "Message");
-    if (text.size() > 200) text = text.substr(0, 200) + "...";
-    message += ", error " + code + (text.empty() ? "" : " (" + text + ")");
+    const std::string text = xml_text(error_body_, "Message");
+    message += ", error " + server_text(code) + (text.empty() ? "" : " (" + server_text(text) + ")");
     // (S3 names the bucket's region or endpoint when the request went to the wrong one)
     for (const char* tag : {"Region", "Endpoint"}) {
         const std::string value = xml_text(error_body_, tag);
-        if (!value.empty() && value.size() < 200) message += std::string(", ") + tag + " " + value;
+        if (!value.empty()) message += std::string(", ") + tag + " " + server_text(value);
     }
     return message;
 }
@@ -310,10 +314,11 @@ bool HttpTransfer::check_single_range_start() {
     const auto got = parse_content_range(content_range_);
     if (!got || !answers(*got, asked_now())) {
         abort_ = TransferOutcome::Fail;
-        message_ = "the server answered bytes \"" + content_range_ + "\" to a request for " + describe(asked_now());
+        message_ = "the server answered bytes \"" + server_text(content_range_) + "\" to a request for " +
+                   describe(asked_now());
         return false;
     }
-    if (!validator_matches()) {
+    if (!validator_matches() || !total_matches(*got)) {
         abort_ = TransferOutcome::Fail;
         return false;
     }
@@ -329,8 +334,18 @@ bool HttpTransfer::validator_matches() {
         return true;
     }
     if (got == pinned) return true;
-    message_ = "the file changed on the server during this session (validator " + pinned + ", now " +
-               (got.empty() ? std::string("none") : got) + ")";
+    message_ = "the file changed on the server during this session (validator " + server_text(pinned) + ", now " +
+               (got.empty() ? std::string("none") : server_text(got)) + ")";
+    return false;
+}
+
+// The file's size must stay what it was when it was opened (a server without ETag and
+// Last-Modified may switch files unnoticed otherwise). A total of "*" tells nothing.
+bool HttpTransfer::total_matches(const ContentRange& got) {
+    const auto& pinned = job_->request.total;
+    if (!pinned || !got.total || *got.total == *pinned) return true;
+    message_ = "the file changed on the server during this session (its size was " + std::to_string(*pinned) +
+               " bytes, now " + std::to_string(*got.total) + ")";
     return false;
 }
 
@@ -361,7 +376,7 @@ std::string HttpTransfer::deadline_message() const {
 }
 
 TransferOutcome HttpTransfer::judge_transport(CURLcode code) {
-    message_ = curl_error_[0] ? std::string(curl_error_) : std::string(curl_easy_strerror(code));
+    message_ = server_text(curl_error_[0] ? std::string_view(curl_error_) : curl_easy_strerror(code));
     if (code == CURLE_UNSUPPORTED_PROTOCOL && message_.find("HTTP/0.9") != std::string::npos) {
         // (libcurl then closes the connection: a retry starts on a fresh one)
         message_ = "the server's answer does not start as an HTTP response (stray bytes after an earlier "
@@ -370,7 +385,7 @@ TransferOutcome HttpTransfer::judge_transport(CURLcode code) {
     }
     if (single_body_complete()) {  // every byte of the Content-Range arrived, yet the transfer did not end
         return fail("the response ended badly (" + message_ + ") after all the bytes of its Content-Range " +
-                    content_range_ + ": its Content-Length does not match its Content-Range");
+                    server_text(content_range_) + ": its Content-Length does not match its Content-Range");
     }
     if (!retryable(code)) return TransferOutcome::Fail;
     // a cut single-range body resumes from what arrived; a cut multipart body starts again
@@ -456,6 +471,7 @@ TransferOutcome HttpTransfer::take_multipart() {
             return fail("a part of the multipart response has Content-Range bytes " +
                         describe(part.content_range.range) + ", which was not asked for");
         }
+        if (!total_matches(part.content_range)) return TransferOutcome::Fail;
         seen[it->second] = true;
         job_->reply.parts[it->second].assign(part.data.begin(), part.data.end());
         if (part.content_range.total) job_->reply.total = part.content_range.total;

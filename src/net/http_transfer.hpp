@@ -76,6 +76,7 @@ private:
     TransferOutcome take_single();
     TransferOutcome take_multipart();
     bool validator_matches();
+    bool total_matches(const ContentRange& got);
     TransferOutcome fail(std::string message);
     bool check_redirect();           // at the end of a 3xx response's headers
     bool single_body_complete() const;

@@ -5,6 +5,7 @@
 #include <mutex>
 
 #include "core/error.hpp"
+#include "net/s3_request.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::net {
@@ -59,6 +60,11 @@ std::string derived_url_refusal(std::string_view base, std::string_view derived)
     const std::string from = url_scheme(base), to = url_scheme(derived);
     if (to.empty()) return "\"" + redact_url(derived) + "\" is not an http(s) URL";
     if (from == "https" && to == "http") return "a downgrade from https to http is refused";
+    if (to == "s3") {  // (its origin is its bucket: the key must stay inside it, however spelled)
+        std::string refusal;
+        if (const auto where = parse_s3_url(derived)) normalise_s3_key(where->key, {}, refusal);
+        if (!refusal.empty()) return "its key " + refusal;
+    }
     const std::string origin = url_origin(derived);
     if (origin == url_origin(base)) return {};
     const AllowedOrigins allowed = allowed_origins();

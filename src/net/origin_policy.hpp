@@ -26,7 +26,8 @@ AllowedOrigins allowed_origins();
 
 // Why `derived` may not be read for the dataset at `base` (both http(s) or s3 URLs; an s3
 // URL's origin is its bucket), or "" when it may: another scheme or origin than base's (not
-// allowed), or http after https.
+// allowed), http after https, or an s3 key that leaves its bucket ("s3://b/../c/x", however
+// spelled: net/url.hpp's normalise_s3_key).
 std::string derived_url_refusal(std::string_view base, std::string_view derived);
 
 }  // namespace lidarscout::net

@@ -234,7 +234,9 @@ void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
 }
 
 void RemoteFile::fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const {
-    fetch_following(remote_request(url_, std::move(ranges), validator_), redirect_, std::move(done));
+    RangeRequest request = remote_request(url_, std::move(ranges), validator_);
+    request.total = size_;  // (without a validator, the only sign that the file was replaced)
+    fetch_following(std::move(request), redirect_, std::move(done));
 }
 
 }  // namespace lidarscout::net

@@ -4,8 +4,9 @@
 // as every byte crosses the network), and exact reads anywhere else.
 // Remote files are shared process-wide by URL, so a tile opened again (by the chunk-point
 // loader, the viewer, a second command in the same process) costs no request, and every
-// response for it is checked against the same validator: a file that changes on the server
-// during a session is an error, never a mix of two versions. URLs are shown without their
+// response for it is checked against the same validator and size (Content-Range's total: all a
+// server without ETag and Last-Modified tells): a file that changes on the server during a
+// session is an error, never a mix of two versions. URLs are shown without their
 // credentials (display_url). An s3:// URL is read the same way, through its http(s) URL and
 // signing (net/s3_request.hpp). Where redirects lead is kept per file: later requests go there
 // directly, and a 403 there (an expired signed URL) resolves the file's own URL again, once.

@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "net/server_text.hpp"
 
 namespace lidarscout::net {
 
@@ -118,6 +119,11 @@ Process& process() {
     return p;
 }
 
+// The credentials of `c`, for the redaction of what servers answer (net/server_text.hpp).
+void remember_credentials(const S3Config& c) {
+    for (const auto* value : {&c.access_key, &c.secret_key, &c.session_token}) remember_secret(*value);
+}
+
 }  // namespace
 
 bool S3Config::path_style(const std::string& bucket) const {
@@ -150,7 +156,10 @@ S3Config s3_config_from_environment() {
 S3Config s3_config() {
     auto& p = process();
     std::lock_guard lock(p.mutex);
-    if (!p.config) p.config = s3_config_from_environment();
+    if (!p.config) {
+        p.config = s3_config_from_environment();
+        remember_credentials(*p.config);
+    }
     S3Config c = *p.config;
     c.requester_pays = c.requester_pays || p.requester_pays;
     return c;
@@ -159,6 +168,7 @@ S3Config s3_config() {
 void set_s3_config(std::optional<S3Config> config) {
     auto& p = process();
     std::lock_guard lock(p.mutex);
+    if (config) remember_credentials(*config);
     p.config = std::move(config);
 }
 

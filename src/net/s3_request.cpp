@@ -1,11 +1,16 @@
 // s3:// URLs: their http(s) URLs, signing, requests and ListObjectsV2 listings.
 #include "net/s3_request.hpp"
 
+#include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstdio>
+#include <unordered_set>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
+#include "net/server_text.hpp"
+#include "net/url.hpp"
 #include "net/xml_text.hpp"
 
 namespace lidarscout::net {
@@ -14,8 +19,6 @@ namespace {
 
 // SHA-256 of an empty body: the payload hash of every GET (S3 wants it in x-amz-content-sha256).
 constexpr const char* kEmptyPayload = "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855";
-// The most bytes of one ListObjectsV2 page accepted (1,000 keys take about 300 KiB).
-constexpr std::uint64_t kMaxListing = 64ull << 20;
 
 // RFC 3986 percent-encoding of everything but the unreserved characters (and '/' when kept).
 std::string uri_encode(std::string_view s, bool keep_slash) {
@@ -47,28 +50,128 @@ std::string list_query(const std::string& prefix, const std::string& token, unsi
     return q;
 }
 
-struct ListPage {
-    std::vector<S3Object> objects;
-    std::string next_token;  // "" when the listing is complete
-};
-
-ListPage parse_list_page(std::string_view xml) {
-    ListPage page;
-    for (const auto contents : xml_elements(xml, "Contents")) {
-        S3Object o{xml_text(contents, "Key"), 0};
-        try {
-            o.size = std::stoull(xml_text(contents, "Size"));
-        } catch (const std::exception&) {
-            o.size = 0;
-        }
-        page.objects.push_back(std::move(o));
-    }
-    if (xml_text(xml, "IsTruncated") == "true") {
-        page.next_token = xml_text(xml, "NextContinuationToken");
-        if (page.next_token.empty()) throw Error("a truncated ListObjectsV2 page without NextContinuationToken");
-    }
-    return page;
+// Why `bucket` cannot name a bucket ("" when it can): S3's names hold letters, digits, '.', '-'
+// and (older ones) '_', and begin and end with a letter or digit, which keeps a virtual-hosted
+// URL's host the one meant and a path-style URL's first segment a bucket (never "..").
+std::string bucket_problem(const std::string& bucket) {
+    const auto alnum = [](unsigned char c) { return std::isalnum(c) != 0; };
+    const bool allowed = std::all_of(bucket.begin(), bucket.end(), [&](unsigned char c) {
+        return alnum(c) || c == '.' || c == '-' || c == '_';
+    });
+    if (allowed && alnum(bucket.front()) && alnum(bucket.back())) return {};
+    return "the bucket name \"" + server_text(bucket) + "\" is not one S3 allows";
 }
+
+// The normalised key of `where` (net/url.hpp) under `prefix`; throws Error naming `url` when
+// the bucket's name is not one or the key is refused.
+std::string checked_key(const std::string& url, const S3Location& where, std::string_view prefix) {
+    if (const std::string problem = bucket_problem(where.bucket); !problem.empty()) {
+        throw Error(url, std::nullopt, problem);
+    }
+    std::string refusal;
+    std::string key = normalise_s3_key(where.key, prefix, refusal);
+    if (!refusal.empty()) {
+        throw Error(url, std::nullopt, "the key \"" + server_text(where.key) + "\" " + refusal);
+    }
+    return key;
+}
+
+std::uint64_t size_of(std::string_view text) {
+    std::uint64_t size = 0;
+    std::from_chars(text.data(), text.data() + text.size(), size);
+    return size;
+}
+
+// One ListObjectsV2 listing, page after page, within its limits.
+class Listing {
+public:
+    Listing(const std::string& url, const S3ObjectVisitor& take, const S3ListLimits& limits)
+        : url_(url), take_(take), limits_(limits), config_(s3_config()) {
+        const auto where = parse_s3_url(url);
+        if (!where) throw Error(url, std::nullopt, "not an s3 URL (s3://bucket/prefix/)");
+        bucket_ = where->bucket;
+        prefix_ = checked_key(url, *where, {});
+        context_ = " (bucket \"" + bucket_ + "\", prefix \"" + server_text(prefix_) + "\")";
+    }
+
+    std::uint64_t run() {
+        std::string token;
+        do {
+            if (++pages_ > limits_.max_pages) fail("more than " + std::to_string(limits_.max_pages) + " pages");
+            token = read_page(fetch_page(token));
+        } while (!token.empty());
+        return listed_;
+    }
+
+private:
+    [[noreturn]] void fail(const std::string& cause) const {
+        throw Error(url_, std::nullopt, "cannot be listed: " + cause + context_);
+    }
+
+    std::vector<std::uint8_t> fetch_page(const std::string& token) const {
+        RangeRequest r{url_, {{0, limits_.max_page_bytes}}, {}};
+        r.target = s3_http_url(config_, {bucket_, ""}, list_query(prefix_, token, limits_.page_size));
+        r.signing = s3_signing(config_);
+        r.whole = true;
+        r.path_as_is = true;
+        RangeReply reply = HttpClient::shared().fetch(std::move(r));
+        if (!reply.error.empty()) fail(reply.error + " (page " + std::to_string(pages_) + ")");
+        return std::move(reply.parts.at(0));
+    }
+
+    // Takes the page's objects; returns its continuation token ("" for the last page).
+    std::string read_page(const std::vector<std::uint8_t>& body) {
+        const std::string_view xml(reinterpret_cast<const char*>(body.data()), body.size());
+        std::uint64_t keys = 0;
+        for_each_xml_element(xml, "Contents", [&](std::string_view contents) {
+            if (++keys > limits_.page_size) {
+                fail("page " + std::to_string(pages_) + " holds more than the " + std::to_string(limits_.page_size) +
+                     " keys asked for");
+            }
+            take_object(contents);
+            return true;
+        });
+        if (xml_text(xml, "IsTruncated") != "true") return {};
+        std::string token = xml_text(xml, "NextContinuationToken");
+        if (token.empty()) fail("a truncated ListObjectsV2 page without NextContinuationToken");
+        if (token.size() > limits_.max_token) {
+            fail("a continuation token of " + std::to_string(token.size()) + " bytes (at most " +
+                 std::to_string(limits_.max_token) + ")");
+        }
+        if (!tokens_.insert(token).second) {
+            fail("the server gave a continuation token it gave before (page " + std::to_string(pages_) + ")");
+        }
+        return token;
+    }
+
+    void take_object(std::string_view contents) {
+        std::string key = xml_text(contents, "Key");
+        std::string refusal;
+        std::string normalised = normalise_s3_key(key, prefix_, refusal);
+        if (!refusal.empty()) fail("the key \"" + server_text(key) + "\" " + refusal);
+        if (listed_ > 0 && key <= previous_) {
+            fail("the key \"" + server_text(key) + "\" does not come after \"" + server_text(previous_) +
+                 "\" (keys are listed once each, in order)");
+        }
+        if (++listed_ > limits_.max_keys) fail("more than " + std::to_string(limits_.max_keys) + " keys");
+        previous_ = std::move(key);
+        const std::size_t bytes = normalised.size();
+        if (!take_({std::move(normalised), size_of(xml_text(contents, "Size"))})) return;
+        kept_bytes_ += bytes;
+        if (kept_bytes_ > limits_.max_kept_bytes) {
+            fail("the keys listed take more than " + std::to_string(limits_.max_kept_bytes >> 20) + " MiB");
+        }
+    }
+
+    const std::string& url_;
+    const S3ObjectVisitor& take_;
+    const S3ListLimits& limits_;
+    const S3Config config_;
+    std::string bucket_, prefix_, context_;
+    std::string previous_;  // the last key listed, as the server wrote it
+    std::unordered_set<std::string> tokens_;
+    std::uint64_t pages_ = 0, listed_ = 0, kept_bytes_ = 0;
+};
 
 }  // namespace
 
@@ -113,13 +216,15 @@ RequestSigning s3_signing(const S3Config& config) {
 RangeRequest remote_request(const std::string& url, std::vector<ByteRange> ranges, std::string validator) {
     RangeRequest r{url, std::move(ranges), std::move(validator)};
     if (!is_s3_url(url)) return r;
-    const auto where = parse_s3_url(url);
+    auto where = parse_s3_url(url);
+    if (where) where->key = checked_key(url, *where, {});
     if (!where || where->key.empty() || where->key.back() == '/') {
         throw Error(url, std::nullopt, "an s3 URL of a file needs a bucket and a key (s3://bucket/key)");
     }
     const S3Config config = s3_config();
     r.target = s3_http_url(config, *where, {});
     r.signing = s3_signing(config);
+    r.path_as_is = true;
     return r;
 }
 
@@ -129,30 +234,13 @@ std::string s3_error_context(std::string_view url) {
     return " (bucket \"" + where->bucket + "\", key \"" + where->key + "\")";
 }
 
-std::vector<S3Object> list_s3_objects(const std::string& url, unsigned page_size) {
-    const auto where = parse_s3_url(url);
-    if (!where) throw Error(url, std::nullopt, "not an s3 URL (s3://bucket/prefix/)");
-    const S3Config config = s3_config();
+std::uint64_t for_each_s3_object(const std::string& url, const S3ObjectVisitor& take, const S3ListLimits& limits) {
+    return Listing(url, take, limits).run();
+}
+
+std::vector<S3Object> list_s3_objects(const std::string& url, const S3ListLimits& limits) {
     std::vector<S3Object> out;
-    std::string token;
-    do {
-        RangeRequest r{url, {{0, kMaxListing}}, {}};
-        r.target = s3_http_url(config, {where->bucket, ""}, list_query(where->key, token, page_size));
-        r.signing = s3_signing(config);
-        r.whole = true;
-        RangeReply reply = HttpClient::shared().fetch(std::move(r));
-        const std::string context = " (bucket \"" + where->bucket + "\", prefix \"" + where->key + "\")";
-        if (!reply.error.empty()) throw Error(url, std::nullopt, "cannot be listed: " + reply.error + context);
-        const auto& body = reply.parts.at(0);
-        ListPage page;
-        try {
-            page = parse_list_page(std::string_view(reinterpret_cast<const char*>(body.data()), body.size()));
-        } catch (const Error& e) {
-            throw Error(url, std::nullopt, e.cause() + context);
-        }
-        out.insert(out.end(), page.objects.begin(), page.objects.end());
-        token = std::move(page.next_token);
-    } while (!token.empty());
+    for_each_s3_object(url, [&out](S3Object&& o) { return out.push_back(std::move(o)), true; }, limits);
     return out;
 }
 

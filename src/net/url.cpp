@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/text.hpp"
+#include "net/xml_text.hpp"
 
 namespace lidarscout::net {
 
@@ -110,7 +111,92 @@ std::string remove_dot_segments(std::string_view path) {
     return joined;
 }
 
+// `s` with its "%XX" escapes decoded (a '%' not followed by two hex digits kept).
+std::string percent_decode(std::string_view s) {
+    std::string out;
+    out.reserve(s.size());
+    const auto hex = [](char c) {
+        return std::isdigit(static_cast<unsigned char>(c)) ? c - '0' : (c | 0x20) - 'a' + 10;
+    };
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && std::isxdigit(static_cast<unsigned char>(s[i + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(s[i + 2]))) {
+            out += static_cast<char>(hex(s[i + 1]) * 16 + hex(s[i + 2]));
+            i += 2;
+        } else {
+            out += s[i];
+        }
+    }
+    return out;
+}
+
+// `text` as a server that decodes too much may read it: escapes and references decoded until
+// nothing changes (at most 4 times), '\' as '/'.
+std::string fully_decoded(std::string_view text) {
+    std::string out(text);
+    for (int round = 0; round < 4; ++round) {
+        std::string next = percent_decode(xml_decode(out));
+        if (next == out) break;
+        out = std::move(next);
+    }
+    std::replace(out.begin(), out.end(), '\\', '/');
+    return out;
+}
+
+// The '/'-separated `path` with its "." and ".." segments resolved (each segment judged as it is
+// written, or fully decoded when `decode_each`); false when a ".." goes above its start.
+bool resolve_key_segments(std::string_view path, bool decode_each, std::string& out) {
+    std::vector<std::string_view> kept;
+    bool last_dot = false;
+    for (std::size_t i = 0; i <= path.size();) {
+        const auto slash = std::min(path.find('/', i), path.size());
+        const auto segment = path.substr(i, slash - i);
+        const std::string judged = decode_each ? fully_decoded(segment) : std::string(segment);
+        last_dot = judged == "." || judged == "..";
+        if (judged == "..") {
+            if (kept.empty()) return false;
+            kept.pop_back();
+        } else if (judged != ".") {
+            kept.push_back(segment);
+        }
+        i = slash + 1;
+    }
+    out.clear();
+    for (std::size_t k = 0; k < kept.size(); ++k) (out += k ? "/" : "") += kept[k];
+    if (last_dot && !out.empty()) out += '/';
+    return true;
+}
+
+// The key as requested and as read fully decoded, or false when either leaves the bucket.
+bool key_forms(std::string_view key, std::string& written, std::string& decoded) {
+    if (key.find_first_of("%&\\") == std::string_view::npos) {  // (nothing to decode: one form)
+        if (!resolve_key_segments(key, false, written)) return false;
+        decoded = written;
+        return true;
+    }
+    return resolve_key_segments(key, true, written) && resolve_key_segments(fully_decoded(key), false, decoded);
+}
+
 }  // namespace
+
+std::string normalise_s3_key(std::string_view key, std::string_view prefix, std::string& refusal) {
+    refusal.clear();
+    if (key.size() > kMaxS3Key) {
+        refusal = "is longer than S3's " + std::to_string(kMaxS3Key) + " bytes (" + std::to_string(key.size()) + ")";
+        return {};
+    }
+    std::string written, decoded, prefix_written, prefix_decoded;
+    if (!key_forms(key, written, decoded)) {
+        refusal = "leaves its bucket (a \"..\" segment above the bucket's root)";
+        return {};
+    }
+    if (!prefix.empty() && (!key_forms(prefix, prefix_written, prefix_decoded) ||
+                            written.rfind(prefix_written, 0) != 0 || decoded.rfind(prefix_decoded, 0) != 0)) {
+        refusal = "leaves the prefix listed (\"" + std::string(prefix) + "\")";
+        return {};
+    }
+    return written;
+}
 
 std::string url_scheme(std::string_view url) {
     const auto colon = url.find("://");

@@ -2,7 +2,8 @@
 // 3986's generic syntax), removing the secrets a URL may carry (its "user:password@" and
 // query parameters that are credentials: signed S3, GCS and Azure URLs, tokens, keys) before
 // it is shown anywhere, refusing one whose credentials hold unencoded delimiters, and
-// resolving a relative URL against the URL of the list or dataset that names it.
+// resolving a relative URL against the URL of the list or dataset that names it; an S3 key
+// normalised and kept inside its bucket.
 #pragma once
 
 #include <optional>
@@ -44,6 +45,17 @@ std::string url_scheme(std::string_view url);
 // and 443 by default); "s3://bucket" for an s3 URL (the bucket as written: its name is
 // case-sensitive); empty when `url` is not a URL.
 std::string url_origin(std::string_view url);
+
+// The most bytes of an S3 key (S3's own limit).
+constexpr std::size_t kMaxS3Key = 1024;
+
+// The S3 key `key` as it is requested: its "." and ".." segments removed ("a/./b/../c" is
+// "a/c"), also those spelled with percent-escapes or XML character references ("%2e%2e",
+// "&#46;&#46;"). `refusal` says why it may not be requested ("" when it may), to follow "the
+// key": "is longer than" kMaxS3Key bytes, or "leaves its bucket" or `prefix` (given as written;
+// "" for the whole bucket), either as written or read the way a server that decodes too much would read it
+// (every escape and reference decoded, repeatedly, and '\' taken as '/').
+std::string normalise_s3_key(std::string_view key, std::string_view prefix, std::string& refusal);
 
 // `reference` resolved against `base` (RFC 3986 in its common forms): an absolute URL as
 // is, "//host/x" with base's scheme, "/x" from base's host, anything else relative to the

@@ -47,24 +47,30 @@ bool decode_entity(std::string_view name, std::string& out) {
 
 }  // namespace
 
-std::vector<std::string_view> xml_elements(std::string_view xml, std::string_view tag) {
-    std::vector<std::string_view> out;
+void for_each_xml_element(std::string_view xml, std::string_view tag,
+                          const std::function<bool(std::string_view)>& visit) {
     const std::string open = "<" + std::string(tag) + ">", close = "</" + std::string(tag) + ">";
     std::size_t at = 0;
     for (;;) {
         const auto start = xml.find(open, at);
-        if (start == std::string_view::npos) break;
+        if (start == std::string_view::npos) return;
         const auto end = xml.find(close, start + open.size());
-        if (end == std::string_view::npos) break;
-        out.push_back(xml.substr(start + open.size(), end - start - open.size()));
+        if (end == std::string_view::npos) return;
+        if (!visit(xml.substr(start + open.size(), end - start - open.size()))) return;
         at = end + close.size();
     }
+}
+
+std::vector<std::string_view> xml_elements(std::string_view xml, std::string_view tag) {
+    std::vector<std::string_view> out;
+    for_each_xml_element(xml, tag, [&](std::string_view element) { return out.push_back(element), true; });
     return out;
 }
 
 std::string xml_text(std::string_view xml, std::string_view tag) {
-    const auto elements = xml_elements(xml, tag);
-    return elements.empty() ? std::string() : xml_decode(elements.front());
+    std::string text;
+    for_each_xml_element(xml, tag, [&](std::string_view element) { return text = xml_decode(element), false; });
+    return text;
 }
 
 std::string xml_decode(std::string_view text) {

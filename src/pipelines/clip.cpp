@@ -12,11 +12,9 @@
 #include <limits>
 
 #include "core/thread_pool.hpp"
-#include "geo/crs_definition.hpp"
-#include "geo/projection.hpp"
 #include "io/file.hpp"
-#include "las/crs_records.hpp"
 #include "laz/laz.hpp"
+#include "pipelines/output_records.hpp"
 #include "pipelines/tile_writer.hpp"
 
 namespace lidarscout::pipelines {
@@ -54,10 +52,14 @@ std::size_t reprojected_count(const dataset::Dataset& ds, std::span<const std::u
 // A power of ten at most `s` (0.001 for 0.0025).
 double power_of_ten_at_most(double s) { return std::pow(10.0, std::floor(std::log10(s) + 1e-9)); }
 
+// Metres per x/y unit, a degree taken as a degree of latitude (111,320 m; a degree of longitude is
+// shorter, so a scale from it is finer than needed there).
+double metres_per_unit(double xy_to_metres, bool degrees) { return degrees ? 111'320.0 : xy_to_metres; }
+
 // The output's scale and offset when it is written in the frame's CRS: those of the first touched tile
 // stored in the frame, else, per axis, a power of ten no coarser than any touched tile's scale in the
-// frame's units and an x/y offset rounded to 1000 units near the middle of the touched tiles' bounds
-// within the area (z offset 0).
+// frame's units (for degrees, no finer than 1e-7, about 1 cm) and an x/y offset rounded to 1000 units
+// (1 degree) near the middle of the touched tiles' bounds within the area (z offset 0).
 void frame_scale_offset(las::Header& out, const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
                         const Region& region) {
     for (const auto t : tiles) {
@@ -67,16 +69,19 @@ void frame_scale_offset(las::Header& out, const dataset::Dataset& ds, std::span<
         return;
     }
     const double f = ds.frame.xy_to_metres, fz = ds.frame.z_to_metres;
+    const double frame_m = metres_per_unit(f, ds.frame.geographic);
     std::array<double, 3> finest{INFINITY, INFINITY, INFINITY};
     dataset::Bounds b;
     for (const auto t : tiles) {
         const auto& dt = ds.tiles[t];
         const auto& s = dt.tile.header.scale;
-        finest[0] = std::min(finest[0], s[0] * dt.xy_to_metres / f);
-        finest[1] = std::min(finest[1], s[1] * dt.xy_to_metres / f);
+        const double tile_m = metres_per_unit(dt.xy_to_metres, dt.tile.crs().geographic);
+        finest[0] = std::min(finest[0], s[0] * tile_m / frame_m);
+        finest[1] = std::min(finest[1], s[1] * tile_m / frame_m);
         finest[2] = std::min(finest[2], s[2] * dt.z_to_metres / fz);
         b.extend(dt.bounds_m);
     }
+    if (ds.frame.geographic) finest[0] = std::max(finest[0], 1e-7), finest[1] = std::max(finest[1], 1e-7);
     const auto middle = [](double lo, double hi, double area_lo, double area_hi) {
         return 0.5 * (std::max(lo, area_lo) + std::min(hi, area_hi));
     };
@@ -84,35 +89,8 @@ void frame_scale_offset(las::Header& out, const dataset::Dataset& ds, std::span<
     const double mx = middle(b.min_x / f, b.max_x / f, a.min_x, a.max_x);
     const double my = middle(b.min_y / f, b.max_y / f, a.min_y, a.max_y);
     for (int k = 0; k < 3; ++k) out.scale[k] = power_of_ten_at_most(finest[k]);
-    out.offset = {std::round(mx / 1000) * 1000, std::round(my / 1000) * 1000, 0.0};
-}
-
-// Replaces the CRS records of the output (from its first tile) by the frame's CRS: the OGC WKT (global
-// encoding bit 4) for point formats 6-10 or a header that already says WKT, else GeoTIFF keys of its EPSG
-// code(s), else WKT for a LAS 1.4 header. Throws Error when none of these can hold it.
-void set_frame_crs(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr>& evlrs,
-                   const std::string& crs) {
-    std::erase_if(vlrs, las::is_crs_record);
-    std::erase_if(evlrs, las::is_crs_record);
-    const geo::EpsgCodes codes = geo::epsg_codes_of_definition(crs);
-    const bool wkt = las::point_format_info(h.point_format).extended || (h.global_encoding & 0x10) ||
-                     (!codes.horizontal && h.version_major == 1 && h.version_minor >= 4);
-    if (!wkt && !codes.horizontal) {
-        throw clip_error(fmt::format("the output (point format {}, LAS {}) can name its CRS only by an EPSG code "
-                                     "and the dataset's CRS has none: choose one with --crs EPSG:n",
-                                     h.point_format, h.version_string()));
-    }
-    if (!wkt) {
-        h.global_encoding &= static_cast<std::uint16_t>(~0x10);
-        vlrs.push_back(las::geotiff_epsg_vlr(codes.horizontal, codes.vertical));
-        return;
-    }
-    try {
-        vlrs.push_back(las::wkt_vlr(geo::crs_wkt1(crs)));
-    } catch (const Error& e) {
-        throw clip_error(std::string("the dataset's CRS cannot be written as WKT: ") + e.what());
-    }
-    h.global_encoding |= 0x10;
+    const double step = ds.frame.geographic ? 1.0 : 1000.0;
+    out.offset = {std::round(mx / step) * step, std::round(my / step) * step, 0.0};
 }
 
 // The header of the output: the first tile's, its structural fields left to the writer.
@@ -184,49 +162,63 @@ private:
     std::vector<std::uint8_t> requantized_;
 };
 
-// Loaded EVLRs of the first tile; the others are named in notes.
+// The VLRs of the first tile but its COPC info (the output is no COPC file).
+std::vector<las::Vlr> kept_vlrs(const dataset::Tile& tile, std::vector<std::string>& notes) {
+    std::vector<las::Vlr> out;
+    for (const auto& v : tile.vlrs()) {
+        if (!is_copc_record(v)) out.push_back(v);
+        else notes.push_back("COPC info VLR dropped: the output is not a COPC file");
+    }
+    return out;
+}
+
+// Loaded EVLRs of the first tile but its COPC hierarchy; the others are named in notes.
 std::vector<las::Vlr> kept_evlrs(const dataset::Tile& tile, std::vector<std::string>& notes) {
     std::vector<las::Vlr> out;
     for (const auto& v : tile.evlrs()) {
-        if (v.data_loaded) out.push_back(v);
+        if (is_copc_record(v)) notes.push_back("COPC hierarchy EVLR dropped");
+        else if (v.data_loaded) out.push_back(v);
         else notes.push_back(fmt::format("EVLR {} {} ({} bytes) not copied", v.user_id, v.record_id, v.data_size));
     }
     return out;
 }
 
+// The output's CRS records: the frame's CRS when a touched tile is reprojected, else the first tile's
+// CRS, stated once (pipelines/output_records.hpp).
+void set_output_crs(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles, las::Header& header,
+                    std::vector<las::Vlr>& vlrs, std::vector<las::Vlr>& evlrs, std::vector<std::string>& notes) {
+    const std::size_t reprojected = reprojected_count(ds, tiles);
+    if (reprojected == 0) {
+        const auto kept = keep_crs(header, vlrs, evlrs, ds.tiles[tiles[0]].tile.crs(), "clip");
+        notes.insert(notes.end(), kept.begin(), kept.end());
+        return;
+    }
+    write_crs(header, vlrs, evlrs, ds.frame.crs, "clip");
+    notes.push_back(fmt::format("{} of the {} tiles touched reprojected into {}: the output is in that CRS",
+                                reprojected, tiles.size(), ds.frame.crs));
+}
+
 }  // namespace
 
 ClipResult clip_to_file(const dataset::Dataset& ds, const ClipRequest& request, ThreadPool& pool) {
-    const auto& box = request.region.box;
     const std::vector<std::uint32_t> tiles = tiles_touching(ds, request.region);
-    if (tiles.empty()) {
-        const auto& b = ds.bounds_m;
-        const double f = ds.frame.xy_to_metres;
-        throw clip_error(fmt::format("no tile touches the area ({:.3f}, {:.3f}) - ({:.3f}, {:.3f}); the dataset covers "
-                                     "({:.3f}, {:.3f}) - ({:.3f}, {:.3f}) in its CRS's units",
-                                     box.min_x, box.min_y, box.max_x, box.max_y, b.min_x / f, b.min_y / f,
-                                     b.max_x / f, b.max_y / f));
-    }
+    require_touched_tiles(ds, tiles, request.region, request.command, request.where);
     check_tiles_alike(ds, tiles);
     ClipResult result;
     const auto& first = ds.tiles[tiles[0]].tile;
-    std::vector<las::Vlr> vlrs = first.vlrs(), evlrs = kept_evlrs(first, result.notes);
+    std::vector<las::Vlr> vlrs = kept_vlrs(first, result.notes), evlrs = kept_evlrs(first, result.notes);
     las::Header header = output_header(first.header);
-    const std::size_t reprojected = reprojected_count(ds, tiles);
-    if (reprojected) {  // the output is written in the frame's CRS, as dem writes it
-        frame_scale_offset(header, ds, tiles, request.region);
-        set_frame_crs(header, vlrs, evlrs, ds.frame.crs);
-        result.notes.push_back(fmt::format("{} of the {} tiles touched reprojected into {}: the output is in that CRS",
-                                           reprojected, tiles.size(), ds.frame.crs));
-    }
+    const bool reprojected = reprojected_count(ds, tiles) != 0;  // the output is written in the frame's CRS
+    if (reprojected) frame_scale_offset(header, ds, tiles, request.region);
+    set_output_crs(ds, tiles, header, vlrs, evlrs, result.notes);
     laz::LasWriterOptions options;
     options.compress = wants_laz(request.output);
     laz::LasWriter writer(request.output, header, vlrs, options, pool);
-    ClipSink sink(writer, ds, reprojected != 0);
+    ClipSink sink(writer, ds, reprojected);
     result.read = read_region_points(ds, tiles, request.region, request.filter, pool,
                                      [&](const RegionBatch& b) { sink.add(b); }, request.watch);
     if (result.read.cancelled) throw clip_error("cancelled");  // the writer removes its temporary file
-    if (writer.points() == 0) writer.header().min = writer.header().max = {0, 0, 0};
+    require_kept_points(ds, tiles, request.region, request.filter, result.read, pool, request.command, request.where);
     const laz::LasWriterResult written = writer.finish(evlrs);
     result.points_written = written.points;
     result.bytes_written = written.bytes_written;

@@ -76,6 +76,15 @@ Profile read_profile(const dataset::Dataset& ds, const Corridor& corridor, const
     return profile;
 }
 
+void require_profile_points(const dataset::Dataset& ds, const Corridor& corridor, const PointFilter& filter,
+                            const Profile& profile, ThreadPool& pool) {
+    if (!profile.points.empty()) return;
+    const Region region = corridor_region(corridor);
+    const std::vector<std::uint32_t> tiles = tiles_touching(ds, region);
+    require_touched_tiles(ds, tiles, region, "profile", kCorridor);
+    require_kept_points(ds, tiles, region, filter, profile.read, pool, "profile", kCorridor);
+}
+
 void write_profile_csv(const std::string& path, const dataset::Dataset& ds, const Profile& profile) {
     io::AtomicOutputFile out(path);
     std::string text = "distance,x,y,z,class,intensity,return,returns,source_file\n";

@@ -27,6 +27,9 @@ struct Corridor {
     bool touches_box(double min_x, double min_y, double max_x, double max_y) const;
 };
 
+// How the profile's messages name its region.
+inline constexpr const char* kCorridor = "the line's corridor";
+
 // The corridor as a region. Throws lidarscout::Error for a segment of length 0
 // or a width that is not positive.
 Region corridor_region(const Corridor& corridor);
@@ -51,6 +54,11 @@ using ProfilePointsFn = std::function<void(std::span<const ProfilePoint> points)
 // read until then are returned, profile.read.cancelled set); `points` sees them batch by batch.
 Profile read_profile(const dataset::Dataset& ds, const Corridor& corridor, const PointFilter& filter,
                      ThreadPool& pool, const ReadWatch& watch = {}, const ProfilePointsFn& points = nullptr);
+
+// Throws lidarscout::Error (stage "profile") when `profile` (read_profile of `corridor` and `filter`)
+// holds no point, saying why (require_touched_tiles, require_kept_points of the corridor).
+void require_profile_points(const dataset::Dataset& ds, const Corridor& corridor, const PointFilter& filter,
+                            const Profile& profile, ThreadPool& pool);
 
 // CSV: distance,x,y,z,class,intensity,return,returns,source_file (a header line), through a
 // temporary name. Throws lidarscout::Error.

@@ -2,6 +2,8 @@
 // parallel pieces and handed on in file order.
 #include "pipelines/region_points.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -9,6 +11,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/point_reader.hpp"
 #include "core/polygon.hpp"
+#include "geo/geographic.hpp"
 #include "io/file.hpp"
 
 namespace lidarscout::pipelines {
@@ -161,6 +164,48 @@ RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const s
         if (watch.tiles && !stats.cancelled) watch.tiles(k + 1, tiles.size());
     }
     return stats;
+}
+
+void require_touched_tiles(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles, const Region& region,
+                           const std::string& stage, const std::string& where) {
+    if (!tiles.empty()) return;
+    const auto& a = region.box;
+    const auto& b = ds.bounds_m;
+    const double f = ds.frame.xy_to_metres;
+    std::string hint;
+    if (ds.frame.geographic && !geo::looks_like_degrees(a.min_x, a.min_y, a.max_x, a.max_y)) {
+        const geo::UtmZone zone = geo::utm_zone_at(b.centre_x(), b.centre_y());
+        hint = fmt::format("; the data is in degrees (longitude, latitude): give {} in degrees, or in metres with "
+                           "--crs {} ({})", where, zone.crs, zone.name);
+    } else if (!ds.frame.geographic && geo::looks_like_degrees(a.min_x, a.min_y, a.max_x, a.max_y)) {
+        hint = fmt::format("; {} is given in the CRS's units ({}), not in degrees", where,
+                           ds.frame.crs.empty() ? "no CRS named" : ds.frame.crs);
+    }
+    throw Error::in_stage(stage, fmt::format("no tile touches {} ({:.10g}, {:.10g}) - ({:.10g}, {:.10g}); the data "
+                                             "covers ({:.3f}, {:.3f}) - ({:.3f}, {:.3f}) in its CRS's units{}; "
+                                             "nothing written",
+                                             where, a.min_x, a.min_y, a.max_x, a.max_y, b.min_x / f, b.min_y / f,
+                                             b.max_x / f, b.max_y / f, hint));
+}
+
+void require_kept_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles, const Region& region,
+                         const PointFilter& filter, const RegionReadStats& stats, ThreadPool& pool,
+                         const std::string& stage, const std::string& where) {
+    if (stats.points_kept > 0 || stats.cancelled) return;
+    const std::string unread = stats.points_skipped == 0 ? "" : fmt::format(
+        "; {} points could not be read", fmt::group_digits(stats.points_skipped));
+    const std::uint64_t inside = filter.keeps_everything() ? 0 : read_region_points(
+        ds, tiles, region, PointFilter(), pool, [](const RegionBatch&) {}).points_kept;
+    if (inside == 0) {
+        const char* tile_word = tiles.size() == 1 ? "tile" : "tiles";
+        throw Error::in_stage(stage, fmt::format("no point lies in {}: none of the {} points of the {} {} it "
+                                                 "touches{}; nothing written", where,
+                                                 fmt::group_digits(stats.points_read), tiles.size(), tile_word,
+                                                 unread));
+    }
+    throw Error::in_stage(stage, fmt::format("no point of {} in {} ({} points in it{}); nothing written: leave out "
+                                             "--classes, --returns, --intensity or choose others",
+                                             filter.describe(), where, fmt::group_digits(inside), unread));
 }
 
 }  // namespace lidarscout::pipelines

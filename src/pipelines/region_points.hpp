@@ -85,4 +85,17 @@ RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const s
                                    const Region& region, const PointFilter& filter, ThreadPool& pool,
                                    const RegionBatchFn& fn, const ReadWatch& watch = {});
 
+// No silent empty product: the errors (of `stage`, e.g. "clip") of a read that finds nothing, `where`
+// naming the region as its command does ("the region", "the corridor").
+// Throws when `tiles` (tiles_touching the region) is empty, with the region's box and the data's
+// bounds, and a hint when the box looks like degrees on projected data or the data is in degrees.
+void require_touched_tiles(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles, const Region& region,
+                           const std::string& stage, const std::string& where);
+// Throws when the read of `tiles` kept no point (stats.points_kept 0; not when cancelled), saying
+// why: no point lies in the region, or none of those in it passes `filter` (how many lie in it: the
+// tiles read again, unfiltered, on `pool`); points that could not be read are counted in.
+void require_kept_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles, const Region& region,
+                         const PointFilter& filter, const RegionReadStats& stats, ThreadPool& pool,
+                         const std::string& stage, const std::string& where);
+
 }  // namespace lidarscout::pipelines

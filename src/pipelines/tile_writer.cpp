@@ -11,12 +11,11 @@
 #include "laz/laz.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
-#include "geo/crs_definition.hpp"
 #include "geo/projection.hpp"
 #include "io/file.hpp"
-#include "las/crs_records.hpp"
 #include "las/header_writer.hpp"
 #include "las/point_format.hpp"
+#include "pipelines/output_records.hpp"
 
 namespace lidarscout::pipelines {
 
@@ -38,8 +37,6 @@ struct OutputPlan {
     std::vector<std::string> notes;
     std::vector<std::string> warnings;
 };
-
-bool is_copc_record(const las::Vlr& v) { return v.user_id == "copc"; }
 
 void plan_format(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
     auto& h = plan.header;
@@ -80,38 +77,27 @@ void plan_records(OutputPlan& plan, const io::File& file, const Tile& in) {
     }
 }
 
-bool is_geotiff_record(const las::Vlr& v) {
-    return v.user_id == "LASF_Projection" && (v.record_id == 34735 || v.record_id == 34736 || v.record_id == 34737);
-}
-
-// LAS 1.4 requires the CRS as WKT (global encoding bit 4) for point formats 6-10: the GeoTIFF keys
-// of such an output are replaced by the WKT of the CRS they name (PROJ); a CRS PROJ cannot write is
-// refused unless forced (then the keys stay, with a warning).
-void plan_wkt(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
+// The CRS stated once, in the form the output's point format expects (pipelines/output_records.hpp):
+// GeoTIFF keys become WKT for point formats 6-10 (LAS 1.4 requires it); a CRS PROJ cannot write as WKT
+// is refused unless forced (then the keys stay, with a warning).
+void plan_crs(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
     auto& h = plan.header;
-    if (!las::point_format_info(h.point_format).extended || (h.global_encoding & 0x10)) return;
-    h.global_encoding |= 0x10;
-    const std::string definition = geo::crs_definition(in.crs());
-    if (definition.empty() || in.crs().source != "geotiff") return;
-    std::string wkt;
+    std::vector<std::string> notes;
     try {
-        wkt = geo::crs_wkt1(definition);
+        notes = keep_crs(h, plan.vlrs, plan.evlrs, in.crs(), "convert");
     } catch (const Error& e) {
         const std::string what = "point format " + std::to_string(h.point_format) + " needs the CRS as WKT: " +
                                  e.what();
         if (!opt.force) {
             throw Error(in.path(), std::nullopt, what + "; nothing written (--force keeps the GeoTIFF keys)");
         }
-        h.global_encoding &= static_cast<std::uint16_t>(~0x10);
         plan.warnings.push_back(what);
         return;
     }
-    std::erase_if(plan.vlrs, is_geotiff_record);
-    plan.vlrs.push_back(las::wkt_vlr(wkt));
-    plan.notes.push_back("GeoTIFF keys replaced by the WKT of " + definition + " (LAS 1.4 requires WKT for point " +
-                         "format " + std::to_string(h.point_format) + ")");
+    plan.notes.insert(plan.notes.end(), notes.begin(), notes.end());
+    const bool rewritten = in.crs().source == "geotiff" && (h.global_encoding & 0x10);
     const std::string fallback = geo::vertical_fallback_message(in.crs());
-    if (!fallback.empty()) plan.warnings.push_back(fallback + "; the WKT names the horizontal CRS alone");
+    if (rewritten && !fallback.empty()) plan.warnings.push_back(fallback + "; the WKT names the horizontal CRS alone");
 }
 
 OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOptions& opt) {
@@ -123,7 +109,7 @@ OutputPlan plan_output(const io::File& file, const Tile& in, const ConvertOption
     }
     plan_format(plan, in, opt);
     plan_records(plan, file, in);
-    plan_wkt(plan, in, opt);
+    plan_crs(plan, in, opt);
     return plan;
 }
 

@@ -1,4 +1,4 @@
-// BlockRaster: scratch tiled GeoTIFF (GDAL's GTiff driver) -> COG driver -> atomic rename.
+// BlockRaster: scratch tiled GeoTIFF (GDAL's GTiff driver) -> COG driver -> a temporary file of an output set.
 #include "raster/block_raster.hpp"
 
 #include <cpl_conv.h>
@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "io/output_file.hpp"
+#include "io/output_group.hpp"
 #include "io/temporary_files.hpp"
 
 namespace lidarscout::raster {
@@ -144,7 +145,7 @@ void BlockRaster::write(int band, int x0, int y0, int w, int h, std::span<const 
     write_raw(band, x0, y0, w, h, values.data(), values.size(), PixelType::Byte);
 }
 
-void BlockRaster::finish(unsigned threads, const RasterProgressFn& progress) {
+void BlockRaster::finish(unsigned threads, io::OutputGroup& outputs, const RasterProgressFn& progress) {
     std::lock_guard lock(state_->mutex);
     CPLErrorReset();
     state_->dataset->FlushCache();
@@ -166,7 +167,7 @@ void BlockRaster::finish(unsigned threads, const RasterProgressFn& progress) {
     if (!cog) fail(target_, "cannot write the Cloud-Optimized GeoTIFF");
     GDALClose(cog);  // writes what is left; failures show as a GDAL error
     if (CPLGetLastErrorType() >= CE_Failure) fail(target_, "cannot complete the Cloud-Optimized GeoTIFF");
-    out.commit();
+    out.commit(outputs);
 }
 
 }  // namespace lidarscout::raster

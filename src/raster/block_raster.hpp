@@ -1,7 +1,8 @@
 // A georeferenced raster made block by block and delivered as a Cloud-Optimized GeoTIFF:
 // blocks are written (from any thread, in any order) into a scratch tiled GeoTIFF beside the
 // target, and finish() copies it with GDAL's COG driver (tiled 512 x 512, DEFLATE level 1 with
-// a predictor, overviews) to a temporary name that is renamed to the target when complete. The
+// a predictor, overviews) to a temporary name, handed to an output set that renames it with the
+// others when all are complete (io/output_group.hpp). The
 // scratch file is sparse (blocks never written read as nodata) and is removed in any case, so
 // memory stays bounded by GDAL's block cache whatever the raster's size. Every GDAL call of
 // the raster writers is in block_raster.cpp and hillshade.cpp.
@@ -13,6 +14,10 @@
 #include <optional>
 #include <span>
 #include <string>
+
+namespace lidarscout::io {
+class OutputGroup;
+}
 
 namespace lidarscout::raster {
 
@@ -54,8 +59,9 @@ public:
     void write(int band, int x0, int y0, int w, int h, std::span<const float> values);
     void write(int band, int x0, int y0, int w, int h, std::span<const std::uint8_t> values);
 
-    // Writes the COG and renames it to the target. `threads` compress in parallel.
-    void finish(unsigned threads, const RasterProgressFn& progress = {});
+    // Writes the COG under a temporary name and hands it to `outputs`, whose commit() renames it
+    // to the target. `threads` compress in parallel.
+    void finish(unsigned threads, io::OutputGroup& outputs, const RasterProgressFn& progress = {});
 
 private:
     struct State;

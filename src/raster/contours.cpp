@@ -13,6 +13,8 @@
 
 #include "core/error.hpp"
 #include "io/output_file.hpp"
+#include "io/output_group.hpp"
+#include "io/temporary_files.hpp"
 #include "raster/block_raster.hpp"
 
 namespace lidarscout::raster {
@@ -37,6 +39,20 @@ struct Closer {
     }
 };
 
+// Why a raster has no contour line every `interval`: its heights (nodata left out) hold no multiple
+// of it, or it has no height at all.
+std::string no_lines_cause(GDALRasterBand* band, double interval) {
+    double range[2] = {0, 0};
+    CPLPushErrorHandler(CPLQuietErrorHandler);  // an all-nodata band is an answer here, not a failure
+    const CPLErr e = band->ComputeRasterMinMax(FALSE, range);
+    CPLPopErrorHandler();
+    const std::string every = CPLSPrintf("no contour line every %g", interval);
+    if (e != CE_None) return every + ": the raster has no height";
+    if (range[0] == range[1]) return every + CPLSPrintf(": the raster is flat, at %.6g", range[0]);
+    return every + CPLSPrintf(": the heights range from %.6g to %.6g and no line falls between them; give "
+                              "--contours under %.3g", range[0], range[1], range[1] - range[0]);
+}
+
 }  // namespace
 
 std::string contours_path(const std::string& raster_path) {
@@ -46,18 +62,20 @@ std::string contours_path(const std::string& raster_path) {
 }
 
 std::uint64_t write_contours(const std::string& raster_path, const std::string& gpkg_path, double interval,
-                             double nodata, const std::function<void(double)>& progress) {
+                             double nodata, io::OutputGroup& outputs, const std::function<void(double)>& progress) {
     if (!(interval > 0) || !std::isfinite(interval)) {
         throw Error(gpkg_path, std::nullopt, "--contours must be a positive interval");
     }
     GDALAllRegister();
     CPLErrorReset();
-    Closer raster{static_cast<GDALDataset*>(GDALOpen(raster_path.c_str(), GA_ReadOnly))};
+    Closer raster{static_cast<GDALDataset*>(GDALOpen(outputs.path_of(raster_path).c_str(), GA_ReadOnly))};
     if (!raster.dataset) fail(raster_path, "cannot open the height raster for its contours");
     GDALDriver* gpkg = GetGDALDriverManager()->GetDriverByName("GPKG");
     if (!gpkg) fail(gpkg_path, "GDAL has no GPKG driver");
     io::AtomicOutputFile out(gpkg_path);
     std::filesystem::remove(out.temp_path());  // GDAL's GeoPackage makes its own file
+    const std::string journal = out.temp_path() + "-journal", wal = out.temp_path() + "-wal";  // SQLite's, beside it
+    const io::TemporaryFileGuard journal_guard(journal), wal_guard(wal);  // removed by Ctrl-C too
     std::uint64_t lines = 0;
     {
         Closer vectors{gpkg->Create(out.temp_path().c_str(), 0, 0, 0, GDT_Unknown, nullptr)};
@@ -84,7 +102,11 @@ std::uint64_t write_contours(const std::string& raster_path, const std::string& 
         lines = static_cast<std::uint64_t>(layer->GetFeatureCount());
     }
     if (CPLGetLastErrorType() >= CE_Failure) fail(gpkg_path, "cannot complete the GeoPackage");
-    out.commit();
+    if (lines == 0) {  // no silent empty product: the temporary GeoPackage goes with `out`
+        throw Error(gpkg_path, std::nullopt,
+                    no_lines_cause(raster.dataset->GetRasterBand(1), interval) + "; nothing written");
+    }
+    out.commit(outputs);
     return lines;
 }
 

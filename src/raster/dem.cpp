@@ -1,5 +1,5 @@
 // make_dem: the grid, the rasters, the gridding (full, overview or products), the COGs, the hillshade
-// and the contours.
+// and the contours, all under temporary names renamed together at the end (io::OutputGroup).
 #include "raster/dem.hpp"
 
 #include <algorithm>
@@ -10,10 +10,14 @@
 
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
+#include "core/text.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
+#include "geo/geographic.hpp"
+#include "io/output_group.hpp"
 #include "raster/block_raster.hpp"
 #include "raster/dem_grid.hpp"
+#include "raster/contour_estimate.hpp"
 #include "raster/contours.hpp"
 #include "raster/dem_blocks.hpp"
 #include "raster/hillshade.hpp"
@@ -74,6 +78,12 @@ std::string gigabytes(double bytes) {
     return text;
 }
 
+std::string number_text(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
 // Refuses a DEM whose memory estimate exceeds the budget, suggesting a texel that fits (the
 // estimate falls with the square of the texel).
 void check_memory(const dataset::Dataset& ds, const DemGrid& g, const DemRequest& r, DemResult& result) {
@@ -103,8 +113,7 @@ void check_bounds_overlap(const dataset::Dataset& ds, const DemRequest& r, const
     if (!r.area || (a.min_x < b.max_x && a.max_x > b.min_x && a.min_y < b.max_y && a.max_y > b.min_y)) return;
     const double f = ds.frame.xy_to_metres;
     const std::string unit = linear_unit_name(f);
-    const bool degrees = std::max({std::abs(r.area->min_x), std::abs(r.area->max_x)}) <= 360 &&
-                         std::max({std::abs(r.area->min_y), std::abs(r.area->max_y)}) <= 90;
+    const bool degrees = geo::looks_like_degrees(r.area->min_x, r.area->min_y, r.area->max_x, r.area->max_y);
     char text[512];
     std::snprintf(text, sizeof text,
                   "--bounds %.10g,%.10g,%.10g,%.10g do not overlap the data, which lies in %.3f,%.3f,%.3f,%.3f "
@@ -165,15 +174,15 @@ RasterLayout rgba_layout() {
     return l;
 }
 
-void finish_raster(BlockRaster& raster, const DemRequest& r) {
-    raster.finish(r.threads, [&](double f) {
+void finish_raster(BlockRaster& raster, const DemRequest& r, io::OutputGroup& outputs) {
+    raster.finish(r.threads, outputs, [&](double f) {
         if (r.progress) r.progress("cog", static_cast<std::uint64_t>(f * 1000), 1000);
     });
 }
 
 // The products of r.products in one pass: a raster each, made block by block from the shared layers.
 void make_products(const dataset::Dataset& ds, const DemRequest& r, const RasterGeometry& geometry, float nodata,
-                   DemResult& result) {
+                   DemResult& result, io::OutputGroup& outputs) {
     if (r.source != DemSource::Full) throw Error::in_stage("dem", "--product applies to --from full only");
     if (!r.rgb.empty()) throw Error::in_stage("dem", "--rgb does not apply to --product");
     const ProductPass pass(r.products, r.product_options, r.texel_m);
@@ -205,7 +214,7 @@ void make_products(const dataset::Dataset& ds, const DemRequest& r, const Raster
         }
     }
     t0 = Clock::now();
-    for (auto& raster : rasters) finish_raster(*raster, r);
+    for (auto& raster : rasters) finish_raster(*raster, r, outputs);
     result.seconds_cog = seconds_since(t0);
 }
 
@@ -222,20 +231,57 @@ void select_piece(const dataset::Dataset& ds, const DemRequest& r, DemGrid& grid
     grid.selection = dem_block_pieces(ds, grid, r.block_count)[static_cast<std::size_t>(r.block_index - 1)];
 }
 
-// The hillshade and the contours of the height raster, once it is written.
-void write_from_heights(const DemRequest& r, float nodata, DemResult& result) {
+// The contours of `heights` counted before GDAL draws them (contour_estimate.hpp): refused past the
+// line limit or the memory budget, with the finest interval of 1, 2 or 5 times a power of ten that
+// stays under both; the memory estimate then covers them.
+void check_contours(const std::string& heights, const DemRequest& r, float nodata, DemResult& result) {
+    const std::vector<ContourCount> counts = count_contours(heights, nodata, contour_intervals(r.contours_interval));
+    const double texels = double(result.grid.window().width) * result.grid.window().height;
+    const auto lines_fit = [&](const ContourCount& c) {
+        return r.contour_line_limit == 0 || c.lines <= static_cast<double>(r.contour_line_limit);
+    };
+    const auto fits = [&](const ContourCount& c) {
+        return lines_fit(c) && contour_memory_bytes(c, texels) <= result.memory_budget;
+    };
+    const ContourCount& asked = counts.front();
+    result.contour_lines_estimate = asked.lines, result.contour_points_estimate = asked.vertices;
+    result.memory_estimate = std::max(result.memory_estimate, contour_memory_bytes(asked, texels));
+    if (fits(asked)) return;
+    std::string text = "--contours " + number_text(asked.interval) + " would draw about " + count_text(asked.lines) +
+                       " lines of " + count_text(asked.vertices) + " points";
+    if (!lines_fit(asked)) {
+        text += " (limit " + count_text(static_cast<double>(r.contour_line_limit)) + " lines)";
+    } else {
+        text += " and need about " + gigabytes(double(contour_memory_bytes(asked, texels))) +
+                " of memory, over the budget of " + gigabytes(double(result.memory_budget));
+    }
+    const auto coarser = std::find_if(counts.begin() + 1, counts.end(), fits);
+    if (coarser != counts.end()) {
+        text += ": try --contours " + number_text(coarser->interval) + " (about " + count_text(coarser->lines) +
+                " lines)";
+    }
+    if (!lines_fit(asked)) text += coarser != counts.end() ? ", or --force to draw them all" : ": give --force";
+    throw Error::in_stage("dem", text);
+}
+
+// The hillshade and the contours of the height raster, once it is written (under its temporary name).
+void write_from_heights(const DemRequest& r, float nodata, DemResult& result, io::OutputGroup& outputs) {
     const std::string heights = contour_source(r);
+    if (r.contours_interval > 0) {  // before any of the two is made
+        check_contours(outputs.path_of(heights), r, nodata, result);
+    }
     if (!r.hillshade.empty()) {
         const auto t0 = Clock::now();
-        write_hillshade(heights, r.hillshade);
+        write_hillshade(heights, r.hillshade, outputs);
         result.seconds_hillshade = seconds_since(t0);
     }
     if (r.contours_interval > 0) {
         const auto t0 = Clock::now();
         result.contours = contours_path(heights);
-        result.contour_lines = write_contours(heights, result.contours, r.contours_interval, nodata, [&](double f) {
+        const auto progress = [&](double f) {
             if (r.progress) r.progress("contours", static_cast<std::uint64_t>(f * 1000), 1000);
-        });
+        };
+        result.contour_lines = write_contours(heights, result.contours, r.contours_interval, nodata, outputs, progress);
         result.seconds_contours = seconds_since(t0);
     }
 }
@@ -312,9 +358,11 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     check_memory(ds, result.grid, r, result);
     const RasterGeometry geometry = raster_geometry(result.grid, ds.frame);
     const float nodata = -9999.0f;
+    io::OutputGroup files;  // every file of the run appears at the end, or none does
     if (!r.products.empty()) {
-        make_products(ds, r, geometry, nodata, result);
-        write_from_heights(r, nodata, result);
+        make_products(ds, r, geometry, nodata, result, files);
+        write_from_heights(r, nodata, result, files);
+        files.commit();
         return result;
     }
     result.outputs = {r.output};
@@ -352,10 +400,11 @@ DemResult make_dem(const dataset::Dataset& ds, const DemRequest& r) {
     result.seconds_grid = seconds_since(t0);
     check_points_used(result, r);
     t0 = Clock::now();
-    finish_raster(heights, r);
-    if (rgb) finish_raster(*rgb, r);
+    finish_raster(heights, r, files);
+    if (rgb) finish_raster(*rgb, r, files);
     result.seconds_cog = seconds_since(t0);
-    write_from_heights(r, nodata, result);
+    write_from_heights(r, nodata, result, files);
+    files.commit();
     return result;
 }
 

@@ -40,6 +40,10 @@ std::string_view dem_method_name(DemMethod method);
 // Called as work advances: (stage, done, total); stages "points", "patches", "cog".
 using DemProgressFn = std::function<void(std::string_view stage, std::uint64_t done, std::uint64_t total)>;
 
+// 200,000 lines: GDAL's generator and GeoPackage wrote about 25,000 a second (with 16 points each) on the
+// Woodford tile, where `--contours 0.01` ran 90 s for 2.27 M lines and 1.0 GB.
+inline constexpr std::uint64_t kContourLineLimit = 200'000;
+
 struct DemRequest {
     std::string output;     // the DEM (.tif)
     std::string rgb;        // the orthophoto (.tif), empty for none
@@ -60,6 +64,9 @@ struct DemRequest {
     // Contour lines every this many height units (0: none) of the DEM, or of the first height
     // product, to contours_path() of that raster (contours.hpp).
     double contours_interval = 0;
+    // Contours counted (contour_estimate.hpp) at more than this many lines are refused before GDAL
+    // draws them, with an interval that stays under it (0: no limit, `--force`).
+    std::uint64_t contour_line_limit = kContourLineLimit;
     // `dem --block I/N` (block_count 0: the whole DEM): only piece block_index (1-based) of the
     // grid's blocks cut in block_count (dem_blocks.hpp), written as a raster of that rectangle on
     // the whole grid's lattice; an empty piece is a raster of nodata, not an error. --from full only;
@@ -77,6 +84,7 @@ struct DemResult {
     std::vector<std::string> outputs;  // the rasters written (the DEM, or each product's)
     std::string contours;              // the contours' GeoPackage, empty for none
     std::uint64_t contour_lines = 0;
+    double contour_lines_estimate = 0, contour_points_estimate = 0;  // counted before they were drawn
     std::uint64_t points_read = 0, points_used = 0;
     std::vector<ErrorRecord> skipped;  // chunks or tiles left out (unreadable), the DEM made without them
     std::uint64_t points_skipped = 0;
@@ -88,7 +96,9 @@ struct DemResult {
 
 // The memory the DEM of `grid` needs at once, estimated: for --from full the blocks in flight
 // (full_dem_peak_bytes), for both the rasters' tile indexes (GDAL keeps two 8-byte offsets per
-// 512 x 512 tile and band group, in the scratch raster and in the COG).
+// 512 x 512 tile and band group, in the scratch raster and in the COG). The contours are priced
+// when the height raster is made (their lines depend on its heights: contour_memory_bytes), and
+// DemResult::memory_estimate is then the larger of the two.
 std::uint64_t dem_memory_bytes(const dataset::Dataset& dataset, const DemGrid& grid, const DemRequest& request);
 
 // The raster contours are drawn from: the DEM, or the first height product (empty when none).
@@ -100,7 +110,11 @@ DemGrid dem_grid(const dataset::Dataset& dataset, const DemRequest& request);
 
 // Throws Error for a method that does not fit the source, a raster far larger than the tiles
 // cover, or one whose memory estimate exceeds the budget (naming the size and the way out:
-// a larger --texel, or --bounds).
+// a larger --texel, or --bounds); and, once the height raster is made, for contours counted at
+// more lines than contour_line_limit or more memory than the budget (naming an interval that fits).
+// Every file of the request (rasters, hillshade and its sidecars, contours) is written under a
+// temporary name and all are renamed together at the end (io/output_group.hpp): an error or Ctrl-C
+// leaves none of them, and the files they would replace untouched.
 DemResult make_dem(const dataset::Dataset& dataset, const DemRequest& request);
 
 }  // namespace lidarscout::raster

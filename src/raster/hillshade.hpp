@@ -7,12 +7,17 @@
 
 #include <string>
 
+namespace lidarscout::io {
+class OutputGroup;
+}
+
 namespace lidarscout::raster {
 
-// Reads the DEM at `dem_path` and writes the hillshade to `path` (.tif/.tiff or .png; a
-// temporary name renamed when complete, then the PNG's sidecars). Throws lidarscout::Error naming
-// the file that failed, or for another extension.
-void write_hillshade(const std::string& dem_path, const std::string& path);
+// Reads the DEM `dem_path` (where `outputs` holds it, when it is one of its files) and writes the
+// hillshade to `path` (.tif/.tiff or .png), and a PNG's sidecars, under temporary names that
+// `outputs` renames with the rest of the set. Throws lidarscout::Error naming the file that failed,
+// or for another extension.
+void write_hillshade(const std::string& dem_path, const std::string& path, io::OutputGroup& outputs);
 
 // True for a .png hillshade, false for .tif/.tiff; throws lidarscout::Error for another extension
 // (make_dem asks before any work).

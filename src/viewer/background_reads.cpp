@@ -119,7 +119,8 @@ std::unique_ptr<ExportTask> export_profile(const dataset::Dataset& ds, const std
     }
     if (!profile) throw Error::in_stage("view", "the profile is still being read");
     return std::make_unique<ExportTask>(path, [&ds, path, corridor, profile, ext](ReadCounters&) {
-        if (ext == ".png") render::write_png(path, pipelines::profile_image(*profile, corridor));
+        if (ext == ".png") render::write_png(path, pipelines::profile_image(*profile, corridor,
+                                                                            pipelines::profile_png_options(ds.frame)));
         else pipelines::write_profile_csv(path, ds, *profile);
         return written_line("profile", profile->points.size(), path, profile->read);
     });

@@ -1,22 +1,28 @@
-// Reading and writing `.lidarscout.json` sessions.
+// Reading `.lidarscout.json` sessions through the bounded JSON reader, each field by its kind, and
+// writing them (fields this version does not know written back compact).
 #include "viewer/session_file.hpp"
 
+#include <cstdint>
 #include <fstream>
-#include <iterator>
 #include <set>
 
 #include "core/error.hpp"
+#include "core/json_reader.hpp"
+#include "core/regular_file.hpp"
 #include "io/output_file.hpp"
 #include "render/colour_modes.hpp"
 
 namespace lidarscout::viewer {
 namespace {
 
+using nlohmann::json;
+
 const std::set<std::string> kKnown = {"version", "paths", "crs", "camera", "filter", "colour", "measurements",
                                       "annotations", "profiles", "kind"};
 constexpr const char* kKind = "lidarscout session";
+constexpr std::uint64_t kMaxSessionBytes = 64ull << 20;
 
-nlohmann::json filter_json(const PointFilter& f) {
+json filter_json(const PointFilter& f) {
     return {{"classes", f.class_list()},
             {"returns", f.return_list()},
             {"intensity", f.intensity_min == 0 && f.intensity_max == 65535
@@ -24,23 +30,101 @@ nlohmann::json filter_json(const PointFilter& f) {
                               : std::to_string(f.intensity_min) + "-" + std::to_string(f.intensity_max)}};
 }
 
-std::array<double, 3> xyz(const nlohmann::json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(),
-                                                             j.at(2).get<double>()}; }
+// `n` finite numbers of the array `key` of `object` (`shape` names it in the error, "[x, y, z]").
+template <std::size_t n>
+std::array<double, n> numbers(const json& object, const char* key, const char* shape) {
+    const json& a = json_array(object, key);
+    if (a.size() != n) throw Error("\"" + std::string(key) + "\" is not " + shape);
+    std::array<double, n> out{};
+    for (std::size_t k = 0; k < n; ++k) out[k] = json_finite(a[k], "a number of \"" + std::string(key) + "\"");
+    return out;
+}
 
-CameraPose camera_from(const nlohmann::json& j) {
+std::array<double, 3> xyz(const json& object, const char* key) { return numbers<3>(object, key, "[x, y, z]"); }
+
+CameraPose camera_from(const json& j) {
     CameraPose c;
-    c.target = xyz(j.at("target"));
-    c.distance = j.at("distance").get<double>();
-    c.yaw_deg = j.at("yaw_deg").get<double>();
-    c.pitch_deg = j.at("pitch_deg").get<double>();
-    c.fov_deg = j.value("fov_deg", 60.0);
+    c.target = xyz(j, "target");
+    c.distance = json_number(j, "distance");
+    c.yaw_deg = json_number(j, "yaw_deg");
+    c.pitch_deg = json_number(j, "pitch_deg");
+    c.fov_deg = json_optional_number(j, "fov_deg").value_or(60.0);
     return c;
+}
+
+// Reads each element of the array `key` (when there is one) with `read`; an error names the array.
+template <typename Read>
+void each(const json& j, const char* key, Read&& read) {
+    const json* array = json_optional_array(j, key);
+    if (!array) return;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+        try {
+            read((*array)[i]);
+        } catch (const Error& e) {
+            throw Error(std::string(key) + " #" + std::to_string(i + 1) + ": " + e.cause());
+        }
+    }
+}
+
+// The version, which this program must know: a whole number from 1 to kSessionVersion.
+int session_version(const json& j) {
+    const json* v = json_field(j, "version");
+    if (!v) throw Error("a session without a \"version\"");
+    if (v->is_number_integer()) {  // (signed or unsigned)
+        const bool newer = v->is_number_unsigned() ? v->get<std::uint64_t>() > kSessionVersion
+                                                   : v->get<std::int64_t>() > kSessionVersion;
+        if (newer) {
+            throw Error("a session of version " + json_excerpt(*v) + ", newer than this program's (" +
+                        std::to_string(kSessionVersion) + "): update lidarscout");
+        }
+        if (v->get<std::int64_t>() >= 1) return static_cast<int>(v->get<std::int64_t>());
+    }
+    throw Error("\"version\": " + json_excerpt(*v) + " is not a supported session version (this program reads 1 to " +
+                std::to_string(kSessionVersion) + ")");
+}
+
+void read_fields(const json& j, SessionFile& s) {
+    s.version = session_version(j);
+    each(j, "paths", [&](const json& p) {
+        if (!p.is_string()) throw Error("is " + json_kind(p) + ", not a string");
+        s.paths.push_back(p.get<std::string>());
+    });
+    s.crs = json_optional_string(j, "crs").value_or("");
+    if (const json* camera = json_optional_object(j, "camera")) {
+        try {
+            s.camera = camera_from(*camera);
+        } catch (const Error& e) {
+            throw Error("camera: " + e.cause());
+        }
+    }
+    if (const json* f = json_optional_object(j, "filter")) {
+        s.filter = PointFilter::parse(json_optional_string(*f, "classes").value_or(""),
+                                      json_optional_string(*f, "returns").value_or(""),
+                                      json_optional_string(*f, "intensity").value_or(""));
+    }
+    s.colour = json_optional_string(j, "colour").value_or("");
+    if (!s.colour.empty()) render::parse_colour_mode(s.colour);  // refused here, not when applied
+    each(j, "measurements", [&](const json& m) { s.measurements.push_back({xyz(m, "from"), xyz(m, "to")}); });
+    each(j, "annotations", [&](const json& a) { s.annotations.push_back({xyz(a, "at"), json_string(a, "text")}); });
+    each(j, "profiles", [&](const json& p) {
+        s.profiles.push_back(
+            {numbers<4>(p, "line", "[x0, y0, x1, y1]"), json_optional_number(p, "width").value_or(2.0)});
+        if (!(s.profiles.back().width > 0)) throw Error("a profile's width is not positive");
+    });
+}
+
+// A known field's value as written: indented for a person, under its key's indentation.
+std::string indented(const json& value) {
+    std::string text = value.dump(2, ' ', false, json::error_handler_t::replace), out;
+    out.reserve(text.size());
+    for (const char c : text) out += c == '\n' ? std::string("\n  ") : std::string(1, c);
+    return out;
 }
 
 }  // namespace
 
-nlohmann::json session_json(const SessionFile& s) {
-    nlohmann::json j = s.unknown;
+json session_json(const SessionFile& s) {
+    json j = s.unknown;
     j["kind"] = kKind;
     j["version"] = s.version;
     j["paths"] = s.paths;
@@ -51,55 +135,39 @@ nlohmann::json session_json(const SessionFile& s) {
     }
     j["filter"] = filter_json(s.filter);
     j["colour"] = s.colour;
-    j["measurements"] = nlohmann::json::array();
+    j["measurements"] = json::array();
     for (const auto& m : s.measurements) j["measurements"].push_back({{"from", m.from}, {"to", m.to}});
-    j["annotations"] = nlohmann::json::array();
+    j["annotations"] = json::array();
     for (const auto& a : s.annotations) j["annotations"].push_back({{"at", a.at}, {"text", a.text}});
-    j["profiles"] = nlohmann::json::array();
+    j["profiles"] = json::array();
     for (const auto& p : s.profiles) j["profiles"].push_back({{"line", p.line}, {"width", p.width}});
     return j;
 }
 
-SessionFile session_from_json(const nlohmann::json& j, const std::string& path) {
-    if (!j.is_object() || j.value("kind", std::string()) != kKind) {
+std::string session_text(const SessionFile& session) {
+    const json j = session_json(session);
+    std::string out = "{";
+    const char* separator = "\n  ";
+    for (const auto& [key, value] : j.items()) {
+        out += separator + json(key).dump(-1, ' ', false, json::error_handler_t::replace) + ": ";
+        // fields this version does not know are kept compact: indenting them costs their depth per line
+        out += kKnown.contains(key) ? indented(value) : value.dump(-1, ' ', false, json::error_handler_t::replace);
+        separator = ",\n  ";
+    }
+    return out + "\n}\n";
+}
+
+SessionFile session_from_json(const json& j, const std::string& path) {
+    const json* kind = json_field(j, "kind");
+    if (!kind || !kind->is_string() || kind->get_ref<const std::string&>() != kKind) {
         throw Error(path, std::nullopt, "not a lidarscout session (no \"kind\": \"" + std::string(kKind) + "\")");
     }
     SessionFile s;
     try {
-        s.version = j.at("version").get<int>();
-        if (s.version > kSessionVersion) {
-            throw Error(path, std::nullopt, "a session of version " + std::to_string(s.version) +
-                                                ", newer than this program's (" + std::to_string(kSessionVersion) +
-                                                "): update lidarscout");
-        }
-        s.paths = j.value("paths", std::vector<std::string>{});
-        s.crs = j.value("crs", std::string());
-        if (j.contains("camera")) s.camera = camera_from(j.at("camera"));
-        if (j.contains("filter")) {
-            const auto& f = j.at("filter");
-            s.filter = PointFilter::parse(f.value("classes", ""), f.value("returns", ""), f.value("intensity", ""));
-        }
-        s.colour = j.value("colour", std::string());
-        if (!s.colour.empty()) render::parse_colour_mode(s.colour);  // refused here, not when applied
-        for (const auto& m : j.value("measurements", nlohmann::json::array())) {
-            s.measurements.push_back({xyz(m.at("from")), xyz(m.at("to"))});
-        }
-        for (const auto& a : j.value("annotations", nlohmann::json::array())) {
-            s.annotations.push_back({xyz(a.at("at")), a.at("text").get<std::string>()});
-        }
-        for (const auto& p : j.value("profiles", nlohmann::json::array())) {
-            const auto& l = p.at("line");
-            if (l.size() != 4) throw Error(path, std::nullopt, "a profile's \"line\" is not [x0, y0, x1, y1]");
-            s.profiles.push_back({{l.at(0).get<double>(), l.at(1).get<double>(), l.at(2).get<double>(),
-                                   l.at(3).get<double>()},
-                                  p.value("width", 2.0)});
-            if (!(s.profiles.back().width > 0)) throw Error(path, std::nullopt, "a profile's width is not positive");
-        }
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(path, std::nullopt, std::string("a session field is missing or of the wrong kind: ") + e.what());
+        read_fields(j, s);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
-        throw e.with_file(path);  // the filter's own message, with the file
+        throw e.with_file(path);  // the field's or the filter's message, with the file
     }
     for (const auto& [key, value] : j.items()) {
         if (!kKnown.contains(key)) s.unknown[key] = value;
@@ -108,16 +176,16 @@ SessionFile session_from_json(const nlohmann::json& j, const std::string& path) 
 }
 
 SessionFile read_session(const std::string& path) {
+    require_regular_file(path);  // a FIFO would hang the read
     std::ifstream in(path, std::ios::binary);
     if (!in) throw Error(path, std::nullopt, "cannot open the session file");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const auto j = nlohmann::json::parse(text, nullptr, false);
-    if (j.is_discarded()) throw Error(path, std::nullopt, "not JSON");
-    return session_from_json(j, path);
+    JsonLimits limits;
+    limits.max_bytes = kMaxSessionBytes;
+    return session_from_json(read_json(istream_json_source(in), path, limits), path);
 }
 
 void write_session(const std::string& path, const SessionFile& session) {
-    const std::string text = session_json(session).dump(2) + "\n";
+    const std::string text = session_text(session);
     io::AtomicOutputFile out(path);
     out.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
     out.commit();

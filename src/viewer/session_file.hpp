@@ -3,8 +3,9 @@
 // annotations (text labels at picked points) and the profiles' corridors. Positions are world
 // metres of the dataset's frame (the CRS named in the file), but a profile's line and width are in
 // that CRS's units, as `view --profile` and `lidarscout profile --line` take them. The file has a
-// `version`; a field this version does not know is kept and written back as it was, so that a newer
-// program's sessions survive an older one.
+// `version`; a field this version does not know is kept and written back as it was (compact), so
+// that a newer program's sessions survive an older one. Files are read by the bounded JSON reader
+// (core/json_reader.hpp: depth, string and size limits), each field by its kind.
 #pragma once
 
 #include <array>
@@ -59,12 +60,16 @@ struct SessionFile {
 };
 
 // Reads `path`; throws lidarscout::Error (the file, the cause) when it cannot be read, is not
-// JSON, is not a session, has a field of the wrong kind, or comes from a newer version.
+// JSON or passes the reader's limits, is not a session (no "kind" naming one), has a field of the
+// wrong kind, or has a version this program does not read (not a whole number from 1 to
+// kSessionVersion: a newer one is told to update).
 SessionFile read_session(const std::string& path);
 // Writes `session` to `path` through a temporary name (refused when it names an input).
 void write_session(const std::string& path, const SessionFile& session);
 
 nlohmann::json session_json(const SessionFile& session);
+// The file's text: known fields indented, unknown ones compact (so its size follows what they hold).
+std::string session_text(const SessionFile& session);
 // Throws lidarscout::Error naming `path` (used in the message only).
 SessionFile session_from_json(const nlohmann::json& j, const std::string& path);
 

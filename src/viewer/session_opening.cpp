@@ -49,7 +49,7 @@ void SessionOpening::open_preview(std::span<const dataset::TileSource> sources,
     d.cancel = &cancel_;
     auto preview = std::make_shared<Session>();
     try {
-        preview->dataset = std::make_unique<dataset::Dataset>(dataset::open_sources({std::move(central), {}}, d));
+        preview->dataset = std::make_unique<dataset::Dataset>(dataset::open_sources({std::move(central), {}, {}}, d));
     } catch (const Error&) {
         return;
     }

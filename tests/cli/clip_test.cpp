@@ -2,7 +2,8 @@
 // by `info`; a corrupt chunk named on one stderr line and skipped (exit 3); an output named like an
 // input refused with the input unchanged; bad WKT, bad filters and a missing area as one-line errors
 // (exit 1); a profile as CSV, LAZ and PNG with the same points; tiles in two UTM zones clipped with
-// --crs written in that CRS, with a note.
+// --crs written in that CRS, with a note; a tile named by three catalog items and twice as an argument
+// clipped once, with one warning (which scan shows too).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -100,7 +101,7 @@ TEST_F(ClipCommand, BadOptionsAreOneLineErrors) {
     EXPECT_EQ(test::run_command(base + " 2>&1", out), 1);
     EXPECT_NE(out.find("either --bounds or --polygon"), std::string::npos) << out;
     EXPECT_EQ(test::run_command(base + " --bounds 0,0,1,1 2>&1", out), 1);
-    EXPECT_NE(out.find("no tile touches the area"), std::string::npos) << out;
+    EXPECT_NE(out.find("no tile touches the region"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("x.laz")));
 }
 
@@ -151,6 +152,34 @@ TEST_F(ClipCommand, ProfileAsCsvLazAndPng) {
     EXPECT_EQ(png.height, 600);
     EXPECT_EQ(test::run_command(base + path("p.txt") + " 2>&1", out), 1);
     EXPECT_NE(out.find(".csv"), std::string::npos) << out;
+}
+
+TEST_F(ClipCommand, ATileNamedManyTimesIsClippedOnce) {
+    std::vector<test::FixturePoint> points;
+    for (int i = 0; i < 5028; ++i) points.push_back({500000.5 + i % 100, 5400000.5 + i / 100, 100.0});
+    test::write_fixture(path("t.las"), points, 32632);
+    fs::create_directories(dir / "sub");
+    nlohmann::json features = nlohmann::json::array();
+    for (const std::string& href : std::vector<std::string>{"../t.las", path("t.las"), "../sub/../t.las"}) {
+        features.push_back({{"type", "Feature"}, {"id", href}, {"properties", nlohmann::json::object()},
+                            {"assets", {{"data", {{"href", href}, {"roles", {"data"}}}}}}});
+    }
+    std::ofstream(dir / "sub" / "cat.json") << nlohmann::json{{"type", "FeatureCollection"}, {"features", features}};
+    const std::string inputs = path("t.las") + " " + path("sub/cat.json") + " " + path("t.las");
+    std::string out;
+    ASSERT_EQ(test::run_command(cli() + "clip " + inputs + " --bounds 499000,5399000,501000,5401000 -o " +
+                                    path("c.laz") + " --json 2>" + path("err.txt"), out), 0) << out;
+    EXPECT_EQ(nlohmann::json::parse(out).at("points_written"), 5028u);
+    const std::string err = read_text(path("err.txt"));
+    const std::string warning =
+        "warning: 4 inputs name tiles already named, read once: " + path("t.las") + " (5 times)";
+    EXPECT_NE(err.find(warning), std::string::npos) << err;
+    EXPECT_EQ(err.find("already named"), err.rfind("already named")) << "one warning: " << err;
+    ASSERT_EQ(test::run_command(cli() + "scan --json " + inputs + " 2>/dev/null", out), 0) << out;
+    const auto scan = nlohmann::json::parse(out);
+    EXPECT_EQ(scan.at("points"), 5028u) << out;
+    ASSERT_EQ(scan.at("warnings").size(), 1u) << out;
+    EXPECT_NE(scan.at("warnings")[0].get<std::string>().find("4 inputs name tiles already named"), std::string::npos);
 }
 
 }  // namespace

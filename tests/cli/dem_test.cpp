@@ -3,7 +3,7 @@
 // raster over the memory budget is refused before it is allocated, a hostile --threads capped,
 // and a corrupt chunk costs only its points (exit 3); --product writes several rasters in one
 // read, each to its own checked name; --ground smrf makes the dtm of an unclassified survey; the memory
-// estimate bounds the peak.
+// estimate bounds the peak; contours are counted before they are drawn.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -280,6 +280,37 @@ TEST_F(DemCommand, ContoursOfTheHeightRasterInAGeoPackage) {
                                     " --product count --contours 10 2>&1", out), 1);
     EXPECT_NE(out.find("--contours needs a dtm, dsm or chm product"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("n.tif")));
+}
+
+// The contours are counted before GDAL draws them: the count is in the JSON (within a factor of 2 of
+// the lines drawn), GDAL says nothing on stderr (its GeoPackage driver once warned about the
+// temporary name's extension on every run), and an interval that would draw too many lines is
+// refused in one line that names the count, the limit and an interval that fits.
+TEST_F(DemCommand, ContoursAreCountedBeforeTheyAreDrawn) {
+    std::string out;
+    ASSERT_EQ(test::run_command(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 4 --json -o " +
+                                    path("c.tif") + " --contours 2 2>" + path("err.txt"), out), 0) << out;
+    const auto j = nlohmann::json::parse(out);
+    const double lines = j.at("contour_lines").get<double>(), counted = j.at("contour_lines_estimate").get<double>();
+    EXPECT_GT(lines, 100);
+    EXPECT_GE(counted, lines / 2);
+    EXPECT_LE(counted, lines * 2);
+    EXPECT_GT(j.at("contour_points_estimate").get<double>(), counted);
+    std::ifstream err(path("err.txt"));
+    const std::string stderr_text{std::istreambuf_iterator<char>(err), std::istreambuf_iterator<char>()};
+    EXPECT_EQ(stderr_text.find("Warning"), std::string::npos) << stderr_text;
+    EXPECT_EQ(stderr_text.find("extension"), std::string::npos) << stderr_text;
+    fs::create_directories(dir / "out");
+    const auto run = test::run_measured(std::string(LIDARSCOUT_CLI) + " dem " + woodford() + " --texel 2 -o " +
+                                            (dir / "out" / "d.tif").string() + " --contours 0.01",
+                                        dir / "err2.txt");
+    EXPECT_EQ(run.status, 1) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    EXPECT_NE(run.err.find("--contours 0.01 would draw about "), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("(limit 200 k lines)"), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("try --contours "), std::string::npos) << run.err;
+    EXPECT_NE(run.err.find("or --force to draw them all"), std::string::npos) << run.err;
+    EXPECT_FALSE(fs::exists(dir / "out" / "d_contours.gpkg"));
 }
 
 TEST_F(DemCommand, HugeRasterIsRefusedBeforeAllocation) {

@@ -4,7 +4,8 @@
 // two points of a real tile and measure between them; a remote tile list behind nginx and a
 // slow link, whose window draws (footprints, progress) before the dataset is open, then the
 // overview, with the missing tile listed; a large catalog's footprints in the first frame and its
-// centre first; every file of the formats folder opens or is skipped.
+// centre first; every file of the formats folder opens or is skipped; a tile named twice read once,
+// the warning on stderr.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -113,6 +114,16 @@ TEST_F(ViewCommand, ShowsASurvey) {
     ASSERT_EQ(run_xvfb(survey + " --no-cnn --size 480x480 --quit-after 10 --screenshot " + shot.string(), out), 0)
         << out;
     EXPECT_GT(drawn_share(shot), 0.5) << out;
+}
+
+TEST_F(ViewCommand, ATileNamedTwiceIsShownOnceWithAWarning) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    std::string out;
+    const std::string twice =
+        ign_tile() + " " + (test::surveys_dir() / "ign-lidar-hd-1km/../ign-lidar-hd-1km").string();
+    ASSERT_EQ(run_xvfb(twice + " --no-cnn --size 320x240 --quit-after 3", out), 0) << out;
+    EXPECT_NE(out.find("lidarscout: warning: 1 input names a tile already named, read once: " + ign_tile() +
+                       " (2 times)"), std::string::npos) << out;
 }
 
 // "click X,Y: x 1 y 2 z 3 (...": the three coordinates of a scripted click's report.

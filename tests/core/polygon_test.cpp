@@ -1,10 +1,15 @@
 // MultiPolygon: points inside, outside, on edges and vertices, in holes and in the parts of a
 // multipolygon (their union); the indexed test against a brute-force reference on random polygons,
-// its work and memory counted; WKT and GeoJSON parsed, and their errors naming what was expected.
+// its work and memory counted; WKT and GeoJSON parsed, and their errors naming what was expected;
+// GeoJSON nested 60k deep, or with a field of the wrong kind, one Error (never a crash, never a JSON library's).
 #include <gtest/gtest.h>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <random>
 #include <string>
@@ -16,9 +21,10 @@
 namespace lidarscout {
 namespace {
 
-std::string error_of(const std::string& wkt) {
+// The message of the Error parsing `text` ("" when it parses).
+std::string error_of(const std::string& text, MultiPolygon (*parse)(std::string_view) = parse_wkt_polygon) {
     try {
-        parse_wkt_polygon(wkt);
+        parse(text);
     } catch (const Error& e) {
         return e.what();
     }
@@ -330,6 +336,49 @@ TEST(Polygon, LongEdgesKeepTheIndexLinear) {
         const double x = unit(rng), y = unit(rng);
         ASSERT_EQ(star.contains(x, y), reference_contains(copy, x, y)) << x << ", " << y;
     }
+}
+
+std::string geojson_error(const std::string& text) { return error_of(text, parse_geojson_polygon); }
+
+TEST(Polygon, GeoJsonNestedDeepIsOneErrorNotACrash) {
+    // A FeatureCollection of FeatureCollections, 60k deep.
+    std::string deep;
+    for (int i = 0; i < 60'000; ++i) deep += R"({"type": "FeatureCollection", "features": [)";
+    for (int i = 0; i < 60'000; ++i) deep += "]}";
+    EXPECT_NE(geojson_error(deep).find("polygon: GeoJSON: arrays and objects nested more than the limit of 256 deep"),
+              std::string::npos);
+    const std::string coordinates = R"({"type": "Polygon", "coordinates": )" + std::string(100'000, '[') +
+                                    std::string(100'000, ']') + "}";
+    EXPECT_NE(geojson_error(coordinates).find("nested more than"), std::string::npos);
+    // Read from a file: the file named.
+    const auto file = std::filesystem::temp_directory_path() / ("lidarscout_deep_" + std::to_string(::getpid()) +
+                                                                ".geojson");
+    std::ofstream(file) << deep;
+    try {
+        read_polygon_argument(file.string());
+        ADD_FAILURE() << "read";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), file.string());
+        EXPECT_NE(e.cause().find("nested more than"), std::string::npos);
+    }
+    std::filesystem::remove(file);
+}
+
+TEST(Polygon, GeoJsonOfTheWrongKindIsNamed) {
+    EXPECT_NE(geojson_error(R"({"type": 5, "coordinates": []})").find("GeoJSON: \"type\" is a number, not a string"),
+              std::string::npos);
+    EXPECT_NE(geojson_error(R"({"type": "FeatureCollection", "features": [{"type": "Feature", "geometry":
+              {"type": ["Polygon"]}}]})").find("\"type\" is an array, not a string"), std::string::npos);
+    EXPECT_NE(geojson_error(R"({"type": "FeatureCollection", "features": 3})").find("without a features array"),
+              std::string::npos);
+    EXPECT_NE(geojson_error(R"({"type": "Polygon", "coordinates": [[[0, 0], [1, "a"], [1, 1]]]})")
+                  .find("a position is not an array of at least two numbers"),
+              std::string::npos);
+    const std::string long_type = geojson_error(R"({"type": ")" + std::string(100'000, 'T') + "\"}");
+    EXPECT_NE(long_type.find("... (100000 bytes)"), std::string::npos);
+    EXPECT_LT(long_type.size(), 400u);
+    EXPECT_NE(geojson_error("{\"type\": \"Polygon\", \"coordinates\": [[[0, 0], [1, 0], [1, 1]]]} x").find("not JSON"),
+              std::string::npos);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
-// display_text: valid UTF-8 kept, other bytes as Latin-1, control characters escaped.
+// display_text: valid UTF-8 kept, other bytes as Latin-1, control characters escaped; count_text's units.
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include <nlohmann/json.hpp>
 
@@ -36,6 +38,24 @@ TEST(DisplayText, AnyBytesGiveValidJson) {
     const nlohmann::json j = display_text(all);
     EXPECT_NO_THROW((void)j.dump());
     EXPECT_EQ(nlohmann::json::parse(j.dump()).get<std::string>(), display_text(all));
+}
+
+// The viewer's "0.00 G points" for a million points: the unit now follows the magnitude.
+TEST(CountText, ChoosesTheUnitByMagnitude) {
+    EXPECT_EQ(count_text(0), "0");
+    EXPECT_EQ(count_text(950), "950");
+    EXPECT_EQ(count_text(999.4), "999");
+    EXPECT_EQ(count_text(999.6), "1.00 k");  // rounds up into the next unit, not "1000"
+    EXPECT_EQ(count_text(12345), "12.3 k");
+    EXPECT_EQ(count_text(144050), "144 k");
+    EXPECT_EQ(count_text(999600), "1.00 M");  // not "1000 k"
+    EXPECT_EQ(count_text(1012412), "1.01 M");
+    EXPECT_EQ(count_text(2.27e6), "2.27 M");
+    EXPECT_EQ(count_text(15.7e6), "15.7 M");
+    EXPECT_EQ(count_text(3.1e9), "3.10 G");
+    EXPECT_EQ(count_text(4.1e15), "4100 T");  // the largest unit holds what is above it
+    EXPECT_EQ(count_text(-2500), "-2.50 k");
+    EXPECT_EQ(count_text(std::nan("")), "?");
 }
 
 }  // namespace

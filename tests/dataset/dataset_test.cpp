@@ -2,8 +2,12 @@
 // in US survey feet); bad files skipped with one line naming them while the rest is read;
 // tiles in a CRS other than the majority's (or the one asked for) reprojected into it, landing
 // where they belong; each tile reported as it is read, and an opening cancelled half-way; a
-// tile whose compound CRS PROJ lacks the vertical part of is placed by its horizontal part.
+// tile whose compound CRS PROJ lacks the vertical part of is placed by its horizontal part. A tile
+// named many times (catalog items, a `next` loop, arguments, a list, links) is read once, with one
+// warning; a virtual replica's tiles sharing a file are all kept; a FIFO named anywhere is one
+// line, not a hang.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <atomic>
@@ -13,14 +17,18 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
 #include "dataset/point_stream.hpp"
 #include "dataset/stac_catalog.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "geo/projection.hpp"
 #include "las_fixture.hpp"
+#include "temp_dir_fixture.hpp"
 #include "test_data.hpp"
 
 namespace lidarscout::dataset {
@@ -155,7 +163,9 @@ TEST(Dataset, TileInAnotherCrsLandsOnItsPlace) {
     }
     EXPECT_LT(worst, 0.001);  // the writer's millimetre scale
 
-    const Dataset majority = open_dataset({converted, original, original});  // two tiles in 32632, one in 32633
+    const std::string copy = (dir / "copy.laz").string();  // (not the original again: a tile named twice is one)
+    fs::copy_file(original, copy);
+    const Dataset majority = open_dataset({converted, original, copy});  // two tiles in 32632, one in 32633
     EXPECT_EQ(majority.frame.crs, "EPSG:32632");
     ASSERT_EQ(majority.warnings.size(), 1u);
     EXPECT_NE(majority.warnings[0].message.find("reprojected to EPSG:32632"), std::string::npos);
@@ -345,6 +355,152 @@ TEST(Dataset, BoundsDistance) {
     EXPECT_EQ(b.distance_xy(13, 5), 3.0);
     EXPECT_EQ(b.distance_xy(13, 14), 5.0);
     EXPECT_TRUE(Bounds{}.empty());
+}
+
+// Tiles named several times, and names that are not regular files.
+class DatasetInputs : public test::TempDirTest {
+protected:
+    static constexpr std::size_t kPoints = 300;
+
+    void SetUp() override {
+        TempDirTest::SetUp();
+        fs::create_directories(dir / "sub");
+        write_tile("t.las", 500'000);
+        write_tile("u.las", 501'000);
+    }
+    void write_tile(const char* name, double x0) {
+        std::vector<test::FixturePoint> points;
+        for (std::size_t i = 0; i < kPoints; ++i) points.push_back({x0 + double(i % 20), 5e6 + double(i / 20), 1.0});
+        test::write_fixture(path(name), points, 32632);
+    }
+    // A STAC item whose data asset is `href`.
+    static nlohmann::json item(const std::string& href) {
+        return {{"type", "Feature"}, {"id", href}, {"properties", nlohmann::json::object()},
+                {"assets", {{"data", {{"href", href}, {"roles", {"data"}}}}}}};
+    }
+    std::string write_json(const std::string& name, const nlohmann::json& doc) {
+        std::ofstream(dir / name) << doc.dump(1);
+        return (dir / name).string();
+    }
+    std::string write_text(const std::string& name, const std::string& text) {
+        std::ofstream(dir / name) << text;
+        return (dir / name).string();
+    }
+    // The one warning of `ds`, which must name the tiles named again.
+    static std::string duplicates_warning(const Dataset& ds) {
+        EXPECT_EQ(ds.warnings.size(), 1u);
+        return ds.warnings.empty() ? std::string() : ds.warnings.front().message;
+    }
+};
+
+TEST_F(DatasetInputs, ThreeCatalogItemsNamingOneTileReadItOnce) {
+    const nlohmann::json items = {item("../t.las"), item(path("t.las")), item("../sub/../t.las"), item("../u.las")};
+    const std::string catalog = write_json("sub/cat.json", {{"type", "FeatureCollection"}, {"features", items}});
+    const Dataset ds = open_dataset({catalog});
+    ASSERT_EQ(ds.tiles.size(), 2u);
+    EXPECT_TRUE(ds.skipped.empty());
+    EXPECT_EQ(ds.point_count, 2 * kPoints);
+    const std::string warning = duplicates_warning(ds);
+    EXPECT_NE(warning.find("2 inputs name tiles already named"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("t.las (3 times)"), std::string::npos) << warning;
+    EXPECT_EQ(warning.find("u.las"), std::string::npos) << warning;
+}
+
+TEST_F(DatasetInputs, ArgumentsListsLinksAndHardLinksNamingOneTileReadItOnce) {
+    fs::create_symlink(dir / "t.las", dir / "link.las");
+    fs::create_hard_link(dir / "t.las", dir / "hard.las");
+    const std::string list = write_text("tiles.txt", "t.las\n./t.las\nsub/../u.las\n");
+    const Dataset ds = open_dataset({path("t.las"), path("t.las"), (dir / "sub" / ".." / "t.las").string(),
+                                     path("link.las"), path("hard.las"), list, path("u.las")});
+    ASSERT_EQ(ds.tiles.size(), 2u);
+    EXPECT_EQ(ds.point_count, 2 * kPoints);
+    EXPECT_EQ(ds.tiles[0].tile.path(), path("t.las")) << "the first name given is kept";
+    const std::string warning = duplicates_warning(ds);
+    EXPECT_NE(warning.find("7 inputs name tiles already named"), std::string::npos) << warning;
+    // (u.las first named by the list, through sub/..)
+    EXPECT_NE(warning.find("t.las (7 times), " + (dir / "sub/../u.las").string() + " (2 times)"), std::string::npos)
+        << warning;
+}
+
+TEST_F(DatasetInputs, ALoopOfNextPagesNamingOneTileReadsItOnce) {
+    constexpr int kPages = 33;
+    for (int i = 0; i < kPages; ++i) {  // page i names t.las and links page i + 1 (the last, page 0 again)
+        const nlohmann::json next = {{"rel", "next"}, {"href", "page" + std::to_string((i + 1) % kPages) + ".json"}};
+        write_json("page" + std::to_string(i) + ".json",
+                   {{"type", "FeatureCollection"}, {"features", {item(i % 2 ? "./t.las" : "sub/../t.las")}},
+                    {"links", {next}}});
+    }
+    const Dataset ds = open_dataset({path("page0.json")});
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    EXPECT_EQ(ds.point_count, kPoints);
+    const std::string warning = duplicates_warning(ds);
+    EXPECT_NE(warning.find("32 inputs name tiles already named"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("(33 times)"), std::string::npos) << warning;
+}
+
+TEST_F(DatasetInputs, ManyTilesNamedAgainAreListedShort) {
+    std::vector<std::string> paths;
+    for (int i = 0; i < 12; ++i) {
+        const std::string name = "c" + std::to_string(i) + ".las";
+        fs::copy_file(dir / "t.las", dir / name);
+        paths.push_back(path(name.c_str()));
+        paths.push_back(path(name.c_str()));
+    }
+    const Dataset ds = open_dataset(paths);
+    EXPECT_EQ(ds.tiles.size(), 12u);
+    const std::string warning = duplicates_warning(ds);
+    EXPECT_NE(warning.find("12 inputs name tiles already named"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("c4.las (2 times) and 7 more tiles"), std::string::npos) << warning;
+    EXPECT_EQ(warning.find("c5.las"), std::string::npos) << warning;
+}
+
+TEST_F(DatasetInputs, AVirtualReplicasTilesSharingOneFileAreAllKept) {
+    nlohmann::json tiles = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i) tiles.push_back({{"file", "v" + std::to_string(i) + ".las"}, {"source", 0},
+                                                 {"shift", {1000.0 * i, 0.0}}});
+    const std::string manifest = write_json(
+        "replicate.json", {{"tool", kReplicaTool}, {"virtual", true}, {"sources", {{{"path", path("t.las")}}}},
+                           {"tiles", tiles}});
+    ASSERT_TRUE(is_virtual_replica(manifest));
+    const Dataset once = open_dataset({manifest});
+    ASSERT_EQ(once.tiles.size(), 3u) << "one file, three places: three tiles";
+    EXPECT_TRUE(once.warnings.empty());
+    const Dataset twice = open_dataset({manifest, manifest, path("t.las")});
+    EXPECT_EQ(twice.tiles.size(), 4u) << "the replica's three once each, and the file itself";
+    const std::string warning = duplicates_warning(twice);
+    EXPECT_NE(warning.find("3 inputs name tiles already named"), std::string::npos) << warning;
+    EXPECT_NE(warning.find("v1.las (2 times)"), std::string::npos) << warning;
+}
+
+// A FIFO named by a catalog item, a tile list entry, an argument, or as a catalog, list or manifest:
+// one line each, the other tiles read. (Opening a FIFO to read it waits for a writer: this test ends
+// only because nothing opens it so.)
+TEST_F(DatasetInputs, AFifoNamedAnywhereIsOneLineAndNeverRead) {
+    for (const char* name : {"pipe.laz", "pipe.json", "pipe.txt", "replicate-pipe/replicate.json"}) {
+        fs::create_directories((dir / name).parent_path());
+        ASSERT_EQ(::mkfifo(path(name).c_str(), 0600), 0) << name;
+    }
+    const std::string catalog =
+        write_json("cat.json", {{"type", "FeatureCollection"}, {"features", {item("pipe.laz"), item("t.las")}}});
+    const std::string list = write_text("list.txt", "pipe.laz\nt.las\n");
+    for (const auto& paths : std::vector<std::vector<std::string>>{
+             {catalog}, {list}, {path("pipe.laz"), path("t.las")}, {path("pipe.json"), path("t.las")},
+             {path("pipe.txt"), path("t.las")}, {path("replicate-pipe/replicate.json"), path("t.las")}}) {
+        SCOPED_TRACE(paths.front());
+        const Dataset ds = open_dataset(paths);
+        ASSERT_EQ(ds.tiles.size(), 1u);
+        EXPECT_EQ(ds.tiles[0].tile.path(), path("t.las"));
+        ASSERT_EQ(ds.skipped.size(), 1u);
+        const std::string& line = ds.skipped[0].error;
+        EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+        EXPECT_NE(line.find("pipe"), std::string::npos) << line;
+        EXPECT_NE(line.find("is a FIFO (named pipe), not a regular file"), std::string::npos) << line;
+    }
+    const Dataset folder = open_dataset({path("replicate-pipe")});  // a folder of no tile, its "manifest" unread
+    EXPECT_TRUE(folder.tiles.empty());
+    EXPECT_EQ(folder.skipped.size(), 1u);
+    EXPECT_FALSE(is_virtual_replica(path("replicate-pipe/replicate.json")));
+    EXPECT_THROW(read_virtual_replica(path("replicate-pipe/replicate.json")), Error);
 }
 
 }  // namespace

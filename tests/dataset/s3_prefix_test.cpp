@@ -1,16 +1,23 @@
 // dataset/s3_prefix: an s3 prefix of 1,005 keys on the test S3 server (tests/s3_server.hpp)
 // lists every point cloud in key order across two ListObjectsV2 pages, other objects left
 // out; a prefix without tiles and a listing refused are errors naming the bucket and prefix;
-// the file search expands a prefix like a folder.
+// the file search expands a prefix like a folder. Through the command line, against a hostile
+// S3 server (tests/net/fault_server.hpp answering every request itself): a listing that would
+// never end (the same token every page) stops after its second page with one line, on stderr and
+// in --json, and `view` quits; an error body echoing the credentials shows none of them.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdio>
+#include <memory>
 
 #include "core/error.hpp"
 #include "dataset/file_search.hpp"
 #include "dataset/s3_prefix.hpp"
 #include "net/http_client.hpp"
+#include "net/fault_server.hpp"
 #include "s3_server.hpp"
+#include "test_data.hpp"
 
 namespace lidarscout::dataset {
 namespace {
@@ -75,6 +82,93 @@ TEST_F(S3Prefix, AListingRefusedNamesBucketPrefixAndCode) {
         EXPECT_NE(m.find("bucket \"many\", prefix \"tiles/\""), std::string::npos) << m;
         EXPECT_EQ(m.find("not-the-secret-77"), std::string::npos) << m;
     }
+}
+
+const std::string kSessionToken = "IQoJb3JpZ2luX2VjEPrefixTestSessionToken/9a8b+7c6==";
+const std::string kSecretKey = "prefix-test-secret-6e5d4c";
+
+std::shared_ptr<const std::string> xml_answer(const std::string& status, const std::string& xml) {
+    return std::make_shared<const std::string>("HTTP/1.1 " + status + "\r\nContent-Type: application/xml\r\n"
+                                               "Content-Length: " + std::to_string(xml.size()) + "\r\n\r\n" + xml);
+}
+
+class HostilePrefixCommand : public ::testing::Test {
+protected:
+    HostilePrefixCommand() : server(std::vector<std::uint8_t>{}) {
+        server.respond = [this](const std::string&) {
+            if (echo) {
+                return xml_answer("403 Forbidden", "<Error><Code>" + kSessionToken + "</Code><Message>" + kSecretKey +
+                                                       " " + kSessionToken + "</Message><Region>" + kSessionToken +
+                                                       "</Region></Error>");
+            }
+            const std::string key = "k" + std::to_string(100000 + ++page) + ".laz";
+            return xml_answer("200 OK", "<ListBucketResult><Contents><Key>" + key + "</Key><Size>100</Size>"
+                                        "</Contents><IsTruncated>true</IsTruncated><NextContinuationToken>same"
+                                        "</NextContinuationToken></ListBucketResult>");
+        };
+    }
+
+    // Runs the command line with credentials for the server; stdout (and stderr when `both`) in `out`.
+    int run(const std::string& args, std::string& out, bool both = true) {
+        const std::string endpoint = server.url().substr(0, server.url().rfind('/'));
+        const std::string env = "AWS_SHARED_CREDENTIALS_FILE=/dev/null "
+                                "AWS_CONFIG_FILE=/dev/null AWS_ENDPOINT_URL=" + endpoint +
+                                " AWS_ACCESS_KEY_ID=AKIAPREFIXTEST1 AWS_SECRET_ACCESS_KEY=" + kSecretKey +
+                                " AWS_SESSION_TOKEN=" + kSessionToken + " ";
+        return test::run_command(env + args + (both ? " 2>&1" : " 2>/dev/null"), out);
+    }
+
+    static void expect_no_credential(const std::string& out) {
+        for (const std::string& secret : {kSessionToken, kSecretKey, std::string("AKIAPREFIXTEST1")}) {
+            EXPECT_EQ(out.find(secret), std::string::npos) << out;
+            EXPECT_EQ(out.find(secret.substr(0, 12)), std::string::npos) << out;
+        }
+    }
+
+    test::FaultServer server;
+    std::atomic<int> page{0};
+    std::atomic<bool> echo{false};
+};
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+}
+
+TEST_F(HostilePrefixCommand, AListingThatWouldNeverEndStopsWithOneLine) {
+    std::string out;
+    EXPECT_NE(run(std::string(LIDARSCOUT_CLI) + " scan s3://loop/", out), 0);
+    EXPECT_EQ(count_of(out, "continuation token it gave before (page 2)"), 1u) << out;
+    EXPECT_EQ(server.requests(), 2);
+    expect_no_credential(out);
+    EXPECT_NE(run(std::string(LIDARSCOUT_CLI) + " scan --json s3://loop/", out, false), 0);
+    EXPECT_EQ(count_of(out, "continuation token it gave before (page 2)"), 1u) << out;  // (stdout: the JSON)
+    EXPECT_EQ(server.requests(), 4);
+    expect_no_credential(out);
+    if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not found";
+    run("timeout 120 xvfb-run -a -s '-screen 0 640x480x24' " LIDARSCOUT_CLI
+        " view s3://loop/ --no-cnn --size 320x240 --quit-after 5",
+        out);
+    EXPECT_NE(out.find("continuation token it gave before (page 2)"), std::string::npos) << out;
+    EXPECT_EQ(server.requests(), 6);
+}
+
+TEST_F(HostilePrefixCommand, CredentialsEchoedInAnErrorAreNeverShown) {
+    echo = true;
+    std::string out;
+    EXPECT_NE(run(std::string(LIDARSCOUT_CLI) + " scan s3://loop/", out), 0);
+    EXPECT_NE(out.find("HTTP status 403, error [redacted] ([redacted] [redacted]), Region [redacted]"),
+              std::string::npos)
+        << out;
+    expect_no_credential(out);
+    EXPECT_NE(run(std::string(LIDARSCOUT_CLI) + " scan --json s3://loop/", out), 0);
+    EXPECT_NE(out.find("\"error\""), std::string::npos) << out;
+    expect_no_credential(out);
+    EXPECT_NE(run(std::string(LIDARSCOUT_CLI) + " info --json s3://loop/t.laz", out), 0);
+    EXPECT_NE(out.find("403, error [redacted]"), std::string::npos) << out;
+    expect_no_credential(out);
+    EXPECT_EQ(server.requests(), 3);
 }
 
 }  // namespace

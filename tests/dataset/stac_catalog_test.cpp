@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "allocation_counter.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
 #include "nginx_server.hpp"
@@ -102,7 +103,7 @@ TEST_F(StacCatalog, MalformedPartsAreNamedAndTheRestRead) {
             return e.find(what) != std::string::npos && e.find("bad.vpc") != std::string::npos;
         });
     };
-    EXPECT_TRUE(has("item 'neg': pc:count"));
+    EXPECT_TRUE(has("item 'neg': \"pc:count\" is -5, not a count"));
     EXPECT_TRUE(has("item 'neg': proj:bbox"));
     EXPECT_TRUE(has("item 'bare' has no data asset"));
     EXPECT_TRUE(has("item #4 is not a STAC item"));
@@ -132,6 +133,163 @@ TEST_F(StacCatalog, LimitsEndAHostileCatalogWithALine) {
     EXPECT_EQ(deep.documents, 33u);
     ASSERT_FALSE(deep.errors.empty());
     EXPECT_NE(deep.errors[0].find("links deep"), std::string::npos);
+}
+
+// `n` levels of `open` ... `close` around `inner`, as text (nlohmann would recurse to write it).
+std::string nested(int n, const std::string& open, const std::string& inner, const std::string& close) {
+    std::string text;
+    text.reserve(n * (open.size() + close.size()) + inner.size());
+    for (int i = 0; i < n; ++i) text += open;
+    text += inner;
+    for (int i = 0; i < n; ++i) text += close;
+    return text;
+}
+
+// A FeatureCollection of `items`, written as text with `extra` (text) spliced into the first item's
+// properties.
+std::string collection_text(const std::vector<json>& items, const std::string& extra) {
+    std::string text = collection_of(items).dump();
+    const std::string at = "\"properties\":{";
+    const auto pos = text.find(at);
+    return text.insert(pos + at.size(), extra + (text[pos + at.size()] == '}' ? "" : ","));
+}
+
+TEST_F(StacCatalog, NestingAHundredThousandDeepIsOneLineNotACrash) {
+    const json good = item("good", "good.laz");
+    for (const std::string& extra : {"\"proj:projjson\":" + nested(100'000, "{\"a\":", "1", "}"),
+                                     "\"pc:count\":" + nested(60'000, "[", "1", "]")}) {
+        const fs::path p = dir / "deep.vpc";
+        std::ofstream(p) << collection_text({item("deep", "d.laz"), good}, extra);
+        const Catalog c = read_catalog(p.string());
+        ASSERT_EQ(c.errors.size(), 1u);
+        EXPECT_NE(c.errors[0].find("deep.vpc: at byte "), std::string::npos) << c.errors[0];
+        EXPECT_NE(c.errors[0].find("nested more than the limit of 256 deep"), std::string::npos) << c.errors[0];
+        EXPECT_TRUE(c.items.empty()) << "a document that is not read whole gives no items";
+    }
+    // An item alone, nested deep: the same line.
+    std::ofstream(dir / "item.json") << R"({"type": "Feature", "properties": {"proj:projjson": )" +
+                                            nested(100'000, "[", "", "]") + "}}";
+    const Catalog one = read_catalog((dir / "item.json").string());
+    ASSERT_EQ(one.errors.size(), 1u);
+    EXPECT_NE(one.errors[0].find("nested more than"), std::string::npos);
+}
+
+TEST_F(StacCatalog, AFieldOfTheWrongKindIsItsItemsLineAndTheGoodItemsAreKept) {
+    json bad_rel = collection_of({item("ok1", "ok1.laz")});
+    json type5 = item("t5", "t5.laz"), id5 = item("x", "id5.laz"), href5 = item("h5", "x");
+    type5["type"] = 5;
+    id5["id"] = 5;
+    href5["assets"]["data"]["href"] = 5;
+    json assets5 = item("a5", "a5.laz"), props5 = item("p5", "p5.laz"), count5 = item("c5", "c5.laz");
+    assets5["assets"] = 5;
+    props5["properties"] = 5;
+    count5["properties"]["pc:count"] = "many";
+    const std::string vpc = write(
+        "typed.vpc", {{"type", "FeatureCollection"},
+                      {"features", {type5, id5, href5, assets5, props5, count5, item("ok2", "ok2.laz"), json()}},
+                      {"links", {{{"rel", 5}, {"href", "x.json"}}, {{"rel", "next"}, {"href", 7}}}}});
+    const Catalog c = read_catalog(vpc);
+    std::vector<std::string> ids;
+    for (const auto& i : c.items) ids.push_back(i.id);
+    EXPECT_EQ(ids, (std::vector<std::string>{"", "p5", "c5", "ok2"})) << "a field that only describes the tile "
+                                                                            "gets a line; the tile is kept";
+    const auto has = [&](const std::string& what) {
+        return std::count_if(c.errors.begin(), c.errors.end(),
+                             [&](const std::string& e) { return e.find(what) != std::string::npos; });
+    };
+    EXPECT_EQ(has("item 't5': \"type\" is a number, not a string"), 1);
+    EXPECT_EQ(has("item #2: \"id\" is a number, not a string"), 1);
+    EXPECT_EQ(has("item 'h5': \"href\" is a number, not a string"), 1);
+    EXPECT_EQ(has("item 'a5': \"assets\" is a number, not an object"), 1);
+    EXPECT_EQ(has("item 'p5': \"properties\" is a number, not an object"), 1);
+    EXPECT_EQ(has("item 'c5': \"pc:count\" is a string, not a count"), 1);
+    EXPECT_EQ(has("item #8 is not a STAC item"), 1);
+    EXPECT_EQ(has("link #1: \"rel\" is a number, not a string"), 1);
+    EXPECT_EQ(has("a 'next' link without an href"), 1);
+    EXPECT_EQ(c.errors.size(), 9u);
+    // A Catalog's links, and a document's type, of the wrong kind.
+    write("cat.json", {{"type", "Catalog"},
+                       {"links", {{{"rel", 5}}, {{"rel", "child"}, {"href", "sub.vpc"}}, {{"rel", "item"}}}}});
+    write("sub.vpc", collection_of({item("s", "s.laz")}));
+    const Catalog cat = read_catalog((dir / "cat.json").string());
+    ASSERT_EQ(cat.items.size(), 1u);
+    EXPECT_EQ(cat.errors.size(), 2u);
+    const Catalog typed = read_catalog(write("type.json", {{"type", 5}}));
+    ASSERT_EQ(typed.errors.size(), 1u);
+    EXPECT_NE(typed.errors[0].find("\"type\" is a number, not a string"), std::string::npos);
+    bad_rel["type"] = json::array();
+    EXPECT_EQ(read_catalog(write("arr.vpc", bad_rel)).errors.size(), 1u);
+}
+
+TEST_F(StacCatalog, LongIdsAndHrefsAreCutInItsLines) {
+    const std::string long_id(600'000, 'i'), long_href = "zz:" + std::string(600'000, 'h');
+    const std::string vpc =
+        write("long.vpc", collection_of({item(long_id, "a.laz", {{"pc:count", -1}}), item("h", long_href),
+                                         item("ok", "ok.laz")}));
+    const Catalog c = read_catalog(vpc);
+    ASSERT_EQ(c.items.size(), 2u);
+    ASSERT_EQ(c.errors.size(), 2u);
+    for (const auto& e : c.errors) EXPECT_LT(e.size(), 700u) << e.substr(0, 300);
+    EXPECT_NE(c.errors[0].find("... (600000 bytes)"), std::string::npos) << "the length is named";
+    EXPECT_NE(c.errors[1].find("... (600003 bytes)\" is neither a path"), std::string::npos);
+    // A string past the reader's limit (a 200 MB id, here 3 MiB): the document's one line, never the text.
+    std::ofstream(dir / "huge.vpc") << collection_of({item(std::string(3u << 20, 'x'), "a.laz")}).dump();
+    const Catalog huge = read_catalog((dir / "huge.vpc").string());
+    ASSERT_EQ(huge.errors.size(), 1u);
+    EXPECT_LT(huge.errors[0].size(), 300u);
+    EXPECT_NE(huge.errors[0].find("a string of 3145728 bytes, more than the limit"), std::string::npos);
+}
+
+TEST_F(StacCatalog, ItemsAreKeptFromAWholeDocumentWhereverItsTypeIs) {
+    // "type" after "features": the items are read and kept once the type is known.
+    std::ofstream(dir / "late.vpc") << R"({"features": [)" + item("a", "a.laz").dump() + R"(], "type": "FeatureCollection"})";
+    const Catalog late = read_catalog((dir / "late.vpc").string());
+    EXPECT_TRUE(late.errors.empty());
+    EXPECT_EQ(late.items.size(), 1u);
+    // A document broken after its items gives none of them.
+    std::ofstream(dir / "cut.vpc") << R"({"type": "FeatureCollection", "features": [)" + item("a", "a.laz").dump() +
+                                          "], ";
+    const Catalog cut = read_catalog((dir / "cut.vpc").string());
+    EXPECT_TRUE(cut.items.empty());
+    ASSERT_EQ(cut.errors.size(), 1u);
+    EXPECT_NE(cut.errors[0].find("not JSON"), std::string::npos);
+    // Items of a Catalog's features are not tiles.
+    write("cat.json", {{"type", "Catalog"}, {"features", {item("a", "a.laz")}}});
+    EXPECT_TRUE(read_catalog((dir / "cat.json").string()).items.empty());
+}
+
+TEST_F(StacCatalog, AStreamedCatalogHoldsTheItemsKeptNotTheDocument) {
+    // Each item carries ~2 KB that is not kept (a detailed footprint), as real catalogs do.
+    json footprint = json::array();
+    for (int k = 0; k < 100; ++k) footprint.push_back({654321.125 + k, 6543210.25 + k});
+    std::string text = R"({"type": "FeatureCollection", "features": [)";
+    for (int i = 0; i < 10'000; ++i) {
+        json f = item("tile_" + std::to_string(i), "tiles/t" + std::to_string(i) + ".laz",
+                      {{"pc:count", 1000 + i}, {"proj:epsg", 2154}});
+        f["geometry"] = {{"type", "Polygon"}, {"coordinates", {footprint}}};
+        text += (i ? "," : "") + f.dump();
+    }
+    text += "]}";
+    std::ofstream(dir / "big.vpc") << text;
+    const test::AllocationCounter counter;
+    const Catalog c = read_catalog((dir / "big.vpc").string());
+    const std::size_t peak = counter.peak_bytes();
+    ASSERT_EQ(c.items.size(), 10'000u);
+    EXPECT_TRUE(c.errors.empty());
+    EXPECT_LT(peak, text.size() / 3) << "held at once: the items kept, a chunk and one item (document "
+                                     << text.size() << " bytes, peak " << peak << ")";
+}
+
+TEST(StacCatalogRemote, ARemoteItemNestedDeepIsOneLine) {
+    const auto& server = test::NginxServer::instance();
+    std::ofstream(server.lists_dir() / "deep.json")
+        << R"({"type": "Feature", "id": "d", "properties": {"proj:projjson": )" +
+               nested(100'000, "{\"b\":[", "0", "]}") + "}}";
+    const Catalog c = read_catalog(server.url("lists/deep.json"));
+    EXPECT_TRUE(c.items.empty());
+    ASSERT_EQ(c.errors.size(), 1u);
+    EXPECT_NE(c.errors[0].find(server.url("lists/deep.json")), std::string::npos) << c.errors[0];
+    EXPECT_NE(c.errors[0].find("nested more than the limit of 256 deep"), std::string::npos) << c.errors[0];
 }
 
 TEST(StacCatalogRemote, HrefsResolveAgainstTheUrlAndKeepItsOrigin) {

@@ -54,6 +54,17 @@ TEST(OutputFile, AppearsOnlyOnCommit) {
     EXPECT_EQ(std::distance(fs::directory_iterator(dir.path), fs::directory_iterator()), 1) << "no temporary left";
 }
 
+// A writer that checks the name it writes (GDAL's GeoPackage driver warned "The filename extension
+// should be 'gpkg' instead of 'tmp-NNNN'") sees the target's extension on the temporary file.
+TEST(OutputFile, TemporaryNameKeepsTheExtension) {
+    TempDir dir;
+    const io::AtomicOutputFile gpkg((dir.path / "c_contours.gpkg").string());
+    const std::string pid = std::to_string(::getpid());
+    EXPECT_EQ(fs::path(gpkg.temp_path()), dir.path / (".c_contours.gpkg.tmp-" + pid + ".gpkg"));
+    const io::AtomicOutputFile bare((dir.path / "noext").string());
+    EXPECT_EQ(fs::path(bare.temp_path()), dir.path / (".noext.tmp-" + pid));
+}
+
 TEST(OutputFile, RefusesToOverwriteTheInput) {
     TempDir dir;
     const auto input = (dir.path / "in.bin").string();

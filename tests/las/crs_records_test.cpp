@@ -1,5 +1,6 @@
 // The CRS records lidarscout writes read back as the CRS they name (las::parse_geotiff_crs,
-// las::parse_wkt_crs), and is_crs_record tells them from other LASF_Projection and user records.
+// las::parse_wkt_crs; projected and geographic keys), and crs_record_form tells GeoTIFF keys, WKT and
+// liblas's WKT copy from each other and from other LASF_Projection and user records.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -34,6 +35,30 @@ TEST(CrsRecords, WktRecordIsNulTerminated) {
     ASSERT_EQ(v.data.size(), wkt.size() + 1);
     EXPECT_EQ(v.data.back(), 0);
     EXPECT_EQ(std::string(v.data.begin(), v.data.end() - 1), wkt);
+}
+
+TEST(CrsRecords, GeographicKeysReadBackInDegrees) {
+    const Crs crs = parse_geotiff_crs(geotiff_epsg_vlr(4269, 5703, true).data, {}, {});
+    EXPECT_EQ(crs.source, "geotiff");
+    EXPECT_TRUE(crs.geographic);
+    EXPECT_EQ(crs.epsg, 4269);
+    EXPECT_EQ(crs.vertical_epsg, 5703);
+    EXPECT_TRUE(crs.warnings.empty());
+}
+
+TEST(CrsRecords, FormsOfTheRecords) {
+    EXPECT_EQ(crs_record_form(geotiff_epsg_vlr(32632)), CrsForm::GeoTiff);
+    EXPECT_EQ(crs_record_form(wkt_vlr("GEOGCS[\"WGS 84\"]")), CrsForm::Wkt);
+    Vlr v;
+    v.user_id = "liblas";  // what liblas and old LAStools wrote beside the GeoTIFF keys
+    v.record_id = 2112;
+    EXPECT_EQ(crs_record_form(v), CrsForm::LiblasWkt);
+    EXPECT_TRUE(is_crs_record(v));
+    v.record_id = 2113;
+    EXPECT_EQ(crs_record_form(v), CrsForm::None);
+    v.user_id = "LASF_Projection";
+    v.record_id = 2111;
+    EXPECT_EQ(crs_record_form(v), CrsForm::Wkt);
 }
 
 TEST(CrsRecords, OtherRecordsAreNotCrsRecords) {

@@ -7,7 +7,8 @@
 // connection, a redirect to any URL, 404 for every request after the first few. Multi-range
 // requests are answered with the whole buffer and status 200, as object stores do. S3's faults:
 // 503 SlowDown with its XML body, 403 (an expired signed URL). No answer has an Accept-Ranges
-// header. The head of every request is kept (requests_seen) for the tests of what is sent.
+// header. The head of every request is kept (requests_seen) for the tests of what is sent. A
+// test may answer every request itself (`respond`: a hostile S3 server's listings and errors).
 #pragma once
 
 #include <arpa/inet.h>
@@ -18,6 +19,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -84,6 +87,9 @@ public:
     int redirect_status = 302;
     bool multi_range_206 = false;  // a multi-range request gets 206 with the whole file (as s3rver answers)
     int answer_first = 1 << 30;  // requests answered; 404 for the ones after
+    // When set, answers every request (its request line and headers in, the whole response out;
+    // a shared answer is sent without a copy). Set before the first request.
+    std::function<std::shared_ptr<const std::string>(const std::string& head)> respond;
     std::vector<std::string> ranges_seen() {
         std::lock_guard lock(mutex_);
         return ranges_;
@@ -156,6 +162,7 @@ private:
             heads_.push_back(request);
         }
         if (stray_next_.exchange(false)) send_all(fd, "STRAY BYTES HERE");  // as if they ended the last body
+        if (respond) return send_all(fd, *respond(request)), true;
         const Fault fault = take_fault();
         if (fault == Fault::Slow) std::this_thread::sleep_for(std::chrono::milliseconds(slow_ms));
         const std::string etag = fault == Fault::NewEtag ? "\"v2\"" : "\"v1\"";

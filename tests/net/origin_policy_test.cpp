@@ -1,5 +1,6 @@
 // net/origin_policy: a dataset's derived URLs keep its scheme and origin unless other origins
-// are allowed; http after https is refused whatever is allowed.
+// are allowed; http after https is refused whatever is allowed; an s3 key may not leave its
+// bucket however it spells "..".
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -25,6 +26,19 @@ TEST_F(OriginPolicy, DerivedUrlsKeepTheDatasetsOrigin) {
     EXPECT_EQ(derived_url_refusal("s3://b/set/list.txt", "s3://b/other/x.laz"), "");
     EXPECT_NE(derived_url_refusal("s3://b/list.txt", "s3://c/x.laz").find("another origin"), std::string::npos);
     EXPECT_NE(derived_url_refusal("s3://b/list.txt", "https://b/x.laz").find("another origin"), std::string::npos);
+}
+
+TEST_F(OriginPolicy, AnS3KeyLeavingItsBucketIsAnotherOrigin) {
+    const std::string base = "s3://cat/catalog.json";
+    EXPECT_EQ(derived_url_refusal(base, "s3://cat/items/../tiles/x.laz"), "");
+    for (const char* href : {"s3://cat/../secret/x.laz", "s3://cat/%2e%2e/secret/x.laz",
+                             "s3://cat/a/../../secret/x.laz", "s3://cat/&#46;&#46;/secret/x.laz",
+                             "s3://cat/a?/../../secret/x.laz"}) {
+        EXPECT_NE(derived_url_refusal(base, href).find("its key leaves its bucket"), std::string::npos)
+            << href;
+    }
+    set_allowed_origins(parse_allowed_origins("*"));  // (other origins allowed: a key still stays in its bucket)
+    EXPECT_NE(derived_url_refusal(base, "s3://cat/../secret/x.laz"), "");
 }
 
 TEST_F(OriginPolicy, AllowedOriginsMayBeUsedButNeverDowngraded) {

@@ -2,9 +2,10 @@
 // file's bytes everywhere, a tile's ranges go out as one multi-range request, URLs are shown
 // without credentials, a file that changes on the server during a session is an error, and
 // open() joins a prefetch in flight; redirects are kept per file and resolved again when they
-// expire.
+// expire; a server without validator that switches files is told by the file's size.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -133,6 +134,40 @@ TEST(RemoteFile, AFileChangedDuringTheSessionIsAnError) {
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("changed on the server"), std::string::npos) << e.what();
     }
+}
+
+// A server that sends no validator (no ETag, no Last-Modified) switches to another file of
+// another size between reads: the size its Content-Range gives tells it, and the read fails.
+TEST(RemoteFile, AServerWithoutValidatorSwitchingFilesIsAnError) {
+    test::FaultServer server({});
+    std::atomic<std::size_t> size{10000};
+    server.respond = [&](const std::string& head) {
+        const auto range = head.substr(head.find("Range: bytes=") + 13);
+        const std::uint64_t first = std::stoull(range), last = std::stoull(range.substr(range.find('-') + 1));
+        const std::uint64_t end = std::min<std::uint64_t>(last + 1, size);
+        const std::string body(end - first, static_cast<char>(size / 1000));
+        return std::make_shared<const std::string>(
+            "HTTP/1.1 206 Partial Content\r\nContent-Range: bytes " + std::to_string(first) + "-" +
+            std::to_string(end - 1) + "/" + std::to_string(size) +
+            "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
+    };
+    const auto f = RemoteFile::open(server.url());
+    EXPECT_EQ(f->size(), 10000u);
+    EXPECT_EQ(f->validator(), "");
+    std::vector<std::uint8_t> got(100);
+    f->read(5000, got);
+    EXPECT_EQ(got[0], 10);
+    size = 12000;  // another file
+    try {
+        f->read(5100, got);
+        FAIL() << "bytes of another file were read";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("the file changed on the server during this session (its size was 10000 "
+                                             "bytes, now 12000)"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_EQ(server.requests(), 4);  // head, tail, the two reads: no retry
 }
 
 // Redirects (301, 302, 307, 308) of ranged requests are followed; the file's later requests go

@@ -1,6 +1,7 @@
 // net/url: URLs told from paths and parsed, credentials (userinfo, signed query strings)
 // removed before display, credentials holding unencoded delimiters refused, origins compared,
-// relative entries of a tile list resolved against the list's URL; s3 URLs among them.
+// relative entries of a tile list resolved against the list's URL; s3 URLs among them; S3 keys
+// normalised and refused when they leave their bucket or prefix, however they spell "..".
 #include <gtest/gtest.h>
 
 #include "net/url.hpp"
@@ -91,6 +92,50 @@ TEST(Url, RelativeReferencesResolveAgainstTheList) {
     EXPECT_EQ(resolve_url(base, "//other/c.laz"), "https://other/c.laz");
     EXPECT_EQ(resolve_url(base, "http://else/d.laz"), "http://else/d.laz");
     EXPECT_EQ(resolve_url("http://h", "a.laz"), "http://h/a.laz");
+}
+
+// The key as requested, or its refusal ("" key then).
+std::string key_or_refusal(std::string_view key, std::string_view prefix = {}) {
+    std::string refusal;
+    const std::string normalised = normalise_s3_key(key, prefix, refusal);
+    EXPECT_TRUE(refusal.empty() || normalised.empty()) << key;
+    return refusal.empty() ? normalised : "refused: " + refusal;
+}
+
+TEST(Url, S3KeysAreNormalised) {
+    EXPECT_EQ(key_or_refusal("tiles/a.laz"), "tiles/a.laz");
+    EXPECT_EQ(key_or_refusal("tiles/./a.laz"), "tiles/a.laz");
+    EXPECT_EQ(key_or_refusal("tiles/x/../a.laz"), "tiles/a.laz");
+    EXPECT_EQ(key_or_refusal("./tiles/%2e/a.laz"), "tiles/a.laz");
+    EXPECT_EQ(key_or_refusal("tiles/x/&#46;&#46;/a.laz"), "tiles/a.laz");
+    EXPECT_EQ(key_or_refusal("tiles/x/.."), "tiles/");
+    EXPECT_EQ(key_or_refusal("tiles//a...laz"), "tiles//a...laz");  // (empty segments and dots in names stay)
+    EXPECT_EQ(key_or_refusal("a%20b&c.laz"), "a%20b&c.laz");         // (other escapes are the key's characters)
+    EXPECT_EQ(key_or_refusal(""), "");
+}
+
+TEST(Url, S3KeysLeavingTheirBucketAreRefusedHoweverSpelled) {
+    for (const char* key : {"../secret/t.laz", "a/../../secret/t.laz", "%2e%2e/secret/t.laz", "%2E%2e/t.laz",
+                            "&#46;&#46;/secret/t.laz", "&#x2e;&#x2E;/t.laz", ".%2e/t.laz", "%252e%252e/t.laz",
+                            "&amp;#46;&amp;#46;/t.laz", "..\\secret\\t.laz", "a/%2e%2e%2f%2e%2e%2ft.laz", "..",
+                            "a/./../.."}) {
+        EXPECT_NE(key_or_refusal(key).find("refused: leaves its bucket"), std::string::npos) << key;
+    }
+    EXPECT_EQ(key_or_refusal("/../t.laz"), "t.laz");  // (the empty segment after the bucket: still inside)
+    EXPECT_EQ(key_or_refusal(std::string(1025, 'k')), "refused: is longer than S3's 1024 bytes (1025)");
+    EXPECT_EQ(key_or_refusal(std::string(1024, 'k')).size(), 1024u);
+}
+
+TEST(Url, S3KeysLeavingThePrefixAreRefused) {
+    EXPECT_EQ(key_or_refusal("tiles/a.laz", "tiles/"), "tiles/a.laz");
+    EXPECT_EQ(key_or_refusal("tiles/x/../a.laz", "tiles/"), "tiles/a.laz");
+    EXPECT_EQ(key_or_refusal("tiles/a.laz", "other/../tiles/"), "tiles/a.laz");
+    for (const char* key : {"tiles/../secret/t.laz", "tiles/%2e%2e/secret/t.laz", "tiles/&#46;&#46;/t.laz",
+                            "tiles/a%2f..%2f..%2fsecret.laz", "secret/t.laz"}) {
+        EXPECT_NE(key_or_refusal(key, "tiles/").find("refused: leaves the prefix listed (\"tiles/\")"),
+                  std::string::npos)
+            << key;
+    }
 }
 
 }  // namespace

@@ -1,12 +1,15 @@
 // pipelines::clip_to_file and read_region_points: real files of point formats 1, 3, 6 and 7 clipped
 // by a polygon with a hole and a filter give the records a brute-force pass over the file keeps
 // (count and SHA-256 of the records), and the clip decodes again through our decoder with the same
-// SHA; header fields and VLRs kept. On a grid of tiles only the touched tiles are decoded; tiles of
-// mixed point formats are refused naming both; a corrupt tile is named and skipped. Tiles in two UTM
-// zones clipped together are written in the frame's CRS (GeoTIFF keys for format 2, WKT for format 7),
-// their points where a brute-force reprojection puts them, within the output's quantization.
+// SHA; header fields and VLRs kept (but liblas's copy of the WKT). On a grid of tiles only the
+// touched tiles are decoded; tiles of mixed point formats are refused naming both; a corrupt tile
+// is named and skipped. Tiles in two UTM zones clipped together are written in the frame's CRS
+// (GeoTIFF keys for format 2, WKT for format 7), their points where a brute-force reprojection puts
+// them, within the output's quantization; so are a tile in degrees and one in UTM 10N, clipped in
+// degrees (scale 1e-7) or in metres.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -111,7 +114,10 @@ TEST_P(ClipFormats, RecordsEqualABruteForcePolygonFilter) {
     EXPECT_EQ(h.version_string(), tile.header.version_string());
     EXPECT_EQ(h.system_identifier, tile.header.system_identifier);
     EXPECT_EQ(out.tiles[0].tile.crs().epsg, tile.crs().epsg);
-    EXPECT_EQ(out.tiles[0].tile.vlrs().size(), tile.vlrs().size() + (tile.compressed() ? 0 : 1));  // + LASzip
+    const auto liblas_copies = std::count_if(tile.vlrs().begin(), tile.vlrs().end(), [](const las::Vlr& v) {
+        return v.user_id == "liblas";  // the WKT again, beside the LASF_Projection one: dropped
+    });
+    EXPECT_EQ(out.tiles[0].tile.vlrs().size() + liblas_copies, tile.vlrs().size() + (tile.compressed() ? 0 : 1));
     EXPECT_EQ(out.frame.crs, ds.frame.crs);
     EXPECT_GE(h.min[0], polygon.min_x() - 1e-6);
     EXPECT_LE(h.max[0], polygon.max_x() + 1e-6);
@@ -245,26 +251,55 @@ struct MixedCrsCase {
     int format;
 };
 
+// A 20 x 20 grid of 5 m from (x0, y0), heights rising to the north-east.
+std::vector<test::FixturePoint> grid_at(double x0, double y0) {
+    std::vector<test::FixturePoint> points;
+    for (int i = 0; i < 20; ++i) {
+        for (int j = 0; j < 20; ++j) points.push_back({x0 + i * 5 + 1.25, y0 + j * 5 + 1.25, 100.0 + i + j});
+    }
+    return points;
+}
+
+// `points` moved from the CRS `from` into `to`.
+std::vector<test::FixturePoint> placed(std::vector<test::FixturePoint> points, const char* from, const char* to) {
+    std::vector<double> x, y;
+    for (const auto& p : points) x.push_back(p.x), y.push_back(p.y);
+    geo::CrsTransform(from, to).apply(x, y, {});
+    for (std::size_t i = 0; i < points.size(); ++i) points[i].x = x[i], points[i].y = y[i];
+    return points;
+}
+
+// The points of each tile (read alone, in its own CRS) placed in `frame`, in dataset order, that lie in
+// `polygon`.
+std::vector<std::array<double, 3>> placed_in(const std::vector<std::string>& tiles, const std::string& frame,
+                                             const MultiPolygon& polygon) {
+    std::vector<std::array<double, 3>> out;
+    dataset::DatasetOptions in_its_crs;
+    in_its_crs.accept_degrees = true;
+    for (const auto& t : tiles) {
+        const auto alone = dataset::open_dataset({t}, in_its_crs);
+        auto points = test::read_points_back(alone);
+        std::vector<double> x, y;
+        for (const auto& p : points) x.push_back(p[0]), y.push_back(p[1]);
+        if (alone.frame.crs != frame) geo::CrsTransform(alone.frame.crs, frame).apply(x, y, {});
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            if (polygon.contains(x[i], y[i])) out.push_back({x[i], y[i], points[i][2]});
+        }
+    }
+    return out;
+}
+
+// The box as a polygon.
+MultiPolygon box_polygon(double x0, double y0, double x1, double y1) {
+    return MultiPolygon({{Ring{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}}});
+}
+
 class ClipMixedCrs : public test::TempDirTest, public ::testing::WithParamInterface<MixedCrsCase> {
 protected:
     void SetUp() override {
         TempDirTest::SetUp();
-        const auto grid = [](double x0) {
-            std::vector<test::FixturePoint> points;
-            for (int i = 0; i < 20; ++i) {
-                for (int j = 0; j < 20; ++j) {
-                    points.push_back({x0 + i * 5 + 1.25, 5400000 + j * 5 + 1.25, 100.0 + i + j});
-                }
-            }
-            return points;
-        };
-        std::vector<test::FixturePoint> east = grid(500100);
-        std::vector<double> x, y;
-        for (const auto& p : east) x.push_back(p.x), y.push_back(p.y);
-        geo::CrsTransform("EPSG:32632", "EPSG:32633").apply(x, y, {});
-        for (std::size_t i = 0; i < east.size(); ++i) east[i].x = x[i], east[i].y = y[i];
-        test::write_fixture(path("west.las"), grid(500000), 32632);
-        test::write_fixture(path("east.las"), east, 32633);
+        test::write_fixture(path("west.las"), grid_at(500000, 5400000), 32632);
+        test::write_fixture(path("east.las"), placed(grid_at(500100, 5400000), "EPSG:32632", "EPSG:32633"), 32633);
         tiles = {path("west.las"), path("east.las")};
         if (GetParam().format == 7) {
             ConvertOptions options;
@@ -275,23 +310,6 @@ protected:
                 t = converted;
             }
         }
-    }
-
-    // The points of each tile (read alone, in its own CRS) placed in `frame`, in dataset order, that lie in
-    // `polygon`.
-    std::vector<std::array<double, 3>> brute_force(const std::string& frame, const MultiPolygon& polygon) const {
-        std::vector<std::array<double, 3>> out;
-        for (const auto& t : tiles) {
-            const auto alone = dataset::open_dataset({t});
-            auto points = test::read_points_back(alone);
-            std::vector<double> x, y;
-            for (const auto& p : points) x.push_back(p[0]), y.push_back(p[1]);
-            if (alone.frame.crs != frame) geo::CrsTransform(alone.frame.crs, frame).apply(x, y, {});
-            for (std::size_t i = 0; i < points.size(); ++i) {
-                if (polygon.contains(x[i], y[i])) out.push_back({x[i], y[i], points[i][2]});
-            }
-        }
-        return out;
     }
 
     std::vector<std::string> tiles;
@@ -318,7 +336,7 @@ TEST_P(ClipMixedCrs, PointsAreWrittenReprojectedIntoTheFramesCrs) {
     ASSERT_FALSE(r.notes.empty());
     EXPECT_NE(r.notes.back().find("reprojected into " + frame), std::string::npos) << r.notes.back();
 
-    const auto expected = brute_force(frame, polygon);
+    const auto expected = placed_in(tiles, frame, polygon);
     ASSERT_GT(expected.size(), 100u);
     EXPECT_EQ(r.points_written, expected.size());
     const auto out = dataset::open_dataset({request.output});
@@ -341,6 +359,87 @@ TEST_P(ClipMixedCrs, PointsAreWrittenReprojectedIntoTheFramesCrs) {
 INSTANTIATE_TEST_SUITE_P(Frames, ClipMixedCrs,
                          ::testing::Values(MixedCrsCase{"EPSG:32632", 2}, MixedCrsCase{"EPSG:32633", 2},
                                            MixedCrsCase{"EPSG:25832", 2}, MixedCrsCase{"EPSG:32632", 7}));
+
+// Near Autzen (Oregon, UTM zone 10N): utm.las, a 20 x 20 grid of 5 m in EPSG:32610, and degrees.las, the
+// same grid 100 m east placed in longitude/latitude (GeoTIFF keys of EPSG:4326, scale 1e-7 degree).
+class ClipDegrees : public test::TempDirTest {
+protected:
+    void SetUp() override {
+        TempDirTest::SetUp();
+        test::write_fixture(path("utm.las"), grid_at(494000, 4878000), 32610);
+        test::write_fixture(path("degrees.las"), placed(grid_at(494100, 4878000), "EPSG:32610", "EPSG:4326"),
+                            test::FixtureCrs{4326, 0, true, 1e-7});
+    }
+
+    // Clips `tiles` opened in `frame` (accepting degrees) to the box across both grids (drawn in UTM 10N,
+    // as the frame has it); checks the points against placed_in and returns the output, read back.
+    dataset::Dataset clip(const std::vector<std::string>& tiles, const std::string& frame) {
+        dataset::DatasetOptions options;
+        options.crs = frame;
+        options.accept_degrees = true;
+        const auto ds = dataset::open_dataset(tiles, options);
+        EXPECT_EQ(ds.tiles.size(), tiles.size());
+        std::vector<double> x = {494050, 494150}, y = {4878010, 4878080};
+        if (frame != "EPSG:32610") geo::CrsTransform("EPSG:32610", frame).apply(x, y, {});
+        const MultiPolygon box = box_polygon(x[0], y[0], x[1], y[1]);
+        ClipRequest request;
+        request.output = path("out.las");
+        request.region = polygon_region(box);
+        const ClipResult r = clip_to_file(ds, request, ThreadPool::shared());
+        const auto expected = placed_in(tiles, frame, box);
+        EXPECT_GT(expected.size(), 100u);
+        EXPECT_EQ(r.points_written, expected.size());
+        auto out = dataset::open_dataset({request.output}, options);
+        const auto written = test::read_points_back(out);
+        EXPECT_EQ(written.size(), expected.size());
+        const double tolerance = out.tiles.at(0).tile.header.scale[0] / 2 + 1e-9;
+        for (std::size_t i = 0; i < written.size() && i < expected.size(); ++i) {
+            EXPECT_NEAR(written[i][0], expected[i][0], tolerance) << i;
+            EXPECT_NEAR(written[i][1], expected[i][1], tolerance) << i;
+        }
+        return out;
+    }
+};
+
+TEST_F(ClipDegrees, ClippedInDegrees) {
+    const auto out = clip({path("utm.las"), path("degrees.las")}, "EPSG:4326");
+    const auto& t = out.tiles.at(0).tile;
+    EXPECT_TRUE(out.frame.geographic);
+    EXPECT_TRUE(t.crs().geographic);
+    EXPECT_EQ(t.crs().epsg, 4326);
+    EXPECT_EQ(t.header.scale[0], 1e-7);  // degrees.las's, the tile stored in the frame
+    const auto only_utm = clip({path("utm.las")}, "EPSG:4326");  // scale and offset chosen for degrees
+    const auto& h = only_utm.tiles.at(0).tile.header;
+    EXPECT_EQ(h.scale[0], 1e-7);
+    EXPECT_EQ(h.offset[0], -123.0);
+    EXPECT_EQ(h.offset[1], 44.0);
+}
+
+TEST_F(ClipDegrees, ClippedReprojectedIntoMetres) {
+    const auto out = clip({path("utm.las"), path("degrees.las")}, "EPSG:32610");
+    const auto& t = out.tiles.at(0).tile;
+    EXPECT_FALSE(out.frame.geographic);
+    EXPECT_EQ(t.crs().epsg, 32610);
+    EXPECT_EQ(t.header.scale[0], 0.001);
+}
+
+TEST_F(ClipDegrees, DegreesAreSkippedNamingTheZoneUnlessAccepted) {
+    const auto skipped = dataset::open_dataset({path("degrees.las")});
+    EXPECT_TRUE(skipped.tiles.empty());
+    ASSERT_EQ(skipped.skipped.size(), 1u);
+    EXPECT_NE(skipped.skipped[0].error.find("give --crs EPSG:32610 (WGS 84 / UTM zone 10N, at the data's centre)"),
+              std::string::npos) << skipped.skipped[0].error;
+    dataset::DatasetOptions options;
+    options.accept_degrees = true;
+    const auto accepted = dataset::open_dataset({path("degrees.las")}, options);
+    ASSERT_EQ(accepted.tiles.size(), 1u);
+    EXPECT_TRUE(accepted.frame.geographic);
+    EXPECT_EQ(accepted.frame.crs, "EPSG:4326");
+    EXPECT_TRUE(accepted.warnings.empty()) << accepted.warnings[0].message;  // no "taken as metres"
+    options = {};
+    options.crs = "EPSG:4326";
+    EXPECT_THROW(dataset::open_dataset({path("utm.las")}, options), Error);  // degrees asked, not accepted
+}
 
 }  // namespace
 }  // namespace lidarscout::pipelines

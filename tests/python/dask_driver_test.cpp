@@ -2,12 +2,16 @@
 // and python3-gdal) on a LocalCluster of 2 workers: the dtm, chm and density of the classified
 // Woodford tile made in 4 pieces and mosaicked equal the one-process `lidarscout dem` run, the
 // decoded rasters byte for byte; a piece whose subprocess fails is retried; a rerun after a lost
-// piece makes that piece only; the driver's output may not be an input.
+// piece makes that piece only; the driver's output may not be an input. Its failures are one line
+// "lidarscout_dask: ..." with exit status 1 and the JSON error with --json, never a traceback, and
+// leave nothing behind (no output, no pieces folder) but the finished pieces of a run a rerun can use.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "raster/gdal_test_util.hpp"
 #include "temp_dir_fixture.hpp"
@@ -40,6 +44,48 @@ protected:
         EXPECT_EQ(a.epsg, b.epsg);
         ASSERT_EQ(a.values.size(), b.values.size());
         EXPECT_EQ(std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)), 0) << a_path;
+    }
+
+    struct Run {
+        int status = 0;
+        std::string out, err;
+    };
+    // `python3 -m lidarscout_dask ARGS --json`, its stdout and stderr apart.
+    Run driver(const std::string& args) const {
+        const fs::path python = fs::path(LIDARSCOUT_SOURCE_DIR) / "python";
+        Run r;
+        r.status = test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_dask " + args +
+                                         " --json 2>" + path("err.txt"), r.out);
+        std::ifstream in(path("err.txt"));
+        r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        fs::remove(path("err.txt"));
+        return r;
+    }
+
+    // Exit status 1, the last stderr line "lidarscout_dask: " + a message holding `expected`, the same
+    // message in the JSON error of kind `kind`, no traceback; returns the message.
+    static std::string expect_failure(const Run& r, const std::string& expected, const std::string& kind) {
+        EXPECT_EQ(r.status, 1) << r.err;
+        EXPECT_EQ(r.err.find("Traceback"), std::string::npos) << r.err;
+        const std::string err = r.err.substr(0, r.err.find_last_not_of('\n') + 1);
+        const std::string line = err.substr(err.rfind('\n') == std::string::npos ? 0 : err.rfind('\n') + 1);
+        EXPECT_EQ(line.rfind("lidarscout_dask: ", 0), 0u) << r.err;
+        EXPECT_NE(line.find(expected), std::string::npos) << r.err;
+        const auto j = nlohmann::json::parse(r.out, nullptr, false);
+        EXPECT_FALSE(j.is_discarded()) << r.out;
+        if (j.is_discarded()) return {};
+        EXPECT_EQ(j.at("error").at("kind"), kind) << r.out;
+        EXPECT_EQ("lidarscout_dask: " + j.at("error").at("message").get<std::string>(), line);
+        for (const char* key : {"file", "offset", "cause"}) EXPECT_TRUE(j.at("error").contains(key)) << key;
+        return line;
+    }
+
+    // Nothing in the folder but `kept`.
+    void expect_only(const std::vector<std::string>& kept) const {
+        for (const auto& e : fs::directory_iterator(dir)) {
+            const std::string name = e.path().filename().string();
+            EXPECT_NE(std::find(kept.begin(), kept.end(), name), kept.end()) << name << " left behind";
+        }
     }
 
     static nlohmann::json last_json(const std::string& out) {
@@ -94,6 +140,51 @@ TEST_F(DaskDriver, RefusesAnInputAsOutputAndWholeRasterOptions) {
     EXPECT_NE(drive(path("h.tif"), "--texel 4 --hillshade " + path("h.png"), out), 0);
     EXPECT_NE(out.find("--hillshade does not apply"), std::string::npos) << out;
     EXPECT_FALSE(fs::exists(path("h.tif")));
+}
+
+// Before the cluster starts: a missing program, a missing input, a misspelt option (the driver's or
+// dem's), a missing one, a value dem refuses, a misspelt command. Nothing is made.
+TEST_F(DaskDriver, FailuresBeforeAnyWorkAreOneLineAndLeaveNothing) {
+    const std::string dem = "dem " + woodford() + " -o " + path("x.tif") + " --texel 4 ";
+    const std::string cli = std::string(" --program ") + LIDARSCOUT_CLI;
+    expect_failure(driver(dem + "--local 2 --program /nonexistent/lidarscout"),
+                   "/nonexistent/lidarscout: cannot run it: No such file or directory", "input");
+    expect_failure(driver("dem /nonexistent/a.laz -o " + path("x.tif") + " --local 2" + cli),
+                   "/nonexistent/a.laz: no such file or folder", "input");
+    expect_failure(driver(dem + "--local 2 --textel 4" + cli),
+                   "dem: unknown option '--textel' (did you mean '--texel'?)", "usage");  // dem's, named by lidarscout
+    expect_failure(driver(dem + "--local 2 --pices 4" + cli),
+                   "dem: unknown option '--pices' (did you mean '--pieces'?)", "usage");  // the driver's own
+    expect_failure(driver(dem + "--locl 2" + cli), "dem: unknown option '--locl' (did you mean '--local'?)", "usage");
+    expect_failure(driver(dem + cli), "dem: one of the arguments --scheduler --local is required", "usage");
+    expect_failure(driver(dem + "--local 2 --radius 0" + cli), "dem: --radius: must be more than 0, not '0'", "usage");
+    expect_failure(driver("dme " + woodford()), "unknown command 'dme' (did you mean 'dem'?)", "usage");
+    const Run r = driver(dem + "--local 2 --program /nonexistent/lidarscout");
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    expect_only({});
+}
+
+// A piece that fails every try: the others go on; with no finished piece the pieces folder goes too,
+// with finished ones they are kept for the rerun, and the error says where.
+TEST_F(DaskDriver, AFailedPieceLeavesOnlyTheFinishedPieces) {
+    const std::string refuse = path("refuse.sh");
+    std::ofstream(refuse) << "#!/bin/sh\ncase \"$*\" in *--block\\ 2/4*) echo refused >&2; exit 3;; "
+                             "esac\nexec " << LIDARSCOUT_CLI << " \"$@\"\n";
+    fs::permissions(refuse, fs::perms::owner_all);
+    const std::string dem = "dem " + woodford() + " -o " + path("x.tif") + " --texel 1 --local 2 --pieces 4 "
+                            "--retries 0 --program " + refuse;
+    std::string line = expect_failure(driver(dem), "piece 2/4 on ", "input");
+    EXPECT_NE(line.find("refused"), std::string::npos) << line;
+    EXPECT_NE(line.find("finished pieces kept in " + path("x.tif.pieces")), std::string::npos) << line;
+    std::size_t records = 0;
+    for (const auto& e : fs::directory_iterator(dir / "x.tif.pieces")) records += e.path().extension() == ".json";
+    EXPECT_EQ(records, 4u);  // run.json and the three finished pieces' records: the others went on
+    fs::remove_all(dir / "x.tif.pieces");
+    std::ofstream(refuse) << "#!/bin/sh\ncase \"$*\" in *--block*) echo refused >&2; exit 3;; esac\nexec "
+                          << LIDARSCOUT_CLI << " \"$@\"\n";
+    line = expect_failure(driver(dem), ": exit status 3: refused", "input");
+    EXPECT_EQ(line.find("kept"), std::string::npos) << line;
+    expect_only({"refuse.sh"});
 }
 
 }  // namespace

@@ -1,11 +1,14 @@
 // Sessions: saved and opened again unchanged (camera, filter, colour, measurements, annotations,
-// profiles);
-// fields this version does not know kept; a newer version, a file that is not a session, a field
-// of the wrong kind, a bad filter and a bad profile refused with the file named; written through a temporary name.
+// profiles); fields this version does not know kept, and written back compact (a saved session's
+// size follows what it holds); a newer version, a version that is not one (1e300, -5, 1.5, "1"), a
+// file that is not a session (a "kind" of the wrong kind too), a field of the wrong kind, a bad
+// filter and a bad profile, nesting 100k deep and a string past the reader's limit refused with
+// the file named, in one line; written through a temporary name.
 #include "viewer/session_file.hpp"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "core/error.hpp"
@@ -82,7 +85,7 @@ TEST_F(SessionFileTest, FieldsItDoesNotKnowAreKept) {
 
 TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
     write_text("text.json", "hello");
-    EXPECT_EQ(refusal("text.json"), "not JSON");
+    EXPECT_NE(refusal("text.json").find("not JSON"), std::string::npos);
     write_text("other.json", R"({"type": "FeatureCollection"})");
     EXPECT_NE(refusal("other.json").find("not a lidarscout session"), std::string::npos);
     nlohmann::json newer = session_json(example());
@@ -92,7 +95,7 @@ TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
     nlohmann::json wrong = session_json(example());
     wrong["camera"]["distance"] = "far";
     write_text("wrong.json", wrong.dump());
-    EXPECT_NE(refusal("wrong.json").find("wrong kind"), std::string::npos);
+    EXPECT_EQ(refusal("wrong.json"), "camera: \"distance\" is a string, not a number");
     nlohmann::json bad_filter = session_json(example());
     bad_filter["filter"]["classes"] = "999";
     write_text("filter.json", bad_filter.dump());
@@ -111,6 +114,79 @@ TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
     flat["profiles"][0]["width"] = 0;
     write_text("width.json", flat.dump());
     EXPECT_NE(refusal("width.json").find("width is not positive"), std::string::npos);
+}
+
+TEST_F(SessionFileTest, OnlyAVersionThisProgramReadsIsRead) {
+    for (const char* version : {"1e300", "-5", "1.5", "\"1\"", "0", "-1e300", "null", "[1]", "18446744073709551615.5"}) {
+        nlohmann::json j = session_json(example());
+        std::string text = j.dump();
+        const std::string at = "\"version\":1";
+        ASSERT_NE(text.find(at), std::string::npos);
+        text.replace(text.find(at), at.size(), std::string("\"version\":") + version);
+        write_text("v.json", text);
+        const std::string cause = refusal("v.json");
+        if (std::string(version) == "null") {
+            EXPECT_EQ(cause, "a session without a \"version\"");
+        } else {
+            EXPECT_NE(cause.find("is not a supported session version"), std::string::npos) << version << ": " << cause;
+        }
+    }
+    nlohmann::json far = session_json(example());
+    far["version"] = 18446744073709551615ull;
+    write_text("far.json", far.dump());
+    EXPECT_NE(refusal("far.json").find("newer than this program's"), std::string::npos);
+}
+
+TEST_F(SessionFileTest, AKindOfTheWrongKindIsNotASession) {
+    for (const nlohmann::json& kind : {nlohmann::json(5), nlohmann::json::array(), nlohmann::json()}) {
+        nlohmann::json j = session_json(example());
+        j["kind"] = kind;
+        write_text("k.json", j.dump());
+        EXPECT_NE(refusal("k.json").find("not a lidarscout session"), std::string::npos) << kind;
+    }
+    write_text("array.json", "[1, 2]");
+    EXPECT_NE(refusal("array.json").find("not a lidarscout session"), std::string::npos);
+    nlohmann::json paths = session_json(example());
+    paths["paths"] = {"a.laz", 7};
+    write_text("paths.json", paths.dump());
+    EXPECT_EQ(refusal("paths.json"), "paths #2: is a number, not a string");
+    nlohmann::json text = session_json(example());
+    text["annotations"] = {{{"at", {1, 2, 3}}, {"text", 5}}};
+    write_text("text5.json", text.dump());
+    EXPECT_EQ(refusal("text5.json"), "annotations #1: \"text\" is a number, not a string");
+}
+
+TEST_F(SessionFileTest, AnUnknownFieldNestedAHundredThousandDeepIsOneLine) {
+    std::string text = session_json(example()).dump();
+    text.insert(1, "\"later\": " + std::string(100'000, '[') + std::string(100'000, ']') + ", ");
+    write_text("deep.json", text);
+    const std::string cause = refusal("deep.json");
+    EXPECT_NE(cause.find("nested more than the limit of 256 deep"), std::string::npos) << cause;
+    const std::string big = R"({"kind": "lidarscout session", "version": 1, "note": ")" + std::string(3u << 20, 'n') +
+                            "\"}";
+    write_text("big.json", big);
+    const std::string long_string = refusal("big.json");
+    EXPECT_NE(long_string.find("a string of 3145728 bytes"), std::string::npos);
+    EXPECT_LT(long_string.size(), 200u);
+}
+
+TEST_F(SessionFileTest, SavingGrowsWithWhatTheSessionHolds) {
+    // ~60 KB of a later version's fields, each nested 250 deep: indented, each would cost its depth per line.
+    std::string later = "[";
+    for (int i = 0; i < 120; ++i) later += (i ? "," : "") + std::string(250, '[') + "1" + std::string(250, ']');
+    later += "]";
+    std::string text = session_json(example()).dump();
+    text.insert(1, "\"later\": " + later + ", ");
+    write_text("wide.json", text);
+    const SessionFile s = read_session(path("wide.json"));
+    write_session(path("saved.json"), s);
+    const auto in = std::filesystem::file_size(path("wide.json"));
+    const auto out = std::filesystem::file_size(path("saved.json"));
+    EXPECT_GT(in, 60'000u);
+    EXPECT_LT(out, in + 4096) << "saved as it came (known fields indented), not " << out << " bytes";
+    const SessionFile again = read_session(path("saved.json"));
+    EXPECT_EQ(again.unknown.at("later"), s.unknown.at("later"));
+    EXPECT_EQ(again.annotations, s.annotations);
 }
 
 }  // namespace

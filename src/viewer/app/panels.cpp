@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/point_filter.hpp"
+#include "core/text.hpp"
 #include "las/classification.hpp"
 #include "render/backend.hpp"
 #include "render/colour_modes.hpp"
@@ -48,6 +49,23 @@ bool input_text(const char* label, std::string& text) {
     return true;
 }
 
+// Puts the next item, `width` pixels wide, on the line of the last one when it fits before the window's
+// right edge, else on a line of its own: rows of buttons and checkboxes flow in the narrow side window
+// instead of running out of it.
+void same_line_if_fits(float width) {
+    const float right = ImGui::GetItemRectMax().x + ImGui::GetStyle().ItemSpacing.x + width;
+    if (right <= ImGui::GetWindowPos().x + ImGui::GetWindowContentRegionMax().x) ImGui::SameLine();
+}
+
+// A checkbox's or radio button's width: its box and its label.
+float checkbox_width(const char* label) {
+    return ImGui::GetFrameHeight() + ImGui::GetStyle().ItemInnerSpacing.x + ImGui::CalcTextSize(label).x;
+}
+
+float button_width(const char* label) {
+    return ImGui::CalcTextSize(label).x + 2 * ImGui::GetStyle().FramePadding.x;
+}
+
 void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& actions) {
     if (!ImGui::CollapsingHeader("Tiles")) return;
     input_text("filter", state.filter);
@@ -82,15 +100,17 @@ void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& 
 
 void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double frame_ms) {
     if (!ImGui::CollapsingHeader("Stats and progress", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    ImGui::Text("tiles %zu (%zu skipped), %.2f G points", s.tiles, ds.skipped.size(), ds.point_count / 1e9);
-    ImGui::Text("chunk points %llu", (unsigned long long)s.chunk_points_loaded);
-    ImGui::Text("heightmaps: %zu linear, %zu network", s.heightmaps_linear, s.heightmaps_cnn);
-    ImGui::Text("full-res: %zu tiles, %.1f M points, %zu released", s.full_res_tiles, s.full_res_points / 1e6,
-                s.full_res_released);
-    ImGui::Text("coarse kept: %zu tiles; LOD %.1f M points", s.coarse_tiles, s.lod_points / 1e6);
-    ImGui::Text("memory %.0f / %.0f MiB (peak %.0f)", s.bytes_used / 1048576.0, s.memory_budget / 1048576.0,
-                s.peak_bytes_used / 1048576.0);
-    ImGui::Text("frame %.1f ms (%.1f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
+    ImGui::TextWrapped("tiles %zu (%zu skipped), %s points", s.tiles, ds.skipped.size(),
+                       count_text(static_cast<double>(ds.point_count)).c_str());
+    ImGui::TextWrapped("chunk points %llu", (unsigned long long)s.chunk_points_loaded);
+    ImGui::TextWrapped("heightmaps: %zu linear, %zu network", s.heightmaps_linear, s.heightmaps_cnn);
+    ImGui::TextWrapped("full-res: %zu tiles, %s points, %zu released", s.full_res_tiles,
+                       count_text(static_cast<double>(s.full_res_points)).c_str(), s.full_res_released);
+    ImGui::TextWrapped("coarse kept: %zu tiles; LOD %s points", s.coarse_tiles,
+                       count_text(static_cast<double>(s.lod_points)).c_str());
+    ImGui::TextWrapped("memory %.0f / %.0f MiB (peak %.0f)", s.bytes_used / 1048576.0,
+                       s.memory_budget / 1048576.0, s.peak_bytes_used / 1048576.0);
+    ImGui::TextWrapped("frame %.1f ms (%.1f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
     ImGui::Separator();
     progress_line("tiles", s.tiles_loaded);
     progress_line("chunk points", s.chunk_points);
@@ -101,15 +121,18 @@ void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double f
     for (const auto& note : s.notes) ImGui::TextWrapped("%s", note.c_str());
 }
 
-// One line per file that could not be opened, and per failure while streaming (file, offset, cause).
+// One line per file that could not be opened, per failure while streaming (file, offset, cause), and
+// per warning about the dataset (tiles named more than once, CRSs mixed).
 void errors_section(const dataset::Dataset& ds, const SchedulerStats& s) {
     const auto per_file = first_error_per_file(s.errors);
     const std::size_t count = ds.skipped.size() + per_file.size();
-    if (count == 0) return;
-    const std::string title = "Errors: " + std::to_string(count) + " files###errors";
+    if (count + ds.warnings.size() == 0) return;
+    const std::string title = "Errors: " + std::to_string(count) + " files, " + std::to_string(ds.warnings.size()) +
+                              " warnings###errors";
     if (!ImGui::CollapsingHeader(title.c_str())) return;
-    ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * count)), true,
+    ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * (count + ds.warnings.size()))), true,
                       ImGuiWindowFlags_HorizontalScrollbar);
+    for (const auto& w : ds.warnings) ImGui::TextWrapped("%s: %s", level_name(w.level), w.message.c_str());
     for (const auto& f : ds.skipped) ImGui::TextWrapped("skipped: %s", f.error.c_str());
     for (const auto& e : per_file) {
         if (e.count == 1) ImGui::TextWrapped("%s", e.first.message().c_str());
@@ -170,7 +193,7 @@ void return_checkboxes(PointFilter& f) {
         {returns::kIntermediate, "intermediate"}};
     ImGui::TextUnformatted("returns:");
     for (const auto& [bit, name] : kKinds) {
-        ImGui::SameLine();
+        same_line_if_fits(checkbox_width(name));
         bool on = (f.return_kinds & bit) != 0;
         if (ImGui::Checkbox(name, &on)) f.return_kinds = on ? (f.return_kinds | bit) : (f.return_kinds & ~bit);
     }
@@ -183,8 +206,9 @@ void filters_section(ViewSettings& v, const PanelState& state) {
     if (!ImGui::CollapsingHeader("Filters", f.keeps_everything() ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) return;
     const auto presets = filter_presets();
     for (std::size_t k = 0; k < presets.size(); ++k) {
-        if (k % 3 != 0) ImGui::SameLine();  // three a row: the side window is narrow
-        if (ImGui::SmallButton(std::string(presets[k].name).c_str())) f = presets[k].filter;
+        const std::string name(presets[k].name);
+        if (k > 0) same_line_if_fits(button_width(name.c_str()));
+        if (ImGui::SmallButton(name.c_str())) f = presets[k].filter;
     }
     ImGui::TextWrapped("drawn: %s", f.describe().c_str());
     return_checkboxes(f);
@@ -194,10 +218,10 @@ void filters_section(ViewSettings& v, const PanelState& state) {
         f.intensity_max = static_cast<std::uint16_t>(std::clamp(std::max(range[0], range[1]), 0, 65535));
     }
     if (const Surface surface = surface_of(f); surface != Surface::All) {
-        ImGui::TextColored(ImVec4(0.85f, 0.35f, 0.85f, 1.0f), "Heightmaps: %s (bare earth) where tiles were read;",
-                           surface_name(surface));
-        ImGui::TextColored(ImVec4(0.85f, 0.35f, 0.85f, 1.0f), "tinted violet: the overview of every point, not "
-                           "filtered (tiles not read yet).");
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0.85f, 0.35f, 0.85f, 1.0f));
+        ImGui::TextWrapped("Heightmaps: %s (bare earth) where tiles were read; tinted violet: the overview of every "
+                           "point, not filtered (tiles not read yet).", surface_name(surface));
+        ImGui::PopStyleColor();
     }
     ImGui::TextWrapped("Points held for the view by class. Chunk points have no returns (a return filter lets "
                        "them through); heightmaps follow a ground or water filter only.");
@@ -244,8 +268,8 @@ void labels_section(PanelState& state, PanelActions& actions) {
         ImGui::SameLine();
         if (ImGui::SmallButton("open")) actions.open_kept_profile = k;
         ImGui::SameLine();
-        ImGui::Text("profile %.1f,%.1f - %.1f,%.1f (%.2f wide)", kept[k].line[0], kept[k].line[1], kept[k].line[2],
-                    kept[k].line[3], kept[k].width);
+        ImGui::TextWrapped("profile %.1f,%.1f - %.1f,%.1f (%.2f wide)", kept[k].line[0], kept[k].line[1],
+                           kept[k].line[2], kept[k].line[3], kept[k].width);
         ImGui::PopID();
     }
     input_text("session file", state.session_path);
@@ -255,13 +279,13 @@ void labels_section(PanelState& state, PanelActions& actions) {
 // The click tool, the screenshot button and the help line: always shown.
 void tool_bar(PanelState& state, PanelActions& actions) {
     int tool = static_cast<int>(state.click.tool);  // what a click does
-    ImGui::RadioButton("inspect", &tool, static_cast<int>(ClickTool::Inspect));
-    ImGui::SameLine();
-    ImGui::RadioButton("measure", &tool, static_cast<int>(ClickTool::Measure));
-    ImGui::SameLine();
-    ImGui::RadioButton("area", &tool, static_cast<int>(ClickTool::Area));
-    ImGui::SameLine();
-    ImGui::RadioButton("profile", &tool, static_cast<int>(ClickTool::Profile));
+    static constexpr std::pair<ClickTool, const char*> kTools[] = {
+        {ClickTool::Inspect, "inspect"}, {ClickTool::Measure, "measure"}, {ClickTool::Area, "area"},
+        {ClickTool::Profile, "profile"}};
+    for (const auto& [value, name] : kTools) {
+        if (value != ClickTool::Inspect) same_line_if_fits(checkbox_width(name));
+        ImGui::RadioButton(name, &tool, static_cast<int>(value));
+    }
     state.click.use(static_cast<ClickTool>(tool));
     if (ImGui::Button("screenshot")) actions.screenshot = true;
     if (!state.status.empty()) ImGui::TextWrapped("%s", state.status.c_str());

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/text.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/stac_catalog.hpp"
@@ -67,8 +68,9 @@ std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& pa
     return std::make_unique<SessionOpening>(paths, std::move(so));
 }
 
-// Puts the finished opening's session in place of the one shown. An error ends the viewer when
-// nothing is shown yet (the first dataset), else it is the status line. True when replaced.
+// Puts the finished opening's session in place of the one shown, its dataset's warnings on stderr too
+// (the errors panel lists them). An error ends the viewer when nothing is shown yet (the first
+// dataset), else it is the status line. True when replaced.
 bool take_opening(std::unique_ptr<SessionOpening>& opening, Session& session, PanelState& panels) {
     const auto finished = std::move(opening);
     try {
@@ -76,6 +78,9 @@ bool take_opening(std::unique_ptr<SessionOpening>& opening, Session& session, Pa
         session.scheduler.reset();  // it reads the dataset it replaces
         session = std::move(next);
         panels = {};
+        for (const auto& w : session.dataset->warnings) {
+            std::fprintf(stderr, "lidarscout: %s: %s\n", level_name(w.level), display_text(w.message).c_str());
+        }
         return true;
     } catch (const Error& e) {
         if (!session.open()) throw;

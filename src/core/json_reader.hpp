@@ -1,0 +1,104 @@
+// The one way JSON from a user or a server is read (STAC catalogs, EPT metadata, sessions, GeoJSON
+// polygons, replica manifests): nlohmann's SAX parser fed chunk by chunk from a source, with every
+// bound applied while the bytes go by, so that no document costs more than its limits allow: the
+// bytes of the document, how deep arrays and objects nest, the length of one string or key (a
+// longer one is refused naming its length, never its text), of one number, and how many values
+// and bytes of text the returned document may hold. Each refusal is one lidarscout::Error naming
+// the document, the byte offset and the limit. Arrays under chosen keys of the root object can
+// be streamed: each element is handed over as its own small document, bounded on its own and
+// dropped after use, so that a catalog of a million items costs one item at a time.
+//
+// The fields of what was read are taken through typed accessors (json_string, json_number, ...):
+// a field of the wrong kind is an Error naming the field and the kind expected, never a
+// nlohmann exception. Text from a document put in a message goes through json_excerpt or
+// display_excerpt (core/text.hpp), cut to a couple of hundred characters.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <istream>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace lidarscout {
+
+// What a document (or one streamed element of it) may hold once read.
+struct JsonBudget {
+    std::uint64_t values = 1'000'000;       // values and keys
+    std::uint64_t text_bytes = 64ull << 20;  // bytes of strings and keys
+};
+
+struct JsonLimits {
+    std::uint64_t max_bytes = 64ull << 20;      // the document
+    std::size_t max_depth = 256;                // arrays and objects inside each other
+    std::size_t max_string_bytes = 1u << 20;    // one string or key, as written (escapes included)
+    JsonBudget kept;                            // the document returned (streamed arrays left out)
+    JsonBudget element;                         // each streamed element
+};
+
+// The longest number or literal (true, 1.5e3, ...) accepted, in characters.
+inline constexpr std::size_t kMaxJsonTokenBytes = 4096;
+
+// Fills `out` with the document's next bytes and returns how many (0 at its end); throws Error.
+using JsonSource = std::function<std::size_t(std::span<char> out)>;
+
+// Receives one element of a streamed array: the array's key, the element's index in it and the
+// element. Returns false to stop reading (the rest of the document is then not read).
+using JsonElementSink = std::function<bool(const std::string& key, std::size_t index, nlohmann::json&& element)>;
+
+struct JsonStreaming {
+    std::vector<std::string> keys;  // keys of the root object whose arrays are streamed
+    JsonElementSink sink;
+};
+
+// The document read from `source`; `name` (a path or URL as shown) names it in errors. A streamed
+// array is left in the result as an empty array (so that its presence shows); a streamed key whose
+// value is not an array is kept as it is. When the sink stops the reading, what was read so far
+// is returned. Throws lidarscout::Error(name, byte offset, cause) for text that is not JSON or
+// passes a limit.
+nlohmann::json read_json(const JsonSource& source, const std::string& name, const JsonLimits& limits,
+                         const JsonStreaming* streaming = nullptr);
+// The same of text in memory.
+nlohmann::json parse_json(std::string_view text, const std::string& name, const JsonLimits& limits,
+                          const JsonStreaming* streaming = nullptr);
+// A source reading `in` (a local file, opened by the caller) in chunks.
+JsonSource istream_json_source(std::istream& in);
+// A source reading `text` (which must outlive it).
+JsonSource text_json_source(std::string_view text);
+
+// ---- typed access (each throws lidarscout::Error without a file; the caller adds where)
+
+// "a string", "an object", "a number", ...: the kind of `value`, for messages.
+std::string json_kind(const nlohmann::json& value);
+// `value` as compact JSON text, cut for a message (display_excerpt).
+std::string json_excerpt(const nlohmann::json& value);
+
+// The field `key` of `object`, null when the field is absent or null (or `object` is no object).
+const nlohmann::json* json_field(const nlohmann::json& object, std::string_view key);
+
+// Absent (or null) fields give nullopt / nullptr; a field of another kind throws Error naming the
+// field and the kind expected ("\"rel\" is a number, not a string").
+std::optional<std::string> json_optional_string(const nlohmann::json& object, std::string_view key);
+std::optional<double> json_optional_number(const nlohmann::json& object, std::string_view key);
+std::optional<bool> json_optional_bool(const nlohmann::json& object, std::string_view key);
+// A whole number >= 0 (written without a fraction or exponent).
+std::optional<std::uint64_t> json_optional_count(const nlohmann::json& object, std::string_view key);
+const nlohmann::json* json_optional_array(const nlohmann::json& object, std::string_view key);
+const nlohmann::json* json_optional_object(const nlohmann::json& object, std::string_view key);
+
+// The same where the field must be there ("\"href\" is missing").
+std::string json_string(const nlohmann::json& object, std::string_view key);
+double json_number(const nlohmann::json& object, std::string_view key);
+const nlohmann::json& json_array(const nlohmann::json& object, std::string_view key);
+const nlohmann::json& json_object(const nlohmann::json& object, std::string_view key);
+
+// A value that must be a finite number, `what` naming it in the error ("a vertex's x").
+double json_finite(const nlohmann::json& value, std::string_view what);
+
+}  // namespace lidarscout

@@ -1,0 +1,147 @@
+// Telling which tile a source names (device and inode, a URL's normal form), and leaving out the
+// sources that name a tile again, with one warning.
+#include "dataset/source_identity.hpp"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <unordered_map>
+#include <vector>
+
+#include "core/text.hpp"
+#include "io/file.hpp"
+#include "net/url.hpp"
+
+namespace lidarscout::dataset {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kNamesShown = 5;       // tiles named in the warning; the rest counted
+constexpr std::size_t kNameCharacters = 200;  // of each name shown
+
+bool is_unreserved(unsigned char c) { return std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~'; }
+
+int hex_value(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    const char lower = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return lower >= 'a' && lower <= 'f' ? lower - 'a' + 10 : -1;
+}
+
+// "%7e%2f" -> "~%2F": unreserved characters decoded, the other encodings' hex digits in upper case.
+std::string normalise_percent(std::string_view s) {
+    std::string out;
+    out.reserve(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+        const int high = s[i] == '%' && i + 2 < s.size() ? hex_value(s[i + 1]) : -1;
+        const int low = high >= 0 ? hex_value(s[i + 2]) : -1;
+        if (low < 0) {
+            out += s[i];
+            continue;
+        }
+        const auto c = static_cast<unsigned char>(high * 16 + low);
+        if (is_unreserved(c)) {
+            out += static_cast<char>(c);
+        } else {
+            out += '%';
+            out += static_cast<char>(std::toupper(static_cast<unsigned char>(s[i + 1])));
+            out += static_cast<char>(std::toupper(static_cast<unsigned char>(s[i + 2])));
+        }
+        i += 2;
+    }
+    return out;
+}
+
+bool default_port(const net::UrlParts& p) {
+    return p.port.empty() || (p.scheme == "http" && p.port == "80") || (p.scheme == "https" && p.port == "443");
+}
+
+std::string local_identity(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        return "file:" + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+    }
+    std::error_code ec;
+    const fs::path absolute = fs::absolute(path, ec);
+    return "path:" + (ec ? fs::path(path) : absolute).lexically_normal().string();
+}
+
+// `name` cut to kNameCharacters, saying how long it was.
+std::string cut(const std::string& name) {
+    if (name.size() <= kNameCharacters) return name;
+    return name.substr(0, kNameCharacters) + "... (" + std::to_string(name.size()) + " characters)";
+}
+
+std::string shown_name(const TileSource& source) {
+    return display_text(cut(source.name.empty() ? io::display_path(source.path) : source.name));
+}
+
+// "a.laz (3 times), b.laz (2 times) and 4 more tiles": `named` holds how often each tile was named.
+std::string list_repeated(const std::vector<std::pair<std::string, std::size_t>>& named) {
+    std::string list;
+    for (std::size_t i = 0; i < named.size() && i < kNamesShown; ++i) {
+        list += (i ? ", " : "") + named[i].first + " (" + std::to_string(named[i].second) + " times)";
+    }
+    if (named.size() > kNamesShown) list += " and " + std::to_string(named.size() - kNamesShown) + " more tiles";
+    return list;
+}
+
+}  // namespace
+
+std::string normalised_url(std::string_view url) {
+    const auto p = net::parse_url(url);
+    if (!p) return std::string(url);
+    if (p->scheme == "s3") {  // the key as it is requested (a key that leaves its bucket as written: never read)
+        std::string refusal;
+        const std::string key = net::normalise_s3_key(std::string_view(p->path).substr(p->path.empty() ? 0 : 1), "",
+                                                      refusal);
+        return "s3://" + p->host + "/" + (refusal.empty() ? key : p->path);
+    }
+    const std::string origin =
+        p->scheme + "://" + ascii_lower(normalise_percent(p->host)) + (default_port(*p) ? "" : ":" + p->port);
+    // The path resolved as a relative reference to the origin's root ("." first: a path "//x" is no host).
+    const std::string path = normalise_percent(p->path);
+    std::string out = net::resolve_url(origin + "/", "." + (path.empty() ? std::string("/") : path));
+    if (!p->query.empty()) out += "?" + normalise_percent(p->query);
+    return out;
+}
+
+std::string source_identity(const TileSource& source) {
+    std::string id = net::is_url(source.path) ? "url:" + normalised_url(source.path) : local_identity(source.path);
+    if (source.shift) {
+        char shift[80];
+        std::snprintf(shift, sizeof shift, " shifted %a %a", (*source.shift)[0], (*source.shift)[1]);
+        id += shift;
+    }
+    return id;
+}
+
+void drop_duplicate_sources(FoundSources& found) {
+    std::unordered_map<std::string, std::size_t> first;       // identity -> index of its first source
+    std::unordered_map<std::size_t, std::size_t> times;       // first source -> times named, when more than once
+    std::vector<std::size_t> repeated;                        // those first sources, in order
+    std::size_t kept = 0, dropped = 0;
+    for (std::size_t i = 0; i < found.sources.size(); ++i) {
+        const auto [it, added] = first.try_emplace(source_identity(found.sources[i]), kept);
+        if (added) {
+            if (kept != i) found.sources[kept] = std::move(found.sources[i]);
+            ++kept;
+            continue;
+        }
+        if (times[it->second]++ == 0) repeated.push_back(it->second);
+        ++dropped;
+    }
+    found.sources.resize(kept);
+    if (dropped == 0) return;
+    std::sort(repeated.begin(), repeated.end());
+    std::vector<std::pair<std::string, std::size_t>> named;
+    for (const std::size_t r : repeated) named.emplace_back(shown_name(found.sources[r]), times[r] + 1);
+    found.warnings.warn(std::to_string(dropped) + (dropped == 1 ? " input names a tile" : " inputs name tiles") +
+                        " already named, read once: " + list_repeated(named));
+}
+
+}  // namespace lidarscout::dataset

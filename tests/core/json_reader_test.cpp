@@ -1,0 +1,227 @@
+// core/json_reader: documents read within their limits, each refusal one Error naming the document,
+// the offset and the limit, never the text: nesting 100k deep, strings and numbers past their
+// limit (a long string named by its length, and never held whole), documents past their size or
+// their budget of values; arrays streamed element by element with what they hold at once
+// bounded by one element; fields read by kind, a wrong kind named.
+#include "core/json_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "allocation_counter.hpp"
+#include "core/error.hpp"
+#include "core/text.hpp"
+
+namespace lidarscout {
+namespace {
+
+using nlohmann::json;
+
+// The Error reading `text` within `limits` ("" when it reads).
+Error refusal(const std::string& text, const JsonLimits& limits = {}, const JsonStreaming* streaming = nullptr) {
+    try {
+        parse_json(text, "doc.json", limits, streaming);
+    } catch (const Error& e) {
+        return e;
+    }
+    return Error("");
+}
+
+bool has(const Error& e, const std::string& what) { return std::string(e.what()).find(what) != std::string::npos; }
+
+TEST(JsonReader, ReadsADocument) {
+    const json j = parse_json(R"({"a": [1, -2, 2.5, "x", true, null, {"b": {}}], "c": "\u00e9"})", "doc.json", {});
+    EXPECT_EQ(j.at("a").size(), 7u);
+    EXPECT_EQ(j.at("a")[1], -2);
+    EXPECT_EQ(j.at("a")[6].at("b"), json::object());
+    EXPECT_EQ(j.at("c"), "\xC3\xA9");
+    EXPECT_EQ(parse_json(" 7 ", "n", {}), 7);
+}
+
+TEST(JsonReader, NestingAHundredThousandDeepIsOneError) {
+    for (const std::string open : {"[", "{\"a\":"}) {
+        std::string deep;
+        for (int i = 0; i < 100'000; ++i) deep += open;
+        const Error e = refusal(deep);
+        EXPECT_EQ(e.file(), "doc.json");
+        EXPECT_TRUE(has(e, "nested more than the limit of 256 deep")) << e.what();
+        ASSERT_TRUE(e.offset());
+        EXPECT_LT(*e.offset(), 257 * open.size()) << "refused where it passes the limit, not at the end";
+    }
+    std::string at_limit(256, '['), past(257, '[');
+    at_limit += std::string(256, ']'), past += std::string(257, ']');
+    EXPECT_NO_THROW(parse_json(at_limit, "doc.json", {}));
+    EXPECT_TRUE(has(refusal(past), "nested more than"));
+}
+
+TEST(JsonReader, AStringPastItsLimitIsNamedByItsLengthNeverCopied) {
+    const std::string big(32u << 20, 'x');
+    const std::string text = "{\"id\": \"" + big + "\", \"n\": 1}";
+    const test::AllocationCounter counter;
+    const Error e = refusal(text);
+    EXPECT_TRUE(has(e, "a string of 33554432 bytes, more than the limit of 1048576")) << e.what();
+    EXPECT_EQ(e.offset(), 7u);
+    EXPECT_LT(std::string(e.what()).size(), 200u) << "the string itself is not in the message";
+    EXPECT_LT(counter.peak_bytes(), 16u << 20) << "a 32 MiB string is refused holding at most a few MiB of it";
+    // A string never closed is named by what there is of it; a key is a string too.
+    EXPECT_TRUE(has(refusal("[\"" + std::string(3u << 20, 'y')), "a string of at least 3145728 bytes"));
+    EXPECT_TRUE(has(refusal("{\"" + std::string(2u << 20, 'k') + "\": 1}"), "a string of 2097152 bytes"));
+    // Escapes count as written; a string at the limit reads.
+    JsonLimits small;
+    small.max_string_bytes = 8;
+    EXPECT_NO_THROW(parse_json(R"(["12345678", "\\\"\\\""])", "d", small));
+    EXPECT_TRUE(has(refusal(R"(["123456789"])", small), "a string of 9 bytes"));
+}
+
+TEST(JsonReader, NumbersAndLiteralsHaveALimitToo) {
+    const std::string digits(100'000, '7');
+    const Error e = refusal("[1, " + digits + "]");
+    EXPECT_TRUE(has(e, "a number or literal of more than 4096 characters")) << e.what();
+    EXPECT_EQ(e.offset(), 4u);
+    EXPECT_TRUE(has(refusal("[" + std::string(5000, 't') + "]"), "more than 4096 characters"));
+    EXPECT_TRUE(has(refusal("[1e400]"), "not JSON")) << "a number out of range";
+}
+
+TEST(JsonReader, DocumentsPastTheirSizeOrBudgetAreRefused) {
+    JsonLimits limits;
+    limits.max_bytes = 100;
+    const Error big = refusal("[" + std::string(200, ' ') + "1]", limits);
+    EXPECT_TRUE(has(big, "more than the limit of 100 bytes of JSON")) << big.what();
+    EXPECT_NO_THROW(parse_json("[" + std::string(90, ' ') + "1]", "d", limits));
+    limits = {};
+    limits.kept.values = 1000;
+    std::string many = "[";
+    for (int i = 0; i < 2000; ++i) many += "0,";
+    many += "0]";
+    EXPECT_TRUE(has(refusal(many, limits), "the document holds more than the limit of 1000 values"));
+    limits = {};
+    limits.kept.text_bytes = 1000;
+    std::string words = "[";
+    for (int i = 0; i < 200; ++i) words += "\"abcdefghij\",";
+    words += "\"\"]";
+    EXPECT_TRUE(has(refusal(words, limits), "more than the limit of 1000 bytes of text"));
+}
+
+TEST(JsonReader, WhatIsNotJsonIsNamedWhereItBreaks) {
+    const Error e = refusal(R"({"a": 1,, "b": 2})");
+    EXPECT_TRUE(has(e, "not JSON (")) << e.what();
+    EXPECT_EQ(e.offset(), 8u);
+    EXPECT_TRUE(has(refusal(R"({"a": 1} trailing)"), "not JSON"));
+    EXPECT_TRUE(has(refusal(R"({"a": [1, 2)"), "not JSON"));
+    EXPECT_TRUE(has(refusal(""), "not JSON"));
+    EXPECT_TRUE(has(refusal("[\"\xFF\"]"), "not JSON")) << "ill-formed UTF-8";
+    // The parser's own message quotes the last token: cut, whatever its length.
+    const Error token = refusal("[1 \"" + std::string(500'000, 'z') + "\"]");
+    EXPECT_LT(std::string(token.what()).size(), 400u);
+}
+
+// A FeatureCollection-like document of `n` features, each ~`pad` bytes.
+std::string collection(int n, std::size_t pad) {
+    std::string text = R"({"type": "FeatureCollection", "features": [)";
+    for (int i = 0; i < n; ++i) {
+        text += (i ? "," : "") + std::string(R"({"id": "f)") + std::to_string(i) + R"(", "pad": ")" +
+                std::string(pad, 'p') + R"(", "v": [1, 2, 3]})";
+    }
+    return text + R"(], "links": [{"rel": "next", "href": "x"}, 5], "stac_version": "1.0.0"})";
+}
+
+TEST(JsonReader, StreamedArraysAreHandedOverAnElementAtATime) {
+    std::vector<std::string> ids;
+    std::vector<json> links;
+    const JsonStreaming streaming{{"features", "links"}, [&](const std::string& key, std::size_t i, json&& e) {
+                                      if (key == "features") {
+                                          EXPECT_EQ(i, ids.size());
+                                          ids.push_back(e.at("id").get<std::string>());
+                                      } else {
+                                          links.push_back(std::move(e));
+                                      }
+                                      return true;
+                                  }};
+    const json rest = parse_json(collection(3, 4), "c.json", {}, &streaming);
+    EXPECT_EQ(ids, (std::vector<std::string>{"f0", "f1", "f2"}));
+    ASSERT_EQ(links.size(), 2u);
+    EXPECT_EQ(links[1], 5);
+    EXPECT_EQ(rest.at("type"), "FeatureCollection");
+    EXPECT_EQ(rest.at("features"), json::array()) << "a streamed array stays, empty";
+    EXPECT_EQ(rest.at("stac_version"), "1.0.0");
+    // Only the root's keys stream; a streamed key that is no array is kept as it is.
+    const json nested = parse_json(R"({"a": {"features": [1, 2]}, "features": 5})", "d", {}, &streaming);
+    EXPECT_EQ(nested.at("a").at("features").size(), 2u);
+    EXPECT_EQ(nested.at("features"), 5);
+    EXPECT_EQ(ids.size(), 3u);
+}
+
+TEST(JsonReader, AStreamedArrayHoldsOneElementAtATime) {
+    const std::string text = collection(20'000, 1000);  // ~20 MB
+    std::size_t seen = 0;
+    const JsonStreaming streaming{{"features"}, [&](const std::string&, std::size_t, json&&) { return ++seen, true; }};
+    const test::AllocationCounter counter;
+    parse_json(text, "c.json", {}, &streaming);
+    EXPECT_EQ(seen, 20'000u);
+    EXPECT_LT(counter.peak_bytes(), text.size() / 8) << "held at once: the chunk and one feature, not the document";
+    // Each element has its own budget; the sink can stop the reading.
+    JsonLimits limits;
+    limits.element.values = 5;
+    const Error e = refusal(text, limits, &streaming);
+    EXPECT_TRUE(has(e, "a streamed element holds more than the limit of 5 values")) << e.what();
+    std::size_t taken = 0;
+    const JsonStreaming two{{"features"}, [&](const std::string&, std::size_t, json&&) { return ++taken < 2; }};
+    const json rest = parse_json(text, "c.json", {}, &two);
+    EXPECT_EQ(taken, 2u);
+    EXPECT_EQ(rest.at("type"), "FeatureCollection");
+}
+
+TEST(JsonReader, AnErrorOfTheSourceOrSinkNamesTheDocument) {
+    const JsonSource failing = [](std::span<char>) -> std::size_t { throw Error("read failed"); };
+    try {
+        read_json(failing, "remote.json", {});
+        FAIL();
+    } catch (const Error& e) {
+        EXPECT_EQ(e.file(), "remote.json");
+    }
+}
+
+TEST(JsonReader, FieldsAreReadByTheirKind) {
+    const json j = json::parse(R"({"s": "text", "n": 2.5, "c": 7, "neg": -1, "b": true, "a": [1], "o": {},
+                                   "z": null, "rel": 5})");
+    EXPECT_EQ(json_optional_string(j, "s"), "text");
+    EXPECT_EQ(json_optional_string(j, "missing"), std::nullopt);
+    EXPECT_EQ(json_optional_string(j, "z"), std::nullopt) << "null is absent";
+    EXPECT_EQ(json_number(j, "c"), 7.0);
+    EXPECT_EQ(json_optional_count(j, "c"), 7u);
+    EXPECT_EQ(json_optional_bool(j, "b"), true);
+    EXPECT_EQ(json_array(j, "a").size(), 1u);
+    EXPECT_TRUE(json_object(j, "o").empty());
+    const auto cause = [](auto&& read) {
+        try {
+            read();
+        } catch (const Error& e) {
+            return e.cause();
+        }
+        return std::string();
+    };
+    EXPECT_EQ(cause([&] { json_optional_string(j, "rel"); }), "\"rel\" is a number, not a string");
+    EXPECT_EQ(cause([&] { json_number(j, "s"); }), "\"s\" is a string, not a number");
+    EXPECT_EQ(cause([&] { json_array(j, "o"); }), "\"o\" is an object, not an array");
+    EXPECT_EQ(cause([&] { json_object(j, "a"); }), "\"a\" is an array, not an object");
+    EXPECT_EQ(cause([&] { json_string(j, "missing"); }), "\"missing\" is missing");
+    EXPECT_EQ(cause([&] { json_optional_count(j, "neg"); }), "\"neg\" is -1, not a count (a whole number, 0 or more)");
+    EXPECT_EQ(cause([&] { json_optional_count(j, "n"); }), "\"n\" is 2.5, not a count (a whole number, 0 or more)");
+    EXPECT_EQ(cause([&] { json_finite(j.at("s"), "x"); }), "x is a string, not a number");
+    EXPECT_EQ(json_field(json(5), "s"), nullptr) << "a value that is no object has no fields";
+}
+
+TEST(JsonReader, TextFromADocumentIsCutWherePrinted) {
+    const std::string id(10'000, 'i');
+    const std::string shown = display_excerpt(id);
+    EXPECT_EQ(shown, std::string(200, 'i') + "... (10000 bytes)");
+    EXPECT_EQ(display_excerpt("short"), "short");
+    EXPECT_EQ(display_excerpt(std::string(199, 'a') + "\xC3\xA9" + "tail"), std::string(199, 'a') + "... (205 bytes)")
+        << "cut before a character, not inside it";
+    EXPECT_LT(json_excerpt(json{{"id", id}}).size(), 240u);
+}
+
+}  // namespace
+}  // namespace lidarscout

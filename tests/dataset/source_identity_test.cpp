@@ -1,0 +1,71 @@
+// dataset/source_identity: URLs that name one resource have one normal form (case of scheme and
+// host, default ports, credentials, fragments, percent-encodings, dot segments), URLs that name
+// others keep theirs (paths' case, other ports, queries, an encoded '/', an s3 key's literal '%');
+// local names of one file have one identity, a virtual tile's shift makes another.
+#include "dataset/source_identity.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "temp_dir_fixture.hpp"
+
+namespace lidarscout::dataset {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(NormalisedUrl, NamesOfOneResourceMeet) {
+    const std::string plain = "http://example.com/d/t.laz";
+    for (const char* same : {"HTTP://Example.COM/d/t.laz", "http://example.com:80/d/t.laz",
+                             "http://user:secret@example.com/d/t.laz", "http://example.com/d/t.laz#part",
+                             "http://example.com/d/./x/../t.laz", "http://example.com/../d/t.laz",
+                             "http://example.com/%64/%74%2E%6c%61%7A", "http://example.com/d/x/%2E%2E/t.laz"}) {
+        EXPECT_EQ(normalised_url(same), plain) << same;
+    }
+    EXPECT_EQ(normalised_url("https://example.com:443/a"), "https://example.com/a");
+    EXPECT_EQ(normalised_url("http://example.com"), "http://example.com/");
+    EXPECT_EQ(normalised_url("http://example.com/a%2fb?x=%7e%2a"), "http://example.com/a%2Fb?x=~%2A");
+    EXPECT_EQ(normalised_url("s3://bucket/d/../t.laz"), "s3://bucket/t.laz");
+    EXPECT_EQ(normalised_url("s3://bucket/d/%2e%2e/./t.laz"), "s3://bucket/t.laz") << "the key as requested";
+}
+
+TEST(NormalisedUrl, NamesOfOtherResourcesStayApart) {
+    const std::string plain = normalised_url("http://example.com/d/t.laz");
+    for (const char* other : {"http://example.com/D/t.laz", "https://example.com/d/t.laz",
+                              "http://example.com:8080/d/t.laz", "http://example.com/d/t.laz?v=2",
+                              "http://example.com//d/t.laz", "http://example.com/d%2Ft.laz",
+                              "http://example.org/d/t.laz"}) {
+        EXPECT_NE(normalised_url(other), plain) << other;
+    }
+    EXPECT_NE(normalised_url("s3://Bucket/t.laz"), normalised_url("s3://bucket/t.laz")) << "a bucket as written";
+    EXPECT_NE(normalised_url("s3://bucket/%41.laz"), normalised_url("s3://bucket/A.laz")) << "an s3 key is literal";
+    EXPECT_EQ(normalised_url("tiles/t.laz"), "tiles/t.laz") << "not a URL: as it is";
+}
+
+class SourceIdentity : public test::TempDirTest {};
+
+TEST_F(SourceIdentity, LocalNamesOfOneFileMeetAndShiftsPartThem) {
+    std::ofstream(dir / "t.laz") << "x";
+    std::ofstream(dir / "u.laz") << "x";
+    fs::create_directories(dir / "sub");
+    fs::create_symlink(dir / "t.laz", dir / "link.laz");
+    fs::create_hard_link(dir / "t.laz", dir / "hard.laz");
+    const std::string t = source_identity({path("t.laz"), std::nullopt, "", nullptr});
+    EXPECT_EQ(t.rfind("file:", 0), 0u) << t;
+    for (const auto& same : {dir / "sub/../t.laz", dir / "./t.laz", dir / "link.laz", dir / "hard.laz"}) {
+        EXPECT_EQ(source_identity({same.string(), std::nullopt, "", nullptr}), t) << same;
+    }
+    EXPECT_NE(source_identity({path("u.laz"), std::nullopt, "", nullptr}), t) << "a copy is another file";
+    const std::string shifted = source_identity({path("t.laz"), std::array<double, 2>{1000, 0}, "v1.laz", nullptr});
+    EXPECT_NE(shifted, t);
+    EXPECT_EQ(source_identity({path("link.laz"), std::array<double, 2>{1000, 0}, "other name", nullptr}), shifted);
+    EXPECT_NE(source_identity({path("t.laz"), std::array<double, 2>{2000, 0}, "v2.laz", nullptr}), shifted);
+    // a file that does not exist: by its absolute, lexically normal path
+    EXPECT_EQ(source_identity({path("missing.laz"), std::nullopt, "", nullptr}),
+              source_identity({(dir / "sub/../missing.laz").string(), std::nullopt, "", nullptr}));
+}
+
+}  // namespace
+}  // namespace lidarscout::dataset
