@@ -47,10 +47,11 @@ public:
     double min_y() const { return min_y_; }
     double max_x() const { return max_x_; }
     double max_y() const { return max_y_; }
-    // Horizontal area: the sum over the polygons of the outer ring's area minus its holes'. That is
-    // the union's area when the polygons do not overlap; an overlap counts once per polygon covering
-    // it (an exact union would need polygon clipping, CGAL's, which core does not link). Its only
-    // users measure one drawn ring (recon's area tool) or a square (bench_region).
+    // Horizontal area: the sum over the polygons of the outer ring's area minus its holes' (at least
+    // zero). That is the union's area when the polygons do not overlap, their rings do not cross and
+    // their holes lie inside their outer ring; an overlap counts once per polygon covering it (an exact
+    // union would need polygon clipping, CGAL's, which core does not link). Its users measure one drawn
+    // ring (recon's area tool) or a square (bench_region).
     double area() const;
     std::size_t polygon_count() const { return polygon_starts_.empty() ? 0 : polygon_starts_.size() - 1; }
     // Vertices over all rings (a ring's repeated closing vertex not counted).
