@@ -1,6 +1,7 @@
 // Bounded JSON documents from files or URLs.
 #include "dataset/json_file.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.hpp"
@@ -9,7 +10,9 @@ namespace lidarscout::dataset {
 
 JsonSource file_json_source(const io::File& file) {
     return [&file, offset = std::uint64_t{0}](std::span<char> out) mutable {
-        const std::size_t n = file.read_at(offset, {reinterpret_cast<std::uint8_t*>(out.data()), out.size()});
+        // (no more than the file holds: a small file is then read from the edges io::File keeps)
+        const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(out.size(), file.size() - offset));
+        const std::size_t n = file.read_at(offset, {reinterpret_cast<std::uint8_t*>(out.data()), want});
         offset += n;
         return n;
     };

@@ -5,10 +5,12 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "allocation_counter.hpp"
 #include "core/error.hpp"
 #include "core/polygon.hpp"
 
@@ -109,6 +111,26 @@ TEST(Polygon, GeoJsonNestedDeepIsOneErrorNotACrash) {
     std::filesystem::remove(file);
 }
 
+TEST(Polygon, GeoJsonCoordinatesAreKeptAsRingsNotAsADocument) {
+    std::string text = R"({"type": "Feature", "properties": {"coordinates": {"any": "thing"}}, "geometry":
+                           {"coordinates": [[)";
+    constexpr int kVertices = 200'000;
+    for (int i = 0; i < kVertices; ++i) {
+        const double a = 6.283185307179586 * i / kVertices;
+        text += (i ? "," : "") + std::string("[") + std::to_string(1000 * std::cos(a)) + ", " +
+                std::to_string(1000 * std::sin(a)) + ", 12.5]";
+    }
+    text += R"(]], "type": "Polygon"}})";  // (the type after the coordinates)
+    const test::AllocationCounter counter;
+    const auto p = parse_geojson_polygon(text);
+    const std::size_t peak = counter.peak_bytes();
+    ASSERT_EQ(p.polygons().size(), 1u);
+    EXPECT_EQ(p.polygons()[0][0].size(), static_cast<std::size_t>(kVertices));
+    EXPECT_TRUE(p.contains(0, 0));
+    EXPECT_FALSE(p.contains(1001, 0));
+    EXPECT_LT(peak, 64u * kVertices) << "a few tens of bytes a vertex (a document would hold ~230), peak " << peak;
+}
+
 TEST(Polygon, GeoJsonOfTheWrongKindIsNamed) {
     EXPECT_NE(geojson_error(R"({"type": 5, "coordinates": []})").find("GeoJSON: \"type\" is a number, not a string"),
               std::string::npos);
@@ -116,9 +138,17 @@ TEST(Polygon, GeoJsonOfTheWrongKindIsNamed) {
               {"type": ["Polygon"]}}]})").find("\"type\" is an array, not a string"), std::string::npos);
     EXPECT_NE(geojson_error(R"({"type": "FeatureCollection", "features": 3})").find("without a features array"),
               std::string::npos);
-    EXPECT_NE(geojson_error(R"({"type": "Polygon", "coordinates": [[[0, 0], [1, "a"], [1, 1]]]})")
-                  .find("a position is not an array of at least two numbers"),
+    for (const char* coordinates : {R"([[[0, 0], [1, "a"], [1, 1]]])", "[[[0, 0], [1], [1, 1]]]",
+                                    R"([[[0, 0], {"x": 1}, [1, 1]]])", "[[[0, 0], [[1, 0]], [1, 1]]]"}) {
+        EXPECT_NE(geojson_error(R"({"type": "Polygon", "coordinates": )" + std::string(coordinates) + "}")
+                      .find("a position is not an array of at least two numbers"),
+                  std::string::npos)
+            << coordinates;
+    }
+    EXPECT_NE(geojson_error(R"({"type": "Polygon", "coordinates": [[0, 0], [1, 0], [1, 1]]})")
+                  .find("not an array of rings"),
               std::string::npos);
+    EXPECT_NE(geojson_error(R"({"type": "MultiPolygon", "coordinates": 5})").find("not an array"), std::string::npos);
     const std::string long_type = geojson_error(R"({"type": ")" + std::string(100'000, 'T') + "\"}");
     EXPECT_NE(long_type.find("... (100000 bytes)"), std::string::npos);
     EXPECT_LT(long_type.size(), 400u);
