@@ -31,19 +31,20 @@ Ring closed_ring(Ring ring) {
     return ring;
 }
 
-// Whether (x, y) lies on the segment a-b (exactly: the cross product is zero within the segment's box).
-bool on_segment(const XY& a, const XY& b, double x, double y) {
-    if (x < std::min(a.x, b.x) || x > std::max(a.x, b.x) || y < std::min(a.y, b.y) || y > std::max(a.y, b.y)) {
-        return false;
-    }
-    return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x) == 0.0;
+// (b - a) x ((x, y) - a): zero when (x, y) lies on the line through a and b, > 0 when left of a -> b.
+double cross(const XY& a, const XY& b, double x, double y) { return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x); }
+
+// Whether (x, y), on the line through a and b (their cross product is zero), lies on the segment a-b.
+bool within(const XY& a, const XY& b, double x, double y) {
+    return x >= std::min(a.x, b.x) && x <= std::max(a.x, b.x) && y >= std::min(a.y, b.y) && y <= std::max(a.y, b.y);
 }
 
-// Whether a horizontal ray from (x, y) towards +x crosses a-b (half-open in y, so a vertex counts once).
-bool crosses(const XY& a, const XY& b, double x, double y) {
-    if ((a.y > y) == (b.y > y)) return false;
-    const double t = (y - a.y) / (b.y - a.y);
-    return x < a.x + t * (b.x - a.x);
+// Whether a ray from (x, y) towards +x crosses a-b, given their cross product: a-b straddles y (half-open,
+// so that a vertex on the ray counts once) and (x, y) lies left of it when it goes up, right when down.
+// Branch-free: in a crowded band these outcomes are unpredictable.
+bool crossed(const XY& a, const XY& b, double y, double cross) {
+    const bool b_above = b.y > y;
+    return ((a.y > y) != b_above) & ((cross > 0) == b_above);
 }
 
 // Whether segment a-b meets the box (Liang-Barsky clipping of the segment to the box).
@@ -167,8 +168,10 @@ bool MultiPolygon::contains(double x, double y) const {
             if (inside) return true;
             polygon_end = *std::upper_bound(polygon_starts_.begin(), polygon_starts_.end(), i);
         }
-        if (on_segment(vertices_[i], vertices_[i + 1], x, y)) return true;
-        if (crosses(vertices_[i], vertices_[i + 1], x, y)) inside = !inside;
+        const XY &a = vertices_[i], &b = vertices_[i + 1];
+        const double c = cross(a, b, x, y);
+        if (c == 0 && within(a, b, x, y)) return true;  // on the edge
+        inside = inside != crossed(a, b, y, c);
     }
     return inside;
 }
@@ -197,6 +200,12 @@ double MultiPolygon::area() const {
         a += (outer ? 1 : -1) * ring_area(std::span(vertices_).subspan(first, size));
     }
     return a;
+}
+
+std::size_t MultiPolygon::held_bytes() const {
+    const std::size_t numbers = ring_starts_.capacity() + polygon_starts_.capacity() + band_starts_.capacity() +
+                                band_edges_.capacity();
+    return vertices_.capacity() * sizeof(XY) + numbers * sizeof(std::uint32_t);
 }
 
 std::size_t MultiPolygon::vertex_count() const {

@@ -60,6 +60,8 @@ public:
     // entries (edge references) the index holds over all its bands.
     std::size_t edges_examined(double x, double y) const;
     std::size_t index_entries() const { return band_edges_.size(); }
+    // Bytes the polygon holds: its vertices and its index.
+    std::size_t held_bytes() const;
 
 private:
     void build_index();

@@ -329,6 +329,7 @@ TEST(Polygon, LongEdgesKeepTheIndexLinear) {
     const MultiPolygon star(std::move(polygons));
     EXPECT_LE(star.index_entries(), 4 * n + n / 8);
     EXPECT_LE(counter.bytes(), 48 * n);  // vertices 16 bytes, index entries 4 each, bands 4 each
+    EXPECT_LE(star.held_bytes(), 36 * n);  // what it keeps
     std::mt19937 rng(55);
     std::uniform_real_distribution<double> unit(-1000, 1000);
     for (int k = 0; k < 300; ++k) {
