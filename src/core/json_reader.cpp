@@ -97,6 +97,7 @@ private:
     // How many of the chunk's first `n` bytes pass; where one does not, stop_ says why.
     std::size_t scan(std::size_t n) {
         for (std::size_t i = 0; i < n; ++i) {
+            if (lexeme_.in_string && !lexeme_.escaped && (i = skip_plain(i, n)) == n) break;
             if (lexeme_.take(chunk_[i], start_ + i, limits_)) continue;
             if (lexeme_.in_string) {
                 stop_ = Stop{lexeme_.start, string_refusal(i + 1, n)};
@@ -107,6 +108,17 @@ private:
             return i;
         }
         return n;
+    }
+
+    // Past the bytes of a string from chunk byte `i` that are neither a quote nor a backslash, as long
+    // as the string stays within its limit (the byte that passes it is left to Lexeme::take).
+    std::size_t skip_plain(std::size_t i, std::size_t n) {
+        const std::uint64_t used = std::min<std::uint64_t>(lexeme_.length, limits_.max_string_bytes);
+        const auto end = static_cast<std::size_t>(std::min<std::uint64_t>(n, i + (limits_.max_string_bytes - used)));
+        std::size_t j = i;
+        while (j < end && chunk_[j] != '"' && chunk_[j] != '\\') ++j;
+        lexeme_.length += j - i;
+        return j;
     }
 
     // The refusal of the string passing its limit at chunk byte `from - 1`, naming its whole length
@@ -231,6 +243,8 @@ public:
     bool end_object() { return close(); }
     bool end_array() { return close(); }
     bool key(std::string& k) {
+        if (diverting_depth_ != 0) return streaming_->diverted->key(k), true;
+        divert_next_ = streaming_ && streaming_->diverted && k == streaming_->diverted_key;
         if (depth_ == 1) root_key_ = k;
         if (streamed() ? element_.key(std::move(k)) : kept_.key(std::move(k))) return true;
         return fail(streamed() ? element_.overflow("a streamed element") : kept_.overflow("the document"));
@@ -256,6 +270,12 @@ private:
             return fail("arrays and objects nested more than the limit of " + std::to_string(limits_.max_depth) +
                         " deep");
         }
+        if (diverting_depth_ != 0 || divert_next_) {
+            if (diverting_depth_ == 0 && !divert()) return false;
+            streaming_->diverted->open(container.is_object());
+            if (diverting_depth_ == 0) diverting_depth_ = depth_;
+            return true;
+        }
         if (streamed()) {
             if (depth_ == stream_depth_ + 1) element_.start(element_value_);
             return add(element_, std::move(container), 0, true);
@@ -271,6 +291,11 @@ private:
     }
 
     bool close() {
+        if (diverting_depth_ != 0) {
+            streaming_->diverted->close();
+            if (depth_-- == diverting_depth_) diverting_depth_ = 0;
+            return true;
+        }
         --depth_;
         if (!streamed()) return kept_.close(), true;
         if (depth_ + 1 == stream_depth_) return stream_depth_ = 0, true;  // the streamed array ends
@@ -279,10 +304,19 @@ private:
     }
 
     bool value(json&& v, std::size_t text) {
+        if (diverting_depth_ != 0) return streaming_->diverted->scalar(v), true;
+        if (divert_next_) return divert() && (streaming_->diverted->scalar(v), true);
         if (!streamed()) return add(kept_, std::move(v), text, false);
         if (depth_ == stream_depth_) element_.start(element_value_);
         if (!add(element_, std::move(v), text, false)) return false;
         return depth_ == stream_depth_ ? deliver() : true;
+    }
+
+    // Leaves the ordinal of the value diverted next where it would have been (the key is the last
+    // one read: of the element being streamed, if any, else of the document).
+    bool divert() {
+        divert_next_ = false;
+        return add(streamed() ? element_ : kept_, json(diverted_++), 0, false);
     }
 
     bool add(DomBuilder& builder, json&& v, std::size_t text, bool open) {
@@ -314,7 +348,8 @@ private:
     DomBuilder kept_, element_;
     json element_value_;
     std::size_t depth_ = 0, stream_depth_ = 0, index_ = 0;
-    bool root_is_object_ = false, stopped_ = false;
+    std::size_t diverting_depth_ = 0, diverted_ = 0;  // the depth of the diverted object or array being read
+    bool root_is_object_ = false, stopped_ = false, divert_next_ = false;
     std::string root_key_, stream_key_;
     std::optional<Stop> failure_, parse_error_;
 };
@@ -345,8 +380,8 @@ nlohmann::json read_json(const JsonSource& source, const std::string& name, cons
         json::sax_parse(static_cast<std::istream&>(stream), &handler, json::input_format_t::json, true, false);
     } catch (const json::exception& e) {  // (the parser reports through the handler; this is a safety net)
         throw Error(name, buffer.position(), "not JSON (" + display_excerpt(e.what()) + ")");
-    } catch (const Error& e) {  // from the source or the sink: about this document unless it names another
-        if (e.file().empty()) throw e.with_file(name);
+    } catch (const Error& e) {  // from the source or a receiver: about this document unless it names another
+        if (e.file().empty()) throw Error(name, e.offset() ? e.offset() : buffer.position(), e.cause());
         throw;
     }
     if (handler.stopped_by_sink()) return result;

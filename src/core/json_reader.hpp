@@ -52,16 +52,34 @@ using JsonSource = std::function<std::size_t(std::span<char> out)>;
 // element. Returns false to stop reading (the rest of the document is then not read).
 using JsonElementSink = std::function<bool(const std::string& key, std::size_t index, nlohmann::json&& element)>;
 
+// Receives, event by event, a value the document does not hold (a diverted value, below), so that
+// its caller keeps it its own way (GeoJSON coordinates as rings, a few bytes a vertex rather than
+// a document's hundreds). An event may throw lidarscout::Error to refuse the document.
+class JsonValueEvents {
+public:
+    virtual ~JsonValueEvents() = default;
+    virtual void scalar(const nlohmann::json& value) = 0;  // a number, string, true, false or null
+    virtual void open(bool object) = 0;                    // an object or an array starts
+    virtual void key(const std::string& key) = 0;          // the key of the next value (in an object)
+    virtual void close() = 0;                              // the innermost open object or array ends
+};
+
 struct JsonStreaming {
     std::vector<std::string> keys;  // keys of the root object whose arrays are streamed
     JsonElementSink sink;
+    // The values of members named `diverted_key`, at any depth (in streamed elements too), go to
+    // `diverted` instead, the document holding in their place their ordinal (0, 1, ...). They pass
+    // the depth, string and size limits, not the document's budget: their receiver bounds them.
+    std::string diverted_key;
+    JsonValueEvents* diverted = nullptr;
 };
 
 // The document read from `source`; `name` (a path or URL as shown) names it in errors. A streamed
 // array is left in the result as an empty array (so that its presence shows); a streamed key whose
 // value is not an array is kept as it is. When the sink stops the reading, what was read so far
-// is returned. Throws lidarscout::Error(name, byte offset, cause) for text that is not JSON or
-// passes a limit.
+// is returned. (`streaming` may name no keys, to divert values only.) Throws
+// lidarscout::Error(name, byte offset, cause) for text that is not JSON or passes a limit, and
+// the Errors of the source, the sink and the diverted values' receiver (named the same way).
 nlohmann::json read_json(const JsonSource& source, const std::string& name, const JsonLimits& limits,
                          const JsonStreaming* streaming = nullptr);
 // The same of text in memory.

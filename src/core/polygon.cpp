@@ -330,37 +330,120 @@ private:
 
 // ---- GeoJSON
 
-// The most vertices a GeoJSON polygon may have (what its document then holds stays under ~500 MB).
+// The most vertices a GeoJSON polygon may have (its rings then take ~80-160 MB).
 constexpr std::uint64_t kMaxGeoJsonVertices = 5'000'000;
 
-// The bounded reader's limits for a GeoJSON document: each position is an array and two numbers.
+// The reader's limits for a GeoJSON document: room for the vertices, written at length.
 JsonLimits geojson_limits() {
     JsonLimits limits;
     limits.max_bytes = 512ull << 20;
-    limits.kept = {3 * kMaxGeoJsonVertices + 1'000'000, 64ull << 20};
     return limits;
 }
 
-Ring json_ring(const nlohmann::json& j, std::uint64_t& vertices) {
-    if (!j.is_array()) throw polygon_error("GeoJSON: a ring is not an array of positions");
-    if ((vertices += j.size()) > kMaxGeoJsonVertices) {
-        throw polygon_error("GeoJSON: more than the limit of " + std::to_string(kMaxGeoJsonVertices) + " vertices");
-    }
-    Ring r;
-    r.reserve(j.size());
-    for (const auto& p : j) {
-        if (!p.is_array() || p.size() < 2 || !p[0].is_number() || !p[1].is_number()) {
-            throw polygon_error("GeoJSON: a position is not an array of at least two numbers");
-        }
-        r.push_back({p[0].get<double>(), p[1].get<double>()});
-    }
-    return r;
-}
+Error position_error() { return polygon_error("GeoJSON: a position is not an array of at least two numbers"); }
 
-std::vector<Ring> json_polygon(const nlohmann::json& j, std::uint64_t& vertices) {
-    if (!j.is_array() || j.empty()) throw polygon_error("GeoJSON: a Polygon's coordinates are not an array of rings");
+// GeoJSON "coordinates" values, read as they stream by (diverted from the document: JsonStreaming)
+// into rings, 16 bytes a vertex. Each value is a tree of arrays whose leaves are rings (arrays of
+// positions); what it must be (a Polygon's rings, a MultiPolygon's polygons) is known from its
+// geometry's type, read later. A value of another shape (a member named "coordinates" may be
+// anywhere, in a Feature's properties too) is only refused where a geometry uses it.
+class Coordinates final : public JsonValueEvents {
+public:
+    struct Nest {
+        // kOther: not an array; kBadPosition: holds a position that is not two numbers or more
+        enum Kind { kEmpty, kPositions, kArrays, kOther, kBadPosition } kind = kOther;
+        Ring ring;                // kPositions: its positions
+        std::vector<Nest> items;  // kArrays: its arrays
+    };
+
+    // The value of ordinal `i` (taken: each is used once).
+    Nest take(const nlohmann::json& ordinal) {
+        if (!ordinal.is_number_unsigned() || ordinal.get<std::size_t>() >= values_.size()) return {};
+        return std::move(values_[ordinal.get<std::size_t>()]);
+    }
+
+    void scalar(const nlohmann::json& v) override {
+        if (stack_.empty()) return values_.push_back({});
+        Frame& f = stack_.back();
+        if (!v.is_number() || (f.kind != Frame::kEmpty && f.kind != Frame::kPosition)) return bad();
+        f.kind = Frame::kPosition;
+        if (f.numbers < 2) f.xy[f.numbers] = v.get<double>();
+        ++f.numbers;
+    }
+    void open(bool object) override {
+        if (object || (!stack_.empty() && stack_.back().kind == Frame::kPosition)) bad();
+        stack_.emplace_back();
+    }
+    void key(const std::string&) override {}
+    void close() override {
+        Frame f = std::move(stack_.back());
+        stack_.pop_back();
+        if (f.kind == Frame::kPosition && f.numbers < 2) bad();
+        if (stack_.empty()) {
+            values_.push_back(bad_ ? Nest{Nest::kBadPosition, {}, {}} : f.nest());
+            bad_ = false;
+            return;
+        }
+        if (bad_) return;  // (the rest of the value is not kept)
+        Frame& parent = stack_.back();
+        if (f.kind == Frame::kPosition) {
+            if (parent.kind != Frame::kEmpty && parent.kind != Frame::kPositions) return bad();
+            if (++vertices_ > kMaxGeoJsonVertices) {
+                throw polygon_error("GeoJSON: more than the limit of " + std::to_string(kMaxGeoJsonVertices) +
+                                    " vertices");
+            }
+            parent.kind = Frame::kPositions;
+            parent.ring.push_back({f.xy[0], f.xy[1]});
+            return;
+        }
+        if (parent.kind == Frame::kPositions) return bad();
+        parent.kind = Frame::kArrays;
+        parent.items.push_back(f.nest());
+    }
+
+private:
+    struct Frame {  // an array being read
+        enum Kind { kEmpty, kPosition, kPositions, kArrays } kind = kEmpty;
+        double xy[2] = {0, 0};
+        std::size_t numbers = 0;
+        Ring ring;
+        std::vector<Nest> items;
+
+        Nest nest() {
+            switch (kind) {
+                case kEmpty: return {Nest::kEmpty, {}, {}};
+                case kPositions: return {Nest::kPositions, std::move(ring), {}};
+                case kArrays: return {Nest::kArrays, {}, std::move(items)};
+                default: return {Nest::kBadPosition, {}, {}};  // (a bare position)
+            }
+        }
+    };
+
+    // The value being read is not arrays of positions: what it holds is dropped.
+    void bad() {
+        bad_ = true;
+        for (Frame& f : stack_) f.ring = {}, f.items = {};
+    }
+
+    std::vector<Nest> values_;
+    std::vector<Frame> stack_;
+    bool bad_ = false;
+    std::uint64_t vertices_ = 0;
+};
+
+std::vector<Ring> polygon_of(Coordinates::Nest&& c) {
+    if (c.kind == Coordinates::Nest::kBadPosition) throw position_error();
+    if (c.kind != Coordinates::Nest::kArrays) {
+        throw polygon_error("GeoJSON: a Polygon's coordinates are not an array of rings");
+    }
     std::vector<Ring> rings;
-    for (const auto& r : j) rings.push_back(json_ring(r, vertices));
+    for (auto& r : c.items) {
+        if (r.kind == Coordinates::Nest::kBadPosition) throw position_error();
+        if (r.kind != Coordinates::Nest::kPositions && r.kind != Coordinates::Nest::kEmpty) {
+            throw polygon_error("GeoJSON: a ring is not an array of positions");
+        }
+        rings.push_back(std::move(r.ring));
+    }
     return rings;
 }
 
@@ -374,44 +457,48 @@ std::string geojson_type(const nlohmann::json& j) {
 }
 
 // (Nesting is bounded by the reader's depth limit, so the recursion is too.)
-void add_geometry(const nlohmann::json& j, std::vector<std::vector<Ring>>& out, std::uint64_t& vertices) {
+void add_geometry(const nlohmann::json& j, Coordinates& coordinates, std::vector<std::vector<Ring>>& out) {
     const std::string type = geojson_type(j);
     if (type == "Feature") {
         const nlohmann::json* geometry = json_field(j, "geometry");
         if (!geometry) throw polygon_error("GeoJSON: a Feature without a geometry");
-        return add_geometry(*geometry, out, vertices);
+        return add_geometry(*geometry, coordinates, out);
     }
     if (type == "FeatureCollection") {
         const nlohmann::json* features = json_field(j, "features");
         if (!features || !features->is_array()) {
             throw polygon_error("GeoJSON: a FeatureCollection without a features array");
         }
-        for (const auto& f : *features) add_geometry(f, out, vertices);
+        for (const auto& f : *features) add_geometry(f, coordinates, out);
         return;
     }
     if (type != "Polygon" && type != "MultiPolygon") {
         throw polygon_error("GeoJSON: expected a Polygon or MultiPolygon geometry, found " +
                             (type.empty() ? std::string("no type") : "'" + display_excerpt(type) + "'"));
     }
-    const nlohmann::json* found = json_field(j, "coordinates");
-    const nlohmann::json& c = found ? *found : nlohmann::json();
-    if (type == "Polygon") return out.push_back(json_polygon(c, vertices));
-    if (!c.is_array()) throw polygon_error("GeoJSON: a MultiPolygon's coordinates are not an array");
-    for (const auto& p : c) out.push_back(json_polygon(p, vertices));
+    const nlohmann::json* ordinal = json_field(j, "coordinates");
+    Coordinates::Nest c = ordinal ? coordinates.take(*ordinal) : Coordinates::Nest{};
+    if (type == "Polygon") return out.push_back(polygon_of(std::move(c)));
+    if (c.kind == Coordinates::Nest::kBadPosition) throw position_error();
+    if (c.kind != Coordinates::Nest::kArrays && c.kind != Coordinates::Nest::kEmpty) {
+        throw polygon_error("GeoJSON: a MultiPolygon's coordinates are not an array");
+    }
+    for (auto& p : c.items) out.push_back(polygon_of(std::move(p)));
 }
 
 // The polygon of the GeoJSON document read from `source`; a reader's error is the polygon stage's.
 MultiPolygon read_geojson_polygon(const JsonSource& source) {
+    Coordinates coordinates;
+    const JsonStreaming diversion{{}, {}, "coordinates", &coordinates};
     nlohmann::json j;
     try {
-        j = read_json(source, "", geojson_limits());
+        j = read_json(source, "", geojson_limits(), &diversion);
     } catch (const Error& e) {
-        throw Error(e.file(), e.offset(), "polygon: GeoJSON: " + e.cause());
+        const bool ours = e.cause().starts_with("polygon: ");  // (the vertex limit)
+        throw Error(e.file(), e.offset(), (ours ? "" : "polygon: GeoJSON: ") + e.cause());
     }
     std::vector<std::vector<Ring>> polygons;
-    std::uint64_t vertices = 0;
-    add_geometry(j, polygons, vertices);
-    j = nlohmann::json();  // (the document goes before the polygon checks its rings)
+    add_geometry(j, coordinates, polygons);
     return MultiPolygon(std::move(polygons));
 }
 

@@ -1,6 +1,7 @@
 // Bounded JSON documents from files or URLs.
 #include "dataset/json_file.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "core/error.hpp"
@@ -8,8 +9,11 @@
 namespace lidarscout::dataset {
 
 JsonSource file_json_source(const io::File& file) {
-    return [&file, offset = std::uint64_t{0}](std::span<char> out) mutable {
-        const std::size_t n = file.read_at(offset, {reinterpret_cast<std::uint8_t*>(out.data()), out.size()});
+    return [&file, offset = std::uint64_t{0}](std::span<char> out) mutable -> std::size_t {
+        // Never past the end: a remote file would spend a request to learn that nothing is there.
+        if (offset >= file.size()) return 0;
+        const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(out.size(), file.size() - offset));
+        const std::size_t n = file.read_at(offset, {reinterpret_cast<std::uint8_t*>(out.data()), want});
         offset += n;
         return n;
     };

@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/json_reader.hpp"
+#include "core/regular_file.hpp"
 #include "dataset/json_file.hpp"
 #include "io/file.hpp"
 
@@ -26,6 +27,7 @@ json parse_manifest(const std::string& path) {
     JsonLimits limits;
     limits.max_bytes = 256ull << 20;
     limits.kept = {4'000'000, 64ull << 20};
+    require_regular_file(path);  // refused as it is, not as a bad manifest
     try {
         return read_json_object(io::File::open(path), limits);
     } catch (const Error& e) {

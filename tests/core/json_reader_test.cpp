@@ -173,6 +173,48 @@ TEST(JsonReader, AStreamedArrayHoldsOneElementAtATime) {
     EXPECT_EQ(rest.at("type"), "FeatureCollection");
 }
 
+// Records the events of diverted values as text.
+class Recorder final : public JsonValueEvents {
+public:
+    std::string text;
+    void scalar(const json& v) override { text += v.dump() + " "; }
+    void open(bool object) override { text += object ? "{ " : "[ "; }
+    void key(const std::string& k) override { text += k + ": "; }
+    void close() override { text += "; "; }
+};
+
+TEST(JsonReader, DivertedValuesGoToTheirReceiverAndLeaveTheirOrdinal) {
+    Recorder recorder;
+    const JsonStreaming streaming{{"features"},
+                                  [&](const std::string&, std::size_t, json&& e) {
+                                      EXPECT_EQ(e.at("geometry").at("coordinates"), 2) << "its ordinal";
+                                      return true;
+                                  },
+                                  "coordinates", &recorder};
+    const json j = parse_json(R"({"coordinates": [[1, 2], {"a": true}], "b": {"coordinates": null},
+                                  "features": [{"geometry": {"coordinates": [3]}}], "c": [{"coordinates": "x"}]})",
+                              "d", {}, &streaming);
+    EXPECT_EQ(recorder.text, R"([ [ 1 2 ; { a: true ; ; null [ 3 ; "x" )");
+    EXPECT_EQ(j.at("coordinates"), 0);
+    EXPECT_EQ(j.at("b").at("coordinates"), 1);
+    EXPECT_EQ(j.at("c")[0].at("coordinates"), 3);
+    // Diverted values keep the depth limit; a receiver's Error names the document and where.
+    EXPECT_TRUE(has(refusal(R"({"coordinates": )" + std::string(300, '[') + std::string(300, ']') + "}", {},
+                            &streaming),
+                    "nested more than"));
+    class Refusing final : public JsonValueEvents {
+        void scalar(const json&) override { throw Error("no numbers here"); }
+        void open(bool) override {}
+        void key(const std::string&) override {}
+        void close() override {}
+    } refusing;
+    const JsonStreaming refused{{}, {}, "coordinates", &refusing};
+    const Error e = refusal(R"({"coordinates": [7]})", {}, &refused);
+    EXPECT_EQ(e.file(), "doc.json");
+    EXPECT_EQ(e.cause(), "no numbers here");
+    EXPECT_TRUE(e.offset());
+}
+
 TEST(JsonReader, AnErrorOfTheSourceOrSinkNamesTheDocument) {
     const JsonSource failing = [](std::span<char>) -> std::size_t { throw Error("read failed"); };
     try {

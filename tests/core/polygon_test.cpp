@@ -376,4 +376,24 @@ TEST(Polygon, GeoJsonOfTheWrongKindIsNamed) {
 }
 
 }  // namespace
+TEST(Polygon, GeoJsonCoordinatesAreKeptAsRingsNotAsADocument) {
+    std::string text = R"({"type": "Feature", "properties": {"coordinates": {"any": "thing"}}, "geometry":
+                           {"coordinates": [[)";
+    constexpr int kVertices = 200'000;
+    for (int i = 0; i < kVertices; ++i) {
+        const double a = 6.283185307179586 * i / kVertices;
+        text += (i ? "," : "") + std::string("[") + std::to_string(1000 * std::cos(a)) + ", " +
+                std::to_string(1000 * std::sin(a)) + ", 12.5]";
+    }
+    text += R"(]], "type": "Polygon"}})";  // (the type after the coordinates)
+    const test::AllocationCounter counter;
+    const auto p = parse_geojson_polygon(text);
+    const std::size_t peak = counter.peak_bytes();
+    ASSERT_EQ(p.polygon_count(), 1u);
+    EXPECT_EQ(p.vertex_count(), static_cast<std::size_t>(kVertices));
+    EXPECT_TRUE(p.contains(0, 0));
+    EXPECT_FALSE(p.contains(1001, 0));
+    EXPECT_LT(peak, 64u * kVertices) << "a few tens of bytes a vertex (a document would hold ~230), peak " << peak;
+}
+
 }  // namespace lidarscout

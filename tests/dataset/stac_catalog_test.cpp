@@ -242,7 +242,8 @@ TEST_F(StacCatalog, LongIdsAndHrefsAreCutInItsLines) {
 
 TEST_F(StacCatalog, ItemsAreKeptFromAWholeDocumentWhereverItsTypeIs) {
     // "type" after "features": the items are read and kept once the type is known.
-    std::ofstream(dir / "late.vpc") << R"({"features": [)" + item("a", "a.laz").dump() + R"(], "type": "FeatureCollection"})";
+    std::ofstream(dir / "late.vpc") << R"({"features": [)" + item("a", "a.laz").dump() +
+                                           R"(], "type": "FeatureCollection"})";
     const Catalog late = read_catalog((dir / "late.vpc").string());
     EXPECT_TRUE(late.errors.empty());
     EXPECT_EQ(late.items.size(), 1u);

@@ -117,7 +117,8 @@ TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
 }
 
 TEST_F(SessionFileTest, OnlyAVersionThisProgramReadsIsRead) {
-    for (const char* version : {"1e300", "-5", "1.5", "\"1\"", "0", "-1e300", "null", "[1]", "18446744073709551615.5"}) {
+    for (const char* version :
+         {"1e300", "-5", "1.5", "\"1\"", "0", "-1e300", "null", "[1]", "18446744073709551615.5"}) {
         nlohmann::json j = session_json(example());
         std::string text = j.dump();
         const std::string at = "\"version\":1";
