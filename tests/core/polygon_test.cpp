@@ -229,8 +229,8 @@ TEST(Polygon, IndexAgreesWithTheReferenceOnDegenerateGridPolygons) {
             }
         }
         for (int k = 0; k < 200; ++k) {
-            const auto [x0, x1] = std::minmax(half(rng) / 2.0, half(rng) / 2.0);
-            const auto [y0, y1] = std::minmax(half(rng) / 2.0, half(rng) / 2.0);
+            const double xa = half(rng) / 2.0, xb = half(rng) / 2.0, ya = half(rng) / 2.0, yb = half(rng) / 2.0;
+            const double x0 = std::min(xa, xb), x1 = std::max(xa, xb), y0 = std::min(ya, yb), y1 = std::max(ya, yb);
             ASSERT_EQ(p.touches_box(x0, y0, x1, y1), reference_touches(polygons, x0, y0, x1, y1))
                 << "trial " << trial << " box " << x0 << ", " << y0 << ", " << x1 << ", " << y1;
         }
