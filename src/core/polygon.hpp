@@ -22,16 +22,17 @@ struct XY {
 // A closed ring (the last vertex joins the first; a repeated closing vertex is dropped).
 using Ring = std::vector<XY>;
 
-// Polygons, each an outer ring followed by its holes, and the area is the union of the polygons. A
+// Polygons, each an outer ring followed by its holes; the region is the union of the polygons. A
 // point is inside a polygon when it lies on an edge of one of its rings or crosses an odd number of
 // them (even-odd: a polygon's holes cut that polygon only); it is inside the MultiPolygon when it is
 // inside any of its polygons, so overlapping parts add up and another part's hole stays covered.
 //
 // The test goes through an index built once by the constructor: the y-range cut into bands (rows),
 // each listing the edges whose y-range meets it, so a point examines the edges of its band only: about
-// the edges a horizontal line crosses there plus edges / bands, not every edge. The band count is at
-// most the edge count and chosen so that edges spanning many bands (a star's spikes, a spiral) leave
-// the index at most about 4 entries per edge; the memory is linear in the vertices.
+// the edges a horizontal line crosses there plus edges / bands, not every edge (an outline: a few; a
+// star of 100k thin spikes: tens of thousands). The band count is at most the edge count and chosen so
+// that edges spanning many bands (a star's spikes, a spiral) leave the index at most about 4 entries
+// per edge; the memory is linear in the vertices (about 32 bytes a vertex with the vertices).
 class MultiPolygon {
 public:
     MultiPolygon() = default;
