@@ -18,21 +18,11 @@
 #include "bench_main.hpp"
 #include "bench_timing.hpp"
 #include "core/polygon.hpp"
+#include "polygon_shapes.hpp"
 
 using namespace lidarscout;
 
 namespace {
-
-// n vertices around (0, 0) at radius r(i).
-template <typename Radius>
-Ring radial_ring(std::size_t n, Radius r) {
-    Ring ring(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const double a = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
-        ring[i] = {r(i) * std::cos(a), r(i) * std::sin(a)};
-    }
-    return ring;
-}
 
 template <typename Make>
 void run(const std::string& name, Make make, std::size_t points, int runs) {
@@ -75,18 +65,19 @@ int main(int argc, char** argv) {
         }
         std::mt19937 rng(2);
         std::uniform_real_distribution<double> noise(0, 1);
+        const auto shape = [](std::size_t n, auto r) { return [n, r] { return test::radial_ring(n, r); }; };
         // Outlines: radii varying by a sixth of the vertices' spacing (2 pi 1000 / n).
         const auto circle = [&](std::size_t n) {
-            return [&, n] { return radial_ring(n, [&](std::size_t) { return 1000 + 1e3 / n * noise(rng); }); };
+            return shape(n, [&, n](std::size_t) { return 1000 + 1e3 / static_cast<double>(n) * noise(rng); });
         };
         // Stress: a zigzag of radii 1000..1020 (every edge a spike), and stars.
         const auto jagged = [&](std::size_t n) {
-            return [&, n] { return radial_ring(n, [&](std::size_t) { return 1000 + 20 * noise(rng); }); };
+            return shape(n, [&](std::size_t) { return 1000 + 20 * noise(rng); });
         };
-        const auto star = [](std::size_t n, double inner) {
-            return [n, inner] { return radial_ring(n, [inner](std::size_t i) { return i % 2 ? inner : 1000.0; }); };
+        const auto star = [&](std::size_t n, double inner) {
+            return shape(n, [inner](std::size_t i) { return i % 2 ? inner : 1000.0; });
         };
-        run("square (4 vertices)", [] { return radial_ring(4, [](std::size_t) { return 1000.0; }); }, points, runs);
+        run("square (4 vertices)", shape(4, [](std::size_t) { return 1000.0; }), points, runs);
         run("circle (1k)", circle(1000), points, runs);
         run("circle (100k)", circle(100'000), points, runs);
         run("circle (10M)", circle(10'000'000), points, runs);

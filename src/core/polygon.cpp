@@ -192,14 +192,17 @@ bool MultiPolygon::touches_box(double x0, double y0, double x1, double y1) const
 }
 
 double MultiPolygon::area() const {
-    double a = 0;
-    for (std::size_t r = 0, p = 0; r + 1 < ring_starts_.size(); ++r) {
-        const bool outer = ring_starts_[r] == polygon_starts_[p];
-        if (outer) ++p;
-        const std::size_t first = ring_starts_[r], size = ring_starts_[r + 1] - first;
-        a += (outer ? 1 : -1) * ring_area(std::span(vertices_).subspan(first, size));
+    double sum = 0;
+    for (std::size_t p = 0, r = 0; p + 1 < polygon_starts_.size(); ++p) {
+        double polygon = 0;  // the outer ring's area, less its holes' (none below zero)
+        for (bool outer = true; r + 1 < ring_starts_.size() && ring_starts_[r] < polygon_starts_[p + 1]; ++r) {
+            const std::size_t first = ring_starts_[r], size = ring_starts_[r + 1] - first;
+            polygon += (outer ? 1 : -1) * ring_area(std::span(vertices_).subspan(first, size));
+            outer = false;
+        }
+        sum += std::max(polygon, 0.0);
     }
-    return a;
+    return sum;
 }
 
 std::size_t MultiPolygon::held_bytes() const {

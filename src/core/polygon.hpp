@@ -22,16 +22,17 @@ struct XY {
 // A closed ring (the last vertex joins the first; a repeated closing vertex is dropped).
 using Ring = std::vector<XY>;
 
-// Polygons, each an outer ring followed by its holes, and the area is the union of the polygons. A
+// Polygons, each an outer ring followed by its holes; the region is the union of the polygons. A
 // point is inside a polygon when it lies on an edge of one of its rings or crosses an odd number of
 // them (even-odd: a polygon's holes cut that polygon only); it is inside the MultiPolygon when it is
 // inside any of its polygons, so overlapping parts add up and another part's hole stays covered.
 //
 // The test goes through an index built once by the constructor: the y-range cut into bands (rows),
 // each listing the edges whose y-range meets it, so a point examines the edges of its band only: about
-// the edges a horizontal line crosses there plus edges / bands, not every edge. The band count is at
-// most the edge count and chosen so that edges spanning many bands (a star's spikes, a spiral) leave
-// the index at most about 4 entries per edge; the memory is linear in the vertices.
+// the edges a horizontal line crosses there plus edges / bands, not every edge (an outline: a few; a
+// star of 100k thin spikes: tens of thousands). The band count is at most the edge count and chosen so
+// that edges spanning many bands (a star's spikes, a spiral) leave the index at most about 4 entries
+// per edge; the memory is linear in the vertices (about 32 bytes a vertex with the vertices).
 class MultiPolygon {
 public:
     MultiPolygon() = default;
@@ -47,10 +48,11 @@ public:
     double min_y() const { return min_y_; }
     double max_x() const { return max_x_; }
     double max_y() const { return max_y_; }
-    // Horizontal area: the sum over the polygons of the outer ring's area minus its holes'. That is
-    // the union's area when the polygons do not overlap; an overlap counts once per polygon covering
-    // it (an exact union would need polygon clipping, CGAL's, which core does not link). Its only
-    // users measure one drawn ring (recon's area tool) or a square (bench_region).
+    // Horizontal area: the sum over the polygons of the outer ring's area minus its holes' (at least
+    // zero). That is the union's area when the polygons do not overlap, their rings do not cross and
+    // their holes lie inside their outer ring; an overlap counts once per polygon covering it (an exact
+    // union would need polygon clipping, CGAL's, which core does not link). Its users measure one drawn
+    // ring (recon's area tool) or a square (bench_region).
     double area() const;
     std::size_t polygon_count() const { return polygon_starts_.empty() ? 0 : polygon_starts_.size() - 1; }
     // Vertices over all rings (a ring's repeated closing vertex not counted).

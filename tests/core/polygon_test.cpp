@@ -17,6 +17,7 @@
 #include "allocation_counter.hpp"
 #include "core/error.hpp"
 #include "core/polygon.hpp"
+#include "polygon_shapes.hpp"
 
 namespace lidarscout {
 namespace {
@@ -166,17 +167,6 @@ Polygons random_grid_polygons(std::mt19937& rng) {
     return out;
 }
 
-// A ring around (0, 0): n vertices at radius r(angle).
-template <typename Radius>
-Ring radial_ring(std::size_t n, Radius r) {
-    Ring ring(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const double a = 2 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n);
-        ring[i] = {r(i) * std::cos(a), r(i) * std::sin(a)};
-    }
-    return ring;
-}
-
 TEST(Polygon, OverlappingPartsAreTheirUnion) {
     // The issue's case: two overlapping squares from a FeatureCollection (the overlap was a hole).
     const auto squares = parse_geojson_polygon(R"({"type": "FeatureCollection", "features": [
@@ -216,6 +206,9 @@ TEST(Polygon, AHoleCutsItsOwnPolygonOnly) {
     EXPECT_TRUE(p.touches_box(4.5, 4.5, 5.5, 5.5));  // inside B, within A's hole
     EXPECT_FALSE(p.touches_box(22.5, 2.5, 23, 3));   // within D's hole, beside C
     EXPECT_DOUBLE_EQ(p.area(), 96.0 + 16.0 + 64.0 + 4.0);
+    // A "hole" larger than its outer ring: that polygon adds nothing, never a negative area.
+    EXPECT_DOUBLE_EQ(parse_wkt_polygon("MULTIPOLYGON (((0 0, 1 0, 0 1), (0 0, 10 0, 0 10)), ((20 0, 22 0, 20 2)))")
+                         .area(), 2.0);
 }
 
 TEST(Polygon, IndexAgreesWithTheReferenceOnDegenerateGridPolygons) {
@@ -236,8 +229,8 @@ TEST(Polygon, IndexAgreesWithTheReferenceOnDegenerateGridPolygons) {
             }
         }
         for (int k = 0; k < 200; ++k) {
-            const auto [x0, x1] = std::minmax(half(rng) / 2.0, half(rng) / 2.0);
-            const auto [y0, y1] = std::minmax(half(rng) / 2.0, half(rng) / 2.0);
+            const double xa = half(rng) / 2.0, xb = half(rng) / 2.0, ya = half(rng) / 2.0, yb = half(rng) / 2.0;
+            const double x0 = std::min(xa, xb), x1 = std::max(xa, xb), y0 = std::min(ya, yb), y1 = std::max(ya, yb);
             ASSERT_EQ(p.touches_box(x0, y0, x1, y1), reference_touches(polygons, x0, y0, x1, y1))
                 << "trial " << trial << " box " << x0 << ", " << y0 << ", " << x1 << ", " << y1;
         }
@@ -252,9 +245,10 @@ TEST(Polygon, IndexAgreesWithTheReferenceOnRandomBlobsAndStars) {
     for (int trial = 0; trial < 40; ++trial) {
         const std::size_t n = 3 + static_cast<std::size_t>(unit(rng) * 3000);
         const double spikes = trial % 2 ? 0.9 : 0.2;  // stars: long edges over many bands; blobs: short ones
-        Polygons polygons{{radial_ring(n, [&](std::size_t i) { return i % 2 ? 100 * (1 - spikes * unit(rng)) : 100; })},
-                          {radial_ring(n / 2 + 3, [&](std::size_t) { return 60 + 10 * unit(rng); }),
-                           radial_ring(n / 3 + 3, [&](std::size_t) { return 20 + 10 * unit(rng); })}};
+        const auto spiky = [&](std::size_t i) { return i % 2 ? 100 * (1 - spikes * unit(rng)) : 100; };
+        Polygons polygons{{test::radial_ring(n, spiky)},
+                          {test::radial_ring(n / 2 + 3, [&](std::size_t) { return 60 + 10 * unit(rng); }),
+                           test::radial_ring(n / 3 + 3, [&](std::size_t) { return 20 + 10 * unit(rng); })}};
         for (XY& v : polygons[1][0]) v.x += 50;  // overlapping the first, its hole partly over it
         for (XY& v : polygons[1][1]) v.x += 50;
         const MultiPolygon p(polygons);
@@ -305,7 +299,7 @@ TEST(Polygon, PointTestWorkFollowsPointsPlusVertices) {
     std::mt19937 rng(54);
     std::uniform_real_distribution<double> unit(0, 1);
     const std::size_t n = 100'000, points = 20'000;
-    const Polygons polygons{{radial_ring(n, [&](std::size_t) { return 1000 + 0.05 * unit(rng); })}};
+    const Polygons polygons{{test::radial_ring(n, [&](std::size_t) { return 1000 + 0.05 * unit(rng); })}};
     const MultiPolygon p(polygons);
     std::size_t examined = 0;
     for (std::size_t k = 0; k < points; ++k) {
@@ -323,7 +317,7 @@ TEST(Polygon, LongEdgesKeepTheIndexLinear) {
     // A star of 200k vertices whose spikes reach from radius 1 to 1000: each edge spans half the
     // height. One band per edge would hold 10^10 entries; the index stays near 4 per edge.
     const std::size_t n = 200'000;
-    Polygons polygons{{radial_ring(n, [](std::size_t i) { return i % 2 ? 1.0 : 1000.0; })}};
+    Polygons polygons{{test::radial_ring(n, [](std::size_t i) { return i % 2 ? 1.0 : 1000.0; })}};
     const Polygons copy = polygons;
     const test::AllocationCounter counter;
     const MultiPolygon star(std::move(polygons));
