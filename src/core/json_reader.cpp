@@ -244,7 +244,7 @@ public:
     bool end_array() { return close(); }
     bool key(std::string& k) {
         if (diverting_depth_ != 0) return streaming_->diverted->key(k), true;
-        divert_next_ = streaming_ && streaming_->diverted && k == streaming_->diverted_key;
+        divert_next_ = streaming_ && streaming_->diverted && contains(streaming_->diverted_keys, k);
         if (depth_ == 1) root_key_ = k;
         DomBuilder& builder = streamed() ? element_ : kept_;
         return builder.key(std::move(k)) || over_budget(builder);
@@ -327,9 +327,10 @@ private:
         return fail(&builder == &kept_ ? kept_.overflow("the document") : element_.overflow("a streamed element"));
     }
 
-    bool streams(const std::string& key) const {
-        return streaming_ && std::find(streaming_->keys.begin(), streaming_->keys.end(), key) != streaming_->keys.end();
+    static bool contains(const std::vector<std::string>& keys, const std::string& key) {
+        return std::find(keys.begin(), keys.end(), key) != keys.end();
     }
+    bool streams(const std::string& key) const { return streaming_ && contains(streaming_->keys, key); }
 
     bool deliver() {
         json element = std::move(element_value_);
