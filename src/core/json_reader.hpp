@@ -6,7 +6,9 @@
 // and bytes of text the returned document may hold. Each refusal is one lidarscout::Error naming
 // the document, the byte offset and the limit. Arrays under chosen keys of the root object can
 // be streamed: each element is handed over as its own small document, bounded on its own and
-// dropped after use, so that a catalog of a million items costs one item at a time.
+// dropped after use, so that a catalog of a million items costs one item at a time. The values of
+// chosen keys, at any depth, can be diverted: handed over event by event and never built (GeoJSON
+// coordinates kept as rings, an item's footprint not kept at all).
 //
 // The fields of what was read are taken through typed accessors (json_string, json_number, ...):
 // a field of the wrong kind is an Error naming the field and the kind expected, never a
