@@ -244,10 +244,10 @@ public:
     bool end_array() { return close(); }
     bool key(std::string& k) {
         if (diverting_depth_ != 0) return streaming_->diverted->key(k), true;
-        divert_next_ = streaming_ && streaming_->diverted && k == streaming_->diverted_key;
+        divert_next_ = streaming_ && streaming_->diverted && contains(streaming_->diverted_keys, k);
         if (depth_ == 1) root_key_ = k;
-        if (streamed() ? element_.key(std::move(k)) : kept_.key(std::move(k))) return true;
-        return fail(streamed() ? element_.overflow("a streamed element") : kept_.overflow("the document"));
+        DomBuilder& builder = streamed() ? element_ : kept_;
+        return builder.key(std::move(k)) || over_budget(builder);
     }
     bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) {
         std::string what = e.what();
@@ -320,13 +320,17 @@ private:
     }
 
     bool add(DomBuilder& builder, json&& v, std::size_t text, bool open) {
-        if (builder.add(std::move(v), text, open)) return true;
+        return builder.add(std::move(v), text, open) || over_budget(builder);
+    }
+
+    bool over_budget(const DomBuilder& builder) {
         return fail(&builder == &kept_ ? kept_.overflow("the document") : element_.overflow("a streamed element"));
     }
 
-    bool streams(const std::string& key) const {
-        return streaming_ && std::find(streaming_->keys.begin(), streaming_->keys.end(), key) != streaming_->keys.end();
+    static bool contains(const std::vector<std::string>& keys, const std::string& key) {
+        return std::find(keys.begin(), keys.end(), key) != keys.end();
     }
+    bool streams(const std::string& key) const { return streaming_ && contains(streaming_->keys, key); }
 
     bool deliver() {
         json element = std::move(element_value_);

@@ -6,7 +6,9 @@
 // and bytes of text the returned document may hold. Each refusal is one lidarscout::Error naming
 // the document, the byte offset and the limit. Arrays under chosen keys of the root object can
 // be streamed: each element is handed over as its own small document, bounded on its own and
-// dropped after use, so that a catalog of a million items costs one item at a time.
+// dropped after use, so that a catalog of a million items costs one item at a time. The values of
+// chosen keys, at any depth, can be diverted: handed over event by event and never built (GeoJSON
+// coordinates kept as rings, an item's footprint not kept at all).
 //
 // The fields of what was read are taken through typed accessors (json_string, json_number, ...):
 // a field of the wrong kind is an Error naming the field and the kind expected, never a
@@ -54,7 +56,8 @@ using JsonElementSink = std::function<bool(const std::string& key, std::size_t i
 
 // Receives, event by event, a value the document does not hold (a diverted value, below), so that
 // its caller keeps it its own way (GeoJSON coordinates as rings, a few bytes a vertex rather than
-// a document's hundreds). An event may throw lidarscout::Error to refuse the document.
+// a document's hundreds), or not at all (a catalog item's footprint and schemas: no document is
+// built for them). An event may throw lidarscout::Error to refuse the document.
 class JsonValueEvents {
 public:
     virtual ~JsonValueEvents() = default;
@@ -67,11 +70,21 @@ public:
 struct JsonStreaming {
     std::vector<std::string> keys;  // keys of the root object whose arrays are streamed
     JsonElementSink sink;
-    // The values of members named `diverted_key`, at any depth (in streamed elements too), go to
-    // `diverted` instead, the document holding in their place their ordinal (0, 1, ...). They pass
-    // the depth, string and size limits, not the document's budget: their receiver bounds them.
-    std::string diverted_key;
+    // The values of members named one of `diverted_keys`, at any depth (in streamed elements too;
+    // this comes before streaming), go to `diverted` instead, the document holding in their place
+    // their ordinal (0, 1, ...). They pass the depth, string and size limits, not the document's
+    // budget: their receiver bounds them.
+    std::vector<std::string> diverted_keys;
     JsonValueEvents* diverted = nullptr;
+};
+
+// A receiver of diverted values that keeps nothing: for values a caller does not use.
+class JsonValueDropper final : public JsonValueEvents {
+public:
+    void scalar(const nlohmann::json&) override {}
+    void open(bool) override {}
+    void key(const std::string&) override {}
+    void close() override {}
 };
 
 // The document read from `source`; `name` (a path or URL as shown) names it in errors. A streamed

@@ -489,7 +489,7 @@ void add_geometry(const nlohmann::json& j, Coordinates& coordinates, std::vector
 // The polygon of the GeoJSON document read from `source`; a reader's error is the polygon stage's.
 MultiPolygon read_geojson_polygon(const JsonSource& source) {
     Coordinates coordinates;
-    const JsonStreaming diversion{{}, {}, "coordinates", &coordinates};
+    const JsonStreaming diversion{{}, {}, {"coordinates"}, &coordinates};
     nlohmann::json j;
     try {
         j = read_json(source, "", geojson_limits(), &diversion);

@@ -88,7 +88,8 @@ private:
 MultiPolygon parse_wkt_polygon(std::string_view text);
 
 // A GeoJSON document: a Polygon or MultiPolygon geometry, or a Feature / FeatureCollection whose
-// geometries are (all of them are joined). Throws lidarscout::Error naming what is wrong.
+// geometries are (all of them are joined), read by the bounded JSON reader (core/json_reader.hpp;
+// at most 5 million vertices, kept as rings only). Throws lidarscout::Error naming what is wrong.
 MultiPolygon parse_geojson_polygon(std::string_view text);
 
 // The polygon of a --polygon argument: WKT when it starts with POLYGON or MULTIPOLYGON, else

@@ -272,9 +272,14 @@ std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk
     JsonLimits limits;
     limits.max_bytes = w.limits.max_document_bytes;
     limits.kept = limits.element = {200'000, 32u << 20};
-    const JsonStreaming streaming{{"features", "links"}, [&](const std::string& key, std::size_t i, json&& element) {
+    // (what an item holds that the catalog does not use is read past, not kept even for a while)
+    JsonValueDropper unused;
+    const JsonStreaming streaming{{"features", "links"},
+                                  [&](const std::string& key, std::size_t i, json&& element) {
                                       return take_element(key, i, element, document, s, w);
-                                  }};
+                                  },
+                                  {"geometry", "bbox", "stac_extensions", "pc:schemas", "proj:geometry"},
+                                  &unused};
     try {
         const io::File file = io::File::open(document);
         if (w.bytes + file.size() > w.limits.max_bytes) {

@@ -190,7 +190,7 @@ TEST(JsonReader, DivertedValuesGoToTheirReceiverAndLeaveTheirOrdinal) {
                                       EXPECT_EQ(e.at("geometry").at("coordinates"), 2) << "its ordinal";
                                       return true;
                                   },
-                                  "coordinates", &recorder};
+                                  {"coordinates"}, &recorder};
     const json j = parse_json(R"({"coordinates": [[1, 2], {"a": true}], "b": {"coordinates": null},
                                   "features": [{"geometry": {"coordinates": [3]}}], "c": [{"coordinates": "x"}]})",
                               "d", {}, &streaming);
@@ -208,7 +208,7 @@ TEST(JsonReader, DivertedValuesGoToTheirReceiverAndLeaveTheirOrdinal) {
         void key(const std::string&) override {}
         void close() override {}
     } refusing;
-    const JsonStreaming refused{{}, {}, "coordinates", &refusing};
+    const JsonStreaming refused{{}, {}, {"coordinates"}, &refusing};
     const Error e = refusal(R"({"coordinates": [7]})", {}, &refused);
     EXPECT_EQ(e.file(), "doc.json");
     EXPECT_EQ(e.cause(), "no numbers here");
