@@ -44,14 +44,6 @@ void mark_secrets(std::string_view text, std::vector<bool>& covered) {
     }
 }
 
-// The length of `s`'s longest start of at most `max` bytes that does not cut a UTF-8 sequence.
-std::size_t utf8_cut(std::string_view s, std::size_t max) {
-    if (s.size() <= max) return s.size();
-    std::size_t n = max;
-    while (n > 0 && (static_cast<unsigned char>(s[n]) & 0xC0) == 0x80) --n;
-    return n;
-}
-
 }  // namespace
 
 void remember_secret(std::string_view secret) {
@@ -80,9 +72,7 @@ std::string redact_secrets(std::string_view text) {
 }
 
 std::string server_text(std::string_view text, std::size_t max) {
-    const std::string shown = display_text(redact_secrets(text));
-    if (shown.size() <= max) return shown;
-    return shown.substr(0, utf8_cut(shown, max)) + "... (" + std::to_string(text.size()) + " bytes)";
+    return display_excerpt(redact_secrets(text), max);  // cut at a character, the length named
 }
 
 }  // namespace lidarscout::net
