@@ -8,6 +8,7 @@
 // as links to a dataset's, nothing copied).
 #pragma once
 
+#include "test_paths.hpp"
 #include <curl/curl.h>
 #include <signal.h>
 #include <sys/prctl.h>

@@ -1,6 +1,7 @@
 // Rules of the code base checked on the tree itself: no line of C++ or CUDA source under
 // src/, tests/, bench/ or fuzz/ is longer than 120 columns (characters, UTF-8 counted once); no
 // test asserts on wall-clock time (speed is measured by bench/, tests assert on counts).
+#include "test_paths.hpp"
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_paths.hpp"
+
 namespace lidarscout::test {
 
 inline std::filesystem::path data_dir() { return std::filesystem::path(LIDARSCOUT_DATA_DIR); }

@@ -17,9 +17,8 @@ namespace fs = std::filesystem;
 TEST(Install, InstalledProgramFindsItsPluginAndModel) {
     const fs::path prefix = fs::temp_directory_path() / ("lidarscout_install_" + std::to_string(::getpid()));
     std::string out;
-    ASSERT_EQ(test::run_command("cmake --install " LIDARSCOUT_BUILD_DIR " --prefix " + prefix.string() + " 2>&1", out),
-              0)
-        << out;
+    const std::string install = std::string("cmake --install ") + LIDARSCOUT_BUILD_DIR;
+    ASSERT_EQ(test::run_command(install + " --prefix " + prefix.string() + " 2>&1", out), 0) << out;
     EXPECT_TRUE(fs::is_regular_file(prefix / "bin/lidarscout"));
     EXPECT_TRUE(fs::is_regular_file(prefix / "lib/lidarscout/liblidarscout_torch.so"));
     EXPECT_TRUE(fs::is_regular_file(prefix / "share/lidarscout/models/heightmap_cnn.pt"));

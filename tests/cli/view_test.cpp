@@ -31,6 +31,8 @@
 namespace lidarscout {
 namespace {
 
+std::string cli_program() { return LIDARSCOUT_CLI; }
+
 namespace fs = std::filesystem;
 
 // The share of pixels of a PNG that are not the background (-1 when it cannot be read).
@@ -61,7 +63,7 @@ protected:
     // `guard` goes before xvfb-run (e.g. "timeout 300").
     int run_xvfb(const std::string& args, std::string& out, const std::string& guard = "") const {
         const std::string cmd = "XDG_CACHE_HOME=" + (dir_ / "cache").string() + kLeakCheck + " " + guard +
-                                " xvfb-run -a -s '-screen 0 1024x768x24' " LIDARSCOUT_CLI " view " + args + " 2>&1";
+                                " xvfb-run -a -s '-screen 0 1024x768x24' " + LIDARSCOUT_CLI + " view " + args + " 2>&1";
         return test::run_command(cmd, out);
     }
     static bool have_xvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1") == 0; }
@@ -83,14 +85,15 @@ protected:
 
 TEST_F(ViewCommand, HelpNeedsNoDisplay) {
     std::string out;
-    EXPECT_EQ(test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " LIDARSCOUT_CLI " view --help 2>&1", out), 0);
+    EXPECT_EQ(test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " + cli_program() + " view --help 2>&1", out), 0);
     EXPECT_NE(out.find("--screenshot"), std::string::npos) << out;
 }
 
 TEST_F(ViewCommand, NoDisplayIsOneClearLine) {
     std::string out;
     const std::string survey = (test::surveys_dir() / "ky-woodford-county").string();
-    EXPECT_EQ(test::run_command("env -u DISPLAY -u WAYLAND_DISPLAY " LIDARSCOUT_CLI " view " + survey + " 2>&1", out),
+    const std::string no_display = "env -u DISPLAY -u WAYLAND_DISPLAY ";
+    EXPECT_EQ(test::run_command(no_display + cli_program() + " view " + survey + " 2>&1", out),
               1);
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
     EXPECT_NE(out.find("display"), std::string::npos) << out;
@@ -225,7 +228,7 @@ TEST_F(ViewCommand, ScriptedProfileIsWhatTheProfileCommandWrites) {
         const long long n = points_written(out, "profile", viewed);
         EXPECT_GT(n, 100) << out;
         std::string cli;
-        ASSERT_EQ(test::run_command(LIDARSCOUT_CLI " profile " + tile + " --line " + line + " --width " + width +
+        ASSERT_EQ(test::run_command(cli_program() + " profile " + tile + " --line " + line + " --width " + width +
                                     " --classes 2,6 -o " + expected.string() + " 2>&1", cli), 0) << cli;
         EXPECT_NE(cli.find(std::to_string(n) + " points in a corridor"), std::string::npos) << cli;
         EXPECT_EQ(file_bytes(viewed), file_bytes(expected));
@@ -256,7 +259,7 @@ TEST_F(ViewCommand, ScriptedClipOutIsWhatTheClipCommandWrites) {
     const long long n = points_written(out, "clip", viewed);
     EXPECT_GT(n, 1000) << out;
     std::string cli;
-    ASSERT_EQ(test::run_command(LIDARSCOUT_CLI " clip " + tile + " --polygon '" + wkt + "' -o " + expected.string() +
+    ASSERT_EQ(test::run_command(cli_program() + " clip " + tile + " --polygon '" + wkt + "' -o " + expected.string() +
                                 " --json 2>&1", cli), 0) << cli;
     EXPECT_NE(cli.find("\"points_written\": " + std::to_string(n)), std::string::npos) << cli;
     EXPECT_EQ(file_bytes(viewed), file_bytes(expected));
@@ -388,7 +391,7 @@ TEST_F(ViewCommand, BadModelAndUnreadableInputsAreNamed) {
     std::ofstream(dir_ / "bad.pt") << "not a model";
     std::string out;
     const std::string bad = (dir_ / "bad.pt").string();
-    EXPECT_EQ(test::run_command("DISPLAY= " LIDARSCOUT_CLI " view " + survey + " --model " + bad + " 2>&1", out), 1);
+    EXPECT_EQ(test::run_command("DISPLAY= " + cli_program() + " view " + survey + " --model " + bad + " 2>&1", out), 1);
     EXPECT_NE(out.find("bad.pt: at byte 0: not a TorchScript model"), std::string::npos) << out;
     ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
     std::ofstream(dir_ / "pts.csv") << "x,y,z\n1,2,3\n";

@@ -147,7 +147,7 @@ TEST_F(HostilePrefixCommand, AListingThatWouldNeverEndStopsWithOneLine) {
     EXPECT_EQ(server.requests(), 4);
     expect_no_credential(out);
     if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not found";
-    run("timeout 120 xvfb-run -a -s '-screen 0 640x480x24' " LIDARSCOUT_CLI
+    run("timeout 120 xvfb-run -a -s '-screen 0 640x480x24' " + std::string(LIDARSCOUT_CLI) +
         " view s3://loop/ --no-cnn --size 320x240 --quit-after 5",
         out);
     EXPECT_NE(out.find("continuation token it gave before (page 2)"), std::string::npos) << out;
