@@ -194,7 +194,9 @@ PointOrder Residency::decode_order() const {
 }
 
 void Residency::load(const Job& job, const PointOrder& order, ThreadPool& pool) {
-    const auto [tile, cap, piece_points] = job;
+    // (named copies, not a structured binding: the lambda below captures them, which clang 14 refuses)
+    const std::uint32_t tile = job.tile;
+    const std::uint64_t cap = job.cap, piece_points = job.piece_points;
     bool fold = true;  // a tile reloaded after a release has its points in the details already
     if (std::lock_guard lock(mutex_); folded_.contains(tile)) fold = false;
     bool first = true;  // guarded by mutex_: the first piece committed replaces the coarse levels
