@@ -3,7 +3,8 @@
 # plus its seeds (../shared/data/formats for tile and report, fuzz/make_chunk_seeds.py for chunk),
 # then merges what each found into a small minimised corpus (inputs of at most MAX_KEEP bytes)
 # under OUT/NAME, ready to replace fuzz/corpus/NAME. Logs (executions, coverage) go to OUT/NAME.log.
-#   fuzz/run_fuzzers.sh BUILD_FUZZ_DIR OUT_DIR [SECONDS]
+#   fuzz/run_fuzzers.sh BUILD_FUZZ_DIR OUT_DIR [SECONDS [NAME...]]
+# (NAME...: only those targets; all seven by default)
 # BUILD_FUZZ_DIR is a clang build with -DLIDARSCOUT_FUZZ=ON (see README). Runs under `nice`, so
 # an input may wait for the CPU: the time limit per input is 60 s, not 10 (the slowest inputs
 # found so far take 0.2 s of CPU under the sanitizers: PROJ's database search for a rare CRS in
@@ -12,6 +13,8 @@ set -eu
 build=$1
 out=$2
 seconds=${3:-3600}
+shift $(( $# < 3 ? $# : 3 ))
+names=${*:-tile chunk report multipart catalog session polygon}
 here=$(cd "$(dirname "$0")" && pwd)
 formats="$here/../../shared/data/formats"
 max_keep=16384
@@ -34,7 +37,7 @@ max_len() {
   esac
 }
 
-for name in tile chunk report multipart catalog session polygon; do
+for name in $names; do
   mkdir -p "$out/work-$name"
   [ -d "$here/corpus/$name" ] && cp -n "$here/corpus/$name"/* "$out/work-$name"/ 2>/dev/null || true
   # shellcheck disable=SC2046
@@ -45,7 +48,7 @@ for name in tile chunk report multipart catalog session polygon; do
 done
 wait
 
-for name in tile chunk report multipart catalog session polygon; do
+for name in $names; do
   rm -rf "$out/$name" && mkdir -p "$out/$name"
   "$build/fuzz/fuzz_$name" -merge=1 -max_len="$max_keep" "$out/$name" "$out/work-$name" \
     > "$out/$name.merge.log" 2>&1
