@@ -73,6 +73,7 @@ pack() {
       *) echo "gpu_checks.sh pack: unknown option $1" >&2; exit 2 ;;
     esac
   done
+  cd "$repo"
   local f
   for f in bench/gpu_harness bench/bench_raster; do
     [ -x "$build/$f" ] || { echo "gpu_checks.sh pack: no $build/$f: build it first" \
@@ -98,7 +99,6 @@ pack() {
     echo "packed $(date -u +%Y-%m-%dT%H:%M:%SZ) on $(. /etc/os-release && echo "$PRETTY_NAME")"
     (cd "$stage" && find bin lib -type f -printf '%p %s\n' | sort)
   } > "$stage/MANIFEST"
-  cd "$repo"
   mkdir -p "$to"
   tar -C "$stage" -cf - . | xz -T2 -6 > "$to/payload.tar.xz.part"
   mv "$to/payload.tar.xz.part" "$to/payload.tar.xz"
