@@ -628,7 +628,8 @@ class Server:
             page.append(keys[i])
             i += 1
         truncated = i < len(keys) and keys[i].startswith(prefix) and max_keys > 0
-        out = ['<?xml version="1.0" encoding="UTF-8"?>\n<ListBucketResult xmlns="http://s3.amazonaws.com/doc/2006-03-01/">',
+        out = ['<?xml version="1.0" encoding="UTF-8"?>\n'
+               '<ListBucketResult xmlns="http://s3.amazonaws.com/doc/2006-03-01/">',
                f"<Name>{xml_escape(self.options.bucket)}</Name><Prefix>{xml_escape(prefix)}</Prefix>",
                f"<KeyCount>{len(page)}</KeyCount><MaxKeys>{max_keys}</MaxKeys>"]
         if arg("delimiter"):

@@ -182,7 +182,8 @@ TEST_F(ReplicaServerTest, MultiRangeAnswersAreParsedByOurClient) {
     for (std::size_t i = 0; i < parts.size(); ++i) {
         EXPECT_EQ(parts[i].content_range.range, asked[i]);
         EXPECT_EQ(parts[i].content_range.total, whole.size());
-        EXPECT_EQ(std::string(parts[i].data.begin(), parts[i].data.end()), whole.substr(asked[i].offset, asked[i].length));
+        EXPECT_EQ(std::string(parts[i].data.begin(), parts[i].data.end()),
+                  whole.substr(asked[i].offset, asked[i].length));
     }
 
     net::RangeCache::configure({{}, 0});
@@ -258,7 +259,8 @@ TEST_F(ReplicaServerTest, SearchPagesLeadThroughEveryItem) {
         }
         next.clear();
         for (const auto& link : page.at("links")) {
-            if (link.at("rel") == "next") next = link.at("href").get<std::string>().substr(server().endpoint().size() + 1);
+            if (link.at("rel") != "next") continue;
+            next = link.at("href").get<std::string>().substr(server().endpoint().size() + 1);
         }
     }
     EXPECT_EQ(pages, 4);
