@@ -568,7 +568,11 @@ class Server:
         return Resource(doc.size, etag, self.replica.mtime, doc.read, "application/geo+json")
 
     def base_url(self, headers):
-        return "http://" + headers.get("host", f"127.0.0.1:{self.options.port}")
+        """The server's URL as the client named it (a Host that JSON would escape is not taken)."""
+        host = headers.get("host", "")
+        if not re.fullmatch(r"[A-Za-z0-9.:\[\]-]{1,255}", host):
+            host = f"127.0.0.1:{self.options.port}"
+        return "http://" + host
 
     def landing(self, headers):
         base = self.base_url(headers)
