@@ -18,8 +18,15 @@
 // items place every tile before any header is read). --s3-copies N serves FOLDER's tiles N times
 // over (keys copyK/...: N x the tiles, each copy where the original lies) for a catalog of
 // thousands of items from a small folder.
+// With --replica MANIFEST instead of FOLDER, a virtual replica (`synth replicate --virtual`) served by
+// the replica object server (tests/replica_server.hpp: 152,100 tiles cost it nothing), one per latency
+// with that round trip (and --bandwidth bytes/s per connection): the dataset is its catalog.vpc, or
+// with --s3 its bucket's listing (s3://replica/). Each latency adds what the server counted per run:
+// tile requests per tile, multi-range requests, catalog requests and bytes, listing pages.
 // Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]]
 //                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] FOLDER
+//        bench_http [--runs N] [--rtt-ms 0,20,50] [--s3] [--bandwidth BYTES_PER_S]
+//                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] --replica MANIFEST
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -30,6 +37,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +48,7 @@
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/virtual_replica.hpp"
 #include "core/patch_grid.hpp"
 #include "net/http_client.hpp"
 #include "net/range_cache.hpp"
@@ -47,6 +56,7 @@
 #include "delay_proxy.hpp"
 #include "net/s3_config.hpp"
 #include "nginx_server.hpp"
+#include "replica_server.hpp"
 #include "s3_server.hpp"
 
 using namespace lidarscout;
@@ -188,102 +198,182 @@ std::string write_vpc(const std::string& program) {
     return vpc.string();
 }
 
-}  // namespace
+// The replica's bytes as if copied: each tile's source size.
+std::uint64_t replica_bytes(const std::string& manifest) {
+    std::map<std::string, std::uint64_t> sizes;
+    std::uint64_t total = 0;
+    for (const auto& t : dataset::read_virtual_replica(manifest)) {
+        auto [at, added] = sizes.try_emplace(t.path, 0);
+        if (added) at->second = std::filesystem::file_size(t.path);
+        total += at->second;
+    }
+    return total;
+}
 
-namespace {
-
-int run(int argc, char** argv) {
+struct Options {
     int runs = 3;
     std::vector<int> rtts = {0, 20, 50};
-    std::string folder, view_program, view_args;
+    std::string folder, replica, view_program, view_args, vpc_program;
     bool https = false, s3 = false;
     int s3_copies = 1;
-    std::string vpc_program;
+    std::uint64_t bandwidth = 0;
     double view_seconds = 5;
+};
+
+std::vector<int> parse_list(const std::string& list) {
+    std::vector<int> out;
+    for (std::size_t at = 0; at <= list.size();) {
+        const auto comma = std::min(list.find(',', at), list.size());
+        out.push_back(std::atoi(list.substr(at, comma - at).c_str()));
+        at = comma + 1;
+    }
+    return out;
+}
+
+Options parse_options(int argc, char** argv) {
+    Options o;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
-        if (a == "--runs" && i + 1 < argc) {
-            runs = std::max(1, std::atoi(argv[++i]));
-        } else if (a == "--rtt-ms" && i + 1 < argc) {
-            rtts.clear();
-            std::string list = argv[++i];
-            for (std::size_t at = 0; at <= list.size();) {
-                const auto comma = std::min(list.find(',', at), list.size());
-                rtts.push_back(std::atoi(list.substr(at, comma - at).c_str()));
-                at = comma + 1;
-            }
+        const bool value = i + 1 < argc;
+        if (a == "--runs" && value) {
+            o.runs = std::max(1, std::atoi(argv[++i]));
+        } else if (a == "--rtt-ms" && value) {
+            o.rtts = parse_list(argv[++i]);
         } else if (a == "--https") {
-            https = true;
+            o.https = true;
         } else if (a == "--s3") {
-            s3 = true;
-        } else if (a == "--s3-copies" && i + 1 < argc) {
-            s3_copies = std::max(1, std::atoi(argv[++i]));
-        } else if (a == "--vpc" && i + 1 < argc) {
-            vpc_program = argv[++i];
-        } else if (a == "--view" && i + 1 < argc) {
-            view_program = argv[++i];
-        } else if (a == "--view-seconds" && i + 1 < argc) {
-            view_seconds = std::max(0.5, std::atof(argv[++i]));
-        } else if (a == "--view-args" && i + 1 < argc) {
-            view_args = argv[++i];
+            o.s3 = true;
+        } else if (a == "--s3-copies" && value) {
+            o.s3_copies = std::max(1, std::atoi(argv[++i]));
+        } else if (a == "--vpc" && value) {
+            o.vpc_program = argv[++i];
+        } else if (a == "--replica" && value) {
+            o.replica = argv[++i];
+        } else if (a == "--bandwidth" && value) {
+            o.bandwidth = std::stoull(argv[++i]);
+        } else if (a == "--view" && value) {
+            o.view_program = argv[++i];
+        } else if (a == "--view-seconds" && value) {
+            o.view_seconds = std::max(0.5, std::atof(argv[++i]));
+        } else if (a == "--view-args" && value) {
+            o.view_args = argv[++i];
         } else {
-            folder = a;
+            o.folder = a;
         }
     }
-    if (folder.empty()) {
-        fmt::print(stderr,
-                   "usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
-                   "[--view PROGRAM [--view-args ARGS] [--view-seconds S]] FOLDER\n");
+    return o;
+}
+
+// The runs of one latency against `url`: medians of the figures run_once measures.
+void bench_overview(const Options& o, const std::string& url, int rtt, std::uint64_t dataset_bytes) {
+    std::vector<double> headers, points, rate, requests, header_requests, retries, bytes;
+    Run last;
+    std::uint64_t first_connections = 0;  // the first run's (later ones reuse them)
+    for (int k = 0; k < o.runs; ++k) {
+        last = run_once(url);
+        if (k == 0) first_connections = last.connections;
+        headers.push_back(last.headers);
+        points.push_back(last.chunk_points);
+        rate.push_back(last.rate);
+        requests.push_back(static_cast<double>(last.requests));
+        header_requests.push_back(static_cast<double>(last.header_requests));
+        retries.push_back(static_cast<double>(last.retries));
+        bytes.push_back(static_cast<double>(last.bytes));
+    }
+    fmt::print("rtt {:>3} ms: {} tiles, {} chunk points; headers+chunk tables {:.3f} s; chunk points {:.3f} s "
+               "({:.0f}/s); {:.0f} requests ({:.2f}/tile; {:.0f} before the chunk points, {:.0f} retries); "
+               "{:.1f} MB moved of {:.1f} GB ({:.4f}%); {} connections opened in the first run; "
+               "{} HTTP/2 responses\n",
+               rtt, last.tiles, last.points, median(headers), median(points), median(rate), median(requests),
+               median(requests) / static_cast<double>(std::max<std::uint64_t>(1, last.tiles)),
+               median(header_requests), median(retries),
+               median(bytes) / 1e6, static_cast<double>(dataset_bytes) / 1e9,
+               100.0 * median(bytes) / static_cast<double>(dataset_bytes), first_connections, last.http2);
+}
+
+// What the replica server counted over `runs` runs, per run.
+void print_server_stats(const nlohmann::json& stats, int runs) {
+    const auto per_run = [&](const char* kind, const char* what) {
+        return stats.at("kinds").at(kind).at(what).get<double>() / runs;
+    };
+    const double tiles = std::max(1.0, stats.at("tiles").get<double>());
+    const double tile_requests = per_run("tile", "requests") + per_run("tile_head", "requests") +
+                                 per_run("s3_object", "requests") + per_run("s3_head", "requests");
+    fmt::print("         server, per run: {:.3f} tile requests/tile ({:.0f} multi-range), {:.0f} catalog requests "
+               "({:.1f} MB), {:.0f} listing pages, {:.1f} MB of tiles sent\n",
+               tile_requests / tiles, stats.at("multi_range_requests").get<double>() / runs,
+               per_run("catalog", "requests"), per_run("catalog", "bytes") / 1e6, per_run("s3_list", "requests"),
+               (per_run("tile", "bytes") + per_run("s3_object", "bytes")) / 1e6);
+}
+
+// --replica: for each latency a replica server with that round trip; its catalog (or, with --s3, its
+// bucket's listing) is the dataset.
+void run_replica(const Options& o) {
+    const std::uint64_t dataset_bytes = replica_bytes(o.replica);
+    for (const int rtt : o.rtts) {
+        test::ReplicaServer::Options so;
+        so.rtt_ms = rtt;
+        so.bandwidth = o.bandwidth;
+        test::ReplicaServer server(o.replica, so);
+        if (o.s3) use_s3_endpoint(server.port());
+        const std::string url = o.s3 ? server.s3_url() : server.catalog_url();
+        server.stats(true);
+        if (!o.view_program.empty()) {
+            bench_view(o.view_program, o.view_args, url, rtt, o.runs, o.view_seconds);
+        } else {
+            bench_overview(o, url, rtt, dataset_bytes);
+        }
+        print_server_stats(server.stats(), o.runs);
+    }
+}
+
+// A folder served by nginx (or the S3 server), behind the delaying proxy.
+void run_folder(Options o) {
+    test::NginxServer server(o.folder);
+    if (o.https) {  // trust the server's test CA, here and in the viewer
+        net::HttpSettings settings = net::HttpClient::shared().settings();
+        settings.ca_file = server.ca_file().string();
+        net::HttpClient::shared().set_settings(settings);
+        o.view_args += " --cacert " + settings.ca_file;
+    }
+    std::uint64_t dataset_bytes = 0;
+    const std::string list = o.s3 ? std::string() : write_tile_list(server, o.folder, dataset_bytes);
+    const auto s3_server = o.s3 ? s3_server_of(o.folder, o.s3_copies, dataset_bytes) : nullptr;
+    for (const int rtt : o.rtts) {
+        const int upstream = o.s3 ? s3_server->port() : o.https ? server.tls_port() : server.port();
+        test::DelayProxy proxy(upstream, std::chrono::microseconds(rtt * 500));
+        std::string url =
+            (o.https ? "https" : "http") + std::string("://127.0.0.1:") + std::to_string(proxy.port()) + "/" + list;
+        if (o.s3) {
+            use_s3_endpoint(proxy.port());
+            url = o.vpc_program.empty() ? "s3://bench/" : write_vpc(o.vpc_program);
+        }
+        if (!o.view_program.empty()) {
+            bench_view(o.view_program, o.view_args, url, rtt, o.runs, o.view_seconds);
+        } else {
+            bench_overview(o, url, rtt, dataset_bytes);
+        }
+    }
+}
+
+constexpr const char* kUsage =
+    "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
+    "[--view PROGRAM [--view-args \"...\"] [--view-seconds S]] FOLDER\n"
+    "       bench_http [--runs N] [--rtt-ms 0,20,50] [--s3] [--bandwidth BYTES_PER_S] "
+    "[--view PROGRAM [--view-args \"...\"] [--view-seconds S]] --replica MANIFEST";
+
+int run(int argc, char** argv) {
+    const Options o = parse_options(argc, argv);
+    if (o.folder.empty() == o.replica.empty()) {
+        fmt::print(stderr, "usage: bench_http {}\n", kUsage);
         return 2;
     }
     try {
         net::RangeCache::configure({{}, 0});  // every run from the network
-        test::NginxServer server(folder);
-        if (https) {  // trust the server's test CA, here and in the viewer
-            net::HttpSettings settings = net::HttpClient::shared().settings();
-            settings.ca_file = server.ca_file().string();
-            net::HttpClient::shared().set_settings(settings);
-            view_args += " --cacert " + settings.ca_file;
-        }
-        std::uint64_t dataset_bytes = 0;
-        const std::string list = s3 ? std::string() : write_tile_list(server, folder, dataset_bytes);
-        const auto s3_server = s3 ? s3_server_of(folder, s3_copies, dataset_bytes) : nullptr;
-        for (const int rtt : rtts) {
-            const int upstream = s3 ? s3_server->port() : https ? server.tls_port() : server.port();
-            test::DelayProxy proxy(upstream, std::chrono::microseconds(rtt * 500));
-            std::string url =
-                (https ? "https" : "http") + std::string("://127.0.0.1:") + std::to_string(proxy.port()) + "/" + list;
-            if (s3) {
-                use_s3_endpoint(proxy.port());
-                url = vpc_program.empty() ? "s3://bench/" : write_vpc(vpc_program);
-            }
-            if (!view_program.empty()) {
-                bench_view(view_program, view_args, url, rtt, runs, view_seconds);
-                continue;
-            }
-            std::vector<double> headers, points, rate, requests, header_requests, retries, bytes;
-            Run last;
-            std::uint64_t first_connections = 0;  // the first run's (later ones reuse them)
-            for (int k = 0; k < runs; ++k) {
-                last = run_once(url);
-                if (k == 0) first_connections = last.connections;
-                headers.push_back(last.headers);
-                points.push_back(last.chunk_points);
-                rate.push_back(last.rate);
-                requests.push_back(static_cast<double>(last.requests));
-                header_requests.push_back(static_cast<double>(last.header_requests));
-                retries.push_back(static_cast<double>(last.retries));
-                bytes.push_back(static_cast<double>(last.bytes));
-            }
-            fmt::print("rtt {:>3} ms: {} tiles, {} chunk points; headers+chunk tables {:.3f} s; chunk points {:.3f} s "
-                       "({:.0f}/s); {:.0f} requests ({:.2f}/tile; {:.0f} before the chunk points, {:.0f} retries); "
-                       "{:.1f} MB moved of {:.1f} GB ({:.4f}%); {} connections opened in the first run; "
-                       "{} HTTP/2 responses\n",
-                       rtt, last.tiles, last.points, median(headers), median(points), median(rate), median(requests),
-                       median(requests) / static_cast<double>(std::max<std::uint64_t>(1, last.tiles)),
-                       median(header_requests), median(retries),
-                       median(bytes) / 1e6, static_cast<double>(dataset_bytes) / 1e9,
-                       100.0 * median(bytes) / static_cast<double>(dataset_bytes), first_connections, last.http2);
+        if (o.replica.empty()) {
+            run_folder(o);
+        } else {
+            run_replica(o);
         }
     } catch (const std::exception& e) {
         fmt::print(stderr, "bench_http: {}\n", e.what());
@@ -294,10 +384,4 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    return lidarscout::bench::bench_main(
-        "bench_http",
-        "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
-        "[--view PROGRAM [--view-args \"...\"] [--view-seconds S]] FOLDER",
-        argc, argv, run);
-}
+int main(int argc, char** argv) { return lidarscout::bench::bench_main("bench_http", kUsage, argc, argv, run); }

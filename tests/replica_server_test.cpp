@@ -1,0 +1,319 @@
+// The replica object server (tests/replica_server.py through tests/replica_server.hpp) on a 30x30
+// virtual replica of a small real tile: `scan` of its catalog.vpc and of its S3 bucket equals `scan`
+// of the local replica; a tile's bytes are the bytes `synth replicate` writes for it (the source's,
+// header shifted) and `info` reads the same tile both ways; our client parses its multi-range
+// answers; its ListObjectsV2 pages and STAC API pages lead through every tile; and it counts the
+// requests a `scan` of the catalog makes per tile.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "dataset/tile.hpp"
+#include "dataset/virtual_replica.hpp"
+#include "io/file.hpp"
+#include "net/byte_ranges.hpp"
+#include "net/range_cache.hpp"
+#include "net/remote_file.hpp"
+#include "net/s3_config.hpp"
+#include "net/s3_request.hpp"
+#include "replica_server.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kSide = 30;  // a 30x30 grid: 900 tiles
+constexpr const char* kStem = "Semis_2022_0906_6665_LA93_IGN69_ok";
+
+fs::path source_tile() { return test::surveys_dir() / "ign-lidar-hd-1km" / (std::string(kStem) + ".laz"); }
+std::string tile_name(int gx, int gy) {
+    return std::string(kStem) + "_x" + std::to_string(gx) + "_y" + std::to_string(gy) + ".laz";
+}
+
+std::string read_file(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// `synth replicate` of `source` on a grid into `out` (only its manifest with `virtual_tiles`).
+void replicate(const fs::path& source, const std::string& grid, const fs::path& out, bool virtual_tiles) {
+    const std::string cmd = std::string(LIDARSCOUT_CLI) + " synth replicate " + source.string() + " --grid " + grid +
+                            (virtual_tiles ? " --virtual" : "") + " -o " + out.string() + " >/dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+}
+
+nlohmann::json run_json(const std::string& command) {
+    std::string out;
+    const int status = test::run_command(command + " 2>/dev/null", out);
+    EXPECT_EQ(status, 0) << command;
+    return status == 0 ? nlohmann::json::parse(out) : nlohmann::json();
+}
+
+nlohmann::json scan(const std::string& target, const std::string& environment = "") {
+    auto j = run_json(environment + LIDARSCOUT_CLI + " scan --json --cache-size 0 " + target);
+    for (const char* key : {"chunk_points_per_second", "seconds_chunk_points", "seconds_headers"}) j.erase(key);
+    return j;
+}
+
+std::uint64_t requests_of(const nlohmann::json& stats, const char* kind) {
+    return stats.at("kinds").at(kind).at("requests").get<std::uint64_t>();
+}
+
+// One virtual replica and its server for the whole suite (the server takes a second to start).
+class ReplicaServerTest : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() {
+        dir_ = fs::temp_directory_path() / ("lidarscout_replica_test_" + std::to_string(::getpid()));
+        fs::remove_all(dir_);
+        replicate(source_tile(), std::to_string(kSide) + "x" + std::to_string(kSide), dir_ / "virtual", true);
+        server_ = new test::ReplicaServer(manifest());
+    }
+    static void TearDownTestSuite() {
+        delete server_;
+        server_ = nullptr;
+        fs::remove_all(dir_);
+    }
+    static fs::path manifest() { return dir_ / "virtual" / "replicate.json"; }
+    static test::ReplicaServer& server() { return *server_; }
+    static const fs::path& dir() { return dir_; }
+
+private:
+    static inline fs::path dir_;
+    static inline test::ReplicaServer* server_ = nullptr;
+};
+
+// The catalog and the S3 bucket give the local replica's scan: 900 tiles, the same points, chunk
+// points and bounds. The catalog's scan costs at most kTileRequestsPerTile requests per tile (today's
+// figure; issue 54 lowers it).
+TEST_F(ReplicaServerTest, ScanOfItsCatalogAndBucketEqualsScanOfTheLocalReplica) {
+    const auto local = scan(manifest().string());
+    ASSERT_EQ(local.at("tiles").get<int>(), kSide * kSide);
+    server().stats(true);
+    const auto vpc = scan(server().catalog_url());
+    EXPECT_EQ(vpc.dump(2), local.dump(2));
+    const auto after_vpc = server().stats(true);
+    // Today's figures (when the server was written): 3 requests a tile (its first 2 KiB, its last
+    // 2 KiB, then one multi-range request for its chunk points) and 10 for the catalog's 4.5 MB.
+    // Upper bounds, for issue 54 to lower (the items already say where each tile lies).
+    constexpr double kTileRequestsPerTile = 3.0;
+    const auto tile_requests = requests_of(after_vpc, "tile");
+    EXPECT_LE(static_cast<double>(tile_requests) / (kSide * kSide), kTileRequestsPerTile) << after_vpc.dump(1);
+    EXPECT_LE(requests_of(after_vpc, "catalog"), 10u) << after_vpc.dump(1);
+    EXPECT_EQ(after_vpc.at("tiles_touched").get<int>(), kSide * kSide);
+
+    const auto s3 = scan(server().s3_url(), server().s3_environment());
+    EXPECT_EQ(s3.dump(2), local.dump(2));
+    const auto after_s3 = server().stats();
+    EXPECT_EQ(requests_of(after_s3, "s3_list"), 1u);  // 900 keys: one page
+    EXPECT_EQ(after_s3.at("tiles_touched").get<int>(), kSide * kSide);
+}
+
+// A tile's bytes through the server are the bytes `synth replicate` (not virtual) writes for that
+// tile: the source's, with the x/y offsets and bounds dataset::shift_tile moves; HEAD gives its
+// size, ETag and Last-Modified; `info` reads the same tile from the server and from the manifest.
+TEST_F(ReplicaServerTest, TileBytesAreTheShiftedSourceBytes) {
+    const std::string name = tile_name(1, 0);
+    const fs::path copied = dir() / "copied";
+    replicate(source_tile(), "2x1", copied, false);
+    const std::string written = read_file(copied / name), source = read_file(source_tile());
+    ASSERT_EQ(written.size(), source.size());
+    ASSERT_NE(written, source);  // (the header moved)
+
+    const auto reply = server().fetch("tiles/" + name);
+    EXPECT_EQ(reply.status, 200);
+    EXPECT_TRUE(reply.body == written);
+    const auto s3 = server().fetch(server().bucket() + "/" + name);
+    EXPECT_TRUE(s3.body == written);
+
+    // the shift of the manifest, applied by dataset::shift_tile, is what the served header holds
+    const auto shifts = dataset::read_virtual_replica(manifest().string());
+    auto expected = dataset::read_tile(io::File::open(source_tile().string()));
+    dataset::shift_tile(expected, shifts.at(1).shift);
+    const fs::path served = dir() / "served.laz";
+    std::ofstream(served, std::ios::binary) << reply.body;
+    const auto got = dataset::read_tile(io::File::open(served.string()));
+    for (int axis = 0; axis < 3; ++axis) {
+        EXPECT_EQ(got.header.offset[axis], expected.header.offset[axis]);
+        EXPECT_EQ(got.header.min[axis], expected.header.min[axis]);
+        EXPECT_EQ(got.header.max[axis], expected.header.max[axis]);
+    }
+
+    const auto head = server().fetch("tiles/" + name, {}, true);
+    EXPECT_EQ(head.status, 200);
+    EXPECT_EQ(head.content_length, source.size());
+    EXPECT_TRUE(head.body.empty());
+    EXPECT_FALSE(head.last_modified.empty());
+    EXPECT_EQ(head.etag.size(), 34u);  // a quoted MD5, as S3 gives
+    EXPECT_NE(head.etag, server().fetch("tiles/" + tile_name(0, 0), {}, true).etag);
+    EXPECT_EQ(server().fetch("tiles/no_such_tile.laz").status, 404);
+
+    auto remote = run_json(std::string(LIDARSCOUT_CLI) + " info --json --cache-size 0 " + server().tile_url(name));
+    auto local = run_json(std::string(LIDARSCOUT_CLI) + " info --json " + manifest().string());
+    ASSERT_EQ(local.size(), static_cast<std::size_t>(kSide * kSide));
+    ASSERT_EQ(remote.size(), 1u);
+    remote[0].erase("path");
+    local[1].erase("path");  // (the manifest's tile 1 is x1_y0; info names its source)
+    EXPECT_EQ(remote[0].dump(1), local[1].dump(1));
+}
+
+// Several ranges in one request: multipart/byteranges that net/byte_ranges parses into the ranges
+// asked; our client asks them in one request. A range past the end is 416. The S3 view answers
+// several ranges with the whole object (200), as S3 does, and one range past the end with 416.
+TEST_F(ReplicaServerTest, MultiRangeAnswersAreParsedByOurClient) {
+    const std::string name = tile_name(2, 3), path = "tiles/" + name;
+    const auto whole = server().fetch(path).body;
+    ASSERT_GT(whole.size(), 300000u);
+    const auto reply = server().fetch(path, {"Range: bytes=0-3,100000-100009,-8"});
+    EXPECT_EQ(reply.status, 206);
+    const std::string boundary = net::multipart_boundary(reply.content_type);
+    ASSERT_FALSE(boundary.empty()) << reply.content_type;
+    const auto parts = net::parse_multipart_byteranges(
+        {reinterpret_cast<const std::uint8_t*>(reply.body.data()), reply.body.size()}, boundary);
+    const std::vector<net::ByteRange> asked = {{0, 4}, {100000, 10}, {whole.size() - 8, 8}};
+    ASSERT_EQ(parts.size(), asked.size());
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        EXPECT_EQ(parts[i].content_range.range, asked[i]);
+        EXPECT_EQ(parts[i].content_range.total, whole.size());
+        EXPECT_EQ(std::string(parts[i].data.begin(), parts[i].data.end()),
+                  whole.substr(asked[i].offset, asked[i].length));
+    }
+
+    net::RangeCache::configure({{}, 0});
+    const auto file = net::RemoteFile::open(server().tile_url(name));
+    const auto before = server().stats();
+    const auto got = file->fetch_now({{1000, 16}, {200000, 32}});
+    ASSERT_TRUE(got.error.empty()) << got.error;
+    ASSERT_EQ(got.parts.size(), 2u);
+    EXPECT_EQ(std::string(got.parts[0].begin(), got.parts[0].end()), whole.substr(1000, 16));
+    EXPECT_EQ(std::string(got.parts[1].begin(), got.parts[1].end()), whole.substr(200000, 32));
+    const auto after = server().stats();
+    EXPECT_EQ(requests_of(after, "tile") - requests_of(before, "tile"), 1u);
+    EXPECT_EQ(after.at("multi_range_requests").get<int>() - before.at("multi_range_requests").get<int>(), 1);
+
+    const auto past = server().fetch(path, {"Range: bytes=" + std::to_string(whole.size()) + "-"});
+    EXPECT_EQ(past.status, 416);
+    EXPECT_EQ(past.content_range, "bytes */" + std::to_string(whole.size()));
+    const std::string object = server().bucket() + "/" + name;
+    const auto s3_multi = server().fetch(object, {"Range: bytes=0-3,10-13"});
+    EXPECT_EQ(s3_multi.status, 200);
+    EXPECT_TRUE(s3_multi.body == whole);
+    const auto s3_one = server().fetch(object, {"Range: bytes=10-13"});
+    EXPECT_EQ(s3_one.status, 206);
+    EXPECT_EQ(s3_one.body, whole.substr(10, 4));
+    EXPECT_EQ(server().fetch(object, {"Range: bytes=" + std::to_string(whole.size()) + "-"}).status, 416);
+}
+
+// ListObjectsV2 in pages of 100 (net/s3_request.hpp's listing): every tile once, in key order, with
+// its size, in 9 pages; a prefix lists the keys under it.
+TEST_F(ReplicaServerTest, S3ListingPagesThroughEveryTile) {
+    net::S3Config config;
+    config.endpoint = server().endpoint();
+    net::set_s3_config(config);
+    net::S3ListLimits limits;
+    limits.page_size = 100;
+    server().stats(true);
+    const auto objects = net::list_s3_objects(server().s3_url(), limits);
+    ASSERT_EQ(objects.size(), static_cast<std::size_t>(kSide * kSide));
+    EXPECT_TRUE(std::is_sorted(objects.begin(), objects.end(),
+                               [](const auto& a, const auto& b) { return a.key < b.key; }));
+    std::set<std::string> keys;
+    for (const auto& o : objects) {
+        keys.insert(o.key);
+        EXPECT_EQ(o.size, fs::file_size(source_tile()));
+    }
+    EXPECT_EQ(keys.size(), objects.size());
+    EXPECT_TRUE(keys.contains(tile_name(29, 29)));
+    EXPECT_EQ(requests_of(server().stats(), "s3_list"), 9u);
+    const std::string prefix = std::string(kStem) + "_x29_";
+    EXPECT_EQ(net::list_s3_objects(server().s3_url(prefix), limits).size(), static_cast<std::size_t>(kSide));
+    net::set_s3_config(std::nullopt);
+}
+
+// The STAC API search: pages of `limit` items linked by "next", every tile once, with absolute hrefs
+// to the server's tiles and the proj:bbox of the catalog's items.
+TEST_F(ReplicaServerTest, SearchPagesLeadThroughEveryItem) {
+    const auto catalog = nlohmann::json::parse(server().fetch("catalog.vpc").body);
+    ASSERT_EQ(catalog.at("features").size(), static_cast<std::size_t>(kSide * kSide));
+    std::set<std::string> ids;
+    std::string next = "search?limit=250";
+    int pages = 0;
+    while (!next.empty() && pages < 10) {
+        const auto page = nlohmann::json::parse(server().fetch(next).body);
+        ++pages;
+        EXPECT_EQ(page.at("numberMatched").get<int>(), kSide * kSide);
+        for (const auto& item : page.at("features")) {
+            const std::string id = item.at("id").get<std::string>();
+            EXPECT_TRUE(ids.insert(id).second) << id;
+            EXPECT_EQ(item.at("assets").at("data").at("href").get<std::string>(), server().tile_url(id + ".laz"));
+            const auto& in_catalog = catalog.at("features").at(ids.size() - 1);
+            EXPECT_EQ(in_catalog.at("id"), item.at("id"));
+            EXPECT_EQ(in_catalog.at("properties").at("proj:bbox"), item.at("properties").at("proj:bbox"));
+        }
+        next.clear();
+        for (const auto& link : page.at("links")) {
+            if (link.at("rel") != "next") continue;
+            next = link.at("href").get<std::string>().substr(server().endpoint().size() + 1);
+        }
+    }
+    EXPECT_EQ(pages, 4);
+    EXPECT_EQ(ids.size(), static_cast<std::size_t>(kSide * kSide));
+    const auto& first = catalog.at("features").at(0);
+    EXPECT_EQ(first.at("assets").at("data").at("href"), "./tiles/" + tile_name(0, 0));
+    EXPECT_EQ(first.at("properties").at("pc:count"),
+              dataset::read_tile(io::File::open(source_tile().string())).header.point_count);
+}
+
+// A COPC source: the served tile is the tile `synth replicate` writes, its COPC info VLR's centre moved
+// with the points as dataset::shift_tile moves it.
+TEST(ReplicaServerCopc, TileBytesAreTheCopiedTileBytes) {
+    const fs::path source = test::formats_dir() / "r-lidar__lasR" / "inst__extdata__example.copc.laz";
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_replica_copc_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    replicate(source, "2x1", dir / "virtual", true);
+    replicate(source, "2x1", dir / "copied", false);
+    const std::string name = "inst__extdata__example.copc_x1_y0.laz";
+    {
+        test::ReplicaServer server(dir / "virtual" / "replicate.json");
+        const std::string written = read_file(dir / "copied" / name);
+        ASSERT_NE(written, read_file(source));
+        EXPECT_TRUE(server.fetch("tiles/" + name).body == written);
+    }
+    auto expected = dataset::read_tile(io::File::open(source.string()));
+    ASSERT_TRUE(expected.copc.has_value());
+    const auto shifts = dataset::read_virtual_replica((dir / "virtual" / "replicate.json").string());
+    dataset::shift_tile(expected, shifts.at(1).shift);
+    const auto copied = dataset::read_tile(io::File::open((dir / "copied" / name).string()));
+    for (int axis = 0; axis < 3; ++axis) EXPECT_EQ(copied.copc->center[axis], expected.copc->center[axis]);
+    EXPECT_NE(copied.copc->center[0], dataset::read_tile(io::File::open(source.string())).copc->center[0]);
+    fs::remove_all(dir);
+}
+
+// A manifest whose source is not a LAS file: the server refuses to start, with one line naming it.
+TEST(ReplicaServerRefusal, ASourceThatIsNotLasIsNamed) {
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_replica_refusal_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "not_las.laz") << "this is not a LAS file, it is long enough to be read as one, more or less";
+    nlohmann::json m = {{"tool", dataset::kReplicaTool}, {"virtual", true},
+                        {"sources", {{{"path", (dir / "not_las.laz").string()}, {"to_metres", 1.0}}}},
+                        {"tiles", {{{"file", "a.laz"}, {"source", 0}, {"shift", {0.0, 0.0}}}}}};
+    std::ofstream(dir / "replicate.json") << m.dump(1);
+    try {
+        test::ReplicaServer server(dir / "replicate.json");
+        ADD_FAILURE() << "started on a source that is not LAS";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("not_las.laz: not a LAS/LAZ file"), std::string::npos) << e.what();
+    }
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lidarscout
