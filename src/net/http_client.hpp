@@ -87,6 +87,7 @@ struct HttpStats {
     std::uint64_t retries = 0;
     std::uint64_t http2_responses = 0; // attempts answered over HTTP/2
     std::uint64_t connections = 0;     // connections opened (a multiplexed one serves many requests)
+    std::uint64_t peak_transfers = 0;  // most transfers in libcurl at once (one origin: connections_per_host)
 };
 
 class HttpClient {

@@ -74,6 +74,31 @@ TEST_F(HttpFaults, CorrectAnswersPass) {
     EXPECT_EQ(client.stats().requests, 1u);
 }
 
+// Thousands of requests to one origin at once: libcurl holds at most connections_per_host of them (the
+// rest wait in the client, in order), since it walks its own queue of waiting handles on every removal.
+TEST(HttpClient, ManyRequestsToOneOriginWaitInTheClient) {
+    const auto data = pattern(4096);
+    FaultServer server(data);
+    HttpSettings s = quick();
+    s.connections_per_host = 3;
+    HttpClient client(s);
+    std::vector<std::future<RangeReply>> replies;
+    for (std::uint64_t i = 0; i < 2000; ++i) {
+        auto promise = std::make_shared<std::promise<RangeReply>>();
+        replies.push_back(promise->get_future());
+        client.submit({server.url(), {{i % 4000, 17}}, {}}, [promise](RangeReply&& r) { promise->set_value(r); });
+    }
+    for (std::uint64_t i = 0; i < replies.size(); ++i) {
+        const RangeReply r = replies[i].get();
+        ASSERT_EQ(r.error, "") << i;
+        ASSERT_EQ(r.parts.size(), 1u);
+        EXPECT_TRUE(std::equal(r.parts[0].begin(), r.parts[0].end(), data.begin() + i % 4000)) << i;
+    }
+    EXPECT_EQ(client.stats().requests, 2000u);
+    EXPECT_LE(client.stats().peak_transfers, 3u);
+    EXPECT_GE(client.stats().peak_transfers, 1u);
+}
+
 TEST_F(HttpFaults, DroppedConnectionResumesWhereTheBodyStopped) {
     server.inject(Fault::DropMidBody);
     const std::vector<ByteRange> r = {{10000, 200000}};
