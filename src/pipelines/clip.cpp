@@ -73,7 +73,7 @@ bool drop_waveforms(const dataset::Dataset& ds, std::span<const std::uint32_t> t
         if (what.empty()) continue;
         if (!request.force) {
             throw Error(tile_name(ds, t), std::nullopt,
-                        fmt::format("{}: {} cannot carry them into {} (its wave packets address them in this file); "
+                        fmt::format("{}: {} cannot carry them into {} (its points' wave packets address them there); "
                                     "nothing written (--force writes its points' wave packets without waveform "
                                     "data: descriptor index, offset and size 0)",
                                     what, request.command, io::display_path(request.output)));
