@@ -1,6 +1,6 @@
 // `lidarscout clip PATH... (--bounds xmin,ymin,xmax,ymax | --polygon FILE.geojson|WKT) -o OUT.laz|.las
-// [--classes ..] [--returns ..] [--intensity ..] [--crs EPSG:n] [--threads N] [--json]`: the points of
-// a dataset inside an area, as one LAS/LAZ file (pipelines/clip.hpp).
+// [--classes ..] [--returns ..] [--intensity ..] [--crs EPSG:n] [--threads N] [--force] [--json]`: the
+// points of a dataset inside an area, as one LAS/LAZ file (pipelines/clip.hpp).
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -28,6 +28,7 @@ struct ClipCliOptions {
     std::vector<double> bounds;
     FilterTexts filter;
     unsigned threads = 0;
+    bool force = false;
     bool json = false;
 };
 
@@ -66,6 +67,7 @@ int run_clip(const ClipCliOptions& o) {
     pipelines::ClipRequest request;
     request.filter = o.filter.filter();
     request.output = o.output;
+    request.force = o.force;
     request.region = clip_region(o);  // (option errors before any work)
     const dataset::Dataset ds = open_region_dataset(o.paths, o.crs, "clip", true);
     PointsBar bar("clip");
@@ -99,6 +101,7 @@ void register_clip_command(CLI::App& app, std::function<int()>& run) {
                     "The dataset's CRS, e.g. EPSG:32616 (default: the CRS most tiles use); tiles in another CRS are "
                     "reprojected into it (tiles in degrees too) and the output is then written in it");
     add_thread_option(*cmd, "--threads", o->threads, "Threads for decoding and encoding (default: all cores)");
+    add_force_flag(*cmd, o->force);
     cmd->add_flag("--json", o->json,
                   "Print the result as JSON (tiles_touched, tiles_decoded, points_read, points_written, skipped)");
     cmd->callback([o, &run] { run = [o] { return run_clip(*o); }; });

@@ -1,7 +1,7 @@
 // `lidarscout profile PATH... --line x0,y0,x1,y1 [--width W] -o OUT.csv|.laz|.las|.png [--exaggeration F]
-// [--classes ..] [--returns ..] [--intensity ..] [--crs EPSG:n] [--threads N] [--json]`: every full-resolution point
-// in a corridor along a line (pipelines/profile.hpp), as CSV, as LAS/LAZ (as clip writes them) or as
-// an image of distance against height coloured by class.
+// [--classes ..] [--returns ..] [--intensity ..] [--crs EPSG:n] [--threads N] [--force] [--json]`: every point
+// at full resolution in a corridor along a line (pipelines/profile.hpp), as CSV, as LAS/LAZ (as clip
+// writes them) or as an image of distance against height coloured by class.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -33,6 +33,7 @@ struct ProfileCliOptions {
     double width = 2, exaggeration = 1;
     FilterTexts filter;
     unsigned threads = 0;
+    bool force = false;
     bool json = false;
 };
 
@@ -55,9 +56,11 @@ nlohmann::json write_points(const ProfileCliOptions& o, const dataset::Dataset& 
     request.region = pipelines::corridor_region(corridor(o));
     request.command = "profile";
     request.where = pipelines::kCorridor;
+    request.force = o.force;
     PointsBar bar("profile");
     request.watch.progress = bar.fn();
     const auto r = pipelines::clip_to_file(ds, request, pool);
+    for (const auto& n : r.notes) std::fprintf(stderr, "lidarscout: note: %s\n", n.c_str());
     status = report_skips(r.read, ds);
     nlohmann::json j = region_stats_json(r.read, ds);
     j["points_written"] = r.points_written;
@@ -137,6 +140,7 @@ void register_profile_command(CLI::App& app, std::function<int()>& run) {
     add_filter_options(*cmd, o->filter, "points in the profile");
     cmd->add_option("--crs", o->crs, "The dataset's CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
     add_thread_option(*cmd, "--threads", o->threads, "Threads for decoding (default: all cores)");
+    add_force_flag(*cmd, o->force);
     cmd->add_flag("--json", o->json,
                   "Print the result as JSON (tiles_touched, tiles_decoded, points_read, points_written, skipped, "
                   "seconds_to_first_points)");

@@ -68,4 +68,10 @@ int report_skips(const pipelines::RegionReadStats& stats, const dataset::Dataset
     return written_exit_status(!stats.skipped.empty() || !ds.skipped.empty());
 }
 
+void add_force_flag(CLI::App& cmd, bool& force) {
+    cmd.add_flag("--force", force,
+                 "Write what the LAS/LAZ output cannot hold dropped, with a note, instead of refusing: waveform data "
+                 "(the wave packets then point at none), a CRS that formats 6-10 need as WKT (its GeoTIFF keys kept)");
+}
+
 }  // namespace lidarscout::cli

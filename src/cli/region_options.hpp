@@ -1,6 +1,7 @@
 // What `clip` and `profile` share at the CLI edge (their filter options: cli/filter_options.hpp):
-// opening the dataset, the points progress bar, and the report of the
-// region read (tiles touched and decoded, points, skipped tiles and chunks) for people and --json.
+// opening the dataset, the points progress bar, the report of the region read (tiles touched and
+// decoded, points, skipped tiles and chunks) for people and --json, and the --force of their LAS/LAZ
+// output.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -39,5 +40,9 @@ private:
 nlohmann::json region_stats_json(const pipelines::RegionReadStats& stats, const dataset::Dataset& ds);
 // One stderr line per skipped tile or chunk; the exit status (3 when anything was skipped).
 int report_skips(const pipelines::RegionReadStats& stats, const dataset::Dataset& ds);
+
+// --force: what a LAS/LAZ output cannot hold (waveform data, a CRS as WKT) dropped with a note instead
+// of refused (pipelines::ClipRequest::force).
+void add_force_flag(CLI::App& cmd, bool& force);
 
 }  // namespace lidarscout::cli

@@ -14,7 +14,7 @@ namespace lidarscout::laz {
 
 // Encodes point_count raw LAS records (record_length each) as one chunk: first record raw,
 // then the coded stream. Appends to `out`. Dispatches on laz.compressor: 2 (point-wise
-// chunked, point formats 0-3); 3 (layered, formats 6-10) is not yet supported. Throws
+// chunked, point formats 0-5); 3 (layered, formats 6-10). Throws
 // lidarscout::Error for unsupported item lists or a record span of the wrong size.
 void encode_chunk(const las::LaszipVlr& laz, std::span<const std::uint8_t> records, std::uint64_t point_count,
                   std::vector<std::uint8_t>& out);

@@ -14,6 +14,7 @@
 #include "laz/items/point14/point14_v3.hpp"
 #include "laz/items/point14/rgb14_v3.hpp"
 #include "laz/items/point14/rgbnir14_v3.hpp"
+#include "laz/items/point14/wavepacket14_v3.hpp"
 
 namespace lidarscout::laz {
 namespace {
@@ -33,10 +34,12 @@ constexpr std::size_t kBlockPoints = 1024;
                 std::to_string(item.size) + " bytes)";
     }
     throw Error("LAZ encoder: unsupported item list [" + list +
-                "] for compressor 3 (POINT14 v3, then optionally RGB14 or RGBNIR14 v3, then optionally BYTE14 v3)");
+                "] for compressor 3 (POINT14 v3, then optionally RGB14 or RGBNIR14 v3, WAVEPACKET14 v3 and "
+                "BYTE14 v3)");
 }
 
-// Accepts POINT14, then RGB14 or RGBNIR14, then BYTE14, all version 3 and of the right size.
+// Accepts POINT14, then RGB14 or RGBNIR14, then WAVEPACKET14, then BYTE14, all version 3 and of the right
+// size.
 void check_items(const las::LaszipVlr& laz) {
     if (laz.compressor != 3) throw Error("layered encoder called for LAZ compressor " + std::to_string(laz.compressor));
     if (laz.coder != 0) throw Error("LAZ encoder: unsupported coder " + std::to_string(laz.coder));
@@ -52,6 +55,7 @@ void check_items(const las::LaszipVlr& laz) {
     if (!next_is(ItemType::Rgb14, detail::point14::kRgb14Size)) {
         next_is(ItemType::RgbNir14, detail::point14::kRgbNir14Size);
     }
+    next_is(ItemType::Wavepacket14, detail::point14::kWavepacket14Size);
     next_is(ItemType::Byte14, 0);
     if (i != laz.items.size()) fail_items(laz);
 }
@@ -84,6 +88,7 @@ void encode_layered_chunk(const las::LaszipVlr& laz, std::span<const std::uint8_
             case ItemType::Point14: detail::point14::add_point14_encoders(setup, layers); break;
             case ItemType::Rgb14: detail::point14::add_rgb14_encoders(setup, layers); break;
             case ItemType::RgbNir14: detail::point14::add_rgbnir14_encoders(setup, layers); break;
+            case ItemType::Wavepacket14: detail::point14::add_wavepacket14_encoders(setup, layers); break;
             default: detail::point14::add_byte14_encoders(setup, item.size, layers); break;
         }
         layer_offsets.resize(layers.size(), offset);

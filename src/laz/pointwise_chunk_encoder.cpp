@@ -15,6 +15,7 @@
 #include "laz/items/point10/gpstime11_v2.hpp"
 #include "laz/items/point10/point10_v2.hpp"
 #include "laz/items/point10/rgb12_v2.hpp"
+#include "laz/items/point10/wavepacket13_v1.hpp"
 
 namespace lidarscout::laz {
 namespace {
@@ -28,6 +29,7 @@ using namespace detail::point10;
 struct ItemList {
     bool gps_time = false;
     bool rgb = false;
+    bool wavepacket = false;
     bool extra_bytes = false;
 };
 
@@ -39,20 +41,21 @@ struct ItemList {
                 std::to_string(item.size) + " bytes)";
     }
     throw Error("LAZ encoder: unsupported item list [" + list +
-                "] for compressor 2 (POINT10 v2, then optionally GPSTIME11 v2, RGB12 v2 and BYTE v2)");
+                "] for compressor 2 (POINT10 v2, then optionally GPSTIME11 v2, RGB12 v2, WAVEPACKET13 v1 "
+                "and BYTE v2)");
 }
 
-// The list as LASzip writes it for formats 0-3, or an Error.
+// The list as LASzip writes it for formats 0-5, or an Error.
 ItemList check_items(const las::LaszipVlr& laz) {
     if (laz.compressor != 2) {
         throw Error("point-wise encoder called for LAZ compressor " + std::to_string(laz.compressor));
     }
     if (laz.coder != 0) throw Error("LAZ encoder: unsupported coder " + std::to_string(laz.coder));
     std::size_t i = 0;
-    const auto next_is = [&](ItemType type, std::size_t size) {
+    const auto next_is = [&](ItemType type, std::size_t size, std::uint16_t version = 2) {
         if (i >= laz.items.size()) return false;
         const LazItem& item = laz.items[i];
-        if (static_cast<ItemType>(item.type) != type || item.version != 2) return false;
+        if (static_cast<ItemType>(item.type) != type || item.version != version) return false;
         if (size != 0 ? item.size != size : item.size == 0) fail_items(laz);
         ++i;
         return true;
@@ -61,6 +64,7 @@ ItemList check_items(const las::LaszipVlr& laz) {
     ItemList list;
     list.gps_time = next_is(ItemType::GpsTime11, GpsTime11EncoderV2::kSize);
     list.rgb = next_is(ItemType::Rgb12, Rgb12EncoderV2::kSize);
+    list.wavepacket = next_is(ItemType::Wavepacket13, Wavepacket13EncoderV1::kSize, 1);
     list.extra_bytes = next_is(ItemType::Byte, 0);
     if (i != laz.items.size()) fail_items(laz);
     return list;
@@ -101,11 +105,18 @@ void encode_fixed(const las::LaszipVlr& laz, const std::uint8_t* records, std::u
 // Picks the specialised loop for the item list.
 void encode_points(const las::LaszipVlr& laz, const ItemList& list, const std::uint8_t* records,
                    std::uint64_t point_count, std::size_t record_length, std::vector<std::uint8_t>& out) {
-    const auto run = [&]<class... Items>() {
+    const auto with_bytes = [&]<class... Items>() {
         if (list.extra_bytes) {
             encode_fixed<Items..., ByteEncoderV2>(laz, records, point_count, record_length, out);
         } else {
             encode_fixed<Items...>(laz, records, point_count, record_length, out);
+        }
+    };
+    const auto run = [&]<class... Items>() {
+        if (list.wavepacket) {
+            with_bytes.template operator()<Items..., Wavepacket13EncoderV1>();
+        } else {
+            with_bytes.template operator()<Items...>();
         }
     };
     if (list.gps_time && list.rgb) {

@@ -1,6 +1,7 @@
-// Encoding of point-wise chunked LAZ data (compressor 2) with the v2 point10-family items
-// that LASzip writes for LAS point formats 0-3: POINT10, then optionally GPSTIME11, RGB12
-// and BYTE (extra bytes), in that order. The mirror of decode_pointwise_chunk.
+// Encoding of point-wise chunked LAZ data (compressor 2) with the point10-family items that
+// LASzip writes for LAS point formats 0-5: POINT10, then optionally GPSTIME11, RGB12 (all v2),
+// WAVEPACKET13 (v1) and BYTE (v2, extra bytes), in that order. The mirror of
+// decode_pointwise_chunk.
 #pragma once
 
 #include <cstdint>

@@ -95,4 +95,17 @@ std::vector<std::string> keep_crs(las::Header& h, std::vector<las::Vlr>& vlrs, s
             (form == las::CrsForm::Wkt ? "WKT record" : "GeoTIFF keys") + " (" + geo::crs_definition(crs) + ")"};
 }
 
+std::vector<std::string> keep_crs_or_keys(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr>& evlrs,
+                                          const las::Crs& crs, const std::string& stage, const std::string& file,
+                                          bool force, std::string& forced) {
+    try {
+        return keep_crs(h, vlrs, evlrs, crs, stage);
+    } catch (const Error& e) {
+        const std::string what = fmt::format("point format {} needs the CRS as WKT: {}", h.point_format, e.what());
+        if (!force) throw Error(file, std::nullopt, what + "; nothing written (--force keeps the GeoTIFF keys)");
+        forced = what;
+        return {};
+    }
+}
+
 }  // namespace lidarscout::pipelines

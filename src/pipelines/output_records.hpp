@@ -35,4 +35,11 @@ void write_crs(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr
 std::vector<std::string> keep_crs(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr>& evlrs,
                                   const las::Crs& crs, const std::string& stage);
 
+// keep_crs under the rule for what an output cannot hold: a CRS in GeoTIFF keys that point formats 6-10
+// need as WKT and PROJ cannot write so is refused, an Error naming `file` (the input) and the fix, or with
+// `force` left in its keys (the records and header as they were): then `forced` says so, for a warning.
+std::vector<std::string> keep_crs_or_keys(las::Header& h, std::vector<las::Vlr>& vlrs, std::vector<las::Vlr>& evlrs,
+                                          const las::Crs& crs, const std::string& stage, const std::string& file,
+                                          bool force, std::string& forced);
+
 }  // namespace lidarscout::pipelines

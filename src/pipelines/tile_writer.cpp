@@ -82,16 +82,11 @@ void plan_records(OutputPlan& plan, const io::File& file, const Tile& in) {
 // is refused unless forced (then the keys stay, with a warning).
 void plan_crs(OutputPlan& plan, const Tile& in, const ConvertOptions& opt) {
     auto& h = plan.header;
-    std::vector<std::string> notes;
-    try {
-        notes = keep_crs(h, plan.vlrs, plan.evlrs, in.crs(), "convert");
-    } catch (const Error& e) {
-        const std::string what = "point format " + std::to_string(h.point_format) + " needs the CRS as WKT: " +
-                                 e.what();
-        if (!opt.force) {
-            throw Error(in.path(), std::nullopt, what + "; nothing written (--force keeps the GeoTIFF keys)");
-        }
-        plan.warnings.push_back(what);
+    std::string forced;
+    const std::vector<std::string> notes =
+        keep_crs_or_keys(h, plan.vlrs, plan.evlrs, in.crs(), "convert", in.path(), opt.force, forced);
+    if (!forced.empty()) {
+        plan.warnings.push_back(forced);
         return;
     }
     plan.notes.insert(plan.notes.end(), notes.begin(), notes.end());

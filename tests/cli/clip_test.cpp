@@ -3,7 +3,9 @@
 // input refused with the input unchanged; bad WKT, bad filters and a missing area as one-line errors
 // (exit 1); a profile as CSV, LAZ and PNG with the same points; tiles in two UTM zones clipped with
 // --crs written in that CRS, with a note; a tile named by three catalog items and twice as an argument
-// clipped once, with one warning (which scan shows too).
+// clipped once, with one warning (which scan shows too); LAS 1.5 and wave packet files clipped to LAZ read
+// back by `info` as such; waveform data refused on one line naming the file, nothing written, and with
+// --force written with a note.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -88,6 +90,44 @@ TEST_F(ClipCommand, AnOutputNamedLikeAnInputIsRefused) {
     EXPECT_EQ(test::run_command(cli() + "profile " + path("tile.laz") + " --line 5205000,3900000,5206000,3901000 -o " +
                                     path("tile.laz") + " 2>&1", out), 1);
     EXPECT_EQ(read_text(path("tile.laz")), before);
+}
+
+TEST_F(ClipCommand, Las15AndWavePacketsToLazReadBackWithInfo) {
+    const auto formats = test::formats_dir() / "visgl__loaders.gl";
+    const std::pair<const char*, const char*> cases[] = {
+        {"modules__las__test__data__pdrf9-1.5.las", "LAS 1.5, point format 9 (63 bytes/record), 1,024 points, LAZ"},
+        {"modules__las__test__data__pdrf10-1.5.laz", "LAS 1.5, point format 10 (71 bytes/record), 1,024 points, LAZ"},
+        {"modules__las__test__data__pdrf5-1.3.laz", "LAS 1.3, point format 5 (67 bytes/record), 1,024 points, LAZ"},
+    };
+    for (const auto& [name, header] : cases) {
+        std::string out;
+        ASSERT_EQ(test::run_command(cli() + "clip " + (formats / name).string() +
+                                        " --bounds -3e9,-3e9,3e9,3e9 -o " + path("w.laz") + " --json 2>/dev/null",
+                                    out), 0) << out;
+        EXPECT_EQ(nlohmann::json::parse(out).at("points_written"), 1024);
+        ASSERT_EQ(test::run_command(cli() + "info " + path("w.laz") + " 2>&1", out), 0) << out;
+        EXPECT_NE(out.find(header), std::string::npos) << out;
+        EXPECT_NE(out.find("WAVEPACKET1"), std::string::npos) << out;
+        fs::remove(path("w.laz"));
+    }
+}
+
+TEST_F(ClipCommand, WaveformDataIsRefusedOnOneLineAndForceDropsIt) {
+    const std::string input = (test::formats_dir() / "laspy__laspy" / "tests__data__simple1_3.las").string();
+    const std::string command = cli() + "clip " + input + " --bounds -1e9,-1e9,1e9,1e9 -o " + path("w.las");
+    std::string out;
+    ASSERT_EQ(test::run_command(command + " 2>" + path("err.txt"), out), 1) << out;
+    std::string err = read_text(path("err.txt"));
+    const auto line = err.find("lidarscout: " + input + ": waveform data packets inside the file");
+    EXPECT_NE(line, std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin() + static_cast<long>(std::min(line, err.size())), err.end(), '\n'), 1) << err;
+    EXPECT_NE(err.find("nothing written (--force"), std::string::npos) << err;
+    fs::remove(path("err.txt"));
+    EXPECT_TRUE(fs::is_empty(dir)) << fs::directory_iterator(dir)->path();
+    ASSERT_EQ(test::run_command(command + " --force 2>" + path("err.txt"), out), 0) << out;
+    err = read_text(path("err.txt"));
+    EXPECT_NE(err.find("lidarscout: note: waveform data dropped"), std::string::npos) << err;
+    EXPECT_TRUE(fs::exists(path("w.las")));
 }
 
 TEST_F(ClipCommand, BadOptionsAreOneLineErrors) {

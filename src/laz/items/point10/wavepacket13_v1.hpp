@@ -1,50 +1,45 @@
-// Decoder of the WAVEPACKET13 item, version 1 (LAS formats 4 and 5 in point-wise LAZ):
-// descriptor index, waveform data offset (same, right after the last packet, a coded
-// delta, or raw), packet size, return point location and the XYZ(t) direction, each
-// predicted from the last point's value.
+// The WAVEPACKET13 item, version 1 (LAS formats 4 and 5 in point-wise chunks): one file set
+// (wavepacket13_v1.hpp/.cpp) holds this item version's decoder and encoder; the packet codec they
+// run is shared with WAVEPACKET14 (items/wavepacket_codec.hpp). One set of models per chunk, the
+// last packet the prediction of the next.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
-#include "laz/arithmetic_decoder.hpp"
-#include "laz/integer_decompressor.hpp"
-#include "laz/items/item_common.hpp"
+#include "laz/items/wavepacket_codec.hpp"
 
 namespace lidarscout::laz::detail::point10 {
 
-class Wavepacket13DecoderV1 {
+// ---- State shared by the decoder and the encoder
+// The last packet and the models, reset at chunk start.
+template <class IntegerCoder>
+class Wavepacket13StateV1 {
 public:
-    static constexpr std::size_t kSize = 29;
-
-    Wavepacket13DecoderV1();
+    static constexpr std::size_t kSize = wavepacket::kSize;
 
     // Starts a chunk whose first (raw) packet is at `first`.
-    void init(const std::uint8_t* first);
+    void init(const std::uint8_t* first) {
+        last_ = wavepacket::read_packet(first);
+        models_.reset();
+    }
 
+protected:
+    wavepacket::Packet last_;
+    wavepacket::Models<IntegerCoder> models_;
+};
+
+// ---- Decoder
+// Formats with waveforms are rare, so this item is not inlined into the point loop.
+class Wavepacket13DecoderV1 : public Wavepacket13StateV1<IntegerDecompressor> {
+public:
     void decode(ArithmeticDecoder& dec, std::uint8_t* out);
+};
 
-private:
-    // The item after its descriptor byte; the floats are predicted as their bit patterns.
-    struct Packet {
-        std::uint64_t offset = 0;
-        std::uint32_t size = 0;
-        std::int32_t return_point = 0;
-        std::array<std::int32_t, 3> xyz{};
-    };
-    static Packet load_packet(const std::uint8_t* p);
-    static void store_packet(const Packet& packet, std::uint8_t* p);
-
-    Packet last_;
-    std::int32_t last_offset_delta_ = 0;
-    std::uint32_t last_offset_kind_ = 0;
-
-    SymbolModel descriptor_model_{256};
-    std::array<SymbolModel, 4> offset_kind_models_{SymbolModel(4), SymbolModel(4), SymbolModel(4), SymbolModel(4)};
-    IntegerDecompressor offset_delta_{32, 1};
-    IntegerDecompressor size_{32, 1};
-    IntegerDecompressor return_point_{32, 1};
-    IntegerDecompressor xyz_{32, 3};
+// ---- Encoder
+// The mirror of the decoder: each packet coded after the last.
+class Wavepacket13EncoderV1 : public Wavepacket13StateV1<IntegerCompressor> {
+public:
+    void encode(ArithmeticEncoder& enc, const std::uint8_t* item);
 };
 
 }  // namespace lidarscout::laz::detail::point10
