@@ -156,10 +156,11 @@ struct ItemLines {
     std::vector<std::pair<std::string, std::string>> causes;  // (cause, what was done instead)
 
     void add(std::string cause, std::string instead) { causes.emplace_back(std::move(cause), std::move(instead)); }
-    std::string kept() const {
+    std::string kept() const {  // (what was done said once after the causes it follows)
         std::string line = name + ": ";
         for (std::size_t k = 0; k < causes.size(); ++k) {
-            line += (k ? "; " : "") + causes[k].first + "; " + causes[k].second;
+            line += (k ? "; " : "") + causes[k].first;
+            if (k + 1 == causes.size() || causes[k + 1].second != causes[k].second) line += "; " + causes[k].second;
         }
         return line;
     }
