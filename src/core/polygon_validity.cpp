@@ -1,10 +1,11 @@
-// find_crossing: the edges in a grid of cells (sorted by cell), pairs of a part's edges sharing a cell
-// tested for a proper crossing, the work counted against a cap set by the vertex count.
+// find_crossing: a Shamos-Hoey sweep of each part, its edges ordered along the sweep line by
+// orientation tests (no intersection computed to order them), events in (x, y) order.
 #include "core/polygon_validity.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <set>
 #include <vector>
 
 namespace lidarscout {
@@ -16,96 +17,96 @@ int side(const XY& a, const XY& b, const XY& c) {
     return (v > 0) - (v < 0);
 }
 
-// Whether a-b and c-d cross: each has the other's ends strictly on both sides.
-bool cross(const XY& a, const XY& b, const XY& c, const XY& d) {
-    return side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0;
+// The sweep's order of points: west to east, south to north on one meridian.
+bool before(const XY& a, const XY& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); }
+
+// An edge of a part, its ends in sweep order.
+struct Segment {
+    XY l, r;
+    std::uint32_t ring, edge;  // the ring in its part and the edge in its ring
+};
+
+// Whether a and b cross: each has the other's ends strictly on both sides.
+bool cross(const Segment& a, const Segment& b) {
+    return side(a.l, a.r, b.l) * side(a.l, a.r, b.r) < 0 && side(b.l, b.r, a.l) * side(b.l, b.r, a.r) < 0;
 }
 
-XY crossing_point(const XY& a, const XY& b, const XY& c, const XY& d) {
-    const double rx = b.x - a.x, ry = b.y - a.y, sx = d.x - c.x, sy = d.y - c.y;
-    const double t = ((c.x - a.x) * sy - (c.y - a.y) * sx) / (rx * sy - ry * sx);
-    return {a.x + t * rx, a.y + t * ry};
+XY crossing_point(const Segment& a, const Segment& b) {
+    const double rx = a.r.x - a.l.x, ry = a.r.y - a.l.y, sx = b.r.x - b.l.x, sy = b.r.y - b.l.y;
+    const double t = ((b.l.x - a.l.x) * sy - (b.l.y - a.l.y) * sx) / (rx * sy - ry * sx);
+    return {a.l.x + t * rx, a.l.y + t * ry};
 }
 
-// The polygon's edges numbered in ring order: edge e of ring r is vertex e - first[r] of that ring to the
-// next (the last back to the first).
-class Edges {
-public:
-    explicit Edges(const MultiPolygon& p) : polygon_(p) {
-        for (std::size_t r = 0; r < p.ring_count(); ++r) {
-            first_.push_back(static_cast<std::uint32_t>(ring_of_.size()));
-            ring_of_.insert(ring_of_.end(), p.ring(r).size(), static_cast<std::uint32_t>(r));
-        }
-    }
-    std::size_t size() const { return ring_of_.size(); }
-    std::size_t ring(std::size_t e) const { return ring_of_[e]; }
-    std::size_t index(std::size_t e) const { return e - first_[ring_of_[e]]; }
-    std::pair<XY, XY> ends(std::size_t e) const {
-        const auto v = polygon_.ring(ring_of_[e]);
-        const std::size_t k = index(e);
-        return {v[k], v[(k + 1) % v.size()]};
-    }
+// Where s lies against t, s starting no earlier than t (both on the sweep line): +1 above, -1 below,
+// 0 along t's line.
+int against(const Segment& s, const Segment& t) {
+    const int at_start = side(t.l, t.r, s.l);
+    return at_start != 0 ? at_start : side(t.l, t.r, s.r);
+}
 
-private:
-    const MultiPolygon& polygon_;
-    std::vector<std::uint32_t> first_, ring_of_;
-};
-
-struct Entry {
-    std::uint64_t cell;
-    std::uint32_t edge;
-    bool operator<(const Entry& o) const { return cell < o.cell || (cell == o.cell && edge < o.edge); }
-};
-
-// A square grid over the polygon's box, its cells twice the mean edge long (at most 2^26 a side).
-struct Grid {
-    double x0, y0, cell;
-    std::uint64_t columns;
-
-    Grid(const MultiPolygon& p, const Edges& edges) : x0(p.min_x()), y0(p.min_y()) {
-        double length = 0;
-        for (std::size_t e = 0; e < edges.size(); ++e) {
-            const auto [a, b] = edges.ends(e);
-            length += std::hypot(b.x - a.x, b.y - a.y);
-        }
-        const double extent = std::max(p.max_x() - x0, p.max_y() - y0);
-        cell = std::max(2 * length / static_cast<double>(std::max<std::size_t>(edges.size(), 1)), extent / (1 << 26));
-        if (!(cell > 0) || !std::isfinite(cell)) cell = 1;
-        columns = column(p.max_x()) + 1;
-    }
-    std::uint64_t column(double x) const { return static_cast<std::uint64_t>(std::max(0.0, (x - x0) / cell)); }
-    std::uint64_t row(double y) const { return static_cast<std::uint64_t>(std::max(0.0, (y - y0) / cell)); }
-
-    // Calls fn(cell) for the cells the segment a-b may pass, column by column (a hair wider, so that
-    // rounding never leaves out the cell where it crosses another).
-    template <typename Fn>
-    void cells_of(const XY& a, const XY& b, Fn&& fn) const {
-        const double hair = cell * 1e-9;
-        const double lo_x = std::min(a.x, b.x), hi_x = std::max(a.x, b.x);
-        const auto y_at = [&](double x) { return a.x == b.x ? a.y : a.y + (b.y - a.y) * (x - a.x) / (b.x - a.x); };
-        for (std::uint64_t c = column(lo_x - hair), last = column(hi_x + hair); c <= last; ++c) {
-            const double xa = std::max(lo_x, x0 + static_cast<double>(c) * cell);
-            const double xb = std::min(hi_x, x0 + static_cast<double>(c + 1) * cell);
-            double ya = y_at(xa), yb = y_at(xb);
-            if (a.x == b.x) ya = a.y, yb = b.y;
-            const auto [lo, hi] = std::minmax(ya, yb);
-            for (std::uint64_t r = row(lo - hair), top = row(hi + hair); r <= top; ++r) fn(r * columns + c);
-        }
+// The order along the sweep line, south to north (edges along one line by their number).
+struct Below {
+    const std::vector<Segment>* segments;
+    bool operator()(std::uint32_t a, std::uint32_t b) const {
+        if (a == b) return false;
+        const Segment &s = (*segments)[a], &t = (*segments)[b];
+        const int v = before(s.l, t.l) ? -against(t, s) : against(s, t);
+        return v != 0 ? v < 0 : a < b;
     }
 };
 
-// Records the crossing of edges e < f when it comes before the one found so far.
-void note_crossing(const MultiPolygon& p, const Edges& edges, std::size_t e, std::size_t f, CrossingCheck& out,
-                   std::pair<std::size_t, std::size_t>& best) {
-    if (out.first && std::pair{e, f} >= best) return;
-    const auto [a, b] = edges.ends(e);
-    const auto [c, d] = edges.ends(f);
-    if (!cross(a, b, c, d)) return;
-    best = {e, f};
-    const std::size_t part = p.polygon_of_ring(edges.ring(e));
-    const std::size_t outer = p.first_ring_of_polygon(part);
-    out.first = PolygonCrossing{part,           edges.ring(e) - outer, edges.index(e), edges.ring(f) - outer,
-                                edges.index(f), crossing_point(a, b, c, d)};
+// The edges of part `part` (zero-length ones left out).
+std::vector<Segment> part_segments(const MultiPolygon& p, std::size_t part) {
+    const std::size_t first = p.first_ring_of_polygon(part);
+    const std::size_t end = part + 1 < p.polygon_count() ? p.first_ring_of_polygon(part + 1) : p.ring_count();
+    std::vector<Segment> out;
+    for (std::size_t r = first; r < end; ++r) {
+        const auto v = p.ring(r);
+        for (std::size_t k = 0; k < v.size(); ++k) {
+            const XY a = v[k], b = v[(k + 1) % v.size()];
+            if (a == b) continue;
+            out.push_back({before(a, b) ? a : b, before(a, b) ? b : a, static_cast<std::uint32_t>(r - first),
+                           static_cast<std::uint32_t>(k)});
+        }
+    }
+    return out;
+}
+
+// The first crossing the sweep of one part meets, as a pair of its segments.
+std::optional<std::pair<std::uint32_t, std::uint32_t>> sweep(const std::vector<Segment>& segments,
+                                                               std::uint64_t& work) {
+    // Events: 2 i + 1 inserts segment i at its start, 2 i removes it at its end; at one point, removals first.
+    std::vector<std::uint32_t> events(2 * segments.size());
+    for (std::size_t i = 0; i < events.size(); ++i) events[i] = static_cast<std::uint32_t>(i);
+    const auto point = [&](std::uint32_t e) -> const XY& { return e & 1 ? segments[e >> 1].l : segments[e >> 1].r; };
+    std::sort(events.begin(), events.end(), [&](std::uint32_t a, std::uint32_t b) {
+        const XY &pa = point(a), &pb = point(b);
+        if (before(pa, pb) || before(pb, pa)) return before(pa, pb);
+        return (a & 1) != (b & 1) ? (a & 1) < (b & 1) : a < b;
+    });
+    using Line = std::set<std::uint32_t, Below>;
+    Line line(Below{&segments});
+    std::vector<Line::iterator> where(segments.size());
+    std::optional<std::pair<std::uint32_t, std::uint32_t>> found;
+    const auto test = [&](Line::iterator a, Line::iterator b) {
+        ++work;
+        if (!found && cross(segments[*a], segments[*b])) found = std::pair{*a, *b};
+    };
+    for (const std::uint32_t e : events) {
+        ++work;
+        const std::uint32_t id = e >> 1;
+        if (e & 1) {
+            const auto it = where[id] = line.insert(id).first;
+            if (it != line.begin()) test(std::prev(it), it);
+            if (std::next(it) != line.end()) test(it, std::next(it));
+        } else {
+            const auto it = where[id];
+            if (it != line.begin() && std::next(it) != line.end()) test(std::prev(it), std::next(it));
+            line.erase(it);
+        }
+        if (found) break;
+    }
+    return found;
 }
 
 }  // namespace
@@ -113,35 +114,15 @@ void note_crossing(const MultiPolygon& p, const Edges& edges, std::size_t e, std
 CrossingCheck find_crossing(const MultiPolygon& p) {
     CrossingCheck out;
     out.parts = p.polygon_count();
-    const Edges edges(p);
-    out.cap = 48 * static_cast<std::uint64_t>(edges.size()) + 1'000'000;
-    const Grid grid(p, edges);
-    std::vector<Entry> entries;
-    for (std::size_t e = 0; e < edges.size() && out.checked; ++e) {
-        const auto [a, b] = edges.ends(e);
-        grid.cells_of(a, b, [&](std::uint64_t cell) {
-            if (++out.work > out.cap) return void(out.checked = false);
-            if (out.checked) entries.push_back({cell, static_cast<std::uint32_t>(e)});
-        });
-    }
-    if (!out.checked) return out;
-    std::sort(entries.begin(), entries.end());
-    std::pair<std::size_t, std::size_t> best;
-    for (std::size_t i = 0; i < entries.size() && out.checked;) {
-        std::size_t end = i;
-        while (end < entries.size() && entries[end].cell == entries[i].cell) ++end;
-        for (std::size_t j = i; j < end && out.checked; ++j) {
-            const std::size_t e = entries[j].edge, part = p.polygon_of_ring(edges.ring(e));
-            for (std::size_t k = j + 1; k < end; ++k) {
-                if (++out.work > out.cap) {
-                    out.checked = false;
-                    break;
-                }
-                const std::size_t f = entries[k].edge;
-                if (p.polygon_of_ring(edges.ring(f)) == part) note_crossing(p, edges, e, f, out, best);
-            }
-        }
-        i = end;
+    for (std::size_t part = 0; part < out.parts && !out.first; ++part) {
+        const std::vector<Segment> segments = part_segments(p, part);
+        const auto pair = sweep(segments, out.work);
+        if (!pair) continue;
+        auto [a, b] = *pair;
+        const auto key = [&](std::uint32_t s) { return std::pair{segments[s].ring, segments[s].edge}; };
+        if (key(b) < key(a)) std::swap(a, b);
+        const Segment &s = segments[a], &t = segments[b];
+        out.first = PolygonCrossing{part, s.ring, s.edge, t.ring, t.edge, crossing_point(s, t)};
     }
     return out;
 }
@@ -153,20 +134,15 @@ std::string ring_name(std::size_t ring) { return ring == 0 ? "outer ring" : "hol
 }  // namespace
 
 std::string crossing_warning(const CrossingCheck& check, const std::string& name) {
-    if (check.first) {
-        const auto& c = *check.first;
-        char at[96];
-        std::snprintf(at, sizeof at, "(%.3f, %.3f)", c.at.x, c.at.y);
-        const std::string part = check.parts > 1 ? "part " + std::to_string(c.part + 1) + ": " : "";
-        return name + ": the polygon's edges cross at " + at + " (" + part + ring_name(c.ring_a) + " edge " +
-               std::to_string(c.edge_a + 1) + " and " + ring_name(c.ring_b) + " edge " + std::to_string(c.edge_b + 1) +
-               "); a point is inside where the rings enclose it an odd number of times (even-odd rule), which may "
-               "not be the area meant";
-    }
-    if (check.checked) return {};
-    return name + ": not checked for crossing edges (its edges lie too close together: the check stopped after " +
-           std::to_string(check.cap) + " steps, its cap for this many vertices); a point is inside where the rings "
-           "enclose it an odd number of times (even-odd rule)";
+    if (!check.first) return {};
+    const auto& c = *check.first;
+    char at[96];
+    std::snprintf(at, sizeof at, "(%.3f, %.3f)", c.at.x, c.at.y);
+    const std::string part = check.parts > 1 ? "part " + std::to_string(c.part + 1) + ": " : "";
+    return name + ": the polygon's edges cross at " + at + " (" + part + ring_name(c.ring_a) + " edge " +
+           std::to_string(c.edge_a + 1) + " and " + ring_name(c.ring_b) + " edge " + std::to_string(c.edge_b + 1) +
+           "); a point is inside where the rings enclose it an odd number of times (even-odd rule), which may "
+           "not be the area meant";
 }
 
 }  // namespace lidarscout
