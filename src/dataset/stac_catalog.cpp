@@ -80,7 +80,7 @@ struct Streamed {
     };
     std::size_t first_item = 0;  // where its items start in the catalog's
     ItemLineSink item_lines;     // lines about its items
-    std::vector<Link> links;               // the links whose rel is followed somewhere, and broken ones
+    std::vector<Link> links;     // the links whose rel is followed somewhere, and broken ones
 };
 
 // Whether `s` starts with a URI scheme ("file:", "s3:"; a Windows drive letter is not one).
@@ -433,7 +433,10 @@ std::string item_disagreement(const CatalogItem& item, const Tile& tile) {
         for (int k = 0; k < 6; ++k) {
             if (!std::isnan(b[k]) && std::abs(b[k] - bounds[k]) > tolerance) off = true;
         }
-        if (off) what.push_back("proj:bbox: catalog " + box_text(b) + ", header " + box_text(bounds) + " (over 1% off)");
+        if (off) {
+            what.push_back("proj:bbox: catalog " + box_text(b) + ", header " + box_text(bounds) +
+                           " (more than 1% apart)");
+        }
     }
     if (epsg != 0 && item.crs.rfind("EPSG:", 0) == 0 && item.crs != "EPSG:" + std::to_string(epsg)) {
         what.push_back("proj:epsg: catalog " + item.crs.substr(5) + ", header " + std::to_string(epsg));

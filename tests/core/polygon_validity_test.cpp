@@ -54,7 +54,7 @@ TEST(PolygonValidity, AStarInOneStrokeAndAHoleCrossingItsRingAreNamed) {
 
 TEST(PolygonValidity, OutlinesThatDoNotCrossAreQuiet) {
     for (const char* wkt : {"POLYGON ((0 0, 10 0, 10 10, 0 10), (2 2, 8 2, 8 8, 2 8))",
-                            "POLYGON ((0 0, 2 0, 1 1, 2 2, 0 2, 1 1))",                       // lobes touching at (1, 1)
+                            "POLYGON ((0 0, 2 0, 1 1, 2 2, 0 2, 1 1))",                       // lobes touch at (1, 1)
                             "MULTIPOLYGON (((0 0, 2 0, 2 2, 0 2)), ((1 1, 3 1, 3 3, 1 3)))",  // parts overlap: union
                             "POLYGON ((0 0, 4 0, 4 0, 4 4, 0 4))",                            // a repeated vertex
                             "POLYGON ((0 0, 4 0, 4 4, 2 0, 0 4))"}) {  // a vertex on an edge, no crossing

@@ -369,7 +369,8 @@ constexpr std::uint64_t kBcts1Points = 531'662;  // bcts_1.laz's header
 std::string bcts(const char* name) { return (test::data_dir() / kBcts / name).string(); }
 
 TEST_F(StacCatalog, ACountThatLiesNamesTheItemItsCatalogAndBothCounts) {
-    const std::string vpc = write("liecount.vpc", collection_of({item("b1", bcts("bcts_1.laz"), {{"pc:count", 1000}})}));
+    const std::string vpc =
+        write("liecount.vpc", collection_of({item("b1", bcts("bcts_1.laz"), {{"pc:count", 1000}})}));
     const auto ds = open_dataset({vpc});
     ASSERT_EQ(ds.tiles.size(), 1u);
     EXPECT_TRUE(ds.skipped.empty());
