@@ -6,7 +6,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <system_error>
 #include <thread>
 
 #include "cli/commands.hpp"
@@ -17,6 +19,8 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "core/polygon.hpp"
+#include "core/polygon_validity.hpp"
+#include "core/text.hpp"
 #include "pipelines/clip.hpp"
 
 namespace lidarscout::cli {
@@ -32,9 +36,19 @@ struct ClipCliOptions {
     bool json = false;
 };
 
+// The --polygon argument's polygon; a warning when its edges cross (or when that could not be checked).
+MultiPolygon clip_polygon(const std::string& argument) {
+    MultiPolygon polygon = read_polygon_argument(argument);
+    std::error_code ec;
+    const std::string name = std::filesystem::is_regular_file(argument, ec) ? argument : "the --polygon WKT";
+    const std::string warning = crossing_warning(find_crossing(polygon), name);
+    if (!warning.empty()) std::fprintf(stderr, "lidarscout: warning: %s\n", display_text(warning).c_str());
+    return polygon;
+}
+
 pipelines::Region clip_region(const ClipCliOptions& o) {
     if (o.bounds.empty() == o.polygon.empty()) throw Error("clip: give either --bounds or --polygon");
-    if (!o.polygon.empty()) return pipelines::polygon_region(read_polygon_argument(o.polygon));
+    if (!o.polygon.empty()) return pipelines::polygon_region(clip_polygon(o.polygon));
     if (!(o.bounds[0] <= o.bounds[2] && o.bounds[1] <= o.bounds[3])) {
         throw Error("clip: --bounds expects xmin,ymin,xmax,ymax with xmin <= xmax and ymin <= ymax");
     }

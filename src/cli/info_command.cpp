@@ -21,6 +21,7 @@
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile.hpp"
@@ -44,6 +45,7 @@ struct FileReport {
     std::uint64_t chunk_point_count = 0;
     std::string points_sha256;  // with --checksum
     std::string error;
+    std::string catalog_disagreement;  // how the header disagrees with the tile's catalog item ("" when not)
 };
 
 
@@ -73,6 +75,8 @@ FileReport inspect(const dataset::TileSource& source, const InfoOptions& opt) {
         r.tile.reset();
         r.error = r.path + ": out of memory while reading the file";
     }
+    if (source.item && !r.tile) r.error += " (" + dataset::item_name(*source.item) + ")";
+    if (source.item && r.tile) r.catalog_disagreement = dataset::item_disagreement(*source.item, *r.tile);
     return r;
 }
 
@@ -191,6 +195,7 @@ nlohmann::json report_json(const FileReport& r, bool chunks) {
     if (!r.tile) return failed_tile_json(r.path, r.error);
     auto j = tile_to_json(*r.tile);
     j["chunk_point_count"] = r.chunk_point_count;
+    if (!r.catalog_disagreement.empty()) j["catalog_disagreement"] = display_text(r.catalog_disagreement);
     if (!r.points_sha256.empty()) j["points_sha256"] = r.points_sha256;
     if (chunks) {
         j["chunks"] = chunks_to_json(*r.tile);
@@ -212,8 +217,11 @@ int run_info(const InfoOptions& opt) {
     }
     bool failed = !found.errors.empty();
     for (const auto& e : found.errors) std::fprintf(stderr, "lidarscout: %s\n", display_text(e.error).c_str());
-    print_diagnostics(found.warnings);  // tiles named more than once (each is described once)
+    print_diagnostics(found.warnings);  // tiles named more than once (each is described once), catalog items
     for (const auto& r : reports) {
+        if (!r.catalog_disagreement.empty()) {
+            std::fprintf(stderr, "lidarscout: warning: %s\n", display_text(r.catalog_disagreement).c_str());
+        }
         if (!r.tile) {
             failed = true;
             std::fprintf(stderr, "lidarscout: %s\n", display_text(r.error).c_str());

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/diagnostic_output.hpp"
 #include "cli/filter_options.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
@@ -141,6 +142,7 @@ int run_view(const ViewCliOptions& o) {
     v.filter = o.filter.filter();
     if (!o.session.empty()) {
         v.session = viewer::read_session(o.session);
+        print_diagnostics(v.session->notes);  // a yaw wrapped, a pitch clamped
         v.session_path = o.session;
         if (v.crs.empty()) v.crs = v.session->crs;
         const bool filtered = !o.filter.classes.empty() || !o.filter.returns.empty() || !o.filter.intensity.empty();

@@ -5,6 +5,7 @@
 // geometry, Feature or FeatureCollection of them).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -57,6 +58,17 @@ public:
     std::size_t polygon_count() const { return polygon_starts_.empty() ? 0 : polygon_starts_.size() - 1; }
     // Vertices over all rings (a ring's repeated closing vertex not counted).
     std::size_t vertex_count() const;
+
+    // The rings, for checks of the shape (core/polygon_validity.hpp): the polygons' rings in order (each
+    // polygon's outer ring first), ring r's vertices (without its closing vertex again) and the first
+    // ring (the outer one) of polygon p.
+    std::size_t ring_count() const { return ring_starts_.empty() ? 0 : ring_starts_.size() - 1; }
+    std::span<const XY> ring(std::size_t r) const {
+        return {vertices_.data() + ring_starts_[r], ring_starts_[r + 1] - ring_starts_[r] - 1};
+    }
+    std::size_t first_ring_of_polygon(std::size_t p) const {
+        return std::lower_bound(ring_starts_.begin(), ring_starts_.end(), polygon_starts_[p]) - ring_starts_.begin();
+    }
 
     // The work of the index, for tests and benchmarks: the edges contains(x, y) examines, and the
     // entries (edge references) the index holds over all its bands.

@@ -157,16 +157,6 @@ private:
     std::map<std::string, std::shared_future<Result>> sources_;
 };
 
-// Why a tile's header disagrees with what its catalog item said ("" when it agrees or none did).
-std::string catalog_disagreement(const TileSource& source, const DatasetTile& t) {
-    if (!source.item) return {};
-    const auto& h = t.tile.header;
-    const std::array<double, 6> bounds = {h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]};
-    const std::string why = item_disagreement(*source.item, h.point_count, bounds, t.tile.crs().epsg.value_or(0));
-    return why.empty() ? why : "its header disagrees with its catalog item in " + source.item->document + " (" +
-                                   why + "): the header is used";
-}
-
 std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, TileReads& reads,
                                     std::string& error) {
     std::optional<Tile> tile = reads.read(source, error);
@@ -465,7 +455,7 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
         if (cancelled()) return;
         if (auto tile = read_one(sources[i], options.las_stride, reads, errors[i])) {
             tiles[i] = std::move(*tile);
-            disagreements[i] = catalog_disagreement(sources[i], tiles[i]);
+            if (sources[i].item) disagreements[i] = item_disagreement(*sources[i].item, tiles[i].tile);
             if (options.tile_read) options.tile_read(tiles[i]);
         }
         const std::size_t d = done.fetch_add(1) + 1;
@@ -473,7 +463,10 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     });
     if (cancelled()) throw Error::in_stage("dataset", "opening cancelled");
     for (std::size_t i = 0; i < n; ++i) {
-        if (!tiles[i].tile.file) ds.skipped.push_back({io::display_path(sources[i].path), errors[i]});
+        if (!tiles[i].tile.file) {  // a catalog's tile names its item (and the item its catalog)
+            const std::string item = sources[i].item ? " (" + item_name(*sources[i].item) + ")" : "";
+            ds.skipped.push_back({io::display_path(sources[i].path), errors[i] + item});
+        }
         if (!disagreements[i].empty()) {
             ds.warnings.add({DiagnosticLevel::warning, io::display_path(sources[i].path), std::nullopt,
                              disagreements[i]});

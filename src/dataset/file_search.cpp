@@ -15,6 +15,7 @@
 #include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
+#include "net/s3_request.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::dataset {
@@ -139,6 +140,7 @@ void expand_list(const std::string& list, FoundFiles& out) {
     for (const auto& entry : entries) expand(entry, false, found);
     out.files.insert(out.files.end(), found.files.begin(), found.files.end());
     for (auto& e : found.errors) out.errors.push_back({e.path, io::display_path(list) + ": " + e.error});
+    out.warnings.append(found.warnings);
 }
 
 // A URL: a LAS/LAZ file, or (when lists are allowed) a tile list; folders cannot be listed.
@@ -161,6 +163,9 @@ void expand_ept(const std::string& metadata, FoundFiles& out) {
 void expand_catalog(const std::string& path, FoundFiles& out) {
     Catalog catalog = read_catalog(path);
     for (auto& e : catalog.errors) out.errors.push_back({io::display_path(path), std::move(e)});
+    for (auto& w : catalog.warnings) {
+        out.warnings.add({DiagnosticLevel::warning, io::display_path(path), std::nullopt, std::move(w)});
+    }
     if (catalog.items.empty() && catalog.errors.empty()) {
         out.errors.push_back({io::display_path(path), io::display_path(path) + ": a STAC catalog without items"});
     }
@@ -181,11 +186,30 @@ void expand_s3_prefix(const std::string& prefix, FoundFiles& out) {
     }
 }
 
+// An s3 URL without a trailing slash that names no object: opened as the prefix URL + "/" when objects
+// lie under it (s3://bucket/folder whose keys start with folder/), as a local folder opens without its
+// trailing slash, with a note saying so; else the open's error is its line. False when it names an
+// object. Costs one ListObjectsV2 request of one key, and only after the open failed.
+bool expand_missing_object(const std::string& url, FoundFiles& out) {
+    try {
+        io::File::open(url);
+        return false;
+    } catch (const Error& e) {
+        if (!s3_prefix_has_objects(url + "/")) return out.errors.push_back({io::display_path(url), e.what()}), true;
+    }
+    const std::string shown = io::display_path(url);
+    out.warnings.add({DiagnosticLevel::note, shown, std::nullopt,
+                      shown + " is not an object: opened as the prefix " + shown + "/ (the objects under it)"});
+    expand_s3_prefix(url + "/", out);
+    return true;
+}
+
 void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
     if (const std::string problem = net::url_problem(p); !problem.empty()) {
         return out.errors.push_back({io::display_path(p), io::display_path(p) + ": " + problem});
     }
     if (is_s3_prefix(p)) return expand_s3_prefix(p, out);
+    if (net::is_s3_url(p) && !has_point_cloud_extension(p) && expand_missing_object(p, out)) return;
     if (is_ept_metadata(p)) return expand_ept(p, out);
     if (allow_lists && is_stac_catalog(p)) return expand_catalog(p, out);
     if (net::is_url(p)) return expand_url(p, allow_lists, out);
@@ -246,6 +270,7 @@ FoundSources find_tile_sources(const std::vector<std::string>& given) {
                 out.sources.push_back({std::move(f), std::nullopt, {}, std::move(what)});
             }
             out.errors.insert(out.errors.end(), found.errors.begin(), found.errors.end());
+            out.warnings.append(found.warnings);
             continue;
         }
         try {

@@ -3,7 +3,8 @@
 // naming one tile or folder per line), EPT datasets (ept.json / entwine.json: the LAZ nodes),
 // STAC catalogs and QGIS virtual point clouds (.vpc / .json: dataset/stac_catalog.hpp) and
 // http(s) and s3 URLs of any of these but folders; s3 prefixes ("s3://bucket/prefix/", listed:
-// dataset/s3_prefix.hpp) as folders.
+// dataset/s3_prefix.hpp) as folders, and so an s3 URL "s3://bucket/prefix" that names no object but
+// a prefix (said in a note).
 #pragma once
 
 #include <array>
@@ -29,6 +30,9 @@ struct SkippedFile {
 struct FoundFiles {
     std::vector<std::string> files;   // LAS/LAZ files, folders expanded, sorted per argument
     std::vector<SkippedFile> errors;  // one per path that does not exist / cannot be listed / holds no tile
+    // What was read anyway: a catalog item's field that could not be used (stac_catalog.hpp), an s3 URL
+    // opened as the prefix it names.
+    Diagnostics warnings;
     // What a STAC catalog says of the files it named (by file), to place them before their headers are read.
     std::map<std::string, std::shared_ptr<const CatalogItem>> items;
 };
@@ -60,7 +64,7 @@ struct TileSource {
 struct FoundSources {
     std::vector<TileSource> sources;
     std::vector<SkippedFile> errors;
-    Diagnostics warnings;  // sources left out because they name a tile named before
+    Diagnostics warnings;  // FoundFiles::warnings, and sources left out because they name a tile named before
 };
 
 // find_point_cloud_files, with virtual replica manifests (dataset/virtual_replica.hpp) among the

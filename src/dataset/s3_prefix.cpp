@@ -30,4 +30,17 @@ std::vector<std::string> s3_prefix_tiles(const std::string& prefix) {
     return tiles;
 }
 
+bool s3_prefix_has_objects(const std::string& prefix) {
+    net::S3ListLimits one;
+    one.page_size = 1;
+    one.max_pages = 1;
+    bool any = false;
+    try {
+        net::for_each_s3_object(prefix, [&any](net::S3Object&&) { return any = true, false; }, one);
+    } catch (const Error&) {
+        // more than one page (there are objects: `any` is set), or the listing failed (none known)
+    }
+    return any;
+}
+
 }  // namespace lidarscout::dataset

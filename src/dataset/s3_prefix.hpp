@@ -16,4 +16,8 @@ bool is_s3_prefix(const std::string& url);
 // prefix when the listing fails (with the S3 error code) or finds no such object.
 std::vector<std::string> s3_prefix_tiles(const std::string& prefix);
 
+// Whether any object's key starts with the key of `prefix` (one ListObjectsV2 request asking for one
+// key); false when the listing fails.
+bool s3_prefix_has_objects(const std::string& prefix);
+
 }  // namespace lidarscout::dataset

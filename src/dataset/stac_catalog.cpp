@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <deque>
 #include <filesystem>
 #include <set>
@@ -17,6 +18,7 @@
 #include "core/json_reader.hpp"
 #include "core/text.hpp"
 #include "dataset/json_file.hpp"
+#include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
 #include "net/url.hpp"
@@ -44,6 +46,11 @@ bool ends_with(const std::string& s, const std::string& end) {
 // `text` from a catalog (an id, an href, a path or URL, a type) as put in a line: cut.
 std::string shown(const std::string& text) { return display_excerpt(text); }
 
+// Where an item's lines go: those of items kept (warnings) and of items left out (errors).
+struct ItemLineSink {
+    std::vector<std::string> warnings, errors;
+};
+
 struct Walk {
     const CatalogLimits& limits;
     Catalog out;
@@ -54,6 +61,10 @@ struct Walk {
 
     void error(const std::string& document, const std::string& what) {
         out.errors.push_back(shown(io::display_path(document)) + ": " + what);
+    }
+    void take_item_lines(ItemLineSink&& lines) {
+        out.warnings.insert(out.warnings.end(), lines.warnings.begin(), lines.warnings.end());
+        out.errors.insert(out.errors.end(), lines.errors.begin(), lines.errors.end());
     }
 };
 
@@ -67,9 +78,9 @@ struct Streamed {
         std::string href;   // "" when it has none that can be followed
         std::string error;  // why it cannot be followed ("" when it can)
     };
-    std::size_t first_item = 0;            // where its items start in the catalog's
-    std::vector<std::string> item_errors;  // lines about its items
-    std::vector<Link> links;               // the links whose rel is followed somewhere, and broken ones
+    std::size_t first_item = 0;  // where its items start in the catalog's
+    ItemLineSink item_lines;     // lines about its items
+    std::vector<Link> links;     // the links whose rel is followed somewhere, and broken ones
 };
 
 // Whether `s` starts with a URI scheme ("file:", "s3:"; a Windows drive letter is not one).
@@ -138,14 +149,41 @@ const json* data_asset(const json& assets) {
     return nullptr;
 }
 
-// A line about a field read through a typed accessor: "ITEM: CAUSE"; false when it threw.
+// What could not be used of one item, each cause with what was done instead, named in one line: the item
+// kept, its causes and what was done (a warning); the item left out (no tile), its causes (an error).
+struct ItemLines {
+    std::string name;  // "item 'ID' in DOCUMENT", or "item #N in DOCUMENT" while it has no id
+    std::vector<std::pair<std::string, std::string>> causes;  // (cause, what was done instead)
+
+    void add(std::string cause, std::string instead) { causes.emplace_back(std::move(cause), std::move(instead)); }
+    std::string kept() const {  // (what was done said once after the causes it follows)
+        std::string line = name + ": ";
+        for (std::size_t k = 0; k < causes.size(); ++k) {
+            line += (k ? "; " : "") + causes[k].first;
+            if (k + 1 == causes.size() || causes[k + 1].second != causes[k].second) line += "; " + causes[k].second;
+        }
+        return line;
+    }
+    std::string left_out(const std::string& why) const {
+        std::string line = name + ": ";  // (said as a skipped item: "skipped item 'ID' in DOC: CAUSE")
+        const char* separator = "";
+        for (const auto& cause : causes) line += separator + cause.first, separator = "; ";
+        return why.empty() ? line : line + separator + why;
+    }
+};
+
+// The header is what a field that could not be used is taken from.
+constexpr const char* kHeaderInstead = "the tile's header is read instead";
+
+// Reads a field through a typed accessor; when it throws, its cause is added to `lines` (with
+// `instead`, what is done without it) and false returned.
 template <typename Read>
-bool field(const std::string& name, std::vector<std::string>& lines, Read&& read) {
+bool field(ItemLines& lines, const char* instead, Read&& read) {
     try {
         read();
         return true;
     } catch (const Error& e) {
-        lines.push_back(name + ": " + e.cause());
+        lines.add(e.cause(), instead);
         return false;
     }
 }
@@ -164,12 +202,12 @@ std::optional<std::array<double, 6>> bbox_of(const json& b) {
     return box;
 }
 
-// The item's pc:count, proj:bbox and CRS; a field of the wrong kind gets a line (the tile is read anyway).
-void read_properties(const json& props, const std::string& name, CatalogItem& item, std::vector<std::string>& lines) {
-    field(name, lines, [&] { item.count = json_optional_count(props, "pc:count"); });
+// The item's pc:count, proj:bbox and CRS; a field of the wrong kind is a cause in `lines` (the tile is read anyway).
+void read_properties(const json& props, CatalogItem& item, ItemLines& lines) {
+    field(lines, kHeaderInstead, [&] { item.count = json_optional_count(props, "pc:count"); });
     if (const json* b = json_field(props, "proj:bbox")) {
         item.bbox = bbox_of(*b);
-        if (!item.bbox) lines.push_back(name + ": proj:bbox is not 4 or 6 numbers, mins before maxes");
+        if (!item.bbox) lines.add("proj:bbox is not 4 or 6 numbers, mins before maxes", kHeaderInstead);
     }
     const json* epsg = json_field(props, "proj:epsg");
     const json* wkt = json_field(props, "proj:wkt2");
@@ -183,37 +221,42 @@ void read_properties(const json& props, const std::string& name, CatalogItem& it
     }
 }
 
-// Adds `what` to `lines`: where something is not an item, `return refuse(lines, why)`.
-std::nullopt_t refuse(std::vector<std::string>& lines, std::string what) {
-    lines.push_back(std::move(what));
+// Adds the line of an item left out to `sink`: where something is not an item, `return refuse(...)`.
+std::nullopt_t refuse(const ItemLines& lines, const std::string& why, ItemLineSink& sink) {
+    sink.errors.push_back(lines.left_out(why));
     return std::nullopt;
 }
 
-// The item `feature` (the index-th of its document), or nullopt with a line saying why it is not one.
+// The item `feature` (the index-th of its document), or nullopt; one line in `sink` when something of it
+// could not be used (a warning when it is kept, an error when it is left out).
 std::optional<CatalogItem> item_of(const json& feature, const std::string& document, std::size_t index,
-                                   std::vector<std::string>& lines) {
-    std::string name = "item #" + std::to_string(index + 1);
-    if (!feature.is_object()) return refuse(lines, name + " is not a STAC item");
+                                   ItemLineSink& sink) {
+    const std::string in = " in " + shown(io::display_path(document));
+    ItemLines lines{"item #" + std::to_string(index + 1) + in, {}};
+    if (!feature.is_object()) return refuse(lines, "not a STAC item (an object)", sink);
     CatalogItem item;
     item.document = shown(io::display_path(document));
-    field(name, lines, [&] { item.id = json_optional_string(feature, "id").value_or(""); });
-    if (!item.id.empty()) name = "item '" + shown(item.id) + "'";
+    field(lines, "the item is named by its place", [&] { item.id = json_optional_string(feature, "id").value_or(""); });
+    if (!item.id.empty()) lines.name = "item '" + shown(item.id) + "'" + in;
     std::optional<std::string> type;
-    if (!field(name, lines, [&] { type = json_optional_string(feature, "type"); })) return std::nullopt;
-    if (type != "Feature") return refuse(lines, name + " is not a STAC item (a Feature)");
+    if (!field(lines, "", [&] { type = json_optional_string(feature, "type"); })) return refuse(lines, "", sink);
+    if (type != "Feature") return refuse(lines, "not a STAC item (its type is not \"Feature\")", sink);
     const json* assets = nullptr;
-    if (!field(name, lines, [&] { assets = json_optional_object(feature, "assets"); })) return std::nullopt;
+    if (!field(lines, "", [&] { assets = json_optional_object(feature, "assets"); })) return refuse(lines, "", sink);
     const json* asset = assets ? data_asset(*assets) : nullptr;
     std::optional<std::string> href;
-    if (asset && !field(name, lines, [&] { href = json_optional_string(*asset, "href"); })) return std::nullopt;
-    if (!href) return refuse(lines, name + " has no data asset href");
+    if (asset && !field(lines, "", [&] { href = json_optional_string(*asset, "href"); })) {
+        return refuse(lines, "", sink);
+    }
+    if (!href) return refuse(lines, "no data asset with an href (the tile's path or URL)", sink);
     std::string refusal;
     const auto resolved = resolve(document, *href, refusal);
-    if (!resolved) return refuse(lines, name + ": " + refusal);
+    if (!resolved) return refuse(lines, refusal, sink);
     item.href = *resolved;
     const json* props = nullptr;
-    field(name, lines, [&] { props = json_optional_object(feature, "properties"); });
-    if (props) read_properties(*props, name, item, lines);
+    field(lines, kHeaderInstead, [&] { props = json_optional_object(feature, "properties"); });
+    if (props) read_properties(*props, item, lines);
+    if (!lines.causes.empty()) sink.warnings.push_back(lines.kept());
     return item;
 }
 
@@ -249,7 +292,7 @@ bool take_element(const std::string& key, std::size_t index, const json& element
                   Streamed& s, Walk& w) {
     if (key == "links") return take_link(element, index, s), true;
     if (at_item_limit(document, w)) return false;
-    if (auto item = item_of(element, document, index, s.item_errors)) w.out.items.push_back(std::move(*item));
+    if (auto item = item_of(element, document, index, s.item_lines)) w.out.items.push_back(std::move(*item));
     return true;
 }
 
@@ -319,13 +362,13 @@ void read_document(const std::string& document, int depth, Walk& w) {
         w.error(document, "not a STAC catalog: " + type_error);
     } else if (collection) {
         if (!features || !features->is_array()) return w.error(document, "an ItemCollection without features");
-        for (const auto& line : s.item_errors) w.error(document, line);
+        w.take_item_lines(std::move(s.item_lines));
         follow_links(s, document, depth, {"next"}, w);  // a STAC API search's further pages
     } else if (type == "Feature") {
         if (at_item_limit(document, w)) return;
-        std::vector<std::string> lines;
+        ItemLineSink lines;
         if (auto item = item_of(*doc, document, 0, lines)) w.out.items.push_back(std::move(*item));
-        for (const auto& line : lines) w.error(document, line);
+        w.take_item_lines(std::move(lines));
     } else if (type == "Catalog" || type == "Collection") {
         follow_links(s, document, depth, {"child", "item"}, w);
     } else {
@@ -359,11 +402,29 @@ Catalog read_catalog(const std::string& path, const CatalogLimits& limits) {
     return std::move(w.out);
 }
 
-std::string item_disagreement(const CatalogItem& item, std::uint64_t count, const std::array<double, 6>& bounds,
-                              int epsg) {
+std::string item_name(const CatalogItem& item) {
+    const std::string what = item.id.empty() ? shown(io::display_path(item.href)) : "'" + shown(item.id) + "'";
+    return "item " + what + " in " + item.document;
+}
+
+namespace {
+
+std::string box_text(const std::array<double, 6>& b) {
+    char text[160];
+    std::snprintf(text, sizeof text, "x %.2f .. %.2f, y %.2f .. %.2f", b[0], b[3], b[1], b[4]);
+    return text;
+}
+
+}  // namespace
+
+std::string item_disagreement(const CatalogItem& item, const Tile& tile) {
+    const auto& h = tile.header;
+    const std::uint64_t count = h.point_count;
+    const std::array<double, 6> bounds = {h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]};
+    const int epsg = tile.crs().epsg.value_or(0);
     std::vector<std::string> what;
     if (item.count && *item.count != count) {
-        what.push_back("pc:count " + std::to_string(*item.count) + ", the header " + std::to_string(count));
+        what.push_back("pc:count: catalog " + std::to_string(*item.count) + ", header " + std::to_string(count));
     }
     if (item.bbox) {
         const auto& b = *item.bbox;
@@ -372,14 +433,19 @@ std::string item_disagreement(const CatalogItem& item, std::uint64_t count, cons
         for (int k = 0; k < 6; ++k) {
             if (!std::isnan(b[k]) && std::abs(b[k] - bounds[k]) > tolerance) off = true;
         }
-        if (off) what.push_back("proj:bbox differs from the header's bounds by more than 1%");
+        if (off) {
+            what.push_back("proj:bbox: catalog " + box_text(b) + ", header " + box_text(bounds) +
+                           " (more than 1% apart)");
+        }
     }
     if (epsg != 0 && item.crs.rfind("EPSG:", 0) == 0 && item.crs != "EPSG:" + std::to_string(epsg)) {
-        what.push_back("proj:epsg " + item.crs.substr(5) + ", the header EPSG:" + std::to_string(epsg));
+        what.push_back("proj:epsg: catalog " + item.crs.substr(5) + ", header " + std::to_string(epsg));
     }
-    std::string out;
-    for (const auto& w : what) out += (out.empty() ? "" : "; ") + w;
-    return out;
+    if (what.empty()) return {};
+    std::string line = item_name(item) + " disagrees with the header of its tile";
+    if (!item.id.empty()) line += " " + shown(io::display_path(item.href));
+    for (std::size_t k = 0; k < what.size(); ++k) line += (k ? "; " : ": ") + what[k];
+    return line + (what.size() == 1 ? "; the header's value is used" : "; the header's values are used");
 }
 
 }  // namespace lidarscout::dataset

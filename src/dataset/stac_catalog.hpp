@@ -5,7 +5,7 @@
 // document that names it (a remote document's against its URL, keeping its origin: net/
 // origin_policy.hpp). What the item says of its tile -- pc:count, proj:bbox, proj:epsg /
 // proj:wkt2 / proj:projjson -- is kept (CatalogItem) so that the tile can be placed before its
-// header is read; the header wins where they disagree (dataset.hpp names it in a warning).
+// header is read; the header wins where they disagree (dataset.cpp names it in a warning).
 //
 // Bounded and honest: documents are read once each (a cycle of links costs nothing more), links
 // followed at most kMaxDepth deep, and the documents, bytes and items are bounded (CatalogLimits,
@@ -14,6 +14,9 @@
 // memory holds the items kept and one item being read, whatever the document's size; a document
 // nested too deep, or holding a string too long, is one line. A malformed item, field or link (a
 // field of the wrong kind too) gets one line naming the document and the item; the rest is read.
+// An item that is no tile (no href, not an item) is an error ("item 'ID' in DOC: CAUSE"); a
+// field of a tile's item that cannot be used (a pc:count that is a string) is a warning, its tile
+// read all the same ("item 'ID' in DOC: CAUSE; the tile's header is read instead").
 // Text from the catalog put in a line (ids, hrefs, types) is cut to a couple of hundred characters.
 #pragma once
 
@@ -24,6 +27,8 @@
 #include <vector>
 
 namespace lidarscout::dataset {
+
+struct Tile;
 
 struct CatalogItem {
     std::string href;                          // the tile: a path or URL, resolved
@@ -43,7 +48,8 @@ struct CatalogLimits {
 
 struct Catalog {
     std::vector<CatalogItem> items;   // in document order, links followed breadth-first
-    std::vector<std::string> errors;  // one line per document, item or link that could not be used
+    std::vector<std::string> errors;    // one line per document, item or link that could not be used
+    std::vector<std::string> warnings;  // one line per item kept though some of it could not be used
     std::uint64_t documents = 0;      // documents read
 };
 
@@ -54,10 +60,13 @@ bool is_stac_catalog(const std::string& path);
 // The items of the catalog at `path` and of every document it links, with what could not be used.
 Catalog read_catalog(const std::string& path, const CatalogLimits& limits = {});
 
-// Why what the item says disagrees with what the tile's header says ("" when it agrees): a count
-// or bounds (beyond 1% of the extent plus a millimetre) or EPSG code that differs. `bounds` in the
-// header's units (min x, y, z, max x, y, z); `epsg` 0 when the header has none.
-std::string item_disagreement(const CatalogItem& item, std::uint64_t count, const std::array<double, 6>& bounds,
-                              int epsg);
+// "item 'ID' in DOCUMENT" (the document as shown), or "item HREF in DOCUMENT" for an item without id.
+std::string item_name(const CatalogItem& item);
+
+// The line saying how what the item says disagrees with what the tile's header says, naming the item,
+// its catalog and tile, each value on both sides and that the header's is used ("" when they agree):
+// a count, bounds (beyond 1% of the extent plus a millimetre) or EPSG code that differs. `bounds` in the
+// header's units.
+std::string item_disagreement(const CatalogItem& item, const Tile& tile);
 
 }  // namespace lidarscout::dataset

@@ -128,7 +128,6 @@ std::vector<Point3> points_inside(const MultiPolygon& shape, std::span<const Poi
     for (const auto& p : points) {
         if (shape.contains(p[0], p[1])) out.push_back(p);
     }
-    if (out.empty()) throw Error::in_stage("measure", "no point lies inside the polygon");
     return out;
 }
 
@@ -146,7 +145,10 @@ AreaVolume measure_area_volume(std::span<const Point3> polygon, std::span<const 
     if (options.base_height) std::snprintf(base, sizeof base, "height %.2f m", *options.base_height);
     else std::snprintf(base, sizeof base, "plane through the %zu vertices", polygon.size());
     out.base = base;
-    const std::vector<Point3> inside = points_inside(shape, points);
+    std::vector<Point3> tested;  // (points chosen by the caller are used where they are)
+    if (!options.points_inside) tested = points_inside(shape, points);
+    const std::span<const Point3> inside = options.points_inside ? points : std::span<const Point3>(tested);
+    if (inside.empty()) throw Error::in_stage("measure", "no point lies inside the polygon");
     out.points = inside.size();
     const double spacing = std::sqrt(out.horizontal_area_m2 / static_cast<double>(out.points));
     out.cell_m = options.cell_m > 0 ? options.cell_m : std::max(0.01, 2 * spacing);
@@ -155,9 +157,9 @@ AreaVolume measure_area_volume(std::span<const Point3> polygon, std::span<const 
         out.cell_m = std::max(out.cell_m, std::sqrt(box / kMaxCells) * 1.01);
     }
     Grid g = make_grid(polygon, shape, out.cell_m);
-    for (const auto& p : inside) {  // on the polygon's far edge a point may fall just past the last cell
-        const double fi = std::min(std::floor((p[0] - g.x0) / g.cell), g.nx - 1.0);
-        const double fj = std::min(std::floor((p[1] - g.y0) / g.cell), g.ny - 1.0);
+    for (const auto& p : inside) {  // on the polygon's edges a point may fall just past the first or last cell
+        const double fi = std::clamp(std::floor((p[0] - g.x0) / g.cell), 0.0, g.nx - 1.0);
+        const double fj = std::clamp(std::floor((p[1] - g.y0) / g.cell), 0.0, g.ny - 1.0);
         g.stats[g.at(static_cast<int>(fi), static_cast<int>(fj))].add(p[2], {});
     }
     for (std::size_t k = 0; k < g.stats.size(); ++k) g.height[k] = g.stats[k].height(TexelStatistic::Mean);

@@ -21,6 +21,9 @@ using Point3 = std::array<double, 3>;  // x, y, z in metres
 struct AreaVolumeOptions {
     double cell_m = 0;  // grid cell side; 0: twice the points' mean spacing inside (coarser past 4 million cells)
     std::optional<double> base_height;  // a horizontal base; unset: the plane through the vertices
+    // The points are those inside the polygon already, chosen by the caller's point test (the viewer's
+    // area tool: clip's, in the dataset CRS's units), and are not tested again here.
+    bool points_inside = false;
 };
 
 struct AreaVolume {

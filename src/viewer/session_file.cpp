@@ -2,7 +2,10 @@
 // writing them (fields this version does not know written back compact).
 #include "viewer/session_file.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <set>
 
@@ -30,26 +33,75 @@ json filter_json(const PointFilter& f) {
                               : std::to_string(f.intensity_min) + "-" + std::to_string(f.intensity_max)}};
 }
 
-// `n` finite numbers of the array `key` of `object` (`shape` names it in the error, "[x, y, z]").
+// "1e+08": a number in a line.
+std::string number_text(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
+// `value` (of `what`), refused outside [low, high] naming the range and its `unit`.
+double within(double value, const std::string& what, double low, double high, const char* unit) {
+    if (value >= low && value <= high) return value;
+    throw Error(what + " is " + number_text(value) + ", outside the range " + number_text(low) + " to " +
+                number_text(high) + " " + unit);
+}
+
+// `n` finite numbers of the array `key` of `object` (`shape` names it in the error, "[x, y, z]"), each
+// within +-session_range::kCoordinate (`unit` names them).
 template <std::size_t n>
-std::array<double, n> numbers(const json& object, const char* key, const char* shape) {
+std::array<double, n> numbers(const json& object, const char* key, const char* shape, const char* unit) {
     const json& a = json_array(object, key);
     if (a.size() != n) throw Error("\"" + std::string(key) + "\" is not " + shape);
     std::array<double, n> out{};
-    for (std::size_t k = 0; k < n; ++k) out[k] = json_finite(a[k], "a number of \"" + std::string(key) + "\"");
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::string what = "a number of \"" + std::string(key) + "\"";
+        out[k] = within(json_finite(a[k], what), what, -session_range::kCoordinate, session_range::kCoordinate, unit);
+    }
     return out;
 }
 
-std::array<double, 3> xyz(const json& object, const char* key) { return numbers<3>(object, key, "[x, y, z]"); }
+std::array<double, 3> xyz(const json& object, const char* key) {
+    return numbers<3>(object, key, "[x, y, z]", "(world metres)");
+}
 
-CameraPose camera_from(const json& j) {
+// The camera's pose: a number out of range refused, but a yaw wrapped and a pitch from -90 to 90
+// clamped to the camera's range, each with a note in `notes` naming `path`.
+CameraPose camera_from(const json& j, const std::string& path, Diagnostics& notes) {
+    const auto note = [&](const std::string& what) {
+        notes.add({DiagnosticLevel::note, path, std::nullopt, path + ": camera: " + what});
+    };
+    namespace r = session_range;
     CameraPose c;
     c.target = xyz(j, "target");
-    c.distance = json_number(j, "distance");
-    c.yaw_deg = json_number(j, "yaw_deg");
-    c.pitch_deg = json_number(j, "pitch_deg");
-    c.fov_deg = json_optional_number(j, "fov_deg").value_or(60.0);
+    c.distance = within(json_number(j, "distance"), "\"distance\"", r::kMinDistance, r::kMaxDistance, "(metres)");
+    const double yaw = json_number(j, "yaw_deg");
+    c.yaw_deg = wrapped_degrees(yaw);
+    if (c.yaw_deg != yaw) {
+        note("\"yaw_deg\" " + number_text(yaw) + " is read as " + number_text(c.yaw_deg) +
+             " (the same heading, from -180 to 180)");
+    }
+    const double pitch = within(json_number(j, "pitch_deg"), "\"pitch_deg\"", -90, 90, "(degrees)");
+    c.pitch_deg = std::clamp(pitch, r::kMinPitch, r::kMaxPitch);
+    if (c.pitch_deg != pitch) {
+        note("\"pitch_deg\" " + number_text(pitch) + " is read as " + number_text(c.pitch_deg) +
+             " (the camera's range is " + number_text(r::kMinPitch) + " to " + number_text(r::kMaxPitch) + " degrees)");
+    }
+    c.fov_deg = within(json_optional_number(j, "fov_deg").value_or(60.0), "\"fov_deg\"", r::kMinFov, r::kMaxFov,
+                       "(degrees)");
     return c;
+}
+
+// A profile's corridor: its ends within range and apart, its width within range.
+SavedProfile profile_from(const json& p) {
+    const SavedProfile out{numbers<4>(p, "line", "[x0, y0, x1, y1]", "(CRS units)"),
+                           json_optional_number(p, "width").value_or(2.0)};
+    if (!(out.width > 0)) throw Error("a profile's width is not positive");
+    within(out.width, "\"width\"", 0, session_range::kMaxProfileWidth, "(CRS units, more than 0)");
+    if (out.line[0] == out.line[2] && out.line[1] == out.line[3]) {
+        throw Error("the two ends of \"line\" are the same point");
+    }
+    return out;
 }
 
 // Reads each element of the array `key` (when there is one) with `read`; an error names the array.
@@ -83,7 +135,7 @@ int session_version(const json& j) {
                 std::to_string(kSessionVersion) + ")");
 }
 
-void read_fields(const json& j, SessionFile& s) {
+void read_fields(const json& j, SessionFile& s, const std::string& path) {
     s.version = session_version(j);
     each(j, "paths", [&](const json& p) {
         if (!p.is_string()) throw Error("is " + json_kind(p) + ", not a string");
@@ -92,7 +144,7 @@ void read_fields(const json& j, SessionFile& s) {
     s.crs = json_optional_string(j, "crs").value_or("");
     if (const json* camera = json_optional_object(j, "camera")) {
         try {
-            s.camera = camera_from(*camera);
+            s.camera = camera_from(*camera, path, s.notes);
         } catch (const Error& e) {
             throw Error("camera: " + e.cause());
         }
@@ -106,11 +158,7 @@ void read_fields(const json& j, SessionFile& s) {
     if (!s.colour.empty()) render::parse_colour_mode(s.colour);  // refused here, not when applied
     each(j, "measurements", [&](const json& m) { s.measurements.push_back({xyz(m, "from"), xyz(m, "to")}); });
     each(j, "annotations", [&](const json& a) { s.annotations.push_back({xyz(a, "at"), json_string(a, "text")}); });
-    each(j, "profiles", [&](const json& p) {
-        s.profiles.push_back(
-            {numbers<4>(p, "line", "[x0, y0, x1, y1]"), json_optional_number(p, "width").value_or(2.0)});
-        if (!(s.profiles.back().width > 0)) throw Error("a profile's width is not positive");
-    });
+    each(j, "profiles", [&](const json& p) { s.profiles.push_back(profile_from(p)); });
 }
 
 // A known field's value as written: indented for a person, under its key's indentation.
@@ -123,6 +171,11 @@ std::string indented(const json& value) {
 
 }  // namespace
 
+double wrapped_degrees(double degrees) {
+    const double d = std::fmod(degrees + 180.0, 360.0);  // (exact)
+    return (d < 0 ? d + 360.0 : d) - 180.0;
+}
+
 json session_json(const SessionFile& s) {
     json j = s.unknown;
     j["kind"] = kKind;
@@ -130,7 +183,8 @@ json session_json(const SessionFile& s) {
     j["paths"] = s.paths;
     j["crs"] = s.crs;
     if (s.camera) {
-        j["camera"] = {{"target", s.camera->target}, {"distance", s.camera->distance}, {"yaw_deg", s.camera->yaw_deg},
+        j["camera"] = {{"target", s.camera->target}, {"distance", s.camera->distance},
+                       {"yaw_deg", wrapped_degrees(s.camera->yaw_deg)},
                        {"pitch_deg", s.camera->pitch_deg}, {"fov_deg", s.camera->fov_deg}};
     }
     j["filter"] = filter_json(s.filter);
@@ -164,7 +218,7 @@ SessionFile session_from_json(const json& j, const std::string& path) {
     }
     SessionFile s;
     try {
-        read_fields(j, s);
+        read_fields(j, s, path);
     } catch (const Error& e) {
         if (!e.file().empty()) throw;
         throw e.with_file(path);  // the field's or the filter's message, with the file

@@ -5,7 +5,8 @@
 // --crs written in that CRS, with a note; a tile named by three catalog items and twice as an argument
 // clipped once, with one warning (which scan shows too); LAS 1.5 and wave packet files clipped to LAZ read
 // back by `info` as such; waveform data refused on one line naming the file, nothing written, and with
-// --force written with a note.
+// --force written with a note; a bow tie given as WKT or GeoJSON is clipped by the even-odd rule with one
+// warning naming it and its crossing (issue 53), a square without one.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -61,6 +62,30 @@ TEST_F(ClipCommand, JsonCountsAndTheOutputReadsBack) {
     EXPECT_NE(out.find("EPSG:3089"), std::string::npos) << out;
     EXPECT_NE(out.find(std::to_string(written).insert(std::to_string(written).size() - 3, ",")), std::string::npos)
         << out;
+}
+
+TEST_F(ClipCommand, ABowTieIsClippedWithOneWarningNamingItsCrossing) {
+    // Over the Woodford tile (US survey feet): crossing at (5208700, 3904000).
+    const std::string bow = "POLYGON ((5208400 3903700, 5209000 3904300, 5209000 3903700, 5208400 3904300))";
+    std::ofstream(path("bow.geojson")) << R"({"type": "Polygon", "coordinates": [[[5208400, 3903700], )"
+                                          R"([5209000, 3904300], [5209000, 3903700], [5208400, 3904300]]]})";
+    const std::string rule = " (outer ring edge 1 and outer ring edge 3); a point is inside where the rings enclose it "
+                             "an odd number of times (even-odd rule), which may not be the area meant\n";
+    for (const std::string& given : {"'" + bow + "'", path("bow.geojson")}) {
+        std::string out;
+        ASSERT_EQ(test::run_command(cli() + "clip " + woodford() + " --polygon " + given + " -o " + path("bow.laz") +
+                                        " 2>&1", out), 0) << out;
+        const std::string name = given == path("bow.geojson") ? given : "the --polygon WKT";
+        EXPECT_EQ(out.find("lidarscout: warning: " + name +
+                           ": the polygon's edges cross at (5208700.000, 3904000.000)" + rule),
+                  0u) << out;
+        EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << "the warning and the result line\n" << out;
+    }
+    std::string out;
+    ASSERT_EQ(test::run_command(cli() + "clip " + woodford() + " --polygon 'POLYGON ((5208400 3903700, 5209000 "
+                                        "3903700, 5209000 3904300, 5208400 3904300))' -o " + path("sq.laz") + " 2>&1",
+                                out), 0) << out;
+    EXPECT_EQ(out.find("warning"), std::string::npos) << out;
 }
 
 TEST_F(ClipCommand, CorruptChunkIsNamedAndSkipped) {

@@ -3,6 +3,8 @@
 // Raleigh: US survey feet).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +109,32 @@ TEST(ScanCommand, NothingReadableIsAnError) {
     const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " scan /nonexistent 2>&1", out);
     EXPECT_EQ(status, 1);
     EXPECT_NE(out.find("/nonexistent"), std::string::npos);
+}
+
+// A catalog item whose pc:count is "lots" (issue 53): its tile is read, the summary skips none, and one
+// warning line names the item and its catalog.
+TEST(ScanCommand, ACatalogItemWithABadCountIsReadNotSkipped) {
+    const auto dir = std::filesystem::temp_directory_path() / ("lidarscout_scan_lots_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const auto strip = [](const char* name) { return (test::surveys_dir() / "lasr-bcts-strips" / name).string(); };
+    const nlohmann::json vpc = {
+        {"type", "FeatureCollection"},
+        {"features", {{{"type", "Feature"}, {"id", "b1"}, {"properties", {{"pc:count", "lots"}}},
+                       {"assets", {{"data", {{"href", strip("bcts_1.laz")}}}}}},
+                      {{"type", "Feature"}, {"id", "b2"}, {"properties", nlohmann::json::object()},
+                       {"assets", {{"data", {{"href", strip("bcts_2.laz")}}}}}}}}};
+    const std::string path = (dir / "lots.vpc").string();
+    std::ofstream(path) << vpc.dump();
+    std::string out;
+    const int status = test::run_command(std::string(LIDARSCOUT_CLI) + " scan " + path + " 2>&1", out);
+    std::filesystem::remove_all(dir);
+    EXPECT_EQ(status, 0) << out;
+    EXPECT_NE(out.find("tiles:         2 read, 0 skipped, "), std::string::npos) << out;
+    const std::string line = "lidarscout: warning: item 'b1' in " + path +
+                             ": \"pc:count\" is a string, not a count (a whole number, 0 or more); the tile's "
+                             "header is read instead\n";
+    EXPECT_NE(out.find(line), std::string::npos) << out;
+    EXPECT_EQ(std::count(out.begin(), out.end(), '\n') - 5, 1) << "one line besides the summary's five:\n" << out;
 }
 
 // scan --json without the timing fields.
@@ -222,6 +250,39 @@ TEST(ScanCommand, S3PrefixGivesTheSameResultAsLocalFoldersAndNeverShowsTheSecret
     EXPECT_NE(status, 0);
     EXPECT_NE(out.find("SignatureDoesNotMatch"), std::string::npos) << out;
     EXPECT_EQ(out.find("wrong-cli-secret-91"), std::string::npos) << out;
+}
+
+// `scan s3://tiles/bcts` (no trailing slash) where bcts/ holds the BCTS strips (issue 53): scanned as the
+// prefix, like a local folder, with a note saying so; a key that is neither object nor prefix is the
+// S3 error alone (NoSuchKey, bucket and key).
+TEST(ScanCommand, AnS3PrefixWithoutItsSlashIsScannedAsThePrefix) {
+    auto& server = test::S3Server::instance();
+    const auto strips = test::surveys_dir() / "lasr-bcts-strips";
+    for (const auto& f : dataset::find_point_cloud_files({strips.string()}).files) {
+        server.put_file("tiles", "bcts/" + std::filesystem::path(f).filename().string(), f);
+    }
+    const std::string aws = "AWS_SHARED_CREDENTIALS_FILE=/dev/null AWS_ENDPOINT_URL=" + server.endpoint() +
+                            " AWS_ACCESS_KEY_ID=" + test::S3Server::kKey + " AWS_SECRET_ACCESS_KEY=" +
+                            test::S3Server::kSecret + " ";
+    int status = -1;
+    const auto local = scan_json(strips.string(), status);
+    ASSERT_EQ(status, 0);
+    auto remote = scan_json("s3://tiles/bcts --cache-size 0", status, aws);
+    EXPECT_EQ(status, 0);
+    ASSERT_EQ(remote.at("diagnostics").size(), 1u) << remote.dump(1);
+    EXPECT_EQ(remote.at("diagnostics")[0].at("level"), "note");
+    EXPECT_EQ(remote.at("diagnostics")[0].at("message"),
+              "s3://tiles/bcts is not an object: opened as the prefix s3://tiles/bcts/ (the objects under it)");
+    for (const char* key : {"diagnostics", "warnings"}) remote.erase(key);
+    auto plain = without_timings(local);
+    for (const char* key : {"diagnostics", "warnings"}) plain.erase(key);
+    EXPECT_EQ(without_timings(remote).dump(2), plain.dump(2));
+    std::string out;
+    status = test::run_command(aws + LIDARSCOUT_CLI + " scan --cache-size 0 s3://tiles/bctz 2>&1", out);
+    EXPECT_EQ(status, 1) << out;
+    EXPECT_NE(out.find("NoSuchKey"), std::string::npos) << out;
+    EXPECT_NE(out.find("bucket \"tiles\", key \"bctz\""), std::string::npos) << out;
+    EXPECT_EQ(out.find("prefix"), std::string::npos) << out;
 }
 
 // --requester-pays (and AWS_REQUEST_PAYER=requester) put x-amz-request-payer on every request of

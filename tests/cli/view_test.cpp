@@ -176,7 +176,7 @@ TEST_F(ViewCommand, ScriptedClicksPickPointsAndMeasureBetweenThem) {
 }
 
 // The area tool scripted: four clicks on an IGN tile seen from above make a polygon, measured on
-// the points held; its horizontal area is the shoelace area of the four points printed.
+// the points clip would write; its horizontal area is the shoelace area of the four points printed.
 TEST_F(ViewCommand, ScriptedAreaMeasuresThePolygonClicked) {
     ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
     const fs::path in = ign_from_above("area.lidarscout.json");
@@ -243,7 +243,7 @@ TEST_F(ViewCommand, ScriptedProfileIsWhatTheProfileCommandWrites) {
 }
 
 // The area tool's polygon clipped (--clip-out): the LAZ is the file `lidarscout clip --polygon`
-// writes for the polygon the viewer prints, byte for byte.
+// writes for the polygon the viewer prints, byte for byte, and the area tool counts its points.
 TEST_F(ViewCommand, ScriptedClipOutIsWhatTheClipCommandWrites) {
     ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
     const fs::path in = ign_from_above("clip.lidarscout.json"), viewed = dir_ / "viewed.laz";
@@ -258,6 +258,10 @@ TEST_F(ViewCommand, ScriptedClipOutIsWhatTheClipCommandWrites) {
     const std::string wkt = out.substr(at + 14, out.find('\n', at) - at - 14);
     const long long n = points_written(out, "clip", viewed);
     EXPECT_GT(n, 1000) << out;
+    const auto area = out.find("area: area "), counted = out.find(" points in ", area);
+    ASSERT_NE(counted, std::string::npos) << out;
+    const auto from = out.rfind("; ", counted) + 2;
+    EXPECT_EQ(std::stoll(out.substr(from, counted - from)), n) << "the area tool counts what clip writes\n" << out;
     std::string cli;
     ASSERT_EQ(test::run_command(cli_program() + " clip " + tile + " --polygon '" + wkt + "' -o " + expected.string() +
                                 " --json 2>&1", cli), 0) << cli;
@@ -382,6 +386,26 @@ TEST_F(ViewCommand, EveryFormatsFileOpensOrIsSkipped) {
         ASSERT_TRUE(j.at("dataset_open_s").is_number()) << j.dump();
         EXPECT_GE(j.at("tiles").get<std::size_t>(), 1u) << j.dump();
     }
+}
+
+// A session whose numbers are out of range is one line naming the file, the field and the range,
+// before a window opens (issue 53: a camera distance of 1e300 opened an empty view); a yaw past a
+// turn is read wrapped, with a note.
+TEST_F(ViewCommand, ASessionOutOfRangeIsOneLineBeforeAWindow) {
+    nlohmann::json s = nlohmann::json::parse(std::ifstream(ign_from_above("far.lidarscout.json")));
+    s["camera"]["distance"] = 1e300;
+    std::ofstream(dir_ / "far.lidarscout.json") << s.dump();
+    std::string out;
+    const std::string far = (dir_ / "far.lidarscout.json").string();
+    EXPECT_EQ(test::run_command("DISPLAY= " + cli_program() + " view --session " + far + " 2>&1", out), 1);
+    EXPECT_EQ(out, "lidarscout: " + far + ": camera: \"distance\" is 1e+300, outside the range 1 to 5e+06 "
+                   "(metres)\n");
+    s["camera"]["distance"] = 300;
+    s["camera"]["yaw_deg"] = 725;
+    std::ofstream(dir_ / "far.lidarscout.json") << s.dump();
+    EXPECT_EQ(test::run_command("DISPLAY= " + cli_program() + " view --session " + far + " 2>&1", out), 1);
+    EXPECT_NE(out.find("lidarscout: note: " + far + ": camera: \"yaw_deg\" 725 is read as 5 (the same heading, "
+                       "from -180 to 180)\n"), std::string::npos) << out;
 }
 
 // A model file that is not a TorchScript model is named before a window opens (no display

@@ -71,6 +71,31 @@ TEST_F(S3Prefix, TheFileSearchExpandsAPrefixLikeAFolder) {
         << none.errors[0].error;
 }
 
+// `s3://bucket/folder` (no trailing slash) where no object has that key but keys lie under folder/:
+// opened as that prefix, as a local folder opens without its slash, with one note saying so, for one
+// listing request of one key more; a key with neither says the open's error (NoSuchKey) alone.
+TEST_F(S3Prefix, AUrlNamingAPrefixWithoutItsSlashOpensAsThePrefixWithANote) {
+    const auto before = net::HttpClient::shared().stats().requests;
+    const FoundFiles found = find_point_cloud_files({"s3://many/tiles"});
+    const auto requests = net::HttpClient::shared().stats().requests - before;
+    EXPECT_EQ(found.files.size(), static_cast<std::size_t>(kKeys));
+    EXPECT_TRUE(found.errors.empty());
+    ASSERT_EQ(found.warnings.size(), 1u);
+    EXPECT_EQ(found.warnings[0].level, DiagnosticLevel::note);
+    EXPECT_EQ(found.warnings[0].message,
+              "s3://many/tiles is not an object: opened as the prefix s3://many/tiles/ (the objects under it)");
+    EXPECT_EQ(requests, 4u) << "the object asked for, one key listed, the prefix's two pages";
+    // "tile" is the start of keys ("tiles/..."), but no key lies under "tile/": no prefix to open.
+    const FoundFiles none = find_point_cloud_files({"s3://many/tile"});
+    EXPECT_TRUE(none.files.empty());
+    EXPECT_TRUE(none.warnings.empty());
+    ASSERT_EQ(none.errors.size(), 1u);
+    EXPECT_NE(none.errors[0].error.find("NoSuchKey"), std::string::npos) << none.errors[0].error;
+    EXPECT_NE(none.errors[0].error.find("bucket \"many\", key \"tile\""), std::string::npos) << none.errors[0].error;
+    EXPECT_TRUE(s3_prefix_has_objects("s3://many/tiles/"));
+    EXPECT_FALSE(s3_prefix_has_objects("s3://many/tile/"));
+}
+
 TEST_F(S3Prefix, AListingRefusedNamesBucketPrefixAndCode) {
     net::set_s3_config(server.config("not-the-secret-77"));
     try {

@@ -3,6 +3,10 @@
 // links followed once each, what items say kept to place tiles, malformed parts named in a line
 // each while the rest is read; a remote catalog's hrefs keep its origin. Opened as a dataset, a
 // catalog gives the tiles its folder gives, and a header that disagrees with its item is named.
+// What a new user meets (issue 53), on the BCTS strips: a count that lies is one warning naming the
+// item, its catalog and tile, both counts and that the header's is used; a pc:count "lots" is one
+// warning and its tile is read (not skipped); an item without an href, and one whose href names no
+// file, are each one skipped line naming the item and its catalog.
 #include "dataset/stac_catalog.hpp"
 
 #include <gtest/gtest.h>
@@ -97,16 +101,18 @@ TEST_F(StacCatalog, MalformedPartsAreNamedAndTheRestRead) {
     ASSERT_EQ(c.items.size(), 2u) << "an item with a bad field is still a tile; one without an asset is not";
     EXPECT_EQ(c.items[0].id, "neg");
     EXPECT_FALSE(c.items[0].count);
-    ASSERT_EQ(c.errors.size(), 4u);
-    const auto has = [&](const std::string& what) {
-        return std::any_of(c.errors.begin(), c.errors.end(), [&](const std::string& e) {
-            return e.find(what) != std::string::npos && e.find("bad.vpc") != std::string::npos;
+    ASSERT_EQ(c.errors.size(), 2u) << "the items left out";
+    ASSERT_EQ(c.warnings.size(), 1u) << "one line for the item kept, whatever of it could not be used";
+    const auto has = [&](const std::vector<std::string>& lines, const std::string& what) {
+        return std::count_if(lines.begin(), lines.end(), [&](const std::string& e) {
+            return e.find(what) != std::string::npos;
         });
     };
-    EXPECT_TRUE(has("item 'neg': \"pc:count\" is -5, not a count"));
-    EXPECT_TRUE(has("item 'neg': proj:bbox"));
-    EXPECT_TRUE(has("item 'bare' has no data asset"));
-    EXPECT_TRUE(has("item #4 is not a STAC item"));
+    EXPECT_EQ(c.warnings[0], "item 'neg' in " + vpc + ": \"pc:count\" is -5, not a count (a whole number, 0 or "
+                             "more); proj:bbox is not 4 or 6 numbers, mins before maxes; the tile's header is read "
+                             "instead");
+    EXPECT_EQ(has(c.errors, "item 'bare' in " + vpc + ": no data asset with an href"), 1);
+    EXPECT_EQ(has(c.errors, "item #4 in " + vpc + ": not a STAC item"), 1);
     const Catalog other = read_catalog(write("other.json", {{"type", "Topology"}}));
     ASSERT_EQ(other.errors.size(), 1u);
     EXPECT_NE(other.errors[0].find("not a STAC catalog"), std::string::npos);
@@ -193,20 +199,23 @@ TEST_F(StacCatalog, AFieldOfTheWrongKindIsItsItemsLineAndTheGoodItemsAreKept) {
     for (const auto& i : c.items) ids.push_back(i.id);
     EXPECT_EQ(ids, (std::vector<std::string>{"", "p5", "c5", "ok2"})) << "a field that only describes the tile "
                                                                             "gets a line; the tile is kept";
-    const auto has = [&](const std::string& what) {
-        return std::count_if(c.errors.begin(), c.errors.end(),
+    const auto has = [&](const std::vector<std::string>& lines, const std::string& what) {
+        return std::count_if(lines.begin(), lines.end(),
                              [&](const std::string& e) { return e.find(what) != std::string::npos; });
     };
-    EXPECT_EQ(has("item 't5': \"type\" is a number, not a string"), 1);
-    EXPECT_EQ(has("item #2: \"id\" is a number, not a string"), 1);
-    EXPECT_EQ(has("item 'h5': \"href\" is a number, not a string"), 1);
-    EXPECT_EQ(has("item 'a5': \"assets\" is a number, not an object"), 1);
-    EXPECT_EQ(has("item 'p5': \"properties\" is a number, not an object"), 1);
-    EXPECT_EQ(has("item 'c5': \"pc:count\" is a string, not a count"), 1);
-    EXPECT_EQ(has("item #8 is not a STAC item"), 1);
-    EXPECT_EQ(has("link #1: \"rel\" is a number, not a string"), 1);
-    EXPECT_EQ(has("a 'next' link without an href"), 1);
-    EXPECT_EQ(c.errors.size(), 9u);
+    const std::string in = " in " + vpc + ": ";
+    EXPECT_EQ(has(c.errors, "item 't5'" + in + "\"type\" is a number, not a string"), 1);
+    EXPECT_EQ(has(c.warnings, "item #2" + in + "\"id\" is a number, not a string; the item is named by its place"), 1);
+    EXPECT_EQ(has(c.errors, "item 'h5'" + in + "\"href\" is a number, not a string"), 1);
+    EXPECT_EQ(has(c.errors, "item 'a5'" + in + "\"assets\" is a number, not an object"), 1);
+    EXPECT_EQ(has(c.warnings, "item 'p5'" + in + "\"properties\" is a number, not an object; the tile's header"), 1);
+    EXPECT_EQ(has(c.warnings, "item 'c5'" + in + "\"pc:count\" is a string, not a count (a whole number, 0 or "
+                              "more); the tile's header is read instead"), 1);
+    EXPECT_EQ(has(c.errors, "item #8" + in + "not a STAC item"), 1);
+    EXPECT_EQ(has(c.errors, "link #1: \"rel\" is a number, not a string"), 1);
+    EXPECT_EQ(has(c.errors, "a 'next' link without an href"), 1);
+    EXPECT_EQ(c.errors.size(), 6u) << "the items left out and the broken links";
+    EXPECT_EQ(c.warnings.size(), 3u) << "the items kept, each in one line";
     // A Catalog's links, and a document's type, of the wrong kind.
     write("cat.json", {{"type", "Catalog"},
                        {"links", {{{"rel", 5}}, {{"rel", "child"}, {"href", "sub.vpc"}}, {{"rel", "item"}}}}});
@@ -228,10 +237,11 @@ TEST_F(StacCatalog, LongIdsAndHrefsAreCutInItsLines) {
                                          item("ok", "ok.laz")}));
     const Catalog c = read_catalog(vpc);
     ASSERT_EQ(c.items.size(), 2u);
-    ASSERT_EQ(c.errors.size(), 2u);
-    for (const auto& e : c.errors) EXPECT_LT(e.size(), 700u) << e.substr(0, 300);
-    EXPECT_NE(c.errors[0].find("... (600000 bytes)"), std::string::npos) << "the length is named";
-    EXPECT_NE(c.errors[1].find("... (600003 bytes)\" is neither a path"), std::string::npos);
+    ASSERT_EQ(c.errors.size(), 1u);
+    ASSERT_EQ(c.warnings.size(), 1u);
+    for (const auto& e : {c.errors[0], c.warnings[0]}) EXPECT_LT(e.size(), 700u) << e.substr(0, 300);
+    EXPECT_NE(c.warnings[0].find("... (600000 bytes)"), std::string::npos) << "the length is named";
+    EXPECT_NE(c.errors[0].find("... (600003 bytes)\" is neither a path"), std::string::npos);
     // A string past the reader's limit (a 200 MB id, here 3 MiB): the document's one line, never the text.
     std::ofstream(dir / "huge.vpc") << collection_of({item(std::string(3u << 20, 'x'), "a.laz")}).dump();
     const Catalog huge = read_catalog((dir / "huge.vpc").string());
@@ -333,9 +343,12 @@ TEST_F(StacCatalog, OpenedAsADatasetItGivesTheFolderTilesAndNamesADisagreement) 
     EXPECT_DOUBLE_EQ(placed[1].max_x, 10.0) << "the wrong item's box, until its header came";
     std::vector<std::string> lines;
     for (const auto& w : ds.warnings) lines.push_back(w.file + ": " + w.message);
-    const auto named = std::count_if(lines.begin(), lines.end(), [](const std::string& l) {
-        return l.find(kBridgeEast) != std::string::npos && l.find("pc:count 12") != std::string::npos &&
-               l.find("disagrees with its catalog item") != std::string::npos;
+    const std::string east = (ign / kBridgeEast).string();
+    const auto named = std::count_if(lines.begin(), lines.end(), [&](const std::string& l) {
+        return l.find("item 'e' in " + vpc + " disagrees with the header of its tile " + east +
+                      ": pc:count: catalog 12, header ") != std::string::npos &&
+               l.find("; proj:bbox: catalog x 0.00 .. 10.00, y 0.00 .. 10.00, header x ") != std::string::npos &&
+               l.ends_with("; the header's values are used");
     });
     EXPECT_EQ(named, 1) << "the east tile's item is wrong, and only it";
     EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
@@ -348,6 +361,64 @@ TEST_F(StacCatalog, OpenedAsADatasetItGivesTheFolderTilesAndNamesADisagreement) 
     const auto inputs = local_inputs({vpc});
     EXPECT_NE(std::find(inputs.begin(), inputs.end(), (ign / kBridgeEast).string()), inputs.end())
         << "a catalog's local tiles are inputs no output may overwrite";
+}
+
+const fs::path kBcts = "surveys/lasr-bcts-strips";
+constexpr std::uint64_t kBcts1Points = 531'662;  // bcts_1.laz's header
+
+std::string bcts(const char* name) { return (test::data_dir() / kBcts / name).string(); }
+
+TEST_F(StacCatalog, ACountThatLiesNamesTheItemItsCatalogAndBothCounts) {
+    const std::string vpc =
+        write("liecount.vpc", collection_of({item("b1", bcts("bcts_1.laz"), {{"pc:count", 1000}})}));
+    const auto ds = open_dataset({vpc});
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    EXPECT_TRUE(ds.skipped.empty());
+    EXPECT_EQ(ds.point_count, kBcts1Points) << "the header's count is used";
+    ASSERT_EQ(ds.warnings.size(), 1u);
+    EXPECT_EQ(ds.warnings[0].message, "item 'b1' in " + vpc + " disagrees with the header of its tile " +
+                                          bcts("bcts_1.laz") + ": pc:count: catalog 1000, header 531662; the "
+                                          "header's value is used");
+    // An item without an id is named by its tile.
+    json no_id = item("", bcts("bcts_1.laz"), {{"pc:count", 1000}});
+    no_id.erase("id");
+    const std::string anonymous = write("anonymous.vpc", collection_of({no_id}));
+    const auto again = open_dataset({anonymous});
+    ASSERT_EQ(again.warnings.size(), 1u);
+    EXPECT_EQ(again.warnings[0].message, "item " + bcts("bcts_1.laz") + " in " + anonymous +
+                                             " disagrees with the header of its tile: pc:count: catalog 1000, "
+                                             "header 531662; the header's value is used");
+}
+
+TEST_F(StacCatalog, ACountOfTheWrongKindIsOneWarningAndItsTileIsRead) {
+    const std::string vpc = write("lots.vpc", collection_of({item("b1", bcts("bcts_1.laz"), {{"pc:count", "lots"}}),
+                                                             item("b2", bcts("bcts_2.laz"))}));
+    const auto ds = open_dataset({vpc});
+    EXPECT_EQ(ds.tiles.size(), 2u);
+    EXPECT_TRUE(ds.skipped.empty()) << ds.skipped.front().error;
+    ASSERT_EQ(ds.warnings.size(), 1u);
+    EXPECT_EQ(ds.warnings[0].message, "item 'b1' in " + vpc + ": \"pc:count\" is a string, not a count (a whole "
+                                      "number, 0 or more); the tile's header is read instead");
+    EXPECT_EQ(ds.warnings[0].file, vpc);
+}
+
+TEST_F(StacCatalog, AMissingHrefNamesTheItemAndItsCatalog) {
+    json no_href = item("b3", "x");
+    no_href["assets"]["data"].erase("href");
+    json no_href_nor_id = no_href;
+    no_href_nor_id.erase("id");
+    const std::string vpc = write("missing.vpc", collection_of({item("b1", bcts("bcts_1.laz")), no_href,
+                                                                item("b4", "tiles/gone.laz"), no_href_nor_id}));
+    const auto ds = open_dataset({vpc});
+    ASSERT_EQ(ds.tiles.size(), 1u);
+    std::vector<std::string> lines;
+    for (const auto& s : ds.skipped) lines.push_back(s.error);
+    const std::string gone = (dir / "tiles/gone.laz").string();
+    EXPECT_EQ(lines, (std::vector<std::string>{
+                         "item 'b3' in " + vpc + ": no data asset with an href (the tile's path or URL)",
+                         "item #4 in " + vpc + ": no data asset with an href (the tile's path or URL)",
+                         gone + ": cannot open: No such file or directory (item 'b4' in " + vpc + ")"}));
+    EXPECT_TRUE(ds.warnings.empty());
 }
 
 }  // namespace

@@ -3,13 +3,19 @@
 // size follows what it holds); a newer version, a version that is not one (1e300, -5, 1.5, "1"), a
 // file that is not a session (a "kind" of the wrong kind too), a field of the wrong kind, a bad
 // filter and a bad profile, nesting 100k deep and a string past the reader's limit refused with
-// the file named, in one line; written through a temporary name.
+// the file named, in one line; written through a temporary name. Every number within its range
+// (issue 53: a camera distance of 1e300 was an empty view): each out-of-range value refused in one line
+// naming the file, the field and the range; a yaw wraps and a pitch from -90 to 90 is clamped to the
+// camera's range, each with a note naming the file; a yaw is saved wrapped.
 #include "viewer/session_file.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "core/error.hpp"
 #include "temp_dir_fixture.hpp"
@@ -114,6 +120,79 @@ TEST_F(SessionFileTest, WhatIsNotASessionIsRefusedNamingTheFile) {
     flat["profiles"][0]["width"] = 0;
     write_text("width.json", flat.dump());
     EXPECT_NE(refusal("width.json").find("width is not positive"), std::string::npos);
+}
+
+// The example session with `text` (a JSON value, as written) in place of the value at `pointer`.
+std::string with_value(const std::string& pointer, const std::string& text) {
+    nlohmann::json j = session_json(example());
+    j[nlohmann::json::json_pointer(pointer)] = "@@";
+    std::string out = j.dump();
+    return out.replace(out.find("\"@@\""), 4, text);
+}
+
+TEST_F(SessionFileTest, EveryNumberOutsideItsRangeIsRefusedNamingTheFieldAndTheRange) {
+    const std::string target = "camera: a number of \"target\" is ";
+    const std::vector<std::pair<std::pair<std::string, std::string>, std::string>> cases = {
+        {{"/camera/distance", "1e300"}, "camera: \"distance\" is 1e+300, outside the range 1 to 5e+06 (metres)"},
+        {{"/camera/distance", "-5"}, "camera: \"distance\" is -5, outside the range 1 to 5e+06 (metres)"},
+        {{"/camera/distance", "0"}, "camera: \"distance\" is 0, outside the range 1 to 5e+06 (metres)"},
+        {{"/camera/target/0", "1e300"}, target + "1e+300, outside the range -1e+08 to 1e+08 (world metres)"},
+        {{"/camera/target/2", "-2e8"}, target + "-2e+08, outside the range -1e+08 to 1e+08 (world metres)"},
+        {{"/camera/pitch_deg", "120"}, "camera: \"pitch_deg\" is 120, outside the range -90 to 90 (degrees)"},
+        {{"/camera/fov_deg", "0"}, "camera: \"fov_deg\" is 0, outside the range 1 to 170 (degrees)"},
+        {{"/camera/fov_deg", "1e300"}, "camera: \"fov_deg\" is 1e+300, outside the range 1 to 170 (degrees)"},
+        {{"/measurements/0/to/1", "1e300"},
+         "measurements #1: a number of \"to\" is 1e+300, outside the range -1e+08 to 1e+08 (world metres)"},
+        {{"/annotations/1/at/0", "-1e300"},
+         "annotations #2: a number of \"at\" is -1e+300, outside the range -1e+08 to 1e+08 (world metres)"},
+        {{"/profiles/1/line/3", "1e300"},
+         "profiles #2: a number of \"line\" is 1e+300, outside the range -1e+08 to 1e+08 (CRS units)"},
+        {{"/profiles/0/width", "1e300"},
+         "profiles #1: \"width\" is 1e+300, outside the range 0 to 1e+06 (CRS units, more than 0)"},
+        {{"/profiles/0/width", "-1"}, "profiles #1: a profile's width is not positive"},
+        {{"/profiles/1/line", "[3, 4, 3, 4]"}, "profiles #2: the two ends of \"line\" are the same point"},
+    };
+    for (const auto& [where, expected] : cases) {
+        write_text("range.json", with_value(where.first, where.second));
+        EXPECT_EQ(refusal("range.json"), expected) << where.first << " = " << where.second;
+    }
+    // Numbers JSON cannot hold are not JSON; one past a double's range is not finite.
+    write_text("nan.json", with_value("/camera/distance", "NaN"));
+    EXPECT_NE(refusal("nan.json").find("not JSON"), std::string::npos) << refusal("nan.json");
+    write_text("inf.json", with_value("/camera/yaw_deg", "1e400"));
+    EXPECT_FALSE(refusal("inf.json").empty());
+}
+
+TEST_F(SessionFileTest, AYawWrapsAndAPitchIsClampedEachWithANote) {
+    const std::vector<std::tuple<std::string, std::string, double, std::string>> cases = {
+        {"/camera/yaw_deg", "370", 10.0, "\"yaw_deg\" 370 is read as 10 (the same heading, from -180 to 180)"},
+        {"/camera/yaw_deg", "-190", 170.0, "\"yaw_deg\" -190 is read as 170 (the same heading, from -180 to 180)"},
+        {"/camera/yaw_deg", "180", -180.0, "\"yaw_deg\" 180 is read as -180 (the same heading, from -180 to 180)"},
+        {"/camera/pitch_deg", "-90", -89.5,
+         "\"pitch_deg\" -90 is read as -89.5 (the camera's range is -89.5 to 10 degrees)"},
+        {"/camera/pitch_deg", "45", 10.0, "\"pitch_deg\" 45 is read as 10 (the camera's range is -89.5 to 10 degrees)"},
+    };
+    for (const auto& [pointer, text, read, note] : cases) {
+        write_text("angle.json", with_value(pointer, text));
+        const SessionFile s = read_session(path("angle.json"));
+        ASSERT_TRUE(s.camera);
+        EXPECT_EQ(pointer == "/camera/yaw_deg" ? s.camera->yaw_deg : s.camera->pitch_deg, read) << text;
+        ASSERT_EQ(s.notes.size(), 1u) << text;
+        EXPECT_EQ(s.notes[0].level, DiagnosticLevel::note);
+        EXPECT_EQ(s.notes[0].file, path("angle.json"));
+        EXPECT_EQ(s.notes[0].message, path("angle.json") + ": camera: " + note);
+    }
+    write_text("far.json", with_value("/camera/yaw_deg", "1e300"));
+    const double far = read_session(path("far.json")).camera->yaw_deg;
+    EXPECT_TRUE(far >= -180 && far < 180) << far;
+    // A yaw turned past a full turn (orbiting adds up) is saved wrapped: read again without a note.
+    SessionFile turned = example();
+    turned.camera->yaw_deg = 725;
+    write_session(path("turned.json"), turned);
+    const SessionFile again = read_session(path("turned.json"));
+    EXPECT_EQ(again.camera->yaw_deg, 5.0);
+    EXPECT_TRUE(again.notes.empty());
+    EXPECT_TRUE(read_session(path("turned.json")).notes.empty());
 }
 
 TEST_F(SessionFileTest, OnlyAVersionThisProgramReadsIsRead) {

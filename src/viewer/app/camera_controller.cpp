@@ -5,13 +5,15 @@
 #include <cmath>
 #include <numbers>
 
+#include "viewer/session_file.hpp"
+
 namespace lidarscout::viewer::app {
 namespace {
 
 constexpr double kDegPerPixel = 0.25;
 constexpr double kZoomPerStep = 0.85;
 constexpr double kFrameCloser = 0.8;
-constexpr double kMinDistance = 1.0, kMaxDistance = 5e6;
+constexpr double kMinDistance = session_range::kMinDistance, kMaxDistance = session_range::kMaxDistance;
 
 }  // namespace
 
@@ -28,7 +30,7 @@ void CameraController::frame(const dataset::Bounds& box, int width, int height) 
 
 void CameraController::orbit(double dx_px, double dy_px) {
     yaw_deg = std::fmod(yaw_deg + dx_px * kDegPerPixel + 360.0, 360.0);
-    pitch_deg = std::clamp(pitch_deg - dy_px * kDegPerPixel, -89.5, 10.0);
+    pitch_deg = std::clamp(pitch_deg - dy_px * kDegPerPixel, session_range::kMinPitch, session_range::kMaxPitch);
 }
 
 void CameraController::pan(double dx_px, double dy_px, int height_px) {

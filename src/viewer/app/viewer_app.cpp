@@ -419,9 +419,28 @@ private:
         return s;
     }
 
-    // The area tool's polygon measured on the points held now, as drawn (the filter applied).
+    // The area tool's polygon measured on a thread of its own (a measurement running is cancelled): its
+    // points read again as clip reads them (viewer/area_tool.hpp), the filter applied.
     void measure_area_now() {
-        panels_.click.area = area_line(*session_.scheduler->snapshot(), panels_.click.polygon, settings_.style.filter);
+        area_job_.reset();
+        panels_.click.area = "area: measuring";
+        area_job_ = std::make_unique<ExportTask>(
+            "", [&ds = *session_.dataset, polygon = panels_.click.polygon, filter = settings_.style.filter,
+                 threads = job_threads()](ReadCounters& counters) {
+                ThreadPool pool(threads);
+                return area_line(ds, polygon, filter, pool, counters.watch());
+            });
+    }
+
+    // The measurement's progress, then its line; true once there is none running.
+    bool area_step() {
+        if (!area_job_) return true;
+        if (!area_job_->done()) return void(panels_.click.area = "area: " + area_job_->status()), false;
+        panels_.click.area = area_job_->status();
+        area_job_.reset();
+        if (print_area_) std::printf("%s\n", panels_.click.area->c_str()), std::fflush(stdout);
+        print_area_ = false;
+        return true;
     }
 
     void save_session(const std::string& path) {
@@ -526,6 +545,7 @@ private:
             panels_.loaded_classes = loaded_class_counts(*drawn_);
             profile_step();
             export_step();
+            area_step();
             actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
             draw_labels(panels_.annotations, camera_);
         }
@@ -569,11 +589,7 @@ private:
                 print_click(c, *session_.dataset, panels_.click);
             }
             pending_clip_out_ = !o_.clip_out.empty();
-            if (o_.area) {
-                measure_area_now();
-                std::printf("%s\n", panels_.click.area->c_str());
-                std::fflush(stdout);
-            }
+            if (o_.area) measure_area_now(), print_area_ = true;  // printed once measured
             scripted_clicks_done_ = true;
             frames_to_quit_ = 3;  // a new ImGui window fits its size in its first frame, unseen
         }
@@ -587,6 +603,7 @@ private:
         profile_.reset();
         retired_.clear();
         export_.reset();
+        area_job_.reset();
         panels_.exports.running = false;
     }
 
@@ -710,13 +727,8 @@ private:
                       profile_z_, render::pack_rgba(255, 120, 40));
     }
 
-    // The area tool's polygon as a region in the dataset CRS's units; throws lidarscout::Error.
-    pipelines::Region area_region() const {
-        const double f = session_.dataset->frame.xy_to_metres;
-        Ring ring;
-        for (const auto& v : panels_.click.polygon) ring.push_back({v.x / f, v.y / f});
-        return pipelines::polygon_region(MultiPolygon({{ring}}));
-    }
+    // The area tool's polygon as a region in the dataset CRS's units (what it measures); throws lidarscout::Error.
+    pipelines::Region area_region() const { return viewer::area_region(*session_.dataset, panels_.click.polygon); }
 
     // Starts an export (one at a time) after checking its output as the command line would; an error
     // is the status line (and, scripted, an error).
@@ -755,6 +767,7 @@ private:
     // --clip-out (after the clicks) and --profile-out (once the profile is read), one after the
     // other; true when both are written (or failed).
     bool scripted_outputs_done() {
+        if (!area_step()) return false;
         if (export_) {
             export_step();
             if (export_) return false;
@@ -844,6 +857,8 @@ private:
     double profile_z_ = 0;            // where its corridor is drawn until points show the ground
     render::ColourMode view_colours_ = render::ColourMode::Rgb;  // the view's, which the profile's follow
     std::unique_ptr<ExportTask> export_;
+    std::unique_ptr<ExportTask> area_job_;  // the area tool's measurement (its line, no file)
+    bool print_area_ = false;               // scripted: the measurement's line printed once made
     bool pending_clip_out_ = false, pending_profile_out_ = !o_.profile_out.empty();
     int script_status_ = 0;
 };
