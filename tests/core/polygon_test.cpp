@@ -430,7 +430,8 @@ TEST(Polygon, IndexAgreesWithTheReferenceOnOverlappingStarsAndHoles) {
     std::mt19937 rng(57);
     std::uniform_real_distribution<double> unit(0, 1);
     const auto star = [&](std::size_t n, double inner, double outer, double dx) {
-        Ring r = test::radial_ring(n, [&](std::size_t i) { return i % 2 ? inner + (outer - inner) * unit(rng) : outer; });
+        const auto radius = [&](std::size_t i) { return i % 2 ? inner + (outer - inner) * unit(rng) : outer; };
+        Ring r = test::radial_ring(n, radius);
         for (XY& v : r) v.x += dx;
         return r;
     };
