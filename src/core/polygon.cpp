@@ -1,13 +1,16 @@
-// MultiPolygon: the union of even-odd polygons with points on edges inside, tested through an index of
-// the edges by bands of y; and the WKT and GeoJSON parsers.
+// MultiPolygon: the union of even-odd polygons with points on edges inside, tested through a segment
+// tree of the edges over slabs of y whose lists are sorted left to right; and the WKT and GeoJSON parsers.
 #include "core/polygon.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <fstream>
 
 #include "core/error.hpp"
@@ -41,7 +44,7 @@ bool within(const XY& a, const XY& b, double x, double y) {
 
 // Whether a ray from (x, y) towards +x crosses a-b, given their cross product: a-b straddles y (half-open,
 // so that a vertex on the ray counts once) and (x, y) lies left of it when it goes up, right when down.
-// Branch-free: in a crowded band these outcomes are unpredictable.
+// Branch-free: in a crowded list these outcomes are unpredictable.
 bool crossed(const XY& a, const XY& b, double y, double cross) {
     const bool b_above = b.y > y;
     return ((a.y > y) != b_above) & ((cross > 0) == b_above);
@@ -73,17 +76,33 @@ double ring_area(std::span<const XY> closed) {
     return std::abs(twice) / 2;
 }
 
-// The index names vertices, and counts its entries, in 32 bits: about 4 entries per edge at most.
-constexpr std::size_t kMaxVertices = std::numeric_limits<std::uint32_t>::max() / 8;
+// The index names vertices, and counts its entries, in 32 bits: at most 2 + kNodeEntriesPerEdge per edge.
+constexpr std::size_t kMaxVertices = std::numeric_limits<std::uint32_t>::max() / 16;
 
-// How many bands: one per edge at most, and fewer when the edges' y-spans add up to more than 2
-// polygon heights, so that bands times summed spans (in heights) stays within 2 edges. An edge meets
-// at most its span in bands plus 2, so the index holds at most about 4 entries per edge.
-std::size_t band_count(std::size_t edges, double summed_spans, double height) {
-    if (!(height > 0) || !std::isfinite(height) || !std::isfinite(summed_spans)) return 1;
-    const double n = static_cast<double>(edges), bands = std::min(n, 2 * n / std::max(summed_spans / height, 2.0));
-    return std::max<std::size_t>(1, static_cast<std::size_t>(bands));
+// Leaves hold 2 vertices (a point tests about 4 edges of an outline directly), or 4 or 8 past a million
+// vertices (about 26 bytes a vertex for the vertices and index, rather than 44); more when the tree's
+// entries would pass their cap: an edge is in about log2 of the leaves it spans nodes, over the
+// polygon at most kNodeEntriesPerEdge per edge, else the leaves are made twice as tall (a spiral, a
+// star of millions of spikes).
+constexpr std::size_t kNodeEntriesPerEdge = 12, kShortEdgeLeaves = 3;
+std::size_t vertices_per_leaf(std::size_t vertices) {
+    return std::clamp<std::size_t>(std::bit_ceil((vertices >> 19) + 1), 2, 8);
 }
+// Groups of fewer edges are tested one by one (a search would examine about as many).
+constexpr std::size_t kSmallestSortedGroup = 4;
+
+// Rounding, in units of u S (u = 2^-53, S the largest coordinate magnitude; each bound generous):
+// x_at errs by at most 16 u S, so a group sorted by it is accepted when each edge lies at most
+// kOrderSlack left of the ones before it at the node's bottom and top, and then at every height
+// between (it is linear) no edge lies more than kOrderSlack + 32 u S left of an earlier one. A cross
+// product errs by at most about 4u (|dx| |y - a.y| + |dy| |x - a.x|), with |y - a.y| <= |dy| for an
+// edge spanning y: its sign is right for points farther than 32 u S from the edge in x. So edges that
+// a search at x -+ kMargin puts left or right of the point are so, by the signs the direct test
+// would compute (kMargin > 2 * 32 + 160 + the rounding of x -+ kMargin).
+constexpr double kRoundingUnit = std::numeric_limits<double>::epsilon() / 2, kOrderSlack = 128, kMargin = 512;
+// Where those bounds hold: products of coordinates stay normal numbers (no overflow, underflow far
+// below the margin) and a node is at least kMinHeight S tall. Elsewhere groups are tested one by one.
+constexpr double kMinScale = 1e-100, kMaxScale = 1e100, kMinHeight = 1e-100;
 
 // Calls fn with each edge's first vertex: ring r's edges start at ring_starts[r] .. ring_starts[r + 1] - 2.
 template <typename Fn>
@@ -93,7 +112,110 @@ void for_each_edge(std::span<const std::uint32_t> ring_starts, Fn&& fn) {
     }
 }
 
+// The x of edge a-b at height y (within its y-range; the edge not horizontal).
+double x_at(const XY& a, const XY& b, double y) { return a.x + (b.x - a.x) * ((y - a.y) / (b.y - a.y)); }
+
+// Whether edge a-b, which spans y, passes right of (x, y) by its cross product's sign (zero: false).
+bool passes_right(const XY& a, const XY& b, double x, double y) {
+    const double c = cross(a, b, x, y);
+    return b.y > a.y ? c > 0 : c < 0;
+}
+
+// Cuts sorted ys into leaves of about per_leaf values (equal ones in one leaf): their bottoms.
+std::vector<double> leaf_bottoms(std::span<const double> ys, std::size_t per_leaf) {
+    std::vector<double> out;
+    for (std::size_t j = 0; j < ys.size();) {
+        out.push_back(ys[j]);
+        j += per_leaf;
+        if (j < ys.size() && ys[j] == out.back()) j = std::upper_bound(ys.begin() + j, ys.end(), ys[j]) - ys.begin();
+    }
+    return out;
+}
+
+// Calls fn with the nodes of a tree over `leaves` leaves (a power of two) that cover [first, end) exactly.
+template <typename Fn>
+void for_each_cover_node(std::size_t first, std::size_t end, std::size_t leaves, Fn&& fn) {
+    for (first += leaves, end += leaves; first < end; first >>= 1, end >>= 1) {
+        if (first & 1) fn(first++);
+        if (end & 1) fn(--end);
+    }
+}
+
+// Where an edge goes, from the leaves holding its lower end (low; whether the end lies on that leaf's
+// bottom) and its upper end (high): leaf(k) for the leaves where it is tested directly, node(n) for the
+// nodes covering the leaves it spans entirely. A short edge (most of an outline's) is in the leaves it
+// meets, so that a point's work stays in its leaf; a longer one in the leaves holding its ends and the
+// nodes over those between.
+template <typename Leaf, typename Node>
+void place_edge(bool on_bottom, std::size_t leaves, std::size_t low, std::size_t high, Leaf&& leaf, Node&& node) {
+    if (high - low < kShortEdgeLeaves) {
+        for (std::size_t k = low; k <= high; ++k) leaf(k);
+        return;
+    }
+    const std::size_t first = on_bottom ? low : low + 1;  // spanned: [first, high)
+    if (low < first && low < high) leaf(low);
+    leaf(high);
+    if (first < high) for_each_cover_node(first, high, leaves, node);
+}
+
+// Lists edges by key: lists(i, add) calls add(k) for each list k that edge i belongs in. starts gets
+// count + 1 offsets into items; each list in ascending edge order.
+template <typename Lists>
+void bucket_edges(std::span<const std::uint32_t> ring_starts, std::size_t count, Lists&& lists,
+                  std::vector<std::uint32_t>& starts, std::vector<std::uint32_t>& items) {
+    starts.assign(count + 1, 0);
+    for_each_edge(ring_starts, [&](std::uint32_t i) { lists(i, [&](std::size_t k) { ++starts[k + 1]; }); });
+    std::partial_sum(starts.begin(), starts.end(), starts.begin());
+    items.resize(starts.back());
+    for_each_edge(ring_starts, [&](std::uint32_t i) { lists(i, [&](std::size_t k) { items[starts[k]++] = i; }); });
+    std::copy_backward(starts.begin(), starts.end() - 1, starts.end());  // each list's end back to its start
+    starts[0] = 0;
+}
+
 }  // namespace
+
+// The polygons whose edges right of a point were crossed an odd number of times: each list of edges
+// adds its polygon when it counted an odd number; a polygon is odd when added an odd number of times.
+class MultiPolygon::OddPolygons {
+public:
+    explicit OddPolygons(bool one_polygon) : one_(one_polygon) {}
+
+    void add(std::uint32_t polygon, bool odd) {
+        if (one_) {
+            parity_ = parity_ != odd;
+        } else if (odd) {
+            add_odd(polygon);
+        }
+    }
+    bool any() {
+        if (one_) return parity_;
+        const auto first = std::span(inline_).first(std::min(count_, kInline));
+        if (more_.empty() && std::all_of(first.begin(), first.end(), [&](std::uint32_t p) { return p == first[0]; })) {
+            return count_ % 2 == 1;  // all the same polygon, or none
+        }
+        more_.insert(more_.end(), first.begin(), first.end());
+        std::sort(more_.begin(), more_.end());
+        for (auto at = more_.begin(); at != more_.end();) {
+            const auto end = std::upper_bound(at, more_.end(), *at);
+            if ((end - at) % 2 == 1) return true;
+            at = end;
+        }
+        return false;
+    }
+
+private:
+    void add_odd(std::uint32_t polygon) {
+        if (count_ < kInline) inline_[count_] = polygon;
+        else more_.push_back(polygon);
+        ++count_;
+    }
+
+    static constexpr std::size_t kInline = 32;
+    std::array<std::uint32_t, kInline> inline_;
+    std::vector<std::uint32_t> more_;
+    std::size_t count_ = 0;
+    bool one_, parity_ = false;  // one polygon: its parity only
+};
 
 MultiPolygon::MultiPolygon(std::vector<std::vector<Ring>> polygons) {
     if (polygons.empty()) throw polygon_error("the polygon has no rings");
@@ -125,70 +247,283 @@ MultiPolygon::MultiPolygon(std::vector<std::vector<Ring>> polygons) {
     build_index();
 }
 
-// Counts each band's edges, then lists them (edges in ascending order, so each band is sorted).
+// The leaves (sorted vertex ys cut every 8 values, or more where the tree would hold too many
+// entries), each edge listed in its end leaves and its covering nodes, then each node's groups.
 void MultiPolygon::build_index() {
-    double spans = 0;
-    for_each_edge(ring_starts_, [&](std::uint32_t i) { spans += std::abs(vertices_[i + 1].y - vertices_[i].y); });
-    std::size_t bands = band_count(vertex_count(), spans, max_y_ - min_y_);
-    band_scale_ = static_cast<double>(bands) / (max_y_ - min_y_);
-    if (bands == 1 || !std::isfinite(band_scale_)) bands = 1, band_scale_ = 0;
-    band_starts_.assign(bands + 1, 0);
-    const auto bands_of = [&](std::uint32_t i) {
-        const auto [lo, hi] = std::minmax(vertices_[i].y, vertices_[i + 1].y);
-        return std::pair{band_of(lo), band_of(hi)};
+    const double scale = std::max({std::abs(min_x_), std::abs(max_x_), std::abs(min_y_), std::abs(max_y_)});
+    margin_ = scale >= kMinScale && scale <= kMaxScale ? kMargin * kRoundingUnit * scale : 0;
+    std::vector<std::uint32_t> vertex_leaf(vertices_.size());
+    const auto place = [&](std::uint32_t i, auto&& leaf, auto&& node) {
+        const bool up = vertices_[i + 1].y >= vertices_[i].y;
+        const std::uint32_t low = vertex_leaf[up ? i : i + 1], high = vertex_leaf[up ? i + 1 : i];
+        const double lo = std::min(vertices_[i].y, vertices_[i + 1].y);
+        place_edge(leaf_records_[low].bottom == lo, leaves_, low, high, leaf, node);
     };
-    for_each_edge(ring_starts_, [&](std::uint32_t i) {
-        for (auto [b, last] = bands_of(i); b <= last; ++b) ++band_starts_[b + 1];
-    });
-    for (std::size_t b = 1; b <= bands; ++b) band_starts_[b] += band_starts_[b - 1];
-    std::vector<std::uint32_t> next(band_starts_.begin(), band_starts_.end() - 1);
-    band_edges_.resize(band_starts_.back());
-    for_each_edge(ring_starts_, [&](std::uint32_t i) {
-        for (auto [b, last] = bands_of(i); b <= last; ++b) band_edges_[next[b]++] = i;
-    });
+    const auto none = [](std::size_t) {};
+    {
+        std::vector<double> ys(vertices_.size());
+        std::transform(vertices_.begin(), vertices_.end(), ys.begin(), [](const XY& v) { return v.y; });
+        std::sort(ys.begin(), ys.end());
+        const std::size_t cap = kNodeEntriesPerEdge * vertex_count();
+        for (std::size_t per_leaf = vertices_per_leaf(vertices_.size());; per_leaf *= 2) {
+            index_leaves(leaf_bottoms(ys, per_leaf));
+            for (std::size_t i = 0; i < vertices_.size(); ++i) vertex_leaf[i] = leaf_of(vertices_[i].y);
+            std::size_t entries = 0;
+            for_each_edge(ring_starts_, [&](std::uint32_t i) { place(i, none, [&](std::size_t) { ++entries; }); });
+            if (entries <= cap) break;
+        }
+    }
+    {
+        std::vector<std::uint32_t> starts;
+        bucket_edges(ring_starts_, leaf_records_.size() - 1, [&](std::uint32_t i, auto&& add) { place(i, add, none); },
+                     starts, leaf_edges_);
+        for (std::size_t k = 0; k < leaf_records_.size(); ++k) leaf_records_[k].first = starts[k];
+    }
+    std::vector<std::uint32_t> node_starts;
+    bucket_edges(ring_starts_, 2 * leaves_, [&](std::uint32_t i, auto&& add) { place(i, none, add); }, node_starts,
+                 node_edges_);
+    vertex_leaf = {};
+    build_groups(node_starts, scale);
+    for (std::size_t k = 0; k + 1 < leaf_records_.size(); ++k) {
+        for (std::size_t n = leaves_ + k, d = 0; n > 0; n >>= 1, ++d) {
+            if (node_groups_[n] < node_groups_[n + 1]) leaf_records_[k].path |= std::uint32_t{1} << d;
+        }
+    }
 }
 
-std::size_t MultiPolygon::band_of(double y) const {
-    const double b = std::floor((y - min_y_) * band_scale_);
+// The leaves' records from their bottoms (and the last record); the tree's size, and the table of
+// leaves by buckets of y.
+void MultiPolygon::index_leaves(std::span<const double> bottoms) {
+    leaf_records_.assign(bottoms.size() + 1, Leaf{});
+    for (std::size_t k = 0; k < bottoms.size(); ++k) leaf_records_[k].bottom = bottoms[k];
+    leaf_records_.back().bottom = INFINITY;
+    leaves_ = std::bit_ceil(bottoms.size());
+    bucket_scale_ = static_cast<double>(bottoms.size()) / (max_y_ - min_y_);
+    if (!std::isfinite(bucket_scale_)) bucket_scale_ = 0;
+    bucket_leaves_.assign(bottoms.size() + 1, 0);
+    for (const double y : bottoms) ++bucket_leaves_[bucket_of(y) + 1];
+    std::partial_sum(bucket_leaves_.begin(), bucket_leaves_.end(), bucket_leaves_.begin());
+}
+
+// floor((y - min_y_) * bucket_scale_), clamped: never decreasing as y grows, so the leaf holding y
+// (the last whose bottom is at most y) is the last of bucket b's leaves at most y, or the one before them.
+std::size_t MultiPolygon::bucket_of(double y) const {
+    const double b = (y - min_y_) * bucket_scale_;  // floored by the conversion below, being positive
     if (!(b > 0)) return 0;  // also NaN
-    const std::size_t last = band_starts_.size() - 2;
+    const std::size_t last = bucket_leaves_.size() - 2;
     return b >= static_cast<double>(last) ? last : static_cast<std::size_t>(b);
 }
 
-std::span<const std::uint32_t> MultiPolygon::band(std::size_t b) const {
-    return std::span(band_edges_).subspan(band_starts_[b], band_starts_[b + 1] - band_starts_[b]);
+// Splits each node's edges by polygon and sorts each group that is large enough, in a node tall enough.
+void MultiPolygon::build_groups(std::span<const std::uint32_t> node_starts, double scale) {
+    node_groups_.assign(2 * leaves_ + 1, 0);
+    groups_.clear();
+    std::vector<std::pair<double, std::uint32_t>> keys;
+    for (std::size_t n = 0; n < 2 * leaves_; ++n) {
+        node_groups_[n] = static_cast<std::uint32_t>(groups_.size());
+        for (std::uint32_t begin = node_starts[n], end = begin; begin < node_starts[n + 1]; begin = end) {
+            const std::uint32_t polygon = polygon_of(node_edges_[begin]), next = polygon_starts_[polygon + 1];
+            while (end < node_starts[n + 1] && node_edges_[end] < next) ++end;
+            const auto edges = std::span(node_edges_).subspan(begin, end - begin);
+            const auto [bottom, top] = node_heights(n);
+            const bool sorted = margin_ > 0 && edges.size() >= kSmallestSortedGroup &&
+                                top - bottom >= kMinHeight * scale && sort_group(edges, bottom, top, keys);
+            groups_.push_back({begin, polygon, sorted});
+        }
+    }
+    node_groups_[2 * leaves_] = static_cast<std::uint32_t>(groups_.size());
+    groups_.push_back({static_cast<std::uint32_t>(node_edges_.size()), 0, false});  // the end of the last
 }
 
-bool MultiPolygon::contains(double x, double y) const {
-    if (band_starts_.empty() || !in_box(x, y)) return false;
-    std::uint32_t polygon_end = 0;
-    bool inside = false;  // in the polygon whose edges are being read
-    for (const std::uint32_t i : band(band_of(y))) {
-        if (i >= polygon_end) {  // the first edge of a later polygon: the previous one is decided
-            if (inside) return true;
-            polygon_end = *std::upper_bound(polygon_starts_.begin(), polygon_starts_.end(), i);
+// Sorts edges spanning [bottom, top] by their x in the middle; false (edges left as they were) when
+// their order at the bottom or the top disagrees beyond rounding (they cross).
+bool MultiPolygon::sort_group(std::span<std::uint32_t> edges, double bottom, double top,
+                              std::vector<std::pair<double, std::uint32_t>>& keys) const {
+    const auto x_of = [&](std::uint32_t i, double y) { return x_at(vertices_[i], vertices_[i + 1], y); };
+    keys.clear();
+    for (const std::uint32_t i : edges) keys.emplace_back(x_of(i, bottom) + x_of(i, top), i);
+    std::sort(keys.begin(), keys.end());
+    const double slack = margin_ / kMargin * kOrderSlack;
+    double right_bottom = -INFINITY, right_top = -INFINITY;  // the rightmost so far
+    for (const auto& [key, i] : keys) {
+        const double xb = x_of(i, bottom), xt = x_of(i, top);
+        if (xb < right_bottom - slack || xt < right_top - slack) return false;
+        right_bottom = std::max(right_bottom, xb), right_top = std::max(right_top, xt);
+    }
+    std::transform(keys.begin(), keys.end(), edges.begin(), [](const auto& k) { return k.second; });
+    return true;
+}
+
+std::uint32_t MultiPolygon::polygon_of(std::uint32_t edge) const {
+    if (polygon_starts_.size() == 2) return 0;
+    return static_cast<std::uint32_t>(std::upper_bound(polygon_starts_.begin(), polygon_starts_.end(), edge) -
+                                      polygon_starts_.begin() - 1);
+}
+
+std::size_t MultiPolygon::leaf_of(double y) const {
+    const std::size_t b = bucket_of(y);
+    std::size_t k = bucket_leaves_[b];
+    const std::size_t end = bucket_leaves_[b + 1];
+    if (end - k > 8) {  // a crowded bucket (vertices far from uniform in y)
+        const auto after = std::upper_bound(leaf_records_.begin() + k, leaf_records_.begin() + end, y,
+                                            [](double v, const Leaf& leaf) { return v < leaf.bottom; });
+        return static_cast<std::size_t>(after - leaf_records_.begin()) - 1;
+    }
+    while (k < end && leaf_records_[k].bottom <= y) ++k;
+    return k - 1;
+}
+
+std::span<const std::uint32_t> MultiPolygon::leaf(std::size_t k) const {
+    return std::span(leaf_edges_).subspan(leaf_records_[k].first, leaf_records_[k + 1].first - leaf_records_[k].first);
+}
+
+std::span<const std::uint32_t> MultiPolygon::group(std::size_t g) const {
+    return std::span(node_edges_).subspan(groups_[g].begin, groups_[g + 1].begin - groups_[g].begin);
+}
+
+// The heights node n covers: its first leaf's bottom, and the next leaf's (infinite past the last).
+std::pair<double, double> MultiPolygon::node_heights(std::size_t n) const {
+    const int depth = std::bit_width(n) - 1;
+    const std::size_t width = leaves_ >> depth, first = (n - (std::size_t{1} << depth)) * width;
+    const auto bottom = [&](std::size_t k) { return k < leaf_records_.size() ? leaf_records_[k].bottom : INFINITY; };
+    return {bottom(first), bottom(first + width)};
+}
+
+// The point's leaf's edges one by one, then each node above the leaf that has edges: its groups
+// searched or tested.
+template <bool kCount>
+bool MultiPolygon::test(double x, double y, std::size_t& examined) const {
+    if (leaf_records_.empty() || !in_box(x, y)) return false;
+    const std::size_t k = leaf_of(y);
+    OddPolygons odd(polygon_starts_.size() == 2);
+    if (test_each<kCount>(leaf(k), x, y, odd, examined)) return true;
+    for (std::uint32_t path = leaf_records_[k].path; path != 0; path &= path - 1) {
+        const std::size_t n = (leaves_ + k) >> std::countr_zero(path);
+        for (std::size_t g = node_groups_[n]; g < node_groups_[n + 1]; ++g) {
+            const auto edges = group(g);
+            if (groups_[g].sorted ? search<kCount>(edges, groups_[g].polygon, x, y, odd, examined)
+                                  : test_each<kCount>(edges, x, y, odd, examined)) {
+                return true;
+            }
         }
-        const XY &a = vertices_[i], &b = vertices_[i + 1];
+    }
+    return odd.any();
+}
+
+// The direct test of each edge (ascending, so grouped by polygon): true when (x, y) lies on one.
+template <bool kCount>
+bool MultiPolygon::test_each(std::span<const std::uint32_t> edges, double x, double y, OddPolygons& odd,
+                             std::size_t& examined) const {
+    const XY* vertices = vertices_.data();
+    std::uint32_t polygon = 0, polygon_end = 0;
+    bool inside = false;  // in the polygon whose edges are being read
+    for (const std::uint32_t i : edges) {
+        if (i >= polygon_end) {  // the first edge of a later polygon: the previous one is counted
+            odd.add(polygon, inside), inside = false;
+            polygon = polygon_of(i), polygon_end = polygon_starts_[polygon + 1];
+        }
+        if constexpr (kCount) ++examined;
+        const XY &a = vertices[i], &b = vertices[i + 1];
         const double c = cross(a, b, x, y);
         if (c == 0 && within(a, b, x, y)) return true;  // on the edge
         inside = inside != crossed(a, b, y, c);
     }
-    return inside;
+    odd.add(polygon, inside);
+    return false;
+}
+
+// A sorted group spanning y: the edges left of x - margin_ skipped by a binary search, those after it
+// tested directly until one passes right of x + margin_, which with all after it the ray crosses.
+template <bool kCount>
+bool MultiPolygon::search(std::span<const std::uint32_t> edges, std::uint32_t polygon, double x, double y,
+                          OddPolygons& odd, std::size_t& examined) const {
+    bool inside = false;
+    for (std::size_t k = first_not_left<kCount>(edges, x - margin_, y, examined); k < edges.size(); ++k) {
+        const XY &a = vertices_[edges[k]], &b = vertices_[edges[k] + 1];
+        if constexpr (kCount) examined += 2;
+        if (passes_right(a, b, x + margin_, y)) {
+            inside = inside != ((edges.size() - k) % 2 == 1);
+            break;
+        }
+        const double c = cross(a, b, x, y);
+        if (c == 0 && within(a, b, x, y)) return true;
+        inside = inside != crossed(a, b, y, c);
+    }
+    odd.add(polygon, inside);
+    return false;
+}
+
+// In a sorted group spanning y, the first edge that passes right of (x, y): a binary search.
+template <bool kCount>
+std::size_t MultiPolygon::first_not_left(std::span<const std::uint32_t> edges, double x, double y,
+                                         std::size_t& examined) const {
+    std::size_t first = 0;
+    for (std::size_t count = edges.size(); count > 0;) {
+        const std::size_t step = count / 2, middle = first + step;
+        if constexpr (kCount) ++examined;
+        if (passes_right(vertices_[edges[middle]], vertices_[edges[middle] + 1], x, y)) {
+            count = step;
+        } else {
+            first = middle + 1, count -= step + 1;
+        }
+    }
+    return first;
+}
+
+bool MultiPolygon::contains(double x, double y) const {
+    std::size_t unused = 0;
+    return test<false>(x, y, unused);
 }
 
 std::size_t MultiPolygon::edges_examined(double x, double y) const {
-    return band_starts_.empty() || !in_box(x, y) ? 0 : band(band_of(y)).size();
+    std::size_t examined = 0;
+    test<true>(x, y, examined);
+    return examined;
 }
 
+// A corner inside, or an edge meeting the box: those of the leaves over the box's heights, and of
+// the nodes above them (in a sorted group, only the edges not certainly left or right of the box).
 bool MultiPolygon::touches_box(double x0, double y0, double x1, double y1) const {
-    if (band_starts_.empty() || x0 > max_x_ || x1 < min_x_ || y0 > max_y_ || y1 < min_y_) return false;
+    if (leaf_records_.empty() || x0 > max_x_ || x1 < min_x_ || y0 > max_y_ || y1 < min_y_) return false;
     if (contains(x0, y0)) return true;  // the box inside the polygon (or a corner on it)
-    for (std::size_t b = band_of(std::max(y0, min_y_)), last = band_of(std::min(y1, max_y_)); b <= last; ++b) {
-        for (const std::uint32_t i : band(b)) {  // crossing the box, or inside it
-            if (segment_meets_box(vertices_[i], vertices_[i + 1], x0, y0, x1, y1)) return true;
+    const Box box{x0, y0, x1, y1};
+    const std::size_t first = leaf_of(std::max(y0, min_y_)), last = leaf_of(std::min(y1, max_y_));
+    for (std::size_t k = first; k <= last; ++k) {
+        if (any_meets(leaf(k), box)) return true;
+    }
+    for (std::size_t from = leaves_ + first, to = leaves_ + last; from > 0; from >>= 1, to >>= 1) {
+        for (std::size_t n = from; n <= to; ++n) {
+            for (std::size_t g = node_groups_[n]; g < node_groups_[n + 1]; ++g) {
+                if (group_touches_box(n, g, box)) return true;
+            }
         }
     }
     return false;
+}
+
+bool MultiPolygon::any_meets(std::span<const std::uint32_t> edges, const Box& b) const {
+    return std::any_of(edges.begin(), edges.end(), [&](std::uint32_t i) {
+        return segment_meets_box(vertices_[i], vertices_[i + 1], b.x0, b.y0, b.x1, b.y1);
+    });
+}
+
+// Whether an edge of group g (in node n) meets the box; in a sorted group, those before the first
+// not left of the box at its clamped bottom or top are left of it at every height between, and those
+// from the last first-right-of-it on are right of it: only the edges between are tried.
+bool MultiPolygon::group_touches_box(std::size_t n, std::size_t g, const Box& box) const {
+    auto edges = group(g);
+    if (groups_[g].sorted) {
+        const auto [bottom, top] = node_heights(n);
+        const double lo = std::max(bottom, box.y0), hi = std::min(top, box.y1);
+        const double left = std::max(box.x0, min_x_) - margin_, right = std::min(box.x1, max_x_) + margin_;
+        std::size_t unused = 0;
+        const std::size_t begin = std::min(first_not_left<false>(edges, left, lo, unused),
+                                           first_not_left<false>(edges, left, hi, unused));
+        const std::size_t end = std::max(first_not_left<false>(edges, right, lo, unused),
+                                         first_not_left<false>(edges, right, hi, unused));
+        edges = edges.subspan(begin, std::max(end, begin) - begin);
+    }
+    return any_meets(edges, box);
 }
 
 double MultiPolygon::area() const {
@@ -205,10 +540,17 @@ double MultiPolygon::area() const {
     return sum;
 }
 
+std::size_t MultiPolygon::searched_entries() const {
+    std::size_t entries = 0;
+    for (std::size_t g = 0; g + 1 < groups_.size(); ++g) entries += groups_[g].sorted ? group(g).size() : 0;
+    return entries;
+}
+
 std::size_t MultiPolygon::held_bytes() const {
-    const std::size_t numbers = ring_starts_.capacity() + polygon_starts_.capacity() + band_starts_.capacity() +
-                                band_edges_.capacity();
-    return vertices_.capacity() * sizeof(XY) + numbers * sizeof(std::uint32_t);
+    const std::size_t numbers = ring_starts_.capacity() + polygon_starts_.capacity() + leaf_edges_.capacity() +
+                                bucket_leaves_.capacity() + node_groups_.capacity() + node_edges_.capacity();
+    return vertices_.capacity() * sizeof(XY) + numbers * sizeof(std::uint32_t) +
+           leaf_records_.capacity() * sizeof(Leaf) + groups_.capacity() * sizeof(Group);
 }
 
 std::size_t MultiPolygon::vertex_count() const {

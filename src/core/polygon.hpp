@@ -1,8 +1,9 @@
 // Areas on the ground (clip, the viewer's area tool): polygons with holes and multipolygons in the
 // dataset CRS's units (plain planar geometry, no PROJ), with a point-in-polygon test that is exact on
-// edges (a point on an edge or vertex is inside) and goes through an index of the edges by rows, and
-// their strict parsing from WKT (POLYGON / MULTIPOLYGON) and GeoJSON (a Polygon or MultiPolygon
-// geometry, Feature or FeatureCollection of them).
+// edges (a point on an edge or vertex is inside) and goes through an index of the edges by slabs of y
+// (a segment tree whose edge lists are sorted left to right), and their strict parsing from WKT
+// (POLYGON / MULTIPOLYGON) and GeoJSON (a Polygon or MultiPolygon geometry, Feature or
+// FeatureCollection of them).
 #pragma once
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace lidarscout {
@@ -28,12 +30,22 @@ using Ring = std::vector<XY>;
 // them (even-odd: a polygon's holes cut that polygon only); it is inside the MultiPolygon when it is
 // inside any of its polygons, so overlapping parts add up and another part's hole stays covered.
 //
-// The test goes through an index built once by the constructor: the y-range cut into bands (rows),
-// each listing the edges whose y-range meets it, so a point examines the edges of its band only: about
-// the edges a horizontal line crosses there plus edges / bands, not every edge (an outline: a few; a
-// star of 100k thin spikes: tens of thousands). The band count is at most the edge count and chosen so
-// that edges spanning many bands (a star's spikes, a spiral) leave the index at most about 4 entries
-// per edge; the memory is linear in the vertices (about 32 bytes a vertex with the vertices).
+// The test goes through an index built once by the constructor. The y-range is cut into slabs
+// (leaves) of 2 vertices each (4 or 8 past a million vertices); over them, a binary segment tree. An
+// edge meeting at most 3 leaves is listed in each (tested directly there); a longer one in the leaves
+// holding its ends and in the O(log leaves) tree nodes covering exactly the leaves it crosses
+// entirely. In a node, each polygon's edges span the node's whole height; where they do not cross
+// (any valid polygon; checked at the node's bottom and top) they are sorted left to right once, so a
+// point counts those right of it by a binary search and tests only the few within rounding distance
+// of it. A point examines its leaf's edges and searches the nodes above its leaf: O(log^2 vertices)
+// edges for any polygon (a star of 100k thin spikes: about 100; an outline: about 4), where a band
+// of y examines every edge a horizontal line crosses (tens of thousands on such a star). The answer
+// is, bit for bit, that of testing every edge: the same cross products, the search deciding only
+// edges farther from the point than their rounding. Edges that cross in a node (self-intersecting or
+// overlapping rings of one polygon) are tested one by one there: correct, not fast.
+// Memory: 16 bytes a vertex for the vertices, about 24 more for the index of an outline (10 past a
+// million vertices); the tree holds at most 12 entries per edge (stars, spirals: about 60 bytes a
+// vertex), the leaves made taller where it would hold more.
 class MultiPolygon {
 public:
     MultiPolygon() = default;
@@ -71,27 +83,81 @@ public:
     }
 
     // The work of the index, for tests and benchmarks: the edges contains(x, y) examines, and the
-    // entries (edge references) the index holds over all its bands.
+    // entries (edge references) the index holds over its leaves and tree nodes.
     std::size_t edges_examined(double x, double y) const;
-    std::size_t index_entries() const { return band_edges_.size(); }
+    std::size_t index_entries() const { return leaf_edges_.size() + node_edges_.size(); }
+    // The entries in sorted groups of the tree (searched); the others are in leaves, in groups of
+    // fewer than 4 edges, or in groups whose edges cross (tested one by one).
+    std::size_t searched_entries() const;
     // Bytes the polygon holds: its vertices and its index.
     std::size_t held_bytes() const;
 
 private:
+    // A polygon's edges in one tree node, node_edges_[begin .. the next group's begin): sorted left to
+    // right and searched, or tested one by one.
+    struct Group {
+        std::uint32_t begin = 0;
+        std::uint32_t polygon = 0;
+        bool sorted = false;
+    };
+    struct Box {
+        double x0, y0, x1, y1;
+    };
+    class OddPolygons;
+
     void build_index();
+    void index_leaves(std::span<const double> bottoms);
+    std::size_t bucket_of(double y) const;
+    void build_groups(std::span<const std::uint32_t> node_starts, double scale);
+    bool sort_group(std::span<std::uint32_t> edges, double bottom, double top,
+                    std::vector<std::pair<double, std::uint32_t>>& keys) const;
+    template <bool kCount>
+    bool test(double x, double y, std::size_t& examined) const;
+    template <bool kCount>
+    bool test_each(std::span<const std::uint32_t> edges, double x, double y, OddPolygons& odd,
+                   std::size_t& examined) const;
+    template <bool kCount>
+    bool search(std::span<const std::uint32_t> edges, std::uint32_t polygon, double x, double y, OddPolygons& odd,
+                std::size_t& examined) const;
+    template <bool kCount>
+    std::size_t first_not_left(std::span<const std::uint32_t> edges, double x, double y,
+                               std::size_t& examined) const;
+    bool any_meets(std::span<const std::uint32_t> edges, const Box& box) const;
+    bool group_touches_box(std::size_t node, std::size_t group, const Box& box) const;
     bool in_box(double x, double y) const { return x >= min_x_ && x <= max_x_ && y >= min_y_ && y <= max_y_; }
-    std::size_t band_of(double y) const;
-    std::span<const std::uint32_t> band(std::size_t b) const;
+    std::uint32_t polygon_of(std::uint32_t edge) const;
+    std::size_t leaf_of(double y) const;
+    std::span<const std::uint32_t> leaf(std::size_t k) const;
+    std::span<const std::uint32_t> group(std::size_t g) const;
+    std::pair<double, double> node_heights(std::size_t node) const;
 
     // Every ring's vertices, each ring followed by its first vertex again: an edge is named by its
     // first vertex i and ends at i + 1.
     std::vector<XY> vertices_;
     std::vector<std::uint32_t> ring_starts_;     // where each ring starts in vertices_, then the end
     std::vector<std::uint32_t> polygon_starts_;  // where each polygon (its outer ring) starts, then the end
-    // Band b lists the edges band_edges_[band_starts_[b] .. band_starts_[b + 1]) in ascending order,
-    // so grouped by polygon; a y value's band is floor((y - min_y) * band_scale_), clamped.
-    std::vector<std::uint32_t> band_starts_, band_edges_;
-    double band_scale_ = 0;
+    // Leaf k holds the y values [leaf_records_[k].bottom, leaf_records_[k + 1].bottom) and lists the edges
+    // leaf_edges_[leaf_records_[k].first .. leaf_records_[k + 1].first) in ascending order; a last record
+    // (bottom +infinity) ends the last leaf. A y value's leaf is found through uniform buckets of y
+    // (bucket_of), bucket b naming its leaves [bucket_leaves_[b], bucket_leaves_[b + 1]).
+    struct Leaf {
+        double bottom = 0;
+        std::uint32_t first = 0;  // its first edge in leaf_edges_
+        std::uint32_t path = 0;   // bit d: whether the ancestor d levels up, node (leaves_ + k) >> d, has edges
+    };
+    std::vector<Leaf> leaf_records_;
+    std::vector<std::uint32_t> leaf_edges_, bucket_leaves_;
+    double bucket_scale_ = 0;
+    // The tree over leaves_ leaves (a power of two; those past the last leaf record are empty): node
+    // 1 is the root, node n's children 2n and 2n + 1, leaf k's node leaves_ + k. Node n's groups are
+    // groups_[node_groups_[n] .. node_groups_[n + 1]), followed by one group marking the end.
+    std::size_t leaves_ = 0;
+    std::vector<std::uint32_t> node_groups_, node_edges_;
+    std::vector<Group> groups_;
+    // What the search leaves to direct tests: edges within margin_ of the point in x (far more than
+    // the rounding of the cross products and of the sorting); 0 when the coordinates are too large or
+    // too small to bound that rounding (every group then tested one by one).
+    double margin_ = 0;
     double min_x_ = 0, min_y_ = 0, max_x_ = 0, max_y_ = 0;
 };
 
