@@ -28,20 +28,31 @@ Registry& registry() {
     return r;
 }
 
-std::shared_ptr<const RemoteFile> registered(const std::string& url) {
+// What open() finds for `url`, under one lock: its file, or the opening in flight (a prefetch's
+// or another thread's open), or neither, and then `mine` is registered as its opening, for the
+// others to wait on (two looks under two locks let a prefetch end between them: two requests more).
+struct Found {
+    std::shared_ptr<const RemoteFile> file;
+    std::optional<Opening> pending;
+};
+Found find_or_claim(const std::string& url, const Opening& mine) {
     auto& r = registry();
     std::lock_guard lock(r.mutex);
-    const auto it = r.files.find(url);
-    return it == r.files.end() ? nullptr : it->second;
+    if (const auto it = r.files.find(url); it != r.files.end()) return {it->second, std::nullopt};
+    if (const auto it = r.opening.find(url); it != r.opening.end()) return {nullptr, it->second};
+    r.opening.emplace(url, mine);
+    return {};
 }
 
-// The prefetch of `url` in flight, if any.
-std::optional<Opening> opening(const std::string& url) {
-    auto& r = registry();
-    std::lock_guard lock(r.mutex);
-    const auto it = r.opening.find(url);
-    if (it == r.opening.end()) return std::nullopt;
-    return it->second;
+// Ends an opening registered for `url`: those waiting on it get `file` (null: it failed).
+void end_opening(const std::string& url, std::promise<std::shared_ptr<const RemoteFile>>& opened,
+                 std::shared_ptr<const RemoteFile> file) {
+    {
+        auto& r = registry();
+        std::lock_guard lock(r.mutex);
+        r.opening.erase(url);
+    }
+    opened.set_value(std::move(file));
 }
 
 std::shared_ptr<const RemoteFile> register_file(const std::string& url, std::shared_ptr<RemoteFile> file) {
@@ -146,14 +157,10 @@ RangeReply RemoteFile::fetch_now(std::vector<ByteRange> ranges) const {
 
 void RemoteFile::set_tail(RangeReply&& reply) { tail_ = std::move(reply.parts.at(0)); }
 
-std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
-    if (const std::string problem = url_problem(url); !problem.empty()) {
-        throw Error(redact_url(url), std::nullopt, problem);
-    }
-    if (auto f = registered(url)) return f;
-    if (auto pending = opening(url)) {
-        if (auto f = pending->get()) return f;  // else open it again here, to report the failure
-    }
+namespace {
+
+// Fetches the edges of `url` and registers its file; throws Error.
+std::shared_ptr<const RemoteFile> open_now(const std::string& url) {
     RangeReply head = HttpClient::shared().fetch(head_request(url));
     if (!head.error.empty()) throw_reply_error(url, 0, head.error);
     auto file = std::make_shared<RemoteFile>(url, std::move(head));
@@ -163,6 +170,29 @@ std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
         file->set_tail(std::move(reply));
     }
     return register_file(url, std::move(file));
+}
+
+}  // namespace
+
+std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
+    if (const std::string problem = url_problem(url); !problem.empty()) {
+        throw Error(redact_url(url), std::nullopt, problem);
+    }
+    std::promise<std::shared_ptr<const RemoteFile>> opened;
+    const Found found = find_or_claim(url, opened.get_future().share());
+    if (found.file) return found.file;
+    if (found.pending) {
+        if (auto f = found.pending->get()) return f;
+        return open_now(url);  // the other opening failed: again here, to report why
+    }
+    try {
+        auto file = open_now(url);
+        end_opening(url, opened, file);
+        return file;
+    } catch (...) {
+        end_opening(url, opened, nullptr);
+        throw;
+    }
 }
 
 namespace {
