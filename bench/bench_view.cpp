@@ -42,9 +42,15 @@
 // PATH's median as the reference of the ratios, waits for the scheduler, RSS before the
 // scheduler and at its peak, and what had come by the end (tiles' chunk points, heightmaps).
 //
+// --soak MINUTES [--soak-csv FILE] [--soak-action-every SECONDS]: the soak of bench/view_soak.hpp, a
+// tour with the user's actions (filters, colour modes, profiles, area measures, budget changes) for
+// MINUTES, resident size and frame times every second to the CSV (default soak.csv); exit 1 when the
+// resident size grew 2% or more after the warm-up, a frame took over 100 ms or an error came.
+//
 // Usage: bench_view [PATH...] [--cnn] [--flight SECONDS [--scaling]]
 //                   [--converge [--json] [--png DIR] [--camera NAME]... [--reference-cache DIR]]
 //                   [--load-cost [--runs N]]
+//                   [--soak MINUTES [--soak-csv FILE] [--soak-action-every SECONDS]]
 //                   [--lod-spacing PX]
 //                   [--memory MB] [--threads N] [--backend cpu|cuda|auto]
 // (default PATH: the replicated dataset /work/bench-data/replica-2025, else
@@ -72,6 +78,7 @@
 #include "dataset/metadata.hpp"
 #include "render/image_compare.hpp"
 #include "render/png_writer.hpp"
+#include "view_soak.hpp"
 #include "viewer/flight_path.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/reference_frame.hpp"
@@ -91,6 +98,9 @@ struct Options {
     std::vector<std::string> paths;
     bool cnn = false;
     double flight_s = 0;           // 0: the loading benchmark
+    double soak_minutes = 0;       // --soak
+    std::string soak_csv = "soak.csv";
+    double soak_action_every_s = 15;
     bool converge = false, json = false, load_cost = false;
     bool scaling = false;          // --scaling: the flight over each PATH in turn, one table
     int runs = 3;                  // --load-cost
@@ -114,6 +124,9 @@ Options parse(int argc, char** argv) {
         if (a == "--cnn") o.cnn = true;
         else if (a == "--flight") o.flight_s = std::stod(value());
         else if (a == "--converge") o.converge = true;
+        else if (a == "--soak") o.soak_minutes = std::stod(value());
+        else if (a == "--soak-csv") o.soak_csv = value();
+        else if (a == "--soak-action-every") o.soak_action_every_s = std::stod(value());
         else if (a == "--scaling") o.scaling = true;
         else if (a == "--json") o.json = true;
         else if (a == "--load-cost") o.load_cost = true;
@@ -607,11 +620,20 @@ int load_cost(const Options& o, const dataset::Dataset& ds) {
     return 0;
 }
 
+// --soak: bench/view_soak.hpp with this run's options.
+int soak(const Options& o, const dataset::Dataset& ds) {
+    bench::SoakSettings s;
+    s.minutes = o.soak_minutes, s.csv = o.soak_csv, s.action_every_s = o.soak_action_every_s;
+    s.budget = o.memory_mb << 20, s.threads = pool_threads(o), s.cnn = o.cnn, s.style = o.style;
+    return bench::run_soak(ds, s);
+}
+
 }  // namespace
 
 constexpr const char* kUsage =
     "PATH... [--flight SECONDS [--scaling R1 R2 ...]] [--converge [--camera NAME]... [--png DIR] "
-    "[--reference-cache DIR]] [--load-cost] [--cnn] [--memory MB] [--threads N] [--lod-spacing PX] "
+    "[--reference-cache DIR]] [--load-cost] [--soak MINUTES [--soak-csv FILE] [--soak-action-every S]] "
+    "[--cnn] [--memory MB] [--threads N] [--lod-spacing PX] "
     "[--backend cpu|cuda|auto] [--classes C] [--returns R] [--intensity MIN-MAX] [--runs N] [--json]";
 
 int main(int argc, char** argv) {
@@ -628,6 +650,7 @@ int main(int argc, char** argv) {
         if (ds.tiles.empty()) throw Error("no readable tiles in the paths given: nothing to measure");
         if (o.converge) return converge(o, ds);
         if (o.load_cost) return load_cost(o, ds);
+        if (o.soak_minutes > 0) return soak(o, ds);
         return o.flight_s > 0 ? flight(o, ds) : loading(o, ds, headers);
     });
 }

@@ -24,6 +24,8 @@ PACKAGES=(
   python3 python3-torch python3-numpy
   # the Dask driver of `dem --block` (python/lidarscout_dask): Dask's distributed scheduler, GDAL's Python
   python3-distributed python3-gdal
+  # the plot of `bench_view --soak` (scripts/plot_soak.sh)
+  gnuplot-nox
 )
 
 SUDO=""

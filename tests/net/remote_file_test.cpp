@@ -1,8 +1,9 @@
 // net/remote_file through io::File against nginx on loopback: remote reads equal the local
 // file's bytes everywhere, a tile's ranges go out as one multi-range request, URLs are shown
 // without credentials, a file that changes on the server during a session is an error, and
-// open() joins a prefetch in flight (threads opening one file at once share it); redirects are kept per file and resolved again when they
-// expire; a server without validator that switches files is told by the file's size.
+// open() joins a prefetch in flight (threads opening one file at once share it); redirects are
+// kept per file and resolved again when they expire; a server without validator that switches
+// files is told by the file's size.
 #include <gtest/gtest.h>
 
 #include <atomic>
