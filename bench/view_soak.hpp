@@ -3,14 +3,14 @@
 // The tour flies back and forth between high above the dataset and 200 m over it (viewer/flight_path
 // .hpp), turning 90 degrees each pass; every --soak-action-every seconds (default 15) the next action
 // of a fixed cycle: a ground filter (heightmaps laid over as bare earth), every point again, the next
-// colour mode, a profile across the view (viewer/profile_tool.hpp, its own thread, dropped at the next
-// profile), an area and volume measure around the point looked at (viewer/area_tool.hpp, its own
-// thread), half the memory budget, the budget back. Frames are drawn back to back at 1280 x 720 as the
-// viewer draws them. Every second a row of the CSV: seconds, resident MB, heap in use and kept MB, the
-// scheduler's MB against its budget, frames, their median and worst ms, full-resolution tiles, loads,
-// releases, errors, and the last action. The summary: resident size after the warm-up (5 minutes, or
-// a twelfth of a shorter soak) against the largest after it, frames over 100 ms beyond the first 5 s
-// after the start or a budget change, errors. scripts/plot_soak.sh draws the CSV (gnuplot).
+// colour mode, a profile (viewer/profile_tool.hpp, its own thread, dropped at the next profile), an
+// area and volume measure (viewer/area_tool.hpp, its own thread), both on the tile nearest the point
+// looked at, half the memory budget, the budget back. Frames are drawn back to back at 1280 x 720 as
+// the viewer draws them. Every second a row of the CSV: seconds, resident MB, heap in use and kept MB,
+// the scheduler's MB against its budget, frames, their median and worst ms, full-resolution tiles,
+// loads, releases, errors, and the last action. The summary: resident size after the warm-up (5
+// minutes, or a twelfth of a shorter soak) against the largest after it, frames over 100 ms beyond the
+// first 5 s after the start or a budget change, errors. scripts/plot_soak.sh draws the CSV (gnuplot).
 #pragma once
 
 #include <fmt/format.h>
@@ -102,11 +102,16 @@ private:
         style_.colour = viewer::colour_settings(mode, ds_.bounds_m.min_z, ds_.bounds_m.max_z);
         return "colour " + std::string(render::colour_mode_name(mode));
     }
-    // The point looked at, moved `dx` metres east and `dy` north.
+    // The centre of the tile nearest the point looked at (a replica's grid has gaps between its
+    // tiles), moved `dx` metres east and `dy` north.
     viewer::PickedPoint ground(const render::Camera& camera, double dx, double dy) const {
         const auto [x, y] = viewer::Scheduler::look_at_ground(camera, ds_.bounds_m);
+        const auto nearest = std::min_element(ds_.tiles.begin(), ds_.tiles.end(), [&](const auto& a, const auto& b) {
+            return a.bounds_m.distance_xy(x, y) < b.bounds_m.distance_xy(x, y);
+        });
         viewer::PickedPoint p;
-        p.x = x + dx, p.y = y + dy, p.z = 0.5 * (ds_.bounds_m.min_z + ds_.bounds_m.max_z);
+        p.x = nearest->bounds_m.centre_x() + dx, p.y = nearest->bounds_m.centre_y() + dy;
+        p.z = 0.5 * (nearest->bounds_m.min_z + nearest->bounds_m.max_z);
         return p;
     }
     std::string open_profile(const render::Camera& camera) {

@@ -28,7 +28,7 @@ plot "$csv" using (\$1/60):2 every ::1 with lines lw 2 title "resident", \
      "$csv" using (\$1/60):5 every ::1 with lines title "scheduler", \
      "$csv" using (\$1/60):6 every ::1 with lines dt 2 title "budget", \
      "$csv" using (\$1/60):8 every ::1 axes x1y2 with lines lc rgb "#999999" title "median frame", \
-     "$csv" using (\$1/60):9 every ::1 axes x1y2 with dots lc rgb "#cc0000" title "worst frame"
+     "$csv" using (\$1/60):9 every ::1 axes x1y2 with lines lw 0.5 lc rgb "#cc0000" title "worst frame"
 GP
 mv "$tmp" "$png"
 trap - EXIT
