@@ -354,7 +354,7 @@ void take_overview(const Streamed& s, const std::string& document, Walk& w) {
 }
 
 void read_document(const std::string& document, int depth, Walk& w) {
-    Streamed s{w.out.items.size(), {}, {}};
+    Streamed s{w.out.items.size(), {}, {}, {}};
     const bool was_full = w.full;
     const auto doc = read_streamed(document, s, w);
     std::optional<std::string> type;
