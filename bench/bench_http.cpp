@@ -22,11 +22,13 @@
 // the replica object server (tests/replica_server.hpp: 152,100 tiles cost it nothing), one per latency
 // with that round trip (and --bandwidth bytes/s per connection): the dataset is its catalog.vpc, or
 // with --s3 its bucket's listing (s3://replica/). Each latency adds what the server counted per run:
-// tile requests per tile, multi-range requests, catalog requests and bytes, listing pages.
+// tile requests per tile, multi-range requests, catalog requests and bytes, listing pages. With
+// --overview FILE (an overview sidecar: `lidarscout catalog MANIFEST -o OUT.vpc --overview`) the server
+// serves it, its catalog names it, and the overview requests are counted too.
 // Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]]
 //                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] FOLDER
 //        bench_http [--runs N] [--rtt-ms 0,20,50] [--s3] [--bandwidth BYTES_PER_S]
-//                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] --replica MANIFEST
+//                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] [--overview FILE] --replica MANIFEST
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -213,7 +215,7 @@ std::uint64_t replica_bytes(const std::string& manifest) {
 struct Options {
     int runs = 3;
     std::vector<int> rtts = {0, 20, 50};
-    std::string folder, replica, view_program, view_args, vpc_program;
+    std::string folder, replica, view_program, view_args, vpc_program, overview;
     bool https = false, s3 = false;
     int s3_copies = 1;
     std::uint64_t bandwidth = 0;
@@ -247,6 +249,8 @@ Options parse_options(int argc, char** argv) {
             o.s3_copies = std::max(1, std::atoi(argv[++i]));
         } else if (a == "--vpc" && value) {
             o.vpc_program = argv[++i];
+        } else if (a == "--overview" && value) {
+            o.overview = argv[++i];
         } else if (a == "--replica" && value) {
             o.replica = argv[++i];
         } else if (a == "--bandwidth" && value) {
@@ -300,10 +304,11 @@ void print_server_stats(const nlohmann::json& stats, int runs) {
     const double tile_requests = per_run("tile", "requests") + per_run("tile_head", "requests") +
                                  per_run("s3_object", "requests") + per_run("s3_head", "requests");
     fmt::print("         server, per run: {:.3f} tile requests/tile ({:.0f} multi-range), {:.0f} catalog requests "
-               "({:.1f} MB), {:.0f} listing pages, {:.1f} MB of tiles sent\n",
+               "({:.1f} MB), {:.0f} listing pages, {:.1f} MB of tiles sent, {:.0f} overview requests ({:.1f} MB)\n",
                tile_requests / tiles, stats.at("multi_range_requests").get<double>() / runs,
                per_run("catalog", "requests"), per_run("catalog", "bytes") / 1e6, per_run("s3_list", "requests"),
-               (per_run("tile", "bytes") + per_run("s3_object", "bytes")) / 1e6);
+               (per_run("tile", "bytes") + per_run("s3_object", "bytes")) / 1e6, per_run("overview", "requests"),
+               per_run("overview", "bytes") / 1e6);
 }
 
 // --replica: for each latency a replica server with that round trip; its catalog (or, with --s3, its
@@ -314,6 +319,7 @@ void run_replica(const Options& o) {
         test::ReplicaServer::Options so;
         so.rtt_ms = rtt;
         so.bandwidth = o.bandwidth;
+        so.overview = o.overview;
         test::ReplicaServer server(o.replica, so);
         if (o.s3) use_s3_endpoint(server.port());
         const std::string url = o.s3 ? server.s3_url() : server.catalog_url();

@@ -40,6 +40,7 @@ public:
         double rtt_ms = 0;                     // each response's delay (a new connection's first: twice)
         std::uint64_t bandwidth = 0;           // bytes/s per connection; 0: unlimited
         std::string bucket = "replica";        // the S3 bucket's name
+        std::string overview;                  // an overview sidecar to serve (and name in the VPC); "" none
     };
 
     // A server of the replica `manifest`, started at once; throws when it does not start (its
@@ -140,9 +141,10 @@ private:
         if (pid_ == 0) {
             ::prctl(PR_SET_PDEATHSIG, SIGTERM);
             std::freopen(log.c_str(), "w", stderr);
+            const char* overview = o.overview.empty() ? nullptr : "--overview";
             ::execl("/usr/bin/python3", "python3", script.c_str(), m.c_str(), "--port-file", port_file.c_str(),
                     "--program", o.program.c_str(), "--bucket", o.bucket.c_str(), "--rtt-ms", rtt.c_str(),
-                    "--bandwidth", bandwidth.c_str(), static_cast<char*>(nullptr));
+                    "--bandwidth", bandwidth.c_str(), overview, o.overview.c_str(), static_cast<char*>(nullptr));
             ::_exit(127);
         }
         // (152,100 tiles take some seconds: the manifest, the sources' items, every item's length)

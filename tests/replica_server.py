@@ -26,12 +26,17 @@ is read from the source file. It answers:
   STAC   GET /search?limit=N&token=T: a STAC API ItemCollection page (limit 10 by default, at most 10000),
          its items as in the VPC with absolute hrefs, a "next" link (token-based) while items remain,
          numberMatched and numberReturned. GET / is a landing page linking it.
+  Overview  GET/HEAD /catalog.overview.laz: with --overview FILE, that file (an overview sidecar written by
+         `PROGRAM catalog MANIFEST -o OUT.vpc --overview`), ranges answered as a tile's; /catalog.vpc then
+         names it in a top-level link of rel "lidarscout:overview" (item ids are the tiles' names' stems in
+         both, which is how the sidecar's tiles are found).
   Stats  GET /_stats: requests and body bytes per kind (tile, tile_head, s3_object, s3_head, s3_list,
          catalog, search, landing, error), tiles touched, connections, ranges, multi-range requests, as
          JSON; /_stats?reset=1 answers, then starts counting again. Never delayed nor counted.
 
 Options: --rtt-ms MS delays each response by MS (a connection's first by 2 x MS: its TCP handshake);
---bandwidth B sends each connection's bodies at B bytes/s (0: unlimited).
+--bandwidth B sends each connection's bodies at B bytes/s (0: unlimited); --overview FILE serves an
+overview sidecar (above).
 
 One asyncio event loop (no thread per connection; http.server's thread-per-connection and header parsing
 cost far more per request on the 2 cores the benchmarks share). Started by tests/replica_server.hpp, which
@@ -369,7 +374,8 @@ def json_tail(fields):
 
 
 class Stats:
-    KINDS = ("tile", "tile_head", "s3_object", "s3_head", "s3_list", "catalog", "search", "landing", "error")
+    KINDS = ("tile", "tile_head", "s3_object", "s3_head", "s3_list", "catalog", "search", "landing", "overview",
+             "error")
 
     def __init__(self):
         self.reset()
@@ -501,12 +507,38 @@ def json_response(value, kind):
                     kind=kind)
 
 
+def overview_resource(path):
+    """An overview sidecar file as a Resource (read from the file as asked)."""
+    try:
+        fd = os.open(path, os.O_RDONLY)
+        st = os.fstat(fd)
+    except OSError as e:
+        fail(f"{path}: cannot be read ({e.strerror})")
+    etag = '"' + hashlib.md5(f"{path}|{st.st_size}|{st.st_mtime}".encode()).hexdigest() + '"'
+
+    def read(offset, length):
+        end = offset + length
+        while offset < end:
+            data = os.pread(fd, min(PIECE, end - offset), offset)
+            if not data:
+                return
+            yield data
+            offset += len(data)
+    return Resource(st.st_size, etag, st.st_mtime, read, "application/vnd.laszip")
+
+
 class Server:
     def __init__(self, replica, items, options):
         self.replica, self.items, self.options = replica, items, options
         self.stats = Stats()
         self.rtt = options.rtt_ms / 1000.0
-        self.catalog = ItemDocument(items, 0, len(replica.names), "./tiles/", json_tail({}))
+        self.overview = None
+        links = {}
+        if options.overview:
+            self.overview = overview_resource(options.overview)
+            links = {"links": [{"rel": "lidarscout:overview", "href": "./catalog.overview.laz",
+                                "type": "application/vnd.laszip"}]}
+        self.catalog = ItemDocument(items, 0, len(replica.names), "./tiles/", json_tail(links))
 
     # -- routes
 
@@ -525,6 +557,8 @@ class Server:
         head, rng = method == "HEAD", headers.get("range", "")
         if path.startswith("/tiles/"):
             return self.tile(path[len("/tiles/"):], rng, head, "tile_head" if head else "tile"), True
+        if path == "/catalog.overview.laz" and self.overview:
+            return ranged(self.overview, rng, head, "overview", self.stats), True
         if path == "/catalog.vpc":
             return ranged(self.catalog_resource(self.catalog), rng, head, "catalog", self.stats), True
         if path == "/search":
@@ -802,6 +836,7 @@ def main():
     p.add_argument("--bucket", default="replica", help="the S3 bucket's name (default replica)")
     p.add_argument("--rtt-ms", type=float, default=0.0, help="each response's delay, ms (a new connection's: 2x)")
     p.add_argument("--bandwidth", type=parse_size, default=0, help="bytes/s per connection (0: unlimited)")
+    p.add_argument("--overview", help="an overview sidecar to serve at /catalog.overview.laz (named in the VPC)")
     p.add_argument("--quiet", action="store_true")
     options = p.parse_args()
     if options.bucket in ("tiles", "catalog.vpc", "search", "_stats") or "/" in options.bucket:

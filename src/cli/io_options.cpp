@@ -6,6 +6,7 @@
 #include <cctype>
 #include <map>
 
+#include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
 
 namespace lidarscout::cli {
@@ -51,6 +52,11 @@ const CLI::App* parsed_leaf(const CLI::App& app) {
 CLI::Option* add_inputs(CLI::App& cmd, const std::string& name, std::vector<std::string>& paths,
                         const std::string& help) {
     registry()[&cmd].input_lists.push_back(&paths);
+    if (!cmd.get_option_no_throw("--no-overview")) {
+        cmd.add_flag_callback("--no-overview", [] { dataset::use_overview_sidecars(false); },
+                              "Ignore a catalog's overview sidecar: read its tiles' headers and chunk points "
+                              "from the tiles themselves");
+    }
     return cmd.add_option(name, paths, help);
 }
 

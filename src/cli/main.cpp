@@ -18,6 +18,7 @@
 #include "cli/remote_options.hpp"
 #include "cli/usage_error.hpp"
 #include "core/error.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "io/temporary_files.hpp"
 #include "net/range_cache.hpp"
 #include "version.hpp"
@@ -97,6 +98,8 @@ int main(int argc, char** argv) {
         lidarscout::cli::report_failure({"internal", e.what(), {}, std::nullopt, e.what()}, json);
         status = 2;
     }
+    // the tiles read themselves because they changed since their catalog's overview sidecar
+    lidarscout::cli::print_diagnostics(lidarscout::dataset::take_stale_tile_warnings());
     // what the range cache noticed (damaged entries it dropped and fetched again)
     lidarscout::cli::print_diagnostics(lidarscout::net::RangeCache::shared().take_diagnostics());
     return status;

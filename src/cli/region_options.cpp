@@ -13,8 +13,9 @@
 namespace lidarscout::cli {
 
 dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,
-                                     const std::string& command, bool accept_degrees) {
-    dataset::DatasetOptions options;
+                                     const std::string& command, bool accept_degrees,
+                                     dataset::DatasetOptions base) {
+    dataset::DatasetOptions options = std::move(base);
     options.crs = crs;
     options.accept_degrees = accept_degrees;
     dataset::Dataset ds = open_with_progress(paths, options);

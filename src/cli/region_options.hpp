@@ -20,8 +20,10 @@ namespace lidarscout::cli {
 
 // open_with_progress, skipped files and warnings on stderr, refused without a readable tile; a frame
 // in degrees only when `accept_degrees` (dataset::DatasetOptions).
+// `base` gives the other options (e.g. sources_found).
 dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,
-                                     const std::string& command, bool accept_degrees = false);
+                                     const std::string& command, bool accept_degrees = false,
+                                     dataset::DatasetOptions base = {});
 
 // A "COMMAND: points" progress bar for read_region_points.
 class PointsBar {

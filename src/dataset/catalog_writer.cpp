@@ -6,11 +6,13 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <algorithm>
 #include <set>
 
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "geo/crs_definition.hpp"
 #include "geo/projection.hpp"
 #include "io/output_file.hpp"
@@ -121,7 +123,8 @@ std::string unique_id(const std::string& path, std::set<std::string>& used) {
     return id;
 }
 
-ordered_json item_json(const Tile& tile, const std::string& id, const fs::path& folder, bool& without_crs) {
+ordered_json item_json(const Tile& tile, const std::string& path, const std::string& id, const fs::path& folder,
+                       bool& without_crs) {
     const las::Header& h = tile.header;
     ordered_json props;
     add_dates(h, props);
@@ -155,7 +158,7 @@ ordered_json item_json(const Tile& tile, const std::string& id, const fs::path& 
     item["properties"] = std::move(props);
     item["links"] = json::array();
     item["assets"] = {{"data",
-                       {{"href", href_of(tile.path(), folder)},
+                       {{"href", href_of(path, folder)},
                         {"roles", {"data"}},
                         {"type", tile.compressed() ? "application/vnd.laszip" : "application/vnd.las"}}}};
     return item;
@@ -163,26 +166,64 @@ ordered_json item_json(const Tile& tile, const std::string& id, const fs::path& 
 
 }  // namespace
 
-CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& output) {
-    std::set<std::string> paths;
+std::vector<std::string> catalog_paths(const Dataset& dataset, std::span<const TileSource> sources,
+                                       const std::string& folder) {
+    if (std::none_of(sources.begin(), sources.end(), [](const TileSource& s) { return !s.name.empty(); })) return {};
+    std::vector<std::string> out;
+    std::size_t i = 0;  // the tiles are the sources read, in order; a source's tiles are read or not together
     for (const auto& t : dataset.tiles) {
-        if (!paths.insert(t.tile.path()).second) {
-            throw Error::in_stage("catalog", t.tile.path() + " stands for several tiles (a virtual replica): a "
+        while (i < sources.size() && sources[i].path != t.tile.path()) ++i;
+        if (i == sources.size()) throw Error::in_stage("catalog", "internal: a tile of no source " + t.tile.path());
+        out.push_back(sources[i].name.empty() ? t.tile.path() : (fs::path(folder) / sources[i].name).string());
+        ++i;
+    }
+    return out;
+}
+
+namespace {
+
+const std::string& tile_path(const Dataset& dataset, const CatalogWriteOptions& options, std::size_t i) {
+    return options.paths.empty() ? dataset.tiles[i].tile.path() : options.paths.at(i);
+}
+
+}  // namespace
+
+std::vector<std::string> catalog_ids(const Dataset& dataset, const CatalogWriteOptions& options) {
+    std::set<std::string> used;
+    std::vector<std::string> ids;
+    for (std::size_t i = 0; i < dataset.tiles.size(); ++i) {
+        ids.push_back(unique_id(tile_path(dataset, options, i), used));
+    }
+    return ids;
+}
+
+CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& output,
+                                 const CatalogWriteOptions& options) {
+    const auto path_of = [&](std::size_t i) { return tile_path(dataset, options, i); };
+    std::set<std::string> paths;
+    for (std::size_t i = 0; i < dataset.tiles.size(); ++i) {
+        if (!paths.insert(path_of(i)).second) {
+            throw Error::in_stage("catalog", path_of(i) + " stands for several tiles (a virtual replica): a "
                                              "catalog names files, so write the replica's tiles first "
                                              "(synth replicate without --virtual)");
         }
     }
     const fs::path folder = fs::absolute(output).parent_path();
     CatalogWriteResult result;
-    std::set<std::string> ids;
+    result.ids = catalog_ids(dataset, options);
     ordered_json features = ordered_json::array();
-    for (const auto& t : dataset.tiles) {
+    for (std::size_t i = 0; i < dataset.tiles.size(); ++i) {
         bool without_crs = false;
-        features.push_back(item_json(t.tile, unique_id(t.tile.path(), ids), folder, without_crs));
+        features.push_back(item_json(dataset.tiles[i].tile, path_of(i), result.ids[i], folder, without_crs));
         result.without_crs += without_crs;
         ++result.items;
     }
-    const ordered_json doc = {{"type", "FeatureCollection"}, {"features", std::move(features)}};
+    ordered_json doc = {{"type", "FeatureCollection"}, {"features", std::move(features)}};
+    if (!options.overview.empty()) {
+        doc["links"] = {{{"rel", kOverviewRel}, {"href", href_of(options.overview, folder)},
+                         {"type", "application/vnd.laszip"}, {"title", "overview sidecar: every tile's chunk points "
+                                                                       "and metadata (lidarscout)"}}};
+    }
     const std::string text = doc.dump(1) + "\n";
     io::AtomicOutputFile out(output);
     out.write(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));

@@ -8,7 +8,9 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "dataset/dataset.hpp"
 
@@ -17,11 +19,29 @@ namespace lidarscout::dataset {
 struct CatalogWriteResult {
     std::size_t items = 0;
     std::size_t without_crs = 0;  // tiles whose CRS is unknown: no proj: CRS nor WGS 84 footprint of their own
+    std::vector<std::string> ids;  // each tile's item id, in the dataset's order
 };
 
+struct CatalogWriteOptions {
+    // The path each tile is named by (empty: their files'): a virtual replica's tiles, which share their
+    // source's file, are named where `synth replicate` without --virtual would write them.
+    std::vector<std::string> paths;
+    std::string overview;  // the overview sidecar to name in a top-level link (kOverviewRel); "" none
+};
+
+// The item id of each tile (unique: a file name's stem, with "-2", "-3"... when it repeats).
+std::vector<std::string> catalog_ids(const Dataset& dataset, const CatalogWriteOptions& options = {});
+
 // Writes `dataset` to `output` (through a temporary name, never over an input). Throws
-// lidarscout::Error for a virtual replica's tile (its shift cannot be written in a catalog) or
+// lidarscout::Error when tiles share a path (a virtual replica's, without options.paths) or
 // when the file cannot be written.
-CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& output);
+CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& output,
+                                 const CatalogWriteOptions& options = {});
+
+// The paths of a virtual replica's tiles for CatalogWriteOptions::paths: each named tile of `sources`
+// (the sources the dataset was opened from, TileSource::name) in `folder`, the others' own; empty
+// when no source has a name.
+std::vector<std::string> catalog_paths(const Dataset& dataset, std::span<const TileSource> sources,
+                                       const std::string& folder);
 
 }  // namespace lidarscout::dataset

@@ -17,6 +17,7 @@
 #include "dataset/dataset.hpp"
 #include "core/patch_grid.hpp"
 #include "dataset/las_colour.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile_index.hpp"
 #include "las/point_format.hpp"
@@ -60,7 +61,8 @@ public:
         : loader_(loader), ds_(ds), grid_(grid), direct_(direct), max_errors_(max_errors), index_(ds) {
         for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
             if (ds.tiles[i].chunk_points == 0) continue;
-            if (ds.tiles[i].bounds_m.empty()) unplaced_.push_back(i);
+            if (!overview_records(ds.tiles[i].tile, ds.tiles[i].chunk_points).empty()) held_.push_back(i);
+            else if (ds.tiles[i].bounds_m.empty()) unplaced_.push_back(i);
             else index_.set_pending(i, true);
         }
         std::reverse(unplaced_.begin(), unplaced_.end());  // back = the first
@@ -127,7 +129,34 @@ public:
         publish(id, finished);
     }
 
+    // The tiles whose chunk points an overview sidecar holds, nearest to the focus first, from its
+    // records (no read).
+    void publish_held() {
+        const auto [x, y] = focus();
+        const auto distance = [&](std::uint32_t id) { return ds_.tiles[id].bounds_m.distance_xy(x, y); };
+        std::stable_sort(held_.begin(), held_.end(), [&](auto a, auto b) { return distance(a) < distance(b); });
+        for (const std::uint32_t id : held_) {
+            if (is_cancelled()) return;
+            const auto& tile = ds_.tiles[id];
+            const auto records = overview_records(tile.tile, tile.chunk_points);
+            const auto locations = chunk_point_locations(tile.tile, ds_.las_stride);
+            const std::size_t length = tile.tile.header.record_length;
+            std::vector<PendingPoint> points;
+            for (std::size_t k = 0; k < locations.size() && (k + 1) * length <= records.size(); ++k) {
+                auto p = convert(tile, records.subspan(k * length, length), locations[k].offset);
+                if (p) points.push_back(*p);
+            }
+            publish(id, points);
+        }
+        held_ = {};
+    }
+
 private:
+    bool is_cancelled() const {
+        std::lock_guard lock(mutex_);
+        return cancelled_;
+    }
+
     std::pair<double, double> focus() const {
         std::lock_guard lock(focus_mutex_);
         return focus_;
@@ -238,6 +267,7 @@ private:
     std::vector<std::uint32_t> active_;    // started tiles with reads left to hand out, oldest first
     TileIndex index_;                      // the tiles not started yet are its pending ones
     std::vector<std::uint32_t> unplaced_;  // tiles without bounds, not started yet; back = next
+    std::vector<std::uint32_t> held_;      // tiles whose chunk points an overview sidecar holds
     bool cancelled_ = false;
     mutable std::mutex focus_mutex_;  // guards focus_ alone
     std::pair<double, double> focus_{0, 0};
@@ -269,6 +299,7 @@ void ChunkPointLoader::start() {
 
 void ChunkPointLoader::run() {
     try {
+        source_->publish_held();
         const auto used = io::run_batch_reads(*source_, options_.reads);
         backend_used_ = used;
     } catch (...) {

@@ -13,12 +13,15 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string_view>
+#include <unordered_map>
 
 #include "core/error.hpp"
 #include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "geo/crs_definition.hpp"
@@ -121,6 +124,7 @@ public:
         if (tile) shift_tile(*tile, *source.shift);
         return tile;
     }
+    SharedRecords& records() { return records_; }
 
 private:
     struct Result {
@@ -157,9 +161,10 @@ private:
     std::map<std::string, std::shared_future<Result>> sources_;
 };
 
-std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, TileReads& reads,
-                                    std::string& error) {
-    std::optional<Tile> tile = reads.read(source, error);
+// The tile of `source`: the one its overview sidecar placed, else read.
+std::optional<DatasetTile> read_one(const TileSource& source, std::optional<Tile>& placed, std::uint64_t las_stride,
+                                    TileReads& reads, std::string& error) {
+    std::optional<Tile> tile = placed ? std::move(placed) : reads.read(source, error);
     if (!tile) return std::nullopt;
     return reading(source.path, error, [&] { return make_dataset_tile(std::move(*tile), las_stride); });
 }
@@ -347,6 +352,56 @@ void place_tiles(Dataset& ds, const DatasetOptions& options) {
     ds.tiles.erase(ds.tiles.begin() + static_cast<std::ptrdiff_t>(kept), ds.tiles.end());
 }
 
+// Places the sources `members` of the sidecar at `path` from it (by their items' ids) into `placed`; one
+// warning when the sidecar cannot be used (its tiles are then read), one for the items it does not hold.
+void place_from_sidecar(const std::string& path, const std::vector<std::size_t>& members,
+                        std::span<const TileSource> sources, std::vector<std::optional<Tile>>& placed,
+                        SharedRecords& records, Diagnostics& warnings, ThreadPool& pool) {
+    OverviewSidecar sidecar;
+    try {
+        sidecar = read_overview_sidecar(path);
+    } catch (const Error& e) {
+        const std::string why = e.file().empty() ? io::display_path(path) + ": " + e.what() : e.what();
+        return warnings.warn("overview sidecar not used (" + why + "): its catalog's tiles are read themselves");
+    }
+    constexpr std::size_t kRepeated = static_cast<std::size_t>(-1);
+    std::unordered_map<std::string_view, std::size_t> by_id;
+    for (std::size_t k = 0; k < sidecar.entries.size(); ++k) {
+        const auto [it, added] = by_id.try_emplace(sidecar.entries[k].id, k);
+        if (!added) it->second = kRepeated;
+    }
+    std::atomic<std::size_t> missing{0};
+    pool.for_each(members.size(), [&](std::size_t k) {
+        const TileSource& s = sources[members[k]];
+        const auto it = by_id.find(s.item->id);
+        try {
+            if (it == by_id.end() || it->second == kRepeated) throw Error("not in the sidecar");
+            placed[members[k]] = tile_from_overview(sidecar, it->second, s.path, &records);
+        } catch (const Error&) {
+            ++missing;
+        }
+    });
+    if (missing > 0) {
+        warnings.warn(std::to_string(missing.load()) + " of " + std::to_string(members.size()) + " tiles of the "
+                      "catalog are not in its overview sidecar " + io::display_path(path) + ": read themselves");
+    }
+}
+
+// The tiles their catalogs' overview sidecars place, by source (none for a source no sidecar holds).
+std::vector<std::optional<Tile>> overview_tiles(std::span<const TileSource> sources, SharedRecords& records,
+                                                Diagnostics& warnings, ThreadPool& pool) {
+    std::vector<std::optional<Tile>> placed(sources.size());
+    std::map<std::string, std::vector<std::size_t>> by_sidecar;
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        const auto& item = sources[i].item;
+        if (item && item->overview && !sources[i].shift) by_sidecar[*item->overview].push_back(i);
+    }
+    for (const auto& [path, members] : by_sidecar) {
+        place_from_sidecar(path, members, sources, placed, records, warnings, pool);
+    }
+    return placed;
+}
+
 void summarise(Dataset& ds) {
     for (const auto& t : ds.tiles) {
         if (t.tile.header.point_count > 0) ds.bounds_m.extend(t.bounds_m);
@@ -357,6 +412,12 @@ void summarise(Dataset& ds) {
 }
 
 }  // namespace
+
+namespace {
+std::atomic<bool> overview_sidecars_used{true};
+}  // namespace
+
+void use_overview_sidecars(bool used) { overview_sidecars_used = used; }
 
 void require_tiles(const Dataset& ds, const std::string& stage) {
     if (!ds.tiles.empty()) return;
@@ -443,17 +504,21 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     std::vector<DatasetTile> tiles(n);  // a tile not read has no file
     std::vector<std::string> errors(n), disagreements(n);
     std::atomic<std::size_t> done{0};
+    ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
+    TileReads reads;
+    std::vector<std::optional<Tile>> placed =
+        options.use_overview && overview_sidecars_used ? overview_tiles(sources, reads.records(), ds.warnings, pool)
+                             : std::vector<std::optional<Tile>>(n);
     std::vector<std::string> source_paths;
-    source_paths.reserve(n);
-    for (const auto& source : sources) source_paths.push_back(source.path);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!placed[i]) source_paths.push_back(sources[i].path);
+    }
     io::File::prefetch(source_paths);  // remote tiles: every header request in flight at once
     source_paths = {};
-    ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
     const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
-    TileReads reads;
     pool.for_each(n, [&](std::size_t i) {
         if (cancelled()) return;
-        if (auto tile = read_one(sources[i], options.las_stride, reads, errors[i])) {
+        if (auto tile = read_one(sources[i], placed[i], options.las_stride, reads, errors[i])) {
             tiles[i] = std::move(*tile);
             if (sources[i].item) disagreements[i] = item_disagreement(*sources[i].item, tiles[i].tile);
             if (options.tile_read) options.tile_read(tiles[i]);

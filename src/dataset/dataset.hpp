@@ -113,7 +113,14 @@ struct DatasetOptions {
     // When it turns true, files not yet started are not read and open_dataset throws Error
     // ("opening cancelled") once the reads in progress have ended.
     const std::atomic<bool>* cancel = nullptr;
+    // Whether a catalog's overview sidecar (dataset/overview_sidecar.hpp) places the tiles it holds
+    // (their chunk points then come from it, and their files are not read to open them).
+    bool use_overview = true;
 };
+
+// Whether open_sources uses overview sidecars at all (DatasetOptions::use_overview then decides per
+// call): the CLI's --no-overview turns them off for the process.
+void use_overview_sidecars(bool used);
 
 // Finds and reads the tiles of `paths` (files, folders, tile lists, and virtual replica
 // manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`;

@@ -169,7 +169,9 @@ void expand_catalog(const std::string& path, FoundFiles& out) {
     if (catalog.items.empty() && catalog.errors.empty()) {
         out.errors.push_back({io::display_path(path), io::display_path(path) + ": a STAC catalog without items"});
     }
+    const auto overview = catalog.overview.empty() ? nullptr : std::make_shared<const std::string>(catalog.overview);
     for (auto& item : catalog.items) {
+        item.overview = overview;
         out.files.push_back(item.href);
         const std::string href = item.href;  // (the move below would come first)
         out.items[href] = std::make_shared<const CatalogItem>(std::move(item));

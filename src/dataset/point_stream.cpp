@@ -13,6 +13,7 @@
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/las_colour.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
 #include "las/point_format.hpp"
@@ -34,8 +35,8 @@ constexpr std::size_t kPlacePiece = 1u << 15;  // points placed per pool task
 // One tile being read: its file, its batches and how its records become MetricPoints.
 struct TileReader {
     TileReader(const Dataset& ds, std::uint32_t index, std::uint32_t fields, std::uint64_t batch_points)
-        : tile(ds.tiles.at(index)),
-          file(io::File::open(tile.tile.path())),
+        : file(io::File::open(ds.tiles.at(index).tile.path())),
+          tile(tile_to_read(ds.tiles.at(index), file, fresh)),
           batches(tile.tile, batch_points),
           placer(tile, has_colour(tile, fields) && tile_colour_is_16bit(ds, index), has_colour(tile, fields)) {}
 
@@ -48,8 +49,9 @@ struct TileReader {
         placer.place(records, first, out);
     }
 
-    const DatasetTile& tile;
+    std::optional<DatasetTile> fresh;  // a tile changed since its overview sidecar, read itself
     io::File file;
+    const DatasetTile& tile;
     RecordBatches batches;
     RecordPlacer placer;
 };

@@ -81,6 +81,7 @@ struct Streamed {
     std::size_t first_item = 0;  // where its items start in the catalog's
     ItemLineSink item_lines;     // lines about its items
     std::vector<Link> links;     // the links whose rel is followed somewhere, and broken ones
+    std::string overview;        // the href of its kOverviewRel link ("" when none)
 };
 
 // Whether `s` starts with a URI scheme ("file:", "s3:"; a Windows drive letter is not one).
@@ -270,6 +271,11 @@ void take_link(const json& link, std::size_t index, Streamed& s) {
     } catch (const Error& e) {
         return s.links.push_back({"", "", "link #" + std::to_string(index + 1) + ": " + e.cause()});
     }
+    if (rel == kOverviewRel) {
+        const json* href = json_field(link, "href");
+        if (href && href->is_string()) s.overview = href->get<std::string>();
+        return;
+    }
     if (!rel || !followed_somewhere(*rel)) return;
     try {
         href = json_optional_string(link, "href");
@@ -339,8 +345,16 @@ std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk
     }
 }
 
+// The sidecar the first ItemCollection names, resolved as an item's href (one that cannot be is a line).
+void take_overview(const Streamed& s, const std::string& document, Walk& w) {
+    if (s.overview.empty() || !w.out.overview.empty()) return;
+    std::string refusal;
+    if (auto target = resolve(document, s.overview, refusal)) return void(w.out.overview = std::move(*target));
+    w.out.warnings.push_back(shown(io::display_path(document)) + ": overview sidecar not used: " + refusal);
+}
+
 void read_document(const std::string& document, int depth, Walk& w) {
-    Streamed s{w.out.items.size(), {}, {}};
+    Streamed s{w.out.items.size(), {}, {}, {}};
     const bool was_full = w.full;
     const auto doc = read_streamed(document, s, w);
     std::optional<std::string> type;
@@ -363,6 +377,7 @@ void read_document(const std::string& document, int depth, Walk& w) {
     } else if (collection) {
         if (!features || !features->is_array()) return w.error(document, "an ItemCollection without features");
         w.take_item_lines(std::move(s.item_lines));
+        take_overview(s, document, w);
         follow_links(s, document, depth, {"next"}, w);  // a STAC API search's further pages
     } else if (type == "Feature") {
         if (at_item_limit(document, w)) return;

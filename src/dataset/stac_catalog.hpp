@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -37,7 +38,12 @@ struct CatalogItem {
     std::optional<std::uint64_t> count;        // pc:count
     std::optional<std::array<double, 6>> bbox; // proj:bbox: min x, y, z, max x, y, z (z NaN when 2D), CRS units
     std::string crs;                           // "EPSG:n", WKT2 or PROJJSON text; "" when the item gives none
+    // The overview sidecar its catalog names (dataset/overview_sidecar.hpp), resolved; null when none.
+    std::shared_ptr<const std::string> overview;
 };
+
+// The rel of a catalog's top-level link to its overview sidecar (dataset/overview_sidecar.hpp).
+inline constexpr const char* kOverviewRel = "lidarscout:overview";
 
 struct CatalogLimits {
     std::uint64_t max_documents = 100'000;
@@ -51,6 +57,7 @@ struct Catalog {
     std::vector<std::string> errors;    // one line per document, item or link that could not be used
     std::vector<std::string> warnings;  // one line per item kept though some of it could not be used
     std::uint64_t documents = 0;      // documents read
+    std::string overview;  // the first ItemCollection's kOverviewRel link, resolved ("" when none)
 };
 
 // True for a path or URL whose file name ends in .vpc or .json (case-insensitive) and is not EPT

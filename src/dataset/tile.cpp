@@ -74,6 +74,7 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     auto r = std::make_shared<TileRecords>();
     f->path = file.path();
     f->file_size = file.size();
+    f->overview = options.overview;
     t.header = las::read_header(file);
     const bool wkt_flag = (t.header.global_encoding & 0x10) != 0;
     r->vlrs = las::read_vlrs(file, t.header, &f->warnings);

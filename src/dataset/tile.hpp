@@ -40,6 +40,22 @@ struct TileRecords {
     std::optional<las::LaszipVlr> laz;  // set for compressed files
 };
 
+// What a file was when it was looked at: its size and validator ("mtime NS" for a local file, the
+// server's ETag or Last-Modified for a URL: dataset/overview_sidecar.hpp, file_validator).
+struct FileValidator {
+    std::uint64_t size = 0;
+    std::string tag;
+    bool operator==(const FileValidator&) const = default;
+};
+
+// What an overview sidecar says of a tile it placed (dataset/overview_sidecar.hpp): the file it was
+// made from, and its chunk points' records in the tile's own format (none when the sidecar holds none).
+struct TileOverview {
+    FileValidator made_from;
+    std::shared_ptr<const std::vector<std::uint8_t>> records;  // the sidecar's, shared by its tiles
+    std::size_t first = 0, count = 0;                          // this tile's: records [first, first + count)
+};
+
 // What a tile's file says besides its header and COPC info.
 struct TileFile {
     std::string path;
@@ -47,6 +63,7 @@ struct TileFile {
     std::shared_ptr<const TileRecords> records;  // never null in a tile read by read_tile
     std::optional<laz::ChunkTable> chunks;  // set for LAZ files (empty for compressor 1: see laz::decode_units)
     Diagnostics warnings;  // oddities that did not stop reading (shown by `info`)
+    std::shared_ptr<const TileOverview> overview;  // set for a tile placed from an overview sidecar
 };
 
 struct Tile {
@@ -91,6 +108,7 @@ private:
 struct TileOptions {
     bool chunk_table = true;  // read (and validate) the LAZ chunk table
     SharedRecords* shared_records = nullptr;  // when set, the tile's records are shared through it
+    std::shared_ptr<const TileOverview> overview;  // kept in the tile's TileFile
 };
 
 // Reads the tile's metadata; throws lidarscout::Error (file, offset, cause) on bad input.

@@ -50,6 +50,17 @@ File File::open(const std::string& path) {
     return f;
 }
 
+File File::in_memory(std::string path, std::uint64_t size, std::vector<std::uint8_t> head,
+                     std::vector<std::uint8_t> tail) {
+    File f;
+    f.path_ = std::move(path);
+    f.size_ = size;
+    f.head_ = std::move(head);
+    f.tail_ = std::move(tail);
+    if (f.head_.size() > size || f.tail_.size() > size) throw Error(f.path_, std::nullopt, "held bytes past its size");
+    return f;
+}
+
 File::File(File&& other) noexcept { *this = std::move(other); }
 
 File& File::operator=(File&& other) noexcept {
@@ -95,6 +106,7 @@ std::size_t File::read_uncached(std::uint64_t offset, std::span<std::uint8_t> ou
         remote_->read(offset, out.first(n));
         return n;
     }
+    if (fd_ < 0) throw Error(path_, offset, "a read outside the bytes held in memory (the file was not opened)");
     std::size_t done = 0;
     while (done < out.size()) {
         ssize_t n = ::pread(fd_, out.data() + done, out.size() - done, static_cast<off_t>(offset + done));

@@ -35,6 +35,11 @@ public:
     // returns at once; the open() calls that follow wait only for their own file. Local paths
     // are left alone. Reports no error.
     static void prefetch(std::span<const std::string> paths);
+    // A file of `size` bytes known only by its first bytes `head` and its last bytes `tail` (a tile's
+    // metadata as an overview sidecar holds it: dataset/overview_sidecar.hpp); a read elsewhere throws
+    // Error naming `path`.
+    static File in_memory(std::string path, std::uint64_t size, std::vector<std::uint8_t> head,
+                          std::vector<std::uint8_t> tail);
 
     File() = default;
     File(File&& other) noexcept;

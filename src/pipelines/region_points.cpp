@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 
 #include "core/thread_pool.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "dataset/point_reader.hpp"
 #include "core/polygon.hpp"
 #include "geo/geographic.hpp"
@@ -87,10 +89,14 @@ void keep_batch(const dataset::DatasetTile& t, const FrameUnits& units, std::uin
 void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& region,
                const PointFilter& filter, ThreadPool& pool, const RegionBatchFn& fn, RegionReadStats& stats,
                const std::function<void(std::uint64_t)>& advanced, const ReadWatch& watch) {
-    const auto& t = ds.tiles[tile];
+    const auto& placed = ds.tiles[tile];
     std::uint64_t done = 0;
+    std::optional<dataset::DatasetTile> fresh;  // (a tile changed since its overview sidecar: read itself)
+    const dataset::DatasetTile* tp = &placed;
     try {
-        const io::File file = io::File::open(t.tile.path());
+        const io::File file = io::File::open(placed.tile.path());
+        tp = &dataset::tile_to_read(placed, file, fresh);
+        const auto& t = *tp;
         const dataset::RecordBatches batches(t.tile, 1u << 20);
         const FrameUnits units(t, ds.frame);
         ++stats.tiles_decoded;
@@ -106,6 +112,7 @@ void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& reg
             advanced(batches.point_count(k));
         }
     } catch (const Error& e) {
+        const auto& t = *tp;
         stats.skipped.push_back(ErrorRecord::of(e.file().empty() ? e.with_file(t.tile.path()) : e));
         stats.points_skipped += t.tile.header.point_count - std::min(done, t.tile.header.point_count);
         advanced(t.tile.header.point_count - std::min(done, t.tile.header.point_count));

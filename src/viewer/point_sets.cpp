@@ -5,9 +5,11 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 
 #include "dataset/chunk_points.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "dataset/las_colour.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
@@ -217,11 +219,13 @@ void drop_filtered(PointSet& set, std::size_t first, const PointFilter& filter) 
     set.points.erase(std::remove_if(from, set.points.end(), dropped), set.points.end());
 }
 
-PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
+PointSet tile_point_set(const dataset::DatasetTile& placed, std::uint64_t las_stride, ThreadPool& pool,
                         const std::function<void(std::uint64_t)>& progress,
                         std::vector<dataset::SkippedChunk>* skipped, const PointFilter* filter) {
     if (filter && filter->keeps_everything()) filter = nullptr;
-    const auto file = io::File::open(tile.tile.path());
+    const auto file = io::File::open(placed.tile.path());
+    std::optional<dataset::DatasetTile> fresh;  // (a tile changed since its overview sidecar: read itself)
+    const dataset::DatasetTile& tile = dataset::tile_to_read(placed, file, fresh);
     PointSet set = empty_tile_set(tile);
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
     const RecordConverter convert = converter(tile, set, samples);
@@ -238,14 +242,16 @@ PointSet tile_point_set(const dataset::DatasetTile& tile, std::uint64_t las_stri
     return set;
 }
 
-void decode_tile_pieces(const dataset::DatasetTile& tile, std::uint64_t las_stride, ThreadPool& pool,
+void decode_tile_pieces(const dataset::DatasetTile& placed, std::uint64_t las_stride, ThreadPool& pool,
                         const PointOrder& order, std::uint64_t piece_points, std::uint64_t max_points,
                         const std::function<void(PointSet&&)>& on_piece) {
+    const auto file = io::File::open(placed.tile.path());
+    std::optional<dataset::DatasetTile> fresh;  // (a tile changed since its overview sidecar: read itself)
+    const dataset::DatasetTile& tile = dataset::tile_to_read(placed, file, fresh);
     if (!tile.tile.compressed() || !tile.tile.chunks() || !tile.tile.laz()) {
         on_piece(tile_point_set(tile, las_stride, pool));
         return;
     }
-    const auto file = io::File::open(tile.tile.path());
     const dataset::DecodeUnits all(tile.tile);
     const auto samples = dataset::read_chunk_points(file, tile.tile, las_stride);
     const RecordConverter convert = converter(tile, empty_tile_set(tile), samples);

@@ -8,6 +8,8 @@
 #include <exception>
 #include <utility>
 
+#include "dataset/stac_catalog.hpp"
+
 namespace lidarscout::viewer {
 
 SessionOpening::SessionOpening(std::vector<std::string> paths, SessionOptions options)
@@ -42,6 +44,8 @@ void SessionOpening::open_preview(std::span<const dataset::TileSource> sources,
                                   std::span<const std::optional<dataset::Bounds>> placed,
                                   const SessionOptions& options) {
     if (options.preview_above == 0 || sources.size() <= options.preview_above) return;
+    const auto in_sidecar = [](const dataset::TileSource& s) { return s.item && s.item->overview; };
+    if (std::any_of(sources.begin(), sources.end(), in_sidecar)) return;  // (the sidecar opens them all at once)
     auto central = dataset::central_sources(sources, placed, options.preview_radius_m, options.preview_tiles);
     if (central.empty()) return;
     dataset::DatasetOptions d;

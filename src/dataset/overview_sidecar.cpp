@@ -1,0 +1,303 @@
+// Reading an overview sidecar: its table (parsed with bounds checks), its points (the whole file read
+// at once, its chunks decoded in parallel), a tile from its entry, and the check of a tile read in full.
+#include "dataset/overview_sidecar.hpp"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <set>
+#include <utility>
+
+#include "core/error.hpp"
+#include "core/thread_pool.hpp"
+#include "dataset/chunk_points.hpp"
+#include "dataset/point_reader.hpp"
+#include "io/byte_reader.hpp"
+#include "io/file.hpp"
+#include "las/header.hpp"
+#include "las/vlr.hpp"
+#include "net/remote_file.hpp"
+
+namespace lidarscout::dataset {
+namespace {
+
+constexpr std::uint32_t kVersion = 1;
+constexpr char kMagic[4] = {'L', 'S', 'O', 'V'};
+constexpr const char* kLocalTag = "mtime ";
+
+void put(std::vector<std::uint8_t>& out, const void* p, std::size_t n) {
+    const auto* b = static_cast<const std::uint8_t*>(p);
+    out.insert(out.end(), b, b + n);
+}
+template <typename T>
+void put_value(std::vector<std::uint8_t>& out, T v) {
+    put(out, &v, sizeof v);
+}
+template <typename Size>
+void put_bytes(std::vector<std::uint8_t>& out, std::span<const std::uint8_t> bytes) {
+    if (bytes.size() > std::numeric_limits<Size>::max()) throw Error("overview table: a field too long");
+    put_value(out, static_cast<Size>(bytes.size()));
+    put(out, bytes.data(), bytes.size());
+}
+std::span<const std::uint8_t> bytes_of(const std::string& s) {
+    return {reinterpret_cast<const std::uint8_t*>(s.data()), s.size()};
+}
+std::string text_of(std::span<const std::uint8_t> b) { return {reinterpret_cast<const char*>(b.data()), b.size()}; }
+
+// Where a head's VLR block lies: [header size, offset to point data).
+std::pair<std::size_t, std::size_t> vlr_block(const std::vector<std::uint8_t>& head) {
+    if (head.size() < 100) throw Error("overview table: a tile's head shorter than a LAS header");
+    std::uint16_t header_size = 0;
+    std::uint32_t point_data = 0;
+    std::memcpy(&header_size, head.data() + 94, 2);
+    std::memcpy(&point_data, head.data() + 96, 4);
+    const std::size_t end = std::min<std::size_t>(std::max<std::size_t>(point_data, header_size), head.size());
+    return {std::min<std::size_t>(header_size, head.size()), end};
+}
+
+void put_entry(std::vector<std::uint8_t>& out, const OverviewEntry& e, std::uint32_t block) {
+    const auto [first, last] = vlr_block(e.head);
+    const std::span<const std::uint8_t> head(e.head);
+    put_bytes<std::uint16_t>(out, bytes_of(e.id));
+    put_value(out, e.made_from.size);
+    put_bytes<std::uint16_t>(out, bytes_of(e.made_from.tag));
+    put_value(out, e.first_point);
+    put_value(out, e.points);
+    for (const auto d : e.delta) put_value(out, d);
+    put_bytes<std::uint16_t>(out, head.first(first));
+    put_value(out, block);
+    put_bytes<std::uint16_t>(out, head.subspan(last));
+    put_bytes<std::uint32_t>(out, e.tail);
+}
+
+OverviewEntry parse_entry(io::ByteReader& r, const std::vector<std::vector<std::uint8_t>>& blocks) {
+    OverviewEntry e;
+    e.id = text_of(r.bytes(r.u16("id length"), "id"));
+    e.made_from.size = r.u64("file size");
+    e.made_from.tag = text_of(r.bytes(r.u16("validator length"), "validator"));
+    e.first_point = r.u64("first point");
+    e.points = r.u32("points");
+    for (auto& d : e.delta) d = r.i64("delta");
+    const auto header = r.bytes(r.u16("header length"), "header");
+    const std::uint32_t block = r.u32("VLR block");
+    if (block >= blocks.size()) r.fail("VLR block index", 0);
+    const auto after = r.bytes(r.u16("after length"), "bytes after the VLRs");
+    e.head.reserve(header.size() + blocks[block].size() + after.size());
+    e.head.assign(header.begin(), header.end());
+    e.head.insert(e.head.end(), blocks[block].begin(), blocks[block].end());
+    e.head.insert(e.head.end(), after.begin(), after.end());
+    const auto tail = r.bytes(r.u32("tail length"), "tail");
+    e.tail.assign(tail.begin(), tail.end());
+    return e;
+}
+
+// The whole file at `path` in memory (one read after its opening), as an io::File.
+io::File whole_file(const std::string& path) {
+    const io::File file = io::File::open(path);
+    return io::File::in_memory(file.path(), file.size(), file.read_vector(0, file.size(), "overview sidecar"), {});
+}
+
+// The table EVLR's entries; throws Error when the file has none.
+std::vector<OverviewEntry> table_of(const io::File& file, const las::Header& header) {
+    for (const auto& v : las::read_evlrs(file, header)) {
+        if (v.is(kOverviewUser, kOverviewTableRecord)) {
+            return parse_overview_table(v.data_loaded ? v.data : las::vlr_payload(file, v), file.path());
+        }
+    }
+    throw Error(file.path(), std::nullopt, "not an overview sidecar (no lidarscout tile table EVLR)");
+}
+
+// Every record of the sidecar's tile `k` back to the tile's own (its X/Y/Z less the delta), appended.
+void take_records(std::span<const std::uint8_t> in, std::size_t in_length, const OverviewEntry& e, std::uint32_t k,
+                  std::vector<std::uint8_t>& out, const std::string& file) {
+    const std::size_t length = in_length - kOverviewTileField;
+    for (std::size_t p = 0; p < e.points; ++p) {
+        const std::uint8_t* r = in.data() + p * in_length;
+        std::uint32_t tile = 0;
+        std::memcpy(&tile, r + length, 4);
+        if (tile != k) throw Error(file, std::nullopt, "overview point of tile " + std::to_string(tile) +
+                                                           " where the table puts tile " + std::to_string(k));
+        const std::size_t at = out.size();
+        out.insert(out.end(), r, r + length);
+        for (int a = 0; a < 3; ++a) {
+            std::int32_t v = 0;
+            std::memcpy(&v, out.data() + at + 4 * a, 4);
+            v = static_cast<std::int32_t>(v - e.delta[a]);
+            std::memcpy(out.data() + at + 4 * a, &v, 4);
+        }
+    }
+}
+
+// The sidecar's records decoded, then each held entry's taken back to its tile's own.
+void decode_points(const io::File& file, const Tile& tile, OverviewSidecar& s) {
+    const std::size_t in_length = tile.header.record_length;
+    if (in_length < kOverviewTileField + 20) throw Error(file.path(), 105, "records too short for an overview");
+    s.record_length = static_cast<std::uint16_t>(in_length - kOverviewTileField);
+    std::vector<std::uint8_t> all(tile.header.point_count * in_length);
+    ThreadPool& pool = ThreadPool::shared();
+    if (tile.compressed()) {
+        const DecodeUnits units(tile);
+        units.decode(file, 0, units.size(), all, las::fields::kAll, pool);
+    } else {
+        file.read_exact(tile.header.offset_to_point_data, all, "overview points");
+    }
+    s.records = std::make_shared<std::vector<std::uint8_t>>();
+    for (std::uint32_t k = 0; k < s.entries.size(); ++k) {
+        const auto& e = s.entries[k];
+        s.record_starts.push_back(s.records->size());
+        if (e.points == 0) continue;
+        if (e.first_point > tile.header.point_count || e.points > tile.header.point_count - e.first_point) {
+            throw Error(file.path(), std::nullopt, "overview tile " + std::to_string(k) + " past the points");
+        }
+        take_records(std::span(all).subspan(e.first_point * in_length), in_length, e, k, *s.records, file.path());
+    }
+}
+
+}  // namespace
+
+std::string overview_path_for(const std::string& catalog) {
+    std::filesystem::path p(catalog);
+    return p.replace_extension(".overview.laz").string();
+}
+
+FileValidator file_validator(const io::File& file) {
+    FileValidator v{file.size(), {}};
+    if (file.remote()) {
+        v.tag = file.remote()->validator();
+    } else if (struct stat st {}; file.fd() >= 0 && ::fstat(file.fd(), &st) == 0) {
+        v.tag = kLocalTag + std::to_string(st.st_mtim.tv_sec * 1'000'000'000LL + st.st_mtim.tv_nsec);
+    }
+    return v;
+}
+
+bool validator_matches(const FileValidator& made_from, const FileValidator& now) {
+    if (made_from.size != now.size) return false;
+    const auto local = [](const std::string& tag) { return tag.rfind(kLocalTag, 0) == 0; };
+    if (made_from.tag.empty() || now.tag.empty() || local(made_from.tag) != local(now.tag)) return true;
+    return made_from.tag == now.tag;
+}
+
+std::vector<std::uint8_t> serialize_overview_table(std::span<const OverviewEntry> entries) {
+    std::map<std::vector<std::uint8_t>, std::uint32_t> index;
+    std::vector<const std::vector<std::uint8_t>*> blocks;
+    std::vector<std::uint32_t> block_of;
+    for (const auto& e : entries) {
+        const auto [first, last] = vlr_block(e.head);
+        std::vector<std::uint8_t> block(e.head.begin() + first, e.head.begin() + last);
+        const auto [it, added] = index.try_emplace(std::move(block), static_cast<std::uint32_t>(index.size()));
+        if (added) blocks.push_back(&it->first);
+        block_of.push_back(it->second);
+    }
+    std::vector<std::uint8_t> out(kMagic, kMagic + 4);
+    put_value(out, kVersion);
+    put_value(out, static_cast<std::uint32_t>(blocks.size()));
+    put_value(out, static_cast<std::uint32_t>(entries.size()));
+    for (const auto* b : blocks) put_bytes<std::uint32_t>(out, *b);
+    for (std::size_t k = 0; k < entries.size(); ++k) put_entry(out, entries[k], block_of[k]);
+    return out;
+}
+
+std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> payload, const std::string& file) {
+    io::ByteReader r(payload, 0, file);
+    const auto magic = r.bytes(4, "table signature");
+    if (!std::equal(magic.begin(), magic.end(), kMagic)) throw Error(file, std::nullopt, "not an overview table");
+    if (const auto version = r.u32("version"); version != kVersion) {
+        throw Error(file, std::nullopt, "overview table version " + std::to_string(version) + " (1 is read)");
+    }
+    const std::uint32_t block_count = r.u32("VLR blocks"), tiles = r.u32("tiles");
+    std::vector<std::vector<std::uint8_t>> blocks;
+    for (std::uint32_t b = 0; b < block_count; ++b) {
+        const auto bytes = r.bytes(r.u32("VLR block length"), "VLR block");
+        blocks.emplace_back(bytes.begin(), bytes.end());
+    }
+    std::vector<OverviewEntry> entries;
+    for (std::uint32_t k = 0; k < tiles; ++k) entries.push_back(parse_entry(r, blocks));
+    return entries;
+}
+
+OverviewSidecar read_overview_sidecar(const std::string& path) {
+    const io::File file = whole_file(path);
+    const Tile tile = read_tile(file);
+    OverviewSidecar s;
+    s.entries = table_of(file, tile.header);
+    decode_points(file, tile, s);
+    return s;
+}
+
+Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const std::string& path,
+                        SharedRecords* shared_records) {
+    const OverviewEntry& e = sidecar.entries.at(entry);
+    auto overview = std::make_shared<TileOverview>();
+    overview->made_from = e.made_from;
+    std::uint16_t record_length = 0;  // the tile's, from its header's bytes
+    if (e.head.size() >= 107) std::memcpy(&record_length, e.head.data() + 105, 2);
+    if (e.points > 0 && record_length == sidecar.record_length) {
+        overview->records = sidecar.records;
+        overview->first = sidecar.record_starts.at(entry) / sidecar.record_length;
+        overview->count = e.points;
+    }
+    TileOptions options;
+    options.shared_records = shared_records;
+    options.overview = std::move(overview);
+    return read_tile(io::File::in_memory(path, e.made_from.size, e.head, e.tail), options);
+}
+
+std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points) {
+    const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;
+    if (!o || !o->records || o->count == 0 || o->count != chunk_points) return {};
+    const std::size_t length = tile.header.record_length;
+    return std::span(*o->records).subspan(o->first * length, o->count * length);
+}
+
+namespace {
+
+struct StaleWarnings {
+    std::mutex mutex;
+    std::set<std::string> named;
+    Diagnostics warnings;
+};
+StaleWarnings& stale_warnings() {
+    static StaleWarnings w;
+    return w;
+}
+
+}  // namespace
+
+std::optional<Tile> stale_tile_check(const Tile& tile, const io::File& file) {
+    const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;
+    if (!o) return std::nullopt;
+    const FileValidator now = file_validator(file);
+    if (validator_matches(o->made_from, now)) return std::nullopt;
+    Tile fresh = read_tile(file);
+    StaleWarnings& w = stale_warnings();
+    std::lock_guard lock(w.mutex);
+    if (w.named.insert(tile.path()).second) {
+        w.warnings.add({DiagnosticLevel::warning, tile.path(), std::nullopt,
+                        io::display_path(tile.path()) + " changed since its catalog's overview sidecar was written (" +
+                            std::to_string(o->made_from.size) + " bytes then, " + std::to_string(now.size) +
+                            " now): read from the file itself"});
+    }
+    return fresh;
+}
+
+const DatasetTile& tile_to_read(const DatasetTile& tile, const io::File& file, std::optional<DatasetTile>& fresh) {
+    auto read = stale_tile_check(tile.tile, file);
+    if (!read) return tile;
+    fresh = tile;
+    fresh->tile = std::move(*read);
+    fresh->chunk_points = chunk_point_count(fresh->tile);
+    return *fresh;
+}
+
+Diagnostics take_stale_tile_warnings() {
+    StaleWarnings& w = stale_warnings();
+    std::lock_guard lock(w.mutex);
+    return std::exchange(w.warnings, {});
+}
+
+}  // namespace lidarscout::dataset

@@ -1,0 +1,107 @@
+// The overview sidecar of a catalog (`lidarscout catalog ... -o OUT.vpc --overview` writes
+// OUT.overview.laz beside OUT.vpc; the VPC names it in a top-level link of rel kOverviewRel): the
+// chunk points of every tile and what places and decodes each tile without touching it, read in a few
+// large reads, so that opening a country-sized remote catalog asks its tiles for nothing.
+//
+// Layout: a LAS 1.4 LAZ file (any LAZ reader reads its points).
+// - Points: every tile's chunk points (dataset/chunk_points.hpp), in the format of the tiles (their
+//   most common point format, record length and scale; tiles of another kind hold none there) plus
+//   one extra bytes field "tile" (u32, described in the Extra Bytes VLR): the tile's index in the
+//   table below. A tile's points lie together, the tiles ordered along a Hilbert curve over their
+//   centres, so that the tiles of a view are a few contiguous ranges. Coordinates use the scale of
+//   the tiles and the offset of one of them: a tile's raw X/Y/Z are the sidecar's minus its integer
+//   delta (kept only when exact), so its chunk points come back bit for bit.
+// - EVLR ("lidarscout", kOverviewTableRecord): the tile table, little-endian:
+//     "LSOV", u32 version (1), u32 VLR blocks, u32 tiles;
+//     per VLR block (the bytes between a tile's header and its point data, shared by alike tiles):
+//       u32 size, the bytes;
+//     per tile: u16 + the catalog item's id; u64 file size; u16 + validator (file_validator);
+//       u64 first point, u32 points (0: none held); i64 x3 delta; u16 + the header's bytes;
+//       u32 VLR block; u16 + the bytes after the VLRs that the tile's metadata reads (a LAZ file's
+//       chunk-table pointer); u32 + the file's last bytes (its chunk table, EVLRs).
+//   A tile's header, VLR block and the bytes after them are its file's first bytes, and with its
+//   last bytes they are everything read_tile reads (checked when the sidecar is written), so the
+//   tile is read from them (io::File::in_memory) exactly as from its file.
+// Opening (dataset.cpp): the catalog's items found in the table (by id) are tiles at once, their chunk
+// points the sidecar's; a tile changed since (size or validator) is named and read itself when it is
+// read in full (stale_tile_check). Errors are lidarscout::Error naming the sidecar.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "dataset/dataset.hpp"
+#include "dataset/tile.hpp"
+
+namespace lidarscout::io {
+class File;
+}
+
+namespace lidarscout::dataset {
+
+inline constexpr const char* kOverviewUser = "lidarscout";
+inline constexpr std::uint16_t kOverviewTableRecord = 5401;
+inline constexpr std::size_t kOverviewTileField = 4;  // bytes of the "tile" field ending each record
+
+// OUT.vpc -> OUT.overview.laz (the extension replaced; appended when there is none).
+std::string overview_path_for(const std::string& catalog);
+
+// What `file` is now: its size and, for a local file "mtime NS", for a remote one its ETag or Last-Modified.
+FileValidator file_validator(const io::File& file);
+// Whether a file that was `made_from` is still so: equal sizes, and equal validators where both are
+// of one kind (a sidecar written from local files and served over HTTP compares sizes only).
+bool validator_matches(const FileValidator& made_from, const FileValidator& now);
+
+struct OverviewEntry {
+    std::string id;  // the catalog item's id
+    FileValidator made_from;
+    std::vector<std::uint8_t> head;  // the file's bytes [0, head.size()): header, VLRs, chunk-table pointer
+    std::vector<std::uint8_t> tail;  // the file's last bytes: chunk table, EVLRs
+    std::uint64_t first_point = 0;   // in the sidecar's points
+    std::uint32_t points = 0;        // 0: none held
+    std::array<std::int64_t, 3> delta{};  // sidecar raw X/Y/Z = the tile's + delta
+};
+
+std::vector<std::uint8_t> serialize_overview_table(std::span<const OverviewEntry> entries);
+// Throws Error (naming `file`) when the table is malformed.
+std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> payload, const std::string& file);
+
+struct OverviewSidecar {
+    std::vector<OverviewEntry> entries;
+    // Each held tile's chunk points as records of its own format (X/Y/Z its own), entry after entry;
+    // an entry's records start at record_starts[k] (bytes).
+    std::shared_ptr<std::vector<std::uint8_t>> records;
+    std::vector<std::size_t> record_starts;
+    std::uint16_t record_length = 0;  // of the tiles' records (the sidecar's minus the tile field)
+};
+
+// Reads the sidecar at `path` (a file or URL) in a few large reads and decodes its points; throws Error.
+OverviewSidecar read_overview_sidecar(const std::string& path);
+
+// The tile an entry places, read from its bytes as from its file at `path`; its TileFile keeps the
+// entry's validator and chunk points. Throws Error when the bytes do not make a tile.
+Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const std::string& path,
+                        SharedRecords* shared_records);
+
+// The chunk-point records a sidecar holds for `tile` (record_length each), empty when it holds none
+// or not `chunk_points` of them.
+std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points);
+
+// For a reader about to read `tile` in full from `file`: nullopt when the tile was not placed from a
+// sidecar or its file is as the sidecar saw it; else the tile read from the file itself (without an
+// overview), and one warning naming it (once per file) kept for take_stale_tile_warnings.
+std::optional<Tile> stale_tile_check(const Tile& tile, const io::File& file);
+
+// The tile a reader reads in full from `file`: `tile`, or when stale_tile_check reads it afresh, a copy
+// holding the fresh tile, kept in `fresh`.
+const DatasetTile& tile_to_read(const DatasetTile& tile, const io::File& file, std::optional<DatasetTile>& fresh);
+
+// The warnings of stale_tile_check since the last call (the CLI shows them when a command ends).
+Diagnostics take_stale_tile_warnings();
+
+}  // namespace lidarscout::dataset

@@ -1,0 +1,209 @@
+// The overview sidecar (dataset/overview_sidecar.hpp, overview_writer.hpp): its table round-trips and a
+// malformed one is an Error; the Hilbert order visits a block's cells one step apart; a catalog opened
+// through its sidecar has the tiles' own headers, chunk tables and chunk points (bit for bit), and `scan`
+// says the same with and without it, locally and through the replica server, where the overview then
+// costs no request to the tiles; a tile changed since the sidecar was written is named and read itself.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.hpp"
+#include "dataset/catalog_writer.hpp"
+#include "dataset/chunk_points.hpp"
+#include "dataset/dataset.hpp"
+#include "dataset/overview_sidecar.hpp"
+#include "dataset/overview_writer.hpp"
+#include "io/file.hpp"
+#include "las/header_writer.hpp"
+#include "replica_server.hpp"
+#include "test_data.hpp"
+
+namespace lidarscout::dataset {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path survey() { return test::surveys_dir() / "ky-jmo335-eastern-kentucky"; }
+std::vector<std::string> some_tiles() {
+    return {(survey() / "N117E379.laz").string(), (survey() / "N117E381.laz").string(),
+            (survey() / "N119E379.laz").string()};
+}
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path d = fs::temp_directory_path() / ("lidarscout_overview_" + name + "_" + std::to_string(::getpid()));
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+nlohmann::json scan(const std::string& args) {
+    std::string out;
+    const std::string cmd = std::string(LIDARSCOUT_CLI) + " scan --json --cache-size 0 " + args + " 2>/dev/null";
+    EXPECT_EQ(test::run_command(cmd, out), 0) << cmd;
+    auto j = nlohmann::json::parse(out, nullptr, false);
+    for (const char* key : {"chunk_points_per_second", "seconds_chunk_points", "seconds_headers"}) j.erase(key);
+    return j;
+}
+
+// Writes `paths` as DIR/catalog.vpc with its sidecar (through the library); returns the sidecar's path.
+std::string write_with_overview(const std::vector<std::string>& paths, const fs::path& dir) {
+    const Dataset ds = open_dataset(paths);
+    CatalogWriteOptions options;
+    options.overview = overview_path_for((dir / "catalog.vpc").string());
+    const auto written = write_overview(ds, catalog_ids(ds), options.overview);
+    EXPECT_EQ(written.tiles, paths.size());
+    EXPECT_EQ(written.held, paths.size());
+    write_catalog(ds, (dir / "catalog.vpc").string(), options);
+    return options.overview;
+}
+
+TEST(OverviewSidecar, TableRoundTripsAndAMalformedOneIsAnError) {
+    OverviewEntry e;
+    e.id = "N117E379";
+    e.made_from = {1988620, "mtime 12345"};
+    e.head.assign(600, 7);
+    e.head[94] = 227, e.head[95] = 0, e.head[96] = 0x10, e.head[97] = 2, e.head[98] = 0, e.head[99] = 0;  // VLRs to 528
+    e.tail = {1, 2, 3};
+    e.first_point = 40, e.points = 38, e.delta = {1, -2, 3};
+    OverviewEntry f = e;
+    f.id = "N117E380";
+    const OverviewEntry both[] = {e, f};
+    const auto payload = serialize_overview_table(both);
+    const auto back = parse_overview_table(payload, "t");
+    ASSERT_EQ(back.size(), 2u);
+    EXPECT_EQ(back[1].id, "N117E380");
+    EXPECT_EQ(back[0].head, e.head);
+    EXPECT_EQ(back[0].tail, e.tail);
+    EXPECT_EQ(back[0].made_from, e.made_from);
+    EXPECT_EQ(back[0].delta, e.delta);
+    EXPECT_EQ(back[0].points, 38u);
+    const std::span<const std::uint8_t> cut(payload.data(), payload.size() - 1);
+    EXPECT_THROW(parse_overview_table(cut, "t"), Error);
+    EXPECT_THROW(parse_overview_table(std::span(payload).subspan(1), "t"), Error);
+}
+
+TEST(OverviewSidecar, HilbertOrderVisitsABlocksCellsOneStepApart) {
+    std::vector<std::pair<std::uint64_t, std::pair<int, int>>> cells;
+    for (int x = 0; x < 16; ++x) {
+        for (int y = 0; y < 16; ++y) cells.push_back({hilbert_index(x, y), {x, y}});
+    }
+    std::sort(cells.begin(), cells.end());
+    for (std::size_t k = 0; k < cells.size(); ++k) {
+        ASSERT_EQ(cells[k].first, k);  // the first 256 steps cover the 16 x 16 block
+        if (k == 0) continue;
+        const auto [x0, y0] = cells[k - 1].second;
+        const auto [x1, y1] = cells[k].second;
+        EXPECT_EQ(std::abs(x1 - x0) + std::abs(y1 - y0), 1) << k;
+    }
+}
+
+TEST(OverviewSidecar, ACatalogOpensFromItWithTheTilesOwnMetadataAndChunkPoints) {
+    const fs::path dir = fresh_dir("local");
+    write_with_overview(some_tiles(), dir);
+    const Dataset placed = open_dataset({(dir / "catalog.vpc").string()});
+    const Dataset read = open_dataset(some_tiles());
+    ASSERT_EQ(placed.tiles.size(), read.tiles.size());
+    EXPECT_TRUE(placed.skipped.empty());
+    for (std::size_t i = 0; i < read.tiles.size(); ++i) {
+        const Tile& p = placed.tiles[i].tile;
+        const Tile& r = read.tiles[i].tile;
+        ASSERT_TRUE(p.file->overview) << r.path();
+        EXPECT_EQ(las::serialize_header(p.header), las::serialize_header(r.header));
+        EXPECT_EQ(p.chunks()->chunks(), r.chunks()->chunks());
+        EXPECT_EQ(p.vlrs(), r.vlrs());
+        const auto records = overview_records(p, placed.tiles[i].chunk_points);
+        ASSERT_EQ(records.size(), read.tiles[i].chunk_points * r.header.record_length);
+        const io::File file = io::File::open(r.path());
+        const auto locations = chunk_point_locations(r);
+        for (std::size_t k = 0; k < locations.size(); ++k) {
+            const auto own = file.read_vector(locations[k].offset, r.header.record_length);
+            ASSERT_TRUE(std::equal(own.begin(), own.end(), records.begin() + k * own.size())) << r.path() << " " << k;
+        }
+    }
+    const auto with = scan((dir / "catalog.vpc").string());
+    EXPECT_GT(with.at("chunk_points").get<int>(), 0);
+    EXPECT_EQ(with.dump(1), scan("--no-overview " + (dir / "catalog.vpc").string()).dump(1));
+    fs::remove_all(dir);
+}
+
+TEST(OverviewSidecar, AnUnreadableSidecarIsOneWarningAndTheTilesAreRead) {
+    const fs::path dir = fresh_dir("broken");
+    const std::string sidecar = write_with_overview(some_tiles(), dir);
+    fs::resize_file(sidecar, 1000);
+    const Dataset ds = open_dataset({(dir / "catalog.vpc").string()});
+    EXPECT_EQ(ds.tiles.size(), some_tiles().size());
+    const auto messages = ds.warnings.messages();
+    EXPECT_EQ(std::count_if(messages.begin(), messages.end(),
+                            [](const std::string& m) { return m.find("overview sidecar not used") != m.npos; }),
+              1);
+    for (const auto& t : ds.tiles) EXPECT_FALSE(t.tile.file->overview);
+    fs::remove_all(dir);
+}
+
+TEST(OverviewSidecar, ATileChangedSinceIsNamedAndReadItself) {
+    const fs::path dir = fresh_dir("stale");
+    const auto tiles = some_tiles();
+    std::vector<std::string> copies;
+    for (const auto& t : tiles) {
+        copies.push_back((dir / fs::path(t).filename()).string());
+        fs::copy_file(t, copies.back());
+    }
+    write_with_overview(copies, dir);
+    fs::remove(copies[1]);
+    fs::copy_file(tiles[0], copies[1]);  // another tile, of another size, under its name
+    const Dataset ds = open_dataset({(dir / "catalog.vpc").string()});
+    ASSERT_EQ(ds.tiles.size(), 3u);
+    take_stale_tile_warnings();
+    for (int twice = 0; twice < 2; ++twice) {
+        for (const auto& t : ds.tiles) {
+            const auto fresh = stale_tile_check(t.tile, io::File::open(t.tile.path()));
+            EXPECT_EQ(fresh.has_value(), t.tile.path() == copies[1]) << t.tile.path();
+            if (!fresh) continue;
+            const Tile own = read_tile(io::File::open(tiles[0]));
+            EXPECT_EQ(las::serialize_header(fresh->header), las::serialize_header(own.header));
+        }
+    }
+    const Diagnostics warnings = take_stale_tile_warnings();
+    ASSERT_EQ(warnings.messages().size(), 1u);  // named once
+    EXPECT_NE(warnings.messages()[0].find(copies[1]), std::string::npos) << warnings.messages()[0];
+    fs::remove_all(dir);
+}
+
+// A 20 x 20 virtual replica of a ky-jmo335 tile: its sidecar written from the manifest, served with the
+// replica's catalog; `scan` of the catalog equals `scan` of the manifest and asks the tiles for nothing.
+TEST(OverviewSidecar, ThroughTheReplicaServerTheOverviewAsksTheTilesForNothing) {
+    const fs::path dir = fresh_dir("replica");
+    const std::string cli = LIDARSCOUT_CLI;
+    const std::string replicate = cli + " synth replicate " + some_tiles()[0] + " --grid 20x20 --virtual -o " +
+                                  (dir / "r").string() + " >/dev/null";
+    ASSERT_EQ(std::system(replicate.c_str()), 0);
+    const fs::path manifest = dir / "r" / "replicate.json";
+    const std::string catalog = cli + " catalog " + manifest.string() + " -o " + (dir / "r" / "catalog.vpc").string() +
+                                " --overview >/dev/null";
+    ASSERT_EQ(std::system(catalog.c_str()), 0);
+    test::ReplicaServer::Options options;
+    options.overview = (dir / "r" / "catalog.overview.laz").string();
+    test::ReplicaServer server(manifest, options);
+    const auto local = scan(manifest.string());
+    server.stats(true);
+    const auto remote = scan(server.catalog_url());
+    EXPECT_EQ(remote.dump(1), local.dump(1));
+    const auto stats = server.stats(true);
+    const auto requests = [&](const char* kind) { return stats.at("kinds").at(kind).at("requests").get<double>(); };
+    EXPECT_LE(requests("tile") + requests("tile_head"), 0.01 * 400) << stats.dump(1);
+    EXPECT_LE(requests("overview"), 3) << stats.dump(1);
+    EXPECT_GE(requests("overview"), 1) << stats.dump(1);
+    const auto without = scan("--no-overview " + server.catalog_url());
+    EXPECT_EQ(without.dump(1), local.dump(1));
+    EXPECT_GE(server.stats().at("tiles_touched").get<int>(), 400);
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace lidarscout::dataset
