@@ -2,8 +2,8 @@
 // virtual replica of a small real tile: `scan` of its catalog.vpc and of its S3 bucket equals `scan`
 // of the local replica; a tile's bytes are the bytes `synth replicate` writes for it (the source's,
 // header shifted) and `info` reads the same tile both ways; our client parses its multi-range
-// answers; its ListObjectsV2 pages and STAC API pages lead through every tile; and it counts the
-// requests a `scan` of the catalog makes per tile.
+// answers; its ListObjectsV2 pages and STAC API pages lead through every tile (and a search URL opens
+// as a catalog, all its pages read); and it counts the requests a `scan` of the catalog makes per tile.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dataset/file_search.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "dataset/tile.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
@@ -270,6 +272,23 @@ TEST_F(ReplicaServerTest, SearchPagesLeadThroughEveryItem) {
     EXPECT_EQ(first.at("assets").at("data").at("href"), "./tiles/" + tile_name(0, 0));
     EXPECT_EQ(first.at("properties").at("pc:count"),
               dataset::read_tile(io::File::open(source_tile().string())).header.point_count);
+}
+
+// A STAC API search URL, no catalog's name: its content makes it a catalog, and its 225 pages of 4 items
+// are all read (pages are not links of depth, which stop at 33).
+TEST_F(ReplicaServerTest, ASearchUrlOpensWithEveryItemOfItsPages) {
+    const std::string search = server().url("search?limit=4");
+    const auto catalog = dataset::read_catalog(search);
+    EXPECT_TRUE(catalog.errors.empty()) << catalog.errors.front();
+    EXPECT_EQ(catalog.documents, 225u);
+    ASSERT_EQ(catalog.items.size(), static_cast<std::size_t>(kSide * kSide));
+    std::set<std::string> hrefs;
+    for (const auto& item : catalog.items) hrefs.insert(item.href);
+    EXPECT_EQ(hrefs.size(), catalog.items.size()) << "every tile once";
+    EXPECT_TRUE(hrefs.count(server().tile_url(tile_name(kSide - 1, kSide - 1))));
+    const auto found = dataset::find_point_cloud_files({search});
+    EXPECT_TRUE(found.errors.empty()) << found.errors.front().error;
+    EXPECT_EQ(found.files.size(), static_cast<std::size_t>(kSide * kSide));
 }
 
 // A COPC source: the served tile is the tile `synth replicate` writes, its COPC info VLR's centre moved

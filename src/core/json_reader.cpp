@@ -1,12 +1,16 @@
-// The bounded JSON reader: a stream buffer that pulls chunks from the source and cuts the input
-// where a string, a number or the document passes its limit, and a SAX handler that builds the
-// kept document and the streamed elements, each within its budget, and stops at the depth limit.
+// The bounded JSON reader: an input that pulls chunks from the source and cuts it at the document's
+// limit, a parser of our own (nlohmann's SAX parser read a byte at a time through a stream: 1.1 s for
+// a 100 MB catalog) that measures each string and number against its limit as its bytes go by and
+// hands events to a SAX handler (nlohmann's interface) that builds the kept document and the streamed
+// elements, each within its budget, and stops at the depth limit.
 #include "core/json_reader.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <streambuf>
+#include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <utility>
 
 #include "core/error.hpp"
@@ -19,11 +23,17 @@ using nlohmann::json;
 
 constexpr std::size_t kFirstChunk = 64u << 10, kLastChunk = 1u << 20;  // the chunk grows to the last size
 
-// Where and why reading stopped short of the document's end (a limit).
+// Where and why reading stopped short of the document's end (a limit, or text that is not JSON).
 struct Stop {
     std::uint64_t offset = 0;
     std::string cause;
 };
+
+// Thrown inside the reader when the handler refuses an event (a limit it keeps, or the sink stopping):
+// what it is, the handler says.
+struct Halt {};
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
 bool is_structural_or_space(char c) {
     switch (c) {
@@ -34,126 +44,66 @@ bool is_structural_or_space(char c) {
     }
 }
 
-// Tells strings apart from the rest as the bytes go by, to measure each string and number.
-struct Lexeme {
-    bool in_string = false, escaped = false;
-    std::uint64_t start = 0;  // where the current string or token starts
-    std::uint64_t length = 0;  // its bytes so far (a string's without its quotes)
+// A byte of a number or literal (what lies between structural characters, spaces and strings).
+bool is_word_byte(char c) { return c != '"' && !is_structural_or_space(c); }
 
-    // Takes the byte at `offset`; returns false when a string or token passes its limit.
-    bool take(char c, std::uint64_t offset, const JsonLimits& limits) {
-        if (in_string) {
-            if (escaped) {
-                escaped = false;
-            } else if (c == '\\') {
-                escaped = true;
-            } else if (c == '"') {
-                in_string = false;
-                return true;
-            }
-            return ++length <= limits.max_string_bytes;
-        }
-        if (c == '"') {
-            in_string = true, start = offset, length = 0;
-        } else if (is_structural_or_space(c)) {
-            length = 0;
-        } else {
-            if (length == 0) start = offset;
-            return ++length <= kMaxJsonTokenBytes;
-        }
-        return true;
-    }
-};
-
-// The source as a stream buffer for nlohmann's parser, cut where a limit is passed.
-class BoundedBuffer : public std::streambuf {
+// The source's bytes, chunk by chunk, cut at the document's limit; where the reader is in them.
+class Input {
 public:
-    BoundedBuffer(const JsonSource& source, const JsonLimits& limits) : source_(source), limits_(limits) {}
+    Input(const JsonSource& source, const JsonLimits& limits) : source_(source), limits_(limits) {}
 
-    const std::optional<Stop>& stop() const { return stop_; }
-    // Bytes handed to the parser so far.
-    std::uint64_t position() const { return start_ + static_cast<std::uint64_t>(gptr() - eback()); }
+    // The document offset of the next byte.
+    std::uint64_t position() const { return start_ + static_cast<std::uint64_t>(p_ - chunk_.data()); }
+    // True when the next byte is there (refilling the chunk when it is used up).
+    bool more() { return p_ != end_ || refill(); }
+    // The next byte (more() must be true).
+    char peek() const { return *p_; }
+    char take() { return *p_++; }
+    // The next byte, or a stop at the end of the input (`what` says what was expected).
+    char take_or_stop(const char* what) {
+        if (!more()) end_of_input(what);
+        return take();
+    }
+    // The stretch of bytes from the next one to the chunk's end (empty at the chunk's end).
+    const char* begin() const { return p_; }
+    const char* end() const { return end_; }
+    void skip_to(const char* p) { p_ = p; }
 
-protected:
-    int_type underflow() override {
-        start_ += delivered_;
-        delivered_ = 0;
-        setg(nullptr, nullptr, nullptr);
-        if (stop_) return traits_type::eof();
-        chunk_.resize(std::clamp(chunk_.size() * 2, kFirstChunk, kLastChunk));
-        std::size_t n = source_(chunk_);
-        if (n == 0) return traits_type::eof();
-        if (start_ + n > limits_.max_bytes) {
-            n = static_cast<std::size_t>(limits_.max_bytes - std::min(start_, limits_.max_bytes));
-            stop_ = Stop{limits_.max_bytes, "more than the limit of " + std::to_string(limits_.max_bytes) +
-                                                " bytes of JSON"};
+    // At the end of the document's value: refused when the source holds more than the limit.
+    void finish() const {
+        if (cut_) end_of_input("");
+    }
+    // Throws the stop at the end of the input: the document's limit where it was cut there.
+    [[noreturn]] void end_of_input(const char* what) const {
+        if (cut_) {
+            throw Stop{limits_.max_bytes, "more than the limit of " + std::to_string(limits_.max_bytes) +
+                                              " bytes of JSON"};
         }
-        delivered_ = scan(n);
-        setg(chunk_.data(), chunk_.data(), chunk_.data() + delivered_);
-        return delivered_ == 0 ? traits_type::eof() : traits_type::to_int_type(chunk_[0]);
+        throw Stop{position(), std::string("syntax error: unexpected end of input; expected ") + what};
     }
 
 private:
-    // How many of the chunk's first `n` bytes pass; where one does not, stop_ says why.
-    std::size_t scan(std::size_t n) {
-        for (std::size_t i = 0; i < n; ++i) {
-            if (lexeme_.in_string && !lexeme_.escaped && (i = skip_plain(i, n)) == n) break;
-            if (lexeme_.take(chunk_[i], start_ + i, limits_)) continue;
-            if (lexeme_.in_string) {
-                stop_ = Stop{lexeme_.start, string_refusal(i + 1, n)};
-            } else {
-                stop_ = Stop{lexeme_.start, "a number or literal of more than " +
-                                                std::to_string(kMaxJsonTokenBytes) + " characters"};
-            }
-            return i;
+    bool refill() {
+        start_ = position();
+        if (cut_) return false;
+        chunk_.resize(std::clamp(chunk_.size() * 2, kFirstChunk, kLastChunk));
+        std::size_t n = source_(chunk_);
+        if (start_ + n > limits_.max_bytes) {
+            n = static_cast<std::size_t>(limits_.max_bytes - std::min(start_, limits_.max_bytes));
+            cut_ = true;
         }
-        return n;
-    }
-
-    // Past the bytes of a string from chunk byte `i` that are neither a quote nor a backslash, as long
-    // as the string stays within its limit (the byte that passes it is left to Lexeme::take).
-    std::size_t skip_plain(std::size_t i, std::size_t n) {
-        const std::uint64_t used = std::min<std::uint64_t>(lexeme_.length, limits_.max_string_bytes);
-        const auto end = static_cast<std::size_t>(std::min<std::uint64_t>(n, i + (limits_.max_string_bytes - used)));
-        std::size_t j = i;
-        while (j < end && chunk_[j] != '"' && chunk_[j] != '\\') ++j;
-        lexeme_.length += j - i;
-        return j;
-    }
-
-    // The refusal of the string passing its limit at chunk byte `from - 1`, naming its whole length
-    // (read on to its end, bounded by the document's limit, without keeping it).
-    std::string string_refusal(std::size_t from, std::size_t n) {
-        bool ended = measure(std::span<const char>(chunk_.data() + from, n - from));
-        std::uint64_t offset = start_ + n;
-        std::vector<char> scratch(ended ? 0 : kFirstChunk);
-        while (!ended && offset < limits_.max_bytes) {
-            const std::size_t got = source_(scratch);
-            if (got == 0) break;
-            const auto allowed = static_cast<std::size_t>(std::min<std::uint64_t>(got, limits_.max_bytes - offset));
-            offset += allowed;
-            ended = measure(std::span<const char>(scratch.data(), allowed));
-        }
-        return std::string("a string of ") + (ended ? "" : "at least ") + std::to_string(lexeme_.length) +
-               " bytes, more than the limit of " + std::to_string(limits_.max_string_bytes);
-    }
-
-    // Counts the string on through `bytes`; true when it ends there.
-    bool measure(std::span<const char> bytes) {
-        for (const char c : bytes) {
-            lexeme_.take(c, 0, limits_);
-            if (!lexeme_.in_string) return true;
-        }
-        return false;
+        p_ = chunk_.data();
+        end_ = p_ + n;
+        return n != 0;
     }
 
     const JsonSource& source_;
     const JsonLimits& limits_;
     std::vector<char> chunk_;
-    std::uint64_t start_ = 0;      // the document offset of chunk_[0]
-    std::size_t delivered_ = 0;    // bytes of chunk_ handed to the parser
-    Lexeme lexeme_;
-    std::optional<Stop> stop_;
+    std::uint64_t start_ = 0;  // the document offset of chunk_[0]
+    const char* p_ = nullptr;
+    const char* end_ = nullptr;
+    bool cut_ = false;  // the source holds more than the document's limit
 };
 
 // Builds one document (the kept one, or a streamed element) within its budget.
@@ -222,9 +172,8 @@ private:
 // nlohmann's SAX interface: the kept document, streamed elements, the depth limit.
 class BoundedHandler {
 public:
-    BoundedHandler(const JsonLimits& limits, const JsonStreaming* streaming, const BoundedBuffer& buffer,
-                   json& result)
-        : limits_(limits), streaming_(streaming), buffer_(buffer), kept_(limits.kept), element_(limits.element) {
+    BoundedHandler(const JsonLimits& limits, const JsonStreaming* streaming, const Input& input, json& result)
+        : limits_(limits), streaming_(streaming), input_(input), kept_(limits.kept), element_(limits.element) {
         kept_.start(result);
     }
 
@@ -237,7 +186,6 @@ public:
         const std::size_t n = s.size();
         return value(std::move(s), n);
     }
-    bool binary(json::binary_t&) { return fail("binary data"); }  // (never in JSON text)
     bool start_object(std::size_t) { return open(json::object()); }
     bool start_array(std::size_t) { return open(json::array()); }
     bool end_object() { return close(); }
@@ -249,17 +197,11 @@ public:
         DomBuilder& builder = streamed() ? element_ : kept_;
         return builder.key(std::move(k)) || over_budget(builder);
     }
-    bool parse_error(std::size_t position, const std::string&, const nlohmann::detail::exception& e) {
-        std::string what = e.what();
-        if (const auto at = what.find("] "); what.starts_with("[json.exception") && at != std::string::npos) {
-            what.erase(0, at + 2);
-        }
-        parse_error_ = Stop{position > 0 ? position - 1 : 0, "not JSON (" + display_excerpt(what) + ")"};
-        return false;
-    }
-
     const std::optional<Stop>& failure() const { return failure_; }
-    const std::optional<Stop>& parse_failure() const { return parse_error_; }
+    // Whether the next scalar goes to a receiver of diverted values that drops it.
+    bool drops_next_scalar() const {
+        return (diverting_depth_ != 0 || divert_next_) && streaming_->diverted->drops_scalars();
+    }
     bool stopped_by_sink() const { return stopped_; }
 
 private:
@@ -341,27 +283,355 @@ private:
     }
 
     bool fail(const std::string& cause) {
-        const std::uint64_t at = buffer_.position();
+        const std::uint64_t at = input_.position();
         failure_ = Stop{at > 0 ? at - 1 : 0, cause};
         return false;
     }
 
     const JsonLimits& limits_;
     const JsonStreaming* streaming_;
-    const BoundedBuffer& buffer_;
+    const Input& input_;
     DomBuilder kept_, element_;
     json element_value_;
     std::size_t depth_ = 0, stream_depth_ = 0, index_ = 0;
     std::size_t diverting_depth_ = 0, diverted_ = 0;  // the depth of the diverted object or array being read
     bool root_is_object_ = false, stopped_ = false, divert_next_ = false;
     std::string root_key_, stream_key_;
-    std::optional<Stop> failure_, parse_error_;
+    std::optional<Stop> failure_;
 };
 
-// A reader for nlohmann's stream adapter over the buffer (it uses the buffer directly).
-class BufferStream : public std::istream {
+// Whether `b` is a UTF-8 continuation byte within [lo, hi] (0x80..0xBF unless the lead byte narrows it).
+bool continues(unsigned char b, unsigned char lo = 0x80, unsigned char hi = 0xBF) { return b >= lo && b <= hi; }
+
+// The JSON text of the input as events to the handler (nlohmann's SAX interface), as nlohmann's parser
+// reads it (RFC 8259: strings of well-formed UTF-8 with their escapes and surrogate pairs, numbers as
+// whole numbers where they fit 64 bits, else doubles, a double's overflow refused, a UTF-8 byte order
+// mark allowed, nothing but white space after the value), without recursion and a chunk at a time: a
+// string or a number's bytes are measured as they go by, and refused past their limit.
+class Parser {
 public:
-    explicit BufferStream(std::streambuf& buffer) : std::istream(&buffer) {}
+    Parser(Input& in, BoundedHandler& handler, const JsonLimits& limits) : in_(in), h_(handler), limits_(limits) {}
+
+    // Reads the document; throws Stop where it is not JSON or passes a limit the reader keeps, Halt
+    // where the handler refused an event.
+    void run() {
+        skip_bom();
+        bool value_next = true;
+        while (true) {
+            if (value_next && !value()) {
+                if (!object()) {
+                    value_next = true;  // the first element of an array just opened
+                    continue;
+                }
+                key();
+                continue;
+            }
+            if (open_.empty()) break;
+            value_next = after_value();
+        }
+        skip_space();
+        if (in_.more()) fail("unexpected '" + std::string(1, in_.peek()) + "'; expected end of input");
+        in_.finish();
+    }
+
+private:
+    bool object() const { return open_.back(); }
+
+    // A value: a scalar read whole (true), or an object or array opened (false) whose first member,
+    // element or end comes next. An object or array opened and closed at once counts as read whole.
+    bool value() {
+        skip_space();
+        if (!in_.more()) in_.end_of_input("a value");
+        const char c = in_.peek();
+        if (c == '"') {
+            in_.take();
+            std::string& text = string(in_.position() - 1);
+            return check(h_.drops_next_scalar() ? h_.null() : h_.string(text)), true;
+        }
+        if (c != '{' && c != '[') return word(), true;
+        in_.take();
+        open_.push_back(c == '{');
+        check(c == '{' ? h_.start_object(std::size_t(-1)) : h_.start_array(std::size_t(-1)));
+        skip_space();
+        if (!in_.more() || in_.peek() != (c == '{' ? '}' : ']')) return false;
+        in_.take();
+        close();
+        return true;
+    }
+
+    // After a value in an open object or array: a comma (true: a value comes next, after its key in an
+    // object) or the close (false).
+    bool after_value() {
+        skip_space();
+        const char c = in_.take_or_stop(object() ? "',' or '}'" : "',' or ']'");
+        if (c == ',') {
+            if (object()) key();
+            return true;
+        }
+        if (c != (object() ? '}' : ']')) {
+            back_fail(std::string("unexpected '") + c + "'; expected " + (object() ? "',' or '}'" : "',' or ']'"));
+        }
+        close();
+        return false;
+    }
+
+    void close() {
+        check(open_.back() ? h_.end_object() : h_.end_array());
+        open_.pop_back();
+    }
+
+    // A member's key and its colon.
+    void key() {
+        skip_space();
+        const std::uint64_t at = in_.position();
+        if (in_.take_or_stop("a string (an object's key)") != '"') {
+            throw Stop{at, "syntax error: expected a string (an object's key)"};
+        }
+        check(h_.key(string(at)));
+        skip_space();
+        const std::uint64_t colon = in_.position();
+        if (in_.take_or_stop("':'") != ':') throw Stop{colon, "syntax error: expected ':' after an object's key"};
+    }
+
+    void skip_space() {
+        while (in_.more()) {
+            const char* p = in_.begin();
+            while (p != in_.end() && is_space(*p)) ++p;
+            const bool done = p != in_.end();
+            in_.skip_to(p);
+            if (done) return;
+        }
+    }
+
+    void skip_bom() {
+        if (!in_.more() || static_cast<unsigned char>(in_.peek()) != 0xEF) return;
+        in_.take();
+        for (const unsigned char b : {0xBB, 0xBF}) {
+            if (static_cast<unsigned char>(in_.take_or_stop("a byte order mark")) != b) {
+                throw Stop{0, "syntax error: an ill-formed byte order mark (0xEF 0xBB 0xBF)"};
+            }
+        }
+    }
+
+    // The string whose opening quote, at `start`, was just taken, decoded; its bytes as written
+    // measured against the string limit.
+    std::string& string(std::uint64_t start) {
+        text_.clear();
+        std::uint64_t written = 0;  // bytes between the quotes so far
+        while (true) {
+            if (!in_.more()) in_.end_of_input("'\"' (a string's end)");
+            const char* p = in_.begin();
+            const std::uint64_t room = limits_.max_string_bytes - written;
+            const char* end = in_.end() - p > static_cast<std::ptrdiff_t>(room) ? p + room : in_.end();
+            const char* q = p;
+            while (q != end && static_cast<unsigned char>(*q) >= 0x20 && static_cast<unsigned char>(*q) < 0x80 &&
+                   *q != '"' && *q != '\\') {
+                ++q;
+            }
+            text_.append(p, q);
+            written += static_cast<std::uint64_t>(q - p);
+            in_.skip_to(q);
+            if (q == in_.end()) continue;
+            if (*q == '"') {
+                in_.take();
+                return text_;
+            }
+            const std::uint64_t before = in_.position();
+            special(start);
+            written += in_.position() - before;
+            if (written > limits_.max_string_bytes) refuse_string(start, written);
+        }
+    }
+
+    // At a string's byte that is not plain ASCII: an escape, a control character, a UTF-8 sequence, or
+    // the byte that passes the string's limit.
+    void special(std::uint64_t start) {
+        const auto c = static_cast<unsigned char>(in_.peek());
+        if (c >= 0x20 && c < 0x80 && c != '\\') {  // (past the limit: the fast loop stopped at it)
+            in_.take();
+            refuse_string(start, limits_.max_string_bytes + 1);
+        }
+        if (c == '\\') return escape();
+        if (c < 0x20) {
+            char hex[8];
+            std::snprintf(hex, sizeof hex, "%04X", static_cast<unsigned>(c));
+            fail(std::string("invalid string: control character U+") + hex + " must be escaped");
+        }
+        utf8();
+    }
+
+    void escape() {
+        in_.take();
+        const char c = in_.take_or_stop("an escape");
+        switch (c) {
+            case '"': case '\\': case '/': text_ += c; return;
+            case 'b': text_ += '\b'; return;
+            case 'f': text_ += '\f'; return;
+            case 'n': text_ += '\n'; return;
+            case 'r': text_ += '\r'; return;
+            case 't': text_ += '\t'; return;
+            case 'u': return append_utf8(text_, code_point());
+            default: back_fail("invalid string: forbidden character after backslash");
+        }
+    }
+
+    // The code point of a \u escape whose 'u' was just taken, with the low surrogate that must follow a high one.
+    std::uint32_t code_point() {
+        const std::uint32_t first = hex4();
+        if (first >= 0xDC00 && first <= 0xDFFF) {
+            back_fail("invalid string: surrogate U+DC00..U+DFFF must follow U+D800..U+DBFF");
+        }
+        if (first < 0xD800 || first > 0xDBFF) return first;
+        const bool escaped = in_.take_or_stop("a low surrogate") == '\\' && in_.take_or_stop("a low surrogate") == 'u';
+        const std::uint32_t second = escaped ? hex4() : 0;
+        if (second < 0xDC00 || second > 0xDFFF) {
+            back_fail("invalid string: surrogate U+D800..U+DBFF must be followed by U+DC00..U+DFFF");
+        }
+        return 0x10000 + ((first - 0xD800) << 10) + (second - 0xDC00);
+    }
+
+    std::uint32_t hex4() {
+        std::uint32_t code = 0;
+        for (int k = 0; k < 4; ++k) {
+            const char c = in_.take_or_stop("four hexadecimal digits");
+            const int digit = c >= '0' && c <= '9' ? c - '0'
+                              : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                              : c >= 'A' && c <= 'F' ? c - 'A' + 10 : -1;
+            if (digit < 0) back_fail("invalid string: '\\u' must be followed by 4 hex digits");
+            code = code * 16 + static_cast<std::uint32_t>(digit);
+        }
+        return code;
+    }
+
+    // A UTF-8 sequence, checked as RFC 3629 (and nlohmann) have it, appended as it is.
+    void utf8() {
+        const auto lead = static_cast<unsigned char>(in_.take());
+        int follow = 0;
+        unsigned char lo = 0x80, hi = 0xBF;
+        if (lead >= 0xC2 && lead <= 0xDF) {
+            follow = 1;
+        } else if (lead >= 0xE0 && lead <= 0xEF) {
+            follow = 2, lo = lead == 0xE0 ? 0xA0 : 0x80, hi = lead == 0xED ? 0x9F : 0xBF;
+        } else if (lead >= 0xF0 && lead <= 0xF4) {
+            follow = 3, lo = lead == 0xF0 ? 0x90 : 0x80, hi = lead == 0xF4 ? 0x8F : 0xBF;
+        } else {
+            back_fail("invalid string: ill-formed UTF-8 byte");
+        }
+        text_ += static_cast<char>(lead);
+        for (int k = 0; k < follow; ++k, lo = 0x80, hi = 0xBF) {
+            const auto b = static_cast<unsigned char>(in_.take_or_stop("a UTF-8 continuation byte"));
+            if (!continues(b, lo, hi)) back_fail("invalid string: ill-formed UTF-8 byte");
+            text_ += static_cast<char>(b);
+        }
+    }
+
+    // The string at `start` is past its limit: refused naming its length as written, measured to its end
+    // (or to the end of the input) without keeping it.
+    [[noreturn]] void refuse_string(std::uint64_t start, std::uint64_t written) {
+        bool ended = false, escaped = false;
+        while (!ended && in_.more()) {
+            const char* p = in_.begin();
+            for (; p != in_.end(); ++p) {
+                if (!escaped && *p == '"') {
+                    ended = true;
+                    break;
+                }
+                escaped = !escaped && *p == '\\';
+                ++written;
+            }
+            in_.skip_to(p);
+        }
+        throw Stop{start, std::string("a string of ") + (ended ? "" : "at least ") + std::to_string(written) +
+                              " bytes, more than the limit of " + std::to_string(limits_.max_string_bytes)};
+    }
+
+    // A number or literal: its bytes up to the next structural character, space or quote.
+    void word() {
+        const std::uint64_t start = in_.position();
+        word_.clear();
+        while (in_.more()) {
+            const char* p = in_.begin();
+            const char* q = p;
+            while (q != in_.end() && is_word_byte(*q)) ++q;
+            if (word_.size() + static_cast<std::size_t>(q - p) > kMaxJsonTokenBytes) {
+                throw Stop{start, "a number or literal of more than " + std::to_string(kMaxJsonTokenBytes) +
+                                      " characters"};
+            }
+            word_.append(p, q);
+            in_.skip_to(q);
+            if (q != in_.end()) break;
+        }
+        if (word_.empty()) {
+            if (!in_.more()) in_.end_of_input("a value");
+            throw Stop{start, std::string("syntax error: unexpected '") + in_.peek() + "'; expected a value"};
+        }
+        if (word_ == "true" || word_ == "false") return check(h_.boolean(word_ == "true"));
+        if (word_ == "null") return check(h_.null());
+        number(start);
+    }
+
+    void number(std::uint64_t start) {
+        const std::size_t shape = number_shape(word_);
+        if (shape == 0) throw Stop{start, "syntax error: invalid literal '" + display_excerpt(word_) + "'"};
+        const char* first = word_.data();
+        const char* last = first + word_.size();
+        // (a number dropped is not converted where it cannot overflow: no exponent, under 300 digits)
+        if (h_.drops_next_scalar() && word_.size() < 300 && word_.find_first_of("eE") == std::string::npos) {
+            return check(h_.null());
+        }
+        if (shape == 1 && word_[0] != '-') {
+            std::uint64_t v = 0;
+            if (std::from_chars(first, last, v).ec == std::errc()) return check(h_.number_unsigned(v));
+        } else if (shape == 1) {
+            std::int64_t v = 0;
+            if (std::from_chars(first, last, v).ec == std::errc()) return check(h_.number_integer(v));
+        }
+        double v = 0;
+        if (std::from_chars(first, last, v).ec != std::errc()) v = std::strtod(word_.c_str(), nullptr);  // (underflow)
+        if (!std::isfinite(v)) throw Stop{start, "number overflow parsing '" + display_excerpt(word_) + "'"};
+        check(h_.number_float(v, word_));
+    }
+
+    // 1 for a whole number as JSON writes it, 2 for one with a fraction or exponent, 0 for no number.
+    static std::size_t number_shape(const std::string& w) {
+        std::size_t i = w[0] == '-' ? 1 : 0;
+        const auto digits = [&] {
+            const std::size_t from = i;
+            while (i < w.size() && w[i] >= '0' && w[i] <= '9') ++i;
+            return i - from;
+        };
+        if (i == w.size()) return 0;
+        if (w[i] == '0') {
+            ++i;
+        } else if (digits() == 0) {
+            return 0;
+        }
+        std::size_t shape = 1;
+        if (i < w.size() && w[i] == '.') {
+            ++i, shape = 2;
+            if (digits() == 0) return 0;
+        }
+        if (i < w.size() && (w[i] == 'e' || w[i] == 'E')) {
+            ++i, shape = 2;
+            if (i < w.size() && (w[i] == '+' || w[i] == '-')) ++i;
+            if (digits() == 0) return 0;
+        }
+        return i == w.size() ? shape : 0;
+    }
+
+    void check(bool accepted) {
+        if (!accepted) throw Halt{};
+    }
+    // Refuses the text at the next byte.
+    [[noreturn]] void fail(const std::string& what) { throw Stop{in_.position(), "syntax error: " + what}; }
+    // Refuses the text at the byte just taken.
+    [[noreturn]] void back_fail(const std::string& what) { throw Stop{in_.position() - 1, "syntax error: " + what}; }
+
+    Input& in_;
+    BoundedHandler& h_;
+    const JsonLimits& limits_;
+    std::vector<bool> open_;  // the objects (true) and arrays open, outermost first
+    std::string text_, word_;
 };
 
 Error field_error(std::string_view key, const std::string& what) {
@@ -377,24 +647,22 @@ Error wrong_kind(std::string_view key, const json& value, const char* expected) 
 nlohmann::json read_json(const JsonSource& source, const std::string& name, const JsonLimits& limits,
                          const JsonStreaming* streaming) {
     json result;
-    BoundedBuffer buffer(source, limits);
-    BoundedHandler handler(limits, streaming, buffer, result);
-    BufferStream stream(buffer);
+    Input input(source, limits);
+    BoundedHandler handler(limits, streaming, input, result);
     try {
-        json::sax_parse(static_cast<std::istream&>(stream), &handler, json::input_format_t::json, true, false);
-    } catch (const json::exception& e) {  // (the parser reports through the handler; this is a safety net)
-        throw Error(name, buffer.position(), "not JSON (" + display_excerpt(e.what()) + ")");
+        Parser(input, handler, limits).run();
+    } catch (const Halt&) {
+        const auto& f = handler.failure();
+        if (handler.stopped_by_sink() || !f) return result;
+        throw Error(name, f->offset, f->cause);
+    } catch (const Stop& stop) {
+        throw Error(name, stop.offset, stop.cause.starts_with("syntax error") || stop.cause.starts_with("number")
+                                           ? "not JSON (" + display_excerpt(stop.cause) + ")"
+                                           : stop.cause);
     } catch (const Error& e) {  // from the source or a receiver: about this document unless it names another
-        if (e.file().empty()) throw Error(name, e.offset() ? e.offset() : buffer.position(), e.cause());
+        if (e.file().empty()) throw Error(name, e.offset() ? e.offset() : input.position(), e.cause());
         throw;
     }
-    if (handler.stopped_by_sink()) return result;
-    if (const auto& f = handler.failure()) throw Error(name, f->offset, f->cause);
-    const auto& stop = buffer.stop();
-    const auto& parse = handler.parse_failure();
-    // The parser meets the end of the input where it was cut: the cut is the cause.
-    if (stop && (!parse || parse->offset >= stop->offset)) throw Error(name, stop->offset, stop->cause);
-    if (parse) throw Error(name, parse->offset, parse->cause);
     return result;
 }
 

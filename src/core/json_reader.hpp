@@ -1,12 +1,13 @@
 // The one way JSON from a user or a server is read (STAC catalogs, EPT metadata, sessions, GeoJSON
-// polygons, replica manifests): nlohmann's SAX parser fed chunk by chunk from a source, with every
-// bound applied while the bytes go by, so that no document costs more than its limits allow: the
-// bytes of the document, how deep arrays and objects nest, the length of one string or key (a
-// longer one is refused naming its length, never its text), of one number, and how many values
-// and bytes of text the returned document may hold. Each refusal is one lidarscout::Error naming
-// the document, the byte offset and the limit. Arrays under chosen keys of the root object can
-// be streamed: each element is handed over as its own small document, bounded on its own and
-// dropped after use, so that a catalog of a million items costs one item at a time. The values of
+// polygons, replica manifests): parsed chunk by chunk from a source (a parser of our own that reads
+// JSON as nlohmann's does, into nlohmann::json values), with every bound applied while the bytes go
+// by, so that no document costs more than its limits allow: the bytes of the document, how deep
+// arrays and objects nest, the length of one string or key (a longer one is refused naming its
+// length, never its text), of one number, and how many values and bytes of text the returned
+// document may hold. Each refusal is one lidarscout::Error naming the document, the byte offset and
+// the limit. Arrays under chosen keys of the root object can be streamed: each element is handed
+// over as its own small document, bounded on its own and dropped after use, so that a catalog of a
+// million items costs one item at a time. The values of
 // chosen keys, at any depth, can be diverted: handed over event by event and never built (GeoJSON
 // coordinates kept as rings, an item's footprint not kept at all).
 //
@@ -65,6 +66,9 @@ public:
     virtual void open(bool object) = 0;                    // an object or an array starts
     virtual void key(const std::string& key) = 0;          // the key of the next value (in an object)
     virtual void close() = 0;                              // the innermost open object or array ends
+    // True when scalars are not looked at: each is then handed over as null (a number not converted, a
+    // string not kept; both still read and checked as JSON).
+    virtual bool drops_scalars() const { return false; }
 };
 
 struct JsonStreaming {
@@ -85,6 +89,7 @@ public:
     void open(bool) override {}
     void key(const std::string&) override {}
     void close() override {}
+    bool drops_scalars() const override { return true; }
 };
 
 // The document read from `source`; `name` (a path or URL as shown) names it in errors. A streamed

@@ -25,4 +25,7 @@ std::string ascii_lower(std::string_view s);
 // "4.10 T" (a count under 1,000 as a whole number; negative counts keep their sign).
 std::string count_text(double count);
 
+// Appends the UTF-8 encoding of `code` (a Unicode code point) to `out`.
+void append_utf8(std::string& out, unsigned long code);
+
 }  // namespace lidarscout

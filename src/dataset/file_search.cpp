@@ -143,10 +143,13 @@ void expand_list(const std::string& list, FoundFiles& out) {
     out.warnings.append(found.warnings);
 }
 
-// A URL: a LAS/LAZ file, or (when lists are allowed) a tile list; folders cannot be listed.
+void expand_catalog(const std::string& path, FoundFiles& out);
+
+// A URL: a LAS/LAZ file, or (when lists are allowed) a STAC catalog (by its content: a JSON object) or a
+// tile list; folders cannot be listed.
 void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
     if (allow_lists && !has_point_cloud_extension(url)) {
-        expand_list(url, out);
+        holds_json_object(url) ? expand_catalog(url, out) : expand_list(url, out);
     } else {
         out.files.push_back(url);
     }
@@ -222,7 +225,7 @@ void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
     } else if (fs::is_directory(st)) {
         search_folder(p, out);
     } else if (allow_lists && is_tile_list(p)) {
-        expand_list(p, out);
+        holds_json_object(p) ? expand_catalog(p, out) : expand_list(p, out);  // (a catalog by its content)
     } else {
         out.files.push_back(p);
     }
@@ -301,7 +304,7 @@ void add_local_input(const std::string& p, bool allow_lists, std::vector<std::st
         } catch (const Error&) {
             // a malformed manifest is reported when the dataset is opened
         }
-    } else if (allow_lists && is_stac_catalog(p)) {
+    } else if (allow_lists && (is_stac_catalog(p) || (is_tile_list(p) && holds_json_object(p)))) {
         for (const auto& item : read_catalog(p).items) add_local_input(item.href, false, out);
     } else if (allow_lists && is_tile_list(p)) {
         FoundFiles ignored;

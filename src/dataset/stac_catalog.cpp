@@ -1,6 +1,7 @@
 // STAC catalog reading (local or remote, through io::File): a breadth-first walk over the
 // documents, each read once, items taken from ItemCollections and Items, links followed from
-// Catalogs and Collections (and "next" pages of ItemCollections), all of it bounded.
+// Catalogs and Collections one level deeper, and "next" pages of ItemCollections at the depth of
+// their first page, a page loop caught, all of it bounded.
 #include "dataset/stac_catalog.hpp"
 
 #include <algorithm>
@@ -10,6 +11,8 @@
 #include <deque>
 #include <filesystem>
 #include <set>
+#include <string_view>
+#include <unordered_map>
 #include <utility>
 
 #include <nlohmann/json.hpp>
@@ -51,11 +54,21 @@ struct ItemLineSink {
     std::vector<std::string> warnings, errors;
 };
 
+// A document to read: where it lies in the walk. A "next" page is not a link of depth: the pages of
+// one search, however many, lie at the depth of its first page.
+struct Queued {
+    std::string document;
+    int depth = 0;
+    std::uint64_t page = 0;  // 0 for a document reached by a link of depth; n for the n-th page after one
+    std::string first;       // the first page of its search (the document itself when page is 0)
+};
+
 struct Walk {
     const CatalogLimits& limits;
     Catalog out;
-    std::set<std::string> seen;                  // documents queued or read
-    std::deque<std::pair<std::string, int>> queue;  // documents to read, with their depth
+    std::set<std::string> seen;   // documents queued or read
+    std::deque<Queued> queue;     // documents to read
+    std::unordered_map<std::uint64_t, std::uint64_t> pages;  // the items of each page read (a hash): its number
     std::uint64_t bytes = 0;
     bool full = false;  // a limit was reached: nothing more is read
 
@@ -123,15 +136,33 @@ std::optional<std::string> resolve(const std::string& document, const std::strin
     return url;
 }
 
-void follow(const std::string& document, int depth, const std::string& href, Walk& w) {
+void follow(const Queued& from, const std::string& href, Walk& w) {
     std::string refusal;
-    const auto target = resolve(document, href, refusal);
-    if (!target) return w.error(document, "link not followed: " + refusal);
-    if (depth + 1 > kMaxDepth) {
-        return w.error(document, "link " + shown(io::display_path(*target)) + " not followed: more than " +
-                                     std::to_string(kMaxDepth) + " links deep");
+    const auto target = resolve(from.document, href, refusal);
+    if (!target) return w.error(from.document, "link not followed: " + refusal);
+    if (from.depth + 1 > kMaxDepth) {
+        return w.error(from.document, "link " + shown(io::display_path(*target)) + " not followed: more than " +
+                                          std::to_string(kMaxDepth) + " links deep");
     }
-    if (w.seen.insert(*target).second) w.queue.emplace_back(*target, depth + 1);
+    if (w.seen.insert(*target).second) w.queue.push_back({*target, from.depth + 1, 0, *target});
+}
+
+// "page N of FIRST (PAGE)": a page of a search, for its lines.
+std::string page_name(const Queued& page) {
+    return "page " + std::to_string(page.page + 1) + " of " + shown(io::display_path(page.first)) +
+           (page.page == 0 ? "" : " (" + shown(io::display_path(page.document)) + ")");
+}
+
+// Queues the page after `page`; a page read already is a loop: one line, and the pages stop there.
+void follow_page(const Queued& page, const std::string& href, Walk& w) {
+    std::string refusal;
+    const auto target = resolve(page.document, href, refusal);
+    if (!target) return w.error(page.document, "next page not followed: " + refusal);
+    if (!w.seen.insert(*target).second) {
+        return w.error(page.first, page_name(page) + " links to " + shown(io::display_path(*target)) +
+                                       " as its next page, read already: a page loop; the pages stop there");
+    }
+    w.queue.push_back({*target, page.depth, page.page + 1, page.first});
 }
 
 // The asset that is the tile: roles holding "data", else the one named "data", else the first.
@@ -150,15 +181,29 @@ const json* data_asset(const json& assets) {
     return nullptr;
 }
 
+// A catalog document: its path or URL, and as shown in lines (made once for all its items).
+struct Document {
+    explicit Document(const std::string& p) : path(p), shown(lidarscout::dataset::shown(io::display_path(p))) {}
+    const std::string& path;
+    std::string shown;
+};
+
 // What could not be used of one item, each cause with what was done instead, named in one line: the item
 // kept, its causes and what was done (a warning); the item left out (no tile), its causes (an error).
 struct ItemLines {
-    std::string name;  // "item 'ID' in DOCUMENT", or "item #N in DOCUMENT" while it has no id
+    const std::string& document;  // the document as shown
+    std::size_t index = 0;         // the item's in it
+    const std::string* id = nullptr;  // its id, once read ("" or none: named by its place)
     std::vector<std::pair<std::string, std::string>> causes;  // (cause, what was done instead)
 
+    // "item 'ID' in DOCUMENT", or "item #N in DOCUMENT" for an item without id (made only for a line).
+    std::string name() const {
+        const std::string what = id && !id->empty() ? "'" + shown(*id) + "'" : "#" + std::to_string(index + 1);
+        return "item " + what + " in " + document;
+    }
     void add(std::string cause, std::string instead) { causes.emplace_back(std::move(cause), std::move(instead)); }
     std::string kept() const {  // (what was done said once after the causes it follows)
-        std::string line = name + ": ";
+        std::string line = name() + ": ";
         for (std::size_t k = 0; k < causes.size(); ++k) {
             line += (k ? "; " : "") + causes[k].first;
             if (k + 1 == causes.size() || causes[k + 1].second != causes[k].second) line += "; " + causes[k].second;
@@ -166,7 +211,7 @@ struct ItemLines {
         return line;
     }
     std::string left_out(const std::string& why) const {
-        std::string line = name + ": ";  // (said as a skipped item: "skipped item 'ID' in DOC: CAUSE")
+        std::string line = name() + ": ";  // (said as a skipped item: "skipped item 'ID' in DOC: CAUSE")
         const char* separator = "";
         for (const auto& cause : causes) line += separator + cause.first, separator = "; ";
         return why.empty() ? line : line + separator + why;
@@ -230,15 +275,14 @@ std::nullopt_t refuse(const ItemLines& lines, const std::string& why, ItemLineSi
 
 // The item `feature` (the index-th of its document), or nullopt; one line in `sink` when something of it
 // could not be used (a warning when it is kept, an error when it is left out).
-std::optional<CatalogItem> item_of(const json& feature, const std::string& document, std::size_t index,
+std::optional<CatalogItem> item_of(const json& feature, const Document& document, std::size_t index,
                                    ItemLineSink& sink) {
-    const std::string in = " in " + shown(io::display_path(document));
-    ItemLines lines{"item #" + std::to_string(index + 1) + in, {}};
+    ItemLines lines{document.shown, index, nullptr, {}};
     if (!feature.is_object()) return refuse(lines, "not a STAC item (an object)", sink);
     CatalogItem item;
-    item.document = shown(io::display_path(document));
+    item.document = document.shown;
     field(lines, "the item is named by its place", [&] { item.id = json_optional_string(feature, "id").value_or(""); });
-    if (!item.id.empty()) lines.name = "item '" + shown(item.id) + "'" + in;
+    lines.id = &item.id;
     std::optional<std::string> type;
     if (!field(lines, "", [&] { type = json_optional_string(feature, "type"); })) return refuse(lines, "", sink);
     if (type != "Feature") return refuse(lines, "not a STAC item (its type is not \"Feature\")", sink);
@@ -251,7 +295,7 @@ std::optional<CatalogItem> item_of(const json& feature, const std::string& docum
     }
     if (!href) return refuse(lines, "no data asset with an href (the tile's path or URL)", sink);
     std::string refusal;
-    const auto resolved = resolve(document, *href, refusal);
+    const auto resolved = resolve(document.path, *href, refusal);
     if (!resolved) return refuse(lines, refusal, sink);
     item.href = *resolved;
     const json* props = nullptr;
@@ -294,26 +338,47 @@ bool at_item_limit(const std::string& document, Walk& w) {
 }
 
 // Takes one element of the document's "features" or "links"; false when the item limit is reached.
-bool take_element(const std::string& key, std::size_t index, const json& element, const std::string& document,
+bool take_element(const std::string& key, std::size_t index, const json& element, const Document& document,
                   Streamed& s, Walk& w) {
     if (key == "links") return take_link(element, index, s), true;
-    if (at_item_limit(document, w)) return false;
+    if (at_item_limit(document.path, w)) return false;
     if (auto item = item_of(element, document, index, s.item_lines)) w.out.items.push_back(std::move(*item));
     return true;
 }
 
-// Follows the links whose rel is one of `rels` (a line for each broken link that could be one).
-void follow_links(const Streamed& s, const std::string& document, int depth, std::initializer_list<const char*> rels,
-                  Walk& w) {
+// Follows the links whose rel is one of `rels` (a line for each broken link that could be one): "next"
+// as the page after `q`, the others one link deeper.
+void follow_links(const Streamed& s, const Queued& q, std::initializer_list<const char*> rels, Walk& w) {
     for (const auto& link : s.links) {
         const bool wanted = std::any_of(rels.begin(), rels.end(), [&](const char* r) { return link.rel == r; });
         if (!link.rel.empty() && !wanted) continue;
         if (!link.error.empty()) {
-            w.error(document, link.error);
+            w.error(q.document, link.error);
         } else if (!w.full) {
-            follow(document, depth, link.href, w);
+            link.rel == "next" ? follow_page(q, link.href, w) : follow(q, link.href, w);
         }
     }
+}
+
+// A hash of the items `q` gave (from `first`), to tell a page that repeats another whatever its URL.
+std::uint64_t items_hash(const Walk& w, std::size_t first) {
+    std::uint64_t h = 1469598103934665603ull;
+    for (std::size_t i = first; i < w.out.items.size(); ++i) {
+        h = (h ^ std::hash<std::string_view>{}(w.out.items[i].href)) * 1099511628211ull;
+    }
+    return h;
+}
+
+// Whether the page `q` (its items from `first`) repeats the items of a page read before: then they are
+// dropped, one line says so and its pages stop there.
+bool repeats_a_page(const Queued& q, std::size_t first, Walk& w) {
+    if (w.out.items.size() == first) return false;
+    const auto [at, added] = w.pages.emplace(items_hash(w, first), q.page);
+    if (added || q.page == 0) return false;
+    w.out.items.resize(first);
+    w.error(q.first, page_name(q) + " repeats the items of page " + std::to_string(at->second + 1) +
+                         ": a page loop; the pages stop there");
+    return true;
 }
 
 // The document's JSON, its "features" and "links" streamed into `s`; nullopt when it could not be read.
@@ -323,11 +388,13 @@ std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk
     limits.kept = limits.element = {200'000, 32u << 20};
     // (what an item holds that the catalog does not use is read past, not kept even for a while)
     JsonValueDropper unused;
+    const Document named(document);
     const JsonStreaming streaming{{"features", "links"},
                                   [&](const std::string& key, std::size_t i, json&& element) {
-                                      return take_element(key, i, element, document, s, w);
+                                      return take_element(key, i, element, named, s, w);
                                   },
-                                  {"geometry", "bbox", "stac_extensions", "pc:schemas", "proj:geometry"},
+                                  {"geometry", "bbox", "stac_extensions", "pc:schemas", "proj:geometry",
+                                   "stac_version", "datetime", "pc:type", "pc:encoding"},
                                   &unused};
     try {
         const io::File file = io::File::open(document);
@@ -353,7 +420,8 @@ void take_overview(const Streamed& s, const std::string& document, Walk& w) {
     w.out.warnings.push_back(shown(io::display_path(document)) + ": overview sidecar not used: " + refusal);
 }
 
-void read_document(const std::string& document, int depth, Walk& w) {
+void read_document(const Queued& q, Walk& w) {
+    const std::string& document = q.document;
     Streamed s{w.out.items.size(), {}, {}, {}};
     const bool was_full = w.full;
     const auto doc = read_streamed(document, s, w);
@@ -376,16 +444,17 @@ void read_document(const std::string& document, int depth, Walk& w) {
         w.error(document, "not a STAC catalog: " + type_error);
     } else if (collection) {
         if (!features || !features->is_array()) return w.error(document, "an ItemCollection without features");
+        if (repeats_a_page(q, s.first_item, w)) return;
         w.take_item_lines(std::move(s.item_lines));
         take_overview(s, document, w);
-        follow_links(s, document, depth, {"next"}, w);  // a STAC API search's further pages
+        follow_links(s, q, {"next"}, w);  // a STAC API search's further pages
     } else if (type == "Feature") {
         if (at_item_limit(document, w)) return;
         ItemLineSink lines;
-        if (auto item = item_of(*doc, document, 0, lines)) w.out.items.push_back(std::move(*item));
+        if (auto item = item_of(*doc, Document(document), 0, lines)) w.out.items.push_back(std::move(*item));
         w.take_item_lines(std::move(lines));
     } else if (type == "Catalog" || type == "Collection") {
-        follow_links(s, document, depth, {"child", "item"}, w);
+        follow_links(s, q, {"child", "item"}, w);
     } else {
         w.error(document, "not a STAC catalog, collection, item or item collection (its type is '" +
                               shown(type.value_or("")) + "')");
@@ -400,19 +469,35 @@ bool is_stac_catalog(const std::string& path) {
     return ends_with(name, ".vpc") || ends_with(name, ".json");
 }
 
+bool holds_json_object(const std::string& path) {
+    char head[256];
+    std::size_t n = 0;
+    try {
+        const io::File file = io::File::open(path);
+        const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(sizeof head, file.size()));
+        n = file.read_at(0, std::span(reinterpret_cast<std::uint8_t*>(head), want));
+    } catch (const Error&) {
+        return false;
+    }
+    std::string_view text(head, n);
+    if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
+    const auto first = text.find_first_not_of(" \t\r\n");
+    return first != std::string_view::npos && text[first] == '{';
+}
+
 Catalog read_catalog(const std::string& path, const CatalogLimits& limits) {
-    Walk w{limits, {}, {}, {}, 0, false};
+    Walk w{limits, {}, {}, {}, {}, 0, false};
     w.seen.insert(path);
-    w.queue.emplace_back(path, 0);
+    w.queue.push_back({path, 0, 0, path});
     while (!w.queue.empty() && !w.full) {
         if (w.out.documents >= limits.max_documents) {
             w.error(path, "more than " + std::to_string(limits.max_documents) +
                               " catalog documents: the rest is not read");
             break;
         }
-        auto [document, depth] = std::move(w.queue.front());
+        const Queued q = std::move(w.queue.front());
         w.queue.pop_front();
-        read_document(document, depth, w);
+        read_document(q, w);
     }
     return std::move(w.out);
 }

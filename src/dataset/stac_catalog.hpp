@@ -7,11 +7,16 @@
 // proj:wkt2 / proj:projjson -- is kept (CatalogItem) so that the tile can be placed before its
 // header is read; the header wins where they disagree (dataset.cpp names it in a warning).
 //
-// Bounded and honest: documents are read once each (a cycle of links costs nothing more), links
-// followed at most kMaxDepth deep, and the documents, bytes and items are bounded (CatalogLimits,
-// named in the error when passed). Each document goes through the bounded JSON reader
-// (core/json_reader.hpp): its "features" and "links" are streamed, an item at a time, so that
-// memory holds the items kept and one item being read, whatever the document's size; a document
+// A catalog is known by its name (.vpc, .json) or by its content (holds_json_object): a STAC API
+// search or items URL opens as one. Bounded and honest: documents are read once each (a cycle of
+// links costs nothing more), "child" and "item" links followed at most kMaxDepth deep, an
+// ItemCollection's "next" pages followed to the last (a page is no link of depth: a search of any
+// number of pages is read whole), a page loop (a next page read already, or a page that repeats
+// another's items) one line naming the search and the page, the items before it kept; the
+// documents, bytes and items are bounded (CatalogLimits, named in the error when passed). Each
+// document goes through the bounded JSON reader (core/json_reader.hpp): its "features" and "links"
+// are streamed, an item at a time, so that memory holds the items kept and one item being read,
+// whatever the document's size (what an item holds that is not used is read past, not built); a document
 // nested too deep, or holding a string too long, is one line. A malformed item, field or link (a
 // field of the wrong kind too) gets one line naming the document and the item; the rest is read.
 // An item that is no tile (no href, not an item) is an error ("item 'ID' in DOC: CAUSE"); a
@@ -63,6 +68,13 @@ struct Catalog {
 // True for a path or URL whose file name ends in .vpc or .json (case-insensitive) and is not EPT
 // metadata (ept.json, entwine.json): what is read as a STAC catalog.
 bool is_stac_catalog(const std::string& path);
+
+// True for a path or URL whose content is a JSON object: its first byte other than white space (after
+// a UTF-8 byte order mark) is '{'. What is read as a STAC catalog whatever its name: a STAC API search
+// (.../search?collections=...&bbox=...) or items endpoint (.../collections/C/items), a catalog served
+// without a .json name. Reads its first bytes (a remote file's edge, read as it is opened); false when
+// it cannot be opened (its reading as a tile or list then says why).
+bool holds_json_object(const std::string& path);
 
 // The items of the catalog at `path` and of every document it links, with what could not be used.
 Catalog read_catalog(const std::string& path, const CatalogLimits& limits = {});

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -115,6 +117,55 @@ TEST(JsonReader, WhatIsNotJsonIsNamedWhereItBreaks) {
     // The parser's own message quotes the last token: cut, whatever its length.
     const Error token = refusal("[1 \"" + std::string(500'000, 'z') + "\"]");
     EXPECT_LT(std::string(token.what()).size(), 400u);
+}
+
+// The reader reads JSON as nlohmann's parser does: what it takes, what it refuses and the values (kinds
+// of numbers included), on edge cases of the grammar, escapes, surrogate pairs, UTF-8 and numbers, each
+// also read a byte at a time (every token then crosses a chunk's edge).
+TEST(JsonReader, ReadsAsNlohmannsParserDoes) {
+    const std::vector<std::string> cases = {
+        "0", "-0", "1", "-1", "18446744073709551615", "18446744073709551616", "-9223372036854775808",
+        "-9223372036854775809", "1.5", "-1.5e3", "1E+2", "1e-400", "1e400", "-1e400", "0.1e1", "01", "1.", ".5",
+        "-", "+1", "1e", "1e+", "0x10", "1.7976931348623157e308", "2.2250738585072014e-308", "4.9e-324",
+        "123456789012345678901234567890", "0.30000000000000004", "true", "false", "null", "tru", "nul", "True",
+        R"("")", R"("a\"b\\c\/d\b\f\n\r\t")", R"("\u0041\u00e9\u20AC")", R"("\ud83d\ude00")", R"("\ud83d")",
+        R"("\ude00")", R"("\ud83dx")", R"("\ud83d\u0041")", R"("\u00")", R"("\u00G0")", R"("\x")", "\"\x01\"",
+        "\"\x7f\"", "\"\xC3\xA9\"", "\"\xC3\"", "\"\xC0\x80\"", "\"\xE0\x80\x80\"", "\"\xED\xA0\x80\"",
+        "\"\xEF\xBF\xBF\"", "\"\xF0\x9F\x98\x80\"", "\"\xF4\x90\x80\x80\"", "\"\xF5\x80\x80\x80\"", "\"\x80\"",
+        "\xEF\xBB\xBF{}", "\xEF\xBB{}", "[]", "{}", "[1,]", "[,1]", "{\"a\":1,}", "{\"a\" 1}", "{1:2}", "[1 2]",
+        "{\"a\":1}x", "[1]]", " \t\r\n[ 1 , { \"b\" : [ ] } ] \n", "", " ", "[", "{\"a\"", "{\"a\":", "\"abc",
+        "[1,2,3", R"({"a":{"b":{"c":[1,{"d":null}]}},"a":2})", "[-0.0, 1E5, 1e-5, -12.5e+2]", "nan", "[Infinity]",
+        "\"tab\there\"", "[\"\\u0000\"]", "{\"\":\"\"}", "/* no */ 1", "1 // no",
+    };
+    for (const std::string& text : cases) {
+        std::optional<json> expected;
+        try {
+            expected = json::parse(text);
+        } catch (const json::exception&) {
+        }
+        for (const std::size_t chunk : {std::size_t{0}, std::size_t{1}}) {
+            const JsonSource bytes = [&, at = std::size_t{0}](std::span<char> out) mutable {
+                const std::size_t n = std::min({chunk ? chunk : out.size(), out.size(), text.size() - at});
+                std::copy_n(text.data() + at, n, out.data());
+                return at += n, n;
+            };
+            std::optional<json> got;
+            try {
+                got = read_json(bytes, "doc.json", {});
+            } catch (const Error& e) {
+                EXPECT_TRUE(has(e, "not JSON (")) << e.what();
+            }
+            ASSERT_EQ(got.has_value(), expected.has_value()) << "'" << text << "' chunk " << chunk;
+            if (!got) continue;
+            EXPECT_EQ(got->dump(), expected->dump()) << text;
+            EXPECT_EQ(got->type(), expected->type()) << text;
+            if (got->is_array()) {
+                for (std::size_t k = 0; k < got->size(); ++k) {
+                    EXPECT_EQ((*got)[k].type(), (*expected)[k].type()) << text;
+                }
+            }
+        }
+    }
 }
 
 // A FeatureCollection-like document of `n` features, each ~`pad` bytes.

@@ -291,6 +291,99 @@ TEST_F(StacCatalog, AStreamedCatalogHoldsTheItemsKeptNotTheDocument) {
                                      << text.size() << " bytes, peak " << peak << ")";
 }
 
+// `n` pages of `per_page` items each, page k at pages/pK.json linking the next; the last links to
+// `last_next` (none when empty). Returns the first page's path.
+std::string write_pages(const fs::path& dir, int n, int per_page, const std::string& last_next = "") {
+    for (int k = 0; k < n; ++k) {
+        std::vector<json> items;
+        for (int i = 0; i < per_page; ++i) {
+            const std::string id = "t" + std::to_string(k * per_page + i);
+            items.push_back(item(id, id + ".laz"));
+        }
+        json page = collection_of(items);
+        const std::string next = k + 1 < n ? "p" + std::to_string(k + 1) + ".json" : last_next;
+        page["links"] = json::array();
+        if (!next.empty()) page["links"].push_back({{"rel", "next"}, {"href", next}});
+        std::ofstream(dir / ("p" + std::to_string(k) + ".json")) << page.dump();
+    }
+    return (dir / "p0.json").string();
+}
+
+TEST_F(StacCatalog, EveryPageOfASearchIsReadNotOnlyThirtyThree) {
+    fs::create_directories(dir / "pages");
+    const Catalog c = read_catalog(write_pages(dir / "pages", 200, 10));
+    EXPECT_TRUE(c.errors.empty()) << c.errors.front();
+    EXPECT_EQ(c.documents, 200u);
+    ASSERT_EQ(c.items.size(), 2000u);
+    EXPECT_EQ(c.items.back().id, "t1999");
+    // Pages are bounded by the catalog's limits all the same: documents, then items.
+    CatalogLimits limits;
+    limits.max_documents = 50;
+    const Catalog capped = read_catalog((dir / "pages" / "p0.json").string(), limits);
+    EXPECT_EQ(capped.items.size(), 500u);
+    ASSERT_EQ(capped.errors.size(), 1u);
+    EXPECT_NE(capped.errors[0].find("more than 50 catalog documents"), std::string::npos) << capped.errors[0];
+}
+
+TEST_F(StacCatalog, APageLoopIsOneLineAndThePagesBeforeItAreKept) {
+    fs::create_directories(dir / "loop");
+    const std::string first = write_pages(dir / "loop", 3, 10, "p1.json");  // page 3 links back to page 2
+    const Catalog c = read_catalog(first);
+    EXPECT_EQ(c.items.size(), 30u);
+    ASSERT_EQ(c.errors.size(), 1u);
+    EXPECT_EQ(c.errors[0], first + ": page 3 of " + first + " (" + (dir / "loop" / "p2.json").string() +
+                               ") links to " + (dir / "loop" / "p1.json").string() +
+                               " as its next page, read already: a page loop; the pages stop there");
+    // A server that answers the same page whatever the token: a page that repeats another's items.
+    fs::create_directories(dir / "same");
+    write_pages(dir / "same", 2, 10, "p2.json");
+    for (int k = 2; k < 60; ++k) {
+        json again = json::parse(std::ifstream(dir / "same" / "p1.json"));
+        again["links"] = {{{"rel", "next"}, {"href", "p" + std::to_string(k + 1) + ".json"}}};
+        std::ofstream(dir / "same" / ("p" + std::to_string(k) + ".json")) << again.dump();
+    }
+    const Catalog same = read_catalog((dir / "same" / "p0.json").string());
+    EXPECT_EQ(same.items.size(), 20u);
+    EXPECT_EQ(same.documents, 3u);
+    ASSERT_EQ(same.errors.size(), 1u);
+    EXPECT_NE(same.errors[0].find("page 3 of "), std::string::npos) << same.errors[0];
+    EXPECT_NE(same.errors[0].find("repeats the items of page 2: a page loop"), std::string::npos) << same.errors[0];
+}
+
+TEST_F(StacCatalog, ACatalogIsKnownByWhatItHoldsNotByItsName) {
+    const std::string plain = write("catalog", collection_of({item("a", "a.laz"), item("b", "b.laz")}));
+    EXPECT_FALSE(is_stac_catalog(plain));
+    EXPECT_TRUE(holds_json_object(plain));
+    const FoundFiles found = find_point_cloud_files({plain});
+    EXPECT_EQ(found.files, (std::vector<std::string>{(dir / "a.laz").string(), (dir / "b.laz").string()}));
+    EXPECT_EQ(found.items.size(), 2u);
+    // A tile list keeps its meaning.
+    std::ofstream(dir / "a.laz") << "";
+    std::ofstream(dir / "list") << "a.laz\n";
+    EXPECT_FALSE(holds_json_object((dir / "list").string()));
+    EXPECT_EQ(find_point_cloud_files({(dir / "list").string()}).files.size(), 1u);
+}
+
+TEST(StacCatalogRemote, ASearchUrlWithoutACatalogsNameOpensAsOne) {
+    const auto& server = test::NginxServer::instance();
+    // (nginx serves the file "search" whatever the query)
+    std::ofstream(server.lists_dir() / "search")
+        << collection_of({item("w", std::string("../") + (kIgn / kBridgeWest).string())}).dump();
+    const std::string url = server.url("lists/search?collections=ign&bbox=0,0,1,1");
+    const FoundFiles found = find_point_cloud_files({url});
+    EXPECT_TRUE(found.errors.empty()) << found.errors.front().error;
+    EXPECT_EQ(found.files, (std::vector<std::string>{server.url((kIgn / kBridgeWest).string())}));
+    // What is not JSON at such a URL keeps today's meaning: a tile list (an HTML page's line too).
+    std::ofstream(server.lists_dir() / "items") << "../" << (kIgn / kBridgeEast).string() << "\n";
+    const FoundFiles list = find_point_cloud_files({server.url("lists/items?limit=10")});
+    EXPECT_EQ(list.files, (std::vector<std::string>{server.url((kIgn / kBridgeEast).string())}));
+    std::ofstream(server.lists_dir() / "page") << "<html><body>Not found</body></html>\n";
+    const FoundFiles html = find_point_cloud_files({server.url("lists/page?bbox=1,2,3,4")});
+    EXPECT_TRUE(html.errors.empty());
+    ASSERT_EQ(html.files.size(), 1u) << "a remote tile list's line is a URL: a tile whose reading names it";
+    EXPECT_NE(html.files[0].find("Not"), std::string::npos) << html.files[0];
+}
+
 TEST(StacCatalogRemote, ARemoteItemNestedDeepIsOneLine) {
     const auto& server = test::NginxServer::instance();
     std::ofstream(server.lists_dir() / "deep.json")
