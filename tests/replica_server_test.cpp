@@ -179,7 +179,6 @@ TEST(ReplicaServerChunks, S3CostsAGetAChunkAndMergedReadsGiveTheSameScan) {
     const auto local = scan((dir / "virtual" / "replicate.json").string());
     ASSERT_EQ(local.at("chunk_points").get<int>(), kTiles * kChunks);
 
-    std::string out;
     const std::string cli = server.s3_environment() + LIDARSCOUT_CLI + " scan --json --cache-size 0 ";
     for (const auto& [gap, gets_per_tile] : {std::pair<std::string, int>{"", 30}, {" --merge-gap 4M", 3}}) {
         SCOPED_TRACE(gap);
