@@ -22,12 +22,19 @@
 // the replica object server (tests/replica_server.hpp: 152,100 tiles cost it nothing), one per latency
 // with that round trip (and --bandwidth bytes/s per connection): the dataset is its catalog.vpc, or
 // with --s3 its bucket's listing (s3://replica/). Each latency adds what the server counted per run:
-// tile requests per tile, multi-range requests, catalog requests and bytes, listing pages. With
-// --overview FILE (an overview sidecar: `lidarscout catalog MANIFEST -o OUT.vpc --overview`) the server
-// serves it, its catalog names it, and the overview requests are counted too.
+// tile requests per tile, multi-range requests, catalog requests and bytes, listing pages, GETs per
+// chunk (tile requests per chunk point: a LAZ tile's chunk points are its chunks' first points), and
+// overview requests. With --overview FILE (an overview sidecar: `lidarscout catalog MANIFEST -o OUT.vpc
+// --overview`) the server serves it and its catalog names it.
+// --merge-gaps 0,16384,... runs each latency once per merge gap (HttpSettings::merge_gap_one_range, the
+// bytes up to which two ranges of a read go as one to a server that answers one range per request), and
+// first prints, from the replica's source tiles' chunk tables, what each gap (those and 0 to 16 MiB)
+// costs: the chunk-point reads (requests) a tile makes against the bytes read between them (waste), the
+// seconds both take at 50 ms a request with 256 in flight and at 100 MB/s, and the request fees against
+// the egress fees of S3's price list ($0.0004 per 1,000 GETs, $0.09 per GB).
 // Usage: bench_http [--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]]
 //                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] FOLDER
-//        bench_http [--runs N] [--rtt-ms 0,20,50] [--s3] [--bandwidth BYTES_PER_S]
+//        bench_http [--runs N] [--rtt-ms 0,20,50] [--s3] [--bandwidth BYTES_PER_S] [--merge-gaps 0,16384]
 //                   [--view PROGRAM [--view-args "..."] [--view-seconds S]] [--overview FILE] --replica MANIFEST
 #include <fmt/format.h>
 #include <unistd.h>
@@ -48,9 +55,13 @@
 #include "bench_timing.hpp"
 #include "core/error.hpp"
 #include "dataset/chunk_point_loader.hpp"
+#include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
+#include "dataset/tile.hpp"
 #include "dataset/virtual_replica.hpp"
+#include "io/file.hpp"
+#include "net/byte_ranges.hpp"
 #include "core/patch_grid.hpp"
 #include "net/http_client.hpp"
 #include "net/range_cache.hpp"
@@ -220,6 +231,7 @@ struct Options {
     int s3_copies = 1;
     std::uint64_t bandwidth = 0;
     double view_seconds = 5;
+    std::vector<int> merge_gaps;  // empty: the default gap only
 };
 
 std::vector<int> parse_list(const std::string& list) {
@@ -253,6 +265,8 @@ Options parse_options(int argc, char** argv) {
             o.overview = argv[++i];
         } else if (a == "--replica" && value) {
             o.replica = argv[++i];
+        } else if (a == "--merge-gaps" && value) {
+            o.merge_gaps = parse_list(argv[++i]);
         } else if (a == "--bandwidth" && value) {
             o.bandwidth = std::stoull(argv[++i]);
         } else if (a == "--view" && value) {
@@ -296,25 +310,84 @@ void bench_overview(const Options& o, const std::string& url, int rtt, std::uint
 }
 
 // What the replica server counted over `runs` runs, per run.
-void print_server_stats(const nlohmann::json& stats, int runs) {
+void print_server_stats(const nlohmann::json& stats, int runs, double chunks) {
     const auto per_run = [&](const char* kind, const char* what) {
         return stats.at("kinds").at(kind).at(what).get<double>() / runs;
     };
     const double tiles = std::max(1.0, stats.at("tiles").get<double>());
     const double tile_requests = per_run("tile", "requests") + per_run("tile_head", "requests") +
                                  per_run("s3_object", "requests") + per_run("s3_head", "requests");
-    fmt::print("         server, per run: {:.3f} tile requests/tile ({:.0f} multi-range), {:.0f} catalog requests "
-               "({:.1f} MB), {:.0f} listing pages, {:.1f} MB of tiles sent, {:.0f} overview requests ({:.1f} MB)\n",
-               tile_requests / tiles, stats.at("multi_range_requests").get<double>() / runs,
+    fmt::print("         server, per run: {:.3f} tile requests/tile ({:.3f} a chunk, {:.0f} multi-range), "
+               "{:.0f} catalog requests ({:.1f} MB), {:.0f} listing pages, {:.1f} MB of tiles sent, {:.0f} overview "
+               "requests ({:.1f} MB)\n",
+               tile_requests / tiles, tile_requests / std::max(1.0, chunks),
+               stats.at("multi_range_requests").get<double>() / runs,
                per_run("catalog", "requests"), per_run("catalog", "bytes") / 1e6, per_run("s3_list", "requests"),
                (per_run("tile", "bytes") + per_run("s3_object", "bytes")) / 1e6, per_run("overview", "requests"),
                per_run("overview", "bytes") / 1e6);
 }
 
+// The chunk-point ranges of the replica's tiles, by source (every tile of a source reads the same
+// ranges), and how many tiles each source has.
+struct SourceReads {
+    std::vector<net::ByteRange> ranges;
+    std::uint64_t tiles = 0;
+};
+
+std::map<std::string, SourceReads> chunk_point_reads(const std::string& manifest) {
+    std::map<std::string, SourceReads> out;
+    for (const auto& t : dataset::read_virtual_replica(manifest)) {
+        auto [at, added] = out.try_emplace(t.path);
+        ++at->second.tiles;
+        if (!added) continue;
+        const auto tile = dataset::read_tile(io::File::open(t.path));
+        for (const auto& l : dataset::chunk_point_locations(tile)) {
+            at->second.ranges.push_back({l.offset, tile.header.record_length});
+        }
+    }
+    return out;
+}
+
+// What each merge gap costs the replica's chunk-point reads (one range per request): requests and
+// bytes wasted per tile, and both as seconds (50 ms a request, 256 in flight; 100 MB/s) and as S3 fees.
+void print_merge_figures(const std::string& manifest, std::vector<int> gaps) {
+    for (const int g : {0, 4096, 16384, 65536, 262144, 1 << 20, 4 << 20, 16 << 20}) gaps.push_back(g);
+    std::sort(gaps.begin(), gaps.end());
+    gaps.erase(std::unique(gaps.begin(), gaps.end()), gaps.end());
+    const auto sources = chunk_point_reads(manifest);
+    double tiles = 0, chunks = 0;
+    for (const auto& [path, s] : sources) tiles += s.tiles, chunks += s.tiles * static_cast<double>(s.ranges.size());
+    fmt::print("merge gaps over {:.0f} tiles ({:.1f} chunks a tile), one range per request:\n", tiles, chunks / tiles);
+    for (const int gap : gaps) {
+        double requests = 0, waste = 0;
+        for (const auto& [path, s] : sources) {
+            const auto merged = net::merge_ranges(s.ranges, static_cast<std::uint64_t>(gap));
+            requests += s.tiles * static_cast<double>(merged.spans.size());
+            waste += s.tiles * static_cast<double>(merged.waste);
+        }
+        const double request_s = requests * 0.050 / 256, waste_s = waste / 100e6;
+        const double fees = requests * 0.0004 / 1000 + waste * 0.09 / 1e9;
+        fmt::print("  gap {:>8} B: {:6.2f} requests/tile ({:.3f} a chunk), {:9.1f} KB wasted/tile; for all tiles "
+                   "{:7.1f} s of requests + {:7.1f} s of waste, ${:.2f} in fees\n",
+                   gap, requests / tiles, requests / chunks, waste / tiles / 1e3, request_s, waste_s, fees);
+    }
+}
+
+// The chunk points of the replica's tiles (a LAZ tile's chunks).
+double replica_chunks(const std::string& manifest) {
+    double chunks = 0;
+    for (const auto& [path, s] : chunk_point_reads(manifest)) chunks += s.tiles * static_cast<double>(s.ranges.size());
+    return chunks;
+}
+
 // --replica: for each latency a replica server with that round trip; its catalog (or, with --s3, its
-// bucket's listing) is the dataset.
+// bucket's listing) is the dataset. With --merge-gaps, one run of each latency per gap.
 void run_replica(const Options& o) {
     const std::uint64_t dataset_bytes = replica_bytes(o.replica);
+    if (!o.merge_gaps.empty()) print_merge_figures(o.replica, o.merge_gaps);
+    const double chunks = replica_chunks(o.replica);
+    std::vector<int> gaps = o.merge_gaps;
+    if (gaps.empty()) gaps.push_back(-1);  // the default
     for (const int rtt : o.rtts) {
         test::ReplicaServer::Options so;
         so.rtt_ms = rtt;
@@ -323,13 +396,20 @@ void run_replica(const Options& o) {
         test::ReplicaServer server(o.replica, so);
         if (o.s3) use_s3_endpoint(server.port());
         const std::string url = o.s3 ? server.s3_url() : server.catalog_url();
-        server.stats(true);
-        if (!o.view_program.empty()) {
-            bench_view(o.view_program, o.view_args, url, rtt, o.runs, o.view_seconds);
-        } else {
-            bench_overview(o, url, rtt, dataset_bytes);
+        for (const int gap : gaps) {
+            net::HttpSettings settings = net::HttpClient::shared().settings();
+            if (gap >= 0) settings.merge_gap_one_range = static_cast<std::uint64_t>(gap);
+            net::HttpClient::shared().set_settings(settings);
+            fmt::print("merge gap {} B (one range per request):\n", settings.merge_gap_one_range);
+            server.stats(true);
+            if (!o.view_program.empty()) {
+                bench_view(o.view_program, o.view_args + " --merge-gap " + std::to_string(settings.merge_gap_one_range),
+                           url, rtt, o.runs, o.view_seconds);
+            } else {
+                bench_overview(o, url, rtt, dataset_bytes);
+            }
+            print_server_stats(server.stats(), o.runs, chunks);
         }
-        print_server_stats(server.stats(), o.runs);
     }
 }
 
@@ -365,7 +445,7 @@ void run_folder(Options o) {
 constexpr const char* kUsage =
     "[--runs N] [--rtt-ms 0,20,50] [--https | --s3 [--s3-copies N] [--vpc PROGRAM]] "
     "[--view PROGRAM [--view-args \"...\"] [--view-seconds S]] FOLDER\n"
-    "       bench_http [--runs N] [--rtt-ms 0,20,50] [--s3] [--bandwidth BYTES_PER_S] "
+    "       bench_http [--runs N] [--rtt-ms 0,20,50] [--s3] [--bandwidth BYTES_PER_S] [--merge-gaps 0,16384] "
     "[--view PROGRAM [--view-args \"...\"] [--view-seconds S]] --replica MANIFEST";
 
 int run(int argc, char** argv) {

@@ -12,6 +12,7 @@
 #include "cli/commands.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
+#include "cli/network_stats.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/stage_progress.hpp"
 #include "cli/tile_json.hpp"
@@ -46,6 +47,7 @@ struct ScanResult {
     std::size_t grid_bytes = 0;
     std::vector<ErrorRecord> errors;
     std::string backend;
+    net::HttpStats network;  // the requests of remote datasets (the catalog's, the tiles')
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -111,6 +113,7 @@ void print_json(const ScanResult& r) {
                         {"warnings", r.dataset.warnings.messages()},
                         {"diagnostics", diagnostics_json(r.dataset.warnings)},
                         {"errors", error_list_json(r.errors)}};
+    j.update(network_json(r.network, r.dataset.tiles.size()));
     std::printf("%s\n", j.dump(2).c_str());
 }
 
@@ -125,6 +128,12 @@ void print_text(const ScanResult& r) {
     std::printf("chunk points:  %llu in %.3f s (%.0f/s, %s)%s\n", (unsigned long long)r.chunk_points,
                 r.seconds_chunk_points, r.seconds_chunk_points > 0 ? r.chunk_points / r.seconds_chunk_points : 0.0,
                 r.backend.c_str(), r.failed ? fmt::format(", {} failed", r.failed).c_str() : "");
+    if (r.network.requests > 0) {
+        const double per = ds.tiles.empty() ? 0.0 : 1.0 / static_cast<double>(ds.tiles.size());
+        const auto bytes = r.network.body_bytes + r.network.header_bytes;
+        std::printf("requests:      %llu (%.2f a tile), %.1f MB (%.1f KB a tile)\n",
+                    (unsigned long long)r.network.requests, r.network.requests * per, bytes / 1e6, bytes * per / 1e3);
+    }
     std::printf("patches:       %zu of 640 m touched, grid memory %.1f MiB\n", r.patches, r.grid_bytes / 1048576.0);
     if (!ds.bounds_m.empty()) {
         const auto& b = ds.bounds_m;
@@ -135,12 +144,14 @@ void print_text(const ScanResult& r) {
 
 int run_scan(const ScanOptions& o) {
     ScanResult r;
+    const net::HttpStats network_before = net::HttpClient::shared().stats();
     auto t0 = std::chrono::steady_clock::now();
     r.dataset = read_headers(o);
     r.seconds_headers = seconds_since(t0);
     t0 = std::chrono::steady_clock::now();
     load_chunk_points(o, r);
     r.seconds_chunk_points = seconds_since(t0);
+    r.network = network_since(network_before);
     if (o.json) {
         print_json(r);
     } else {

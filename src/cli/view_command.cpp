@@ -14,6 +14,7 @@
 #include "cli/filter_options.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
+#include "cli/network_stats.hpp"
 #include "cli/recon_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/size_options.hpp"
@@ -99,16 +100,18 @@ render::Backend resolve_backend(const std::string& text) {
 
 nlohmann::json seconds(const std::optional<double>& s) { return s ? nlohmann::json(*s) : nlohmann::json(nullptr); }
 
-// --stats-json: when the window showed what (viewer_app.hpp's ViewerTimings), null for never.
-void write_stats_json(const std::string& path, const viewer::app::ViewerTimings& t) {
-    const nlohmann::json j = {{"first_frame_s", seconds(t.first_frame_s)},
-                              {"footprints_s", seconds(t.footprints_s)},
-                              {"dataset_open_s", seconds(t.dataset_open_s)},
-                              {"first_overview_s", seconds(t.first_overview_s)},
-                              {"chunk_points_s", seconds(t.chunk_points_s)},
-                              {"frames_while_opening", t.frames_while_opening},
-                              {"tiles", t.tiles},
-                              {"skipped", t.skipped}};
+// --stats-json: when the window showed what (viewer_app.hpp's ViewerTimings), null for never, and
+// what its remote reads cost (requests, bytes, per tile: cli/network_stats.hpp).
+void write_stats_json(const std::string& path, const viewer::app::ViewerTimings& t, const net::HttpStats& network) {
+    nlohmann::json j = {{"first_frame_s", seconds(t.first_frame_s)},
+                        {"footprints_s", seconds(t.footprints_s)},
+                        {"dataset_open_s", seconds(t.dataset_open_s)},
+                        {"first_overview_s", seconds(t.first_overview_s)},
+                        {"chunk_points_s", seconds(t.chunk_points_s)},
+                        {"frames_while_opening", t.frames_while_opening},
+                        {"tiles", t.tiles},
+                        {"skipped", t.skipped}};
+    j.update(network_json(network, t.tiles));
     const std::string text = j.dump(2) + "\n";
     io::AtomicOutputFile out(path);
     out.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
@@ -154,8 +157,9 @@ int run_view(const ViewCliOptions& o) {
     if (v.paths.empty() && v.session) v.paths = v.session->paths;  // the session's dataset
     if (v.paths.empty()) v.paths = {demo_folder(o)};
     viewer::app::ViewerTimings timings;
+    const net::HttpStats network_before = net::HttpClient::shared().stats();
     const int status = viewer::app::run_viewer(v, &timings);
-    if (!o.stats_json.empty()) write_stats_json(o.stats_json, timings);
+    if (!o.stats_json.empty()) write_stats_json(o.stats_json, timings, network_since(network_before));
     return status;
 }
 
@@ -213,7 +217,7 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     add_output(*cmd, "--stats-json", o->stats_json,
                "Write to this JSON file on exit the seconds from the start to the first frame, to the first with "
                "every tile's footprint, to the dataset open, to the first frame with heightmaps and to all chunk "
-               "points in (scripted use)",
+               "points in, and the HTTP requests and bytes of a remote dataset, also per tile (scripted use)",
                io::OutputKind::Json);
     cmd->callback([o, &run] { run = [o] { return run_view(*o); }; });
 }

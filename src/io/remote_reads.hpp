@@ -2,7 +2,8 @@
 // back end and sends remote ones as range requests. Requests for one remote file that the
 // source hands out consecutively are held together and sent as one multi-range request when
 // a request for another file arrives (or the source is done), so a tile's chunk points cost
-// one request. At most `max_in_flight` HTTP requests are out at once; beyond that next()
+// one request (over S3, one a span of nearby ones, and none for those its first and last bytes
+// hold: net/remote_file.hpp). At most `max_in_flight` HTTP requests are out at once; beyond that next()
 // waits, so a source that reorders its work (the viewer's focus) still decides what goes next.
 #pragma once
 

@@ -88,6 +88,50 @@ ContentRange read_part_headers(Cursor& c) {
 
 }  // namespace
 
+MergedRanges merge_ranges(std::span<const ByteRange> ranges, std::uint64_t max_gap) {
+    std::vector<std::size_t> order(ranges.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return ranges[a].offset != ranges[b].offset ? ranges[a].offset < ranges[b].offset
+                                                    : ranges[a].length > ranges[b].length;
+    });
+    MergedRanges out;
+    out.slices.resize(ranges.size());
+    std::uint64_t asked = 0, end = 0;  // asked: bytes of the ranges' union; end: one past the last span
+    for (const std::size_t i : order) {
+        const ByteRange& r = ranges[i];
+        const bool joins = !out.spans.empty() && (r.offset <= end || r.offset - end <= max_gap);
+        if (!joins) {
+            out.spans.push_back({r.offset, 0});
+            end = r.offset;
+        }
+        if (r.offset + r.length > end) {
+            asked += r.offset + r.length - std::max(end, r.offset);
+            end = r.offset + r.length;
+        }
+        out.spans.back().length = end - out.spans.back().offset;
+        out.slices[i] = {out.spans.size() - 1, r.offset - out.spans.back().offset};
+    }
+    std::uint64_t spanned = 0;
+    for (const auto& s : out.spans) spanned += s.length;
+    out.waste = spanned - asked;
+    return out;
+}
+
+std::vector<std::vector<std::uint8_t>> cut_parts(const MergedRanges& merged, std::span<const ByteRange> ranges,
+                                                 const std::vector<std::vector<std::uint8_t>>& span_parts) {
+    std::vector<std::vector<std::uint8_t>> parts(ranges.size());
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+        const auto& slice = merged.slices[i];
+        const auto& whole = span_parts.at(slice.span);
+        if (slice.skip >= whole.size()) continue;  // the file ended before the range
+        const std::uint64_t n = std::min<std::uint64_t>(ranges[i].length, whole.size() - slice.skip);
+        const auto first = whole.begin() + static_cast<std::ptrdiff_t>(slice.skip);
+        parts[i].assign(first, first + static_cast<std::ptrdiff_t>(n));
+    }
+    return parts;
+}
+
 std::string range_header(std::span<const ByteRange> ranges) {
     std::string out = "bytes=";
     for (std::size_t i = 0; i < ranges.size(); ++i) {

@@ -20,6 +20,27 @@ struct ByteRange {
     bool operator==(const ByteRange&) const = default;
 };
 
+// Ranges gathered into fewer requests: the ranges asked (in any order, overlapping or not) as
+// sorted spans, each covering ranges whose gaps are at most the gap allowed, and where each range
+// asked lies in its span. A server that answers one range per request (S3) then costs a request
+// per span, not per range: the bytes between merged ranges are read and dropped.
+struct MergedRanges {
+    struct Slice {
+        std::size_t span = 0;    // index into spans
+        std::uint64_t skip = 0;  // the range's first byte, from its span's first
+    };
+    std::vector<ByteRange> spans;  // sorted, disjoint, more than max_gap bytes apart
+    std::vector<Slice> slices;     // one per range asked, in the order asked
+    std::uint64_t waste = 0;       // bytes of the spans outside every range asked
+};
+
+MergedRanges merge_ranges(std::span<const ByteRange> ranges, std::uint64_t max_gap);
+
+// The parts of the ranges asked, cut from the parts that answered the spans (one per span; a span's
+// part may end early at the end of the file, and the ranges cut from it then do too).
+std::vector<std::vector<std::uint8_t>> cut_parts(const MergedRanges& merged, std::span<const ByteRange> ranges,
+                                                 const std::vector<std::vector<std::uint8_t>>& span_parts);
+
 // "bytes=a-b,c-d,..." for the ranges in the order given.
 std::string range_header(std::span<const ByteRange> ranges);
 

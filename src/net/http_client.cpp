@@ -102,7 +102,7 @@ struct HttpClient::Impl {
 
     void start_job(const std::shared_ptr<HttpJob>& job) {
         if (job->request.ranges.empty()) return finish_job(*job);
-        const bool multi_ok = !single_range_origins.contains(origin_of(job->request.asked()));
+        const bool multi_ok = !job->request.one_range && answers_multi_range(job->request.asked());
         const HttpSettings s = current_settings();
         for (auto& group : range_groups(job->request, s.max_range_header, multi_ok)) {
             ++job->pending;
@@ -213,7 +213,10 @@ struct HttpClient::Impl {
     // now and for later requests to the same origin.
     void split(std::unique_ptr<HttpTransfer> t, const HttpSettings& s) {
         HttpJob& job = t->job();
-        single_range_origins.insert(origin_of(job.request.asked()));
+        {
+            std::lock_guard lock(mutex);
+            single_range_origins.insert(origin_of(job.request.asked()));
+        }
         for (const auto i : t->ranges()) {
             ++job.pending;
             launch(std::make_unique<HttpTransfer>(t->job_ptr(), std::vector<std::size_t>{i}), s);
@@ -237,6 +240,11 @@ struct HttpClient::Impl {
         done(std::move(job.reply));
     }
 
+    bool answers_multi_range(const std::string& url) const {
+        std::lock_guard lock(mutex);
+        return !single_range_origins.contains(origin_of(url));
+    }
+
     HttpSettings current_settings() const {
         std::lock_guard lock(mutex);
         return settings;
@@ -251,7 +259,7 @@ struct HttpClient::Impl {
     std::vector<std::unique_ptr<HttpTransfer>> waiting;  // retries not yet due
     std::map<std::string, unsigned> active;  // transfers in the multi handle, by origin
     std::map<std::string, std::deque<std::unique_ptr<HttpTransfer>>> queued;  // waiting for their origin
-    std::set<std::string> single_range_origins;
+    std::set<std::string> single_range_origins;  // (guarded by mutex: read by answers_multi_range)
     mutable std::mutex stats_mutex;
     HttpStats stats;
     std::thread thread;
@@ -280,6 +288,8 @@ void HttpClient::set_settings(const HttpSettings& settings) {
 }
 
 HttpSettings HttpClient::settings() const { return impl_->current_settings(); }
+
+bool HttpClient::answers_multi_range(const std::string& url) const { return impl_->answers_multi_range(url); }
 
 HttpStats HttpClient::stats() const {
     std::lock_guard lock(impl_->stats_mutex);

@@ -2,7 +2,8 @@
 // background thread, many requests in flight (HTTP/2 multiplexing where the server offers
 // it, otherwise a pool of keep-alive connections per host). A request asks for one or more
 // ranges of one URL; several ranges go out as one multi-range request, answered as
-// multipart/byteranges, or as single-range requests for hosts that do not answer those.
+// multipart/byteranges, or as single-range requests for hosts that do not answer those (and for
+// S3 from the start: RangeRequest::one_range).
 //
 // Every response is validated: status 206, a Content-Range equal to what was asked (a range
 // may only be shortened at the end of the file), exactly the bytes asked, and the same ETag
@@ -43,6 +44,15 @@ struct HttpSettings {
     unsigned connections_per_host = 256;             // HTTP/1.1 keep-alive pool size (latency-bound reads)
     std::size_t max_range_header = 6000;             // characters of one Range header
     std::string ca_file;                             // PEM CAs to verify TLS peers with ("" = the system's)
+    // Ranges of one remote read (net/remote_file.hpp) at most this many bytes apart go as one range
+    // (net/byte_ranges.hpp: merge_ranges): for servers that answer one range per request (S3), where
+    // each range costs a request, and for those that answer several at once, where each costs a part's
+    // framing (~100 bytes). A request at a 50 ms round trip with 256 in flight takes what 20 KB take
+    // at 100 MB/s, and S3 bills a GET as it bills 4.4 KB of egress: 16 KiB between the two
+    // (`bench_http --replica --merge-gaps` prints both for a replica's chunk points). A remote file
+    // whose middle is within it is read whole when opened.
+    std::uint64_t merge_gap_one_range = 16 * 1024;
+    std::uint64_t merge_gap_multi_range = 128;
 };
 
 // How a request is signed: AWS Signature V4 computed by libcurl itself (CURLOPT_AWS_SIGV4),
@@ -68,6 +78,9 @@ struct RangeRequest {
     // A plain GET of a whole (small) response, status 200 and no Range: ranges holds one range
     // {0, the most bytes accepted}, and parts[0] the body (an S3 listing).
     bool whole = false;
+    // The server answers one range per request (S3's GetObject): several ranges go as several
+    // requests from the start, never first as one multi-range request.
+    bool one_range = false;
     const std::string& asked() const { return target.empty() ? url : target; }
 };
 
@@ -110,6 +123,9 @@ public:
     void set_settings(const HttpSettings& settings);  // for requests submitted afterwards
     HttpSettings settings() const;
     HttpStats stats() const;
+    // Whether requests to `url`'s origin may ask several ranges at once (false once it answered a
+    // multi-range request otherwise).
+    bool answers_multi_range(const std::string& url) const;
 
 private:
     struct Impl;

@@ -1,6 +1,7 @@
 // Remote files: the process-wide registry, the edge requests that open a file, and reads.
 #include "net/remote_file.hpp"
 
+#include <algorithm>
 #include <future>
 #include <map>
 #include <mutex>
@@ -65,10 +66,50 @@ std::shared_ptr<const RemoteFile> register_file(const std::string& url, std::sha
 
 RangeRequest head_request(const std::string& url) { return remote_request(url, {{0, RemoteFile::kEdge}}, {}); }
 
-// The tail range of a file opened by its head, or nothing when the head held it all.
-std::optional<ByteRange> tail_range(const RemoteFile& f) {
-    if (f.size() <= 2 * RemoteFile::kEdge) return std::nullopt;
-    return ByteRange{f.size() - RemoteFile::kEdge, RemoteFile::kEdge};
+// A LAS file's head, from its header: its VLRs and the first point record (a LAZ file's first chunk
+// point, after the chunk table's 8-byte offset) end this many bytes in; 0 when `head` is not a LAS
+// header. Read whole at open (up to kMaxHead), not VLR by VLR.
+constexpr std::uint64_t kMaxHead = 64 * 1024;
+
+std::uint64_t las_head_end(std::span<const std::uint8_t> head) {
+    constexpr std::size_t kPointDataOffset = 96, kRecordLength = 105;
+    if (head.size() < kRecordLength + 2 || !std::equal(head.begin(), head.begin() + 4, "LASF")) return 0;
+    const auto u32 = [&](std::size_t at) {
+        return std::uint64_t{head[at]} | std::uint64_t{head[at + 1]} << 8 | std::uint64_t{head[at + 2]} << 16 |
+               std::uint64_t{head[at + 3]} << 24;
+    };
+    const std::uint64_t record = head[kRecordLength] | std::uint64_t{head[kRecordLength + 1]} << 8;
+    return u32(kPointDataOffset) + 8 + record;
+}
+
+// What the second request of an open asks, after the head (the first kEdge bytes): the tail (a LAZ
+// file's chunk table) and the rest of a LAS file's head when the first bytes did not hold it (a WKT
+// VLR of a few KiB), in one request where the server answers several ranges at once (and one range,
+// merged, where they are near); a small file's whole rest instead, when it costs no more than a
+// request does (HttpSettings::merge_gap_one_range): its chunk points are then read from memory.
+struct OpenPlan {
+    std::optional<ByteRange> more_head, tail;
+    std::vector<ByteRange> ranges() const {
+        std::vector<ByteRange> out;
+        if (more_head) out.push_back(*more_head);
+        if (tail) out.push_back(*tail);
+        return out;
+    }
+};
+
+OpenPlan open_plan(const RemoteFile& f) {
+    OpenPlan plan;
+    const std::uint64_t size = f.size(), have = f.head().size();
+    if (size <= have) return plan;
+    if (size - have <= RemoteFile::kEdge + HttpClient::shared().settings().merge_gap_one_range) {
+        plan.more_head = ByteRange{have, size - have};
+        return plan;
+    }
+    const std::uint64_t tail_start = size - RemoteFile::kEdge;
+    const std::uint64_t head_end = std::min({las_head_end(f.head()), kMaxHead, tail_start});
+    if (head_end > have) plan.more_head = ByteRange{have, head_end - have};
+    plan.tail = ByteRange{tail_start, RemoteFile::kEdge};
+    return plan;
 }
 
 // Submits `request`, answered from the on-disk cache when it holds it (then at once, on this
@@ -155,7 +196,14 @@ RangeReply RemoteFile::fetch_now(std::vector<ByteRange> ranges) const {
     return future.get();
 }
 
-void RemoteFile::set_tail(RangeReply&& reply) { tail_ = std::move(reply.parts.at(0)); }
+void RemoteFile::set_rest(bool more_head, bool tail, RangeReply&& reply) {
+    std::size_t part = 0;
+    if (more_head) {
+        const auto& more = reply.parts.at(part++);
+        head_.insert(head_.end(), more.begin(), more.end());
+    }
+    if (tail) tail_ = std::move(reply.parts.at(part));
+}
 
 namespace {
 
@@ -164,10 +212,11 @@ std::shared_ptr<const RemoteFile> open_now(const std::string& url) {
     RangeReply head = HttpClient::shared().fetch(head_request(url));
     if (!head.error.empty()) throw_reply_error(url, 0, head.error);
     auto file = std::make_shared<RemoteFile>(url, std::move(head));
-    if (auto tail = tail_range(*file)) {
-        RangeReply reply = file->fetch_now({*tail});
-        if (!reply.error.empty()) throw_reply_error(url, tail->offset, reply.error);
-        file->set_tail(std::move(reply));
+    if (const OpenPlan plan = open_plan(*file); plan.more_head || plan.tail) {
+        const auto ranges = plan.ranges();
+        RangeReply reply = file->fetch_now(ranges);
+        if (!reply.error.empty()) throw_reply_error(url, ranges.front().offset, reply.error);
+        file->set_rest(plan.more_head.has_value(), plan.tail.has_value(), std::move(reply));
     }
     return register_file(url, std::move(file));
 }
@@ -212,11 +261,11 @@ void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared
     HttpClient::shared().submit(head_request(url), [url, finish](RangeReply&& head) {
         if (!head.error.empty() || !head.total) return finish(nullptr);
         auto file = std::make_shared<RemoteFile>(url, std::move(head));
-        auto tail = tail_range(*file);
-        if (!tail) return finish(std::move(file));
-        file->fetch_async({*tail}, [finish, file](RangeReply&& reply) {
+        const OpenPlan plan = open_plan(*file);
+        if (!plan.more_head && !plan.tail) return finish(std::move(file));
+        file->fetch_async(plan.ranges(), [finish, file, plan](RangeReply&& reply) {
             if (!reply.error.empty()) return finish(nullptr);
-            file->set_tail(std::move(reply));
+            file->set_rest(plan.more_head.has_value(), plan.tail.has_value(), std::move(reply));
             finish(file);
         });
     });
@@ -263,10 +312,76 @@ void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     std::copy(part.begin(), part.end(), out.begin());
 }
 
+namespace {
+
+// The gap up to which the ranges of `request` are merged: a request per range where its server
+// answers one range per request, a part's framing where it answers several at once.
+std::uint64_t merge_gap(const RangeRequest& request) {
+    const HttpClient& client = HttpClient::shared();
+    const HttpSettings s = client.settings();
+    const bool one_range = request.one_range || !client.answers_multi_range(request.asked());
+    return one_range ? s.merge_gap_one_range : s.merge_gap_multi_range;
+}
+
+// Whether every span of `merged` is exactly one range asked, in the order asked.
+bool nothing_merged(const MergedRanges& merged) {
+    if (merged.spans.size() != merged.slices.size()) return false;
+    for (std::size_t i = 0; i < merged.slices.size(); ++i) {
+        if (merged.slices[i].span != i || merged.slices[i].skip != 0) return false;
+    }
+    return true;
+}
+
+// Puts the parts of the ranges asked (cut from the parts of the merged spans, `got`) at their places
+// (`where`) among the parts already known, and hands all of them back in `got`.
+void place_parts(const MergedRanges& merged, const std::vector<ByteRange>& asked, const std::vector<std::size_t>& where,
+                 std::vector<std::vector<std::uint8_t>>& got, std::vector<std::vector<std::uint8_t>>& known) {
+    auto parts = nothing_merged(merged) ? std::move(got) : cut_parts(merged, asked, got);
+    for (std::size_t k = 0; k < where.size(); ++k) known[where[k]] = std::move(parts[k]);
+    got = std::move(known);
+}
+
+}  // namespace
+
+std::optional<std::vector<std::uint8_t>> RemoteFile::held(const ByteRange& r) const {
+    if (r.offset <= head_.size() && r.length <= head_.size() - r.offset) {
+        const auto first = head_.begin() + static_cast<std::ptrdiff_t>(r.offset);
+        return std::vector<std::uint8_t>(first, first + static_cast<std::ptrdiff_t>(r.length));
+    }
+    const std::uint64_t tail_start = size_ - tail_.size();
+    if (!tail_.empty() && r.offset >= tail_start && r.offset <= size_ && r.length <= size_ - r.offset) {
+        const auto first = tail_.begin() + static_cast<std::ptrdiff_t>(r.offset - tail_start);
+        return std::vector<std::uint8_t>(first, first + static_cast<std::ptrdiff_t>(r.length));
+    }
+    return std::nullopt;
+}
+
 void RemoteFile::fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const {
-    RangeRequest request = remote_request(url_, std::move(ranges), validator_);
+    auto reply = std::make_shared<RangeReply>();  // the parts the head and tail hold, the others to come
+    reply->parts.resize(ranges.size());
+    reply->total = size_;
+    reply->validator = validator_;
+    std::vector<ByteRange> asked;
+    std::vector<std::size_t> where;  // the index in `ranges` of each range asked
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+        if (auto bytes = held(ranges[i])) {
+            reply->parts[i] = std::move(*bytes);
+        } else {
+            asked.push_back(ranges[i]);
+            where.push_back(i);
+        }
+    }
+    if (asked.empty()) return done(std::move(*reply));
+    RangeRequest request = remote_request(url_, asked, validator_);
     request.total = size_;  // (without a validator, the only sign that the file was replaced)
-    fetch_following(std::move(request), redirect_, std::move(done));
+    auto merged = std::make_shared<const MergedRanges>(merge_ranges(asked, merge_gap(request)));
+    request.ranges = merged->spans;
+    fetch_following(std::move(request), redirect_,
+                    [reply, merged, asked = std::move(asked), where = std::move(where),
+                     done = std::move(done)](RangeReply&& got) {
+                        if (got.error.empty()) place_parts(*merged, asked, where, got.parts, reply->parts);
+                        done(std::move(got));
+                    });
 }
 
 }  // namespace lidarscout::net

@@ -1,7 +1,10 @@
 // A file on an HTTP(S) server, read by range requests: its size and validator (ETag or
 // Last-Modified) pinned by the first response, its first and last 2 KiB fetched when it is
 // opened (a tile's header, VLRs and usually its chunk table: half of what local files keep,
-// as every byte crosses the network), and exact reads anywhere else.
+// as every byte crosses the network), and exact reads anywhere else. The tail comes with the rest
+// of a LAS head longer than 2 KiB (its VLRs and first point record, up to 64 KiB) in one request,
+// and a small file's middle with them when that costs less than a request (then every read of it
+// is answered from memory).
 // Remote files are shared process-wide by URL, so a tile opened again (by the chunk-point
 // loader, the viewer, a second command in the same process) costs no request, and every
 // response for it is checked against the same validator and size (Content-Range's total: all a
@@ -15,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -27,7 +31,8 @@ class RemoteFile {
 public:
     static constexpr std::uint64_t kEdge = 2048;
 
-    // The remote file at `url`, opened (two range requests) on first use; throws Error.
+    // The remote file at `url`, opened (two requests: the head, then the rest of a LAS head and the
+    // tail) on first use; throws Error.
     static std::shared_ptr<const RemoteFile> open(const std::string& url);
     // Starts opening the files of `urls` not open yet, all requests in flight together, and
     // returns at once; open() of such a URL waits for its file. Failures are not reported
@@ -39,24 +44,32 @@ public:
     const std::string& display_url() const { return display_url_; }
     std::uint64_t size() const { return size_; }
     const std::string& validator() const { return validator_; }
-    std::span<const std::uint8_t> head() const { return head_; }  // bytes [0, head().size())
+    std::span<const std::uint8_t> head() const { return head_; }  // bytes [0, head().size()): kEdge or more
     std::span<const std::uint8_t> tail() const { return tail_; }  // bytes [size() - tail().size(), size())
 
     // Reads exactly out.size() bytes at `offset` (one range request); throws Error.
     void read(std::uint64_t offset, std::span<std::uint8_t> out) const;
     // Fetches the ranges (multi-range where the server allows it); `done` runs on the
-    // client's thread with one part per range, or with an error.
+    // client's thread with one part per range, or with an error. Ranges the head or tail holds
+    // are answered from them (when all are, `done` runs at once, on this thread, with no
+    // request), and the others that lie close together go as one range (HttpSettings'
+    // merge gaps; net/byte_ranges.hpp: merge_ranges).
     void fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const;
 
     // Fetches the ranges and waits; the reply's error is set when it failed.
     RangeReply fetch_now(std::vector<ByteRange> ranges) const;
 
     RemoteFile(std::string url, RangeReply&& head);  // from the reply to the head request
-    void set_tail(RangeReply&& reply);
+    // Takes the second reply of an open: the rest of the head (its first part, when `more_head`),
+    // then the tail (when `tail`).
+    void set_rest(bool more_head, bool tail, RangeReply&& reply);
 
     struct Redirect;  // where the file's redirects led
 
 private:
+    // The bytes of `r` when the head or the tail holds them all.
+    std::optional<std::vector<std::uint8_t>> held(const ByteRange& r) const;
+
     std::string url_, display_url_, validator_;
     std::shared_ptr<Redirect> redirect_;
     std::uint64_t size_ = 0;

@@ -225,6 +225,7 @@ RangeRequest remote_request(const std::string& url, std::vector<ByteRange> range
     r.target = s3_http_url(config, *where, {});
     r.signing = s3_signing(config);
     r.path_as_is = true;
+    r.one_range = true;  // GetObject answers several ranges with the whole object
     return r;
 }
 

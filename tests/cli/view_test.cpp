@@ -345,6 +345,11 @@ TEST_F(ViewCommand, RemoteDatasetDrawsBeforeItIsOpenThenTheOverview) {
     EXPECT_GE(j.at("first_overview_s").get<double>(), j.at("dataset_open_s").get<double>()) << j.dump();
     EXPECT_EQ(j.at("tiles").get<std::size_t>(), tiles) << j.dump();
     EXPECT_EQ(j.at("skipped").get<std::size_t>(), 1u) << j.dump();
+    // what the reads cost: at least each tile's head and tail (and the list, the missing tile's head)
+    const auto requests = j.at("requests").get<std::uint64_t>();
+    EXPECT_GE(requests, 2 * tiles + 2) << j.dump();
+    EXPECT_DOUBLE_EQ(j.at("requests_per_tile").get<double>(), static_cast<double>(requests) / tiles) << j.dump();
+    EXPECT_GT(j.at("bytes").get<std::uint64_t>(), 2 * tiles * 2048) << j.dump();
     fs::remove(server.lists_dir() / list);
 }
 

@@ -137,7 +137,7 @@ TEST(RemoteFile, TlsPeersAreVerified) {
 TEST(RemoteFile, AFileChangedDuringTheSessionIsAnError) {
     const auto& server = test::NginxServer::instance();
     const fs::path local = server.lists_dir() / "changing.bin";
-    std::vector<char> content(20000, 'a');
+    std::vector<char> content(100000, 'a');  // (a file of a few KiB is read whole when opened)
     std::ofstream(local, std::ios::binary).write(content.data(), static_cast<std::streamsize>(content.size()));
     const auto f = io::File::open(server.url("lists/changing.bin"));
     std::vector<std::uint8_t> got(100);
@@ -158,7 +158,7 @@ TEST(RemoteFile, AFileChangedDuringTheSessionIsAnError) {
 // another size between reads: the size its Content-Range gives tells it, and the read fails.
 TEST(RemoteFile, AServerWithoutValidatorSwitchingFilesIsAnError) {
     test::FaultServer server({});
-    std::atomic<std::size_t> size{10000};
+    std::atomic<std::size_t> size{100000};  // (a file of a few KiB is read whole when opened)
     server.respond = [&](const std::string& head) {
         const auto range = head.substr(head.find("Range: bytes=") + 13);
         const std::uint64_t first = std::stoull(range), last = std::stoull(range.substr(range.find('-') + 1));
@@ -170,18 +170,18 @@ TEST(RemoteFile, AServerWithoutValidatorSwitchingFilesIsAnError) {
             "\r\nContent-Length: " + std::to_string(body.size()) + "\r\n\r\n" + body);
     };
     const auto f = RemoteFile::open(server.url());
-    EXPECT_EQ(f->size(), 10000u);
+    EXPECT_EQ(f->size(), 100000u);
     EXPECT_EQ(f->validator(), "");
     std::vector<std::uint8_t> got(100);
     f->read(5000, got);
-    EXPECT_EQ(got[0], 10);
-    size = 12000;  // another file
+    EXPECT_EQ(got[0], 100);
+    size = 120000;  // another file
     try {
         f->read(5100, got);
         FAIL() << "bytes of another file were read";
     } catch (const Error& e) {
-        EXPECT_NE(std::string(e.what()).find("the file changed on the server during this session (its size was 10000 "
-                                             "bytes, now 12000)"),
+        EXPECT_NE(std::string(e.what()).find("the file changed on the server during this session (its size was 100000 "
+                                             "bytes, now 120000)"),
                   std::string::npos)
             << e.what();
     }
