@@ -24,6 +24,8 @@ PACKAGES=(
   python3 python3-torch python3-numpy
   # the Dask driver of `dem --block` (python/lidarscout_dask): Dask's distributed scheduler, GDAL's Python
   python3-distributed python3-gdal
+  # the Python module (src/python, built for /usr/bin/python3) and its tests
+  pybind11-dev python3-dev python3-pytest
 )
 
 SUDO=""

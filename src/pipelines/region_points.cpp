@@ -25,25 +25,6 @@ struct Kept {
     std::vector<RegionPoint> points;
 };
 
-// Where a tile's decoded point lies in the frame CRS's units: as stored when the tile is in that CRS
-// with its units, else placed (reprojected) in metres and divided back.
-struct FrameUnits {
-    FrameUnits(const dataset::DatasetTile& t, const dataset::Frame& frame)
-        : tile(t), f(frame.xy_to_metres), fz(frame.z_to_metres),
-          as_stored(!t.to_frame && t.xy_to_metres == f && t.z_to_metres == fz) {}
-
-    void operator()(const las::Point& p, double& x, double& y, double& z) const {
-        x = p.x, y = p.y, z = p.z;
-        if (as_stored) return;
-        tile.place(x, y, z);
-        x /= f, y /= f, z /= fz;
-    }
-
-    const dataset::DatasetTile& tile;
-    double f, fz;
-    bool as_stored;
-};
-
 void keep_piece(const dataset::DatasetTile& t, const FrameUnits& units, std::span<const std::uint8_t> records,
                 const Region& region, const PointFilter& filter, Kept& out) {
     const auto& header = t.tile.header;
@@ -124,6 +105,17 @@ Region box_region(double min_x, double min_y, double max_x, double max_y) {
         return t.min_x <= b.max_x && t.max_x >= b.min_x && t.min_y <= b.max_y && t.max_y >= b.min_y;
     };
     return r;
+}
+
+Region bounds_region(std::span<const double> b, const std::string& stage, const std::string& option) {
+    if (b.size() != 4) throw Error(stage + ": " + option + " expects four numbers: xmin,ymin,xmax,ymax");
+    if (!(b[0] <= b[2] && b[1] <= b[3])) {
+        throw Error(stage + ": " + option + " expects xmin,ymin,xmax,ymax with xmin <= xmax and ymin <= ymax");
+    }
+    if (b[0] == b[2] || b[1] == b[3]) {
+        throw Error(stage + ": " + option + " enclose no area (xmin = xmax or ymin = ymax); nothing written");
+    }
+    return box_region(b[0], b[1], b[2], b[3]);
 }
 
 Region polygon_region(MultiPolygon polygon) {
