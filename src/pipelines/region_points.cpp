@@ -67,12 +67,12 @@ void keep_batch(const dataset::DatasetTile& t, const FrameUnits& units, std::uin
 // or placing a point leaves the rest of the tile out.
 void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& region,
                const PointFilter& filter, ThreadPool& pool, const RegionBatchFn& fn, RegionReadStats& stats,
-               const std::function<void(std::uint64_t)>& advanced, const ReadWatch& watch) {
+               const std::function<void(std::uint64_t)>& advanced, const ReadWatch& watch, std::size_t batch_points) {
     const auto& t = ds.tiles[tile];
     std::uint64_t done = 0;
     try {
         const io::File file = io::File::open(t.tile.path());
-        const dataset::RecordBatches batches(t.tile, 1u << 20);
+        const dataset::RecordBatches batches(t.tile, batch_points);
         const FrameUnits units(t, ds.frame);
         ++stats.tiles_decoded;
         std::vector<std::uint8_t> records;
@@ -141,7 +141,7 @@ std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Regi
 
 RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
                                    const Region& region, const PointFilter& filter, ThreadPool& pool,
-                                   const RegionBatchFn& fn, const ReadWatch& watch) {
+                                   const RegionBatchFn& fn, const ReadWatch& watch, std::size_t batch_points) {
     RegionReadStats stats;
     stats.tiles_touched.assign(tiles.begin(), tiles.end());
     std::uint64_t total = 0, done = 0;
@@ -152,7 +152,7 @@ RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const s
     };
     for (std::size_t k = 0; k < tiles.size() && !stats.cancelled; ++k) {
         if (watch.cancelled()) stats.cancelled = true;
-        else read_tile(ds, tiles[k], region, filter, pool, fn, stats, advanced, watch);
+        else read_tile(ds, tiles[k], region, filter, pool, fn, stats, advanced, watch, batch_points);
         if (watch.tiles && !stats.cancelled) watch.tiles(k + 1, tiles.size());
     }
     return stats;

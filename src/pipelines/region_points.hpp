@@ -88,6 +88,7 @@ struct RegionReadStats {
 std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Region& region);
 
 using RegionBatchFn = std::function<void(const RegionBatch&)>;
+inline constexpr std::size_t kRegionBatchPoints = std::size_t(1) << 20;
 using PointProgressFn = std::function<void(std::uint64_t points_done, std::uint64_t points_total)>;
 using TileProgressFn = std::function<void(std::size_t tiles_done, std::size_t tiles_total)>;
 
@@ -102,12 +103,14 @@ struct ReadWatch {
 };
 
 // Reads `tiles` (tiles_touching the region) one after the other, calling fn with the kept points
-// of each batch (about a million points read, decoded in parallel on `pool`). A tile that cannot
+// of each batch (about `batch_points` points read, at least a LAZ chunk, decoded in parallel on `pool`;
+// memory is a few hundred bytes a point of a batch). A tile that cannot
 // be opened or placed (a point outside its CRS's area) or a LAZ chunk that cannot be decoded is
 // left out and named in the result. fn may not use `pool`.
 RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
                                    const Region& region, const PointFilter& filter, ThreadPool& pool,
-                                   const RegionBatchFn& fn, const ReadWatch& watch = {});
+                                   const RegionBatchFn& fn, const ReadWatch& watch = {},
+                                   std::size_t batch_points = kRegionBatchPoints);
 
 // No silent empty product: the errors (of `stage`, e.g. "clip") of a read that finds nothing, `where`
 // naming the region as its command does ("the region", "the corridor").

@@ -78,7 +78,8 @@ void RegionStream::run() {
         pipelines::ReadWatch watch;
         watch.cancel = &cancel_;
         stats_ = pipelines::read_region_points(*ds_, tiles_, query_.region, query_.filter, pool,
-                                               [this](const pipelines::RegionBatch& b) { take(b); }, watch);
+                                               [this](const pipelines::RegionBatch& b) { take(b); }, watch,
+                                               std::min(batch_, kStreamReadPoints));
         if (filling_.size() > 0) hand_over();
     } catch (...) {
         const std::lock_guard lock(mutex_);
@@ -101,13 +102,14 @@ void RegionStream::take(const pipelines::RegionBatch& b) {
     }
 }
 
-// Waits until the table handed over before has been taken (or the stream is stopped), then offers this one.
+// Offers the table and waits until it has been taken (or the stream is stopped): the stream holds at most
+// one full table beside the one Python works on.
 void RegionStream::hand_over() {
     std::unique_lock lock(mutex_);
-    changed_.wait(lock, [this] { return !ready_ || cancel_; });
     if (!cancel_) ready_ = std::move(filling_);
     filling_ = PointTable(0);
     changed_.notify_all();
+    changed_.wait(lock, [this] { return !ready_ || cancel_; });
 }
 
 std::optional<PointTable> RegionStream::next() {

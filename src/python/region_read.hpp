@@ -1,7 +1,8 @@
 // A region's points for Python, by the clip's rules (pipelines/region_points.hpp: the tiles touching
 // the area decoded in parallel, each point placed in the frame CRS's units, kept in the area when it
 // passes the filter): written as they come into one PointTable (read_region), or handed out in tables
-// of at most `batch` points by a reader thread that stays at most one table ahead (RegionStream).
+// of at most `batch` points by a reader thread that stays one table ahead, reading in smaller
+// batches (kStreamReadPoints) so that the stream's memory stays a few tables (RegionStream).
 #pragma once
 
 #include <array>
@@ -43,6 +44,9 @@ struct RegionRead {
 // Throws Error (stage "read") when no tile touches the area; a read that keeps no point is empty.
 // `threads` 0: every core.
 RegionRead read_region(const dataset::Dataset& ds, const RegionQuery& query, unsigned threads);
+
+// Points a RegionStream's reads decode at once (pipelines::read_region_points' batch_points).
+inline constexpr std::size_t kStreamReadPoints = std::size_t(1) << 18;
 
 class RegionStream {
 public:
