@@ -16,7 +16,7 @@ import time
 REPO = pathlib.Path(__file__).resolve().parents[1]
 SURVEY = REPO.parent / "shared" / "data" / "surveys" / "ky-jmo335-eastern-kentucky"
 REGIONS = {"corner of 4 tiles": (5679000.0, 3774000.0, 5681000.0, 3776000.0),
-           "whole survey": None}
+           "whole survey": (5673834.0, 3768732.0, 5681835.0, 3776733.0)}
 
 PEAK_CHILD = """
 import resource, sys, time
