@@ -9,6 +9,11 @@ install(TARGETS lidarscout_torch LIBRARY DESTINATION lib/lidarscout)
 if(TARGET lidarscout_cuda_raster)
   install(TARGETS lidarscout_cuda_raster LIBRARY DESTINATION lib/lidarscout)
 endif()
+# The Python module into Debian's path for packaged modules (/usr/lib/python3/dist-packages with
+# --prefix /usr, as the .deb installs it).
+set(LIDARSCOUT_PYTHON_INSTALL_DIR lib/python3/dist-packages CACHE STRING "Where the Python module is installed")
+install(TARGETS lidarscout_python_module LIBRARY DESTINATION ${LIDARSCOUT_PYTHON_INSTALL_DIR}/lidarscout)
+install(FILES ${LIDARSCOUT_PYTHON_SOURCES} DESTINATION ${LIDARSCOUT_PYTHON_INSTALL_DIR}/lidarscout)
 install(FILES models/heightmap_cnn.pt models/README.md DESTINATION share/lidarscout/models)
 install(FILES packaging/lidarscout.desktop DESTINATION share/applications)
 install(FILES README.md DESTINATION share/doc/lidarscout)

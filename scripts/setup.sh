@@ -26,6 +26,8 @@ PACKAGES=(
   python3-distributed python3-gdal
   # the plot of `bench_view --soak` (scripts/plot_soak.sh)
   gnuplot-nox
+  # the Python module (src/python, built for /usr/bin/python3) and its tests
+  pybind11-dev python3-dev python3-pytest
 )
 
 SUDO=""

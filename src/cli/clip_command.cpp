@@ -49,13 +49,7 @@ MultiPolygon clip_polygon(const std::string& argument) {
 pipelines::Region clip_region(const ClipCliOptions& o) {
     if (o.bounds.empty() == o.polygon.empty()) throw Error("clip: give either --bounds or --polygon");
     if (!o.polygon.empty()) return pipelines::polygon_region(clip_polygon(o.polygon));
-    if (!(o.bounds[0] <= o.bounds[2] && o.bounds[1] <= o.bounds[3])) {
-        throw Error("clip: --bounds expects xmin,ymin,xmax,ymax with xmin <= xmax and ymin <= ymax");
-    }
-    if (o.bounds[0] == o.bounds[2] || o.bounds[1] == o.bounds[3]) {
-        throw Error("clip: --bounds enclose no area (xmin = xmax or ymin = ymax); nothing written");
-    }
-    return pipelines::box_region(o.bounds[0], o.bounds[1], o.bounds[2], o.bounds[3]);
+    return pipelines::bounds_region(o.bounds, "clip", "--bounds");
 }
 
 void print_result(const ClipCliOptions& o, const dataset::Dataset& ds, const pipelines::ClipResult& r,

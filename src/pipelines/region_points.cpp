@@ -27,25 +27,6 @@ struct Kept {
     std::vector<RegionPoint> points;
 };
 
-// Where a tile's decoded point lies in the frame CRS's units: as stored when the tile is in that CRS
-// with its units, else placed (reprojected) in metres and divided back.
-struct FrameUnits {
-    FrameUnits(const dataset::DatasetTile& t, const dataset::Frame& frame)
-        : tile(t), f(frame.xy_to_metres), fz(frame.z_to_metres),
-          as_stored(!t.to_frame && t.xy_to_metres == f && t.z_to_metres == fz) {}
-
-    void operator()(const las::Point& p, double& x, double& y, double& z) const {
-        x = p.x, y = p.y, z = p.z;
-        if (as_stored) return;
-        tile.place(x, y, z);
-        x /= f, y /= f, z /= fz;
-    }
-
-    const dataset::DatasetTile& tile;
-    double f, fz;
-    bool as_stored;
-};
-
 void keep_piece(const dataset::DatasetTile& t, const FrameUnits& units, std::span<const std::uint8_t> records,
                 const Region& region, const PointFilter& filter, Kept& out) {
     const auto& header = t.tile.header;
@@ -88,7 +69,7 @@ void keep_batch(const dataset::DatasetTile& t, const FrameUnits& units, std::uin
 // or placing a point leaves the rest of the tile out.
 void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& region,
                const PointFilter& filter, ThreadPool& pool, const RegionBatchFn& fn, RegionReadStats& stats,
-               const std::function<void(std::uint64_t)>& advanced, const ReadWatch& watch) {
+               const std::function<void(std::uint64_t)>& advanced, const ReadWatch& watch, std::size_t batch_points) {
     const auto& placed = ds.tiles[tile];
     std::uint64_t done = 0;
     std::optional<dataset::DatasetTile> fresh;  // (a tile changed since its overview sidecar: read itself)
@@ -97,7 +78,7 @@ void read_tile(const dataset::Dataset& ds, std::uint32_t tile, const Region& reg
         const io::File file = io::File::open(placed.tile.path());
         tp = &dataset::tile_to_read(placed, file, fresh);
         const auto& t = *tp;
-        const dataset::RecordBatches batches(t.tile, 1u << 20);
+        const dataset::RecordBatches batches(t.tile, batch_points);
         const FrameUnits units(t, ds.frame);
         ++stats.tiles_decoded;
         std::vector<std::uint8_t> records;
@@ -133,6 +114,17 @@ Region box_region(double min_x, double min_y, double max_x, double max_y) {
     return r;
 }
 
+Region bounds_region(std::span<const double> b, const std::string& stage, const std::string& option) {
+    if (b.size() != 4) throw Error(stage + ": " + option + " expects four numbers: xmin,ymin,xmax,ymax");
+    if (!(b[0] <= b[2] && b[1] <= b[3])) {
+        throw Error(stage + ": " + option + " expects xmin,ymin,xmax,ymax with xmin <= xmax and ymin <= ymax");
+    }
+    if (b[0] == b[2] || b[1] == b[3]) {
+        throw Error(stage + ": " + option + " enclose no area (xmin = xmax or ymin = ymax); nothing written");
+    }
+    return box_region(b[0], b[1], b[2], b[3]);
+}
+
 Region polygon_region(MultiPolygon polygon) {
     const auto shape = std::make_shared<const MultiPolygon>(std::move(polygon));
     Region r = box_region(shape->min_x(), shape->min_y(), shape->max_x(), shape->max_y());
@@ -156,7 +148,7 @@ std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Regi
 
 RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
                                    const Region& region, const PointFilter& filter, ThreadPool& pool,
-                                   const RegionBatchFn& fn, const ReadWatch& watch) {
+                                   const RegionBatchFn& fn, const ReadWatch& watch, std::size_t batch_points) {
     RegionReadStats stats;
     stats.tiles_touched.assign(tiles.begin(), tiles.end());
     std::uint64_t total = 0, done = 0;
@@ -167,7 +159,7 @@ RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const s
     };
     for (std::size_t k = 0; k < tiles.size() && !stats.cancelled; ++k) {
         if (watch.cancelled()) stats.cancelled = true;
-        else read_tile(ds, tiles[k], region, filter, pool, fn, stats, advanced, watch);
+        else read_tile(ds, tiles[k], region, filter, pool, fn, stats, advanced, watch, batch_points);
         if (watch.tiles && !stats.cancelled) watch.tiles(k + 1, tiles.size());
     }
     return stats;

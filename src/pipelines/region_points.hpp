@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "core/error.hpp"
@@ -35,12 +36,35 @@ struct Region {
 Region box_region(double min_x, double min_y, double max_x, double max_y);
 // A polygon (held by the region).
 Region polygon_region(MultiPolygon polygon);
+// The box a command's `option` gives (xmin, ymin, xmax, ymax: four numbers). Throws Error ("STAGE: OPTION
+// ...") when they are not ordered or enclose no area.
+Region bounds_region(std::span<const double> bounds, const std::string& stage, const std::string& option);
 
 // A kept point: where it lies in the frame CRS's units (the file's coordinates as stored when the
 // tile is in that CRS, else reprojected) and the record decoded.
 struct RegionPoint {
     double x = 0, y = 0, z = 0;
     las::Point point;
+};
+
+// Where a tile's decoded point lies in the frame CRS's units: as stored when the tile is in that CRS
+// with its units, else placed (reprojected) in metres and divided back (a region's points and the Python
+// module's overview alike).
+struct FrameUnits {
+    FrameUnits(const dataset::DatasetTile& t, const dataset::Frame& frame)
+        : tile(t), f(frame.xy_to_metres), fz(frame.z_to_metres),
+          as_stored(!t.to_frame && t.xy_to_metres == f && t.z_to_metres == fz) {}
+
+    void operator()(const las::Point& p, double& x, double& y, double& z) const {
+        x = p.x, y = p.y, z = p.z;
+        if (as_stored) return;
+        tile.place(x, y, z);
+        x /= f, y /= f, z /= fz;
+    }
+
+    const dataset::DatasetTile& tile;
+    double f, fz;
+    bool as_stored;
 };
 
 // Kept points of one tile, in file order: their records (the tile's record_length each, as stored)
@@ -64,6 +88,7 @@ struct RegionReadStats {
 std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Region& region);
 
 using RegionBatchFn = std::function<void(const RegionBatch&)>;
+inline constexpr std::size_t kRegionBatchPoints = std::size_t(1) << 20;
 using PointProgressFn = std::function<void(std::uint64_t points_done, std::uint64_t points_total)>;
 using TileProgressFn = std::function<void(std::size_t tiles_done, std::size_t tiles_total)>;
 
@@ -78,12 +103,14 @@ struct ReadWatch {
 };
 
 // Reads `tiles` (tiles_touching the region) one after the other, calling fn with the kept points
-// of each batch (about a million points read, decoded in parallel on `pool`). A tile that cannot
+// of each batch (about `batch_points` points read, at least a LAZ chunk, decoded in parallel on `pool`;
+// memory is a few hundred bytes a point of a batch). A tile that cannot
 // be opened or placed (a point outside its CRS's area) or a LAZ chunk that cannot be decoded is
 // left out and named in the result. fn may not use `pool`.
 RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
                                    const Region& region, const PointFilter& filter, ThreadPool& pool,
-                                   const RegionBatchFn& fn, const ReadWatch& watch = {});
+                                   const RegionBatchFn& fn, const ReadWatch& watch = {},
+                                   std::size_t batch_points = kRegionBatchPoints);
 
 // No silent empty product: the errors (of `stage`, e.g. "clip") of a read that finds nothing, `where`
 // naming the region as its command does ("the region", "the corridor").

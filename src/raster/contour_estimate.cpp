@@ -14,6 +14,7 @@
 #include "core/error.hpp"
 #include "core/radix_sort.hpp"
 #include "raster/block_raster.hpp"
+#include "raster/gdal_handles.hpp"
 
 namespace lidarscout::raster {
 namespace {
@@ -170,19 +171,6 @@ void seam_crossings(std::span<const float> a, std::span<const float> b, float no
         if (valid) add_levels_between(a[i], b[i], intervals, sums);
     }
 }
-
-// GDAL's messages kept for our error (last_gdal_error) instead of printed while it lives.
-struct QuietGdal {
-    QuietGdal() { CPLPushErrorHandler(CPLQuietErrorHandler); }
-    ~QuietGdal() { CPLPopErrorHandler(); }
-};
-
-struct OpenRaster {
-    GDALDataset* dataset = nullptr;
-    ~OpenRaster() {
-        if (dataset) GDALClose(dataset);
-    }
-};
 
 }  // namespace
 

@@ -1,0 +1,70 @@
+"""The Python module's figures on ky-jmo335 (run with /usr/bin/python3, PYTHONPATH=build/python):
+`ds.read` of a region against `lidarscout clip` of the same region (to .las and to .laz; medians of
+--runs), and the peak resident memory of a child process that iter_reads every point in 1 M batches.
+
+    PYTHONPATH=build/python /usr/bin/python3 bench/bench_python.py [--runs 3] [--cli build/lidarscout]
+"""
+
+import argparse
+import pathlib
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+REPO = pathlib.Path(__file__).resolve().parents[1]
+SURVEY = REPO.parent / "shared" / "data" / "surveys" / "ky-jmo335-eastern-kentucky"
+REGIONS = {"corner of 4 tiles": (5679000.0, 3774000.0, 5681000.0, 3776000.0),
+           "whole survey": (5673834.0, 3768732.0, 5681835.0, 3776733.0)}
+
+PEAK_CHILD = """
+import resource, sys, time
+import lidarscout
+ds = lidarscout.open(sys.argv[1])
+t0 = time.perf_counter()
+n = sum(len(b) for b in ds.iter_read(batch=1_000_000))
+print(n, time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+"""
+
+
+def timed(fn, runs):
+    seconds = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        result = fn()
+        seconds.append(time.perf_counter() - t0)
+    return statistics.median(seconds), result
+
+
+def clip_seconds(cli, bounds, suffix, runs):
+    with tempfile.TemporaryDirectory() as folder:
+        out = pathlib.Path(folder) / f"clip{suffix}"
+        args = [cli, "clip", str(SURVEY), "-o", str(out), "--force"]
+        if bounds:
+            args += ["--bounds", ",".join(map(str, bounds))]
+        return timed(lambda: subprocess.run(args, check=True, capture_output=True), runs)[0]
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--cli", default=str(REPO / "build" / "lidarscout"))
+    args = parser.parse_args()
+    import lidarscout
+    ds = lidarscout.open(str(SURVEY))
+    for name, bounds in REGIONS.items():
+        read_s, points = timed(lambda: ds.read(bounds=bounds), args.runs)
+        las_s = clip_seconds(args.cli, bounds, ".las", args.runs)
+        laz_s = clip_seconds(args.cli, bounds, ".laz", args.runs)
+        print(f"{name}: {len(points):,} points; read {read_s:.2f} s, clip .las {las_s:.2f} s "
+              f"({read_s / las_s:.2f}x), clip .laz {laz_s:.2f} s ({read_s / laz_s:.2f}x)")
+        del points
+    done = subprocess.run([sys.executable, "-c", PEAK_CHILD, str(SURVEY)], check=True, capture_output=True, text=True)
+    n, seconds, peak = done.stdout.split()
+    print(f"iter_read of every point in 1 M batches: {int(n):,} points, {float(seconds):.2f} s, "
+          f"peak resident {float(peak):.0f} MiB")
+
+
+if __name__ == "__main__":
+    main()
