@@ -100,8 +100,8 @@ render::Backend resolve_backend(const std::string& text) {
 
 nlohmann::json seconds(const std::optional<double>& s) { return s ? nlohmann::json(*s) : nlohmann::json(nullptr); }
 
-// --stats-json: when the window showed what (viewer_app.hpp's ViewerTimings), null for never, and
-// what its remote reads cost (requests, bytes, per tile: cli/network_stats.hpp).
+// --stats-json: when the window showed what (viewer_app.hpp's ViewerTimings), null for never; the
+// memory figures (bytes); and what its remote reads cost (requests, bytes, per tile: cli/network_stats.hpp).
 void write_stats_json(const std::string& path, const viewer::app::ViewerTimings& t, const net::HttpStats& network) {
     nlohmann::json j = {{"first_frame_s", seconds(t.first_frame_s)},
                         {"footprints_s", seconds(t.footprints_s)},
@@ -110,7 +110,13 @@ void write_stats_json(const std::string& path, const viewer::app::ViewerTimings&
                         {"chunk_points_s", seconds(t.chunk_points_s)},
                         {"frames_while_opening", t.frames_while_opening},
                         {"tiles", t.tiles},
-                        {"skipped", t.skipped}};
+                        {"skipped", t.skipped},
+                        {"peak_resident_bytes", t.peak_resident_bytes},
+                        {"memory_budget_bytes", t.budget_bytes},
+                        {"data_budget_bytes", t.data_budget_bytes},
+                        {"ledger_peak_bytes", t.ledger_peak_bytes},
+                        {"outside_data_bytes", t.outside_bytes},
+                        {"memory_note", t.budget_note}};
     j.update(network_json(network, t.tiles));
     const std::string text = j.dump(2) + "\n";
     io::AtomicOutputFile out(path);

@@ -20,8 +20,10 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "core/text.hpp"
 #include "core/thread_pool.hpp"
+#include "core/throttle.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
@@ -37,6 +39,7 @@
 #include "viewer/cursor_readout.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/picking.hpp"
+#include "viewer/process_budget.hpp"
 #include "viewer/profile_tool.hpp"
 #include "viewer/surface_pick.hpp"
 #include "viewer/scheduler.hpp"
@@ -55,15 +58,16 @@ struct InputEvents {
     std::vector<std::string> dropped;
 };
 
-// Starts opening `paths` in the background (viewer/session_opening.hpp).
+// Starts opening `paths` in the background (viewer/session_opening.hpp), with the share of the
+// process's budget that `plan` leaves to data (and the network when it fits).
 // `first`: nothing is shown yet (else a preview of a large catalog would only delay its opening).
 std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& paths, const ViewerOptions& o,
-                                              bool first) {
+                                              bool first, const ProcessBudgetPlan& plan) {
     SessionOptions so;
     so.crs = o.crs;
     if (!first) so.preview_above = 0;
-    so.scheduler.memory_budget = o.memory_budget;
-    so.scheduler.cnn = o.cnn;
+    so.scheduler.memory_budget = plan.data;
+    so.scheduler.cnn = o.cnn && plan.network;
     so.scheduler.model_path = o.model;
     return std::make_unique<SessionOpening>(paths, std::move(so));
 }
@@ -248,13 +252,20 @@ std::string screenshot_name() {
     return text;
 }
 
-ViewSettings initial_settings(const dataset::Dataset& ds, const SchedulerStats& stats, const ViewerOptions& o) {
+// `budget`: the process's, in bytes.
+ViewSettings initial_settings(const dataset::Dataset& ds, std::uint64_t budget, const ViewerOptions& o) {
     ViewSettings v;
     v.style.backend = o.backend;
     v.style.filter = o.filter;
     v.style.colour = colour_settings(render::ColourMode::Rgb, ds.bounds_m.min_z, ds.bounds_m.max_z);
-    v.budget_mb = static_cast<int>(std::min<std::uint64_t>(stats.memory_budget >> 20, 1u << 30));
+    v.budget_mb = static_cast<int>(std::min<std::uint64_t>(budget >> 20, 1u << 30));
     return v;
+}
+
+// The budget the user gave (or the default) for the whole process; what it holds now, its window
+// up and no dataset read, is the program's share at start.
+ProcessBudget process_budget(const ViewerOptions& o) {
+    return ProcessBudget(o.memory_budget ? o.memory_budget : default_memory_budget(), resident_bytes(), o.cnn);
 }
 
 // The frame's picture: the snapshot drawn at the render scale, then the tile outlines;
@@ -335,9 +346,10 @@ public:
     explicit ViewerLoop(const ViewerOptions& o)
         : o_(o), start_(Clock::now()), win_(o.width, o.height, "lidarscout"), gui_(win_.window),
           pool_(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency())),
-          opening_(start_opening(o.paths, o, true)), previous_(start_),
+          budget_(process_budget(o)), opening_(start_opening(o.paths, o, true, budget_.plan())), previous_(start_),
           scripted_clicks_done_(o.clicks.empty() && !o.measure) {
         install_callbacks(win_.window, events_);
+        report_budget_note(budget_.plan().note);
         if (!o.session_path.empty()) panels_.session_path = o.session_path;  // "save session" writes it back
         const auto catalog = [](const std::string& p) {
             return dataset::is_stac_catalog(p) && !dataset::is_virtual_replica(p);  // both may end in .json
@@ -362,6 +374,7 @@ public:
         const PanelActions actions = present_step();
         if (!session_.open()) wait_for_next_frame(now);  // cheap frames: leave the cores to the reads
         action_step(actions);
+        budget_step();
         return !script_step();
     }
 
@@ -372,6 +385,7 @@ public:
             times_.tiles = session_.dataset->tiles.size();
             times_.skipped = session_.dataset->skipped.size();
         }
+        memory_figures();
         if (timings) *timings = times_;
         if (!o_.save_session.empty() && session_.open()) write_session(o_.save_session, current_session());
         if (!o_.screenshot.empty()) render::write_png(o_.screenshot, last_.image);
@@ -458,7 +472,7 @@ private:
     // while the first one opens, the camera follows the tiles read so far.
     void open_step() {
         if (!events_.dropped.empty()) {
-            opening_ = start_opening(events_.dropped, o_, !session_.open());  // what is shown stays until then
+            opening_ = start_opening(events_.dropped, o_, !session_.open(), budget_.plan());  // shown until then
             paths_ = events_.dropped;
             events_.dropped.clear();
             if (!session_.open()) footprints_.clear(), preview_.reset();  // of the opening given up
@@ -469,7 +483,7 @@ private:
             if (!moved_while_opening_) controller_.frame(session_.dataset->bounds_m, fb_width_, fb_height_);
             moved_while_opening_ = false;
             if (!opened_) {
-                settings_ = initial_settings(*session_.dataset, session_.scheduler->stats(), o_);
+                settings_ = initial_settings(*session_.dataset, budget_.asked(), o_);
                 if (o_.session) apply_session(*o_.session);
                 if (o_.profile) start_profile(*o_.profile, controller_.target_z);
                 opened_ = Clock::now();
@@ -481,7 +495,7 @@ private:
             opening_->footprints(footprints_);
             every_footprint_ = progress.total > 0 && footprints_.size() >= progress.total;
             if (!preview_ && (preview_ = opening_->preview())) {
-                preview_settings_ = initial_settings(*preview_->dataset, preview_->scheduler->stats(), o_);
+                preview_settings_ = initial_settings(*preview_->dataset, budget_.asked(), o_);
             }
             if (!moved_while_opening_ && !progress.extent.empty())
                 controller_.frame(progress.extent, fb_width_, fb_height_);
@@ -546,6 +560,7 @@ private:
             profile_step();
             export_step();
             area_step();
+            if (!budget_note_.empty()) stats.notes.push_back(budget_note_);
             actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
             draw_labels(panels_.annotations, camera_);
         }
@@ -562,7 +577,7 @@ private:
         if (actions.fly_to) {
             controller_.frame(session_.dataset->tiles[*actions.fly_to].bounds_m, fb_width_, fb_height_);
         }
-        if (actions.budget_changed) session_.scheduler->set_memory_budget(std::uint64_t(settings_.budget_mb) << 20);
+        if (actions.budget_changed) budget_.set_asked(std::uint64_t(settings_.budget_mb) << 20), apply_budget();
         if (actions.save_session) save_session(panels_.session_path);
         if (actions.measure_area) measure_area_now();
         profile_actions(actions);
@@ -597,6 +612,46 @@ private:
     }
 
     unsigned job_threads() const { return std::max(1u, std::thread::hardware_concurrency()); }
+
+    // The process's budget kept (viewer/process_budget.hpp): a few times a second the allocator's free
+    // pages go back to the system, what the process holds beyond the scheduler's ledger is measured and
+    // the scheduler's share set from it.
+    void budget_step() {
+        if (!session_.open() || !budget_tick_.due(1)) return;
+        budget_tick_.done();
+        trim_heap();
+        budget_.observe(resident_bytes(), session_.scheduler->stats().bytes_used);
+        apply_budget();
+    }
+
+    void apply_budget() {
+        if (!session_.open()) return;
+        const ProcessBudgetPlan plan = budget_.plan();
+        const std::uint64_t now = session_.scheduler->stats().memory_budget;
+        if ((plan.data > now ? plan.data - now : now - plan.data) >= (1u << 20)) {
+            session_.scheduler->set_memory_budget(plan.data);
+        }
+        if (budget_note_.empty()) report_budget_note(plan.note);
+        budget_note_ = plan.note;
+    }
+
+    // The line saying the budget is below what the viewer needs, on stderr once (the panel's notes keep it).
+    void report_budget_note(const std::string& note) {
+        if (!note.empty()) std::fprintf(stderr, "lidarscout: %s\n", note.c_str());
+        budget_note_ = note;
+    }
+
+    // The memory figures of the run (ViewerTimings).
+    void memory_figures() {
+        times_.peak_resident_bytes = peak_resident_bytes();
+        times_.budget_bytes = budget_.asked();
+        times_.outside_bytes = budget_.outside();
+        times_.budget_note = budget_note_;
+        if (!session_.open()) return;
+        const SchedulerStats st = session_.scheduler->stats();
+        times_.ledger_peak_bytes = st.peak_bytes_used;
+        times_.data_budget_bytes = st.memory_budget;
+    }
 
     // The profiles and exports read the dataset shown: ended (cancelled) before it is replaced.
     void close_background() {
@@ -824,6 +879,9 @@ private:
     GuiContext gui_;
     GlPresenter presenter_;
     ThreadPool pool_;
+    ProcessBudget budget_;            // measured with the window up, before any dataset
+    Throttle budget_tick_{std::chrono::milliseconds(250), 0};
+    std::string budget_note_;         // the budget is below what the viewer needs (shown in the panel)
     std::unique_ptr<SessionOpening> opening_;
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens

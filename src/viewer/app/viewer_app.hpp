@@ -22,7 +22,7 @@ namespace lidarscout::viewer::app {
 struct ViewerOptions {
     std::vector<std::string> paths;  // what to open (files, folders, tile lists)
     int width = 1280, height = 720;  // window size
-    std::uint64_t memory_budget = 0; // 0 = a quarter of the RAM
+    std::uint64_t memory_budget = 0; // of the whole process (0 = a quarter of the RAM)
     bool cnn = true;
     std::string model;               // empty = the default model lookup
     std::string crs;                 // the CRS tiles are reprojected to; empty = the majority's
@@ -53,6 +53,12 @@ struct ViewerTimings {
     std::optional<double> chunk_points_s;    // the first frame presented with every tile's chunk points in
     std::size_t frames_while_opening = 0;    // frames presented before the dataset was open
     std::size_t tiles = 0, skipped = 0;      // of the dataset shown at the end
+    // Memory (viewer/process_budget.hpp), in bytes: the process's peak resident size (VmHWM), the
+    // budget it was given, the scheduler's share at the end and its ledger's peak, what the program
+    // held outside the ledger at most; the line saying the budget is below what the viewer needs.
+    std::uint64_t peak_resident_bytes = 0, budget_bytes = 0, data_budget_bytes = 0, ledger_peak_bytes = 0;
+    std::uint64_t outside_bytes = 0;
+    std::string budget_note;
 };
 
 // Opens the window at once and the dataset in the background (the window shows the tiles'

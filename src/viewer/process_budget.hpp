@@ -1,0 +1,50 @@
+// The viewer's memory budget as the whole process's: what the program holds outside the scheduler's
+// ledger (its libraries' code and data, the window's OpenGL context, the heightmap network, threads'
+// stacks, the allocator's slack) is taken off the budget the user gives before the scheduler gets
+// the rest for data; below what the viewer needs to run it says so in one line and runs with the
+// least that works. Decisions only, no measuring (the window loop measures: viewer/app), so that
+// they can be tested on their own.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace lidarscout::viewer {
+
+// The least the scheduler works with: a small dataset's chunk points and heightmaps and a tile or
+// two at full resolution.
+inline constexpr std::uint64_t kLeastDataBytes = 32ull << 20;
+// What the heightmap network adds to the resident size once it has run (Debian 12's LibTorch 1.13:
+// libtorch_cpu, oneDNN and their libraries' pages, its allocator, the model), measured on
+// ky-jmo335 with and without --no-cnn (doc in process_budget.cpp).
+inline constexpr std::uint64_t kNetworkBytes = 150ull << 20;
+
+struct ProcessBudgetPlan {
+    std::uint64_t data = 0;  // the scheduler's budget (never 0, which would mean its default)
+    bool network = true;     // the heightmap network fits (decided once, at start)
+    std::string note;        // one line when the budget is below what the viewer needs (or leaves out
+                             // the network); empty else
+};
+
+class ProcessBudget {
+public:
+    // `asked`: the user's budget for the whole process; `outside_at_start`: what the process holds
+    // with its window up and no dataset; `network`: the heightmap network is wanted.
+    ProcessBudget(std::uint64_t asked, std::uint64_t outside_at_start, bool network);
+
+    void set_asked(std::uint64_t bytes) { asked_ = bytes; }
+    std::uint64_t asked() const { return asked_; }
+    // Notes what the process holds now beyond the scheduler's ledger; the most seen is what counts
+    // (the program may hold it again).
+    void observe(std::uint64_t resident, std::uint64_t ledger_used);
+    // What the program holds outside the data: the most seen, or what it held at start and the
+    // network's share, if more.
+    std::uint64_t outside() const;
+    ProcessBudgetPlan plan() const;
+
+private:
+    std::uint64_t asked_, asked_at_start_, at_start_, seen_ = 0;
+    bool network_wanted_, network_;
+};
+
+}  // namespace lidarscout::viewer

@@ -1,0 +1,56 @@
+// ProcessBudget: the program's share taken off the process's budget before the scheduler gets the
+// rest; the network only where it fits; below what the viewer needs, one line with the figure and
+// the least data; the most seen outside the ledger counts.
+#include <gtest/gtest.h>
+
+#include "viewer/process_budget.hpp"
+
+namespace lidarscout::viewer {
+namespace {
+
+constexpr std::uint64_t MiB = 1ull << 20;
+
+TEST(ProcessBudget, TheProgramsShareIsTakenOffTheBudget) {
+    const ProcessBudget b(1024 * MiB, 150 * MiB, true);
+    const ProcessBudgetPlan p = b.plan();
+    EXPECT_TRUE(p.network);
+    EXPECT_EQ(p.data, 1024 * MiB - 150 * MiB - kNetworkBytes);
+    EXPECT_EQ(p.note, "");
+}
+
+TEST(ProcessBudget, TheMostSeenOutsideTheLedgerCounts) {
+    ProcessBudget b(1024 * MiB, 150 * MiB, false);
+    b.observe(500 * MiB, 100 * MiB);  // 400 MiB outside
+    b.observe(450 * MiB, 200 * MiB);  // 250: less, the 400 stays
+    EXPECT_EQ(b.outside(), 400 * MiB);
+    EXPECT_EQ(b.plan().data, 624 * MiB);
+    b.observe(50 * MiB, 100 * MiB);  // a ledger over the resident size: nothing outside
+    EXPECT_EQ(b.outside(), 400 * MiB);
+}
+
+TEST(ProcessBudget, TheNetworkOnlyWhereItFits) {
+    const ProcessBudgetPlan p = ProcessBudget(256 * MiB, 150 * MiB, true).plan();
+    EXPECT_FALSE(p.network);
+    EXPECT_EQ(p.data, 106 * MiB);
+    EXPECT_EQ(p.note, "the memory budget at start (256 MiB) left no room for the heightmap network (150 MiB with its "
+                      "libraries): linear heightmaps only");
+    EXPECT_FALSE(ProcessBudget(4096 * MiB, 150 * MiB, false).plan().network);  // not wanted: no note
+    EXPECT_EQ(ProcessBudget(4096 * MiB, 150 * MiB, false).plan().note, "");
+}
+
+TEST(ProcessBudget, BelowWhatTheViewerNeedsItSaysSoAndRunsWithTheLeast) {
+    ProcessBudget b(128 * MiB, 150 * MiB, true);
+    const ProcessBudgetPlan p = b.plan();
+    EXPECT_FALSE(p.network);
+    EXPECT_EQ(p.data, kLeastDataBytes);
+    EXPECT_EQ(p.note, "memory budget 128 MiB is below the 182 MiB the viewer needs to run (150 MiB for the program, "
+                      "its libraries, window and threads, 32 MiB for data): running with 182 MiB, linear heightmaps "
+                      "only");
+    b.set_asked(512 * MiB);  // a larger budget from the panel: room again (the network stays off)
+    EXPECT_EQ(b.plan().data, 362 * MiB);
+    EXPECT_EQ(b.plan().note, "the memory budget at start (128 MiB) left no room for the heightmap network (150 MiB "
+                             "with its libraries): linear heightmaps only");
+}
+
+}  // namespace
+}  // namespace lidarscout::viewer
