@@ -8,9 +8,10 @@
 // looked at, half the memory budget, the budget back. Frames are drawn back to back at 1280 x 720 as
 // the viewer draws them. Every second a row of the CSV: seconds, resident MB, heap in use and kept MB,
 // the scheduler's MB against its budget, frames, their median and worst ms, full-resolution tiles,
-// loads, releases, errors, and the last action. The summary: resident size after the warm-up (5
-// minutes, or a twelfth of a shorter soak) against the largest after it, frames over 100 ms beyond the
-// first 5 s after the start or a budget change, errors. scripts/plot_soak.sh draws the CSV (gnuplot).
+// loads, releases, errors, and the last action. The summary: the median resident size over the window
+// after the warm-up (5 minutes, or a twelfth of a shorter soak) against the median over the last window
+// as long, frames over 100 ms beyond the first 5 s after the start or a budget change, errors.
+// scripts/plot_soak.sh draws the CSV (gnuplot).
 #pragma once
 
 #include <fmt/format.h>
@@ -23,6 +24,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -185,10 +187,20 @@ inline void write_soak_row(std::FILE* csv, const SoakSample& s, const viewer::Sc
     std::fflush(csv);
 }
 
+// The median of the values sampled in [from, to) seconds (0 when none).
+inline double window_median(const std::vector<std::pair<double, double>>& samples, double from, double to) {
+    std::vector<double> v;
+    for (const auto& [t, value] : samples) {
+        if (t >= from && t < to) v.push_back(value);
+    }
+    return soak_median(std::move(v));
+}
+
 // What the summary says, gathered while the soak runs.
 struct SoakTotals {
     std::uint64_t frames = 0, slow_frames = 0;  // slow: over 100 ms beyond 5 s of the start or a budget change
-    double rss_warm_mb = 0, rss_max_after_mb = 0, rss_end_mb = 0;
+    std::vector<std::pair<double, double>> rss_mb;  // (seconds, resident MB), a sample a second
+    double rss_max_after_mb = 0;
     std::size_t errors = 0;
 };
 
@@ -236,19 +248,23 @@ inline int run_soak(const dataset::Dataset& ds, SoakSettings s) {
         write_soak_row(csv, sample, st, action);
         totals.errors = st.errors.size();
         const double rss = static_cast<double>(resident_bytes()) / (1 << 20);
-        if (t < warm_s) totals.rss_warm_mb = rss;
-        else totals.rss_max_after_mb = std::max(totals.rss_max_after_mb, rss);
-        totals.rss_end_mb = rss;
+        totals.rss_mb.emplace_back(t, rss);
+        if (t >= warm_s) totals.rss_max_after_mb = std::max(totals.rss_max_after_mb, rss);
         sample.frame_ms.clear();
         next_sample += 1;
     }
     std::fclose(csv);
     totals.errors += actions.failures();
-    const double growth = totals.rss_warm_mb > 0 ? 100 * (totals.rss_max_after_mb / totals.rss_warm_mb - 1) : 0;
+    // The level after the warm-up against the level at the end: medians over as long as the warm-up
+    // (the budget cycle's troughs and peaks are in both), not single samples.
+    const double first = window_median(totals.rss_mb, warm_s, 2 * warm_s);
+    const double last = window_median(totals.rss_mb, total_s - warm_s, total_s);
+    const double growth = first > 0 ? 100 * (last / first - 1) : 0;
     fmt::print("soak {:.1f} min over {} tiles, budget {} MB, {} render threads: {} frames\n", s.minutes,
                ds.tiles.size(), s.budget >> 20, s.threads, totals.frames);
-    fmt::print("resident MB: {:.0f} at {:.0f} s (the warm-up), largest after it {:.0f} ({:+.1f}%), at the end {:.0f}\n",
-               totals.rss_warm_mb, warm_s, totals.rss_max_after_mb, growth, totals.rss_end_mb);
+    fmt::print("resident MB (medians): {:.0f} over the {:.0f} s after the warm-up, {:.0f} over the last {:.0f} s "
+               "({:+.1f}%); largest after the warm-up {:.0f}\n",
+               first, warm_s, last, warm_s, growth, totals.rss_max_after_mb);
     fmt::print("frames over 100 ms beyond 5 s of the start or a budget change: {}; errors: {}; CSV: {}\n",
                totals.slow_frames, totals.errors, s.csv);
     return growth < 2 && totals.slow_frames == 0 && totals.errors == 0 ? 0 : 1;

@@ -15,7 +15,7 @@ gnuplot <<GP
 set datafile separator ","
 set terminal pngcairo size 1400,700 font ",11"
 set output "$tmp"
-set title "$title"
+set title "$title" noenhanced
 set key outside bottom center horizontal
 set xlabel "minutes"
 set ylabel "MB"
