@@ -422,6 +422,8 @@ TEST_F(DatasetInputs, ArgumentsListsLinksAndHardLinksNamingOneTileReadItOnce) {
         << warning;
 }
 
+// A loop of `next` pages naming one tile (through two names) reads it once: the second page repeats
+// the first's items, so the walk stops there with one line (stac_catalog.cpp), before any copy is counted.
 TEST_F(DatasetInputs, ALoopOfNextPagesNamingOneTileReadsItOnce) {
     constexpr int kPages = 33;
     for (int i = 0; i < kPages; ++i) {  // page i names t.las and links page i + 1 (the last, page 0 again)
@@ -433,9 +435,10 @@ TEST_F(DatasetInputs, ALoopOfNextPagesNamingOneTileReadsItOnce) {
     const Dataset ds = open_dataset({path("page0.json")});
     ASSERT_EQ(ds.tiles.size(), 1u);
     EXPECT_EQ(ds.point_count, kPoints);
-    const std::string warning = duplicates_warning(ds);
-    EXPECT_NE(warning.find("32 inputs name tiles already named"), std::string::npos) << warning;
-    EXPECT_NE(warning.find("(33 times)"), std::string::npos) << warning;
+    std::string lines;
+    for (const auto& s : ds.skipped) lines += s.error + "\n";
+    for (const auto& w : ds.warnings) lines += w.message + "\n";
+    EXPECT_NE(lines.find("repeats the items of page 1"), std::string::npos) << lines;
 }
 
 TEST_F(DatasetInputs, ManyTilesNamedAgainAreListedShort) {
