@@ -613,13 +613,12 @@ private:
 
     unsigned job_threads() const { return std::max(1u, std::thread::hardware_concurrency()); }
 
-    // The process's budget kept (viewer/process_budget.hpp): a few times a second the allocator's free
-    // pages go back to the system, what the process holds beyond the scheduler's ledger is measured and
-    // the scheduler's share set from it.
+    // The process's budget kept (viewer/process_budget.hpp): a few times a second what the process holds
+    // beyond the scheduler's ledger is measured and the scheduler's share set from it. (The residency
+    // returns freed pages to the system where it releases or decodes: no trim here, on the frame's thread.)
     void budget_step() {
         if (!session_.open() || !budget_tick_.due(1)) return;
         budget_tick_.done();
-        trim_heap();
         budget_.observe(resident_bytes(), session_.scheduler->stats().bytes_used);
         apply_budget();
     }
