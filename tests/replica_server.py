@@ -17,9 +17,9 @@ is read from the source file. It answers:
          ListObjectsV2 (prefix, continuation-token, start-after, max-keys up to 1000 a page, keys in byte
          order, the XML S3 writes; a delimiter is echoed but groups nothing: the keys hold no '/').
   VPC    GET/HEAD /catalog.vpc: one QGIS virtual point cloud (STAC ItemCollection) of every tile, laid
-         out as `lidarscout catalog` writes it (dump(1)); each item is the item `PROGRAM catalog` writes
-         for the tile's source, with its id, asset href ("./tiles/NAME"), proj:bbox and proj:geometry
-         moved. The WGS 84 bbox and geometry are the source's moved by the shift in degrees at the
+         out as `lidarscout catalog` writes it (an item a line); each item is the item `PROGRAM catalog` writes
+         for the tile's source, with its id, asset href ("./tiles/NAME"), proj:bbox (and proj:geometry,
+         where an item has one) moved. The WGS 84 bbox and geometry are the source's moved by the shift in degrees at the
          source's latitude (an approximation: no PROJ here; readers place tiles by proj:bbox).
          Generated on the fly (each item's length is known, so any range is made from the items it
          covers): never held whole in memory.
@@ -203,7 +203,7 @@ class Replica:
 # --- catalog items ------------------------------------------------------------------------------------
 
 PLACEHOLDER = re.compile(r'"@@(\w+)@@"')
-CATALOG_HEAD = '{\n "type": "FeatureCollection",\n "features": [\n'
+CATALOG_HEAD = '{"type":"FeatureCollection","features":[\n'
 ITEM_SEPARATOR = ",\n"
 
 
@@ -255,10 +255,11 @@ class ItemTemplate:
         t["id"], t["assets"]["data"]["href"] = "@@ID@@", "@@HREF@@"
         pb[0], pb[1], pb[3], pb[4] = "@@X0@@", "@@Y0@@", "@@X1@@", "@@Y1@@"
         bb[0], bb[1], bb[3], bb[4] = "@@W@@", "@@S@@", "@@E@@", "@@N@@"
-        mark_ring(props["proj:geometry"], ("X0", "X1"), ("Y0", "Y1"), (self.proj[0], self.proj[1]))
+        if "proj:geometry" in props:  # (written by earlier versions)
+            mark_ring(props["proj:geometry"], ("X0", "X1"), ("Y0", "Y1"), (self.proj[0], self.proj[1]))
         mark_ring(t["geometry"], ("W", "E"), ("S", "N"), (self.lonlat[0], self.lonlat[1]))
-        # at the depth of an item in a FeatureCollection's "features", as nlohmann's dump(1) lays it out
-        text = "\n".join("  " + line for line in json.dumps(t, indent=1).split("\n"))
+        # one line, as `lidarscout catalog` writes an item
+        text = json.dumps(t, separators=(",", ":"))  # (ASCII: offsets are bytes)
         pieces = PLACEHOLDER.split(text)
         self.literals, self.fields = pieces[0::2], pieces[1::2]
 
@@ -363,11 +364,10 @@ class ItemDocument:
 
 
 def json_tail(fields):
-    """The end of an ItemCollection whose "features" precede `fields`, laid out as dump(1) does."""
+    """The end of an ItemCollection whose "features" precede `fields`, laid out as `lidarscout catalog` does."""
     if not fields:
-        return "\n ]\n}\n"
-    inner = json.dumps(fields, indent=1)[2:-2]  # without "{\n" and "\n}"
-    return "\n ],\n" + inner + "\n}\n"
+        return "\n]}\n"
+    return "\n]," + json.dumps(fields, separators=(",", ":"))[1:] + "\n"
 
 
 # --- HTTP ---------------------------------------------------------------------------------------------

@@ -123,6 +123,29 @@ std::string unique_id(const std::string& path, std::set<std::string>& used) {
     return id;
 }
 
+// The tile's CRS in `props`: proj:epsg when one EPSG code says all of it, else proj:wkt2 (a compound CRS,
+// or one without a code). The projection extension takes one of them, and the VPC specification asks
+// for WKT where a single code would lose the heights' part; 1.9 KB of WKT in every item would make a
+// country's catalog hundreds of MB. False when PROJ does not know the CRS: the item then has none (the
+// tile's own header still says it).
+bool add_crs(const Tile& tile, ordered_json& props) {
+    const std::string def = geo::crs_definition(tile.crs());
+    std::string wkt;
+    try {
+        if (!def.empty()) wkt = geo::crs_info(def).wkt;
+    } catch (const Error&) {
+        return false;
+    }
+    if (wkt.empty()) return false;
+    const auto epsg = tile.crs().epsg;
+    if (epsg && def == "EPSG:" + std::to_string(*epsg)) {
+        props["proj:epsg"] = *epsg;
+    } else {
+        props["proj:wkt2"] = wkt;
+    }
+    return true;
+}
+
 ordered_json item_json(const Tile& tile, const std::string& path, const std::string& id, const fs::path& folder,
                        bool& without_crs) {
     const las::Header& h = tile.header;
@@ -133,17 +156,8 @@ ordered_json item_json(const Tile& tile, const std::string& path, const std::str
     props["pc:encoding"] = tile.copc ? "application/vnd.laszip+copc" : tile.compressed() ? "laszip" : "binary";
     props["pc:schemas"] = point_schema(h.point_format);
     props["proj:bbox"] = {h.min[0], h.min[1], h.min[2], h.max[0], h.max[1], h.max[2]};
-    props["proj:geometry"] = box_polygon(h.min[0], h.min[1], h.max[0], h.max[1]);
-    const std::string def = geo::crs_definition(tile.crs());
-    std::string wkt;
-    try {
-        if (!def.empty()) wkt = geo::crs_info(def).wkt;
-    } catch (const Error&) {
-        // a CRS PROJ does not know: written without one (the tile's own header still says it)
-    }
-    props["proj:wkt2"] = wkt;
-    if (tile.crs().epsg && !wkt.empty()) props["proj:epsg"] = *tile.crs().epsg;
-    without_crs = wkt.empty();
+    // (no proj:geometry: it would be proj:bbox's rectangle again, which readers take instead)
+    without_crs = !add_crs(tile, props);
     const auto ll = tile_lonlat_bounds(tile);
     ordered_json item;
     item["type"] = "Feature";
@@ -211,22 +225,28 @@ CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& outp
     const fs::path folder = fs::absolute(output).parent_path();
     CatalogWriteResult result;
     result.ids = catalog_ids(dataset, options);
-    ordered_json features = ordered_json::array();
+    // One item a line, written as it is made: a country's catalog is never held whole, as text or as JSON.
+    io::AtomicOutputFile out(output);
+    const auto write = [&out](const std::string& text) {
+        out.write(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+    };
+    write("{\"type\":\"FeatureCollection\",\"features\":[\n");
     for (std::size_t i = 0; i < dataset.tiles.size(); ++i) {
         bool without_crs = false;
-        features.push_back(item_json(dataset.tiles[i].tile, path_of(i), result.ids[i], folder, without_crs));
+        const auto item = item_json(dataset.tiles[i].tile, path_of(i), result.ids[i], folder, without_crs);
+        write((i ? ",\n" : "") + item.dump());
         result.without_crs += without_crs;
         ++result.items;
     }
-    ordered_json doc = {{"type", "FeatureCollection"}, {"features", std::move(features)}};
+    write("\n]");
     if (!options.overview.empty()) {
-        doc["links"] = {{{"rel", kOverviewRel}, {"href", href_of(options.overview, folder)},
-                         {"type", "application/vnd.laszip"}, {"title", "overview sidecar: every tile's chunk points "
-                                                                       "and metadata (lidarscout)"}}};
+        const ordered_json links = {{{"rel", kOverviewRel}, {"href", href_of(options.overview, folder)},
+                                     {"type", "application/vnd.laszip"},
+                                     {"title", "overview sidecar: every tile's chunk points and metadata "
+                                               "(lidarscout)"}}};
+        write(",\"links\":" + links.dump());
     }
-    const std::string text = doc.dump(1) + "\n";
-    io::AtomicOutputFile out(output);
-    out.write(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+    write("}\n");
     out.commit();
     return result;
 }

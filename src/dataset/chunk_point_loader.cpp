@@ -132,8 +132,8 @@ public:
     // The tiles whose chunk points an overview sidecar holds, nearest to the focus first, from its
     // records (no read).
     void publish_held() {
-        const auto [x, y] = focus();
-        const auto distance = [&](std::uint32_t id) { return ds_.tiles[id].bounds_m.distance_xy(x, y); };
+        const auto at = focus();  // (not a structured binding: clang 14 cannot capture one)
+        const auto distance = [&](std::uint32_t id) { return ds_.tiles[id].bounds_m.distance_xy(at.first, at.second); };
         std::stable_sort(held_.begin(), held_.end(), [&](auto a, auto b) { return distance(a) < distance(b); });
         for (const std::uint32_t id : held_) {
             if (is_cancelled()) return;
