@@ -45,6 +45,7 @@ ProcessBudgetPlan ProcessBudget::plan() const {
                       n(asked_), n(least), n(held), n(kLeastDataBytes), n(least),
                       network_wanted_ && !network_ ? ", linear heightmaps only" : "");
         p.note = line;
+        p.below = true;
     } else if (network_wanted_ && !network_) {
         std::snprintf(line, sizeof line,
                       "the memory budget at start (%llu MiB) left no room for the heightmap network (%llu MiB with "

@@ -24,6 +24,7 @@ struct ProcessBudgetPlan {
     bool network = true;     // the heightmap network fits (decided once, at start)
     std::string note;        // one line when the budget is below what the viewer needs (or leaves out
                              // the network); empty else
+    bool below = false;      // the note says the budget is below what the viewer needs
 };
 
 class ProcessBudget {

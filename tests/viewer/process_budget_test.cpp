@@ -34,6 +34,7 @@ TEST(ProcessBudget, TheNetworkOnlyWhereItFits) {
     EXPECT_EQ(p.data, 106 * MiB);
     EXPECT_EQ(p.note, "the memory budget at start (256 MiB) left no room for the heightmap network (150 MiB with its "
                       "libraries): linear heightmaps only");
+    EXPECT_FALSE(p.below);
     EXPECT_FALSE(ProcessBudget(4096 * MiB, 150 * MiB, false).plan().network);  // not wanted: no note
     EXPECT_EQ(ProcessBudget(4096 * MiB, 150 * MiB, false).plan().note, "");
 }
@@ -46,10 +47,12 @@ TEST(ProcessBudget, BelowWhatTheViewerNeedsItSaysSoAndRunsWithTheLeast) {
     EXPECT_EQ(p.note, "memory budget 128 MiB is below the 182 MiB the viewer needs to run (150 MiB for the program, "
                       "its libraries, window and threads, 32 MiB for data): running with 182 MiB, linear heightmaps "
                       "only");
+    EXPECT_TRUE(p.below);
     b.set_asked(512 * MiB);  // a larger budget from the panel: room again (the network stays off)
     EXPECT_EQ(b.plan().data, 362 * MiB);
     EXPECT_EQ(b.plan().note, "the memory budget at start (128 MiB) left no room for the heightmap network (150 MiB "
                              "with its libraries): linear heightmaps only");
+    EXPECT_FALSE(b.plan().below);
 }
 
 }  // namespace

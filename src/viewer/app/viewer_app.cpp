@@ -262,9 +262,27 @@ ViewSettings initial_settings(const dataset::Dataset& ds, std::uint64_t budget, 
     return v;
 }
 
+// One frame of text on the window, not counted as a frame: what OpenGL maps when it first draws is then in
+// the program's share (a software OpenGL such as Mesa's llvmpipe under Xvfb maps its shader compiler, some
+// 60 MB of LLVM, at its first draw; measured before it, that would later crowd the data out of the budget).
+void draw_first_frame(GLFWwindow* window) {
+    glClearColor(0, 0, 0, 1);
+    glClear(GL_COLOR_BUFFER_BIT);
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    ImGui::Begin("lidarscout");
+    ImGui::TextUnformatted("opening...");
+    ImGui::End();
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+    glfwSwapBuffers(window);
+}
+
 // The budget the user gave (or the default) for the whole process; what it holds now, its window
-// up and no dataset read, is the program's share at start.
-ProcessBudget process_budget(const ViewerOptions& o) {
+// up and drawn once, no dataset read, is the program's share at start.
+ProcessBudget process_budget(const ViewerOptions& o, GLFWwindow* window) {
+    draw_first_frame(window);
     return ProcessBudget(o.memory_budget ? o.memory_budget : default_memory_budget(), resident_bytes(), o.cnn);
 }
 
@@ -346,10 +364,11 @@ public:
     explicit ViewerLoop(const ViewerOptions& o)
         : o_(o), start_(Clock::now()), win_(o.width, o.height, "lidarscout"), gui_(win_.window),
           pool_(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency())),
-          budget_(process_budget(o)), opening_(start_opening(o.paths, o, true, budget_.plan())), previous_(start_),
+          budget_(process_budget(o, win_.window)), opening_(start_opening(o.paths, o, true, budget_.plan())),
+          previous_(start_),
           scripted_clicks_done_(o.clicks.empty() && !o.measure) {
         install_callbacks(win_.window, events_);
-        report_budget_note(budget_.plan().note);
+        report_budget_note(budget_.plan());
         if (!o.session_path.empty()) panels_.session_path = o.session_path;  // "save session" writes it back
         const auto catalog = [](const std::string& p) {
             return dataset::is_stac_catalog(p) && !dataset::is_virtual_replica(p);  // both may end in .json
@@ -630,14 +649,17 @@ private:
         if ((plan.data > now ? plan.data - now : now - plan.data) >= (1u << 20)) {
             session_.scheduler->set_memory_budget(plan.data);
         }
-        if (budget_note_.empty()) report_budget_note(plan.note);
+        if (budget_note_.empty() || (plan.below && !said_below_)) report_budget_note(plan);
         budget_note_ = plan.note;
     }
 
-    // The line saying the budget is below what the viewer needs, on stderr once (the panel's notes keep it).
-    void report_budget_note(const std::string& note) {
-        if (!note.empty()) std::fprintf(stderr, "lidarscout: %s\n", note.c_str());
-        budget_note_ = note;
+    // The line saying the budget is below what the viewer needs (or leaves the network out), on stderr once
+    // of each kind: a budget found below it later, as the program's share grows, is said too (the panel's
+    // notes keep the line, its figures kept up to date).
+    void report_budget_note(const ProcessBudgetPlan& plan) {
+        if (!plan.note.empty()) std::fprintf(stderr, "lidarscout: %s\n", plan.note.c_str());
+        budget_note_ = plan.note;
+        said_below_ = said_below_ || plan.below;
     }
 
     // The memory figures of the run (ViewerTimings).
@@ -879,6 +901,7 @@ private:
     GlPresenter presenter_;
     ThreadPool pool_;
     ProcessBudget budget_;            // measured with the window up, before any dataset
+    bool said_below_ = false;         // the line saying the budget is below what the viewer needs was written
     Throttle budget_tick_{std::chrono::milliseconds(250), 0};
     std::string budget_note_;         // the budget is below what the viewer needs (shown in the panel)
     std::unique_ptr<SessionOpening> opening_;
