@@ -1,11 +1,16 @@
 """The Python module's figures on ky-jmo335 (run with /usr/bin/python3, PYTHONPATH=build/python):
 `ds.read` of a region against `lidarscout clip` of the same region (to .las and to .laz; medians of
---runs), and the peak resident memory of a child process that iter_reads every point in 1 M batches.
+--runs), and the peak resident memory of a child process that iter_reads every point in 1 M batches. With
+--replica MANIFEST (a virtual replica, `lidarscout synth replicate ... --virtual`): `lidarscout.open(MANIFEST)
+.overview()` in a child process against `lidarscout scan MANIFEST --json`, medians of --runs, with peak memory.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/bench_python.py [--runs 3] [--cli build/lidarscout]
+                                                                  [--replica MANIFEST]
 """
 
 import argparse
+import json
+import os
 import pathlib
 import statistics
 import subprocess
@@ -19,12 +24,21 @@ REGIONS = {"corner of 4 tiles": (5679000.0, 3774000.0, 5681000.0, 3776000.0),
            "whole survey": (5673834.0, 3768732.0, 5681835.0, 3776733.0)}
 
 PEAK_CHILD = """
-import resource, sys, time
+import sys, time
 import lidarscout
 ds = lidarscout.open(sys.argv[1])
 t0 = time.perf_counter()
 n = sum(len(b) for b in ds.iter_read(batch=1_000_000))
-print(n, time.perf_counter() - t0, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+peak_kib = next(line.split()[1] for line in open("/proc/self/status") if line.startswith("VmHWM:"))
+print(n, time.perf_counter() - t0, int(peak_kib) / 1024)
+"""
+
+
+OVERVIEW_CHILD = """
+import sys
+import lidarscout
+points = lidarscout.open(sys.argv[1]).overview()
+print(len(points))
 """
 
 
@@ -46,11 +60,39 @@ def clip_seconds(cli, bounds, suffix, runs):
         return timed(lambda: subprocess.run(args, check=True, capture_output=True), runs)[0]
 
 
+def child_peak_kib(args):
+    """Runs `args` and returns its standard output and its peak resident memory (KiB, wait4's: the child's
+    own, the bench's process being small when it forks)."""
+    process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    out = process.stdout.read()
+    _, status, usage = os.wait4(process.pid, 0)
+    process.returncode = os.waitstatus_to_exitcode(status)
+    if process.returncode != 0:
+        raise SystemExit(f"{args[0]} failed with status {process.returncode}")
+    return out, usage.ru_maxrss
+
+
+def overview_against_scan(cli, manifest, runs):
+    scan = [cli, "scan", manifest, "--json"]
+    overview = [sys.executable, "-c", OVERVIEW_CHILD, manifest]
+    figures = {}
+    for name, args in (("scan", scan), ("overview", overview)):
+        seconds, (out, peak) = timed(lambda a=args: child_peak_kib(a), runs)
+        figures[name] = seconds
+        count = json.loads(out)["chunk_points"] if name == "scan" else int(out.split()[0])
+        print(f"{name}: {count:,} chunk points, {seconds:.2f} s (median of {runs}), "
+              f"peak resident {peak / 1024:.0f} MiB")
+    print(f"overview / scan: {figures['overview'] / figures['scan']:.2f}x")
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--cli", default=str(REPO / "build" / "lidarscout"))
+    parser.add_argument("--replica", help="a virtual replica's replicate.json: overview() against scan only")
     args = parser.parse_args()
+    if args.replica:
+        return overview_against_scan(args.cli, args.replica, args.runs)
     import lidarscout
     ds = lidarscout.open(str(SURVEY))
     for name, bounds in REGIONS.items():

@@ -9,11 +9,25 @@ install(TARGETS lidarscout_torch LIBRARY DESTINATION lib/lidarscout)
 if(TARGET lidarscout_cuda_raster)
   install(TARGETS lidarscout_cuda_raster LIBRARY DESTINATION lib/lidarscout)
 endif()
-# The Python module into Debian's path for packaged modules (/usr/lib/python3/dist-packages with
-# --prefix /usr, as the .deb installs it).
-set(LIDARSCOUT_PYTHON_INSTALL_DIR lib/python3/dist-packages CACHE STRING "Where the Python module is installed")
-install(TARGETS lidarscout_python_module LIBRARY DESTINATION ${LIDARSCOUT_PYTHON_INSTALL_DIR}/lidarscout)
-install(FILES ${LIDARSCOUT_PYTHON_SOURCES} DESTINATION ${LIDARSCOUT_PYTHON_INSTALL_DIR}/lidarscout)
+# The Python module where Debian's python3 looks for it under the prefix the install is given (chosen when it
+# runs: `cmake --install --prefix` and CPack set the prefix then): lib/python3/dist-packages for /usr (Debian's
+# packaged modules; also CPack's staged .../usr of the .deb), lib/python3.X/dist-packages for /usr/local (the
+# default prefix: Debian's local modules), lib/python3.X/site-packages elsewhere (as for ~/.local or a venv).
+set(LIDARSCOUT_PYTHON_SITE_DIR "" CACHE STRING "Where the Python module is installed (empty: by the prefix)")
+set(LIDARSCOUT_PYTHON_VERSION python${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR})
+math(EXPR LIDARSCOUT_PYTHON_NEXT_MINOR "${Python3_VERSION_MINOR} + 1")
+install(CODE "
+  if(NOT \"${LIDARSCOUT_PYTHON_SITE_DIR}\" STREQUAL \"\")
+    set(LIDARSCOUT_PYTHON_DESTINATION \"${LIDARSCOUT_PYTHON_SITE_DIR}\")
+  elseif(CMAKE_INSTALL_PREFIX MATCHES \"(^|/)usr/*$\")
+    set(LIDARSCOUT_PYTHON_DESTINATION lib/python3/dist-packages)
+  elseif(CMAKE_INSTALL_PREFIX MATCHES \"(^|/)usr/local/*$\")
+    set(LIDARSCOUT_PYTHON_DESTINATION lib/${LIDARSCOUT_PYTHON_VERSION}/dist-packages)
+  else()
+    set(LIDARSCOUT_PYTHON_DESTINATION lib/${LIDARSCOUT_PYTHON_VERSION}/site-packages)
+  endif()")
+install(TARGETS lidarscout_python_module LIBRARY DESTINATION \${LIDARSCOUT_PYTHON_DESTINATION}/lidarscout)
+install(FILES ${LIDARSCOUT_PYTHON_SOURCES} DESTINATION \${LIDARSCOUT_PYTHON_DESTINATION}/lidarscout)
 install(FILES models/heightmap_cnn.pt models/README.md DESTINATION share/lidarscout/models)
 install(FILES packaging/lidarscout.desktop DESTINATION share/applications)
 install(FILES README.md DESTINATION share/doc/lidarscout)
@@ -28,4 +42,8 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)  # depends on the Debian packages of the libraries it links
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS ${CMAKE_BINARY_DIR})
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+# The Python module (built for this python3.X, its ABI in the file name) needs that Python and numpy; the
+# program does not: recommended, not required.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "python3 (>= ${Python3_VERSION_MAJOR}.${Python3_VERSION_MINOR}), \
+python3 (<< ${Python3_VERSION_MAJOR}.${LIDARSCOUT_PYTHON_NEXT_MINOR}), python3-numpy")
 include(CPack)

@@ -44,7 +44,7 @@ void keep_piece(const dataset::DatasetTile& t, const FrameUnits& units, std::spa
     }
 }
 
-// Filters one batch's records on the pool and hands the kept ones to fn in file order.
+// Filters one batch's records on the pool and hands the kept ones to fn in file order, a piece at a time.
 void keep_batch(const dataset::DatasetTile& t, const FrameUnits& units, std::uint32_t tile,
                 std::span<const std::uint8_t> records,
                 const Region& region, const PointFilter& filter, ThreadPool& pool, const RegionBatchFn& fn,
@@ -55,14 +55,12 @@ void keep_batch(const dataset::DatasetTile& t, const FrameUnits& units, std::uin
         const std::size_t first = i * kPiece, count = std::min(kPiece, n - first);
         keep_piece(t, units, records.subspan(first * length, count * length), region, filter, pieces[i]);
     });
-    Kept all;
-    for (auto& piece : pieces) {
-        all.records.insert(all.records.end(), piece.records.begin(), piece.records.end());
-        all.points.insert(all.points.end(), piece.points.begin(), piece.points.end());
-    }
     stats.points_read += n;
-    stats.points_kept += all.points.size();
-    if (!all.points.empty()) fn(RegionBatch{tile, all.records, all.points});
+    for (auto& piece : pieces) {  // each piece as it is (a batch's kept points copied into one would double them)
+        stats.points_kept += piece.points.size();
+        if (!piece.points.empty()) fn(RegionBatch{tile, piece.records, piece.points});
+        piece = Kept();
+    }
 }
 
 // One tile's batches; an Error opening it, reading a batch (not a chunk: those are skipped alone)

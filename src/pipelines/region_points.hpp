@@ -104,7 +104,8 @@ struct ReadWatch {
 
 // Reads `tiles` (tiles_touching the region) one after the other, calling fn with the kept points
 // of each batch (about `batch_points` points read, at least a LAZ chunk, decoded in parallel on `pool`;
-// memory is a few hundred bytes a point of a batch). A tile that cannot
+// memory is a few hundred bytes a point of a batch), in file order, a piece of at most 32 Ki points
+// read at a time (several calls a batch; none for a piece that keeps nothing). A tile that cannot
 // be opened or placed (a point outside its CRS's area) or a LAZ chunk that cannot be decoded is
 // left out and named in the result. fn may not use `pool`.
 RegionReadStats read_region_points(const dataset::Dataset& ds, std::span<const std::uint32_t> tiles,
