@@ -396,6 +396,29 @@ TEST(StacCatalogRemote, ARemoteItemNestedDeepIsOneLine) {
     EXPECT_NE(c.errors[0].find("nested more than the limit of 256 deep"), std::string::npos) << c.errors[0];
 }
 
+// A remote catalog of several read-ahead blocks (dataset/json_file.cpp: 8 MiB each, four asked at once)
+// is read whole and in order: the same items as from the file, each id where it was written.
+TEST(StacCatalogRemote, ACatalogOfSeveralReadAheadBlocksIsReadWholeAndInOrder) {
+    const auto& server = test::NginxServer::instance();
+    std::vector<json> items;
+    const std::string filler(1000, 'x');  // (read past, as a catalog's unused properties are)
+    for (int i = 0; i < 30'000; ++i) {
+        items.push_back(item("t" + std::to_string(i), "../t" + std::to_string(i) + ".laz",
+                             {{"pc:count", i + 1}, {"description", filler}}));
+    }
+    const fs::path local = server.lists_dir() / "big.vpc";
+    std::ofstream(local) << collection_of(std::move(items)).dump();
+    ASSERT_GT(fs::file_size(local), 3u * (8u << 20)) << "more than three blocks, the last one short";
+    const Catalog remote = read_catalog(server.url("lists/big.vpc"));
+    ASSERT_EQ(remote.items.size(), 30'000u);
+    EXPECT_TRUE(remote.errors.empty()) << remote.errors.front();
+    for (std::size_t i = 0; i < remote.items.size(); i += 997) {
+        EXPECT_EQ(remote.items[i].id, "t" + std::to_string(i));
+        EXPECT_EQ(remote.items[i].count, i + 1);
+    }
+    EXPECT_EQ(remote.items.back().id, "t29999");
+}
+
 TEST(StacCatalogRemote, HrefsResolveAgainstTheUrlAndKeepItsOrigin) {
     const auto& server = test::NginxServer::instance();
     const json vpc = collection_of({item("w", std::string("../") + (kIgn / kBridgeWest).string()),
