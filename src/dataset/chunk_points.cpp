@@ -2,6 +2,7 @@
 #include "dataset/chunk_points.hpp"
 
 #include "core/error.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "laz/laz.hpp"
@@ -35,6 +36,20 @@ std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile
     for (const auto& at : chunk_point_locations(tile, las_stride)) {
         file.read_exact(at.offset, buf, "chunk point record");
         out.push_back({at.index, las::decode_point(buf, fmt, tile.header)});
+    }
+    return out;
+}
+
+std::vector<ChunkPoint> tile_chunk_points(const Tile& tile, std::uint64_t las_stride) {
+    const auto locations = chunk_point_locations(tile, las_stride);
+    const auto records = overview_records(tile, locations.size());
+    if (records.empty()) return read_chunk_points(io::File::open(tile.path()), tile, las_stride);
+    const std::size_t length = tile.header.record_length;
+    const auto& fmt = las::point_format_info(tile.header.point_format);
+    std::vector<ChunkPoint> out;
+    out.reserve(locations.size());
+    for (std::size_t k = 0; k < locations.size(); ++k) {
+        out.push_back({locations[k].index, las::decode_point(records.subspan(k * length, length), fmt, tile.header)});
     }
     return out;
 }

@@ -39,6 +39,10 @@ std::vector<ChunkPointLocation> chunk_point_locations(const Tile& tile,
 std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile,
                                           std::uint64_t las_stride = kLasChunkPointStride);
 
+// The chunk points of `tile`: from the records an overview sidecar holds for it (no read; see
+// dataset/overview_sidecar.hpp), else read from its file (read_chunk_points).
+std::vector<ChunkPoint> tile_chunk_points(const Tile& tile, std::uint64_t las_stride = kLasChunkPointStride);
+
 // How many chunk points read_chunk_points would return (no point reads).
 std::uint64_t chunk_point_count(const Tile& tile, std::uint64_t las_stride = kLasChunkPointStride);
 

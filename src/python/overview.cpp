@@ -8,7 +8,6 @@
 
 #include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
-#include "io/file.hpp"
 #include "pipelines/region_points.hpp"
 
 namespace lidarscout::python {
@@ -17,7 +16,7 @@ namespace {
 // Writes tile `t`'s chunk points at `out` (room for `room`); returns how many were written.
 std::size_t read_tile_points(const dataset::Dataset& ds, std::uint32_t t, PointRecord* out, std::size_t room) {
     const auto& tile = ds.tiles[t];
-    const auto points = dataset::read_chunk_points(io::File::open(tile.tile.path()), tile.tile, ds.las_stride);
+    const auto points = dataset::tile_chunk_points(tile.tile, ds.las_stride);
     const pipelines::FrameUnits units(tile, ds.frame);
     const std::size_t n = std::min(points.size(), room);
     for (std::size_t i = 0; i < n; ++i) {

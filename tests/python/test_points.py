@@ -1,6 +1,8 @@
 """ds.overview(), ds.read() and ds.iter_read() against the CLI on the shared surveys: the overview is
 `scan`'s chunk points (and `info --chunks`' values), a region's points are the points `clip` writes."""
 
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -31,6 +33,20 @@ def test_overview_is_scans_chunk_points(jmo335):
     assert set(np.unique(points["tile"])) == set(range(len(jmo335.tiles)))
     assert points.dtype.names == ("x", "y", "z", "intensity", "return_number", "number_of_returns",
                                   "classification", "red", "green", "blue", "tile")
+
+
+def test_overview_of_a_catalog_with_a_sidecar_reads_no_tile(tmp_path):
+    # A virtual replica's catalog names tiles that are not on disk: only its overview sidecar holds their
+    # chunk points, and overview() takes them from it, as scan does.
+    run_cli("synth", "replicate", WOODFORD, "--grid", "3x2", "--virtual", "-o", tmp_path / "rep")
+    vpc = tmp_path / "rep.vpc"
+    run_cli("catalog", tmp_path / "rep" / "replicate.json", "-o", vpc, "--overview")
+    ds = lidarscout.open(str(vpc))
+    assert not any(pathlib.Path(t["path"]).exists() for t in ds.tiles)
+    points = ds.overview()
+    assert ds.last_skipped == []
+    assert len(points) == run_cli("scan", vpc, "--json")["chunk_points"] > 0
+    assert set(np.unique(points["tile"])) == set(range(len(ds.tiles)))
 
 
 def test_overview_values_are_infos_chunk_points(woodford):
