@@ -36,25 +36,26 @@ constexpr std::size_t kTiles = 144;
 struct Replica {
     fs::path dir;
     std::unique_ptr<test::ReplicaServer> server;
+    ~Replica() {
+        server.reset();
+        if (!dir.empty()) fs::remove_all(dir);
+    }
 };
 
 Replica& replica() {
-    static Replica r = [] {
-        net::RangeCache::configure({{}, 0});
-        Replica out;
-        out.dir = fs::temp_directory_path() / ("lidarscout_placed_" + std::to_string(::getpid()));
-        fs::remove_all(out.dir);
-        const std::string tile = (test::surveys_dir() / "ky-jmo335-eastern-kentucky" / "N117E380.laz").string();
-        const std::string cmd = std::string(LIDARSCOUT_CLI) + " synth replicate " + tile +
-                                " --grid 12x12 --virtual -o " + (out.dir / "r").string() + " >/dev/null";
-        if (std::system(cmd.c_str()) != 0) throw std::runtime_error("cannot make the replica: " + cmd);
-        out.server = std::make_unique<test::ReplicaServer>(out.dir / "r" / "replicate.json");
-        return out;
-    }();
+    static Replica r;
+    if (r.server) return r;
+    net::RangeCache::configure({{}, 0});
+    r.dir = fs::temp_directory_path() / ("lidarscout_placed_" + std::to_string(::getpid()));
+    fs::remove_all(r.dir);
+    const std::string tile = (test::surveys_dir() / "ky-jmo335-eastern-kentucky" / "N117E380.laz").string();
+    const std::string cmd = std::string(LIDARSCOUT_CLI) + " synth replicate " + tile + " --grid 12x12 --virtual -o " +
+                            (r.dir / "r").string() + " >/dev/null";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("cannot make the replica: " + cmd);
+    r.server = std::make_unique<test::ReplicaServer>(r.dir / "r" / "replicate.json");
     return r;
 }
 
-// The tile requests since the last call (the tiles opened before forgotten: every open a request again).
 double tile_requests(bool reset = true) {
     const auto stats = replica().server->stats(reset);
     return stats.at("kinds").at("tile").at("requests").get<double>() +
