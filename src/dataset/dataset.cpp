@@ -431,9 +431,11 @@ void summarise(Dataset& ds) {
 // acquire load), why a read failed, and what settle_tiles takes from each header read.
 class PlacedTiles {
 public:
-    PlacedTiles(std::vector<TileSource> sources, std::uint64_t las_stride)
+    PlacedTiles(std::vector<TileSource> sources, std::uint64_t las_stride, bool frame_asked)
         : sources_(std::move(sources)), state_(std::make_unique<std::atomic<std::uint8_t>[]>(sources_.size())),
-          las_stride_(las_stride) {}
+          las_stride_(las_stride), frame_asked_(frame_asked) {}
+
+    bool frame_asked() const { return frame_asked_; }
 
     bool is_ready(std::size_t i) const { return state_[i].load(std::memory_order_acquire) == kReady; }
     bool tried(std::size_t i) const { return state_[i].load(std::memory_order_acquire) >= kReady; }
@@ -557,6 +559,7 @@ private:
     std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
     std::atomic<std::size_t> ready_count_{0};
     const std::uint64_t las_stride_;
+    const bool frame_asked_;  // the frame is the CRS the caller asked for (not the items')
     TileReads reads_;
     mutable std::mutex mutex_;  // guards what follows
     std::unordered_map<std::size_t, std::string> errors_;
@@ -606,7 +609,14 @@ void settle(Dataset& ds, bool drop_unread) {
     ds.placed->settle(ds, drop_unread);
     add_up(ds);
     if (ds.placed->ready_count() < ds.tiles.size()) return;
-    ds.placed.reset();  // every tile read: a dataset like one opened by reading them
+    // Every tile read: a dataset like one opened by reading them, its frame too where the items chose it
+    // (the units the tiles' records say, not PROJ's for the items' CRS: they may differ in the last bit).
+    if (!ds.placed->frame_asked()) {
+        DatasetOptions options;
+        options.accept_degrees = ds.frame.geographic;
+        choose_frame(ds, options);
+    }
+    ds.placed.reset();
     add_crs_warnings(ds);
 }
 
@@ -683,7 +693,7 @@ std::optional<Dataset> open_placed(FoundSources& found, const DatasetOptions& op
         t.chunk_points = (t.points + stride - 1) / stride;
         t.xy_to_metres = ds.frame.xy_to_metres, t.z_to_metres = ds.frame.z_to_metres;
     }
-    ds.placed = std::make_shared<PlacedTiles>(std::move(found.sources), options.las_stride);
+    ds.placed = std::make_shared<PlacedTiles>(std::move(found.sources), options.las_stride, !options.crs.empty());
     add_up(ds);
     if (options.progress) options.progress(ds.tiles.size(), ds.tiles.size());
     return ds;

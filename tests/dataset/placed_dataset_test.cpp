@@ -3,12 +3,14 @@
 // ensure_tiles reads the headers asked for and no other; once every header is read it equals the dataset
 // opened by reading them (tiles, headers, bounds, counts), and so do the chunk points the loader reads
 // (headers on demand); a header that disagrees with its item is corrected and named; a tile that cannot
-// be read is skipped with its line, the rest kept; `clip` of a small region asks only its tiles.
+// be read is skipped with its line, the rest kept; `clip` and `dem` of a small region ask only its tiles and
+// write what the eager path writes.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <iterator>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -120,6 +122,11 @@ TEST(PlacedDataset, EnsureReadsTheTilesAskedForAloneThenEqualsTheEagerDataset) {
     EXPECT_EQ(ds.chunk_point_count, eager.chunk_point_count);
     EXPECT_EQ(ds.warnings.messages(), eager.warnings.messages());
     EXPECT_TRUE(ds.skipped.empty());
+    EXPECT_EQ(ds.frame.crs, eager.frame.crs);
+    EXPECT_EQ(ds.frame.xy_to_metres, eager.frame.xy_to_metres);
+    EXPECT_EQ(ds.frame.z_to_metres, eager.frame.z_to_metres);
+    EXPECT_EQ(ds.bounds_m.min_x, eager.bounds_m.min_x);
+    EXPECT_EQ(ds.bounds_m.max_z, eager.bounds_m.max_z);
     for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
         const auto &a = ds.tiles[i], &b = eager.tiles[i];
         ASSERT_EQ(a.tile.path(), b.tile.path());
@@ -195,26 +202,37 @@ TEST(PlacedDataset, ATileThatCannotBeReadIsSkippedWithItsLineTheRestKept) {
     EXPECT_NE(ds.skipped[0].error.find("item '"), std::string::npos) << ds.skipped[0].error;
 }
 
-TEST(PlacedDataset, AClipOfASmallRegionAsksItsOwnTilesAlone) {
+std::string file_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// `clip` and `dem` of a box inside one tile: from the served catalog they ask that tile alone (and the few
+// a DEM's blocks reach), and write what they write from the replica's manifest, byte for byte.
+TEST(PlacedDataset, AClipOrDemOfASmallRegionAsksItsOwnTilesAlone) {
     auto& r = replica();
     const Dataset eager = open(r.server->catalog_url(), false);
     const auto& b = eager.tiles[20].bounds_m;  // a box inside one tile, in the CRS's units
     const double f = eager.frame.xy_to_metres, cx = b.centre_x() / f, cy = b.centre_y() / f;
     const std::string box = fmt::format("{},{},{},{}", cx - 100, cy - 100, cx + 100, cy + 100);
-    const auto clip = [&](const std::string& input, const std::string& out) {
+    const auto run = [&](const std::string& command, const std::string& input, const std::string& out) {
         std::string text;
-        const std::string cmd = std::string(LIDARSCOUT_CLI) + " clip --cache-size 0 " + input + " --bounds " + box +
-                                " -o " + (r.dir / out).string() + " --json 2>/dev/null";
+        const std::string cmd = std::string(LIDARSCOUT_CLI) + " " + command + " --cache-size 0 " + input +
+                                " --bounds " + box + " -o " + (r.dir / out).string() + " >/dev/null 2>&1";
         EXPECT_EQ(test::run_command(cmd, text), 0) << cmd;
-        return nlohmann::json::parse(text, nullptr, false);
     };
+    const std::string manifest = (r.dir / "r" / "replicate.json").string();
     r.server->stats(true);
-    const auto placed = clip(r.server->catalog_url(), "placed.laz");
+    run("clip", r.server->catalog_url(), "placed.laz");
     EXPECT_EQ(r.server->stats(true).at("tiles_touched").get<int>(), 1);
-    const auto local = clip((r.dir / "r" / "replicate.json").string(), "local.laz");
-    EXPECT_GT(placed.at("points_written").get<std::uint64_t>(), 0u);
-    EXPECT_EQ(placed.at("points_written"), local.at("points_written"));
-    EXPECT_EQ(placed.at("tiles_touched"), local.at("tiles_touched"));
+    run("clip", manifest, "local.laz");
+    EXPECT_GT(fs::file_size(r.dir / "placed.laz"), 1000u);
+    EXPECT_EQ(file_bytes(r.dir / "placed.laz"), file_bytes(r.dir / "local.laz"));
+    run("dem", r.server->catalog_url(), "placed.tif");
+    EXPECT_LE(r.server->stats(true).at("tiles_touched").get<int>(), 9);
+    run("dem", manifest, "local.tif");
+    EXPECT_GT(fs::file_size(r.dir / "placed.tif"), 1000u);
+    EXPECT_EQ(file_bytes(r.dir / "placed.tif"), file_bytes(r.dir / "local.tif"));
 }
 
 }  // namespace
