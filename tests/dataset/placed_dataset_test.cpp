@@ -22,6 +22,8 @@
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
 #include "las/header_writer.hpp"
+#include "core/thread_pool.hpp"
+#include "pipelines/region_points.hpp"
 #include "net/range_cache.hpp"
 #include "net/remote_file.hpp"
 #include "replica_server.hpp"
@@ -200,6 +202,28 @@ TEST(PlacedDataset, ATileThatCannotBeReadIsSkippedWithItsLineTheRestKept) {
     ASSERT_EQ(ds.skipped.size(), 1u);
     EXPECT_NE(ds.skipped[0].error.find("no_such_tile.laz"), std::string::npos) << ds.skipped[0].error;
     EXPECT_NE(ds.skipped[0].error.find("item '"), std::string::npos) << ds.skipped[0].error;
+}
+
+// A pipeline's region read of a placed dataset, as the viewer's area and profile tools make it: the tiles
+// the region touches have their headers read first, the others not, and the points are the eager path's.
+TEST(PlacedDataset, ARegionReadOfAPlacedDatasetReadsItsTilesHeadersFirst) {
+    const std::string url = replica().server->catalog_url();
+    std::uint64_t kept[2] = {0, 0};
+    for (const bool placed : {true, false}) {
+        const Dataset ds = open(url, placed);
+        const auto& b = ds.tiles[20].bounds_m;
+        const double f = ds.frame.xy_to_metres, cx = b.centre_x() / f, cy = b.centre_y() / f;
+        const pipelines::Region region = pipelines::box_region(cx - 100, cy - 100, cx + 100, cy + 100);
+        const auto tiles = pipelines::tiles_touching(ds, region);
+        ASSERT_EQ(tiles, std::vector<std::uint32_t>{20});
+        EXPECT_EQ(ds.tiles_ready(), placed ? 1u : kTiles);
+        ThreadPool pool(2);
+        kept[placed] =
+            pipelines::read_region_points(ds, tiles, region, PointFilter(), pool, [](const pipelines::RegionBatch&) {})
+                .points_kept;
+    }
+    EXPECT_GT(kept[0], 0u);
+    EXPECT_EQ(kept[1], kept[0]);
 }
 
 std::string file_bytes(const fs::path& path) {
