@@ -22,6 +22,7 @@
 #include "dataset/overview_sidecar.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile_index.hpp"
+#include "io/file.hpp"
 #include "las/point_format.hpp"
 
 namespace lidarscout::dataset {
@@ -90,14 +91,20 @@ public:
     }
 
     // A placed dataset's headers, nearest to the focus first, in batches that grow (the first few tiles
-    // quickly, then many requests in flight); each tile read joins the tiles the reads take.
+    // quickly, then many requests in flight), the next batch's requests sent while one is read; each tile
+    // read joins the tiles the reads take.
     void read_headers(unsigned threads) {
         try {
-            for (std::size_t batch = 16;; batch = std::min<std::size_t>(batch * 2, 1024)) {
-                const std::vector<std::uint32_t> ids = nearest_unread(batch);
-                if (ids.empty()) break;
+            std::size_t batch = 16;
+            for (std::vector<std::uint32_t> ids = nearest_unread(batch); !ids.empty();) {
+                batch = std::min<std::size_t>(batch * 2, 2048);
+                std::vector<std::uint32_t> next = nearest_unread(batch);
+                std::vector<std::string> paths;
+                for (const std::uint32_t id : next) paths.push_back(ds_.path(id));
+                io::File::prefetch(paths);
                 ensure_tiles(ds_, ids, threads);
                 headers_read(ids);
+                ids = std::move(next);
             }
         } catch (...) {
             end_headers();
