@@ -571,8 +571,8 @@ private:
 bool Dataset::is_ready(std::size_t i) const { return !placed || placed->is_ready(i); }
 
 bool Dataset::ready(std::size_t i) const {
-    // A dataset is made by open_sources and held by its users (never a const object): the tile written is
-    // one no other thread uses until the release store that publishes it.
+    // The tiles live in the vector's storage (never const objects, whatever the Dataset's constness): the
+    // tile written is one no other thread uses until the release store that publishes it.
     return !placed || placed->ready(const_cast<Dataset&>(*this), i);
 }
 
