@@ -74,6 +74,7 @@ dataset::Dataset read_headers(const ScanOptions& o) {
 // those that could not be read join the skipped files (leaving the chunk-point errors, which named them too).
 void settle_headers(ScanResult& r) {
     if (!r.dataset.placed) return;
+    dataset::ensure_all_tiles(r.dataset);  // (those the loader did not need: without points)
     dataset::settle_tiles(r.dataset);
     std::set<std::string> unreadable;
     for (const auto& s : r.dataset.skipped) unreadable.insert(s.error);

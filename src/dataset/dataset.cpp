@@ -663,7 +663,7 @@ std::optional<std::pair<Frame, std::vector<Bounds>>> placing(std::span<const Til
     for (const auto& s : sources) {
         if (!s.item || s.shift || !s.item->count || s.item->crs.empty() || s.item->overview) return std::nullopt;
         auto b = catalog_footprint(*s.item);
-        if (!b) return std::nullopt;
+        if (!b || b->empty()) return std::nullopt;  // (an inverted box places nothing)
         footprints.push_back(*b);
     }
     Frame frame = items_frame(sources, options);
