@@ -77,7 +77,7 @@ int run_clip(const ClipCliOptions& o) {
     request.output = o.output;
     request.force = o.force;
     request.region = clip_region(o);  // (option errors before any work)
-    const dataset::Dataset ds = open_region_dataset(o.paths, o.crs, "clip", true);
+    const dataset::Dataset ds = open_region_dataset(o.paths, o.crs, "clip", true, {}, request.region.touches);
     PointsBar bar("clip");
     request.watch.progress = bar.fn();
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));

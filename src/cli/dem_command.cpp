@@ -314,7 +314,16 @@ int run_dem(const DemCliOptions& o) {
     raster::DemRequest r = make_request(o);
     dataset::DatasetOptions dataset_options;
     dataset_options.crs = o.crs;
-    const dataset::Dataset ds = open_with_progress(o.paths, dataset_options);
+    // A DEM of an area from every point reads only the headers of the tiles near it (a placed catalog's).
+    dataset_options.placed = r.area && r.source == raster::DemSource::Full;
+    dataset::Dataset ds = open_with_progress(o.paths, dataset_options);
+    if (ds.placed) {
+        const double m = raster::dem_reach_m(r) / ds.frame.xy_to_metres;  // (the area is in the CRS's units)
+        const raster::Area a = *r.area;
+        dataset::keep_tiles_touching(ds, [&](const dataset::Bounds& b) {
+            return b.max_x >= a.min_x - m && b.min_x <= a.max_x + m && b.max_y >= a.min_y - m && b.min_y <= a.max_y + m;
+        });
+    }
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     print_diagnostics(ds.warnings);
     dataset::require_tiles(ds, "dem");

@@ -96,7 +96,8 @@ int run_profile(const ProfileCliOptions& o) {
     const auto t0 = std::chrono::steady_clock::now();
     o.filter.filter();  // option errors before any work
     const std::string ext = extension(o.output);
-    const dataset::Dataset ds = open_region_dataset(o.paths, o.crs, "profile");
+    const dataset::Dataset ds =
+        open_region_dataset(o.paths, o.crs, "profile", false, {}, pipelines::corridor_region(corridor(o)).touches);
     ThreadPool pool(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency()));
     int status = 0;
     nlohmann::json j = ext == ".laz" || ext == ".las" ? write_points(o, ds, pool, status)

@@ -14,11 +14,14 @@ namespace lidarscout::cli {
 
 dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,
                                      const std::string& command, bool accept_degrees,
-                                     dataset::DatasetOptions base) {
+                                     dataset::DatasetOptions base,
+                                     const std::function<bool(const dataset::Bounds&)>& touches) {
     dataset::DatasetOptions options = std::move(base);
     options.crs = crs;
     options.accept_degrees = accept_degrees;
+    options.placed = static_cast<bool>(touches);
     dataset::Dataset ds = open_with_progress(paths, options);
+    if (touches) dataset::keep_tiles_touching(ds, touches, options.io_threads);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     print_diagnostics(ds.warnings);
     dataset::require_tiles(ds, command);

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,10 +21,13 @@ namespace lidarscout::cli {
 
 // open_with_progress, skipped files and warnings on stderr, refused without a readable tile; a frame
 // in degrees only when `accept_degrees` (dataset::DatasetOptions).
-// `base` gives the other options (e.g. sources_found).
+// `base` gives the other options (e.g. sources_found). With `touches` (a region's: x/y bounds in the
+// CRS's units), a catalog whose items place every tile opens placed and keeps the tiles it touches alone,
+// only their headers read (dataset::keep_tiles_touching).
 dataset::Dataset open_region_dataset(const std::vector<std::string>& paths, const std::string& crs,
                                      const std::string& command, bool accept_degrees = false,
-                                     dataset::DatasetOptions base = {});
+                                     dataset::DatasetOptions base = {},
+                                     const std::function<bool(const dataset::Bounds&)>& touches = {});
 
 // A "COMMAND: points" progress bar for read_region_points.
 class PointsBar {

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <set>
 
 #include "cli/commands.hpp"
 #include "cli/number_options.hpp"
@@ -65,7 +66,19 @@ dataset::Dataset read_headers(const ScanOptions& o) {
     dataset::DatasetOptions opt;
     opt.las_stride = o.stride;
     opt.crs = o.crs;
+    opt.placed = true;  // (a catalog's headers are then read with the chunk points, nearest the focus first)
     return open_with_progress(o.paths, opt);
+}
+
+// A placed dataset's headers were read with its chunk points: its tiles take what their headers say, and
+// those that could not be read join the skipped files (leaving the chunk-point errors, which named them too).
+void settle_headers(ScanResult& r) {
+    if (!r.dataset.placed) return;
+    dataset::ensure_all_tiles(r.dataset);  // (those the loader did not need: without points)
+    dataset::settle_tiles(r.dataset);
+    std::set<std::string> unreadable;
+    for (const auto& s : r.dataset.skipped) unreadable.insert(s.error);
+    std::erase_if(r.errors, [&](const ErrorRecord& e) { return e.file.empty() && unreadable.contains(e.cause); });
 }
 
 void load_chunk_points(const ScanOptions& o, ScanResult& r) {
@@ -151,6 +164,7 @@ int run_scan(const ScanOptions& o) {
     t0 = std::chrono::steady_clock::now();
     load_chunk_points(o, r);
     r.seconds_chunk_points = seconds_since(t0);
+    settle_headers(r);
     r.network = network_since(network_before);
     if (o.json) {
         print_json(r);

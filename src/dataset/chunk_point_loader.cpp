@@ -5,11 +5,13 @@
 #include "dataset/chunk_point_loader.hpp"
 
 #include <algorithm>
+#include <condition_variable>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
+#include <thread>
 #include <unordered_map>
 
 #include "core/error.hpp"
@@ -20,6 +22,7 @@
 #include "dataset/overview_sidecar.hpp"
 #include "dataset/point_reader.hpp"
 #include "dataset/tile_index.hpp"
+#include "io/file.hpp"
 #include "las/point_format.hpp"
 
 namespace lidarscout::dataset {
@@ -59,12 +62,15 @@ class ChunkPointLoader::Source final : public io::ReadSource {
 public:
     Source(ChunkPointLoader& loader, const Dataset& ds, PatchGrid& grid, bool direct, std::size_t max_errors)
         : loader_(loader), ds_(ds), grid_(grid), direct_(direct), max_errors_(max_errors), index_(ds) {
+        if (ds.placed) unread_ = TileIndex(ds);
         for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
             if (ds.tiles[i].chunk_points == 0) continue;
-            if (!overview_records(ds.tiles[i].tile, ds.tiles[i].chunk_points).empty()) held_.push_back(i);
+            if (!ds.is_ready(i)) unread_.set_pending(i, true);  // (a placed tile always has bounds)
+            else if (!overview_records(ds.tiles[i].tile, ds.tiles[i].chunk_points).empty()) held_.push_back(i);
             else if (ds.tiles[i].bounds_m.empty()) unplaced_.push_back(i);
             else index_.set_pending(i, true);
         }
+        headers_done_ = unread_.pending_count() == 0;
         std::reverse(unplaced_.begin(), unplaced_.end());  // back = the first
     }
     ~Source() override {
@@ -77,8 +83,44 @@ public:
         focus_ = {x, y};
     }
     void cancel() {
-        std::lock_guard lock(mutex_);
-        cancelled_ = true;
+        {
+            std::lock_guard lock(mutex_);
+            cancelled_ = true;
+        }
+        headers_cv_.notify_all();
+    }
+
+    // A placed dataset's headers, nearest to the focus first, in batches that grow (the first few tiles
+    // quickly, then many requests in flight), the next batch's requests sent while one is read; each tile
+    // read joins the tiles the reads take.
+    void read_headers(unsigned threads) {
+        try {
+            std::size_t batch = 16;
+            for (std::vector<std::uint32_t> ids = nearest_unread(batch); !ids.empty();) {
+                batch = std::min<std::size_t>(batch * 2, 2048);
+                std::vector<std::uint32_t> next = nearest_unread(batch);
+                std::vector<std::string> paths;
+                for (const std::uint32_t id : next) paths.push_back(ds_.path(id));
+                io::File::prefetch(paths);
+                ensure_tiles(ds_, ids, threads);
+                headers_read(ids);
+                ids = std::move(next);
+            }
+        } catch (...) {
+            end_headers();
+            throw;
+        }
+        end_headers();
+    }
+    bool reads_headers() const { return !headers_done_; }
+
+    // Waits until tiles whose headers are read wait for their reads (true), or none will come (false:
+    // every header read and its tile read, or a cancel).
+    bool more_tiles() {
+        std::unique_lock lock(mutex_);
+        const auto waiting = [&] { return index_.pending_count() > 0 || !unplaced_.empty(); };
+        headers_cv_.wait(lock, [&] { return cancelled_ || headers_done_ || waiting(); });
+        return !cancelled_ && waiting();
     }
     void set_on_tile_done(ChunkPointLoader::TileDoneFn f) { on_tile_done_ = std::move(f); }
     std::vector<ErrorRecord> errors() const {
@@ -86,6 +128,8 @@ public:
         return errors_;
     }
 
+    // (Never waits for a header: the batch reads' callers may hold locks the header reads need. The reads
+    // end when no tile with its header read waits; run() starts them again as headers come.)
     std::size_t next(std::span<io::ReadRequest> out) override {
         std::lock_guard lock(mutex_);
         if (cancelled_) return 0;
@@ -152,6 +196,45 @@ public:
     }
 
 private:
+    // Up to `most` unread tiles nearest to the focus, taken from the unread ones.
+    std::vector<std::uint32_t> nearest_unread(std::size_t most) {
+        const auto [x, y] = focus();
+        std::vector<std::uint32_t> ids;
+        std::lock_guard lock(mutex_);
+        while (!cancelled_ && ids.size() < most) {
+            const auto id = unread_.nearest_pending(x, y);
+            if (!id) break;
+            unread_.set_pending(*id, false);
+            ids.push_back(*id);
+        }
+        return ids;
+    }
+
+    // The tiles `ids` whose headers were asked for: each read joins the pending tiles, each that could
+    // not be read is an error (its estimated chunk points leave the total).
+    void headers_read(std::span<const std::uint32_t> ids) {
+        {
+            std::lock_guard lock(mutex_);
+            for (const std::uint32_t id : ids) {
+                if (ds_.is_ready(id)) {
+                    index_.set_pending(id, true);
+                    continue;
+                }
+                loader_.total_ -= ds_.tiles[id].chunk_points;
+                record_error({"", std::nullopt, ds_.ready_error(id)});
+            }
+        }
+        headers_cv_.notify_all();
+    }
+
+    void end_headers() {
+        {
+            std::lock_guard lock(mutex_);
+            headers_done_ = true;
+        }
+        headers_cv_.notify_all();
+    }
+
     bool is_cancelled() const {
         std::lock_guard lock(mutex_);
         return cancelled_;
@@ -191,6 +274,7 @@ private:
             loader_.failed_ += tile.chunk_points;
             return false;
         }
+        if (ds_.placed) loader_.total_ += t.locations.size() - tile.chunk_points;  // the estimate made exact
         try {
             t.target = io::ReadTarget::open(tile.tile.path(), direct_);
         } catch (const Error& e) {
@@ -266,6 +350,9 @@ private:
     std::unordered_map<std::uint32_t, TileState> tiles_;  // the tiles being read
     std::vector<std::uint32_t> active_;    // started tiles with reads left to hand out, oldest first
     TileIndex index_;                      // the tiles not started yet are its pending ones
+    TileIndex unread_;                     // a placed dataset's tiles whose headers are not asked for yet
+    bool headers_done_ = false;            // every header asked for is read
+    std::condition_variable headers_cv_;   // under mutex_: headers read, all read, or a cancel
     std::vector<std::uint32_t> unplaced_;  // tiles without bounds, not started yet; back = next
     std::vector<std::uint32_t> held_;      // tiles whose chunk points an overview sidecar holds
     bool cancelled_ = false;
@@ -298,13 +385,29 @@ void ChunkPointLoader::start() {
 }
 
 void ChunkPointLoader::run() {
+    std::thread headers;
     try {
         source_->publish_held();
-        const auto used = io::run_batch_reads(*source_, options_.reads);
+        if (source_->reads_headers()) {
+            headers = std::thread([this] {
+                try {
+                    source_->read_headers(options_.header_threads);
+                } catch (...) {
+                    std::lock_guard lock(mutex_);
+                    if (!failure_) failure_ = std::current_exception();
+                }
+            });
+        }
+        auto used = io::run_batch_reads(*source_, options_.reads);
+        while (headers.joinable() && source_->more_tiles()) used = io::run_batch_reads(*source_, options_.reads);
         backend_used_ = used;
     } catch (...) {
         std::lock_guard lock(mutex_);
         failure_ = std::current_exception();
+    }
+    if (headers.joinable()) {
+        source_->cancel();  // (a failure of the reads: the headers stop too)
+        headers.join();
     }
     {
         std::lock_guard lock(mutex_);

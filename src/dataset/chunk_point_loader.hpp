@@ -6,6 +6,9 @@
 // when its last read completes, with colour scaled to 8 bits by one decision per tile
 // (16-bit when any of its chunk points has a channel above 255). Cancellable; progress is
 // readable at any time and a callback reports each finished tile.
+// A dataset placed by its catalog (dataset.hpp) has its headers read here, in the same order: a
+// thread reads those nearest the focus in growing batches (ensure_tiles), and a tile joins the reads
+// once its header is in; a tile whose header cannot be read is one error and leaves the total.
 #pragma once
 
 #include <atomic>
@@ -32,6 +35,7 @@ struct ChunkPointLoaderOptions {
     io::BatchReadOptions reads;      // back end, threads, reads in flight
     bool direct_io = false;          // open tiles with O_DIRECT (cold-cache measurements)
     std::size_t max_errors = 1000;   // keep at most this many errors
+    unsigned header_threads = 16;    // a placed dataset's header reads in flight (DatasetOptions::io_threads)
 };
 
 class ChunkPointLoader {
@@ -58,7 +62,8 @@ public:
     bool wait_for(std::chrono::milliseconds timeout);  // true when finished
     bool finished() const { return finished_.load(); }
 
-    std::uint64_t total() const { return total_; }                 // chunk points of all tiles
+    // Chunk points of all tiles (a placed tile's estimated from its item until its header is read).
+    std::uint64_t total() const { return total_.load(); }
     std::uint64_t loaded() const { return loaded_.load(); }        // in the grid
     std::uint64_t failed() const { return failed_.load(); }        // unreadable or implausible
     std::size_t tiles_done() const { return tiles_done_.load(); }
@@ -69,7 +74,7 @@ private:
     class Source;
     void run();
 
-    std::uint64_t total_ = 0;
+    std::atomic<std::uint64_t> total_{0};
     std::atomic<std::uint64_t> loaded_{0};
     std::atomic<std::uint64_t> failed_{0};
     std::atomic<std::size_t> tiles_done_{0};

@@ -90,6 +90,7 @@ DatasetTile make_dataset_tile(Tile tile, std::uint64_t las_stride) {
         throw Error(tile.path(), std::nullopt, "header bounds are not a valid box (min greater than max, or NaN)");
     }
     t.chunk_points = chunk_point_count(tile, las_stride);
+    t.points = h.point_count;
     t.tile = std::move(tile);
     return t;
 }
@@ -254,15 +255,20 @@ bool in_frame_crs(const std::string& def, const Frame& frame) {
 
 // The frame: the CRS asked for, else the one most tiles use (the first such tile's); a CRS in degrees
 // only when the caller accepts degrees.
+// The frame of the CRS asked for (options.crs); `hint` names the --crs to give instead of one in degrees.
+Frame asked_frame(const DatasetOptions& options, const std::function<std::string()>& hint) {
+    const geo::CrsInfo info = geo::crs_info(options.crs);
+    if (info.geographic && !options.accept_degrees) {
+        throw Error::in_stage("dataset", "the CRS " + shorten(options.crs) + " is in degrees (longitude, "
+                              "latitude); a projected CRS in metres or feet is needed here: give " + hint());
+    }
+    return {options.crs, info.geographic ? 1.0 : info.xy_to_metres,
+            usable_factor(info.z_to_metres) ? info.z_to_metres : 1.0, info.geographic};
+}
+
 void choose_frame(Dataset& ds, const DatasetOptions& options) {
     if (!options.crs.empty()) {
-        const geo::CrsInfo info = geo::crs_info(options.crs);
-        if (info.geographic && !options.accept_degrees) {
-            throw Error::in_stage("dataset", "the CRS " + shorten(options.crs) + " is in degrees (longitude, "
-                                  "latitude); a projected CRS in metres or feet is needed here: give " + utm_hint(ds));
-        }
-        ds.frame = {options.crs, info.geographic ? 1.0 : info.xy_to_metres,
-                    usable_factor(info.z_to_metres) ? info.z_to_metres : 1.0, info.geographic};
+        ds.frame = asked_frame(options, [&] { return utm_hint(ds); });
         return;
     }
     const auto votes = [&](const DatasetTile& t) { return options.accept_degrees || !t.tile.crs().geographic; };
@@ -402,13 +408,295 @@ std::vector<std::optional<Tile>> overview_tiles(std::span<const TileSource> sour
     return placed;
 }
 
-void summarise(Dataset& ds) {
+// The dataset's bounds and counts, from its tiles'.
+void add_up(Dataset& ds) {
+    ds.bounds_m = {};
+    ds.point_count = ds.chunk_point_count = 0;
     for (const auto& t : ds.tiles) {
-        if (t.tile.header.point_count > 0) ds.bounds_m.extend(t.bounds_m);
-        ds.point_count += t.tile.header.point_count;
+        if (t.points > 0) ds.bounds_m.extend(t.bounds_m);
+        ds.point_count += t.points;
         ds.chunk_point_count += t.chunk_points;
     }
+}
+
+void summarise(Dataset& ds) {
+    add_up(ds);
     add_crs_warnings(ds);
+}
+
+}  // namespace
+
+// The tiles of a dataset placed by its catalog: their sources, and per tile whether its header is read
+// (an atomic state: a reader publishes the tile it wrote with a release store, a user looks with an
+// acquire load), why a read failed, and what settle_tiles takes from each header read.
+class PlacedTiles {
+public:
+    PlacedTiles(std::vector<TileSource> sources, std::uint64_t las_stride, bool frame_asked)
+        : sources_(std::move(sources)), state_(std::make_unique<std::atomic<std::uint8_t>[]>(sources_.size())),
+          las_stride_(las_stride), frame_asked_(frame_asked) {}
+
+    bool frame_asked() const { return frame_asked_; }
+
+    bool is_ready(std::size_t i) const { return state_[i].load(std::memory_order_acquire) == kReady; }
+    bool tried(std::size_t i) const { return state_[i].load(std::memory_order_acquire) >= kReady; }
+    std::size_t ready_count() const { return ready_count_.load(); }
+    const std::string& path(std::size_t i) const { return sources_[i].path; }
+
+    std::string error(std::size_t i) const {
+        std::lock_guard lock(mutex_);
+        const auto it = errors_.find(i);
+        return it == errors_.end() ? std::string() : it->second;
+    }
+
+    // Reads tile i into `ds` once; the callers that come while it is read wait for it.
+    bool ready(Dataset& ds, std::size_t i) {
+        std::uint8_t s = state_[i].load(std::memory_order_acquire);
+        while (s < kReady) {
+            if (s == kUnread) {
+                if (!state_[i].compare_exchange_weak(s, kReading, std::memory_order_acquire)) continue;
+                const bool ok = read(ds, i);
+                ready_count_ += ok;
+                state_[i].store(ok ? kReady : kFailed, std::memory_order_release);
+                state_[i].notify_all();
+                return ok;
+            }
+            state_[i].wait(kReading, std::memory_order_acquire);
+            s = state_[i].load(std::memory_order_acquire);
+        }
+        return s == kReady;
+    }
+
+    // settle_tiles (the caller holds `ds` alone); `drop_unread`: the tiles not read leave too.
+    void settle(Dataset& ds, bool drop_unread) {
+        std::lock_guard lock(mutex_);
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
+            const std::uint8_t s = state_[i].load();
+            if (s == kFailed) {
+                ds.skipped.push_back({io::display_path(sources_[i].path), errors_[i]});
+                continue;
+            }
+            if (s == kUnread && drop_unread) continue;
+            if (s == kReady) correct(ds.tiles[i], i, ds.warnings);
+            if (kept != i) {
+                ds.tiles[kept] = std::move(ds.tiles[i]);
+                sources_[kept] = std::move(sources_[i]);
+                state_[kept].store(s);
+            }
+            ++kept;
+        }
+        ds.tiles.erase(ds.tiles.begin() + static_cast<std::ptrdiff_t>(kept), ds.tiles.end());
+        sources_.resize(kept);
+        errors_.clear(), headers_.clear();
+        ds.warnings.append(warnings_);
+        warnings_ = {};
+    }
+
+private:
+    enum : std::uint8_t { kUnread, kReading, kReady, kFailed };
+
+    // What a tile's header says where its item spoke first (kept for settle_tiles).
+    struct Header {
+        Bounds bounds_m;
+        std::uint64_t points = 0, chunk_points = 0;
+        std::string disagreement;  // with its item ("" when none)
+    };
+
+    bool read(Dataset& ds, std::size_t i) {
+        const TileSource& source = sources_[i];
+        std::string error;
+        std::optional<Tile> none;
+        std::optional<DatasetTile> tile = read_one(source, none, las_stride_, reads_, error);
+        if (tile) {
+            try {
+                to_frame(*tile, ds.frame);
+            } catch (const Error& e) {
+                error = io::display_path(source.path) + ": " + e.what();
+                tile.reset();
+            }
+        }
+        if (!tile) {
+            std::lock_guard lock(mutex_);
+            errors_[i] = error + " (" + item_name(*source.item) + ")";
+            return false;
+        }
+        Header header{tile->bounds_m, tile->points, tile->chunk_points, item_disagreement(*source.item, tile->tile)};
+        {
+            std::lock_guard lock(mutex_);
+            headers_[i] = std::move(header);
+        }
+        DatasetTile& t = ds.tiles[i];  // its placed fields stay: other threads read them
+        t.tile = std::move(tile->tile);
+        t.xy_to_metres = tile->xy_to_metres, t.z_to_metres = tile->z_to_metres;
+        t.to_frame = std::move(tile->to_frame);
+        t.frame_xy_to_metres = tile->frame_xy_to_metres, t.frame_z_to_metres = tile->frame_z_to_metres;
+        t.heights_to_frame = tile->heights_to_frame;
+        return true;
+    }
+
+    // Reprojects a tile read into the frame as place_tiles does; throws Error when it cannot be placed.
+    void to_frame(DatasetTile& t, const Frame& frame) {
+        std::lock_guard lock(mutex_);
+        reproject(t, frame, transforms_, warnings_);
+        if (t.tile.crs().geographic && !t.to_frame && !frame.geographic) {
+            throw Error("coordinates are in degrees (longitude, latitude); give --crs with a projected CRS (the "
+                        "UTM zone of the data) to work in metres");
+        }
+    }
+
+    // A tile read takes its header's bounds and counts, and names its item's disagreement.
+    void correct(DatasetTile& t, std::size_t i, Diagnostics& warnings) {
+        const auto it = headers_.find(i);
+        if (it == headers_.end()) return;
+        const Header& h = it->second;
+        t.bounds_m = h.bounds_m, t.points = h.points, t.chunk_points = h.chunk_points;
+        if (!h.disagreement.empty()) {
+            warnings.add({DiagnosticLevel::warning, io::display_path(sources_[i].path), std::nullopt, h.disagreement});
+        }
+    }
+
+    std::vector<TileSource> sources_;  // by tile
+    std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
+    std::atomic<std::size_t> ready_count_{0};
+    const std::uint64_t las_stride_;
+    const bool frame_asked_;  // the frame is the CRS the caller asked for (not the items')
+    TileReads reads_;
+    mutable std::mutex mutex_;  // guards what follows
+    std::unordered_map<std::size_t, std::string> errors_;
+    std::unordered_map<std::size_t, Header> headers_;
+    TransformCache transforms_;
+    Diagnostics warnings_;  // of reprojections
+};
+
+bool Dataset::is_ready(std::size_t i) const { return !placed || placed->is_ready(i); }
+
+bool Dataset::ready(std::size_t i) const {
+    // The tiles live in the vector's storage (never const objects, whatever the Dataset's constness): the
+    // tile written is one no other thread uses until the release store that publishes it.
+    return !placed || placed->ready(const_cast<Dataset&>(*this), i);
+}
+
+std::string Dataset::ready_error(std::size_t i) const { return placed ? placed->error(i) : std::string(); }
+
+const std::string& Dataset::path(std::size_t i) const { return placed ? placed->path(i) : tiles[i].tile.path(); }
+
+std::size_t Dataset::tiles_ready() const { return placed ? placed->ready_count() : tiles.size(); }
+
+void ensure_tiles(const Dataset& ds, std::span<const std::uint32_t> indices, unsigned io_threads) {
+    if (!ds.placed) return;
+    std::vector<std::uint32_t> todo;
+    std::vector<std::string> paths;
+    for (const std::uint32_t i : indices) {
+        if (ds.placed->tried(i)) continue;
+        todo.push_back(i);
+        paths.push_back(ds.placed->path(i));
+    }
+    if (todo.empty()) return;
+    io::File::prefetch(paths);  // remote tiles: their header requests in flight at once
+    header_pool(std::max(1u, io_threads)).for_each(todo.size(), [&](std::size_t k) { ds.ready(todo[k]); });
+}
+
+void ensure_all_tiles(const Dataset& ds, unsigned io_threads) {
+    std::vector<std::uint32_t> all(ds.tiles.size());
+    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    ensure_tiles(ds, all, io_threads);
+}
+
+namespace {
+
+void settle(Dataset& ds, bool drop_unread) {
+    if (!ds.placed) return;
+    ds.placed->settle(ds, drop_unread);
+    add_up(ds);
+    if (ds.placed->ready_count() < ds.tiles.size()) return;
+    // Every tile read: a dataset like one opened by reading them, its frame too where the items chose it
+    // (the units the tiles' records say, not PROJ's for the items' CRS: they may differ in the last bit).
+    if (!ds.placed->frame_asked()) {
+        DatasetOptions options;
+        options.accept_degrees = ds.frame.geographic;
+        choose_frame(ds, options);
+    }
+    ds.placed.reset();
+    add_crs_warnings(ds);
+}
+
+}  // namespace
+
+void settle_tiles(Dataset& ds) { settle(ds, false); }
+
+void keep_tiles_touching(Dataset& ds, const std::function<bool(const Bounds&)>& touches, unsigned io_threads) {
+    if (!ds.placed) return;
+    const double f = ds.frame.xy_to_metres;
+    std::vector<std::uint32_t> wanted;
+    for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
+        Bounds b = ds.tiles[i].bounds_m;
+        b.min_x /= f, b.min_y /= f, b.max_x /= f, b.max_y /= f;
+        if (!b.empty() && touches(b)) wanted.push_back(i);
+    }
+    ensure_tiles(ds, wanted, io_threads);
+    settle(ds, true);
+}
+
+namespace {
+
+// The frame of a catalog's items: the CRS asked for, else the one most items give.
+Frame items_frame(std::span<const TileSource> sources, const DatasetOptions& options) {
+    if (!options.crs.empty()) return asked_frame(options, [] { return std::string("a projected CRS"); });
+    std::map<std::string_view, std::size_t> count;
+    std::string_view best;
+    std::size_t best_count = 0;
+    for (const auto& s : sources) {
+        if (++count[s.item->crs] > best_count) best_count = count[s.item->crs], best = s.item->crs;
+    }
+    const geo::CrsInfo info = geo::crs_info(std::string(best));
+    return {std::string(best), info.xy_to_metres, usable_factor(info.z_to_metres) ? info.z_to_metres : 1.0, false};
+}
+
+// The frame of a dataset the items of `sources` place (DatasetOptions::placed), with the tiles' footprints;
+// nullopt when an item does not place its tile: no pc:count, bbox or CRS PROJ knows, a CRS other than the
+// frame's, an overview sidecar (which places them itself).
+std::optional<std::pair<Frame, std::vector<Bounds>>> placing(std::span<const TileSource> sources,
+                                                              const DatasetOptions& options) {
+    if (!options.placed || sources.empty()) return std::nullopt;
+    std::vector<Bounds> footprints;
+    footprints.reserve(sources.size());
+    for (const auto& s : sources) {
+        if (!s.item || s.shift || !s.item->count || s.item->crs.empty() || s.item->overview) return std::nullopt;
+        auto b = catalog_footprint(*s.item);
+        if (!b || b->empty()) return std::nullopt;  // (an inverted box places nothing)
+        footprints.push_back(*b);
+    }
+    Frame frame = items_frame(sources, options);
+    for (const auto& s : sources) {
+        if (!in_frame_crs(s.item->crs, frame)) return std::nullopt;
+    }
+    return std::pair{std::move(frame), std::move(footprints)};
+}
+
+// The dataset placed by the items of `found`, or nullopt (placing).
+std::optional<Dataset> open_placed(FoundSources& found, const DatasetOptions& options) {
+    const auto& sources = found.sources;
+    auto place = placing(sources, options);
+    if (!place) return std::nullopt;
+    const auto& footprints = place->second;
+    Dataset ds;
+    ds.frame = std::move(place->first);
+    ds.las_stride = options.las_stride;
+    ds.skipped = std::move(found.errors);
+    ds.warnings = std::move(found.warnings);
+    ds.tiles.resize(sources.size());
+    const std::uint64_t stride = std::max<std::uint64_t>(options.las_stride, 1);
+    for (std::size_t i = 0; i < sources.size(); ++i) {
+        DatasetTile& t = ds.tiles[i];
+        t.bounds_m = footprints[i];
+        t.points = *sources[i].item->count;
+        t.chunk_points = (t.points + stride - 1) / stride;
+        t.xy_to_metres = ds.frame.xy_to_metres, t.z_to_metres = ds.frame.z_to_metres;
+    }
+    ds.placed = std::make_shared<PlacedTiles>(std::move(found.sources), options.las_stride, !options.crs.empty());
+    add_up(ds);
+    if (options.progress) options.progress(ds.tiles.size(), ds.tiles.size());
+    return ds;
 }
 
 }  // namespace
@@ -461,6 +749,14 @@ std::pair<double, double> patch_grid_origin(const Dataset& ds, double patch) {
     return {std::floor(ds.bounds_m.min_x / patch) * patch, std::floor(ds.bounds_m.min_y / patch) * patch};
 }
 
+bool opens_placed(std::span<const TileSource> sources, const DatasetOptions& options) {
+    try {
+        return placing(sources, options).has_value();
+    } catch (const Error&) {
+        return false;  // (a CRS asked for that cannot be used: open_sources says why)
+    }
+}
+
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options) {
     return open_sources(find_tile_sources(paths), options);
 }
@@ -494,12 +790,13 @@ std::vector<TileSource> central_sources(std::span<const TileSource> sources,
 }
 
 Dataset open_sources(FoundSources found, const DatasetOptions& options) {
+    if (options.sources_found) options.sources_found(found.sources);
+    if (auto placed = open_placed(found, options)) return std::move(*placed);
     Dataset ds;
     ds.las_stride = options.las_stride;
     ds.skipped = std::move(found.errors);
     ds.warnings = std::move(found.warnings);
     const std::vector<TileSource>& sources = found.sources;
-    if (options.sources_found) options.sources_found(sources);
     const std::size_t n = sources.size();
     std::vector<DatasetTile> tiles(n);  // a tile not read has no file
     std::vector<std::string> errors(n), disagreements(n);

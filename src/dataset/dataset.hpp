@@ -2,6 +2,15 @@
 // parallel, each tile's bounds in metres (patch geometry is metric), the files that could
 // not be used with their one-line errors, and warnings about the whole (mixed CRSs, missing
 // units). Nothing here reads point data.
+//
+// A dataset placed by its catalog (DatasetOptions::placed: a STAC catalog whose every item gives
+// pc:count, proj:bbox and a CRS PROJ knows, in the frame's CRS) opens from its items at once, without
+// reading a tile: each tile's header, records and chunk table are read on demand (Dataset::ready,
+// ensure_tiles), once, from any thread. Until then a tile holds only what its item says (bounds_m,
+// points, chunk_points: its "placed" fields, never written again while the dataset is shared) and
+// its `tile` must not be used; Dataset::is_ready says when it may. settle_tiles (a caller that holds
+// the dataset alone, as the CLI does) then corrects the placed fields from the headers read and
+// moves the tiles that could not be read to `skipped`.
 #pragma once
 
 #include <atomic>
@@ -46,8 +55,9 @@ struct DatasetTile {
     Tile tile;
     double xy_to_metres = 1.0;  // file units -> metres, horizontal (1 for a tile in degrees: see Frame)
     double z_to_metres = 1.0;   // file units -> metres, vertical
-    Bounds bounds_m;            // the header's bounds, in metres (of the dataset's frame)
-    std::uint64_t chunk_points = 0;
+    Bounds bounds_m;            // the header's bounds, in metres (of the dataset's frame); a placed tile's: its item's
+    std::uint64_t chunk_points = 0;  // a placed tile's: estimated from its item's pc:count (DatasetOptions::las_stride)
+    std::uint64_t points = 0;   // the header's point count; a placed tile's: its item's pc:count
     // Set when the tile's CRS is not the dataset's: file units -> the frame CRS's units (x, y),
     // then frame_xy_to_metres. Heights go through it too when both CRSs have a vertical part
     // (heights_to_frame: z then ends in the frame's vertical unit); else z keeps the file's.
@@ -82,6 +92,8 @@ struct Frame {
     bool geographic = false;
 };
 
+class PlacedTiles;  // the tiles of a dataset placed by its catalog, read on demand (dataset.cpp)
+
 struct Dataset {
     std::vector<DatasetTile> tiles;   // in the order the paths were given / found
     std::vector<SkippedFile> skipped;
@@ -91,6 +103,21 @@ struct Dataset {
     std::uint64_t point_count = 0;
     std::uint64_t chunk_point_count = 0;
     std::uint64_t las_stride = 50'000;  // chunk-point stride used for uncompressed LAS tiles
+    // Set when the dataset was placed by its catalog (see the top of this file); null when every tile
+    // was read as it opened. A copy shares it: copy a placed dataset only once settle_tiles made it whole.
+    std::shared_ptr<PlacedTiles> placed;
+
+    // Whether tile i's header is read and usable: its `tile` may be used (always, in a dataset not placed).
+    bool is_ready(std::size_t i) const;
+    // Reads tile i's header, records and chunk table once (the callers of other threads wait for that
+    // read); false when it cannot be read (ready_error says why). Thread-safe.
+    bool ready(std::size_t i) const;
+    // The line naming why tile i could not be read ("" when it was, or was not tried yet).
+    std::string ready_error(std::size_t i) const;
+    // Tile i's path or URL (known before its header is read).
+    const std::string& path(std::size_t i) const;
+    // The tiles whose headers are read (tiles not placed count as read).
+    std::size_t tiles_ready() const;
 };
 
 struct DatasetOptions {
@@ -113,6 +140,9 @@ struct DatasetOptions {
     // When it turns true, files not yet started are not read and open_dataset throws Error
     // ("opening cancelled") once the reads in progress have ended.
     const std::atomic<bool>* cancel = nullptr;
+    // Whether a catalog whose items place every tile opens placed (see the top of this file): for callers
+    // that read headers on demand (ready, ensure_tiles) or settle_tiles before using them.
+    bool placed = false;
     // Whether a catalog's overview sidecar (dataset/overview_sidecar.hpp) places the tiles it holds
     // (their chunk points then come from it, and their files are not read to open them).
     bool use_overview = true;
@@ -126,8 +156,29 @@ void use_overview_sidecars(bool used);
 // manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`;
 // throws only when options.cancel asked it to stop.
 Dataset open_dataset(const std::vector<std::string>& paths, const DatasetOptions& options = {});
+// Whether open_sources of `sources` with `options` opens the dataset placed by their catalog.
+bool opens_placed(std::span<const TileSource> sources, const DatasetOptions& options);
 // open_dataset of sources found already (find_tile_sources).
 Dataset open_sources(FoundSources found, const DatasetOptions& options = {});
+
+// Reads the headers of the tiles `indices` not read yet (Dataset::ready), in parallel on the header
+// reads' threads (DatasetOptions::io_threads), started in the order given. Thread-safe; nothing for a
+// dataset not placed.
+void ensure_tiles(const Dataset& dataset, std::span<const std::uint32_t> indices, unsigned io_threads = 16);
+// ensure_tiles of every tile.
+void ensure_all_tiles(const Dataset& dataset, unsigned io_threads = 16);
+// For a caller that holds the dataset alone (no other thread uses it): the tiles read so far take their
+// headers' bounds, counts and chunk points (a disagreement with the item named in `warnings`, once),
+// those that could not be read move to `skipped`, and the dataset's bounds and counts follow. Tile
+// indices change when a tile is dropped. Once every tile is read, `placed` is released.
+void settle_tiles(Dataset& dataset);
+
+// For a caller that holds the dataset alone and works on a region: reads the headers of the tiles whose
+// footprints `touches` passes (x/y in the frame CRS's units, as a pipelines::Region takes them), settles
+// them, and drops the others (outside the region): the dataset is then one read whole, of the region's
+// tiles. Nothing for a dataset not placed.
+void keep_tiles_touching(Dataset& dataset, const std::function<bool(const Bounds&)>& touches,
+                         unsigned io_threads = 16);
 
 // catalog_footprint of each source (empty for a source no catalog item places).
 std::vector<std::optional<Bounds>> catalog_footprints(std::span<const TileSource> sources);

@@ -141,6 +141,9 @@ std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Regi
         b.min_x /= f, b.min_y /= f, b.max_x /= f, b.max_y /= f;
         if (region.touches(b)) out.push_back(i);
     }
+    if (!ds.placed) return out;
+    dataset::ensure_tiles(ds, out);  // (a placed dataset's, as the viewer holds it: their headers first)
+    std::erase_if(out, [&](std::uint32_t i) { return !ds.is_ready(i); });
     return out;
 }
 

@@ -84,7 +84,9 @@ struct RegionReadStats {
     bool cancelled = false;                    // stopped by ReadWatch::cancel before the end
 };
 
-// The tiles whose bounds (xy) the region touches, in dataset order.
+// The tiles whose bounds (xy) the region touches, in dataset order. Of a dataset placed by its catalog
+// (dataset/dataset.hpp) their headers are read first (ensure_tiles), and a tile that cannot be read is
+// left out (the viewer's loader names it; the CLI keeps the region's tiles alone before: keep_tiles_touching).
 std::vector<std::uint32_t> tiles_touching(const dataset::Dataset& ds, const Region& region);
 
 using RegionBatchFn = std::function<void(const RegionBatch&)>;

@@ -335,6 +335,11 @@ std::string contour_source(const DemRequest& r) {
     return product_paths(r.output, r.products)[static_cast<std::size_t>(height - r.products.begin())];
 }
 
+double dem_reach_m(const DemRequest& r) {
+    const double block_m = block_texels(r) * r.texel_m;
+    return 2 * block_m + std::max(gridder_reach_m(gridder_of(r), r.texel_m), 0.0);
+}
+
 DemGrid dem_grid(const dataset::Dataset& ds, const DemRequest& r) {
     const Area area = area_in_metres(ds, r);
     check_bounds_overlap(ds, r, area);

@@ -108,6 +108,12 @@ std::string contour_source(const DemRequest& request);
 // area (or the dataset's bounds) at its texel, in blocks of the size its method needs.
 DemGrid dem_grid(const dataset::Dataset& dataset, const DemRequest& request);
 
+// How far from the request's area (metres) a tile's points may still be used by make_dem of the full
+// points (a block's width beyond the area's edge, and the widest gridder's reach beyond that, taken twice
+// over): a tile farther from the area changes nothing written. A caller that reads only the tiles
+// within it (dataset::keep_tiles_touching) writes the same rasters.
+double dem_reach_m(const DemRequest& request);
+
 // Throws Error for a method that does not fit the source, a raster far larger than the tiles
 // cover, or one whose memory estimate exceeds the budget (naming the size and the way out:
 // a larger --texel, or --bounds); and, once the height raster is made, for contours counted at

@@ -94,7 +94,7 @@ std::optional<std::uint32_t> tile_at(const dataset::Dataset& dataset, double x, 
 PointReadout point_readout(const dataset::Dataset& dataset, const PickedPoint& point) {
     PointReadout r{point.x, point.y, point.z};
     const auto tile = point.tile ? point.tile : tile_at(dataset, point.x, point.y);
-    if (!tile || *tile >= dataset.tiles.size()) return r;
+    if (!tile || *tile >= dataset.tiles.size() || !dataset.is_ready(*tile)) return r;  // (a header not read yet)
     const auto& t = dataset.tiles[*tile];
     r.file = t.tile.path();
     r.z = point.z / t.placed_z_to_metres();  // the file's vertical unit unless heights were transformed too

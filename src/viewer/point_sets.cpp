@@ -149,7 +149,7 @@ std::vector<std::size_t> cut_pieces(const dataset::DecodeUnits& all, std::span<c
 double mean_point_spacing(const dataset::DatasetTile& tile) {
     const auto& b = tile.bounds_m;
     const double area = b.empty() ? 1.0 : std::max((b.max_x - b.min_x) * (b.max_y - b.min_y), 1.0);
-    const auto n = tile.tile.header.point_count;
+    const auto n = tile.points;
     return n ? std::sqrt(area / static_cast<double>(n)) : std::numeric_limits<double>::infinity();
 }
 
@@ -199,13 +199,22 @@ void paint_uncoloured(std::span<PointSet> sets) {
 }
 
 bool survey_has_rgb(const dataset::Dataset& ds) {
+    const auto rgb = [](const dataset::DatasetTile& t) {
+        return las::point_format_info(t.tile.header.point_format).rgb_offset >= 0;
+    };
+    if (ds.placed) {  // headers read on demand: the first tile that can be read speaks for the survey
+        for (std::size_t i = 0; i < std::min<std::size_t>(ds.tiles.size(), 8); ++i) {
+            if (ds.ready(i)) return rgb(ds.tiles[i]);
+        }
+        return false;
+    }
     std::size_t with = 0;
-    for (const auto& t : ds.tiles) with += las::point_format_info(t.tile.header.point_format).rgb_offset >= 0;
+    for (const auto& t : ds.tiles) with += rgb(t);
     return with > 0 && with * 2 >= ds.tiles.size();
 }
 
 std::uint64_t tile_point_set_bytes(const dataset::DatasetTile& tile) {
-    return tile.tile.header.point_count * sizeof(render::PointAttr);
+    return tile.points * sizeof(render::PointAttr);
 }
 
 // The records of `records` that `filter` keeps, back to back in `kept`.

@@ -134,7 +134,8 @@ std::optional<ResidencyPolicy::Choice> ResidencyPolicy::choose(const Fractions& 
     wanted_ = wanted_full_ = 0;
     std::vector<std::pair<double, std::uint32_t>> candidates;  // (gain per byte, tile)
     for (const auto& [i, fraction] : fractions) {
-        if (fraction <= min_screen_fraction_ || failed_.contains(i)) continue;
+        // (a tile whose header is not read yet waits: the chunk-point loader reads those in view first)
+        if (fraction <= min_screen_fraction_ || failed_.contains(i) || !dataset_.is_ready(i)) continue;
         ++wanted_;
         const auto it = entries_.find(i);
         if (it != entries_.end()) it->second.last_seen = tick_;

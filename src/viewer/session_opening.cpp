@@ -1,6 +1,7 @@
 // SessionOpening: open_dataset on a thread of its own, its per-tile callbacks gathered under a
 // lock for the window, then the Scheduler built on the dataset; a large catalog's central tiles
-// opened before as a preview session.
+// opened before as a preview session, unless its items place every tile (the dataset then opens at
+// once, its headers read by the scheduler's loader, the view's first).
 #include "viewer/session_opening.hpp"
 
 #include <algorithm>
@@ -79,6 +80,7 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
     dataset::DatasetOptions d;
     d.crs = options.crs;
     d.cancel = &cancel_;
+    d.placed = true;  // (the scheduler's loader and residency read headers on demand)
     d.tile_read = [this](const dataset::DatasetTile& t) {
         std::lock_guard lock(mutex_);
         ++progress_.read;
@@ -94,7 +96,7 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         dataset::FoundSources found = dataset::find_tile_sources(paths);
         const auto placed = dataset::catalog_footprints(found.sources);
         note_sources(found.sources.size(), placed);
-        open_preview(found.sources, placed, options);
+        if (!dataset::opens_placed(found.sources, d)) open_preview(found.sources, placed, options);
         Session s;
         s.dataset = std::make_unique<dataset::Dataset>(dataset::open_sources(std::move(found), d));
         dataset::require_tiles(*s.dataset, "view");

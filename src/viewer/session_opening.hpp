@@ -2,7 +2,8 @@
 // built on them) on a background thread, while the window keeps drawing. Until it is done the
 // window shows what is known: how many tiles are read, failed and to go, and the footprints of
 // the tiles read so far (a STAC catalog's every tile at once, where its items place them).
-// A large catalog (thousands of items, each header a request to a server) first opens the few
+// A catalog whose items place every tile (dataset.hpp: DatasetOptions::placed) opens at once, its
+// headers read on demand by the scheduler. Another large catalog (each header a request) first opens the few
 // tiles at its centre as a preview session of their own (chunk points and linear heightmaps,
 // no full resolution), whose reads end before the rest of the headers are asked for: the window
 // shows real terrain there within a second or two, long before every header is in.

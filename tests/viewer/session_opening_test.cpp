@@ -1,13 +1,17 @@
 // SessionOpening: a survey opened in the background gives the same tiles as open_dataset, with
 // every footprint and the progress counted on the way and a running scheduler at the end; a
 // large catalog opens its central tiles first as a preview whose chunk points are in before the
-// rest is read; a path without tiles ends in the viewer's one-line error; an opening destroyed
-// while it reads cancels without a hang.
+// rest is read, unless its items place every tile (it then opens at once, placed, with no
+// preview, and every tile's chunk points still load); a path without tiles ends in the viewer's
+// one-line error; an opening destroyed while it reads cancels without a hang.
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
 #include "dataset/catalog_writer.hpp"
@@ -54,12 +58,46 @@ TEST(SessionOpening, OpensASurveyWithItsFootprintsOnTheWay) {
     EXPECT_THROW(opening.take(), Error);  // once only
 }
 
+// A catalog whose items place every tile opens at once, placed (dataset.hpp): no preview, its headers read
+// by the scheduler's loader, every tile's chunk points loaded all the same.
+TEST(SessionOpening, ACatalogThatPlacesEveryTileOpensAtOnceWithoutAPreview) {
+    const auto folder = (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string();
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_opening_placed_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string vpc = (dir / "ky.vpc").string();
+    const dataset::Dataset eager = dataset::open_dataset({folder});
+    dataset::write_catalog(eager, vpc);
+    SessionOptions o = no_network();
+    o.preview_above = 4;
+    SessionOpening opening({vpc}, o);
+    const Session session = opening.take();
+    ASSERT_TRUE(session.open());
+    EXPECT_TRUE(session.dataset->placed);
+    EXPECT_EQ(opening.preview(), nullptr);
+    EXPECT_EQ(session.dataset->tiles.size(), eager.tiles.size());
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    const auto loaded = [&] { return session.scheduler->stats().tiles_loaded.done; };
+    while (loaded() < eager.tiles.size() && std::chrono::steady_clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    EXPECT_EQ(session.scheduler->stats().tiles_loaded.done, eager.tiles.size());
+    EXPECT_EQ(session.dataset->tiles_ready(), eager.tiles.size());
+    EXPECT_EQ(session.scheduler->stats().chunk_points.done, eager.chunk_point_count);
+    fs::remove_all(dir);
+}
+
+// A catalog whose items do not place every tile (one without pc:count here) opens its centre first.
 TEST(SessionOpening, ALargeCatalogOpensItsCentreFirstAsAPreview) {
     const auto folder = (test::surveys_dir() / "ky-jmo335-eastern-kentucky").string();
     const fs::path dir = fs::temp_directory_path() / ("lidarscout_opening_vpc_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const std::string vpc = (dir / "ky.vpc").string();
     dataset::write_catalog(dataset::open_dataset({folder}), vpc);
+    {
+        auto catalog = nlohmann::json::parse(std::ifstream(vpc));
+        catalog.at("features").back().at("properties").erase("pc:count");
+        std::ofstream(vpc) << catalog.dump();
+    }
     {
         SessionOpening small({vpc}, no_network());  // 9 items: no preview at the default size
         EXPECT_TRUE(small.take().open());

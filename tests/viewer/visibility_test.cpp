@@ -66,7 +66,7 @@ TEST(ViewerVisibility, VisibleCellsOfTheGrid) {
 dataset::DatasetTile tile(const dataset::Bounds& b, std::uint64_t points) {
     dataset::DatasetTile t;
     t.bounds_m = b;
-    t.tile.header.point_count = points;
+    t.tile.header.point_count = t.points = points;
     return t;
 }
 

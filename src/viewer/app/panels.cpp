@@ -70,7 +70,7 @@ void tiles_section(const dataset::Dataset& ds, PanelState& state, PanelActions& 
     if (!ImGui::CollapsingHeader("Tiles")) return;
     input_text("filter", state.filter);
     const auto name = [&](std::uint32_t i) {
-        return std::filesystem::path(ds.tiles[i].tile.path()).filename().string();
+        return std::filesystem::path(ds.path(i)).filename().string();
     };
     if (state.shown_dataset != &ds || state.shown_tiles != ds.tiles.size() || state.shown_filter != state.filter) {
         state.shown.clear();
