@@ -1,0 +1,93 @@
+// `lidarscout serve PATH... [--listen HOST:PORT] [--token T] [--memory SIZE] [--cors ORIGIN]`:
+// the datasets as a web page (src/serve, web/): a small HTTP server on loopback by default
+// (any other address needs --token) that prints its URL as the first line of stdout once it
+// listens, then serves until stopped (Ctrl-C).
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+
+#include "cli/commands.hpp"
+#include "cli/io_options.hpp"
+#include "cli/size_options.hpp"
+#include "cli/stage_progress.hpp"
+#include "core/error.hpp"
+#include "dataset/dataset.hpp"
+#include "serve/server.hpp"
+#include "viewer/scheduler.hpp"
+
+namespace lidarscout::cli {
+namespace {
+
+struct ServeCliOptions {
+    std::vector<std::string> paths;
+    std::string listen = "127.0.0.1:0";
+    std::string token;
+    std::string memory;
+    std::string cors;
+    std::string crs;
+    std::string web;
+};
+
+constexpr std::uint64_t kMinCacheBytes = 16ull << 20;
+constexpr std::uint64_t kGridBytesPerChunkPoint = 40;  // PatchGrid's 24-byte points with its vectors' slack
+constexpr std::uint64_t kBaseBytes = 96ull << 20;      // the program, its libraries and the server's threads
+
+// The response cache's share of --memory: what the chunk points' grid and the process leave of it.
+std::uint64_t cache_budget(std::uint64_t memory, const dataset::Dataset& ds) {
+    const std::uint64_t fixed = kBaseBytes + ds.chunk_point_count * kGridBytesPerChunkPoint;
+    return std::max(kMinCacheBytes, memory > fixed ? memory - fixed : 0);
+}
+
+int run_serve(const ServeCliOptions& o) {
+    serve::ServerOptions options;
+    options.listen = serve::parse_listen_address(o.listen);
+    options.token = o.token;
+    options.cors_origin = o.cors;
+    serve::check_access_rule(options.listen, options.token);  // before anything is read
+    options.web_dir = o.web.empty() ? serve::default_web_dir() : o.web;
+    const std::uint64_t memory = o.memory.empty() ? viewer::default_memory_budget() : parse_bytes(o.memory);
+    dataset::DatasetOptions dataset_options;
+    dataset_options.crs = o.crs;
+    auto ds = open_with_progress(o.paths, dataset_options);
+    for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
+    dataset::require_tiles(ds, "serve");
+    options.memory_budget = cache_budget(memory, ds);
+    auto cache = std::make_unique<serve::ResponseCache>(options.memory_budget);
+    std::vector<std::unique_ptr<serve::Survey>> surveys;
+    surveys.push_back(std::make_unique<serve::Survey>(std::move(ds), *cache));
+    serve::Server server(std::move(surveys), options, std::move(cache));
+    server.bind();
+    std::printf("%s\n", server.url().c_str());
+    std::fflush(stdout);
+    server.run();
+    return 0;
+}
+
+}  // namespace
+
+void register_serve_command(CLI::App& app, std::function<int()>& run) {
+    auto o = std::make_shared<ServeCliOptions>();
+    auto* cmd = app.add_subcommand("serve", "Serve datasets as a web page (WebGL2) and a binary API, with no "
+                                            "conversion; prints the page's URL first");
+    add_inputs(*cmd, "paths", o->paths,
+               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
+               "or http(s) or s3:// URLs")
+        ->required();
+    cmd->add_option("--listen", o->listen,
+                    "HOST:PORT to listen on (default 127.0.0.1:0: loopback, a free port); an address other than "
+                    "loopback needs --token");
+    cmd->add_option("--token", o->token,
+                    "A secret every request must carry (?token= or Authorization: Bearer); the URL printed holds it");
+    cmd->add_option("--memory", o->memory,
+                    "Memory for the server: the chunk points and the shared cache of encoded responses, e.g. 2G "
+                    "(default: a quarter of the RAM)");
+    cmd->add_option("--cors", o->cors, "Allow pages of this origin (e.g. https://example.org) to use the API");
+    cmd->add_option("--crs", o->crs,
+                    "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
+    cmd->add_option("--web", o->web, "The page's folder (default: web/ of the installation or source tree)");
+    cmd->callback([o, &run] { run = [o] { return run_serve(*o); }; });
+}
+
+}  // namespace lidarscout::cli

@@ -1,0 +1,75 @@
+// One served dataset: its tiles opened once (dataset::open_dataset), its chunk points loaded in
+// the background into a patch grid (dataset::ChunkPointLoader, the viewer's loader) nearest the
+// data's centre first, and the API's bodies made from them (chunk points per cell, heightmap
+// patches by the viewer's linear builder, the tile list, the auto camera of `render`), encoded
+// once into the server's shared cache. Nothing here knows HTTP.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <semaphore>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/patch_grid.hpp"
+#include "dataset/chunk_point_loader.hpp"
+#include "dataset/dataset.hpp"
+#include "serve/response_cache.hpp"
+
+namespace lidarscout::serve {
+
+inline constexpr std::size_t kMaxCellsPerRequest = 256;
+
+class Survey {
+public:
+    // Takes the opened dataset (at least one tile) and starts loading its chunk points.
+    Survey(dataset::Dataset dataset, ResponseCache& cache);
+    ~Survey();
+    Survey(const Survey&) = delete;
+    Survey& operator=(const Survey&) = delete;
+
+    const dataset::Dataset& dataset() const { return dataset_; }
+    const PatchGrid& grid() const { return *grid_; }
+    bool loaded() const { return loader_->finished(); }
+    void wait_loaded() { loader_->wait(); }
+
+    // The dataset, its frame and bounds, and the loading's progress (JSON; changes while loading).
+    std::string info_json(std::size_t index) const;
+    // The tiles: names (file names only, never a path), boxes in decimetres from the grid origin.
+    EncodedPtr tiles();
+    // The cells holding chunk points so far: uint32 count, then int32 ix, iy, uint32 points each.
+    std::string cells_body() const;
+    // The chunk points of `cells` (encoding.hpp) as far as they are loaded now.
+    EncodedPtr cell_points(std::span<const CellKey> cells);
+    // The linear heightmaps of `cells` (those with one); empty until the chunk points are loaded
+    // (a heightmap's window needs its neighbours' points).
+    std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells);
+    // Level `level` (0-3) of the full-resolution points of tile `tile` (encoding.hpp); the tile is
+    // decoded once for its four levels. Throws lidarscout::Error for a tile or level out of range.
+    EncodedPtr level(std::size_t tile, int level);
+    // render's auto camera for an image of width x height and the vertical field of view (JSON),
+    // looking at the whole dataset or at one of its tiles.
+    std::string auto_camera_json(int width, int height, double fov_deg, std::optional<std::size_t> tile = {}) const;
+
+private:
+    std::string points_key(std::span<const CellKey> cells, std::vector<std::size_t>& counts) const;
+    std::array<float, 2> intensity_range() const;
+    bool has_rgb() const;  // once loaded
+
+    dataset::Dataset dataset_;
+    ResponseCache& cache_;
+    std::unique_ptr<PatchGrid> grid_;
+    std::unique_ptr<dataset::ChunkPointLoader> loader_;
+    std::vector<dataset::Bounds> footprints_;
+    mutable std::mutex mutex_;  // the values computed once the loading is done
+    mutable std::optional<bool> has_rgb_;
+    mutable std::optional<std::array<float, 2>> intensity_range_;
+    std::counting_semaphore<> decodes_{2};  // tiles decoded at once (each holds its points twice meanwhile)
+    std::uint64_t generation_;  // distinguishes this survey's cache keys
+};
+
+}  // namespace lidarscout::serve
