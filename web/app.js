@@ -19,7 +19,7 @@ const state = {
   cellCounts: new Map(),  // "ix,iy" -> points the server had when listed
   fetchedCounts: new Map(),  // "ix,iy" -> points received
   patchQueue: [], patchesAsked: new Set(), inFlight: 0, pointsReceived: 0, patches: 0,
-  controller: new AbortController(), errors: 0, lastError: '', tiles: null, levelsAsked: [], lodPoints: 0,
+  controller: new AbortController(), errors: 0, lastError: '', tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0,
 };
 
 function cellCentre(key, size) {
@@ -133,9 +133,26 @@ function nextLevel() {
   return best;
 }
 
+// The attributes the full-resolution points carry: those the colour mode draws, and the class for
+// the class filter (the chunk points, few, carry all).
+function levelAttributes() {
+  return ['rgb565,class', 'class', 'intensity,class', 'class'][state.mode];
+}
+
+// A new colour mode: the levels of detail again, with its attributes.
+function reloadLevels() {
+  ++state.lodGeneration;
+  state.renderer.clearLevels();
+  state.levelsAsked = [];
+  state.lodPoints = 0;
+  pump();
+}
+
 function fetchLevel({ tile, level }) {
   ++state.inFlight;
-  state.api.level(tile, level, state.controller.signal).then((l) => {
+  const generation = state.lodGeneration;
+  state.api.level(tile, level, levelAttributes(), state.controller.signal).then((l) => {
+    if (generation !== state.lodGeneration) return;  // asked for another colour mode
     state.renderer.addLevel(l);
     const n = l.blocks.reduce((a, b) => a + b.n, 0);
     state.lodPoints += n;
@@ -150,7 +167,7 @@ function fetchPoints(keys) {
   state.asked ??= new Set();
   keys.forEach((k) => state.asked.add(k));
   ++state.inFlight;
-  state.api.points(toCells(keys), state.info.patch_size_m, state.controller.signal).then((cells) => {
+  state.api.points(toCells(keys), state.info.patch_size_m, 'rgb,class,intensity', state.controller.signal).then((cells) => {
     mark('first_points');
     for (const c of cells) {
       state.renderer.addCell(c);
@@ -290,7 +307,11 @@ function bindInput(canvas) {
     const moves = { w: [s, 0, 0], s: [-s, 0, 0], a: [0, -s, 0], d: [0, s, 0], q: [0, 0, -s], e: [0, 0, s] };
     if (moves[k]) moveBy(...moves[k]);
   });
-  $('colour').addEventListener('change', (e) => { state.mode = Number(e.target.value); state.dirty = true; });
+  $('colour').addEventListener('change', (e) => {
+    state.mode = Number(e.target.value);
+    state.dirty = true;
+    reloadLevels();
+  });
   window.addEventListener('resize', resize);
   window.addEventListener('pagehide', () => state.controller.abort());  // a client that leaves cancels its work
 }

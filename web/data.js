@@ -1,6 +1,6 @@
 // The API of `lidarscout serve` (src/serve/server.hpp) and its binary forms
 // (src/serve/encoding.hpp) decoded into typed arrays ready for WebGL.
-const XY_BITS = 11, Z_BITS = 10, NO_HEIGHT = 65535;
+const NO_HEIGHT = 65535;
 
 export class Api {
   constructor(dataset) {
@@ -62,14 +62,14 @@ export class Api {
 
   static cellList(cells) { return cells.map((c) => `${c.ix},${c.iy}`).join(';'); }
 
-  async points(cells, patchSize, signal) {
-    const buf = await this.binary(this.d('points'), { cells: Api.cellList(cells) }, signal);
+  async points(cells, patchSize, attrs, signal) {
+    const buf = await this.binary(this.d('points'), { cells: Api.cellList(cells), attrs }, signal);
     this.pointBytes += buf.byteLength;
     return decodePoints(buf, patchSize);
   }
 
-  async level(tile, level, signal) {
-    const buf = await this.binary(this.d(`tile/${tile}/level/${level}`), {}, signal);
+  async level(tile, level, attrs, signal) {
+    const buf = await this.binary(this.d(`tile/${tile}/level/${level}`), { attrs }, signal);
     this.pointBytes += buf.byteLength;
     return decodeLevel(buf);
   }
@@ -92,30 +92,58 @@ export function decodeLevel(buf) {
   return { level: v.getUint32(20, true), spacing, blocks: decodePoints(buf, blockM, [ox, oy, oz], 32) };
 }
 
-// Point blocks -> [{ix, iy, n, pos: Float32Array xyz (grid frame), rgb, cls, intensity}]; block
-// (ix, iy) has its corner at origin + (ix, iy) * size.
+// Point blocks (src/serve/encoding.hpp) -> [{ix, iy, n, pos: Float32Array xyz (grid frame), rgb,
+// cls, intensity}] (an attribute the block does not carry: zeros); block (ix, iy) has its corner
+// at origin + (ix, iy) * size.
 export function decodePoints(buf, size, origin = [0, 0, 0], start = 0) {
-  const v = new DataView(buf), out = [];
-  const xyMask = (1 << XY_BITS) - 1, zMask = (1 << Z_BITS) - 1, xyStep = size / xyMask;
+  const v = new DataView(buf), bytes = new Uint8Array(buf), out = [];
   for (let o = start; o < buf.byteLength;) {
     const ix = v.getInt32(o, true), iy = v.getInt32(o + 4, true), n = v.getUint32(o + 8, true);
-    const zMin = v.getFloat32(o + 12, true), zMax = v.getFloat32(o + 16, true), zStep = (zMax - zMin) / zMask;
-    o += 24;
+    const zMin = v.getFloat32(o + 12, true), zMax = v.getFloat32(o + 16, true);
+    const attrs = bytes[o + 20], xyBits = bytes[o + 21], zBits = bytes[o + 22], posBytes = v.getUint32(o + 24, true);
+    const xyStep = xyBits ? size / (2 ** xyBits - 1) : 0, zStep = zBits ? (zMax - zMin) / (2 ** zBits - 1) : 0;
+    o += 28;
     const pos = new Float32Array(3 * n), x0 = origin[0] + ix * size, y0 = origin[1] + iy * size;
     const z0 = origin[2] + zMin;
+    let code = 0, qz = 0, p = o;
+    const varint = () => {
+      let value = 0, shift = 0, b;
+      do { b = bytes[p++]; value += (b & 0x7f) * 2 ** shift; shift += 7; } while (b & 0x80);
+      return value;
+    };
     for (let i = 0; i < n; ++i) {
-      const q = v.getUint32(o + 4 * i, true);
-      pos[3 * i] = x0 + (q & xyMask) * xyStep;
-      pos[3 * i + 1] = y0 + ((q >>> XY_BITS) & xyMask) * xyStep;
-      pos[3 * i + 2] = z0 + ((q >>> (2 * XY_BITS)) & zMask) * zStep;
+      code += varint();
+      const z = varint();
+      qz += z & 1 ? -((z + 1) / 2) : z / 2;
+      let qx = 0, qy = 0;
+      for (let b = 0; b < xyBits; ++b) {
+        qx |= ((code >>> (2 * b)) & 1) << b;
+        qy |= ((code >>> (2 * b + 1)) & 1) << b;
+      }
+      pos[3 * i] = x0 + qx * xyStep, pos[3 * i + 1] = y0 + qy * xyStep, pos[3 * i + 2] = z0 + qz * zStep;
     }
-    o += 4 * n;
-    const rgb = new Uint8Array(buf.slice(o, o + 3 * n)); o += 3 * n;
-    const cls = new Uint8Array(buf.slice(o, o + n)); o += n;
-    const intensity = new Uint16Array(buf.slice(o, o + 2 * n)); o += 2 * n;
+    o += posBytes;
+    const take = (bit, len, Type) => {
+      if (!(attrs & bit)) return new Type(n);
+      const a = new Type(buf.slice(o, o + len));
+      o += len;
+      return a;
+    };
+    let rgb = take(1, 3 * n, Uint8Array);
+    if (attrs & 8) rgb = spread565(take(8, 2 * n, Uint16Array));
+    const cls = take(2, n, Uint8Array), intensity = take(4, 2 * n, Uint16Array);
     out.push({ ix, iy, n, pos, rgb, cls, intensity });
   }
   return out;
+}
+
+// RGB 5-6-5 -> RGB triples (each channel's top bits, as the server's decoder spreads them).
+function spread565(c) {
+  const rgb = new Uint8Array(3 * c.length);
+  for (let i = 0; i < c.length; ++i) {
+    rgb[3 * i] = (c[i] >> 11) << 3, rgb[3 * i + 1] = ((c[i] >> 5) & 63) << 2, rgb[3 * i + 2] = (c[i] & 31) << 3;
+  }
+  return rgb;
 }
 
 // Heightmap patches -> meshes: vertices at the texel corners taken every `step` texels (height

@@ -115,6 +115,14 @@ export class Renderer {
     this.cells.set(key, this.pointVao(c));
   }
 
+  clearLevels() {
+    for (const l of this.levels) {
+      l.bufs.forEach((b) => this.gl.deleteBuffer(b));
+      this.gl.deleteVertexArray(l.vao);
+    }
+    this.levels = [];
+  }
+
   // A tile's level of detail: its blocks in one set of buffers.
   addLevel(level) {
     const n = level.blocks.reduce((a, b) => a + b.n, 0);

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "render/colour_modes.hpp"
+#include "serve/encoding.hpp"
 #include "serve/gzip.hpp"
 
 namespace lidarscout::serve {
@@ -59,6 +60,11 @@ int parse_dimension(const httplib::Request& req, const char* name, int fallback,
     const int v = parse_int32(req.get_param_value(name), req.get_param_value(name));
     if (v < lo || v > hi) throw Error(std::string(name) + " out of range");
     return v;
+}
+
+// ?attrs=rgb,class,intensity (all of them when absent).
+std::uint32_t attributes_of(const httplib::Request& req) {
+    return req.has_param("attrs") ? parse_attributes(req.get_param_value("attrs")) : kAllAttributes;
 }
 
 }  // namespace
@@ -248,7 +254,7 @@ void Server::api_routes() {
         Survey* s = survey_of(req, res);
         if (!s) return;
         const auto cells = parse_cells(req.get_param_value("cells"));
-        send(req, res, *s->cell_points(cells), kBinary, s->loaded() ? kImmutable : kRevalidate);
+        send(req, res, *s->cell_points(cells, attributes_of(req)), kBinary, s->loaded() ? kImmutable : kRevalidate);
     });
     get(R"(/api/d/(\d{1,4})/heightmaps)", [this](const httplib::Request& req, httplib::Response& res) {
         Survey* s = survey_of(req, res);
@@ -264,7 +270,8 @@ void Server::api_routes() {
     get(R"(/api/d/(\d{1,4})/tile/(\d{1,9})/level/(\d))", [this](const httplib::Request& req, httplib::Response& res) {
         Survey* s = survey_of(req, res);
         if (!s) return;
-        send(req, res, *s->level(std::stoul(req.matches[2]), std::stoi(req.matches[3])), kBinary, kImmutable);
+        const auto level = s->level(std::stoul(req.matches[2]), std::stoi(req.matches[3]), attributes_of(req));
+        send(req, res, *level, kBinary, kImmutable);
     });
     get(R"(/api/d/(\d{1,4})/camera)", [this](const httplib::Request& req, httplib::Response& res) {
         Survey* s = survey_of(req, res);

@@ -132,16 +132,16 @@ std::string Survey::points_key(std::span<const CellKey> cells, std::vector<std::
     return key;
 }
 
-EncodedPtr Survey::cell_points(std::span<const CellKey> cells) {
+EncodedPtr Survey::cell_points(std::span<const CellKey> cells, std::uint32_t attributes) {
     std::vector<std::size_t> counts;
-    const std::string key = points_key(cells, counts);
+    const std::string key = points_key(cells, counts) + fmt::format(":a{}", attributes);
     return cache_.get(key, [&] {
         std::string body;
         std::uint64_t n = 0;
         for (std::size_t i = 0; i < cells.size(); ++i) {
             const auto set = viewer::cell_point_set(*grid_, cells[i]);  // origin: the cell's corner at z 0
             const auto points = std::span(set.points).first(std::min(set.points.size(), counts[i]));
-            append_block(body, cells[i].ix, cells[i].iy, points, grid_->patch_size());
+            append_block(body, cells[i].ix, cells[i].iy, points, grid_->patch_size(), attributes);
             n += points.size();
         }
         return encode(body, n);
@@ -164,10 +164,10 @@ std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells) {
     });
 }
 
-EncodedPtr Survey::level(std::size_t tile, int level) {
+EncodedPtr Survey::level(std::size_t tile, int level, std::uint32_t attributes) {
     if (tile >= dataset_.tiles.size()) throw Error("no tile " + std::to_string(tile));
     if (level < 0 || level >= kLevels) throw Error("no level " + std::to_string(level) + " (0-3)");
-    const auto key = [&](int l) { return fmt::format("{}:l:{}:{}", generation_, tile, l); };
+    const auto key = [&](int l) { return fmt::format("{}:l:{}:{}:a{}", generation_, tile, l, attributes); };
     return cache_.get(key(level), [&] {
         ThreadPool pool(1);  // on this request's thread, as the heightmaps
         decodes_.acquire();
@@ -177,7 +177,7 @@ EncodedPtr Survey::level(std::size_t tile, int level) {
         } release{decodes_};
         std::vector<dataset::SkippedChunk> skipped;  // a corrupt chunk costs its points only
         const auto set = viewer::tile_point_set(dataset_.tiles[tile], dataset_.las_stride, pool, {}, &skipped);
-        auto levels = encode_levels(set, grid_->origin_x(), grid_->origin_y());
+        auto levels = encode_levels(set, grid_->origin_x(), grid_->origin_y(), attributes);
         EncodedPtr wanted;
         for (int l = 0; l < kLevels; ++l) {  // the tile is decoded once for all its levels
             auto e = encode(levels[l].body, levels[l].points);

@@ -43,14 +43,14 @@ public:
     EncodedPtr tiles();
     // The cells holding chunk points so far: uint32 count, then int32 ix, iy, uint32 points each.
     std::string cells_body() const;
-    // The chunk points of `cells` (encoding.hpp) as far as they are loaded now.
-    EncodedPtr cell_points(std::span<const CellKey> cells);
+    // The chunk points of `cells` (encoding.hpp) as far as they are loaded now, with `attributes`.
+    EncodedPtr cell_points(std::span<const CellKey> cells, std::uint32_t attributes);
     // The linear heightmaps of `cells` (those with one); empty until the chunk points are loaded
     // (a heightmap's window needs its neighbours' points).
     std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells);
     // Level `level` (0-3) of the full-resolution points of tile `tile` (encoding.hpp); the tile is
     // decoded once for its four levels. Throws lidarscout::Error for a tile or level out of range.
-    EncodedPtr level(std::size_t tile, int level);
+    EncodedPtr level(std::size_t tile, int level, std::uint32_t attributes);
     // render's auto camera for an image of width x height and the vertical field of view (JSON),
     // looking at the whole dataset or at one of its tiles.
     std::string auto_camera_json(int width, int height, double fov_deg, std::optional<std::size_t> tile = {}) const;

@@ -5,13 +5,17 @@
 // bad or too many cells, a missing or wrong token, methods other than GET, CORS only when asked.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
+#include <tuple>
 #include <filesystem>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "serve/encoding.hpp"
+#include "viewer/point_sets.hpp"
 #include "serve/gzip.hpp"
 #include "serve_fixture.hpp"
 #include "temp_dir_fixture.hpp"
@@ -67,23 +71,106 @@ TEST(ServeApi, ChunkPointsComeBackOnTheirLattice) {
     const std::string& body = res->body;
     std::size_t offset = 0, points = 0;
     const double size = s.survey->grid().patch_size(), half_xy = 0.5 * size / 2047 + 1e-3;
+    // the points of a cell as the lattice orders them (x, y, z rounded to a tenth of a step)
+    const auto sorted = [&](std::vector<render::PointAttr> v) {
+        std::sort(v.begin(), v.end(), [&](const auto& a, const auto& b) {
+            return std::tuple(std::lround(a.dy / half_xy), std::lround(a.dx / half_xy), a.dz) <
+                   std::tuple(std::lround(b.dy / half_xy), std::lround(b.dx / half_xy), b.dz);
+        });
+        return v;
+    };
     while (offset < body.size()) {
-        const CellKey cell{read_at<std::int32_t>(body, offset), read_at<std::int32_t>(body, offset + 4)};
-        const auto count = read_at<std::uint32_t>(body, offset + 8);
-        const float z0 = read_at<float>(body, offset + 12), z1 = read_at<float>(body, offset + 16);
-        const auto expected = s.survey->grid().points_in(cell);
-        ASSERT_EQ(count, expected.size());
-        for (std::uint32_t i = 0; i < count; ++i) {
-            const auto p = serve::decode_position(read_at<std::uint32_t>(body, offset + 24 + 4 * i), size, z0, z1);
-            EXPECT_NEAR(p.dx, expected[i].dx, half_xy);
-            EXPECT_NEAR(p.dy, expected[i].dy, half_xy);
-            EXPECT_NEAR(p.z, expected[i].z, 0.5 * (z1 - z0) / 1023 + 1e-3);
+        const auto block = serve::decode_block(body, offset, size);
+        const auto expected = sorted(viewer::cell_point_set(s.survey->grid(), {block.ix, block.iy}).points);
+        const auto got = sorted(block.points);
+        ASSERT_EQ(got.size(), expected.size());
+        float z0 = INFINITY, z1 = -INFINITY;
+        for (const auto& p : expected) z0 = std::min(z0, p.dz), z1 = std::max(z1, p.dz);
+        for (std::size_t i = 0; i < got.size(); ++i) {
+            EXPECT_NEAR(got[i].dx, expected[i].dx, half_xy);
+            EXPECT_NEAR(got[i].dy, expected[i].dy, half_xy);
+            EXPECT_NEAR(got[i].dz, expected[i].dz, 0.5 * (z1 - z0) / 1023 + 1e-3);
+            EXPECT_EQ(got[i].classification, expected[i].classification);
+            EXPECT_EQ(got[i].intensity, expected[i].intensity);
         }
-        offset += 24 + count * 10;  // 4 bytes of position, 3 of colour, 1 class, 2 intensity
-        points += count;
+        points += got.size();
     }
     EXPECT_EQ(offset, body.size());
     EXPECT_EQ(points, listed);
+}
+
+TEST(ServeApi, LevelsOfDetailHoldEveryPointOnce) {
+    RunningServer s({woodford()});
+    auto c = s.client();
+    std::uint64_t points = 0, without_attributes = 0, with = 0;
+    for (int level = 0; level < serve::kLevels; ++level) {
+        const auto all = c.Get("/api/d/0/tile/0/level/" + std::to_string(level));
+        const auto bare = c.Get("/api/d/0/tile/0/level/" + std::to_string(level) + "?attrs=");
+        ASSERT_EQ(all->status, 200);
+        ASSERT_EQ(bare->status, 200);
+        std::uint32_t blocks = 0;
+        std::memcpy(&blocks, all->body.data() + 24, 4);
+        std::size_t offset = 32;
+        std::uint64_t n = 0;
+        for (std::uint32_t b = 0; b < blocks; ++b) {
+            n += serve::decode_block(all->body, offset, serve::kLodBlockM).points.size();
+        }
+        EXPECT_EQ(offset, all->body.size());
+        EXPECT_EQ(bare->body.size() + 6 * n, all->body.size());  // 3 + 1 + 2 bytes of attributes a point
+        points += n, with += all->body.size(), without_attributes += bare->body.size();
+    }
+    EXPECT_EQ(points, s.survey->dataset().tiles[0].tile.header.point_count);
+    EXPECT_LT(without_attributes, 4 * points);  // positions: under 4 bytes a point before gzip
+    EXPECT_EQ(c.Get("/api/d/0/tile/0/level/4")->status, 400);
+    EXPECT_EQ(c.Get("/api/d/0/tile/1/level/0")->status, 400);
+    EXPECT_EQ(c.Get("/api/d/0/tile/0/level/0?attrs=rgb,colour")->status, 400);
+}
+
+// A block on a coarse lattice (a level of detail's) comes back within half a step of every point, every
+// point once, its colour within 5-6-5's rounding.
+TEST(ServeEncoding, BlocksRoundTripOnTheirLattice) {
+    std::vector<render::PointAttr> points;
+    std::uint32_t seed = 7;
+    const auto next = [&] { return (seed = seed * 1664525u + 1013904223u) >> 8; };
+    for (int i = 0; i < 500; ++i) {
+        render::PointAttr p;
+        p.dx = static_cast<float>(next() % 12800) / 100.0f, p.dy = static_cast<float>(next() % 12800) / 100.0f;
+        p.dz = 300.0f + static_cast<float>(next() % 4000) / 100.0f;
+        p.r = static_cast<std::uint8_t>(next()), p.g = static_cast<std::uint8_t>(next());
+        p.b = static_cast<std::uint8_t>(next()), p.classification = static_cast<std::uint8_t>(next() % 20);
+        points.push_back(p);
+    }
+    const double step = 0.5;
+    std::string body;
+    serve::append_block(body, 3, -4, points, serve::kLodBlockM, serve::kRgb565 | serve::kClass, step);
+    std::size_t offset = 0;
+    const auto block = serve::decode_block(body, offset, serve::kLodBlockM);
+    EXPECT_EQ(offset, body.size());
+    EXPECT_EQ(block.ix, 3);
+    EXPECT_EQ(block.iy, -4);
+    ASSERT_EQ(block.points.size(), points.size());
+    std::vector<bool> used(points.size());
+    for (const auto& d : block.points) {  // its nearest original point not matched yet
+        std::size_t best = points.size();
+        double best_d = INFINITY;
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const double e = std::hypot(d.dx - points[i].dx, d.dy - points[i].dy, d.dz - points[i].dz);
+            if (!used[i] && e < best_d) best = i, best_d = e;
+        }
+        ASSERT_LT(best, points.size());
+        used[best] = true;
+        EXPECT_LE(best_d, 0.5 * step * std::sqrt(3.0) + 1e-3);
+        EXPECT_EQ(d.classification, points[best].classification);
+        EXPECT_LE(points[best].r - d.r, 7);
+        EXPECT_GE(points[best].r - d.r, 0);
+        EXPECT_LE(points[best].g - d.g, 3);
+        EXPECT_LE(points[best].b - d.b, 7);
+    }
+    // positions under 4 bytes a point before gzip even for random points (no neighbour near), 565 colour, class
+    EXPECT_LT(body.size(), 28 + points.size() * (4 + 2 + 1));
+    std::string bad = body.substr(0, body.size() - 1);
+    offset = 0;
+    EXPECT_THROW(serve::decode_block(bad, offset, serve::kLodBlockM), Error);
 }
 
 TEST(ServeApi, HeightmapsOnceLoaded) {
