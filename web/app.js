@@ -1,11 +1,13 @@
 // The page's main loop: opens the first survey of the server, places the camera from the URL
 // fragment (#camera=X,Y,Z,YAW,PITCH in the CRS's units, or #camera=auto: render's auto camera,
 // computed by the server), streams the chunk points cell by cell nearest the camera first, then
-// the heightmap patches, and draws on demand. #ui=0 hides the panel (screenshots). The page's
+// the heightmap patches, and draws on demand. #ui=0 hides the panel (screenshots); #measure=1 and
+// #clicks=X,Y;X,Y click once everything is loaded (tests of the readout and distance tool). The page's
 // timings (ms since navigation) are kept in #timings as JSON for tests and benchmarks.
 import { Api } from './data.js';
 import { basis, cameraText, fitDepthRange, focalPx, parseCamera, viewProjection } from './camera.js';
 import { Renderer } from './gl.js';
+import { crsText, drawOverlay, measureText, pick } from './tools.js';
 
 const POINT_BATCH = 64, PATCH_BATCH = 16, IN_FLIGHT = 4, CHUNK_POINT_PX = 2, MAX_PATCHES = 4000;
 const LEVELS = 4, TEXEL_M = 10, MAX_LOD_POINTS = 8e6;  // (a heightmap texel: what level 0 refines)
@@ -20,6 +22,7 @@ const state = {
   fetchedCounts: new Map(),  // "ix,iy" -> points received
   patchQueue: [], patchesAsked: new Set(), inFlight: 0, pointsReceived: 0, patches: 0,
   controller: new AbortController(), errors: 0, lastError: '', tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0,
+  measured: [],
 };
 
 function cellCentre(key, size) {
@@ -286,8 +289,14 @@ function stepLength() {  // a tenth of the height above the data's lowest point,
 function bindInput(canvas) {
   let drag = null;
   canvas.addEventListener('contextmenu', (e) => e.preventDefault());
-  canvas.addEventListener('pointerdown', (e) => { drag = { x: e.clientX, y: e.clientY, button: e.button }; });
-  window.addEventListener('pointerup', () => { drag = null; });
+  canvas.addEventListener('pointerdown', (e) => {
+    drag = { x: e.clientX, y: e.clientY, button: e.button, x0: e.clientX, y0: e.clientY };
+  });
+  window.addEventListener('pointerup', (e) => {
+    const click = drag && drag.button === 0 && Math.hypot(e.clientX - drag.x0, e.clientY - drag.y0) < 3;
+    drag = null;
+    if (click) clickAt(e.clientX, e.clientY);
+  });
   window.addEventListener('pointermove', (e) => {
     if (!drag) return;
     const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
@@ -307,6 +316,11 @@ function bindInput(canvas) {
     const moves = { w: [s, 0, 0], s: [-s, 0, 0], a: [0, -s, 0], d: [0, s, 0], q: [0, 0, -s], e: [0, 0, s] };
     if (moves[k]) moveBy(...moves[k]);
   });
+  $('measure').addEventListener('change', () => {
+    state.measured = [];
+    $('measured').textContent = $('measure').checked ? measureText([], state.info) : '';
+    state.dirty = true;
+  });
   $('colour').addEventListener('change', (e) => {
     state.mode = Number(e.target.value);
     state.dirty = true;
@@ -314,6 +328,29 @@ function bindInput(canvas) {
   });
   window.addEventListener('resize', resize);
   window.addEventListener('pagehide', () => state.controller.abort());  // a client that leaves cancels its work
+}
+
+// A click: the readout of the point under the cursor, and a vertex of the measured line.
+function clickAt(clientX, clientY) {
+  const dpr = window.devicePixelRatio || 1, p = pick(state.renderer, state.cam, clientX * dpr, clientY * dpr);
+  if (!p) {
+    $('pick').textContent = 'no point under the cursor';
+    return;
+  }
+  $('pick').textContent = `point ${crsText(p, state.info)} · class ${p.cls} · intensity ${p.intensity}`;
+  if (!$('measure').checked) return;
+  state.measured.push(p);
+  $('measured').textContent = measureText(state.measured, state.info);
+  state.dirty = true;
+}
+
+// #measure=1&clicks=X,Y;X,Y (CSS pixels): clicks made once the page is complete (for tests).
+function scriptedClicks() {
+  if (hash.get('measure') === '1') $('measure').checked = true;
+  for (const xy of (hash.get('clicks') || '').split(';').filter(Boolean)) {
+    const [x, y] = xy.split(',').map(Number);
+    if (Number.isFinite(x) && Number.isFinite(y)) clickAt(x, y);
+  }
 }
 
 // ---- frame -------------------------------------------------------------------------------
@@ -327,13 +364,18 @@ function frame() {
       zrange: [info.bounds_m[2], info.bounds_m[5]], irange: info.intensity_range ?? [0, 65535],
       pointSize: CHUNK_POINT_PX, uncoloured: grey, focal: focalPx(state.cam, canvas.height) });
     $('progress').textContent = progressLine(drawn);
+    drawOverlay($('overlay'), state.cam, state.measured, canvas.width, canvas.height);
     $('readout').textContent = `camera ${cameraText(state.cam, info.frame, info.origin_m)}`;
     $('timings').textContent = JSON.stringify({ ...timings, bytes: state.api.bytes, points: state.pointsReceived,
                                                 point_bytes: state.api.pointBytes, wire_point_bytes: wirePointBytes(),
                                                 patches: state.patches,
                                                 full_res_points: state.lodPoints,
                                                 errors: state.errors });
-    if ('terrain' in timings && 'overview' in timings) document.title = 'lidarscout · complete';
+    if ('terrain' in timings && 'overview' in timings && !state.complete) {
+      state.complete = true;
+      document.title = 'lidarscout · complete';
+      scriptedClicks();
+    }
   }
   requestAnimationFrame(frame);
 }

@@ -112,7 +112,7 @@ export class Renderer {
   addCell(c) {
     const key = `${c.ix},${c.iy}`;
     this.removeCell(key);
-    this.cells.set(key, this.pointVao(c));
+    this.cells.set(key, { ...this.pointVao(c), data: c });  // (data: for picking)
   }
 
   clearLevels() {
@@ -134,7 +134,7 @@ export class Renderer {
       all.pos.set(b.pos, 3 * o), all.rgb.set(b.rgb, 3 * o), all.cls.set(b.cls, o), all.intensity.set(b.intensity, o);
       o += b.n;
     }
-    this.levels.push({ ...this.pointVao(all), spacing: level.spacing });
+    this.levels.push({ ...this.pointVao(all), spacing: level.spacing, data: all });
   }
 
   removeCell(key) {
@@ -155,6 +155,12 @@ export class Renderer {
     bufs.push(ib);
     gl.bindVertexArray(null);
     this.patches.set(`${h.ix},${h.iy}`, { vao, bufs, count: h.index.length });
+  }
+
+  // The point sets drawn now, each {pos, cls, intensity, n} (what a pick searches).
+  *drawnSets() {
+    for (const [key, c] of this.cells) if (!this.patches.has(key)) yield c.data;
+    for (const l of this.levels) yield l.data;
   }
 
   draw(view) {

@@ -2,7 +2,8 @@
 // `lidarscout serve` for ky-jmo335 at #camera=auto and its screenshot is compared with
 // `render --camera auto --until full` of the same survey (the same auto camera): not blank, and
 // at least 0.8 of the pixels render draws are drawn. The page's own timings are read back from
-// its DOM (#timings) and printed; nothing asserts on them. Skipped only where chromium is missing
+// its DOM (#timings) and printed; nothing asserts on them; two scripted clicks with the distance
+// tool on give a point readout and a length. Skipped only where chromium is missing
 // (scripts/setup.sh installs it).
 #include <gtest/gtest.h>
 
@@ -53,7 +54,8 @@ TEST_F(ServeBrowser, AutoCameraCoversWhatRenderCovers) {
     const auto shot = dir / "page.png", ref = dir / "render.png", dom = dir / "dom.html";
     const std::string page_url = url + "#camera=auto&ui=0";
     ASSERT_EQ(std::system(chromium("--screenshot='" + shot.string() + "'", page_url, shot).c_str()), 0);
-    ASSERT_EQ(std::system(chromium("--dump-dom", page_url, dom).c_str()), 0);
+    // (and the cursor readout and distance tool: two clicks on the survey once the page is complete)
+    ASSERT_EQ(std::system(chromium("--dump-dom", page_url + "&measure=1&clicks=600,400;700,450", dom).c_str()), 0);
     ASSERT_EQ(std::system(("'" + std::string(LIDARSCOUT_CLI) + "' render '" + jmo335() +
                            "' --camera auto --until full -o '" + ref.string() + "' 2>/dev/null").c_str()),
               0);
@@ -81,6 +83,15 @@ TEST_F(ServeBrowser, AutoCameraCoversWhatRenderCovers) {
     EXPECT_GT(timings.at("patches").get<int>(), 0);
     EXPECT_TRUE(timings.contains("overview"));
     EXPECT_TRUE(timings.contains("first_terrain"));
+    EXPECT_NE(html.find("<div id=\"pick\">point 56"), std::string::npos);  // x in feet: 5,67x,xxx
+    const auto measured = html.find("<div id=\"measured\">measure: ");
+    ASSERT_NE(measured, std::string::npos);
+    const auto total_at = html.find("total ", measured);
+    ASSERT_NE(total_at, std::string::npos);
+    const double length = std::stod(html.substr(total_at + 6, 20));
+    std::printf("measured between the two clicks: %.2f ft\n", length);
+    EXPECT_GT(length, 100.0);  // 100 px apart at ~8,000 ft: hundreds of feet
+    EXPECT_LT(length, 5000.0);
 }
 
 }  // namespace
