@@ -2,7 +2,7 @@
 // fragment (#camera=X,Y,Z,YAW,PITCH in the CRS's units, or #camera=auto: render's auto camera,
 // computed by the server), streams the chunk points cell by cell nearest the camera first, then
 // the heightmap patches, and draws on demand. #ui=0 hides the panel (screenshots); #measure=1 and
-// #clicks=X,Y;X,Y click once everything is loaded (tests of the readout and distance tool). The page's
+// #clicks=X,Y;X,Y click once everything in view is loaded (tests of the readout and distance tool). The page's
 // timings (ms since navigation) are kept in #timings as JSON for tests and benchmarks.
 import { Api } from './data.js';
 import { basis, cameraText, fitDepthRange, focalPx, parseCamera, viewProjection } from './camera.js';
@@ -46,12 +46,18 @@ function resize() {
   canvas.width = Math.round(canvas.clientWidth * dpr);
   canvas.height = Math.round(canvas.clientHeight * dpr);
   state.dirty = true;
+  // #camera=auto frames the data for the image's shape, as render does for its size: again for the new one
+  if (state.autoCamera && state.info) {
+    state.api.autoCamera(canvas.width, canvas.height, 60).then((c) => {
+      if (state.autoCamera) setCamera(fromServerCamera(c), false);
+    }).catch(fail);
+  }
 }
 
 function setCamera(cam, fromUser = true) {
   state.cam = { ...cam, ...fitDepthRange(cam, state.box) };
   state.dirty = true;
-  if (fromUser) scheduleHashUpdate();
+  if (fromUser) state.autoCamera = false, scheduleHashUpdate();
 }
 
 let hashTimer = 0;
@@ -65,9 +71,11 @@ function scheduleHashUpdate() {
 
 async function initialCamera(w, h) {
   const text = hash.get('camera') || 'auto';
+  state.autoCamera = text === 'auto';
   if (text !== 'auto') {
     const cam = parseCamera(text, state.info.frame, state.info.origin_m);
     if (cam) return cam;
+    state.autoCamera = true;
     state.lastError = `bad #camera=${text}: X,Y,Z,YAW,PITCH or auto`;
   }
   return fromServerCamera(await state.api.autoCamera(w, h, 60));
@@ -104,7 +112,10 @@ function pump() {
     const patches = state.patchQueue.splice(0, PATCH_BATCH);
     if (patches.length) { fetchPatches(patches); continue; }
     const next = nextLevel();
-    if (!next) return;
+    if (!next) {
+      if (state.inFlight === 0 && state.tiles) mark('idle');  // everything the view wants is in
+      return;
+    }
     fetchLevel(next);
   }
 }
@@ -344,7 +355,7 @@ function clickAt(clientX, clientY) {
   state.dirty = true;
 }
 
-// #measure=1&clicks=X,Y;X,Y (CSS pixels): clicks made once the page is complete (for tests).
+// #measure=1&clicks=X,Y;X,Y (CSS pixels): clicks made once everything the view wants is in (tests).
 function scriptedClicks() {
   if (hash.get('measure') === '1') $('measure').checked = true;
   for (const xy of (hash.get('clicks') || '').split(';').filter(Boolean)) {
@@ -374,6 +385,9 @@ function frame() {
     if ('terrain' in timings && 'overview' in timings && !state.complete) {
       state.complete = true;
       document.title = 'lidarscout · complete';
+    }
+    if ('idle' in timings && !state.clicked) {
+      state.clicked = true;
       scriptedClicks();
     }
   }
