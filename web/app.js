@@ -11,6 +11,7 @@ import { crsText, drawOverlay, measureText, pick } from './tools.js';
 
 const POINT_BATCH = 64, PATCH_BATCH = 16, IN_FLIGHT = 4, CHUNK_POINT_PX = 2, MAX_PATCHES = 4000;
 const LEVELS = 4, TEXEL_M = 10, MAX_LOD_POINTS = 8e6;  // (a heightmap texel: what level 0 refines)
+const MAX_CNN_PATCHES = 256;  // the network's heightmaps: the nearest cells only (inference is the cost)
 const $ = (id) => document.getElementById(id);
 const hash = new URLSearchParams(location.hash.slice(1));
 const timings = {};
@@ -22,7 +23,7 @@ const state = {
   fetchedCounts: new Map(),  // "ix,iy" -> points received
   patchQueue: [], patchesAsked: new Set(), inFlight: 0, pointsReceived: 0, patches: 0,
   controller: new AbortController(), errors: 0, lastError: '', tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0,
-  measured: [],
+  measured: [], patchMethod: 'linear', cnnPatches: 0, retries: 0, emptyBatches: 0,
 };
 
 function cellCentre(key, size) {
@@ -87,12 +88,15 @@ function fromServerCamera(c) {
 }
 
 // ---- streaming ---------------------------------------------------------------------------
+// The loading's progress, then the cells: a list asked for after the server said it had loaded
+// everything is complete (only then do the heightmaps start: a window needs its neighbours).
 async function pollCells() {
+  const info = await state.api.info();
   const cells = await state.api.cells();
   for (const c of cells) state.cellCounts.set(`${c.ix},${c.iy}`, c.n);
-  const info = await state.api.info();
   state.info.loading = info.datasets[0].loading;
   if (info.datasets[0].intensity_range) state.info = { ...state.info, ...info.datasets[0] };
+  state.cellsComplete = state.info.loading.finished;
   pump();
   if (!state.info.loading.finished) setTimeout(() => pollCells().catch(fail), 250);
 }
@@ -107,10 +111,16 @@ function pump() {
   while (state.inFlight < IN_FLIGHT) {
     const cells = byPriority(pendingPointCells().filter((k) => !state.asked?.has(k))).slice(0, POINT_BATCH);
     if (cells.length) { fetchPoints(cells); continue; }
-    if (!state.info.loading.finished) return;
+    if (!state.cellsComplete) return;
     if (!state.patchQueue.length && state.patchesAsked.size === 0) startPatches();
     const patches = state.patchQueue.splice(0, PATCH_BATCH);
-    if (patches.length) { fetchPatches(patches); continue; }
+    if (patches.length) { fetchPatches(patches, state.patchMethod); continue; }
+    if (state.patchMethod === 'linear' && state.info.cnn && state.inFlight === 0 && 'terrain' in timings) {
+      state.patchMethod = 'cnn';  // then the network's, nearest first, over the linear ones
+      state.patchQueue = byPriority([...state.patchesAsked]).slice(0, MAX_CNN_PATCHES);
+      state.patchesDone = 0;
+      continue;
+    }
     const next = nextLevel();
     if (!next) {
       if (state.inFlight === 0 && state.tiles) mark('idle');  // everything the view wants is in
@@ -194,7 +204,7 @@ function fetchPoints(keys) {
   }).catch(fail).finally(() => {
     keys.forEach((k) => state.asked.delete(k));
     --state.inFlight;
-    if (state.info.loading.finished && pendingPointCells().length === 0) mark('overview');
+    if (state.cellsComplete && pendingPointCells().length === 0) mark('overview');
     pump();
   });
 }
@@ -206,17 +216,27 @@ function startPatches() {
   if (!state.patchQueue.length) mark('terrain');
 }
 
-function fetchPatches(keys) {
+function fetchPatches(keys, method) {
   ++state.inFlight;
-  state.api.heightmaps(toCells(keys), state.patchStep, state.controller.signal).then((maps) => {
-    if (maps === null) { state.patchQueue.unshift(...keys); return; }
-    for (const m of maps) if (m.triangles) state.renderer.addPatch(m), ++state.patches;
-    if (maps.length) mark('first_terrain');
+  state.api.heightmaps(toCells(keys), state.patchStep, method, state.controller.signal).then((maps) => {
+    if (maps === null) {  // the server still loads: again later
+      ++state.retries;
+      state.patchQueue.unshift(...keys);
+      return;
+    }
+    state.patchesDone = (state.patchesDone ?? 0) + keys.length;
+    for (const m of maps) {
+      if (!m.triangles) continue;
+      if (method === 'cnn') ++state.cnnPatches;
+      else ++state.patches;
+      state.renderer.addPatch(m);
+    }
+    if (maps.length) mark(method === 'cnn' ? 'first_cnn' : 'first_terrain');
+    else ++state.emptyBatches;
     state.dirty = true;
   }).catch(fail).finally(() => {
     --state.inFlight;
-    state.patchesDone = (state.patchesDone ?? 0) + keys.length;
-    if (state.patchesDone >= state.patchesAsked.size) mark('terrain');
+    if (method === 'linear' && state.patchesDone >= state.patchesAsked.size) mark('terrain');
     pump();
   });
 }
@@ -270,6 +290,7 @@ function progressLine(drawn) {
   const perPoint = received ? (wirePointBytes() / received).toFixed(2) : '-';
   return `tiles ${l.tiles_done}/${state.info.tiles} · chunk points ${state.pointsReceived.toLocaleString()}` +
     ` · full-res ${state.lodPoints.toLocaleString()} (${drawn.toLocaleString()} drawn) · heightmaps ${state.patches}` +
+    (state.info.cnn ? ` (network ${state.cnnPatches})` : '') +
     ` · ${mb} MB (points ${perPoint} B each)` +
     ` · overview ${t('overview')} · terrain ${t('first_terrain')}` +
     (state.errors ? ` · ${state.errors} errors: ${state.lastError}` : '') +
@@ -379,7 +400,8 @@ function frame() {
     $('readout').textContent = `camera ${cameraText(state.cam, info.frame, info.origin_m)}`;
     $('timings').textContent = JSON.stringify({ ...timings, bytes: state.api.bytes, points: state.pointsReceived,
                                                 point_bytes: state.api.pointBytes, wire_point_bytes: wirePointBytes(),
-                                                patches: state.patches,
+                                                patches: state.patches, cnn_patches: state.cnnPatches,
+                                                retries: state.retries, empty_patch_batches: state.emptyBatches,
                                                 full_res_points: state.lodPoints,
                                                 errors: state.errors });
     if ('terrain' in timings && 'overview' in timings && !state.complete) {

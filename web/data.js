@@ -75,9 +75,10 @@ export class Api {
   }
 
   // null while the server still loads the chunk points (503).
-  async heightmaps(cells, step, signal) {
+  async heightmaps(cells, step, method, signal) {
     try {
-      return decodeHeightmaps(await this.binary(this.d('heightmaps'), { cells: Api.cellList(cells) }, signal), step);
+      const params = { cells: Api.cellList(cells), method };
+      return decodeHeightmaps(await this.binary(this.d('heightmaps'), params, signal), step);
     } catch (e) {
       if (e.status === 503) return null;
       throw e;

@@ -154,7 +154,12 @@ export class Renderer {
     gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, h.index, gl.STATIC_DRAW);
     bufs.push(ib);
     gl.bindVertexArray(null);
-    this.patches.set(`${h.ix},${h.iy}`, { vao, bufs, count: h.index.length });
+    const key = `${h.ix},${h.iy}`, old = this.patches.get(key);
+    if (old) {  // the network's heightmap replaces the linear one
+      old.bufs.forEach((b) => gl.deleteBuffer(b));
+      gl.deleteVertexArray(old.vao);
+    }
+    this.patches.set(key, { vao, bufs, count: h.index.length });
   }
 
   // The point sets drawn now, each {pos, cls, intensity, n} (what a pick searches).

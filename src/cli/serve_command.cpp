@@ -1,4 +1,4 @@
-// `lidarscout serve PATH... [--listen HOST:PORT] [--token T] [--memory SIZE] [--cors ORIGIN]`:
+// `lidarscout serve PATH... [--listen HOST:PORT] [--token T] [--memory SIZE] [--cors ORIGIN] [--model FILE]`:
 // the datasets as a web page (src/serve, web/): a small HTTP server on loopback by default
 // (any other address needs --token) that prints its URL as the first line of stdout once it
 // listens, then serves until stopped (Ctrl-C).
@@ -14,6 +14,7 @@
 #include "cli/stage_progress.hpp"
 #include "core/error.hpp"
 #include "dataset/dataset.hpp"
+#include "nn/heightmap_network.hpp"
 #include "serve/server.hpp"
 #include "viewer/scheduler.hpp"
 
@@ -28,7 +29,25 @@ struct ServeCliOptions {
     std::string cors;
     std::string crs;
     std::string web;
+    std::string model;
+    bool no_cnn = false;
 };
+
+// The network's file: --model, else the shipped model when it is found; empty (linear heightmaps
+// only) with --no-cnn or without a model, said in one line.
+std::string model_path(const ServeCliOptions& o) {
+    if (o.no_cnn) return {};
+    if (!o.model.empty()) {
+        nn::check_model_file(o.model);
+        return o.model;
+    }
+    try {
+        return nn::default_model_path();
+    } catch (const Error& e) {
+        std::fprintf(stderr, "lidarscout: %s; linear heightmaps only\n", e.what());
+        return {};
+    }
+}
 
 constexpr std::uint64_t kMinCacheBytes = 16ull << 20;
 constexpr std::uint64_t kGridBytesPerChunkPoint = 40;  // PatchGrid's 24-byte points with its vectors' slack
@@ -48,6 +67,7 @@ int run_serve(const ServeCliOptions& o) {
     serve::check_access_rule(options.listen, options.token);  // before anything is read
     options.web_dir = o.web.empty() ? serve::default_web_dir() : o.web;
     const std::uint64_t memory = o.memory.empty() ? viewer::default_memory_budget() : parse_bytes(o.memory);
+    const std::string model = model_path(o);
     dataset::DatasetOptions dataset_options;
     dataset_options.crs = o.crs;
     auto ds = open_with_progress(o.paths, dataset_options);
@@ -57,6 +77,7 @@ int run_serve(const ServeCliOptions& o) {
     auto cache = std::make_unique<serve::ResponseCache>(options.memory_budget);
     std::vector<std::unique_ptr<serve::Survey>> surveys;
     surveys.push_back(std::make_unique<serve::Survey>(std::move(ds), *cache));
+    surveys.back()->set_model(model);
     serve::Server server(std::move(surveys), options, std::move(cache));
     server.bind();
     std::printf("%s\n", server.url().c_str());
@@ -86,6 +107,10 @@ void register_serve_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--cors", o->cors, "Allow pages of this origin (e.g. https://example.org) to use the API");
     cmd->add_option("--crs", o->crs,
                     "Reproject every tile to this CRS, e.g. EPSG:32632 (default: the CRS most tiles use)");
+    cmd->add_option("--model", o->model,
+                    "TorchScript heightmap network for the page's second heightmaps (default: "
+                    "models/heightmap_cnn.pt when found)");
+    cmd->add_flag("--no-cnn", o->no_cnn, "Linear heightmaps only (no network)");
     cmd->add_option("--web", o->web, "The page's folder (default: web/ of the installation or source tree)");
     cmd->callback([o, &run] { run = [o] { return run_serve(*o); }; });
 }

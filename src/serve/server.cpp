@@ -260,7 +260,9 @@ void Server::api_routes() {
         Survey* s = survey_of(req, res);
         if (!s) return;
         const auto cells = parse_cells(req.get_param_value("cells"));
-        const auto body = s->heightmaps(cells);
+        const std::string method = req.has_param("method") ? req.get_param_value("method") : "linear";
+        if (method != "linear" && method != "cnn") throw Error("unknown method '" + method.substr(0, 20) + "'");
+        const auto body = s->heightmaps(cells, method == "cnn");
         if (!body) {
             res.set_header("Retry-After", "1");
             return refuse(res, 503, "the chunk points are still loading");

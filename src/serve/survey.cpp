@@ -10,6 +10,7 @@
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
+#include "nn/heightmap_network.hpp"
 #include "render/camera.hpp"
 #include "render/colour_modes.hpp"
 #include "serve/encoding.hpp"
@@ -62,6 +63,7 @@ std::string Survey::info_json(std::size_t index) const {
         {"origin_m", {grid_->origin_x(), grid_->origin_y()}},
         {"patch_size_m", grid_->patch_size()},
         {"uncoloured_grey", viewer::kUncolouredGrey},
+        {"cnn", !model_path_.empty()},
         {"loading", {{"tiles_done", loader_->tiles_done()}, {"chunk_points", loader_->loaded()},
                      {"chunk_points_total", loader_->total()}, {"failed", loader_->failed()},
                      {"finished", loader_->finished()}}}};
@@ -148,16 +150,24 @@ EncodedPtr Survey::cell_points(std::span<const CellKey> cells, std::uint32_t att
     });
 }
 
-std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells) {
+std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, bool cnn) {
+    if (cnn && model_path_.empty()) throw Error("no heightmap network on this server (serve --model FILE)");
     if (!loader_->finished()) return std::nullopt;
-    std::string key = fmt::format("{}:h", generation_);
+    std::string key = fmt::format("{}:{}", generation_, cnn ? "n" : "h");
     for (const auto& c : cells) key += fmt::format(":{},{}", c.ix, c.iy);
     return cache_.get(key, [&] {
         viewer::HeightmapBuildOptions opt;
         opt.patch.has_rgb = has_rgb();
         opt.footprints = footprints_;
         ThreadPool pool(1);  // on this request's thread: the server's threads are the parallelism
-        const auto maps = viewer::build_linear_heightmaps(*grid_, cells, opt, pool);
+        std::vector<viewer::PatchHeightmap> maps;
+        if (cnn) {
+            std::lock_guard lock(network_mutex_);
+            if (!network_) network_ = std::make_unique<nn::HeightmapNetwork>(nn::HeightmapNetwork::load(model_path_));
+            maps = viewer::build_cnn_heightmaps(*grid_, cells, *network_, opt, pool);
+        } else {
+            maps = viewer::build_linear_heightmaps(*grid_, cells, opt, pool);
+        }
         std::string body;
         for (const auto& h : maps) append_heightmap(body, h, grid_->origin_x(), grid_->origin_y());
         return encode(body, maps.size());

@@ -20,6 +20,10 @@
 #include "dataset/dataset.hpp"
 #include "serve/response_cache.hpp"
 
+namespace lidarscout::nn {
+class HeightmapNetwork;
+}
+
 namespace lidarscout::serve {
 
 inline constexpr std::size_t kMaxCellsPerRequest = 256;
@@ -45,9 +49,14 @@ public:
     std::string cells_body() const;
     // The chunk points of `cells` (encoding.hpp) as far as they are loaded now, with `attributes`.
     EncodedPtr cell_points(std::span<const CellKey> cells, std::uint32_t attributes);
-    // The linear heightmaps of `cells` (those with one); empty until the chunk points are loaded
-    // (a heightmap's window needs its neighbours' points).
-    std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells);
+    // The heightmaps of `cells` (those with one) by the linear method or, with `cnn`, by the
+    // network (set_model; its first use loads it); empty until the chunk points are loaded (a
+    // heightmap's window needs its neighbours' points). Throws lidarscout::Error for cnn without a
+    // model.
+    std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells, bool cnn = false);
+    // The heightmap network's TorchScript file (nn/heightmap_network.hpp), loaded on first use.
+    void set_model(std::string path) { model_path_ = std::move(path); }
+    bool has_model() const { return !model_path_.empty(); }
     // Level `level` (0-3) of the full-resolution points of tile `tile` (encoding.hpp); the tile is
     // decoded once for its four levels. Throws lidarscout::Error for a tile or level out of range.
     EncodedPtr level(std::size_t tile, int level, std::uint32_t attributes);
@@ -68,6 +77,9 @@ private:
     mutable std::mutex mutex_;  // the values computed once the loading is done
     mutable std::optional<bool> has_rgb_;
     mutable std::optional<std::array<float, 2>> intensity_range_;
+    std::string model_path_;
+    std::mutex network_mutex_;  // the network: loaded once, one inference at a time
+    std::unique_ptr<nn::HeightmapNetwork> network_;
     std::counting_semaphore<> decodes_{2};  // tiles decoded at once (each holds its points twice meanwhile)
     std::uint64_t generation_;  // distinguishes this survey's cache keys
 };

@@ -81,6 +81,7 @@ TEST_F(ServeBrowser, AutoCameraCoversWhatRenderCovers) {
     EXPECT_EQ(timings.at("errors"), 0);
     EXPECT_GT(timings.at("points").get<int>(), 0);
     EXPECT_GT(timings.at("patches").get<int>(), 0);
+    EXPECT_GT(timings.at("cnn_patches").get<int>(), 0);  // then the network's (the shipped model)
     EXPECT_TRUE(timings.contains("overview"));
     EXPECT_TRUE(timings.contains("first_terrain"));
     EXPECT_NE(html.find("<div id=\"pick\">point 56"), std::string::npos);  // x in feet: 5,67x,xxx

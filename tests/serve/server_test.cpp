@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "nn/heightmap_network.hpp"
 #include "serve/encoding.hpp"
 #include "viewer/point_sets.hpp"
 #include "serve/gzip.hpp"
@@ -184,6 +185,24 @@ TEST(ServeApi, HeightmapsOnceLoaded) {
     const auto size = read_at<std::uint16_t>(res->body, 8);
     const bool colours = read_at<std::uint16_t>(res->body, 10) & 1;
     EXPECT_EQ(res->body.size(), 32u + size * size * (2u + (colours ? 3u : 0u)));
+}
+
+TEST(ServeApi, NetworkHeightmapsWithAModel) {
+    RunningServer s({woodford()});
+    s.survey->wait_loaded();
+    const auto cell = s.survey->grid().cells().front();
+    const std::string cells = std::to_string(cell.ix) + "," + std::to_string(cell.iy);
+    auto c = s.client();
+    EXPECT_EQ(c.Get("/api/d/0/heightmaps?method=cnn&cells=" + cells)->status, 400);  // no model: refused
+    EXPECT_EQ(c.Get("/api/d/0/heightmaps?method=bicubic&cells=" + cells)->status, 400);
+    s.survey->set_model(nn::default_model_path());
+    const auto cnn = c.Get("/api/d/0/heightmaps?method=cnn&cells=" + cells);
+    const auto linear = c.Get("/api/d/0/heightmaps?method=linear&cells=" + cells);
+    ASSERT_EQ(cnn->status, 200);
+    ASSERT_EQ(linear->status, 200);
+    ASSERT_EQ(cnn->body.size(), linear->body.size());  // the same patch, texels and colours
+    EXPECT_NE(cnn->body, linear->body);                 // by another method
+    EXPECT_TRUE(nlohmann::json::parse(c.Get("/api/info")->body)["datasets"][0]["cnn"].get<bool>());
 }
 
 TEST(ServeApi, GzipEtagAndNotModified) {
