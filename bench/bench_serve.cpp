@@ -4,8 +4,9 @@
 // camera, tiles; then the cells and their chunk points in batches of 64 cells with 4 requests in
 // flight until the server has loaded every chunk point and the client has them all (its first
 // overview), then the heightmap patches of the 64 cells nearest the data's centre in batches of
-// 16 (its first terrain). Reports per client the seconds to the first overview and terrain
-// (median, max), requests that failed, the bytes on the wire (gzip) per chunk point, and for the
+// 16 (its first terrain), then levels 0-2 of the full-resolution points of the 4 central tiles (its
+// full resolution). Reports per client the seconds to the first overview and terrain
+// and to full resolution (median, max), requests that failed, the bytes on the wire (gzip) per chunk point, and for the
 // server its resident size (sampled every 20 ms, and its high-water mark) against --memory and the
 // CPU seconds it spent per client.
 // Usage: bench_serve [--clients N] [--memory SIZE] [DATASET]
@@ -35,8 +36,8 @@ using lidarscout::bench::seconds_since;
 const char* kUsage = "[--clients N] [--memory SIZE] [DATASET (default /work/bench-data/replica-2025)]";
 
 struct ClientResult {
-    double overview_s = -1, terrain_s = -1;
-    std::uint64_t points = 0, wire_point_bytes = 0, failures = 0;
+    double overview_s = -1, terrain_s = -1, full_res_s = -1;
+    std::uint64_t points = 0, wire_point_bytes = 0, failures = 0, level_bytes = 0;
 };
 
 struct Cell {
@@ -89,6 +90,8 @@ public:
         result_.overview_s = seconds_since(t0);
         fetch_terrain(cells);
         result_.terrain_s = seconds_since(t0);
+        fetch_levels(nlohmann::json::parse(get("/api/d/0/tiles")));
+        result_.full_res_s = seconds_since(t0);
         return result_;
     }
 
@@ -96,6 +99,7 @@ private:
     std::string get(const std::string& path, bool points = false) {
         httplib::Client c("127.0.0.1", port_);
         c.set_decompress(false);
+        c.set_read_timeout(120, 0);  // a level waits for its tile's decoding (two at a time)
         const auto res = c.Get(path, {{"Accept-Encoding", "gzip"}});
         std::lock_guard lock(mutex_);
         if (!res || res->status != 200) {
@@ -125,6 +129,40 @@ private:
         });
         cells.resize(std::min<std::size_t>(cells.size(), 64));
         in_parallel(cells, 16, "/api/d/0/heightmaps?cells=", false);
+    }
+
+    // Levels 0-2 of the 4 tiles nearest the data's centre (the page's full resolution near the camera),
+    // the RGB mode's attributes, 4 requests at once.
+    void fetch_levels(const nlohmann::json& tiles) {
+        const auto& boxes = tiles["boxes_dm"];
+        const std::size_t n = tiles["names"].size();
+        double cx = 0, cy = 0;
+        for (std::size_t i = 0; i < n; ++i) cx += boxes[6 * i].get<double>() + boxes[6 * i + 3].get<double>(),
+                                          cy += boxes[6 * i + 1].get<double>() + boxes[6 * i + 4].get<double>();
+        cx /= 2.0 * std::max<std::size_t>(1, n), cy /= 2.0 * std::max<std::size_t>(1, n);
+        std::vector<std::pair<double, std::size_t>> order;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double x = 0.5 * (boxes[6 * i].get<double>() + boxes[6 * i + 3].get<double>());
+            const double y = 0.5 * (boxes[6 * i + 1].get<double>() + boxes[6 * i + 4].get<double>());
+            order.emplace_back(std::hypot(x - cx, y - cy), i);
+        }
+        std::sort(order.begin(), order.end());
+        std::vector<std::string> paths;
+        for (int level = 0; level < 3; ++level) {
+            for (std::size_t k = 0; k < std::min<std::size_t>(4, n); ++k) {
+                paths.push_back(fmt::format("/api/d/0/tile/{}/level/{}?attrs=rgb565,class", order[k].second, level));
+            }
+        }
+        std::atomic<std::size_t> next{0};
+        std::atomic<std::uint64_t> bytes{0};
+        std::vector<std::thread> threads;
+        for (int t = 0; t < 4; ++t) {
+            threads.emplace_back([&] {
+                for (std::size_t i; (i = next.fetch_add(1)) < paths.size();) bytes += get(paths[i]).size();
+            });
+        }
+        for (auto& t : threads) t.join();
+        result_.level_bytes = bytes;
     }
 
     void in_parallel(const std::vector<Cell>& cells, std::size_t batch, const std::string& path, bool points) {
@@ -199,10 +237,10 @@ int run(int argc, char** argv) {
     done = true;
     sampler.join();
     const double cpu = cpu_seconds(server.pid) - cpu0;
-    std::vector<double> overview, terrain;
+    std::vector<double> overview, terrain, full_res;
     std::uint64_t failures = 0, points = 0, bytes = 0;
     for (const auto& r : results) {
-        overview.push_back(r.overview_s), terrain.push_back(r.terrain_s);
+        overview.push_back(r.overview_s), terrain.push_back(r.terrain_s), full_res.push_back(r.full_res_s);
         failures += r.failures, points += r.points, bytes += r.wire_point_bytes;
     }
     fmt::print("bench_serve: {} ({} clients, --memory {}); listening after {:.2f} s\n", dataset, clients, memory,
@@ -211,6 +249,8 @@ int run(int argc, char** argv) {
                "s, max {:.2f} s\n",
                lidarscout::bench::median(overview), *std::max_element(overview.begin(), overview.end()),
                lidarscout::bench::median(terrain), *std::max_element(terrain.begin(), terrain.end()));
+    fmt::print("full resolution (levels 0-2 of the 4 central tiles): median {:.2f} s, max {:.2f} s\n",
+               lidarscout::bench::median(full_res), *std::max_element(full_res.begin(), full_res.end()));
     fmt::print("chunk points per client {}, {:.2f} bytes each on the wire (gzip); failed requests {}\n",
                points / std::max(1, clients), static_cast<double>(bytes) / std::max<std::uint64_t>(1, points),
                failures);

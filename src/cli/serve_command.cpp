@@ -4,9 +4,12 @@
 // listens, then serves until stopped (Ctrl-C).
 #include <CLI/CLI.hpp>
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <thread>
 
 #include "cli/commands.hpp"
 #include "cli/io_options.hpp"
@@ -53,10 +56,37 @@ constexpr std::uint64_t kMinCacheBytes = 16ull << 20;
 constexpr std::uint64_t kGridBytesPerChunkPoint = 40;  // PatchGrid's 24-byte points with its vectors' slack
 constexpr std::uint64_t kBaseBytes = 96ull << 20;      // the program, its libraries and the server's threads
 
-// The response cache's share of --memory: what the chunk points' grid and the process leave of it.
-std::uint64_t cache_budget(std::uint64_t memory, const dataset::Dataset& ds) {
+// How --memory is shared: the chunk points' grid and the process first, then the tiles decoded at
+// once for their levels of detail (two when two fit beside a cache as large and the machine has four
+// cores, else one), the rest
+// the response cache.
+struct MemoryShares {
+    int decode_slots = 1;
+    std::uint64_t cache = kMinCacheBytes;
+};
+
+MemoryShares share_memory(std::uint64_t memory, const dataset::Dataset& ds) {
+    std::uint64_t largest = 0;
+    for (const auto& t : ds.tiles) largest = std::max(largest, t.tile.header.point_count);
+    const std::uint64_t decode = largest * serve::kDecodeBytesPerPoint;
     const std::uint64_t fixed = kBaseBytes + ds.chunk_point_count * kGridBytesPerChunkPoint;
-    return std::max(kMinCacheBytes, memory > fixed ? memory - fixed : 0);
+    const std::uint64_t left = memory > fixed ? memory - fixed : 0;
+    MemoryShares s;
+    // (and at most half the cores: the rest answer the cheap requests, overviews and heightmaps, at once)
+    const unsigned half_cores = std::max(1u, std::thread::hardware_concurrency() / 2);
+    s.decode_slots = left >= 4 * decode && half_cores >= 2 ? 2 : 1;
+    const std::uint64_t decoding = s.decode_slots * decode;
+    s.cache = std::max(kMinCacheBytes, left > decoding ? left - decoding : 0);
+    return s;
+}
+
+// The server's allocations come and go with requests on many threads: large blocks from mmap (given
+// back when freed) and few arenas, so that the resident size follows what is held (the CLI's
+// default keeps freed memory for the heightmap jobs of one process-long pass).
+void return_freed_memory() {
+    mallopt(M_MMAP_THRESHOLD, 256 << 10);
+    mallopt(M_TRIM_THRESHOLD, 1 << 20);
+    mallopt(M_ARENA_MAX, 4);
 }
 
 int run_serve(const ServeCliOptions& o) {
@@ -65,6 +95,7 @@ int run_serve(const ServeCliOptions& o) {
     options.token = o.token;
     options.cors_origin = o.cors;
     serve::check_access_rule(options.listen, options.token);  // before anything is read
+    return_freed_memory();
     options.web_dir = o.web.empty() ? serve::default_web_dir() : o.web;
     const std::uint64_t memory = o.memory.empty() ? viewer::default_memory_budget() : parse_bytes(o.memory);
     const std::string model = model_path(o);
@@ -73,10 +104,11 @@ int run_serve(const ServeCliOptions& o) {
     auto ds = open_with_progress(o.paths, dataset_options);
     for (const auto& s : ds.skipped) std::fprintf(stderr, "lidarscout: skipped %s\n", s.error.c_str());
     dataset::require_tiles(ds, "serve");
-    options.memory_budget = cache_budget(memory, ds);
+    const MemoryShares shares = share_memory(memory, ds);
+    options.memory_budget = shares.cache;
     auto cache = std::make_unique<serve::ResponseCache>(options.memory_budget);
     std::vector<std::unique_ptr<serve::Survey>> surveys;
-    surveys.push_back(std::make_unique<serve::Survey>(std::move(ds), *cache));
+    surveys.push_back(std::make_unique<serve::Survey>(std::move(ds), *cache, shares.decode_slots));
     surveys.back()->set_model(model);
     serve::Server server(std::move(surveys), options, std::move(cache));
     server.bind();

@@ -49,7 +49,7 @@ struct ServerOptions {
     std::uint64_t memory_budget = 0;    // the response cache's share (bytes)
     std::string web_dir;                // the page's folder
     unsigned threads = 64;              // connections served at once
-    int max_in_flight_per_client = 64;  // requests at once from one address
+    int max_in_flight_per_client = 128;  // requests at once from one address (loopback: every local client)
 };
 
 class Server {

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
 
@@ -36,8 +37,9 @@ std::int64_t decimetres(double metres) { return static_cast<std::int64_t>(std::l
 
 }  // namespace
 
-Survey::Survey(dataset::Dataset dataset, ResponseCache& cache)
-    : dataset_(std::move(dataset)), cache_(cache), generation_(next_generation++) {
+Survey::Survey(dataset::Dataset dataset, ResponseCache& cache, int decode_slots)
+    : dataset_(std::move(dataset)), cache_(cache), decodes_(std::max(1, decode_slots)),
+      generation_(next_generation++) {
     const auto [ox, oy] = dataset::patch_grid_origin(dataset_);
     grid_ = std::make_unique<PatchGrid>(ox, oy);
     footprints_ = viewer::tile_footprints(dataset_);

@@ -27,11 +27,16 @@ class HeightmapNetwork;
 namespace lidarscout::serve {
 
 inline constexpr std::size_t kMaxCellsPerRequest = 256;
+// What decoding a tile into its levels holds at its peak, per point: the decoded points (20 bytes),
+// their copy sorted into blocks (20), the encoded levels and their gzip'd copies (about 10).
+inline constexpr std::uint64_t kDecodeBytesPerPoint = 50;
 
 class Survey {
 public:
-    // Takes the opened dataset (at least one tile) and starts loading its chunk points.
-    Survey(dataset::Dataset dataset, ResponseCache& cache);
+    // Takes the opened dataset (at least one tile) and starts loading its chunk points. At most
+    // `decode_slots` tiles are decoded at once for their levels of detail (each holds about
+    // kDecodeBytesPerPoint a point meanwhile).
+    Survey(dataset::Dataset dataset, ResponseCache& cache, int decode_slots = 2);
     ~Survey();
     Survey(const Survey&) = delete;
     Survey& operator=(const Survey&) = delete;
@@ -80,7 +85,7 @@ private:
     std::string model_path_;
     std::mutex network_mutex_;  // the network: loaded once, one inference at a time
     std::unique_ptr<nn::HeightmapNetwork> network_;
-    std::counting_semaphore<> decodes_{2};  // tiles decoded at once (each holds its points twice meanwhile)
+    std::counting_semaphore<> decodes_;  // tiles decoded at once (each holds its points twice meanwhile)
     std::uint64_t generation_;  // distinguishes this survey's cache keys
 };
 
