@@ -75,10 +75,11 @@ export class Api {
   }
 
   // null while the server still loads the chunk points (503).
+  // Patches with texels `step` times as large (coarsened by the server).
   async heightmaps(cells, step, method, signal) {
     try {
-      const params = { cells: Api.cellList(cells), method };
-      return decodeHeightmaps(await this.binary(this.d('heightmaps'), params, signal), step);
+      const params = { cells: Api.cellList(cells), method, step };
+      return decodeHeightmaps(await this.binary(this.d('heightmaps'), params, signal), 1);
     } catch (e) {
       if (e.status === 503) return null;
       throw e;

@@ -245,6 +245,38 @@ std::vector<EncodedLevel> encode_levels(const viewer::PointSet& set, double orig
     return out;
 }
 
+viewer::PatchHeightmap coarsened(const viewer::PatchHeightmap& h, int step) {
+    if (step <= 1 || h.size % step != 0) return h;
+    viewer::PatchHeightmap c = h;
+    c.size = h.size / step;
+    c.texel_m = h.texel_m * step;
+    const bool colours = h.colours.size() == h.heights.size();
+    c.heights.assign(static_cast<std::size_t>(c.size) * c.size, NAN);
+    c.colours.assign(colours ? c.heights.size() : 0, 0);
+    for (int j = 0; j < c.size; ++j) {
+        for (int i = 0; i < c.size; ++i) {
+            double z = 0, rgb[3] = {0, 0, 0};
+            int n = 0;
+            for (int y = j * step; y < (j + 1) * step; ++y) {
+                for (int x = i * step; x < (i + 1) * step; ++x) {
+                    const std::size_t k = static_cast<std::size_t>(y) * h.size + x;
+                    if (!std::isfinite(h.heights[k])) continue;
+                    z += h.heights[k], ++n;
+                    for (int ch = 0; colours && ch < 3; ++ch) rgb[ch] += (h.colours[k] >> (8 * ch)) & 0xff;
+                }
+            }
+            if (2 * n < step * step) continue;
+            const std::size_t k = static_cast<std::size_t>(j) * c.size + i;
+            c.heights[k] = static_cast<float>(z / n);
+            if (!colours) continue;
+            std::uint32_t rgba = 0xff000000u;
+            for (int ch = 0; ch < 3; ++ch) rgba |= static_cast<std::uint32_t>(std::lround(rgb[ch] / n)) << (8 * ch);
+            c.colours[k] = rgba;
+        }
+    }
+    return c;
+}
+
 void append_heightmap(std::string& out, const viewer::PatchHeightmap& h, double origin_x, double origin_y) {
     const auto [z_min, z_max] = height_range(h.heights);
     const bool colours = h.colours.size() == h.heights.size();

@@ -72,6 +72,11 @@ struct EncodedLevel {
 std::vector<EncodedLevel> encode_levels(const viewer::PointSet& set, double origin_x, double origin_y,
                                         std::uint32_t attributes);
 
+// `heightmap` with texels `step` times as large (step divides its size): each the mean of the
+// defined texels it covers when at least half are, else undefined (as render's level of detail
+// draws a block cut by the edge of the data).
+viewer::PatchHeightmap coarsened(const viewer::PatchHeightmap& heightmap, int step);
+
 // Appends `heightmap` with its origin relative to (origin_x, origin_y).
 void append_heightmap(std::string& out, const viewer::PatchHeightmap& heightmap, double origin_x, double origin_y);
 

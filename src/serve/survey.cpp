@@ -152,10 +152,11 @@ EncodedPtr Survey::cell_points(std::span<const CellKey> cells, std::uint32_t att
     });
 }
 
-std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, bool cnn) {
+std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, bool cnn, int step) {
     if (cnn && model_path_.empty()) throw Error("no heightmap network on this server (serve --model FILE)");
+    if (step != 1 && step != 2 && step != 4 && step != 8 && step != 16) throw Error("step must be 1, 2, 4, 8 or 16");
     if (!loader_->finished()) return std::nullopt;
-    std::string key = fmt::format("{}:{}", generation_, cnn ? "n" : "h");
+    std::string key = fmt::format("{}:{}:s{}", generation_, cnn ? "n" : "h", step);
     for (const auto& c : cells) key += fmt::format(":{},{}", c.ix, c.iy);
     return cache_.get(key, [&] {
         viewer::HeightmapBuildOptions opt;
@@ -171,7 +172,7 @@ std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, boo
             maps = viewer::build_linear_heightmaps(*grid_, cells, opt, pool);
         }
         std::string body;
-        for (const auto& h : maps) append_heightmap(body, h, grid_->origin_x(), grid_->origin_y());
+        for (const auto& h : maps) append_heightmap(body, coarsened(h, step), grid_->origin_x(), grid_->origin_y());
         return encode(body, maps.size());
     });
 }

@@ -58,7 +58,8 @@ public:
     // network (set_model; its first use loads it); empty until the chunk points are loaded (a
     // heightmap's window needs its neighbours' points). Throws lidarscout::Error for cnn without a
     // model.
-    std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells, bool cnn = false);
+    // `step` > 1 sends texels that many times as large (encoding.hpp's coarsened; 1, 2, 4, 8 or 16).
+    std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells, bool cnn = false, int step = 1);
     // The heightmap network's TorchScript file (nn/heightmap_network.hpp), loaded on first use.
     void set_model(std::string path) { model_path_ = std::move(path); }
     bool has_model() const { return !model_path_.empty(); }

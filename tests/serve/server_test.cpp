@@ -185,6 +185,13 @@ TEST(ServeApi, HeightmapsOnceLoaded) {
     const auto size = read_at<std::uint16_t>(res->body, 8);
     const bool colours = read_at<std::uint16_t>(res->body, 10) & 1;
     EXPECT_EQ(res->body.size(), 32u + size * size * (2u + (colours ? 3u : 0u)));
+    const auto coarse = s.client().Get("/api/d/0/heightmaps?step=4&cells=" + std::to_string(cell.ix) + "," +
+                                       std::to_string(cell.iy));
+    ASSERT_EQ(coarse->status, 200);
+    EXPECT_EQ(read_at<std::uint16_t>(coarse->body, 8), size / 4);
+    EXPECT_FLOAT_EQ(read_at<float>(coarse->body, 20), 4 * read_at<float>(res->body, 20));  // texel_m
+    EXPECT_EQ(coarse->body.size(), 32u + size * size / 16 * (2u + (colours ? 3u : 0u)));
+    EXPECT_EQ(s.client().Get("/api/d/0/heightmaps?step=3&cells=0,0")->status, 400);
 }
 
 TEST(ServeApi, NetworkHeightmapsWithAModel) {
