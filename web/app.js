@@ -24,6 +24,7 @@ const state = {
   patchQueue: [], patchesAsked: new Set(), inFlight: 0, pointsReceived: 0, patches: 0,
   controller: new AbortController(), errors: 0, lastError: '', tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0,
   measured: [], patchMethod: 'linear', cnnPatches: 0, retries: 0, emptyBatches: 0,
+  detailQueue: [], detailTiles: new Set(), methodOf: new Map(), detailPatches: 0,
 };
 
 function cellCentre(key, size) {
@@ -121,6 +122,8 @@ function pump() {
       state.patchesDone = 0;
       continue;
     }
+    const details = state.detailQueue.splice(0, PATCH_BATCH);
+    if (details.length) { fetchDetail(details); continue; }
     const next = nextLevel();
     if (!next) {
       if (state.inFlight === 0 && state.tiles) mark('idle');  // everything the view wants is in
@@ -157,6 +160,34 @@ function nextLevel() {
   return best;
 }
 
+// The server decoded tile `tile` whole for a level: its points now lie under the heightmaps of the
+// cells it covers (render's overlay); those heightmaps again, with that detail.
+function learnt(tile) {
+  if (state.detailTiles.has(tile) || !state.tiles) return;
+  state.detailTiles.add(tile);
+  const box = state.tiles.boxes_dm.slice(6 * tile, 6 * tile + 6).map((v) => v / 10), size = state.info.patch_size_m;
+  for (const key of state.patchesAsked) {
+    const [ix, iy] = key.split(',').map(Number);
+    const inside = (ix + 1) * size > box[0] && ix * size < box[3] && (iy + 1) * size > box[1] && iy * size < box[4];
+    if (inside && !state.detailQueue.includes(key)) state.detailQueue.push(key);
+  }
+}
+
+function fetchDetail(keys) {
+  ++state.inFlight;
+  const byMethod = new Map();
+  for (const k of keys) {
+    const m = state.methodOf.get(k) ?? 'linear';
+    byMethod.set(m, [...(byMethod.get(m) ?? []), k]);
+  }
+  Promise.all([...byMethod].map(([method, ks]) =>
+    state.api.heightmaps(toCells(ks), state.patchStep, method, state.controller.signal, true).then((maps) => {
+      for (const m of maps ?? []) if (m.triangles) state.renderer.addPatch(m), ++state.detailPatches;
+      mark('first_detail');
+      state.dirty = true;
+    }))).catch(fail).finally(() => { --state.inFlight; pump(); });
+}
+
 // The attributes the full-resolution points carry: those the colour mode draws, and the class for
 // the class filter (the chunk points, few, carry all).
 function levelAttributes() {
@@ -176,6 +207,7 @@ function fetchLevel({ tile, level }) {
   ++state.inFlight;
   const generation = state.lodGeneration;
   state.api.level(tile, level, levelAttributes(), state.controller.signal).then((l) => {
+    learnt(tile);
     if (generation !== state.lodGeneration) return;  // asked for another colour mode
     state.renderer.addLevel(l);
     const n = l.blocks.reduce((a, b) => a + b.n, 0);
@@ -218,7 +250,8 @@ function startPatches() {
 
 function fetchPatches(keys, method) {
   ++state.inFlight;
-  state.api.heightmaps(toCells(keys), state.patchStep, method, state.controller.signal).then((maps) => {
+  const detail = state.detailTiles.size > 0;  // (what the decoded tiles taught the server, once there is some)
+  state.api.heightmaps(toCells(keys), state.patchStep, method, state.controller.signal, detail).then((maps) => {
     if (maps === null) {  // the server still loads: again later
       ++state.retries;
       state.patchQueue.unshift(...keys);
@@ -229,6 +262,7 @@ function fetchPatches(keys, method) {
       if (!m.triangles) continue;
       if (method === 'cnn') ++state.cnnPatches;
       else ++state.patches;
+      state.methodOf.set(`${m.ix},${m.iy}`, method);
       state.renderer.addPatch(m);
     }
     if (maps.length) mark(method === 'cnn' ? 'first_cnn' : 'first_terrain');
@@ -401,6 +435,7 @@ function frame() {
     $('timings').textContent = JSON.stringify({ ...timings, bytes: state.api.bytes, points: state.pointsReceived,
                                                 point_bytes: state.api.pointBytes, wire_point_bytes: wirePointBytes(),
                                                 patches: state.patches, cnn_patches: state.cnnPatches,
+                                                detail_patches: state.detailPatches,
                                                 retries: state.retries, empty_patch_batches: state.emptyBatches,
                                                 full_res_points: state.lodPoints,
                                                 errors: state.errors });

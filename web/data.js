@@ -76,9 +76,10 @@ export class Api {
 
   // null while the server still loads the chunk points (503).
   // Patches with texels `step` times as large (coarsened by the server).
-  async heightmaps(cells, step, method, signal) {
+  async heightmaps(cells, step, method, signal, detail = false) {
     try {
       const params = { cells: Api.cellList(cells), method, step };
+      if (detail) params.detail = 1;
       return decodeHeightmaps(await this.binary(this.d('heightmaps'), params, signal), 1);
     } catch (e) {
       if (e.status === 503) return null;

@@ -90,6 +90,11 @@ void ResponseCache::set_budget(std::uint64_t bytes) {
     evict();
 }
 
+std::uint64_t ResponseCache::budget() const {
+    std::lock_guard lock(mutex_);
+    return budget_;
+}
+
 std::uint64_t ResponseCache::bytes() const {
     std::lock_guard lock(mutex_);
     return bytes_;

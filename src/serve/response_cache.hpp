@@ -39,6 +39,7 @@ public:
     void put(const std::string& key, EncodedPtr value);
 
     void set_budget(std::uint64_t bytes);
+    std::uint64_t budget() const;
     std::uint64_t bytes() const;
     std::uint64_t hits() const;
     std::uint64_t misses() const;

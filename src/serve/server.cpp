@@ -263,7 +263,8 @@ void Server::api_routes() {
         const std::string method = req.has_param("method") ? req.get_param_value("method") : "linear";
         if (method != "linear" && method != "cnn") throw Error("unknown method '" + method.substr(0, 20) + "'");
         const int step = parse_dimension(req, "step", 1, 1, 16);
-        const auto body = s->heightmaps(cells, method == "cnn", step);
+        const bool detail = req.has_param("detail") && req.get_param_value("detail") == "1";
+        const auto body = s->heightmaps(cells, method == "cnn", step, detail);
         if (!body) {
             res.set_header("Retry-After", "1");
             return refuse(res, 503, "the chunk points are still loading");

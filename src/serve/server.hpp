@@ -9,8 +9,8 @@
 //   GET /api/d/N/points?cells=..   chunk points of up to 256 cells "ix,iy;ix,iy" (encoding.hpp)
 //                                  (these two with &attrs=rgb,class,intensity: the attributes sent, all by default)
 //   GET /api/d/N/heightmaps?cells= heightmap patches, &method=linear (default) or cnn (the network, with
-//                                  --model), &step=1|2|4|8|16 (texels that many times as large); 503 until
-//                                  the chunk points are in
+//                                  --model), &step=1|2|4|8|16 (texels that many times as large), &detail=1
+//                                  (the decoded tiles' points laid over them); 503 until the chunk points are in
 //   GET /api/d/N/tile/I/level/L    level of detail L (0-3) of tile I's full-resolution points
 //   GET /api/d/N/camera?w=&h=&fov=[&tile=I]  render's auto camera for that image (of tile I)
 //

@@ -152,11 +152,16 @@ EncodedPtr Survey::cell_points(std::span<const CellKey> cells, std::uint32_t att
     });
 }
 
-std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, bool cnn, int step) {
+std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, bool cnn, int step, bool detail) {
     if (cnn && model_path_.empty()) throw Error("no heightmap network on this server (serve --model FILE)");
     if (step != 1 && step != 2 && step != 4 && step != 8 && step != 16) throw Error("step must be 1, 2, 4, 8 or 16");
     if (!loader_->finished()) return std::nullopt;
-    std::string key = fmt::format("{}:{}:s{}", generation_, cnn ? "n" : "h", step);
+    std::uint64_t version = 0;
+    if (detail) {
+        std::lock_guard lock(detail_mutex_);
+        version = detail_version_;
+    }
+    std::string key = fmt::format("{}:{}:s{}:d{}", generation_, cnn ? "n" : "h", step, detail ? version + 1 : 0);
     for (const auto& c : cells) key += fmt::format(":{},{}", c.ix, c.iy);
     return cache_.get(key, [&] {
         viewer::HeightmapBuildOptions opt;
@@ -171,10 +176,36 @@ std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, boo
         } else {
             maps = viewer::build_linear_heightmaps(*grid_, cells, opt, pool);
         }
+        if (detail) {
+            std::lock_guard lock(detail_mutex_);
+            for (auto& h : maps) {
+                const auto it = details_.find(h.cell);
+                if (it != details_.end()) h = viewer::overlay_detail(h, it->second);
+            }
+        }
         std::string body;
         for (const auto& h : maps) append_heightmap(body, coarsened(h, step), grid_->origin_x(), grid_->origin_y());
         return encode(body, maps.size());
     });
+}
+
+// The tile's points per heightmap texel merged into the survey's detail (while it stays within a
+// tenth of the cache's budget: beyond, the heightmaps keep what they learnt so far).
+void Survey::learn_detail(const viewer::PointSet& set) {
+    auto learnt = viewer::tile_detail(set, *grid_, viewer::HeightmapBuildOptions{}.patch.spec.patch_texels);
+    std::lock_guard lock(detail_mutex_);
+    for (auto& [cell, d] : learnt) {
+        const auto it = details_.find(cell);
+        if (it != details_.end()) {
+            detail_bytes_ -= it->second.bytes();
+            viewer::merge_detail(it->second, d);
+            detail_bytes_ += it->second.bytes();
+        } else if (detail_bytes_ + d.bytes() <= cache_.budget() / 10) {
+            detail_bytes_ += d.bytes();
+            details_.emplace(cell, std::move(d));
+        }
+    }
+    ++detail_version_;
 }
 
 EncodedPtr Survey::level(std::size_t tile, int level, std::uint32_t attributes) {
@@ -190,6 +221,7 @@ EncodedPtr Survey::level(std::size_t tile, int level, std::uint32_t attributes) 
         } release{decodes_};
         std::vector<dataset::SkippedChunk> skipped;  // a corrupt chunk costs its points only
         const auto set = viewer::tile_point_set(dataset_.tiles[tile], dataset_.las_stride, pool, {}, &skipped);
+        learn_detail(set);
         auto levels = encode_levels(set, grid_->origin_x(), grid_->origin_y(), attributes);
         EncodedPtr wanted;
         for (int l = 0; l < kLevels; ++l) {  // the tile is decoded once for all its levels

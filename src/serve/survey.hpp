@@ -19,6 +19,7 @@
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
 #include "serve/response_cache.hpp"
+#include "viewer/patch_detail.hpp"
 
 namespace lidarscout::nn {
 class HeightmapNetwork;
@@ -59,7 +60,11 @@ public:
     // heightmap's window needs its neighbours' points). Throws lidarscout::Error for cnn without a
     // model.
     // `step` > 1 sends texels that many times as large (encoding.hpp's coarsened; 1, 2, 4, 8 or 16).
-    std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells, bool cnn = false, int step = 1);
+    // With `detail`, the full-resolution points of the tiles decoded so far (for their levels) are
+    // laid over them as render and the viewer lay them (viewer::overlay_detail): the surface under
+    // real points at their height.
+    std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells, bool cnn = false, int step = 1,
+                                         bool detail = false);
     // The heightmap network's TorchScript file (nn/heightmap_network.hpp), loaded on first use.
     void set_model(std::string path) { model_path_ = std::move(path); }
     bool has_model() const { return !model_path_.empty(); }
@@ -74,6 +79,7 @@ private:
     std::string points_key(std::span<const CellKey> cells, std::vector<std::size_t>& counts) const;
     std::array<float, 2> intensity_range() const;
     bool has_rgb() const;  // once loaded
+    void learn_detail(const viewer::PointSet& set);
 
     dataset::Dataset dataset_;
     ResponseCache& cache_;
@@ -86,7 +92,11 @@ private:
     std::string model_path_;
     std::mutex network_mutex_;  // the network: loaded once, one inference at a time
     std::unique_ptr<nn::HeightmapNetwork> network_;
-    std::counting_semaphore<> decodes_;  // tiles decoded at once (each holds its points twice meanwhile)
+    std::counting_semaphore<> decodes_;
+    std::mutex detail_mutex_;         // what the decoded tiles taught the heightmaps, per cell
+    viewer::PatchDetails details_;
+    std::uint64_t detail_version_ = 0;  // tiles merged into details_ (in the cache keys)
+    std::uint64_t detail_bytes_ = 0;  // tiles decoded at once (each holds its points twice meanwhile)
     std::uint64_t generation_;  // distinguishes this survey's cache keys
 };
 
