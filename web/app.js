@@ -1,7 +1,8 @@
 // The page's main loop: opens the first survey of the server, places the camera from the URL
 // fragment (#camera=X,Y,Z,YAW,PITCH in the CRS's units, or #camera=auto: render's auto camera,
 // computed by the server), streams the chunk points cell by cell nearest the camera first, then
-// the heightmap patches, and draws on demand. #ui=0 hides the panel (screenshots); #measure=1 and
+// the heightmap patches, and draws on demand. #colour=rgb|elevation|intensity|classification as
+// render's --colour; #ui=0 hides the panel (screenshots); #measure=1 and
 // #clicks=X,Y;X,Y click once everything in view is loaded (tests of the readout and distance tool). The page's
 // timings (ms since navigation) are kept in #timings as JSON for tests and benchmarks.
 import { Api } from './data.js';
@@ -390,6 +391,8 @@ function bindInput(canvas) {
   $('colour').addEventListener('change', (e) => {
     state.mode = Number(e.target.value);
     state.dirty = true;
+    hash.set('colour', COLOUR_MODES[state.mode]);
+    scheduleHashUpdate();
     reloadLevels();
   });
   window.addEventListener('resize', resize);
@@ -451,8 +454,14 @@ function frame() {
   requestAnimationFrame(frame);
 }
 
+const COLOUR_MODES = ['rgb', 'elevation', 'intensity', 'classification'];  // render's --colour names
+
 async function main() {
   performance.setResourceTimingBufferSize(100000);
+  if (COLOUR_MODES.includes(hash.get('colour'))) {  // #colour=elevation, as render's --colour
+    state.mode = COLOUR_MODES.indexOf(hash.get('colour'));
+    $('colour').value = String(state.mode);
+  }
   if (hash.get('ui') === '0') document.body.classList.add('bare');
   resize();
   const [info, palette] = await Promise.all([state.api.info(), state.api.palette()]);
