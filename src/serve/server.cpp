@@ -30,7 +30,7 @@ std::int32_t parse_int32(std::string_view text, const std::string& whole) {
     std::int32_t v = 0;
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
     if (text.empty() || ec != std::errc() || end != text.data() + text.size()) {
-        throw Error("cells '" + whole.substr(0, 60) + "': '" + std::string(text.substr(0, 20)) + "' is not an int32");
+        throw Error("'" + whole.substr(0, 60) + "': '" + std::string(text.substr(0, 20)) + "' is not an int32");
     }
     return v;
 }
