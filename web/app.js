@@ -23,7 +23,8 @@ const state = {
   cellCounts: new Map(),  // "ix,iy" -> points the server had when listed
   fetchedCounts: new Map(),  // "ix,iy" -> points received
   patchQueue: [], patchesAsked: new Set(), inFlight: 0, pointsReceived: 0, patches: 0,
-  controller: new AbortController(), errors: 0, lastError: '', tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0,
+  controller: new AbortController(), errors: 0, lastError: '',
+  tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0,
   measured: [], patchMethod: 'linear', cnnPatches: 0, retries: 0, emptyBatches: 0,
   detailQueue: [], detailTiles: new Set(), methodOf: new Map(), detailPatches: 0,
 };
@@ -224,7 +225,8 @@ function fetchPoints(keys) {
   state.asked ??= new Set();
   keys.forEach((k) => state.asked.add(k));
   ++state.inFlight;
-  state.api.points(toCells(keys), state.info.patch_size_m, 'rgb,class,intensity', state.controller.signal).then((cells) => {
+  const attrs = 'rgb,class,intensity';  // (chunk points are few: all their attributes)
+  state.api.points(toCells(keys), state.info.patch_size_m, attrs, state.controller.signal).then((cells) => {
     mark('first_points');
     for (const c of cells) {
       state.renderer.addCell(c);
@@ -324,7 +326,8 @@ function progressLine(drawn) {
   const received = state.pointsReceived + state.lodPoints;  // bytes of points sent (gzip'd) per point
   const perPoint = received ? (wirePointBytes() / received).toFixed(2) : '-';
   return `tiles ${l.tiles_done}/${state.info.tiles} · chunk points ${state.pointsReceived.toLocaleString()}` +
-    ` · full-res ${state.lodPoints.toLocaleString()} (${drawn.toLocaleString()} drawn) · heightmaps ${state.patches}` +
+    ` · full-res ${state.lodPoints.toLocaleString()} (${drawn.toLocaleString()} drawn)` +
+    ` · heightmaps ${state.patches}` +
     (state.info.cnn ? ` (network ${state.cnnPatches})` : '') +
     ` · ${mb} MB (points ${perPoint} B each)` +
     ` · overview ${t('overview')} · terrain ${t('first_terrain')}` +
@@ -344,7 +347,8 @@ function wirePointBytes() {
 // ---- input -------------------------------------------------------------------------------
 function moveBy(forward, right, up) {
   const b = basis(state.cam), c = state.cam;
-  setCamera({ ...c, x: c.x + forward * b.forward[0] + right * b.right[0], y: c.y + forward * b.forward[1] + right * b.right[1],
+  setCamera({ ...c, x: c.x + forward * b.forward[0] + right * b.right[0],
+              y: c.y + forward * b.forward[1] + right * b.right[1],
               z: c.z + forward * b.forward[2] + up });
   pump();
 }

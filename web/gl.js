@@ -3,6 +3,8 @@
 // RGB, elevation (render's ramp), intensity (grey over the survey's range) or classification
 // (render's class colours), with a class filter. Positions are metres from the survey's grid
 // origin, taken relative to the camera before the matrix (as render subtracts it in double).
+// render's elevation ramp over the survey's height range (GLSL, shared by both programs)
+const RAMP = 'texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb';
 const POINT_VS = `#version 300 es
 uniform mat4 u_vp; uniform vec3 u_cam; uniform float u_size; uniform float u_spacing; uniform float u_focal;
 uniform int u_mode; uniform vec2 u_zrange; uniform vec2 u_irange;
@@ -15,7 +17,7 @@ void main() {
   // full-resolution points as wide as their spacing on screen (1 to 16 px), as render's adaptive size
   gl_PointSize = u_spacing > 0.0 ? clamp(u_spacing * u_focal / max(gl_Position.w, 1e-3), 1.0, 16.0) : u_size;
   if (u_mode == 0) v_col = u_uncoloured > 0.0 ? vec3(u_uncoloured) : a_rgb;
-  else if (u_mode == 1) v_col = texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb;
+  else if (u_mode == 1) v_col = ${RAMP};
   else if (u_mode == 2) v_col = vec3(clamp((a_int - u_irange.x) / max(1.0, u_irange.y - u_irange.x), 0.0, 1.0));
   else v_col = texelFetch(u_classes, ivec2(int(a_cls), 0), 0).rgb;
 }`;
@@ -29,8 +31,7 @@ out vec3 v_col; out vec3 v_rel;
 void main() {
   v_rel = a_pos - u_cam;
   gl_Position = u_vp * vec4(v_rel, 1.0);
-  v_col = u_mode == 1 ? texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb
-                      : a_rgb;
+  v_col = u_mode == 1 ? ${RAMP} : a_rgb;
 }`;
 const MESH_FS = `#version 300 es
 precision highp float; in vec3 v_col; in vec3 v_rel; out vec4 o;
