@@ -1,6 +1,6 @@
 # Installing lidarscout as users install tools: `cmake --install build --prefix P` puts the
 # program in P/bin, its plugins in P/lib/lidarscout, the shipped model in
-# P/share/lidarscout/models and a desktop entry for the viewer in P/share/applications; the
+# P/share/lidarscout/models, the page of `serve` in P/share/lidarscout/web and a desktop entry for the viewer in P/share/applications; the
 # installed program finds them from its own location (core/plugin_paths, nn/heightmap_network).
 # CPack makes a .deb whose dependencies are the Debian runtime packages (dpkg-shlibdeps).
 include(GNUInstallDirs)
@@ -30,6 +30,9 @@ install(TARGETS lidarscout_python_module LIBRARY DESTINATION \${LIDARSCOUT_PYTHO
 install(FILES ${LIDARSCOUT_PYTHON_SOURCES} DESTINATION \${LIDARSCOUT_PYTHON_DESTINATION}/lidarscout)
 install(FILES models/heightmap_cnn.pt models/README.md DESTINATION share/lidarscout/models)
 install(FILES packaging/lidarscout.desktop DESTINATION share/applications)
+# The page of `lidarscout serve` (serve/web_assets.cpp finds it beside the program's share/).
+file(GLOB LIDARSCOUT_WEB_FILES ${CMAKE_SOURCE_DIR}/web/*.html ${CMAKE_SOURCE_DIR}/web/*.js ${CMAKE_SOURCE_DIR}/web/*.css)
+install(FILES ${LIDARSCOUT_WEB_FILES} DESTINATION share/lidarscout/web)
 install(FILES README.md DESTINATION share/doc/lidarscout)
 
 set(CPACK_GENERATOR DEB)

@@ -24,6 +24,9 @@ PACKAGES=(
   python3 python3-torch python3-numpy
   # the Dask driver of `dem --block` (python/lidarscout_dask): Dask's distributed scheduler, GDAL's Python
   python3-distributed python3-gdal
+  # `lidarscout serve`: its HTTP server (cpp-httplib) and gzip (zlib); headless chromium (SwiftShader
+  # WebGL2) for the tests of its page
+  libcpp-httplib-dev zlib1g-dev chromium
   # the plot of `bench_view --soak` (scripts/plot_soak.sh)
   gnuplot-nox
   # the Python module (src/python, built for /usr/bin/python3) and its tests

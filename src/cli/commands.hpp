@@ -32,6 +32,8 @@ void register_profile_command(CLI::App& app, std::function<int()>& run);
 void register_render_command(CLI::App& app, std::function<int()>& run);
 // Registers `view` (the interactive viewer).
 void register_view_command(CLI::App& app, std::function<int()>& run);
+// Registers `serve` (the datasets as a web page and a binary API).
+void register_serve_command(CLI::App& app, std::function<int()>& run);
 // Registers `synth` with its subcommands (below), each in its own file.
 void register_synth_command(CLI::App& app, std::function<int()>& run);
 void register_synth_replicate(CLI::App& synth, std::function<int()>& run);

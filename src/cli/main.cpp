@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
     lidarscout::cli::register_profile_command(app, run);
     lidarscout::cli::register_render_command(app, run);
     lidarscout::cli::register_view_command(app, run);
+    lidarscout::cli::register_serve_command(app, run);
     lidarscout::cli::register_synth_command(app, run);
     for (CLI::App* cmd : app.get_subcommands({})) {
         if (cmd->get_name() != "synth") lidarscout::cli::add_remote_options(*cmd);  // the commands reading datasets

@@ -23,6 +23,7 @@ TEST(Install, InstalledProgramFindsItsPluginAndModel) {
     EXPECT_TRUE(fs::is_regular_file(prefix / "lib/lidarscout/liblidarscout_torch.so"));
     EXPECT_TRUE(fs::is_regular_file(prefix / "share/lidarscout/models/heightmap_cnn.pt"));
     EXPECT_TRUE(fs::is_regular_file(prefix / "share/applications/lidarscout.desktop"));
+    EXPECT_TRUE(fs::is_regular_file(prefix / "share/lidarscout/web/index.html"));  // the page of `serve`
 
     // Run from a folder outside both trees, with nothing pointing back at them.
     const std::string program = "cd " + prefix.string() + " && env -u LIDARSCOUT_MODEL -u LIDARSCOUT_TORCH_RUNNER " +

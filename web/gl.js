@@ -1,0 +1,222 @@
+// WebGL2 drawing of what the API sends: chunk points (squares of a fixed size, as render draws
+// them) and heightmap patches (meshes, Lambert-shaded with render's sun and ambient), coloured by
+// RGB, elevation (render's ramp), intensity (grey over the survey's range) or classification
+// (render's class colours), with a class filter. Positions are metres from the survey's grid
+// origin, taken relative to the camera before the matrix (as render subtracts it in double).
+// render's elevation ramp over the survey's height range (GLSL, shared by both programs)
+const RAMP = 'texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb';
+const POINT_VS = `#version 300 es
+uniform mat4 u_vp; uniform vec3 u_cam; uniform float u_size; uniform float u_spacing; uniform float u_focal;
+uniform int u_mode; uniform vec2 u_zrange; uniform vec2 u_irange;
+uniform sampler2D u_ramp, u_classes, u_visible; uniform float u_uncoloured;
+in vec3 a_pos; in vec3 a_rgb; in float a_cls; in float a_int;
+out vec3 v_col;
+void main() {
+  if (texelFetch(u_visible, ivec2(int(a_cls), 0), 0).r < 0.5) { gl_Position = vec4(2.0, 2.0, 2.0, 1.0); return; }
+  gl_Position = u_vp * vec4(a_pos - u_cam, 1.0);
+  // full-resolution points as wide as their spacing on screen (1 to 16 px), as render's adaptive size
+  gl_PointSize = u_spacing > 0.0 ? clamp(u_spacing * u_focal / max(gl_Position.w, 1e-3), 1.0, 16.0) : u_size;
+  if (u_mode == 0) v_col = u_uncoloured > 0.0 ? vec3(u_uncoloured) : a_rgb;
+  else if (u_mode == 1) v_col = ${RAMP};
+  else if (u_mode == 2) v_col = vec3(clamp((a_int - u_irange.x) / max(1.0, u_irange.y - u_irange.x), 0.0, 1.0));
+  else v_col = texelFetch(u_classes, ivec2(int(a_cls), 0), 0).rgb;
+}`;
+const POINT_FS = `#version 300 es
+precision mediump float; in vec3 v_col; out vec4 o;
+void main() { o = vec4(v_col, 1.0); }`;
+const MESH_VS = `#version 300 es
+uniform mat4 u_vp; uniform vec3 u_cam; uniform int u_mode; uniform vec2 u_zrange; uniform sampler2D u_ramp;
+in vec3 a_pos; in vec3 a_rgb;
+out vec3 v_col; out vec3 v_rel;
+void main() {
+  v_rel = a_pos - u_cam;
+  gl_Position = u_vp * vec4(v_rel, 1.0);
+  v_col = u_mode == 1 ? ${RAMP} : a_rgb;
+}`;
+const MESH_FS = `#version 300 es
+precision highp float; in vec3 v_col; in vec3 v_rel; out vec4 o;
+const vec3 SUN = normalize(vec3(-0.5, 0.5, 0.7071)); const float AMBIENT = 0.35;
+void main() {
+  vec3 n = normalize(cross(dFdx(v_rel), dFdy(v_rel)));
+  if (n.z < 0.0) n = -n;
+  float level = AMBIENT + (1.0 - AMBIENT) * SUN.z;
+  float shade = (AMBIENT + (1.0 - AMBIENT) * max(0.0, dot(n, SUN))) / level;
+  o = vec4(min(v_col * shade, vec3(1.0)), 1.0);
+}`;
+
+function compile(gl, vs, fs) {
+  const p = gl.createProgram();
+  for (const [type, src] of [[gl.VERTEX_SHADER, vs], [gl.FRAGMENT_SHADER, fs]]) {
+    const s = gl.createShader(type);
+    gl.shaderSource(s, src);
+    gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+    gl.attachShader(p, s);
+  }
+  gl.linkProgram(p);
+  if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(p));
+  return p;
+}
+
+function table(gl, rgb24) {  // 256 x 1 RGB texture from 0xBBGGRR values
+  const data = new Uint8Array(256 * 4);
+  rgb24.forEach((c, i) => data.set([c & 255, (c >> 8) & 255, (c >> 16) & 255, 255], 4 * i));
+  const t = gl.createTexture();
+  gl.bindTexture(gl.TEXTURE_2D, t);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, 256, 1, 0, gl.RGBA, gl.UNSIGNED_BYTE, data);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE);
+  return t;
+}
+
+export class Renderer {
+  constructor(canvas, palette) {
+    const gl = canvas.getContext('webgl2', { antialias: false, preserveDrawingBuffer: true });
+    if (!gl) throw new Error('this browser has no WebGL2');
+    this.gl = gl;
+    this.points = compile(gl, POINT_VS, POINT_FS);
+    this.mesh = compile(gl, MESH_VS, MESH_FS);
+    this.ramp = table(gl, palette.elevation);
+    this.classes = table(gl, palette.classes);
+    this.visible = table(gl, new Array(256).fill(0xffffff));
+    this.cells = new Map();    // "ix,iy" -> {vao, n}
+    this.patches = new Map();  // "ix,iy" -> {vao, count}
+    this.levels = [];          // full-resolution points: {vao, bufs, n, spacing}
+  }
+
+  setVisibleClasses(visible) {  // visible[c] for c in 0..255
+    this.gl.deleteTexture(this.visible);
+    this.visible = table(this.gl, visible.map((v) => (v ? 0xffffff : 0)));
+  }
+
+  buffer(vao, loc, data, size, type, normalised) {
+    const gl = this.gl, b = gl.createBuffer();
+    gl.bindVertexArray(vao);
+    gl.bindBuffer(gl.ARRAY_BUFFER, b);
+    gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+    gl.enableVertexAttribArray(loc);
+    gl.vertexAttribPointer(loc, size, type, normalised, 0, 0);
+    return b;
+  }
+
+  pointVao(c) {
+    const gl = this.gl, p = this.points, vao = gl.createVertexArray();
+    const bufs = [this.buffer(vao, gl.getAttribLocation(p, 'a_pos'), c.pos, 3, gl.FLOAT, false),
+                  this.buffer(vao, gl.getAttribLocation(p, 'a_rgb'), c.rgb, 3, gl.UNSIGNED_BYTE, true),
+                  this.buffer(vao, gl.getAttribLocation(p, 'a_cls'), c.cls, 1, gl.UNSIGNED_BYTE, false),
+                  this.buffer(vao, gl.getAttribLocation(p, 'a_int'), c.intensity, 1, gl.UNSIGNED_SHORT, false)];
+    gl.bindVertexArray(null);
+    return { vao, bufs, n: c.n };
+  }
+
+  addCell(c) {
+    const key = `${c.ix},${c.iy}`;
+    this.removeCell(key);
+    this.cells.set(key, { ...this.pointVao(c), data: c });  // (data: for picking)
+  }
+
+  clearLevels() {
+    for (const l of this.levels) {
+      l.bufs.forEach((b) => this.gl.deleteBuffer(b));
+      this.gl.deleteVertexArray(l.vao);
+    }
+    this.levels = [];
+  }
+
+  // A tile's level of detail: its blocks in one set of buffers.
+  addLevel(level) {
+    const n = level.blocks.reduce((a, b) => a + b.n, 0);
+    if (!n) return;
+    const all = { n, pos: new Float32Array(3 * n), rgb: new Uint8Array(3 * n), cls: new Uint8Array(n),
+                  intensity: new Uint16Array(n) };
+    let o = 0;
+    for (const b of level.blocks) {
+      all.pos.set(b.pos, 3 * o), all.rgb.set(b.rgb, 3 * o), all.cls.set(b.cls, o), all.intensity.set(b.intensity, o);
+      o += b.n;
+    }
+    this.levels.push({ ...this.pointVao(all), spacing: level.spacing, data: all });
+  }
+
+  removeCell(key) {
+    const c = this.cells.get(key);
+    if (!c) return;
+    c.bufs.forEach((b) => this.gl.deleteBuffer(b));
+    this.gl.deleteVertexArray(c.vao);
+    this.cells.delete(key);
+  }
+
+  addPatch(h) {
+    const gl = this.gl, m = this.mesh, vao = gl.createVertexArray();
+    const bufs = [this.buffer(vao, gl.getAttribLocation(m, 'a_pos'), h.pos, 3, gl.FLOAT, false),
+                  this.buffer(vao, gl.getAttribLocation(m, 'a_rgb'), h.rgb, 3, gl.UNSIGNED_BYTE, true)];
+    const ib = gl.createBuffer();
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ib);
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, h.index, gl.STATIC_DRAW);
+    bufs.push(ib);
+    gl.bindVertexArray(null);
+    const key = `${h.ix},${h.iy}`, old = this.patches.get(key);
+    if (old) {  // the network's heightmap replaces the linear one
+      old.bufs.forEach((b) => gl.deleteBuffer(b));
+      gl.deleteVertexArray(old.vao);
+    }
+    this.patches.set(key, { vao, bufs, count: h.index.length });
+  }
+
+  // The point sets drawn now, each {pos, cls, intensity, n} (what a pick searches).
+  *drawnSets() {
+    for (const [key, c] of this.cells) if (!this.patches.has(key)) yield c.data;
+    for (const l of this.levels) yield l.data;
+  }
+
+  draw(view) {
+    const gl = this.gl, [w, h] = [gl.canvas.width, gl.canvas.height];
+    gl.viewport(0, 0, w, h);
+    gl.clearColor(24 / 255, 26 / 255, 32 / 255, 1);  // render's background
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    gl.enable(gl.DEPTH_TEST);
+    const common = (p) => {
+      gl.useProgram(p);
+      gl.uniformMatrix4fv(gl.getUniformLocation(p, 'u_vp'), false, view.vp);
+      gl.uniform3f(gl.getUniformLocation(p, 'u_cam'), view.cam.x, view.cam.y, view.cam.z);
+      gl.uniform1i(gl.getUniformLocation(p, 'u_mode'), view.mode);
+      gl.uniform2f(gl.getUniformLocation(p, 'u_zrange'), view.zrange[0], view.zrange[1]);
+      gl.activeTexture(gl.TEXTURE0); gl.bindTexture(gl.TEXTURE_2D, this.ramp);
+      gl.uniform1i(gl.getUniformLocation(p, 'u_ramp'), 0);
+    };
+    common(this.mesh);
+    gl.enable(gl.POLYGON_OFFSET_FILL);
+    gl.polygonOffset(1, 1);  // points on the surface win, as render's depth bias
+    for (const m of this.patches.values()) {
+      gl.bindVertexArray(m.vao);
+      gl.drawElements(gl.TRIANGLES, m.count, gl.UNSIGNED_INT, 0);
+    }
+    gl.disable(gl.POLYGON_OFFSET_FILL);
+    const p = this.points;
+    common(p);
+    gl.uniform1f(gl.getUniformLocation(p, 'u_size'), view.pointSize);
+    gl.uniform2f(gl.getUniformLocation(p, 'u_irange'), view.irange[0], view.irange[1]);
+    gl.uniform1f(gl.getUniformLocation(p, 'u_uncoloured'), view.uncoloured);
+    gl.activeTexture(gl.TEXTURE1); gl.bindTexture(gl.TEXTURE_2D, this.classes);
+    gl.uniform1i(gl.getUniformLocation(p, 'u_classes'), 1);
+    gl.activeTexture(gl.TEXTURE2); gl.bindTexture(gl.TEXTURE_2D, this.visible);
+    gl.uniform1i(gl.getUniformLocation(p, 'u_visible'), 2);
+    gl.uniform1f(gl.getUniformLocation(p, 'u_focal'), view.focal);
+    gl.uniform1f(gl.getUniformLocation(p, 'u_spacing'), 0);
+    let drawn = 0;
+    for (const [key, c] of this.cells) {
+      if (this.patches.has(key)) continue;  // as render: a cell with a heightmap shows it instead
+      gl.bindVertexArray(c.vao);
+      gl.drawArrays(gl.POINTS, 0, c.n);
+      drawn += c.n;
+    }
+    for (const l of this.levels) {
+      gl.uniform1f(gl.getUniformLocation(p, 'u_spacing'), l.spacing);
+      gl.bindVertexArray(l.vao);
+      gl.drawArrays(gl.POINTS, 0, l.n);
+      drawn += l.n;
+    }
+    gl.bindVertexArray(null);
+    return drawn;
+  }
+}
