@@ -148,6 +148,7 @@ const std::map<std::string, std::string>& command_lines() {
         {"clip", "{IN} -o={DIR}/ok.laz --bounds 0,0,1,1"},
         {"profile", "{IN} -o={DIR}/ok.csv --line 0,0,1,1"},
         {"view", "{IN} --quit-after 0"},
+        {"serve", "{IN}"},  // (writes nothing)
         {"synth replicate", "{IN} -o={DIR}/rep --grid 1x1 --virtual"},
         {"synth terrain", "-o={DIR}/terrain --km 0.5 --density 0.5"},
     };
