@@ -1,0 +1,123 @@
+"""The web page's own timings in real time (issue 56's targets: first terrain within 1 s of page load, full
+resolution near the camera within 5 s): `lidarscout serve PATH` is started, the page opened at CAMERA in
+headless chromium (SwiftShader WebGL2) driven over the DevTools protocol on a pipe (no virtual time: the
+suite's browser test uses virtual time, which stops while the page waits), and after --seconds the page's
+#timings (ms since navigation, performance.now) are read back; medians of --runs, each run a fresh server
+and a fresh browser profile (nothing cached).
+
+    /usr/bin/python3 bench/bench_page.py [PATH] [--camera auto] [--runs 3] [--seconds 10] [--cli build/lidarscout]
+"""
+
+import argparse
+import json
+import os
+import pathlib
+import statistics
+import subprocess
+import tempfile
+import time
+
+REPO = pathlib.Path(__file__).resolve().parents[1]
+SURVEY = REPO.parent / "shared" / "data" / "surveys" / "ky-jmo335-eastern-kentucky"
+KEYS = ("info", "first_terrain", "overview", "terrain", "first_full_res", "first_detail")
+
+
+class DevTools:
+    """Chromium's DevTools protocol over --remote-debugging-pipe: JSON messages ended by a NUL byte, read
+    by chromium on its fd 3 and written on its fd 4."""
+
+    def __init__(self, profile):
+        to_chromium, self._write = os.pipe()
+        self._read, from_chromium = os.pipe()
+
+        def fds_3_and_4():
+            a, b = os.dup(to_chromium), os.dup(from_chromium)  # (above 4: neither dup2 overwrites the other)
+            os.dup2(a, 3)
+            os.dup2(b, 4)
+
+        self.process = subprocess.Popen(
+            ["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
+             "--enable-unsafe-swiftshader", "--hide-scrollbars", "--window-size=1280,720",
+             f"--user-data-dir={profile}", "--remote-debugging-pipe", "about:blank"],
+            preexec_fn=fds_3_and_4, close_fds=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(to_chromium)
+        os.close(from_chromium)
+        self._buffer, self._id = b"", 0
+
+    def call(self, method, params=None, session=None):
+        self._id += 1
+        message = {"id": self._id, "method": method, "params": params or {}}
+        if session:
+            message["sessionId"] = session
+        os.write(self._write, json.dumps(message).encode() + b"\0")
+        while True:
+            while b"\0" in self._buffer:
+                text, self._buffer = self._buffer.split(b"\0", 1)
+                answer = json.loads(text)
+                if answer.get("id") == self._id:
+                    if "error" in answer:
+                        raise RuntimeError(f"{method}: {answer['error']}")
+                    return answer["result"]
+            data = os.read(self._read, 1 << 20)
+            if not data:
+                raise RuntimeError("chromium ended")
+            self._buffer += data
+
+    def close(self):
+        self.process.kill()
+        self.process.wait()
+
+
+def serve(cli, path):
+    """`lidarscout serve PATH` on a free loopback port; the process and the page's URL (its first line)."""
+    server = subprocess.Popen([cli, "serve", str(path)], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                              text=True)
+    url = server.stdout.readline().strip()
+    if not url:
+        server.kill()
+        raise RuntimeError(f"{cli} serve {path} printed no URL")
+    return server, url
+
+
+def page_timings(cli, path, camera, seconds):
+    server, url = serve(cli, path)
+    try:
+        with tempfile.TemporaryDirectory(prefix="bench_page_") as profile:
+            browser = DevTools(profile)
+            try:
+                target = browser.call("Target.createTarget", {"url": "about:blank"})["targetId"]
+                session = browser.call("Target.attachToTarget", {"targetId": target, "flatten": True})["sessionId"]
+                browser.call("Page.navigate", {"url": f"{url}#camera={camera}"}, session)
+                time.sleep(seconds)
+                value = browser.call("Runtime.evaluate", {"expression": "document.getElementById('timings')"
+                                                                        ".textContent"}, session)
+                return json.loads(value["result"].get("value") or "{}")
+            finally:
+                browser.close()
+    finally:
+        server.terminate()
+        server.wait()
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("path", nargs="?", default=str(SURVEY))
+    parser.add_argument("--camera", default="auto", help="the page's #camera (render's syntax)")
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--seconds", type=float, default=10.0, help="how long each page runs before it is read")
+    parser.add_argument("--cli", default=str(REPO / "build" / "lidarscout"))
+    o = parser.parse_args()
+    runs = [page_timings(o.cli, o.path, o.camera, o.seconds) for _ in range(o.runs)]
+    for r in runs:
+        print(json.dumps(r))
+    print(f"{o.path} at #camera={o.camera}, median of {o.runs} runs, ms since navigation (real time):")
+    for key in KEYS:
+        values = [r[key] for r in runs if key in r]
+        missing = len(runs) - len(values)
+        shown = f"{statistics.median(values):.0f}" if not missing else f"missing in {missing} runs"
+        print(f"  {key:15s} {shown}")
+    print(f"  errors          {sum(r.get('errors', 0) for r in runs)}")
+
+
+if __name__ == "__main__":
+    main()
