@@ -64,8 +64,12 @@ class DevTools:
             self._buffer += data
 
     def close(self):
-        self.process.kill()
-        self.process.wait()
+        try:
+            self.call("Browser.close")  # (its helper processes end with it, before the profile is removed)
+            self.process.wait(timeout=10)
+        except (RuntimeError, OSError, subprocess.TimeoutExpired):
+            self.process.kill()
+            self.process.wait()
 
 
 def serve(cli, path):
@@ -82,7 +86,7 @@ def serve(cli, path):
 def page_timings(cli, path, camera, seconds):
     server, url = serve(cli, path)
     try:
-        with tempfile.TemporaryDirectory(prefix="bench_page_") as profile:
+        with tempfile.TemporaryDirectory(prefix="bench_page_", ignore_cleanup_errors=True) as profile:
             browser = DevTools(profile)
             try:
                 target = browser.call("Target.createTarget", {"url": "about:blank"})["targetId"]
