@@ -19,6 +19,9 @@ class Option;
 namespace lidarscout::cli {
 
 inline constexpr const char* kOutputGroup = "Outputs";
+// The help of a command's dataset paths (add_inputs) where it takes every kind of input.
+inline constexpr const char* kDatasetPathsHelp =
+    "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; or http(s) or s3:// URLs";
 
 // Positional or named options holding the paths a command reads (files, folders, tile lists,
 // manifests, EPT datasets, URLs).

@@ -377,10 +377,7 @@ void register_render_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<RenderCliOptions>();
     auto* cmd = app.add_subcommand("render", "Render a dataset to a PNG without a window, as the viewer shows it once "
                                              "a stage (overview, heightmaps, full) is complete");
-    add_inputs(*cmd, "paths", o->paths,
-               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-               "or http(s) or s3:// URLs")
-        ->required();
+    add_inputs(*cmd, "paths", o->paths, kDatasetPathsHelp)->required();
     add_output(*cmd, "-o,--output", o->output, "The PNG to write", io::OutputKind::Png)->required();
     cmd->add_option("--camera", o->camera,
                     "X,Y,Z,YAW,PITCH (X,Y,Z in the CRS's units, as info prints them; degrees, yaw 0 = north, pitch "

@@ -181,10 +181,7 @@ void register_scan_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ScanOptions>();
     auto* cmd = app.add_subcommand(
         "scan", "Read every tile header and chunk point (the overview) and report timings, counts and bounds");
-    add_inputs(*cmd, "paths", o->paths,
-               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-               "or http(s) or s3:// URLs")
-        ->required();
+    add_inputs(*cmd, "paths", o->paths, kDatasetPathsHelp)->required();
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->add_option("--backend", o->backend, "Chunk-point reads: auto, io_uring or pread (default auto)");
     add_thread_option(*cmd, "--io-threads", o->io_threads,

@@ -124,10 +124,7 @@ void register_serve_command(CLI::App& app, std::function<int()>& run) {
     auto o = std::make_shared<ServeCliOptions>();
     auto* cmd = app.add_subcommand("serve", "Serve datasets as a web page (WebGL2) and a binary API, with no "
                                             "conversion; prints the page's URL first");
-    add_inputs(*cmd, "paths", o->paths,
-               "LAS/LAZ files, folders (searched recursively), text files listing tiles, EPT datasets; "
-               "or http(s) or s3:// URLs")
-        ->required();
+    add_inputs(*cmd, "paths", o->paths, kDatasetPathsHelp)->required();
     cmd->add_option("--listen", o->listen,
                     "HOST:PORT to listen on (default 127.0.0.1:0: loopback, a free port); an address other than "
                     "loopback needs --token");
