@@ -84,6 +84,8 @@ std::uint64_t Residency::held() const {
     return bytes;
 }
 
+void Residency::publish_held() const { ledger_->set_residency_bytes(held() + decoding_bytes_); }
+
 void Residency::retire(const LodBlocks& blocks) {
     for (const auto& b : blocks) retired_.emplace_back(b, b->bytes());
     blocks_cache_.clear();  // the residency itself no longer holds them
@@ -165,6 +167,7 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<RankedMutex>
             notify(dropped, std::nullopt, {});
             lock.lock();
         }
+        publish_held();
         if (!choice) {
             checked_version_ = seen;
             refresh_idle();
@@ -180,6 +183,7 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<RankedMutex>
         // The points still to come, their bookkeeping, and what the decoding threads hold besides.
         decoding_bytes_ = incoming;
         peak_ = std::max(peak_, other + held() + decoding_bytes_);
+        publish_held();
         return Job{choice->tile, choice->cap, choice->plan.piece_points};
     }
 }
@@ -247,6 +251,7 @@ std::vector<lidarscout::CellKey> Residency::commit(std::uint32_t tile, Decoded d
     decoding_bytes_ -= std::min(decoding_bytes_, added + details_bytes_ - details_before);
     ++version_;
     peak_ = std::max(peak_, last_other_ + held() + decoding_bytes_);
+    publish_held();
     return cells;
 }
 
@@ -285,6 +290,7 @@ void Residency::run() {
         decoding_bytes_ = 0;
         busy_ = false;
         refresh_idle();
+        publish_held();
         if (error) {  // the pieces it had are dropped: a damaged file is not drawn in part
             policy_.failed().insert(tile);
             errors_.push_back(std::move(*error));

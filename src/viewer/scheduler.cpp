@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "core/error.hpp"
@@ -29,12 +30,20 @@ constexpr auto kLoaderPoll = std::chrono::milliseconds(100);
 constexpr std::uint64_t kNoVersion = ~0ull;
 constexpr double kOutOfView = 1e12;  // added to the priority key of a cell out of view
 constexpr auto kOutOfViewWait = std::chrono::milliseconds(50);  // heightmaps out of view: the next look
+// Heightmaps within the budget: a new one is built while all the data stays under kBuildShare of it;
+// above kTrimShare, or for a nearer one, the farthest are let go until the data is under kKeepShare
+// (they are built again when they come near), which leaves room for the next ones until the next look.
+// The rest of the budget is the residency's room to load the tiles in view.
+constexpr double kKeepShare = 0.7, kBuildShare = 0.8, kTrimShare = 0.9;
+// Room for kRoomBatch new heightmaps between two looks, below SchedulerOptions::least_heightmaps.
+constexpr std::size_t kRoomBatch = 64;
+constexpr auto kRoomLook = std::chrono::milliseconds(250);  // how often the held heightmaps are weighed
 
 struct Patch {
     bool candidate = false;  // its cell overlaps a tile: it gets a heightmap job
     bool counted = false;    // a candidate from the tiles' bounds: `deps` counts the tiles of its window
     int deps = 0;            // tiles overlapping its window whose chunk points are not in yet
-    bool ready = false, linear_tried = false, cnn_tried = false;
+    bool ready = false, linear_tried = false, cnn_tried = false, linear_made = false;
     std::shared_ptr<const PatchHeightmap> base;   // linear or network
     bool base_is_cnn = false;
     std::shared_ptr<const PatchHeightmap> shown;  // base with the full-resolution detail laid over
@@ -98,6 +107,11 @@ struct Scheduler::State {
     std::size_t candidates = 0, tiles_done = 0, linear_tried = 0, linear_made = 0, cnn_tried = 0;
     std::size_t loadable = 0;                     // tiles with chunk points
     std::size_t shown_linear = 0, shown_cnn = 0;  // patches whose base heightmap is of each kind
+    std::unordered_set<CellKey, CellKeyHash> with_base;  // patches holding a heightmap (what may be let go)
+    std::size_t least_heightmaps = 0;              // SchedulerOptions::least_heightmaps
+    std::size_t let_go = 0;                        // heightmaps let go for room (built again when near)
+    std::uint64_t no_room_version = kNoVersion;    // camera version at which the nearest job found no room
+    std::chrono::steady_clock::time_point room_looked{};  // the last weighing of the held heightmaps
     std::uint64_t patch_visits = 0;               // patches examined by snapshots and job choices
     std::uint64_t snapshot_visits = 0, job_visits = 0;  // patches and blocks: the last snapshot, the last job
 
@@ -215,6 +229,8 @@ struct Scheduler::State {
         count_kind(p, -1);
         change();
         count_kind(p, 1);
+        if (p.base) with_base.insert(cell);
+        else with_base.erase(cell);
         ledger->add_patch_bytes(static_cast<std::int64_t>(bytes_of(p)) - static_cast<std::int64_t>(before));
         CellBlocks::Block& b = blocks.block_of(cell);
         b.changed = true;
@@ -232,6 +248,45 @@ struct Scheduler::State {
         const std::uint64_t bytes = patches.size() * kEntry + patches.bucket_count() * sizeof(void*);
         ledger->add_patch_bytes(static_cast<std::int64_t>(bytes) - static_cast<std::int64_t>(table_bytes));
         table_bytes = bytes;
+    }
+
+    // A heightmap of about a patch's size fits below kBuildShare of the budget (or fewer than the least held).
+    bool room_for_heightmap() const {
+        const std::uint64_t texels = build.patch.spec.patch_texels;
+        return with_base.size() < least_heightmaps ||
+               ledger->used() + texels * texels * 8 <= kBuildShare * ledger->budget();
+    }
+
+    // Whether the held heightmaps may be weighed again (make_room visits every one): every kRoomLook.
+    bool room_look_due() const { return std::chrono::steady_clock::now() - room_looked >= kRoomLook; }
+
+    // Lets go of the heightmaps whose key is above `above` (farther, or out of view), farthest first,
+    // until the data is under kKeepShare of the budget, keeping `keep` at least.
+    void make_room(double above, std::size_t keep) {
+        room_looked = std::chrono::steady_clock::now();
+        std::vector<std::pair<double, CellKey>> far;
+        for (const CellKey cell : with_base) {
+            const double key = key_of(patches.at(cell), cell, *grid);
+            if (key > above) far.emplace_back(key, cell);
+        }
+        std::sort(far.begin(), far.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+        const double target = kKeepShare * ledger->budget();
+        for (std::size_t n = 0; n < far.size() && ledger->used() > target && with_base.size() > keep; ++n) {
+            let_go_heightmap(far[n].second);
+        }
+    }
+
+    // Drops a patch's heightmap (it shows its chunk points again) and queues it to be built when near.
+    void let_go_heightmap(CellKey cell) {
+        Patch& p = patches.at(cell);
+        modify(cell, p, [&] {
+            p.base.reset(), p.shown.reset();
+            p.base_is_cnn = false;
+        });
+        changed_patch(cell, p);
+        ++let_go;
+        p.ready = false;
+        push_ready(cell, p);
     }
 
     void count_kind(const Patch& p, int delta) {
@@ -268,6 +323,7 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     State& s = *state_;
     s.grid = grid_.get();
     s.build.patch.min_points = options_.min_points;
+    s.least_heightmaps = options_.least_heightmaps;
     s.build.patch.has_rgb = has_rgb_;
     s.build.footprints = tile_footprints(dataset);
     s.build.batch = options_.cnn_batch;
@@ -426,8 +482,13 @@ void Scheduler::heightmap_worker() {
     State& s = *state_;
     std::unique_lock lock(s.mutex);
     while (true) {
-        s.wake.wait(lock, [&] { return s.stopping || s.blocks.size(CellBlocks::Ready) > 0 || !s.restyle.empty(); });
+        s.wake.wait_for(lock, kRoomLook,
+                        [&] { return s.stopping || s.blocks.size(CellBlocks::Ready) > 0 || !s.restyle.empty(); });
         if (s.stopping) return;
+        if (s.ledger->used() > kTrimShare * s.ledger->budget() && s.room_look_due()) {
+            s.make_room(-1.0, s.least_heightmaps);  // the farthest, down to the least held
+        }
+        if (s.blocks.size(CellBlocks::Ready) == 0 && s.restyle.empty()) continue;
         if (!s.restyle.empty()) {  // the user changed the surface: before any new heightmap
             restyle_some(lock);
             continue;
@@ -441,6 +502,23 @@ void Scheduler::heightmap_worker() {
             s.wake.wait_for(lock, kOutOfViewWait);
             continue;
         }
+        // No room: the heightmaps farther than this one make it, else it waits for the camera to move (or
+        // for room: the residency's releases, a larger budget).
+        if (!s.room_for_heightmap()) {
+            const bool due = s.room_look_due();
+            if (due) s.make_room(key, s.least_heightmaps - std::min(s.least_heightmaps, kRoomBatch));
+            if (!s.room_for_heightmap()) {
+                s.blocks.add(CellBlocks::Ready, cell);
+                if (!due) {  // weighed a moment ago: again when due
+                    s.wake.wait_until(lock, s.room_looked + kRoomLook, [&] { return s.stopping; });
+                    continue;
+                }
+                const std::uint64_t version = s.no_room_version = s.camera_version;  // the view is done
+                s.wake.wait_for(lock, kRoomLook, [&] { return s.stopping || s.camera_version != version; });
+                continue;
+            }
+        }
+        s.no_room_version = kNoVersion;
         ++s.in_flight;
         lock.unlock();
         auto h = linear_heightmap(*grid_, cell, s.build.patch);
@@ -448,10 +526,9 @@ void Scheduler::heightmap_worker() {
         lock.lock();
         --s.in_flight;
         Patch& p = s.patches[cell];
-        p.linear_tried = true;
-        ++s.linear_tried;
+        if (!std::exchange(p.linear_tried, true)) ++s.linear_tried;  // counted once: a heightmap let go comes again
         if (!h) continue;
-        ++s.linear_made;
+        if (!std::exchange(p.linear_made, true)) ++s.linear_made;
         if (!p.base_is_cnn) {
             s.modify(cell, p, [&] { p.base = share(std::move(*h)); });
             s.update_shown(cell, p, residency_->detail(cell).get());
@@ -550,8 +627,9 @@ void Scheduler::cnn_worker() {
         while (batch.size() < std::max<std::size_t>(1, options_.cnn_batch)) {
             const auto cell = s.take_next(CellBlocks::CnnReady);
             if (!cell) break;
-            batch.push_back(*cell);
+            if (s.patches.at(*cell).base) batch.push_back(*cell);  // else let go meanwhile: refined when built again
         }
+        if (batch.empty()) continue;
         ++s.in_flight;
         lock.unlock();
         std::vector<PatchHeightmap> built;
@@ -564,11 +642,11 @@ void Scheduler::cnn_worker() {
         }
         lock.lock();
         --s.in_flight;
-        s.cnn_tried += batch.size();
-        for (const auto cell : batch) s.patches[cell].cnn_tried = true;
+        for (const auto cell : batch) s.cnn_tried += !std::exchange(s.patches[cell].cnn_tried, true);
         for (auto& h : built) {
             const CellKey cell = h.cell;
             Patch& p = s.patches[cell];
+            if (!p.base) continue;  // let go while the network ran
             s.modify(cell, p, [&] {
                 p.base = share(std::move(h));
                 p.base_is_cnn = true;
@@ -669,6 +747,7 @@ SchedulerStats Scheduler::stats() const {
     st.heightmaps_linear = s.shown_linear, st.heightmaps_cnn = s.shown_cnn;
     st.heightmap_jobs_pending =
         s.blocks.size(CellBlocks::Ready) + s.blocks.size(CellBlocks::CnnReady) + s.in_flight;
+    st.heightmaps_let_go = s.let_go;
     st.surface_pending = s.restyle.size() + s.restyling;
     st.full_res = {r.wanted_full, r.wanted};
     st.full_res_tiles = r.full_tiles;
@@ -696,7 +775,9 @@ bool Scheduler::idle() const {
     const State& s = *state_;
     if (!loader_->finished()) return false;
     std::lock_guard lock(s.mutex);
-    return s.loader_finish_handled && s.blocks.size(CellBlocks::Ready) == 0 &&
+    // Jobs left for lack of room wait for the camera to move: the view is done.
+    const bool waiting = s.no_room_version == s.camera_version;
+    return s.loader_finish_handled && (s.blocks.size(CellBlocks::Ready) == 0 || waiting) &&
            s.blocks.size(CellBlocks::CnnReady) == 0 && s.in_flight == 0 && s.restyle.empty() && s.restyling == 0 &&
            !s.network_pending && (!options_.full_res || residency_->idle());
 }

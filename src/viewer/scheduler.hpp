@@ -72,6 +72,9 @@ struct SchedulerOptions {
     bool full_res = true;             // decode the tiles in view (residency.hpp)
     ResidencyOptions residency;       // LOD and priorities; the budget, threads and hooks are set from here
     std::size_t min_points = kViewerMinPoints;
+    // The nearest heightmaps held whatever the budget (a country's chunk points alone may fill it): about
+    // a view's worth. Beyond them heightmaps are built within the budget, the farthest let go for nearer.
+    std::size_t least_heightmaps = 512;
     unsigned heightmap_threads = 1;   // linear heightmap workers
     unsigned decode_threads = 0;      // full-resolution decoding (0 = all cores)
     dataset::ChunkPointLoaderOptions loader;
@@ -93,6 +96,7 @@ struct SchedulerStats {
     StageProgress cnn;                 // patches refined / patches with a linear heightmap (0 total: no model)
     std::size_t heightmaps_linear = 0, heightmaps_cnn = 0;  // patches showing each kind
     std::size_t heightmap_jobs_pending = 0;                   // queued or running (linear and network)
+    std::size_t heightmaps_let_go = 0;  // heightmaps dropped to keep the budget (built again when near)
     std::size_t surface_pending = 0;   // patches still to be laid over again for the surface set last
     StageProgress full_res;            // wanted tiles resident / wanted tiles
     std::size_t full_res_tiles = 0, coarse_tiles = 0;  // tiles held at full resolution; at coarse levels only

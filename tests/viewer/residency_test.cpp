@@ -18,6 +18,7 @@
 #include "viewer/point_sets.hpp"
 #include "viewer/residency.hpp"
 #include "survey_tiles.hpp"
+#include "wait_until.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -48,12 +49,7 @@ render::Camera inside(const dataset::Bounds& b) {
 }
 
 bool wait_idle(const Residency& r) {
-    const auto end = std::chrono::steady_clock::now() + 120s;
-    while (!r.idle()) {
-        if (std::chrono::steady_clock::now() > end) return false;
-        std::this_thread::sleep_for(5ms);
-    }
-    return true;
+    return test::wait_until([&] { return r.idle(); });
 }
 
 // Points held per tile, and the finest level held per tile.

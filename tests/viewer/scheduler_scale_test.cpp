@@ -1,9 +1,11 @@
 // The scheduler's bookkeeping follows the view, not the dataset: on virtual replicas of the nine
 // ky-jmo335 tiles of 36 and 4,900 tiles, a close camera over the same spot of both, what a
 // snapshot, the choice of the next heightmap job and the residency's look examine (patches, cell
-// blocks, index nodes, tiles: counted, not timed) is alike, and a small part of the large one.
+// blocks, index nodes, tiles: counted, not timed) is alike, and a small part of the large one. And
+// a replica whose heightmaps do not all fit the budget keeps it: the nearest built, the farthest let go.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -11,7 +13,9 @@
 #include "synth/replicate.hpp"
 #include "temp_dir_fixture.hpp"
 #include "test_data.hpp"
+#include "viewer/cameras.hpp"
 #include "viewer/scheduler.hpp"
+#include "wait_until.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -99,6 +103,93 @@ TEST_F(SchedulerScale, WorkPerFrameAndTickFollowsTheView) {
     EXPECT_LT(l.snapshot, l.patches / 20);
     EXPECT_LT(l.job, l.patches / 20);
     EXPECT_LT(l.look, l.tiles / 20);
+}
+
+bool wait_idle(const Scheduler& scheduler) {
+    return test::wait_until([&] { return scheduler.idle(); });
+}
+
+// Whether the scheduler's picture shows a heightmap for the cell under (x, y).
+bool heightmap_shown_at(const Scheduler& scheduler, double x, double y) {
+    const CellKey cell = scheduler.grid().cell_of(x, y);
+    for (const auto& h : scheduler.snapshot()->heightmaps) {
+        if (h->cell == cell) return true;
+    }
+    return false;
+}
+
+TEST_F(SchedulerScale, HeightmapsKeepTheBudgetNearestFirst) {
+    const auto ds = replica(6);
+    const auto& b = ds.bounds_m;
+    // The middles of the south-western and north-eastern tiles.
+    const auto corner = [&](int sign) {
+        const auto it = std::min_element(ds.tiles.begin(), ds.tiles.end(), [&](const auto& l, const auto& r) {
+            return sign * (l.bounds_m.centre_x() + l.bounds_m.centre_y()) <
+                   sign * (r.bounds_m.centre_x() + r.bounds_m.centre_y());
+        });
+        return std::pair{it->bounds_m.centre_x(), it->bounds_m.centre_y()};
+    };
+    const auto [near_x, near_y] = corner(1);
+    const auto [far_x, far_y] = corner(-1);
+    SchedulerOptions o;
+    o.cnn = false, o.full_res = false;  // the heightmaps alone against the budget
+    o.least_heightmaps = 16;  // of 131: the budget decides
+    o.memory_budget = 1ull << 30;
+    o.camera = test::looking_down(near_x, near_y, b.max_z + 400);
+    std::size_t all = 0;
+    std::uint64_t all_bytes = 0;
+    {
+        Scheduler everything(ds, o);
+        ASSERT_TRUE(wait_idle(everything));
+        everything.set_camera(test::looking_down(far_x, far_y, b.max_z + 400));
+        ASSERT_TRUE(wait_idle(everything));
+        EXPECT_TRUE(heightmap_shown_at(everything, far_x, far_y));
+        EXPECT_TRUE(heightmap_shown_at(everything, near_x, near_y));
+        const auto st = everything.stats();
+        all = st.heightmaps_linear, all_bytes = st.bytes_used;
+        EXPECT_EQ(st.heightmaps_let_go, 0u) << "room for all";
+        EXPECT_EQ(st.linear.done, st.linear.total);
+    }
+    ASSERT_GT(all, 100u);
+    o.memory_budget = all_bytes / 2;
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_idle(scheduler));
+    auto st = scheduler.stats();
+    std::printf("%zu heightmaps in %llu MiB; within %llu MiB: %zu held, %zu let go\n", all,
+                static_cast<unsigned long long>(all_bytes >> 20),
+                static_cast<unsigned long long>(o.memory_budget >> 20), st.heightmaps_linear, st.heightmaps_let_go);
+    EXPECT_LE(st.bytes_used, o.memory_budget);
+    EXPECT_GT(st.heightmaps_linear, all / 5);
+    EXPECT_LT(st.heightmaps_linear, all * 3 / 5);
+    EXPECT_TRUE(heightmap_shown_at(scheduler, near_x, near_y));
+
+    // The opposite corner: its heightmaps come, the first corner's farthest go for them.
+    scheduler.set_camera(test::looking_down(far_x, far_y, b.max_z + 400));
+    ASSERT_TRUE(wait_idle(scheduler));
+    st = scheduler.stats();
+    EXPECT_LE(st.bytes_used, o.memory_budget);
+    EXPECT_GT(st.heightmaps_let_go, 0u);
+    EXPECT_TRUE(heightmap_shown_at(scheduler, far_x, far_y));
+
+    // A larger budget: the rest are built once the camera moves again.
+    scheduler.set_memory_budget(1ull << 30);
+    scheduler.set_camera(test::looking_down(near_x, near_y, b.max_z + 400));
+    ASSERT_TRUE(wait_idle(scheduler));
+    st = scheduler.stats();
+    EXPECT_EQ(st.heightmaps_linear, all);
+    EXPECT_EQ(st.linear.done, st.linear.total) << "every patch tried, counted once";
+
+    // A budget the chunk points alone fill: the nearest are held all the same, and stay.
+    scheduler.set_memory_budget(64 << 10);
+    scheduler.set_camera(test::looking_down(far_x, far_y, b.max_z + 400));
+    ASSERT_TRUE(wait_idle(scheduler));
+    std::this_thread::sleep_for(1s);  // a few looks at the room
+    st = scheduler.stats();
+    EXPECT_EQ(st.heightmaps_linear, o.least_heightmaps);
+    EXPECT_TRUE(heightmap_shown_at(scheduler, far_x, far_y));
+    const std::size_t let_go = st.heightmaps_let_go;
+    std::this_thread::sleep_for(1s);
+    EXPECT_EQ(scheduler.stats().heightmaps_let_go, let_go) << "a still view lets none go";
 }
 
 }  // namespace

@@ -33,6 +33,7 @@
 #include "viewer/patch_detail.hpp"
 #include "viewer/visibility.hpp"
 #include "survey_tiles.hpp"
+#include "wait_until.hpp"
 
 namespace lidarscout::viewer {
 namespace {
@@ -56,15 +57,7 @@ render::Camera above_tile(const dataset::DatasetTile& t, double height) {
     return c;
 }
 
-template <typename Pred>
-bool wait_until(Pred pred, std::chrono::milliseconds timeout = 120s) {
-    const auto end = std::chrono::steady_clock::now() + timeout;
-    while (!pred()) {
-        if (std::chrono::steady_clock::now() > end) return false;
-        std::this_thread::sleep_for(5ms);
-    }
-    return true;
-}
+using test::wait_until;
 
 // Events seen by a scheduler's hook, in order.
 struct EventLog {
