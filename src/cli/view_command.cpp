@@ -116,7 +116,8 @@ void write_stats_json(const std::string& path, const viewer::app::ViewerTimings&
                         {"data_budget_bytes", t.data_budget_bytes},
                         {"ledger_peak_bytes", t.ledger_peak_bytes},
                         {"outside_data_bytes", t.outside_bytes},
-                        {"memory_note", t.budget_note}};
+                        {"memory_note", t.budget_note},
+                        {"overview_note", t.overview_note}};
     j.update(network_json(network, t.tiles));
     const std::string text = j.dump(2) + "\n";
     io::AtomicOutputFile out(path);

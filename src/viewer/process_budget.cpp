@@ -19,6 +19,16 @@ bool network_fits(std::uint64_t asked, std::uint64_t at_start) {
 
 }  // namespace
 
+std::string overview_fills_note(std::uint64_t overview, std::uint64_t data, std::size_t tiles) {
+    if (overview * 10 < data * 9) return "";  // under 90%: room for full resolution
+    char line[300];
+    std::snprintf(line, sizeof line,
+                  "the overview of %zu tiles (chunk points, patches, nearest heightmaps) holds %llu MiB of the %llu MiB "
+                  "left for data: little or no room for full-resolution points (a larger --memory gives it)",
+                  tiles, static_cast<unsigned long long>(mib(overview)), static_cast<unsigned long long>(mib(data)));
+    return line;
+}
+
 ProcessBudget::ProcessBudget(std::uint64_t asked, std::uint64_t outside_at_start, bool network)
     : asked_(asked), asked_at_start_(asked), at_start_(outside_at_start), network_wanted_(network),
       network_(network && network_fits(asked, outside_at_start)) {}

@@ -6,6 +6,7 @@
 // they can be tested on their own.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -26,6 +27,11 @@ struct ProcessBudgetPlan {
                              // the network); empty else
     bool below = false;      // the note says the budget is below what the viewer needs
 };
+
+// One line when the overview (every tile's chunk points, the patch table and the nearest heightmaps:
+// what the scheduler holds whatever the budget) fills most of the data's share, so that full
+// resolution has little room or none; empty else. `overview` and `data` in bytes.
+std::string overview_fills_note(std::uint64_t overview, std::uint64_t data, std::size_t tiles);
 
 class ProcessBudget {
 public:

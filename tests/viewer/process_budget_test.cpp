@@ -1,6 +1,6 @@
 // ProcessBudget: the program's share taken off the process's budget before the scheduler gets the
 // rest; the network only where it fits; below what the viewer needs, one line with the figure and
-// the least data; the most seen outside the ledger counts.
+// the least data; the most seen outside the ledger counts; an overview that fills the data's share said.
 #include <gtest/gtest.h>
 
 #include "viewer/process_budget.hpp"
@@ -53,6 +53,14 @@ TEST(ProcessBudget, BelowWhatTheViewerNeedsItSaysSoAndRunsWithTheLeast) {
     EXPECT_EQ(b.plan().note, "the memory budget at start (128 MiB) left no room for the heightmap network (150 MiB "
                              "with its libraries): linear heightmaps only");
     EXPECT_FALSE(b.plan().below);
+}
+
+TEST(ProcessBudget, AnOverviewThatFillsTheDataShareIsSaid) {
+    EXPECT_EQ(overview_fills_note(300 * MiB, 422 * MiB, 152100), "");
+    EXPECT_EQ(overview_fills_note(423 * MiB, 422 * MiB, 152100),
+              "the overview of 152100 tiles (chunk points, patches, nearest heightmaps) holds 423 MiB of the 422 MiB "
+              "left for data: little or no room for full-resolution points (a larger --memory gives it)");
+    EXPECT_NE(overview_fills_note(380 * MiB, 422 * MiB, 9), "");  // 90%
 }
 
 }  // namespace

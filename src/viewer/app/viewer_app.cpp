@@ -580,6 +580,7 @@ private:
             export_step();
             area_step();
             if (!budget_note_.empty()) stats.notes.push_back(budget_note_);
+            if (!overview_note_.empty()) stats.notes.push_back(overview_note_);
             actions = draw_panels(*session_.dataset, stats, frame_ms_, settings_, panels_);
             draw_labels(panels_.annotations, camera_);
         }
@@ -638,8 +639,19 @@ private:
     void budget_step() {
         if (!session_.open() || !budget_tick_.due(1)) return;
         budget_tick_.done();
-        budget_.observe(resident_bytes(), session_.scheduler->stats().bytes_used);
+        const SchedulerStats st = session_.scheduler->stats();
+        budget_.observe(resident_bytes(), st.bytes_used);
         apply_budget();
+        report_overview_note(st);
+    }
+
+    // The line saying the overview leaves full resolution no room: on stderr the first time, in the panel
+    // while it holds (a larger budget clears it).
+    void report_overview_note(const SchedulerStats& st) {
+        overview_note_ = overview_fills_note(st.bytes_used - st.bytes_full_res - st.bytes_decoding,
+                                             st.memory_budget, st.tiles);
+        if (overview_note_.empty() || std::exchange(said_overview_, true)) return;
+        std::fprintf(stderr, "lidarscout: %s\n", overview_note_.c_str());
     }
 
     void apply_budget() {
@@ -668,6 +680,7 @@ private:
         times_.budget_bytes = budget_.asked();
         times_.outside_bytes = budget_.outside();
         times_.budget_note = budget_note_;
+        times_.overview_note = overview_note_;
         if (!session_.open()) return;
         const SchedulerStats st = session_.scheduler->stats();
         times_.ledger_peak_bytes = st.peak_bytes_used;
@@ -901,9 +914,11 @@ private:
     GlPresenter presenter_;
     ThreadPool pool_;
     ProcessBudget budget_;            // measured with the window up, before any dataset
-    bool said_below_ = false;         // the line saying the budget is below what the viewer needs was written
+    bool said_below_ = false;
+    bool said_overview_ = false;      // the overview's line (overview_fills_note) was written         // the line saying the budget is below what the viewer needs was written
     Throttle budget_tick_{std::chrono::milliseconds(250), 0};
     std::string budget_note_;         // the budget is below what the viewer needs (shown in the panel)
+    std::string overview_note_;       // the overview leaves full resolution no room (overview_fills_note)
     std::unique_ptr<SessionOpening> opening_;
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens

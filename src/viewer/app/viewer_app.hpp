@@ -55,10 +55,11 @@ struct ViewerTimings {
     std::size_t tiles = 0, skipped = 0;      // of the dataset shown at the end
     // Memory (viewer/process_budget.hpp), in bytes: the process's peak resident size (VmHWM), the
     // budget it was given, the scheduler's share at the end and its ledger's peak, what the program
-    // held outside the ledger at most; the line saying the budget is below what the viewer needs.
+    // held outside the ledger at most; the line saying the budget is below what the viewer needs, and the
+    // one saying the overview leaves full resolution no room (at the end).
     std::uint64_t peak_resident_bytes = 0, budget_bytes = 0, data_budget_bytes = 0, ledger_peak_bytes = 0;
     std::uint64_t outside_bytes = 0;
-    std::string budget_note;
+    std::string budget_note, overview_note;
 };
 
 // Opens the window at once and the dataset in the background (the window shows the tiles'
