@@ -23,8 +23,8 @@ std::string overview_fills_note(std::uint64_t overview, std::uint64_t data, std:
     if (overview * 10 < data * 9) return "";  // under 90%: room for full resolution
     char line[300];
     std::snprintf(line, sizeof line,
-                  "the overview of %zu tiles (chunk points, patches, nearest heightmaps) holds %llu MiB of the %llu MiB "
-                  "left for data: little or no room for full-resolution points (a larger --memory gives it)",
+                  "the overview of %zu tiles (chunk points, patches, nearest heightmaps) holds %llu MiB of the "
+                  "%llu MiB left for data: little or no room for full-resolution points (a larger --memory gives it)",
                   tiles, static_cast<unsigned long long>(mib(overview)), static_cast<unsigned long long>(mib(data)));
     return line;
 }

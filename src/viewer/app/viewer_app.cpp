@@ -914,8 +914,8 @@ private:
     GlPresenter presenter_;
     ThreadPool pool_;
     ProcessBudget budget_;            // measured with the window up, before any dataset
-    bool said_below_ = false;
-    bool said_overview_ = false;      // the overview's line (overview_fills_note) was written         // the line saying the budget is below what the viewer needs was written
+    bool said_below_ = false;         // the line saying the budget is below what the viewer needs was written
+    bool said_overview_ = false;      // the overview's line (overview_fills_note) was written
     Throttle budget_tick_{std::chrono::milliseconds(250), 0};
     std::string budget_note_;         // the budget is below what the viewer needs (shown in the panel)
     std::string overview_note_;       // the overview leaves full resolution no room (overview_fills_note)
