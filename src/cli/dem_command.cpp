@@ -252,7 +252,8 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--bounds", o->dem.bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
         ->delimiter(',')->expected(4);
     cmd->add_option("--from", o->dem.from, "full (every point) or overview (chunk points only; default full)");
-    cmd->add_option("--method", o->dem.method, "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
+    cmd->add_option("--method", o->dem.method,
+                    "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
     cmd->add_option("--radius", o->dem.radius,
                     "idw: search radius around each texel centre, metres (default: texel x 1.414)")
         ->check(positive_number());
@@ -311,7 +312,8 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
                        "points gridded (--returns with --from full only: the overview's chunk points have no "
                        "reliable returns)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
-    add_output(*cmd, "--rgb", o->dem.rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
+    add_output(*cmd, "--rgb", o->dem.rgb,
+               "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
                io::OutputKind::GeoTiff);
     add_output(*cmd, "--hillshade", o->dem.hillshade,
                "Also write a hillshade of the DEM: .tif (GeoTIFF) or .png (with its world file .pgw, .aux.xml)",

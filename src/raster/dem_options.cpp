@@ -30,7 +30,9 @@ void check_numbers(const DemOptions& o) {
     check(o.power, "--power", false);
     check(o.max_edge, "--max-edge", true);
     check(o.contours, "--contours", false);
-    if (!o.bounds.empty() && o.bounds.size() != 4) throw Error("dem: --bounds expects four numbers: xmin,ymin,xmax,ymax");
+    if (!o.bounds.empty() && o.bounds.size() != 4) {
+        throw Error("dem: --bounds expects four numbers: xmin,ymin,xmax,ymax");
+    }
 }
 
 // --radius and --power (idw) and --max-edge (tin), refused with another method.
@@ -112,7 +114,9 @@ DemRequest dem_request(const DemOptions& o) {
         apply_products(o, r);
         return r;
     }
-    if (o.ground != "classes" || !o.ground_options.empty()) throw Error("dem: --ground applies to --product dtm or chm");
+    if (o.ground != "classes" || !o.ground_options.empty()) {
+        throw Error("dem: --ground applies to --product dtm or chm");
+    }
     r.method = dem_method_from_name(o.method.empty() ? (r.source == DemSource::Full ? "mean" : "linear") : o.method,
                                     r.source);
     r.filter = PointFilter::parse(o.classes, o.returns, o.intensity);
