@@ -1,11 +1,13 @@
 """Benchmark of the Dask driver (python/lidarscout_dask) against one `lidarscout dem` process:
   /usr/bin/python3 bench/bench_dask.py PATH --dem-args "--texel 10 --product dtm --classes 0"
       [--workers 2] [--threads 2] [--pieces 16] [--runs 3] [--program build/lidarscout]
-runs, alternately, `lidarscout dem PATH -o ONE.tif DEM_ARGS --threads THREADS` and the driver on a
-LocalCluster of WORKERS workers of one thread, RUNS times each; prints the wall-time medians, their
-ratio, the per-piece seconds of the last driver run, whether the decoded rasters are equal byte for
-byte, and a projection for 100 workers: the dataset's points at the pieces' measured seconds per point,
-spread over 100 workers, plus the driver's fixed time (plan, cluster, mosaic)."""
+      [--module build/python]
+runs, alternately, `lidarscout dem PATH -o ONE.tif DEM_ARGS --threads THREADS` and the driver (with the
+Python module of --module on its PYTHONPATH) on a LocalCluster of WORKERS workers of one thread, RUNS
+times each; prints the wall-time medians, their ratio, the per-piece seconds of the last driver run,
+whether the decoded rasters are equal byte for byte, and a projection for 100 workers: the dataset's
+points at the pieces' measured seconds per point, spread over 100 workers, plus the driver's fixed
+time (plan, cluster, mosaic)."""
 import argparse
 import json
 import os
@@ -19,9 +21,9 @@ import time
 from osgeo import gdal
 
 
-def timed(command, cwd=None):
+def timed(command, env=None):
     t0 = time.monotonic()
-    done = subprocess.run(command, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
+    done = subprocess.run(command, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
     if done.returncode != 0:
         sys.exit(f"bench_dask: {' '.join(command)}: {done.stderr.strip()[-2000:]}")
     return time.monotonic() - t0, done.stdout
@@ -42,10 +44,11 @@ def main():
     p.add_argument("--pieces", type=int, default=16)
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--program", default="build/lidarscout")
+    p.add_argument("--module", default="build/python", help="the folder of the module lidarscout and the driver")
     a = p.parse_args()
     program = os.path.abspath(a.program)
     dem_args = shlex.split(a.dem_args)
-    python_dir = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python")
+    env = dict(os.environ, PYTHONPATH=os.path.abspath(a.module))  # (the build puts the driver beside the module)
     with tempfile.TemporaryDirectory(prefix="bench_dask_") as tmp:
         one_out, dask_out = os.path.join(tmp, "one.tif"), os.path.join(tmp, "dask.tif")
         one_times, dask_times, result = [], [], {}
@@ -57,7 +60,7 @@ def main():
             one_times.append(seconds)
             seconds, out = timed(["/usr/bin/python3", "-m", "lidarscout_dask", "dem", os.path.abspath(a.path), "-o",
                                   dask_out, *dem_args, "--local", str(a.workers), "--pieces", str(a.pieces),
-                                  "--program", program, "--json"], cwd=python_dir)
+                                  "--json"], env=env)
             dask_times.append(seconds)
             result = json.loads(out)
             print(f"run {run + 1}: one process {one_times[-1]:.1f} s, driver {dask_times[-1]:.1f} s", flush=True)

@@ -1,6 +1,7 @@
 """The Python module's figures on ky-jmo335 (run with /usr/bin/python3, PYTHONPATH=build/python):
 `ds.read` of a region against `lidarscout clip` of the same region (to .las and to .laz; medians of
---runs), and the peak resident memory of a child process that iter_reads every point in 1 M batches. With
+--runs, of the wall time and of the CPU time, which a loaded machine disturbs less; each array freed
+before the next read), and the peak resident memory of a child process that iter_reads every point in 1 M batches. With
 --replica MANIFEST (a virtual replica, `lidarscout synth replicate ... --virtual`): `lidarscout.open(MANIFEST)
 .overview()` in a child process against `lidarscout scan MANIFEST --json`, medians of --runs, with peak memory.
 
@@ -12,6 +13,7 @@ import argparse
 import json
 import os
 import pathlib
+import resource
 import statistics
 import subprocess
 import sys
@@ -42,13 +44,23 @@ print(len(points))
 """
 
 
-def timed(fn, runs):
-    seconds = []
+def cpu_seconds(who):
+    usage = resource.getrusage(who)
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed(fn, runs, cpu=None):
+    """The median wall seconds of `runs` calls of fn and its last result; with `cpu` (RUSAGE_SELF or
+    RUSAGE_CHILDREN) the median CPU seconds too: (wall, cpu), result."""
+    seconds, cpus = [], []
     for _ in range(runs):
-        t0 = time.perf_counter()
+        c0, t0 = cpu_seconds(cpu) if cpu is not None else 0, time.perf_counter()
         result = fn()
         seconds.append(time.perf_counter() - t0)
-    return statistics.median(seconds), result
+        cpus.append(cpu_seconds(cpu) - c0 if cpu is not None else 0)
+    if cpu is None:
+        return statistics.median(seconds), result
+    return (statistics.median(seconds), statistics.median(cpus)), result
 
 
 def clip_seconds(cli, bounds, suffix, runs):
@@ -57,7 +69,7 @@ def clip_seconds(cli, bounds, suffix, runs):
         args = [cli, "clip", str(SURVEY), "-o", str(out), "--force"]
         if bounds:
             args += ["--bounds", ",".join(map(str, bounds))]
-        return timed(lambda: subprocess.run(args, check=True, capture_output=True), runs)[0]
+        return timed(lambda: subprocess.run(args, check=True, capture_output=True), runs, resource.RUSAGE_CHILDREN)[0]
 
 
 def child_peak_kib(args):
@@ -96,12 +108,12 @@ def main():
     import lidarscout
     ds = lidarscout.open(str(SURVEY))
     for name, bounds in REGIONS.items():
-        read_s, points = timed(lambda: ds.read(bounds=bounds), args.runs)
-        las_s = clip_seconds(args.cli, bounds, ".las", args.runs)
-        laz_s = clip_seconds(args.cli, bounds, ".laz", args.runs)
-        print(f"{name}: {len(points):,} points; read {read_s:.2f} s, clip .las {las_s:.2f} s "
-              f"({read_s / las_s:.2f}x), clip .laz {laz_s:.2f} s ({read_s / laz_s:.2f}x)")
-        del points
+        (read_s, read_cpu), count = timed(lambda: len(ds.read(bounds=bounds)), args.runs, resource.RUSAGE_SELF)
+        las_s, las_cpu = clip_seconds(args.cli, bounds, ".las", args.runs)
+        laz_s, laz_cpu = clip_seconds(args.cli, bounds, ".laz", args.runs)
+        print(f"{name}: {count:,} points; read {read_s:.2f} s ({read_cpu:.2f} s CPU), clip .las {las_s:.2f} s "
+              f"({las_cpu:.2f} s CPU; read {read_s / las_s:.2f}x, CPU {read_cpu / las_cpu:.2f}x), clip .laz "
+              f"{laz_s:.2f} s ({laz_cpu:.2f} s CPU; read {read_s / laz_s:.2f}x, CPU {read_cpu / laz_cpu:.2f}x)")
     done = subprocess.run([sys.executable, "-c", PEAK_CHILD, str(SURVEY)], check=True, capture_output=True, text=True)
     n, seconds, peak = done.stdout.split()
     print(f"iter_read of every point in 1 M batches: {int(n):,} points, {float(seconds):.2f} s, "

@@ -28,6 +28,7 @@ install(CODE "
   endif()")
 install(TARGETS lidarscout_python_module LIBRARY DESTINATION \${LIDARSCOUT_PYTHON_DESTINATION}/lidarscout)
 install(FILES ${LIDARSCOUT_PYTHON_SOURCES} DESTINATION \${LIDARSCOUT_PYTHON_DESTINATION}/lidarscout)
+install(FILES ${LIDARSCOUT_DASK_SOURCES} DESTINATION \${LIDARSCOUT_PYTHON_DESTINATION}/lidarscout_dask)  # (its driver)
 install(FILES models/heightmap_cnn.pt models/README.md DESTINATION share/lidarscout/models)
 install(FILES packaging/lidarscout.desktop DESTINATION share/applications)
 # The page of `lidarscout serve` (serve/web_assets.cpp finds it beside the program's share/).

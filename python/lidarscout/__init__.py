@@ -8,6 +8,8 @@ read in parallel, and DEMs, as numpy arrays. See the README's "Python" section.
     ds.read(bounds=..., classes=[2])    # the points of a region, by the clip's rules
     for batch in ds.iter_read(batch=1_000_000): ...
     raster, geotransform = ds.dem(texel=1.0, product="dtm")
+    plan = ds.dem_plan(16, texel=1.0, product="dtm")  # `dem --plan 16`: the pieces of --block I/16
+    made = ds.dem_block(3, 16, "dtm.tif", texel=1.0, product="dtm")  # `dem --block 3/16`, written
 
 Errors are raised as lidarscout.Error (file, offset, cause).
 """

@@ -1,15 +1,15 @@
 """`python3 -m lidarscout_dask dem PATH... -o OUT.tif [--product dtm,dsm,chm] [--texel M] [DEM OPTIONS]
-(--scheduler tcp://HOST:8786 | --local N) [--pieces N] [--memory 4G] [--program lidarscout]`:
-the DEM of `lidarscout dem` made in pieces on a Dask cluster. The pieces are planned from the tile
-headers (`lidarscout dem --plan N`: about equal point counts), submitted heaviest first, each one
-`lidarscout dem --block I/N` subprocess on a worker (pieces.py: retried when it fails; finished
-pieces kept in the pieces directory, so a rerun after a dead worker or a stopped driver makes only
-the missing ones), then mosaicked (mosaic.py) into OUT.tif, or OUT_NAME.tif per product, equal texel
-for texel to one `lidarscout dem` run; the rasters of a run appear together, or none does. Options it
-does not know go to `lidarscout dem` as they are (e.g. --classes 2,9 --max-edge 20). The program, the
-inputs, the output and every option are checked (by `lidarscout dem --plan 1`) before the cluster starts
-and before anything is written; a failure is one line (errors.py) and leaves nothing behind but the
-finished pieces of a run that a rerun can use."""
+(--scheduler tcp://HOST:8786 | --local N) [--pieces N] [--memory 4G]`: the DEM of `lidarscout dem` made
+in pieces on a Dask cluster, through the Python module `lidarscout` (installed on every worker, or
+build/python on their PYTHONPATH). The pieces are planned from the tile headers (`ds.dem_plan(N)`, as
+`lidarscout dem --plan N`: about equal point counts), submitted heaviest first, each one `ds.dem_block(I, N)`
+(`dem --block I/N`) on a worker (pieces.py: retried when it fails; finished pieces kept in the pieces
+directory, so a rerun after a dead worker or a stopped driver makes only the missing ones), then mosaicked
+(mosaic.py) into OUT.tif, or OUT_NAME.tif per product, equal texel for texel to one `lidarscout dem` run;
+the rasters of a run appear together, or none does. dem's options are those of `lidarscout dem` (DEM_OPTIONS
+below) but the ones that need the whole raster. The inputs, the output and every option are checked (by
+the plan of one piece) before the cluster starts and before anything is written; a failure is one line
+(errors.py) and leaves nothing behind but the finished pieces of a run that a rerun can use."""
 import argparse
 import json
 import logging
@@ -23,11 +23,26 @@ import time
 from lidarscout_dask import pieces as piece_runner
 from lidarscout_dask.errors import Failure, closest_name
 from lidarscout_dask.mosaic import mosaic
-from lidarscout_dask.plan import choose_count, fitting_plan, parse_bytes, plan
+from lidarscout_dask.plan import choose_count, fitting_plan, open_dataset, parse_bytes, plan
 
 # Options of `lidarscout dem` a piece cannot make: they need the whole raster (make them from the mosaic).
-REFUSED = ("--hillshade", "--contours", "--rgb", "--from", "--block", "--plan", "--threads", "--json", "-o",
-           "--output")
+REFUSED = ("--hillshade", "--contours", "--rgb", "--from", "--block", "--plan", "--threads", "--force")
+
+# dem's options a piece takes: (option, the module's keyword, help). Their values go to ds.dem_plan and
+# ds.dem_block as given (the module checks them, as `lidarscout dem` does).
+DEM_OPTIONS = (("--texel", "texel", "texel size in metres (default 1)"),
+               ("--bounds", "bounds", "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)"),
+               ("--method", "method", "mean (default), min, max, idw, tin"),
+               ("--radius", "radius", "idw: search radius, metres"), ("--power", "power", "idw: weights' power"),
+               ("--max-edge", "max_edge", "tin and products: the longest triangle edge, metres"),
+               ("--product", "product", "dtm,dsm,chm,density,pulse-density,intensity,count (OUT_NAME.tif each)"),
+               ("--ground", "ground", "the dtm's ground: classes or smrf"),
+               ("--ground-cell", "ground_cell", "smrf: cell, metres"), ("--ground-slope", "ground_slope", "smrf"),
+               ("--ground-window", "ground_window", "smrf: window, metres"),
+               ("--ground-threshold", "ground_threshold", "smrf: threshold, metres"),
+               ("--classes", "classes", "the points' classes (the dtm's ground classes with --product)"),
+               ("--returns", "returns", "first,last,single,intermediate"),
+               ("--intensity", "intensity", "MIN-MAX"))
 
 
 class Parser(argparse.ArgumentParser):
@@ -81,7 +96,9 @@ def parse(argv):
                                                 "the pieces are doubled until each one's estimate fits")
     d.add_argument("--piece-threads", type=int, default=1, help="threads of each piece's dem (default 1)")
     d.add_argument("--retries", type=int, default=2, help="tries more for a piece that fails (default 2)")
-    d.add_argument("--program", default="lidarscout", help="lidarscout on the workers (default: on their PATH)")
+    d.add_argument("--crs", default=None, help="the DEM's CRS, e.g. EPSG:32616 (default: the CRS most tiles use)")
+    for option, keyword, text in DEM_OPTIONS:
+        d.add_argument(option, dest=f"dem_{keyword}", default=None, help=f"dem: {text}")
     d.add_argument("--pieces-dir", default="",
                    help="where the pieces go, shared by every worker (default OUT.pieces beside the output); "
                         "a rerun skips the pieces found there")
@@ -90,11 +107,29 @@ def parse(argv):
     if argv[0] != "dem":
         p.parse_args(argv)  # --help: prints it and exits 0
     check_own_options(d, argv[1:])
-    args, dem_args = d.parse_known_args(argv[1:])
-    for option in dem_args:
+    args, rest = d.parse_known_args(argv[1:])
+    for option in rest:
         if option.split("=")[0] in REFUSED:
             d.error(f"{option} does not apply to a DEM made in pieces")
-    return args, dem_args
+    if rest:
+        d.error(f"unknown option '{rest[0]}'" if rest[0].startswith("-") else f"unexpected argument '{rest[0]}'")
+    return args, dem_options(args)
+
+
+def dem_options(args):
+    """{keyword: value} of the dem options given, as ds.dem_plan and ds.dem_block take them."""
+    options = {}
+    for _option, keyword, _text in DEM_OPTIONS:
+        value = getattr(args, f"dem_{keyword}")
+        if value is not None:
+            options[keyword] = value
+    if "bounds" in options:
+        try:
+            options["bounds"] = [float(v) for v in options["bounds"].split(",")]
+        except ValueError:
+            raise Failure(f"dem: --bounds expects four numbers: xmin,ymin,xmax,ymax, not '{options['bounds']}'",
+                          "usage") from None
+    return options
 
 
 def check_output(args):
@@ -162,12 +197,12 @@ class Bar:
             sys.stderr.flush()
 
 
-def run_pieces(client, args, dem_args, count, order, pieces_dir):
+def run_pieces(client, args, options, count, order, pieces_dir):
     from distributed import as_completed
 
-    futures = [client.submit(piece_runner.run_piece, os.path.abspath(args.program) if os.sep in args.program
-                             else args.program, [os.path.abspath(p) for p in args.paths], dem_args, pieces_dir,
-                             index, count, args.piece_threads, args.memory, key=f"lidarscout-piece-{index}-of-{count}",
+    piece_options = dict(options, threads=args.piece_threads, memory=parse_bytes(args.memory) if args.memory else 0)
+    futures = [client.submit(piece_runner.run_piece, [os.path.abspath(p) for p in args.paths], args.crs,
+                             piece_options, pieces_dir, index, count, key=f"lidarscout-piece-{index}-of-{count}",
                              retries=args.retries, pure=False)
                for index in order]
     bar = Bar(len(futures), "lidarscout_dask: pieces")
@@ -203,12 +238,13 @@ def summary(records, outputs, seconds, workers):
 
 
 def main(argv):
-    args, dem_args = parse(argv)
+    args, options = parse(argv)
     check_output(args)
     check_inputs(args.paths)
-    program = os.path.abspath(args.program) if os.sep in args.program else args.program
+    budget = parse_bytes(args.memory) if args.memory else 0
     t0 = time.monotonic()
-    grid = plan(program, args.paths, args.output, dem_args, 1)  # the program, inputs and options, before any work
+    dataset = open_dataset(args.paths, args.crs)
+    grid = plan(dataset, options, 1)  # the module, the inputs and the options, before any work
     pieces_dir = os.path.abspath(args.pieces_dir or args.output + ".pieces")
     client, cluster = client_for(args)
     pieces = PiecesDir(pieces_dir, local=cluster is not None)
@@ -216,17 +252,17 @@ def main(argv):
         try:
             workers = max(1, len(client.scheduler_info()["workers"]))
             count = args.pieces or choose_count(grid, workers, args.points_per_piece)
-            budget = parse_bytes(args.memory) if args.memory and not args.pieces else 0
-            layout = fitting_plan(program, args.paths, args.output, dem_args, count, budget, grid["blocks"])
+            layout = fitting_plan(dataset, options, count, 0 if args.pieces else budget, grid["blocks"])
             count = len(layout["pieces"])
             order = [p["index"] for p in sorted(layout["pieces"], key=lambda p: -p["points"])]  # heaviest first
-            run = {"paths": [os.path.abspath(p) for p in args.paths], "dem_args": dem_args, "pieces": count}
+            run = {"paths": [os.path.abspath(p) for p in args.paths], "crs": args.crs, "options": options,
+                   "pieces": count}
             check_same_run(pieces_dir, run)
             pieces.make()
             run_path = os.path.join(pieces_dir, "run.json")
             if not os.path.exists(run_path):
                 piece_runner.write_atomic(run_path, json.dumps(run, indent=1))
-            records = run_pieces(client, args, dem_args, count, order, pieces_dir)
+            records = run_pieces(client, args, options, count, order, pieces_dir)
         finally:
             client.close()
             if cluster is not None:

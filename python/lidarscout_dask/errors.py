@@ -1,7 +1,7 @@
 """How the driver fails, as the `lidarscout` program does (src/cli/failure_output.hpp): one line on stderr
 ("lidarscout_dask: MESSAGE"), exit status 1 (2 for an internal error), and with --json one JSON object on
-stdout: {"error": {"kind": "input" | "usage" | "internal", "message", "file", "offset", "cause"}}. A failure of
-`lidarscout` itself (its --json error) is passed on as it said it; an unknown option is named with the
+stdout: {"error": {"kind": "input" | "usage" | "internal", "message", "file", "offset", "cause"}}. A
+lidarscout.Error of the module is passed on as it said it (plan.py); an unknown option is named with the
 closest valid one, found as the program finds it (src/cli/usage_error.cpp)."""
 import json
 import sys
@@ -15,12 +15,6 @@ class Failure(Exception):
     def __init__(self, message, kind="input", file=None, cause=None):
         super().__init__(message)
         self.message, self.kind, self.file, self.cause = " ".join(message.split()), kind, file, cause
-
-    @classmethod
-    def of_program(cls, error, context=""):
-        """The `{"error": ...}` object `lidarscout --json` printed, as ours; `context` goes before it."""
-        message = error.get("message") or "failed"
-        return cls(f"{context}{message}", error.get("kind") or "input", error.get("file"), error.get("cause"))
 
 
 def wants_json(argv):

@@ -1,15 +1,17 @@
-"""One piece of the DEM on a worker: `lidarscout dem --block I/N` in a subprocess, its rasters moved
-into the shared pieces directory under their final names by atomic renames, then its record
-(PIECE.json, the dem's JSON result) written the same way, last: a piece is finished when its record
-exists, so a worker that dies loses only the pieces it was making and a rerun skips the others."""
+"""One piece of the DEM on a worker: the module's `ds.dem_block(I, N, ...)` (`lidarscout dem --block I/N`)
+writing its rasters into a work folder, moved into the shared pieces directory under their final names
+by atomic renames, then its record (PIECE.json: what dem_block returned) written the same way, last: a
+piece is finished when its record exists, so a worker that dies loses only the pieces it was making and
+a rerun skips the others. A piece that fails raises a RuntimeError naming it (Dask retries it); the
+worker goes on with its other pieces. The dataset is opened once per worker process and kept."""
 import json
 import os
+import resource
 import shutil
 import socket
-import subprocess
 import time
 
-from lidarscout_dask.plan import program_error
+OPENED = {}  # (paths, crs): the dataset, opened once per worker process
 
 
 def piece_stem(index, count):
@@ -43,14 +45,26 @@ def write_atomic(path, text):
     os.replace(temp, path)
 
 
-def made_files(result):
-    """{raster name: path} of a dem JSON result: each product's, or "dem" for one DEM."""
-    if "products" in result:
-        return dict(result["products"])
-    return {"dem": result["output"]}
+def dataset(paths, crs):
+    import lidarscout  # pylint: disable=import-outside-toplevel  (on the worker)
+
+    key = (tuple(paths), crs)
+    if key not in OPENED:
+        OPENED[key] = lidarscout.open(paths, crs=crs)
+    return OPENED[key]
 
 
-def run_piece(program, paths, dem_args, pieces_dir, index, count, threads, memory):
+def make_piece(paths, crs, options, work, stem, index, count):
+    """dem_block's result for piece `index`, its rasters in `work`; a RuntimeError naming the piece when it fails."""
+    import lidarscout  # pylint: disable=import-outside-toplevel
+
+    try:
+        return dataset(paths, crs).dem_block(index, count, os.path.join(work, stem + ".tif"), **options)
+    except lidarscout.Error as e:  # raised as a RuntimeError, which Dask carries back: Dask retries the piece
+        raise RuntimeError(f"piece {index}/{count} on {socket.gethostname()}: {e}") from None
+
+
+def run_piece(paths, crs, options, pieces_dir, index, count):
     """Makes piece `index` of `count` unless it is finished; returns its record (with "skipped")."""
     record = read_record(pieces_dir, index, count)
     if record is not None:
@@ -60,31 +74,19 @@ def run_piece(program, paths, dem_args, pieces_dir, index, count, threads, memor
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     try:
-        command = [program, "dem", *paths, "-o", os.path.join(work, stem + ".tif"), *dem_args,
-                   "--block", f"{index}/{count}", "--threads", str(threads), "--json"]
-        if memory:
-            command += ["--memory", memory]
         t0 = time.monotonic()
-        where = f"piece {index}/{count} on {socket.gethostname()}"
-        try:
-            done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
-        except OSError as e:  # raised (a RuntimeError, which Dask carries back): Dask retries the piece
-            raise RuntimeError(f"{where}: {program}: cannot run it: {e.strerror}") from None
+        result = make_piece(paths, crs, options, work, stem, index, count)
         seconds = time.monotonic() - t0
-        if done.returncode != 0:
-            raise RuntimeError(f"{where}: {program_error(done)['message']}")
-        result = json.loads(done.stdout)
         files = {}
-        for name, path in made_files(result).items():
+        for name, path in result["outputs"].items():
             final = os.path.basename(path)
             os.replace(path, os.path.join(pieces_dir, final))  # same directory tree: atomic
             files[name] = final
         record = {"index": index, "count": count, "files": files, "host": socket.gethostname(),
-                  "seconds": seconds, "points_read": result.get("points_read"),
-                  "points_used": result.get("points_used"),
-                  "peak_resident_bytes": result.get("peak_resident_bytes"),
-                  "memory_estimate_bytes": result.get("memory_estimate_bytes"),
-                  "memory_budget_bytes": result.get("memory_budget_bytes"), "block": result.get("block")}
+                  "seconds": seconds, "points_read": result["points_read"], "points_used": result["points_used"],
+                  "peak_resident_bytes": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,  # the worker's
+                  "memory_estimate_bytes": result["memory_estimate_bytes"],
+                  "memory_budget_bytes": result["memory_budget_bytes"], "block": result["block"]}
         write_atomic(record_path(pieces_dir, index, count), json.dumps(record, indent=1))
         return dict(record, skipped=False)
     finally:

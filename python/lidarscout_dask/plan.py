@@ -1,54 +1,63 @@
-"""The pieces of a DEM as `lidarscout dem --plan N --json` prints them (cut by the points the tile
-headers hold), and the choice of N. The first plan checks what the run is given before any work: the
-program, the inputs, the output and every option `lidarscout dem` gets."""
-import json
+"""The pieces of a DEM as the module's `ds.dem_plan(N, **options)` gives them (`lidarscout dem --plan N`: cut
+by the points the tile headers hold), and the choice of N. The first plan checks what the run is given
+before any work: the module, the inputs and every option of dem."""
 import math
-import subprocess
 
 from lidarscout_dask.errors import Failure
 
 
-def program_error(done):
-    """The `{"error": ...}` a failed `lidarscout ... --json` printed, or one made of its last stderr line."""
+def import_module():
+    """`lidarscout` (the Python module: build/python on PYTHONPATH, or installed); a Failure when it is missing."""
     try:
-        return json.loads(done.stdout)["error"]
-    except (ValueError, KeyError, TypeError):
-        lines = [line for line in done.stderr.splitlines() if line.strip()]
-        return {"message": f"exit status {done.returncode}" + (f": {lines[-1]}" if lines else ""), "kind": "input"}
+        import lidarscout  # pylint: disable=import-outside-toplevel
+    except ImportError as e:
+        raise Failure(f"cannot import the lidarscout module: {e} (install it, or put build/python on PYTHONPATH)",
+                      file=None, cause=f"cannot import the lidarscout module: {e}") from None
+    return lidarscout
 
 
-def run_json(command):
-    """Runs `command` (a list, ending in --json) and returns its standard output parsed as JSON; raises a
-    Failure with the program's own error when it fails, or when it cannot be run."""
+def failure_of(error, kind="input"):
+    """A lidarscout.Error (file, offset, cause) as our Failure."""
+    return Failure(str(error), kind, getattr(error, "file", None), getattr(error, "cause", None))
+
+
+def open_dataset(paths, crs):
+    """The dataset of `paths` (lidarscout.open, in `crs` when given); a Failure when it cannot be opened."""
+    lidarscout = import_module()
     try:
-        done = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, check=False)
-    except OSError as e:
-        raise Failure(f"{command[0]}: cannot run it: {e.strerror} (--program names lidarscout; default: lidarscout "
-                      "on the PATH)", file=command[0], cause=f"cannot run it: {e.strerror}") from None
-    if done.returncode != 0:
-        raise Failure.of_program(program_error(done))
-    return json.loads(done.stdout)
+        return lidarscout.open(paths, crs=crs)
+    except lidarscout.Error as e:
+        raise failure_of(e) from None
 
 
-def plan(program, paths, output, dem_args, count):
-    """The grid and its `count` pieces (of the DEM `output`, which the plan checks but does not write)."""
-    return run_json([program, "dem", *paths, "-o", output, *dem_args, "--plan", str(count), "--json"])
+def plan(dataset, options, count):
+    """The grid and its `count` pieces, for dem's `options` (what the module's dem_plan returns)."""
+    lidarscout = import_module()
+    try:
+        return dataset.dem_plan(count, **options)
+    except lidarscout.Error as e:  # one naming no file refused an option or a combination of them: usage
+        raise failure_of(e, "input" if e.file else "usage") from None
 
 
 def parse_bytes(text):
-    """"4G", "512M", "1.5G" or a number of bytes (as `lidarscout --memory` takes them)."""
+    """"4G", "512M", "1.5G" or a number of bytes (as `lidarscout --memory` takes them); a Failure otherwise."""
     units = {"K": 1 << 10, "M": 1 << 20, "G": 1 << 30, "T": 1 << 40}
-    text = text.strip().upper().rstrip("B")
-    if text and text[-1] in units:
-        return float(text[:-1]) * units[text[-1]]
-    return float(text)
+    value = text.strip().upper().rstrip("B")
+    factor = units.get(value[-1:], 1)
+    try:
+        number = float(value[:-1] if value[-1:] in units else value)
+    except ValueError:
+        number = 0
+    if not number > 0:
+        raise Failure(f"dem: bad --memory '{text}': expected a size such as 512M, 4G or a number of bytes", "usage")
+    return int(number * factor)
 
 
-def fitting_plan(program, paths, output, dem_args, count, budget, most):
+def fitting_plan(dataset, options, count, budget, most):
     """The plan of `count` pieces, doubled until every piece's memory estimate fits `budget` bytes
     (0: no budget) or the grid has no more blocks; the last plan when none fits (its pieces refuse)."""
     while True:
-        layout = plan(program, paths, output, dem_args, count)
+        layout = plan(dataset, options, count)
         heaviest = max(p["memory_estimate_bytes"] for p in layout["pieces"])
         if not budget or heaviest <= budget or count >= most:
             return layout

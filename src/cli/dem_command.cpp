@@ -41,32 +41,19 @@
 #include "dataset/dataset.hpp"
 #include "raster/contours.hpp"
 #include "raster/dem.hpp"
-#include "raster/dem_blocks.hpp"
-#include "recon/ground_filter.hpp"
+#include "raster/dem_options.hpp"
 
 namespace lidarscout::cli {
 namespace {
 
+// dem's own options (raster/dem_options.hpp) and the command line's: the inputs, the plan, the printing.
 struct DemCliOptions {
     std::vector<std::string> paths;
-    std::string output, rgb, hillshade, model;
-    double texel = 1.0;
-    std::vector<double> bounds;
-    std::string from = "full";
-    std::string method;  // empty: mean (full) or linear (overview)
-    FilterTexts filter;
+    raster::DemOptions dem;
+    FilterTexts filter;  // into dem's classes, returns, intensity
     std::string crs;
-    std::optional<double> radius, power, max_edge;  // idw, idw, tin and products
-    std::string product;  // empty: one DEM by --method
-    std::string ground = "classes";  // the dtm's ground: the --classes, or smrf (the ground filter)
-    recon::GroundFilterParams ground_params;
-    std::vector<std::string> ground_options;  // the --ground-* options given
-    std::optional<double> contours;  // interval, in the raster's height unit
-    bool force = false;  // contours past raster::kContourLineLimit
-    std::string block;   // "I/N", empty: the whole DEM
     int plan = 0;        // --plan N: print the N pieces, make nothing
     std::string memory;  // the budget ("4G"), empty: half of what the process may use
-    unsigned threads = 0;
     bool json = false;
 };
 
@@ -92,93 +79,11 @@ private:
     std::map<std::string, std::uint64_t> shown_;
 };
 
-// --radius and --power (idw) and --max-edge (tin), refused with another method.
-void apply_method_parameters(const DemCliOptions& o, raster::DemRequest& r) {
-    const auto only_for = [&](const std::optional<double>& v, const char* option, raster::DemMethod method) {
-        if (v && r.method != method) {
-            throw Error(std::string("dem: ") + option + " applies to --method " +
-                        std::string(raster::dem_method_name(method)) + " only");
-        }
-        return v.has_value();
-    };
-    if (only_for(o.radius, "--radius", raster::DemMethod::Idw)) r.idw_radius_m = *o.radius;
-    if (only_for(o.power, "--power", raster::DemMethod::Idw)) r.idw_power = *o.power;
-    if (only_for(o.max_edge, "--max-edge", raster::DemMethod::Tin)) r.tin_max_edge_m = *o.max_edge;
-}
-
-// --ground smrf and its parameters (--ground-*), for a dtm or chm only.
-void apply_ground(const DemCliOptions& o, raster::DemRequest& r) {
-    if (o.ground != "smrf") {
-        if (o.ground != "classes") throw Error("dem: --ground must be classes or smrf (it is '" + o.ground + "')");
-        if (!o.ground_options.empty()) throw Error("dem: " + o.ground_options.front() + " applies to --ground smrf");
-        return;
-    }
-    const bool terrain = std::any_of(r.products.begin(), r.products.end(), [](raster::Product p) {
-        return p == raster::Product::Dtm || p == raster::Product::Chm;
-    });
-    if (!terrain) throw Error("dem: --ground applies to the dtm and chm products");
-    const auto given = [&](const char* name) {
-        return std::find(o.ground_options.begin(), o.ground_options.end(), std::string(name)) != o.ground_options.end();
-    };
-    if (given("--ground-slope") && !(o.ground_params.slope > 0)) {  // 0 stands for the terrain's: not to be typed
-        throw Error("dem: --ground-slope must be a positive rise over run (leave it out for the terrain's)");
-    }
-    recon::check_ground_params(o.ground_params);
-    r.product_options.ground = o.ground_params;
-}
-
-// --product: the products, the dtm's classes (--classes) and the maximum edge (--max-edge); the
-// options that choose points or a method another way are refused.
-void apply_products(const DemCliOptions& o, raster::DemRequest& r) {
-    r.products = raster::products_from_names(o.product);
-    const auto refuse = [](bool given, const char* option) {
-        if (given) throw Error(std::string("dem: ") + option + " does not apply to --product");
-    };
-    refuse(o.from != "full", "--from overview");
-    refuse(!o.method.empty(), "--method");
-    refuse(o.radius.has_value(), "--radius");
-    refuse(o.power.has_value(), "--power");
-    refuse(!o.rgb.empty(), "--rgb");
-    refuse(!o.filter.returns.empty(), "--returns (the products choose their returns)");
-    refuse(!o.filter.intensity.empty(), "--intensity");
-    if (!o.filter.classes.empty()) r.product_options.dtm_classes = PointFilter::parse(o.filter.classes, "", "");
-    r.product_options.classes_given = !o.filter.classes.empty();
-    apply_ground(o, r);
-    if (o.max_edge) {
-        if (!(*o.max_edge > 0)) throw Error("dem: --max-edge with --product must be a positive number of metres");
-        r.product_options.max_edge_m = *o.max_edge;
-    }
-}
-
 raster::DemRequest make_request(const DemCliOptions& o) {
-    raster::DemRequest r;
-    r.output = o.output;
-    r.rgb = o.rgb;
-    r.hillshade = o.hillshade;
-    r.texel_m = o.texel;
-    if (o.bounds.size() == 4) r.area = raster::Area{o.bounds[0], o.bounds[1], o.bounds[2], o.bounds[3]};
-    r.source = raster::dem_source_from_name(o.from);
-    r.model = o.model;
-    r.threads = o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency());
-    r.contours_interval = o.contours.value_or(0);
-    if (o.force) r.contour_line_limit = 0;
-    if (!o.block.empty()) std::tie(r.block_index, r.block_count) = raster::parse_block_piece(o.block);
-    if (!o.memory.empty()) r.memory_budget = parse_bytes(o.memory, "--memory");
-    if (!o.product.empty()) {
-        apply_products(o, r);
-        return r;
-    }
-    if (o.ground != "classes" || !o.ground_options.empty()) {
-        throw Error("dem: --ground applies to --product dtm or chm");
-    }
-    r.method = raster::dem_method_from_name(o.method.empty() ? (r.source == raster::DemSource::Full ? "mean" : "linear")
-                                                             : o.method, r.source);
-    r.filter = o.filter.filter();
-    if (r.source == raster::DemSource::Overview && !r.filter.keeps_every_return()) {
-        throw Error("dem: --returns applies to --from full only: chunk points have no reliable returns");
-    }
-    apply_method_parameters(o, r);
-    return r;
+    raster::DemOptions d = o.dem;
+    d.classes = o.filter.classes, d.returns = o.filter.returns, d.intensity = o.filter.intensity;
+    if (!o.memory.empty()) d.memory = parse_bytes(o.memory, "--memory");
+    return raster::dem_request(d);
 }
 
 // --block: which piece, its blocks of the grid and its texels in the whole raster (column, row from the north).
@@ -198,7 +103,7 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
         nlohmann::json j = {{"output", r.output},
                             {"rgb", r.rgb.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.rgb)},
                             {"hillshade", r.hillshade.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.hillshade)},
-                            {"from", o.from},
+                            {"from", o.dem.from},
                             {"method", std::string(raster::dem_method_name(r.method))},
                             {"texel_m", r.texel_m},
                             {"width", d.grid.width},
@@ -243,9 +148,9 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
         return;
     }
     std::string what = std::string(raster::dem_method_name(r.method));
-    if (!r.products.empty()) what = "products: " + o.product;
+    if (!r.products.empty()) what = "products: " + o.dem.product;
     std::printf("%s: %d x %d texels of %g m (%s, %s), %llu of %llu points used, %.2f s (gridding %.2f s, COG %.2f s)\n",
-                r.output.c_str(), d.grid.window().width, d.grid.window().height, r.texel_m, o.from.c_str(),
+                r.output.c_str(), d.grid.window().width, d.grid.window().height, r.texel_m, o.dem.from.c_str(),
                 what.c_str(),
                 (unsigned long long)d.points_used, (unsigned long long)d.points_read, seconds, d.seconds_grid,
                 d.seconds_cog);
@@ -273,32 +178,27 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
 // --plan N: the grid and its N pieces (for --block I/N) with the points the tile headers put in
 // each and the memory each is estimated to need, as the Dask driver reads them; nothing is made.
 int print_plan(const DemCliOptions& o, const dataset::Dataset& ds, const raster::DemRequest& r) {
-    const raster::DemGrid grid = raster::dem_grid(ds, r);
-    const std::vector<double> points = raster::block_point_estimates(ds, grid);
+    const raster::DemPlan plan = raster::dem_plan(ds, r, o.plan);
+    const raster::DemGrid& grid = plan.grid;
     nlohmann::json pieces = nlohmann::json::array();
-    const auto all = raster::dem_block_pieces(ds, grid, o.plan);
-    for (std::size_t i = 0; i < all.size(); ++i) {
-        raster::DemGrid piece = grid;
-        piece.selection = all[i];
-        const raster::BlockRange& b = all[i];
-        const double estimate = raster::points_in(points, grid, b);
-        const raster::DemGrid::Window w = piece.window();
-        pieces.push_back({{"index", i + 1}, {"blocks", {b.x0, b.y0, b.x1, b.y1}},
-                          {"window", {w.col, w.row, w.width, w.height}}, {"points", std::llround(estimate)},
-                          {"memory_estimate_bytes", raster::dem_memory_bytes(ds, piece, r)}});
+    for (const raster::DemPiece& p : plan.pieces) {
+        const raster::BlockRange& b = p.blocks;
+        const raster::DemGrid::Window& w = p.window;
+        pieces.push_back({{"index", p.index}, {"blocks", {b.x0, b.y0, b.x1, b.y1}},
+                          {"window", {w.col, w.row, w.width, w.height}}, {"points", std::llround(p.points)},
+                          {"memory_estimate_bytes", p.memory_estimate}});
     }
-    std::uint64_t total = 0;
-    for (const auto& t : ds.tiles) total += t.tile.header.point_count;
+    const std::uint64_t total = plan.points;
     const nlohmann::json j = {{"width", grid.width},         {"height", grid.height},
                               {"texel_m", grid.texel_m},     {"block_texels", grid.block},
-                              {"blocks", grid.all_blocks().count()}, {"tiles", ds.tiles.size()},
+                              {"blocks", plan.blocks},       {"tiles", ds.tiles.size()},
                               {"points", total},             {"pieces", pieces}};
     if (o.json) {
         std::printf("%s\n", j.dump(2).c_str());
         return 0;
     }
     std::printf("%d x %d texels of %g m in %lld blocks of %d texels, %zu tiles, %llu points; %d pieces:\n", grid.width,
-                grid.height, grid.texel_m, (long long)grid.all_blocks().count(), grid.block, ds.tiles.size(),
+                grid.height, grid.texel_m, (long long)plan.blocks, grid.block, ds.tiles.size(),
                 (unsigned long long)total, o.plan);
     for (const auto& p : pieces) {
         std::printf("  --block %d/%d: texels %d x %d at column %d, row %d; about %lld points, %.3g GB\n",
@@ -347,62 +247,63 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
         "dem", "Write a DEM (float32 Cloud-Optimized GeoTIFF) from every point or from the overview");
     add_inputs(*cmd, "paths", o->paths, "LAS/LAZ files, folders (searched recursively) or text files listing tiles")
         ->required();
-    add_output(*cmd, "-o,--output", o->output, "The DEM to write (.tif)", io::OutputKind::GeoTiff)->required();
-    cmd->add_option("--texel", o->texel, "Texel size in metres (default 1)")->check(positive_number());
-    cmd->add_option("--bounds", o->bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
+    add_output(*cmd, "-o,--output", o->dem.output, "The DEM to write (.tif)", io::OutputKind::GeoTiff)->required();
+    cmd->add_option("--texel", o->dem.texel, "Texel size in metres (default 1)")->check(positive_number());
+    cmd->add_option("--bounds", o->dem.bounds, "xmin,ymin,xmax,ymax in the CRS's units (default: the whole dataset)")
         ->delimiter(',')->expected(4);
-    cmd->add_option("--from", o->from, "full (every point) or overview (chunk points only; default full)");
-    cmd->add_option("--method", o->method, "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
-    cmd->add_option("--radius", o->radius,
+    cmd->add_option("--from", o->dem.from, "full (every point) or overview (chunk points only; default full)");
+    cmd->add_option("--method", o->dem.method,
+                    "full: mean (default), min, max, idw, tin; overview: linear (default), cnn");
+    cmd->add_option("--radius", o->dem.radius,
                     "idw: search radius around each texel centre, metres (default: texel x 1.414)")
         ->check(positive_number());
-    cmd->add_option("--power", o->power, "idw: weights 1 / distance^power (default 2)")->check(positive_number());
-    cmd->add_option("--max-edge", o->max_edge,
+    cmd->add_option("--power", o->dem.power, "idw: weights 1 / distance^power (default 2)")->check(positive_number());
+    cmd->add_option("--max-edge", o->dem.max_edge,
                     "tin: no height in triangles with a longer edge, metres (default 0: no limit); --product "
                     "dtm, dsm, chm: the same (default 20 texels)")
         ->check(non_negative_number());
-    cmd->add_option("--product", o->product,
+    cmd->add_option("--product", o->dem.product,
                     "Instead of one DEM, these rasters in one read of the points, separated by commas: dtm "
                     "(TIN of the --classes, default 2,9), dsm (highest first return, holes by TIN), chm (dsm - dtm), "
                     "density, pulse-density (per m2), intensity (mean), count; several go to OUT_NAME.tif");
-    cmd->add_option("--ground", o->ground,
+    cmd->add_option("--ground", o->dem.ground,
                     "The dtm's ground: classes (the --classes, default 2,9) or smrf (found among every point but "
                     "noise, or among the --classes, by the simple morphological filter: for unclassified surveys)");
     const auto ground_option = [&](const char* name, double& value, const char* help) {
         cmd->add_option(name, value, help)->each([o, name](const std::string&) {
-            o->ground_options.push_back(name);
+            o->dem.ground_options.push_back(name);
         });
     };
-    ground_option("--ground-cell", o->ground_params.cell_m,
+    ground_option("--ground-cell", o->dem.ground_params.cell_m,
                   "smrf: cell of its minimum surface, metres (default 1; larger where the points are sparser)");
-    ground_option("--ground-slope", o->ground_params.slope,
+    ground_option("--ground-slope", o->dem.ground_params.slope,
                   "smrf: the steepest ground, rise over run (default: the terrain's, from the lowest points "
                   "of window-sized cells, at least 0.15)");
-    ground_option("--ground-window", o->ground_params.window_m,
+    ground_option("--ground-window", o->dem.ground_params.window_m,
                   "smrf: the largest object's half-width, metres (default 18)");
-    ground_option("--ground-threshold", o->ground_params.threshold_m,
+    ground_option("--ground-threshold", o->dem.ground_params.threshold_m,
                   "smrf: the height above or below the ground surface still ground, metres (default 0.5)");
-    cmd->add_option("--contours", o->contours,
+    cmd->add_option("--contours", o->dem.contours,
                     "Also write contour lines every INTERVAL (the raster's height unit) of the DEM, or of the first "
                     "dtm, dsm or chm product, to RASTER_contours.gpkg (GeoPackage, attribute elevation)")
         ->check(positive_number());
-    cmd->add_flag("--force", o->force,
+    cmd->add_flag("--force", o->dem.force,
                   "Draw the --contours even when they are counted at more than " +
                       count_text(double(raster::kContourLineLimit)) +
                       " lines (refused otherwise, before they are drawn)");
     add_derived_outputs(*cmd, [o] {
         std::vector<io::OutputTarget> out;
-        if (o->output.empty()) return out;
+        if (o->dem.output.empty()) return out;
         raster::DemRequest r;
-        r.output = o->output;
-        if (!o->product.empty()) r.products = raster::products_from_names(o->product);
-        const auto paths = raster::product_paths(o->output, r.products);
+        r.output = o->dem.output;
+        if (!o->dem.product.empty()) r.products = raster::products_from_names(o->dem.product);
+        const auto paths = raster::product_paths(o->dem.output, r.products);
         for (std::size_t i = 0; r.products.size() > 1 && i < paths.size(); ++i) {  // one product is -o itself
             out.push_back({paths[i], "-o/--output (--product " + std::string(raster::product_name(r.products[i])) + ")",
                            io::OutputKind::GeoTiff});
         }
         const std::string heights = raster::contour_source(r);
-        if (o->contours && !heights.empty()) {
+        if (o->dem.contours && !heights.empty()) {
             out.push_back({raster::contours_path(heights), "--contours", io::OutputKind::GeoPackage});
         }
         return out;
@@ -411,13 +312,14 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
                        "points gridded (--returns with --from full only: the overview's chunk points have no "
                        "reliable returns)");
     cmd->add_option("--crs", o->crs, "Write the DEM in this CRS, e.g. EPSG:32616 (default: the CRS most tiles use)");
-    add_output(*cmd, "--rgb", o->rgb, "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
+    add_output(*cmd, "--rgb", o->dem.rgb,
+               "Also write the orthophoto (RGBA Cloud-Optimized GeoTIFF of the point colours)",
                io::OutputKind::GeoTiff);
-    add_output(*cmd, "--hillshade", o->hillshade,
+    add_output(*cmd, "--hillshade", o->dem.hillshade,
                "Also write a hillshade of the DEM: .tif (GeoTIFF) or .png (with its world file .pgw, .aux.xml)",
                io::OutputKind::Hillshade);
-    cmd->add_option("--model", o->model, "The heightmap network for --method cnn (default: the shipped model)");
-    cmd->add_option("--block", o->block,
+    cmd->add_option("--model", o->dem.model, "The heightmap network for --method cnn (default: the shipped model)");
+    cmd->add_option("--block", o->dem.block,
                     "Make only piece I of N (e.g. 3/16) of the DEM's grid (of the whole dataset or --bounds), cut "
                     "by point count: the N pieces mosaic into one whole run texel for texel (--from full; the Dask "
                     "driver python3 -m lidarscout_dask runs them on a cluster)");
@@ -428,7 +330,7 @@ void register_dem_command(CLI::App& app, std::function<int()>& run) {
     cmd->add_option("--memory", o->memory,
                     "Memory the DEM may hold at once, e.g. 4G (default: half of what this process may use); a DEM "
                     "estimated to need more is refused before any work");
-    add_thread_option(*cmd, "--threads", o->threads, "Threads (default: all cores)");
+    add_thread_option(*cmd, "--threads", o->dem.threads, "Threads (default: all cores)");
     cmd->add_flag("--json", o->json, "Print the result as JSON");
     cmd->callback([o, &run] { run = [o] { return run_dem(*o); }; });
 }

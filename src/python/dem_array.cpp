@@ -1,36 +1,16 @@
-// make_dem_raster: the request as `dem` builds it for a product or a method, made in a temporary folder.
+// make_dem_raster, plan_dem, make_dem_block: dem's options made a request by raster::dem_request, run by
+// raster::make_dem (into a temporary folder for a raster handed back whole).
 #include "python/dem_array.hpp"
 
 #include <stdlib.h>
 
-#include <algorithm>
 #include <filesystem>
-#include <thread>
 
 #include "core/error.hpp"
 #include "raster/dem.hpp"
 
 namespace lidarscout::python {
 namespace {
-
-raster::DemRequest dem_request(const DemQuery& q, const std::string& output) {
-    raster::DemRequest r;
-    r.output = output;
-    r.texel_m = q.texel;
-    if (q.bounds) r.area = raster::Area{(*q.bounds)[0], (*q.bounds)[1], (*q.bounds)[2], (*q.bounds)[3]};
-    r.threads = q.threads ? q.threads : std::max(1u, std::thread::hardware_concurrency());
-    if (!q.product.empty()) {
-        if (!q.method.empty()) throw Error("dem: give a product or a method, not both");
-        r.products = raster::products_from_names(q.product);
-        if (r.products.size() != 1) throw Error("dem: give one product (it is '" + q.product + "')");
-        if (!q.classes.empty()) r.product_options.dtm_classes = PointFilter::parse(q.classes, "", "");
-        r.product_options.classes_given = !q.classes.empty();
-        return r;
-    }
-    r.method = raster::dem_method_from_name(q.method.empty() ? "mean" : q.method, raster::DemSource::Full);
-    r.filter = PointFilter::parse(q.classes, "", "");
-    return r;
-}
 
 // A folder of its own under the system's temporary folder, removed with its files at the end of scope.
 struct TemporaryFolder {
@@ -48,11 +28,31 @@ struct TemporaryFolder {
 
 }  // namespace
 
-raster::FloatRaster make_dem_raster(const dataset::Dataset& ds, const DemQuery& query) {
+raster::FloatRaster make_dem_raster(const dataset::Dataset& ds, raster::DemOptions options) {
+    if (!options.product.empty() && !options.method.empty()) throw Error("dem: give a product or a method, not both");
+    if (options.product.empty() && options.method.empty()) options.product = "dtm";
+    if (!options.product.empty() && raster::products_from_names(options.product).size() != 1) {
+        throw Error("dem: give one product (it is '" + options.product + "')");
+    }
     const TemporaryFolder folder;
-    const raster::DemRequest request = dem_request(query, (folder.path / "dem.tif").string());
-    const raster::DemResult result = raster::make_dem(ds, request);
+    options.output = (folder.path / "dem.tif").string();
+    const raster::DemResult result = raster::make_dem(ds, raster::dem_request(options));
     return raster::read_float_raster(result.outputs.at(0));
+}
+
+raster::DemPlan plan_dem(const dataset::Dataset& ds, const raster::DemOptions& options, int count) {
+    return raster::dem_plan(ds, raster::dem_request(options), count);
+}
+
+DemBlock make_dem_block(const dataset::Dataset& ds, raster::DemOptions options, int index, int count,
+                        const std::string& output) {
+    options.output = output;
+    options.block = std::to_string(index) + "/" + std::to_string(count);
+    const raster::DemRequest request = raster::dem_request(options);
+    DemBlock block{raster::make_dem(ds, request), {}};
+    for (const raster::Product p : request.products) block.names.emplace_back(raster::product_name(p));
+    if (request.products.empty()) block.names.emplace_back("dem");
+    return block;
 }
 
 }  // namespace lidarscout::python

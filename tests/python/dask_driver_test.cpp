@@ -1,8 +1,9 @@
 // The Dask driver (python/lidarscout_dask, run by /usr/bin/python3 with Debian's python3-distributed
-// and python3-gdal) on a LocalCluster of 2 workers: the dtm, chm and density of the classified
-// Woodford tile made in 4 pieces and mosaicked equal the one-process `lidarscout dem` run, the
-// decoded rasters byte for byte; a piece whose subprocess fails is retried; a rerun after a lost
-// piece makes that piece only; the driver's output may not be an input. Its failures are one line
+// and python3-gdal, and this build's Python module) on a LocalCluster of 2 workers: the dtm, chm and
+// density of the classified Woodford tile made in 4 pieces and mosaicked equal the one-process
+// `lidarscout dem` run, the decoded rasters byte for byte; a piece whose dem_block fails (a lidarscout.Error
+// raised by a sitecustomize.py the test puts first on the workers' PYTHONPATH) is retried; a rerun after a
+// lost piece makes that piece only; the driver's output may not be an input. Its failures are one line
 // "lidarscout_dask: ..." with exit status 1 and the JSON error with --json, never a traceback, and
 // leave nothing behind (no output, no pieces folder) but the finished pieces of a run a rerun can use.
 #include <gtest/gtest.h>
@@ -26,11 +27,35 @@ class DaskDriver : public test::TempDirTest {
 protected:
     static std::string woodford() { return (test::surveys_dir() / "ky-woodford-county").string(); }
 
+    // PYTHONPATH: the hook folder (when `hook` is set), and this build's module and driver (build/python), or
+    // without `module` the sources' (python/: the driver, and the module's Python side without its library).
+    std::string python_path(bool module = true) const {
+        const fs::path python = module ? fs::path(LIDARSCOUT_BUILD_DIR) : fs::path(LIDARSCOUT_SOURCE_DIR);
+        return "cd " + dir.string() + " && PYTHONPATH=" + (hook.empty() ? "" : path("hook") + ":") +
+               (python / "python").string() + " ";
+    }
+
+    // Every piece's ds.dem_block raises lidarscout.Error("refused") when the Python expression `when`
+    // (of `index`, `count`, once(FOLDER): true the first time only) holds: a sitecustomize.py that every
+    // process of the driver imports first.
+    void fail_pieces_when(const std::string& when) {
+        hook = when;
+        fs::create_directories(path("hook"));
+        std::ofstream(path("hook/sitecustomize.py"))
+            << "import os\nimport lidarscout\nREAL = lidarscout.Dataset.dem_block\n\n\n"
+               "def once(folder):\n    try:\n        os.mkdir(folder)\n        return True\n"
+               "    except FileExistsError:\n        return False\n\n\n"
+               "def dem_block(self, index, count, output, **options):\n"
+               "    if " << when << ":\n"
+               "        raise lidarscout.Error('refused', None, None, 'refused')\n"
+               "    return REAL(self, index, count, output, **options)\n\n\n"
+               "lidarscout.Dataset.dem_block = dem_block\n";
+    }
+
     // `python3 -m lidarscout_dask dem WOODFORD -o OUT ARGS --local 2 --json`, its exit status; `out` its output.
     int drive(const std::string& output, const std::string& args, std::string& out) const {
-        const fs::path python = fs::path(LIDARSCOUT_SOURCE_DIR) / "python";
-        return test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_dask dem " + woodford() +
-                                     " -o " + output + " " + args + " --local 2 --json 2>&1",
+        return test::run_command(python_path() + "/usr/bin/python3 -m lidarscout_dask dem " + woodford() + " -o " +
+                                     output + " " + args + " --local 2 --json 2>&1",
                                  out);
     }
 
@@ -51,10 +76,9 @@ protected:
         std::string out, err;
     };
     // `python3 -m lidarscout_dask ARGS --json`, its stdout and stderr apart.
-    Run driver(const std::string& args) const {
-        const fs::path python = fs::path(LIDARSCOUT_SOURCE_DIR) / "python";
+    Run driver(const std::string& args, bool module = true) const {
         Run r;
-        r.status = test::run_command("cd " + python.string() + " && /usr/bin/python3 -m lidarscout_dask " + args +
+        r.status = test::run_command(python_path(module) + "/usr/bin/python3 -m lidarscout_dask " + args +
                                          " --json 2>" + path("err.txt"), r.out);
         std::ifstream in(path("err.txt"));
         r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
@@ -92,6 +116,8 @@ protected:
         const auto at = out.rfind("\n{");
         return nlohmann::json::parse(at == std::string::npos ? out : out.substr(at + 1));
     }
+
+    std::string hook;  // fail_pieces_when's condition; empty: none
 };
 
 TEST_F(DaskDriver, PiecesOnALocalClusterEqualOneRun) {
@@ -102,13 +128,9 @@ TEST_F(DaskDriver, PiecesOnALocalClusterEqualOneRun) {
                                 out),
               0)
         << out;
-    // The first try of one piece fails (the program refuses once): Dask retries it.
-    const std::string flaky = path("flaky.sh");
-    std::ofstream(flaky) << "#!/bin/sh\ncase \"$*\" in *--block*) if mkdir " << path("failed_once")
-                         << " 2>/dev/null; then echo refused >&2; exit 3; fi;; esac\nexec " << LIDARSCOUT_CLI
-                         << " \"$@\"\n";
-    fs::permissions(flaky, fs::perms::owner_all);
-    ASSERT_EQ(drive(path("four.tif"), args + " --pieces 4 --keep-pieces --program " + flaky, out), 0) << out;
+    // The first try of one piece fails (dem_block raises lidarscout.Error once): Dask retries it.
+    fail_pieces_when("once('" + path("failed_once") + "')");
+    ASSERT_EQ(drive(path("four.tif"), args + " --pieces 4 --keep-pieces", out), 0) << out;
     EXPECT_TRUE(fs::exists(path("failed_once")));
     nlohmann::json j = last_json(out);
     EXPECT_EQ(j.at("pieces"), 4);
@@ -121,7 +143,8 @@ TEST_F(DaskDriver, PiecesOnALocalClusterEqualOneRun) {
     // A worker died with piece 2 (its record lost): the rerun makes that piece only, the same mosaic.
     const fs::path pieces = dir / "four.tif.pieces";
     ASSERT_TRUE(fs::remove(pieces / "piece_00002_of_00004.json"));
-    ASSERT_EQ(drive(path("four.tif"), args + " --pieces 4 --program " + std::string(LIDARSCOUT_CLI), out), 0) << out;
+    hook.clear();
+    ASSERT_EQ(drive(path("four.tif"), args + " --pieces 4", out), 0) << out;
     j = last_json(out);
     EXPECT_EQ(j.at("pieces_made"), 1);
     EXPECT_EQ(j.at("pieces_skipped"), 3);
@@ -142,37 +165,37 @@ TEST_F(DaskDriver, RefusesAnInputAsOutputAndWholeRasterOptions) {
     EXPECT_FALSE(fs::exists(path("h.tif")));
 }
 
-// Before the cluster starts: a missing program, a missing input, a misspelt option (the driver's or
-// dem's), a missing one, a value dem refuses, a misspelt command. Nothing is made.
+// Before the cluster starts: a missing module, a missing input, a misspelt option (the driver's or
+// dem's), a missing one, a value dem refuses, a bad --memory, a misspelt command. Nothing is made.
 TEST_F(DaskDriver, FailuresBeforeAnyWorkAreOneLineAndLeaveNothing) {
     const std::string dem = "dem " + woodford() + " -o " + path("x.tif") + " --texel 4 ";
-    const std::string cli = std::string(" --program ") + LIDARSCOUT_CLI;
-    expect_failure(driver(dem + "--local 2 --program /nonexistent/lidarscout"),
-                   "/nonexistent/lidarscout: cannot run it: No such file or directory", "input");
-    expect_failure(driver("dem /nonexistent/a.laz -o " + path("x.tif") + " --local 2" + cli),
+    expect_failure(driver(dem + "--local 2", false), "cannot import the lidarscout module", "input");
+    expect_failure(driver("dem /nonexistent/a.laz -o " + path("x.tif") + " --local 2"),
                    "/nonexistent/a.laz: no such file or folder", "input");
-    expect_failure(driver(dem + "--local 2 --textel 4" + cli),
-                   "dem: unknown option '--textel' (did you mean '--texel'?)", "usage");  // dem's, named by lidarscout
-    expect_failure(driver(dem + "--local 2 --pices 4" + cli),
+    expect_failure(driver(dem + "--local 2 --textel 4"), "dem: unknown option '--textel' (did you mean '--texel'?)",
+                   "usage");  // dem's
+    expect_failure(driver(dem + "--local 2 --pices 4"),
                    "dem: unknown option '--pices' (did you mean '--pieces'?)", "usage");  // the driver's own
-    expect_failure(driver(dem + "--locl 2" + cli), "dem: unknown option '--locl' (did you mean '--local'?)", "usage");
-    expect_failure(driver(dem + cli), "dem: one of the arguments --scheduler --local is required", "usage");
-    expect_failure(driver(dem + "--local 2 --radius 0" + cli), "dem: --radius: must be more than 0, not '0'", "usage");
+    expect_failure(driver(dem + "--locl 2"), "dem: unknown option '--locl' (did you mean '--local'?)", "usage");
+    expect_failure(driver(dem), "dem: one of the arguments --scheduler --local is required", "usage");
+    expect_failure(driver(dem + "--local 2 --radius 0"), "dem: --radius: must be more than 0, not '0'",
+                   "usage");  // the module's check, as `lidarscout dem` says it
+    expect_failure(driver(dem + "--local 2 --product dtm --method idw"), "dem: --method does not apply to --product",
+                   "usage");
+    expect_failure(driver(dem + "--local 2 --memory lots"), "dem: bad --memory 'lots'", "usage");
     expect_failure(driver("dme " + woodford()), "unknown command 'dme' (did you mean 'dem'?)", "usage");
-    const Run r = driver(dem + "--local 2 --program /nonexistent/lidarscout");
+    const Run r = driver(dem + "--local 2", false);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     expect_only({});
 }
 
 // A piece that fails every try: the others go on; with no finished piece the pieces folder goes too,
-// with finished ones they are kept for the rerun, and the error says where.
+// with finished ones they are kept for the rerun, and the error says where. A piece over its --memory
+// is refused before any work, on the worker, and reported the same way.
 TEST_F(DaskDriver, AFailedPieceLeavesOnlyTheFinishedPieces) {
-    const std::string refuse = path("refuse.sh");
-    std::ofstream(refuse) << "#!/bin/sh\ncase \"$*\" in *--block\\ 2/4*) echo refused >&2; exit 3;; "
-                             "esac\nexec " << LIDARSCOUT_CLI << " \"$@\"\n";
-    fs::permissions(refuse, fs::perms::owner_all);
+    fail_pieces_when("index == 2");
     const std::string dem = "dem " + woodford() + " -o " + path("x.tif") + " --texel 1 --local 2 --pieces 4 "
-                            "--retries 0 --program " + refuse;
+                            "--retries 0";
     std::string line = expect_failure(driver(dem), "piece 2/4 on ", "input");
     EXPECT_NE(line.find("refused"), std::string::npos) << line;
     EXPECT_NE(line.find("finished pieces kept in " + path("x.tif.pieces")), std::string::npos) << line;
@@ -180,11 +203,15 @@ TEST_F(DaskDriver, AFailedPieceLeavesOnlyTheFinishedPieces) {
     for (const auto& e : fs::directory_iterator(dir / "x.tif.pieces")) records += e.path().extension() == ".json";
     EXPECT_EQ(records, 4u);  // run.json and the three finished pieces' records: the others went on
     fs::remove_all(dir / "x.tif.pieces");
-    std::ofstream(refuse) << "#!/bin/sh\ncase \"$*\" in *--block*) echo refused >&2; exit 3;; esac\nexec "
-                          << LIDARSCOUT_CLI << " \"$@\"\n";
-    line = expect_failure(driver(dem), ": exit status 3: refused", "input");
+    fail_pieces_when("True");
+    line = expect_failure(driver(dem), ": refused (and 3 more pieces failed)", "input");
     EXPECT_EQ(line.find("kept"), std::string::npos) << line;
-    expect_only({"refuse.sh"});
+    expect_only({"hook"});
+    hook.clear();
+    line = expect_failure(driver(dem + " --memory 1M"), "memory", "input");
+    EXPECT_NE(line.find("piece "), std::string::npos) << line;
+    EXPECT_NE(line.find("(and 3 more pieces failed)"), std::string::npos) << line;
+    expect_only({"hook"});
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -108,6 +110,54 @@ py::list error_list(const std::vector<ErrorRecord>& errors) {
     return out;
 }
 
+// dem's options (raster/dem_options.hpp) from keywords named as dem's options are (--max-edge: max_edge,
+// --from: source, --memory: memory in bytes); an unknown keyword is an Error naming the known ones.
+double dem_number(const py::handle& v, const std::string& name) {
+    try {
+        return py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>();
+    } catch (const py::error_already_set&) {
+        throw Error("dem: " + name + " expects a number, not '" + py::str(v).cast<std::string>() + "'");
+    }
+}
+
+raster::DemOptions dem_options(const py::kwargs& kwargs) {
+    raster::DemOptions o;
+    const auto ground = [&](const py::handle& value, const std::string& name, double& field, const char* option) {
+        field = dem_number(value, name);
+        o.ground_options.emplace_back(option);
+    };
+    for (const auto& [key, value] : kwargs) {
+        const std::string k = key.cast<std::string>();
+        if (value.is_none()) continue;
+        if (k == "texel") o.texel = dem_number(value, k);
+        else if (k == "bounds") o.bounds = value.cast<std::vector<double>>();
+        else if (k == "source") o.from = option_text(value, ",");
+        else if (k == "method") o.method = option_text(value, ",");
+        else if (k == "product") o.product = option_text(value, ",");
+        else if (k == "classes") o.classes = option_text(value, ",");
+        else if (k == "returns") o.returns = option_text(value, ",");
+        else if (k == "intensity") o.intensity = option_text(value, "-");
+        else if (k == "radius") o.radius = dem_number(value, k);
+        else if (k == "power") o.power = dem_number(value, k);
+        else if (k == "max_edge") o.max_edge = dem_number(value, k);
+        else if (k == "ground") o.ground = option_text(value, ",");
+        else if (k == "ground_cell") ground(value, k, o.ground_params.cell_m, "--ground-cell");
+        else if (k == "ground_slope") ground(value, k, o.ground_params.slope, "--ground-slope");
+        else if (k == "ground_window") ground(value, k, o.ground_params.window_m, "--ground-window");
+        else if (k == "ground_threshold") ground(value, k, o.ground_params.threshold_m, "--ground-threshold");
+        else if (k == "model") o.model = strings(value).at(0);
+        else if (k == "memory") o.memory = value.cast<std::uint64_t>();
+        else if (k == "threads") o.threads = value.cast<unsigned>();
+        else throw Error("dem: unknown option '" + k + "' (the options are texel, bounds, source, method, product, "
+                         "classes, returns, intensity, radius, power, max_edge, ground, ground_cell, ground_slope, "
+                         "ground_window, ground_threshold, model, memory, threads)");
+    }
+    return o;
+}
+
+py::tuple blocks(const raster::BlockRange& b) { return py::make_tuple(b.x0, b.y0, b.x1, b.y1); }
+py::tuple window(const raster::DemGrid::Window& w) { return py::make_tuple(w.col, w.row, w.width, w.height); }
+
 class PyDataset;
 
 // ds.iter_read(...): tables of at most `batch` points, the next one read while Python works on this one.
@@ -202,18 +252,11 @@ public:
         return PyRegionStream(ds_, query(bounds, polygon, classes, returns, intensity, "iter_read"), threads, batch);
     }
 
-    py::tuple dem(double texel, const py::object& product, const py::object& method, const py::object& bounds,
-                  const py::object& classes, unsigned threads) {
-        DemQuery q;
-        q.texel = texel;
-        q.method = option_text(method, ",");
-        q.product = product.is_none() && q.method.empty() ? "dtm" : option_text(product, ",");
-        q.bounds = bounds_of(bounds, "dem");
-        q.classes = option_text(classes, ",");
-        q.threads = threads;
+    py::tuple dem(const py::kwargs& options) {
+        const raster::DemOptions o = dem_options(options);
         auto raster = std::make_unique<raster::FloatRaster>([&] {
             const py::gil_scoped_release nogil;
-            return make_dem_raster(*ds_, q);
+            return make_dem_raster(*ds_, o);
         }());
         const auto& g = raster->geotransform;
         const py::tuple geotransform = py::make_tuple(g[0], g[1], g[2], g[3], g[4], g[5]);
@@ -221,6 +264,48 @@ public:
         float* values = raster->values.data();
         const py::capsule base(raster.release(), [](void* p) { delete static_cast<raster::FloatRaster*>(p); });
         return py::make_tuple(py::array_t<float>(shape, values, base), geotransform);
+    }
+
+    py::dict dem_plan(int count, const py::kwargs& options) {
+        const raster::DemOptions o = dem_options(options);
+        const raster::DemPlan plan = [&] {
+            const py::gil_scoped_release nogil;
+            return plan_dem(*ds_, o, count);
+        }();
+        py::list pieces;
+        for (const raster::DemPiece& p : plan.pieces) {
+            pieces.append(py::dict(py::arg("index") = p.index, py::arg("blocks") = blocks(p.blocks),
+                                   py::arg("window") = window(p.window),
+                                   py::arg("points") = static_cast<long long>(std::llround(p.points)),
+                                   py::arg("memory_estimate_bytes") = p.memory_estimate));
+        }
+        const raster::DemGrid& g = plan.grid;
+        return py::dict(py::arg("width") = g.width, py::arg("height") = g.height, py::arg("texel_m") = g.texel_m,
+                        py::arg("block_texels") = g.block, py::arg("blocks") = plan.blocks,
+                        py::arg("tiles") = ds_->tiles.size(), py::arg("points") = plan.points,
+                        py::arg("pieces") = pieces);
+    }
+
+    py::dict dem_block(int index, int count, const py::object& output, const py::kwargs& options) {
+        const raster::DemOptions o = dem_options(options);
+        const std::string path = strings(output).at(0);
+        const DemBlock made = [&] {
+            const py::gil_scoped_release nogil;
+            return make_dem_block(*ds_, o, index, count, path);
+        }();
+        const raster::DemResult& d = made.result;
+        py::dict outputs;
+        for (std::size_t i = 0; i < made.names.size(); ++i) outputs[text(made.names[i])] = path_text(d.outputs[i]);
+        const raster::DemGrid& g = d.grid;
+        const py::dict block(py::arg("index") = index, py::arg("count") = count,
+                             py::arg("blocks") = blocks(g.selected_blocks()), py::arg("grid_width") = g.width,
+                             py::arg("grid_height") = g.height, py::arg("window") = window(g.window()));
+        return py::dict(py::arg("outputs") = outputs, py::arg("block") = block, py::arg("points_read") = d.points_read,
+                        py::arg("points_used") = d.points_used, py::arg("points_skipped") = d.points_skipped,
+                        py::arg("skipped") = error_list(d.skipped),
+                        py::arg("memory_estimate_bytes") = d.memory_estimate,
+                        py::arg("memory_budget_bytes") = d.memory_budget, py::arg("seconds_grid") = d.seconds_grid,
+                        py::arg("seconds_cog") = d.seconds_cog);
     }
 
 private:
@@ -280,8 +365,8 @@ PYBIND11_MODULE(_lidarscout, m) {
         .def("iter_read", &PyDataset::iter_read, py::arg("bounds") = py::none(), py::arg("polygon") = py::none(),
              py::arg("classes") = py::none(), py::arg("returns") = py::none(), py::arg("intensity") = py::none(),
              py::arg("threads") = 0, py::arg("batch") = 1'000'000)
-        .def("dem", &PyDataset::dem, py::arg("texel") = 1.0, py::arg("product") = py::none(),
-             py::arg("method") = py::none(), py::arg("bounds") = py::none(), py::arg("classes") = py::none(),
-             py::arg("threads") = 0);
+        .def("dem", &PyDataset::dem)
+        .def("dem_plan", &PyDataset::dem_plan, py::arg("count"))
+        .def("dem_block", &PyDataset::dem_block, py::arg("index"), py::arg("count"), py::arg("output"));
     m.def("open", &open_paths, py::arg("paths"), py::arg("crs") = py::none(), py::arg("allow_origins") = py::none());
 }
