@@ -6,8 +6,11 @@
 
 #include <charconv>
 
+#include <fmt/format.h>
+
 #include "core/error.hpp"
 #include "render/colour_modes.hpp"
+#include "serve/client_link.hpp"
 #include "serve/encoding.hpp"
 #include "serve/gzip.hpp"
 
@@ -65,6 +68,13 @@ int parse_dimension(const httplib::Request& req, const char* name, int fallback,
 // ?attrs=rgb,class,intensity (all of them when absent).
 std::uint32_t attributes_of(const httplib::Request& req) {
     return req.has_param("attrs") ? parse_attributes(req.get_param_value("attrs")) : kAllAttributes;
+}
+
+// Whether the client of `req` has gone (its socket looked up on the first call).
+ClientGone client_gone(const httplib::Request& req) {
+    auto link = std::make_shared<ClientLink>(
+        ConnectionEnds{req.local_addr, req.local_port, req.remote_addr, req.remote_port});
+    return [link] { return link->gone(); };
 }
 
 }  // namespace
@@ -180,6 +190,7 @@ void Server::get(const std::string& pattern, Handler handler) {
                 return refuse(res, 429, "too many requests at once");
             }
             ++in_flight_[req.remote_addr];
+            ++requests_;
         }
         struct Done {
             Server* s;
@@ -231,6 +242,21 @@ void Server::routes() {
     api_routes();
 }
 
+std::string Server::stats_json() const {
+    int in_flight = 0;
+    std::uint64_t requests = 0;
+    {
+        std::lock_guard lock(in_flight_mutex_);
+        for (const auto& [addr, n] : in_flight_) in_flight += n;
+        requests = requests_;
+    }
+    std::string body = fmt::format("{{\"requests\":{},\"in_flight\":{},"
+                                   "\"cache\":{{\"bytes\":{},\"hits\":{},\"misses\":{}}},\"datasets\":[",
+                                   requests, in_flight, cache_->bytes(), cache_->hits(), cache_->misses());
+    for (std::size_t i = 0; i < surveys_.size(); ++i) body += (i ? "," : "") + surveys_[i]->stats_json();
+    return body + "]}";
+}
+
 void Server::api_routes() {
     get("/api/info", [this](const httplib::Request& req, httplib::Response& res) {
         std::string body = "{\"datasets\":[";
@@ -240,6 +266,9 @@ void Server::api_routes() {
         }
         body += "]}";
         send_fresh(req, res, body, kJson);
+    });
+    get("/api/stats", [this](const httplib::Request& req, httplib::Response& res) {
+        send_fresh(req, res, stats_json(), kJson);
     });
     get("/api/palette", [this](const httplib::Request& req, httplib::Response& res) {
         send(req, res, *palette_, kJson, kImmutable);
@@ -264,7 +293,7 @@ void Server::api_routes() {
         if (method != "linear" && method != "cnn") throw Error("unknown method '" + method.substr(0, 20) + "'");
         const int step = parse_dimension(req, "step", 1, 1, 16);
         const bool detail = req.has_param("detail") && req.get_param_value("detail") == "1";
-        const auto body = s->heightmaps(cells, method == "cnn", step, detail);
+        const auto body = s->heightmaps(cells, method == "cnn", step, detail, client_gone(req));
         if (!body) {
             res.set_header("Retry-After", "1");
             return refuse(res, 503, "the chunk points are still loading");
@@ -274,7 +303,8 @@ void Server::api_routes() {
     get(R"(/api/d/(\d{1,4})/tile/(\d{1,9})/level/(\d))", [this](const httplib::Request& req, httplib::Response& res) {
         Survey* s = survey_of(req, res);
         if (!s) return;
-        const auto level = s->level(std::stoul(req.matches[2]), std::stoi(req.matches[3]), attributes_of(req));
+        const auto level =
+            s->level(std::stoul(req.matches[2]), std::stoi(req.matches[3]), attributes_of(req), client_gone(req));
         send(req, res, *level, kBinary, kImmutable);
     });
     get(R"(/api/d/(\d{1,4})/camera)", [this](const httplib::Request& req, httplib::Response& res) {

@@ -1,0 +1,71 @@
+// Finding a request's socket by its ends and seeing whether its peer is still there.
+#include "serve/client_link.hpp"
+
+#include <dirent.h>
+#include <netdb.h>
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <cstdlib>
+
+namespace lidarscout::serve {
+namespace {
+
+// The numeric address and port of one end of socket `fd` (false when it is not a connected socket).
+bool end_of(int fd, bool peer, std::string& addr, int& port) {
+    sockaddr_storage sa{};
+    socklen_t len = sizeof sa;
+    const int rc = peer ? ::getpeername(fd, reinterpret_cast<sockaddr*>(&sa), &len)
+                        : ::getsockname(fd, reinterpret_cast<sockaddr*>(&sa), &len);
+    if (rc != 0 || (sa.ss_family != AF_INET && sa.ss_family != AF_INET6)) return false;
+    char host[NI_MAXHOST], service[NI_MAXSERV];
+    if (::getnameinfo(reinterpret_cast<sockaddr*>(&sa), len, host, sizeof host, service, sizeof service,
+                      NI_NUMERICHOST | NI_NUMERICSERV) != 0) {
+        return false;
+    }
+    addr = host, port = std::atoi(service);
+    return true;
+}
+
+bool has_ends(int fd, const ConnectionEnds& ends) {
+    std::string addr;
+    int port = -1;
+    if (!end_of(fd, false, addr, port) || port != ends.local_port) return false;
+    if (!end_of(fd, true, addr, port)) return false;
+    return port == ends.remote_port && addr == ends.remote_addr;
+}
+
+}  // namespace
+
+int find_connection(const ConnectionEnds& ends) {
+    DIR* dir = ::opendir("/proc/self/fd");
+    if (!dir) return -1;
+    int found = -1;
+    while (const dirent* e = ::readdir(dir)) {
+        char* end = nullptr;
+        const long fd = std::strtol(e->d_name, &end, 10);
+        if (end == e->d_name || *end != '\0' || fd == ::dirfd(dir)) continue;
+        if (has_ends(static_cast<int>(fd), ends)) {
+            found = static_cast<int>(fd);
+            break;
+        }
+    }
+    ::closedir(dir);
+    return found;
+}
+
+bool peer_connected(int fd) {
+    pollfd p{fd, POLLIN | POLLRDHUP, 0};
+    if (::poll(&p, 1, 0) < 0) return false;
+    if (p.revents & (POLLRDHUP | POLLHUP | POLLERR | POLLNVAL)) return false;
+    if (!(p.revents & POLLIN)) return true;
+    char byte;
+    return ::recv(fd, &byte, 1, MSG_PEEK | MSG_DONTWAIT) > 0;  // 0: end of file; < 0: reset
+}
+
+bool ClientLink::gone() {
+    if (fd_ == -2) fd_ = find_connection(ends_);
+    return fd_ < 0 || !peer_connected(fd_);
+}
+
+}  // namespace lidarscout::serve

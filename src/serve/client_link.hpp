@@ -1,0 +1,40 @@
+// Whether the client of a request is still there. cpp-httplib 0.11 tells a handler nothing of a
+// closed connection (its DataSink::is_writable only selects for writing, which a closed peer's
+// socket still passes), so the server finds the request's socket itself, by its two ends (the
+// Request's local and remote address and port), and looks at it without blocking: a socket whose
+// peer has closed reads end-of-file (or hangs up). A handler polls this between the steps of
+// expensive work, and a request whose client left is not worked on further.
+#pragma once
+
+#include <string>
+
+namespace lidarscout::serve {
+
+// The connection's two ends, as httplib's Request has them.
+struct ConnectionEnds {
+    std::string local_addr;
+    int local_port = -1;
+    std::string remote_addr;
+    int remote_port = -1;
+};
+
+// The descriptor of this process's connected socket with these ends, or -1 when there is none.
+int find_connection(const ConnectionEnds& ends);
+
+// False once the peer of connected socket `fd` has closed or reset it (a read would give
+// end-of-file or an error); true while it is open (also with unread bytes: a pipelined request).
+bool peer_connected(int fd);
+
+// One request's client: its socket looked up on first use, then polled.
+class ClientLink {
+public:
+    explicit ClientLink(ConnectionEnds ends) : ends_(std::move(ends)) {}
+    // True once the client has gone (also when its socket is not found: it was closed already).
+    bool gone();
+
+private:
+    ConnectionEnds ends_;
+    int fd_ = -2;  // -2: not looked up yet
+};
+
+}  // namespace lidarscout::serve
