@@ -1,8 +1,9 @@
 // WebGL2 drawing of what the API sends: chunk points (squares of a fixed size, as render draws
-// them) and heightmap patches (meshes, Lambert-shaded with render's sun and ambient), coloured by
-// RGB, elevation (render's ramp), intensity (grey over the survey's range) or classification
-// (render's class colours), with a class filter. Positions are metres from the survey's grid
-// origin, taken relative to the camera before the matrix (as render subtracts it in double).
+// them) and heightmap patches (meshes, Lambert-shaded with render's sun and ambient; their vertical
+// skirts as level ground), coloured by RGB, elevation (render's ramp), intensity (grey over the
+// survey's range) or classification (render's class colours), with a class filter. Positions are
+// metres from the survey's grid origin, taken relative to the camera before the matrix (as render
+// subtracts it in double).
 // render's elevation ramp over the survey's height range (GLSL, shared by both programs)
 const RAMP = 'texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb';
 const POINT_VS = `#version 300 es
@@ -41,6 +42,7 @@ void main() {
   if (n.z < 0.0) n = -n;
   float level = AMBIENT + (1.0 - AMBIENT) * SUN.z;
   float shade = (AMBIENT + (1.0 - AMBIENT) * max(0.0, dot(n, SUN))) / level;
+  if (n.z < 0.05) shade = 1.0;  // a skirt (vertical; no terrain texel is that steep): as level ground
   o = vec4(min(v_col * shade, vec3(1.0)), 1.0);
 }`;
 
