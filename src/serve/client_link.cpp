@@ -1,4 +1,5 @@
-// Finding a request's socket by its ends and seeing whether its peer is still there.
+// Finding a request's socket by its ends and seeing whether its peer is still there; the listening
+// socket's backlog.
 #include "serve/client_link.hpp"
 
 #include <dirent.h>
@@ -35,9 +36,9 @@ bool has_ends(int fd, const ConnectionEnds& ends) {
     return port == ends.remote_port && addr == ends.remote_addr;
 }
 
-}  // namespace
-
-int find_connection(const ConnectionEnds& ends) {
+// The first of this process's descriptors for which `matches` holds, or -1.
+template <typename Match>
+int find_socket(const Match& matches) {
     DIR* dir = ::opendir("/proc/self/fd");
     if (!dir) return -1;
     int found = -1;
@@ -45,13 +46,31 @@ int find_connection(const ConnectionEnds& ends) {
         char* end = nullptr;
         const long fd = std::strtol(e->d_name, &end, 10);
         if (end == e->d_name || *end != '\0' || fd == ::dirfd(dir)) continue;
-        if (has_ends(static_cast<int>(fd), ends)) {
+        if (matches(static_cast<int>(fd))) {
             found = static_cast<int>(fd);
             break;
         }
     }
     ::closedir(dir);
     return found;
+}
+
+}  // namespace
+
+int find_connection(const ConnectionEnds& ends) {
+    return find_socket([&](int fd) { return has_ends(fd, ends); });
+}
+
+bool widen_backlog(int port, int backlog) {
+    const int fd = find_socket([&](int s) {
+        int listening = 0;
+        socklen_t len = sizeof listening;
+        std::string addr;
+        int local = -1;
+        return ::getsockopt(s, SOL_SOCKET, SO_ACCEPTCONN, &listening, &len) == 0 && listening &&
+               end_of(s, false, addr, local) && local == port;
+    });
+    return fd >= 0 && ::listen(fd, backlog) == 0;
 }
 
 bool peer_connected(int fd) {

@@ -3,7 +3,9 @@
 // socket still passes), so the server finds the request's socket itself, by its two ends (the
 // Request's local and remote address and port), and looks at it without blocking: a socket whose
 // peer has closed reads end-of-file (or hangs up). A handler polls this between the steps of
-// expensive work, and a request whose client left is not worked on further.
+// expensive work, and a request whose client left is not worked on further. And the listening
+// socket's backlog, which httplib 0.11 sets to 5 (twenty clients opening their connections at once
+// overflowed it: a dropped connection is tried again by its client a second later).
 #pragma once
 
 #include <string>
@@ -24,6 +26,10 @@ int find_connection(const ConnectionEnds& ends);
 // False once the peer of connected socket `fd` has closed or reset it (a read would give
 // end-of-file or an error); true while it is open (also with unread bytes: a pipelined request).
 bool peer_connected(int fd);
+
+// Sets the backlog of this process's listening socket on `port` (listen() again, which Linux allows
+// on a listening socket); false when there is none.
+bool widen_backlog(int port, int backlog);
 
 // One request's client: its socket looked up on first use, then polled.
 class ClientLink {

@@ -24,6 +24,7 @@ const std::string kBinary = "application/octet-stream";
 const std::string kImmutable = "public, max-age=86400";  // content named by what it holds
 const std::string kRevalidate = "no-cache";             // may change while loading: ask with the ETag
 constexpr std::size_t kMaxPayload = 1024;               // GET only: no body worth more
+constexpr int kBacklog = 1024;                          // connections waiting to be accepted
 
 bool accepts_gzip(const httplib::Request& req) {
     return req.get_header_value("Accept-Encoding").find("gzip") != std::string::npos;
@@ -116,6 +117,7 @@ int Server::bind() {
     port_ = options_.listen.port == 0 ? http_->bind_to_any_port(host) : options_.listen.port;
     const bool ok = options_.listen.port == 0 ? port_ > 0 : http_->bind_to_port(host, port_);
     if (!ok) throw Error("serve: cannot listen on " + host + ":" + std::to_string(options_.listen.port));
+    widen_backlog(port_, kBacklog);  // (httplib's is 5)
     return port_;
 }
 

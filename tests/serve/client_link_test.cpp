@@ -1,10 +1,12 @@
 // A request's client seen to leave (serve/client_link.hpp) and the server's expensive work given up
 // for it, counted in /api/stats: a connection found by its two ends and its peer's close seen; a
 // tile not decoded and heightmaps no longer built for a gone client; and end to end, 27 level
-// requests whose client closes its connections leave most tiles undecoded.
+// requests whose client closes its connections leave most tiles undecoded. And the listening
+// socket's backlog widened (httplib's 5 dropped connections of clients that open many at once).
 #include <gtest/gtest.h>
 
 #include <arpa/inet.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -52,6 +54,47 @@ TEST(ClientLink, ConnectionFoundByItsEndsAndItsCloseSeen) {
     ::close(served);
     ::close(listener);
     EXPECT_TRUE(serve::ClientLink(ends).gone());  // no such socket any more: gone
+}
+
+// Connections to `port` that complete (SYN answered) while nothing accepts them, of `n` tried at once.
+int completed_connections(int port, int n) {
+    std::vector<pollfd> fds;
+    for (int k = 0; k < n; ++k) {
+        const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK, 0);
+        sockaddr_in a{};
+        a.sin_family = AF_INET;
+        a.sin_port = htons(static_cast<std::uint16_t>(port));
+        a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        ::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+        fds.push_back({fd, POLLOUT, 0});
+    }
+    int done = 0;  // (polled until a look finds no more: those left wait for a second SYN)
+    while (!fds.empty() && ::poll(fds.data(), fds.size(), 300) > 0) {
+        for (auto it = fds.begin(); it != fds.end();) {
+            if (!it->revents) {
+                ++it;
+                continue;
+            }
+            int error = 0;
+            socklen_t len = sizeof error;
+            done += ::getsockopt(it->fd, SOL_SOCKET, SO_ERROR, &error, &len) == 0 && !error;
+            ::close(it->fd);
+            it = fds.erase(it);
+        }
+    }
+    for (const auto& p : fds) ::close(p.fd);
+    return done;
+}
+
+TEST(ClientLink, BacklogWidened) {
+    int port = 0;
+    const int listener = delay_proxy_detail::loopback_listener(port);
+    ASSERT_EQ(::listen(listener, 1), 0);  // as narrow as can be
+    EXPECT_LE(completed_connections(port, 16), 3);
+    EXPECT_TRUE(serve::widen_backlog(port, 64));
+    EXPECT_EQ(completed_connections(port, 16), 16);
+    EXPECT_FALSE(serve::widen_backlog(port_of(listener, false) == 1 ? 2 : 1, 64));  // no listener there
+    ::close(listener);
 }
 
 TEST(ServeCancel, NoTileDecodedForAGoneClient) {
