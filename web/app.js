@@ -461,7 +461,8 @@ function frame() {
     const drawn = state.renderer.draw({
       cam: state.cam, vp: viewProjection(state.cam, canvas.width, canvas.height), mode: state.mode,
       zrange: [info.bounds_m[2], info.bounds_m[5]], irange: info.intensity_range ?? [0, 65535],
-      pointSize: CHUNK_POINT_PX, uncoloured: grey, focal: focalPx(state.cam, canvas.height) });
+      pointSize: CHUNK_POINT_PX, uncoloured: grey, untextured: info.uncoloured_grey / 255,
+      focal: focalPx(state.cam, canvas.height) });
     $('progress').textContent = progressLine(drawn);
     drawOverlay($('overlay'), state.cam, state.measured, canvas.width, canvas.height);
     $('readout').textContent = `camera ${cameraText(state.cam, info.frame, info.origin_m)}`;
