@@ -36,11 +36,12 @@ bool has_ends(int fd, const ConnectionEnds& ends) {
     return port == ends.remote_port && addr == ends.remote_addr;
 }
 
-// The first of this process's descriptors for which `matches` holds, or -1.
+// The first of this process's descriptors for which `matches` holds, -1 when none does, or
+// kCannotLook when the process's descriptors cannot be listed (no /proc).
 template <typename Match>
 int find_socket(const Match& matches) {
     DIR* dir = ::opendir("/proc/self/fd");
-    if (!dir) return -1;
+    if (!dir) return kCannotLook;
     int found = -1;
     while (const dirent* e = ::readdir(dir)) {
         char* end = nullptr;
@@ -83,7 +84,8 @@ bool peer_connected(int fd) {
 }
 
 bool ClientLink::gone() {
-    if (fd_ == -2) fd_ = find_connection(ends_);
+    if (fd_ == kNotLooked) fd_ = find_connection(ends_);
+    if (fd_ == kCannotLook) return false;  // (not knowing, the work is done)
     return fd_ < 0 || !peer_connected(fd_);
 }
 

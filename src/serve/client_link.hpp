@@ -20,7 +20,10 @@ struct ConnectionEnds {
     int remote_port = -1;
 };
 
-// The descriptor of this process's connected socket with these ends, or -1 when there is none.
+inline constexpr int kCannotLook = -3;  // find_connection: the descriptors cannot be listed (no /proc)
+
+// The descriptor of this process's connected socket with these ends, -1 when there is none, or
+// kCannotLook.
 int find_connection(const ConnectionEnds& ends);
 
 // False once the peer of connected socket `fd` has closed or reset it (a read would give
@@ -35,12 +38,14 @@ bool widen_backlog(int port, int backlog);
 class ClientLink {
 public:
     explicit ClientLink(ConnectionEnds ends) : ends_(std::move(ends)) {}
-    // True once the client has gone (also when its socket is not found: it was closed already).
+    // True once the client has gone (also when its socket is not found: it was closed already);
+    // never where the sockets cannot be looked at.
     bool gone();
 
 private:
+    static constexpr int kNotLooked = -2;
     ConnectionEnds ends_;
-    int fd_ = -2;  // -2: not looked up yet
+    int fd_ = kNotLooked;
 };
 
 }  // namespace lidarscout::serve
