@@ -24,7 +24,7 @@ const state = {
   fetchedCounts: new Map(),  // "ix,iy" -> points received
   patchQueue: [], patchesAsked: new Set(), inFlight: 0, pointsReceived: 0, patches: 0,
   controller: new AbortController(), errors: 0, lastError: '',
-  tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0,
+  tiles: null, levelsAsked: [], lodPoints: 0, lodGeneration: 0, levelRequests: new Map(), levelsDropped: 0,
   measured: [], patchMethod: 'linear', cnnPatches: 0, retries: 0, emptyBatches: 0,
   detailQueue: [], detailTiles: new Set(), methodOf: new Map(), detailPatches: 0,
 };
@@ -62,6 +62,7 @@ function setCamera(cam, fromUser = true) {
   state.cam = { ...cam, ...fitDepthRange(cam, state.box) };
   state.dirty = true;
   if (fromUser) state.autoCamera = false, scheduleHashUpdate();
+  if (state.tiles) dropUnwantedLevels();
 }
 
 let hashTimer = 0;
@@ -138,28 +139,46 @@ function pump() {
 // ---- full resolution: the levels of detail of the tiles near the camera ----------------------
 // A tile's level L is wanted while the levels below it (or, for level 0, the heightmap's texels)
 // are more than a pixel apart on screen, nearest tiles and coarser levels first, within a budget.
+// The tile's distance from the camera when its level `level` is wanted from here, else null.
+function levelWanted(i, level) {
+  const t = state.tiles, c = state.cam, b = basis(c), focal = focalPx(c, state.renderer.gl.canvas.height);
+  const box = t.boxes_dm.slice(6 * i, 6 * i + 6).map((v) => v / 10);
+  const dx = Math.max(box[0] - c.x, 0, c.x - box[3]), dy = Math.max(box[1] - c.y, 0, c.y - box[4]);
+  const dz = Math.max(box[2] - c.z, 0, c.z - box[5]), d = Math.max(1, Math.hypot(dx, dy, dz));
+  const cx = 0.5 * (box[0] + box[3]) - c.x, cy = 0.5 * (box[1] + box[4]) - c.y;
+  const radius = 0.5 * Math.hypot(box[3] - box[0], box[4] - box[1]);
+  if (cx * b.forward[0] + cy * b.forward[1] + (0.5 * (box[2] + box[5]) - c.z) * b.forward[2] < -radius) return null;
+  const spacing = Math.sqrt(Math.max(1, (box[3] - box[0]) * (box[4] - box[1])) / Math.max(1, t.points[i]));
+  const coarser = level === 0 ? TEXEL_M : spacing * 2 ** (LEVELS - level);
+  return coarser * focal / d > 1 ? d : null;
+}
+
 function nextLevel() {
   const t = state.tiles;
   if (!t || state.lodPoints >= MAX_LOD_POINTS) return null;
-  const focal = focalPx(state.cam, state.renderer.gl.canvas.height), c = state.cam, b = basis(c);
   let best = null;
   for (let i = 0; i < t.names.length; ++i) {
-    const box = t.boxes_dm.slice(6 * i, 6 * i + 6).map((v) => v / 10);
-    const dx = Math.max(box[0] - c.x, 0, c.x - box[3]), dy = Math.max(box[1] - c.y, 0, c.y - box[4]);
-    const dz = Math.max(box[2] - c.z, 0, c.z - box[5]), d = Math.max(1, Math.hypot(dx, dy, dz));
-    const cx = 0.5 * (box[0] + box[3]) - c.x, cy = 0.5 * (box[1] + box[4]) - c.y;
-    const radius = 0.5 * Math.hypot(box[3] - box[0], box[4] - box[1]);
-    if (cx * b.forward[0] + cy * b.forward[1] + (0.5 * (box[2] + box[5]) - c.z) * b.forward[2] < -radius) continue;
-    const spacing = Math.sqrt(Math.max(1, (box[3] - box[0]) * (box[4] - box[1])) / Math.max(1, t.points[i]));
     const level = state.levelsAsked[i] ?? 0;
     if (level >= LEVELS) continue;
-    const coarser = level === 0 ? TEXEL_M : spacing * 2 ** (LEVELS - level);
-    if (coarser * focal / d <= 1) continue;
+    const d = levelWanted(i, level);
+    if (d === null) continue;
     const score = level * 1e9 + d;
     if (!best || score < best.score) best = { score, tile: i, level };
   }
   if (best) state.levelsAsked[best.tile] = best.level + 1;
   return best;
+}
+
+// The client moves on: the levels under way that the view no longer wants are aborted (the server
+// then drops their decoding if it has not begun) and may be asked for again when they are wanted.
+function dropUnwantedLevels(all = false) {
+  for (const [key, r] of state.levelRequests) {
+    if (!all && levelWanted(r.tile, r.level) !== null) continue;
+    r.controller.abort();
+    state.levelRequests.delete(key);
+    if (!all) state.levelsAsked[r.tile] = Math.min(state.levelsAsked[r.tile] ?? 0, r.level);
+    ++state.levelsDropped;
+  }
 }
 
 // The server decoded tile `tile` whole for a level: its points now lie under the heightmaps of the
@@ -199,6 +218,7 @@ function levelAttributes() {
 // A new colour mode: the levels of detail again, with its attributes.
 function reloadLevels() {
   ++state.lodGeneration;
+  dropUnwantedLevels(true);  // (those of the old colour mode)
   state.renderer.clearLevels();
   state.levelsAsked = [];
   state.lodPoints = 0;
@@ -207,8 +227,10 @@ function reloadLevels() {
 
 function fetchLevel({ tile, level }) {
   ++state.inFlight;
-  const generation = state.lodGeneration;
-  state.api.level(tile, level, levelAttributes(), state.controller.signal).then((l) => {
+  const generation = state.lodGeneration, key = `${tile}/${level}`, controller = new AbortController();
+  state.levelRequests.set(key, { tile, level, controller });
+  state.controller.signal.addEventListener('abort', () => controller.abort());  // (the page left)
+  state.api.level(tile, level, levelAttributes(), controller.signal).then((l) => {
     learnt(tile);
     if (generation !== state.lodGeneration) return;  // asked for another colour mode
     state.renderer.addLevel(l);
@@ -216,7 +238,11 @@ function fetchLevel({ tile, level }) {
     state.lodPoints += n;
     mark('first_full_res');
     state.dirty = true;
-  }).catch(fail).finally(() => { --state.inFlight; pump(); });
+  }).catch(fail).finally(() => {
+    if (state.levelRequests.get(key)?.controller === controller) state.levelRequests.delete(key);
+    --state.inFlight;
+    pump();
+  });
 }
 
 function toCells(keys) { return keys.map((k) => { const [ix, iy] = k.split(',').map(Number); return { ix, iy }; }); }
@@ -435,7 +461,8 @@ function frame() {
     const drawn = state.renderer.draw({
       cam: state.cam, vp: viewProjection(state.cam, canvas.width, canvas.height), mode: state.mode,
       zrange: [info.bounds_m[2], info.bounds_m[5]], irange: info.intensity_range ?? [0, 65535],
-      pointSize: CHUNK_POINT_PX, uncoloured: grey, focal: focalPx(state.cam, canvas.height) });
+      pointSize: CHUNK_POINT_PX, uncoloured: grey, untextured: info.uncoloured_grey / 255,
+      focal: focalPx(state.cam, canvas.height) });
     $('progress').textContent = progressLine(drawn);
     drawOverlay($('overlay'), state.cam, state.measured, canvas.width, canvas.height);
     $('readout').textContent = `camera ${cameraText(state.cam, info.frame, info.origin_m)}`;
@@ -445,6 +472,7 @@ function frame() {
                                                 detail_patches: state.detailPatches,
                                                 retries: state.retries, empty_patch_batches: state.emptyBatches,
                                                 full_res_points: state.lodPoints,
+                                                levels_dropped: state.levelsDropped,
                                                 errors: state.errors });
     if ('terrain' in timings && 'overview' in timings && !state.complete) {
       state.complete = true;

@@ -151,7 +151,7 @@ function spread565(c) {
 
 // Heightmap patches -> meshes: vertices at the texel corners taken every `step` texels (height
 // and colour the mean of the defined texels around a corner), a quad per block of step x step
-// texels whose texels are all defined.
+// texels whose texels are all defined, and a skirt hanging from the patch's boundary.
 export function decodeHeightmaps(buf, step) {
   const v = new DataView(buf), out = [];
   for (let o = 0; o < buf.byteLength;) {
@@ -227,5 +227,30 @@ function mesh(size, heights, colours, ox, oy, texel, step) {
       idx.push(a, a + 1, a + corners + 1, a, a + corners + 1, a + corners);
     }
   }
-  return { pos, rgb, index: new Uint32Array(idx), triangles: idx.length / 3 };
+  return withSkirt(pos, rgb, idx, blocks, n, step * texel);
+}
+
+// The patch's boundary edges of its drawn blocks, each with a vertical strip hanging `depth` metres
+// down (render's skirt: one quad deep), so that where two patches' extrapolated edges differ in
+// height, or their blocks differ in size, the strip fills the slit between them; it lies under the
+// neighbour where that is higher. Its vertices: copies of the edge's, lowered, of the same colour.
+function withSkirt(pos, rgb, idx, blocks, n, depth) {
+  const corners = n + 1, edges = [];
+  for (let k = 0; k < n; ++k) {  // [block, corner a, corner b] along the south, north, west and east sides
+    edges.push([k, k, k + 1], [(n - 1) * n + k, n * corners + k, n * corners + k + 1]);
+    edges.push([k * n, k * corners, (k + 1) * corners], [k * n + n - 1, k * corners + n, (k + 1) * corners + n]);
+  }
+  const kept = edges.filter(([b]) => blocks[b]);
+  const first = corners * corners, total = first + 2 * kept.length;
+  const p = new Float32Array(3 * total), c = new Uint8Array(3 * total);
+  p.set(pos), c.set(rgb);
+  kept.forEach(([, a, b], e) => {
+    const v = first + 2 * e;
+    for (const [to, from] of [[v, a], [v + 1, b]]) {
+      p.set([pos[3 * from], pos[3 * from + 1], pos[3 * from + 2] - depth], 3 * to);
+      c.set(rgb.subarray(3 * from, 3 * from + 3), 3 * to);
+    }
+    idx.push(a, b, v + 1, a, v + 1, v);
+  });
+  return { pos: p, rgb: c, index: new Uint32Array(idx), triangles: idx.length / 3 };
 }

@@ -1,8 +1,9 @@
 // WebGL2 drawing of what the API sends: chunk points (squares of a fixed size, as render draws
-// them) and heightmap patches (meshes, Lambert-shaded with render's sun and ambient), coloured by
-// RGB, elevation (render's ramp), intensity (grey over the survey's range) or classification
-// (render's class colours), with a class filter. Positions are metres from the survey's grid
-// origin, taken relative to the camera before the matrix (as render subtracts it in double).
+// them) and heightmap patches (meshes, Lambert-shaded with render's sun and ambient; their vertical
+// skirts as level ground), coloured by RGB, elevation (render's ramp), intensity (grey over the
+// survey's range) or classification (render's class colours), with a class filter. Positions are
+// metres from the survey's grid origin, taken relative to the camera before the matrix (as render
+// subtracts it in double).
 // render's elevation ramp over the survey's height range (GLSL, shared by both programs)
 const RAMP = 'texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb';
 const POINT_VS = `#version 300 es
@@ -24,14 +25,18 @@ void main() {
 const POINT_FS = `#version 300 es
 precision mediump float; in vec3 v_col; out vec4 o;
 void main() { o = vec4(v_col, 1.0); }`;
+// The patches' colour: their texture in RGB mode, the ramp in elevation mode, and in intensity and
+// classification modes render's grey for an untextured patch (the terrain's RGB showing between the
+// points of a level of detail would tint them: render, drawing every point, hides its surface).
 const MESH_VS = `#version 300 es
 uniform mat4 u_vp; uniform vec3 u_cam; uniform int u_mode; uniform vec2 u_zrange; uniform sampler2D u_ramp;
+uniform float u_untextured;
 in vec3 a_pos; in vec3 a_rgb;
 out vec3 v_col; out vec3 v_rel;
 void main() {
   v_rel = a_pos - u_cam;
   gl_Position = u_vp * vec4(v_rel, 1.0);
-  v_col = u_mode == 1 ? ${RAMP} : a_rgb;
+  v_col = u_mode == 1 ? ${RAMP} : u_mode >= 2 ? vec3(u_untextured) : a_rgb;
 }`;
 const MESH_FS = `#version 300 es
 precision highp float; in vec3 v_col; in vec3 v_rel; out vec4 o;
@@ -41,6 +46,7 @@ void main() {
   if (n.z < 0.0) n = -n;
   float level = AMBIENT + (1.0 - AMBIENT) * SUN.z;
   float shade = (AMBIENT + (1.0 - AMBIENT) * max(0.0, dot(n, SUN))) / level;
+  if (n.z < 0.05) shade = 1.0;  // a skirt (vertical; no terrain texel is that steep): as level ground
   o = vec4(min(v_col * shade, vec3(1.0)), 1.0);
 }`;
 
@@ -185,6 +191,7 @@ export class Renderer {
       gl.uniform1i(gl.getUniformLocation(p, 'u_ramp'), 0);
     };
     common(this.mesh);
+    gl.uniform1f(gl.getUniformLocation(this.mesh, 'u_untextured'), view.untextured);
     gl.enable(gl.POLYGON_OFFSET_FILL);
     gl.polygonOffset(1, 1);  // points on the surface win, as render's depth bias
     for (const m of this.patches.values()) {

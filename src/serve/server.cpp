@@ -6,8 +6,11 @@
 
 #include <charconv>
 
+#include <fmt/format.h>
+
 #include "core/error.hpp"
 #include "render/colour_modes.hpp"
+#include "serve/client_link.hpp"
 #include "serve/encoding.hpp"
 #include "serve/gzip.hpp"
 
@@ -21,6 +24,7 @@ const std::string kBinary = "application/octet-stream";
 const std::string kImmutable = "public, max-age=86400";  // content named by what it holds
 const std::string kRevalidate = "no-cache";             // may change while loading: ask with the ETag
 constexpr std::size_t kMaxPayload = 1024;               // GET only: no body worth more
+constexpr int kBacklog = 1024;                          // connections waiting to be accepted
 
 bool accepts_gzip(const httplib::Request& req) {
     return req.get_header_value("Accept-Encoding").find("gzip") != std::string::npos;
@@ -67,6 +71,13 @@ std::uint32_t attributes_of(const httplib::Request& req) {
     return req.has_param("attrs") ? parse_attributes(req.get_param_value("attrs")) : kAllAttributes;
 }
 
+// Whether the client of `req` has gone (its socket looked up on the first call).
+ClientGone client_gone(const httplib::Request& req) {
+    auto link = std::make_shared<ClientLink>(
+        ConnectionEnds{req.local_addr, req.local_port, req.remote_addr, req.remote_port});
+    return [link] { return link->gone(); };
+}
+
 }  // namespace
 
 std::vector<CellKey> parse_cells(const std::string& text) {
@@ -106,6 +117,7 @@ int Server::bind() {
     port_ = options_.listen.port == 0 ? http_->bind_to_any_port(host) : options_.listen.port;
     const bool ok = options_.listen.port == 0 ? port_ > 0 : http_->bind_to_port(host, port_);
     if (!ok) throw Error("serve: cannot listen on " + host + ":" + std::to_string(options_.listen.port));
+    widen_backlog(port_, kBacklog);  // (httplib's is 5)
     return port_;
 }
 
@@ -180,6 +192,7 @@ void Server::get(const std::string& pattern, Handler handler) {
                 return refuse(res, 429, "too many requests at once");
             }
             ++in_flight_[req.remote_addr];
+            ++requests_;
         }
         struct Done {
             Server* s;
@@ -231,6 +244,21 @@ void Server::routes() {
     api_routes();
 }
 
+std::string Server::stats_json() const {
+    int in_flight = 0;
+    std::uint64_t requests = 0;
+    {
+        std::lock_guard lock(in_flight_mutex_);
+        for (const auto& [addr, n] : in_flight_) in_flight += n;
+        requests = requests_;
+    }
+    std::string body = fmt::format("{{\"requests\":{},\"in_flight\":{},"
+                                   "\"cache\":{{\"bytes\":{},\"hits\":{},\"misses\":{}}},\"datasets\":[",
+                                   requests, in_flight, cache_->bytes(), cache_->hits(), cache_->misses());
+    for (std::size_t i = 0; i < surveys_.size(); ++i) body += (i ? "," : "") + surveys_[i]->stats_json();
+    return body + "]}";
+}
+
 void Server::api_routes() {
     get("/api/info", [this](const httplib::Request& req, httplib::Response& res) {
         std::string body = "{\"datasets\":[";
@@ -240,6 +268,9 @@ void Server::api_routes() {
         }
         body += "]}";
         send_fresh(req, res, body, kJson);
+    });
+    get("/api/stats", [this](const httplib::Request& req, httplib::Response& res) {
+        send_fresh(req, res, stats_json(), kJson);
     });
     get("/api/palette", [this](const httplib::Request& req, httplib::Response& res) {
         send(req, res, *palette_, kJson, kImmutable);
@@ -264,7 +295,7 @@ void Server::api_routes() {
         if (method != "linear" && method != "cnn") throw Error("unknown method '" + method.substr(0, 20) + "'");
         const int step = parse_dimension(req, "step", 1, 1, 16);
         const bool detail = req.has_param("detail") && req.get_param_value("detail") == "1";
-        const auto body = s->heightmaps(cells, method == "cnn", step, detail);
+        const auto body = s->heightmaps(cells, method == "cnn", step, detail, client_gone(req));
         if (!body) {
             res.set_header("Retry-After", "1");
             return refuse(res, 503, "the chunk points are still loading");
@@ -274,7 +305,8 @@ void Server::api_routes() {
     get(R"(/api/d/(\d{1,4})/tile/(\d{1,9})/level/(\d))", [this](const httplib::Request& req, httplib::Response& res) {
         Survey* s = survey_of(req, res);
         if (!s) return;
-        const auto level = s->level(std::stoul(req.matches[2]), std::stoi(req.matches[3]), attributes_of(req));
+        const auto level =
+            s->level(std::stoul(req.matches[2]), std::stoi(req.matches[3]), attributes_of(req), client_gone(req));
         send(req, res, *level, kBinary, kImmutable);
     });
     get(R"(/api/d/(\d{1,4})/camera)", [this](const httplib::Request& req, httplib::Response& res) {

@@ -13,12 +13,18 @@
 //                                  (the decoded tiles' points laid over them); 503 until the chunk points are in
 //   GET /api/d/N/tile/I/level/L    level of detail L (0-3) of tile I's full-resolution points
 //   GET /api/d/N/camera?w=&h=&fov=[&tile=I]  render's auto camera for that image (of tile I)
+//   GET /api/stats                 JSON: requests handled and in flight (this one included), the cache, and
+//                                  per dataset the tiles decoded, heightmaps built and requests given up
+//                                  because their client had gone
 //
 // Bodies are gzip'd once (a client that does not accept gzip gets them inflated), with a strong
 // ETag (304 on If-None-Match) and Cache-Control. With a token every API request must carry it
 // (?token= or Authorization: Bearer; the page's own files hold no data and need none). Paths
 // with "..", a backslash or percent-encoding are refused before routing; requests in flight per
 // client address and the cells per request are bounded; no CORS header unless an origin is given.
+// A heightmap or level request whose client has gone (closed its connection: the page aborts what
+// it no longer needs) stops before its next step (client_link.hpp), and one still waiting for a
+// decoding slot leaves the queue: work queued for a gone client is never done.
 #pragma once
 
 #include <atomic>
@@ -70,6 +76,8 @@ public:
     void stop();
 
     ResponseCache& cache() { return *cache_; }
+    // /api/stats's body.
+    std::string stats_json() const;
 
 private:
     bool authorised(const httplib::Request& req) const;
@@ -93,6 +101,7 @@ private:
     int port_ = 0;
     mutable std::mutex in_flight_mutex_;
     std::map<std::string, int> in_flight_;  // requests under way per client address
+    std::uint64_t requests_ = 0;            // API and page requests handled (under in_flight_mutex_)
 };
 
 // Parses "ix,iy;ix,iy;..." (at most kMaxCellsPerRequest cells, each number an int32); throws

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <filesystem>
+#include <iterator>
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
@@ -152,7 +154,52 @@ EncodedPtr Survey::cell_points(std::span<const CellKey> cells, std::uint32_t att
     });
 }
 
-std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, bool cnn, int step, bool detail) {
+void Survey::stop_if_gone(const ClientGone& gone) {
+    if (!gone || !gone()) return;
+    ++cancelled_;
+    throw Error("cancelled: the client has gone");
+}
+
+// A decoding slot, waited for while the client is there (a gone client's request leaves the queue).
+void Survey::acquire_decode_slot(const ClientGone& gone) {
+    using namespace std::chrono_literals;
+    stop_if_gone(gone);
+    while (!decodes_.try_acquire_for(20ms)) stop_if_gone(gone);
+    try {
+        stop_if_gone(gone);
+    } catch (...) {
+        decodes_.release();
+        throw;
+    }
+}
+
+// The heightmaps of `cells`, kHeightmapCellsPerStep at a time while the client is there.
+std::vector<viewer::PatchHeightmap> Survey::build_heightmaps(std::span<const CellKey> cells, bool cnn,
+                                                             const ClientGone& gone) {
+    viewer::HeightmapBuildOptions opt;
+    opt.patch.has_rgb = has_rgb();
+    opt.footprints = footprints_;
+    ThreadPool pool(1);  // on this request's thread: the server's threads are the parallelism
+    std::vector<viewer::PatchHeightmap> maps;
+    for (std::size_t at = 0; at < cells.size(); at += kHeightmapCellsPerStep) {
+        stop_if_gone(gone);
+        const auto part = cells.subspan(at, std::min(kHeightmapCellsPerStep, cells.size() - at));
+        std::vector<viewer::PatchHeightmap> built;
+        if (cnn) {
+            std::lock_guard lock(network_mutex_);
+            if (!network_) network_ = std::make_unique<nn::HeightmapNetwork>(nn::HeightmapNetwork::load(model_path_));
+            built = viewer::build_cnn_heightmaps(*grid_, part, *network_, opt, pool);
+        } else {
+            built = viewer::build_linear_heightmaps(*grid_, part, opt, pool);
+        }
+        heightmaps_built_ += built.size();
+        std::move(built.begin(), built.end(), std::back_inserter(maps));
+    }
+    return maps;
+}
+
+std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, bool cnn, int step, bool detail,
+                                             const ClientGone& gone) {
     if (cnn && model_path_.empty()) throw Error("no heightmap network on this server (serve --model FILE)");
     if (step != 1 && step != 2 && step != 4 && step != 8 && step != 16) throw Error("step must be 1, 2, 4, 8 or 16");
     if (!loader_->finished()) return std::nullopt;
@@ -164,18 +211,7 @@ std::optional<EncodedPtr> Survey::heightmaps(std::span<const CellKey> cells, boo
     std::string key = fmt::format("{}:{}:s{}:d{}", generation_, cnn ? "n" : "h", step, detail ? version + 1 : 0);
     for (const auto& c : cells) key += fmt::format(":{},{}", c.ix, c.iy);
     return cache_.get(key, [&] {
-        viewer::HeightmapBuildOptions opt;
-        opt.patch.has_rgb = has_rgb();
-        opt.footprints = footprints_;
-        ThreadPool pool(1);  // on this request's thread: the server's threads are the parallelism
-        std::vector<viewer::PatchHeightmap> maps;
-        if (cnn) {
-            std::lock_guard lock(network_mutex_);
-            if (!network_) network_ = std::make_unique<nn::HeightmapNetwork>(nn::HeightmapNetwork::load(model_path_));
-            maps = viewer::build_cnn_heightmaps(*grid_, cells, *network_, opt, pool);
-        } else {
-            maps = viewer::build_linear_heightmaps(*grid_, cells, opt, pool);
-        }
+        auto maps = build_heightmaps(cells, cnn, gone);
         if (detail) {
             std::lock_guard lock(detail_mutex_);
             for (auto& h : maps) {
@@ -208,19 +244,20 @@ void Survey::learn_detail(const viewer::PointSet& set) {
     ++detail_version_;
 }
 
-EncodedPtr Survey::level(std::size_t tile, int level, std::uint32_t attributes) {
+EncodedPtr Survey::level(std::size_t tile, int level, std::uint32_t attributes, const ClientGone& gone) {
     if (tile >= dataset_.tiles.size()) throw Error("no tile " + std::to_string(tile));
     if (level < 0 || level >= kLevels) throw Error("no level " + std::to_string(level) + " (0-3)");
     const auto key = [&](int l) { return fmt::format("{}:l:{}:{}:a{}", generation_, tile, l, attributes); };
     return cache_.get(key(level), [&] {
         ThreadPool pool(1);  // on this request's thread, as the heightmaps
-        decodes_.acquire();
+        acquire_decode_slot(gone);
         struct Release {
             std::counting_semaphore<>& s;
             ~Release() { s.release(); }
         } release{decodes_};
         std::vector<dataset::SkippedChunk> skipped;  // a corrupt chunk costs its points only
         const auto set = viewer::tile_point_set(dataset_.tiles[tile], dataset_.las_stride, pool, {}, &skipped);
+        ++tiles_decoded_;
         learn_detail(set);
         auto levels = encode_levels(set, grid_->origin_x(), grid_->origin_y(), attributes);
         EncodedPtr wanted;
@@ -231,6 +268,12 @@ EncodedPtr Survey::level(std::size_t tile, int level, std::uint32_t attributes) 
         }
         return wanted;
     });
+}
+
+std::string Survey::stats_json() const {
+    return nlohmann::json{{"tiles_decoded", tiles_decoded_.load()}, {"heightmaps_built", heightmaps_built_.load()},
+                          {"cancelled", cancelled_.load()}}
+        .dump();
 }
 
 std::string Survey::auto_camera_json(int width, int height, double fov_deg, std::optional<std::size_t> tile) const {

@@ -6,7 +6,9 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <semaphore>
@@ -31,6 +33,13 @@ inline constexpr std::size_t kMaxCellsPerRequest = 256;
 // What decoding a tile into its levels holds at its peak, per point: the decoded points (20 bytes),
 // their copy sorted into blocks (20), the encoded levels and their gzip'd copies (about 10).
 inline constexpr std::uint64_t kDecodeBytesPerPoint = 50;
+// Heightmaps are built this many cells at a time, the client looked at between them.
+inline constexpr std::size_t kHeightmapCellsPerStep = 4;
+
+// Whether the client a body is made for has gone, polled between the steps of making it (before a
+// tile is decoded, while it waits for a decoding slot, between groups of heightmaps): then the
+// making stops with lidarscout::Error, nothing of it is cached, and it is counted. Empty: never.
+using ClientGone = std::function<bool()>;
 
 class Survey {
 public:
@@ -64,13 +73,19 @@ public:
     // laid over them as render and the viewer lay them (viewer::overlay_detail): the surface under
     // real points at their height.
     std::optional<EncodedPtr> heightmaps(std::span<const CellKey> cells, bool cnn = false, int step = 1,
-                                         bool detail = false);
+                                         bool detail = false, const ClientGone& gone = {});
     // The heightmap network's TorchScript file (nn/heightmap_network.hpp), loaded on first use.
     void set_model(std::string path) { model_path_ = std::move(path); }
     bool has_model() const { return !model_path_.empty(); }
     // Level `level` (0-3) of the full-resolution points of tile `tile` (encoding.hpp); the tile is
     // decoded once for its four levels. Throws lidarscout::Error for a tile or level out of range.
-    EncodedPtr level(std::size_t tile, int level, std::uint32_t attributes);
+    EncodedPtr level(std::size_t tile, int level, std::uint32_t attributes, const ClientGone& gone = {});
+    // What the expensive work has cost so far (JSON): tiles decoded, heightmaps built, requests
+    // given up because their client had gone (ClientGone).
+    std::string stats_json() const;
+    std::uint64_t tiles_decoded() const { return tiles_decoded_; }
+    std::uint64_t heightmaps_built() const { return heightmaps_built_; }
+    std::uint64_t cancelled() const { return cancelled_; }
     // render's auto camera for an image of width x height and the vertical field of view (JSON),
     // looking at the whole dataset or at one of its tiles.
     std::string auto_camera_json(int width, int height, double fov_deg, std::optional<std::size_t> tile = {}) const;
@@ -80,6 +95,10 @@ private:
     std::array<float, 2> intensity_range() const;
     bool has_rgb() const;  // once loaded
     void learn_detail(const viewer::PointSet& set);
+    void stop_if_gone(const ClientGone& gone);
+    void acquire_decode_slot(const ClientGone& gone);
+    std::vector<viewer::PatchHeightmap> build_heightmaps(std::span<const CellKey> cells, bool cnn,
+                                                         const ClientGone& gone);
 
     dataset::Dataset dataset_;
     ResponseCache& cache_;
@@ -98,6 +117,7 @@ private:
     std::uint64_t detail_version_ = 0;  // tiles merged into details_ (in the cache keys)
     std::uint64_t detail_bytes_ = 0;  // tiles decoded at once (each holds its points twice meanwhile)
     std::uint64_t generation_;  // distinguishes this survey's cache keys
+    std::atomic<std::uint64_t> tiles_decoded_{0}, heightmaps_built_{0}, cancelled_{0};
 };
 
 }  // namespace lidarscout::serve

@@ -3,7 +3,8 @@
 // `render --camera auto --until full` of the same survey (the same auto camera): not blank, at
 // least 0.8 of the pixels render draws are drawn, and a small mean difference from render's image.
 // The page's own timings are read back from its DOM (#timings) and printed; nothing asserts on
-// them; two scripted clicks with the distance tool on give a point readout and a length. Skipped
+// them; two scripted clicks with the distance tool on give a point readout and a length. In
+// classification mode the page's image is compared with render's of that mode. Skipped
 // only where chromium is missing (scripts/setup.sh installs it).
 #include <gtest/gtest.h>
 
@@ -114,6 +115,28 @@ TEST_F(ServeBrowser, AutoCameraCoversWhatRenderCovers) {
     std::printf("measured between the two clicks: %.2f ft\n", length);
     EXPECT_GT(length, 100.0);  // 100 px apart at ~8,000 ft: hundreds of feet
     EXPECT_LT(length, 5000.0);
+}
+
+// In classification mode the page's heightmaps are render's untextured grey, not the terrain's RGB
+// (which showed green between the grey points of its levels of detail, where render, drawing every
+// point, hides its surface): measured 2.95 levels a channel from render's image (5.3 with the RGB).
+TEST_F(ServeBrowser, ClassificationModeLooksLikeRender) {
+    ServeChild server("'" + jmo335() + "'");
+    const std::string url = server.url();
+    ASSERT_EQ(url.rfind("http://127.0.0.1:", 0), 0u) << url;
+    const auto shot = dir / "page.png", ref = dir / "render.png";
+    const std::string page_url = url + "#camera=auto&ui=0&colour=classification";
+    ASSERT_EQ(std::system(chromium("--screenshot='" + shot.string() + "'", page_url, shot).c_str()), 0);
+    ASSERT_EQ(std::system(("'" + std::string(LIDARSCOUT_CLI) + "' render '" + jmo335() +
+                           "' --camera auto --until full --colour classification -o '" + ref.string() +
+                           "' 2>/dev/null").c_str()),
+              0);
+    const Png page = read_png(shot), rendered = read_png(ref);
+    ASSERT_TRUE(page.ok() && rendered.ok());
+    ASSERT_EQ(page.pixels.size(), rendered.pixels.size());
+    const double difference = mean_channel_difference(page, rendered);
+    std::printf("classification mode: mean difference per channel from render's image: %.2f levels\n", difference);
+    EXPECT_LT(difference, 4.0);
 }
 
 }  // namespace
