@@ -72,6 +72,12 @@ std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& pa
     return std::make_unique<SessionOpening>(paths, std::move(so));
 }
 
+void print_warnings(const Diagnostics& warnings) {
+    for (const auto& w : warnings) {
+        std::fprintf(stderr, "lidarscout: %s: %s\n", level_name(w.level), display_text(w.message).c_str());
+    }
+}
+
 // Puts the finished opening's session in place of the one shown, its dataset's warnings on stderr too
 // (the errors panel lists them). An error ends the viewer when nothing is shown yet (the first
 // dataset), else it is the status line. True when replaced.
@@ -82,9 +88,7 @@ bool take_opening(std::unique_ptr<SessionOpening>& opening, Session& session, Pa
         session.scheduler.reset();  // it reads the dataset it replaces
         session = std::move(next);
         panels = {};
-        for (const auto& w : session.dataset->warnings) {
-            std::fprintf(stderr, "lidarscout: %s: %s\n", level_name(w.level), display_text(w.message).c_str());
-        }
+        print_warnings(session.dataset->warnings);
         return true;
     } catch (const Error& e) {
         if (!session.open()) throw;
@@ -498,6 +502,7 @@ private:
         }
         if (opening_ && opening_->finished()) close_background();  // they read the dataset shown
         if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
+            corrections_shown_ = 0;
             refiner_.invalidate();
             if (!moved_while_opening_) controller_.frame(session_.dataset->bounds_m, fb_width_, fb_height_);
             moved_while_opening_ = false;
@@ -518,6 +523,10 @@ private:
             }
             if (!moved_while_opening_ && !progress.extent.empty())
                 controller_.frame(progress.extent, fb_width_, fb_height_);
+        } else {  // the tiles whose headers corrected their items, named as they are read
+            const Diagnostics corrections = session_.dataset->corrections(corrections_shown_);
+            corrections_shown_ += corrections.size();
+            print_warnings(corrections);
         }
     }
 
@@ -907,6 +916,7 @@ private:
     std::unique_ptr<SessionOpening> opening_;
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens
+    std::size_t corrections_shown_ = 0;        // the dataset's corrections (Dataset::corrections) on stderr
     std::shared_ptr<const Session> preview_;   // a large catalog's centre, drawn until the dataset draws
     std::size_t preview_heightmaps_ = 0;       // in its last frame
     bool every_footprint_ = false;             // footprints_ holds every tile's (a catalog's, or all read)
