@@ -57,22 +57,24 @@ std::shared_ptr<const Session> SessionOpening::publish_preview(dataset::Dataset 
     return preview;
 }
 
-// Opens the first pages of a paged catalog (`sources` so far; more to come) as the preview when their items
+// Opens the pages of a paged catalog read so far (`sources`; more to come) as the preview when their items
 // place their tiles: at once, without a request (the preview's scheduler reads their headers and chunk
-// points, those in view first, while the later pages are read). Once only; none for an opening that is not
-// the first (SessionOptions::preview_above 0) or a catalog with an overview sidecar.
-void SessionOpening::open_page_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options) {
-    if (options.preview_above == 0 || preview()) return;
+// points, those in view first, while the later pages are read); it replaces the preview of fewer pages. None
+// for an opening that is not the first (SessionOptions::preview_above 0) or a catalog with an overview
+// sidecar. Whether it opened.
+bool SessionOpening::open_page_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options) {
+    if (options.preview_above == 0) return false;
     const auto in_sidecar = [](const dataset::TileSource& s) { return s.item && s.item->overview; };
-    if (std::any_of(sources.begin(), sources.end(), in_sidecar)) return;
+    if (std::any_of(sources.begin(), sources.end(), in_sidecar)) return false;
     dataset::DatasetOptions d;
     d.crs = options.crs;
     d.placed = true;
-    if (!dataset::opens_placed(sources, d)) return;
+    if (!dataset::opens_placed(sources, d)) return false;
     try {
-        publish_preview(dataset::open_sources({{sources.begin(), sources.end()}, {}, {}}, d), options);
+        return publish_preview(dataset::open_sources({{sources.begin(), sources.end()}, {}, {}}, d), options) !=
+               nullptr;
     } catch (const Error&) {
-        // (a CRS that cannot be used: the whole opening says why)
+        return false;  // (a CRS that cannot be used: the whole opening says why)
     }
 }
 
@@ -122,14 +124,21 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         progress_.done = std::max(progress_.done, done);  // callbacks of several threads may cross
         progress_.total = total;
     };
-    std::vector<dataset::TileSource> first_pages;  // a paged catalog's, until its preview opens
-    std::size_t noted = 0;                          // the sources whose footprints were noted as they came
+    // A paged catalog's pages so far, opened as the preview at its first page, then again each time they are
+    // four times as many, up to SessionOptions::page_preview_most tiles (then only their footprints come).
+    std::vector<dataset::TileSource> first_pages;
+    std::size_t next_preview = 1;  // the tiles that open the next preview (0: no more)
+    std::size_t noted = 0;         // the sources whose footprints were noted as they came
     const auto arriving = [&](std::span<const dataset::TileSource> page, bool more) {
+        if (!more) return;  // (a catalog's last document: its footprints come with the rest, their total known)
         note_sources(std::nullopt, dataset::catalog_footprints(page));
         noted += page.size();
-        if (!more || cancel_ || preview()) return;
+        if (cancel_ || next_preview == 0) return;
         first_pages.insert(first_pages.end(), page.begin(), page.end());
-        open_page_preview(first_pages, options);
+        if (first_pages.size() < next_preview) return;
+        const bool opened = first_pages.size() <= options.page_preview_most && open_page_preview(first_pages, options);
+        next_preview = opened ? 4 * first_pages.size() : 0;
+        if (next_preview == 0) first_pages = {};
     };
     try {
         dataset::FoundSources found = dataset::find_tile_sources(paths, arriving);

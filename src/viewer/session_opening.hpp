@@ -5,10 +5,12 @@
 // A catalog whose items place every tile (dataset.hpp: DatasetOptions::placed) opens at once, its
 // headers read on demand by the scheduler. A paged catalog (a STAC API search: pages of items linked by
 // "next") opens its first page so, as the preview, while the later pages arrive (their footprints shown as
-// they come); the whole catalog opens once its last page is read. Another large catalog (each header a
-// request) first opens the few tiles at its centre as a preview session of their own (chunk points and
-// linear heightmaps, no full resolution), whose reads end before the rest of the headers are asked for: the
-// window shows real terrain there within a second or two, long before every header is in.
+// they come), and opens again as a larger preview each time four times as many tiles arrived (a newer
+// preview replaces the one before: preview()); the whole catalog opens once its last page is read.
+// Another large catalog (each header a request) first opens the few tiles at its centre as a preview
+// session of their own (chunk points and linear heightmaps, no full resolution), whose reads end before the
+// rest of the headers are asked for: the window shows real terrain there within a second or two, long
+// before every header is in.
 // Destroying an opening that is not finished cancels it: files not yet started are not read,
 // and the destructor waits only for the reads in progress.
 #pragma once
@@ -54,6 +56,7 @@ struct SessionOptions {
     double preview_radius_m = 1000.0;
     std::size_t preview_tiles = 64;
     double preview_wait_s = 3.0;     // the longest the rest waits for the preview's chunk points
+    std::size_t page_preview_most = 4096;  // a paged catalog's preview grows (4x at a time) up to these tiles
 };
 
 // Where an opening stands, for a progress line.
@@ -73,8 +76,8 @@ public:
     SessionOpening& operator=(const SessionOpening&) = delete;
 
     OpeningProgress progress() const;
-    // The preview session of a large catalog's centre, or of a paged catalog's first page, once it is open
-    // (null before, and for a dataset without one). It stays valid for as long as the caller holds it.
+    // The preview session of a large catalog's centre, or of a paged catalog's pages read so far (the latest),
+    // once it is open (null before, and for a dataset without one). It stays valid for as long as the caller holds it.
     std::shared_ptr<const Session> preview() const;
     // Appends the footprints read since the last call (those after footprints.size()).
     void footprints(std::vector<dataset::Bounds>& out) const;
@@ -91,7 +94,7 @@ private:
     void run(const std::vector<std::string>& paths, const SessionOptions& options);
     void note_sources(std::optional<std::size_t> sources, std::span<const std::optional<dataset::Bounds>> placed);
     std::shared_ptr<const Session> publish_preview(dataset::Dataset ds, const SessionOptions& options);
-    void open_page_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options);
+    bool open_page_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options);
     void open_preview(std::span<const dataset::TileSource> sources,
                       std::span<const std::optional<dataset::Bounds>> placed, const SessionOptions& options);
 
