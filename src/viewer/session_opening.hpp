@@ -56,7 +56,7 @@ struct SessionOptions {
     double preview_radius_m = 1000.0;
     std::size_t preview_tiles = 64;
     double preview_wait_s = 3.0;     // the longest the rest waits for the preview's chunk points
-    std::size_t page_preview_most = 4096;  // a paged catalog's preview grows (4x at a time) up to these tiles
+    std::size_t page_preview_most = 1024;  // a paged catalog's preview grows (4x at a time) up to these tiles
 };
 
 // Where an opening stands, for a progress line.
