@@ -1,6 +1,8 @@
 // A test fixture: Debian's nginx serving ../shared/data (read in place, nothing copied) on
 // 127.0.0.1 at an ephemeral port, with a generated config, temp prefix and logs in a temp
-// folder, and a second temp folder served at /lists/ for tile lists the tests write. One
+// folder, and a second temp folder served at /lists/ for tile lists the tests write (and at /typed/json/ and
+// /typed/laszip/, every file there with the Content-Type application/geo+json or application/vnd.laszip;
+// elsewhere application/octet-stream, nginx's default). One
 // server per test process, stopped when the process exits (and killed with it if it dies).
 // It also serves the same root over HTTPS and HTTP/2, with a certificate signed by a test CA
 // (both made by the openssl command), which a verifying client refuses unless given that CA.
@@ -107,6 +109,8 @@ private:
           << "  keepalive_requests 100000;\n"
           << "  server {\n    listen 127.0.0.1:" << port << ";\n    root " << root_.string()
           << ";\n    location /lists/ { alias " << lists_.string() << "/; }\n"
+          << "    location /typed/json/ { alias " << lists_.string() << "/; default_type application/geo+json; }\n"
+          << "    location /typed/laszip/ { alias " << lists_.string() << "/; default_type application/vnd.laszip; }\n"
           << "    location = /moved.laz { return 301 /" << kRedirected << "; }\n  }\n"
           << "  server {\n    listen 127.0.0.1:" << tls_port_ << " ssl http2;\n"
           << "    location = /downgrade.laz { return 302 http://127.0.0.1:" << port << "/" << kRedirected << "; }\n"

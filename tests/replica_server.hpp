@@ -2,7 +2,8 @@
 // serving a virtual replica's tiles (a replicate.json manifest) on 127.0.0.1 at an ephemeral port:
 // /tiles/NAME over HTTP (multi-range), s3://BUCKET/NAME (one range per GET, ListObjectsV2),
 // /catalog.vpc (every tile's STAC item, generated on the fly), /search (a paged STAC API) and
-// /_stats (requests and bytes per kind), with an optional round trip and bandwidth. The server
+// /_stats (requests and bytes per kind), with an optional round trip and bandwidth (and a search's last
+// page held until release()). The server
 // writes its port to a file once it listens; it is stopped when the fixture is destroyed (and
 // killed with the process if that dies), as nginx_server.hpp and s3_server.hpp do. Used by
 // tests/replica_server_test.cpp and bench_http --replica.
@@ -41,6 +42,7 @@ public:
         std::uint64_t bandwidth = 0;           // bytes/s per connection; 0: unlimited
         std::string bucket = "replica";        // the S3 bucket's name
         std::string overview;                  // an overview sidecar to serve (and name in the VPC); "" none
+        bool hold_last_page = false;           // a search's last page (of several) answered after release()
     };
 
     // A server of the replica `manifest`, started at once; throws when it does not start (its
@@ -120,6 +122,9 @@ public:
         return r;
     }
 
+    // Lets the server answer the search pages it holds (Options::hold_last_page), and those asked later.
+    void release() const { fetch("_release"); }
+
     // The server's counters (GET /_stats): requests and bytes per kind, tiles touched, ...; with
     // `reset`, counting starts again after this answer.
     nlohmann::json stats(bool reset = false) const {
@@ -137,14 +142,17 @@ private:
         const std::string port_file = (dir_ / "port").string(), log = (dir_ / "server.log").string();
         const std::string m = std::filesystem::absolute(manifest).string(), rtt = std::to_string(o.rtt_ms);
         const std::string bandwidth = std::to_string(o.bandwidth);
+        std::vector<const char*> args = {"python3", script.c_str(), m.c_str(), "--port-file", port_file.c_str(),
+                                         "--program", o.program.c_str(), "--bucket", o.bucket.c_str(),
+                                         "--rtt-ms", rtt.c_str(), "--bandwidth", bandwidth.c_str()};
+        if (!o.overview.empty()) args.insert(args.end(), {"--overview", o.overview.c_str()});
+        if (o.hold_last_page) args.push_back("--hold-last-page");
+        args.push_back(nullptr);  // (made before the fork: the child only calls exec)
         pid_ = ::fork();
         if (pid_ == 0) {
             ::prctl(PR_SET_PDEATHSIG, SIGTERM);
             std::freopen(log.c_str(), "w", stderr);
-            const char* overview = o.overview.empty() ? nullptr : "--overview";
-            ::execl("/usr/bin/python3", "python3", script.c_str(), m.c_str(), "--port-file", port_file.c_str(),
-                    "--program", o.program.c_str(), "--bucket", o.bucket.c_str(), "--rtt-ms", rtt.c_str(),
-                    "--bandwidth", bandwidth.c_str(), overview, o.overview.c_str(), static_cast<char*>(nullptr));
+            ::execv("/usr/bin/python3", const_cast<char* const*>(args.data()));
             ::_exit(127);
         }
         // (152,100 tiles take some seconds: the manifest, the sources' items, every item's length)

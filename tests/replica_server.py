@@ -25,18 +25,21 @@ is read from the source file. It answers:
          covers): never held whole in memory.
   STAC   GET /search?limit=N&token=T: a STAC API ItemCollection page (limit 10 by default, at most 10000),
          its items as in the VPC with absolute hrefs, a "next" link (token-based) while items remain,
-         numberMatched and numberReturned. GET / is a landing page linking it.
+         numberMatched and numberReturned. GET / is a landing page linking it. With --hold-last-page, the
+         last page of a search of several pages is answered only once GET /_release was asked (never
+         delayed nor counted): a test sees what a reader does with the first pages before the last arrives.
   Overview  GET/HEAD /catalog.overview.laz: with --overview FILE, that file (an overview sidecar written by
          `PROGRAM catalog MANIFEST -o OUT.vpc --overview`), ranges answered as a tile's; /catalog.vpc then
          names it in a top-level link of rel "lidarscout:overview" (item ids are the tiles' names' stems in
          both, which is how the sidecar's tiles are found).
   Stats  GET /_stats: requests and body bytes per kind (tile, tile_head, s3_object, s3_head, s3_list,
-         catalog, search, landing, error), tiles touched, connections, ranges, multi-range requests, as
-         JSON; /_stats?reset=1 answers, then starts counting again. Never delayed nor counted.
+         catalog, search, landing, error), tiles touched, connections, ranges, multi-range requests, the
+         requests held (--hold-last-page) now, as JSON; /_stats?reset=1 answers, then starts counting
+         again. Never delayed nor counted.
 
 Options: --rtt-ms MS delays each response by MS (a connection's first by 2 x MS: its TCP handshake);
 --bandwidth B sends each connection's bodies at B bytes/s (0: unlimited); --overview FILE serves an
-overview sidecar (above).
+overview sidecar (above); --hold-last-page holds a search's last page until /_release (above).
 
 One asyncio event loop (no thread per connection; http.server's thread-per-connection and header parsing
 cost far more per request on the 2 cores the benchmarks share). Started by tests/replica_server.hpp, which
@@ -384,12 +387,14 @@ class Stats:
         self.kinds = {k: {"requests": 0, "bytes": 0} for k in self.KINDS}
         self.touched = set()
         self.connections = self.ranges = self.multi_range = 0
+        self.held = 0  # requests waiting for /_release now (not reset: they are still waiting)
 
     def as_json(self, tiles):
         return {"requests": sum(k["requests"] for k in self.kinds.values()),
                 "bytes": sum(k["bytes"] for k in self.kinds.values()),
                 "kinds": self.kinds, "tiles": tiles, "tiles_touched": len(self.touched),
-                "connections": self.connections, "ranges": self.ranges, "multi_range_requests": self.multi_range}
+                "connections": self.connections, "ranges": self.ranges, "multi_range_requests": self.multi_range,
+                "held": self.held}
 
 
 class Response:
@@ -399,6 +404,7 @@ class Response:
         self.status, self.headers, self.kind = status, dict(headers or {}), kind
         self.body, self.pieces = body, pieces
         self.size = len(body) if size is None else size
+        self.held = False  # answered only after /_release (--hold-last-page)
 
 
 REASONS = {200: "OK", 206: "Partial Content", 400: "Bad Request", 404: "Not Found", 405: "Method Not Allowed",
@@ -533,6 +539,7 @@ class Server:
         self.stats = Stats()
         self.rtt = options.rtt_ms / 1000.0
         self.overview = None
+        self.release = None  # an asyncio.Event, set by /_release (made in the server's loop)
         links = {}
         if options.overview:
             self.overview = overview_resource(options.overview)
@@ -552,6 +559,9 @@ class Server:
             if query.get("reset", ["0"])[0] not in ("", "0"):
                 self.stats.reset()
             return answer, False
+        if path == "/_release":
+            self.released().set()
+            return json_response({"released": True}, "release"), False
         if method not in ("GET", "HEAD"):
             return Response(405, {"Allow": "GET, HEAD"}, b"method not allowed\n"), True
         head, rng = method == "HEAD", headers.get("range", "")
@@ -641,7 +651,14 @@ class Server:
                           "method": "GET"})
         tail = json_tail({"links": links, "numberMatched": total, "numberReturned": count})
         doc = ItemDocument(self.items, first, count, base + "/tiles/", tail)
-        return ranged(self.catalog_resource(doc, tail), rng, head, "search", self.stats)
+        response = ranged(self.catalog_resource(doc, tail), rng, head, "search", self.stats)
+        response.held = self.options.hold_last_page and first > 0 and first + count >= total
+        return response
+
+    def released(self):
+        if self.release is None:
+            self.release = asyncio.Event()
+        return self.release
 
     def list_objects(self, query):
         keys = self.replica.keys
@@ -716,6 +733,10 @@ class Server:
                 if delayed and self.rtt > 0:
                     await asyncio.sleep(self.rtt * (2 if first else 1))
                 first = False
+                if response.held and not self.released().is_set():
+                    self.stats.held += 1
+                    await self.released().wait()
+                    self.stats.held -= 1
                 close = headers.get("connection", "").lower() == "close" or version == "HTTP/1.0"
                 if close:
                     response.headers["Connection"] = "close"
@@ -837,9 +858,11 @@ def main():
     p.add_argument("--rtt-ms", type=float, default=0.0, help="each response's delay, ms (a new connection's: 2x)")
     p.add_argument("--bandwidth", type=parse_size, default=0, help="bytes/s per connection (0: unlimited)")
     p.add_argument("--overview", help="an overview sidecar to serve at /catalog.overview.laz (named in the VPC)")
+    p.add_argument("--hold-last-page", action="store_true",
+                   help="answer a search's last page (of several) only once GET /_release was asked")
     p.add_argument("--quiet", action="store_true")
     options = p.parse_args()
-    if options.bucket in ("tiles", "catalog.vpc", "search", "_stats") or "/" in options.bucket:
+    if options.bucket in ("tiles", "catalog.vpc", "search", "_stats", "_release") or "/" in options.bucket:
         p.error(f"--bucket {options.bucket}: that name is one of the server's own paths")
     try:
         started = time.monotonic()

@@ -433,7 +433,8 @@ class PlacedTiles {
 public:
     PlacedTiles(std::vector<TileSource> sources, std::uint64_t las_stride, bool frame_asked)
         : sources_(std::move(sources)), state_(std::make_unique<std::atomic<std::uint8_t>[]>(sources_.size())),
-          las_stride_(las_stride), frame_asked_(frame_asked) {}
+          read_bounds_(std::make_unique<Bounds[]>(sources_.size())), las_stride_(las_stride),
+          frame_asked_(frame_asked) {}
 
     bool frame_asked() const { return frame_asked_; }
 
@@ -441,6 +442,19 @@ public:
     bool tried(std::size_t i) const { return state_[i].load(std::memory_order_acquire) >= kReady; }
     std::size_t ready_count() const { return ready_count_.load(); }
     const std::string& path(std::size_t i) const { return sources_[i].path; }
+    // Tile i's header's bounds (once is_ready: written before the release store that publishes the tile).
+    const Bounds& read_bounds(std::size_t i) const { return read_bounds_[i]; }
+
+    Diagnostics corrections(std::size_t from) const {
+        std::lock_guard lock(mutex_);
+        Diagnostics out;
+        for (std::size_t k = from; k < corrections_.size(); ++k) out.add(corrections_[k]);
+        return out;
+    }
+    std::size_t corrections_count() const {
+        std::lock_guard lock(mutex_);
+        return corrections_.size();
+    }
 
     std::string error(std::size_t i) const {
         std::lock_guard lock(mutex_);
@@ -481,13 +495,14 @@ public:
             if (kept != i) {
                 ds.tiles[kept] = std::move(ds.tiles[i]);
                 sources_[kept] = std::move(sources_[i]);
+                read_bounds_[kept] = read_bounds_[i];
                 state_[kept].store(s);
             }
             ++kept;
         }
         ds.tiles.erase(ds.tiles.begin() + static_cast<std::ptrdiff_t>(kept), ds.tiles.end());
         sources_.resize(kept);
-        errors_.clear(), headers_.clear();
+        errors_.clear(), headers_.clear(), corrections_.clear();
         ds.warnings.append(warnings_);
         warnings_ = {};
     }
@@ -521,8 +536,13 @@ private:
             return false;
         }
         Header header{tile->bounds_m, tile->points, tile->chunk_points, item_disagreement(*source.item, tile->tile)};
+        read_bounds_[i] = tile->bounds_m;
         {
             std::lock_guard lock(mutex_);
+            if (!header.disagreement.empty()) {
+                corrections_.push_back({DiagnosticLevel::warning, io::display_path(source.path), std::nullopt,
+                                        header.disagreement});
+            }
             headers_[i] = std::move(header);
         }
         DatasetTile& t = ds.tiles[i];  // its placed fields stay: other threads read them
@@ -557,6 +577,7 @@ private:
 
     std::vector<TileSource> sources_;  // by tile
     std::unique_ptr<std::atomic<std::uint8_t>[]> state_;
+    std::unique_ptr<Bounds[]> read_bounds_;  // by tile: its header's, once read
     std::atomic<std::size_t> ready_count_{0};
     const std::uint64_t las_stride_;
     const bool frame_asked_;  // the frame is the CRS the caller asked for (not the items')
@@ -566,6 +587,7 @@ private:
     std::unordered_map<std::size_t, Header> headers_;
     TransformCache transforms_;
     Diagnostics warnings_;  // of reprojections
+    std::vector<Diagnostic> corrections_;  // the tiles read whose headers disagree with their items, in order
 };
 
 bool Dataset::is_ready(std::size_t i) const { return !placed || placed->is_ready(i); }
@@ -581,6 +603,14 @@ std::string Dataset::ready_error(std::size_t i) const { return placed ? placed->
 const std::string& Dataset::path(std::size_t i) const { return placed ? placed->path(i) : tiles[i].tile.path(); }
 
 std::size_t Dataset::tiles_ready() const { return placed ? placed->ready_count() : tiles.size(); }
+
+const Bounds& Dataset::bounds(std::size_t i) const {
+    return placed && placed->is_ready(i) ? placed->read_bounds(i) : tiles[i].bounds_m;
+}
+
+Diagnostics Dataset::corrections(std::size_t from) const { return placed ? placed->corrections(from) : Diagnostics(); }
+
+std::size_t Dataset::corrections_count() const { return placed ? placed->corrections_count() : 0; }
 
 void ensure_tiles(const Dataset& ds, std::span<const std::uint32_t> indices, unsigned io_threads) {
     if (!ds.placed) return;

@@ -8,9 +8,12 @@
 // reading a tile: each tile's header, records and chunk table are read on demand (Dataset::ready,
 // ensure_tiles), once, from any thread. Until then a tile holds only what its item says (bounds_m,
 // points, chunk_points: its "placed" fields, never written again while the dataset is shared) and
-// its `tile` must not be used; Dataset::is_ready says when it may. settle_tiles (a caller that holds
-// the dataset alone, as the CLI does) then corrects the placed fields from the headers read and
-// moves the tiles that could not be read to `skipped`.
+// its `tile` must not be used; Dataset::is_ready says when it may. A tile read whose header disagrees
+// with its item is corrected at once where other threads look (Dataset::bounds: the header's bounds from
+// then on) and named (Dataset::corrections: the line settle_tiles puts in `warnings`), so that a viewer
+// sees it while the dataset is shared. settle_tiles (a caller that holds the dataset alone, as the CLI
+// does) then corrects the placed fields themselves from the headers read and moves the tiles that could
+// not be read to `skipped`.
 #pragma once
 
 #include <atomic>
@@ -118,6 +121,14 @@ struct Dataset {
     const std::string& path(std::size_t i) const;
     // The tiles whose headers are read (tiles not placed count as read).
     std::size_t tiles_ready() const;
+    // Tile i's bounds as known now: its header's once it is read (is_ready), else its item's (bounds_m).
+    // Thread-safe; what a viewer draws, picks and ranks tiles by.
+    const Bounds& bounds(std::size_t i) const;
+    // The lines naming the tiles read so far whose headers disagree with their items (the header's values
+    // used: item_disagreement), in the order they were read, from the `from`-th on. Thread-safe; the same
+    // lines settle_tiles puts in `warnings` (after which there are none here).
+    Diagnostics corrections(std::size_t from = 0) const;
+    std::size_t corrections_count() const;
 };
 
 struct DatasetOptions {

@@ -112,7 +112,7 @@ std::optional<std::vector<std::string>> read_tile_list(const std::string& list, 
     return entries;
 }
 
-void expand(const std::string& p, bool allow_lists, FoundFiles& out);
+void expand(const std::string& p, bool allow_lists, FoundFiles& out, const SourcesArriving* arriving = nullptr);
 
 // A tile list's entries, expanded. When none of them names anything (a CSV of points, a text file
 // given by mistake), the list gets one line saying so instead of a line per entry.
@@ -143,15 +143,16 @@ void expand_list(const std::string& list, FoundFiles& out) {
     out.warnings.append(found.warnings);
 }
 
-void expand_catalog(const std::string& path, FoundFiles& out);
+void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriving* arriving);
 
-// A URL: a LAS/LAZ file, or (when lists are allowed) a STAC catalog (by its content: a JSON object) or a
-// tile list; folders cannot be listed.
-void expand_url(const std::string& url, bool allow_lists, FoundFiles& out) {
-    if (allow_lists && !has_point_cloud_extension(url)) {
-        holds_json_object(url) ? expand_catalog(url, out) : expand_list(url, out);
-    } else {
-        out.files.push_back(url);
+// A URL: a LAS/LAZ file, or (when lists are allowed) a STAC catalog or a tile as its Content-Type or content
+// says (content_kind), else a tile list; folders cannot be listed.
+void expand_url(const std::string& url, bool allow_lists, FoundFiles& out, const SourcesArriving* arriving) {
+    if (!allow_lists || has_point_cloud_extension(url)) return out.files.push_back(url);
+    switch (content_kind(url)) {
+        case ContentKind::catalog: return expand_catalog(url, out, arriving);
+        case ContentKind::tile: return out.files.push_back(url);
+        case ContentKind::other: return expand_list(url, out);
     }
 }
 
@@ -162,9 +163,29 @@ void expand_ept(const std::string& metadata, FoundFiles& out) {
     for (auto& e : nodes.errors) out.errors.push_back({io::display_path(metadata), std::move(e)});
 }
 
-// A STAC catalog or virtual point cloud: its items' data assets are the tiles.
-void expand_catalog(const std::string& path, FoundFiles& out) {
-    Catalog catalog = read_catalog(path);
+// The items of a catalog's document just read (from `first`), as tiles to `arriving`.
+void announce_items(const Catalog& so_far, std::size_t first, bool more, const SourcesArriving& arriving) {
+    const auto overview = so_far.overview.empty() ? nullptr : std::make_shared<const std::string>(so_far.overview);
+    std::vector<TileSource> sources;
+    sources.reserve(so_far.items.size() - first);
+    for (std::size_t i = first; i < so_far.items.size(); ++i) {
+        auto item = std::make_shared<CatalogItem>(so_far.items[i]);
+        item->overview = overview;
+        sources.push_back({item->href, std::nullopt, {}, std::move(item)});
+    }
+    arriving(sources, more);
+}
+
+// A STAC catalog or virtual point cloud: its items' data assets are the tiles (told to `arriving`, when
+// given, a document at a time).
+void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriving* arriving) {
+    CatalogItemsRead items_read;
+    if (arriving && *arriving) {
+        items_read = [arriving](const Catalog& so_far, std::size_t first, bool more) {
+            announce_items(so_far, first, more, *arriving);
+        };
+    }
+    Catalog catalog = read_catalog(path, {}, items_read);
     for (auto& e : catalog.errors) out.errors.push_back({io::display_path(path), std::move(e)});
     for (auto& w : catalog.warnings) {
         out.warnings.add({DiagnosticLevel::warning, io::display_path(path), std::nullopt, std::move(w)});
@@ -209,15 +230,15 @@ bool expand_missing_object(const std::string& url, FoundFiles& out) {
     return true;
 }
 
-void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
+void expand(const std::string& p, bool allow_lists, FoundFiles& out, const SourcesArriving* arriving) {
     if (const std::string problem = net::url_problem(p); !problem.empty()) {
         return out.errors.push_back({io::display_path(p), io::display_path(p) + ": " + problem});
     }
     if (is_s3_prefix(p)) return expand_s3_prefix(p, out);
     if (net::is_s3_url(p) && !has_point_cloud_extension(p) && expand_missing_object(p, out)) return;
     if (is_ept_metadata(p)) return expand_ept(p, out);
-    if (allow_lists && is_stac_catalog(p)) return expand_catalog(p, out);
-    if (net::is_url(p)) return expand_url(p, allow_lists, out);
+    if (allow_lists && is_stac_catalog(p)) return expand_catalog(p, out, arriving);
+    if (net::is_url(p)) return expand_url(p, allow_lists, out, arriving);
     std::error_code ec;
     auto st = fs::status(p, ec);
     if (ec || !fs::exists(st)) {
@@ -225,7 +246,7 @@ void expand(const std::string& p, bool allow_lists, FoundFiles& out) {
     } else if (fs::is_directory(st)) {
         search_folder(p, out);
     } else if (allow_lists && is_tile_list(p)) {
-        holds_json_object(p) ? expand_catalog(p, out) : expand_list(p, out);  // (a catalog by its content)
+        holds_json_object(p) ? expand_catalog(p, out, arriving) : expand_list(p, out);  // (a catalog by its content)
     } else {
         out.files.push_back(p);
     }
@@ -263,12 +284,13 @@ std::string replica_or_path(const std::string& p) {
 
 }  // namespace
 
-FoundSources find_tile_sources(const std::vector<std::string>& given) {
+FoundSources find_tile_sources(const std::vector<std::string>& given, const SourcesArriving& arriving) {
     FoundSources out;
     for (const auto& g : given) {
         const std::string p = replica_or_path(g);
         if (!is_virtual_replica(p)) {
-            FoundFiles found = find_point_cloud_files({p});
+            FoundFiles found;
+            expand(p, true, found, &arriving);
             for (auto& f : found.files) {
                 const auto item = found.items.find(f);
                 auto what = item == found.items.end() ? nullptr : item->second;

@@ -8,9 +8,11 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,11 +69,17 @@ struct FoundSources {
     Diagnostics warnings;  // FoundFiles::warnings, and sources left out because they name a tile named before
 };
 
+// Called as a catalog's documents are read (each page of a STAC API search), on the thread of
+// find_tile_sources before it returns: the tiles of the document just read (with their items), and whether
+// more of that catalog remains to be read. What find_tile_sources returns holds them again (duplicates
+// dropped there, not here): a caller may open the first pages while the later ones arrive.
+using SourcesArriving = std::function<void(std::span<const TileSource> sources, bool more)>;
+
 // find_point_cloud_files, with virtual replica manifests (dataset/virtual_replica.hpp) among the
 // paths opened as their shifted tiles: what every command that reads tiles opens, so that a
 // folder, a tile list and a manifest mean the same to all of them. Each tile once, however many
 // items, entries and paths name it (dataset/source_identity.hpp), said in one warning.
-FoundSources find_tile_sources(const std::vector<std::string>& paths);
+FoundSources find_tile_sources(const std::vector<std::string>& paths, const SourcesArriving& arriving = {});
 
 // Every local file and folder that reading `paths` touches, for the output check
 // (io/output_check.hpp), without searching folders or reading a tile: the paths themselves, the

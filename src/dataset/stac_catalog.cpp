@@ -24,6 +24,7 @@
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
+#include "net/remote_file.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::dataset {
@@ -469,23 +470,46 @@ bool is_stac_catalog(const std::string& path) {
     return ends_with(name, ".vpc") || ends_with(name, ".json");
 }
 
-bool holds_json_object(const std::string& path) {
+namespace {
+
+// What a Content-Type says of the content (parameters and case aside); nullopt when it does not tell.
+std::optional<ContentKind> kind_of_type(const std::string& content_type) {
+    std::string type = content_type.substr(0, content_type.find(';'));
+    std::transform(type.begin(), type.end(), type.begin(), [](unsigned char c) { return std::tolower(c); });
+    type.erase(0, type.find_first_not_of(" \t"));
+    type.erase(type.find_last_not_of(" \t") + 1);
+    if (type == "application/json" || (type.rfind("application/", 0) == 0 && ends_with(type, "+json"))) {
+        return ContentKind::catalog;
+    }
+    if (type == "application/vnd.laszip" || type == "application/vnd.las") return ContentKind::tile;
+    return std::nullopt;
+}
+
+}  // namespace
+
+ContentKind content_kind(const std::string& path) {
     char head[256];
     std::size_t n = 0;
     try {
         const io::File file = io::File::open(path);
+        if (file.remote()) {
+            if (const auto kind = kind_of_type(file.remote()->content_type())) return *kind;
+        }
         const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(sizeof head, file.size()));
         n = file.read_at(0, std::span(reinterpret_cast<std::uint8_t*>(head), want));
     } catch (const Error&) {
-        return false;
+        return ContentKind::other;
     }
     std::string_view text(head, n);
+    if (text.starts_with("LASF")) return ContentKind::tile;
     if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
     const auto first = text.find_first_not_of(" \t\r\n");
-    return first != std::string_view::npos && text[first] == '{';
+    return first != std::string_view::npos && text[first] == '{' ? ContentKind::catalog : ContentKind::other;
 }
 
-Catalog read_catalog(const std::string& path, const CatalogLimits& limits) {
+bool holds_json_object(const std::string& path) { return content_kind(path) == ContentKind::catalog; }
+
+Catalog read_catalog(const std::string& path, const CatalogLimits& limits, const CatalogItemsRead& items_read) {
     Walk w{limits, {}, {}, {}, {}, 0, false};
     w.seen.insert(path);
     w.queue.push_back({path, 0, 0, path});
@@ -497,7 +521,9 @@ Catalog read_catalog(const std::string& path, const CatalogLimits& limits) {
         }
         const Queued q = std::move(w.queue.front());
         w.queue.pop_front();
+        const std::size_t before = w.out.items.size();
         read_document(q, w);
+        if (items_read && w.out.items.size() > before) items_read(w.out, before, !w.queue.empty() && !w.full);
     }
     return std::move(w.out);
 }

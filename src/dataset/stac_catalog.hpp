@@ -27,6 +27,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -72,15 +73,29 @@ struct Catalog {
 // metadata (ept.json, entwine.json): what is read as a STAC catalog.
 bool is_stac_catalog(const std::string& path);
 
-// True for a path or URL whose content is a JSON object: its first byte other than white space (after
-// a UTF-8 byte order mark) is '{'. What is read as a STAC catalog whatever its name: a STAC API search
-// (.../search?collections=...&bbox=...) or items endpoint (.../collections/C/items), a catalog served
-// without a .json name. Reads its first bytes (a remote file's edge, read as it is opened); false when
-// it cannot be opened (its reading as a tile or list then says why).
+// What a file or URL holds, told before it is read as one thing or another.
+enum class ContentKind { catalog, tile, other };
+
+// A remote file's Content-Type when it says (application/json, application/geo+json or another type ending
+// in +json: a catalog; application/vnd.laszip or application/vnd.las: a tile), else its first bytes (a JSON
+// object, its first byte other than white space after a UTF-8 byte order mark '{': a catalog; the LAS
+// signature "LASF": a tile). What makes a catalog of a STAC API search (.../search?collections=...&bbox=...)
+// or items endpoint (.../collections/C/items), or a catalog served without a .json name, and a tile of a
+// URL without a .las/.laz name. Reads its first bytes (a remote file's edge and headers, as it is opened);
+// `other` when it cannot be opened (its reading as a tile or list then says why).
+ContentKind content_kind(const std::string& path);
+
+// content_kind(path) == ContentKind::catalog.
 bool holds_json_object(const std::string& path);
 
-// The items of the catalog at `path` and of every document it links, with what could not be used.
-Catalog read_catalog(const std::string& path, const CatalogLimits& limits = {});
+// Called after each document of a catalog that gave items (a STAC API search's page): the catalog read so far,
+// where the document's items start in it, and whether documents remain to be read (further pages, links).
+using CatalogItemsRead = std::function<void(const Catalog& so_far, std::size_t first_item, bool more)>;
+
+// The items of the catalog at `path` and of every document it links, with what could not be used;
+// `items_read` sees them as each document is read (a reader that opens from the first pages of a search).
+Catalog read_catalog(const std::string& path, const CatalogLimits& limits = {},
+                     const CatalogItemsRead& items_read = {});
 
 // "item 'ID' in DOCUMENT" (the document as shown), or "item HREF in DOCUMENT" for an item without id.
 std::string item_name(const CatalogItem& item);

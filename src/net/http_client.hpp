@@ -91,6 +91,7 @@ struct RangeReply {
     std::string error;                             // non-empty: the request failed (after retries)
     long status = 0;                               // the last response's HTTP status (0: none)
     std::string final_url;                         // where redirects led, when they did ("" = none)
+    std::string content_type;                      // the Content-Type of a reply not in parts ("" = none)
 };
 
 struct HttpStats {

@@ -411,7 +411,10 @@ TransferOutcome HttpTransfer::judge_status() {
 TransferOutcome HttpTransfer::finish_attempt(CURLcode code) {
     const TransferOutcome outcome = judge_attempt(code);
     job_->reply.status = status_;
-    if (outcome == TransferOutcome::Done) keep_final_url();
+    if (outcome == TransferOutcome::Done) {
+        keep_final_url();
+        if (multipart_boundary(content_type_).empty()) job_->reply.content_type = content_type_;
+    }
     if (outcome == TransferOutcome::Retry && past_deadline()) return fail(deadline_message());
     return outcome;
 }

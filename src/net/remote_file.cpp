@@ -182,7 +182,7 @@ void fetch_following(RangeRequest request, std::shared_ptr<RemoteFile::Redirect>
 
 RemoteFile::RemoteFile(std::string url, RangeReply&& head)
     : url_(std::move(url)), display_url_(redact_url(url_)), validator_(std::move(head.validator)),
-      redirect_(std::make_shared<Redirect>()) {
+      content_type_(std::move(head.content_type)), redirect_(std::make_shared<Redirect>()) {
     if (!head.total) throw Error(display_url_, std::nullopt, "the server does not give the file's size");
     size_ = *head.total;
     head_ = std::move(head.parts.at(0));

@@ -44,6 +44,8 @@ public:
     const std::string& display_url() const { return display_url_; }
     std::uint64_t size() const { return size_; }
     const std::string& validator() const { return validator_; }
+    // The Content-Type of the first response ("" when the server gave none), as the server wrote it.
+    const std::string& content_type() const { return content_type_; }
     std::span<const std::uint8_t> head() const { return head_; }  // bytes [0, head().size()): kEdge or more
     std::span<const std::uint8_t> tail() const { return tail_; }  // bytes [size() - tail().size(), size())
 
@@ -70,7 +72,7 @@ private:
     // The bytes of `r` when the head or the tail holds them all.
     std::optional<std::vector<std::uint8_t>> held(const ByteRange& r) const;
 
-    std::string url_, display_url_, validator_;
+    std::string url_, display_url_, validator_, content_type_;
     std::shared_ptr<Redirect> redirect_;
     std::uint64_t size_ = 0;
     std::vector<std::uint8_t> head_, tail_;

@@ -86,7 +86,7 @@ std::optional<PickedPoint> pick_point(const SceneSnapshot& snapshot, const rende
 
 std::optional<std::uint32_t> tile_at(const dataset::Dataset& dataset, double x, double y) {
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
-        if (dataset.tiles[i].bounds_m.distance_xy(x, y) == 0) return i;
+        if (dataset.bounds(i).distance_xy(x, y) == 0) return i;
     }
     return std::nullopt;
 }

@@ -24,7 +24,7 @@ constexpr char kMagic[8] = {'L', 'S', 'R', 'E', 'F', '0', '0', '1'};
 std::vector<std::uint32_t> visible_tiles(const dataset::Dataset& ds, const render::Camera& camera) {
     std::vector<std::uint32_t> out;
     for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
-        if (screen_fraction(camera, ds.tiles[i].bounds_m) > 0) out.push_back(i);
+        if (screen_fraction(camera, ds.bounds(i)) > 0) out.push_back(i);
     }
     return out;
 }

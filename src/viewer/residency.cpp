@@ -301,7 +301,7 @@ void Residency::run() {
             Entry& e = policy_.entries().at(tile);
             e.partial = true;
             e.loaded_at = loading_version_;
-            e.coverage = policy_.coverage(e, screen_fraction(policy_.camera(), dataset_.tiles[tile].bounds_m));
+            e.coverage = policy_.coverage(e, screen_fraction(policy_.camera(), dataset_.bounds(tile)));
         }
         lock.unlock();
         notify({}, tile, {});

@@ -49,11 +49,11 @@ double ResidencyPolicy::gain_per_byte(std::uint32_t tile, double fraction) const
     const auto& t = dataset_.tiles[tile];
     const double shown = entries_.contains(tile) ? coarse_spacing_m_ : grid_.patch_size() / patch_texels_;
     const double bytes = static_cast<double>(std::max<std::uint64_t>(tile_point_set_bytes(t), 1));
-    return error_px(camera_, t.bounds_m, shown, spacing_[tile]) * fraction / bytes;
+    return error_px(camera_, dataset_.bounds(tile), shown, spacing_[tile]) * fraction / bytes;
 }
 
 double ResidencyPolicy::value_per_byte(std::uint32_t tile, const Entry& entry) const {
-    const auto& b = dataset_.tiles[tile].bounds_m;
+    const auto& b = dataset_.bounds(tile);
     const double fraction = screen_fraction(camera_, b);
     if (fraction <= 0)
         return -1.0 / (1.0 + static_cast<double>(entry.last_seen));  // out of view: least recently seen first
@@ -72,7 +72,7 @@ std::optional<DecodePlan> ResidencyPolicy::plan_for(std::uint32_t tile, std::uin
 }
 
 std::uint64_t ResidencyPolicy::bookkeeping_bytes(std::uint32_t tile) const {
-    const auto& b = dataset_.tiles[tile].bounds_m;
+    const auto& b = dataset_.bounds(tile);
     const auto across = [&](double side) {
         return static_cast<std::uint64_t>(std::ceil(std::max(b.max_x - b.min_x, 0.0) / side) + 1) *
                static_cast<std::uint64_t>(std::ceil(std::max(b.max_y - b.min_y, 0.0) / side) + 1);
@@ -122,7 +122,7 @@ ResidencyPolicy::Fractions ResidencyPolicy::screen_fractions(const render::Camer
     Fractions out;
     index_.visit([&](const dataset::Bounds& box) { return box_in_view(camera, box); },
                  [&](std::uint32_t t) {
-                     const double f = screen_fraction(camera, dataset_.tiles[t].bounds_m);
+                     const double f = screen_fraction(camera, dataset_.bounds(t));
                      if (f > 0) out.emplace(t, f);
                  });
     return out;

@@ -1,7 +1,9 @@
 // SessionOpening: open_dataset on a thread of its own, its per-tile callbacks gathered under a
 // lock for the window, then the Scheduler built on the dataset; a large catalog's central tiles
 // opened before as a preview session, unless its items place every tile (the dataset then opens at
-// once, its headers read by the scheduler's loader, the view's first).
+// once, its headers read by the scheduler's loader, the view's first). A paged catalog (a STAC API
+// search) whose first page places its tiles opens that page as the preview while the later pages
+// arrive, their footprints shown as they come.
 #include "viewer/session_opening.hpp"
 
 #include <algorithm>
@@ -21,10 +23,12 @@ SessionOpening::~SessionOpening() {
     if (thread_.joinable()) thread_.join();
 }
 
-// `placed`: the sources' catalog footprints (looked up outside the lock).
-void SessionOpening::note_sources(std::size_t sources, std::span<const std::optional<dataset::Bounds>> placed) {
+// `placed`: catalog footprints of sources (looked up outside the lock); `sources`: how many there are in all,
+// once known.
+void SessionOpening::note_sources(std::optional<std::size_t> sources,
+                                  std::span<const std::optional<dataset::Bounds>> placed) {
     std::lock_guard lock(mutex_);
-    progress_.total = sources;
+    if (sources) progress_.total = *sources;
     for (const auto& b : placed) {
         if (b) footprints_.push_back(*b), progress_.extent.extend(*b);
     }
@@ -37,6 +41,43 @@ bool SessionOpening::wait_for_sources(std::chrono::milliseconds timeout) const {
     return sources_known_.wait_for(lock, timeout, [&] { return sources_noted_ || finished_.load(); });
 }
 
+// A preview session on `ds` (terrain only: the whole dataset's scheduler does the rest), published for the
+// window; null when it has no tile or the opening is cancelled.
+std::shared_ptr<const Session> SessionOpening::publish_preview(dataset::Dataset ds, const SessionOptions& options) {
+    if (ds.tiles.empty() || cancel_) return nullptr;
+    auto preview = std::make_shared<Session>();
+    preview->dataset = std::make_unique<dataset::Dataset>(std::move(ds));
+    SchedulerOptions so = options.scheduler;
+    so.cnn = false, so.full_res = false;
+    preview->places = std::make_unique<dataset::TileIndex>(*preview->dataset);
+    preview->cursor = std::make_unique<CursorReadout>(preview->dataset->frame);
+    preview->scheduler = std::make_unique<Scheduler>(*preview->dataset, so);
+    std::lock_guard lock(mutex_);
+    preview_ = preview;
+    return preview;
+}
+
+// Opens the pages of a paged catalog read so far (`sources`; more to come) as the preview when their items
+// place their tiles: at once, without a request (the preview's scheduler reads their headers and chunk
+// points, those in view first, while the later pages are read); it replaces the preview of fewer pages. None
+// for an opening that is not the first (SessionOptions::preview_above 0) or a catalog with an overview
+// sidecar. Whether it opened.
+bool SessionOpening::open_page_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options) {
+    if (options.preview_above == 0) return false;
+    const auto in_sidecar = [](const dataset::TileSource& s) { return s.item && s.item->overview; };
+    if (std::any_of(sources.begin(), sources.end(), in_sidecar)) return false;
+    dataset::DatasetOptions d;
+    d.crs = options.crs;
+    d.placed = true;
+    if (!dataset::opens_placed(sources, d)) return false;
+    try {
+        return publish_preview(dataset::open_sources({{sources.begin(), sources.end()}, {}, {}}, d), options) !=
+               nullptr;
+    } catch (const Error&) {
+        return false;  // (a CRS that cannot be used: the whole opening says why)
+    }
+}
+
 // Opens the preview (SessionOptions::preview_above) and waits until its chunk points are in, at most
 // preview_wait_s: its reads go first, not behind every header of the catalog. Without a preview (a
 // small or unplaced catalog, no central tile readable, a cancel) it returns at once; whatever stops
@@ -44,7 +85,7 @@ bool SessionOpening::wait_for_sources(std::chrono::milliseconds timeout) const {
 void SessionOpening::open_preview(std::span<const dataset::TileSource> sources,
                                   std::span<const std::optional<dataset::Bounds>> placed,
                                   const SessionOptions& options) {
-    if (options.preview_above == 0 || sources.size() <= options.preview_above) return;
+    if (options.preview_above == 0 || sources.size() <= options.preview_above || preview()) return;
     const auto in_sidecar = [](const dataset::TileSource& s) { return s.item && s.item->overview; };
     if (std::any_of(sources.begin(), sources.end(), in_sidecar)) return;  // (the sidecar opens them all at once)
     auto central = dataset::central_sources(sources, placed, options.preview_radius_m, options.preview_tiles);
@@ -52,22 +93,13 @@ void SessionOpening::open_preview(std::span<const dataset::TileSource> sources,
     dataset::DatasetOptions d;
     d.crs = options.crs;
     d.cancel = &cancel_;
-    auto preview = std::make_shared<Session>();
+    std::shared_ptr<const Session> preview;
     try {
-        preview->dataset = std::make_unique<dataset::Dataset>(dataset::open_sources({std::move(central), {}, {}}, d));
+        preview = publish_preview(dataset::open_sources({std::move(central), {}, {}}, d), options);
     } catch (const Error&) {
         return;
     }
-    if (preview->dataset->tiles.empty() || cancel_) return;
-    SchedulerOptions so = options.scheduler;
-    so.cnn = false, so.full_res = false;  // the terrain at once; the whole dataset's scheduler does the rest
-    preview->places = std::make_unique<dataset::TileIndex>(*preview->dataset);
-    preview->cursor = std::make_unique<CursorReadout>(preview->dataset->frame);
-    preview->scheduler = std::make_unique<Scheduler>(*preview->dataset, so);
-    {
-        std::lock_guard lock(mutex_);
-        preview_ = preview;
-    }
+    if (!preview) return;
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(options.preview_wait_s);
     while (!cancel_ && std::chrono::steady_clock::now() < until) {
         const StageProgress loaded = preview->scheduler->stats().tiles_loaded;
@@ -92,10 +124,27 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         progress_.done = std::max(progress_.done, done);  // callbacks of several threads may cross
         progress_.total = total;
     };
+    // A paged catalog's pages so far, opened as the preview at its first page, then again each time they are
+    // four times as many, up to SessionOptions::page_preview_most tiles (then only their footprints come).
+    std::vector<dataset::TileSource> first_pages;
+    std::size_t next_preview = 1;  // the tiles that open the next preview (0: no more)
+    std::size_t noted = 0;         // the sources whose footprints were noted as they came
+    const auto arriving = [&](std::span<const dataset::TileSource> page, bool more) {
+        if (!more) return;  // (a catalog's last document: its footprints come with the rest, their total known)
+        note_sources(std::nullopt, dataset::catalog_footprints(page));
+        noted += page.size();
+        if (cancel_ || next_preview == 0) return;
+        first_pages.insert(first_pages.end(), page.begin(), page.end());
+        if (first_pages.size() < next_preview) return;
+        const bool opened = first_pages.size() <= options.page_preview_most && open_page_preview(first_pages, options);
+        next_preview = opened ? 4 * first_pages.size() : 0;
+        if (next_preview == 0) first_pages = {};
+    };
     try {
-        dataset::FoundSources found = dataset::find_tile_sources(paths);
+        dataset::FoundSources found = dataset::find_tile_sources(paths, arriving);
+        first_pages = {};
         const auto placed = dataset::catalog_footprints(found.sources);
-        note_sources(found.sources.size(), placed);
+        note_sources(found.sources.size(), std::span(placed).subspan(std::min(noted, placed.size())));
         if (!dataset::opens_placed(found.sources, d)) open_preview(found.sources, placed, options);
         Session s;
         s.dataset = std::make_unique<dataset::Dataset>(dataset::open_sources(std::move(found), d));

@@ -3,10 +3,14 @@
 // window shows what is known: how many tiles are read, failed and to go, and the footprints of
 // the tiles read so far (a STAC catalog's every tile at once, where its items place them).
 // A catalog whose items place every tile (dataset.hpp: DatasetOptions::placed) opens at once, its
-// headers read on demand by the scheduler. Another large catalog (each header a request) first opens the few
-// tiles at its centre as a preview session of their own (chunk points and linear heightmaps,
-// no full resolution), whose reads end before the rest of the headers are asked for: the window
-// shows real terrain there within a second or two, long before every header is in.
+// headers read on demand by the scheduler. A paged catalog (a STAC API search: pages of items linked by
+// "next") opens its first page so, as the preview, while the later pages arrive (their footprints shown as
+// they come), and opens again as a larger preview each time four times as many tiles arrived (a newer
+// preview replaces the one before: preview()); the whole catalog opens once its last page is read.
+// Another large catalog (each header a request) first opens the few tiles at its centre as a preview
+// session of their own (chunk points and linear heightmaps, no full resolution), whose reads end before the
+// rest of the headers are asked for: the window shows real terrain there within a second or two, long
+// before every header is in.
 // Destroying an opening that is not finished cancels it: files not yet started are not read,
 // and the destructor waits only for the reads in progress.
 #pragma once
@@ -46,11 +50,13 @@ struct SessionOptions {
     std::string crs;                 // the frame's CRS; empty: the majority's
     SchedulerOptions scheduler;      // its camera, if set, is the first one
     // A catalog of more tiles than preview_above (0: never), whose items place every tile, first
-    // opens its tiles within preview_radius_m of its centre (at most preview_tiles) as a preview.
+    // opens its tiles within preview_radius_m of its centre (at most preview_tiles) as a preview; a paged
+    // catalog its first page (whatever preview_above, but 0: no preview at all).
     std::size_t preview_above = 64;
     double preview_radius_m = 1000.0;
     std::size_t preview_tiles = 64;
     double preview_wait_s = 3.0;     // the longest the rest waits for the preview's chunk points
+    std::size_t page_preview_most = 1024;  // a paged catalog's preview grows (4x at a time) up to these tiles
 };
 
 // Where an opening stands, for a progress line.
@@ -70,8 +76,8 @@ public:
     SessionOpening& operator=(const SessionOpening&) = delete;
 
     OpeningProgress progress() const;
-    // The preview session of a large catalog's centre, once it is open (null before, and for a
-    // dataset without one). It stays valid for as long as the caller holds it.
+    // The preview session of a large catalog's centre, or of a paged catalog's pages read so far (the latest),
+    // once it is open (null before, and for a dataset without one). It stays valid for as long as the caller holds it.
     std::shared_ptr<const Session> preview() const;
     // Appends the footprints read since the last call (those after footprints.size()).
     void footprints(std::vector<dataset::Bounds>& out) const;
@@ -86,7 +92,9 @@ public:
 
 private:
     void run(const std::vector<std::string>& paths, const SessionOptions& options);
-    void note_sources(std::size_t sources, std::span<const std::optional<dataset::Bounds>> placed);
+    void note_sources(std::optional<std::size_t> sources, std::span<const std::optional<dataset::Bounds>> placed);
+    std::shared_ptr<const Session> publish_preview(dataset::Dataset ds, const SessionOptions& options);
+    bool open_page_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options);
     void open_preview(std::span<const dataset::TileSource> sources,
                       std::span<const std::optional<dataset::Bounds>> placed, const SessionOptions& options);
 

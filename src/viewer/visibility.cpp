@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "viewer/point_sets.hpp"
 
@@ -93,15 +95,17 @@ FullResChoice choose_full_res_tiles(const dataset::Dataset& dataset, const rende
                                     const FullResOptions& options) {
     std::vector<std::uint32_t> visible, large;
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
-        const double f = screen_fraction(camera, dataset.tiles[i].bounds_m);
+        const double f = screen_fraction(camera, dataset.bounds(i));
         if (f <= 0.0) continue;
         visible.push_back(i);
         if (f > options.min_screen_fraction) large.push_back(i);
     }
     std::vector<std::uint32_t> wanted = visible.size() <= options.few_tiles ? visible : large;
-    std::stable_sort(wanted.begin(), wanted.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return distance_to(camera, dataset.tiles[a].bounds_m) < distance_to(camera, dataset.tiles[b].bounds_m);
-    });
+    // (distances taken once: a tile's bounds change when its header is read, maybe while this sorts)
+    std::vector<std::pair<double, std::uint32_t>> near;
+    for (const std::uint32_t i : wanted) near.emplace_back(distance_to(camera, dataset.bounds(i)), i);
+    std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t k = 0; k < near.size(); ++k) wanted[k] = near[k].second;
     FullResChoice choice;
     choice.wanted = wanted.size();
     for (const std::uint32_t i : wanted) {

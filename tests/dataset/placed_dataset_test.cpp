@@ -2,9 +2,10 @@
 // (a 12 x 12 virtual replica of a ky-jmo335 tile): it opens from the items with no request to a tile;
 // ensure_tiles reads the headers asked for and no other; once every header is read it equals the dataset
 // opened by reading them (tiles, headers, bounds, counts), and so do the chunk points the loader reads
-// (headers on demand); a header that disagrees with its item is corrected and named; a tile that cannot
+// (headers on demand); a header that disagrees with its item is corrected and named (as it is read, for a
+// dataset shared); a tile that cannot
 // be read is skipped with its line, the rest kept; `clip` and `dem` of a small region ask only its tiles and
-// write what the eager path writes.
+// write what the eager path writes; a search's pages reach the caller as they are read.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include <functional>
 #include <iterator>
 #include <fstream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,7 @@
 #include "core/patch_grid.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "las/header_writer.hpp"
 #include "core/thread_pool.hpp"
 #include "pipelines/region_points.hpp"
@@ -185,6 +188,80 @@ TEST(PlacedDataset, AHeaderThatDisagreesIsCorrectedAndNamed) {
     EXPECT_NE(line.find(id), std::string::npos) << line;
     EXPECT_NE(line.find("pc:count"), std::string::npos) << line;
     EXPECT_EQ(ds.point_count, open(replica().server->catalog_url(), false).point_count);
+}
+
+// While the dataset is shared (a viewer's), a tile whose header disagrees with its item is corrected where
+// other threads look once its header is read (Dataset::bounds: the header's bounds, its item's until then;
+// the placed fields stay) and named at once (Dataset::corrections: the line settle_tiles then puts in the
+// warnings, and no other).
+TEST(PlacedDataset, AHeaderThatDisagreesIsCorrectedForASharedDatasetAsItIsRead) {
+    std::string id;
+    const std::string vpc = local_catalog("moved.vpc", [&](nlohmann::json& items) {
+        auto& box = items[10].at("properties").at("proj:bbox");
+        for (const int k : {0, 3}) box[k] = box[k].get<double>() + 500.0;  // x moved by half a tile
+        id = items[10].at("id").get<std::string>();
+    });
+    const Dataset eager = open(replica().server->catalog_url(), false);
+    Dataset ds = open(vpc, true);
+    ASSERT_TRUE(ds.placed);
+    const Bounds item = ds.tiles[10].bounds_m;
+    EXPECT_GT(item.min_x, eager.tiles[10].bounds_m.min_x + 100.0);  // (500 of the CRS's units: feet or metres)
+    EXPECT_EQ(ds.bounds(10).min_x, item.min_x);
+    EXPECT_EQ(ds.corrections_count(), 0u);
+    ensure_tiles(ds, std::vector<std::uint32_t>{10, 11});
+    EXPECT_DOUBLE_EQ(ds.bounds(10).min_x, eager.tiles[10].bounds_m.min_x);
+    EXPECT_DOUBLE_EQ(ds.bounds(10).max_y, eager.tiles[10].bounds_m.max_y);
+    EXPECT_DOUBLE_EQ(ds.bounds(11).min_x, eager.tiles[11].bounds_m.min_x);
+    EXPECT_EQ(ds.tiles[10].bounds_m.min_x, item.min_x) << "a placed field written while the dataset is shared";
+    ASSERT_EQ(ds.corrections_count(), 1u);
+    const Diagnostics corrections = ds.corrections();
+    ASSERT_EQ(corrections.size(), 1u);
+    const std::string line = corrections[0].message;
+    EXPECT_NE(line.find(id), std::string::npos) << line;
+    EXPECT_NE(line.find("proj:bbox"), std::string::npos) << line;
+    EXPECT_TRUE(ds.corrections(1).empty());
+    settle_tiles(ds);
+    ASSERT_EQ(ds.warnings.size(), 1u);
+    EXPECT_EQ(ds.warnings.messages()[0], line);
+    EXPECT_EQ(ds.corrections_count(), 0u);
+    EXPECT_DOUBLE_EQ(ds.tiles[10].bounds_m.min_x, eager.tiles[10].bounds_m.min_x);
+    EXPECT_DOUBLE_EQ(ds.bounds(10).min_x, eager.tiles[10].bounds_m.min_x);
+}
+
+// A STAC API search's pages reach the caller of find_tile_sources as they are read: each page handed over
+// before the next is asked (when the k-th page arrives, the server has answered k times the requests of the
+// first, none for the pages after), with whether more is to come, and the pages together are the sources.
+TEST(PlacedDataset, ASearchsPagesArriveBeforeTheNextIsAsked) {
+    auto& server = *replica().server;
+    net::RemoteFile::forget_all();
+    server.stats(true);
+    struct Page {
+        std::size_t items;
+        bool more;
+        int searches;  // search requests the server had answered then
+    };
+    std::vector<Page> pages;
+    std::vector<std::string> paths;
+    const auto arriving = [&](std::span<const TileSource> page, bool more) {
+        const int searches = server.stats().at("kinds").at("search").at("requests").get<int>();
+        pages.push_back({page.size(), more, searches});
+        for (const auto& s : page) paths.push_back(s.path);
+        EXPECT_TRUE(page.front().item && page.front().item->count);
+    };
+    const FoundSources found = find_tile_sources({server.url("search?limit=50")}, arriving);
+    ASSERT_EQ(pages.size(), 3u);
+    for (std::size_t k = 0; k < pages.size(); ++k) {
+        EXPECT_EQ(pages[k].items, k < 2 ? 50u : kTiles - 100);
+        EXPECT_EQ(pages[k].more, k < 2);
+        EXPECT_EQ(pages[k].searches, static_cast<int>(k + 1) * pages[0].searches);
+    }
+    EXPECT_EQ(server.stats().at("kinds").at("search").at("requests").get<int>(), 3 * pages[0].searches);
+    EXPECT_LE(pages[0].searches, 3) << "a page of 50 items (80 KB) read in more round trips than its open and one";
+    ASSERT_EQ(found.sources.size(), kTiles);
+    for (std::size_t i = 0; i < kTiles; ++i) EXPECT_EQ(paths[i], found.sources[i].path);
+    DatasetOptions placed;
+    placed.placed = true;
+    EXPECT_TRUE(opens_placed(std::span(found.sources).first(50), placed));
 }
 
 TEST(PlacedDataset, ATileThatCannotBeReadIsSkippedWithItsLineTheRestKept) {

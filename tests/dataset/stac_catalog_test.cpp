@@ -6,7 +6,8 @@
 // What a new user meets (issue 53), on the BCTS strips: a count that lies is one warning naming the
 // item, its catalog and tile, both counts and that the header's is used; a pc:count "lots" is one
 // warning and its tile is read (not skipped); an item without an href, and one whose href names no
-// file, are each one skipped line naming the item and its catalog.
+// file, are each one skipped line naming the item and its catalog. A URL's Content-Type (or first bytes)
+// says whether it is a catalog, a tile or a tile list.
 #include "dataset/stac_catalog.hpp"
 
 #include <gtest/gtest.h>
@@ -382,6 +383,32 @@ TEST(StacCatalogRemote, ASearchUrlWithoutACatalogsNameOpensAsOne) {
     EXPECT_TRUE(html.errors.empty());
     ASSERT_EQ(html.files.size(), 1u) << "a remote tile list's line is a URL: a tile whose reading names it";
     EXPECT_NE(html.files[0].find("Not"), std::string::npos) << html.files[0];
+}
+
+// A URL's Content-Type says what it holds before its first bytes do: a catalog whose JSON starts past the
+// bytes looked at (blanks first) opens as one when served as application/geo+json, and is a tile list
+// (no item) when served as application/octet-stream; a tile at a URL without a .laz name is a tile
+// when served as application/vnd.laszip, and by its signature "LASF" when served as octet-stream (it was
+// read as a tile list before, and failed).
+TEST(StacCatalogRemote, AContentTypeSaysWhatAUrlHolds) {
+    const auto& server = test::NginxServer::instance();
+    const std::string tile = server.url((kIgn / kBridgeWest).string());
+    std::ofstream(server.lists_dir() / "padded") << std::string(300, ' ') << collection_of({item("w", tile)}).dump();
+    EXPECT_EQ(content_kind(server.url("typed/json/padded")), ContentKind::catalog);
+    const FoundFiles json = find_point_cloud_files({server.url("typed/json/padded")});
+    EXPECT_TRUE(json.errors.empty()) << json.errors.front().error;
+    EXPECT_EQ(json.files, std::vector<std::string>{tile});
+    EXPECT_EQ(json.items.size(), 1u);
+    EXPECT_EQ(content_kind(server.url("lists/padded")), ContentKind::other);
+    EXPECT_TRUE(find_point_cloud_files({server.url("lists/padded")}).items.empty()) << "read as a catalog";
+    fs::remove(server.lists_dir() / "tile");
+    fs::create_symlink(test::data_dir() / kIgn / kBridgeWest, server.lists_dir() / "tile");
+    for (const std::string url : {server.url("typed/laszip/tile"), server.url("lists/tile")}) {
+        EXPECT_EQ(content_kind(url), ContentKind::tile) << url;
+        const FoundFiles found = find_point_cloud_files({url});
+        EXPECT_TRUE(found.errors.empty()) << found.errors.front().error;
+        EXPECT_EQ(found.files, std::vector<std::string>{url});
+    }
 }
 
 TEST(StacCatalogRemote, ARemoteItemNestedDeepIsOneLine) {

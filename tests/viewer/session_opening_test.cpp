@@ -2,8 +2,10 @@
 // every footprint and the progress counted on the way and a running scheduler at the end; a
 // large catalog opens its central tiles first as a preview whose chunk points are in before the
 // rest is read, unless its items place every tile (it then opens at once, placed, with no
-// preview, and every tile's chunk points still load); a path without tiles ends in the viewer's
-// one-line error; an opening destroyed while it reads cancels without a hang.
+// preview, and every tile's chunk points still load); a paged catalog (the replica server's STAC API
+// search, its last page held) opens its first pages as the preview (growing as pages arrive), whose chunk
+// points load, before the last page is served; a path without tiles ends in the viewer's one-line error;
+// an opening destroyed while it reads cancels without a hang.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -16,6 +18,9 @@
 #include "core/error.hpp"
 #include "dataset/catalog_writer.hpp"
 #include "dataset/dataset.hpp"
+#include "net/range_cache.hpp"
+#include "net/remote_file.hpp"
+#include "replica_server.hpp"
 #include "test_data.hpp"
 #include "viewer/session_opening.hpp"
 
@@ -128,6 +133,62 @@ TEST(SessionOpening, ALargeCatalogOpensItsCentreFirstAsAPreview) {
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
     EXPECT_GT(preview->scheduler->stats().heightmaps_linear, 0u);
+    fs::remove_all(dir);
+}
+
+// Waits until `done` holds (at most a minute: a bound against a hang, not a measure); whether it does.
+template <typename Done>
+bool wait_until(Done&& done) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    while (!done() && std::chrono::steady_clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return done();
+}
+
+// A STAC API search of 36 items in pages of 8, its last page held by the server until released: the first
+// page opens as the preview, and again the first four pages when they are four times as many (unless that
+// passes page_preview_most); the preview's tiles' chunk points load, every page's footprint but the last's
+// is shown, and the opening is not finished, all while the last page waits; released, the whole catalog
+// opens.
+TEST(SessionOpening, APagedCatalogOpensItsFirstPagesWhileTheLastWaits) {
+    net::RangeCache::configure({{}, 0});
+    const fs::path dir = fs::temp_directory_path() / ("lidarscout_opening_pages_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    const std::string tile = (test::surveys_dir() / "ky-jmo335-eastern-kentucky" / "N117E380.laz").string();
+    const std::string cmd = std::string(LIDARSCOUT_CLI) + " synth replicate " + tile + " --grid 6x6 --virtual -o " +
+                            (dir / "r").string() + " >/dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    for (const auto& [most, shown] : {std::pair<std::size_t, std::size_t>{16, 8}, {4096, 32}}) {
+        SCOPED_TRACE("page_preview_most " + std::to_string(most));
+        net::RemoteFile::forget_all();
+        test::ReplicaServer::Options so;
+        so.hold_last_page = true;
+        test::ReplicaServer server(dir / "r" / "replicate.json", so);
+        SessionOptions o = no_network();
+        o.preview_above = 4, o.page_preview_most = most;
+        SessionOpening opening({server.url("search?limit=8")}, o);
+        ASSERT_TRUE(wait_until([&] { return server.stats().at("held").get<int>() == 1; })) << "last page not asked";
+        const auto preview = opening.preview();  // (the last one: the last page is asked after it opened)
+        ASSERT_NE(preview, nullptr);
+        EXPECT_EQ(preview->dataset->tiles.size(), shown);
+        EXPECT_TRUE(preview->dataset->placed);
+        const auto loaded = [&] { return preview->scheduler->stats().tiles_loaded.done; };
+        EXPECT_TRUE(wait_until([&] { return loaded() == shown; })) << loaded() << " of " << shown << " tiles loaded";
+        std::vector<dataset::Bounds> footprints;
+        opening.footprints(footprints);
+        EXPECT_EQ(footprints.size(), 32u);  // the four pages served
+        EXPECT_EQ(server.stats().at("held").get<int>(), 1) << "the last page was served";
+        EXPECT_FALSE(opening.finished());
+        EXPECT_EQ(opening.preview(), preview);
+        server.release();
+        const Session session = opening.take();
+        ASSERT_TRUE(session.open());
+        EXPECT_EQ(session.dataset->tiles.size(), 36u);
+        EXPECT_TRUE(session.dataset->placed);
+        opening.footprints(footprints);
+        EXPECT_EQ(footprints.size(), 36u);
+    }
     fs::remove_all(dir);
 }
 

@@ -66,7 +66,7 @@ void draw_tile_boxes(render::RgbaImage& image, const render::Camera& camera, con
                      const dataset::TileIndex& places, std::uint32_t rgba, std::optional<std::uint32_t> selected) {
     places.visit([&](const dataset::Bounds& box) { return box_in_view(camera, box); },
                  [&](std::uint32_t i) {
-                     draw_outline(image, camera, dataset.tiles[i].bounds_m,
+                     draw_outline(image, camera, dataset.bounds(i),
                                   selected == i ? render::pack_rgba(255, 255, 255) : rgba);
                  });
 }

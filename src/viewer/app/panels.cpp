@@ -122,17 +122,19 @@ void stats_section(const dataset::Dataset& ds, const SchedulerStats& s, double f
 }
 
 // One line per file that could not be opened, per failure while streaming (file, offset, cause), and
-// per warning about the dataset (tiles named more than once, CRSs mixed).
+// per warning about the dataset (tiles named more than once, CRSs mixed, a header that corrects its item).
 void errors_section(const dataset::Dataset& ds, const SchedulerStats& s) {
     const auto per_file = first_error_per_file(s.errors);
     const std::size_t count = ds.skipped.size() + per_file.size();
-    if (count + ds.warnings.size() == 0) return;
-    const std::string title = "Errors: " + std::to_string(count) + " files, " + std::to_string(ds.warnings.size()) +
-                              " warnings###errors";
+    const std::size_t warnings = ds.warnings.size() + ds.corrections_count();
+    if (count + warnings == 0) return;
+    const std::string title =
+        "Errors: " + std::to_string(count) + " files, " + std::to_string(warnings) + " warnings###errors";
     if (!ImGui::CollapsingHeader(title.c_str())) return;
-    ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * (count + ds.warnings.size()))), true,
+    ImGui::BeginChild("errors", ImVec2(0, std::min(200.0f, 20.0f + 34.0f * (count + warnings))), true,
                       ImGuiWindowFlags_HorizontalScrollbar);
     for (const auto& w : ds.warnings) ImGui::TextWrapped("%s: %s", level_name(w.level), w.message.c_str());
+    for (const auto& w : ds.corrections()) ImGui::TextWrapped("%s: %s", level_name(w.level), w.message.c_str());
     for (const auto& f : ds.skipped) ImGui::TextWrapped("skipped: %s", f.error.c_str());
     for (const auto& e : per_file) {
         if (e.count == 1) ImGui::TextWrapped("%s", e.first.message().c_str());

@@ -72,6 +72,12 @@ std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& pa
     return std::make_unique<SessionOpening>(paths, std::move(so));
 }
 
+void print_warnings(const Diagnostics& warnings) {
+    for (const auto& w : warnings) {
+        std::fprintf(stderr, "lidarscout: %s: %s\n", level_name(w.level), display_text(w.message).c_str());
+    }
+}
+
 // Puts the finished opening's session in place of the one shown, its dataset's warnings on stderr too
 // (the errors panel lists them). An error ends the viewer when nothing is shown yet (the first
 // dataset), else it is the status line. True when replaced.
@@ -82,9 +88,7 @@ bool take_opening(std::unique_ptr<SessionOpening>& opening, Session& session, Pa
         session.scheduler.reset();  // it reads the dataset it replaces
         session = std::move(next);
         panels = {};
-        for (const auto& w : session.dataset->warnings) {
-            std::fprintf(stderr, "lidarscout: %s: %s\n", level_name(w.level), display_text(w.message).c_str());
-        }
+        print_warnings(session.dataset->warnings);
         return true;
     } catch (const Error& e) {
         if (!session.open()) throw;
@@ -494,10 +498,11 @@ private:
             opening_ = start_opening(events_.dropped, o_, !session_.open(), budget_.plan());  // shown until then
             paths_ = events_.dropped;
             events_.dropped.clear();
-            if (!session_.open()) footprints_.clear(), preview_.reset();  // of the opening given up
+            if (!session_.open()) footprints_.clear(), preview_.reset(), next_preview_.reset();  // (given up)
         }
         if (opening_ && opening_->finished()) close_background();  // they read the dataset shown
         if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
+            corrections_shown_ = 0;
             refiner_.invalidate();
             if (!moved_while_opening_) controller_.frame(session_.dataset->bounds_m, fb_width_, fb_height_);
             moved_while_opening_ = false;
@@ -513,11 +518,16 @@ private:
             const OpeningProgress progress = opening_->progress();
             opening_->footprints(footprints_);
             every_footprint_ = progress.total > 0 && footprints_.size() >= progress.total;
-            if (!preview_ && (preview_ = opening_->preview())) {
-                preview_settings_ = initial_settings(*preview_->dataset, budget_.asked(), o_);
+            if (auto latest = opening_->preview(); latest && latest != preview_ && latest != next_preview_) {
+                (preview_ ? next_preview_ : preview_) = std::move(latest);  // (a paged catalog's grows)
+                if (!next_preview_) preview_settings_ = initial_settings(*preview_->dataset, budget_.asked(), o_);
             }
             if (!moved_while_opening_ && !progress.extent.empty())
                 controller_.frame(progress.extent, fb_width_, fb_height_);
+        } else {  // the tiles whose headers corrected their items, named as they are read
+            const Diagnostics corrections = session_.dataset->corrections(corrections_shown_);
+            corrections_shown_ += corrections.size();
+            print_warnings(corrections);
         }
     }
 
@@ -530,6 +540,15 @@ private:
     // The picture (the dataset's, or the footprints while it opens), a click's pick, the cursor readout.
     void draw_step(Clock::time_point now) {
         with_heightmaps_ = false;
+        if (next_preview_ && session_.open()) next_preview_.reset();
+        if (next_preview_) {  // a paged catalog's larger preview: shown once it draws as much as the one shown
+            next_preview_->scheduler->set_camera(camera_);
+            if (next_preview_->scheduler->snapshot()->heightmaps.size() >= preview_heightmaps_) {
+                preview_ = std::move(next_preview_);
+                preview_settings_ = initial_settings(*preview_->dataset, budget_.asked(), o_);
+                refiner_.invalidate();
+            }
+        }
         if (preview_ && session_.open()) {
             session_.scheduler->set_camera(camera_);
             drawn_ = session_.scheduler->snapshot();  // for the panels
@@ -922,8 +941,10 @@ private:
     std::unique_ptr<SessionOpening> opening_;
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens
+    std::size_t corrections_shown_ = 0;        // the dataset's corrections (Dataset::corrections) on stderr
     std::shared_ptr<const Session> preview_;   // a large catalog's centre, drawn until the dataset draws
     std::size_t preview_heightmaps_ = 0;       // in its last frame
+    std::shared_ptr<const Session> next_preview_;  // a paged catalog's larger preview, until it draws as much
     bool every_footprint_ = false;             // footprints_ holds every tile's (a catalog's, or all read)
     ViewSettings preview_settings_;
     bool moved_while_opening_ = false;         // then the camera stays where the user put it
