@@ -10,7 +10,7 @@ import { basis, cameraText, fitDepthRange, focalPx, parseCamera, viewProjection 
 import { Renderer } from './gl.js';
 import { crsText, drawOverlay, measureText, pick } from './tools.js';
 
-const POINT_BATCH = 64, PATCH_BATCH = 16, IN_FLIGHT = 4, CHUNK_POINT_PX = 2, MAX_PATCHES = 4000;
+const POINT_BATCH = 256, PATCH_BATCH = 16, IN_FLIGHT = 4, CHUNK_POINT_PX = 2, MAX_PATCHES = 4000;
 const LEVELS = 4, TEXEL_M = 10, MAX_LOD_POINTS = 8e6;  // (a heightmap texel: what level 0 refines)
 const MAX_CNN_PATCHES = 256;  // the network's heightmaps: the nearest cells only (inference is the cost)
 const $ = (id) => document.getElementById(id);

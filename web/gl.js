@@ -3,17 +3,25 @@
 // skirts as level ground), coloured by RGB, elevation (render's ramp), intensity (grey over the
 // survey's range) or classification (render's class colours), with a class filter. Positions are
 // metres from the survey's grid origin, taken relative to the camera before the matrix (as render
-// subtracts it in double).
+// subtracts it in double). The chunk points of every cell share one set of buffers, drawn in one
+// call (a draw per cell cost software WebGL seconds a frame with thousands of cells); a cell that
+// shows a heightmap, or was sent again, is hidden by its slot's flag.
+const SLOTS_WIDE = 4096;  // the hidden-cell flags: a texture this wide, a row per SLOTS_WIDE cells
 // render's elevation ramp over the survey's height range (GLSL, shared by both programs)
 const RAMP = 'texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb';
 const POINT_VS = `#version 300 es
 uniform mat4 u_vp; uniform vec3 u_cam; uniform float u_size; uniform float u_spacing; uniform float u_focal;
 uniform int u_mode; uniform vec2 u_zrange; uniform vec2 u_irange;
-uniform sampler2D u_ramp, u_classes, u_visible; uniform float u_uncoloured;
-in vec3 a_pos; in vec3 a_rgb; in float a_cls; in float a_int;
+uniform sampler2D u_ramp, u_classes, u_visible, u_hidden; uniform float u_uncoloured; uniform int u_cells;
+in vec3 a_pos; in vec3 a_rgb; in float a_cls; in float a_int; in float a_slot;
 out vec3 v_col;
 void main() {
-  if (texelFetch(u_visible, ivec2(int(a_cls), 0), 0).r < 0.5) { gl_Position = vec4(2.0, 2.0, 2.0, 1.0); return; }
+  bool hidden = u_cells == 1 &&
+                texelFetch(u_hidden, ivec2(int(a_slot) % ${SLOTS_WIDE}, int(a_slot) / ${SLOTS_WIDE}), 0).r > 0.5;
+  if (hidden || texelFetch(u_visible, ivec2(int(a_cls), 0), 0).r < 0.5) {
+    gl_Position = vec4(2.0, 2.0, 2.0, 1.0);
+    return;
+  }
   gl_Position = u_vp * vec4(a_pos - u_cam, 1.0);
   // full-resolution points as wide as their spacing on screen (1 to 16 px), as render's adaptive size
   gl_PointSize = u_spacing > 0.0 ? clamp(u_spacing * u_focal / max(gl_Position.w, 1e-3), 1.0, 16.0) : u_size;
@@ -86,7 +94,8 @@ export class Renderer {
     this.ramp = table(gl, palette.elevation);
     this.classes = table(gl, palette.classes);
     this.visible = table(gl, new Array(256).fill(0xffffff));
-    this.cells = new Map();    // "ix,iy" -> {vao, n}
+    this.cells = new Map();    // "ix,iy" -> {slot, data}: its points in this.cellPoints
+    this.cellPoints = new CellPoints(gl, this.points);
     this.patches = new Map();  // "ix,iy" -> {vao, count}
     this.levels = [];          // full-resolution points: {vao, bufs, n, spacing}
   }
@@ -106,6 +115,7 @@ export class Renderer {
     return b;
   }
 
+  // Attribute buffers of a point set (their layout, shared with CellPoints).
   pointVao(c) {
     const gl = this.gl, p = this.points, vao = gl.createVertexArray();
     const bufs = [this.buffer(vao, gl.getAttribLocation(p, 'a_pos'), c.pos, 3, gl.FLOAT, false),
@@ -119,7 +129,9 @@ export class Renderer {
   addCell(c) {
     const key = `${c.ix},${c.iy}`;
     this.removeCell(key);
-    this.cells.set(key, { ...this.pointVao(c), data: c });  // (data: for picking)
+    const slot = this.cellPoints.add(c);
+    if (this.patches.has(key)) this.cellPoints.hide(slot);
+    this.cells.set(key, { slot, data: c });  // (data: for picking)
   }
 
   clearLevels() {
@@ -147,8 +159,7 @@ export class Renderer {
   removeCell(key) {
     const c = this.cells.get(key);
     if (!c) return;
-    c.bufs.forEach((b) => this.gl.deleteBuffer(b));
-    this.gl.deleteVertexArray(c.vao);
+    this.cellPoints.hide(c.slot);  // its points stay in the buffers, never drawn
     this.cells.delete(key);
   }
 
@@ -162,6 +173,7 @@ export class Renderer {
     bufs.push(ib);
     gl.bindVertexArray(null);
     const key = `${h.ix},${h.iy}`, old = this.patches.get(key);
+    if (this.cells.has(key)) this.cellPoints.hide(this.cells.get(key).slot);  // as render: the heightmap instead
     if (old) {  // the network's heightmap replaces the linear one
       old.bufs.forEach((b) => gl.deleteBuffer(b));
       gl.deleteVertexArray(old.vao);
@@ -211,12 +223,12 @@ export class Renderer {
     gl.uniform1f(gl.getUniformLocation(p, 'u_focal'), view.focal);
     gl.uniform1f(gl.getUniformLocation(p, 'u_spacing'), 0);
     let drawn = 0;
-    for (const [key, c] of this.cells) {
-      if (this.patches.has(key)) continue;  // as render: a cell with a heightmap shows it instead
-      gl.bindVertexArray(c.vao);
-      gl.drawArrays(gl.POINTS, 0, c.n);
-      drawn += c.n;
-    }
+    for (const [key, c] of this.cells) if (!this.patches.has(key)) drawn += c.data.n;
+    gl.activeTexture(gl.TEXTURE3); gl.bindTexture(gl.TEXTURE_2D, this.cellPoints.flags());
+    gl.uniform1i(gl.getUniformLocation(p, 'u_hidden'), 3);
+    gl.uniform1i(gl.getUniformLocation(p, 'u_cells'), 1);
+    this.cellPoints.draw();
+    gl.uniform1i(gl.getUniformLocation(p, 'u_cells'), 0);
     for (const l of this.levels) {
       gl.uniform1f(gl.getUniformLocation(p, 'u_spacing'), l.spacing);
       gl.bindVertexArray(l.vao);
@@ -225,5 +237,97 @@ export class Renderer {
     }
     gl.bindVertexArray(null);
     return drawn;
+  }
+}
+
+// The chunk points of every cell in one set of growing buffers (capacity doubled as cells come, the
+// points kept here to be uploaded again then), each cell's points tagged with its slot; a slot's flag
+// in a texture hides it (a cell that shows a heightmap, or was replaced).
+class CellPoints {
+  constructor(gl, program) {
+    this.gl = gl;
+    this.loc = ['a_pos', 'a_rgb', 'a_cls', 'a_int', 'a_slot'].map((a) => gl.getAttribLocation(program, a));
+    this.n = 0, this.cap = 0, this.slots = 0;
+    this.vao = gl.createVertexArray();
+    this.bufs = this.loc.map(() => gl.createBuffer());
+    this.hidden = new Uint8Array(SLOTS_WIDE);
+    this.texture = gl.createTexture();
+    this.flagsDirty = true;
+  }
+
+  // Appends a cell's points {n, pos, rgb, cls, intensity}; returns its slot.
+  add(c) {
+    const slot = this.slots++;
+    if (slot >= this.hidden.length) {
+      const more = new Uint8Array(2 * this.hidden.length);
+      more.set(this.hidden);
+      this.hidden = more;
+    }
+    this.flagsDirty = true;
+    if (!c.n) return slot;
+    if (this.n + c.n > this.cap) this.grow(Math.max(2 * this.cap, this.n + c.n, 65536));
+    const at = this.n;
+    const slots = new Float32Array(c.n).fill(slot);
+    this.arrays.pos.set(c.pos, 3 * at), this.arrays.rgb.set(c.rgb, 3 * at);
+    this.arrays.cls.set(c.cls, at), this.arrays.intensity.set(c.intensity, at), this.arrays.slot.set(slots, at);
+    this.n += c.n;
+    const gl = this.gl;
+    const parts = [[c.pos, 12], [c.rgb, 3], [c.cls, 1], [c.intensity, 2], [slots, 4]];
+    parts.forEach(([data, bytes], i) => {
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.bufs[i]);
+      gl.bufferSubData(gl.ARRAY_BUFFER, at * bytes, data);
+    });
+    return slot;
+  }
+
+  grow(cap) {
+    const old = this.arrays, a = {
+      pos: new Float32Array(3 * cap), rgb: new Uint8Array(3 * cap), cls: new Uint8Array(cap),
+      intensity: new Uint16Array(cap), slot: new Float32Array(cap),
+    };
+    const per = { pos: 3, rgb: 3, cls: 1, intensity: 1, slot: 1 };
+    if (old) for (const k of Object.keys(a)) a[k].set(old[k].subarray(0, per[k] * this.n));
+    this.arrays = a, this.cap = cap;
+    const gl = this.gl;
+    gl.bindVertexArray(this.vao);
+    const layout = [[a.pos, 3, gl.FLOAT, false], [a.rgb, 3, gl.UNSIGNED_BYTE, true],
+                    [a.cls, 1, gl.UNSIGNED_BYTE, false], [a.intensity, 1, gl.UNSIGNED_SHORT, false],
+                    [a.slot, 1, gl.FLOAT, false]];
+    layout.forEach(([data, size, type, normalised], i) => {
+      gl.bindBuffer(gl.ARRAY_BUFFER, this.bufs[i]);
+      gl.bufferData(gl.ARRAY_BUFFER, data, gl.DYNAMIC_DRAW);
+      gl.enableVertexAttribArray(this.loc[i]);
+      gl.vertexAttribPointer(this.loc[i], size, type, normalised, 0, 0);
+    });
+    gl.bindVertexArray(null);
+  }
+
+  hide(slot) {
+    if (this.hidden[slot]) return;
+    this.hidden[slot] = 1;
+    this.flagsDirty = true;
+  }
+
+  // The flags' texture (uploaded again when a flag or the slot count changed).
+  flags() {
+    const gl = this.gl;
+    gl.bindTexture(gl.TEXTURE_2D, this.texture);
+    if (this.flagsDirty) {
+      const rows = Math.max(1, Math.ceil(this.hidden.length / SLOTS_WIDE));
+      gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.R8, SLOTS_WIDE, rows, 0, gl.RED, gl.UNSIGNED_BYTE,
+                    this.hidden.subarray(0, rows * SLOTS_WIDE));
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+      this.flagsDirty = false;
+    }
+    return this.texture;
+  }
+
+  draw() {
+    if (!this.n) return;
+    const gl = this.gl;
+    gl.bindVertexArray(this.vao);
+    gl.drawArrays(gl.POINTS, 0, this.n);
   }
 }
