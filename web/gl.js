@@ -6,6 +6,14 @@
 // subtracts it in double). The chunk points of every cell share one set of buffers, drawn in one
 // call (a draw per cell cost software WebGL seconds a frame with thousands of cells); a cell that
 // shows a heightmap, or was sent again, is hidden by its slot's flag.
+// A point set's attributes: shader input, array of the set, components, GL type, normalised.
+const POINT_ATTRIBUTES = [
+  ['a_pos', 'pos', 3, 'FLOAT', false], ['a_rgb', 'rgb', 3, 'UNSIGNED_BYTE', true],
+  ['a_cls', 'cls', 1, 'UNSIGNED_BYTE', false], ['a_int', 'intensity', 1, 'UNSIGNED_SHORT', false],
+];
+// CellPoints': the same, and each point's cell slot.
+const CELL_ATTRIBUTES = [...POINT_ATTRIBUTES, ['a_slot', 'slot', 1, 'FLOAT', false]];
+const ARRAY_OF = { FLOAT: Float32Array, UNSIGNED_BYTE: Uint8Array, UNSIGNED_SHORT: Uint16Array };
 const SLOTS_WIDE = 4096;  // the hidden-cell flags: a texture this wide, a row per SLOTS_WIDE cells
 // render's elevation ramp over the survey's height range (GLSL, shared by both programs)
 const RAMP = 'texture(u_ramp, vec2(clamp((a_pos.z - u_zrange.x) / (u_zrange.y - u_zrange.x), 0.0, 1.0), 0.5)).rgb';
@@ -115,13 +123,11 @@ export class Renderer {
     return b;
   }
 
-  // Attribute buffers of a point set (their layout, shared with CellPoints).
+  // Attribute buffers of a point set (POINT_ATTRIBUTES).
   pointVao(c) {
     const gl = this.gl, p = this.points, vao = gl.createVertexArray();
-    const bufs = [this.buffer(vao, gl.getAttribLocation(p, 'a_pos'), c.pos, 3, gl.FLOAT, false),
-                  this.buffer(vao, gl.getAttribLocation(p, 'a_rgb'), c.rgb, 3, gl.UNSIGNED_BYTE, true),
-                  this.buffer(vao, gl.getAttribLocation(p, 'a_cls'), c.cls, 1, gl.UNSIGNED_BYTE, false),
-                  this.buffer(vao, gl.getAttribLocation(p, 'a_int'), c.intensity, 1, gl.UNSIGNED_SHORT, false)];
+    const bufs = POINT_ATTRIBUTES.map(([input, array, size, type, normalised]) =>
+      this.buffer(vao, gl.getAttribLocation(p, input), c[array], size, gl[type], normalised));
     gl.bindVertexArray(null);
     return { vao, bufs, n: c.n };
   }
@@ -246,7 +252,7 @@ export class Renderer {
 class CellPoints {
   constructor(gl, program) {
     this.gl = gl;
-    this.loc = ['a_pos', 'a_rgb', 'a_cls', 'a_int', 'a_slot'].map((a) => gl.getAttribLocation(program, a));
+    this.loc = CELL_ATTRIBUTES.map(([input]) => gl.getAttribLocation(program, input));
     this.n = 0, this.cap = 0, this.slots = 0;
     this.vao = gl.createVertexArray();
     this.bufs = this.loc.map(() => gl.createBuffer());
@@ -266,38 +272,28 @@ class CellPoints {
     this.flagsDirty = true;
     if (!c.n) return slot;
     if (this.n + c.n > this.cap) this.grow(Math.max(2 * this.cap, this.n + c.n, 65536));
-    const at = this.n;
-    const slots = new Float32Array(c.n).fill(slot);
-    this.arrays.pos.set(c.pos, 3 * at), this.arrays.rgb.set(c.rgb, 3 * at);
-    this.arrays.cls.set(c.cls, at), this.arrays.intensity.set(c.intensity, at), this.arrays.slot.set(slots, at);
-    this.n += c.n;
-    const gl = this.gl;
-    const parts = [[c.pos, 12], [c.rgb, 3], [c.cls, 1], [c.intensity, 2], [slots, 4]];
-    parts.forEach(([data, bytes], i) => {
+    const at = this.n, gl = this.gl, cell = { ...c, slot: new Float32Array(c.n).fill(slot) };
+    CELL_ATTRIBUTES.forEach(([, array, size], i) => {
+      const data = cell[array];
+      this.arrays[array].set(data, size * at);
       gl.bindBuffer(gl.ARRAY_BUFFER, this.bufs[i]);
-      gl.bufferSubData(gl.ARRAY_BUFFER, at * bytes, data);
+      gl.bufferSubData(gl.ARRAY_BUFFER, size * at * data.BYTES_PER_ELEMENT, data);
     });
+    this.n += c.n;
     return slot;
   }
 
   grow(cap) {
-    const old = this.arrays, a = {
-      pos: new Float32Array(3 * cap), rgb: new Uint8Array(3 * cap), cls: new Uint8Array(cap),
-      intensity: new Uint16Array(cap), slot: new Float32Array(cap),
-    };
-    const per = { pos: 3, rgb: 3, cls: 1, intensity: 1, slot: 1 };
-    if (old) for (const k of Object.keys(a)) a[k].set(old[k].subarray(0, per[k] * this.n));
-    this.arrays = a, this.cap = cap;
-    const gl = this.gl;
+    const old = this.arrays, gl = this.gl;
+    this.arrays = {}, this.cap = cap;
     gl.bindVertexArray(this.vao);
-    const layout = [[a.pos, 3, gl.FLOAT, false], [a.rgb, 3, gl.UNSIGNED_BYTE, true],
-                    [a.cls, 1, gl.UNSIGNED_BYTE, false], [a.intensity, 1, gl.UNSIGNED_SHORT, false],
-                    [a.slot, 1, gl.FLOAT, false]];
-    layout.forEach(([data, size, type, normalised], i) => {
+    CELL_ATTRIBUTES.forEach(([, array, size, type, normalised], i) => {
+      const data = this.arrays[array] = new ARRAY_OF[type](size * cap);
+      if (old) data.set(old[array].subarray(0, size * this.n));
       gl.bindBuffer(gl.ARRAY_BUFFER, this.bufs[i]);
       gl.bufferData(gl.ARRAY_BUFFER, data, gl.DYNAMIC_DRAW);
       gl.enableVertexAttribArray(this.loc[i]);
-      gl.vertexAttribPointer(this.loc[i], size, type, normalised, 0, 0);
+      gl.vertexAttribPointer(this.loc[i], size, gl[type], normalised, 0, 0);
     });
     gl.bindVertexArray(null);
   }

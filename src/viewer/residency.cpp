@@ -84,7 +84,11 @@ std::uint64_t Residency::held() const {
     return bytes;
 }
 
-void Residency::publish_held() const { ledger_->set_residency_bytes(held() + decoding_bytes_); }
+std::uint64_t Residency::publish_held() const {
+    const std::uint64_t bytes = held() + decoding_bytes_;
+    ledger_->set_residency_bytes(bytes);
+    return bytes;
+}
 
 void Residency::retire(const LodBlocks& blocks) {
     for (const auto& b : blocks) retired_.emplace_back(b, b->bytes());
@@ -182,8 +186,7 @@ std::optional<Residency::Job> Residency::next_load(std::unique_lock<RankedMutex>
         loading_version_ = seen;
         // The points still to come, their bookkeeping, and what the decoding threads hold besides.
         decoding_bytes_ = incoming;
-        peak_ = std::max(peak_, other + held() + decoding_bytes_);
-        publish_held();
+        peak_ = std::max(peak_, other + publish_held());
         return Job{choice->tile, choice->cap, choice->plan.piece_points};
     }
 }
@@ -250,8 +253,7 @@ std::vector<lidarscout::CellKey> Residency::commit(std::uint32_t tile, Decoded d
     e.last_seen = policy_.tick();
     decoding_bytes_ -= std::min(decoding_bytes_, added + details_bytes_ - details_before);
     ++version_;
-    peak_ = std::max(peak_, last_other_ + held() + decoding_bytes_);
-    publish_held();
+    peak_ = std::max(peak_, last_other_ + publish_held());
     return cells;
 }
 

@@ -115,8 +115,8 @@ private:
     std::optional<Job> next_load(std::unique_lock<RankedMutex>& lock);
     // Bytes held: blocks, details, and blocks released but still alive (a snapshot being drawn).
     std::uint64_t held() const;
-    // Tells the ledger what is held and decoding (under mutex_), for the scheduler's heightmaps.
-    void publish_held() const;
+    // Tells the ledger what is held and decoding (under mutex_), for the scheduler's heightmaps; returns it.
+    std::uint64_t publish_held() const;
     // Blocks dropped from the policy's entries: counted in held() until the last snapshot holding them is gone.
     void retire(const LodBlocks& blocks);
     bool prune_retired();  // forgets the retired blocks that are gone; true when any was
