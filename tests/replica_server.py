@@ -325,6 +325,7 @@ class ItemDocument:
         self.items, self.first, self.count = items, first, count
         self.prefix, self.head, self.tail = prefix, CATALOG_HEAD, tail
         self.step = len(prefix) + len(ITEM_SEPARATOR)  # what each item adds beyond its core length
+        self.rendered = None  # the whole document's bytes, once render() made them
         cum = items.cum
         self.size = (len(self.head) + cum[first + count] - cum[first] + count * len(prefix) +
                      max(0, count - 1) * len(ITEM_SEPARATOR) + len(self.tail))
@@ -345,8 +346,19 @@ class ItemDocument:
                 hi = mid - 1
         return max(0, lo)
 
+    def render(self):
+        """Makes the whole document once, so that reads are served as a static file's (a server that made
+        each item for each request would bound a client's catalog read by its own speed)."""
+        self.rendered = b"".join(self.read(0, self.size))
+        return self
+
     def read(self, offset, length):
         """Yields the bytes [offset, offset + length), in pieces."""
+        if self.rendered is not None:
+            view = memoryview(self.rendered)
+            for at in range(offset, offset + length, 1 << 20):
+                yield view[at:min(offset + length, at + (1 << 20))]
+            return
         end = offset + length
         if offset < len(self.head):
             yield self.head[offset:min(end, len(self.head))].encode()
@@ -545,7 +557,7 @@ class Server:
             self.overview = overview_resource(options.overview)
             links = {"links": [{"rel": "lidarscout:overview", "href": "./catalog.overview.laz",
                                 "type": "application/vnd.laszip"}]}
-        self.catalog = ItemDocument(items, 0, len(replica.names), "./tiles/", json_tail(links))
+        self.catalog = ItemDocument(items, 0, len(replica.names), "./tiles/", json_tail(links)).render()
 
     # -- routes
 
