@@ -48,6 +48,8 @@ struct Camera {
     int width = 1280, height = 720;
     double near_m = 0.1, far_m = 1e7;  // depths outside [near, far] are not drawn
 
+    bool operator==(const Camera&) const = default;
+
     ViewBasis basis() const;
     // Pixels per unit of (lateral offset / depth): the focal length in pixels.
     double focal_px() const;

@@ -128,6 +128,9 @@ struct Scheduler::State {
     bool hidden_changes = false;  // patches out of view changed since the snapshot's version moved
     const lidarscout::PatchGrid* grid = nullptr;
     mutable std::shared_ptr<const SceneSnapshot> snapshot;
+    std::uint64_t snapshot_camera = 0;  // camera_version when it was made
+    std::chrono::steady_clock::time_point snapshot_made{};
+    std::chrono::duration<double> snapshot_cost{0};  // what making it took
 
     HeightmapBuildOptions build;
     double z_min = 0, z_max = 0;
@@ -702,10 +705,19 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     {
         std::lock_guard lock(s.mutex);
         if (s.snapshot && s.snapshot->version == s.version + residency + s.camera_version) return s.snapshot;
+        // Only the content changed while chunk points still come in: the snapshot is kept for the interval,
+        // or five times what making it took (it holds the lock the loader and heightmaps wait for).
+        const auto age = std::chrono::steady_clock::now() - s.snapshot_made;
+        if (s.snapshot && s.snapshot_camera == s.camera_version && s.tiles_done < s.loadable &&
+            options_.content_snapshot_interval_s > 0 &&
+            age < std::max(std::chrono::duration<double>(options_.content_snapshot_interval_s), 5 * s.snapshot_cost)) {
+            return s.snapshot;
+        }
     }
     LodBlocks full = residency_->blocks();  // as new as `residency` or newer
     std::lock_guard lock(s.mutex);
     auto snap = std::make_shared<SceneSnapshot>();
+    const auto made = std::chrono::steady_clock::now();
     snap->version = s.version + residency + s.camera_version;
     // The blocks in view only (all without a camera): a country has 500,000 patches.
     const std::uint64_t before = s.work();
@@ -723,6 +735,9 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     snap->full_points = std::move(full);
     s.snapshot_visits = s.work() - before;
     s.snapshot = std::move(snap);
+    s.snapshot_camera = s.camera_version;
+    s.snapshot_made = std::chrono::steady_clock::now();
+    s.snapshot_cost = s.snapshot_made - made;
     return s.snapshot;
 }
 

@@ -76,6 +76,10 @@ struct SchedulerOptions {
     // a view's worth. Beyond them heightmaps are built within the budget, the farthest let go for nearer.
     std::size_t least_heightmaps = 512;
     unsigned heightmap_threads = 1;   // linear heightmap workers
+    // While chunk points still come in, a snapshot for the current camera is kept this long before one
+    // with the newer content is made (0: always the newest). Making one visits every patch in view:
+    // a country's 760,000 each frame, with their release, held a core while its chunk points loaded.
+    double content_snapshot_interval_s = 0;
     unsigned decode_threads = 0;      // full-resolution decoding (0 = all cores)
     dataset::ChunkPointLoaderOptions loader;
     // Called for every event, from the thread that caused it; may block (tests use this to

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <utility>
 #include <vector>
@@ -33,7 +34,13 @@ std::array<ViewPoint, 8> view_corners(const render::Camera& camera, const datase
     return out;
 }
 
-double half_tan_v(const render::Camera& camera) { return std::tan(0.5 * camera.fov_deg * std::numbers::pi / 180.0); }
+// (kept per thread for its field of view, as the camera's basis is: asked for every box of a country)
+double half_tan_v(const render::Camera& camera) {
+    thread_local double made_fov = std::numeric_limits<double>::quiet_NaN(), made = 0;
+    if (camera.fov_deg != made_fov) made = std::tan(0.5 * camera.fov_deg * std::numbers::pi / 180.0);
+    made_fov = camera.fov_deg;
+    return made;
+}
 
 }  // namespace
 

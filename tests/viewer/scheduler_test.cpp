@@ -183,6 +183,53 @@ SchedulerOptions above_small_tile(const dataset::Dataset& ds) {
     return o;
 }
 
+// With a content interval, a snapshot for an unmoved camera is kept while chunk points come in; a camera
+// move makes a new one at once, and once every tile's chunk points are in the snapshot is the newest.
+TEST(ViewerScheduler, WhileChunkPointsComeInTheSnapshotIsKeptForItsCamera) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    for (const double interval : {3600.0, 0.0}) {
+        SchedulerOptions o;
+        o.cnn = false, o.full_res = false;
+        o.camera = above_tile(ds.tiles[tile_named(ds, "N119E381")], 2000);
+        o.loader.reads.threads = 1;  // tiles complete one at a time
+        o.content_snapshot_interval_s = interval;
+        Scheduler* sched = nullptr;
+        std::atomic<bool> ready{false};
+        std::shared_ptr<const SceneSnapshot> first, later, moved;
+        std::atomic<int> done{0};
+        o.on_event = [&](const SchedulerEvent& e) {
+            if (e.kind != Kind::TileDone) return;
+            wait_until([&] { return ready.load(); });
+            const int n = ++done;
+            if (n == 2) first = sched->snapshot();
+            if (n == 5) {
+                later = sched->snapshot();
+                render::Camera c = *o.camera;
+                c.z += 100;
+                sched->set_camera(c);
+                moved = sched->snapshot();
+            }
+        };
+        Scheduler scheduler(ds, o);
+        sched = &scheduler;
+        ready = true;
+        ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+        ASSERT_EQ(done.load(), 9);
+        ASSERT_TRUE(first && later && moved);
+        EXPECT_NE(first->chunk_points.size() + first->heightmaps.size(), 0u);
+        if (interval > 0) {
+            EXPECT_EQ(later, first) << "three more tiles came in: the snapshot for the same camera was kept";
+        } else {
+            EXPECT_NE(later, first) << "no interval: every change makes a new snapshot";
+        }
+        EXPECT_NE(moved, later) << "a camera move makes a new snapshot at once";
+        const auto st = scheduler.stats();
+        const auto last = scheduler.snapshot();
+        EXPECT_EQ(last->heightmaps.size(), st.heightmaps_linear) << "every tile in: the newest content";
+        EXPECT_GT(last->heightmaps.size(), 0u);
+    }
+}
+
 // points_loading() tells a frame whether the points its camera needs are still coming.
 TEST(ViewerScheduler, PointsLoadUntilTheTilesInViewAreIn) {
     const auto ds = open_survey("ky-jmo335-eastern-kentucky");

@@ -69,6 +69,7 @@ std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& pa
     so.scheduler.memory_budget = plan.data;
     so.scheduler.cnn = o.cnn && plan.network;
     so.scheduler.model_path = o.model;
+    so.scheduler.content_snapshot_interval_s = 0.1;  // as often as the frame refiner draws new data
     return std::make_unique<SessionOpening>(paths, std::move(so));
 }
 
@@ -317,15 +318,26 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     return frame;
 }
 
-// The picture while the first dataset opens: the footprints of the tiles read so far.
-RenderedScene opening_frame(std::span<const dataset::Bounds> footprints, const CameraController& controller,
-                            int width, int height, render::Camera& camera) {
-    camera = controller.camera(width, height);
+// The picture while the first dataset opens: the footprints of the tiles read so far. `kept` is the last
+// one: while the camera stays, only the footprints added since are drawn on it (a country's 152,100 each
+// frame held a core while its dataset opened).
+struct FootprintPicture {
     RenderedScene frame;
-    frame.image.width = width, frame.image.height = height;
-    frame.image.pixels.assign(static_cast<std::size_t>(width) * height, render::ResolveSettings{}.background);
-    draw_footprints(frame.image, camera, footprints, render::pack_rgba(255, 200, 40));
-    return frame;
+    render::Camera camera;
+    std::size_t drawn = 0;  // footprints drawn on frame
+};
+const RenderedScene& opening_frame(std::span<const dataset::Bounds> footprints, const CameraController& controller,
+                                   int width, int height, render::Camera& camera, FootprintPicture& kept) {
+    camera = controller.camera(width, height);
+    if (!(camera == kept.camera) || footprints.size() < kept.drawn || kept.frame.image.pixels.empty()) {
+        kept.camera = camera;
+        kept.drawn = 0;
+        kept.frame.image.width = width, kept.frame.image.height = height;
+        kept.frame.image.pixels.assign(static_cast<std::size_t>(width) * height, render::ResolveSettings{}.background);
+    }
+    draw_footprints(kept.frame.image, camera, footprints.subspan(kept.drawn), render::pack_rgba(255, 200, 40));
+    kept.drawn = footprints.size();
+    return kept.frame;
 }
 
 // The readout for the mouse position (window coordinates scaled to the rendered image).
@@ -498,7 +510,10 @@ private:
             opening_ = start_opening(events_.dropped, o_, !session_.open(), budget_.plan());  // shown until then
             paths_ = events_.dropped;
             events_.dropped.clear();
-            if (!session_.open()) footprints_.clear(), preview_.reset(), next_preview_.reset();  // (given up)
+            if (!session_.open()) {  // (given up)
+                footprints_.clear(), preview_.reset(), next_preview_.reset();
+                footprint_picture_ = {};
+            }
         }
         if (opening_ && opening_->finished()) close_background();  // they read the dataset shown
         if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
@@ -570,7 +585,7 @@ private:
             with_heightmaps_ = !drawn_->heightmaps.empty();
             draw_profile_corridor();
         } else {
-            last_ = opening_frame(footprints_, controller_, fb_width_, fb_height_, camera_);
+            last_ = opening_frame(footprints_, controller_, fb_width_, fb_height_, camera_, footprint_picture_);
         }
         frame_ms_ = 1000.0 * std::chrono::duration<double>(Clock::now() - now).count();
         if (const auto click = input_.take_click(); click && session_.open()) {
@@ -941,6 +956,7 @@ private:
     std::unique_ptr<SessionOpening> opening_;
     Session session_;                          // empty until the first dataset is open
     std::vector<dataset::Bounds> footprints_;  // of the tiles read while the first dataset opens
+    FootprintPicture footprint_picture_;       // footprints_ drawn (opening_frame)
     std::size_t corrections_shown_ = 0;        // the dataset's corrections (Dataset::corrections) on stderr
     std::shared_ptr<const Session> preview_;   // a large catalog's centre, drawn until the dataset draws
     std::size_t preview_heightmaps_ = 0;       // in its last frame
