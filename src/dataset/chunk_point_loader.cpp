@@ -174,8 +174,8 @@ public:
     }
 
     // The tiles whose chunk points an overview sidecar holds, nearest to the focus first, from its
-    // records (no read).
-    void publish_held() {
+    // records (no read); then, with `release`, the records go (ChunkPointLoaderOptions::release_overview).
+    void publish_held(bool release) {
         const auto at = focus();  // (not a structured binding: clang 14 cannot capture one)
         const auto distance = [&](std::uint32_t id) { return ds_.tiles[id].bounds_m.distance_xy(at.first, at.second); };
         std::stable_sort(held_.begin(), held_.end(), [&](auto a, auto b) { return distance(a) < distance(b); });
@@ -192,6 +192,7 @@ public:
             }
             publish(id, points);
         }
+        if (release && !held_.empty()) release_overview_records(ds_.tiles);
         held_ = {};
     }
 
@@ -387,7 +388,7 @@ void ChunkPointLoader::start() {
 void ChunkPointLoader::run() {
     std::thread headers;
     try {
-        source_->publish_held();
+        source_->publish_held(options_.release_overview);
         if (source_->reads_headers()) {
             headers = std::thread([this] {
                 try {

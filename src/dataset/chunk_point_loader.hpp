@@ -36,6 +36,9 @@ struct ChunkPointLoaderOptions {
     bool direct_io = false;          // open tiles with O_DIRECT (cold-cache measurements)
     std::size_t max_errors = 1000;   // keep at most this many errors
     unsigned header_threads = 16;    // a placed dataset's header reads in flight (DatasetOptions::io_threads)
+    // Once the chunk points an overview sidecar holds are in the grid, let its records go
+    // (release_overview_records): for a loader that is its dataset's only reader of them (the viewer's).
+    bool release_overview = false;
 };
 
 class ChunkPointLoader {

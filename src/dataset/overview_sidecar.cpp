@@ -247,10 +247,20 @@ Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const
     return read_tile(io::File::in_memory(path, e.made_from.size, e.head, e.tail), options);
 }
 
+void release_overview_records(std::span<const DatasetTile> tiles) {
+    std::set<std::vector<std::uint8_t>*> held;
+    for (const auto& t : tiles) {
+        const TileOverview* o = t.tile.file ? t.tile.file->overview.get() : nullptr;
+        if (o && o->records) held.insert(o->records.get());
+    }
+    for (auto* records : held) std::vector<std::uint8_t>().swap(*records);
+}
+
 std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points) {
     const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;
     if (!o || !o->records || o->count == 0 || o->count != chunk_points) return {};
     const std::size_t length = tile.header.record_length;
+    if (o->records->size() < (o->first + o->count) * length) return {};  // (released)
     return std::span(*o->records).subspan(o->first * length, o->count * length);
 }
 

@@ -92,6 +92,11 @@ Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const
 // or not `chunk_points` of them.
 std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points);
 
+// Lets the chunk-point records of the sidecars that placed `tiles` go, once their one reader took them (the
+// viewer's loader: its grid holds them from then on); overview_records is empty for those tiles after. No other
+// reader of their records may run meanwhile.
+void release_overview_records(std::span<const DatasetTile> tiles);
+
 // For a reader about to read `tile` in full from `file`: nullopt when the tile was not placed from a
 // sidecar or its file is as the sidecar saw it; else the tile read from the file itself (without an
 // overview), and one warning naming it (once per file) kept for take_stale_tile_warnings.

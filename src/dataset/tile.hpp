@@ -52,7 +52,8 @@ struct FileValidator {
 // made from, and its chunk points' records in the tile's own format (none when the sidecar holds none).
 struct TileOverview {
     FileValidator made_from;
-    std::shared_ptr<const std::vector<std::uint8_t>> records;  // the sidecar's, shared by its tiles
+    // The sidecar's, shared by its tiles; emptied by release_overview_records once their reader took them.
+    std::shared_ptr<std::vector<std::uint8_t>> records;
     std::size_t first = 0, count = 0;                          // this tile's: records [first, first + count)
 };
 

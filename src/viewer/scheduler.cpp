@@ -359,7 +359,9 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
         options_.memory_budget ? options_.memory_budget : default_memory_budget(), grid_.get());
     s.count_table();
     residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
-    loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, options_.loader);
+    dataset::ChunkPointLoaderOptions loading = options_.loader;
+    loading.release_overview = true;  // the grid holds a sidecar's chunk points from then on
+    loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, loading);
     loader_->on_tile_done([this](std::uint32_t tile, std::span<const CellKey> cells) { on_tile_done(tile, cells); });
     if (options_.camera) {
         set_camera(*options_.camera);

@@ -2,7 +2,8 @@
 // malformed one is an Error; the Hilbert order visits a block's cells one step apart; a catalog opened
 // through its sidecar has the tiles' own headers, chunk tables and chunk points (bit for bit), and `scan`
 // says the same with and without it, locally and through the replica server, where the overview then
-// costs no request to the tiles; a tile changed since the sidecar was written is named and read itself.
+// costs no request to the tiles; a loader that releases the records leaves its grid every point; a tile
+// changed since the sidecar was written is named and read itself.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +15,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.hpp"
+#include "core/patch_grid.hpp"
 #include "dataset/catalog_writer.hpp"
+#include "dataset/chunk_point_loader.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/overview_sidecar.hpp"
@@ -132,6 +135,31 @@ TEST(OverviewSidecar, ACatalogOpensFromItWithTheTilesOwnMetadataAndChunkPoints) 
     const auto with = scan((dir / "catalog.vpc").string());
     EXPECT_GT(with.at("chunk_points").get<int>(), 0);
     EXPECT_EQ(with.dump(1), scan("--no-overview " + (dir / "catalog.vpc").string()).dump(1));
+    fs::remove_all(dir);
+}
+
+// The viewer's loader lets the sidecar's records go once its grid holds them: the grid has every chunk point,
+// the records are gone, and a loader that keeps them (the default: `scan`, `dem`) leaves them.
+TEST(OverviewSidecar, ALoaderThatReleasesLeavesTheGridItsPointsAndTheRecordsGone) {
+    const fs::path dir = fresh_dir("release");
+    write_with_overview(some_tiles(), dir);
+    for (const bool release : {false, true}) {
+        const Dataset placed = open_dataset({(dir / "catalog.vpc").string()});
+        const auto [ox, oy] = patch_grid_origin(placed);
+        PatchGrid grid(ox, oy);
+        ChunkPointLoaderOptions options;
+        options.release_overview = release;
+        ChunkPointLoader loader(placed, grid, options);
+        loader.start();
+        loader.wait();
+        EXPECT_TRUE(loader.errors().empty());
+        EXPECT_EQ(grid.size(), placed.chunk_point_count);
+        for (const auto& t : placed.tiles) {
+            ASSERT_TRUE(t.tile.file->overview);
+            EXPECT_EQ(overview_records(t.tile, t.chunk_points).empty(), release) << t.tile.path();
+            EXPECT_EQ(t.tile.file->overview->records->empty(), release);
+        }
+    }
     fs::remove_all(dir);
 }
 
