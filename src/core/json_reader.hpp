@@ -69,6 +69,9 @@ public:
     // True when scalars are not looked at: each is then handed over as null (a number not converted, a
     // string not kept; both still read and checked as JSON).
     virtual bool drops_scalars() const { return false; }
+    // True when nothing is looked at (no event has an effect): each value diverted here is then read past,
+    // checked as JSON within the limits but never tokenized into events.
+    virtual bool drops_everything() const { return false; }
 };
 
 struct JsonStreaming {
@@ -90,6 +93,7 @@ public:
     void key(const std::string&) override {}
     void close() override {}
     bool drops_scalars() const override { return true; }
+    bool drops_everything() const override { return true; }
 };
 
 // The document read from `source`; `name` (a path or URL as shown) names it in errors. A streamed
