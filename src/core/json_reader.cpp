@@ -149,6 +149,8 @@ public:
         return true;
     }
     void close() { stack_.pop_back(); }
+    // Spends the budget of a value or key (of `text` bytes) that is not kept. False when over budget.
+    bool count(std::size_t text) { return spend(text); }
     bool closed() const { return stack_.empty(); }
     std::string overflow(const char* what) const {
         return values_ > budget_.values
@@ -213,6 +215,7 @@ public:
         divert_next_ = streaming_ && streaming_->diverted && contains(streaming_->diverted_keys, k);
         if (depth_ == 1) root_key_ = k;
         DomBuilder& builder = streamed() ? element_ : kept_;
+        if (divert_next_ && streaming_->diverted->drops_everything()) return counted(builder, k.size());  // (not kept)
         return builder.key(std::move(k)) || over_budget(builder);
     }
     const std::optional<Stop>& failure() const { return failure_; }
@@ -280,8 +283,14 @@ private:
     // one read: of the element being streamed, if any, else of the document).
     bool divert() {
         divert_next_ = false;
-        return add(streamed() ? element_ : kept_, json(diverted_++), 0, false);
+        DomBuilder& builder = streamed() ? element_ : kept_;
+        if (streaming_->diverted->drops_everything()) return ++diverted_, counted(builder, 0);
+        return add(builder, json(diverted_++), 0, false);
     }
+
+    // A key (of `text` bytes) or ordinal of a value whose receiver drops everything: counted against the budget,
+    // not kept.
+    bool counted(DomBuilder& builder, std::size_t text) { return builder.count(text) || over_budget(builder); }
 
     bool add(DomBuilder& builder, json&& v, std::size_t text, bool open) {
         return builder.add(std::move(v), text, open) || over_budget(builder);

@@ -80,7 +80,8 @@ struct JsonStreaming {
     // The values of members named one of `diverted_keys`, at any depth (in streamed elements too;
     // this comes before streaming), go to `diverted` instead, the document holding in their place
     // their ordinal (0, 1, ...). They pass the depth, string and size limits, not the document's
-    // budget: their receiver bounds them.
+    // budget: their receiver bounds them. Where the receiver drops everything (JsonValueDropper) neither their
+    // key nor their ordinal is kept (both still counted against the budget, as if they were).
     std::vector<std::string> diverted_keys;
     JsonValueEvents* diverted = nullptr;
 };

@@ -278,8 +278,17 @@ public:
     bool drops_scalars() const override { return true; }
 };
 
-// What reading `text` gives: the document as JSON text, or the Error (offset and cause); the source hands
-// over at most `piece` bytes a call (the chunks' edges fall inside strings, numbers and values read past).
+// `doc` without its members named `key`, at any depth.
+void erase_members(json& doc, const std::string& key) {
+    if (doc.is_object()) doc.erase(key);
+    if (doc.is_structured()) {
+        for (auto& v : doc) erase_members(v, key);
+    }
+}
+
+// What reading `text` gives: the document as JSON text (the diverted values' keys and ordinals left out), or
+// the Error (offset and cause); the source hands over at most `piece` bytes a call (the chunks' edges fall
+// inside strings, numbers and values read past).
 std::string outcome(const std::string& text, JsonValueEvents& receiver, std::size_t piece) {
     const JsonStreaming streaming{{"features"}, [](const std::string&, std::size_t, json&&) { return true; },
                                   {"geometry", "skipped"}, &receiver};
@@ -292,7 +301,9 @@ std::string outcome(const std::string& text, JsonValueEvents& receiver, std::siz
         return at += n, n;
     };
     try {
-        return read_json(source, "d.json", limits, &streaming).dump();
+        json doc = read_json(source, "d.json", limits, &streaming);
+        for (const auto& key : streaming.diverted_keys) erase_members(doc, key);
+        return doc.dump();
     } catch (const Error& e) {
         return "error at " + std::to_string(e.offset().value_or(~0ull)) + ": " + e.cause();
     }
@@ -317,6 +328,14 @@ TEST(JsonReader, AValueReadPastIsCheckedAsAValueHandedOver) {
         documents.push_back(R"({"type": "FeatureCollection", "features": [{"id": "a", "geometry": )" + v +
                             R"(, "properties": {"skipped": )" + v + R"(, "n": 1}}], "skipped": )" + v + "}");
     }
+    JsonValueDropper dropper;
+    const JsonStreaming dropped{{}, {}, {"skipped"}, &dropper};
+    EXPECT_EQ(parse_json(R"({"a": 1, "skipped": [2], "b": {"skipped": 3}})", "d", {}, &dropped),
+              json::parse(R"({"a": 1, "b": {}})")) << "a value dropped leaves neither its key nor its ordinal";
+    JsonLimits two;
+    two.kept.values = 4;
+    EXPECT_TRUE(has(refusal(R"({"a": 1, "skipped": [2]})", two, &dropped), "more than the limit of 4 values"))
+        << "though they count against the budget";
     const std::string whole = documents[0];
     for (std::size_t cut = 0; cut < whole.size(); cut += 7) documents.push_back(whole.substr(0, cut));
     for (const auto& text : documents) {
