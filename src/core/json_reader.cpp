@@ -6,6 +6,7 @@
 #include "core/json_reader.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <charconv>
@@ -35,7 +36,18 @@ struct Halt {};
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; }
 
-bool is_structural_or_space(char c) {
+std::string depth_cause(const JsonLimits& limits) {
+    return "arrays and objects nested more than the limit of " + std::to_string(limits.max_depth) + " deep";
+}
+
+// The bytes a string holds as they are (printable ASCII but the quote and the backslash): 1, else 0.
+constexpr std::array<bool, 256> kPlainStringBytes = [] {
+    std::array<bool, 256> plain{};
+    for (int c = 0x20; c < 0x80; ++c) plain[c] = c != '"' && c != '\\';
+    return plain;
+}();
+
+constexpr bool is_structural_or_space(char c) {
     switch (c) {
         case '[': case ']': case '{': case '}': case ':': case ',': case ' ': case '\t': case '\n': case '\r':
             return true;
@@ -44,8 +56,14 @@ bool is_structural_or_space(char c) {
     }
 }
 
-// A byte of a number or literal (what lies between structural characters, spaces and strings).
-bool is_word_byte(char c) { return c != '"' && !is_structural_or_space(c); }
+// The bytes of a number or literal (what lies between structural characters, spaces and strings): 1, else 0.
+constexpr std::array<bool, 256> kWordBytes = [] {
+    std::array<bool, 256> word{};
+    for (int c = 0; c < 256; ++c) word[c] = c != '"' && !is_structural_or_space(static_cast<char>(c));
+    return word;
+}();
+
+bool is_word_byte(char c) { return kWordBytes[static_cast<unsigned char>(c)]; }
 
 // The source's bytes, chunk by chunk, cut at the document's limit; where the reader is in them.
 class Input {
@@ -131,6 +149,8 @@ public:
         return true;
     }
     void close() { stack_.pop_back(); }
+    // Spends the budget of a value or key (of `text` bytes) that is not kept. False when over budget.
+    bool count(std::size_t text) { return spend(text); }
     bool closed() const { return stack_.empty(); }
     std::string overflow(const char* what) const {
         return values_ > budget_.values
@@ -181,7 +201,7 @@ public:
     bool boolean(bool v) { return value(v, 0); }
     bool number_integer(json::number_integer_t v) { return value(v, 0); }
     bool number_unsigned(json::number_unsigned_t v) { return value(v, 0); }
-    bool number_float(json::number_float_t v, const std::string&) { return value(v, 0); }
+    bool number_float(json::number_float_t v) { return value(v, 0); }
     bool string(std::string& s) {
         const std::size_t n = s.size();
         return value(std::move(s), n);
@@ -195,6 +215,7 @@ public:
         divert_next_ = streaming_ && streaming_->diverted && contains(streaming_->diverted_keys, k);
         if (depth_ == 1) root_key_ = k;
         DomBuilder& builder = streamed() ? element_ : kept_;
+        if (divert_next_ && streaming_->diverted->drops_everything()) return counted(builder, k.size());  // (not kept)
         return builder.key(std::move(k)) || over_budget(builder);
     }
     const std::optional<Stop>& failure() const { return failure_; }
@@ -203,15 +224,19 @@ public:
         return (diverting_depth_ != 0 || divert_next_) && streaming_->diverted->drops_scalars();
     }
     bool stopped_by_sink() const { return stopped_; }
+    // Whether the next value goes whole to a receiver of diverted values that keeps nothing of it: then
+    // the parser reads it past (as JSON, within the depth and string limits) and tells skip_value().
+    bool skips_next_value() const {
+        return diverting_depth_ == 0 && divert_next_ && streaming_->diverted->drops_everything();
+    }
+    // The value skipped: its ordinal is left where it would have been.
+    bool skip_value() { return divert(); }
 
 private:
     bool streamed() const { return stream_depth_ != 0; }
 
     bool open(json&& container) {
-        if (++depth_ > limits_.max_depth) {
-            return fail("arrays and objects nested more than the limit of " + std::to_string(limits_.max_depth) +
-                        " deep");
-        }
+        if (++depth_ > limits_.max_depth) return fail(depth_cause(limits_));
         if (diverting_depth_ != 0 || divert_next_) {
             if (diverting_depth_ == 0 && !divert()) return false;
             streaming_->diverted->open(container.is_object());
@@ -258,8 +283,14 @@ private:
     // one read: of the element being streamed, if any, else of the document).
     bool divert() {
         divert_next_ = false;
-        return add(streamed() ? element_ : kept_, json(diverted_++), 0, false);
+        DomBuilder& builder = streamed() ? element_ : kept_;
+        if (streaming_->diverted->drops_everything()) return ++diverted_, counted(builder, 0);
+        return add(builder, json(diverted_++), 0, false);
     }
+
+    // A key (of `text` bytes) or ordinal of a value whose receiver drops everything: counted against the budget,
+    // not kept.
+    bool counted(DomBuilder& builder, std::size_t text) { return builder.count(text) || over_budget(builder); }
 
     bool add(DomBuilder& builder, json&& v, std::size_t text, bool open) {
         return builder.add(std::move(v), text, open) || over_budget(builder);
@@ -299,6 +330,95 @@ private:
     std::string root_key_, stream_key_;
     std::optional<Stop> failure_;
 };
+
+// 1 for a whole number as JSON writes it, 2 for one with a fraction (no exponent), 3 for one with an exponent,
+// 0 for no number.
+std::size_t number_shape(std::string_view w) {
+    std::size_t i = w[0] == '-' ? 1 : 0;
+    const auto digits = [&] {
+        const std::size_t from = i;
+        while (i < w.size() && w[i] >= '0' && w[i] <= '9') ++i;
+        return i - from;
+    };
+    if (i == w.size()) return 0;
+    if (w[i] == '0') {
+        ++i;
+    } else if (digits() == 0) {
+        return 0;
+    }
+    std::size_t shape = 1;
+    if (i < w.size() && w[i] == '.') {
+        ++i, shape = 2;
+        if (digits() == 0) return 0;
+    }
+    if (i < w.size() && (w[i] == 'e' || w[i] == 'E')) {
+        ++i, shape = 3;
+        if (i < w.size() && (w[i] == '+' || w[i] == '-')) ++i;
+        if (digits() == 0) return 0;
+    }
+    return i == w.size() ? shape : 0;
+}
+
+// Where the object or array just opened before `p` ends (past its closing bracket), when [p, end) holds it
+// whole and it is JSON of the plainest kind: strings of printable ASCII without escapes, of at most
+// `max_string` bytes, numbers without an exponent of under 300 characters, true, false and null, nested at
+// most `max_depth` deep (it counting 1, and at most 64). nullptr otherwise: then it is read the slow way,
+// which tells what is wrong with it, if anything, and where. What a value read past costs where it is plain.
+const char* plain_value_end(const char* p, const char* end, bool object, std::size_t max_depth,
+                            std::size_t max_string) {
+    enum State { kKeyOrClose, kValueOrClose, kKey, kValue, kAfter };
+    std::uint64_t objects = object ? 1 : 0;  // bit k: the container k deep (0: the first) is an object
+    std::size_t depth = 1;
+    State state = object ? kKeyOrClose : kValueOrClose;
+    const auto plain_string = [&] {  // at its opening quote
+        const char* from = ++p;
+        while (p != end && kPlainStringBytes[static_cast<unsigned char>(*p)]) ++p;
+        if (p == end || *p != '"' || static_cast<std::size_t>(p - from) > max_string) return false;
+        return ++p, true;
+    };
+    const auto plain_word = [&] {  // (one that ends at the chunk's end may go on in the next one)
+        const char* from = p;
+        while (p != end && is_word_byte(*p)) ++p;
+        const std::string_view w(from, static_cast<std::size_t>(p - from));
+        if (p == end || w.empty()) return false;
+        if (w == "true" || w == "false" || w == "null") return true;
+        const std::size_t shape = number_shape(w);
+        return w.size() < 300 && shape != 0 && shape != 3;
+    };
+    while (true) {
+        while (p != end && is_space(*p)) ++p;
+        if (p == end) return nullptr;
+        const char c = *p;
+        const bool in_object = (objects >> (depth - 1)) & 1;
+        if (state == kKeyOrClose || state == kValueOrClose) {
+            state = state == kKeyOrClose ? kKey : kValue;
+            if (c != (in_object ? '}' : ']')) continue;
+            ++p;
+            if (--depth == 0) return p;
+            state = kAfter;
+        } else if (state == kKey) {
+            if (c != '"' || !plain_string()) return nullptr;
+            while (p != end && is_space(*p)) ++p;
+            if (p == end || *p != ':') return nullptr;
+            ++p, state = kValue;
+        } else if (state == kValue && (c == '{' || c == '[')) {
+            if (depth + 1 > max_depth || depth == 64) return nullptr;
+            objects = (objects & ~(std::uint64_t{1} << depth)) | (std::uint64_t{c == '{'} << depth);
+            ++depth, ++p;
+            state = c == '{' ? kKeyOrClose : kValueOrClose;
+        } else if (state == kValue) {
+            if (!(c == '"' ? plain_string() : plain_word())) return nullptr;
+            state = kAfter;
+        } else if (c == ',') {
+            ++p, state = in_object ? kKey : kValue;
+        } else if (c == (in_object ? '}' : ']')) {
+            ++p;
+            if (--depth == 0) return p;
+        } else {
+            return nullptr;
+        }
+    }
+}
 
 // Whether `b` is a UTF-8 continuation byte within [lo, hi] (0x80..0xBF unless the lead byte narrows it).
 bool continues(unsigned char b, unsigned char lo = 0x80, unsigned char hi = 0xBF) { return b >= lo && b <= hi; }
@@ -345,13 +465,15 @@ private:
         const char c = in_.peek();
         if (c == '"') {
             in_.take();
-            std::string& text = string(in_.position() - 1);
-            return check(h_.drops_next_scalar() ? h_.null() : h_.string(text)), true;
+            const bool dropped = skipping() || h_.drops_next_scalar();
+            std::string& text = string(in_.position() - 1, !dropped);
+            if (!skipping()) check(dropped ? h_.null() : h_.string(text));
+            return true;
         }
         if (c != '{' && c != '[') return word(), true;
         in_.take();
         open_.push_back(c == '{');
-        check(c == '{' ? h_.start_object(std::size_t(-1)) : h_.start_array(std::size_t(-1)));
+        if (open_container(c == '{')) return true;
         skip_space();
         if (!in_.more() || in_.peek() != (c == '{' ? '}' : ']')) return false;
         in_.take();
@@ -375,10 +497,35 @@ private:
         return false;
     }
 
-    void close() {
-        check(open_.back() ? h_.end_object() : h_.end_array());
-        open_.pop_back();
+    // An object or array just opened (pushed on open_): to the handler, or read past where it (or the
+    // value it lies in) is skipped. True when it was read whole (a plain value skipped at once).
+    bool open_container(bool object) {
+        if (!skipping() && !h_.skips_next_value()) {
+            check(object ? h_.start_object(std::size_t(-1)) : h_.start_array(std::size_t(-1)));
+            return false;
+        }
+        if (open_.size() > limits_.max_depth) throw Stop{in_.position() - 1, depth_cause(limits_)};
+        if (skipping()) return false;
+        check(h_.skip_value());
+        const char* end = plain_value_end(in_.begin(), in_.end(), object, limits_.max_depth + 1 - open_.size(),
+                                          limits_.max_string_bytes);
+        if (end) {
+            in_.skip_to(end);
+            open_.pop_back();
+            return true;
+        }
+        skip_from_ = open_.size();
+        return false;
     }
+
+    void close() {
+        if (!skipping()) check(open_.back() ? h_.end_object() : h_.end_array());
+        open_.pop_back();
+        if (open_.size() < skip_from_) skip_from_ = 0;
+    }
+
+    // Whether the parser is inside a value it reads past (no events, no text kept).
+    bool skipping() const { return skip_from_ != 0; }
 
     // A member's key and its colon.
     void key() {
@@ -387,7 +534,8 @@ private:
         if (in_.take_or_stop("a string (an object's key)") != '"') {
             throw Stop{at, "syntax error: expected a string (an object's key)"};
         }
-        check(h_.key(string(at)));
+        std::string& key = string(at, !skipping());
+        if (!skipping()) check(h_.key(key));
         skip_space();
         const std::uint64_t colon = in_.position();
         if (in_.take_or_stop("':'") != ':') throw Stop{colon, "syntax error: expected ':' after an object's key"};
@@ -413,9 +561,9 @@ private:
         }
     }
 
-    // The string whose opening quote, at `start`, was just taken, decoded; its bytes as written
-    // measured against the string limit.
-    std::string& string(std::uint64_t start) {
+    // The string whose opening quote, at `start`, was just taken, decoded (unless `keep` is false: then
+    // what it holds is checked and not kept); its bytes as written measured against the string limit.
+    std::string& string(std::uint64_t start, bool keep) {
         text_.clear();
         std::uint64_t written = 0;  // bytes between the quotes so far
         while (true) {
@@ -424,11 +572,8 @@ private:
             const std::uint64_t room = limits_.max_string_bytes - written;
             const char* end = in_.end() - p > static_cast<std::ptrdiff_t>(room) ? p + room : in_.end();
             const char* q = p;
-            while (q != end && static_cast<unsigned char>(*q) >= 0x20 && static_cast<unsigned char>(*q) < 0x80 &&
-                   *q != '"' && *q != '\\') {
-                ++q;
-            }
-            text_.append(p, q);
+            while (q != end && kPlainStringBytes[static_cast<unsigned char>(*q)]) ++q;
+            if (keep) text_.append(p, q);
             written += static_cast<std::uint64_t>(q - p);
             in_.skip_to(q);
             if (q == in_.end()) continue;
@@ -545,10 +690,12 @@ private:
                               " bytes, more than the limit of " + std::to_string(limits_.max_string_bytes)};
     }
 
-    // A number or literal: its bytes up to the next structural character, space or quote.
+    // A number or literal: its bytes up to the next structural character, space or quote (looked at where they
+    // lie when the chunk holds them whole, else copied).
     void word() {
         const std::uint64_t start = in_.position();
         word_.clear();
+        std::string_view w;
         while (in_.more()) {
             const char* p = in_.begin();
             const char* q = p;
@@ -557,67 +704,65 @@ private:
                 throw Stop{start, "a number or literal of more than " + std::to_string(kMaxJsonTokenBytes) +
                                       " characters"};
             }
-            word_.append(p, q);
             in_.skip_to(q);
+            if (q != in_.end() && word_.empty()) {
+                w = std::string_view(p, static_cast<std::size_t>(q - p));
+                break;
+            }
+            word_.append(p, q);
+            w = word_;
             if (q != in_.end()) break;
         }
-        if (word_.empty()) {
+        if (w.empty()) {
             if (!in_.more()) in_.end_of_input("a value");
             throw Stop{start, std::string("syntax error: unexpected '") + in_.peek() + "'; expected a value"};
         }
-        if (word_ == "true" || word_ == "false") return check(h_.boolean(word_ == "true"));
-        if (word_ == "null") return check(h_.null());
-        number(start);
+        const char first = w[0];  // (a number starts with a digit or '-': one byte tells it from a literal)
+        if (first != '-' && (first < '0' || first > '9')) return literal(start, w);
+        number(start, w);
     }
 
-    void number(std::uint64_t start) {
-        const std::size_t shape = number_shape(word_);
-        if (shape == 0) throw Stop{start, "syntax error: invalid literal '" + display_excerpt(word_) + "'"};
-        const char* first = word_.data();
-        const char* last = first + word_.size();
+    // true, false or null.
+    void literal(std::uint64_t start, std::string_view w) {
+        if (w == "true" || w == "false") return skipping() ? void() : check(h_.boolean(w == "true"));
+        if (w == "null") return skipping() ? void() : check(h_.null());
+        invalid_literal(start, w);
+    }
+
+    [[noreturn]] void invalid_literal(std::uint64_t start, std::string_view w) {
+        throw Stop{start, "syntax error: invalid literal '" + display_excerpt(w) + "'"};
+    }
+
+    void number(std::uint64_t start, std::string_view w) {
+        const std::size_t shape = number_shape(w);
+        if (shape == 0) invalid_literal(start, w);
+        const char* first = w.data();
+        const char* last = first + w.size();
+        const bool dropped = skipping() || h_.drops_next_scalar();
         // (a number dropped is not converted where it cannot overflow: no exponent, under 300 digits)
-        if (h_.drops_next_scalar() && word_.size() < 300 && word_.find_first_of("eE") == std::string::npos) {
-            return check(h_.null());
-        }
-        if (shape == 1 && word_[0] != '-') {
+        if (dropped && w.size() < 300 && shape != 3) return drop();
+        if (shape == 1 && w[0] != '-') {
             std::uint64_t v = 0;
-            if (std::from_chars(first, last, v).ec == std::errc()) return check(h_.number_unsigned(v));
+            if (std::from_chars(first, last, v).ec == std::errc()) {
+                return dropped ? drop() : check(h_.number_unsigned(v));
+            }
         } else if (shape == 1) {
             std::int64_t v = 0;
-            if (std::from_chars(first, last, v).ec == std::errc()) return check(h_.number_integer(v));
+            if (std::from_chars(first, last, v).ec == std::errc()) {
+                return dropped ? drop() : check(h_.number_integer(v));
+            }
         }
-        double v = 0;
-        if (std::from_chars(first, last, v).ec != std::errc()) v = std::strtod(word_.c_str(), nullptr);  // (underflow)
-        if (!std::isfinite(v)) throw Stop{start, "number overflow parsing '" + display_excerpt(word_) + "'"};
-        check(h_.number_float(v, word_));
+        double v = 0;  // (from_chars refuses an underflow: strtod gives its nearest double)
+        if (std::from_chars(first, last, v).ec != std::errc()) v = std::strtod(std::string(w).c_str(), nullptr);
+        if (!std::isfinite(v)) throw Stop{start, "number overflow parsing '" + display_excerpt(w) + "'"};
+        dropped ? drop() : check(h_.number_float(v));
     }
 
-    // 1 for a whole number as JSON writes it, 2 for one with a fraction or exponent, 0 for no number.
-    static std::size_t number_shape(const std::string& w) {
-        std::size_t i = w[0] == '-' ? 1 : 0;
-        const auto digits = [&] {
-            const std::size_t from = i;
-            while (i < w.size() && w[i] >= '0' && w[i] <= '9') ++i;
-            return i - from;
-        };
-        if (i == w.size()) return 0;
-        if (w[i] == '0') {
-            ++i;
-        } else if (digits() == 0) {
-            return 0;
-        }
-        std::size_t shape = 1;
-        if (i < w.size() && w[i] == '.') {
-            ++i, shape = 2;
-            if (digits() == 0) return 0;
-        }
-        if (i < w.size() && (w[i] == 'e' || w[i] == 'E')) {
-            ++i, shape = 2;
-            if (i < w.size() && (w[i] == '+' || w[i] == '-')) ++i;
-            if (digits() == 0) return 0;
-        }
-        return i == w.size() ? shape : 0;
+    // A scalar read and dropped: nothing where the value it lies in is skipped, else null to the handler.
+    void drop() {
+        if (!skipping()) check(h_.null());
     }
+
 
     void check(bool accepted) {
         if (!accepted) throw Halt{};
@@ -631,6 +776,7 @@ private:
     BoundedHandler& h_;
     const JsonLimits& limits_;
     std::vector<bool> open_;  // the objects (true) and arrays open, outermost first
+    std::size_t skip_from_ = 0;  // open_.size() when the outermost object or array read past opened (0: none)
     std::string text_, word_;
 };
 

@@ -69,6 +69,9 @@ public:
     // True when scalars are not looked at: each is then handed over as null (a number not converted, a
     // string not kept; both still read and checked as JSON).
     virtual bool drops_scalars() const { return false; }
+    // True when nothing is looked at (no event has an effect): each value diverted here is then read past,
+    // checked as JSON within the limits but never tokenized into events.
+    virtual bool drops_everything() const { return false; }
 };
 
 struct JsonStreaming {
@@ -77,7 +80,8 @@ struct JsonStreaming {
     // The values of members named one of `diverted_keys`, at any depth (in streamed elements too;
     // this comes before streaming), go to `diverted` instead, the document holding in their place
     // their ordinal (0, 1, ...). They pass the depth, string and size limits, not the document's
-    // budget: their receiver bounds them.
+    // budget: their receiver bounds them. Where the receiver drops everything (JsonValueDropper) neither their
+    // key nor their ordinal is kept (both still counted against the budget, as if they were).
     std::vector<std::string> diverted_keys;
     JsonValueEvents* diverted = nullptr;
 };
@@ -90,6 +94,7 @@ public:
     void key(const std::string&) override {}
     void close() override {}
     bool drops_scalars() const override { return true; }
+    bool drops_everything() const override { return true; }
 };
 
 // The document read from `source`; `name` (a path or URL as shown) names it in errors. A streamed

@@ -676,7 +676,7 @@ Frame items_frame(std::span<const TileSource> sources, const DatasetOptions& opt
     std::string_view best;
     std::size_t best_count = 0;
     for (const auto& s : sources) {
-        if (++count[s.item->crs] > best_count) best_count = count[s.item->crs], best = s.item->crs;
+        if (++count[s.item->crs.str()] > best_count) best_count = count[s.item->crs.str()], best = s.item->crs.str();
     }
     const geo::CrsInfo info = geo::crs_info(std::string(best));
     return {std::string(best), info.xy_to_metres, usable_factor(info.z_to_metres) ? info.z_to_metres : 1.0, false};
@@ -698,7 +698,7 @@ std::optional<std::pair<Frame, std::vector<Bounds>>> placing(std::span<const Til
     }
     Frame frame = items_frame(sources, options);
     for (const auto& s : sources) {
-        if (!in_frame_crs(s.item->crs, frame)) return std::nullopt;
+        if (!in_frame_crs(s.item->crs.str(), frame)) return std::nullopt;
     }
     return std::pair{std::move(frame), std::move(footprints)};
 }
@@ -753,7 +753,7 @@ std::optional<Bounds> catalog_footprint(const CatalogItem& item) {
     std::optional<std::pair<double, double>> unit{{1.0, 1.0}};
     if (!item.crs.empty()) {
         std::lock_guard lock(mutex);
-        const auto [it, added] = units.try_emplace(item.crs);
+        const auto [it, added] = units.try_emplace(item.crs.str());
         if (added) {
             try {
                 const geo::CrsInfo info = geo::crs_info(item.crs);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <iterator>
 #include <set>
 #include <string_view>
 #include <unordered_map>
@@ -64,12 +65,16 @@ struct Queued {
     std::string first;       // the first page of its search (the document itself when page is 0)
 };
 
+// The CRS texts of a catalog's items, each held once however many items name it.
+using CrsTexts = std::unordered_map<std::string, SharedText>;
+
 struct Walk {
     const CatalogLimits& limits;
     Catalog out;
     std::set<std::string> seen;   // documents queued or read
     std::deque<Queued> queue;     // documents to read
     std::unordered_map<std::uint64_t, std::uint64_t> pages;  // the items of each page read (a hash): its number
+    CrsTexts crs_texts;  // the items' CRS texts, each once
     std::uint64_t bytes = 0;
     bool full = false;  // a limit was reached: nothing more is read
 
@@ -93,6 +98,10 @@ struct Streamed {
         std::string error;  // why it cannot be followed ("" when it can)
     };
     std::size_t first_item = 0;  // where its items start in the catalog's
+    // Its items as read, in chunks (moved into the catalog's once, when they are kept: a catalog's vector grown
+    // an item at a time would leave the pages of each smaller copy behind, as much as the items again).
+    std::vector<std::vector<CatalogItem>> items;
+    std::size_t item_count = 0;
     ItemLineSink item_lines;     // lines about its items
     std::vector<Link> links;     // the links whose rel is followed somewhere, and broken ones
     std::string overview;        // the href of its kOverviewRel link ("" when none)
@@ -107,9 +116,35 @@ bool has_scheme(const std::string& s) {
     });
 }
 
+// The folder of a local document as its relative hrefs are resolved against (normalised, ending in '/', or ""
+// for the current folder); nullopt where it cannot be told so.
+std::optional<std::string> folder_prefix(const std::string& document) {
+    const std::string probe = (fs::path(document).parent_path() / "x").lexically_normal().string();
+    if (probe == "x") return "";
+    if (probe.size() < 2 || !probe.ends_with("/x")) return std::nullopt;
+    return probe.substr(0, probe.size() - 1);
+}
+
+// `href` (relative) joined to `folder` (folder_prefix) where it is plain segments (a leading "./" aside; none
+// empty, "." or ".."): what lexically_normal makes of them, made without splitting paths; nullopt otherwise.
+std::optional<std::string> plain_join(const std::string& folder, std::string_view href) {
+    if (href.starts_with("./")) href.remove_prefix(2);
+    for (std::size_t at = 0; at <= href.size();) {
+        const std::size_t end = std::min(href.find('/', at), href.size());
+        const std::string_view segment = href.substr(at, end - at);
+        if (segment.empty() || segment == "." || segment == "..") return std::nullopt;
+        at = end + 1;
+    }
+    std::string joined;
+    joined.reserve(folder.size() + href.size());
+    return joined.append(folder).append(href);
+}
+
 // `href` of `document` as a path or URL: a local document's relative hrefs against its folder (URLs
-// and absolute paths as they are); a remote document's against its URL, keeping its origin.
-std::optional<std::string> resolve(const std::string& document, const std::string& href, std::string& refusal) {
+// and absolute paths as they are); a remote document's against its URL, keeping its origin. `folder`, when
+// given, is the local document's folder_prefix.
+std::optional<std::string> resolve(const std::string& document, const std::string& href, std::string& refusal,
+                                   const std::optional<std::string>& folder = std::nullopt) {
     if (href.empty()) {
         refusal = "an empty href";
         return std::nullopt;
@@ -121,7 +156,10 @@ std::optional<std::string> resolve(const std::string& document, const std::strin
             refusal = "\"" + shown(href) + "\" is neither a path nor an http(s) URL";
             return std::nullopt;
         }
-        if (net::is_url(href) || fs::path(href).is_absolute()) return href;
+        if (net::is_url(href) || href.front() == '/') return href;
+        if (folder) {
+            if (auto joined = plain_join(*folder, href)) return joined;
+        }
         return (fs::path(document).parent_path() / href).lexically_normal().string();
     }
     if (other_scheme) {
@@ -184,9 +222,20 @@ const json* data_asset(const json& assets) {
 
 // A catalog document: its path or URL, and as shown in lines (made once for all its items).
 struct Document {
-    explicit Document(const std::string& p) : path(p), shown(lidarscout::dataset::shown(io::display_path(p))) {}
+    Document(const std::string& p, CrsTexts& crs)
+        : path(p), shown(lidarscout::dataset::shown(io::display_path(p))),
+          folder(net::is_url(p) ? std::nullopt : folder_prefix(p)), crs_texts(crs) {}
     const std::string& path;
-    std::string shown;
+    SharedText shown;
+    std::optional<std::string> folder;  // a local document's folder_prefix
+    CrsTexts& crs_texts;
+
+    // `text` as held once for the catalog.
+    SharedText crs(std::string&& text) const {
+        const auto [at, added] = crs_texts.try_emplace(text);
+        if (added) at->second = SharedText(std::move(text));
+        return at->second;
+    }
 };
 
 // What could not be used of one item, each cause with what was done instead, named in one line: the item
@@ -250,7 +299,7 @@ std::optional<std::array<double, 6>> bbox_of(const json& b) {
 }
 
 // The item's pc:count, proj:bbox and CRS; a field of the wrong kind is a cause in `lines` (the tile is read anyway).
-void read_properties(const json& props, CatalogItem& item, ItemLines& lines) {
+void read_properties(const json& props, const Document& document, CatalogItem& item, ItemLines& lines) {
     field(lines, kHeaderInstead, [&] { item.count = json_optional_count(props, "pc:count"); });
     if (const json* b = json_field(props, "proj:bbox")) {
         item.bbox = bbox_of(*b);
@@ -260,11 +309,11 @@ void read_properties(const json& props, CatalogItem& item, ItemLines& lines) {
     const json* wkt = json_field(props, "proj:wkt2");
     const json* projjson = json_field(props, "proj:projjson");
     if (epsg && epsg->is_number_integer() && epsg->get<std::int64_t>() > 0) {
-        item.crs = "EPSG:" + std::to_string(epsg->get<std::int64_t>());
+        item.crs = document.crs("EPSG:" + std::to_string(epsg->get<std::int64_t>()));
     } else if (wkt && wkt->is_string() && !wkt->get_ref<const std::string&>().empty()) {
-        item.crs = wkt->get<std::string>();
+        item.crs = document.crs(wkt->get<std::string>());
     } else if (projjson && projjson->is_object()) {
-        item.crs = projjson->dump(-1, ' ', false, json::error_handler_t::replace);
+        item.crs = document.crs(projjson->dump(-1, ' ', false, json::error_handler_t::replace));
     }
 }
 
@@ -296,12 +345,12 @@ std::optional<CatalogItem> item_of(const json& feature, const Document& document
     }
     if (!href) return refuse(lines, "no data asset with an href (the tile's path or URL)", sink);
     std::string refusal;
-    const auto resolved = resolve(document.path, *href, refusal);
+    const auto resolved = resolve(document.path, *href, refusal, document.folder);
     if (!resolved) return refuse(lines, refusal, sink);
     item.href = *resolved;
     const json* props = nullptr;
     field(lines, kHeaderInstead, [&] { props = json_optional_object(feature, "properties"); });
-    if (props) read_properties(*props, item, lines);
+    if (props) read_properties(*props, document, item, lines);
     if (!lines.causes.empty()) sink.warnings.push_back(lines.kept());
     return item;
 }
@@ -330,9 +379,10 @@ void take_link(const json& link, std::size_t index, Streamed& s) {
     s.links.push_back({*rel, std::move(*href), ""});
 }
 
-// Whether the catalog holds its limit of items already: then nothing more is read, and a line says so.
-bool at_item_limit(const std::string& document, Walk& w) {
-    if (w.out.items.size() < w.limits.max_items) return false;
+// Whether the catalog holds its limit of items already, with `read` items of the document being read (not yet
+// kept): then nothing more is read, and a line says so.
+bool at_item_limit(const std::string& document, std::size_t read, Walk& w) {
+    if (w.out.items.size() + read < w.limits.max_items) return false;
     w.full = true;
     w.error(document, "more than " + std::to_string(w.limits.max_items) + " items: the rest is not read");
     return true;
@@ -342,9 +392,31 @@ bool at_item_limit(const std::string& document, Walk& w) {
 bool take_element(const std::string& key, std::size_t index, const json& element, const Document& document,
                   Streamed& s, Walk& w) {
     if (key == "links") return take_link(element, index, s), true;
-    if (at_item_limit(document.path, w)) return false;
-    if (auto item = item_of(element, document, index, s.item_lines)) w.out.items.push_back(std::move(*item));
+    if (at_item_limit(document.path, s.item_count, w)) return false;
+    if (auto item = item_of(element, document, index, s.item_lines)) {
+        constexpr std::size_t kChunk = 4096;
+        if (s.items.empty() || s.items.back().size() == kChunk) {
+            s.items.emplace_back();
+            if (s.items.size() > 1) s.items.back().reserve(kChunk);  // (the first grows as it fills)
+        }
+        s.items.back().push_back(std::move(*item));
+        ++s.item_count;
+    }
     return true;
+}
+
+// Moves the items `s` read into the catalog's (the vector grown to hold them at once), chunk by chunk.
+void keep_items(Streamed& s, Walk& w) {
+    auto& items = w.out.items;
+    if (items.capacity() < items.size() + s.item_count) {
+        items.reserve(std::max(items.size() + s.item_count, items.empty() ? 0 : 2 * items.capacity()));
+    }
+    for (auto& chunk : s.items) {
+        std::move(chunk.begin(), chunk.end(), std::back_inserter(items));
+        std::vector<CatalogItem>().swap(chunk);
+    }
+    s.items.clear();
+    s.item_count = 0;
 }
 
 // Follows the links whose rel is one of `rels` (a line for each broken link that could be one): "next"
@@ -389,7 +461,7 @@ std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk
     limits.kept = limits.element = {200'000, 32u << 20};
     // (what an item holds that the catalog does not use is read past, not kept even for a while)
     JsonValueDropper unused;
-    const Document named(document);
+    const Document named(document, w.crs_texts);
     const JsonStreaming streaming{{"features", "links"},
                                   [&](const std::string& key, std::size_t i, json&& element) {
                                       return take_element(key, i, element, named, s, w);
@@ -423,7 +495,7 @@ void take_overview(const Streamed& s, const std::string& document, Walk& w) {
 
 void read_document(const Queued& q, Walk& w) {
     const std::string& document = q.document;
-    Streamed s{w.out.items.size(), {}, {}, {}};
+    Streamed s{w.out.items.size(), {}, 0, {}, {}, {}};
     const bool was_full = w.full;
     const auto doc = read_streamed(document, s, w);
     std::optional<std::string> type;
@@ -438,7 +510,7 @@ void read_document(const Queued& q, Walk& w) {
     const bool collection =
         doc && type_error.empty() && (type == "FeatureCollection" || (!type && w.full && !was_full));
     const json* features = collection ? json_field(*doc, "features") : nullptr;
-    if (!features || !features->is_array()) w.out.items.resize(s.first_item);
+    if (features && features->is_array()) keep_items(s, w);
     if (!doc) return;
     ++w.out.documents;
     if (!type_error.empty()) {
@@ -450,9 +522,11 @@ void read_document(const Queued& q, Walk& w) {
         take_overview(s, document, w);
         follow_links(s, q, {"next"}, w);  // a STAC API search's further pages
     } else if (type == "Feature") {
-        if (at_item_limit(document, w)) return;
+        if (at_item_limit(document, 0, w)) return;
         ItemLineSink lines;
-        if (auto item = item_of(*doc, Document(document), 0, lines)) w.out.items.push_back(std::move(*item));
+        if (auto item = item_of(*doc, Document(document, w.crs_texts), 0, lines)) {
+            w.out.items.push_back(std::move(*item));
+        }
         w.take_item_lines(std::move(lines));
     } else if (type == "Catalog" || type == "Collection") {
         follow_links(s, q, {"child", "item"}, w);
@@ -510,7 +584,7 @@ ContentKind content_kind(const std::string& path) {
 bool holds_json_object(const std::string& path) { return content_kind(path) == ContentKind::catalog; }
 
 Catalog read_catalog(const std::string& path, const CatalogLimits& limits, const CatalogItemsRead& items_read) {
-    Walk w{limits, {}, {}, {}, {}, 0, false};
+    Walk w{limits, {}, {}, {}, {}, {}, 0, false};
     w.seen.insert(path);
     w.queue.push_back({path, 0, 0, path});
     while (!w.queue.empty() && !w.full) {
@@ -530,7 +604,7 @@ Catalog read_catalog(const std::string& path, const CatalogLimits& limits, const
 
 std::string item_name(const CatalogItem& item) {
     const std::string what = item.id.empty() ? shown(io::display_path(item.href)) : "'" + shown(item.id) + "'";
-    return "item " + what + " in " + item.document;
+    return "item " + what + " in " + item.document.str();
 }
 
 namespace {
@@ -564,8 +638,9 @@ std::string item_disagreement(const CatalogItem& item, const Tile& tile) {
                            " (more than 1% apart)");
         }
     }
-    if (epsg != 0 && item.crs.rfind("EPSG:", 0) == 0 && item.crs != "EPSG:" + std::to_string(epsg)) {
-        what.push_back("proj:epsg: catalog " + item.crs.substr(5) + ", header " + std::to_string(epsg));
+    const std::string& crs = item.crs;
+    if (epsg != 0 && crs.rfind("EPSG:", 0) == 0 && crs != "EPSG:" + std::to_string(epsg)) {
+        what.push_back("proj:epsg: catalog " + crs.substr(5) + ", header " + std::to_string(epsg));
     }
     if (what.empty()) return {};
     std::string line = item_name(item) + " disagrees with the header of its tile";

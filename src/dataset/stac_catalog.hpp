@@ -30,20 +30,44 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace lidarscout::dataset {
 
 struct Tile;
 
+// Text that many items share, held once (a document's name, a CRS): a pointer's size an item; "" when null.
+class SharedText {
+public:
+    SharedText() = default;
+    SharedText(std::string text) : text_(std::make_shared<const std::string>(std::move(text))) {}
+    SharedText(const char* text) : SharedText(std::string(text)) {}
+    explicit SharedText(std::shared_ptr<const std::string> text) : text_(std::move(text)) {}
+
+    const std::string& str() const { return text_ ? *text_ : none(); }
+    operator const std::string&() const { return str(); }
+    bool empty() const { return str().empty(); }
+    friend bool operator==(const SharedText& a, std::string_view b) { return a.str() == b; }
+    friend std::ostream& operator<<(std::ostream& out, const SharedText& t) { return out << t.str(); }
+
+private:
+    static const std::string& none() {
+        static const std::string none;
+        return none;
+    }
+    std::shared_ptr<const std::string> text_;
+};
+
 struct CatalogItem {
     std::string href;                          // the tile: a path or URL, resolved
     std::string id;                            // the item's id ("" when it has none)
-    std::string document;                      // the catalog document that holds it, as shown (cut)
+    SharedText document;                       // the catalog document that holds it, as shown (cut)
     std::optional<std::uint64_t> count;        // pc:count
     std::optional<std::array<double, 6>> bbox; // proj:bbox: min x, y, z, max x, y, z (z NaN when 2D), CRS units
-    std::string crs;                           // "EPSG:n", WKT2 or PROJJSON text; "" when the item gives none
+    SharedText crs;                            // "EPSG:n", WKT2 or PROJJSON text; "" when the item gives none
     // The overview sidecar its catalog names (dataset/overview_sidecar.hpp), resolved; null when none.
     std::shared_ptr<const std::string> overview;
 };

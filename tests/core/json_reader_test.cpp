@@ -266,6 +266,88 @@ TEST(JsonReader, DivertedValuesGoToTheirReceiverAndLeaveTheirOrdinal) {
     EXPECT_TRUE(e.offset());
 }
 
+// Drops scalars but counts the events of diverted values: what the reader did with every value a catalog
+// reads past before values dropped whole were skipped (and what it still does for any other receiver).
+class EventCounter final : public JsonValueEvents {
+public:
+    std::size_t events = 0;
+    void scalar(const json&) override { ++events; }
+    void open(bool) override { ++events; }
+    void key(const std::string&) override { ++events; }
+    void close() override { ++events; }
+    bool drops_scalars() const override { return true; }
+};
+
+// `doc` without its members named `key`, at any depth.
+void erase_members(json& doc, const std::string& key) {
+    if (doc.is_object()) doc.erase(key);
+    if (doc.is_structured()) {
+        for (auto& v : doc) erase_members(v, key);
+    }
+}
+
+// What reading `text` gives: the document as JSON text (the diverted values' keys and ordinals left out), or
+// the Error (offset and cause); the source hands over at most `piece` bytes a call (the chunks' edges fall
+// inside strings, numbers and values read past).
+std::string outcome(const std::string& text, JsonValueEvents& receiver, std::size_t piece) {
+    const JsonStreaming streaming{{"features"}, [](const std::string&, std::size_t, json&&) { return true; },
+                                  {"geometry", "skipped"}, &receiver};
+    JsonLimits limits;
+    limits.max_depth = 12;
+    limits.max_string_bytes = 24;
+    JsonSource source = [&text, piece, at = std::size_t{0}](std::span<char> out) mutable {
+        const std::size_t n = std::min({out.size(), piece, text.size() - at});
+        std::copy_n(text.data() + at, n, out.data());
+        return at += n, n;
+    };
+    try {
+        json doc = read_json(source, "d.json", limits, &streaming);
+        for (const auto& key : streaming.diverted_keys) erase_members(doc, key);
+        return doc.dump();
+    } catch (const Error& e) {
+        return "error at " + std::to_string(e.offset().value_or(~0ull)) + ": " + e.cause();
+    }
+}
+
+// A value read past (its receiver keeps nothing) is checked as JSON as any value is: the same document, or the
+// same Error at the same offset, as where its events go to a receiver, whatever the text and wherever the
+// chunks end: braces and escaped quotes in strings, CRLF, deep nesting at and past the limit, long strings,
+// bad UTF-8, numbers that overflow, truncated text.
+TEST(JsonReader, AValueReadPastIsCheckedAsAValueHandedOver) {
+    const std::vector<std::string> values = {
+        R"({"a": "}{][", "b": [1, -2.5, 0, true, false, null, {}, []]})",
+        R"({"q": "say \"}\" and \\", "u": "\u00e9\ud83d\ude00", "c": "\u0041"})",
+        "{\r\n \"x\" :\t[ 1 ,\r\n 2 ] ,\"y\":{ }\r\n}",
+        "[[[[[[[[[[[1]]]]]]]]]]]", "[[[[[[[[[[[[1]]]]]]]]]]]]", R"({"s": "0123456789012345678901234"})",
+        R"(["0123456789012345678901234"])", "[\"caf\xC3\xA9\", \"\xC3\"]", "[\"\xF0\x9F\x98\x80\", \"\xED\xA0\x80\"]",
+        "[\"tab\there\"]", "[1e999]", "[1e5, -0.5E-3, 12.]", "[01]", "[-]", "[1 2]", "{\"a\" 1}", "{\"a\": 1,}",
+        "[1,]", "[tru]", "[true1]", "[nul, 2]", "{1: 2}", "[\"\\x\"]", "[\"\\ud800\"]", "[\"\\udc00\"]",
+        R"({"coordinates": [[[-83.14, 37.66], [-83.12, 37.66]]], "type": "Polygon"})"};
+    std::vector<std::string> documents;
+    for (const auto& v : values) {
+        documents.push_back(R"({"type": "FeatureCollection", "features": [{"id": "a", "geometry": )" + v +
+                            R"(, "properties": {"skipped": )" + v + R"(, "n": 1}}], "skipped": )" + v + "}");
+    }
+    JsonValueDropper dropper;
+    const JsonStreaming dropped{{}, {}, {"skipped"}, &dropper};
+    EXPECT_EQ(parse_json(R"({"a": 1, "skipped": [2], "b": {"skipped": 3}})", "d", {}, &dropped),
+              json::parse(R"({"a": 1, "b": {}})")) << "a value dropped leaves neither its key nor its ordinal";
+    JsonLimits two;
+    two.kept.values = 4;
+    EXPECT_TRUE(has(refusal(R"({"a": 1, "skipped": [2]})", two, &dropped), "more than the limit of 4 values"))
+        << "though they count against the budget";
+    const std::string whole = documents[0];
+    for (std::size_t cut = 0; cut < whole.size(); cut += 7) documents.push_back(whole.substr(0, cut));
+    for (const auto& text : documents) {
+        for (const std::size_t piece : {std::size_t{1}, std::size_t{5}, std::size_t{1} << 20}) {
+            JsonValueDropper dropper;
+            EventCounter counter;
+            EXPECT_EQ(outcome(text, dropper, piece), outcome(text, counter, piece))
+                << text << " in pieces of " << piece;
+        }
+    }
+}
+
 TEST(JsonReader, AnErrorOfTheSourceOrSinkNamesTheDocument) {
     const JsonSource failing = [](std::span<char>) -> std::size_t { throw Error("read failed"); };
     try {

@@ -120,7 +120,7 @@ TEST_F(CatalogWriter, ACompoundCrsIsWrittenAsWktAndReadBackWhole) {
     EXPECT_NE(p.at("proj:wkt2").get<std::string>().find("NAVD88"), std::string::npos);
     const auto catalog = read_catalog(vpc);
     ASSERT_EQ(catalog.items.size(), 1u);
-    EXPECT_NE(catalog.items[0].crs.find("NAVD88"), std::string::npos) << catalog.items[0].crs;
+    EXPECT_NE(catalog.items[0].crs.str().find("NAVD88"), std::string::npos) << catalog.items[0].crs;
 }
 
 TEST_F(CatalogWriter, AVirtualReplicaIsRefusedAndNothingWritten) {

@@ -78,6 +78,41 @@ TEST_F(StacCatalog, AVirtualPointCloudsItemsResolveAgainstItsFolder) {
     EXPECT_EQ(c.items[2].href, "https://example.com/c.laz") << "a local catalog may name URLs";
 }
 
+// Relative hrefs of every shape resolve as the document's folder joined and normalised says, whatever the
+// document's path; the items of a document of several thousand (kept in chunks while it is read) keep their
+// order, and an item limit inside such a document keeps exactly that many.
+TEST_F(StacCatalog, HrefsOfEveryShapeResolveAndManyItemsKeepTheirOrder) {
+    const std::vector<std::string> hrefs = {"a.laz", "./a.laz", "t/a.laz", "./t/./a.laz", "../a.laz", "t//a.laz",
+                                            "t/", ".", "..", "./", "t/../a.laz", "...laz", ".hidden/a.laz", "t/."};
+    fs::create_directories(dir / "sub"), fs::create_directories(dir / "x/y");  // (named by the paths' "..")
+    for (const std::string name : {"sub/survey.vpc", "sub/../other/cat.vpc", "x/./y/../z/c.vpc"}) {
+        std::vector<json> items;
+        for (std::size_t k = 0; k < hrefs.size(); ++k) items.push_back(item(std::to_string(k), hrefs[k]));
+        write(fs::path(name).lexically_normal().string(), collection_of(items));
+        const std::string document = (dir / name).string();
+        const Catalog c = read_catalog(document);
+        ASSERT_EQ(c.items.size(), hrefs.size()) << name;
+        for (std::size_t k = 0; k < hrefs.size(); ++k) {
+            EXPECT_EQ(c.items[k].href, (fs::path(document).parent_path() / hrefs[k]).lexically_normal().string())
+                << name << " " << hrefs[k];
+        }
+    }
+    std::vector<json> many;
+    for (int i = 0; i < 10'000; ++i) many.push_back(item("t" + std::to_string(i), "t" + std::to_string(i) + ".laz"));
+    const std::string vpc = write("many.vpc", collection_of(many));
+    const Catalog all = read_catalog(vpc);
+    ASSERT_EQ(all.items.size(), 10'000u);
+    for (int i = 0; i < 10'000; i += 997) EXPECT_EQ(all.items[i].id, "t" + std::to_string(i));
+    EXPECT_EQ(all.items.back().href, (dir / "t9999.laz").string());
+    CatalogLimits limits;
+    limits.max_items = 4097;
+    const Catalog cut = read_catalog(vpc, limits);
+    ASSERT_EQ(cut.items.size(), 4097u);
+    EXPECT_EQ(cut.items.back().id, "t4096");
+    ASSERT_EQ(cut.errors.size(), 1u);
+    EXPECT_NE(cut.errors[0].find("more than 4097 items"), std::string::npos);
+}
+
 TEST_F(StacCatalog, CatalogsAndCollectionsAreFollowedOnceEach) {
     write("root.json", {{"type", "Catalog"}, {"id", "root"}, {"links", {{{"rel", "child"}, {"href", "./c1/c.json"}},
                                                                          {{"rel", "self"}, {"href", "./root.json"}}}}});
