@@ -320,9 +320,10 @@ std::pair<RangeRequest, HttpClient::MultiRange> first_request(const std::string&
 }
 
 // Opens `url` on the client's thread: in one request where its host is known to answer several ranges
-// at once, in two where it is not. When nothing tells of the host yet (`may_probe`: a prefetch, with
-// opens of the same host to follow), the first open asks in one request and the others wait for its
-// answer (then ask in two requests if it told nothing either: a small file answered whole, an error).
+// at once, in two where it is not. When nothing tells of the host yet (`may_probe`: a prefetch of several
+// files, whose other opens it may spare a request each), the first open asks in one request and the others
+// wait for its answer (then ask in two requests if it told nothing either: a small file answered whole, an
+// error). A host that answers one range costs that first open one request more.
 void open_with(const std::string& url, Finish finish, bool may_probe) {
     auto [first, known] = first_request(url);
     using MultiRange = HttpClient::MultiRange;
@@ -384,7 +385,9 @@ std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
 namespace {
 
 // Starts opening `url` on the client's thread; `opened` gets the file, or null when a request failed.
-void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared_ptr<const RemoteFile>>> opened) {
+// `may_probe`: as open_with's.
+void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared_ptr<const RemoteFile>>> opened,
+                bool may_probe) {
     open_with(url, [url, opened](std::shared_ptr<RemoteFile> file) {
         std::shared_ptr<const RemoteFile> kept = file ? register_file(url, std::move(file)) : nullptr;
         {
@@ -393,7 +396,7 @@ void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared
             r.opening.erase(url);
         }
         opened->set_value(std::move(kept));
-    }, true);
+    }, may_probe);
 }
 
 }  // namespace
@@ -409,7 +412,7 @@ void RemoteFile::prefetch(std::span<const std::string> urls) {
             r.opening.emplace(url, opened->get_future().share());
         }
         try {
-            open_async(url, std::move(opened));
+            open_async(url, std::move(opened), urls.size() > 1);
         } catch (const Error&) {  // (an s3 URL without a key, a bad S3 setting): open() reports it
             auto& r = registry();
             std::lock_guard lock(r.mutex);

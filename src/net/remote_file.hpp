@@ -3,8 +3,8 @@
 // opened (a tile's header, VLRs and usually its chunk table: half of what local files keep,
 // as every byte crosses the network), and exact reads anywhere else. Where the host is known to
 // answer several ranges in one multipart response (it did so before; the first of the opens a prefetch
-// starts for a host not known yet asks so, and the others wait for its answer), a file opens in one
-// request: its first 8 KiB and last 2 KiB
+// of several files starts for a host not known yet asks so, and the others wait for its answer), a file
+// opens in one request: its first 8 KiB and last 2 KiB
 // together ("bytes=0-8191,-2048"; a small file's answer is the whole file), the head then kept as an
 // open in two keeps it. Elsewhere (S3, hosts that answer one range), and where that answer could not
 // be used, the head comes first, then the tail with the rest of a LAS head longer than 2 KiB (its VLRs
