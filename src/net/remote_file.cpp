@@ -254,10 +254,11 @@ void open_in_two(const std::string& url, Finish finish) {
     });
 }
 
-// The first request of an open where the host answers several ranges at once: the first kOpenHead bytes
-// and the last kEdge together ("bytes=0-8191,-2048"). The heads of the LAZ tiles at hand end (with the
-// chunk table's 8-byte offset and the first point record) 0.4-2.6 KiB in, a WKT VLR makes some a few KiB;
-// the chunk tables at their ends take 13-293 bytes. A longer head is asked for afterwards (open_plan).
+// The first request of an open where the host answers several ranges at once: the first bytes and the
+// last kEdge together ("bytes=0-8191,-2048"): at first kOpenHead, then a head the host's files showed
+// (head_guess). The heads of the LAZ tiles at hand end (with the chunk table's 8-byte offset and the first
+// point record) 0.4-2.6 KiB in, a WKT VLR makes some a few KiB; the chunk tables at their ends take 13-293
+// bytes. A longer head is asked for afterwards (open_plan).
 constexpr std::uint64_t kOpenHead = 8 * 1024;
 
 // The file of an answer to the first request of an open in one request: the whole file, or its head
@@ -273,36 +274,59 @@ std::shared_ptr<RemoteFile> opened_in_one(const std::string& url, RangeReply&& r
     return file;
 }
 
-// Opens waiting for the first answer of their host (by origin), started when it comes.
-struct Probes {
+// What opens in one request know of each host (by origin): the opens waiting for its first answer,
+// started when it comes, and the head its opens ask for.
+struct Hosts {
     std::mutex mutex;
     std::map<std::string, std::vector<std::function<void()>>> waiting;
+    std::map<std::string, std::uint64_t> head;
 };
 
-Probes& probes() {
-    static Probes p;
-    return p;
+Hosts& hosts() {
+    static Hosts h;
+    return h;
 }
 
 void release_probe(const std::string& origin) {
     std::vector<std::function<void()>> waiting;
     {
-        std::lock_guard lock(probes().mutex);
-        auto node = probes().waiting.extract(origin);
+        std::lock_guard lock(hosts().mutex);
+        auto node = hosts().waiting.extract(origin);
         if (node) waiting = std::move(node.mapped());
     }
     for (auto& start : waiting) start();
 }
 
-// Opens `url` in one request, then what its plan still asks (a head longer than kOpenHead); in two
+// The head an open in one request asks of `origin`: kOpenHead until one of its LAS files opened so, then
+// the longest LAS head seen there (learn_head) with 1 KiB to spare, in KiB (kEdge to kMaxHead): a
+// catalog's tiles, made alike, then cost the bytes they need.
+std::uint64_t head_guess(const std::string& origin) {
+    std::lock_guard lock(hosts().mutex);
+    const auto it = hosts().head.find(origin);
+    return it == hosts().head.end() ? kOpenHead : it->second;
+}
+
+void learn_head(const std::string& origin, std::span<const std::uint8_t> head) {
+    const std::uint64_t end = las_head_end(head);
+    if (end == 0) return;
+    const std::uint64_t guess = std::clamp((end + 2047) / 1024 * 1024, RemoteFile::kEdge, kMaxHead);
+    std::lock_guard lock(hosts().mutex);
+    auto [it, added] = hosts().head.try_emplace(origin, guess);
+    it->second = std::max(it->second, guess);
+}
+
+// Opens `url` in one request, then what its plan still asks (a head longer than guessed); in two
 // requests when the server's answer could not be used (not multipart, the whole of a large file), and
-// not at all when it was an error (a 404: open() asks again to report it). `probe`: the origin whose
-// waiting opens its answer releases.
-void open_in_one(const std::string& url, RangeRequest request, Finish finish, std::string probe) {
-    HttpClient::shared().submit(std::move(request), [url, finish = std::move(finish), probe](RangeReply&& reply) {
-        if (!probe.empty()) release_probe(probe);
+// not at all when it was an error (a 404: open() asks again to report it). `probe`: its answer releases
+// the opens waiting for its host's first answer (after the head it shows is learnt).
+void open_in_one(const std::string& url, RangeRequest request, Finish finish, bool probe) {
+    const std::string origin = url_origin(request.asked());
+    HttpClient::shared().submit(std::move(request), [url, origin, finish = std::move(finish),
+                                                     probe](RangeReply&& reply) {
         const bool answered = reply.status == 200 || reply.status == 206;
         auto file = opened_in_one(url, std::move(reply));
+        if (file) learn_head(origin, file->head());
+        if (probe) release_probe(origin);
         const bool more = !file || open_plan(*file).more_head;
         if (file || answered) HttpClient::shared().count_open(!more);
         if (!file) return answered ? open_in_two(url, finish) : finish(nullptr);
@@ -314,6 +338,7 @@ void open_in_one(const std::string& url, RangeRequest request, Finish finish, st
 // to do with several ranges (S3's GetObject: answers one).
 std::pair<RangeRequest, HttpClient::MultiRange> first_request(const std::string& url) {
     RangeRequest first = remote_request(url, {{0, kOpenHead}}, {});
+    first.ranges.front().length = head_guess(url_origin(first.asked()));
     first.suffix = RemoteFile::kEdge;
     const auto known = first.one_range ? HttpClient::MultiRange::no : HttpClient::shared().multi_range(first.asked());
     return {std::move(first), known};
@@ -327,12 +352,12 @@ std::pair<RangeRequest, HttpClient::MultiRange> first_request(const std::string&
 void open_with(const std::string& url, Finish finish, bool may_probe) {
     auto [first, known] = first_request(url);
     using MultiRange = HttpClient::MultiRange;
-    if (known == MultiRange::yes) return open_in_one(url, std::move(first), std::move(finish), "");
+    if (known == MultiRange::yes) return open_in_one(url, std::move(first), std::move(finish), false);
     if (known == MultiRange::no || !may_probe) return open_in_two(url, std::move(finish));
     const std::string origin = url_origin(first.asked());
     {
-        std::lock_guard lock(probes().mutex);
-        auto [it, probing] = probes().waiting.try_emplace(origin);
+        std::lock_guard lock(hosts().mutex);
+        auto [it, probing] = hosts().waiting.try_emplace(origin);
         if (!probing) {
             it->second.push_back([url, finish] {
                 try {
@@ -344,7 +369,7 @@ void open_with(const std::string& url, Finish finish, bool may_probe) {
             return;
         }
     }
-    open_in_one(url, std::move(first), std::move(finish), origin);
+    open_in_one(url, std::move(first), std::move(finish), true);
 }
 
 // Opens `url` and registers its file; throws Error. In one request where its host is known to answer
@@ -354,7 +379,7 @@ std::shared_ptr<const RemoteFile> open_now(const std::string& url) {
     if (known != HttpClient::MultiRange::yes) return open_in_two_now(url);
     std::promise<std::shared_ptr<RemoteFile>> opened;
     auto future = opened.get_future();
-    open_in_one(url, std::move(first), [&opened](std::shared_ptr<RemoteFile> file) { opened.set_value(file); }, "");
+    open_in_one(url, std::move(first), [&opened](std::shared_ptr<RemoteFile> file) { opened.set_value(file); }, false);
     if (auto file = future.get()) return register_file(url, std::move(file));
     return open_in_two_now(url);
 }

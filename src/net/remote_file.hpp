@@ -4,13 +4,13 @@
 // as every byte crosses the network), and exact reads anywhere else. Where the host is known to
 // answer several ranges in one multipart response (it did so before; the first of the opens a prefetch
 // of several files starts for a host not known yet asks so, and the others wait for its answer), a file
-// opens in one request: its first 8 KiB and last 2 KiB
-// together ("bytes=0-8191,-2048"; a small file's answer is the whole file), the head then kept as an
-// open in two keeps it. Elsewhere (S3, hosts that answer one range), and where that answer could not
-// be used, the head comes first, then the tail with the rest of a LAS head longer than 2 KiB (its VLRs
-// and first point record, up to 64 KiB) in one request, and a small file's middle with them when
-// that costs less than a request (then every read of it is answered from memory); a head longer than
-// the first 8 KiB costs one request more either way (HttpStats: opens_in_one, open_fallbacks).
+// opens in one request: its head and last 2 KiB together ("bytes=0-8191,-2048": the first 8 KiB until
+// the host's LAS files showed the head they need; a small file's answer is the whole file), the head then
+// kept as an open in two keeps it. Elsewhere (S3, hosts that answer one range), and where that answer
+// could not be used, the head comes first, then the tail with the rest of a LAS head longer than 2 KiB
+// (its VLRs and first point record, up to 64 KiB) in one request, and a small file's middle with them
+// when that costs less than a request (then every read of it is answered from memory); a head longer
+// than asked costs one request more either way (HttpStats: opens_in_one, open_fallbacks).
 // Remote files are shared process-wide by URL, so a tile opened again (by the chunk-point
 // loader, the viewer, a second command in the same process) costs no request, and every
 // response for it is checked against the same validator and size (Content-Range's total: all a
