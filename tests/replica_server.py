@@ -8,7 +8,8 @@ is read from the source file. It answers:
 
   HTTP   GET/HEAD /tiles/NAME: Range with one range (206, Content-Range), several ranges (206,
          multipart/byteranges as nginx writes it), none or a malformed one (200, the whole tile), an
-         unsatisfiable one (416, Content-Range: bytes */SIZE); ETag, Last-Modified, Content-Length,
+         unsatisfiable one (416, Content-Range: bytes */SIZE); several that add up to more than the tile
+         (200, the whole tile, as nginx does); ETag, Last-Modified, Content-Length,
          Accept-Ranges. /catalog.vpc and /search pages answer ranges the same way.
   S3     GET/HEAD /BUCKET/KEY (keys are the tile names), path-style, any signature or none accepted: one
          range per GET. Amazon S3 does not support several ranges in one GET (its GetObject
@@ -493,6 +494,8 @@ def ranged(resource, range_header, head, kind, stats, multi=True):
     ranges = None
     if range_header and not head and (multi or range_count(range_header) == 1):
         ranges = parse_ranges(range_header, resource.size)
+    if ranges and sum(b - a + 1 for a, b in ranges) > resource.size:
+        ranges = None  # (nginx's rule: ranges that add up to more than the file are answered with all of it)
     if ranges is None:
         return Response(200, headers, size=resource.size, kind=kind,
                         pieces=None if head else (lambda: resource.read(0, resource.size)))

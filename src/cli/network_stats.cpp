@@ -10,6 +10,8 @@ net::HttpStats network_since(const net::HttpStats& before) {
     d.body_bytes = now.body_bytes - before.body_bytes;
     d.header_bytes = now.header_bytes - before.header_bytes;
     d.retries = now.retries - before.retries;
+    d.opens_in_one = now.opens_in_one - before.opens_in_one;
+    d.open_fallbacks = now.open_fallbacks - before.open_fallbacks;
     return d;
 }
 
@@ -19,6 +21,8 @@ nlohmann::json network_json(const net::HttpStats& stats, std::size_t tiles) {
     return {{"requests", stats.requests},
             {"bytes", bytes},
             {"retries", stats.retries},
+            {"opens_in_one_request", stats.opens_in_one},
+            {"open_fallbacks", stats.open_fallbacks},
             {"requests_per_tile", static_cast<double>(stats.requests) * per},
             {"bytes_per_tile", static_cast<double>(bytes) * per}};
 }

@@ -91,19 +91,26 @@ public:
     }
 
     // A placed dataset's headers, nearest to the focus first, in batches that grow (the first few tiles
-    // quickly, then many requests in flight), the next batch's requests sent while one is read; each tile
-    // read joins the tiles the reads take.
+    // quickly, then many requests in flight), the next batch's requests sent while one is read; the tiles
+    // read join the tiles the reads take kJoin at a time, as their headers come (not when a batch's last
+    // one came: the reads would run dry while a 2,048-tile batch's headers arrive).
     void read_headers(unsigned threads) {
+        constexpr std::size_t kJoin = 64;
         try {
             std::size_t batch = 16;
             for (std::vector<std::uint32_t> ids = nearest_unread(batch); !ids.empty();) {
                 batch = std::min<std::size_t>(batch * 2, 2048);
                 std::vector<std::uint32_t> next = nearest_unread(batch);
-                std::vector<std::string> paths;
-                for (const std::uint32_t id : next) paths.push_back(ds_.path(id));
+                std::vector<std::string> paths;  // (the batch's own first: the first batch was not asked yet)
+                for (const auto* batch_ids : {&ids, &next}) {
+                    for (const std::uint32_t id : *batch_ids) paths.push_back(ds_.path(id));
+                }
                 io::File::prefetch(paths);
-                ensure_tiles(ds_, ids, threads);
-                headers_read(ids);
+                for (std::size_t at = 0; at < ids.size(); at += kJoin) {
+                    const auto part = std::span<const std::uint32_t>(ids).subspan(at, std::min(kJoin, ids.size() - at));
+                    ensure_tiles(ds_, part, threads);
+                    headers_read(part);
+                }
                 ids = std::move(next);
             }
         } catch (...) {

@@ -28,8 +28,14 @@ std::string origin_of(const std::string& url) {
 }
 
 // Splits the job's ranges into groups whose Range header stays under `max_header` characters.
+// (A request with a suffix is one group: it is never split.)
 std::vector<std::vector<std::size_t>> range_groups(const RangeRequest& r, std::size_t max_header, bool multi) {
     std::vector<std::vector<std::size_t>> groups;
+    if (r.suffix) {
+        groups.emplace_back(r.ranges.size());
+        for (std::size_t i = 0; i < r.ranges.size(); ++i) groups.back()[i] = i;
+        return groups;
+    }
     std::size_t length = 0;
     for (std::size_t i = 0; i < r.ranges.size(); ++i) {
         const auto& range = r.ranges[i];
@@ -47,6 +53,7 @@ std::vector<std::vector<std::size_t>> range_groups(const RangeRequest& r, std::s
 }  // namespace
 
 struct HttpClient::Impl {
+    using MultiRange = HttpClient::MultiRange;
     explicit Impl(HttpSettings s) : settings(s) {
         static std::once_flag global;
         std::call_once(global, [] { curl_global_init(CURL_GLOBAL_DEFAULT); });
@@ -70,7 +77,7 @@ struct HttpClient::Impl {
 
     void submit(RangeRequest request, Callback done) {
         auto job = std::make_shared<HttpJob>();
-        job->reply.parts.resize(request.ranges.size());
+        job->reply.parts.resize(request.ranges.size() + (request.suffix ? 1 : 0));
         job->reply.validator = request.validator;
         job->request = std::move(request);
         job->done = std::move(done);
@@ -101,7 +108,7 @@ struct HttpClient::Impl {
     }
 
     void start_job(const std::shared_ptr<HttpJob>& job) {
-        if (job->request.ranges.empty()) return finish_job(*job);
+        if (job->request.ranges.empty() && !job->request.suffix) return finish_job(*job);
         const bool multi_ok = !job->request.one_range && answers_multi_range(job->request.asked());
         const HttpSettings s = current_settings();
         for (auto& group : range_groups(job->request, s.max_range_header, multi_ok)) {
@@ -167,12 +174,16 @@ struct HttpClient::Impl {
             stats.connections += t->new_connections();
         }
         const HttpSettings s = current_settings();
+        if (outcome == TransferOutcome::Done && t->answered_multipart()) learned(t->job().request.asked(), true);
         switch (outcome) {
             case TransferOutcome::Done: return transfer_done(*t);
             case TransferOutcome::Retry:
                 if (t->attempts() <= s.retries) return schedule_retry(std::move(t), s);
                 return transfer_failed(*t, t->message() + " (after " + std::to_string(t->attempts()) + " attempts)");
-            case TransferOutcome::NoMultiRange: return split(std::move(t), s);
+            case TransferOutcome::NoMultiRange:
+                if (!t->job().request.suffix) return split(std::move(t), s);
+                learned(t->job().request.asked(), false);
+                return transfer_failed(*t, t->message());
             case TransferOutcome::Fail: return transfer_failed(*t, t->message());
         }
     }
@@ -213,10 +224,7 @@ struct HttpClient::Impl {
     // now and for later requests to the same origin.
     void split(std::unique_ptr<HttpTransfer> t, const HttpSettings& s) {
         HttpJob& job = t->job();
-        {
-            std::lock_guard lock(mutex);
-            single_range_origins.insert(origin_of(job.request.asked()));
-        }
+        learned(job.request.asked(), false);
         for (const auto i : t->ranges()) {
             ++job.pending;
             launch(std::make_unique<HttpTransfer>(t->job_ptr(), std::vector<std::size_t>{i}), s);
@@ -240,9 +248,23 @@ struct HttpClient::Impl {
         done(std::move(job.reply));
     }
 
+    // What an answer from `url`'s origin showed: that it answers several ranges at once, or not (which
+    // stays, whatever other answers show).
+    void learned(const std::string& url, bool multi_range) {
+        std::lock_guard lock(mutex);
+        (multi_range ? multi_range_origins : single_range_origins).insert(origin_of(url));
+    }
+
     bool answers_multi_range(const std::string& url) const {
         std::lock_guard lock(mutex);
         return !single_range_origins.contains(origin_of(url));
+    }
+
+    MultiRange multi_range(const std::string& url) const {
+        const std::string origin = origin_of(url);
+        std::lock_guard lock(mutex);
+        if (single_range_origins.contains(origin)) return MultiRange::no;
+        return multi_range_origins.contains(origin) ? MultiRange::yes : MultiRange::unknown;
     }
 
     HttpSettings current_settings() const {
@@ -260,6 +282,7 @@ struct HttpClient::Impl {
     std::map<std::string, unsigned> active;  // transfers in the multi handle, by origin
     std::map<std::string, std::deque<std::unique_ptr<HttpTransfer>>> queued;  // waiting for their origin
     std::set<std::string> single_range_origins;  // (guarded by mutex: read by answers_multi_range)
+    std::set<std::string> multi_range_origins;   // those that answered a multipart response (guarded by mutex)
     mutable std::mutex stats_mutex;
     HttpStats stats;
     std::thread thread;
@@ -290,6 +313,13 @@ void HttpClient::set_settings(const HttpSettings& settings) {
 HttpSettings HttpClient::settings() const { return impl_->current_settings(); }
 
 bool HttpClient::answers_multi_range(const std::string& url) const { return impl_->answers_multi_range(url); }
+
+HttpClient::MultiRange HttpClient::multi_range(const std::string& url) const { return impl_->multi_range(url); }
+
+void HttpClient::count_open(bool in_one) {
+    std::lock_guard lock(impl_->stats_mutex);
+    ++(in_one ? impl_->stats.opens_in_one : impl_->stats.open_fallbacks);
+}
 
 HttpStats HttpClient::stats() const {
     std::lock_guard lock(impl_->stats_mutex);

@@ -81,6 +81,12 @@ struct RangeRequest {
     // The server answers one range per request (S3's GetObject): several ranges go as several
     // requests from the start, never first as one multi-range request.
     bool one_range = false;
+    // Also the file's last `suffix` bytes ("-M" after the ranges, in the same request: a remote file's
+    // head and tail in one request, net/remote_file.hpp), their part last in the reply. Such a request is
+    // never split: an answer that is not multipart fails it (a 200 then marks the host as one that does
+    // not answer several ranges), but a 200 no larger than what was asked is taken as the whole file
+    // (nginx answers so when the ranges add up to more than the file): RangeReply::whole_file.
+    std::uint64_t suffix = 0;
     const std::string& asked() const { return target.empty() ? url : target; }
 };
 
@@ -92,6 +98,7 @@ struct RangeReply {
     long status = 0;                               // the last response's HTTP status (0: none)
     std::string final_url;                         // where redirects led, when they did ("" = none)
     std::string content_type;                      // the Content-Type of a reply not in parts ("" = none)
+    bool whole_file = false;                       // parts holds one part: the whole file (a `suffix` request)
 };
 
 struct HttpStats {
@@ -102,6 +109,9 @@ struct HttpStats {
     std::uint64_t http2_responses = 0; // attempts answered over HTTP/2
     std::uint64_t connections = 0;     // connections opened (a multiplexed one serves many requests)
     std::uint64_t peak_transfers = 0;  // most transfers in libcurl at once (one origin: connections_per_host)
+    // Opens of remote files (net/remote_file.hpp) in one request, and those that asked in one and needed
+    // more (a head longer than guessed, an answer that was not multipart: then in two, as S3's are).
+    std::uint64_t opens_in_one = 0, open_fallbacks = 0;
 };
 
 class HttpClient {
@@ -127,6 +137,12 @@ public:
     // Whether requests to `url`'s origin may ask several ranges at once (false once it answered a
     // multi-range request otherwise).
     bool answers_multi_range(const std::string& url) const;
+    // What requests to `url`'s origin have shown: that it answers several ranges in one multipart
+    // response (yes), that it does not (no), or nothing yet.
+    enum class MultiRange { unknown, yes, no };
+    MultiRange multi_range(const std::string& url) const;
+    // Counts an open that asked in one request (HttpStats::opens_in_one, or open_fallbacks when not `in_one`).
+    void count_open(bool in_one);
 
 private:
     struct Impl;

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -69,16 +70,16 @@ ByteRange HttpTransfer::asked_now() const {
 }
 
 std::uint64_t HttpTransfer::asked_bytes() const {
-    std::uint64_t sum = 0;
+    std::uint64_t sum = job_->request.suffix;
     for (const auto i : ranges_) sum += job_->request.ranges[i].length;
     return sum;
 }
 
 std::uint64_t HttpTransfer::body_limit() const {
-    if (ranges_.size() == 1) return asked_now().length;  // (a whole GET: the most bytes accepted)
-    std::uint64_t sum = 0;
-    for (const auto i : ranges_) sum += job_->request.ranges[i].length + kPartFraming;
-    return sum + kPartFraming;
+    if (!multi()) return asked_now().length;  // (a whole GET: the most bytes accepted)
+    if (status_ == 200) return asked_bytes();  // (a suffix request's whole file)
+    const std::uint64_t parts = ranges_.size() + (job_->request.suffix ? 1 : 0);
+    return asked_bytes() + (parts + 1) * kPartFraming;
 }
 
 CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
@@ -90,7 +91,7 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     content_range_.clear(), content_type_.clear(), etag_.clear(), last_modified_.clear();
     body_started_ = false;
     abort_ = TransferOutcome::Done;
-    if (ranges_.size() > 1 || job_->request.whole) body_.clear();
+    if (multi() || job_->request.whole) body_.clear();
     attempt_start_ = body_.size();
     error_body_.clear();
     attempt_body_ = attempt_headers_ = 0;
@@ -102,12 +103,13 @@ CURL* HttpTransfer::start_attempt(const HttpSettings& s) {
     }
 
     std::vector<ByteRange> asked;
-    if (ranges_.size() == 1) {
+    if (!multi()) {
         asked.push_back(asked_now());
     } else {
         for (const auto i : ranges_) asked.push_back(job_->request.ranges[i]);
     }
-    const std::string range = "Range: " + range_header(asked);
+    std::string range = "Range: " + range_header(asked);
+    if (job_->request.suffix) range += (asked.empty() ? "-" : ",-") + std::to_string(job_->request.suffix);
     if (!job_->request.whole) headers_ = curl_slist_append(headers_, range.c_str());
     headers_ = curl_slist_append(headers_, "Accept-Encoding: identity");
     for (const auto& line : job_->request.signing.headers) headers_ = curl_slist_append(headers_, line.c_str());
@@ -287,10 +289,11 @@ bool HttpTransfer::accept_body_start() {
         message_ = "HTTP status " + std::to_string(status_);
         return false;
     }
-    if (status_ == 206 && ranges_.size() > 1) return accept_multipart_start();
+    if (status_ == 206 && multi()) return accept_multipart_start();
     if (status_ == 206) return check_single_range_start();
+    if (status_ == 200 && job_->request.suffix) return accept_whole_file();
     if (status_ == 200) {
-        abort_ = ranges_.size() > 1 ? TransferOutcome::NoMultiRange : TransferOutcome::Fail;
+        abort_ = multi() ? TransferOutcome::NoMultiRange : TransferOutcome::Fail;
         message_ = "the server ignores Range requests (status 200); a full download is not done";
     } else {
         abort_ = TransferOutcome::Fail;
@@ -301,12 +304,28 @@ bool HttpTransfer::accept_body_start() {
 
 // A 206 to a multi-range request that is not multipart/byteranges (one range spanning them all,
 // or the whole file as a 206) is not downloaded: the ranges are asked one by one instead.
+// A suffix request's answer in one range (a server that joins ranges that overlap) fails it, but tells
+// nothing of the server's other answers.
 bool HttpTransfer::accept_multipart_start() {
     if (!multipart_boundary(content_type_).empty()) return true;
-    abort_ = TransferOutcome::NoMultiRange;
+    abort_ = job_->request.suffix ? TransferOutcome::Fail : TransferOutcome::NoMultiRange;
     message_ = "the server answers multi-range requests with one range";
     return false;
 }
+
+// A 200 to a suffix request is the whole file: taken when it is no larger than what was asked (the
+// ranges add up to more than the file), else not downloaded (a server that does not answer several
+// ranges).
+bool HttpTransfer::accept_whole_file() {
+    curl_off_t length = -1;
+    curl_easy_getinfo(easy_, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+    if (length >= 0 && static_cast<std::uint64_t>(length) <= asked_bytes()) return validator_matches();
+    abort_ = TransferOutcome::NoMultiRange;
+    message_ = "the server answers multi-range requests with the whole file (status 200)";
+    return false;
+}
+
+bool HttpTransfer::answered_multipart() const { return status_ == 206 && !multipart_boundary(content_type_).empty(); }
 
 // A single range's Content-Range is checked before any byte is kept, so that a resumed
 // body never mixes bytes from elsewhere.
@@ -355,7 +374,7 @@ TransferOutcome HttpTransfer::fail(std::string message) {
 }
 
 bool HttpTransfer::single_body_complete() const {
-    if (ranges_.size() != 1 || !body_started_) return false;
+    if (multi() || !body_started_) return false;
     const auto got = parse_content_range(content_range_);
     return got && body_.size() - attempt_start_ >= got->range.length;
 }
@@ -367,7 +386,7 @@ bool HttpTransfer::past_deadline() const {
 std::string HttpTransfer::deadline_message() const {
     const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
     const double allowed = std::chrono::duration<double>(deadline_ - started_).count();
-    const std::uint64_t got = ranges_.size() == 1 ? body_.size() : attempt_body_;
+    const std::uint64_t got = !multi() ? body_.size() : attempt_body_;
     char text[160];
     std::snprintf(text, sizeof text, " bytes in %.1f s, past its deadline of %.1f s (%.1f s, then %llu bytes/s; "
                   "--min-rate)", took, allowed, std::chrono::duration<double>(grace_).count(),
@@ -389,7 +408,7 @@ TransferOutcome HttpTransfer::judge_transport(CURLcode code) {
     }
     if (!retryable(code)) return TransferOutcome::Fail;
     // a cut single-range body resumes from what arrived; a cut multipart body starts again
-    if (ranges_.size() > 1) body_.clear();
+    if (multi()) body_.clear();
     return TransferOutcome::Retry;
 }
 
@@ -400,12 +419,13 @@ TransferOutcome HttpTransfer::judge_status() {
     }
     if (status_ >= 300 && status_ != 416) return fail(status_message());
     if (job_->request.whole) return status_ == 200 ? take_whole() : fail(status_message());
-    if (status_ == 200) return ranges_.size() > 1 ? TransferOutcome::NoMultiRange :
+    if (status_ == 200 && job_->request.suffix) return take_whole_file();
+    if (status_ == 200) return multi() ? TransferOutcome::NoMultiRange :
         fail("the server ignores Range requests (status 200); a full download is not done");
     if (status_ == 416) return fail("HTTP status 416: the range lies beyond the end of the file");
     if (status_ != 206) return fail(status_message());
-    if (!body_started_ && ranges_.size() == 1 && !check_single_range_start()) return TransferOutcome::Fail;
-    return ranges_.size() == 1 ? take_single() : take_multipart();
+    if (!body_started_ && !multi() && !check_single_range_start()) return TransferOutcome::Fail;
+    return !multi() ? take_single() : take_multipart();
 }
 
 TransferOutcome HttpTransfer::finish_attempt(CURLcode code) {
@@ -421,8 +441,8 @@ TransferOutcome HttpTransfer::finish_attempt(CURLcode code) {
 
 TransferOutcome HttpTransfer::judge_attempt(CURLcode code) {
     if (abort_ != TransferOutcome::Done) {
-        if (abort_ == TransferOutcome::Retry && ranges_.size() > 1) body_.clear();
-        if (abort_ == TransferOutcome::Retry && ranges_.size() == 1) body_.resize(attempt_start_);
+        if (abort_ == TransferOutcome::Retry && multi()) body_.clear();
+        if (abort_ == TransferOutcome::Retry && !multi()) body_.resize(attempt_start_);
         return abort_;
     }
     if (code != CURLE_OK) return judge_transport(code);
@@ -466,22 +486,58 @@ TransferOutcome HttpTransfer::take_multipart() {
     if (boundary.empty()) return TransferOutcome::NoMultiRange;  // e.g. only the first range answered
     std::map<std::uint64_t, std::size_t> by_offset;
     for (const auto i : ranges_) by_offset.emplace(job_->request.ranges[i].offset, i);
-    std::vector<bool> seen(job_->request.ranges.size(), false);
+    std::vector<bool> seen(job_->reply.parts.size(), false);
     for (const auto& part : parse_multipart_byteranges(body_, boundary)) {
-        const auto it = by_offset.find(part.content_range.range.offset);
-        if (it == by_offset.end() || seen[it->second] ||
-            !answers(part.content_range, job_->request.ranges[it->second])) {
-            return fail("a part of the multipart response has Content-Range bytes " +
-                        describe(part.content_range.range) + ", which was not asked for");
-        }
-        if (!total_matches(part.content_range)) return TransferOutcome::Fail;
-        seen[it->second] = true;
-        job_->reply.parts[it->second].assign(part.data.begin(), part.data.end());
-        if (part.content_range.total) job_->reply.total = part.content_range.total;
+        if (!take_part(part, by_offset, seen)) return TransferOutcome::Fail;
     }
     for (const auto i : ranges_) {
         if (!seen[i]) return fail("the multipart response lacks bytes " + describe(job_->request.ranges[i]));
     }
+    if (job_->request.suffix && !seen.back()) {
+        return fail("the multipart response lacks the last " + std::to_string(job_->request.suffix) + " bytes");
+    }
+    body_.clear();
+    return TransferOutcome::Done;
+}
+
+// Whether `got` answers a suffix request's last bytes: the file's end, as many bytes as asked or the
+// whole file.
+bool HttpTransfer::is_suffix(const ContentRange& got) const {
+    const std::uint64_t suffix = job_->request.suffix;
+    return suffix && got.total && got.range.last() + 1 == *got.total &&
+           got.range.length == std::min(suffix, *got.total);
+}
+
+// Puts a multipart answer's part in the reply, at the range it answers (`seen` marks those answered;
+// the last is the suffix's); false (with the message set) for a part not asked for.
+bool HttpTransfer::take_part(const BodyPart& part, const std::map<std::uint64_t, std::size_t>& by_offset,
+                             std::vector<bool>& seen) {
+    std::optional<std::size_t> index;
+    const auto it = by_offset.find(part.content_range.range.offset);
+    if (it != by_offset.end() && !seen[it->second] && answers(part.content_range, job_->request.ranges[it->second])) {
+        index = it->second;
+    } else if (is_suffix(part.content_range) && !seen.back()) {
+        index = seen.size() - 1;
+    }
+    if (!index) {
+        message_ = "a part of the multipart response has Content-Range bytes " + describe(part.content_range.range) +
+                   ", which was not asked for";
+        return false;
+    }
+    if (!total_matches(part.content_range)) return false;
+    seen[*index] = true;
+    job_->reply.parts[*index].assign(part.data.begin(), part.data.end());
+    if (part.content_range.total) job_->reply.total = part.content_range.total;
+    return true;
+}
+
+// A suffix request's 200: the whole file, no larger than what was asked (accept_whole_file).
+TransferOutcome HttpTransfer::take_whole_file() {
+    if (body_.size() > asked_bytes()) return fail("the server sent more bytes than were asked for");
+    if (!body_started_ && !validator_matches()) return TransferOutcome::Fail;
+    job_->reply.total = body_.size();
+    job_->reply.whole_file = true;
+    job_->reply.parts.assign(1, std::move(body_));
     body_.clear();
     return TransferOutcome::Done;
 }

@@ -9,6 +9,7 @@
 #include <curl/curl.h>
 
 #include <chrono>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,6 +55,8 @@ public:
     // Of the attempt just finished: whether it was answered over HTTP/2; connections it opened.
     bool used_http2() const;
     std::uint64_t new_connections() const;
+    // Whether the attempt just finished was answered as multipart/byteranges.
+    bool answered_multipart() const;
 
     std::chrono::steady_clock::time_point not_before{};  // when a retry may start
 
@@ -64,6 +67,9 @@ private:
     void header_line(std::string_view line);
     bool accept_body_start();
     bool accept_multipart_start();
+    bool accept_whole_file();
+    bool multi() const { return ranges_.size() > 1 || job_->request.suffix > 0; }  // asks several ranges
+    bool is_suffix(const ContentRange& got) const;
     std::size_t keep_error_body(const char* data, std::size_t bytes);
     std::string status_message() const;
     void set_signing();
@@ -75,6 +81,9 @@ private:
     TransferOutcome judge_status();
     TransferOutcome take_single();
     TransferOutcome take_multipart();
+    TransferOutcome take_whole_file();
+    bool take_part(const BodyPart& part, const std::map<std::uint64_t, std::size_t>& by_offset,
+                   std::vector<bool>& seen);
     bool validator_matches();
     bool total_matches(const ContentRange& got);
     TransferOutcome fail(std::string message);

@@ -2,6 +2,7 @@
 #include "net/remote_file.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <future>
 #include <map>
 #include <mutex>
@@ -97,18 +98,20 @@ struct OpenPlan {
     }
 };
 
+// (After an open in one request, the tail is held: only a head longer than its guess is asked.)
 OpenPlan open_plan(const RemoteFile& f) {
     OpenPlan plan;
     const std::uint64_t size = f.size(), have = f.head().size();
+    const bool tail_held = !f.tail().empty();
     if (size <= have) return plan;
-    if (size - have <= RemoteFile::kEdge + HttpClient::shared().settings().merge_gap_one_range) {
+    if (!tail_held && size - have <= RemoteFile::kEdge + HttpClient::shared().settings().merge_gap_one_range) {
         plan.more_head = ByteRange{have, size - have};
         return plan;
     }
-    const std::uint64_t tail_start = size - RemoteFile::kEdge;
+    const std::uint64_t tail_start = size - (tail_held ? f.tail().size() : RemoteFile::kEdge);
     const std::uint64_t head_end = std::min({las_head_end(f.head()), kMaxHead, tail_start});
     if (head_end > have) plan.more_head = ByteRange{have, head_end - have};
-    plan.tail = ByteRange{tail_start, RemoteFile::kEdge};
+    if (!tail_held) plan.tail = ByteRange{tail_start, RemoteFile::kEdge};
     return plan;
 }
 
@@ -205,10 +208,18 @@ void RemoteFile::set_rest(bool more_head, bool tail, RangeReply&& reply) {
     if (tail) tail_ = std::move(reply.parts.at(part));
 }
 
+void RemoteFile::set_tail(std::vector<std::uint8_t> tail) { tail_ = std::move(tail); }
+
+void RemoteFile::trim_head(std::uint64_t bytes) {
+    if (bytes >= head_.size()) return;
+    head_.resize(bytes);
+    head_.shrink_to_fit();
+}
+
 namespace {
 
-// Fetches the edges of `url` and registers its file; throws Error.
-std::shared_ptr<const RemoteFile> open_now(const std::string& url) {
+// Fetches the edges of `url` (the head, then the rest) and registers its file; throws Error.
+std::shared_ptr<const RemoteFile> open_in_two_now(const std::string& url) {
     RangeReply head = HttpClient::shared().fetch(head_request(url));
     if (!head.error.empty()) throw_reply_error(url, 0, head.error);
     auto file = std::make_shared<RemoteFile>(url, std::move(head));
@@ -219,6 +230,158 @@ std::shared_ptr<const RemoteFile> open_now(const std::string& url) {
         file->set_rest(plan.more_head.has_value(), plan.tail.has_value(), std::move(reply));
     }
     return register_file(url, std::move(file));
+}
+
+// The end of an open started on the client's thread: the file, or null when a request failed.
+using Finish = std::function<void(std::shared_ptr<RemoteFile>)>;
+
+// Fetches what `file`'s open plan still asks (the rest of its head, its tail), then finishes.
+void fetch_rest(std::shared_ptr<RemoteFile> file, Finish finish) {
+    const OpenPlan plan = open_plan(*file);
+    if (!plan.more_head && !plan.tail) return finish(std::move(file));
+    file->fetch_async(plan.ranges(), [finish = std::move(finish), file, plan](RangeReply&& reply) {
+        if (!reply.error.empty()) return finish(nullptr);
+        file->set_rest(plan.more_head.has_value(), plan.tail.has_value(), std::move(reply));
+        finish(file);
+    });
+}
+
+// Opens `url` as a host that answers one range per request is opened: the head, then the rest.
+void open_in_two(const std::string& url, Finish finish) {
+    HttpClient::shared().submit(head_request(url), [url, finish = std::move(finish)](RangeReply&& head) {
+        if (!head.error.empty() || !head.total) return finish(nullptr);
+        fetch_rest(std::make_shared<RemoteFile>(url, std::move(head)), finish);
+    });
+}
+
+// The first request of an open where the host answers several ranges at once: the first bytes and the
+// last kEdge together ("bytes=0-8191,-2048"): at first kOpenHead, then a head the host's files showed
+// (head_guess). The heads of the LAZ tiles at hand end (with the chunk table's 8-byte offset and the first
+// point record) 0.4-2.6 KiB in, a WKT VLR makes some a few KiB; the chunk tables at their ends take 13-293
+// bytes. A longer head is asked for afterwards (open_plan).
+constexpr std::uint64_t kOpenHead = 8 * 1024;
+
+// The file of an answer to the first request of an open in one request: the whole file, or its head
+// (cut to what a LAS head needs, as an open in two requests keeps) and its tail; null when it failed.
+std::shared_ptr<RemoteFile> opened_in_one(const std::string& url, RangeReply&& reply) {
+    if (!reply.error.empty() || !reply.total) return nullptr;
+    const bool whole = reply.whole_file;
+    auto tail = whole ? std::vector<std::uint8_t>() : std::move(reply.parts.at(1));
+    auto file = std::make_shared<RemoteFile>(url, std::move(reply));
+    if (whole) return file;
+    file->set_tail(std::move(tail));
+    file->trim_head(std::max(RemoteFile::kEdge, las_head_end(file->head())));
+    return file;
+}
+
+// What opens in one request know of each host (by origin): the opens waiting for its first answer,
+// started when it comes, and the head its opens ask for.
+struct Hosts {
+    std::mutex mutex;
+    std::map<std::string, std::vector<std::function<void()>>> waiting;
+    std::map<std::string, std::uint64_t> head;
+};
+
+Hosts& hosts() {
+    static Hosts h;
+    return h;
+}
+
+void release_probe(const std::string& origin) {
+    std::vector<std::function<void()>> waiting;
+    {
+        std::lock_guard lock(hosts().mutex);
+        auto node = hosts().waiting.extract(origin);
+        if (node) waiting = std::move(node.mapped());
+    }
+    for (auto& start : waiting) start();
+}
+
+// The head an open in one request asks of `origin`: kOpenHead until one of its LAS files opened so, then
+// the longest LAS head seen there (learn_head) with 1 KiB to spare, in KiB (kEdge to kMaxHead): a
+// catalog's tiles, made alike, then cost the bytes they need.
+std::uint64_t head_guess(const std::string& origin) {
+    std::lock_guard lock(hosts().mutex);
+    const auto it = hosts().head.find(origin);
+    return it == hosts().head.end() ? kOpenHead : it->second;
+}
+
+void learn_head(const std::string& origin, std::span<const std::uint8_t> head) {
+    const std::uint64_t end = las_head_end(head);
+    if (end == 0) return;
+    const std::uint64_t guess = std::clamp((end + 2047) / 1024 * 1024, RemoteFile::kEdge, kMaxHead);
+    std::lock_guard lock(hosts().mutex);
+    auto [it, added] = hosts().head.try_emplace(origin, guess);
+    it->second = std::max(it->second, guess);
+}
+
+// Opens `url` in one request, then what its plan still asks (a head longer than guessed); in two
+// requests when the server's answer could not be used (not multipart, the whole of a large file), and
+// not at all when it was an error (a 404: open() asks again to report it). `probe`: its answer releases
+// the opens waiting for its host's first answer (after the head it shows is learnt).
+void open_in_one(const std::string& url, RangeRequest request, Finish finish, bool probe) {
+    const std::string origin = url_origin(request.asked());
+    HttpClient::shared().submit(std::move(request), [url, origin, finish = std::move(finish),
+                                                     probe](RangeReply&& reply) {
+        const bool answered = reply.status == 200 || reply.status == 206;
+        auto file = opened_in_one(url, std::move(reply));
+        if (file) learn_head(origin, file->head());
+        if (probe) release_probe(origin);
+        const bool more = !file || open_plan(*file).more_head;
+        if (file || answered) HttpClient::shared().count_open(!more);
+        if (!file) return answered ? open_in_two(url, finish) : finish(nullptr);
+        fetch_rest(std::move(file), finish);
+    });
+}
+
+// The first request of an open of `url` in one request (its head and tail), and what its host is known
+// to do with several ranges (S3's GetObject: answers one).
+std::pair<RangeRequest, HttpClient::MultiRange> first_request(const std::string& url) {
+    RangeRequest first = remote_request(url, {{0, kOpenHead}}, {});
+    first.ranges.front().length = head_guess(url_origin(first.asked()));
+    first.suffix = RemoteFile::kEdge;
+    const auto known = first.one_range ? HttpClient::MultiRange::no : HttpClient::shared().multi_range(first.asked());
+    return {std::move(first), known};
+}
+
+// Opens `url` on the client's thread: in one request where its host is known to answer several ranges
+// at once, in two where it is not. When nothing tells of the host yet (`may_probe`: a prefetch of several
+// files, whose other opens it may spare a request each), the first open asks in one request and the others
+// wait for its answer (then ask in two requests if it told nothing either: a small file answered whole, an
+// error). A host that answers one range costs that first open one request more.
+void open_with(const std::string& url, Finish finish, bool may_probe) {
+    auto [first, known] = first_request(url);
+    using MultiRange = HttpClient::MultiRange;
+    if (known == MultiRange::yes) return open_in_one(url, std::move(first), std::move(finish), false);
+    if (known == MultiRange::no || !may_probe) return open_in_two(url, std::move(finish));
+    const std::string origin = url_origin(first.asked());
+    {
+        std::lock_guard lock(hosts().mutex);
+        auto [it, probing] = hosts().waiting.try_emplace(origin);
+        if (!probing) {
+            it->second.push_back([url, finish] {
+                try {
+                    open_with(url, finish, false);
+                } catch (const Error&) {  // (not thrown for a URL asked before; open() reports it)
+                    finish(nullptr);
+                }
+            });
+            return;
+        }
+    }
+    open_in_one(url, std::move(first), std::move(finish), true);
+}
+
+// Opens `url` and registers its file; throws Error. In one request where its host is known to answer
+// several ranges at once (else, and when that fails, in two: a failure is reported from those).
+std::shared_ptr<const RemoteFile> open_now(const std::string& url) {
+    auto [first, known] = first_request(url);
+    if (known != HttpClient::MultiRange::yes) return open_in_two_now(url);
+    std::promise<std::shared_ptr<RemoteFile>> opened;
+    auto future = opened.get_future();
+    open_in_one(url, std::move(first), [&opened](std::shared_ptr<RemoteFile> file) { opened.set_value(file); }, false);
+    if (auto file = future.get()) return register_file(url, std::move(file));
+    return open_in_two_now(url);
 }
 
 }  // namespace
@@ -232,7 +395,7 @@ std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
     if (found.file) return found.file;
     if (found.pending) {
         if (auto f = found.pending->get()) return f;
-        return open_now(url);  // the other opening failed: again here, to report why
+        return open_in_two_now(url);  // the other opening failed: again here, to report why
     }
     try {
         auto file = open_now(url);
@@ -246,10 +409,11 @@ std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
 
 namespace {
 
-// Starts opening `url` (head, then tail) on the client's thread; `opened` gets the file, or
-// null when a request failed.
-void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared_ptr<const RemoteFile>>> opened) {
-    const auto finish = [url, opened](std::shared_ptr<RemoteFile> file) {
+// Starts opening `url` on the client's thread; `opened` gets the file, or null when a request failed.
+// `may_probe`: as open_with's.
+void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared_ptr<const RemoteFile>>> opened,
+                bool may_probe) {
+    open_with(url, [url, opened](std::shared_ptr<RemoteFile> file) {
         std::shared_ptr<const RemoteFile> kept = file ? register_file(url, std::move(file)) : nullptr;
         {
             auto& r = registry();
@@ -257,18 +421,7 @@ void open_async(const std::string& url, std::shared_ptr<std::promise<std::shared
             r.opening.erase(url);
         }
         opened->set_value(std::move(kept));
-    };
-    HttpClient::shared().submit(head_request(url), [url, finish](RangeReply&& head) {
-        if (!head.error.empty() || !head.total) return finish(nullptr);
-        auto file = std::make_shared<RemoteFile>(url, std::move(head));
-        const OpenPlan plan = open_plan(*file);
-        if (!plan.more_head && !plan.tail) return finish(std::move(file));
-        file->fetch_async(plan.ranges(), [finish, file, plan](RangeReply&& reply) {
-            if (!reply.error.empty()) return finish(nullptr);
-            file->set_rest(plan.more_head.has_value(), plan.tail.has_value(), std::move(reply));
-            finish(file);
-        });
-    });
+    }, may_probe);
 }
 
 }  // namespace
@@ -284,7 +437,7 @@ void RemoteFile::prefetch(std::span<const std::string> urls) {
             r.opening.emplace(url, opened->get_future().share());
         }
         try {
-            open_async(url, std::move(opened));
+            open_async(url, std::move(opened), urls.size() > 1);
         } catch (const Error&) {  // (an s3 URL without a key, a bad S3 setting): open() reports it
             auto& r = registry();
             std::lock_guard lock(r.mutex);

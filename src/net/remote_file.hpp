@@ -1,10 +1,16 @@
 // A file on an HTTP(S) server, read by range requests: its size and validator (ETag or
 // Last-Modified) pinned by the first response, its first and last 2 KiB fetched when it is
 // opened (a tile's header, VLRs and usually its chunk table: half of what local files keep,
-// as every byte crosses the network), and exact reads anywhere else. The tail comes with the rest
-// of a LAS head longer than 2 KiB (its VLRs and first point record, up to 64 KiB) in one request,
-// and a small file's middle with them when that costs less than a request (then every read of it
-// is answered from memory).
+// as every byte crosses the network), and exact reads anywhere else. Where the host is known to
+// answer several ranges in one multipart response (it did so before; the first of the opens a prefetch
+// of several files starts for a host not known yet asks so, and the others wait for its answer), a file
+// opens in one request: its head and last 2 KiB together ("bytes=0-8191,-2048": the first 8 KiB until
+// the host's LAS files showed the head they need; a small file's answer is the whole file), the head then
+// kept as an open in two keeps it. Elsewhere (S3, hosts that answer one range), and where that answer
+// could not be used, the head comes first, then the tail with the rest of a LAS head longer than 2 KiB
+// (its VLRs and first point record, up to 64 KiB) in one request, and a small file's middle with them
+// when that costs less than a request (then every read of it is answered from memory); a head longer
+// than asked costs one request more either way (HttpStats: opens_in_one, open_fallbacks).
 // Remote files are shared process-wide by URL, so a tile opened again (by the chunk-point
 // loader, the viewer, a second command in the same process) costs no request, and every
 // response for it is checked against the same validator and size (Content-Range's total: all a
@@ -31,8 +37,8 @@ class RemoteFile {
 public:
     static constexpr std::uint64_t kEdge = 2048;
 
-    // The remote file at `url`, opened (two requests: the head, then the rest of a LAS head and the
-    // tail) on first use; throws Error.
+    // The remote file at `url`, opened (one request, or two: the head, then the rest of a LAS head and
+    // the tail) on first use; throws Error.
     static std::shared_ptr<const RemoteFile> open(const std::string& url);
     // Starts opening the files of `urls` not open yet, all requests in flight together, and
     // returns at once; open() of such a URL waits for its file. Failures are not reported
@@ -65,6 +71,10 @@ public:
     // Takes the second reply of an open: the rest of the head (its first part, when `more_head`),
     // then the tail (when `tail`).
     void set_rest(bool more_head, bool tail, RangeReply&& reply);
+    // Of an open in one request (the head and the tail asked together): its tail, and the head cut to
+    // `bytes` (kEdge or more).
+    void set_tail(std::vector<std::uint8_t> tail);
+    void trim_head(std::uint64_t bytes);
 
     struct Redirect;  // where the file's redirects led
 

@@ -184,6 +184,26 @@ TEST_F(HttpFaults, MultiRangeAnsweredByOneRangeFallsBackToSingleRanges) {
     EXPECT_LT(client.stats().body_bytes, 1000u);
 }
 
+// A request with a suffix (a remote file's head and tail in one, net/remote_file.hpp) to a server that
+// answers several ranges with the whole file fails without downloading it, and the server is then known
+// as one that does not answer them; one answered by one 206 range fails too, but tells nothing.
+TEST_F(HttpFaults, ASuffixRequestIsNeverSplitNorAnsweredByAWholeLargeFile) {
+    RangeRequest request{server.url(), {{0, 8192}}, {}};
+    request.suffix = 2048;
+    expect_error(client.fetch(request), "with the whole file");
+    EXPECT_EQ(server.requests(), 1);
+    EXPECT_LT(client.stats().body_bytes, 1000u);
+    EXPECT_EQ(client.multi_range(server.url()), HttpClient::MultiRange::no);
+
+    FaultServer joining(data);
+    joining.multi_range_206 = true;
+    RangeRequest joined{joining.url(), {{0, 8192}}, {}};
+    joined.suffix = 2048;
+    expect_error(client.fetch(joined), "with one range");
+    EXPECT_EQ(joining.requests(), 1);
+    EXPECT_EQ(client.multi_range(joining.url()), HttpClient::MultiRange::unknown);
+}
+
 TEST_F(HttpFaults, RangeAtTheEndOfTheFileMayBeShortened) {
     const auto reply = fetch({{data.size() - 10, 4096}});
     ASSERT_EQ(reply.error, "");
@@ -249,6 +269,38 @@ TEST(HttpClient, RedirectsWithinTheSchemeAreFollowedDowngradesRefused) {
     EXPECT_NE(downgraded.error.find("a redirect to another scheme is refused"), std::string::npos)
         << downgraded.error;
     EXPECT_TRUE(downgraded.parts.empty());
+}
+
+// nginx answers a head and a suffix in one multipart response (the server then known to answer several
+// ranges), and a file smaller than both together with all of it (200), taken whole: one request each.
+TEST(HttpClient, AHeadAndASuffixComeInOneRequestAndASmallFileWhole) {
+    const auto& server = test::NginxServer::instance();
+    HttpClient client;
+    const std::string large = "surveys/ky-woodford-county/5205000_3900000.laz";
+    const auto bytes = file_bytes(test::data_dir() / large);
+    RangeRequest request{server.url(large), {{0, 8192}}, {}};
+    request.suffix = 2048;
+    EXPECT_EQ(client.multi_range(request.url), HttpClient::MultiRange::unknown);
+    const RangeReply r = client.fetch(request);
+    ASSERT_EQ(r.error, "");
+    ASSERT_EQ(r.parts.size(), 2u);
+    EXPECT_FALSE(r.whole_file);
+    EXPECT_EQ(r.total, bytes.size());
+    EXPECT_TRUE(std::vector<std::uint8_t>(bytes.begin(), bytes.begin() + 8192) == r.parts[0]);
+    EXPECT_TRUE(std::vector<std::uint8_t>(bytes.end() - 2048, bytes.end()) == r.parts[1]);
+    EXPECT_EQ(client.multi_range(request.url), HttpClient::MultiRange::yes);
+
+    const std::string small = "surveys/nc-raleigh-ept/ept/3-3-5-4.laz";
+    const auto small_bytes = file_bytes(test::data_dir() / small);
+    ASSERT_LT(small_bytes.size(), 8192u + 2048u);
+    request.url = server.url(small);
+    const RangeReply whole = client.fetch(request);
+    ASSERT_EQ(whole.error, "");
+    EXPECT_TRUE(whole.whole_file);
+    ASSERT_EQ(whole.parts.size(), 1u);
+    EXPECT_TRUE(whole.parts[0] == small_bytes);
+    EXPECT_EQ(whole.total, small_bytes.size());
+    EXPECT_EQ(client.stats().requests, 2u);
 }
 
 TEST(HttpClient, PlainHttpIsHttp1) {

@@ -103,7 +103,9 @@ TEST(RemoteFile, OpenJoinsThePrefetchInFlight) {
     EXPECT_EQ(net::HttpClient::shared().stats().body_bytes - before.body_bytes, 0u);
     const auto f = net::RemoteFile::open(urls[0]);
     EXPECT_GT(net::HttpClient::shared().stats().body_bytes - before.body_bytes, 0u);  // open() waited for it
-    EXPECT_EQ(net::HttpClient::shared().stats().requests - before.requests, 3u);  // head, tail; the missing head
+    // the head and tail in one request (nginx answers several ranges at once); the missing file's, sent
+    // when that first answer of the origin came (or before, where the origin was known)
+    EXPECT_LE(net::HttpClient::shared().stats().requests - before.requests, 2u);
     EXPECT_EQ(f->size(), fs::file_size(test::data_dir() / "surveys/ky-jmo335-eastern-kentucky/N117E379.laz"));
     EXPECT_THROW(net::RemoteFile::open(urls[1]), Error);
 }
@@ -122,7 +124,7 @@ TEST(RemoteFile, ThreadsOpeningOneFileShareItsOpening) {
     for (int i = 0; i < 8; ++i) opened.push_back(std::async(std::launch::async, [&] { return RemoteFile::open(url); }));
     const auto first = opened.front().get();
     for (std::size_t i = 1; i < opened.size(); ++i) EXPECT_EQ(opened[i].get(), first);
-    EXPECT_EQ(net::HttpClient::shared().stats().requests - before.requests, 2u);
+    EXPECT_LE(net::HttpClient::shared().stats().requests - before.requests, 2u);  // (one where its host is known)
 }
 
 TEST(RemoteFile, TlsPeersAreVerified) {
