@@ -36,6 +36,10 @@ struct ChunkPointLoaderOptions {
     bool direct_io = false;          // open tiles with O_DIRECT (cold-cache measurements)
     std::size_t max_errors = 1000;   // keep at most this many errors
     unsigned header_threads = 16;    // a placed dataset's header reads in flight (DatasetOptions::io_threads)
+    // When set, called from reader threads with a tile's chunk points as read (raw records of its own format,
+    // in chunk_point_locations order) once all of them are in, none failed; not for those an overview
+    // sidecar held. What the viewer keeps to write a remote dataset's sidecar (viewer/overview_cache.hpp).
+    std::function<void(std::uint32_t tile, std::vector<std::uint8_t>&& records)> on_tile_records;
 };
 
 class ChunkPointLoader {
