@@ -69,6 +69,7 @@ std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& pa
     so.scheduler.memory_budget = plan.data;
     so.scheduler.cnn = o.cnn && plan.network;
     so.scheduler.model_path = o.model;
+    if (first && o.overview_cache) so.overview_cache = std::make_shared<OverviewCache>(paths, *o.overview_cache);
     return std::make_unique<SessionOpening>(paths, std::move(so));
 }
 
@@ -86,6 +87,7 @@ bool take_opening(std::unique_ptr<SessionOpening>& opening, Session& session, Pa
     try {
         Session next = finished->take();
         session.scheduler.reset();  // it reads the dataset it replaces
+        session.overview_cache.reset();  // (its write, too)
         session = std::move(next);
         panels = {};
         print_warnings(session.dataset->warnings);
@@ -662,6 +664,18 @@ private:
         budget_.observe(resident_bytes(), st.bytes_used);
         apply_budget();
         report_overview_note(st);
+        overview_cache_step(st);
+    }
+
+    // The overview sidecar kept for a remote dataset: written once every tile's chunk points are in, and the
+    // line saying why it was not, on stderr.
+    void overview_cache_step(const SchedulerStats& st) {
+        const auto& cache = session_.overview_cache;
+        if (!cache) return;
+        cache->write_when_loaded(*session_.dataset, st.tiles_loaded.done >= st.tiles_loaded.total);
+        if (const auto note = cache->take_note(); note && !note->empty()) {
+            std::fprintf(stderr, "lidarscout: %s\n", note->c_str());
+        }
     }
 
     // The line saying the overview leaves full resolution no room: on stderr the first time, in the panel
