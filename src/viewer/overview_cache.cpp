@@ -77,43 +77,51 @@ void OverviewCache::write_when_loaded(const dataset::Dataset& dataset, bool all_
     writer_ = std::thread([this, &dataset] { write(dataset); });
 }
 
-// The tiles read (all, with their records) as a dataset of their own; nothing when the cached sidecar
-// placed every tile.
+// The tiles read (with their records and ids) as a dataset of their own; the records kept are let go.
+dataset::Dataset OverviewCache::gather(const dataset::Dataset& ds, std::vector<std::string>& ids,
+                                       std::vector<std::vector<std::uint8_t>>& records) {
+    dataset::Dataset whole;
+    whole.las_stride = ds.las_stride, whole.frame = ds.frame;
+    std::lock_guard lock(mutex_);
+    for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
+        if (!ds.is_ready(i)) continue;
+        whole.tiles.push_back(ds.tiles[i]);
+        whole.tiles.back().bounds_m = ds.bounds(i);
+        if (ds.tiles[i].points > 0) whole.bounds_m.extend(ds.bounds(i));
+        const auto id = ids_.find(ds.path(i));
+        ids.push_back(id != ids_.end() ? id->second : io::display_path(ds.path(i)));
+        records.push_back(records_of(ds, i, records_));
+    }
+    records_ = {};
+    return whole;
+}
+
+// Nothing when the cached sidecar placed every tile.
 void OverviewCache::write(const dataset::Dataset& ds) {
+    std::size_t cached = 0;
+    for (std::size_t i = 0; i < ds.tiles.size(); ++i) cached += ds.is_ready(i) && ds.tiles[i].tile.file->overview;
+    if (cached == ds.tiles.size()) return finish({});
     std::string note;
     try {
-        dataset::Dataset whole;
-        whole.las_stride = ds.las_stride, whole.frame = ds.frame;
         std::vector<std::string> ids;
         std::vector<std::vector<std::uint8_t>> records;
-        std::size_t from_cache = 0;
-        {
-            std::lock_guard lock(mutex_);
-            for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
-                if (!ds.is_ready(i)) continue;
-                const auto& t = ds.tiles[i];
-                if (t.tile.file->overview) ++from_cache;
-                whole.tiles.push_back(t);
-                whole.tiles.back().bounds_m = ds.bounds(i);
-                if (t.points > 0) whole.bounds_m.extend(ds.bounds(i));
-                const auto id = ids_.find(ds.path(i));
-                ids.push_back(id != ids_.end() ? id->second : io::display_path(ds.path(i)));
-                records.push_back(records_of(ds, i, records_));
-            }
-            records_ = {};
-        }
-        if (from_cache < ds.tiles.size() && !whole.tiles.empty()) {
-            fs::create_directories(folder_);
-            dataset::write_overview(whole, ids, records, file_.string());
-            written_ = evict();
-            if (!written_) note = "overview cache: the sidecar of this dataset is larger than --cache-size allows; "
-                                  "not kept";
+        const dataset::Dataset whole = gather(ds, ids, records);
+        if (whole.tiles.empty()) return finish({});
+        fs::create_directories(folder_);
+        dataset::write_overview(whole, ids, records, file_.string());
+        written_ = evict();
+        if (!written_) {
+            note = "overview cache: the sidecar of this dataset is larger than --cache-size allows; not kept";
         }
     } catch (const Error& e) {
         note = std::string("overview cache: not kept (") + e.what() + ")";
     } catch (const std::exception& e) {  // a folder that cannot be made, no memory
         note = "overview cache: not kept in " + folder_.string() + " (" + e.what() + ")";
     }
+    finish(note);
+}
+
+void OverviewCache::finish(const std::string& note) {
     std::lock_guard lock(mutex_);
     note_ = note;
 }

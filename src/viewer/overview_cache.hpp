@@ -56,6 +56,9 @@ public:
 
 private:
     void write(const dataset::Dataset& dataset);
+    dataset::Dataset gather(const dataset::Dataset& dataset, std::vector<std::string>& ids,
+                            std::vector<std::vector<std::uint8_t>>& records);
+    void finish(const std::string& note);  // the write ended; `note` says why nothing was kept
     bool evict();  // the least recently used sidecars past the bound dropped; whether this one is kept
 
     std::filesystem::path folder_, file_;
