@@ -58,7 +58,7 @@ struct ViewCliOptions {
     unsigned threads = 0;
     std::string backend = "cpu";
     std::string stats_json;
-    bool cache = true;        // --cache / --no-cache: a remote dataset's overview sidecar kept in the cache folder
+    bool no_cache = false;    // --no-cache (not --cache): no overview sidecar of a remote dataset kept or used
     bool no_overview = false; // --no-overview given (no sidecar used, none kept)
 };
 
@@ -85,7 +85,7 @@ std::optional<viewer::OverviewCacheSettings> overview_cache(const ViewCliOptions
     const std::uint64_t bound = net::RangeCache::shared().max_bytes();
     const auto url = [](const std::string& p) { return net::is_url(p); };
     const bool remote = !paths.empty() && std::all_of(paths.begin(), paths.end(), url);
-    if (!o.cache || o.no_overview || bound == 0 || !remote) return std::nullopt;
+    if (o.no_cache || o.no_overview || bound == 0 || !remote) return std::nullopt;
     try {
         return viewer::OverviewCacheSettings{cache_folder() / "overviews", bound};
     } catch (const Error&) {
@@ -201,13 +201,15 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     add_inputs(*cmd, "paths", o->paths,
                "LAS/LAZ files, folders, tile lists, EPT datasets or http(s) or s3:// URLs (none: the demo landscape)");
     cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
-    cmd->add_flag("--cache,!--no-cache", o->cache,
-                  "Remote datasets (URLs): keep an overview sidecar of what was opened (every tile's metadata and "
-                  "chunk points) in " + (net::default_cache_folder().parent_path() / "overviews").string() +
-                  " once they are in, so that the next view of the same URLs opens from it, asking the tiles for "
-                  "nothing but full resolution (a tile changed since is named and read itself); bounded by "
-                  "--cache-size, the least recently used dropped (default: --cache; --no-cache neither keeps nor "
-                  "uses one)");
+    const std::string overviews = (net::default_cache_folder().parent_path() / "overviews").string();
+    const std::string keep_help =
+        "Remote datasets (URLs): keep an overview sidecar of what was opened (every tile's metadata and chunk "
+        "points) in " + overviews + " once they are in, so that the next view of the same URLs opens from it, asking "
+        "the tiles for nothing but full resolution (a tile changed since is named and read itself); bounded by "
+        "--cache-size, the least recently used dropped (the default)";
+    auto* keep = cmd->add_flag("--cache", keep_help);
+    cmd->add_flag("--no-cache", o->no_cache, "Neither keep nor use an overview sidecar of a remote dataset in " +
+                  overviews + " (--cache)")->excludes(keep);
     cmd->add_option("--memory", o->memory, "Memory budget, e.g. 4G (default: a quarter of the RAM)");
     cmd->add_option("--model", o->model, "Heightmap network (default: models/heightmap_cnn.pt; none: linear only)");
     cmd->add_option("--crs", o->crs,

@@ -61,7 +61,12 @@ struct Opened {
         o.scheduler.cnn = false, o.scheduler.full_res = false;
         o.overview_cache = cache = std::make_shared<OverviewCache>(paths, OverviewCacheSettings{folder, bound});
         SessionOpening opening(paths, o);
-        session = opening.take();
+        try {
+            session = opening.take();
+        } catch (const Error& e) {
+            ADD_FAILURE() << "opening " << paths.size() << " paths: " << e.what();
+            return;
+        }
         const auto loaded = [&] {
             const auto s = session.scheduler->stats().tiles_loaded;
             return s.done >= s.total;
@@ -95,6 +100,7 @@ TEST(OverviewCache, TheSecondOpenAsksTheTilesForNothingAndAChangedTileIsNamed) {
         port = server.port();
         paths = {server.catalog_url()};
         Opened first(paths, folder);
+        ASSERT_TRUE(first.session.open());
         const double read = tile_requests(server.stats(true));
         chunk_points = first.session.scheduler->stats().chunk_points.done;
         ASSERT_GT(chunk_points, 36u);
@@ -103,9 +109,12 @@ TEST(OverviewCache, TheSecondOpenAsksTheTilesForNothingAndAChangedTileIsNamed) {
         EXPECT_EQ(first.cache->take_note(), "");
         const double written = tile_requests(server.stats(true));
         EXPECT_LE(written, 0.03 * read) << "the write asked again for what was read: " << written << " of " << read;
+        RecordProperty("first_open_tile_requests", std::to_string(read));
+        RecordProperty("write_tile_requests", std::to_string(written));
         ASSERT_TRUE(fs::is_regular_file(first.cache->file()));
 
         Opened second(paths, folder);
+        ASSERT_TRUE(second.session.open());
         EXPECT_EQ(tile_requests(server.stats(true)), 0) << "the second open asked the tiles";
         EXPECT_EQ(second.from_sidecar(), 36u);
         EXPECT_EQ(second.session.scheduler->stats().chunk_points.done, chunk_points);
@@ -119,6 +128,7 @@ TEST(OverviewCache, TheSecondOpenAsksTheTilesForNothingAndAChangedTileIsNamed) {
     options.port = port;
     test::ReplicaServer moved(manifest, options);
     Opened third(paths, folder);
+    ASSERT_TRUE(third.session.open());
     EXPECT_EQ(third.from_sidecar(), 36u);
     dataset::take_stale_tile_warnings();
     std::size_t stale = 0;
@@ -132,6 +142,35 @@ TEST(OverviewCache, TheSecondOpenAsksTheTilesForNothingAndAChangedTileIsNamed) {
     fs::remove_all(dir);
 }
 
+// Tile URLs (no catalog: their sources have no item, and every header is read as the dataset opens).
+TEST(OverviewCache, TileURLsOpenFromTheirSidecarTheSecondTime) {
+    net::RangeCache::configure({{}, 0});
+    const fs::path dir = fresh_dir("urls");
+    const fs::path manifest = replica(dir);
+    test::ReplicaServer server(manifest);
+    std::vector<std::string> paths;
+    const auto m = nlohmann::json::parse(std::ifstream(manifest));
+    for (const auto& t : m.at("tiles")) paths.push_back(server.tile_url(t.at("file").get<std::string>()));
+    ASSERT_EQ(paths.size(), 36u);
+    const fs::path folder = dir / "cache";
+    Opened first(paths, folder);
+    ASSERT_TRUE(first.session.open());
+    const double read = tile_requests(server.stats(true));
+    EXPECT_TRUE(first.write());
+    EXPECT_LE(tile_requests(server.stats(true)), 0.03 * read);
+    Opened second(paths, folder);
+    ASSERT_TRUE(second.session.open());
+    EXPECT_EQ(tile_requests(server.stats(true)), 0) << "the second open asked the tiles";
+    EXPECT_EQ(second.from_sidecar(), paths.size());
+    EXPECT_EQ(second.session.scheduler->stats().chunk_points.done, first.session.scheduler->stats().chunk_points.done);
+    paths.pop_back();  // other URLs: another sidecar
+    Opened fewer(paths, folder);
+    ASSERT_TRUE(fewer.session.open());
+    EXPECT_EQ(fewer.from_sidecar(), 0u);
+    EXPECT_NE(fewer.cache->file(), first.cache->file());
+    fs::remove_all(dir);
+}
+
 TEST(OverviewCache, ADamagedSidecarIsNamedIgnoredAndWrittenAgain) {
     net::RangeCache::configure({{}, 0});
     const fs::path dir = fresh_dir("damaged");
@@ -142,6 +181,7 @@ TEST(OverviewCache, ADamagedSidecarIsNamedIgnoredAndWrittenAgain) {
     fs::create_directories(folder);
     std::ofstream(file) << "not a sidecar";
     Opened first(paths, folder);
+    ASSERT_TRUE(first.session.open());
     EXPECT_EQ(first.from_sidecar(), 0u);
     const auto messages = first.session.dataset->warnings.messages();
     const auto named = std::count_if(messages.begin(), messages.end(), [&](const std::string& w) {
@@ -151,6 +191,7 @@ TEST(OverviewCache, ADamagedSidecarIsNamedIgnoredAndWrittenAgain) {
     EXPECT_TRUE(first.write());
     EXPECT_EQ(dataset::read_overview_sidecar(file.string()).entries.size(), 36u);
     Opened second(paths, folder);
+    ASSERT_TRUE(second.session.open());
     EXPECT_EQ(second.from_sidecar(), 36u);
     fs::remove_all(dir);
 }
@@ -163,6 +204,7 @@ TEST(OverviewCache, ABoundBelowTheSidecarKeepsNothingAndSaysSo) {
     fs::create_directories(folder);
     std::ofstream(folder / "old.overview.laz") << std::string(3000, 'x');  // least recently used: dropped first
     Opened first({server.catalog_url()}, folder, 2000);
+    ASSERT_TRUE(first.session.open());
     EXPECT_FALSE(first.write());
     EXPECT_FALSE(fs::exists(folder / "old.overview.laz"));
     EXPECT_FALSE(fs::exists(first.cache->file()));
