@@ -43,6 +43,7 @@ public:
         std::string bucket = "replica";        // the S3 bucket's name
         std::string overview;                  // an overview sidecar to serve (and name in the VPC); "" none
         bool hold_last_page = false;           // a search's last page (of several) answered after release()
+        int port = 0;                          // 0: an ephemeral one (another: a server restarted on its port)
     };
 
     // A server of the replica `manifest`, started at once; throws when it does not start (its
@@ -147,6 +148,8 @@ private:
                                          "--rtt-ms", rtt.c_str(), "--bandwidth", bandwidth.c_str()};
         if (!o.overview.empty()) args.insert(args.end(), {"--overview", o.overview.c_str()});
         if (o.hold_last_page) args.push_back("--hold-last-page");
+        const std::string port = std::to_string(o.port);
+        args.insert(args.end(), {"--port", port.c_str()});
         args.push_back(nullptr);  // (made before the fork: the child only calls exec)
         pid_ = ::fork();
         if (pid_ == 0) {

@@ -52,7 +52,9 @@ CLI::Option* add_byte_setting(CLI::App& cmd, const std::string& name, std::uint6
 
 void add_remote_options(CLI::App& cmd) {
     const std::string help = "Remote datasets (http/https): on-disk cache of fetched byte ranges in " +
-                             net::default_cache_folder().string() + ", e.g. 500M or 4G; 0 turns it off (default 2G)";
+                             net::default_cache_folder().string() +
+                             " (and, apart, of `view`'s overview sidecars: --cache), e.g. 500M or 4G; 0 turns it off "
+                             "(default 2G)";
     cmd.add_option_function<std::string>(
         "--cache-size",
         [](const std::string& value) {

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <cstdlib>
@@ -22,10 +23,13 @@
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
 #include "io/output_file.hpp"
+#include "net/range_cache.hpp"
+#include "net/url.hpp"
 #include "nn/heightmap_network.hpp"
 #include "render/backend.hpp"
 #include "synth/terrain_generator.hpp"
 #include "viewer/app/viewer_app.hpp"
+#include "viewer/overview_cache.hpp"
 #include "viewer/profile_tool.hpp"
 #include "viewer/session_file.hpp"
 
@@ -54,6 +58,8 @@ struct ViewCliOptions {
     unsigned threads = 0;
     std::string backend = "cpu";
     std::string stats_json;
+    bool no_cache = false;    // --no-cache (not --cache): no overview sidecar of a remote dataset kept or used
+    bool no_overview = false; // --no-overview given (no sidecar used, none kept)
 };
 
 // "X,Y" window pixels of a scripted click.
@@ -70,6 +76,21 @@ std::filesystem::path cache_folder() {
         return std::filesystem::path(home) / ".cache" / "lidarscout";
     }
     throw Error::in_stage("view", "no cache folder for the demo (neither XDG_CACHE_HOME nor HOME is set); give a PATH");
+}
+
+// Where a remote dataset's overview sidecar is kept (viewer/overview_cache.hpp): unset for local paths,
+// --no-cache, --no-overview, --cache-size 0 or no cache folder.
+std::optional<viewer::OverviewCacheSettings> overview_cache(const ViewCliOptions& o,
+                                                            const std::vector<std::string>& paths) {
+    const std::uint64_t bound = net::RangeCache::shared().max_bytes();
+    const auto url = [](const std::string& p) { return net::is_url(p); };
+    const bool remote = !paths.empty() && std::all_of(paths.begin(), paths.end(), url);
+    if (o.no_cache || o.no_overview || bound == 0 || !remote) return std::nullopt;
+    try {
+        return viewer::OverviewCacheSettings{cache_folder() / "overviews", bound};
+    } catch (const Error&) {
+        return std::nullopt;  // (neither XDG_CACHE_HOME nor HOME: nothing kept)
+    }
 }
 
 // The demo's folder, generated on first use (the manifest is written last: its presence says done).
@@ -163,6 +184,7 @@ int run_view(const ViewCliOptions& o) {
     v.paths = o.paths;
     if (v.paths.empty() && v.session) v.paths = v.session->paths;  // the session's dataset
     if (v.paths.empty()) v.paths = {demo_folder(o)};
+    v.overview_cache = overview_cache(o, v.paths);
     viewer::app::ViewerTimings timings;
     const net::HttpStats network_before = net::HttpClient::shared().stats();
     const int status = viewer::app::run_viewer(v, &timings);
@@ -179,6 +201,15 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
     add_inputs(*cmd, "paths", o->paths,
                "LAS/LAZ files, folders, tile lists, EPT datasets or http(s) or s3:// URLs (none: the demo landscape)");
     cmd->add_option("--size", o->size, "Window size WIDTHxHEIGHT (default 1280x720)");
+    const std::string overviews = (net::default_cache_folder().parent_path() / "overviews").string();
+    const std::string keep_help =
+        "Remote datasets (URLs): keep an overview sidecar of what was opened (every tile's metadata and chunk "
+        "points) in " + overviews + " once they are in, so that the next view of the same URLs opens from it, asking "
+        "the tiles for nothing but full resolution (a tile changed since is named and read itself); bounded by "
+        "--cache-size, the least recently used dropped (the default)";
+    auto* keep = cmd->add_flag("--cache", keep_help);
+    cmd->add_flag("--no-cache", o->no_cache, "Neither keep nor use an overview sidecar of a remote dataset in " +
+                  overviews + " (--cache)")->excludes(keep);
     cmd->add_option("--memory", o->memory, "Memory budget, e.g. 4G (default: a quarter of the RAM)");
     cmd->add_option("--model", o->model, "Heightmap network (default: models/heightmap_cnn.pt; none: linear only)");
     cmd->add_option("--crs", o->crs,
@@ -226,7 +257,10 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
                "every tile's footprint, to the dataset open, to the first frame with heightmaps and to all chunk "
                "points in, and the HTTP requests and bytes of a remote dataset, also per tile (scripted use)",
                io::OutputKind::Json);
-    cmd->callback([o, &run] { run = [o] { return run_view(*o); }; });
+    cmd->callback([o, cmd, &run] {
+        o->no_overview = cmd->count("--no-overview") > 0;
+        run = [o] { return run_view(*o); };
+    });
 }
 
 }  // namespace lidarscout::cli

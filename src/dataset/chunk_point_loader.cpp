@@ -40,6 +40,8 @@ struct TileState {
     std::size_t outstanding = 0;                // handed out, not yet completed
     io::ReadTarget target;                      // open while the tile is active
     std::vector<PendingPoint> points;
+    std::vector<std::uint8_t> records;  // the raw records, when kept (ChunkPointLoaderOptions::on_tile_records)
+    bool whole = true;                  // no read of it failed
 };
 
 // Points outside the header bounds by more than this (relative to the tile's extent, plus
@@ -168,16 +170,20 @@ public:
             fail(error->file.empty() ? tile.tile.path() : error->file, error->offset.value_or(r.offset), error->cause);
         }
         std::vector<PendingPoint> finished;
+        std::vector<std::uint8_t> records;
         {
             std::lock_guard lock(mutex_);
             TileState& t = tiles_.at(id);
             if (point) t.points.push_back(*point);
+            keep_record(t, r, data, error != nullptr);
             --t.outstanding;
             if (t.outstanding > 0 || t.next < t.locations.size()) return;
             finished.swap(t.points);
+            if (t.whole) records.swap(t.records);
             tiles_.erase(id);
         }
         publish(id, finished);
+        if (!records.empty()) loader_.options_.on_tile_records(id, std::move(records));
     }
 
     // The tiles whose chunk points an overview sidecar holds, nearest to the focus first, from its
@@ -291,9 +297,22 @@ private:
             return false;
         }
         if (t.locations.empty()) return false;
+        if (loader_.options_.on_tile_records) t.records.resize(t.locations.size() * tile.tile.header.record_length);
         tiles_.emplace(id, std::move(t));
         active_.push_back(id);
         return true;
+    }
+
+    // The raw record of read `r` into its tile's kept records (when kept; under mutex_).
+    void keep_record(TileState& t, const io::ReadRequest& r, std::span<const std::uint8_t> data, bool failed) {
+        if (t.records.empty()) return;
+        const std::size_t length = t.records.size() / t.locations.size();
+        const std::size_t k = r.tag & 0xffffffffu;
+        if (failed || data.size() != length || k >= t.locations.size()) {
+            t.whole = false;
+            return;
+        }
+        std::copy(data.begin(), data.end(), t.records.begin() + static_cast<std::ptrdiff_t>(k * length));
     }
 
     std::optional<PendingPoint> convert(const DatasetTile& tile, std::span<const std::uint8_t> data,
@@ -395,7 +414,7 @@ void ChunkPointLoader::start() {
 void ChunkPointLoader::run() {
     std::thread headers;
     try {
-        source_->publish_held(options_.release_overview);
+        source_->publish_held(options_.release_overview && !options_.on_tile_records);
         if (source_->reads_headers()) {
             headers = std::thread([this] {
                 try {

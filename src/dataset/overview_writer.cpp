@@ -85,7 +85,8 @@ bool take_image(const Tile& t, const io::File& file, OverviewEntry& e) {
     }
 }
 
-Made make(const DatasetTile& t, const std::string& id, std::uint64_t las_stride) {
+// `given`: the tile's chunk points already read (then none is read here), or null.
+Made make(const DatasetTile& t, const std::string& id, std::uint64_t las_stride, std::vector<std::uint8_t>* given) {
     Made m;
     try {
         const io::File file = io::File::open(t.tile.path());
@@ -94,6 +95,11 @@ Made make(const DatasetTile& t, const std::string& id, std::uint64_t las_stride)
         e.made_from = file_validator(file);
         if (!take_image(t.tile, file, e)) return m;
         const std::uint16_t length = t.tile.header.record_length;
+        if (given) {
+            if (given->size() % length == 0) m.records = std::move(*given);
+            m.entry = std::move(e);
+            return m;
+        }
         for (const auto& at : chunk_point_locations(t.tile, las_stride)) {
             const auto record = file.read_vector(at.offset, length, "chunk point");
             m.records.insert(m.records.end(), record.begin(), record.end());
@@ -228,27 +234,9 @@ las::Header sidecar_header(const Tile& model, std::vector<las::Vlr>& vlrs) {
     return h;
 }
 
-}  // namespace
-
-std::uint64_t hilbert_index(std::uint32_t x, std::uint32_t y) {
-    std::uint64_t d = 0;
-    for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
-        const std::uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
-        d += std::uint64_t{s} * s * ((3 * rx) ^ ry);
-        if (ry == 0) {  // rotate the quadrant
-            if (rx == 1) x = (s - 1) - (x & (s - 1)), y = (s - 1) - (y & (s - 1));
-            std::swap(x, y);
-        }
-    }
-    return d;
-}
-
-OverviewWriteResult write_overview(const Dataset& ds, std::span<const std::string> ids, const std::string& output,
-                                   const std::string& protect) {
-    if (ids.size() != ds.tiles.size()) throw Error("internal: an overview needs an id per tile");
-    std::vector<Made> made(ds.tiles.size());
-    ThreadPool::shared().for_each(made.size(),
-                                  [&](std::size_t i) { made[i] = make(ds.tiles[i], ids[i], ds.las_stride); });
+// The sidecar of the tiles made (their records moved from), in Hilbert order.
+OverviewWriteResult write_made(const Dataset& ds, std::vector<Made>& made, const std::string& output,
+                               const std::string& protect) {
     const std::vector<std::size_t> order = hilbert_order(ds);
     const auto kind = common_kind(ds, made);
     const Tile* model = nullptr;
@@ -295,6 +283,42 @@ OverviewWriteResult write_overview(const Dataset& ds, std::span<const std::strin
     table.data = serialize_overview_table(entries);
     result.bytes = writer.finish({table}).bytes_written;
     return result;
+}
+
+}  // namespace
+
+std::uint64_t hilbert_index(std::uint32_t x, std::uint32_t y) {
+    std::uint64_t d = 0;
+    for (std::uint32_t s = 1u << 15; s > 0; s >>= 1) {
+        const std::uint32_t rx = (x & s) ? 1 : 0, ry = (y & s) ? 1 : 0;
+        d += std::uint64_t{s} * s * ((3 * rx) ^ ry);
+        if (ry == 0) {  // rotate the quadrant
+            if (rx == 1) x = (s - 1) - (x & (s - 1)), y = (s - 1) - (y & (s - 1));
+            std::swap(x, y);
+        }
+    }
+    return d;
+}
+
+OverviewWriteResult write_overview(const Dataset& ds, std::span<const std::string> ids, const std::string& output,
+                                   const std::string& protect) {
+    if (ids.size() != ds.tiles.size()) throw Error("internal: an overview needs an id per tile");
+    std::vector<Made> made(ds.tiles.size());
+    ThreadPool::shared().for_each(made.size(),
+                                  [&](std::size_t i) { made[i] = make(ds.tiles[i], ids[i], ds.las_stride, nullptr); });
+    return write_made(ds, made, output, protect);
+}
+
+OverviewWriteResult write_overview(const Dataset& ds, std::span<const std::string> ids,
+                                   std::span<std::vector<std::uint8_t>> records, const std::string& output) {
+    if (ids.size() != ds.tiles.size() || records.size() != ds.tiles.size()) {
+        throw Error("internal: an overview needs an id and records per tile");
+    }
+    std::vector<Made> made(ds.tiles.size());
+    ThreadPool::shared().for_each(made.size(), [&](std::size_t i) {
+        made[i] = make(ds.tiles[i], ids[i], ds.las_stride, &records[i]);
+    });
+    return write_made(ds, made, output, {});
 }
 
 }  // namespace lidarscout::dataset

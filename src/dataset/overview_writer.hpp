@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "dataset/dataset.hpp"
 
@@ -24,6 +25,12 @@ struct OverviewWriteResult {
 // ids[i] is the catalog item id of dataset.tiles[i]. Throws lidarscout::Error when it cannot be written.
 OverviewWriteResult write_overview(const Dataset& dataset, std::span<const std::string> ids,
                                    const std::string& output, const std::string& protect = {});
+// The same with each tile's chunk points given, not read: records[i] are dataset.tiles[i]'s raw records (its
+// own format, in chunk_point_locations order; empty: the sidecar holds none of it), taken (moved from). What a
+// viewer read already (viewer/overview_cache.hpp): a remote tile's metadata bytes come from the edges its
+// open fetched, so the write asks its server for nothing more where those hold them.
+OverviewWriteResult write_overview(const Dataset& dataset, std::span<const std::string> ids,
+                                   std::span<std::vector<std::uint8_t>> records, const std::string& output);
 
 // The index of (x, y) along a Hilbert curve over a 2^16 x 2^16 grid (x, y below 2^16).
 std::uint64_t hilbert_index(std::uint32_t x, std::uint32_t y);

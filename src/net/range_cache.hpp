@@ -42,6 +42,7 @@ public:
     static void configure(const RangeCacheSettings& settings);
 
     bool enabled() const { return settings_.max_bytes > 0; }
+    std::uint64_t max_bytes() const { return settings_.max_bytes; }  // its bound (--cache-size)
     // The parts stored for `request`, or nothing.
     std::optional<std::vector<std::vector<std::uint8_t>>> find(const RangeRequest& request);
     // Stores a successful reply (for a request with a validator).

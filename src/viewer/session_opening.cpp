@@ -142,6 +142,7 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
     };
     try {
         dataset::FoundSources found = dataset::find_tile_sources(paths, arriving);
+        if (options.overview_cache) options.overview_cache->use(found.sources);
         first_pages = {};
         const auto placed = dataset::catalog_footprints(found.sources);
         note_sources(found.sources.size(), std::span(placed).subspan(std::min(noted, placed.size())));
@@ -155,7 +156,9 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         }
         s.cursor = std::make_unique<CursorReadout>(s.dataset->frame);
         s.places = std::make_unique<dataset::TileIndex>(*s.dataset);
-        if (!cancel_) s.scheduler = std::make_unique<Scheduler>(*s.dataset, options.scheduler);
+        SchedulerOptions scheduler = options.scheduler;
+        if ((s.overview_cache = options.overview_cache)) scheduler.loader.on_tile_records = s.overview_cache->keeper();
+        if (!cancel_) s.scheduler = std::make_unique<Scheduler>(*s.dataset, scheduler);
         std::lock_guard lock(mutex_);
         session_ = std::move(s);
     } catch (const Error& e) {

@@ -31,6 +31,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/tile_index.hpp"
 #include "viewer/cursor_readout.hpp"
+#include "viewer/overview_cache.hpp"
 #include "viewer/scheduler.hpp"
 
 namespace lidarscout::viewer {
@@ -41,6 +42,9 @@ struct Session {
     std::unique_ptr<dataset::Dataset> dataset;
     std::unique_ptr<dataset::TileIndex> places;  // its tiles by position (the tile boxes in view)
     std::unique_ptr<CursorReadout> cursor;
+    // The sidecar kept for it (null: none): the scheduler's loader hands it records, and its write reads the
+    // dataset, so it is destroyed after the one and before the other.
+    std::shared_ptr<OverviewCache> overview_cache;
     std::unique_ptr<Scheduler> scheduler;
 
     bool open() const { return scheduler != nullptr; }
@@ -57,6 +61,9 @@ struct SessionOptions {
     std::size_t preview_tiles = 64;
     double preview_wait_s = 3.0;     // the longest the rest waits for the preview's chunk points
     std::size_t page_preview_most = 1024;  // a paged catalog's preview grows (4x at a time) up to these tiles
+    // The overview sidecar kept for a remote dataset (viewer/overview_cache.hpp): used when there is one, else
+    // the chunk points read kept for it; null: none.
+    std::shared_ptr<OverviewCache> overview_cache;
 };
 
 // Where an opening stands, for a progress line.

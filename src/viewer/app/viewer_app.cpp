@@ -70,6 +70,7 @@ std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& pa
     so.scheduler.cnn = o.cnn && plan.network;
     so.scheduler.model_path = o.model;
     so.scheduler.content_snapshot_interval_s = 0.1;  // as often as the frame refiner draws new data
+    if (first && o.overview_cache) so.overview_cache = std::make_shared<OverviewCache>(paths, *o.overview_cache);
     return std::make_unique<SessionOpening>(paths, std::move(so));
 }
 
@@ -87,6 +88,7 @@ bool take_opening(std::unique_ptr<SessionOpening>& opening, Session& session, Pa
     try {
         Session next = finished->take();
         session.scheduler.reset();  // it reads the dataset it replaces
+        session.overview_cache.reset();  // (its write, too)
         session = std::move(next);
         panels = {};
         print_warnings(session.dataset->warnings);
@@ -677,6 +679,18 @@ private:
         budget_.observe(resident_bytes(), st.bytes_used);
         apply_budget();
         report_overview_note(st);
+        overview_cache_step(st);
+    }
+
+    // The overview sidecar kept for a remote dataset: written once every tile's chunk points are in, and the
+    // line saying why it was not, on stderr.
+    void overview_cache_step(const SchedulerStats& st) {
+        const auto& cache = session_.overview_cache;
+        if (!cache) return;
+        cache->write_when_loaded(*session_.dataset, st.tiles_loaded.done >= st.tiles_loaded.total);
+        if (const auto note = cache->take_note(); note && !note->empty()) {
+            std::fprintf(stderr, "lidarscout: %s\n", note->c_str());
+        }
     }
 
     // The line saying the overview leaves full resolution no room: on stderr the first time, in the panel

@@ -15,6 +15,7 @@
 #include "core/point_filter.hpp"
 #include "pipelines/profile.hpp"
 #include "render/backend.hpp"
+#include "viewer/overview_cache.hpp"
 #include "viewer/session_file.hpp"
 
 namespace lidarscout::viewer::app {
@@ -41,6 +42,9 @@ struct ViewerOptions {
     std::string save_session;        // scripted: the session written when the viewer ends
     unsigned threads = 0;            // rendering threads (0 = all cores)
     render::Backend backend = render::Backend::Cpu;  // the rasterizer (resolved: Cpu or Cuda)
+    // Where the overview sidecar of a remote dataset is kept (viewer/overview_cache.hpp), for the first
+    // opening (paths); unset: none kept or used.
+    std::optional<OverviewCacheSettings> overview_cache;
 };
 
 // When the window showed what, in seconds from run_viewer's start (window creation included);
