@@ -15,6 +15,7 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "core/patch_grid.hpp"
@@ -187,11 +188,14 @@ public:
     }
 
     // The tiles whose chunk points an overview sidecar holds, nearest to the focus first, from its
-    // records (no read); then, with `release`, the records go (ChunkPointLoaderOptions::release_overview).
+    // records (no read); with `release`, each block of records goes once its tiles' are published
+    // (ChunkPointLoaderOptions::release_overview).
     void publish_held(bool release) {
         const auto at = focus();  // (not a structured binding: clang 14 cannot capture one)
         const auto distance = [&](std::uint32_t id) { return ds_.tiles[id].bounds_m.distance_xy(at.first, at.second); };
         std::stable_sort(held_.begin(), held_.end(), [&](auto a, auto b) { return distance(a) < distance(b); });
+        std::optional<OverviewRelease> releasing;
+        if (release) releasing.emplace(ds_.tiles, held_);
         for (const std::uint32_t id : held_) {
             if (is_cancelled()) return;
             const auto& tile = ds_.tiles[id];
@@ -204,8 +208,9 @@ public:
                 if (p) points.push_back(*p);
             }
             publish(id, points);
+            if (releasing) releasing->taken(tile.tile);
         }
-        if (release && !held_.empty()) release_overview_records(ds_.tiles);
+        if (releasing && !held_.empty()) trim_heap();  // the blocks' pages the grid did not take leave the process
         held_ = {};
     }
 

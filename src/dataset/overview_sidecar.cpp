@@ -146,16 +146,22 @@ void decode_points(const io::File& file, const Tile& tile, OverviewSidecar& s) {
     } else {
         file.read_exact(tile.header.offset_to_point_data, all, "overview points");
     }
-    s.records = std::make_shared<std::vector<std::uint8_t>>();
     for (std::uint32_t k = 0; k < s.entries.size(); ++k) {
         const auto& e = s.entries[k];
-        s.record_starts.push_back(s.records->size());
+        if (s.blocks.empty() || s.blocks.back()->size() >= kOverviewBlockBytes) {
+            s.blocks.push_back(std::make_shared<std::vector<std::uint8_t>>());
+            s.blocks.back()->reserve(kOverviewBlockBytes + kOverviewBlockBytes / 4);
+        }
+        s.block_of.push_back(static_cast<std::uint32_t>(s.blocks.size() - 1));
+        s.record_starts.push_back(s.blocks.back()->size());
         if (e.points == 0) continue;
         if (e.first_point > tile.header.point_count || e.points > tile.header.point_count - e.first_point) {
             throw Error(file.path(), std::nullopt, "overview tile " + std::to_string(k) + " past the points");
         }
-        take_records(std::span(all).subspan(e.first_point * in_length), in_length, e, k, *s.records, file.path());
+        take_records(std::span(all).subspan(e.first_point * in_length), in_length, e, k, *s.blocks.back(),
+                     file.path());
     }
+    for (auto& b : s.blocks) b->shrink_to_fit();
 }
 
 }  // namespace
@@ -237,7 +243,7 @@ Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const
     std::uint16_t record_length = 0;  // the tile's, from its header's bytes
     if (e.head.size() >= 107) std::memcpy(&record_length, e.head.data() + 105, 2);
     if (e.points > 0 && record_length == sidecar.record_length) {
-        overview->records = sidecar.records;
+        overview->records = sidecar.blocks.at(sidecar.block_of.at(entry));
         overview->first = sidecar.record_starts.at(entry) / sidecar.record_length;
         overview->count = e.points;
     }
@@ -247,13 +253,24 @@ Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const
     return read_tile(io::File::in_memory(path, e.made_from.size, e.head, e.tail), options);
 }
 
-void release_overview_records(std::span<const DatasetTile> tiles) {
-    std::set<std::vector<std::uint8_t>*> held;
-    for (const auto& t : tiles) {
-        const TileOverview* o = t.tile.file ? t.tile.file->overview.get() : nullptr;
-        if (o && o->records) held.insert(o->records.get());
+namespace {
+std::vector<std::uint8_t>* block_of(const Tile& tile) {
+    const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;
+    return o ? o->records.get() : nullptr;
+}
+}  // namespace
+
+OverviewRelease::OverviewRelease(std::span<const DatasetTile> tiles, std::span<const std::uint32_t> taking) {
+    for (const std::uint32_t id : taking) {
+        if (auto* b = block_of(tiles[id].tile)) ++left_[b];
     }
-    for (auto* records : held) std::vector<std::uint8_t>().swap(*records);
+}
+
+void OverviewRelease::taken(const Tile& tile) {
+    const auto it = left_.find(block_of(tile));
+    if (it == left_.end() || --it->second > 0) return;
+    std::vector<std::uint8_t>().swap(*it->first);
+    left_.erase(it);
 }
 
 std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points) {

@@ -33,6 +33,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "dataset/dataset.hpp"
@@ -73,9 +74,12 @@ std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> pa
 
 struct OverviewSidecar {
     std::vector<OverviewEntry> entries;
-    // Each held tile's chunk points as records of its own format (X/Y/Z its own), entry after entry;
-    // an entry's records start at record_starts[k] (bytes).
-    std::shared_ptr<std::vector<std::uint8_t>> records;
+    // Each held tile's chunk points as records of its own format (X/Y/Z its own), entry after entry, in
+    // blocks of about kOverviewBlockBytes (an entry in one block, the blocks' entries neighbours on the curve):
+    // entry k's records start at record_starts[k] (bytes) of blocks[block_of[k]]. A reader lets a block go
+    // once it took every tile's of it (OverviewRelease).
+    std::vector<std::shared_ptr<std::vector<std::uint8_t>>> blocks;
+    std::vector<std::uint32_t> block_of;
     std::vector<std::size_t> record_starts;
     std::uint16_t record_length = 0;  // of the tiles' records (the sidecar's minus the tile field)
 };
@@ -92,10 +96,21 @@ Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const
 // or not `chunk_points` of them.
 std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points);
 
-// Lets the chunk-point records of the sidecars that placed `tiles` go, once their one reader took them (the
-// viewer's loader: its grid holds them from then on); overview_records is empty for those tiles after. No other
-// reader of their records may run meanwhile.
-void release_overview_records(std::span<const DatasetTile> tiles);
+constexpr std::size_t kOverviewBlockBytes = 1 << 20;
+
+// Lets a sidecar's chunk-point records go block by block as their one reader takes them (the viewer's loader:
+// its grid holds them from then on); overview_records is empty for a released block's tiles. No other reader of
+// their records may run meanwhile.
+class OverviewRelease {
+public:
+    // `taking`: the tiles whose records the reader will take.
+    OverviewRelease(std::span<const DatasetTile> tiles, std::span<const std::uint32_t> taking);
+    // The tile's records were taken: its block goes once every tile of it to take was.
+    void taken(const Tile& tile);
+
+private:
+    std::unordered_map<std::vector<std::uint8_t>*, std::size_t> left_;  // per block, its tiles still to take
+};
 
 // For a reader about to read `tile` in full from `file`: nullopt when the tile was not placed from a
 // sidecar or its file is as the sidecar saw it; else the tile read from the file itself (without an

@@ -66,6 +66,7 @@ void OverviewCache::use(std::vector<dataset::TileSource>& sources) {
 }
 
 std::function<void(std::uint32_t, std::vector<std::uint8_t>&&)> OverviewCache::keeper() {
+    if (own_sidecar_ || max_bytes_ == 0 || ids_.empty()) return {};
     return [this](std::uint32_t tile, std::vector<std::uint8_t>&& records) {
         std::lock_guard lock(mutex_);
         if (!started_) records_[tile] = std::move(records);

@@ -44,7 +44,9 @@ public:
     const std::filesystem::path& file() const { return file_; }
     // Names the cached sidecar, when there is one, to the sources (none for a catalog with a sidecar of its own).
     void use(std::vector<dataset::TileSource>& sources);
-    // What the chunk-point loader calls with each tile's records (ChunkPointLoaderOptions::on_tile_records).
+    // What the chunk-point loader calls with each tile's records (ChunkPointLoaderOptions::on_tile_records);
+    // none when this cache writes nothing (a catalog with a sidecar of its own, a bound of 0, no sources): the
+    // loader then lets a sidecar's records go once its grid holds them.
     std::function<void(std::uint32_t, std::vector<std::uint8_t>&&)> keeper();
     // Once `all_loaded` (every tile's chunk points in): unless the cached sidecar placed every tile, starts
     // writing it from `dataset` (which must outlive the write, or this cache) on a thread of its own. Once.

@@ -455,6 +455,7 @@ void Scheduler::emit(const SchedulerEvent& event) const {
 void Scheduler::on_tile_done(std::uint32_t tile, std::span<const CellKey> cells) {
     State& s = *state_;
     std::vector<std::pair<CellKey, std::shared_ptr<const PointSet>>> sets;
+    bool all_in = false;
     for (const auto cell : cells) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));
         if (set->points.empty()) continue;
@@ -476,7 +477,11 @@ void Scheduler::on_tile_done(std::uint32_t tile, std::span<const CellKey> cells)
                 if (--p.deps == 0) s.push_ready(cell, p);
             });
         }
-        ++s.tiles_done;
+        all_in = ++s.tiles_done == s.loadable;
+    }
+    if (all_in) {  // the cells' spare capacity (a quarter of the grid, growing by doubling) leaves the process
+        grid_->shrink_to_fit();
+        trim_heap();
     }
     s.wake.notify_all();
     emit({SchedulerEvent::Kind::TileDone, tile, {}});

@@ -161,6 +161,18 @@ TEST(OverviewSidecar, ALoaderThatReleasesLeavesTheGridItsPointsAndTheRecordsGone
             EXPECT_EQ(t.tile.file->overview->records->empty(), release);
         }
     }
+    // A block goes once each of its tiles' records to take was taken (the three share one block).
+    const Dataset placed = open_dataset({(dir / "catalog.vpc").string()});
+    const std::uint32_t taking[] = {0, 2};
+    OverviewRelease releasing(placed.tiles, taking);
+    const auto held = [&](std::size_t i) {
+        return !overview_records(placed.tiles[i].tile, placed.tiles[i].chunk_points).empty();
+    };
+    ASSERT_TRUE(held(0) && held(1) && held(2));
+    releasing.taken(placed.tiles[2].tile);
+    EXPECT_TRUE(held(0) && held(1) && held(2));
+    releasing.taken(placed.tiles[0].tile);
+    EXPECT_FALSE(held(0) || held(1) || held(2));
     fs::remove_all(dir);
 }
 

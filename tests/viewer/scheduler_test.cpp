@@ -21,6 +21,7 @@
 
 #include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
+#include "dataset/chunk_point_loader.hpp"
 #include "dataset/dataset.hpp"
 #include "synth/replicate.hpp"
 #include "test_data.hpp"
@@ -134,6 +135,26 @@ TEST(ViewerScheduler, WithoutACameraChunkPointsStartFromTheMiddle) {
     const auto done = log.tiles(Kind::TileDone);
     ASSERT_EQ(done.size(), 9u);
     EXPECT_EQ(done.front(), tile_named(ds, "N118E380"));
+}
+
+// Once every tile's chunk points are in, the grid keeps no spare capacity: it holds what the same points hold
+// in a grid filled by a loader and shrunk (and less than before the shrink).
+TEST(ViewerScheduler, OnceEveryChunkPointIsInTheGridKeepsNoSpareCapacity) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    SchedulerOptions o;
+    o.cnn = false, o.full_res = false;
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    const auto [ox, oy] = dataset::patch_grid_origin(ds);
+    PatchGrid grid(ox, oy);
+    dataset::ChunkPointLoader loader(ds, grid, {});
+    loader.start();
+    loader.wait();
+    ASSERT_EQ(grid.size(), scheduler.grid().size());
+    const std::size_t grown = grid.memory_bytes();
+    grid.shrink_to_fit();
+    EXPECT_LT(grid.memory_bytes(), grown);
+    EXPECT_EQ(scheduler.grid().memory_bytes(), grid.memory_bytes());
 }
 
 TEST(ViewerScheduler, HeightmapsStartBeforeAllChunkPointsAreIn) {
