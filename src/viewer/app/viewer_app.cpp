@@ -409,7 +409,7 @@ public:
         input_step(dt);
         draw_step(now);
         const PanelActions actions = present_step();
-        if (!session_.open()) wait_for_next_frame(now);  // cheap frames: leave the cores to the reads
+        wait_for_next_frame(now);  // no more than a display shows: leave the cores to the reads and heightmaps
         action_step(actions);
         budget_step();
         return !script_step();
