@@ -59,37 +59,46 @@ CellKey PatchGrid::cell_of(double x_m, double y_m) const {
             checked_index((y_m - origin_y_) / patch_size_)};
 }
 
-GridPoint PatchGrid::make_point(CellKey cell, double x_m, double y_m, double z_m) const {
+GridPoint PatchGrid::point_in(CellKey cell, double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
+                              std::uint8_t classification, std::uint32_t tile) const {
     GridPoint p;
     p.dx = static_cast<float>((x_m - origin_x_) - cell.ix * patch_size_);
     p.dy = static_cast<float>((y_m - origin_y_) - cell.iy * patch_size_);
     p.z = static_cast<float>(z_m);
+    p.rgb = rgb;
+    p.intensity = intensity;
+    p.classification = classification;
+    p.tile = tile;
     return p;
 }
 
 CellKey PatchGrid::add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
                     std::uint8_t classification, std::uint32_t tile) {
     const CellKey cell = cell_of(x_m, y_m);
-    GridPoint p = make_point(cell, x_m, y_m, z_m);
-    p.rgb = rgb;
-    p.intensity = intensity;
-    p.classification = classification;
-    p.tile = tile;
-    Shard& shard = shard_for(cell);
-    std::size_t grown = 0;  // heap bytes this point adds (see memory_bytes)
-    {
-        std::lock_guard lock(shard.mutex);
-        const std::size_t buckets = shard.cells.bucket_count();
-        const auto [it, inserted] = shard.cells.try_emplace(cell);
-        const std::size_t capacity = it->second.capacity();
-        it->second.push_back(p);
-        grown = (it->second.capacity() - capacity) * sizeof(GridPoint) +
-                (shard.cells.bucket_count() - buckets) * sizeof(void*) +
-                (inserted ? kCellOverheadBytes - sizeof(void*) : 0);
-    }
-    bytes_.fetch_add(grown, std::memory_order_relaxed);
-    size_.fetch_add(1, std::memory_order_relaxed);
+    const std::pair<CellKey, GridPoint> one{cell, point_in(cell, x_m, y_m, z_m, rgb, intensity, classification, tile)};
+    add_in_cells(std::span(&one, 1));
     return cell;
+}
+
+void PatchGrid::add_in_cells(std::span<const std::pair<CellKey, GridPoint>> points) {
+    for (std::size_t run = 0, end = 0; run < points.size(); run = end) {
+        const CellKey cell = points[run].first;
+        for (end = run + 1; end < points.size() && points[end].first == cell;) ++end;
+        Shard& shard = shard_for(cell);
+        std::size_t grown = 0;  // heap bytes the run adds (see memory_bytes)
+        {
+            std::lock_guard lock(shard.mutex);
+            const std::size_t buckets = shard.cells.bucket_count();
+            const auto [it, inserted] = shard.cells.try_emplace(cell);
+            const std::size_t capacity = it->second.capacity();
+            for (std::size_t k = run; k < end; ++k) it->second.push_back(points[k].second);
+            grown = (it->second.capacity() - capacity) * sizeof(GridPoint) +
+                    (shard.cells.bucket_count() - buckets) * sizeof(void*) +
+                    (inserted ? kCellOverheadBytes - sizeof(void*) : 0);
+        }
+        bytes_.fetch_add(grown, std::memory_order_relaxed);
+        size_.fetch_add(end - run, std::memory_order_relaxed);
+    }
 }
 
 std::vector<GridPoint> PatchGrid::points_in(CellKey cell) const {

@@ -18,6 +18,8 @@
 #include <memory>
 #include <mutex>
 #include <unordered_map>
+#include <span>
+#include <utility>
 #include <vector>
 
 namespace lidarscout {
@@ -79,7 +81,12 @@ public:
     CellKey add(double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
              std::uint8_t classification, std::uint32_t tile);
 
+    // The points of one source in their cells (cell_of each; throws as add does), and then added: one lock and
+    // one lookup for each run of points of one cell (what add costs each point). Order within a cell is kept.
     CellKey cell_of(double x_m, double y_m) const;
+    GridPoint point_in(CellKey cell, double x_m, double y_m, double z_m, Rgb8 rgb, std::uint16_t intensity,
+                       std::uint8_t classification, std::uint32_t tile) const;
+    void add_in_cells(std::span<const std::pair<CellKey, GridPoint>> points);
     double cell_min_x(CellKey cell) const { return origin_x_ + cell.ix * patch_size_; }
     double cell_min_y(CellKey cell) const { return origin_y_ + cell.iy * patch_size_; }
 
@@ -115,7 +122,6 @@ private:
     static constexpr std::size_t kShardCount = 64;
 
     Shard& shard_for(CellKey cell) const;
-    GridPoint make_point(CellKey cell, double x_m, double y_m, double z_m) const;
     void append_window_part(CellKey centre, CellKey neighbour, double padding_m,
                             std::vector<OverviewPoint>& out) const;
 

@@ -348,7 +348,8 @@ private:
         });
         const auto& tile = ds_.tiles[id];
         const RecordPlacer placer(tile, sixteen_bit);
-        std::vector<CellKey> cells;
+        std::vector<std::pair<CellKey, GridPoint>> placed;  // (added a cell at a time: one lookup each)
+        placed.reserve(points.size());
         for (const auto& pending : points) {
             MetricPoint p;
             try {
@@ -358,15 +359,20 @@ private:
                 continue;
             }
             try {
-                const CellKey cell = grid_.add(p.x, p.y, p.z, p.rgb, p.intensity, p.classification, id);
-                if (cells.empty() || cells.back() != cell) cells.push_back(cell);
-                ++loader_.loaded_;
+                const CellKey cell = grid_.cell_of(p.x, p.y);
+                const GridPoint g = grid_.point_in(cell, p.x, p.y, p.z, p.rgb, p.intensity, p.classification, id);
+                placed.emplace_back(cell, g);
             } catch (const Error& e) {
                 fail(ds_.tiles[id].tile.path(), 0, "chunk point cannot be placed on the patch grid: " + e.cause());
             }
         }
-        std::sort(cells.begin(), cells.end());
-        cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+        std::stable_sort(placed.begin(), placed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        grid_.add_in_cells(placed);
+        loader_.loaded_ += placed.size();
+        std::vector<CellKey> cells;
+        for (const auto& [cell, point] : placed) {
+            if (cells.empty() || cells.back() != cell) cells.push_back(cell);
+        }
         ++loader_.tiles_done_;
         if (on_tile_done_) on_tile_done_(id, cells);
     }

@@ -1,11 +1,12 @@
 // The patch grid: cell assignment at edges, window queries against a brute-force filter,
-// concurrent adds, precision far from the origin, and memory per point.
+// concurrent adds, points added a cell at a time, precision far from the origin, and memory per point.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -174,6 +175,36 @@ TEST(PatchGrid, PrecisionFarFromOrigin) {
     EXPECT_NEAR(points[0].y, y, 1e-3);
     EXPECT_NEAR(points[0].z, z, 1e-3);
     EXPECT_LT(std::abs(points[0].x - x), 1e-4);  // float offset ulp <= 6.1e-5 m in a 640 m cell
+}
+
+// Points added a cell at a time (add_in_cells) land as add puts them, in order within each cell, and the running
+// count of bytes and points stays the sum over the cells.
+TEST(PatchGrid, PointsAddedACellAtATimeEqualThoseAddedOneByOne) {
+    PatchGrid one(0, 0, kSize), runs(0, 0, kSize);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> coord(-3 * kSize, 3 * kSize);
+    std::vector<std::pair<CellKey, GridPoint>> placed;
+    for (std::uint32_t i = 0; i < 5000; ++i) {
+        const double x = coord(rng), y = coord(rng), z = i * 0.5;
+        one.add(x, y, z, Rgb8{1, 2, 3}, 7, 2, i);
+        const CellKey cell = runs.cell_of(x, y);
+        placed.emplace_back(cell, runs.point_in(cell, x, y, z, Rgb8{1, 2, 3}, 7, 2, i));
+    }
+    std::stable_sort(placed.begin(), placed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    runs.add_in_cells(std::span(placed).first(2500));
+    runs.add_in_cells(std::span(placed).subspan(2500));
+    ASSERT_EQ(runs.size(), one.size());
+    ASSERT_EQ(runs.cells(), one.cells());
+    for (const CellKey cell : one.cells()) {
+        const auto a = one.points_in(cell), b = runs.points_in(cell);
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t k = 0; k < a.size(); ++k) {
+            EXPECT_EQ(a[k].tile, b[k].tile);
+            EXPECT_EQ(a[k].dx, b[k].dx);
+            EXPECT_EQ(a[k].z, b[k].z);
+        }
+    }
+    EXPECT_EQ(runs.memory_bytes(), runs.counted_memory_bytes());
 }
 
 TEST(PatchGrid, MemoryPerPoint) {
