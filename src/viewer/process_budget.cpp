@@ -19,8 +19,15 @@ bool network_fits(std::uint64_t asked, std::uint64_t at_start) {
 
 }  // namespace
 
+std::string network_declined_note(std::size_t tiles) {
+    return "the overview of " + std::to_string(tiles) + " tiles leaves no room for the heightmap network: linear "
+           "heightmaps only (a larger --memory gives it)";
+}
+
+bool overview_fills(std::uint64_t overview, std::uint64_t data) { return overview * 10 >= data * 9; }
+
 std::string overview_fills_note(std::uint64_t overview, std::uint64_t data, std::size_t tiles) {
-    if (overview * 10 < data * 9) return "";  // under 90%: room for full resolution
+    if (!overview_fills(overview, data)) return "";  // under 90%: room for full resolution
     char line[300];
     std::snprintf(line, sizeof line,
                   "the overview of %zu tiles (chunk points, patches, nearest heightmaps) holds %llu MiB of the "
@@ -41,6 +48,11 @@ std::uint64_t ProcessBudget::outside() const {
     return std::max(seen_, at_start_ + (network_ ? kNetworkBytes : 0));
 }
 
+bool ProcessBudget::network_leaves_room(std::uint64_t overview) const {
+    const std::uint64_t held = std::max(seen_, at_start_) + kNetworkBytes;
+    return asked_ > held && !overview_fills(overview, asked_ - held);
+}
+
 ProcessBudgetPlan ProcessBudget::plan() const {
     ProcessBudgetPlan p;
     p.network = network_;
@@ -56,7 +68,7 @@ ProcessBudgetPlan ProcessBudget::plan() const {
                       network_wanted_ && !network_ ? ", linear heightmaps only" : "");
         p.note = line;
         p.below = true;
-    } else if (network_wanted_ && !network_) {
+    } else if (network_wanted_ && !network_ && !declined_) {
         std::snprintf(line, sizeof line,
                       "the memory budget at start (%llu MiB) left no room for the heightmap network (%llu MiB with "
                       "its libraries): linear heightmaps only", n(asked_at_start_), n(kNetworkBytes));

@@ -32,6 +32,10 @@ struct ProcessBudgetPlan {
 // what the scheduler holds whatever the budget) fills most of the data's share, so that full
 // resolution has little room or none; empty else. `overview` and `data` in bytes.
 std::string overview_fills_note(std::uint64_t overview, std::uint64_t data, std::size_t tiles);
+// The line saying the network was left out for the overview of `tiles` tiles (ProcessBudget::network_leaves_room).
+std::string network_declined_note(std::size_t tiles);
+// Whether the overview holds 90% of the data's share or more (what overview_fills_note says).
+bool overview_fills(std::uint64_t overview, std::uint64_t data);
 
 class ProcessBudget {
 public:
@@ -48,10 +52,15 @@ public:
     // network's share, if more.
     std::uint64_t outside() const;
     ProcessBudgetPlan plan() const;
+    // Whether, with the network loaded (kNetworkBytes more beside what is held now), an overview of
+    // `overview` bytes (SchedulerStats::overview_core_bytes) would still leave full resolution room.
+    bool network_leaves_room(std::uint64_t overview) const;
+    // The scheduler left the network out after all (SchedulerStats::network_declined; its note says why).
+    void network_declined() { network_ = false, declined_ = true; }
 
 private:
     std::uint64_t asked_, asked_at_start_, at_start_, seen_ = 0;
-    bool network_wanted_, network_;
+    bool network_wanted_, network_, declined_ = false;
 };
 
 }  // namespace lidarscout::viewer

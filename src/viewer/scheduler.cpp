@@ -20,6 +20,7 @@
 #include "core/thread_priority.hpp"
 #include "nn/heightmap_network.hpp"
 #include "viewer/cell_blocks.hpp"
+#include "viewer/process_budget.hpp"
 #include "viewer/residency.hpp"
 #include "viewer/patch_detail.hpp"
 
@@ -121,6 +122,8 @@ struct Scheduler::State {
 
     std::unique_ptr<nn::HeightmapNetwork> network;
     bool network_pending = false;  // the cnn worker is still loading it
+    int network_room = -1;          // set_network_room's latest answer (-1: none yet)
+    bool network_declined = false;  // no room: not loaded
 
     std::vector<std::string> notes;
     std::vector<ErrorRecord> errors;  // the scheduler's own (the network); the loader and residency keep theirs
@@ -358,6 +361,8 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     s.ledger = std::make_shared<MemoryLedger>(
         options_.memory_budget ? options_.memory_budget : default_memory_budget(), grid_.get());
     s.count_table();
+    overview_core_bytes_ = s.table_bytes + s.patches.size() * PatchGrid::kCellOverheadBytes +
+                           dataset.chunk_point_count * (sizeof(GridPoint) + sizeof(render::PointAttr));
     residency_ = std::make_unique<Residency>(dataset_, *grid_, residency_options());
     dataset::ChunkPointLoaderOptions loading = options_.loader;
     loading.release_overview = true;  // the grid holds a sidecar's chunk points from then on
@@ -600,6 +605,26 @@ Surface Scheduler::surface() const {
     return state_->surface;
 }
 
+// With SchedulerOptions::network_asks_room: waits for set_network_room's answer; without room, the network is
+// not loaded (LibTorch's 150-250 MiB go to the data) and one note says so.
+bool Scheduler::network_has_room() {
+    if (!options_.network_asks_room) return true;
+    State& s = *state_;
+    std::unique_lock lock(s.mutex);
+    while (!s.stopping && s.network_room < 0) s.wake.wait_for(lock, std::chrono::milliseconds(50));
+    if (s.stopping || s.network_room > 0) return !s.stopping;
+    s.network_pending = false;
+    s.network_declined = true;
+    s.blocks.clear(CellBlocks::CnnReady);
+    s.notes.push_back(network_declined_note(dataset_.tiles.size()));
+    return false;
+}
+
+void Scheduler::set_network_room(bool room) {
+    std::lock_guard lock(state_->mutex);
+    state_->network_room = room ? 1 : 0;
+}
+
 void Scheduler::cnn_worker() {
     lower_thread_priority(options_.residency.decode_nice);  // background work: frames first
     State& s = *state_;
@@ -613,6 +638,7 @@ void Scheduler::cnn_worker() {
         }
         if (s.stopping) return;
     }
+    if (!network_has_room()) return;
     std::unique_ptr<nn::HeightmapNetwork> network;
     std::string note;
     try {
@@ -786,6 +812,8 @@ SchedulerStats Scheduler::stats() const {
     st.snapshot_visits = s.snapshot_visits, st.job_visits = s.job_visits;
     st.look_visits = r.look_visits, st.tiles_in_view = r.in_view;
     st.notes = s.notes;
+    st.network_declined = s.network_declined;
+    st.overview_core_bytes = overview_core_bytes_;
     if (s.network) st.notes.push_back("heightmap network: " + s.network->path());
     st.errors = s.errors;
     st.errors.insert(st.errors.end(), loader_errors.begin(), loader_errors.end());

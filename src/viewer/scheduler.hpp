@@ -67,6 +67,9 @@ struct SchedulerOptions {
     std::uint64_t memory_budget = 0;  // bytes of everything held (0 = a quarter of the RAM)
     std::optional<render::Camera> camera;  // the first camera (set before any read starts)
     bool cnn = true;                  // refine with the network when a model can be loaded
+    // The network is loaded only once set_network_room says there is room for it (the viewer, from its process
+    // budget); without, it is loaded when the first heightmap wants it.
+    bool network_asks_room = false;
     std::string model_path;           // empty: nn::default_model_path()
     std::size_t cnn_batch = 16;
     bool full_res = true;             // decode the tiles in view (residency.hpp)
@@ -116,6 +119,8 @@ struct SchedulerStats {
     // in view.
     std::uint64_t snapshot_visits = 0, job_visits = 0, look_visits = 0;
     std::size_t tiles_in_view = 0;
+    std::uint64_t overview_core_bytes = 0;  // what every chunk point and the patch table will hold (estimate)
+    bool network_declined = false;          // set_network_room said no room: the network not loaded
     std::vector<std::string> notes;     // e.g. "no heightmap network: linear heightmaps"
     std::vector<ErrorRecord> errors;    // what could not be read or computed: file, offset, cause
 };
@@ -133,6 +138,9 @@ public:
 
     // Re-prioritises everything for this camera (cheap; call every frame).
     void set_camera(const render::Camera& camera);
+    // Whether the network would leave full resolution room (SchedulerOptions::network_asks_room): the latest
+    // answer counts when the network is about to load.
+    void set_network_room(bool room);
     // Changes the memory budget (bytes; 0 = the default).
     void set_memory_budget(std::uint64_t bytes);
     // What the heightmaps show where full-resolution points were read: every point, or the bare
@@ -167,6 +175,7 @@ private:
     void heightmap_worker();
     void restyle_some(std::unique_lock<RankedMutex>& lock);
     void cnn_worker();
+    bool network_has_room();
     void loader_watch();
     void show_detail(const std::vector<lidarscout::CellKey>& cells);
     ResidencyOptions residency_options();
@@ -176,6 +185,7 @@ private:
     SchedulerOptions options_;
     bool has_rgb_ = true;
     std::unique_ptr<lidarscout::PatchGrid> grid_;
+    std::uint64_t overview_core_bytes_ = 0;  // SchedulerStats::overview_core_bytes
     std::unique_ptr<State> state_;
     std::unique_ptr<Residency> residency_;
     std::unique_ptr<dataset::ChunkPointLoader> loader_;

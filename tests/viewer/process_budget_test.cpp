@@ -1,6 +1,7 @@
 // ProcessBudget: the program's share taken off the process's budget before the scheduler gets the
 // rest; the network only where it fits; below what the viewer needs, one line with the figure and
-// the least data; the most seen outside the ledger counts; an overview that fills the data's share said.
+// the least data; the most seen outside the ledger counts; an overview that fills the data's share said; the
+// network left out where a country's overview would fill what it leaves, its share then given to data.
 #include <gtest/gtest.h>
 
 #include "viewer/process_budget.hpp"
@@ -61,6 +62,23 @@ TEST(ProcessBudget, AnOverviewThatFillsTheDataShareIsSaid) {
               "the overview of 152100 tiles (chunk points, patches, nearest heightmaps) holds 423 MiB of the 422 MiB "
               "left for data: little or no room for full-resolution points (a larger --memory gives it)");
     EXPECT_NE(overview_fills_note(380 * MiB, 422 * MiB, 9), "");  // 90%
+}
+
+TEST(ProcessBudget, TheNetworkIsLeftOutWhereTheOverviewWouldFillWhatItLeaves) {
+    ProcessBudget b(1024 * MiB, 150 * MiB, true);
+    b.observe(700 * MiB, 100 * MiB);  // a country's metadata: 600 MiB outside the ledger
+    // With the network: 1024 - 600 - 150 = 274 MiB for data.
+    EXPECT_TRUE(b.network_leaves_room(200 * MiB));
+    EXPECT_FALSE(b.network_leaves_room(330 * MiB));  // the 152,100-tile replica's chunk points and patches
+    EXPECT_FALSE(ProcessBudget(700 * MiB, 600 * MiB, true).network_leaves_room(0));  // no room at all
+    EXPECT_EQ(b.plan().data, 424 * MiB);
+    b.network_declined();  // its share is the data's now, and the scheduler's note says why (none here)
+    EXPECT_FALSE(b.plan().network);
+    EXPECT_EQ(b.plan().note, "");
+    ProcessBudget small(1024 * MiB, 150 * MiB, true);  // nothing seen beyond the start: the reservation counted
+    EXPECT_EQ(small.plan().data, 1024 * MiB - 150 * MiB - kNetworkBytes);
+    small.network_declined();
+    EXPECT_EQ(small.plan().data, 1024 * MiB - 150 * MiB);
 }
 
 }  // namespace

@@ -157,6 +157,30 @@ TEST(ViewerScheduler, OnceEveryChunkPointIsInTheGridKeepsNoSpareCapacity) {
     EXPECT_EQ(scheduler.grid().memory_bytes(), grid.memory_bytes());
 }
 
+// A scheduler that asks for the network's room waits for the answer before loading it; told there is none, it
+// leaves the network out, says so once, and its view ends on linear heightmaps.
+TEST(ViewerScheduler, ToldTheNetworkLeavesNoRoomItRunsOnLinearHeightmaps) {
+    const auto ds = open_survey("ky-jmo335-eastern-kentucky");
+    SchedulerOptions o;
+    o.full_res = false;
+    o.network_asks_room = true;
+    Scheduler scheduler(ds, o);
+    EXPECT_GT(scheduler.stats().overview_core_bytes, ds.chunk_point_count * sizeof(GridPoint));
+    ASSERT_TRUE(wait_until([&] { return scheduler.stats().linear.done == scheduler.stats().linear.total; }));
+    std::this_thread::sleep_for(200ms);
+    EXPECT_FALSE(scheduler.idle()) << "the network loaded, or was given up, without an answer";
+    scheduler.set_network_room(false);
+    ASSERT_TRUE(wait_until([&] { return scheduler.idle(); }));
+    const auto st = scheduler.stats();
+    EXPECT_TRUE(st.network_declined);
+    EXPECT_EQ(st.heightmaps_cnn, 0u);
+    EXPECT_GT(st.heightmaps_linear, 0u);
+    EXPECT_EQ(std::count_if(st.notes.begin(), st.notes.end(),
+                            [](const std::string& n) { return n.find("no room for the heightmap network") !=
+                                                              std::string::npos; }),
+              1);
+}
+
 TEST(ViewerScheduler, HeightmapsStartBeforeAllChunkPointsAreIn) {
     const auto ds = open_survey("ky-jmo335-eastern-kentucky");
     ASSERT_EQ(ds.tiles.size(), 9u);

@@ -68,6 +68,7 @@ std::unique_ptr<SessionOpening> start_opening(const std::vector<std::string>& pa
     if (!first) so.preview_above = 0;
     so.scheduler.memory_budget = plan.data;
     so.scheduler.cnn = o.cnn && plan.network;
+    so.scheduler.network_asks_room = true;  // budget_step answers, once the dataset's own share is seen
     so.scheduler.model_path = o.model;
     so.scheduler.content_snapshot_interval_s = 0.1;  // as often as the frame refiner draws new data
     if (first && o.overview_cache) so.overview_cache = std::make_shared<OverviewCache>(paths, *o.overview_cache);
@@ -677,6 +678,11 @@ private:
         budget_tick_.done();
         const SchedulerStats st = session_.scheduler->stats();
         budget_.observe(resident_bytes(), st.bytes_used);
+        session_.scheduler->set_network_room(budget_.network_leaves_room(st.overview_core_bytes));
+        if (st.network_declined && !std::exchange(said_declined_, true)) {
+            budget_.network_declined();
+            std::fprintf(stderr, "lidarscout: %s\n", network_declined_note(st.tiles).c_str());
+        }
         apply_budget();
         report_overview_note(st);
         overview_cache_step(st);
@@ -963,6 +969,7 @@ private:
     ThreadPool pool_;
     ProcessBudget budget_;            // measured with the window up, before any dataset
     bool said_below_ = false;         // the line saying the budget is below what the viewer needs was written
+    bool said_declined_ = false;      // the line saying the network was left out for the overview was written
     bool said_overview_ = false;      // the overview's line (overview_fills_note) was written
     Throttle budget_tick_{std::chrono::milliseconds(250), 0};
     std::string budget_note_;         // the budget is below what the viewer needs (shown in the panel)
