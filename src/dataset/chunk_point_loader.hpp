@@ -37,7 +37,7 @@ struct ChunkPointLoaderOptions {
     std::size_t max_errors = 1000;   // keep at most this many errors
     unsigned header_threads = 16;    // a placed dataset's header reads in flight (DatasetOptions::io_threads)
     // Once the chunk points an overview sidecar holds are in the grid, let its records go
-    // (release_overview_records): for a loader that is its dataset's only reader of them (the viewer's;
+    // block by block (OverviewRelease): for a loader that is its dataset's only reader of them (the viewer's;
     // none while on_tile_records is set: whoever keeps records may read a sidecar's later).
     bool release_overview = false;
     // When set, called from reader threads with a tile's chunk points as read (raw records of its own format,

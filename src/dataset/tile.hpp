@@ -52,7 +52,7 @@ struct FileValidator {
 // made from, and its chunk points' records in the tile's own format (none when the sidecar holds none).
 struct TileOverview {
     FileValidator made_from;
-    // The sidecar's, shared by its tiles; emptied by release_overview_records once their reader took them.
+    // A block of the sidecar's, shared by its tiles; emptied by OverviewRelease once their reader took them.
     std::shared_ptr<std::vector<std::uint8_t>> records;
     std::size_t first = 0, count = 0;                          // this tile's: records [first, first + count)
 };

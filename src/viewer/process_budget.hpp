@@ -57,6 +57,7 @@ public:
     bool network_leaves_room(std::uint64_t overview) const;
     // The scheduler left the network out after all (SchedulerStats::network_declined; its note says why).
     void network_declined() { network_ = false, declined_ = true; }
+    bool declined() const { return declined_; }
 
 private:
     std::uint64_t asked_, asked_at_start_, at_start_, seen_ = 0;

@@ -612,7 +612,8 @@ bool Scheduler::network_has_room() {
     State& s = *state_;
     std::unique_lock lock(s.mutex);
     while (!s.stopping && s.network_room < 0) s.wake.wait_for(lock, std::chrono::milliseconds(50));
-    if (s.stopping || s.network_room > 0) return !s.stopping;
+    if (s.stopping) return false;
+    if (s.network_room > 0) return true;
     s.network_pending = false;
     s.network_declined = true;
     s.blocks.clear(CellBlocks::CnnReady);

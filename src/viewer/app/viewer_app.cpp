@@ -679,7 +679,7 @@ private:
         const SchedulerStats st = session_.scheduler->stats();
         budget_.observe(resident_bytes(), st.bytes_used);
         session_.scheduler->set_network_room(budget_.network_leaves_room(st.overview_core_bytes));
-        if (st.network_declined && !std::exchange(said_declined_, true)) {
+        if (st.network_declined && !budget_.declined()) {  // (its line written once)
             budget_.network_declined();
             std::fprintf(stderr, "lidarscout: %s\n", network_declined_note(st.tiles).c_str());
         }
@@ -969,7 +969,6 @@ private:
     ThreadPool pool_;
     ProcessBudget budget_;            // measured with the window up, before any dataset
     bool said_below_ = false;         // the line saying the budget is below what the viewer needs was written
-    bool said_declined_ = false;      // the line saying the network was left out for the overview was written
     bool said_overview_ = false;      // the overview's line (overview_fills_note) was written
     Throttle budget_tick_{std::chrono::milliseconds(250), 0};
     std::string budget_note_;         // the budget is below what the viewer needs (shown in the panel)
