@@ -163,8 +163,10 @@ void expand_ept(const std::string& metadata, FoundFiles& out) {
     for (auto& e : nodes.errors) out.errors.push_back({io::display_path(metadata), std::move(e)});
 }
 
-// The items of a catalog's document just read (from `first`), as tiles to `arriving`.
+// The items of a catalog's document just read (from `first`), as tiles to `arriving`; none for its last document
+// (what find_tile_sources returns holds them: a country's catalog in one document is not copied item by item).
 void announce_items(const Catalog& so_far, std::size_t first, bool more, const SourcesArriving& arriving) {
+    if (!more) return arriving({}, false);
     const auto overview = so_far.overview.empty() ? nullptr : std::make_shared<const std::string>(so_far.overview);
     std::vector<TileSource> sources;
     sources.reserve(so_far.items.size() - first);
@@ -197,8 +199,7 @@ void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriv
     for (auto& item : catalog.items) {
         item.overview = overview;
         out.files.push_back(item.href);
-        const std::string href = item.href;  // (the move below would come first)
-        out.items[href] = std::make_shared<const CatalogItem>(std::move(item));
+        out.items.emplace_back(out.files.size() - 1, std::make_shared<const CatalogItem>(std::move(item)));
     }
 }
 
@@ -291,10 +292,12 @@ FoundSources find_tile_sources(const std::vector<std::string>& given, const Sour
         if (!is_virtual_replica(p)) {
             FoundFiles found;
             expand(p, true, found, &arriving);
-            for (auto& f : found.files) {
-                const auto item = found.items.find(f);
-                auto what = item == found.items.end() ? nullptr : item->second;
-                out.sources.push_back({std::move(f), std::nullopt, {}, std::move(what)});
+            auto item = found.items.begin();
+            for (std::size_t i = 0; i < found.files.size(); ++i) {
+                const bool named = item != found.items.end() && item->first == i;
+                auto what = named ? std::move(item->second) : nullptr;
+                out.sources.push_back({std::move(found.files[i]), std::nullopt, {}, std::move(what)});
+                item += named;
             }
             out.errors.insert(out.errors.end(), found.errors.begin(), found.errors.end());
             out.warnings.append(found.warnings);

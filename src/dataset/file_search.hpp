@@ -14,6 +14,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/diagnostic.hpp"
@@ -35,8 +36,9 @@ struct FoundFiles {
     // What was read anyway: a catalog item's field that could not be used (stac_catalog.hpp), an s3 URL
     // opened as the prefix it names.
     Diagnostics warnings;
-    // What a STAC catalog says of the files it named (by file), to place them before their headers are read.
-    std::map<std::string, std::shared_ptr<const CatalogItem>> items;
+    // What a STAC catalog says of the files it named, to place them before their headers are read: (the file's
+    // index in `files`, its item), in the order of `files`.
+    std::vector<std::pair<std::size_t, std::shared_ptr<const CatalogItem>>> items;
 };
 
 bool has_point_cloud_extension(const std::string& path);
@@ -71,7 +73,7 @@ struct FoundSources {
 
 // Called as a catalog's documents are read (each page of a STAC API search), on the thread of
 // find_tile_sources before it returns: the tiles of the document just read (with their items), and whether
-// more of that catalog remains to be read. What find_tile_sources returns holds them again (duplicates
+// more of that catalog remains to be read; its last document is told with no tiles (`more` false). What find_tile_sources returns holds them again (duplicates
 // dropped there, not here): a caller may open the first pages while the later ones arrive.
 using SourcesArriving = std::function<void(std::span<const TileSource> sources, bool more)>;
 

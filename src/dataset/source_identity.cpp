@@ -90,9 +90,38 @@ std::string list_repeated(const std::vector<std::pair<std::string, std::size_t>>
     return list;
 }
 
+// True when the http(s) `url` is in its normal form as written (what most of a catalog's thousands of hrefs are):
+// scheme and host in lower case, a port other than the default or none, no credentials, fragment or
+// percent-encoding, and no "." or ".." segment or empty one in its path. A country's 152,100 items are compared
+// without parsing each.
+bool already_normal(std::string_view url) {
+    const std::size_t scheme = url.starts_with("http://") ? 4 : url.starts_with("https://") ? 5 : 0;
+    if (scheme == 0) return false;
+    const std::size_t start = scheme + 3, end = url.find_first_of("/?#", start);
+    if (end == std::string_view::npos || url[end] != '/' || end == start) return false;
+    const std::string_view authority = url.substr(start, end - start), rest = url.substr(end);
+    const std::size_t colon = authority.find(':');
+    const std::string_view host = authority.substr(0, colon);
+    const auto host_char = [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' || c == '-'; };
+    if (host.empty() || !std::all_of(host.begin(), host.end(), host_char)) return false;
+    if (colon != std::string_view::npos) {
+        const std::string_view port = authority.substr(colon + 1);
+        const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+        if (port.empty() || !std::all_of(port.begin(), port.end(), digit) || port.front() == '0') return false;
+        if (port == (scheme == 4 ? "80" : "443")) return false;
+    }
+    if (rest.find_first_of("%#\\") != std::string_view::npos) return false;
+    const std::string_view path = rest.substr(0, rest.find('?'));
+    for (const std::string_view bad : {"//", "/./", "/../"}) {
+        if (path.find(bad) != std::string_view::npos) return false;
+    }
+    return !path.ends_with("/.") && !path.ends_with("/..");
+}
+
 }  // namespace
 
 std::string normalised_url(std::string_view url) {
+    if (already_normal(url)) return std::string(url);
     const auto p = net::parse_url(url);
     if (!p) return std::string(url);
     if (p->scheme == "s3") {  // the key as it is requested (a key that leaves its bucket as written: never read)
@@ -121,26 +150,41 @@ std::string source_identity(const TileSource& source) {
 }
 
 void drop_duplicate_sources(FoundSources& found) {
-    std::unordered_map<std::string, std::size_t> first;       // identity -> index of its first source
+    // A source's identity, as a view: of its path where that is a URL in its normal form (a catalog's hrefs, as
+    // a rule: no copy of each), else of its source_identity kept in `made`. (No source moves while they are used.)
+    const std::size_t n = found.sources.size();
+    std::vector<std::string> made(n);
+    const auto identity = [&](std::size_t i) -> std::string_view {
+        const TileSource& s = found.sources[i];
+        if (!s.shift && already_normal(s.path)) return s.path;  // (what normalised_url would give, "url:" less)
+        return made[i] = source_identity(s);  // ("file:", "path:", "url:": never an http URL)
+    };
+    std::unordered_map<std::string_view, std::size_t> first;  // identity -> its first source
+    first.reserve(n);
     std::unordered_map<std::size_t, std::size_t> times;       // first source -> times named, when more than once
     std::vector<std::size_t> repeated;                        // those first sources, in order
-    std::size_t kept = 0, dropped = 0;
-    for (std::size_t i = 0; i < found.sources.size(); ++i) {
-        const auto [it, added] = first.try_emplace(source_identity(found.sources[i]), kept);
-        if (added) {
-            if (kept != i) found.sources[kept] = std::move(found.sources[i]);
-            ++kept;
-            continue;
-        }
+    std::vector<bool> dropped(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto [it, added] = first.try_emplace(identity(i), i);
+        if (added) continue;
         if (times[it->second]++ == 0) repeated.push_back(it->second);
-        ++dropped;
+        dropped[i] = true;
     }
-    found.sources.resize(kept);
-    if (dropped == 0) return;
+    if (repeated.empty()) return;
     std::sort(repeated.begin(), repeated.end());
     std::vector<std::pair<std::string, std::size_t>> named;
+    std::size_t left_out = 0;
     for (const std::size_t r : repeated) named.emplace_back(shown_name(found.sources[r]), times[r] + 1);
-    found.warnings.warn(std::to_string(dropped) + (dropped == 1 ? " input names a tile" : " inputs name tiles") +
+    for (const std::size_t r : repeated) left_out += times[r];
+    first = {};
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (dropped[i]) continue;
+        if (kept != i) found.sources[kept] = std::move(found.sources[i]);
+        ++kept;
+    }
+    found.sources.resize(kept);
+    found.warnings.warn(std::to_string(left_out) + (left_out == 1 ? " input names a tile" : " inputs name tiles") +
                         " already named, read once: " + list_repeated(named));
 }
 

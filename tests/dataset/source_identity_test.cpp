@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 
@@ -42,6 +43,21 @@ TEST(NormalisedUrl, NamesOfOtherResourcesStayApart) {
     EXPECT_NE(normalised_url("s3://Bucket/t.laz"), normalised_url("s3://bucket/t.laz")) << "a bucket as written";
     EXPECT_NE(normalised_url("s3://bucket/%41.laz"), normalised_url("s3://bucket/A.laz")) << "an s3 key is literal";
     EXPECT_EQ(normalised_url("tiles/t.laz"), "tiles/t.laz") << "not a URL: as it is";
+}
+
+TEST(NormalisedUrl, AUrlInItsNormalFormIsItsOwnAndItsVariantsMeetIt) {
+    for (const std::string normal : {"http://example.com/d/t.laz", "https://example.com/a", "http://127.0.0.1:8080/t/x.laz",
+                                     "http://example.com/d/t.laz?v=2&x=y", "http://a-b.example.com/d.e/t.laz"}) {
+        EXPECT_EQ(normalised_url(normal), normal);
+        const std::size_t host = normal.find("://") + 3;
+        std::string upper = normal;  // its scheme and host in capitals, a dot segment: not normal as written
+        for (std::size_t i = 0; i < normal.find('/', host); ++i) upper[i] = static_cast<char>(std::toupper(upper[i]));
+        upper.insert(normal.find('/', host), "/x/..");
+        EXPECT_EQ(normalised_url(upper), normal) << upper;
+    }
+    EXPECT_EQ(normalised_url("http://example.com:080/a"), "http://example.com:080/a") << "another port as written";
+    EXPECT_EQ(normalised_url("http://example.com/a/."), "http://example.com/a/");
+    EXPECT_EQ(normalised_url("http://example.com/a?q=%7e"), "http://example.com/a?q=~");
 }
 
 class SourceIdentity : public test::TempDirTest {};

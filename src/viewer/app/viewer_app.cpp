@@ -37,6 +37,7 @@
 #include "viewer/area_tool.hpp"
 #include "viewer/background_reads.hpp"
 #include "viewer/cursor_readout.hpp"
+#include "viewer/frame_change.hpp"
 #include "viewer/frame_refiner.hpp"
 #include "viewer/picking.hpp"
 #include "viewer/process_budget.hpp"
@@ -268,6 +269,26 @@ ViewSettings initial_settings(const dataset::Dataset& ds, std::uint64_t budget, 
     v.style.colour = colour_settings(render::ColourMode::Rgb, ds.bounds_m.min_z, ds.bounds_m.max_z);
     v.budget_mb = static_cast<int>(std::min<std::uint64_t>(budget >> 20, 1u << 30));
     return v;
+}
+
+// A fingerprint of what ImGui draws this frame (its vertices, indices and commands, the display's size), continued
+// from `seed`.
+std::uint64_t fingerprint(const ImDrawData& d, std::uint64_t seed) {
+    std::uint64_t h = viewer::fingerprint(&seed, sizeof seed);
+    const float display[4] = {d.DisplaySize.x, d.DisplaySize.y, d.FramebufferScale.x, d.FramebufferScale.y};
+    h = viewer::fingerprint(display, sizeof display, h);
+    for (int i = 0; i < d.CmdListsCount; ++i) {
+        const ImDrawList& list = *d.CmdLists[i];
+        h = viewer::fingerprint(list.VtxBuffer.Data, list.VtxBuffer.size_in_bytes(), h);
+        h = viewer::fingerprint(list.IdxBuffer.Data, list.IdxBuffer.size_in_bytes(), h);
+        for (const ImDrawCmd& c : list.CmdBuffer) {
+            const float clip[4] = {c.ClipRect.x, c.ClipRect.y, c.ClipRect.z, c.ClipRect.w};
+            const std::uint64_t ids[4] = {reinterpret_cast<std::uint64_t>(c.TextureId), c.VtxOffset, c.IdxOffset,
+                                          c.ElemCount};
+            h = viewer::fingerprint(ids, sizeof ids, viewer::fingerprint(clip, sizeof clip, h));
+        }
+    }
+    return h;
 }
 
 // One frame of text on the window, not counted as a frame: what OpenGL maps when it first draws is then in
@@ -600,11 +621,8 @@ private:
     }
 
     // The image and the panels on the window.
+    // (A frame that changes nothing the window shows is not presented again: viewer/frame_change.hpp.)
     PanelActions present_step() {
-        glViewport(0, 0, fb_width_, fb_height_);
-        glClearColor(0, 0, 0, 1);
-        glClear(GL_COLOR_BUFFER_BIT);
-        presenter_.show(last_.image, fb_width_, fb_height_);
         ImGui_ImplOpenGL3_NewFrame();
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
@@ -623,9 +641,16 @@ private:
         }
         if (opening_) draw_opening_panel(opening_->progress());
         ImGui::Render();
-        ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-        if (!o_.window_screenshot.empty()) window_shot_ = window_pixels(win_.window);  // scripted use only
-        glfwSwapBuffers(win_.window);
+        const std::uint64_t panels = fingerprint(*ImGui::GetDrawData(), profile_uploads_);
+        if (!o_.window_screenshot.empty() || frame_change_.present(last_.image, panels, fb_width_, fb_height_)) {
+            glViewport(0, 0, fb_width_, fb_height_);
+            glClearColor(0, 0, 0, 1);
+            glClear(GL_COLOR_BUFFER_BIT);
+            presenter_.show(last_.image, fb_width_, fb_height_);
+            ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+            if (!o_.window_screenshot.empty()) window_shot_ = window_pixels(win_.window);  // scripted use only
+            glfwSwapBuffers(win_.window);
+        }
         count_frame(times_, session_, stats, every_footprint_, with_heightmaps_, since_start());
         return actions;
     }
@@ -811,6 +836,7 @@ private:
         if (!profile_) return;
         if (const auto image = profile_->image_since(profile_seen_)) {
             profile_texture_.upload(*image);
+            ++profile_uploads_;  // (the panels' draw data alone would not show the plot changed)
             p.texture = profile_texture_.id();
             p.texture_width = profile_texture_.width(), p.texture_height = profile_texture_.height();
         }
@@ -1002,6 +1028,8 @@ private:
     bool with_heightmaps_ = false;
     std::shared_ptr<const SceneSnapshot> drawn_;  // the snapshot of the last frame drawn
     GlTexture profile_texture_;                   // the profile's plot
+    std::uint64_t profile_uploads_ = 0;           // its images uploaded (in the panels' fingerprint)
+    FrameChange frame_change_;                    // whether a frame changes what the window shows
     // Last: they read session_'s dataset, so they end (cancelled) before it goes.
     std::unique_ptr<ProfileJob> profile_;
     std::vector<std::unique_ptr<ProfileJob>> retired_;  // closed, ended once their reads stop
