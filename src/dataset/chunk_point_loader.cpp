@@ -196,20 +196,37 @@ public:
         std::stable_sort(held_.begin(), held_.end(), [&](auto a, auto b) { return distance(a) < distance(b); });
         std::optional<OverviewRelease> releasing;
         if (release) releasing.emplace(ds_.tiles, held_);
+        // The tiles go into the grid in batches: one lookup of a cell and one callback for all a batch's points in
+        // it, not one for each tile's (the nearest first, alone; then batches twice as large, up to kMostPoints).
+        constexpr std::size_t kMostPoints = 1u << 16;
+        std::size_t batch_points = 1;
+        std::vector<std::uint32_t> batch;
+        std::vector<std::pair<CellKey, GridPoint>> placed;
+        std::vector<PendingPoint> points;
+        const auto publish_batch = [&] {
+            add_placed(batch, placed);
+            if (releasing) {
+                for (const std::uint32_t id : batch) releasing->taken(ds_.tiles[id].tile);
+            }
+            batch.clear(), placed.clear();
+            batch_points = std::min(2 * batch_points, kMostPoints);
+        };
         for (const std::uint32_t id : held_) {
             if (is_cancelled()) return;
             const auto& tile = ds_.tiles[id];
             const auto records = overview_records(tile.tile, tile.chunk_points);
             const auto locations = chunk_point_locations(tile.tile, ds_.las_stride);
             const std::size_t length = tile.tile.header.record_length;
-            std::vector<PendingPoint> points;
+            points.clear();
             for (std::size_t k = 0; k < locations.size() && (k + 1) * length <= records.size(); ++k) {
                 auto p = convert(tile, records.subspan(k * length, length), locations[k].offset);
                 if (p) points.push_back(*p);
             }
-            publish(id, points);
-            if (releasing) releasing->taken(tile.tile);
+            place(id, points, placed);
+            batch.push_back(id);
+            if (placed.size() >= batch_points) publish_batch();
         }
+        if (!batch.empty()) publish_batch();
         if (releasing && !held_.empty()) trim_heap();  // the blocks' pages the grid did not take leave the process
         held_ = {};
     }
@@ -342,14 +359,22 @@ private:
         if (errors_.size() < max_errors_) errors_.push_back(std::move(error));
     }
 
+    // The tile's points into the grid and the callback, alone.
     void publish(std::uint32_t id, const std::vector<PendingPoint>& points) {
+        std::vector<std::pair<CellKey, GridPoint>> placed;
+        place(id, points, placed);
+        add_placed(std::span(&id, 1), placed);
+    }
+
+    // The tile's points on the grid, appended to `placed` (those that cannot be placed are its errors).
+    void place(std::uint32_t id, const std::vector<PendingPoint>& points,
+               std::vector<std::pair<CellKey, GridPoint>>& placed) {
         const bool sixteen_bit = colour_is_16bit(points, [](const PendingPoint& p) {
             return std::max({p.point.rgb[0], p.point.rgb[1], p.point.rgb[2]});
         });
         const auto& tile = ds_.tiles[id];
         const RecordPlacer placer(tile, sixteen_bit);
-        std::vector<std::pair<CellKey, GridPoint>> placed;  // (added a cell at a time: one lookup each)
-        placed.reserve(points.size());
+        placed.reserve(placed.size() + points.size());
         for (const auto& pending : points) {
             MetricPoint p;
             try {
@@ -366,6 +391,11 @@ private:
                 fail(ds_.tiles[id].tile.path(), 0, "chunk point cannot be placed on the patch grid: " + e.cause());
             }
         }
+    }
+
+    // The points `placed` of the tiles `ids` into the grid, a cell at a time (one lookup each; in their order
+    // within a cell), then the callback.
+    void add_placed(std::span<const std::uint32_t> ids, std::vector<std::pair<CellKey, GridPoint>>& placed) {
         std::stable_sort(placed.begin(), placed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
         grid_.add_in_cells(placed);
         loader_.loaded_ += placed.size();
@@ -373,8 +403,8 @@ private:
         for (const auto& [cell, point] : placed) {
             if (cells.empty() || cells.back() != cell) cells.push_back(cell);
         }
-        ++loader_.tiles_done_;
-        if (on_tile_done_) on_tile_done_(id, cells);
+        loader_.tiles_done_ += ids.size();
+        if (on_tile_done_) on_tile_done_(ids, cells);
     }
 
     ChunkPointLoader& loader_;

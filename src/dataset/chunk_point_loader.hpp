@@ -57,9 +57,10 @@ public:
 
     // Tiles nearest to (x, y) in metres load first. May be called at any time.
     void set_focus(double x_m, double y_m);
-    // Called from reader threads when a tile's chunk points are all in the grid, with the grid
-    // cells they fell in (sorted, each once). Set before start().
-    using TileDoneFn = std::function<void(std::uint32_t tile, std::span<const CellKey> cells)>;
+    // Called from reader threads when tiles' chunk points are all in the grid: the tiles (a tile read, alone; an
+    // overview sidecar's, many at once: a country's 152,100 in batches of growing size) with the grid cells
+    // their points fell in (sorted, each once). Set before start().
+    using TileDoneFn = std::function<void(std::span<const std::uint32_t> tiles, std::span<const CellKey> cells)>;
     void on_tile_done(TileDoneFn callback);
 
     void start();   // starts the background reads (once)

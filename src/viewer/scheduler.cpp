@@ -367,7 +367,9 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     dataset::ChunkPointLoaderOptions loading = options_.loader;
     loading.release_overview = true;  // the grid holds a sidecar's chunk points from then on
     loader_ = std::make_unique<dataset::ChunkPointLoader>(dataset_, *grid_, loading);
-    loader_->on_tile_done([this](std::uint32_t tile, std::span<const CellKey> cells) { on_tile_done(tile, cells); });
+    loader_->on_tile_done([this](std::span<const std::uint32_t> tiles, std::span<const CellKey> cells) {
+        on_tiles_done(tiles, cells);
+    });
     if (options_.camera) {
         set_camera(*options_.camera);
     } else if (!dataset.bounds_m.empty()) {  // until a camera comes: the middle, not the tiles nearest (0, 0)
@@ -457,39 +459,51 @@ void Scheduler::emit(const SchedulerEvent& event) const {
     if (options_.on_event) options_.on_event(event);
 }
 
-void Scheduler::on_tile_done(std::uint32_t tile, std::span<const CellKey> cells) {
+void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<const CellKey> cells) {
     State& s = *state_;
-    std::vector<std::pair<CellKey, std::shared_ptr<const PointSet>>> sets;
+    struct CellSet {
+        CellKey cell;
+        std::shared_ptr<const PointSet> set;
+        bool sparse = false;  // it holds a sparse tile's point (its cells are those of its points)
+    };
+    std::vector<CellSet> sets;
     bool all_in = false;
+    const bool any_sparse = std::any_of(tiles.begin(), tiles.end(), [&](std::uint32_t t) { return s.sparse[t]; });
+    const auto holds_sparse = [&](CellKey cell) {
+        const auto points = grid_->points_in(cell);
+        return std::any_of(points.begin(), points.end(), [&](const GridPoint& g) { return s.sparse[g.tile]; });
+    };
     for (const auto cell : cells) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));
         if (set->points.empty()) continue;
         if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
         set->cache_key = render::new_cache_key();  // complete: shared read-only from here
-        sets.emplace_back(cell, std::move(set));
+        sets.push_back({cell, std::move(set), any_sparse && holds_sparse(cell)});
     }
     {
         std::lock_guard lock(s.mutex);
         for (auto& entry : sets) {  // not a structured binding: clang 14 cannot capture one
-            Patch& p = s.patches[entry.first];
-            s.modify(entry.first, p, [&] { p.chunk = std::move(entry.second); });
-            s.changed_patch(entry.first, p);
-            if (s.sparse[tile] && !p.candidate) s.add_sparse_candidate(entry.first, p);
+            Patch& p = s.patches[entry.cell];
+            s.modify(entry.cell, p, [&] { p.chunk = std::move(entry.set); });
+            s.changed_patch(entry.cell, p);
+            if (entry.sparse && !p.candidate) s.add_sparse_candidate(entry.cell, p);
         }
         s.count_table();
-        if (!s.sparse[tile]) {
+        for (const std::uint32_t tile : tiles) {
+            if (s.sparse[tile]) continue;
             s.for_window_cells(dataset_.tiles[tile], [&](Patch& p, CellKey cell) {
                 if (--p.deps == 0) s.push_ready(cell, p);
             });
         }
-        all_in = ++s.tiles_done == s.loadable;
+        s.tiles_done += tiles.size();
+        all_in = s.tiles_done == s.loadable;
     }
     if (all_in) {  // the cells' spare capacity (a quarter of the grid, growing by doubling) leaves the process
         grid_->shrink_to_fit();
         trim_heap();
     }
     s.wake.notify_all();
-    emit({SchedulerEvent::Kind::TileDone, tile, {}});
+    for (const std::uint32_t tile : tiles) emit({SchedulerEvent::Kind::TileDone, tile, {}});
 }
 
 void Scheduler::heightmap_worker() {

@@ -28,7 +28,7 @@
 //      (version, idle); never the residency's own lock nor the loader's;
 //   2. the residency calls its hooks (on_detail, on_tile) without its own lock, so they may take
 //      the state lock; what each holds is in a MemoryLedger they share (atomics, no lock);
-//   3. the loader calls on_tile_done without its locks; set_focus takes a lock of its own only.
+//   3. the loader calls on_tile_done (on_tiles_done here) without its locks; set_focus takes a lock of its own only.
 #pragma once
 
 #include <atomic>
@@ -171,7 +171,7 @@ public:
 
 private:
     struct State;
-    void on_tile_done(std::uint32_t tile, std::span<const lidarscout::CellKey> cells);
+    void on_tiles_done(std::span<const std::uint32_t> tiles, std::span<const lidarscout::CellKey> cells);
     void heightmap_worker();
     void restyle_some(std::unique_lock<RankedMutex>& lock);
     void cnn_worker();

@@ -91,7 +91,9 @@ TEST_P(Loader, LoadsEveryChunkPointOfTheSurveys) {
     opt.reads.backend = GetParam();
     std::atomic<std::size_t> done_callbacks{0};
     ChunkPointLoader loader(ds, *grid, opt);
-    loader.on_tile_done([&](std::uint32_t, std::span<const CellKey>) { ++done_callbacks; });
+    loader.on_tile_done([&](std::span<const std::uint32_t> tiles, std::span<const CellKey>) {
+        done_callbacks += tiles.size();
+    });
     loader.start();
     loader.wait();
     EXPECT_EQ(loader.backend(), GetParam());
@@ -148,9 +150,10 @@ TEST(LoaderPriority, FollowsAFocusChangeMidRun) {
     std::vector<std::uint32_t> order;
     constexpr std::size_t kSwitchAfter = 5;
     loader.set_focus(near.centre_x(), near.centre_y());
-    loader.on_tile_done([&](std::uint32_t tile, std::span<const CellKey>) {
+    loader.on_tile_done([&](std::span<const std::uint32_t> tiles, std::span<const CellKey>) {
         std::lock_guard lock(mutex);
-        order.push_back(tile);
+        ASSERT_EQ(tiles.size(), 1u) << "a tile read is told alone";
+        order.push_back(tiles[0]);
         if (order.size() == kSwitchAfter) loader.set_focus(far.centre_x(), far.centre_y());
     });
     loader.start();
@@ -177,7 +180,7 @@ TEST(LoaderCancel, StopsEarlyAndKeepsWhatWasLoaded) {
     const Dataset& ds = surveys();
     auto grid = make_grid(ds);
     ChunkPointLoader loader(ds, *grid, one_read_at_a_time());
-    loader.on_tile_done([&](std::uint32_t, std::span<const CellKey>) {
+    loader.on_tile_done([&](std::span<const std::uint32_t>, std::span<const CellKey>) {
         if (loader.tiles_done() == 3) loader.cancel();
     });
     loader.start();
