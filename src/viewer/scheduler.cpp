@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <numeric>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -197,17 +198,29 @@ struct Scheduler::State {
         if (loader_finish_handled) push_ready(cell, p);
     }
 
-    // Calls fn(patch[, cell]) for the candidates counted from the tiles' bounds whose window
-    // (the cell +- the recon padding) `t` overlaps (computed again: kept per tile, they held
-    // tens of MB for a country).
+    // Calls fn(patch, cell, n) for the candidates counted from the tiles' bounds whose window (the cell +- the
+    // recon padding) the dense tiles of `tiles` overlap, once for each cell, `n` the tiles whose windows hold it
+    // (one lookup each: a country's tiles share their windows' cells). Computed again, in groups of tiles whose
+    // cells stay a few megabytes: kept per tile, they held tens of MB for a country.
     template <class Fn>
-    void for_window_cells(const dataset::DatasetTile& t, Fn&& fn) {
-        for_cells(t.bounds_m, *grid, build.patch.spec.pad_m(), [&](CellKey c) {
-            const auto it = patches.find(c);
-            if (it == patches.end() || !it->second.counted) return;
-            if constexpr (std::is_invocable_v<Fn, Patch&, CellKey>) fn(it->second, c);
-            else fn(it->second);
-        });
+    void for_window_cells_of(std::span<const std::uint32_t> tiles, std::span<const dataset::DatasetTile> all,
+                             Fn&& fn) {
+        constexpr std::size_t kGroup = 16384;
+        std::vector<CellKey> cells;
+        for (std::size_t first = 0; first < tiles.size(); first += kGroup) {
+            cells.clear();
+            for (const std::uint32_t t : tiles.subspan(first, std::min(kGroup, tiles.size() - first))) {
+                if (!sparse[t]) for_cells(all[t].bounds_m, *grid, build.patch.spec.pad_m(), [&](CellKey c) {
+                    cells.push_back(c);
+                });
+            }
+            std::sort(cells.begin(), cells.end());
+            for (std::size_t i = 0, j = 0; i < cells.size(); i = j) {
+                for (j = i + 1; j < cells.size() && cells[j] == cells[i];) ++j;
+                const auto it = patches.find(cells[i]);
+                if (it != patches.end() && it->second.counted) fn(it->second, cells[i], static_cast<int>(j - i));
+            }
+        }
     }
 
     void push_ready(CellKey cell, Patch& p) {
@@ -340,21 +353,27 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
     };
     s.sparse.resize(dataset.tiles.size());
     dataset::Bounds extent;  // of the dense tiles: the cell blocks' grid
+    std::vector<CellKey> candidates;  // (gathered, then the table made at its size: no rehash of a country's)
     for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
         const auto& t = dataset.tiles[i];
         s.loadable += t.chunk_points > 0;
         s.sparse[i] = !dense(t);
         if (s.sparse[i]) continue;
         extent.extend(t.bounds_m);
-        for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) {
-            Patch& p = s.patches[c];
-            p.candidate = p.counted = true;
-        });
+        for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) { candidates.push_back(c); });
     }
+    std::sort(candidates.begin(), candidates.end());
+    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    s.patches.reserve(candidates.size());
+    for (const CellKey c : candidates) {
+        Patch& p = s.patches[c];
+        p.candidate = p.counted = true;
+    }
+    candidates = {};
     s.blocks = CellBlocks(*grid_, extent, s.z_min, s.z_max);
-    for (std::uint32_t i = 0; i < dataset.tiles.size(); ++i) {
-        if (!s.sparse[i]) s.for_window_cells(dataset.tiles[i], [](Patch& p) { ++p.deps; });
-    }
+    std::vector<std::uint32_t> every(dataset.tiles.size());
+    std::iota(every.begin(), every.end(), 0u);
+    s.for_window_cells_of(every, dataset.tiles, [](Patch& p, CellKey, int n) { p.deps += n; });
     s.candidates = s.patches.size();
     s.network_pending = options_.cnn;
 
@@ -489,12 +508,9 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
             if (entry.sparse && !p.candidate) s.add_sparse_candidate(entry.cell, p);
         }
         s.count_table();
-        for (const std::uint32_t tile : tiles) {
-            if (s.sparse[tile]) continue;
-            s.for_window_cells(dataset_.tiles[tile], [&](Patch& p, CellKey cell) {
-                if (--p.deps == 0) s.push_ready(cell, p);
-            });
-        }
+        s.for_window_cells_of(tiles, dataset_.tiles, [&](Patch& p, CellKey cell, int n) {
+            if ((p.deps -= n) == 0) s.push_ready(cell, p);
+        });
         s.tiles_done += tiles.size();
         all_in = s.tiles_done == s.loadable;
     }
