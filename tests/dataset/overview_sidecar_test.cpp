@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <numeric>
 #include <set>
 #include <string>
 
@@ -173,6 +175,48 @@ TEST(OverviewSidecar, ALoaderThatReleasesLeavesTheGridItsPointsAndTheRecordsGone
     EXPECT_TRUE(held(0) && held(1) && held(2));
     releasing.taken(placed.tiles[0].tile);
     EXPECT_FALSE(held(0) || held(1) || held(2));
+    fs::remove_all(dir);
+}
+
+TEST(OverviewSidecar, ItsTilesGoIntoTheGridInBatchesTheNearestAlone) {
+    const fs::path dir = fresh_dir("batches");
+    std::vector<std::string> every;
+    for (const auto& e : fs::directory_iterator(survey())) {
+        if (e.path().extension() == ".laz") every.push_back(e.path().string());
+    }
+    std::sort(every.begin(), every.end());
+    ASSERT_GE(every.size(), 9u) << "enough tiles for batches of several";
+    write_with_overview(every, dir);
+    const Dataset placed = open_dataset({(dir / "catalog.vpc").string()});
+    const auto [ox, oy] = patch_grid_origin(placed);
+    PatchGrid grid(ox, oy);
+    ChunkPointLoader loader(placed, grid);
+    std::vector<std::vector<std::uint32_t>> batches;
+    std::set<CellKey> told;
+    loader.on_tile_done([&](std::span<const std::uint32_t> tiles, std::span<const CellKey> cells) {
+        batches.emplace_back(tiles.begin(), tiles.end());
+        EXPECT_TRUE(std::adjacent_find(cells.begin(), cells.end(), std::greater_equal<>()) == cells.end())
+            << "a batch's cells sorted, each once";
+        told.insert(cells.begin(), cells.end());
+    });
+    const auto& focus = placed.tiles[3].bounds_m;
+    loader.set_focus(focus.centre_x(), focus.centre_y());
+    loader.start();
+    loader.wait();
+    EXPECT_TRUE(loader.errors().empty());
+    EXPECT_EQ(grid.size(), placed.chunk_point_count);
+    ASSERT_GE(batches.size(), 2u);
+    EXPECT_EQ(batches[0], std::vector<std::uint32_t>{3}) << "the tile at the focus first, alone";
+    EXPECT_TRUE(std::any_of(batches.begin(), batches.end(), [](const auto& b) { return b.size() > 1; }));
+    std::vector<std::uint32_t> tiles;
+    for (const auto& b : batches) tiles.insert(tiles.end(), b.begin(), b.end());
+    std::sort(tiles.begin(), tiles.end());
+    std::vector<std::uint32_t> each(placed.tiles.size());
+    std::iota(each.begin(), each.end(), 0u);
+    EXPECT_EQ(tiles, each) << "every tile told once";
+    const auto cells = grid.cells();
+    EXPECT_EQ(told, std::set<CellKey>(cells.begin(), cells.end())) << "the cells told are those the points fell in";
+    EXPECT_EQ(loader.tiles_done(), placed.tiles.size());
     fs::remove_all(dir);
 }
 
