@@ -90,7 +90,10 @@ void PatchGrid::add_in_cells(std::span<const std::pair<CellKey, GridPoint>> poin
             std::lock_guard lock(shard.mutex);
             const std::size_t buckets = shard.cells.bucket_count();
             const auto [it, inserted] = shard.cells.try_emplace(cell);
-            const std::size_t capacity = it->second.capacity();
+            const std::size_t capacity = it->second.capacity(), need = it->second.size() + (end - run);
+            // Grown by an eighth beyond what is needed, not doubled: a country's cells held a quarter of the grid
+            // spare while it filled (100 MB of 152,100 tiles' chunk points), still amortised over many runs.
+            if (need > capacity) it->second.reserve(need + need / 8);
             for (std::size_t k = run; k < end; ++k) it->second.push_back(points[k].second);
             grown = (it->second.capacity() - capacity) * sizeof(GridPoint) +
                     (shard.cells.bucket_count() - buckets) * sizeof(void*) +
