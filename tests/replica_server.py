@@ -322,9 +322,9 @@ class ItemDocument:
     """An ItemCollection of items [first, first + count): head, the items (each href prefixed), tail.
     Its size is known without making it; read() makes only the items a range covers."""
 
-    def __init__(self, items, first, count, prefix, tail):
+    def __init__(self, items, first, count, prefix, tail, head=CATALOG_HEAD):
         self.items, self.first, self.count = items, first, count
-        self.prefix, self.head, self.tail = prefix, CATALOG_HEAD, tail
+        self.prefix, self.head, self.tail = prefix, head, tail
         self.step = len(prefix) + len(ITEM_SEPARATOR)  # what each item adds beyond its core length
         self.rendered = None  # the whole document's bytes, once render() made them
         cum = items.cum
@@ -555,12 +555,12 @@ class Server:
         self.rtt = options.rtt_ms / 1000.0
         self.overview = None
         self.release = None  # an asyncio.Event, set by /_release (made in the server's loop)
-        links = {}
-        if options.overview:
+        head = CATALOG_HEAD
+        if options.overview:  # (its link before the items, as `lidarscout catalog` writes it)
             self.overview = overview_resource(options.overview)
-            links = {"links": [{"rel": "lidarscout:overview", "href": "./catalog.overview.laz",
-                                "type": "application/vnd.laszip"}]}
-        self.catalog = ItemDocument(items, 0, len(replica.names), "./tiles/", json_tail(links)).render()
+            links = [{"rel": "lidarscout:overview", "href": "./catalog.overview.laz", "type": "application/vnd.laszip"}]
+            head = '{"type":"FeatureCollection","links":' + json.dumps(links, separators=(",", ":")) + ',"features":[\n'
+        self.catalog = ItemDocument(items, 0, len(replica.names), "./tiles/", json_tail({}), head).render()
 
     # -- routes
 

@@ -230,7 +230,16 @@ CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& outp
     const auto write = [&out](const std::string& text) {
         out.write(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
     };
-    write("{\"type\":\"FeatureCollection\",\"features\":[\n");
+    // The sidecar's link before the items: a reader fetches the country's overview while it reads them.
+    write("{\"type\":\"FeatureCollection\",");
+    if (!options.overview.empty()) {
+        const ordered_json links = {{{"rel", kOverviewRel}, {"href", href_of(options.overview, folder)},
+                                     {"type", "application/vnd.laszip"},
+                                     {"title", "overview sidecar: every tile's chunk points and metadata "
+                                               "(lidarscout)"}}};
+        write("\"links\":" + links.dump() + ",");
+    }
+    write("\"features\":[\n");
     for (std::size_t i = 0; i < dataset.tiles.size(); ++i) {
         bool without_crs = false;
         const auto item = item_json(dataset.tiles[i].tile, path_of(i), result.ids[i], folder, without_crs);
@@ -238,15 +247,7 @@ CatalogWriteResult write_catalog(const Dataset& dataset, const std::string& outp
         result.without_crs += without_crs;
         ++result.items;
     }
-    write("\n]");
-    if (!options.overview.empty()) {
-        const ordered_json links = {{{"rel", kOverviewRel}, {"href", href_of(options.overview, folder)},
-                                     {"type", "application/vnd.laszip"},
-                                     {"title", "overview sidecar: every tile's chunk points and metadata "
-                                               "(lidarscout)"}}};
-        write(",\"links\":" + links.dump());
-    }
-    write("}\n");
+    write("\n]}\n");
     out.commit();
     return result;
 }

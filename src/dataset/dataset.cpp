@@ -736,6 +736,7 @@ std::atomic<bool> overview_sidecars_used{true};
 }  // namespace
 
 void use_overview_sidecars(bool used) { overview_sidecars_used = used; }
+bool overview_sidecars_in_use() { return overview_sidecars_used; }
 
 void require_tiles(const Dataset& ds, const std::string& stage) {
     if (!ds.tiles.empty()) return;
@@ -836,6 +837,7 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     std::vector<std::optional<Tile>> placed =
         options.use_overview && overview_sidecars_used ? overview_tiles(sources, reads.records(), ds.warnings, pool)
                              : std::vector<std::optional<Tile>>(n);
+    forget_overview_prefetch();  // (one a catalog named, where this open did not take it)
     std::vector<std::string> source_paths;
     for (std::size_t i = 0; i < n; ++i) {
         if (!placed[i]) source_paths.push_back(sources[i].path);

@@ -162,6 +162,7 @@ struct DatasetOptions {
 // Whether open_sources uses overview sidecars at all (DatasetOptions::use_overview then decides per
 // call): the CLI's --no-overview turns them off for the process.
 void use_overview_sidecars(bool used);
+bool overview_sidecars_in_use();
 
 // Finds and reads the tiles of `paths` (files, folders, tile lists, and virtual replica
 // manifests: dataset/virtual_replica.hpp). Never throws for a bad file: it lands in `skipped`;

@@ -10,6 +10,7 @@
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
 #include "dataset/s3_prefix.hpp"
+#include "dataset/overview_sidecar.hpp"
 #include "dataset/source_identity.hpp"
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
@@ -187,7 +188,7 @@ void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriv
             announce_items(so_far, first, more, *arriving);
         };
     }
-    Catalog catalog = read_catalog(path, {}, items_read);
+    Catalog catalog = read_catalog(path, {}, items_read, prefetch_overview_sidecar);
     for (auto& e : catalog.errors) out.errors.push_back({io::display_path(path), std::move(e)});
     for (auto& w : catalog.warnings) {
         out.warnings.add({DiagnosticLevel::warning, io::display_path(path), std::nullopt, std::move(w)});

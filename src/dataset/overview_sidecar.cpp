@@ -7,14 +7,17 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <future>
 #include <limits>
 #include <map>
 #include <mutex>
 #include <set>
+#include <thread>
 #include <utility>
 
 #include "core/error.hpp"
 #include "core/thread_pool.hpp"
+#include "core/thread_priority.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/byte_reader.hpp"
@@ -133,13 +136,12 @@ void take_records(std::span<const std::uint8_t> in, std::size_t in_length, const
     }
 }
 
-// The sidecar's records decoded, then each held entry's taken back to its tile's own.
-void decode_points(const io::File& file, const Tile& tile, OverviewSidecar& s) {
+// The sidecar's records decoded (on `pool`), then each held entry's taken back to its tile's own.
+void decode_points(const io::File& file, const Tile& tile, OverviewSidecar& s, ThreadPool& pool) {
     const std::size_t in_length = tile.header.record_length;
     if (in_length < kOverviewTileField + 20) throw Error(file.path(), 105, "records too short for an overview");
     s.record_length = static_cast<std::uint16_t>(in_length - kOverviewTileField);
     std::vector<std::uint8_t> all(tile.header.point_count * in_length);
-    ThreadPool& pool = ThreadPool::shared();
     if (tile.compressed()) {
         const DecodeUnits units(tile);
         units.decode(file, 0, units.size(), all, las::fields::kAll, pool);
@@ -226,13 +228,65 @@ std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> pa
     return entries;
 }
 
-OverviewSidecar read_overview_sidecar(const std::string& path) {
+namespace {
+
+OverviewSidecar read_sidecar(const std::string& path, ThreadPool& pool) {
     const io::File file = whole_file(path);
     const Tile tile = read_tile(file);
     OverviewSidecar s;
     s.entries = table_of(file, tile.header);
-    decode_points(file, tile, s);
+    decode_points(file, tile, s, pool);
     return s;
+}
+
+constexpr int kPrefetchNice = 10;  // a prefetch's threads yield to the catalog's parse and the frames
+
+// The one prefetch kept (prefetch_overview_sidecar).
+struct Prefetch {
+    std::mutex mutex;
+    std::string path;
+    std::future<OverviewSidecar> sidecar;
+};
+Prefetch& prefetch() {
+    static Prefetch p;
+    return p;
+}
+
+}  // namespace
+
+OverviewSidecar read_overview_sidecar(const std::string& path) {
+    std::future<OverviewSidecar> started;
+    {
+        std::lock_guard lock(prefetch().mutex);
+        if (prefetch().path == path) {
+            started = std::move(prefetch().sidecar);
+            prefetch().path.clear();
+        }
+    }
+    if (!started.valid()) return read_sidecar(path, ThreadPool::shared());
+    return started.get();
+}
+
+void prefetch_overview_sidecar(const std::string& path) {
+    if (!overview_sidecars_in_use()) return;
+    forget_overview_prefetch();
+    std::lock_guard lock(prefetch().mutex);
+    prefetch().path = path;
+    prefetch().sidecar = std::async(std::launch::async, [path] {
+        lower_thread_priority(kPrefetchNice);  // (the pool below inherits it)
+        ThreadPool pool(std::max(1u, std::thread::hardware_concurrency()));
+        return read_sidecar(path, pool);
+    });
+}
+
+void forget_overview_prefetch() {
+    std::future<OverviewSidecar> dropped;
+    {
+        std::lock_guard lock(prefetch().mutex);
+        dropped = std::move(prefetch().sidecar);
+        prefetch().path.clear();
+    }
+    if (dropped.valid()) dropped.wait();  // (its thread ends; the sidecar goes with the future)
 }
 
 Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const std::string& path,

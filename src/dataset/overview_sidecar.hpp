@@ -85,7 +85,16 @@ struct OverviewSidecar {
 };
 
 // Reads the sidecar at `path` (a file or URL) in a few large reads and decodes its points; throws Error.
+// Takes the prefetch of `path` when one was started (waiting for it; its Error thrown here).
 OverviewSidecar read_overview_sidecar(const std::string& path);
+
+// Starts reading the sidecar at `path` on a thread of its own, at a lower priority, for read_overview_sidecar to
+// take: a catalog that names its sidecar before its items (as `lidarscout catalog` writes it) has the country's
+// overview fetched and decoded on the core its items' parse leaves free. One prefetch is kept: another path's
+// replaces it. Nothing when sidecars are not used (use_overview_sidecars).
+void prefetch_overview_sidecar(const std::string& path);
+// Drops a prefetch nobody took (waits for its thread): what open_sources does once it has taken what it uses.
+void forget_overview_prefetch();
 
 // The tile an entry places, read from its bytes as from its file at `path`; its TileFile keeps the
 // entry's validator and chunk points. Throws Error when the bytes do not make a tile.

@@ -77,6 +77,7 @@ struct Walk {
     CrsTexts crs_texts;  // the items' CRS texts, each once
     std::uint64_t bytes = 0;
     bool full = false;  // a limit was reached: nothing more is read
+    const SidecarNamed* sidecar_named = nullptr;  // told of the first sidecar link read (then null)
 
     void error(const std::string& document, const std::string& what) {
         out.errors.push_back(shown(io::display_path(document)) + ": " + what);
@@ -391,7 +392,15 @@ bool at_item_limit(const std::string& document, std::size_t read, Walk& w) {
 // Takes one element of the document's "features" or "links"; false when the item limit is reached.
 bool take_element(const std::string& key, std::size_t index, const json& element, const Document& document,
                   Streamed& s, Walk& w) {
-    if (key == "links") return take_link(element, index, s), true;
+    if (key == "links") {
+        take_link(element, index, s);
+        std::string refusal;  // (one that cannot be resolved is a line once the document is read: take_overview)
+        if (w.sidecar_named && !s.overview.empty()) {
+            if (const auto sidecar = resolve(document.path, s.overview, refusal)) (*w.sidecar_named)(*sidecar);
+            w.sidecar_named = nullptr;
+        }
+        return true;
+    }
     if (at_item_limit(document.path, s.item_count, w)) return false;
     if (auto item = item_of(element, document, index, s.item_lines)) {
         constexpr std::size_t kChunk = 4096;
@@ -583,8 +592,9 @@ ContentKind content_kind(const std::string& path) {
 
 bool holds_json_object(const std::string& path) { return content_kind(path) == ContentKind::catalog; }
 
-Catalog read_catalog(const std::string& path, const CatalogLimits& limits, const CatalogItemsRead& items_read) {
-    Walk w{limits, {}, {}, {}, {}, {}, 0, false};
+Catalog read_catalog(const std::string& path, const CatalogLimits& limits, const CatalogItemsRead& items_read,
+                     const SidecarNamed& sidecar_named) {
+    Walk w{limits, {}, {}, {}, {}, {}, 0, false, sidecar_named ? &sidecar_named : nullptr};
     w.seen.insert(path);
     w.queue.push_back({path, 0, 0, path});
     while (!w.queue.empty() && !w.full) {

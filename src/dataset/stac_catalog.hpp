@@ -116,10 +116,14 @@ bool holds_json_object(const std::string& path);
 // where the document's items start in it, and whether documents remain to be read (further pages, links).
 using CatalogItemsRead = std::function<void(const Catalog& so_far, std::size_t first_item, bool more)>;
 
+// Called with the overview sidecar a catalog's document names (resolved) as soon as its link is read: before its
+// items where the link comes first (a reader that fetches the sidecar while they are read). Once a catalog.
+using SidecarNamed = std::function<void(const std::string& sidecar)>;
+
 // The items of the catalog at `path` and of every document it links, with what could not be used;
 // `items_read` sees them as each document is read (a reader that opens from the first pages of a search).
 Catalog read_catalog(const std::string& path, const CatalogLimits& limits = {},
-                     const CatalogItemsRead& items_read = {});
+                     const CatalogItemsRead& items_read = {}, const SidecarNamed& sidecar_named = {});
 
 // "item 'ID' in DOCUMENT" (the document as shown), or "item HREF in DOCUMENT" for an item without id.
 std::string item_name(const CatalogItem& item);

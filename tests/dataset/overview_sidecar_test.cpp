@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <numeric>
 #include <set>
@@ -24,6 +25,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/overview_sidecar.hpp"
 #include "dataset/overview_writer.hpp"
+#include "dataset/stac_catalog.hpp"
 #include "io/file.hpp"
 #include "las/header_writer.hpp"
 #include "replica_server.hpp"
@@ -38,6 +40,11 @@ fs::path survey() { return test::surveys_dir() / "ky-jmo335-eastern-kentucky"; }
 std::vector<std::string> some_tiles() {
     return {(survey() / "N117E379.laz").string(), (survey() / "N117E381.laz").string(),
             (survey() / "N119E379.laz").string()};
+}
+
+std::string file_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 fs::path fresh_dir(const std::string& name) {
@@ -217,6 +224,42 @@ TEST(OverviewSidecar, ItsTilesGoIntoTheGridInBatchesTheNearestAlone) {
     const auto cells = grid.cells();
     EXPECT_EQ(told, std::set<CellKey>(cells.begin(), cells.end())) << "the cells told are those the points fell in";
     EXPECT_EQ(loader.tiles_done(), placed.tiles.size());
+    fs::remove_all(dir);
+}
+
+// The catalog names its sidecar before its items, and read_catalog tells it as soon as it is read; a prefetch
+// of it is what read_overview_sidecar then gives, once; one not taken is forgotten; a prefetch's error is thrown
+// by the read that takes it.
+TEST(OverviewSidecar, ACatalogNamesItsSidecarFirstAndItsPrefetchIsTakenOnce) {
+    const fs::path dir = fresh_dir("prefetch");
+    const std::string sidecar = write_with_overview(some_tiles(), dir);
+    const std::string vpc = (dir / "catalog.vpc").string();
+    const std::string text = file_text(vpc);
+    EXPECT_LT(text.find("\"links\""), text.find("\"features\"")) << "the sidecar's link before the items";
+    std::vector<std::string> told;
+    const Catalog c = read_catalog(vpc, {}, {}, [&](const std::string& p) { told.push_back(p); });
+    ASSERT_EQ(told, std::vector<std::string>{c.overview});
+    EXPECT_EQ(fs::canonical(told[0]), fs::canonical(sidecar));
+
+    const OverviewSidecar direct = read_overview_sidecar(sidecar);
+    prefetch_overview_sidecar(sidecar);
+    const OverviewSidecar taken = read_overview_sidecar(sidecar);
+    ASSERT_EQ(taken.entries.size(), direct.entries.size());
+    ASSERT_EQ(taken.blocks.size(), direct.blocks.size());
+    for (std::size_t b = 0; b < direct.blocks.size(); ++b) EXPECT_EQ(*taken.blocks[b], *direct.blocks[b]);
+    EXPECT_EQ(taken.record_starts, direct.record_starts);
+
+    prefetch_overview_sidecar(sidecar);
+    fs::remove(sidecar);  // the prefetch has it (or fails); a read after forgetting it asks the file again
+    forget_overview_prefetch();
+    EXPECT_THROW(read_overview_sidecar(sidecar), Error);
+    prefetch_overview_sidecar(sidecar);  // of a file that is gone: its error comes with the read that takes it
+    try {
+        read_overview_sidecar(sidecar);
+        ADD_FAILURE() << "a missing sidecar read";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("catalog.overview.laz"), std::string::npos) << e.what();
+    }
     fs::remove_all(dir);
 }
 
