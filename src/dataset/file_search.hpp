@@ -73,8 +73,9 @@ struct FoundSources {
 
 // Called as a catalog's documents are read (each page of a STAC API search), on the thread of
 // find_tile_sources before it returns: the tiles of the document just read (with their items), and whether
-// more of that catalog remains to be read; its last document is told with no tiles (`more` false). What find_tile_sources returns holds them again (duplicates
-// dropped there, not here): a caller may open the first pages while the later ones arrive.
+// more of that catalog remains to be read; its last document is told with no tiles (`more` false). What
+// find_tile_sources returns holds them again (duplicates dropped there, not here): a caller may open the first
+// pages while the later ones arrive.
 using SourcesArriving = std::function<void(std::span<const TileSource> sources, bool more)>;
 
 // find_point_cloud_files, with virtual replica manifests (dataset/virtual_replica.hpp) among the

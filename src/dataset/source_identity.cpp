@@ -102,7 +102,9 @@ bool already_normal(std::string_view url) {
     const std::string_view authority = url.substr(start, end - start), rest = url.substr(end);
     const std::size_t colon = authority.find(':');
     const std::string_view host = authority.substr(0, colon);
-    const auto host_char = [](char c) { return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' || c == '-'; };
+    const auto host_char = [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' || c == '-';
+    };
     if (host.empty() || !std::all_of(host.begin(), host.end(), host_char)) return false;
     if (colon != std::string_view::npos) {
         const std::string_view port = authority.substr(colon + 1);

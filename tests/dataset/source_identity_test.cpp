@@ -46,8 +46,9 @@ TEST(NormalisedUrl, NamesOfOtherResourcesStayApart) {
 }
 
 TEST(NormalisedUrl, AUrlInItsNormalFormIsItsOwnAndItsVariantsMeetIt) {
-    for (const std::string normal : {"http://example.com/d/t.laz", "https://example.com/a", "http://127.0.0.1:8080/t/x.laz",
-                                     "http://example.com/d/t.laz?v=2&x=y", "http://a-b.example.com/d.e/t.laz"}) {
+    for (const std::string normal : {"http://example.com/d/t.laz", "https://example.com/a",
+                                     "http://127.0.0.1:8080/t/x.laz", "http://example.com/d/t.laz?v=2&x=y",
+                                     "http://a-b.example.com/d.e/t.laz"}) {
         EXPECT_EQ(normalised_url(normal), normal);
         const std::size_t host = normal.find("://") + 3;
         std::string upper = normal;  // its scheme and host in capitals, a dot segment: not normal as written
