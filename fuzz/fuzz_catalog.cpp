@@ -18,7 +18,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         lidarscout::dataset::CatalogLimits limits;
         limits.max_documents = 4;
         limits.max_items = 1000;
-        const auto catalog = lidarscout::dataset::read_catalog(file->path(), limits);
+        std::size_t sidecars = 0;  // the sidecar link told as it is read: once at most, a path never empty
+        const auto catalog = lidarscout::dataset::read_catalog(file->path(), limits, {}, [&](const std::string& p) {
+            if (p.empty() || ++sidecars > 1) std::abort();
+        });
         for (const auto& line : catalog.errors) {
             if (line.size() > 4096) std::abort();
         }
