@@ -152,14 +152,16 @@ std::string source_identity(const TileSource& source) {
 }
 
 void drop_duplicate_sources(FoundSources& found) {
-    // A source's identity, as a view: of its path where that is a URL in its normal form (a catalog's hrefs, as
-    // a rule: no copy of each), else of its source_identity kept in `made`. (No source moves while they are used.)
+    // A source's identity, as a view: a URL's normal form (of its path where that is one already: a catalog's
+    // hrefs, as a rule, are not copied), else its source_identity ("file:", "path:", or "url:" with a shift:
+    // never a bare URL) kept in `made`. (No source moves while they are used.)
     const std::size_t n = found.sources.size();
     std::vector<std::string> made(n);
     const auto identity = [&](std::size_t i) -> std::string_view {
         const TileSource& s = found.sources[i];
-        if (!s.shift && already_normal(s.path)) return s.path;  // (what normalised_url would give, "url:" less)
-        return made[i] = source_identity(s);  // ("file:", "path:", "url:": never an http URL)
+        if (s.shift || !net::is_url(s.path)) return made[i] = source_identity(s);
+        if (already_normal(s.path)) return s.path;
+        return made[i] = normalised_url(s.path);
     };
     std::unordered_map<std::string_view, std::size_t> first;  // identity -> its first source
     first.reserve(n);

@@ -84,5 +84,35 @@ TEST_F(SourceIdentity, LocalNamesOfOneFileMeetAndShiftsPartThem) {
               source_identity({(dir / "sub/../missing.laz").string(), std::nullopt, "", nullptr}));
 }
 
+// URLs in their normal form and URLs in another spelling of them meet (the first are compared as written, the
+// others once normalised), whichever comes first; a local file, a shifted URL and another URL stay apart.
+TEST_F(SourceIdentity, DuplicatesAreDroppedWhetherOrNotAUrlIsWrittenInItsNormalForm) {
+    std::ofstream(dir / "t.laz") << "x";
+    FoundSources found;
+    for (const std::string p : std::vector<std::string>{"http://example.com/d/t.laz", "HTTP://Example.COM/d/./t.laz",
+                                                        "http://example.com:80/d/x/../t.laz",
+                                                        "http://example.com/d/u.laz", path("t.laz"),
+                                                        "HTTP://EXAMPLE.COM/d/u.laz"}) {
+        found.sources.push_back({p, std::nullopt, "", nullptr});
+    }
+    found.sources.push_back({"http://example.com/d/t.laz", std::array<double, 2>{1000, 0}, "v.laz", nullptr});
+    drop_duplicate_sources(found);
+    std::vector<std::string> kept;
+    for (const auto& s : found.sources) kept.push_back(s.path);
+    EXPECT_EQ(kept, (std::vector<std::string>{"http://example.com/d/t.laz", "http://example.com/d/u.laz",
+                                              path("t.laz"), "http://example.com/d/t.laz"}));
+    const auto warnings = found.warnings.messages();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("3 inputs name tiles already named"), std::string::npos) << warnings[0];
+
+    FoundSources reversed;  // the other spelling first
+    for (const std::string p : {"HTTP://Example.COM/d/./t.laz", "http://example.com/d/t.laz"}) {
+        reversed.sources.push_back({p, std::nullopt, "", nullptr});
+    }
+    drop_duplicate_sources(reversed);
+    ASSERT_EQ(reversed.sources.size(), 1u);
+    EXPECT_EQ(reversed.sources[0].path, "HTTP://Example.COM/d/./t.laz");
+}
+
 }  // namespace
 }  // namespace lidarscout::dataset
