@@ -111,6 +111,13 @@ std::vector<GridPoint> PatchGrid::points_in(CellKey cell) const {
     return it == shard.cells.end() ? std::vector<GridPoint>{} : it->second;
 }
 
+void PatchGrid::read_points(CellKey cell, const std::function<void(std::span<const GridPoint>)>& visit) const {
+    const Shard& shard = shard_for(cell);
+    std::lock_guard lock(shard.mutex);
+    const auto it = shard.cells.find(cell);
+    visit(it == shard.cells.end() ? std::span<const GridPoint>{} : std::span<const GridPoint>(it->second));
+}
+
 OverviewPoint PatchGrid::to_absolute(CellKey cell, const GridPoint& p) const {
     return {cell_min_x(cell) + p.dx, cell_min_y(cell) + p.dy, p.z, p.rgb,
             p.intensity,         p.classification,           p.tile};

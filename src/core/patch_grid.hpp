@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <unordered_map>
@@ -92,6 +93,9 @@ public:
 
     // Copy of the points stored in `cell` (empty when none), in insertion order per cell.
     std::vector<GridPoint> points_in(CellKey cell) const;
+    // The same seen in place: `visit` gets them (empty when none) under the lock of the cell's shard, so it must
+    // not call the grid (no copy: what a loader's callback reads of every cell a batch of tiles filled).
+    void read_points(CellKey cell, const std::function<void(std::span<const GridPoint>)>& visit) const;
     // A stored point of `cell` with its position in absolute metres.
     OverviewPoint to_absolute(CellKey cell, const GridPoint& point) const;
 

@@ -179,16 +179,17 @@ PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey c
     PointSet set;
     set.origin_x = grid.cell_min_x(cell);
     set.origin_y = grid.cell_min_y(cell);
-    const auto points = grid.points_in(cell);
-    set.points.reserve(points.size());
-    for (const auto& p : points) {
-        render::PointAttr a;
-        a.dx = p.dx, a.dy = p.dy, a.dz = p.z;
-        a.r = p.rgb.r, a.g = p.rgb.g, a.b = p.rgb.b;
-        a.classification = p.classification;
-        a.intensity = p.intensity;
-        set.points.push_back(a);
-    }
+    grid.read_points(cell, [&](std::span<const GridPoint> points) {  // (converted in place: no copy first)
+        set.points.reserve(points.size());
+        for (const auto& p : points) {
+            render::PointAttr a;
+            a.dx = p.dx, a.dy = p.dy, a.dz = p.z;
+            a.r = p.rgb.r, a.g = p.rgb.g, a.b = p.rgb.b;
+            a.classification = p.classification;
+            a.intensity = p.intensity;
+            set.points.push_back(a);
+        }
+    });
     return set;
 }
 

@@ -489,8 +489,11 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
     bool all_in = false;
     const bool any_sparse = std::any_of(tiles.begin(), tiles.end(), [&](std::uint32_t t) { return s.sparse[t]; });
     const auto holds_sparse = [&](CellKey cell) {
-        const auto points = grid_->points_in(cell);
-        return std::any_of(points.begin(), points.end(), [&](const GridPoint& g) { return s.sparse[g.tile]; });
+        bool any = false;
+        grid_->read_points(cell, [&](std::span<const GridPoint> points) {
+            any = std::any_of(points.begin(), points.end(), [&](const GridPoint& g) { return s.sparse[g.tile]; });
+        });
+        return any;
     };
     for (const auto cell : cells) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));

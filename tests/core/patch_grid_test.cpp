@@ -232,5 +232,24 @@ TEST(PatchGrid, MemoryPerPoint) {
                 PatchGrid::kCellOverheadBytes);
 }
 
+TEST(PatchGrid, PointsReadInPlaceAreThoseCopied) {
+    PatchGrid grid(0, 0, 100);
+    for (int i = 0; i < 50; ++i) grid.add(i * 7.5, i * 3.0, i, {1, 2, 3}, static_cast<std::uint16_t>(i), 2, i % 3);
+    for (const CellKey cell : grid.cells()) {
+        const auto copied = grid.points_in(cell);
+        std::vector<GridPoint> read;
+        grid.read_points(cell, [&](std::span<const GridPoint> p) { read.assign(p.begin(), p.end()); });
+        ASSERT_FALSE(copied.empty());
+        ASSERT_EQ(read.size(), copied.size());
+        for (std::size_t k = 0; k < read.size(); ++k) {
+            EXPECT_EQ(read[k].z, copied[k].z);
+            EXPECT_EQ(read[k].tile, copied[k].tile);
+        }
+    }
+    std::size_t seen = 1;
+    grid.read_points({1000, 1000}, [&](std::span<const GridPoint> p) { seen = p.size(); });
+    EXPECT_EQ(seen, 0u) << "a cell without points: an empty span";
+}
+
 }  // namespace
 }  // namespace lidarscout
