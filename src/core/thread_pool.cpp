@@ -112,9 +112,12 @@ void ThreadPool::run_loop(std::size_t n, const std::function<void(std::size_t)>&
     if (loop.error) std::rethrow_exception(loop.error);
 }
 
+unsigned ThreadPool::shared_size() {
+    return g_shared_threads.load() ? g_shared_threads.load() : std::max(1u, std::thread::hardware_concurrency());
+}
+
 ThreadPool& ThreadPool::shared() {
-    static ThreadPool pool(g_shared_threads.load() ? g_shared_threads.load()
-                                                   : std::max(1u, std::thread::hardware_concurrency()));
+    static ThreadPool pool(shared_size());
     return pool;
 }
 

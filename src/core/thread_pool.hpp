@@ -45,6 +45,9 @@ public:
     static ThreadPool& shared();
     // Sets the size of the shared pool; call before its first use (e.g. from --threads).
     static void set_shared_threads(unsigned threads);
+    // The shared pool's size (what --threads set, else every hardware thread), without starting it: for a pool of
+    // its own that must keep the user's bound (e.g. one whose threads run at a lower priority).
+    static unsigned shared_size();
 
 private:
     struct Loop;

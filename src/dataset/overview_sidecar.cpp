@@ -12,7 +12,6 @@
 #include <map>
 #include <mutex>
 #include <set>
-#include <thread>
 #include <utility>
 
 #include "core/error.hpp"
@@ -274,7 +273,7 @@ void prefetch_overview_sidecar(const std::string& path) {
     prefetch().path = path;
     prefetch().sidecar = std::async(std::launch::async, [path] {
         lower_thread_priority(kPrefetchNice);  // (the pool below inherits it)
-        ThreadPool pool(std::max(1u, std::thread::hardware_concurrency()));
+        ThreadPool pool(ThreadPool::shared_size());
         return read_sidecar(path, pool);
     });
 }

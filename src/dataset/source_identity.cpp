@@ -177,9 +177,7 @@ void drop_duplicate_sources(FoundSources& found) {
     if (repeated.empty()) return;
     std::sort(repeated.begin(), repeated.end());
     std::vector<std::pair<std::string, std::size_t>> named;
-    std::size_t left_out = 0;
     for (const std::size_t r : repeated) named.emplace_back(shown_name(found.sources[r]), times[r] + 1);
-    for (const std::size_t r : repeated) left_out += times[r];
     first = {};
     std::size_t kept = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -188,6 +186,7 @@ void drop_duplicate_sources(FoundSources& found) {
         ++kept;
     }
     found.sources.resize(kept);
+    const std::size_t left_out = n - kept;
     found.warnings.warn(std::to_string(left_out) + (left_out == 1 ? " input names a tile" : " inputs name tiles") +
                         " already named, read once: " + list_repeated(named));
 }

@@ -394,8 +394,8 @@ bool take_element(const std::string& key, std::size_t index, const json& element
                   Streamed& s, Walk& w) {
     if (key == "links") {
         take_link(element, index, s);
-        std::string refusal;  // (one that cannot be resolved is a line once the document is read: take_overview)
         if (w.sidecar_named && !s.overview.empty()) {
+            std::string refusal;  // (one that cannot be resolved is a line once the document is read: take_overview)
             if (const auto sidecar = resolve(document.path, s.overview, refusal)) (*w.sidecar_named)(*sidecar);
             w.sidecar_named = nullptr;
         }

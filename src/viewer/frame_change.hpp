@@ -25,8 +25,6 @@ public:
     // `panels` a fingerprint of everything drawn over it, `width` x `height` the window's framebuffer.
     bool present(const render::RgbaImage& image, std::uint64_t panels, int width, int height,
                  std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
-    // The image was presented once more than present() knows (a screenshot's read-back): present the next.
-    void forget() { presented_at_.reset(); }
 
     std::uint64_t presented() const { return presented_; }  // frames presented
     std::uint64_t skipped() const { return skipped_; }      // frames that changed nothing

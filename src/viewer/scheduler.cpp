@@ -5,10 +5,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <numeric>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -517,7 +517,7 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
         s.tiles_done += tiles.size();
         all_in = s.tiles_done == s.loadable;
     }
-    if (all_in) {  // the cells' spare capacity (a quarter of the grid, growing by doubling) leaves the process
+    if (all_in) {  // the cells' spare capacity (up to an eighth of the grid: PatchGrid::add_in_cells) goes
         grid_->shrink_to_fit();
         trim_heap();
     }
