@@ -6,13 +6,22 @@
 #include "core/json_reader.hpp"
 
 #include <algorithm>
+#include <any>
 #include <array>
-#include <cmath>
-#include <limits>
 #include <charconv>
+#include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <thread>
 #include <utility>
+#include <variant>
 
 #include "core/error.hpp"
 #include "core/text.hpp"
@@ -47,6 +56,20 @@ constexpr std::array<bool, 256> kPlainStringBytes = [] {
     return plain;
 }();
 
+// The bytes of a string that neither end it nor start an escape: 1, else 0.
+constexpr std::array<bool, 256> kStringBodyBytes = [] {
+    std::array<bool, 256> body{};
+    for (int c = 0; c < 256; ++c) body[c] = c != '"' && c != '\\';
+    return body;
+}();
+
+// The bytes that open or close an object, array or string: 1, else 0.
+constexpr std::array<bool, 256> kBracketOrQuote = [] {
+    std::array<bool, 256> marks{};
+    for (const char c : {'"', '{', '}', '[', ']'}) marks[static_cast<unsigned char>(c)] = true;
+    return marks;
+}();
+
 constexpr bool is_structural_or_space(char c) {
     switch (c) {
         case '[': case ']': case '{': case '}': case ':': case ',': case ' ': case '\t': case '\n': case '\r':
@@ -65,13 +88,17 @@ constexpr std::array<bool, 256> kWordBytes = [] {
 
 bool is_word_byte(char c) { return kWordBytes[static_cast<unsigned char>(c)]; }
 
-// The source's bytes, chunk by chunk, cut at the document's limit; where the reader is in them.
+// The source's bytes, chunk by chunk, cut at the document's limit; where the reader is in them. Bytes from a
+// point on can be kept (keep_from_here) across refills, to be looked at whole or read again (rewind).
 class Input {
 public:
-    Input(const JsonSource& source, const JsonLimits& limits) : source_(source), limits_(limits) {}
+    Input(const JsonSource& source, const JsonLimits& limits) : source_(&source), limits_(limits) {}
+    // Text in memory (a streamed element cut from its document), read in place.
+    Input(std::string_view text, const JsonLimits& limits)
+        : source_(nullptr), limits_(limits), base_(text.data()), p_(text.data()), end_(text.data() + text.size()) {}
 
     // The document offset of the next byte.
-    std::uint64_t position() const { return start_ + static_cast<std::uint64_t>(p_ - chunk_.data()); }
+    std::uint64_t position() const { return start_ + static_cast<std::uint64_t>(p_ - base_); }
     // True when the next byte is there (refilling the chunk when it is used up).
     bool more() { return p_ != end_ || refill(); }
     // The next byte (more() must be true).
@@ -87,6 +114,20 @@ public:
     const char* end() const { return end_; }
     void skip_to(const char* p) { p_ = p; }
 
+    // Keeps the bytes from the next one on, until release() or rewind(), however many refills come.
+    void keep_from_here() {
+        keep_ = static_cast<std::size_t>(p_ - base_);
+        keeping_ = true;
+    }
+    // The bytes kept so far (to the next byte).
+    std::string_view kept() const { return {base_ + keep_, static_cast<std::size_t>(p_ - (base_ + keep_))}; }
+    void release() { keeping_ = false; }
+    // Back to the first byte kept, to read them again.
+    void rewind() {
+        p_ = base_ + keep_;
+        keeping_ = false;
+    }
+
     // At the end of the document's value: refused when the source holds more than the limit.
     void finish() const {
         if (cut_) end_of_input("");
@@ -101,26 +142,38 @@ public:
     }
 
 private:
+    // The next bytes after the kept ones (if any), moved to the chunk's start.
     bool refill() {
-        start_ = position();
-        if (cut_) return false;
-        chunk_.resize(std::clamp(chunk_.size() * 2, kFirstChunk, kLastChunk));
-        std::size_t n = source_(chunk_);
-        if (start_ + n > limits_.max_bytes) {
-            n = static_cast<std::size_t>(limits_.max_bytes - std::min(start_, limits_.max_bytes));
+        if (cut_ || !source_) return false;
+        const std::size_t from = keeping_ ? keep_ : static_cast<std::size_t>(end_ - base_);
+        const std::size_t retained = static_cast<std::size_t>(end_ - base_) - from;
+        start_ += from;
+        if (retained != 0) std::memmove(chunk_.data(), chunk_.data() + from, retained);
+        keep_ = 0;
+        read_size_ = std::clamp(read_size_ * 2, kFirstChunk, kLastChunk);
+        chunk_.resize(retained + read_size_);
+        std::size_t n = (*source_)(std::span(chunk_).subspan(retained));
+        const std::uint64_t fresh = start_ + retained;  // the document offset of the first byte read now
+        if (fresh + n > limits_.max_bytes) {
+            n = static_cast<std::size_t>(limits_.max_bytes - std::min(fresh, limits_.max_bytes));
             cut_ = true;
         }
-        p_ = chunk_.data();
+        base_ = chunk_.data();
+        p_ = base_ + retained;
         end_ = p_ + n;
         return n != 0;
     }
 
-    const JsonSource& source_;
+    const JsonSource* source_;
     const JsonLimits& limits_;
     std::vector<char> chunk_;
-    std::uint64_t start_ = 0;  // the document offset of chunk_[0]
+    std::size_t read_size_ = 0;
+    std::uint64_t start_ = 0;  // the document offset of base_[0]
+    const char* base_ = nullptr;  // the chunk (or the text read in place)
     const char* p_ = nullptr;
     const char* end_ = nullptr;
+    std::size_t keep_ = 0;  // the first byte kept, from base_, while keeping_
+    bool keeping_ = false;
     bool cut_ = false;  // the source holds more than the document's limit
 };
 
@@ -189,12 +242,37 @@ private:
     std::uint64_t values_ = 0, text_ = 0;
 };
 
-// nlohmann's SAX interface: the kept document, streamed elements, the depth limit.
+// How deep a streamed array's elements lie: in the root object (1), in the array (2).
+constexpr std::size_t kElementDepth = 2;
+
+// nlohmann's SAX interface: the kept document, streamed elements, the depth limit. Of a streamed element
+// parsed on its own (`element`): the element is the document, within the element's budget, as deep as
+// in its document.
 class BoundedHandler {
 public:
-    BoundedHandler(const JsonLimits& limits, const JsonStreaming* streaming, const Input& input, json& result)
-        : limits_(limits), streaming_(streaming), input_(input), kept_(limits.kept), element_(limits.element) {
+    BoundedHandler(const JsonLimits& limits, const JsonStreaming* streaming, const Input& input, json& result,
+                   bool element = false)
+        : limits_(limits), streaming_(streaming), input_(input), kept_(element ? limits.element : limits.kept),
+          element_(limits.element), depth_(element ? kElementDepth : 0), of_element_(element) {
         kept_.start(result);
+    }
+
+    // Whether the next value is an element of a streamed array that threads may parse (JsonStreaming::threads).
+    bool at_parallel_element() const {
+        return streaming_ && streaming_->threads > 1 && streamed() && depth_ == stream_depth_ &&
+               diverting_depth_ == 0 && (!streaming_->diverted || streaming_->diverted->drops_everything());
+    }
+    // The streamed array's key, and the index of the element the sink sees next.
+    const std::string& stream_key() const { return stream_key_; }
+    std::size_t next_index() const { return index_; }
+    // Hands the sink an element of the streamed array parsed on its own (what JsonStreaming::prepare made of it,
+    // where it prepares); false when the sink stops.
+    bool deliver_parsed(json&& element, std::any&& prepared) {
+        const std::size_t index = index_++;
+        const bool more = prepares() ? streaming_->prepared(stream_key_, index, std::move(prepared))
+                                     : streaming_->sink(stream_key_, index, std::move(element));
+        if (!more) stopped_ = true;
+        return more;
     }
 
     bool null() { return value(nullptr, 0); }
@@ -297,7 +375,8 @@ private:
     }
 
     bool over_budget(const DomBuilder& builder) {
-        return fail(&builder == &kept_ ? kept_.overflow("the document") : element_.overflow("a streamed element"));
+        const bool element = &builder == &element_ || of_element_;
+        return fail(builder.overflow(element ? "a streamed element" : "the document"));
     }
 
     static bool contains(const std::vector<std::string>& keys, const std::string& key) {
@@ -308,10 +387,15 @@ private:
     bool deliver() {
         json element = std::move(element_value_);
         element_value_ = json();
-        if (streaming_->sink(stream_key_, index_++, std::move(element))) return true;
+        const std::size_t index = index_++;
+        const bool more = prepares() ? streaming_->prepared(stream_key_, index,
+                                                            streaming_->prepare(stream_key_, index, std::move(element)))
+                                     : streaming_->sink(stream_key_, index, std::move(element));
+        if (more) return true;
         stopped_ = true;
         return false;
     }
+    bool prepares() const { return streaming_->prepare && streaming_->prepared; }
 
     bool fail(const std::string& cause) {
         const std::uint64_t at = input_.position();
@@ -324,8 +408,9 @@ private:
     const Input& input_;
     DomBuilder kept_, element_;
     json element_value_;
-    std::size_t depth_ = 0, stream_depth_ = 0, index_ = 0;
+    std::size_t depth_, stream_depth_ = 0, index_ = 0;
     std::size_t diverting_depth_ = 0, diverted_ = 0;  // the depth of the diverted object or array being read
+    bool of_element_;  // the document is a streamed element parsed on its own
     bool root_is_object_ = false, stopped_ = false, divert_next_ = false;
     std::string root_key_, stream_key_;
     std::optional<Stop> failure_;
@@ -420,6 +505,164 @@ const char* plain_value_end(const char* p, const char* end, bool object, std::si
     }
 }
 
+// The largest streamed element that threads parse (JsonStreaming::threads): a larger one is read on the reading
+// thread, the usual way, not held whole.
+constexpr std::size_t kMaxParallelElementBytes = 4u << 20;
+// The bytes of elements that make a batch for a thread.
+constexpr std::size_t kParallelBatchBytes = 256u << 10;
+
+// A streamed element parsed on its own, from its text at document offset `at`: its value, or where and why it
+// is not JSON or passes a limit (as if read in its document).
+std::variant<json, Stop> parse_element(std::string_view text, std::uint64_t at, const JsonLimits& limits,
+                                       const JsonStreaming& streaming);
+
+// Streamed elements parsed by threads of their own: the reading thread cuts them apart (add), threads parse
+// them a batch at a time (and prepare them: JsonStreaming::prepare), and the reading thread hands them to the
+// sink in their order (as their batches are parsed, and at drain). At most one batch more than there are
+// threads is held.
+class ParallelElements {
+public:
+    ParallelElements(const JsonLimits& limits, const JsonStreaming& streaming)
+        : limits_(limits), streaming_(streaming),
+          element_streaming_{{}, {}, streaming.diverted_keys, streaming.diverted, 1, {}, {}} {}
+    ~ParallelElements() {
+        {
+            std::lock_guard lock(mutex_);
+            stopping_ = true;
+        }
+        work_.notify_all();
+        for (auto& t : workers_) t.join();
+    }
+    ParallelElements(const ParallelElements&) = delete;
+    ParallelElements& operator=(const ParallelElements&) = delete;
+
+    // Adds the element `text` found at document offset `at` (copied); hands a full batch to the threads, and
+    // the oldest batch's elements to the sink when as many batches as threads are being parsed.
+    void add(std::uint64_t at, std::string_view text, BoundedHandler& h) {
+        if (!filling_) {
+            filling_ = std::make_shared<Batch>();
+            filling_->key = h.stream_key();
+            filling_->first_index = h.next_index() + pending_;
+        }
+        filling_->elements.push_back({at, filling_->text.size(), text.size()});
+        filling_->text.append(text);
+        ++pending_;
+        if (filling_->text.size() < kParallelBatchBytes) return;
+        submit();
+        if (batches_.size() > 4 * streaming_.threads) deliver_oldest(h);
+    }
+
+    // Hands every element added to the sink, in order; throws Halt where the sink stops, and the Stop of the first
+    // element that is not JSON or passes a limit (after those before it), or what preparing one threw.
+    void drain(BoundedHandler& h) {
+        if (filling_) submit();
+        while (!batches_.empty()) deliver_oldest(h);
+    }
+
+private:
+    struct Element {
+        std::uint64_t at;  // in the document
+        std::size_t from, size;  // in the batch's text
+    };
+    struct Parsed {
+        json value;  // (null where it was prepared)
+        std::any prepared;
+    };
+    struct Batch {
+        std::string key;
+        std::size_t first_index = 0;  // its first element's in the array
+        std::string text;
+        std::vector<Element> elements;
+        std::vector<Parsed> parsed;  // in order, up to the first that is not JSON or could not be prepared
+        std::optional<Stop> stop;  // why that one is not JSON
+        std::exception_ptr error;  // what preparing that one threw
+        bool done = false;
+    };
+
+    void submit() {
+        {
+            std::lock_guard lock(mutex_);
+            waiting_.push_back(filling_);
+            if (workers_.size() < streaming_.threads) workers_.emplace_back([this] { work(); });
+        }
+        work_.notify_one();
+        batches_.push_back(std::move(filling_));
+    }
+
+    void work() {
+        std::unique_lock lock(mutex_);
+        while (true) {
+            work_.wait(lock, [&] { return stopping_ || !waiting_.empty(); });
+            if (stopping_) return;
+            const std::shared_ptr<Batch> batch = std::move(waiting_.front());
+            waiting_.pop_front();
+            lock.unlock();
+            parse(*batch);
+            lock.lock();
+            batch->done = true;
+            done_.notify_all();
+        }
+    }
+
+    void parse(Batch& b) const {
+        const bool prepares = streaming_.prepare && streaming_.prepared;
+        b.parsed.reserve(b.elements.size());
+        for (std::size_t i = 0; i < b.elements.size(); ++i) {
+            const Element& e = b.elements[i];
+            auto value = parse_element(std::string_view(b.text).substr(e.from, e.size), e.at, limits_,
+                                       element_streaming_);
+            if (auto* stop = std::get_if<Stop>(&value)) return void(b.stop = std::move(*stop));
+            if (!prepares) {
+                b.parsed.push_back({std::move(std::get<json>(value)), {}});
+                continue;
+            }
+            try {
+                auto prepared = streaming_.prepare(b.key, b.first_index + i, std::move(std::get<json>(value)));
+                b.parsed.push_back({json(), std::move(prepared)});
+            } catch (...) {
+                return void(b.error = std::current_exception());
+            }
+        }
+        std::string().swap(b.text);  // (what is left is handed on)
+    }
+
+    void deliver_oldest(BoundedHandler& h) {
+        const std::shared_ptr<Batch> batch = std::move(batches_.front());
+        batches_.pop_front();
+        {
+            std::unique_lock lock(mutex_);
+            done_.wait(lock, [&] { return batch->done; });
+        }
+        pending_ -= batch->elements.size();
+        for (std::size_t i = 0; i <= batch->parsed.size() && i < batch->elements.size(); ++i) {
+            const Element& e = batch->elements[i];
+            try {
+                if (i == batch->parsed.size()) {
+                    if (batch->stop) throw *batch->stop;
+                    std::rethrow_exception(batch->error);
+                }
+                Parsed& p = batch->parsed[i];
+                if (!h.deliver_parsed(std::move(p.value), std::move(p.prepared))) throw Halt{};
+            } catch (const Error& error) {  // (the sink's: where the element ends, as when it is read the usual way)
+                if (!error.file().empty() || error.offset()) throw;
+                throw Error("", e.at + e.size, error.cause());
+            }
+        }
+    }
+
+    const JsonLimits& limits_;
+    const JsonStreaming& streaming_;
+    const JsonStreaming element_streaming_;  // the diverted values alone, for each element parsed on its own
+    std::shared_ptr<Batch> filling_;
+    std::deque<std::shared_ptr<Batch>> batches_;  // handed to the threads, not yet to the sink, in order
+    std::size_t pending_ = 0;  // elements added, not yet handed to the sink
+    std::mutex mutex_;
+    std::condition_variable work_, done_;
+    std::deque<std::shared_ptr<Batch>> waiting_;  // for a thread
+    std::vector<std::thread> workers_;
+    bool stopping_ = false;
+};
+
 // Whether `b` is a UTF-8 continuation byte within [lo, hi] (0x80..0xBF unless the lead byte narrows it).
 bool continues(unsigned char b, unsigned char lo = 0x80, unsigned char hi = 0xBF) { return b >= lo && b <= hi; }
 
@@ -430,7 +673,11 @@ bool continues(unsigned char b, unsigned char lo = 0x80, unsigned char hi = 0xBF
 // string or a number's bytes are measured as they go by, and refused past their limit.
 class Parser {
 public:
-    Parser(Input& in, BoundedHandler& handler, const JsonLimits& limits) : in_(in), h_(handler), limits_(limits) {}
+    // `parallel`: where threads parse a streamed array's elements (null: this thread does); `base_depth`: how deep
+    // the text lies in its document (a streamed element parsed on its own: kElementDepth).
+    Parser(Input& in, BoundedHandler& handler, const JsonLimits& limits, ParallelElements* parallel = nullptr,
+           std::size_t base_depth = 0)
+        : in_(in), h_(handler), limits_(limits), parallel_(parallel), base_depth_(base_depth) {}
 
     // Reads the document; throws Stop where it is not JSON or passes a limit the reader keeps, Halt
     // where the handler refused an event.
@@ -438,6 +685,8 @@ public:
         skip_bom();
         bool value_next = true;
         while (true) {
+            const bool in_parallel = value_next && parallel_ && !skipping() && h_.at_parallel_element();
+            if (in_parallel && parallel_elements()) value_next = false;  // (what follows the last is read here)
             if (value_next && !value()) {
                 if (!object()) {
                     value_next = true;  // the first element of an array just opened
@@ -456,6 +705,90 @@ public:
 
 private:
     bool object() const { return open_.back(); }
+    // How deep the innermost object or array open lies in the document.
+    std::size_t depth() const { return base_depth_ + open_.size(); }
+
+    // At an element of a streamed array that threads parse: cuts the elements and their commas apart for
+    // them, each handed to the sink in order. True when it stopped after an element (what follows it, the
+    // array's end or not, is read the usual way), false when before one: an element that cannot be cut
+    // apart this way (too large to hold, or not delimited: read the usual way, which says what is wrong).
+    bool parallel_elements() {
+        while (true) {
+            skip_space();
+            if (!in_.more()) return parallel_->drain(h_), false;
+            in_.keep_from_here();
+            const std::uint64_t at = in_.position();
+            if (!element_past()) {
+                in_.rewind();
+                return parallel_->drain(h_), false;
+            }
+            parallel_->add(at, in_.kept(), h_);
+            in_.release();
+            skip_space();
+            if (!in_.more() || in_.peek() != ',') return parallel_->drain(h_), true;
+            in_.take();
+        }
+    }
+
+    // Past the element at the next byte (an object, array, string, number or literal), its bytes kept (the
+    // input keeping them); false when they pass kMaxParallelElementBytes, or it cannot be delimited by its
+    // quotes and brackets (a bracket closing the wrong kind, more than 64 deep, the input's end, no value).
+    bool element_past() {
+        const char first = in_.peek();
+        if (first != '{' && first != '[' && first != '"') {
+            if (!is_word_byte(first)) return false;
+            return bytes_past([](const char* p, const char* end) {
+                while (p != end && is_word_byte(*p)) ++p;
+                return std::pair{p, p != end};
+            }, true);
+        }
+        std::uint64_t objects = 0;  // bit k: the container k deep (0: the outermost) is an object
+        std::size_t depth = 0;
+        bool in_string = false, escaped = false, wrong = false;
+        const bool delimited = bytes_past([&](const char* p, const char* end) {
+            while (p != end) {
+                if (escaped) {
+                    escaped = false, ++p;
+                } else if (in_string) {
+                    while (p != end && kStringBodyBytes[static_cast<unsigned char>(*p)]) ++p;
+                    if (p == end) break;
+                    escaped = *p == '\\', in_string = *p++ != '"';
+                } else {
+                    while (p != end && !kBracketOrQuote[static_cast<unsigned char>(*p)]) ++p;
+                    if (p == end) break;
+                    const char c = *p++;
+                    if (c == '"') {
+                        in_string = true;
+                    } else if (c == '{' || c == '[') {
+                        if (depth == 64) return wrong = true, std::pair{p, true};
+                        objects = (objects & ~(std::uint64_t{1} << depth)) | (std::uint64_t{c == '{'} << depth);
+                        ++depth;
+                    } else if (depth == 0 || c != (((objects >> (depth - 1)) & 1) ? '}' : ']')) {
+                        return wrong = true, std::pair{p, true};
+                    } else if (--depth == 0) {
+                        return std::pair{p, true};
+                    }
+                }
+                if (depth == 0 && !in_string) return std::pair{p, true};  // (a string element, closed)
+            }
+            return std::pair{p, false};
+        }, false);
+        return delimited && !wrong;
+    }
+
+    // Moves past bytes while `scan(begin, end)` (where it stopped, and whether the element ends there) says so,
+    // across chunks. At the input's end: `end_ok` (a number or literal ends there), else false; also false past
+    // kMaxParallelElementBytes.
+    template <typename Scan>
+    bool bytes_past(Scan&& scan, bool end_ok) {
+        while (in_.more()) {
+            const auto [p, ended] = scan(in_.begin(), in_.end());
+            in_.skip_to(p);
+            if (ended) return true;
+            if (in_.kept().size() > kMaxParallelElementBytes) return false;
+        }
+        return end_ok;
+    }
 
     // A value: a scalar read whole (true), or an object or array opened (false) whose first member,
     // element or end comes next. An object or array opened and closed at once counts as read whole.
@@ -504,10 +837,10 @@ private:
             check(object ? h_.start_object(std::size_t(-1)) : h_.start_array(std::size_t(-1)));
             return false;
         }
-        if (open_.size() > limits_.max_depth) throw Stop{in_.position() - 1, depth_cause(limits_)};
+        if (depth() > limits_.max_depth) throw Stop{in_.position() - 1, depth_cause(limits_)};
         if (skipping()) return false;
         check(h_.skip_value());
-        const char* end = plain_value_end(in_.begin(), in_.end(), object, limits_.max_depth + 1 - open_.size(),
+        const char* end = plain_value_end(in_.begin(), in_.end(), object, limits_.max_depth + 1 - depth(),
                                           limits_.max_string_bytes);
         if (end) {
             in_.skip_to(end);
@@ -775,10 +1108,30 @@ private:
     Input& in_;
     BoundedHandler& h_;
     const JsonLimits& limits_;
+    ParallelElements* parallel_;
+    std::size_t base_depth_;
     std::vector<bool> open_;  // the objects (true) and arrays open, outermost first
     std::size_t skip_from_ = 0;  // open_.size() when the outermost object or array read past opened (0: none)
     std::string text_, word_;
 };
+
+std::variant<json, Stop> parse_element(std::string_view text, std::uint64_t at, const JsonLimits& limits,
+                                       const JsonStreaming& streaming) {
+    json value;
+    Input input(text, limits);
+    BoundedHandler handler(limits, &streaming, input, value, true);
+    try {
+        Parser(input, handler, limits, nullptr, kElementDepth).run();
+        return value;
+    } catch (const Halt&) {
+        Stop stop = handler.failure().value_or(Stop{0, "refused"});  // (no sink: only a limit halts it)
+        stop.offset += at;
+        return stop;
+    } catch (Stop& stop) {
+        stop.offset += at;
+        return std::move(stop);
+    }
+}
 
 Error field_error(std::string_view key, const std::string& what) {
     return Error("\"" + display_excerpt(key) + "\" " + what);
@@ -795,8 +1148,10 @@ nlohmann::json read_json(const JsonSource& source, const std::string& name, cons
     json result;
     Input input(source, limits);
     BoundedHandler handler(limits, streaming, input, result);
+    std::optional<ParallelElements> parallel;
+    if (streaming && streaming->threads > 1 && !streaming->keys.empty()) parallel.emplace(limits, *streaming);
     try {
-        Parser(input, handler, limits).run();
+        Parser(input, handler, limits, parallel ? &*parallel : nullptr).run();
     } catch (const Halt&) {
         const auto& f = handler.failure();
         if (handler.stopped_by_sink() || !f) return result;

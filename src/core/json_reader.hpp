@@ -7,7 +7,7 @@
 // document may hold. Each refusal is one lidarscout::Error naming the document, the byte offset and
 // the limit. Arrays under chosen keys of the root object can be streamed: each element is handed
 // over as its own small document, bounded on its own and dropped after use, so that a catalog of a
-// million items costs one item at a time. The values of
+// million items costs one item at a time (or a few per thread, where threads parse the elements). The values of
 // chosen keys, at any depth, can be diverted: handed over event by event and never built (GeoJSON
 // coordinates kept as rings, an item's footprint not kept at all).
 //
@@ -17,6 +17,7 @@
 // display_excerpt (core/text.hpp), cut to a couple of hundred characters.
 #pragma once
 
+#include <any>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -55,6 +56,12 @@ using JsonSource = std::function<std::size_t(std::span<char> out)>;
 // element. Returns false to stop reading (the rest of the document is then not read).
 using JsonElementSink = std::function<bool(const std::string& key, std::size_t index, nlohmann::json&& element)>;
 
+// Makes an element into what the reader keeps of it (JsonStreaming::prepare), on the thread that parsed it.
+using JsonElementPrepare =
+    std::function<std::any(const std::string& key, std::size_t index, nlohmann::json&& element)>;
+// Receives what JsonElementPrepare made of an element, in order. Returns false to stop reading.
+using JsonPreparedSink = std::function<bool(const std::string& key, std::size_t index, std::any&& prepared)>;
+
 // Receives, event by event, a value the document does not hold (a diverted value, below), so that
 // its caller keeps it its own way (GeoJSON coordinates as rings, a few bytes a vertex rather than
 // a document's hundreds), or not at all (a catalog item's footprint and schemas: no document is
@@ -84,6 +91,18 @@ struct JsonStreaming {
     // key nor their ordinal is kept (both still counted against the budget, as if they were).
     std::vector<std::string> diverted_keys;
     JsonValueEvents* diverted = nullptr;
+    // Threads that parse a streamed array's elements (the reading thread cutting them apart and handing
+    // them to the sink, in order, as they are parsed); 1 parses them on the reading thread. Whatever the
+    // number, the sink sees the same elements in the same order, and a document that is not JSON or passes
+    // a limit is the same Error at the same offset, the elements before it delivered. Used only where
+    // the diverted values are dropped (JsonValueDropper) or there are none: a receiver of events sees them in
+    // order, on the reading thread.
+    unsigned threads = 1;
+    // Instead of `sink`, where both are set: each element made into what the caller keeps (`prepare`, on the
+    // thread that parsed it, so safe to call from several threads at once; the element is destroyed there,
+    // which is most of what a document costs), then that handed to `prepared` on the reading thread, in order.
+    JsonElementPrepare prepare;
+    JsonPreparedSink prepared;
 };
 
 // A receiver of diverted values that keeps nothing: for values a caller does not use.

@@ -5,6 +5,7 @@
 #include "dataset/stac_catalog.hpp"
 
 #include <algorithm>
+#include <any>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +21,7 @@
 
 #include "core/error.hpp"
 #include "core/json_reader.hpp"
+#include "core/thread_pool.hpp"
 #include "core/text.hpp"
 #include "dataset/json_file.hpp"
 #include "dataset/tile.hpp"
@@ -299,8 +301,9 @@ std::optional<std::array<double, 6>> bbox_of(const json& b) {
     return box;
 }
 
-// The item's pc:count, proj:bbox and CRS; a field of the wrong kind is a cause in `lines` (the tile is read anyway).
-void read_properties(const json& props, const Document& document, CatalogItem& item, ItemLines& lines) {
+// The item's pc:count, proj:bbox and CRS (its text in `crs`, to be held once: Document::crs); a field of the wrong
+// kind is a cause in `lines` (the tile is read anyway).
+void read_properties(const json& props, CatalogItem& item, std::string& crs, ItemLines& lines) {
     field(lines, kHeaderInstead, [&] { item.count = json_optional_count(props, "pc:count"); });
     if (const json* b = json_field(props, "proj:bbox")) {
         item.bbox = bbox_of(*b);
@@ -310,11 +313,11 @@ void read_properties(const json& props, const Document& document, CatalogItem& i
     const json* wkt = json_field(props, "proj:wkt2");
     const json* projjson = json_field(props, "proj:projjson");
     if (epsg && epsg->is_number_integer() && epsg->get<std::int64_t>() > 0) {
-        item.crs = document.crs("EPSG:" + std::to_string(epsg->get<std::int64_t>()));
+        crs = "EPSG:" + std::to_string(epsg->get<std::int64_t>());
     } else if (wkt && wkt->is_string() && !wkt->get_ref<const std::string&>().empty()) {
-        item.crs = document.crs(wkt->get<std::string>());
+        crs = wkt->get<std::string>();
     } else if (projjson && projjson->is_object()) {
-        item.crs = document.crs(projjson->dump(-1, ' ', false, json::error_handler_t::replace));
+        crs = projjson->dump(-1, ' ', false, json::error_handler_t::replace);
     }
 }
 
@@ -325,9 +328,10 @@ std::nullopt_t refuse(const ItemLines& lines, const std::string& why, ItemLineSi
 }
 
 // The item `feature` (the index-th of its document), or nullopt; one line in `sink` when something of it
-// could not be used (a warning when it is kept, an error when it is left out).
+// could not be used (a warning when it is kept, an error when it is left out). Its CRS's text is left in `crs`
+// (Document::crs holds it once). Safe to call from several threads at once.
 std::optional<CatalogItem> item_of(const json& feature, const Document& document, std::size_t index,
-                                   ItemLineSink& sink) {
+                                   ItemLineSink& sink, std::string& crs) {
     ItemLines lines{document.shown, index, nullptr, {}};
     if (!feature.is_object()) return refuse(lines, "not a STAC item (an object)", sink);
     CatalogItem item;
@@ -351,9 +355,31 @@ std::optional<CatalogItem> item_of(const json& feature, const Document& document
     item.href = *resolved;
     const json* props = nullptr;
     field(lines, kHeaderInstead, [&] { props = json_optional_object(feature, "properties"); });
-    if (props) read_properties(*props, document, item, lines);
+    if (props) read_properties(*props, item, crs, lines);
     if (!lines.causes.empty()) sink.warnings.push_back(lines.kept());
     return item;
+}
+
+// An item as the thread that parsed it made it (JsonStreaming::prepare): the item (nullopt when left out), its
+// CRS's text, its lines. Kept in order on the reading thread (take_element).
+struct PreparedItem {
+    std::optional<CatalogItem> item;
+    std::string crs;
+    ItemLineSink lines;
+};
+
+PreparedItem prepared_item(const json& feature, const Document& document, std::size_t index) {
+    PreparedItem p;
+    p.item = item_of(feature, document, index, p.lines, p.crs);
+    return p;
+}
+
+// The prepared item kept: its CRS held once, its lines added to `sink`.
+std::optional<CatalogItem> kept_item(PreparedItem&& p, const Document& document, ItemLineSink& sink) {
+    if (p.item && !p.crs.empty()) p.item->crs = document.crs(std::move(p.crs));
+    for (auto& line : p.lines.warnings) sink.warnings.push_back(std::move(line));
+    for (auto& line : p.lines.errors) sink.errors.push_back(std::move(line));
+    return std::move(p.item);
 }
 
 bool followed_somewhere(const std::string& rel) { return rel == "next" || rel == "child" || rel == "item"; }
@@ -389,11 +415,19 @@ bool at_item_limit(const std::string& document, std::size_t read, Walk& w) {
     return true;
 }
 
-// Takes one element of the document's "features" or "links"; false when the item limit is reached.
-bool take_element(const std::string& key, std::size_t index, const json& element, const Document& document,
+// What a thread that parsed an element of the document's "features" or "links" makes of it: a PreparedItem of a
+// feature, the link itself.
+std::any prepare_element(const std::string& key, std::size_t index, json&& element, const Document& document) {
+    if (key == "links") return std::move(element);
+    return prepared_item(element, document, index);
+}
+
+// Takes one element of the document's "features" or "links", as prepare_element made it; false when the item
+// limit is reached.
+bool take_element(const std::string& key, std::size_t index, std::any&& element, const Document& document,
                   Streamed& s, Walk& w) {
     if (key == "links") {
-        take_link(element, index, s);
+        take_link(std::any_cast<const json&>(element), index, s);
         if (w.sidecar_named && !s.overview.empty()) {
             std::string refusal;  // (one that cannot be resolved is a line once the document is read: take_overview)
             if (const auto sidecar = resolve(document.path, s.overview, refusal)) (*w.sidecar_named)(*sidecar);
@@ -402,7 +436,7 @@ bool take_element(const std::string& key, std::size_t index, const json& element
         return true;
     }
     if (at_item_limit(document.path, s.item_count, w)) return false;
-    if (auto item = item_of(element, document, index, s.item_lines)) {
+    if (auto item = kept_item(std::any_cast<PreparedItem&&>(std::move(element)), document, s.item_lines)) {
         constexpr std::size_t kChunk = 4096;
         if (s.items.empty() || s.items.back().size() == kChunk) {
             s.items.emplace_back();
@@ -471,13 +505,18 @@ std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk
     // (what an item holds that the catalog does not use is read past, not kept even for a while)
     JsonValueDropper unused;
     const Document named(document, w.crs_texts);
-    const JsonStreaming streaming{{"features", "links"},
-                                  [&](const std::string& key, std::size_t i, json&& element) {
-                                      return take_element(key, i, element, named, s, w);
-                                  },
-                                  {"geometry", "bbox", "stac_extensions", "pc:schemas", "proj:geometry",
-                                   "stac_version", "datetime", "pc:type", "pc:encoding"},
-                                  &unused};
+    JsonStreaming streaming{{"features", "links"},
+                            {},
+                            {"geometry", "bbox", "stac_extensions", "pc:schemas", "proj:geometry", "stac_version",
+                             "datetime", "pc:type", "pc:encoding"},
+                            &unused};
+    streaming.threads = ThreadPool::shared_size();  // (a country's 250 MB: every core parses items)
+    streaming.prepare = [&](const std::string& key, std::size_t i, json&& element) {
+        return prepare_element(key, i, std::move(element), named);
+    };
+    streaming.prepared = [&](const std::string& key, std::size_t i, std::any&& element) {
+        return take_element(key, i, std::move(element), named, s, w);
+    };
     try {
         const io::File file = io::File::open(document);
         if (w.bytes + file.size() > w.limits.max_bytes) {
@@ -533,9 +572,8 @@ void read_document(const Queued& q, Walk& w) {
     } else if (type == "Feature") {
         if (at_item_limit(document, 0, w)) return;
         ItemLineSink lines;
-        if (auto item = item_of(*doc, Document(document, w.crs_texts), 0, lines)) {
-            w.out.items.push_back(std::move(*item));
-        }
+        const Document named(document, w.crs_texts);
+        if (auto item = kept_item(prepared_item(*doc, named, 0), named, lines)) w.out.items.push_back(std::move(*item));
         w.take_item_lines(std::move(lines));
     } else if (type == "Catalog" || type == "Collection") {
         follow_links(s, q, {"child", "item"}, w);

@@ -455,14 +455,20 @@ void RemoteFile::forget_all() {
 
 void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     if (out.empty()) return;
-    RangeReply reply = fetch_now({{offset, out.size()}});
+    const std::vector<std::uint8_t> part = read_bytes(offset, out.size());
+    std::copy(part.begin(), part.end(), out.begin());
+}
+
+std::vector<std::uint8_t> RemoteFile::read_bytes(std::uint64_t offset, std::uint64_t size) const {
+    if (size == 0) return {};
+    RangeReply reply = fetch_now({{offset, size}});
     if (!reply.error.empty()) throw_reply_error(url_, offset, reply.error);
-    const auto& part = reply.parts.at(0);
-    if (part.size() != out.size()) {
-        throw Error(display_url_, offset, "the server's file ends before the " + std::to_string(out.size()) +
+    std::vector<std::uint8_t>& part = reply.parts.at(0);
+    if (part.size() != size) {
+        throw Error(display_url_, offset, "the server's file ends before the " + std::to_string(size) +
                                               " bytes asked for");
     }
-    std::copy(part.begin(), part.end(), out.begin());
+    return std::move(part);
 }
 
 namespace {

@@ -57,6 +57,8 @@ public:
 
     // Reads exactly out.size() bytes at `offset` (one range request); throws Error.
     void read(std::uint64_t offset, std::span<std::uint8_t> out) const;
+    // The `size` bytes at `offset` as they came (one range request, no copy); throws Error.
+    std::vector<std::uint8_t> read_bytes(std::uint64_t offset, std::uint64_t size) const;
     // Fetches the ranges (multi-range where the server allows it); `done` runs on the
     // client's thread with one part per range, or with an error. Ranges the head or tail holds
     // are answered from them (when all are, `done` runs at once, on this thread, with no

@@ -7,9 +7,11 @@
 namespace lidarscout::viewer {
 
 bool FrameChange::present(const render::RgbaImage& image, std::uint64_t panels, int width, int height,
-                          std::chrono::steady_clock::time_point now) {
-    const bool same = presented_at_ && now - *presented_at_ < refresh_ && panels == panels_ && width == width_ &&
-                      height == height_ && image.width == image_width_ && image.height == image_height_ &&
+                          std::chrono::steady_clock::time_point now, bool interacting) {
+    const auto since = presented_at_ ? now - *presented_at_ : refresh_;
+    const bool panels_wait = panels == panels_ || (!interacting && since < panels_interval_);
+    const bool same = since < refresh_ && panels_wait && width == width_ && height == height_ &&
+                      image.width == image_width_ && image.height == image_height_ &&
                       image.pixels.size() == pixels_.size() &&
                       std::equal(image.pixels.begin(), image.pixels.end(), pixels_.begin());
     if (same) return ++skipped_, false;

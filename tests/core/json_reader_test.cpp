@@ -8,12 +8,17 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <any>
+#include <mutex>
 #include <optional>
+#include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "allocation_counter.hpp"
 #include "core/error.hpp"
+#include "core/random.hpp"
 #include "core/text.hpp"
 
 namespace lidarscout {
@@ -346,6 +351,155 @@ TEST(JsonReader, AValueReadPastIsCheckedAsAValueHandedOver) {
                 << text << " in pieces of " << piece;
         }
     }
+}
+
+// Random choices for the documents below.
+struct Random {
+    explicit Random(std::uint64_t seed) : rng(seed) {}
+    std::size_t below(std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(rng.next() % n); }
+    Rng rng;
+};
+
+// A streamed document's elements of every kind: objects and arrays nested, strings with escapes (quotes and
+// brackets in them), UTF-8, numbers, literals, values read past ("skipped"), white space between.
+std::string random_element(Random& rng, int depth) {
+    static const std::vector<std::string> scalars = {
+        "1",     "-2.5",  "0",    "1e3", "true", "false", "null", R"("a")", R"("q\"}]{[\\")", R"("\u00e9\ud83d\ude00")",
+        "\"caf\xC3\xA9\"", R"("")", "12345678901234567890123"};
+    const int kind = depth > 4 ? 0 : static_cast<int>(rng.below(4));
+    if (kind == 0) return scalars[rng.below(scalars.size())];
+    const std::string space = rng.below(3) == 0 ? " \r\n\t" : "";
+    std::string out = kind == 1 ? "[" : "{";
+    const std::size_t n = rng.below(5);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (i) out += "," + space;
+        const std::string key = rng.below(4) == 0 ? "skipped" : "k" + std::to_string(i);
+        if (kind != 1) out += "\"" + key + "\":" + space;
+        out += random_element(rng, depth + 1);
+    }
+    return out + space + (kind == 1 ? "]" : "}");
+}
+
+std::string random_document(Random& rng, std::size_t elements) {
+    std::string doc = R"({"type": "FeatureCollection", "links": [{"rel": "self"}, 5], "features": [)";
+    for (std::size_t i = 0; i < elements; ++i) doc += (i ? ", " : "") + random_element(rng, 0);
+    return doc + R"(], "after": {"n": [1, 2]}})";
+}
+
+// What reading `text` with `threads` gives the sink (each element as key, index and JSON text, or what `prepare`
+// made of it) and what it returns or throws; the sink stops after `stop_at` elements or throws at element
+// `throw_at`; the source hands over at most `piece` bytes a call.
+std::string streamed_outcome(const std::string& text, unsigned threads, const JsonLimits& limits, bool prepare,
+                             std::size_t piece, std::size_t stop_at = ~std::size_t{0},
+                             std::size_t throw_at = ~std::size_t{0}) {
+    std::string seen;
+    std::size_t count = 0;
+    const auto take = [&](const std::string& key, std::size_t i, const std::string& what) {
+        seen += key + "#" + std::to_string(i) + ":" + what + "\n";
+        if (count == throw_at) throw Error("the sink refuses element " + std::to_string(i));
+        return ++count < stop_at;
+    };
+    JsonValueDropper dropper;
+    JsonStreaming streaming{{"features", "links"},
+                            [&](const std::string& key, std::size_t i, json&& e) { return take(key, i, e.dump()); },
+                            {"skipped"},
+                            &dropper};
+    streaming.threads = threads;
+    if (prepare) {
+        streaming.prepare = [](const std::string& key, std::size_t i, json&& e) -> std::any {
+            return "prepared " + key + std::to_string(i) + " " + e.dump();
+        };
+        streaming.prepared = [&](const std::string& key, std::size_t i, std::any&& p) {
+            return take(key, i, std::any_cast<std::string>(p));
+        };
+    }
+    JsonSource source = [&text, piece, at = std::size_t{0}](std::span<char> out) mutable {
+        const std::size_t n = std::min({out.size(), piece, text.size() - at});
+        std::copy_n(text.data() + at, n, out.data());
+        return at += n, n;
+    };
+    try {
+        return seen + "returned " + read_json(source, "d.json", limits, &streaming).dump();
+    } catch (const Error& e) {
+        return seen + "error in " + e.file() + " at " + std::to_string(e.offset().value_or(~0ull)) + ": " + e.cause();
+    }
+}
+
+// Elements parsed by threads (JsonStreaming::threads) reach the sink as those parsed by the reading thread: the
+// same elements in the same order with the same indexes, the same document returned, the same Error at the same
+// offset (the elements before it delivered), whatever the text: random documents, each also mutated (a byte
+// changed, dropped or doubled: quotes, brackets, commas where they break it) and cut short, within limits that
+// some elements pass (values, depth, string length, the document's bytes), a sink that stops or throws, chunks
+// of one byte and of a megabyte.
+TEST(JsonReader, ElementsParsedByThreadsAreThoseReadInOrder) {
+    Random rng(54);
+    const std::string marks = "\"{}[],: \\x1";
+    std::vector<JsonLimits> limits(5);
+    limits[1].element.values = 12;
+    limits[2].max_depth = 5;
+    limits[3].max_string_bytes = 6;
+    std::size_t parallel_read = 0;
+    for (int round = 0; round < 120; ++round) {
+        const std::string whole = random_document(rng, 1 + rng.below(40));
+        std::vector<std::string> texts = {whole, whole.substr(0, rng.below(whole.size()))};
+        for (int m = 0; m < 4; ++m) {
+            std::string t = whole;
+            const std::size_t at = rng.below(t.size());
+            const int how = static_cast<int>(rng.below(3));
+            if (how == 0) t[at] = marks[rng.below(marks.size())];
+            if (how == 1) t.erase(at, 1);
+            if (how == 2) t.insert(at, 1, t[at]);
+            texts.push_back(t);
+        }
+        for (const auto& text : texts) {
+            JsonLimits l = limits[rng.below(limits.size())];
+            if (rng.below(6) == 0) l.max_bytes = text.size() / 2 + 1;
+            const bool prepare = rng.below(2) == 0;
+            const std::size_t piece = rng.below(3) == 0 ? 1 : 1u << 20;
+            const std::size_t stop = rng.below(4) == 0 ? rng.below(20) + 1 : ~std::size_t{0};
+            const std::size_t fail = rng.below(5) == 0 ? rng.below(20) : ~std::size_t{0};
+            const std::string serial = streamed_outcome(text, 1, l, prepare, piece, stop, fail);
+            EXPECT_EQ(serial, streamed_outcome(text, 3, l, prepare, piece, stop, fail)) << text;
+            parallel_read += serial.find("returned") != std::string::npos;
+        }
+    }
+    EXPECT_GT(parallel_read, 100u) << "documents read whole, not only refused";
+}
+
+// A document of many elements is parsed on other threads than the reader's, in batches, in order; an element too
+// large to hold for them (4 MB) is read on the reading thread, not held whole, and those after it go on to the
+// threads.
+TEST(JsonReader, LargeStreamedArraysAreParsedByThreads) {
+    std::string big = "{\"pad\": [";
+    for (int k = 0; k < 6; ++k) big += (k ? ",\"" : "\"") + std::string(900'000, 'x') + "\"";
+    big += "]}";
+    std::string text = R"({"features": [)";
+    for (int i = 0; i < 20'000; ++i) text += (i ? "," : "") + std::string(R"({"id": )") + std::to_string(i) + "}";
+    text += "," + big;
+    for (int i = 0; i < 20'000; ++i) text += ",[" + std::to_string(i) + "]";
+    text += "]}";
+    std::mutex mutex;
+    std::set<std::thread::id> threads;
+    std::vector<std::size_t> order;
+    JsonStreaming streaming{{"features"}, {}};
+    streaming.threads = 2;
+    streaming.prepare = [&](const std::string&, std::size_t i, json&& e) -> std::any {
+        std::lock_guard lock(mutex);
+        threads.insert(std::this_thread::get_id());
+        return e.is_object() && e.contains("pad") ? std::size_t{999'999} : i;
+    };
+    streaming.prepared = [&](const std::string&, std::size_t i, std::any&& p) {
+        const auto v = std::any_cast<std::size_t>(p);
+        order.push_back(v == 999'999 ? i : v);
+        return true;
+    };
+    JsonLimits limits;
+    limits.element.text_bytes = 8u << 20;
+    parse_json(text, "big.json", limits, &streaming);
+    ASSERT_EQ(order.size(), 40'001u);
+    for (std::size_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i);
+    EXPECT_GE(threads.size(), 2u) << "the threads and, for the large element, the reading thread";
+    EXPECT_TRUE(threads.count(std::this_thread::get_id())) << "the large element is the reading thread's";
 }
 
 TEST(JsonReader, AnErrorOfTheSourceOrSinkNamesTheDocument) {

@@ -642,7 +642,8 @@ private:
         if (opening_) draw_opening_panel(opening_->progress());
         ImGui::Render();
         const std::uint64_t panels = fingerprint(*ImGui::GetDrawData(), profile_uploads_);
-        if (!o_.window_screenshot.empty() || frame_change_.present(last_.image, panels, fb_width_, fb_height_)) {
+        if (!o_.window_screenshot.empty() ||
+            frame_change_.present(last_.image, panels, fb_width_, fb_height_, Clock::now(), at_panels())) {
             glViewport(0, 0, fb_width_, fb_height_);
             glClearColor(0, 0, 0, 1);
             glClear(GL_COLOR_BUFFER_BIT);
@@ -653,6 +654,16 @@ private:
         }
         count_frame(times_, session_, stats, every_footprint_, with_heightmaps_, since_start());
         return actions;
+    }
+
+    // Whether the user is at the window this frame: the mouse moving or scrolled, a button or key down, text typed.
+    static bool at_panels() {
+        const ImGuiIO& io = ImGui::GetIO();
+        const bool moved = io.MouseDelta.x != 0 || io.MouseDelta.y != 0 || io.MouseWheel != 0 || io.MouseWheelH != 0;
+        const bool down = std::any_of(std::begin(io.MouseDown), std::end(io.MouseDown), [](bool d) { return d; });
+        return moved || down || !io.InputQueueCharacters.empty() || ImGui::IsAnyItemActive() ||
+               ImGui::IsKeyDown(ImGuiKey_Enter) || ImGui::IsKeyDown(ImGuiKey_Backspace) ||
+               ImGui::IsKeyDown(ImGuiKey_Tab) || ImGui::IsKeyDown(ImGuiKey_Escape);
     }
 
     void action_step(const PanelActions& actions) {
