@@ -25,15 +25,9 @@ std::int32_t checked_index(double scaled) {
 
 }  // namespace
 
-std::size_t CellKeyHash::operator()(const CellKey& key) const noexcept {
-    const auto packed = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.ix)) << 32) |
-                        static_cast<std::uint32_t>(key.iy);
-    return static_cast<std::size_t>(mix64(packed));
-}
-
 struct PatchGrid::Shard {
     mutable std::mutex mutex;
-    std::unordered_map<CellKey, std::vector<GridPoint>, CellKeyHash> cells;
+    CellTable<std::vector<GridPoint>> cells;
 };
 
 PatchGrid::PatchGrid(double origin_x_m, double origin_y_m, double patch_size_m)
@@ -44,7 +38,6 @@ PatchGrid::PatchGrid(double origin_x_m, double origin_y_m, double patch_size_m)
     if (!(patch_size_m > 0.0) || !std::isfinite(patch_size_m)) {
         throw Error::in_stage("dataset", "patch grid: patch size must be positive and finite");
     }
-    for (std::size_t i = 0; i < kShardCount; ++i) bytes_ += shards_[i].cells.bucket_count() * sizeof(void*);
 }
 
 PatchGrid::~PatchGrid() = default;
@@ -88,16 +81,14 @@ void PatchGrid::add_in_cells(std::span<const std::pair<CellKey, GridPoint>> poin
         std::size_t grown = 0;  // heap bytes the run adds (see memory_bytes)
         {
             std::lock_guard lock(shard.mutex);
-            const std::size_t buckets = shard.cells.bucket_count();
-            const auto [it, inserted] = shard.cells.try_emplace(cell);
-            const std::size_t capacity = it->second.capacity(), need = it->second.size() + (end - run);
+            const std::size_t table = shard.cells.memory_bytes();
+            std::vector<GridPoint>& in = shard.cells[cell];
+            const std::size_t capacity = in.capacity(), need = in.size() + (end - run);
             // Grown by an eighth beyond what is needed, not doubled: a country's cells held a quarter of the grid
             // spare while it filled (100 MB of 152,100 tiles' chunk points), still amortised over many runs.
-            if (need > capacity) it->second.reserve(need + need / 8);
-            for (std::size_t k = run; k < end; ++k) it->second.push_back(points[k].second);
-            grown = (it->second.capacity() - capacity) * sizeof(GridPoint) +
-                    (shard.cells.bucket_count() - buckets) * sizeof(void*) +
-                    (inserted ? kCellOverheadBytes - sizeof(void*) : 0);
+            if (need > capacity) in.reserve(need + need / 8);
+            for (std::size_t k = run; k < end; ++k) in.push_back(points[k].second);
+            grown = (in.capacity() - capacity) * sizeof(GridPoint) + (shard.cells.memory_bytes() - table);
         }
         bytes_.fetch_add(grown, std::memory_order_relaxed);
         size_.fetch_add(end - run, std::memory_order_relaxed);
@@ -107,15 +98,15 @@ void PatchGrid::add_in_cells(std::span<const std::pair<CellKey, GridPoint>> poin
 std::vector<GridPoint> PatchGrid::points_in(CellKey cell) const {
     const Shard& shard = shard_for(cell);
     std::lock_guard lock(shard.mutex);
-    const auto it = shard.cells.find(cell);
-    return it == shard.cells.end() ? std::vector<GridPoint>{} : it->second;
+    const std::vector<GridPoint>* in = shard.cells.find(cell);
+    return in ? *in : std::vector<GridPoint>{};
 }
 
 void PatchGrid::read_points(CellKey cell, const std::function<void(std::span<const GridPoint>)>& visit) const {
     const Shard& shard = shard_for(cell);
     std::lock_guard lock(shard.mutex);
-    const auto it = shard.cells.find(cell);
-    visit(it == shard.cells.end() ? std::span<const GridPoint>{} : std::span<const GridPoint>(it->second));
+    const std::vector<GridPoint>* in = shard.cells.find(cell);
+    visit(in ? std::span<const GridPoint>(*in) : std::span<const GridPoint>{});
 }
 
 OverviewPoint PatchGrid::to_absolute(CellKey cell, const GridPoint& p) const {
@@ -161,7 +152,8 @@ std::vector<CellKey> PatchGrid::cells() const {
     std::vector<CellKey> keys;
     for (std::size_t i = 0; i < kShardCount; ++i) {
         std::lock_guard lock(shards_[i].mutex);
-        for (const auto& [key, points] : shards_[i].cells) keys.push_back(key);
+        const auto& cells = shards_[i].cells;
+        for (std::size_t k = 0; k < cells.size(); ++k) keys.push_back(cells.key(k));
     }
     std::sort(keys.begin(), keys.end());
     return keys;
@@ -176,9 +168,8 @@ std::size_t PatchGrid::counted_memory_bytes() const {
     for (std::size_t i = 0; i < kShardCount; ++i) {
         std::lock_guard lock(shards_[i].mutex);
         const auto& cells = shards_[i].cells;
-        bytes += cells.bucket_count() * sizeof(void*);
-        bytes += cells.size() * (kCellOverheadBytes - sizeof(void*));  // bucket counted above
-        for (const auto& [key, points] : cells) bytes += points.capacity() * sizeof(GridPoint);
+        bytes += cells.memory_bytes();
+        for (std::size_t k = 0; k < cells.size(); ++k) bytes += cells.value(k).capacity() * sizeof(GridPoint);
     }
     return bytes;
 }
@@ -186,7 +177,9 @@ std::size_t PatchGrid::counted_memory_bytes() const {
 void PatchGrid::shrink_to_fit() {
     for (std::size_t i = 0; i < kShardCount; ++i) {
         std::lock_guard lock(shards_[i].mutex);
-        for (auto& [key, points] : shards_[i].cells) {
+        auto& cells = shards_[i].cells;
+        for (std::size_t k = 0; k < cells.size(); ++k) {
+            std::vector<GridPoint>& points = cells.value(k);
             const std::size_t capacity = points.capacity();
             points.shrink_to_fit();
             bytes_.fetch_sub((capacity - points.capacity()) * sizeof(GridPoint), std::memory_order_relaxed);

@@ -18,10 +18,11 @@
 #include <functional>
 #include <memory>
 #include <mutex>
-#include <unordered_map>
 #include <span>
 #include <utility>
 #include <vector>
+
+#include "core/cell_table.hpp"
 
 namespace lidarscout {
 
@@ -48,16 +49,6 @@ struct OverviewPoint {
     std::uint16_t intensity = 0;
     std::uint8_t classification = 0;
     std::uint32_t tile = 0;
-};
-
-struct CellKey {
-    std::int32_t ix = 0, iy = 0;
-    bool operator==(const CellKey&) const = default;
-    auto operator<=>(const CellKey&) const = default;
-};
-
-struct CellKeyHash {
-    std::size_t operator()(const CellKey& key) const noexcept;
 };
 
 class PatchGrid {
@@ -106,20 +97,19 @@ public:
     std::vector<CellKey> cells() const;  // cells holding at least one point, sorted
     std::size_t size() const { return size_.load(std::memory_order_relaxed); }
 
-    // Heap bytes held: point storage by capacity plus estimates of the hash map's nodes,
-    // buckets and allocator headers (see kCellOverheadBytes), plus the shards themselves. Kept
-    // as points are added (O(1): the viewer asks on every look of its memory budget).
+    // Heap bytes held: point storage by capacity, the shards' cell tables (core/cell_table.hpp) as they hold
+    // them, plus the shards themselves. Kept as points are added (O(1): the viewer asks on every look of its
+    // memory budget).
     std::size_t memory_bytes() const;
     // The same counted cell by cell (what memory_bytes must equal; for tests).
     std::size_t counted_memory_bytes() const;
     // Releases spare vector capacity (call once loading is done).
     void shrink_to_fit();
 
-    // Estimated bytes per cell beyond its points: map node (next pointer, cached hash,
-    // key, vector header), two malloc headers, one bucket pointer.
+    // Bytes a cell costs beyond its points, about: its vector's header, its key and index slots, its points'
+    // malloc header (a cell table's chunks hold a thousand cells each).
     static constexpr std::size_t kCellOverheadBytes =
-        sizeof(void*) + sizeof(std::size_t) + sizeof(CellKey) +
-        sizeof(std::vector<GridPoint>) + 2 * 16 + sizeof(void*);
+        sizeof(std::vector<GridPoint>) + CellTable<std::vector<GridPoint>>::kBytesPerCell + 16;
 
 private:
     struct Shard;

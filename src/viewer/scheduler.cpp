@@ -102,7 +102,7 @@ struct Scheduler::State {
     bool has_camera = false;
     std::uint64_t camera_version = 0;
 
-    std::unordered_map<CellKey, Patch, CellKeyHash> patches;
+    CellTable<Patch> patches;  // (core/cell_table.hpp: a reference to a patch stays good as patches are added)
     std::uint64_t table_bytes = 0;  // what `patches` holds itself, counted in the ledger (count_table)
     std::vector<bool> sparse;  // per tile: its cells come from its points (bounds_fit_data)
     CellBlocks blocks;         // the ready, network-ready and drawable cells, by block (cell_blocks.hpp)
@@ -214,11 +214,11 @@ struct Scheduler::State {
                     cells.push_back(c);
                 });
             }
-            std::sort(cells.begin(), cells.end());
+            sort_cells(cells);
             for (std::size_t i = 0, j = 0; i < cells.size(); i = j) {
                 for (j = i + 1; j < cells.size() && cells[j] == cells[i];) ++j;
-                const auto it = patches.find(cells[i]);
-                if (it != patches.end() && it->second.counted) fn(it->second, cells[i], static_cast<int>(j - i));
+                Patch* p = patches.find(cells[i]);
+                if (p && p->counted) fn(*p, cells[i], static_cast<int>(j - i));
             }
         }
     }
@@ -259,12 +259,10 @@ struct Scheduler::State {
         }
     }
 
-    // The patch table's own bytes (a country has 600,000 patches: about 90 MB) in the ledger, so
-    // that the budget bounds them too: per entry its node, cached hash, next pointer and malloc
-    // header, and the bucket array. Called after patches are added.
+    // The patch table's own bytes (a country has 600,000 patches: about 70 MB) in the ledger, so
+    // that the budget bounds them too. Called after patches are added.
     void count_table() {
-        constexpr std::uint64_t kEntry = sizeof(std::pair<const CellKey, Patch>) + 2 * sizeof(void*) + 16;
-        const std::uint64_t bytes = patches.size() * kEntry + patches.bucket_count() * sizeof(void*);
+        const std::uint64_t bytes = patches.memory_bytes();
         ledger->add_patch_bytes(static_cast<std::int64_t>(bytes) - static_cast<std::int64_t>(table_bytes));
         table_bytes = bytes;
     }
@@ -362,7 +360,7 @@ Scheduler::Scheduler(const dataset::Dataset& dataset, SchedulerOptions options)
         extent.extend(t.bounds_m);
         for_cells(t.bounds_m, *grid_, 0.0, [&](CellKey c) { candidates.push_back(c); });
     }
-    std::sort(candidates.begin(), candidates.end());
+    sort_cells(candidates);
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
     s.patches.reserve(candidates.size());
     for (const CellKey c : candidates) {
@@ -603,8 +601,8 @@ void Scheduler::restyle_some(std::unique_lock<RankedMutex>& lock) {
     while (!s.restyle.empty() && jobs.size() < kChunk) {
         const CellKey cell = s.restyle.back();
         s.restyle.pop_back();
-        const auto it = s.patches.find(cell);
-        if (it != s.patches.end() && it->second.base) jobs.push_back({cell, it->second.base, nullptr});
+        const Patch* p = s.patches.find(cell);
+        if (p && p->base) jobs.push_back({cell, p->base, nullptr});
     }
     s.restyling += jobs.size();
     lock.unlock();
@@ -736,17 +734,14 @@ void Scheduler::loader_watch() {
         if (s.stopping) return;
     }
     // Tiles that never loaded: build what can be. A country has 500,000 patches: they are queued a
-    // few thousand buckets of the map at a time, so that no frame waits for all of them (no tile
-    // is done after the loader, so no patch is added meanwhile and the buckets stay).
-    constexpr std::size_t kBuckets = 4096;
-    for (std::size_t first = 0;; first += kBuckets) {
+    // few thousand at a time, so that no frame waits for all of them.
+    constexpr std::size_t kPatches = 4096;
+    for (std::size_t first = 0;; first += kPatches) {
         {
             std::lock_guard lock(s.mutex);
-            if (s.stopping || first >= s.patches.bucket_count()) break;
-            const std::size_t end = std::min(s.patches.bucket_count(), first + kBuckets);
-            for (std::size_t b = first; b < end; ++b) {
-                for (auto it = s.patches.begin(b); it != s.patches.end(b); ++it) s.push_ready(it->first, it->second);
-            }
+            if (s.stopping || first >= s.patches.size()) break;
+            const std::size_t end = std::min(s.patches.size(), first + kPatches);
+            for (std::size_t i = first; i < end; ++i) s.push_ready(s.patches.key(i), s.patches.value(i));
         }
         s.wake.notify_all();
     }
@@ -759,8 +754,7 @@ void Scheduler::show_detail(const std::vector<CellKey>& cells) {
     State& s = *state_;
     std::lock_guard lock(s.mutex);
     for (const auto cell : cells) {
-        const auto p = s.patches.find(cell);
-        if (p != s.patches.end()) s.update_shown(cell, p->second, residency_->detail(cell).get());
+        if (Patch* p = s.patches.find(cell)) s.update_shown(cell, *p, residency_->detail(cell).get());
     }
 }
 
@@ -810,8 +804,8 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
 
 std::shared_ptr<const PatchHeightmap> Scheduler::heightmap(lidarscout::CellKey cell) const {
     std::lock_guard lock(state_->mutex);
-    const auto it = state_->patches.find(cell);
-    return it == state_->patches.end() ? nullptr : it->second.shown;
+    const Patch* p = state_->patches.find(cell);
+    return p ? p->shown : nullptr;
 }
 
 SchedulerStats Scheduler::stats() const {
