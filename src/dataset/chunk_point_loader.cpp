@@ -15,10 +15,11 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "core/patch_grid.hpp"
 #include "core/process_memory.hpp"
+#include "core/radix_sort.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
-#include "core/patch_grid.hpp"
 #include "dataset/las_colour.hpp"
 #include "dataset/overview_sidecar.hpp"
 #include "dataset/point_reader.hpp"
@@ -191,9 +192,13 @@ public:
     // records (no read); with `release`, each block of records goes once its tiles' are published
     // (ChunkPointLoaderOptions::release_overview).
     void publish_held(bool release) {
-        const auto at = focus();  // (not a structured binding: clang 14 cannot capture one)
-        const auto distance = [&](std::uint32_t id) { return ds_.tiles[id].bounds_m.distance_xy(at.first, at.second); };
-        std::stable_sort(held_.begin(), held_.end(), [&](auto a, auto b) { return distance(a) < distance(b); });
+        const auto [x, y] = focus();
+        std::vector<std::pair<double, std::uint32_t>> by_distance;  // (each distance once: a country's are 150,000)
+        by_distance.reserve(held_.size());
+        for (const std::uint32_t id : held_) by_distance.emplace_back(ds_.tiles[id].bounds_m.distance_xy(x, y), id);
+        std::sort(by_distance.begin(), by_distance.end());  // (ties by id: the order they were held in)
+        for (std::size_t k = 0; k < held_.size(); ++k) held_[k] = by_distance[k].second;
+        by_distance = {};
         std::optional<OverviewRelease> releasing;
         if (release) releasing.emplace(ds_.tiles, held_);
         // The tiles go into the grid in batches: one lookup of a cell and one callback for all a batch's points in
@@ -396,7 +401,7 @@ private:
     // The points `placed` of the tiles `ids` into the grid, a cell at a time (one lookup each; in their order
     // within a cell), then the callback.
     void add_placed(std::span<const std::uint32_t> ids, std::vector<std::pair<CellKey, GridPoint>>& placed) {
-        std::stable_sort(placed.begin(), placed.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        radix_sort(placed, [](const auto& p) { return cell_order(p.first); }, 64);  // (stable)
         grid_.add_in_cells(placed);
         loader_.loaded_ += placed.size();
         std::vector<CellKey> cells;
