@@ -2,7 +2,9 @@
 // limit, a parser of our own (nlohmann's SAX parser read a byte at a time through a stream: 1.1 s for
 // a 100 MB catalog) that measures each string and number against its limit as its bytes go by and
 // hands events to a SAX handler (nlohmann's interface) that builds the kept document and the streamed
-// elements, each within its budget, and stops at the depth limit.
+// elements, each within its budget, and stops at the depth limit. Where threads parse a streamed array
+// (JsonStreaming::threads), the parser cuts its elements apart and ParallelElements parses each on its own
+// (a parser over the element's text, as deep as it lies in its document) and hands them on in order.
 #include "core/json_reader.hpp"
 
 #include <algorithm>
