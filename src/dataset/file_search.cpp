@@ -188,7 +188,11 @@ void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriv
             announce_items(so_far, first, more, *arriving);
         };
     }
+    struct DecodeOnLeaving {  // (a read that throws leaves no prefetch waiting)
+        ~DecodeOnLeaving() { decode_overview_prefetch(); }
+    } decode_on_leaving;
     Catalog catalog = read_catalog(path, {}, items_read, prefetch_overview_sidecar);
+    decode_overview_prefetch();  // (its items read: the sidecar's decoding has the cores)
     for (auto& e : catalog.errors) out.errors.push_back({io::display_path(path), std::move(e)});
     for (auto& w : catalog.warnings) {
         out.warnings.add({DiagnosticLevel::warning, io::display_path(path), std::nullopt, std::move(w)});

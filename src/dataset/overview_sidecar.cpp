@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <condition_variable>
 #include <cstring>
 #include <filesystem>
 #include <future>
@@ -231,8 +232,8 @@ std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> pa
 
 namespace {
 
-OverviewSidecar read_sidecar(const std::string& path, ThreadPool& pool) {
-    const io::File file = whole_file(path);
+// The sidecar in `file` (all its bytes in memory): its table, its points decoded.
+OverviewSidecar sidecar_of(const io::File& file, ThreadPool& pool) {
     const Tile tile = read_tile(file);
     OverviewSidecar s;
     s.entries = table_of(file, tile.header);
@@ -242,11 +243,33 @@ OverviewSidecar read_sidecar(const std::string& path, ThreadPool& pool) {
 
 constexpr int kPrefetchNice = 10;  // a prefetch's threads yield to the catalog's parse and the frames
 
+// Where a prefetch waits between its download and its decoding (decode_overview_prefetch).
+struct Gate {
+    std::mutex mutex;
+    std::condition_variable opened;
+    bool open = false;
+    void let_through() {
+        {
+            std::lock_guard lock(mutex);
+            open = true;
+        }
+        opened.notify_all();
+    }
+    void wait() {
+        std::unique_lock lock(mutex);
+        opened.wait(lock, [&] { return open; });
+    }
+};
+
 // The one prefetch kept (prefetch_overview_sidecar).
 struct Prefetch {
     std::mutex mutex;
     std::string path;
     std::future<OverviewSidecar> sidecar;
+    std::shared_ptr<Gate> gate;
+    ~Prefetch() {  // (at exit: the future waits for its thread, which must not wait at the gate)
+        if (gate) gate->let_through();
+    }
 };
 Prefetch& prefetch() {
     static Prefetch p;
@@ -261,10 +284,11 @@ OverviewSidecar read_overview_sidecar(const std::string& path) {
         std::lock_guard lock(prefetch().mutex);
         if (prefetch().path == path) {
             started = std::move(prefetch().sidecar);
+            prefetch().gate->let_through();
             prefetch().path.clear();
         }
     }
-    if (!started.valid()) return read_sidecar(path, ThreadPool::shared());
+    if (!started.valid()) return sidecar_of(whole_file(path), ThreadPool::shared());
     return started.get();
 }
 
@@ -273,11 +297,19 @@ void prefetch_overview_sidecar(const std::string& path) {
     forget_overview_prefetch();
     std::lock_guard lock(prefetch().mutex);
     prefetch().path = path;
-    prefetch().sidecar = std::async(std::launch::async, [path] {
+    prefetch().gate = std::make_shared<Gate>();
+    prefetch().sidecar = std::async(std::launch::async, [path, gate = prefetch().gate] {
         lower_thread_priority(kPrefetchNice);  // (the pool below inherits it)
+        const io::File file = whole_file(path);
+        gate->wait();
         ThreadPool pool(ThreadPool::shared_size());
-        return read_sidecar(path, pool);
+        return sidecar_of(file, pool);
     });
+}
+
+void decode_overview_prefetch() {
+    std::lock_guard lock(prefetch().mutex);
+    if (prefetch().gate) prefetch().gate->let_through();
 }
 
 void forget_overview_prefetch() {
@@ -285,6 +317,7 @@ void forget_overview_prefetch() {
     {
         std::lock_guard lock(prefetch().mutex);
         dropped = std::move(prefetch().sidecar);
+        if (prefetch().gate) prefetch().gate->let_through();  // (a thread waiting there ends)
         prefetch().path.clear();
     }
     if (dropped.valid()) dropped.wait();  // (its thread ends; the sidecar goes with the future)

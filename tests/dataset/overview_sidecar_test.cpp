@@ -248,6 +248,12 @@ TEST(OverviewSidecar, ACatalogNamesItsSidecarFirstAndItsPrefetchIsTakenOnce) {
     ASSERT_EQ(taken.blocks.size(), direct.blocks.size());
     for (std::size_t b = 0; b < direct.blocks.size(); ++b) EXPECT_EQ(*taken.blocks[b], *direct.blocks[b]);
     EXPECT_EQ(taken.record_starts, direct.record_starts);
+    // Downloaded at once, decoded once its catalog is read (or when taken, as above): the same sidecar.
+    prefetch_overview_sidecar(sidecar);
+    decode_overview_prefetch();
+    const OverviewSidecar decoded = read_overview_sidecar(sidecar);
+    ASSERT_EQ(decoded.blocks.size(), direct.blocks.size());
+    for (std::size_t b = 0; b < direct.blocks.size(); ++b) EXPECT_EQ(*decoded.blocks[b], *direct.blocks[b]);
 
     prefetch_overview_sidecar(sidecar);
     fs::remove(sidecar);  // the prefetch has it (or fails); a read after forgetting it asks the file again
