@@ -15,10 +15,11 @@
 // another's items) one line naming the search and the page, the items before it kept; the
 // documents, bytes and items are bounded (CatalogLimits, named in the error when passed). Each
 // document goes through the bounded JSON reader (core/json_reader.hpp): its "features" and "links"
-// are streamed, an item at a time, so that memory holds the items kept and one item being read,
-// whatever the document's size (what an item holds that is not used is read past, not built); a document
-// nested too deep, or holding a string too long, is one line. A malformed item, field or link (a
-// field of the wrong kind too) gets one line naming the document and the item; the rest is read.
+// are streamed, their items parsed by every core (--threads) in order, so that memory holds the items kept
+// and a few batches being read, whatever the document's size (what an item holds that is not used is read
+// past, not built); a document nested too deep, or holding a string too long, is one line. A malformed
+// item, field or link (a field of the wrong kind too) gets one line naming the document and the item; the
+// rest is read.
 // An item that is no tile (no href, not an item) is an error ("item 'ID' in DOC: CAUSE"); a
 // field of a tile's item that cannot be used (a pc:count that is a string) is a warning, its tile
 // read all the same ("item 'ID' in DOC: CAUSE; the tile's header is read instead").
