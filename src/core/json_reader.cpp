@@ -244,6 +244,9 @@ private:
     std::uint64_t values_ = 0, text_ = 0;
 };
 
+// Whether the streamed elements are prepared (JsonStreaming::prepare) before the sink (`prepared`) sees them.
+bool prepares(const JsonStreaming& s) { return s.prepare && s.prepared; }
+
 // How deep a streamed array's elements lie: in the root object (1), in the array (2).
 constexpr std::size_t kElementDepth = 2;
 
@@ -271,8 +274,8 @@ public:
     // where it prepares); false when the sink stops.
     bool deliver_parsed(json&& element, std::any&& prepared) {
         const std::size_t index = index_++;
-        const bool more = prepares() ? streaming_->prepared(stream_key_, index, std::move(prepared))
-                                     : streaming_->sink(stream_key_, index, std::move(element));
+        const bool more = prepares(*streaming_) ? streaming_->prepared(stream_key_, index, std::move(prepared))
+                                                : streaming_->sink(stream_key_, index, std::move(element));
         if (!more) stopped_ = true;
         return more;
     }
@@ -389,15 +392,10 @@ private:
     bool deliver() {
         json element = std::move(element_value_);
         element_value_ = json();
-        const std::size_t index = index_++;
-        const bool more = prepares() ? streaming_->prepared(stream_key_, index,
-                                                            streaming_->prepare(stream_key_, index, std::move(element)))
-                                     : streaming_->sink(stream_key_, index, std::move(element));
-        if (more) return true;
-        stopped_ = true;
-        return false;
+        std::any prepared;
+        if (prepares(*streaming_)) prepared = streaming_->prepare(stream_key_, index_, std::move(element));
+        return deliver_parsed(std::move(element), std::move(prepared));
     }
-    bool prepares() const { return streaming_->prepare && streaming_->prepared; }
 
     bool fail(const std::string& cause) {
         const std::uint64_t at = input_.position();
@@ -520,8 +518,7 @@ std::variant<json, Stop> parse_element(std::string_view text, std::uint64_t at, 
 
 // Streamed elements parsed by threads of their own: the reading thread cuts them apart (add), threads parse
 // them a batch at a time (and prepare them: JsonStreaming::prepare), and the reading thread hands them to the
-// sink in their order (as their batches are parsed, and at drain). At most one batch more than there are
-// threads is held.
+// sink in their order (as their batches are parsed, and at drain). At most four batches a thread are held.
 class ParallelElements {
 public:
     ParallelElements(const JsonLimits& limits, const JsonStreaming& streaming)
@@ -539,7 +536,7 @@ public:
     ParallelElements& operator=(const ParallelElements&) = delete;
 
     // Adds the element `text` found at document offset `at` (copied); hands a full batch to the threads, and
-    // the oldest batch's elements to the sink when as many batches as threads are being parsed.
+    // the oldest batch's elements to the sink when more than four batches a thread are held.
     void add(std::uint64_t at, std::string_view text, BoundedHandler& h) {
         if (!filling_) {
             filling_ = std::make_shared<Batch>();
@@ -607,14 +604,13 @@ private:
     }
 
     void parse(Batch& b) const {
-        const bool prepares = streaming_.prepare && streaming_.prepared;
         b.parsed.reserve(b.elements.size());
         for (std::size_t i = 0; i < b.elements.size(); ++i) {
             const Element& e = b.elements[i];
             auto value = parse_element(std::string_view(b.text).substr(e.from, e.size), e.at, limits_,
                                        element_streaming_);
             if (auto* stop = std::get_if<Stop>(&value)) return void(b.stop = std::move(*stop));
-            if (!prepares) {
+            if (!prepares(streaming_)) {
                 b.parsed.push_back({std::move(std::get<json>(value)), {}});
                 continue;
             }

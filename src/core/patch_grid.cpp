@@ -155,7 +155,7 @@ std::vector<CellKey> PatchGrid::cells() const {
         const auto& cells = shards_[i].cells;
         for (std::size_t k = 0; k < cells.size(); ++k) keys.push_back(cells.key(k));
     }
-    std::sort(keys.begin(), keys.end());
+    sort_cells(keys);
     return keys;
 }
 

@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "net/remote_file.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::dataset {
@@ -48,15 +47,7 @@ private:
             const std::uint64_t offset = next_, size = std::min(kBlock, file_.size() - offset);
             next_ += size;
             ahead_.push_back(std::async(std::launch::async, [this, offset, size] {
-                if (const auto remote = file_.remote()) return remote->read_bytes(offset, size);  // (not copied)
-                std::vector<std::uint8_t> block(size);
-                const std::size_t got = file_.read_at(offset, block);
-                if (got != size) {  // (the blocks after it would leave a gap in the document)
-                    throw Error(io::display_path(file_.path()), offset + got,
-                                "the document ended before its size (" + std::to_string(file_.size()) +
-                                    " bytes): it changed while it was read");
-                }
-                return block;
+                return file_.read_vector(offset, size, "JSON document");  // (a remote block as it came: no copy)
             }));
         }
     }

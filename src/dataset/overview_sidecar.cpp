@@ -102,9 +102,7 @@ OverviewEntry parse_entry(io::ByteReader& r, const std::vector<std::vector<std::
 // The whole file at `path` in memory (one read after its opening), as an io::File.
 io::File whole_file(const std::string& path) {
     const io::File file = io::File::open(path);
-    auto bytes = file.remote() ? file.remote()->read_bytes(0, file.size())  // (as it came: not copied again)
-                               : file.read_vector(0, file.size(), "overview sidecar");
-    return io::File::in_memory(file.path(), file.size(), std::move(bytes), {});
+    return io::File::in_memory(file.path(), file.size(), file.read_vector(0, file.size(), "overview sidecar"), {});
 }
 
 // The table EVLR's entries; throws Error when the file has none.

@@ -80,18 +80,20 @@ File::~File() {
     if (fd_ >= 0) ::close(fd_);
 }
 
-bool File::read_cached(std::uint64_t offset, std::span<std::uint8_t> out) const {
+const std::uint8_t* File::cached(std::uint64_t offset, std::size_t n) const {
     // (written without offset + size, which a malformed offset could overflow)
-    if (offset <= head_.size() && out.size() <= head_.size() - offset) {
-        std::memcpy(out.data(), head_.data() + offset, out.size());
-        return true;
-    }
+    if (offset <= head_.size() && n <= head_.size() - offset) return head_.data() + offset;
     const std::uint64_t tail_start = size_ - tail_.size();
-    if (!tail_.empty() && offset >= tail_start && offset <= size_ && out.size() <= size_ - offset) {
-        std::memcpy(out.data(), tail_.data() + (offset - tail_start), out.size());
-        return true;
+    if (!tail_.empty() && offset >= tail_start && offset <= size_ && n <= size_ - offset) {
+        return tail_.data() + (offset - tail_start);
     }
-    return false;
+    return nullptr;
+}
+
+bool File::read_cached(std::uint64_t offset, std::span<std::uint8_t> out) const {
+    const std::uint8_t* bytes = cached(offset, out.size());
+    if (bytes) std::memcpy(out.data(), bytes, out.size());
+    return bytes != nullptr;
 }
 
 std::size_t File::read_at(std::uint64_t offset, std::span<std::uint8_t> out) const {
@@ -135,6 +137,8 @@ std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n,
                     std::string("the ") + what + " (" + std::to_string(n) +
                         " bytes) extends beyond the end of the file (" + std::to_string(size_) + " bytes)");
     }
+    // A remote file's bytes as the response brought them (a catalog's 8 MB blocks, a sidecar: not copied again).
+    if (remote_ && n != 0 && !cached(offset, n)) return remote_->read_bytes(offset, n);
     std::vector<std::uint8_t> v(n);
     read_exact(offset, v, what);
     return v;

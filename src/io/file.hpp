@@ -67,6 +67,8 @@ private:
     static File open_remote(const std::string& url);
     // Copies [offset, offset + out.size()) from a cached edge; false when not fully inside one.
     bool read_cached(std::uint64_t offset, std::span<std::uint8_t> out) const;
+    // Where the head or tail held in memory has the `n` bytes at `offset`; null when it has not.
+    const std::uint8_t* cached(std::uint64_t offset, std::size_t n) const;
     std::size_t read_uncached(std::uint64_t offset, std::span<std::uint8_t> out) const;
 
     std::string path_;
