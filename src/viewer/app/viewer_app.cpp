@@ -27,7 +27,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
-#include "net/remote_file.hpp"
+#include "io/file.hpp"
 #include "render/resolve.hpp"
 #include "render/png_writer.hpp"
 #include "viewer/app/camera_controller.hpp"
@@ -1060,7 +1060,7 @@ private:
 int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
     // A remote path's first request goes out while the window opens (a software OpenGL's start takes a tenth of a
     // second, a new connection two round trips): its opening finds it open.
-    net::RemoteFile::prefetch(o.paths);
+    io::File::prefetch(o.paths);
     ViewerLoop loop(o);
     while (loop.frame()) {
     }
