@@ -103,5 +103,6 @@ int main(int argc, char** argv) {
     lidarscout::cli::print_diagnostics(lidarscout::dataset::take_stale_tile_warnings());
     // what the range cache noticed (damaged entries it dropped and fetched again)
     lidarscout::cli::print_diagnostics(lidarscout::net::RangeCache::shared().take_diagnostics());
+    lidarscout::net::RangeCache::shared().flush();  // what its thread has yet to write, written before the end
     return status;
 }

@@ -1,5 +1,5 @@
 // The on-disk range cache: entry files (a magic, a count, then each part's length, SHA-256 and
-// bytes), written under a temporary name and renamed, checked when read, evicted least
+// bytes), written under a temporary name and renamed by a thread of its own, checked when read, evicted least
 // recently used first.
 #include "net/range_cache.hpp"
 
@@ -8,8 +8,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdlib>
-#include <fstream>
 #include <iterator>
 #include <memory>
 #include <string_view>
@@ -43,16 +43,27 @@ bool get_u64(const std::string& in, std::size_t& at, std::uint64_t& v) {
 
 std::string digest(const std::uint8_t* data, std::size_t n) { return sha256_hex(std::span(data, n)); }
 
-// The entry file's bytes for `reply`: magic, part count, then each part's length, SHA-256 and bytes.
-std::string encode(const RangeReply& reply) {
-    std::string out(kMagic);
-    put_u64(out, reply.parts.size());
-    for (const auto& p : reply.parts) {
-        put_u64(out, p.size());
-        out += digest(p.data(), p.size());
-        out.append(p.begin(), p.end());
+// Writes the entry file for `parts` (a reply's) to `fd`: magic, part count, then each part's length, SHA-256 and
+// bytes (the parts written from where they lie, not copied into one buffer first); false when it could not be.
+bool write_entry(int fd, const std::vector<std::vector<std::uint8_t>>& parts) {
+    const auto write_all = [fd](const void* data, std::size_t n) {
+        for (const auto* p = static_cast<const char*>(data); n > 0;) {
+            const ssize_t done = ::write(fd, p, n);
+            if (done < 0 && errno == EINTR) continue;
+            if (done <= 0) return false;
+            p += done, n -= static_cast<std::size_t>(done);
+        }
+        return true;
+    };
+    std::string head(kMagic);
+    put_u64(head, parts.size());
+    for (const auto& p : parts) {
+        put_u64(head, p.size());
+        head += digest(p.data(), p.size());
+        if (!write_all(head.data(), head.size()) || !write_all(p.data(), p.size())) return false;
+        head.clear();
     }
-    return out;
+    return head.empty() || write_all(head.data(), head.size());
 }
 
 // The largest entry `request` can have (every range whole).
@@ -146,6 +157,15 @@ RangeCache::RangeCache(RangeCacheSettings settings) : settings_(std::move(settin
     if (settings_.folder.empty()) settings_.folder = default_cache_folder();
 }
 
+RangeCache::~RangeCache() {
+    {
+        std::lock_guard lock(mutex_);
+        stopping_ = true;
+    }
+    queued_.notify_all();
+    if (writer_.joinable()) writer_.join();
+}
+
 RangeCache& RangeCache::shared() {
     std::lock_guard lock(shared_mutex());
     auto& slot = shared_slot();
@@ -167,6 +187,12 @@ fs::path RangeCache::entry_path(const RangeRequest& request) const {
 std::optional<std::vector<std::vector<std::uint8_t>>> RangeCache::find(const RangeRequest& request) {
     if (!enabled() || request.validator.empty()) return std::nullopt;
     const fs::path path = entry_path(request);
+    {
+        std::lock_guard lock(mutex_);
+        for (const Queued& q : queue_) {
+            if (q.path == path) return ++hits_, q.parts;
+        }
+    }
     const EntryFile entry = read_entry(path, request);
     if (!entry.exists) return std::nullopt;
     if (!entry.problem.empty()) return drop(path, request, entry.problem), std::nullopt;
@@ -199,24 +225,54 @@ Diagnostics RangeCache::take_diagnostics() {
 
 void RangeCache::store(const RangeRequest& request, const RangeReply& reply) {
     if (!enabled() || request.validator.empty() || !reply.error.empty()) return;
-    const std::string content = encode(reply);
-    const fs::path path = entry_path(request);
+    std::uint64_t bytes = 0;
+    for (const auto& p : reply.parts) bytes += p.size();
+    Queued entry{entry_path(request), {}, bytes};
+    std::lock_guard lock(mutex_);
+    if (queued_bytes_ + bytes > kMaxQueuedBytes && !queue_.empty()) return;  // (one larger than all is written alone)
+    entry.parts = reply.parts;
+    queued_bytes_ += bytes;
+    queue_.push_back(std::move(entry));
+    if (!writer_.joinable()) writer_ = std::thread([this] { write_queued(); });
+    queued_.notify_one();
+}
+
+void RangeCache::flush() {
+    std::unique_lock lock(mutex_);
+    written_.wait(lock, [&] { return queue_.empty(); });
+}
+
+void RangeCache::write_queued() {
+    std::unique_lock lock(mutex_);
+    while (true) {
+        queued_.wait(lock, [&] { return stopping_ || !queue_.empty(); });
+        if (queue_.empty()) return;  // (stopping, and all written)
+        const Queued& entry = queue_.front();  // (pushes behind it leave it where it is)
+        lock.unlock();
+        write(entry);
+        lock.lock();
+        queued_bytes_ -= entry.bytes;
+        queue_.pop_front();
+        written_.notify_all();
+    }
+}
+
+void RangeCache::write(const Queued& entry) {
+    const fs::path& path = entry.path;
     std::error_code ec;
     fs::create_directories(path.parent_path(), ec);
     const fs::path temp = path.string() + ".tmp" + std::to_string(::getpid());
-    {
-        std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-        out.write(content.data(), static_cast<std::streamsize>(content.size()));
-        if (!out) {
-            fs::remove(temp, ec);
-            return;  // a cache that cannot be written only costs the next look a request
-        }
-    }
+    const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) return;  // a cache that cannot be written only costs the next look a request
+    const bool written = write_entry(fd, entry.parts);
+    struct stat st {};
+    const bool sized = ::fstat(fd, &st) == 0;
+    if (::close(fd) != 0 || !written || !sized) return fs::remove(temp, ec), void();
     fs::rename(temp, path, ec);
     if (ec) return fs::remove(temp, ec), void();
     std::lock_guard lock(mutex_);
     scan_total();
-    total_ += content.size();
+    total_ += static_cast<std::uint64_t>(st.st_size);
     evict_if_needed();
 }
 

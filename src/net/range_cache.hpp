@@ -12,13 +12,21 @@
 // an entry's size is checked (fstat) before anything is read, against what its request can
 // hold. An entry that fails (damaged on disk, replaced, truncated, of another version) is
 // removed and fetched again, with a diagnostic naming it (take_diagnostics()).
+//
+// Entries are written by a thread of the cache's own (store() copies the reply and returns): the network's
+// thread never waits on the disk, whose page cache may take a country's 250 MB catalog slower than loopback
+// brings it. What is queued is found as if written; a reply that would make the queue pass kMaxQueuedBytes is
+// not stored (a disk that cannot keep up costs a later look requests, never this one time).
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <filesystem>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/diagnostic.hpp"
@@ -35,7 +43,12 @@ std::filesystem::path default_cache_folder();
 
 class RangeCache {
 public:
+    static constexpr std::uint64_t kMaxQueuedBytes = 32ull << 20;  // replies copied, waiting to be written
+
     explicit RangeCache(RangeCacheSettings settings);
+    ~RangeCache();  // (what is queued is written first)
+    RangeCache(const RangeCache&) = delete;
+    RangeCache& operator=(const RangeCache&) = delete;
 
     // The process's cache (used by remote files), set up by configure() or with defaults.
     static RangeCache& shared();
@@ -45,15 +58,26 @@ public:
     std::uint64_t max_bytes() const { return settings_.max_bytes; }  // its bound (--cache-size)
     // The parts stored for `request`, or nothing.
     std::optional<std::vector<std::vector<std::uint8_t>>> find(const RangeRequest& request);
-    // Stores a successful reply (for a request with a validator).
+    // Queues a successful reply (for a request with a validator) to be stored, and returns.
     void store(const RangeRequest& request, const RangeReply& reply);
+    // Waits until every reply queued is written (or could not be).
+    void flush();
 
     std::uint64_t hits() const;
     // What was noticed since the last call (entries dropped), for the CLI edge to show.
     Diagnostics take_diagnostics();
 
 private:
+    using Parts = std::vector<std::vector<std::uint8_t>>;
+    struct Queued {
+        std::filesystem::path path;  // entry_path of its request
+        Parts parts;
+        std::uint64_t bytes = 0;
+    };
+
     std::filesystem::path entry_path(const RangeRequest& request) const;
+    void write(const Queued& entry);
+    void write_queued();  // the writer thread
     void evict_if_needed();
     void scan_total();
     void drop(const std::filesystem::path& path, const RangeRequest& request, const std::string& why);
@@ -64,6 +88,11 @@ private:
     std::uint64_t total_ = 0;
     std::uint64_t hits_ = 0;
     Diagnostics diagnostics_;
+    std::deque<Queued> queue_;  // its front is being written (taken off once it is)
+    std::uint64_t queued_bytes_ = 0;
+    bool stopping_ = false;
+    std::condition_variable queued_, written_;
+    std::thread writer_;  // started by the first store
 };
 
 }  // namespace lidarscout::net

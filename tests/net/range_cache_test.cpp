@@ -1,7 +1,8 @@
 // net/range_cache: stored replies come back for the same URL, validator and ranges only;
 // damaged entries (flipped bytes, truncated, replaced by a huge file) are dropped with a
 // diagnostic naming them, without reading a file larger than the entry can be; the folder
-// stays under its limit, least recently used first.
+// stays under its limit, least recently used first; a store returns before its entry is written (by the
+// cache's thread), and what is queued is found as if it were.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -55,6 +56,7 @@ TEST_F(RangeCacheTest, DamagedEntriesAreDropped) {
     RangeCache cache({dir, 1 << 20});
     const RangeRequest request{"http://h/a.laz", {{0, 4}}, "\"v1\""};
     cache.store(request, reply_of({{1, 2, 3, 4}}));
+    cache.flush();
     for (const auto& e : fs::recursive_directory_iterator(dir)) {
         if (e.is_regular_file()) fs::resize_file(e.path(), e.file_size() - 1);
     }
@@ -66,6 +68,7 @@ TEST_F(RangeCacheTest, FlippedBytesFailTheChecksumAndAreDroppedWithADiagnostic) 
     RangeCache cache({dir, 1 << 20});
     const RangeRequest request{"http://u:pw@h/a.laz?sig=s3cret", {{0, 4000}}, "\"v1\""};
     cache.store(request, reply_of({std::vector<std::uint8_t>(4000, 7)}));
+    cache.flush();
     fs::path entry;
     for (const auto& e : fs::recursive_directory_iterator(dir)) {
         if (e.is_regular_file()) entry = e.path();
@@ -94,6 +97,7 @@ TEST_F(RangeCacheTest, AnEntryLargerThanItsRangesIsDroppedUnread) {
     RangeCache cache({dir, 1ull << 40});
     const RangeRequest request{"http://h/a.laz", {{0, 2048}}, "\"v1\""};
     cache.store(request, reply_of({std::vector<std::uint8_t>(2048, 1)}));
+    cache.flush();
     for (const auto& e : fs::recursive_directory_iterator(dir)) {
         if (e.is_regular_file()) fs::resize_file(e.path(), 1ull << 30);  // 1 GiB (sparse) in its place
     }
@@ -111,15 +115,40 @@ TEST_F(RangeCacheTest, FolderStaysUnderItsLimitDroppingTheLeastRecentlyUsed) {
     const std::vector<std::uint8_t> block(10'000, 7);
     auto request = [](int i) { return RangeRequest{"http://h/" + std::to_string(i), {{0, 10'000}}, "e"}; };
     for (int i = 0; i < 4; ++i) cache.store(request(i), reply_of({block}));
+    cache.flush();
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     ASSERT_TRUE(cache.find(request(0)));  // used again: now the most recent
     for (int i = 4; i < 7; ++i) cache.store(request(i), reply_of({block}));  // three over: 1, 2, 3 dropped
+    cache.flush();
     EXPECT_TRUE(cache.find(request(0)));
     EXPECT_FALSE(cache.find(request(1)));
     EXPECT_FALSE(cache.find(request(3)));
     for (int i = 7; i < 20; ++i) cache.store(request(i), reply_of({block}));
+    cache.flush();
     EXPECT_LE(folder_bytes(dir), 50'000u);
     EXPECT_TRUE(cache.find(request(19)));
+}
+
+TEST_F(RangeCacheTest, QueuedRepliesAreFoundAndWrittenOnceFlushedOrDestroyed) {
+    const RangeRequest request{"http://h/a.laz", {{0, 3}}, "\"v1\""};
+    {
+        RangeCache cache({dir, 1ull << 30});
+        cache.store(request, reply_of({{1, 2, 3}}));
+        const auto found = cache.find(request);  // written or still queued: found either way
+        ASSERT_TRUE(found);
+        EXPECT_EQ((*found)[0], (std::vector<std::uint8_t>{1, 2, 3}));
+        // a reply larger than the queue may hold is written when it is alone in it
+        const RangeRequest large{"http://h/large.laz", {{0, RangeCache::kMaxQueuedBytes + 1}}, "\"v1\""};
+        cache.flush();
+        cache.store(large, reply_of({std::vector<std::uint8_t>(RangeCache::kMaxQueuedBytes + 1, 5)}));
+        cache.store(request, reply_of({{1, 2, 3}}));  // (behind it, the queue full: not queued again)
+    }  // the destructor writes what is queued
+    RangeCache again({dir, 1ull << 30});
+    EXPECT_TRUE(again.find(request));
+    const auto large = again.find({"http://h/large.laz", {{0, RangeCache::kMaxQueuedBytes + 1}}, "\"v1\""});
+    ASSERT_TRUE(large);
+    EXPECT_EQ((*large)[0].size(), RangeCache::kMaxQueuedBytes + 1);
+    EXPECT_EQ(again.hits(), 2u);
 }
 
 TEST_F(RangeCacheTest, SizeZeroIsOff) {
