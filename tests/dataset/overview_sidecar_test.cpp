@@ -3,7 +3,8 @@
 // through its sidecar has the tiles' own headers, chunk tables and chunk points (bit for bit), and `scan`
 // says the same with and without it, locally and through the replica server, where the overview then
 // costs no request to the tiles; a loader that releases the records leaves its grid every point; a tile
-// changed since the sidecar was written is named and read itself.
+// changed since the sidecar was written is named and read itself; a sidecar of many chunks, decoded a few at a
+// time, gives every record back.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 
 #include "core/error.hpp"
 #include "core/patch_grid.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/catalog_writer.hpp"
 #include "dataset/chunk_point_loader.hpp"
 #include "dataset/chunk_points.hpp"
@@ -145,6 +147,50 @@ TEST(OverviewSidecar, ACatalogOpensFromItWithTheTilesOwnMetadataAndChunkPoints) 
     const auto with = scan((dir / "catalog.vpc").string());
     EXPECT_GT(with.at("chunk_points").get<int>(), 0);
     EXPECT_EQ(with.dump(1), scan("--no-overview " + (dir / "catalog.vpc").string()).dump(1));
+    fs::remove_all(dir);
+}
+
+// A sidecar of more LAZ chunks than are decoded at once (two per thread: the rest waits until the tiles before it
+// are taken) gives every tile's records back, bit for bit.
+TEST(OverviewSidecar, ASidecarOfManyChunksIsDecodedAPieceAtATimeAndGivesEveryRecordBack) {
+    const fs::path dir = fresh_dir("many_chunks");
+    const Dataset ds = open_dataset(some_tiles());
+    const std::vector<std::string> ids = catalog_ids(ds);
+    // each tile's chunk points repeated: together more than 2 x threads chunks of 50,000 points
+    const std::size_t per_tile = (2 * ThreadPool::shared().size() * 50'000) / ds.tiles.size() + 30'000;
+    std::vector<std::vector<std::uint8_t>> records(ds.tiles.size());
+    for (std::size_t i = 0; i < ds.tiles.size(); ++i) {
+        const Tile& t = ds.tiles[i].tile;
+        const io::File file = io::File::open(t.path());
+        std::vector<std::uint8_t> own;
+        for (const auto& at : chunk_point_locations(t)) {
+            const auto record = file.read_vector(at.offset, t.header.record_length);
+            own.insert(own.end(), record.begin(), record.end());
+        }
+        ASSERT_FALSE(own.empty());
+        while (records[i].size() < per_tile * t.header.record_length) {
+            records[i].insert(records[i].end(), own.begin(), own.end());
+        }
+    }
+    const auto expected = records;
+    const std::string path = (dir / "catalog.overview.laz").string();
+    const auto written = write_overview(ds, ids, records, path);
+    ASSERT_EQ(written.held, ds.tiles.size());
+    const OverviewSidecar s = read_overview_sidecar(path);
+    ASSERT_EQ(s.entries.size(), ds.tiles.size());
+    std::set<std::string> seen;
+    for (std::size_t k = 0; k < s.entries.size(); ++k) {
+        const auto& e = s.entries[k];
+        const std::size_t i = static_cast<std::size_t>(std::find(ids.begin(), ids.end(), e.id) - ids.begin());
+        ASSERT_LT(i, ids.size()) << e.id;
+        seen.insert(e.id);
+        const auto& block = *s.blocks.at(s.block_of.at(k));
+        const std::size_t bytes = std::size_t{e.points} * s.record_length;
+        ASSERT_EQ(bytes, expected[i].size()) << e.id;
+        ASSERT_LE(s.record_starts.at(k) + bytes, block.size()) << e.id;
+        EXPECT_TRUE(std::equal(expected[i].begin(), expected[i].end(), block.begin() + s.record_starts[k])) << e.id;
+    }
+    EXPECT_EQ(seen.size(), ds.tiles.size());
     fs::remove_all(dir);
 }
 
