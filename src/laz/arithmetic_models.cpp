@@ -2,7 +2,9 @@
 #include "laz/arithmetic_models.hpp"
 
 #include <algorithm>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 
@@ -58,7 +60,8 @@ SymbolModel::SymbolModel(std::uint32_t symbols) : symbols_(symbols) {
         lookup_entries = lookup_size_ + 2;
     }
     const std::size_t cdf_entries = std::max<std::size_t>(symbols + 1, lookup_entries ? 0 : kPlainWidth);
-    storage_ = std::make_unique<Entry[]>(cdf_entries + std::size_t{symbols} + lookup_entries);
+    entries_ = cdf_entries + std::size_t{symbols} + lookup_entries;
+    storage_ = std::make_unique<Entry[]>(entries_);
     cdf_ = storage_.get();
     std::fill(cdf_ + symbols, cdf_ + cdf_entries, Entry{kSentinel});
     counts_ = cdf_ + cdf_entries;
@@ -66,7 +69,37 @@ SymbolModel::SymbolModel(std::uint32_t symbols) : symbols_(symbols) {
     reset();
 }
 
+// The start state of a model of `symbols` symbols, made once per alphabet size and thread (nullptr while it is
+// being made: its own reset computes it).
+const SymbolModel* SymbolModel::start_state(std::uint32_t symbols) {
+    thread_local std::vector<std::unique_ptr<SymbolModel>> made;
+    thread_local bool making = false;
+    if (making) return nullptr;
+    if (made.size() <= symbols) made.resize(symbols + 1);
+    if (!made[symbols]) {
+        making = true;
+        try {
+            made[symbols] = std::make_unique<SymbolModel>(symbols);
+        } catch (...) {
+            making = false;
+            throw;
+        }
+        making = false;
+    }
+    return made[symbols].get();
+}
+
+// A copy of the start state where one was made (a 256-symbol model's distribution and lookup table are
+// otherwise computed anew: a LAZ chunk table's coder is reset for every tile, 152,100 of them in a country).
 void SymbolModel::reset() {
+    if (const SymbolModel* start = start_state(symbols_)) {
+        std::copy_n(start->storage_.get(), entries_, storage_.get());
+        total_count_ = start->total_count_;
+        update_interval_ = start->update_interval_;
+        until_update_ = start->until_update_;
+        guess_ = start->guess_;
+        return;
+    }
     std::fill(counts_, counts_ + symbols_, 1u);
     total_count_ = 0;
     update_interval_ = symbols_;

@@ -117,11 +117,13 @@ public:
     }
 
 private:
+    static const SymbolModel* start_state(std::uint32_t symbols);
     void update();
     void fill_lookup();
     void choose_guess(std::uint32_t most_frequent, std::uint32_t count);  // count: most_frequent's
 
     std::uint32_t symbols_ = 0;
+    std::size_t entries_ = 0;           // of storage_
     std::unique_ptr<Entry[]> storage_;  // cdf, counts, lookup table in one block
     Entry* cdf_ = nullptr;
     Entry* counts_ = nullptr;
