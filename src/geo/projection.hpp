@@ -25,8 +25,11 @@ struct CrsInfo {
     bool has_vertical = false;    // a compound CRS with a vertical part
 };
 
-// Throws Error (stage "geo") when PROJ does not understand `definition`.
+// Throws Error (stage "geo") when PROJ does not understand `definition`. Kept per definition (the last 64
+// asked), as a catalog's thousands of tiles share a few CRSs.
 CrsInfo crs_info(const std::string& definition);
+// How many definitions crs_info asked PROJ about so far (each opening its database).
+std::size_t crs_infos_made();
 
 // The OGC WKT 1 (GDAL's flavour, what LAS 1.4's WKT records hold) of `definition`. Throws Error
 // (stage "geo") when PROJ does not understand it or cannot write it as WKT 1.

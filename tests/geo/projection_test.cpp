@@ -72,6 +72,24 @@ TEST(Projection, LonLatBoundsOfKentucky) {
     EXPECT_LT(b.south, b.north);
 }
 
+// A catalog's thousands of items share a few CRSs: crs_info asks PROJ once a definition (each asking opened its
+// database: `lidarscout catalog` of 152,100 tiles spent 280 s there), the same answer every time after.
+TEST(Projection, CrsInfoOfOneDefinitionAskedManyTimesAsksProjOnce) {
+    const std::size_t before = crs_infos_made();
+    const CrsInfo first = crs_info("EPSG:3089");
+    CrsInfo last;
+    for (int i = 0; i < 1000; ++i) last = crs_info("EPSG:3089");
+    EXPECT_LE(crs_infos_made() - before, 1u);
+    EXPECT_EQ(first.wkt, last.wkt);
+    EXPECT_EQ(first.name, last.name);
+    EXPECT_EQ(first.xy_to_metres, last.xy_to_metres);
+    (void)crs_info("EPSG:32616");  // the control: another definition is asked
+    EXPECT_GE(crs_infos_made() - before, 1u);
+    EXPECT_LE(crs_infos_made() - before, 2u);
+    EXPECT_THROW(crs_info("EPSG:999999"), Error);  // a failure is not kept
+    EXPECT_THROW(crs_info("EPSG:999999"), Error);
+}
+
 // A survey's thousands of tiles share a few CRSs: their lon/lat bounds must not each pay for a
 // search of PROJ's database (about 6 ms; 2,025 tiles took 12 s of `info` before): counted.
 TEST(Projection, LonLatBoundsOfManyTilesInOneCrsShareOneTransform) {
