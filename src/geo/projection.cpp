@@ -109,26 +109,30 @@ CrsInfo make_crs_info(const std::string& definition) {
     return info;
 }
 
+// What `make(definition)` gave, kept per definition (the last 64 of each kind T; `made` counts the calls of make):
+// each asks PROJ's database (milliseconds), and a survey's or a catalog's thousands of tiles share a few CRSs.
+// A definition make throws for is not kept.
+template <typename T, typename Make>
+T kept_per_definition(const std::string& definition, std::atomic<std::size_t>& made, Make&& make) {
+    constexpr std::size_t kKept = 64;
+    static std::mutex mutex;
+    static std::map<std::string, T> kept;
+    std::lock_guard lock(mutex);
+    if (const auto it = kept.find(definition); it != kept.end()) return it->second;
+    T value = make(definition);
+    made.fetch_add(1);
+    if (kept.size() >= kKept) kept.clear();
+    kept.emplace(definition, value);
+    return value;
+}
+
 std::atomic<std::size_t> g_crs_infos_made{0};
 
 }  // namespace
 
-// Kept per definition (the last 64): a catalog of 152,100 tiles of one CRS asked PROJ 152,100 times, each
-// opening its database (280 of the 300 s that `lidarscout catalog` took to write its items).
+// (`lidarscout catalog` of 152,100 tiles of one CRS asked PROJ anew for every item: 280 of its 300 s.)
 CrsInfo crs_info(const std::string& definition) {
-    constexpr std::size_t kKept = 64;
-    static std::mutex mutex;
-    static std::map<std::string, CrsInfo> kept;
-    {
-        std::lock_guard lock(mutex);
-        if (const auto it = kept.find(definition); it != kept.end()) return it->second;
-    }
-    CrsInfo info = make_crs_info(definition);  // throws: nothing kept (a definition PROJ does not know is rare)
-    g_crs_infos_made.fetch_add(1);
-    std::lock_guard lock(mutex);
-    if (kept.size() >= kKept) kept.clear();
-    kept.emplace(definition, info);
-    return info;
+    return kept_per_definition<CrsInfo>(definition, g_crs_infos_made, make_crs_info);
 }
 
 std::string crs_wkt1(const std::string& definition) {
@@ -245,19 +249,11 @@ namespace {
 
 std::atomic<std::size_t> g_lonlat_made{0};
 
-// Transforms to lon/lat kept per source CRS: making one searches PROJ's database (milliseconds),
-// and the thousands of tiles of a survey share a handful of CRSs.
+// Transforms to lon/lat kept per source CRS.
 std::shared_ptr<const CrsTransform> to_lonlat(const std::string& definition) {
-    constexpr std::size_t kKept = 64;
-    static std::mutex mutex;
-    static std::map<std::string, std::shared_ptr<const CrsTransform>> kept;
-    std::lock_guard lock(mutex);
-    if (const auto it = kept.find(definition); it != kept.end()) return it->second;
-    auto made = std::make_shared<const CrsTransform>(definition, "EPSG:4326");  // throws: nothing kept
-    g_lonlat_made.fetch_add(1);
-    if (kept.size() >= kKept) kept.clear();
-    kept.emplace(definition, made);
-    return made;
+    return kept_per_definition<std::shared_ptr<const CrsTransform>>(
+        definition, g_lonlat_made,
+        [](const std::string& d) { return std::make_shared<const CrsTransform>(d, "EPSG:4326"); });
 }
 
 }  // namespace

@@ -227,11 +227,13 @@ void RangeCache::store(const RangeRequest& request, const RangeReply& reply) {
     if (!enabled() || request.validator.empty() || !reply.error.empty()) return;
     std::uint64_t bytes = 0;
     for (const auto& p : reply.parts) bytes += p.size();
-    Queued entry{entry_path(request), {}, bytes};
+    {
+        std::lock_guard lock(mutex_);  // (room taken first, the reply copied outside the lock find() takes)
+        if (queued_bytes_ != 0 && queued_bytes_ + bytes > kMaxQueuedBytes) return;  // (one larger than all: alone)
+        queued_bytes_ += bytes;
+    }
+    Queued entry{entry_path(request), reply.parts, bytes};
     std::lock_guard lock(mutex_);
-    if (queued_bytes_ + bytes > kMaxQueuedBytes && !queue_.empty()) return;  // (one larger than all is written alone)
-    entry.parts = reply.parts;
-    queued_bytes_ += bytes;
     queue_.push_back(std::move(entry));
     if (!writer_.joinable()) writer_ = std::thread([this] { write_queued(); });
     queued_.notify_one();
