@@ -15,14 +15,17 @@
 //
 // Entries are written by a thread of the cache's own (store() copies the reply and returns): the network's
 // thread never waits on the disk, whose page cache may take a country's 250 MB catalog slower than loopback
-// brings it. What is queued is found as if written; a reply that would make the queue pass kMaxQueuedBytes is
-// not stored (a disk that cannot keep up costs a later look requests, never this one time).
+// brings it; they go around the page cache (O_DIRECT) where the folder's file system allows. What is queued is
+// found as if written; a reply that would make the queue pass kMaxQueuedBytes is not stored (a disk that cannot
+// keep up costs a later look requests, never this one time).
 #pragma once
 
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -44,6 +47,8 @@ std::filesystem::path default_cache_folder();
 class RangeCache {
 public:
     static constexpr std::uint64_t kMaxQueuedBytes = 32ull << 20;  // replies copied, waiting to be written
+    static constexpr std::size_t kStagingBytes = 1u << 20;           // written at a time
+    static constexpr std::size_t kDirectAlignment = 4096;            // of O_DIRECT's buffers, lengths and offsets
 
     explicit RangeCache(RangeCacheSettings settings);
     ~RangeCache();  // (what is queued is written first)
@@ -93,6 +98,9 @@ private:
     bool stopping_ = false;
     std::condition_variable queued_, written_;
     std::thread writer_;  // started by the first store
+    // The writer's: its staging buffer (kDirectAlignment-aligned), and whether entries go around the page cache.
+    std::unique_ptr<std::uint8_t[], decltype(&std::free)> staging_{nullptr, &std::free};
+    bool direct_writes_ = true;
 };
 
 }  // namespace lidarscout::net

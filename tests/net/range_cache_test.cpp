@@ -2,7 +2,8 @@
 // damaged entries (flipped bytes, truncated, replaced by a huge file) are dropped with a
 // diagnostic naming them, without reading a file larger than the entry can be; the folder
 // stays under its limit, least recently used first; a store returns before its entry is written (by the
-// cache's thread), and what is queued is found as if it were.
+// cache's thread), and what is queued is found as if it were; entries of any size come back whole and the
+// files hold no padding.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -149,6 +150,37 @@ TEST_F(RangeCacheTest, QueuedRepliesAreFoundAndWrittenOnceFlushedOrDestroyed) {
     ASSERT_TRUE(large);
     EXPECT_EQ((*large)[0].size(), RangeCache::kMaxQueuedBytes + 1);
     EXPECT_EQ(again.hits(), 2u);
+}
+
+// Entries go through a staging buffer (around the page cache where the file system allows: its last block padded,
+// the file cut to its size): every size about the buffer's and the alignment's comes back whole, each file exactly
+// as long as its entry.
+TEST_F(RangeCacheTest, EntriesOfEverySizeComeBackWholeAndNoLongerThanThemselves) {
+    RangeCache cache({dir, 1ull << 30});
+    const std::size_t staging = RangeCache::kStagingBytes, align = RangeCache::kDirectAlignment;
+    const std::vector<std::size_t> sizes{0, 1, align - 1, align, staging - 93, staging, 2 * staging + align + 7};
+    std::vector<RangeRequest> requests;
+    std::vector<std::vector<std::uint8_t>> contents;
+    std::uint64_t expected_bytes = 0;
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+        std::vector<std::uint8_t> bytes(sizes[k]);
+        for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<std::uint8_t>(i * 131 + k * 7 + i / 251);
+        requests.push_back({"http://h/" + std::to_string(k) + ".laz", {{0, sizes[k] + 1}, {sizes[k] + 9, 1}}, "\"v\""});
+        cache.store(requests.back(), reply_of({bytes, {static_cast<std::uint8_t>(k)}}));
+        cache.flush();
+        expected_bytes += 8 + 8 + 2 * (8 + 64) + sizes[k] + 1;  // magic, count, each part's length and SHA-256
+        contents.push_back(std::move(bytes));
+    }
+    EXPECT_EQ(folder_bytes(dir), expected_bytes);
+    RangeCache again({dir, 1ull << 30});
+    for (std::size_t k = 0; k < sizes.size(); ++k) {
+        const auto found = again.find(requests[k]);
+        ASSERT_TRUE(found) << sizes[k];
+        ASSERT_EQ(found->size(), 2u);
+        EXPECT_EQ((*found)[0], contents[k]) << sizes[k];
+        EXPECT_EQ((*found)[1], std::vector<std::uint8_t>{static_cast<std::uint8_t>(k)});
+    }
+    EXPECT_TRUE(again.take_diagnostics().empty());
 }
 
 TEST_F(RangeCacheTest, SizeZeroIsOff) {
