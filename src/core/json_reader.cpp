@@ -130,6 +130,84 @@ constexpr std::array<bool, 256> kWordBytes = [] {
 
 bool is_word_byte(char c) { return kWordBytes[static_cast<unsigned char>(c)]; }
 
+// An element of a streamed array being cut apart by its quotes and brackets (Parser::element_past), chunk by
+// chunk: how deep in its brackets the cut is, and of which kinds (bit k: the container k deep, 0 the outermost,
+// is an object), whether in a string, after a backslash, or wrong (a bracket closing the wrong kind, more than 64
+// deep: then the element is read the usual way, which says what is wrong).
+struct ElementCut {
+    std::uint64_t objects = 0;
+    std::size_t depth = 0;
+    bool in_string = false, escaped = false, wrong = false;
+
+    // An opening or closing bracket outside strings; true when the element ends with it (or is wrong).
+    bool bracket(char c) {
+        if (c == '{' || c == '[') {
+            if (depth == 64) return wrong = true;
+            objects = (objects & ~(std::uint64_t{1} << depth)) | (std::uint64_t{c == '{'} << depth);
+            ++depth;
+            return false;
+        }
+        if (depth == 0 || c != (((objects >> (depth - 1)) & 1) ? '}' : ']')) return wrong = true;
+        return --depth == 0;
+    }
+
+    // Past whole 64-byte blocks of [p, end) while inside the element's brackets; where it stopped, `ended` when
+    // past the element's last bracket (or at a wrong one). A block's strings are found all at once: its quotes
+    // that no odd run of backslashes escapes, their running parity the bytes inside strings; then only its
+    // brackets outside them are looked at, one by one. (A backslash outside a string escapes here as inside, where
+    // the byte at a time reading ignores it: JSON has none there, and the element's parse refuses it where it is.)
+    const char* blocks(const char* p, const char* end, bool& ended) {
+#if defined(__SSE2__)
+        for (; depth > 0 && end - p >= 64; p += 64) {
+            std::uint64_t quote = 0, backslash = 0, brackets = 0;
+            for (int k = 0; k < 4; ++k) {
+                const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p + 16 * k));
+                const __m128i folded = _mm_or_si128(v, _mm_set1_epi8(0x20));  // ('[' ']' are '{' '}' but for 0x20)
+                const auto bits = [&](__m128i m) {
+                    return std::uint64_t{static_cast<std::uint16_t>(_mm_movemask_epi8(m))} << (16 * k);
+                };
+                quote |= bits(_mm_cmpeq_epi8(v, _mm_set1_epi8('"')));
+                backslash |= bits(_mm_cmpeq_epi8(v, _mm_set1_epi8('\\')));
+                brackets |= bits(_mm_or_si128(_mm_cmpeq_epi8(folded, _mm_set1_epi8('{')),
+                                              _mm_cmpeq_epi8(folded, _mm_set1_epi8('}'))));
+            }
+            quote &= ~escaped_bits(backslash);
+            std::uint64_t inside = quote;  // (each bit: the parity of the quotes up to it, itself included)
+            for (int shift = 1; shift < 64; shift *= 2) inside ^= inside << shift;
+            if (in_string) inside = ~inside;
+            in_string = inside >> 63;
+            for (std::uint64_t b = brackets & ~inside; b != 0; b &= b - 1) {
+                const int at = __builtin_ctzll(b);
+                if (bracket(p[at])) {
+                    // (the element's end: what the byte at a time reading knows of it there)
+                    in_string = false, escaped = false, ended = true;
+                    return p + at + 1;
+                }
+            }
+        }
+#endif
+        return p;
+    }
+
+private:
+    // The bytes of a block escaped by a backslash before them (the block's first by one before it: `escaped`),
+    // `escaped` left saying whether its last byte escapes the next block's first.
+    std::uint64_t escaped_bits(std::uint64_t backslash) {
+        std::uint64_t bits = escaped ? 1 : 0;
+        if (backslash == 0) return escaped = false, bits;
+        bool next = escaped;
+        for (int i = 0; i < 64; ++i) {
+            if (next) {
+                bits |= std::uint64_t{1} << i, next = false;
+            } else if ((backslash >> i) & 1) {
+                next = true;
+            }
+        }
+        escaped = next;
+        return bits;
+    }
+};
+
 // The source's bytes, chunk by chunk, cut at the document's limit; where the reader is in them. Bytes from a
 // point on can be kept (keep_from_here) across refills, to be looked at whole or read again (rewind).
 class Input {
@@ -780,38 +858,34 @@ private:
                 return std::pair{p, p != end};
             }, true);
         }
-        std::uint64_t objects = 0;  // bit k: the container k deep (0: the outermost) is an object
-        std::size_t depth = 0;
-        bool in_string = false, escaped = false, wrong = false;
+        ElementCut cut;
         const bool delimited = bytes_past([&](const char* p, const char* end) {
             while (p != end) {
-                if (escaped) {
-                    escaped = false, ++p;
-                } else if (in_string) {
+                bool ended = false;
+                p = cut.blocks(p, end, ended);
+                if (ended) return std::pair{p, true};
+                if (p == end) break;
+                if (cut.escaped) {
+                    cut.escaped = false, ++p;
+                } else if (cut.in_string) {
                     p = first_mark<Mark::kStringBodyEnd>(p, end);
                     if (p == end) break;
-                    escaped = *p == '\\', in_string = *p++ != '"';
+                    cut.escaped = *p == '\\', cut.in_string = *p++ != '"';
                 } else {
                     p = first_mark<Mark::kBracketOrQuote>(p, end);
                     if (p == end) break;
                     const char c = *p++;
                     if (c == '"') {
-                        in_string = true;
-                    } else if (c == '{' || c == '[') {
-                        if (depth == 64) return wrong = true, std::pair{p, true};
-                        objects = (objects & ~(std::uint64_t{1} << depth)) | (std::uint64_t{c == '{'} << depth);
-                        ++depth;
-                    } else if (depth == 0 || c != (((objects >> (depth - 1)) & 1) ? '}' : ']')) {
-                        return wrong = true, std::pair{p, true};
-                    } else if (--depth == 0) {
+                        cut.in_string = true;
+                    } else if (cut.bracket(c)) {
                         return std::pair{p, true};
                     }
                 }
-                if (depth == 0 && !in_string) return std::pair{p, true};  // (a string element, closed)
+                if (cut.depth == 0 && !cut.in_string) return std::pair{p, true};  // (a string element, closed)
             }
             return std::pair{p, false};
         }, false);
-        return delimited && !wrong;
+        return delimited && !cut.wrong;
     }
 
     // Moves past bytes while `scan(begin, end)` (where it stopped, and whether the element ends there) says so,
