@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -27,23 +28,25 @@ inline nlohmann::json read_json(const std::filesystem::path& p) {
     return nlohmann::json::parse(in);
 }
 
-// One reference result: the formats/ file it describes and its JSON.
+// One reference result: the formats/ file it describes and its JSON. The JSON is shared, not copied: a suite's
+// parameters are copied several times at start-up, in every process ctest starts (one a test), and the 157
+// documents' copies were most of what each of the 2,500 processes spent before its test began.
 struct Expected {
     std::filesystem::path file;  // absolute path of the data file
     std::string name;            // the expected/ JSON file name (a readable test name)
-    nlohmann::json json;
+    std::shared_ptr<const nlohmann::json> json;
 };
 
 // All reference results (encode_pairs.json excluded), sorted by name. Parsed once per
 // process: every parameterised suite asks for them at start-up.
-inline std::vector<Expected> all_expected() {
+inline const std::vector<Expected>& all_expected() {
     static const std::vector<Expected> cache = [] {
         std::vector<Expected> out;
         for (const auto& e : std::filesystem::directory_iterator(formats_dir() / "expected")) {
             auto name = e.path().filename().string();
             if (e.path().extension() != ".json" || name == "encode_pairs.json") continue;
-            auto j = read_json(e.path());
-            out.push_back({formats_dir() / j.at("file").get<std::string>(), name, std::move(j)});
+            auto j = std::make_shared<const nlohmann::json>(read_json(e.path()));
+            out.push_back({formats_dir() / j->at("file").get<std::string>(), name, std::move(j)});
         }
         std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
         return out;

@@ -124,7 +124,7 @@ TEST(InfoCommand, JsonForEveryDecodableFile) {
     std::string args;
     std::size_t files = 0;
     for (const auto& e : test::all_expected()) {
-        if (e.json.at("reference_result") != "decodes") continue;
+        if (e.json->at("reference_result") != "decodes") continue;
         args += " '" + e.file.string() + "'";
         ++files;
     }

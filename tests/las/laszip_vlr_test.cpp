@@ -41,7 +41,7 @@ bool is_broken_on_purpose(const Expected& e) { return e.name.find("LASzip__LASzi
 std::vector<Expected> files_with_laz(bool broken) {
     std::vector<Expected> out;
     for (auto& e : lidarscout::test::all_expected()) {
-        if (!e.json.contains("laz") || e.json.at("laz").is_null()) continue;
+        if (!e.json->contains("laz") || e.json->at("laz").is_null()) continue;
         if (is_broken_on_purpose(e) == broken) out.push_back(std::move(e));
     }
     return out;
@@ -50,7 +50,7 @@ std::vector<Expected> files_with_laz(bool broken) {
 class LaszipVlrMatchesReference : public ::testing::TestWithParam<Expected> {};
 
 TEST_P(LaszipVlrMatchesReference, SameCompressorChunkSizeAndItems) {
-    const auto& x = GetParam().json.at("laz");
+    const auto& x = GetParam().json->at("laz");
     const auto vlr = laszip_of(GetParam().file);
     EXPECT_EQ(vlr.compressor, x.at("compressor").get<int>());
     EXPECT_EQ(vlr.coder, 0);

@@ -81,7 +81,7 @@ const std::vector<Chunk> kChunkSizeZeroChunks = {{0, 30, 1449, 418}};
 std::vector<Expected> files_with_chunk_lists() {
     std::vector<Expected> out;
     for (auto& e : lidarscout::test::all_expected()) {
-        if (e.json.contains("chunks") && e.json.at("reference_result") == "decodes") out.push_back(std::move(e));
+        if (e.json->contains("chunks") && e.json->at("reference_result") == "decodes") out.push_back(std::move(e));
     }
     return out;
 }
@@ -96,14 +96,14 @@ class ChunkTableMatchesReference : public ::testing::TestWithParam<Expected> {};
 
 TEST_P(ChunkTableMatchesReference, SameChunksAsLaszip) {
     const auto& e = GetParam();
-    const auto expected = chunks_in(e.json.at("chunks"));
+    const auto expected = chunks_in(e.json->at("chunks"));
     const auto table = table_of(e.file);
     const auto chunks = table.chunks();
     EXPECT_EQ(chunks, expected) << "got      " << describe(chunks) << "\nexpected " << describe(expected);
     EXPECT_EQ(table.size(), expected.size());
     for (std::size_t i = 0; i < table.size() && i < expected.size(); ++i) EXPECT_EQ(table[i], expected[i]) << i;
     EXPECT_FALSE(table.offset_from_file_end);
-    if (e.json.at("laz").at("compressor") == 1) {
+    if (e.json->at("laz").at("compressor") == 1) {
         EXPECT_EQ(table.table_offset, 0u);  // point-wise: no table at all
     } else if (!table.chunks().empty()) {
         EXPECT_EQ(table.table_offset, table.chunks().back().byte_offset + table.chunks().back().byte_size);
@@ -117,8 +117,8 @@ TEST(ChunkTableFormats, ReferenceCoversAllChunkedFiles) {
     EXPECT_EQ(files.size(), 74u);
     std::size_t chunked = 0, pointwise = 0;
     for (const auto& e : files) {
-        chunked += !e.json.at("chunks").empty();
-        pointwise += e.json.at("laz").at("compressor") == 1;
+        chunked += !e.json->at("chunks").empty();
+        pointwise += e.json->at("laz").at("compressor") == 1;
     }
     EXPECT_EQ(chunked, 70u);
     EXPECT_EQ(pointwise, 3u);

@@ -43,7 +43,7 @@ std::string test_name(std::string text) {
 std::vector<LayeredFile> layered_files() {
     std::vector<LayeredFile> out;
     for (const auto& e : test::all_expected()) {
-        const auto& j = e.json;
+        const auto& j = *e.json;
         if (j.value("reference_result", "") != "decodes" || !j.contains("laz") || j["laz"].is_null()) continue;
         if (j["laz"].value("compressor", 0) != 3) continue;
         const std::string name = test_name(e.name.substr(0, e.name.size() - 5));

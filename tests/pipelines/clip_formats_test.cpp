@@ -25,6 +25,7 @@
 #include "dataset/dataset.hpp"
 #include "dataset/point_reader.hpp"
 #include "io/file.hpp"
+#include "las/header.hpp"
 #include "las/point_format.hpp"
 #include "pipelines/clip.hpp"
 #include "temp_dir_fixture.hpp"
@@ -76,7 +77,7 @@ std::vector<std::string> decoding_files() {
     for (const auto& [name, ok] : test::index_outcomes()) {
         if (!ok) continue;
         const auto path = (test::formats_dir() / name).string();
-        if (dataset::read_tile(io::File::open(path)).header.point_count > 0) out.push_back(path);
+        if (las::read_header(io::File::open(path)).point_count > 0) out.push_back(path);  // (no CRS asked of PROJ)
     }
     return out;
 }
