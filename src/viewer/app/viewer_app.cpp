@@ -402,6 +402,10 @@ void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats&
 // the panels, their actions, the scripted end. run_viewer calls them in that order every frame.
 class ViewerLoop {
 public:
+    // How long after the loop's start the first frame may wait for a catalog's footprints (the frame itself took
+    // another 0.17 s beside a country's parse: it comes within a second).
+    static constexpr std::chrono::milliseconds kFirstFrameWait{700};
+
     explicit ViewerLoop(const ViewerOptions& o)
         : o_(o), start_(Clock::now()), win_(o.width, o.height, "lidarscout"), gui_(win_.window),
           pool_(o.threads ? o.threads : std::max(1u, std::thread::hardware_concurrency())),
@@ -415,7 +419,10 @@ public:
             return dataset::is_stac_catalog(p) && !dataset::is_virtual_replica(p);  // both may end in .json
         };
         if (std::any_of(o.paths.begin(), o.paths.end(), catalog)) {
-            opening_->wait_for_sources(std::chrono::seconds(1));  // a catalog's footprints in the first frame
+            // A catalog's footprints in the first frame, where they come in time for it to come within a second
+            // (kFirstFrameWait from the loop's start: a country's 152,100 items, parsed in about two, do not).
+            const auto left = start_ + kFirstFrameWait - Clock::now();
+            opening_->wait_for_sources(std::chrono::duration_cast<std::chrono::milliseconds>(left));
         }
     }
 
