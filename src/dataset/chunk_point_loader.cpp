@@ -18,6 +18,7 @@
 #include "core/patch_grid.hpp"
 #include "core/process_memory.hpp"
 #include "core/radix_sort.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/chunk_points.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/las_colour.hpp"
@@ -203,37 +204,51 @@ public:
         if (release) releasing.emplace(ds_.tiles, held_);
         // The tiles go into the grid in batches: one lookup of a cell and one callback for all a batch's points in
         // it, not one for each tile's (the nearest first, alone; then batches twice as large, up to kMostPoints).
+        // A batch's tiles' points are decoded and placed by the shared pool's threads, each tile's on its own,
+        // then go into the grid in the tiles' order (the loader's thread had spent most of a country's open there).
         constexpr std::size_t kMostPoints = 1u << 16;
         std::size_t batch_points = 1;
-        std::vector<std::uint32_t> batch;
+        std::vector<std::vector<std::pair<CellKey, GridPoint>>> per_tile;
         std::vector<std::pair<CellKey, GridPoint>> placed;
-        std::vector<PendingPoint> points;
-        const auto publish_batch = [&] {
+        for (std::size_t first = 0; first < held_.size();) {
+            if (is_cancelled()) return;
+            std::size_t end = first, points = 0;
+            while (end < held_.size() && (end == first || points < batch_points)) {
+                points += ds_.tiles[held_[end++]].chunk_points;
+            }
+            const std::span<const std::uint32_t> batch(held_.data() + first, end - first);
+            per_tile.resize(batch.size());
+            ThreadPool::shared().for_each(batch.size(), [&](std::size_t k) { place_held(batch[k], per_tile[k]); });
+            for (auto& tile_placed : per_tile) {
+                placed.insert(placed.end(), tile_placed.begin(), tile_placed.end());
+                tile_placed.clear();
+            }
             add_placed(batch, placed);
             if (releasing) {
                 for (const std::uint32_t id : batch) releasing->taken(ds_.tiles[id].tile);
             }
-            batch.clear(), placed.clear();
+            placed.clear();
             batch_points = std::min(2 * batch_points, kMostPoints);
-        };
-        for (const std::uint32_t id : held_) {
-            if (is_cancelled()) return;
-            const auto& tile = ds_.tiles[id];
-            const auto records = overview_records(tile.tile, tile.chunk_points);
-            const auto locations = chunk_point_locations(tile.tile, ds_.las_stride);
-            const std::size_t length = tile.tile.header.record_length;
-            points.clear();
-            for (std::size_t k = 0; k < locations.size() && (k + 1) * length <= records.size(); ++k) {
-                auto p = convert(tile, records.subspan(k * length, length), locations[k].offset);
-                if (p) points.push_back(*p);
-            }
-            place(id, points, placed);
-            batch.push_back(id);
-            if (placed.size() >= batch_points) publish_batch();
+            first = end;
         }
-        if (!batch.empty()) publish_batch();
         if (releasing && !held_.empty()) trim_heap();  // the blocks' pages the grid did not take leave the process
         held_ = {};
+    }
+
+    // The chunk points an overview sidecar holds for tile `id`, decoded and placed into `placed` (what cannot be is
+    // its errors). Safe on several threads at once.
+    void place_held(std::uint32_t id, std::vector<std::pair<CellKey, GridPoint>>& placed) {
+        const auto& tile = ds_.tiles[id];
+        const auto records = overview_records(tile.tile, tile.chunk_points);
+        const auto locations = chunk_point_locations(tile.tile, ds_.las_stride);
+        const std::size_t length = tile.tile.header.record_length;
+        std::vector<PendingPoint> points;
+        points.reserve(locations.size());
+        for (std::size_t k = 0; k < locations.size() && (k + 1) * length <= records.size(); ++k) {
+            auto p = convert(tile, records.subspan(k * length, length), locations[k].offset);
+            if (p) points.push_back(*p);
+        }
+        place(id, points, placed);
     }
 
 private:
