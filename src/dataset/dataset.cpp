@@ -691,7 +691,8 @@ std::optional<std::pair<Frame, std::vector<Bounds>>> placing(std::span<const Til
     std::vector<Bounds> footprints;
     footprints.reserve(sources.size());
     for (const auto& s : sources) {
-        if (!s.item || s.shift || !s.item->count || s.item->crs.empty() || s.item->overview) return std::nullopt;
+        if (!s.item || s.shift || !s.item->count || s.item->crs.empty()) return std::nullopt;
+        if (s.item->overview && options.use_overview && overview_sidecars_in_use()) return std::nullopt;  // (its own)
         auto b = catalog_footprint(*s.item);
         if (!b || b->empty()) return std::nullopt;  // (an inverted box places nothing)
         footprints.push_back(*b);
