@@ -839,6 +839,17 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
         options.use_overview && overview_sidecars_used ? overview_tiles(sources, reads.records(), ds.warnings, pool)
                              : std::vector<std::optional<Tile>>(n);
     forget_overview_prefetch();  // (one a catalog named, where this open did not take it)
+    if (std::none_of(placed.begin(), placed.end(), [](const auto& t) { return t.has_value(); })) {
+        // A sidecar that placed nothing (unreadable, damaged, missing: its warning said so): the items place the
+        // tiles as any catalog's do, where they can, rather than every header being read first.
+        DatasetOptions items_alone = options;
+        items_alone.use_overview = false;
+        if (auto by_items = open_placed(found, items_alone)) {
+            by_items->skipped = std::move(ds.skipped);
+            by_items->warnings = std::move(ds.warnings);
+            return std::move(*by_items);
+        }
+    }
     std::vector<std::string> source_paths;
     for (std::size_t i = 0; i < n; ++i) {
         if (!placed[i]) source_paths.push_back(sources[i].path);

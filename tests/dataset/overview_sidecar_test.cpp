@@ -327,6 +327,17 @@ TEST(OverviewSidecar, AnUnreadableSidecarIsOneWarningAndTheTilesAreRead) {
                             [](const std::string& m) { return m.find("overview sidecar not used") != m.npos; }),
               1);
     for (const auto& t : ds.tiles) EXPECT_FALSE(t.tile.file->overview);
+    // Opened placed (as the viewer opens): the items place the tiles, the sidecar's warning kept, no header read.
+    DatasetOptions placed;
+    placed.placed = true;
+    const Dataset by_items = open_dataset({(dir / "catalog.vpc").string()}, placed);
+    EXPECT_TRUE(by_items.placed);
+    EXPECT_EQ(by_items.tiles.size(), some_tiles().size());
+    EXPECT_EQ(by_items.tiles_ready(), 0u);
+    const auto placed_messages = by_items.warnings.messages();
+    EXPECT_EQ(std::count_if(placed_messages.begin(), placed_messages.end(),
+                            [](const std::string& m) { return m.find("overview sidecar not used") != m.npos; }),
+              1);
     fs::remove_all(dir);
 }
 
