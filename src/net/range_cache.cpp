@@ -229,9 +229,8 @@ std::optional<std::vector<std::vector<std::uint8_t>>> RangeCache::find(const Ran
     const fs::path path = entry_path(request);
     {
         std::lock_guard lock(mutex_);
-        for (const Queued& q : queue_) {
-            if (q.path == path) return ++hits_, q.parts;
-        }
+        const auto q = queued_paths_.find(path.native());
+        if (q != queued_paths_.end()) return ++hits_, q->second->parts;
     }
     const EntryFile entry = read_entry(path, request);
     if (!entry.exists) return std::nullopt;
@@ -275,6 +274,7 @@ void RangeCache::store(const RangeRequest& request, const RangeReply& reply) {
     Queued entry{entry_path(request), reply.parts, bytes};
     std::lock_guard lock(mutex_);
     queue_.push_back(std::move(entry));
+    queued_paths_[queue_.back().path.native()] = &queue_.back();  // (the latest of a path: the same bytes)
     if (!writer_.joinable()) writer_ = std::thread([this] { write_queued(); });
     queued_.notify_one();
 }
@@ -294,6 +294,9 @@ void RangeCache::write_queued() {
         write(entry);
         lock.lock();
         queued_bytes_ -= entry.bytes;
+        if (const auto q = queued_paths_.find(entry.path.native()); q != queued_paths_.end() && q->second == &entry) {
+            queued_paths_.erase(q);
+        }
         queue_.pop_front();
         written_.notify_all();
     }
@@ -307,7 +310,8 @@ void RangeCache::write(const Queued& entry) {
     if (!staging_) staging_.reset(static_cast<std::uint8_t*>(std::aligned_alloc(kDirectAlignment, kStagingBytes)));
     bool written = false;
     struct stat st {};
-    for (const bool direct : {direct_writes_, false}) {  // (a folder whose file system refuses O_DIRECT: buffered)
+    const bool large = entry.bytes >= kDirectMinBytes;  // (a small one through the page cache: no wait on the disk)
+    for (const bool direct : {direct_writes_ && large, false}) {  // (a file system that refuses O_DIRECT: buffered)
         const int flags = O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | (direct ? O_DIRECT : 0);
         const int fd = staging_ ? ::open(temp.c_str(), flags, 0644) : -1;
         if (fd < 0 && direct && errno == EINVAL) {

@@ -15,9 +15,9 @@
 //
 // Entries are written by a thread of the cache's own (store() copies the reply and returns): the network's
 // thread never waits on the disk, whose page cache may take a country's 250 MB catalog slower than loopback
-// brings it; they go around the page cache (O_DIRECT) where the folder's file system allows. What is queued is
-// found as if written; a reply that would make the queue pass kMaxQueuedBytes is not stored (a disk that cannot
-// keep up costs a later look requests, never this one time).
+// brings it; large ones go around the page cache (O_DIRECT) where the folder's file system allows. What is queued
+// is found as if written (looked up by its path, not searched for); a reply that would make the queue pass
+// kMaxQueuedBytes is not stored (a disk that cannot keep up costs a later look requests, never this one time).
 #pragma once
 
 #include <condition_variable>
@@ -30,6 +30,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <vector>
 
 #include "core/diagnostic.hpp"
@@ -49,6 +50,9 @@ public:
     static constexpr std::uint64_t kMaxQueuedBytes = 32ull << 20;  // replies copied, waiting to be written
     static constexpr std::size_t kStagingBytes = 1u << 20;           // written at a time
     static constexpr std::size_t kDirectAlignment = 4096;            // of O_DIRECT's buffers, lengths and offsets
+    // Entries from this size on go around the page cache; smaller ones through it (each O_DIRECT write waits on the
+    // disk: a catalog's 45,000 small replies fell behind, the queue thousands long).
+    static constexpr std::uint64_t kDirectMinBytes = 1u << 20;
 
     explicit RangeCache(RangeCacheSettings settings);
     ~RangeCache();  // (what is queued is written first)
@@ -94,6 +98,7 @@ private:
     std::uint64_t hits_ = 0;
     Diagnostics diagnostics_;
     std::deque<Queued> queue_;  // its front is being written (taken off once it is)
+    std::unordered_map<std::string, const Queued*> queued_paths_;  // entry path -> its latest entry in queue_
     std::uint64_t queued_bytes_ = 0;
     bool stopping_ = false;
     std::condition_variable queued_, written_;
