@@ -112,6 +112,9 @@ class Source:
         self.offset = struct.unpack_from("<2d", head, OFFSET_XY)
         self.bounds = struct.unpack_from("<4d", head, BOUNDS_XY)  # max x, min x, max y, min y
         self.copc_centre_at, self.copc_centre = self._find_copc_centre(head, header_size)
+        # Where the bytes a shift writes end: a read past it (a chunk point, a chunk table) is the source's as it is.
+        self.patched_end = max(OFFSET_XY + 16, BOUNDS_XY + 32,
+                               self.copc_centre_at + 16 if self.copc_centre_at is not None else 0)
         if copc_expected and self.copc_centre_at is None:
             fail(f"{path}: the manifest says COPC but its header holds no COPC info VLR")
 
@@ -193,6 +196,8 @@ class Replica:
         """Bytes [offset, offset + length) of tile i: the source's, with the shifted fields over them."""
         s = self.sources[self.source[i]]
         data = os.pread(s.fd, length, offset)
+        if offset >= s.patched_end:
+            return data
         end = offset + len(data)
         patched = None
         for at, value in s.patches(self.dx[i], self.dy[i]):
