@@ -185,8 +185,10 @@ public:
             if (t.whole) records.swap(t.records);
             tiles_.erase(id);
         }
-        publish(id, finished);
+        // (its records kept before it counts as done: a keeper that stops keeping once every tile is done, as the
+        // viewer's overview cache does, had lost the last tile's under load, and its next open read that tile)
         if (!records.empty()) loader_.options_.on_tile_records(id, std::move(records));
+        publish(id, finished);
     }
 
     // The tiles whose chunk points an overview sidecar holds, nearest to the focus first, from its

@@ -41,8 +41,9 @@ struct ChunkPointLoaderOptions {
     // none while on_tile_records is set: whoever keeps records may read a sidecar's later).
     bool release_overview = false;
     // When set, called from reader threads with a tile's chunk points as read (raw records of its own format,
-    // in chunk_point_locations order) once all of them are in, none failed; not for those an overview
-    // sidecar held. What the viewer keeps to write a remote dataset's sidecar (viewer/overview_cache.hpp).
+    // in chunk_point_locations order) once all of them are in, none failed, before the tile counts as done
+    // (tiles_done); not for those an overview sidecar held. What the viewer keeps to write a remote dataset's
+    // sidecar (viewer/overview_cache.hpp).
     std::function<void(std::uint32_t tile, std::vector<std::uint8_t>&& records)> on_tile_records;
 };
 

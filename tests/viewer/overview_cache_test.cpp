@@ -116,7 +116,8 @@ TEST(OverviewCache, TheSecondOpenAsksTheTilesForNothingAndAChangedTileIsNamed) {
 
         Opened second(paths, folder);
         ASSERT_TRUE(second.session.open());
-        EXPECT_EQ(tile_requests(server.stats(true)), 0) << "the second open asked the tiles";
+        const auto asked = server.stats(true);
+        EXPECT_EQ(tile_requests(asked), 0) << "the second open asked the tiles: " << asked.dump();
         EXPECT_EQ(second.from_sidecar(), 36u);
         EXPECT_EQ(second.session.scheduler->stats().chunk_points.done, chunk_points);
         EXPECT_FALSE(second.write()) << "nothing new to keep";
@@ -164,7 +165,8 @@ TEST(OverviewCache, TileURLsOpenFromTheirSidecarTheSecondTime) {
     EXPECT_LE(tile_requests(server.stats(true)), 0.03 * read);
     Opened second(paths, folder);
     ASSERT_TRUE(second.session.open());
-    EXPECT_EQ(tile_requests(server.stats(true)), 0) << "the second open asked the tiles";
+    const auto asked = server.stats(true);
+    EXPECT_EQ(tile_requests(asked), 0) << "the second open asked the tiles: " << asked.dump();
     EXPECT_EQ(second.from_sidecar(), paths.size());
     EXPECT_EQ(second.session.scheduler->stats().chunk_points.done, first_chunk_points);
     paths.pop_back();  // other URLs: another sidecar
