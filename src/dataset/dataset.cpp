@@ -393,14 +393,19 @@ void place_from_sidecar(const std::string& path, const std::vector<std::size_t>&
     }
 }
 
+// Whether an open with `options` reads the overview sidecar `source`'s catalog names (DatasetOptions::use_overview
+// and --no-overview's use_overview_sidecars).
+bool reads_sidecar(const TileSource& source, const DatasetOptions& options) {
+    return source.item && source.item->overview && !source.shift && options.use_overview && overview_sidecars_in_use();
+}
+
 // The tiles their catalogs' overview sidecars place, by source (none for a source no sidecar holds).
-std::vector<std::optional<Tile>> overview_tiles(std::span<const TileSource> sources, SharedRecords& records,
-                                                Diagnostics& warnings, ThreadPool& pool) {
+std::vector<std::optional<Tile>> overview_tiles(std::span<const TileSource> sources, const DatasetOptions& options,
+                                                SharedRecords& records, Diagnostics& warnings, ThreadPool& pool) {
     std::vector<std::optional<Tile>> placed(sources.size());
     std::map<std::string, std::vector<std::size_t>> by_sidecar;
     for (std::size_t i = 0; i < sources.size(); ++i) {
-        const auto& item = sources[i].item;
-        if (item && item->overview && !sources[i].shift) by_sidecar[*item->overview].push_back(i);
+        if (reads_sidecar(sources[i], options)) by_sidecar[*sources[i].item->overview].push_back(i);
     }
     for (const auto& [path, members] : by_sidecar) {
         place_from_sidecar(path, members, sources, placed, records, warnings, pool);
@@ -684,15 +689,16 @@ Frame items_frame(std::span<const TileSource> sources, const DatasetOptions& opt
 
 // The frame of a dataset the items of `sources` place (DatasetOptions::placed), with the tiles' footprints;
 // nullopt when an item does not place its tile: no pc:count, bbox or CRS PROJ knows, a CRS other than the
-// frame's, an overview sidecar (which places them itself).
+// frame's, an overview sidecar that is read (it places them itself).
 std::optional<std::pair<Frame, std::vector<Bounds>>> placing(std::span<const TileSource> sources,
                                                               const DatasetOptions& options) {
     if (!options.placed || sources.empty()) return std::nullopt;
     std::vector<Bounds> footprints;
     footprints.reserve(sources.size());
     for (const auto& s : sources) {
-        if (!s.item || s.shift || !s.item->count || s.item->crs.empty()) return std::nullopt;
-        if (s.item->overview && options.use_overview && overview_sidecars_in_use()) return std::nullopt;  // (its own)
+        if (!s.item || s.shift || !s.item->count || s.item->crs.empty() || reads_sidecar(s, options)) {
+            return std::nullopt;
+        }
         auto b = catalog_footprint(*s.item);
         if (!b || b->empty()) return std::nullopt;  // (an inverted box places nothing)
         footprints.push_back(*b);
@@ -835,11 +841,11 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     std::atomic<std::size_t> done{0};
     ThreadPool& pool = header_pool(std::max(1u, options.io_threads));
     TileReads reads;
-    std::vector<std::optional<Tile>> placed =
-        options.use_overview && overview_sidecars_used ? overview_tiles(sources, reads.records(), ds.warnings, pool)
-                             : std::vector<std::optional<Tile>>(n);
+    const bool sidecar_read = std::any_of(sources.begin(), sources.end(),
+                                          [&](const TileSource& s) { return reads_sidecar(s, options); });
+    std::vector<std::optional<Tile>> placed = overview_tiles(sources, options, reads.records(), ds.warnings, pool);
     forget_overview_prefetch();  // (one a catalog named, where this open did not take it)
-    if (std::none_of(placed.begin(), placed.end(), [](const auto& t) { return t.has_value(); })) {
+    if (sidecar_read && std::none_of(placed.begin(), placed.end(), [](const auto& t) { return t.has_value(); })) {
         // A sidecar that placed nothing (unreadable, damaged, missing: its warning said so): the items place the
         // tiles as any catalog's do, where they can, rather than every header being read first.
         DatasetOptions items_alone = options;

@@ -22,8 +22,8 @@
 
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
 #include <memory>
 #include <mutex>
