@@ -35,7 +35,8 @@ is read from the source file. It answers:
          both, which is how the sidecar's tiles are found).
   Stats  GET /_stats: requests and body bytes per kind (tile, tile_head, s3_object, s3_head, s3_list,
          catalog, search, landing, error), tiles touched, connections, ranges, multi-range requests, the
-         requests held (--hold-last-page) now, as JSON; /_stats?reset=1 answers, then starts counting
+         requests held (--hold-last-page) now, the requests in flight (read, not yet answered) at most and
+         on average from the first request to the last answer, as JSON; /_stats?reset=1 answers, then starts counting
          again. Never delayed nor counted.
 
 Options: --rtt-ms MS delays each response by MS (a connection's first by 2 x MS: its TCP handshake);
@@ -406,13 +407,30 @@ class Stats:
         self.touched = set()
         self.connections = self.ranges = self.multi_range = 0
         self.held = 0  # requests waiting for /_release now (not reset: they are still waiting)
+        # requests read and not yet answered: now, at most, and their sum over time (the mean in flight, from
+        # the first request to the last answer)
+        self.in_flight = getattr(self, "in_flight", 0)
+        self.in_flight_peak, self.in_flight_seconds, self.flight_first, self.flight_last = self.in_flight, 0.0, None, None
+
+    def flight(self, delta):
+        now = time.monotonic()
+        if self.flight_last is not None:
+            self.in_flight_seconds += self.in_flight * (now - self.flight_last)
+        self.flight_first = now if self.flight_first is None else self.flight_first
+        self.flight_last = now
+        self.in_flight += delta
+        self.in_flight_peak = max(self.in_flight_peak, self.in_flight)
 
     def as_json(self, tiles):
         return {"requests": sum(k["requests"] for k in self.kinds.values()),
                 "bytes": sum(k["bytes"] for k in self.kinds.values()),
                 "kinds": self.kinds, "tiles": tiles, "tiles_touched": len(self.touched),
                 "connections": self.connections, "ranges": self.ranges, "multi_range_requests": self.multi_range,
-                "held": self.held}
+                "held": self.held, "in_flight_peak": self.in_flight_peak, "in_flight_mean": self.in_flight_mean()}
+
+    def in_flight_mean(self):
+        span = (self.flight_last or 0) - (self.flight_first or 0)
+        return round(self.in_flight_seconds / span, 1) if span > 0 else 0.0
 
 
 class Response:
@@ -750,6 +768,8 @@ class Server:
                     response, delayed = self.route(method, target, headers)
                 except Exception as e:  # a bug here is an answer, not a dead connection
                     response, delayed = Response(500, {"Content-Type": "text/plain"}, f"{e!r}\n".encode()), False
+                if delayed:  # (the stats' own requests not counted in flight)
+                    self.stats.flight(1)
                 if delayed and self.rtt > 0:
                     await asyncio.sleep(self.rtt * (2 if first else 1))
                 first = False
@@ -760,7 +780,11 @@ class Server:
                 close = headers.get("connection", "").lower() == "close" or version == "HTTP/1.0"
                 if close:
                     response.headers["Connection"] = "close"
-                await self.send(writer, response, method == "HEAD")
+                try:
+                    await self.send(writer, response, method == "HEAD")
+                finally:
+                    if delayed:
+                        self.stats.flight(-1)
                 if close:
                     return
         except (ConnectionError, asyncio.IncompleteReadError):

@@ -85,6 +85,50 @@ public:
         return std::nullopt;
     }
 
+    // The items of the leaves with a count, least cost first, for as long as take(item) returns true: a
+    // leaf's items are listed (items(x, y, add): add(cost, item) for each) when its bound comes first, and
+    // each item comes out when its cost does (ties: the lower item; a node is opened before an item of its
+    // bound's cost). `seed(add)` adds items that lie in no leaf. Finding k items near a point costs one
+    // search, not k: each search first passes every leaf nearer than the nearest item (a loader's ring of
+    // tiles done).
+    template <class Bound, class Items, class Seed, class Take>
+    void nearest_items(Bound&& bound, Items&& items, Seed&& seed, Take&& take) const {
+        struct Node {
+            double cost;
+            bool item;
+            std::uint32_t id;  // an item's, or a node's level
+            int x, y;
+            bool operator>(const Node& o) const {
+                if (cost != o.cost) return cost > o.cost;
+                if (item != o.item) return item;
+                return id > o.id;
+            }
+        };
+        std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
+        const auto add = [&](double cost, std::uint32_t item) { open.push({cost, true, item, 0, 0}); };
+        seed(add);
+        if (total() > 0) open.push({bound(rect(0, 0, 0)), false, 0, 0, 0});
+        while (!open.empty()) {
+            const Node n = open.top();
+            open.pop();
+            ++visits_;
+            if (n.item) {
+                if (!take(n.id)) return;
+                continue;
+            }
+            const int level = static_cast<int>(n.id);
+            if (level == levels_) {
+                items(n.x, n.y, add);
+                continue;
+            }
+            for (int c = 0; c < 4; ++c) {
+                const int l = level + 1, x = 2 * n.x + (c & 1), y = 2 * n.y + (c >> 1);
+                if (!inside(l, x, y) || counts_[l][index(l, x, y)] <= 0) continue;
+                open.push({bound(rect(l, x, y)), false, static_cast<std::uint32_t>(l), x, y});
+            }
+        }
+    }
+
     // The same with the cost of a leaf its rectangle's.
     template <class Cost>
     std::optional<std::pair<int, int>> nearest(Cost&& cost) const {

@@ -259,12 +259,9 @@ private:
         const auto [x, y] = focus();
         std::vector<std::uint32_t> ids;
         std::lock_guard lock(mutex_);
-        while (!cancelled_ && ids.size() < most) {
-            const auto id = unread_.nearest_pending(x, y);
-            if (!id) break;
-            unread_.set_pending(*id, false);
-            ids.push_back(*id);
-        }
+        if (cancelled_) return ids;
+        ids = unread_.nearest_pending(x, y, most);
+        for (const std::uint32_t id : ids) unread_.set_pending(id, false);
         return ids;
     }
 
@@ -276,6 +273,7 @@ private:
             for (const std::uint32_t id : ids) {
                 if (ds_.is_ready(id)) {
                     index_.set_pending(id, true);
+                    upcoming_.clear();  // (it may be nearer than those found)
                     continue;
                 }
                 loader_.total_ -= ds_.tiles[id].chunk_points;
@@ -312,12 +310,28 @@ private:
                 id = unplaced_.back();
                 unplaced_.pop_back();
             } else {
-                id = index_.nearest_pending(x, y);
+                id = next_nearest(x, y);
                 if (!id) return false;
                 index_.set_pending(*id, false);
             }
             if (activate(*id)) return true;
         }
+    }
+
+    // The pending tile nearest to (x, y), from the few found nearest at once (kept while the focus stays and no
+    // tile joins the pending ones: each search passes the ring of tiles done, a country's hundreds of cells).
+    std::optional<std::uint32_t> next_nearest(double x, double y) {
+        constexpr std::size_t kFoundAtOnce = 32;
+        if (upcoming_focus_ != std::pair{x, y}) upcoming_.clear();
+        if (upcoming_.empty()) {
+            upcoming_ = index_.nearest_pending(x, y, kFoundAtOnce);
+            std::reverse(upcoming_.begin(), upcoming_.end());
+            upcoming_focus_ = {x, y};
+        }
+        if (upcoming_.empty()) return std::nullopt;
+        const std::uint32_t id = upcoming_.back();
+        upcoming_.pop_back();
+        return id;
     }
 
     // Opens the tile's file and lists its chunk points (it joins the active tiles); false (with an
@@ -441,6 +455,8 @@ private:
     std::vector<std::uint32_t> active_;    // started tiles with reads left to hand out, oldest first
     TileIndex index_;                      // the tiles not started yet are its pending ones
     TileIndex unread_;                     // a placed dataset's tiles whose headers are not asked for yet
+    std::vector<std::uint32_t> upcoming_;  // pending tiles of index_ nearest to upcoming_focus_, the next at the back
+    std::pair<double, double> upcoming_focus_{0, 0};
     bool headers_done_ = false;            // every header asked for is read
     std::condition_variable headers_cv_;   // under mutex_: headers read, all read, or a cancel
     std::vector<std::uint32_t> unplaced_;  // tiles without bounds, not started yet; back = next

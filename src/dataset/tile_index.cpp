@@ -105,30 +105,28 @@ void TileIndex::set_pending(std::uint32_t tile, bool pending) {
 }
 
 std::optional<std::uint32_t> TileIndex::nearest_pending(double x, double y) const {
-    std::optional<std::uint32_t> best;
-    double best_d = std::numeric_limits<double>::infinity();
-    const auto consider = [&](std::uint32_t t) {
-        ++tile_visits_;
-        if (!pending_[t]) return;
-        const double d = bounds_[t].distance_xy(x, y);
-        if (d < best_d || (d == best_d && best && t < *best)) best_d = d, best = t;
+    const auto found = nearest_pending(x, y, 1);
+    return found.empty() ? std::nullopt : std::optional(found.front());
+}
+
+std::vector<std::uint32_t> TileIndex::nearest_pending(double x, double y, std::size_t most) const {
+    std::vector<std::uint32_t> found;
+    if (most == 0) return found;
+    const auto add_pending = [&](std::span<const std::uint32_t> tiles, auto& add) {
+        for (const auto t : tiles) {
+            ++tile_visits_;
+            if (pending_[t]) add(bounds_[t].distance_xy(x, y), t);
+        }
     };
-    for (const auto t : apart_) consider(t);
-    // A node's bound is the distance to its box; a cell's exact cost its nearest pending tile's
-    // distance: best first then finds the nearest tile.
-    const auto leaf = pending_tree_.nearest([&](const LeafRect& r) { return distance_xy(r, x, y); },
-                                            [&](int cx, int cy) {
-                                                double d = std::numeric_limits<double>::infinity();
-                                                for (const auto t : cell_tiles(cx, cy)) {
-                                                    ++tile_visits_;
-                                                    if (pending_[t]) d = std::min(d, bounds_[t].distance_xy(x, y));
-                                                }
-                                                return d;
-                                            });
-    if (leaf) {
-        for (const auto t : cell_tiles(leaf->first, leaf->second)) consider(t);
-    }
-    return best;
+    // A node's bound is the distance to its box: its tiles come out in order of their distances.
+    pending_tree_.nearest_items([&](const LeafRect& r) { return distance_xy(r, x, y); },
+                                [&](int cx, int cy, auto& add) { add_pending(cell_tiles(cx, cy), add); },
+                                [&](auto& add) { add_pending(apart_, add); },
+                                [&](std::uint32_t t) {
+                                    found.push_back(t);
+                                    return found.size() < most;
+                                });
+    return found;
 }
 
 }  // namespace lidarscout::dataset

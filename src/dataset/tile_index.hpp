@@ -50,6 +50,9 @@ public:
     std::size_t pending_count() const { return pending_total_; }
     // The pending tile whose bounds are nearest to (x, y) (distance_xy; ties: the lower index).
     std::optional<std::uint32_t> nearest_pending(double x, double y) const;
+    // The `most` pending tiles nearest to (x, y), nearest first (the same order as asking nearest_pending
+    // `most` times, each found one taken off pending), from one search.
+    std::vector<std::uint32_t> nearest_pending(double x, double y, std::size_t most) const;
 
     std::size_t size() const { return bounds_.size(); }
     // Work done so far: quadtree nodes and tiles examined (for tests counting per-frame work).

@@ -98,5 +98,48 @@ TEST(TileIndex, QueriesNearOneCornerLookAtFewTiles) {
     EXPECT_LE(index.visits() - before, 1000u) << "of " << tiles.size() << " tiles";
 }
 
+// The k nearest pending tiles come from one search, in the order k single asks give them (ties by the lower
+// index), and a ring of tiles done around the point is passed once for all k, not once for each.
+TEST(TileIndex, ManyNearestAtOnceAreTheSingleAsksInOrder) {
+    std::vector<Bounds> tiles;
+    for (int y = 0; y < 150; ++y)
+        for (int x = 0; x < 150; ++x) tiles.push_back(box(x * 1e3, y * 1e3, x * 1e3 + 1e3, y * 1e3 + 1e3));
+    tiles.push_back(box(-5e6, -5e6, 5e6, 5e6));  // apart: nearest to everything
+    TileIndex index(tiles), single(tiles);
+    for (std::uint32_t t = 0; t < tiles.size(); ++t) index.set_pending(t, true), single.set_pending(t, true);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> at(-2e4, 1.7e5);
+    for (int q = 0; q < 40; ++q) {
+        const double x = at(rng), y = at(rng);
+        const auto many = index.nearest_pending(x, y, 37);
+        std::vector<std::uint32_t> one_by_one;
+        for (int k = 0; k < 37; ++k) {
+            const auto t = single.nearest_pending(x, y);
+            ASSERT_TRUE(t);
+            one_by_one.push_back(*t);
+            single.set_pending(*t, false);
+        }
+        ASSERT_EQ(many, one_by_one) << "query " << q;
+        for (const auto t : many) index.set_pending(t, false);
+    }
+    // Every tile within 40 km of the middle done: the next 32 from one search cost about one ring, not 32.
+    TileIndex ring(tiles);
+    for (std::uint32_t t = 0; t + 1 < tiles.size(); ++t) {
+        if (tiles[t].distance_xy(75e3, 75e3) > 40e3) ring.set_pending(t, true);
+    }
+    std::uint64_t before = ring.visits();
+    const auto next = ring.nearest_pending(75e3, 75e3, 32);
+    const std::uint64_t batched = ring.visits() - before;
+    ASSERT_EQ(next.size(), 32u);
+    for (std::size_t k = 1; k < next.size(); ++k) {
+        EXPECT_LE(tiles[next[k - 1]].distance_xy(75e3, 75e3), tiles[next[k]].distance_xy(75e3, 75e3));
+    }
+    before = ring.visits();
+    ASSERT_TRUE(ring.nearest_pending(75e3, 75e3));
+    const std::uint64_t one = ring.visits() - before;
+    EXPECT_LT(batched, 3 * one) << "32 tiles found with " << batched << " visits, one with " << one;
+    EXPECT_TRUE(index.nearest_pending(0, 0, 0).empty());
+}
+
 }  // namespace
 }  // namespace lidarscout::dataset
