@@ -1,6 +1,6 @@
 // The on-disk range cache: entry files (a magic, a count, then each part's length, SHA-256 and
 // bytes), written under a temporary name (around the page cache where the file system allows) and renamed by
-// a thread of its own, checked when read, evicted least
+// a thread of its own, small ones appended to packs with an index; checked when read, evicted least
 // recently used first.
 #include "net/range_cache.hpp"
 
@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -92,18 +93,67 @@ private:
     std::uint64_t written_ = 0;
 };
 
-// Writes the entry file for `parts` (a reply's): magic, part count, then each part's length, SHA-256 and bytes;
-// false when it could not be.
-bool write_entry(EntryOutput& out, const std::vector<std::vector<std::uint8_t>>& parts) {
+// Puts the entry for `parts` (a reply's) through put(data, n) (false: it could not be): magic, part count, then
+// each part's length, SHA-256 and bytes; false when it could not be.
+template <typename Put>
+bool put_entry(Put&& put, const std::vector<std::vector<std::uint8_t>>& parts) {
     std::string head(kMagic);
     put_u64(head, parts.size());
     for (const auto& p : parts) {
         put_u64(head, p.size());
         head += digest(p.data(), p.size());
-        if (!out.put(head.data(), head.size()) || !out.put(p.data(), p.size())) return false;
+        if (!put(head.data(), head.size()) || !put(p.data(), p.size())) return false;
         head.clear();
     }
-    return out.put(head.data(), head.size()) && out.finish();
+    return put(head.data(), head.size());
+}
+
+// Writes the entry file for `parts`; false when it could not be.
+bool write_entry(EntryOutput& out, const std::vector<std::vector<std::uint8_t>>& parts) {
+    return put_entry([&](const void* data, std::size_t n) { return out.put(data, n); }, parts) && out.finish();
+}
+
+// A pack's record: its key (kKeyChars hex digits), then the entry.
+constexpr std::size_t kKeyChars = 64;
+// An index's record: a record's key, then its offset and length in the pack (u64 each).
+constexpr std::size_t kIndexRecord = kKeyChars + 16;
+constexpr std::string_view kPackFolder = "packs";
+
+// The slot map's key: a key's first 16 hex digits.
+std::uint64_t key_prefix(std::string_view key) {
+    std::uint64_t v = 0;
+    for (const char c : key.substr(0, 16)) v = v * 16 + static_cast<std::uint64_t>(c <= '9' ? c - '0' : c - 'a' + 10);
+    return v;
+}
+
+bool write_all(int fd, const char* data, std::size_t n, std::optional<std::uint64_t> at = std::nullopt) {
+    for (std::size_t done = 0; done < n;) {
+        const ssize_t w = at ? ::pwrite(fd, data + done, n - done, static_cast<off_t>(*at + done))
+                             : ::write(fd, data + done, n - done);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return false;
+        done += static_cast<std::size_t>(w);
+    }
+    return true;
+}
+
+bool read_all(int fd, char* data, std::size_t n, std::uint64_t at) {
+    for (std::size_t done = 0; done < n;) {
+        const ssize_t got = ::pread(fd, data + done, n - done, static_cast<off_t>(at + done));
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) return false;
+        done += static_cast<std::size_t>(got);
+    }
+    return true;
+}
+
+// "URL, bytes A-B" or "URL, N ranges": a request in a message (its URL redacted).
+std::string described(const RangeRequest& request) {
+    const auto& first = request.ranges.front();
+    const std::string ranges = request.ranges.size() == 1
+                                   ? "bytes " + std::to_string(first.offset) + "-" + std::to_string(first.last())
+                                   : std::to_string(request.ranges.size()) + " ranges";
+    return redact_url(request.url) + ", " + ranges;
 }
 
 // The largest entry `request` can have (every range whole).
@@ -204,6 +254,10 @@ RangeCache::~RangeCache() {
     }
     queued_.notify_all();
     if (writer_.joinable()) writer_.join();
+    for (const Pack& p : packs_) {
+        if (p.fd >= 0) ::close(p.fd);
+    }
+    if (writing_index_fd_ >= 0) ::close(writing_index_fd_);
 }
 
 RangeCache& RangeCache::shared() {
@@ -218,19 +272,24 @@ void RangeCache::configure(const RangeCacheSettings& settings) {
     shared_slot() = std::make_unique<RangeCache>(settings);
 }
 
-fs::path RangeCache::entry_path(const RangeRequest& request) const {
+std::string RangeCache::entry_key(const RangeRequest& request) const {
     const std::string key = request.url + '\n' + request.validator + '\n' + range_header(request.ranges);
-    const std::string hex = sha256_hex(std::span(reinterpret_cast<const std::uint8_t*>(key.data()), key.size()));
-    return settings_.folder / hex.substr(0, 2) / hex;
+    return sha256_hex(std::span(reinterpret_cast<const std::uint8_t*>(key.data()), key.size()));
 }
+
+fs::path RangeCache::entry_path(const std::string& key) const { return settings_.folder / key.substr(0, 2) / key; }
 
 std::optional<std::vector<std::vector<std::uint8_t>>> RangeCache::find(const RangeRequest& request) {
     if (!enabled() || request.validator.empty()) return std::nullopt;
-    const fs::path path = entry_path(request);
+    const std::string key = entry_key(request);
+    const fs::path path = entry_path(key);
     {
         std::lock_guard lock(mutex_);
         const auto q = queued_paths_.find(path.native());
         if (q != queued_paths_.end()) return ++hits_, q->second->parts;
+    }
+    if (settings_.pack_below > 0) {
+        if (auto parts = find_packed(key, request)) return parts;
     }
     const EntryFile entry = read_entry(path, request);
     if (!entry.exists) return std::nullopt;
@@ -244,15 +303,89 @@ std::optional<std::vector<std::vector<std::uint8_t>>> RangeCache::find(const Ran
     return std::move(std::get<0>(parts));
 }
 
+std::optional<RangeCache::Parts> RangeCache::find_packed(const std::string& key, const RangeRequest& request) {
+    std::string record, problem;
+    fs::path pack;
+    PackSlot slot;
+    bool touch = false;
+    {
+        std::lock_guard lock(mutex_);  // (held while read: an eviction closes the pack's descriptor)
+        load_packs();
+        const auto it = slots_.find(key_prefix(key));
+        if (it == slots_.end()) return std::nullopt;
+        slot = it->second;
+        Pack& p = packs_[slot.pack];
+        if (p.fd < 0) p.fd = ::open(p.path.c_str(), O_RDONLY | O_CLOEXEC);
+        if (p.fd < 0) return slots_.erase(it), std::nullopt;  // (gone: another process evicted it)
+        pack = p.path;
+        if (slot.length > kKeyChars + max_entry_size(request)) {  // (not read: a record no request can have)
+            problem = "its length, " + std::to_string(slot.length) + " bytes, is more than its ranges can hold";
+        } else {
+            record.resize(slot.length);
+            if (!read_all(p.fd, record.data(), record.size(), slot.offset)) return slots_.erase(it), std::nullopt;
+            touch = !std::exchange(p.touched, true);
+        }
+    }
+    if (!problem.empty()) return drop_packed(pack, slot, key, request, problem);
+    if (record.compare(0, kKeyChars, key) != 0) {  // another key of the same prefix, or a damaged key
+        return record.size() < kKeyChars ? drop_packed(pack, slot, key, request, "it is cut short") : std::nullopt;
+    }
+    auto parts = decode(record.substr(kKeyChars), request);
+    if (parts.index() == 1) return drop_packed(pack, slot, key, request, std::get<1>(parts));
+    std::error_code ec;
+    if (touch) fs::last_write_time(pack, fs::file_time_type::clock::now(), ec);  // recently used (once a process)
+    std::lock_guard lock(mutex_);
+    ++hits_;
+    return std::move(std::get<0>(parts));
+}
+
+std::nullopt_t RangeCache::drop_packed(const fs::path& pack, const PackSlot& slot, const std::string& key,
+                                       const RangeRequest& request, const std::string& why) {
+    const std::string message = "the range cache record at byte " + std::to_string(slot.offset) + " of " +
+                                pack.string() + " (" + described(request) + ") was dropped and fetched again: " + why;
+    std::lock_guard lock(mutex_);
+    if (const auto it = slots_.find(key_prefix(key)); it != slots_.end() && it->second.offset == slot.offset &&
+                                                      it->second.pack == slot.pack) {
+        slots_.erase(it);
+    }
+    diagnostics_.add({DiagnosticLevel::warning, pack.string(), slot.offset, message});
+    return std::nullopt;
+}
+
+void RangeCache::load_packs() {
+    if (std::exchange(packs_loaded_, true)) return;
+    std::error_code ec;
+    for (fs::directory_iterator it(settings_.folder / kPackFolder, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->path().extension() != ".index") continue;
+        Pack pack{fs::path(it->path()).replace_extension(".pack")};
+        std::error_code fec;
+        const std::uint64_t pack_size = fs::file_size(pack.path, fec);
+        if (fec) continue;  // (an index without its pack: evicted, or being made)
+        const int fd = ::open(it->path().c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0) continue;
+        struct stat st {};
+        std::string index;
+        if (::fstat(fd, &st) == 0) index.resize(static_cast<std::size_t>(st.st_size) / kIndexRecord * kIndexRecord);
+        const bool read = read_all(fd, index.data(), index.size(), 0);
+        ::close(fd);
+        if (!read) continue;
+        const auto id = static_cast<std::uint32_t>(packs_.size());
+        packs_.push_back(std::move(pack));
+        for (std::size_t at = 0; at < index.size(); at += kIndexRecord) {  // (a torn last record: left out)
+            std::size_t field = at + kKeyChars;
+            std::uint64_t offset = 0, length = 0;
+            get_u64(index, field, offset), get_u64(index, field, length);
+            if (offset > pack_size || length > pack_size - offset) continue;
+            slots_[key_prefix(std::string_view(index).substr(at, kKeyChars))] = {id, offset, length};
+        }
+    }
+}
+
 void RangeCache::drop(const fs::path& path, const RangeRequest& request, const std::string& why) {
     std::error_code ec;
     fs::remove(path, ec);
-    const auto& first = request.ranges.front();
-    const std::string ranges = request.ranges.size() == 1
-                                   ? "bytes " + std::to_string(first.offset) + "-" + std::to_string(first.last())
-                                   : std::to_string(request.ranges.size()) + " ranges";
-    const std::string message = "the range cache entry " + path.string() + " (" + redact_url(request.url) + ", " +
-                                ranges + ") was dropped and fetched again: " + why;
+    const std::string message = "the range cache entry " + path.string() + " (" + described(request) +
+                                ") was dropped and fetched again: " + why;
     std::lock_guard lock(mutex_);
     diagnostics_.add({DiagnosticLevel::warning, path.string(), std::nullopt, message});
 }
@@ -271,7 +404,9 @@ void RangeCache::store(const RangeRequest& request, const RangeReply& reply) {
         if (queued_bytes_ != 0 && queued_bytes_ + bytes > kMaxQueuedBytes) return;  // (one larger than all: alone)
         queued_bytes_ += bytes;
     }
-    Queued entry{entry_path(request), reply.parts, bytes};
+    std::string key = entry_key(request);
+    fs::path path = entry_path(key);
+    Queued entry{std::move(key), std::move(path), reply.parts, bytes};
     std::lock_guard lock(mutex_);
     queue_.push_back(std::move(entry));
     queued_paths_[queue_.back().path.native()] = &queue_.back();  // (the latest of a path: the same bytes)
@@ -303,6 +438,14 @@ void RangeCache::write_queued() {
 }
 
 void RangeCache::write(const Queued& entry) {
+    if (entry.bytes < settings_.pack_below) {
+        std::uint64_t written = 0;
+        if (!append_to_pack(entry, written)) return;  // a cache that cannot be written only costs the next look
+        std::lock_guard lock(mutex_);
+        scan_total();
+        total_ += written;
+        return evict_if_needed();
+    }
     const fs::path& path = entry.path;
     std::error_code ec;
     fs::create_directories(path.parent_path(), ec);
@@ -335,6 +478,68 @@ void RangeCache::write(const Queued& entry) {
     evict_if_needed();
 }
 
+bool RangeCache::append_to_pack(const Queued& entry, std::uint64_t& written) {
+    std::uint32_t pack = 0;
+    {
+        std::lock_guard lock(mutex_);
+        load_packs();  // (the packs before this process's first)
+        const std::uint64_t limit = std::max<std::uint64_t>(1, std::min(kPackBytes, settings_.max_bytes / 16));
+        if (writing_ && writing_size_ >= limit) writing_.reset();
+    }
+    if (!writing_ && !open_pack()) return false;
+    std::string record = entry.key;
+    put_entry([&](const void* data, std::size_t n) { return record.append(static_cast<const char*>(data), n), true; },
+              entry.parts);
+    std::string index = entry.key;
+    put_u64(index, writing_size_);
+    put_u64(index, record.size());
+    {
+        std::lock_guard lock(mutex_);  // (the descriptor is the writer's: only its own eviction closes it)
+        pack = *writing_;
+    }
+    if (!write_all(packs_[pack].fd, record.data(), record.size(), writing_size_) ||
+        !write_all(writing_index_fd_, index.data(), index.size())) {
+        std::lock_guard lock(mutex_);
+        writing_.reset();  // (a pack that failed a write takes no more)
+        return false;
+    }
+    std::lock_guard lock(mutex_);
+    slots_[key_prefix(entry.key)] = {pack, writing_size_, record.size()};
+    writing_size_ += record.size();
+    written = record.size() + index.size();
+    return true;
+}
+
+bool RangeCache::open_pack() {
+    std::error_code ec;
+    const fs::path folder = settings_.folder / kPackFolder;
+    fs::create_directories(folder, ec);
+    if (writing_index_fd_ >= 0) ::close(std::exchange(writing_index_fd_, -1));
+    const auto now = std::chrono::system_clock::now().time_since_epoch().count();
+    const fs::path path = folder / (std::to_string(::getpid()) + "-" + std::to_string(now) + ".pack");
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) return false;
+    const fs::path index = fs::path(path).replace_extension(".index");
+    writing_index_fd_ = ::open(index.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
+    if (writing_index_fd_ < 0) return ::close(fd), fs::remove(path, ec), false;
+    std::lock_guard lock(mutex_);
+    writing_ = static_cast<std::uint32_t>(packs_.size());
+    writing_size_ = 0;
+    packs_.push_back({path, fd});
+    return true;
+}
+
+void RangeCache::forget_pack(std::uint32_t pack) {
+    Pack& p = packs_[pack];
+    if (p.fd >= 0) ::close(std::exchange(p.fd, -1));
+    p.gone = true;
+    std::erase_if(slots_, [&](const auto& slot) { return slot.second.pack == pack; });
+    if (writing_ == pack) {
+        writing_.reset();
+        if (writing_index_fd_ >= 0) ::close(std::exchange(writing_index_fd_, -1));
+    }
+}
+
 void RangeCache::scan_total() {
     if (scanned_) return;
     scanned_ = true;
@@ -360,9 +565,18 @@ void RangeCache::evict_if_needed() {
     const std::uint64_t target = settings_.max_bytes / 10 * 9;  // room for a while before the next sweep
     for (const auto& [time, path] : entries) {
         if (total_ <= target) break;
+        if (path.extension() == ".index" && path.parent_path().filename() == kPackFolder) continue;  // (with its pack)
         std::error_code fec;
         const auto size = fs::file_size(path, fec);
-        if (!fec && fs::remove(path, fec)) total_ -= size;
+        if (fec || !fs::remove(path, fec)) continue;
+        total_ -= size;
+        if (path.extension() != ".pack" || path.parent_path().filename() != kPackFolder) continue;
+        const fs::path index = fs::path(path).replace_extension(".index");
+        const auto index_size = fs::file_size(index, fec);
+        if (!fec && fs::remove(index, fec)) total_ -= index_size;
+        for (std::uint32_t k = 0; k < packs_.size(); ++k) {
+            if (packs_[k].path == path && !packs_[k].gone) forget_pack(k);
+        }
     }
 }
 
