@@ -55,6 +55,7 @@ public:
     std::vector<std::uint32_t> nearest_pending(double x, double y, std::size_t most) const;
 
     std::size_t size() const { return bounds_.size(); }
+    const Bounds& bounds(std::uint32_t tile) const { return bounds_[tile]; }
     // Work done so far: quadtree nodes and tiles examined (for tests counting per-frame work).
     std::uint64_t visits() const { return all_.visits() + pending_tree_.visits() + tile_visits_; }
 

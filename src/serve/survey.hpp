@@ -104,7 +104,7 @@ private:
     ResponseCache& cache_;
     std::unique_ptr<PatchGrid> grid_;
     std::unique_ptr<dataset::ChunkPointLoader> loader_;
-    std::vector<dataset::Bounds> footprints_;
+    viewer::Footprints footprints_;
     mutable std::mutex mutex_;  // the values computed once the loading is done
     mutable std::optional<bool> has_rgb_;
     mutable std::optional<std::array<float, 2>> intensity_range_;

@@ -31,7 +31,7 @@ inline constexpr std::size_t kViewerMinPoints = 6;
 
 struct HeightmapBuildOptions {
     recon::PatchOptions patch{recon::PatchSpec{}, kViewerMinPoints, true};
-    std::vector<dataset::Bounds> footprints;  // xy boxes of the data (tiles); empty = no mask
+    Footprints footprints;  // xy boxes of the data (tiles); empty = no mask
     std::size_t batch = 16;                   // patches per network call
     // Called after each patch (or batch) with the number of patches finished; any thread.
     std::function<void(std::size_t)> progress;

@@ -104,12 +104,21 @@ std::optional<PatchHeightmap> linear_heightmap(const lidarscout::PatchGrid& grid
     return heightmap_from_reconstruction(cell, points, r);
 }
 
-bool mask_to_footprints(PatchHeightmap& h, std::span<const dataset::Bounds> footprints) {
-    const double side = h.size * h.texel_m;
+Footprints::Footprints(std::vector<dataset::Bounds> boxes)
+    : index_(std::make_shared<const dataset::TileIndex>(std::span<const dataset::Bounds>(boxes))) {}
+
+std::vector<dataset::Bounds> Footprints::overlapping(double x0, double y0, double x1, double y1) const {
     std::vector<dataset::Bounds> near;
-    for (const auto& b : footprints) {
-        if (overlaps(b, h.origin_x, h.origin_y, h.origin_x + side, h.origin_y + side)) near.push_back(b);
-    }
+    if (!index_) return near;
+    const auto passes = [&](const dataset::Bounds& b) { return overlaps(b, x0, y0, x1, y1); };
+    index_->visit(passes, [&](std::uint32_t t) { near.push_back(index_->bounds(t)); });
+    return near;
+}
+
+bool mask_to_footprints(PatchHeightmap& h, const Footprints& footprints) {
+    const double side = h.size * h.texel_m;
+    const std::vector<dataset::Bounds> near =
+        footprints.overlapping(h.origin_x, h.origin_y, h.origin_x + side, h.origin_y + side);
     bool any = false;
     for (int row = 0; row < h.size; ++row) {
         const double y = h.origin_y + (row + 0.5) * h.texel_m;

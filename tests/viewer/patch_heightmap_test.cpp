@@ -3,6 +3,7 @@
 // clears exactly the texels outside the tiles, and the batch builder keeps the cells' order.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -88,6 +89,50 @@ TEST(ViewerPatchHeightmap, MaskClearsTexelsOutsideTheFootprints) {
     }
     const std::vector<dataset::Bounds> none{far_away};
     EXPECT_FALSE(mask_to_footprints(*h, none));
+}
+
+// Footprints found through their index: among 20,000 small boxes scattered over 40 km (some touching the patch's
+// edges) the mask keeps exactly the texels a look at every box keeps, and finds few boxes for the patch.
+TEST(ViewerPatchHeightmap, IndexedFootprintsMaskAsALookAtEveryBoxDoes) {
+    lidarscout::PatchGrid grid(kOx, kOy);
+    add_points(grid, 200, 0.0, 640.0, 0.0, 640.0, 5);
+    const auto made = linear_heightmap(grid, {0, 0}, options());
+    ASSERT_TRUE(made.has_value());
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> at(-2e4, 2e4), side(5.0, 120.0);
+    std::vector<dataset::Bounds> boxes;
+    for (int k = 0; k < 20'000; ++k) {
+        dataset::Bounds b;
+        const auto place = [&] { return k < 40 ? at(rng) / 40.0 + 320.0 : at(rng); };  // (the first 40 about it)
+        b.min_x = kOx + place();
+        b.min_y = kOy + place();
+        b.max_x = b.min_x + side(rng), b.max_y = b.min_y + side(rng), b.min_z = 0, b.max_z = 10;
+        boxes.push_back(b);
+    }
+    dataset::Bounds edge;  // touching the patch's east edge only
+    edge.min_x = kOx + 640.0, edge.max_x = kOx + 700.0, edge.min_y = kOy, edge.max_y = kOy + 640.0;
+    edge.min_z = 0, edge.max_z = 10;
+    boxes.push_back(edge);
+    const Footprints footprints(boxes);
+    const auto near = footprints.overlapping(kOx, kOy, kOx + 640.0, kOy + 640.0);
+    EXPECT_LT(near.size(), 200u);
+    EXPECT_NE(std::find_if(near.begin(), near.end(), [&](const auto& b) { return b.min_x == edge.min_x; }),
+              near.end()) << "a box touching the patch is near it";
+    auto h = *made;
+    const bool any = mask_to_footprints(h, footprints);
+    std::size_t kept = 0;
+    for (int row = 0; row < 64; ++row) {
+        for (int col = 0; col < 64; ++col) {
+            const double x = kOx + (col + 0.5) * 10.0, y = kOy + (row + 0.5) * 10.0;
+            const bool inside = std::any_of(boxes.begin(), boxes.end(), [&](const dataset::Bounds& b) {
+                return x >= b.min_x && x <= b.max_x && y >= b.min_y && y <= b.max_y;
+            });
+            EXPECT_EQ(std::isnan(h.heights[row * 64 + col]), !inside) << row << "," << col;
+            kept += inside;
+        }
+    }
+    EXPECT_GT(kept, 0u);
+    EXPECT_EQ(any, kept > 0);
 }
 
 TEST(ViewerHeightmapBuilder, LinearBuildKeepsOrderAndSkipsSparseOrMaskedCells) {
