@@ -69,6 +69,7 @@ TEST_F(ServeBrowser, AutoCameraCoversWhatRenderCovers) {
     ServeChild server("'" + jmo335() + "'");
     const std::string url = server.url();
     ASSERT_EQ(url.rfind("http://127.0.0.1:", 0), 0u) << url;
+    ASSERT_TRUE(ServeChild::wait_loaded(url)) << "the survey loaded";
     const auto shot = dir / "page.png", ref = dir / "render.png", dom = dir / "dom.html";
     const std::string page_url = url + "#camera=auto&ui=0";
     ASSERT_EQ(std::system(chromium("--screenshot='" + shot.string() + "'", page_url, shot).c_str()), 0);
@@ -124,6 +125,7 @@ TEST_F(ServeBrowser, ClassificationModeLooksLikeRender) {
     ServeChild server("'" + jmo335() + "'");
     const std::string url = server.url();
     ASSERT_EQ(url.rfind("http://127.0.0.1:", 0), 0u) << url;
+    ASSERT_TRUE(ServeChild::wait_loaded(url)) << "the survey loaded";
     const auto shot = dir / "page.png", ref = dir / "render.png";
     const std::string page_url = url + "#camera=auto&ui=0&colour=classification";
     ASSERT_EQ(std::system(chromium("--screenshot='" + shot.string() + "'", page_url, shot).c_str()), 0);
