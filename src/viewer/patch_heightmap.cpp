@@ -105,13 +105,14 @@ std::optional<PatchHeightmap> linear_heightmap(const lidarscout::PatchGrid& grid
 }
 
 Footprints::Footprints(std::vector<dataset::Bounds> boxes)
-    : index_(std::make_shared<const dataset::TileIndex>(std::span<const dataset::Bounds>(boxes))) {}
+    : shared_(std::make_shared<Shared>(dataset::TileIndex(std::span<const dataset::Bounds>(boxes)))) {}
 
 std::vector<dataset::Bounds> Footprints::overlapping(double x0, double y0, double x1, double y1) const {
     std::vector<dataset::Bounds> near;
-    if (!index_) return near;
+    if (!shared_) return near;
     const auto passes = [&](const dataset::Bounds& b) { return overlaps(b, x0, y0, x1, y1); };
-    index_->visit(passes, [&](std::uint32_t t) { near.push_back(index_->bounds(t)); });
+    std::lock_guard lock(shared_->mutex);
+    shared_->index.visit(passes, [&](std::uint32_t t) { near.push_back(shared_->index.bounds(t)); });
     return near;
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <vector>
@@ -77,13 +78,17 @@ public:
     Footprints(std::vector<dataset::Bounds> boxes);  // NOLINT: implicit, a list of boxes is footprints
     Footprints(std::initializer_list<dataset::Bounds> boxes) : Footprints(std::vector<dataset::Bounds>(boxes)) {}
 
-    bool empty() const { return !index_ || index_->size() == 0; }
-    std::size_t size() const { return index_ ? index_->size() : 0; }
-    // The boxes that overlap [x0, x1] x [y0, y1] (edges touching included).
+    bool empty() const { return size() == 0; }
+    std::size_t size() const { return shared_ ? shared_->index.size() : 0; }
+    // The boxes that overlap [x0, x1] x [y0, y1] (edges touching included). Safe on several threads at once.
     std::vector<dataset::Bounds> overlapping(double x0, double y0, double x1, double y1) const;
 
 private:
-    std::shared_ptr<const dataset::TileIndex> index_;  // (it holds the boxes)
+    struct Shared {
+        dataset::TileIndex index;  // (it holds the boxes; counts its visits: one thread at a time)
+        std::mutex mutex;
+    };
+    std::shared_ptr<Shared> shared_;
 };
 
 // Sets to NaN every texel whose centre lies outside all `footprints`; returns false when no texel is left.

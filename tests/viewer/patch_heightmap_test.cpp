@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <thread>
 
 #include "core/thread_pool.hpp"
 #include "render/framebuffer.hpp"
@@ -118,6 +119,15 @@ TEST(ViewerPatchHeightmap, IndexedFootprintsMaskAsALookAtEveryBoxDoes) {
     EXPECT_LT(near.size(), 200u);
     EXPECT_NE(std::find_if(near.begin(), near.end(), [&](const auto& b) { return b.min_x == edge.min_x; }),
               near.end()) << "a box touching the patch is near it";
+    std::vector<std::size_t> found(4);  // (threads at once: a heightmap builder's, a server's requests)
+    std::vector<std::thread> threads;
+    for (std::size_t k = 0; k < found.size(); ++k) {
+        threads.emplace_back([&, k] {
+            for (int i = 0; i < 50; ++i) found[k] = footprints.overlapping(kOx, kOy, kOx + 640.0, kOy + 640.0).size();
+        });
+    }
+    for (auto& t : threads) t.join();
+    EXPECT_EQ(found, std::vector<std::size_t>(4, near.size()));
     auto h = *made;
     const bool any = mask_to_footprints(h, footprints);
     std::size_t kept = 0;
