@@ -565,8 +565,11 @@ void RangeCache::evict_if_needed() {
     const std::uint64_t target = settings_.max_bytes / 10 * 9;  // room for a while before the next sweep
     for (const auto& [time, path] : entries) {
         if (total_ <= target) break;
-        if (path.extension() == ".index" && path.parent_path().filename() == kPackFolder) continue;  // (with its pack)
         std::error_code fec;
+        if (path.extension() == ".index" && path.parent_path().filename() == kPackFolder &&
+            fs::exists(fs::path(path).replace_extension(".pack"), fec)) {
+            continue;  // (removed with its pack; one whose pack is gone goes now)
+        }
         const auto size = fs::file_size(path, fec);
         if (fec || !fs::remove(path, fec)) continue;
         total_ -= size;

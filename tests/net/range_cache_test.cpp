@@ -5,7 +5,7 @@
 // cache's thread), and what is queued is found as if it were; entries of any size come back whole and the
 // files hold no padding; small entries go into a pack and its index (one file each for hundreds), come back
 // from a new cache, a damaged record is dropped alone, a torn index loses its last record only, and packs are
-// evicted whole under the limit.
+// evicted whole under the limit (an index whose pack is gone too).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -273,6 +273,8 @@ TEST_F(RangeCacheTest, ADamagedRecordIsDroppedAloneAndATornIndexLosesItsLastReco
 // Under a small limit packs are sealed small and evicted whole, least recently used first, their indexes with
 // them: the folder stays under the limit and the latest entries are found.
 TEST_F(RangeCacheTest, PacksAreEvictedWholeUnderTheLimit) {
+    fs::create_directories(dir / "packs");
+    std::ofstream(dir / "packs" / "1-1.index") << std::string(100'000, 'x');  // an index whose pack is gone
     RangeCache cache({dir, 200'000});
     const std::vector<std::uint8_t> block(3'000, 7);
     const auto request = [](int i) { return RangeRequest{"http://h/" + std::to_string(i), {{0, 3'000}}, "e"}; };
@@ -291,6 +293,7 @@ TEST_F(RangeCacheTest, PacksAreEvictedWholeUnderTheLimit) {
     }
     EXPECT_GT(packs, 1u);
     EXPECT_EQ(packs, indexes) << "an index goes with its pack";
+    EXPECT_FALSE(fs::exists(dir / "packs" / "1-1.index")) << "an index without its pack is evicted";
     RangeCache again({dir, 200'000});
     EXPECT_TRUE(again.find(request(399)));
     EXPECT_FALSE(again.find(request(0)));
