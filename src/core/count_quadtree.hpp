@@ -59,30 +59,15 @@ public:
     // first (a leaf may hold many items). nullopt when every count is 0.
     template <class Bound, class Exact>
     std::optional<std::pair<int, int>> nearest(Bound&& bound, Exact&& exact) const {
-        struct Node {
-            double cost;
-            int level, x, y;
-            bool exact;
-            bool operator>(const Node& o) const { return cost > o.cost; }
-        };
-        std::priority_queue<Node, std::vector<Node>, std::greater<>> open;
-        if (total() > 0) open.push({bound(rect(0, 0, 0)), 0, 0, 0, false});
-        while (!open.empty()) {
-            const Node n = open.top();
-            open.pop();
-            ++visits_;
-            if (n.level == levels_) {
-                if (n.exact) return std::pair{n.x, n.y};
-                open.push({exact(n.x, n.y), n.level, n.x, n.y, true});
-                continue;
-            }
-            for (int c = 0; c < 4; ++c) {
-                const int l = n.level + 1, x = 2 * n.x + (c & 1), y = 2 * n.y + (c >> 1);
-                if (!inside(l, x, y) || counts_[l][index(l, x, y)] <= 0) continue;
-                open.push({bound(rect(l, x, y)), l, x, y, false});
-            }
-        }
-        return std::nullopt;
+        std::optional<std::pair<int, int>> found;  // (each leaf an item: its row-major index)
+        nearest_items(
+            bound, [&](int x, int y, auto& add) { add(exact(x, y), static_cast<std::uint32_t>(y) * nx_ + x); },
+            [](auto&) {},
+            [&](std::uint32_t leaf) {
+                found = std::pair{static_cast<int>(leaf % nx_), static_cast<int>(leaf / nx_)};
+                return false;
+            });
+        return found;
     }
 
     // The items of the leaves with a count, least cost first, for as long as take(item) returns true: a

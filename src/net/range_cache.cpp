@@ -48,6 +48,27 @@ bool get_u64(const std::string& in, std::size_t& at, std::uint64_t& v) {
 
 std::string digest(const std::uint8_t* data, std::size_t n) { return sha256_hex(std::span(data, n)); }
 
+bool write_all(int fd, const char* data, std::size_t n, std::optional<std::uint64_t> at = std::nullopt) {
+    for (std::size_t done = 0; done < n;) {
+        const ssize_t w = at ? ::pwrite(fd, data + done, n - done, static_cast<off_t>(*at + done))
+                             : ::write(fd, data + done, n - done);
+        if (w < 0 && errno == EINTR) continue;
+        if (w <= 0) return false;
+        done += static_cast<std::size_t>(w);
+    }
+    return true;
+}
+
+bool read_all(int fd, char* data, std::size_t n, std::uint64_t at) {
+    for (std::size_t done = 0; done < n;) {
+        const ssize_t got = ::pread(fd, data + done, n - done, static_cast<off_t>(at + done));
+        if (got < 0 && errno == EINTR) continue;
+        if (got <= 0) return false;
+        done += static_cast<std::size_t>(got);
+    }
+    return true;
+}
+
 // An entry file's bytes on their way to disk, through a staging buffer of kStagingBytes written whole. Where the
 // file was opened with O_DIRECT the bytes go around the page cache: a country's catalog and sidecar (360 MB on a
 // first open) copied into fresh page-cache pages cost a core for over a second on a virtual machine, while the
@@ -76,12 +97,7 @@ public:
 
 private:
     bool write_staging(std::size_t n) {
-        for (std::size_t at = 0; at < n;) {
-            const ssize_t done = ::write(fd_, staging_ + at, n - at);
-            if (done < 0 && errno == EINTR) continue;
-            if (done <= 0) return false;
-            at += static_cast<std::size_t>(done);
-        }
+        if (!write_all(fd_, reinterpret_cast<const char*>(staging_), n)) return false;
         written_ += n, filled_ = 0;
         return true;
     }
@@ -124,27 +140,6 @@ std::uint64_t key_prefix(std::string_view key) {
     std::uint64_t v = 0;
     for (const char c : key.substr(0, 16)) v = v * 16 + static_cast<std::uint64_t>(c <= '9' ? c - '0' : c - 'a' + 10);
     return v;
-}
-
-bool write_all(int fd, const char* data, std::size_t n, std::optional<std::uint64_t> at = std::nullopt) {
-    for (std::size_t done = 0; done < n;) {
-        const ssize_t w = at ? ::pwrite(fd, data + done, n - done, static_cast<off_t>(*at + done))
-                             : ::write(fd, data + done, n - done);
-        if (w < 0 && errno == EINTR) continue;
-        if (w <= 0) return false;
-        done += static_cast<std::size_t>(w);
-    }
-    return true;
-}
-
-bool read_all(int fd, char* data, std::size_t n, std::uint64_t at) {
-    for (std::size_t done = 0; done < n;) {
-        const ssize_t got = ::pread(fd, data + done, n - done, static_cast<off_t>(at + done));
-        if (got < 0 && errno == EINTR) continue;
-        if (got <= 0) return false;
-        done += static_cast<std::size_t>(got);
-    }
-    return true;
 }
 
 // "URL, bytes A-B" or "URL, N ranges": a request in a message (its URL redacted).
@@ -211,14 +206,7 @@ EntryFile read_entry(const fs::path& path, const RangeRequest& request) {
                         std::to_string(max) + ")";
     } else {
         entry.content.resize(static_cast<std::size_t>(st.st_size));
-        std::size_t done = 0;
-        while (done < entry.content.size()) {
-            const ssize_t got = ::pread(fd, entry.content.data() + done, entry.content.size() - done,
-                                        static_cast<off_t>(done));
-            if (got <= 0) break;
-            done += static_cast<std::size_t>(got);
-        }
-        if (done != entry.content.size()) entry.problem = "it could not be read whole";
+        if (!read_all(fd, entry.content.data(), entry.content.size(), 0)) entry.problem = "it could not be read whole";
     }
     ::close(fd);
     return entry;
@@ -532,7 +520,6 @@ bool RangeCache::open_pack() {
 void RangeCache::forget_pack(std::uint32_t pack) {
     Pack& p = packs_[pack];
     if (p.fd >= 0) ::close(std::exchange(p.fd, -1));
-    p.gone = true;
     std::erase_if(slots_, [&](const auto& slot) { return slot.second.pack == pack; });
     if (writing_ == pack) {
         writing_.reset();
@@ -578,7 +565,7 @@ void RangeCache::evict_if_needed() {
         const auto index_size = fs::file_size(index, fec);
         if (!fec && fs::remove(index, fec)) total_ -= index_size;
         for (std::uint32_t k = 0; k < packs_.size(); ++k) {
-            if (packs_[k].path == path && !packs_[k].gone) forget_pack(k);
+            if (packs_[k].path == path) forget_pack(k);  // (again once evicted: nothing left to do)
         }
     }
 }

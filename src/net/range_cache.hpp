@@ -103,7 +103,6 @@ private:
     struct Pack {
         std::filesystem::path path;  // NAME.pack (its index: NAME.index)
         int fd = -1;                 // open for reading once read from (or while written)
-        bool gone = false;           // evicted
         bool touched = false;        // its time set by a read of this process (once)
     };
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <httplib.h>
+#include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -84,7 +85,10 @@ struct ServeChild {
         httplib::Client c(url.substr(0, slash));
         for (int k = 0; k < seconds * 10; ++k) {
             const auto info = c.Get("/api/info");
-            if (info && info->status == 200 && info->body.find("\"finished\":true") != std::string::npos) return true;
+            if (info && info->status == 200) {
+                const auto j = nlohmann::json::parse(info->body, nullptr, false);
+                if (j.value("/datasets/0/loading/finished"_json_pointer, false)) return true;
+            }
             std::this_thread::sleep_for(std::chrono::milliseconds(100));
         }
         return false;
