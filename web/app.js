@@ -16,7 +16,11 @@ const MAX_CNN_PATCHES = 256;  // the network's heightmaps: the nearest cells onl
 const $ = (id) => document.getElementById(id);
 const hash = new URLSearchParams(location.hash.slice(1));
 const timings = {};
-const mark = (name) => { if (!(name in timings)) timings[name] = Math.round(performance.now()); };
+const mark = (name) => {  // (and a frame, which shows it in #timings)
+  if (name in timings) return;
+  timings[name] = Math.round(performance.now());
+  state.dirty = true;
+};
 
 const state = {
   api: new Api(0), info: null, cam: null, box: null, mode: 0, dirty: true,
@@ -473,7 +477,7 @@ function frame() {
                                                 retries: state.retries, empty_patch_batches: state.emptyBatches,
                                                 full_res_points: state.lodPoints,
                                                 levels_dropped: state.levelsDropped,
-                                                errors: state.errors });
+                                                errors: state.errors, last_error: state.lastError });
     if ('terrain' in timings && 'overview' in timings && !state.complete) {
       state.complete = true;
       document.title = 'lidarscout · complete';

@@ -4,12 +4,10 @@
 #pragma once
 
 #include <httplib.h>
-#include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -75,23 +73,6 @@ struct ServeChild {
             ::waitpid(pid, nullptr, 0);
         }
         if (out) std::fclose(out);
-    }
-    // Whether the server at `url` (url()'s) says within `seconds` that its first survey has loaded: a browser's
-    // virtual clock, which runs ahead while the page only polls, had spent its whole budget on a server still
-    // loading beside a busy test suite, and the page saw no point.
-    static bool wait_loaded(const std::string& url, int seconds = 180) {
-        const auto at = url.find("://");
-        const auto slash = url.find('/', at + 3);
-        httplib::Client c(url.substr(0, slash));
-        for (int k = 0; k < seconds * 10; ++k) {
-            const auto info = c.Get("/api/info");
-            if (info && info->status == 200) {
-                const auto j = nlohmann::json::parse(info->body, nullptr, false);
-                if (j.value("/datasets/0/loading/finished"_json_pointer, false)) return true;
-            }
-            std::this_thread::sleep_for(std::chrono::milliseconds(100));
-        }
-        return false;
     }
     // The first line of stdout (empty when the program ended without one).
     std::string url() {
