@@ -10,7 +10,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git clang libclang-rt-14-dev
   # core libraries
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libfmt-dev libspdlog-dev
-  nlohmann-json3-dev libnanoflann-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  nlohmann-json3-dev libsimdjson-dev libnanoflann-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   liburing-dev libcurl4-openssl-dev libssl-dev libstb-dev libgdal-dev
   # tests of remote datasets: a local HTTP(S) server on loopback, a self-signed certificate
   nginx openssl

@@ -135,6 +135,7 @@ bool is_word_byte(char c) { return kWordBytes[static_cast<unsigned char>(c)]; }
 // is an object), whether in a string, after a backslash, or wrong (a bracket closing the wrong kind, more than 64
 // deep: then the element is read the usual way, which says what is wrong).
 struct ElementCut {
+    static constexpr std::size_t kMostDepth = 64;  // (a bit a level in `objects`)
     std::uint64_t objects = 0;
     std::size_t depth = 0;
     bool in_string = false, escaped = false, wrong = false;
@@ -142,7 +143,7 @@ struct ElementCut {
     // An opening or closing bracket outside strings; true when the element ends with it (or is wrong).
     bool bracket(char c) {
         if (c == '{' || c == '[') {
-            if (depth == 64) return wrong = true;
+            if (depth == kMostDepth) return wrong = true;
             objects = (objects & ~(std::uint64_t{1} << depth)) | (std::uint64_t{c == '{'} << depth);
             ++depth;
             return false;
@@ -367,6 +368,25 @@ bool prepares(const JsonStreaming& s) { return s.prepare && s.prepared; }
 
 // How deep a streamed array's elements lie: in the root object (1), in the array (2).
 constexpr std::size_t kElementDepth = 2;
+
+// Whether no limit could refuse the element `text` (one the cutter delimited, so at most ElementCut::kMostDepth
+// deep): it is shorter than a string may be and than its budget, and holds no run of kMaxJsonTokenBytes bytes
+// that could be one number or literal (outside the structure's marks, quotes and white space).
+bool no_limit_refuses(std::string_view text, const JsonLimits& limits) {
+    if (text.size() >= limits.max_string_bytes || text.size() > limits.element.text_bytes ||
+        text.size() > limits.element.values) {
+        return false;
+    }
+    if (text.size() < kMaxJsonTokenBytes) return true;
+    std::size_t run = 0;
+    for (const char c : text) {
+        const bool mark = c == ',' || c == ':' || c == '[' || c == ']' || c == '{' || c == '}' || c == '"' ||
+                          c == ' ' || c == '\t' || c == '\n' || c == '\r';
+        run = mark ? 0 : run + 1;
+        if (run >= kMaxJsonTokenBytes) return false;
+    }
+    return true;
+}
 
 // nlohmann's SAX interface: the kept document, streamed elements, the depth limit. Of a streamed element
 // parsed on its own (`element`): the element is the document, within the element's budget, as deep as
@@ -641,7 +661,10 @@ class ParallelElements {
 public:
     ParallelElements(const JsonLimits& limits, const JsonStreaming& streaming)
         : limits_(limits), streaming_(streaming),
-          element_streaming_{{}, {}, streaming.diverted_keys, streaming.diverted, 1, {}, {}} {}
+          element_streaming_{{}, {}, streaming.diverted_keys, streaming.diverted, 1, {}, {}, {}},
+          from_text_(prepares(streaming) && streaming.prepare_text &&
+                     (!streaming.diverted || streaming.diverted->drops_everything()) &&
+                     limits.max_depth >= kElementDepth + ElementCut::kMostDepth) {}
     ~ParallelElements() {
         {
             std::lock_guard lock(mutex_);
@@ -725,8 +748,18 @@ private:
         b.parsed.reserve(b.elements.size());
         for (std::size_t i = 0; i < b.elements.size(); ++i) {
             const Element& e = b.elements[i];
-            auto value = parse_element(std::string_view(b.text).substr(e.from, e.size), e.at, limits_,
-                                       element_streaming_);
+            const std::string_view text = std::string_view(b.text).substr(e.from, e.size);
+            if (from_text_ && no_limit_refuses(text, limits_)) {
+                try {
+                    if (auto prepared = streaming_.prepare_text(b.key, b.first_index + i, text); prepared.has_value()) {
+                        b.parsed.push_back({json(), std::move(prepared)});
+                        continue;
+                    }
+                } catch (...) {
+                    return void(b.error = std::current_exception());
+                }
+            }
+            auto value = parse_element(text, e.at, limits_, element_streaming_);
             if (auto* stop = std::get_if<Stop>(&value)) return void(b.stop = std::move(*stop));
             if (!prepares(streaming_)) {
                 b.parsed.push_back({std::move(std::get<json>(value)), {}});
@@ -769,6 +802,7 @@ private:
     const JsonLimits& limits_;
     const JsonStreaming& streaming_;
     const JsonStreaming element_streaming_;  // the diverted values alone, for each element parsed on its own
+    const bool from_text_;  // elements may be prepared from their text (JsonStreaming::prepare_text)
     std::shared_ptr<Batch> filling_;
     std::deque<std::shared_ptr<Batch>> batches_;  // handed to the threads, not yet to the sink, in order
     std::size_t pending_ = 0;  // elements added, not yet handed to the sink

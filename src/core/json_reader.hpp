@@ -59,6 +59,9 @@ using JsonElementSink = std::function<bool(const std::string& key, std::size_t i
 // Makes an element into what the reader keeps of it (JsonStreaming::prepare), on the thread that parsed it.
 using JsonElementPrepare =
     std::function<std::any(const std::string& key, std::size_t index, nlohmann::json&& element)>;
+// Makes an element into what the reader keeps of it straight from its JSON text (JsonStreaming::prepare_text);
+// an empty std::any where it does not, the element then parsed and prepared as usual.
+using JsonTextPrepare = std::function<std::any(const std::string& key, std::size_t index, std::string_view text)>;
 // Receives what JsonElementPrepare made of an element, in order. Returns false to stop reading.
 using JsonPreparedSink = std::function<bool(const std::string& key, std::size_t index, std::any&& prepared)>;
 
@@ -103,6 +106,12 @@ struct JsonStreaming {
     // which is most of what a document costs), then that handed to `prepared` on the reading thread, in order.
     JsonElementPrepare prepare;
     JsonPreparedSink prepared;
+    // Tried before `prepare`, on the same thread, for each element no limit could refuse (shorter than a string
+    // may be, no token near the longest accepted, the diverted values dropped): what the reader keeps made
+    // straight from the element's text (a fast reader of a common shape of element), or an empty std::any, the
+    // element then parsed and prepared as usual. It must accept only text that is JSON, and make of it what
+    // `prepare` makes of the parsed element.
+    JsonTextPrepare prepare_text;
 };
 
 // A receiver of diverted values that keeps nothing: for values a caller does not use.

@@ -24,6 +24,7 @@
 #include "core/thread_pool.hpp"
 #include "core/text.hpp"
 #include "dataset/json_file.hpp"
+#include "dataset/stac_item_text.hpp"
 #include "dataset/tile.hpp"
 #include "io/file.hpp"
 #include "net/origin_policy.hpp"
@@ -327,6 +328,16 @@ std::nullopt_t refuse(const ItemLines& lines, const std::string& why, ItemLineSi
     return std::nullopt;
 }
 
+// The item's href resolved into `item`; false when it cannot be (then a line in `sink`).
+bool resolve_href(const std::string& href, const Document& document, CatalogItem& item, const ItemLines& lines,
+                  ItemLineSink& sink) {
+    std::string refusal;
+    auto resolved = resolve(document.path, href, refusal, document.folder);
+    if (!resolved) return refuse(lines, refusal, sink), false;
+    item.href = std::move(*resolved);
+    return true;
+}
+
 // The item `feature` (the index-th of its document), or nullopt; one line in `sink` when something of it
 // could not be used (a warning when it is kept, an error when it is left out). Its CRS's text is left in `crs`
 // (Document::crs holds it once). Safe to call from several threads at once.
@@ -349,10 +360,7 @@ std::optional<CatalogItem> item_of(const json& feature, const Document& document
         return refuse(lines, "", sink);
     }
     if (!href) return refuse(lines, "no data asset with an href (the tile's path or URL)", sink);
-    std::string refusal;
-    const auto resolved = resolve(document.path, *href, refusal, document.folder);
-    if (!resolved) return refuse(lines, refusal, sink);
-    item.href = *resolved;
+    if (!resolve_href(*href, document, item, lines, sink)) return std::nullopt;
     const json* props = nullptr;
     field(lines, kHeaderInstead, [&] { props = json_optional_object(feature, "properties"); });
     if (props) read_properties(*props, item, crs, lines);
@@ -371,6 +379,21 @@ struct PreparedItem {
 PreparedItem prepared_item(const json& feature, const Document& document, std::size_t index) {
     PreparedItem p;
     p.item = item_of(feature, document, index, p.lines, p.crs);
+    return p;
+}
+
+// What item_of makes of an item of the plain shape (dataset/stac_item_text.hpp), from its fields.
+PreparedItem prepared_item(PlainItem&& plain, const Document& document, std::size_t index) {
+    PreparedItem p;
+    CatalogItem item;
+    item.document = document.shown;
+    item.id = std::move(plain.id);
+    const ItemLines lines{document.shown, index, &item.id, {}};
+    if (!resolve_href(plain.href, document, item, lines, p.lines)) return p;
+    item.count = plain.count;
+    item.bbox = plain.bbox;
+    p.crs = std::move(plain.crs);
+    p.item = std::move(item);
     return p;
 }
 
@@ -497,6 +520,11 @@ bool repeats_a_page(const Queued& q, std::size_t first, Walk& w) {
     return true;
 }
 
+// What an item holds that the catalog does not use, wherever it lies (read past, not kept even for a while).
+const std::vector<std::string> kUnusedKeys{"geometry",     "bbox",         "stac_extensions",
+                                           "pc:schemas",   "proj:geometry", "stac_version",
+                                           "datetime",     "pc:type",      "pc:encoding"};
+
 // The document's JSON, its "features" and "links" streamed into `s`; nullopt when it could not be read.
 std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk& w) {
     JsonLimits limits;
@@ -505,14 +533,16 @@ std::optional<json> read_streamed(const std::string& document, Streamed& s, Walk
     // (what an item holds that the catalog does not use is read past, not kept even for a while)
     JsonValueDropper unused;
     const Document named(document, w.crs_texts);
-    JsonStreaming streaming{{"features", "links"},
-                            {},
-                            {"geometry", "bbox", "stac_extensions", "pc:schemas", "proj:geometry", "stac_version",
-                             "datetime", "pc:type", "pc:encoding"},
-                            &unused};
+    JsonStreaming streaming{{"features", "links"}, {}, kUnusedKeys, &unused};
     streaming.threads = ThreadPool::shared_size();  // (a country's 250 MB: every core parses items)
     streaming.prepare = [&](const std::string& key, std::size_t i, json&& element) {
         return prepare_element(key, i, std::move(element), named);
+    };
+    streaming.prepare_text = [&](const std::string& key, std::size_t i, std::string_view text) -> std::any {
+        if (key != "features") return {};
+        auto plain = read_plain_item(text, kUnusedKeys);
+        if (!plain) return {};
+        return prepared_item(std::move(*plain), named, i);
     };
     streaming.prepared = [&](const std::string& key, std::size_t i, std::any&& element) {
         return take_element(key, i, std::move(element), named, s, w);

@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <tuple>
+
 #include <algorithm>
 #include <any>
 #include <mutex>
@@ -14,6 +17,7 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "allocation_counter.hpp"
@@ -500,6 +504,65 @@ TEST(JsonReader, LargeStreamedArraysAreParsedByThreads) {
     for (std::size_t i = 0; i < order.size(); ++i) ASSERT_EQ(order[i], i);
     EXPECT_GE(threads.size(), 2u) << "the threads and, for the large element, the reading thread";
     EXPECT_TRUE(threads.count(std::this_thread::get_id())) << "the large element is the reading thread's";
+}
+
+// A streamed element may be made into what is kept straight from its text (JsonStreaming::prepare_text), on the
+// threads: only where no limit could refuse it (not a number past kMaxJsonTokenBytes digits, nor a string past
+// max_string_bytes; none where the diverted values go to a receiver that looks at them), and
+// where it declines (an empty std::any), the element is parsed and prepared as usual. Either way the sink sees
+// the elements in order, and text that is not JSON is the same Error at the same offset.
+TEST(JsonReader, AnElementMayBePreparedFromItsText) {
+    std::string objects = R"({"features": [)";
+    for (int i = 0; i < 3000; ++i) objects += (i ? "," : "") + std::string(R"({"id": )") + std::to_string(i) + "}";
+    const std::string text = objects + ",[\"" + std::string(2000, 't') + "\", 0." + std::string(3000, '0') +
+                             "1]" +  // (longer than a number may be, but no limit refuses it)
+                             ",[" + std::string(kMaxJsonTokenBytes + 10, '7') + "]]}";  // (too long a number)
+    const std::string long_string = objects + ",[\"" + std::string(9000, 's') + "\"]]}";  // (this test's 8 KiB)
+    const auto run = [&](bool from_text, JsonValueEvents* diverted, const std::string& doc) {
+        std::atomic<int> texts{0};
+        std::vector<std::string> order;
+        JsonStreaming streaming{{"features"}, {}, {"skipped"}, diverted};
+        streaming.threads = 2;
+        streaming.prepare = [](const std::string&, std::size_t, json&& e) -> std::any { return "parsed " + e.dump(); };
+        if (from_text) {
+            streaming.prepare_text = [&](const std::string&, std::size_t i, std::string_view t) -> std::any {
+                ++texts;
+                if (i % 2) return {};  // (the odd ones declined)
+                return "text " + json::parse(t).dump();
+            };
+        }
+        streaming.prepared = [&](const std::string&, std::size_t, std::any&& p) {
+            order.push_back(std::any_cast<std::string>(p));
+            return true;
+        };
+        JsonLimits limits;
+        limits.max_string_bytes = 8192;
+        std::string error;
+        try {
+            parse_json(doc, "d.json", limits, &streaming);
+        } catch (const Error& e) {
+            error = std::to_string(e.offset().value_or(0)) + " " + e.cause();
+        }
+        return std::tuple{texts.load(), order, error};
+    };
+    const auto [texts, order, error] = run(true, nullptr, text);
+    EXPECT_EQ(texts, 3001) << "every element but the one a limit refuses";
+    EXPECT_EQ(error, std::get<2>(run(false, nullptr, text)));
+    EXPECT_NE(error.find("number"), std::string::npos) << error;  // (the number refused, where it is)
+    ASSERT_EQ(order.size(), 3001u);
+    for (std::size_t i = 0; i < 3000; ++i) {
+        const std::string id = R"({"id":)" + std::to_string(i) + "}";
+        ASSERT_EQ(order[i], (i % 2 ? "parsed " : "text ") + id);
+    }
+    EXPECT_EQ(order[3000].rfind("text [", 0), 0u);
+    const auto [string_texts, string_order, string_error] = run(true, nullptr, long_string);
+    EXPECT_EQ(string_texts, 3000);
+    EXPECT_EQ(string_error, std::get<2>(run(false, nullptr, long_string)));
+    EXPECT_NE(string_error.find("string"), std::string::npos) << string_error;
+    EventCounter counter;  // (looks at the diverted values: never from the text)
+    EXPECT_EQ(std::get<0>(run(true, &counter, text)), 0);
+    JsonValueDropper dropper;  // (drops them: from the text)
+    EXPECT_EQ(std::get<0>(run(true, &dropper, text)), 3001);
 }
 
 TEST(JsonReader, AnErrorOfTheSourceOrSinkNamesTheDocument) {

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "allocation_counter.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/file_search.hpp"
 #include "nginx_server.hpp"
@@ -52,6 +53,91 @@ protected:
         return p.string();
     }
 };
+
+// An item of the plain shape is read straight from its text where threads parse a catalog's items
+// (dataset/stac_item_text.hpp), any other by the general reader: on one thread the general reader reads them
+// all. Both give one catalog, item for item and line for line, over items plain and not (each thing the general
+// reader says a word about or chooses), and the same error where the text stops being JSON.
+TEST_F(StacCatalog, APlainItemReadFromItsTextIsWhatTheGeneralReaderMakesOfIt) {
+    const std::string geometry = R"("geometry": {"type": "Polygon", "coordinates": [[[1, 2], [3, 4], [1, 2]]]})";
+    const auto plain = [&](const std::string& id, const std::string& properties, const std::string& assets) {
+        return R"({"type": "Feature", "id": )" + id + ", " + geometry + R"(, "properties": )" + properties +
+               R"(, "assets": )" + assets + "}";
+    };
+    const std::string one = R"({"data": {"href": "./t/a.laz", "roles": ["data"]}})";
+    std::vector<std::string> items;
+    for (int k = 0; k < 300; ++k) {  // (plain ones, enough for several batches of the threads)
+        items.push_back(plain("\"p" + std::to_string(k) + "\"",
+                              R"({"pc:count": )" + std::to_string(1000 + k) + R"(, "proj:bbox": [)" +
+                                  std::to_string(k) + R"(.5, 2, 3, 1000, 2000, 30], "proj:epsg": 2154})",
+                              R"({"data": {"href": "./t/)" + std::to_string(k) + R"(.laz"}})"));
+    }
+    const std::vector<std::pair<std::string, std::string>> odd = {  // (id, properties) with `one`
+        {"null", "{}"}, {"7", "{}"}, {"\"a\"", R"({"pc:count": -1})"}, {"\"b\"", R"({"pc:count": "lots"})"},
+        {"\"c\"", R"({"pc:count": 1.5, "proj:bbox": [3, 2, 1, 4]})"}, {"\"d\"", R"({"proj:bbox": [1, 2, 3]})"},
+        {"\"e\"", R"({"proj:epsg": 0, "proj:wkt2": "PROJCRS[\"x\"]"})"},
+        {"\"f\"", R"({"proj:projjson": {"type": "ProjectedCRS", "name": "x"}})"},
+        {"\"g\"", R"({"proj:epsg": "2154", "proj:wkt2": 7})"}, {"\"h\"", R"({"pc:count": 1, "pc:count": 2})"},
+        {"\"i\"", "[]"}, {"\"j\"", R"({"proj:bbox": [1, 2, 3, 4], "proj:wkt2": "PROJCRS[\"y\"]"})"},
+        {"\"k\"", R"({"proj:epsg": 18446744073709551615})"}, {"\"l\"", "null"}};
+    for (const auto& [id, properties] : odd) items.push_back(plain(id, properties, one));
+    for (const std::string assets :
+         {R"({"data": {"href": "a.laz"}, "thumb": {"href": "a.png", "roles": ["data"]}})", R"({})",
+          R"({"data": {"href": 7}})", R"({"data": "a.laz"})", R"({"geometry": {"href": "a.laz"}})",
+          R"({"data": {"href": "a.laz", "href": "b.laz"}})", R"({"data": {"href": "../../../x.laz"}})",
+          R"({"data": {"href": "ftp://h/x.laz"}})"}) {
+        items.push_back(plain("\"m\"", "{}", assets));
+    }
+    items.push_back(R"({"type": "Item", "assets": {"data": {"href": "a.laz"}}})");
+    items.push_back("\"not an item\"");
+    items.push_back(R"({"type": "Feature", "id": "n", "id": "o", "assets": {"data": {"href": "a.laz"}}})");
+    const auto document = [&](const std::string& last) {
+        std::string text = R"({"type": "FeatureCollection", "features": [)";
+        for (const auto& i : items) text += i + ",\n";
+        return text + last + "]}";
+    };
+    const auto read_with = [&](unsigned threads, const std::string& text) {
+        const fs::path p = dir / "c.vpc";
+        std::ofstream(p) << text;
+        const unsigned before = ThreadPool::shared_size();
+        ThreadPool::set_shared_threads(threads);
+        const Catalog c = read_catalog(p.string());
+        ThreadPool::set_shared_threads(before);
+        return c;
+    };
+    const auto same = [&](const Catalog& a, const Catalog& b) {
+        ASSERT_EQ(a.items.size(), b.items.size());
+        for (std::size_t i = 0; i < a.items.size(); ++i) {
+            const CatalogItem &x = a.items[i], &y = b.items[i];
+            EXPECT_EQ(x.href, y.href);
+            EXPECT_EQ(x.id, y.id);
+            EXPECT_EQ(std::string(x.document), std::string(y.document));
+            EXPECT_EQ(x.count, y.count) << x.id;
+            EXPECT_EQ(x.bbox.has_value(), y.bbox.has_value()) << x.id;
+            if (x.bbox && y.bbox) {
+                for (int k = 0; k < 6; ++k) {
+                    EXPECT_TRUE((*x.bbox)[k] == (*y.bbox)[k] || (std::isnan((*x.bbox)[k]) && std::isnan((*y.bbox)[k])));
+                }
+            }
+            EXPECT_EQ(std::string(x.crs), std::string(y.crs)) << x.id;
+        }
+        EXPECT_EQ(a.errors, b.errors);
+        EXPECT_EQ(a.warnings, b.warnings);
+    };
+    const std::string valid = document(plain("\"z\"", "{}", one));
+    const Catalog general = read_with(1, valid), fast = read_with(2, valid);
+    same(general, fast);
+    // (kept: 300 plain, 14 odd properties, 3 odd assets, the last; said: 6 kept with a warning, 7 left out)
+    EXPECT_EQ(general.items.size(), 300u + 14 + 3 + 1 + 1);
+    EXPECT_EQ(general.warnings.size(), 6u);
+    EXPECT_EQ(general.errors.size(), 7u);
+    // and where the text stops being JSON (inside a value the catalog does not use), one error at one place
+    const std::string broken = document(R"({"type": "Feature", "geometry": [1 2], "assets": {"data": {"href": "a.laz"}}})");
+    const Catalog general_broken = read_with(1, broken), fast_broken = read_with(2, broken);
+    same(general_broken, fast_broken);
+    ASSERT_FALSE(fast_broken.errors.empty());
+    EXPECT_NE(fast_broken.errors.back().find("expected"), std::string::npos) << fast_broken.errors.back();
+}
 
 TEST_F(StacCatalog, AVirtualPointCloudsItemsResolveAgainstItsFolder) {
     const std::string vpc = write(
