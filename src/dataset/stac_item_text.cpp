@@ -109,7 +109,9 @@ std::optional<PlainItem> read_plain_item(std::string_view text, std::span<const 
     if (parser.parse(text.data(), text.size()).get(root) != simdjson::SUCCESS) return std::nullopt;
     if (root.get_object().get(feature) != simdjson::SUCCESS) return std::nullopt;
     std::array<Member, 4> f;
-    if (!members(feature, std::array<std::string_view, 4>{"type", "id", "assets", "properties"}, f)) return std::nullopt;
+    if (!members(feature, std::array<std::string_view, 4>{"type", "id", "assets", "properties"}, f)) {
+        return std::nullopt;
+    }
     std::string_view type, id;
     if (!f[0] || f[0]->get_string().get(type) != simdjson::SUCCESS || type != "Feature") return std::nullopt;
     PlainItem item;

@@ -132,7 +132,8 @@ TEST_F(StacCatalog, APlainItemReadFromItsTextIsWhatTheGeneralReaderMakesOfIt) {
     EXPECT_EQ(general.warnings.size(), 6u);
     EXPECT_EQ(general.errors.size(), 7u);
     // and where the text stops being JSON (inside a value the catalog does not use), one error at one place
-    const std::string broken = document(R"({"type": "Feature", "geometry": [1 2], "assets": {"data": {"href": "a.laz"}}})");
+    const std::string broken =
+        document(R"({"type": "Feature", "geometry": [1 2], "assets": {"data": {"href": "a.laz"}}})");
     const Catalog general_broken = read_with(1, broken), fast_broken = read_with(2, broken);
     same(general_broken, fast_broken);
     ASSERT_FALSE(fast_broken.errors.empty());

@@ -19,6 +19,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+Clock::time_point after(double seconds) {
+    return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
 // Moves `fd` to exactly `target` in the child (the pipes' own numbers may be 3 or 4 already).
 void place(int fd, int target) {
     if (fd != target) ::dup2(fd, target);
@@ -104,7 +108,7 @@ HeadlessBrowser::~HeadlessBrowser() {
 }
 
 nlohmann::json HeadlessBrowser::read_message(double seconds) {
-    const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+    const auto until = after(seconds);
     for (;;) {
         const auto end = pending_.find('\0');
         if (end != std::string::npos) {
@@ -161,7 +165,7 @@ nlohmann::json HeadlessBrowser::evaluate(const std::string& expression) {
 }
 
 bool HeadlessBrowser::wait_until(const std::string& expression, double seconds) {
-    const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+    const auto until = after(seconds);
     while (Clock::now() < until) {
         if (evaluate("Boolean(" + expression + ")") == true) return true;
         std::this_thread::sleep_for(std::chrono::milliseconds(250));
