@@ -1,7 +1,7 @@
 """The web page's own timings in real time (issue 56's targets: first terrain within 1 s of page load, full
 resolution near the camera within 5 s): `lidarscout serve PATH` is started, the page opened at CAMERA in
-headless chromium (SwiftShader WebGL2) driven over the DevTools protocol on a pipe (no virtual time: the
-suite's browser test uses virtual time, which stops while the page waits), and after --seconds the page's
+headless chromium (SwiftShader WebGL2) driven over the DevTools protocol on a pipe (tests/serve/chromium_page.py:
+real time, no virtual time), and after --seconds the page's
 #timings (ms since navigation, performance.now) are read back; medians of --runs, each run a fresh server
 and a fresh browser profile (nothing cached).
 
@@ -16,66 +16,18 @@ with the page's count of the levels it aborted: what a client's moving on or lea
 import argparse
 import json
 import urllib.request
-import os
 import pathlib
 import statistics
 import subprocess
+import sys
 import tempfile
 import time
 
 REPO = pathlib.Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "tests" / "serve"))
+from chromium_page import DevTools  # noqa: E402  (the browser tests' driver)
 SURVEY = REPO.parent / "shared" / "data" / "surveys" / "ky-jmo335-eastern-kentucky"
 KEYS = ("info", "first_terrain", "overview", "terrain", "first_full_res", "first_detail", "levels_dropped")
-
-
-class DevTools:
-    """Chromium's DevTools protocol over --remote-debugging-pipe: JSON messages ended by a NUL byte, read
-    by chromium on its fd 3 and written on its fd 4."""
-
-    def __init__(self, profile):
-        to_chromium, self._write = os.pipe()
-        self._read, from_chromium = os.pipe()
-
-        def fds_3_and_4():
-            a, b = os.dup(to_chromium), os.dup(from_chromium)  # (above 4: neither dup2 overwrites the other)
-            os.dup2(a, 3)
-            os.dup2(b, 4)
-
-        self.process = subprocess.Popen(
-            ["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--use-angle=swiftshader",
-             "--enable-unsafe-swiftshader", "--hide-scrollbars", "--window-size=1280,720",
-             f"--user-data-dir={profile}", "--remote-debugging-pipe", "about:blank"],
-            preexec_fn=fds_3_and_4, close_fds=False, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        os.close(to_chromium)
-        os.close(from_chromium)
-        self._buffer, self._id = b"", 0
-
-    def call(self, method, params=None, session=None):
-        self._id += 1
-        message = {"id": self._id, "method": method, "params": params or {}}
-        if session:
-            message["sessionId"] = session
-        os.write(self._write, json.dumps(message).encode() + b"\0")
-        while True:
-            while b"\0" in self._buffer:
-                text, self._buffer = self._buffer.split(b"\0", 1)
-                answer = json.loads(text)
-                if answer.get("id") == self._id:
-                    if "error" in answer:
-                        raise RuntimeError(f"{method}: {answer['error']}")
-                    return answer["result"]
-            data = os.read(self._read, 1 << 20)
-            if not data:
-                raise RuntimeError("chromium ended")
-            self._buffer += data
-
-    def close(self):
-        try:
-            self.call("Browser.close")  # (its helper processes end with it, before the profile is removed)
-            self.process.wait(timeout=10)
-        except (RuntimeError, OSError, subprocess.TimeoutExpired):
-            self.process.kill()
-            self.process.wait()
 
 
 def serve(cli, path):

@@ -289,17 +289,12 @@ bool field(ItemLines& lines, const char* instead, Read&& read) {
 }
 
 std::optional<std::array<double, 6>> bbox_of(const json& b) {
-    const bool numbers = b.is_array() && (b.size() == 4 || b.size() == 6) &&
-                         std::all_of(b.begin(), b.end(), [](const json& v) {
-                             return v.is_number() && std::isfinite(v.get<double>());
-                         });
-    if (!numbers) return std::nullopt;
-    const std::size_t half = b.size() / 2;
-    std::array<double, 6> box{};
-    box[2] = box[5] = std::nan("");
-    for (std::size_t k = 0; k < half; ++k) box[k] = b[k].get<double>(), box[3 + k] = b[half + k].get<double>();
-    if (!(box[0] <= box[3] && box[1] <= box[4])) return std::nullopt;
-    return box;
+    if (!b.is_array() || b.size() > 6) return std::nullopt;
+    std::array<double, 6> values{};
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        if (!b[k].is_number() || !std::isfinite(values[k] = b[k].get<double>())) return std::nullopt;
+    }
+    return proj_bbox(std::span<const double>(values.data(), b.size()));
 }
 
 // The item's pc:count, proj:bbox and CRS (its text in `crs`, to be held once: Document::crs); a field of the wrong

@@ -12,8 +12,8 @@ namespace {
 namespace dom = simdjson::dom;
 using Member = std::optional<dom::element>;  // (nullopt: absent)
 
-// The members of `object` named in `names`, in that order (absent or null: a null element); false when one
-// is written twice (the general reader keeps the last, which this one does not choose).
+// The members of `object` named in `names`, in that order (nullopt where absent); false when one is written twice
+// (the general reader keeps the last, which this one does not choose).
 template <std::size_t N>
 bool members(dom::object object, const std::array<std::string_view, N>& names, std::array<Member, N>& out) {
     std::array<bool, N> seen{};
@@ -28,7 +28,7 @@ bool members(dom::object object, const std::array<std::string_view, N>& names, s
     return true;
 }
 
-// Whether `e` is absent (a default element) or null: what the general reader takes as no field.
+// Whether `e` is absent or null: what the general reader takes as no field.
 bool absent(const Member& e) { return !e || e->is_null(); }
 
 // The whole number `e` holds, 0 or more, as the general reader's json_optional_count takes it.
@@ -50,12 +50,7 @@ std::optional<std::array<double, 6>> bbox_of(dom::element e) {
         if (!x.is_number() || !std::isfinite(v[n] = x.get_double().value_unsafe())) return std::nullopt;
         ++n;
     }
-    std::array<double, 6> box{};
-    const std::size_t half = n / 2;
-    box[2] = box[5] = std::nan("");
-    for (std::size_t k = 0; k < half; ++k) box[k] = v[k], box[3 + k] = v[half + k];
-    if (!(box[0] <= box[3] && box[1] <= box[4])) return std::nullopt;
-    return box;
+    return proj_bbox(std::span<const double>(v.data(), n));
 }
 
 // The item's properties into `item`; false where the general reader would say a word or choose otherwise.
@@ -101,6 +96,16 @@ bool read_href(const Member& e, std::span<const std::string> dropped, PlainItem&
 }
 
 }  // namespace
+
+std::optional<std::array<double, 6>> proj_bbox(std::span<const double> values) {
+    if (values.size() != 4 && values.size() != 6) return std::nullopt;
+    const std::size_t half = values.size() / 2;
+    std::array<double, 6> box{};
+    box[2] = box[5] = std::nan("");
+    for (std::size_t k = 0; k < half; ++k) box[k] = values[k], box[3 + k] = values[half + k];
+    if (!(box[0] <= box[3] && box[1] <= box[4])) return std::nullopt;
+    return box;
+}
 
 std::optional<PlainItem> read_plain_item(std::string_view text, std::span<const std::string> dropped) {
     thread_local dom::parser parser;

@@ -1,5 +1,5 @@
 // The page in a real browser: Debian's chromium, headless, WebGL2 on SwiftShader, driven over its
-// DevTools pipe (headless_browser.hpp), opens the page of `lidarscout serve` for ky-jmo335 at
+// DevTools pipe (chromium_page.py), opens the page of `lidarscout serve` for ky-jmo335 at
 // #camera=auto; once the page says everything the view wants is in (its #timings hold "idle"), its
 // screenshot is compared with `render --camera auto --until full` of the same survey (the same auto
 // camera): not blank, at least 0.8 of the pixels render draws are drawn, and a small mean difference
@@ -12,13 +12,15 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include <nlohmann/json.hpp>
 
 #include "png_test_util.hpp"
-#include "serve/headless_browser.hpp"
 #include "serve_fixture.hpp"
 #include "temp_dir_fixture.hpp"
+#include "test_paths.hpp"
 
 namespace lidarscout::test {
 namespace {
@@ -31,22 +33,20 @@ constexpr double kMostMeanDifference = 12;
 
 std::string jmo335() { return (surveys_dir() / "ky-jmo335-eastern-kentucky").string(); }
 
-// The page has everything the view wants (the scripted clicks, if any, are made in the same frame).
-const char* kPageIdle = "'idle' in JSON.parse(document.getElementById('timings').textContent || '{}')";
-// How long the page may take, in real time: alone it needs 5-25 s; beside the suite's heaviest tests, more.
-constexpr double kMostSeconds = 300;
-
-// The page at `url` in a fresh headless chromium, once idle: its screenshot at `shot` (when not empty)
-// and its HTML.
+// The page at `url` in a fresh headless chromium (tests/serve/chromium_page.py, in real time), once its
+// #timings say idle (everything the view wants is in; the scripted clicks, if any, made in that frame): its
+// screenshot at `shot` (when not empty) and its HTML. Alone the page needs 5-25 s; beside the suite's heaviest
+// tests more, so it may take up to 300 s.
 std::string open_until_idle(const std::filesystem::path& profile, const std::string& url,
                             const std::filesystem::path& shot = {}) {
-    HeadlessBrowser browser(profile);
-    EXPECT_TRUE(browser.ok()) << "chromium started";
-    EXPECT_TRUE(browser.open(url)) << url;
-    EXPECT_TRUE(browser.wait_until(kPageIdle, kMostSeconds)) << "the page became idle: " << browser.html();
-    browser.evaluate("new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)))");  // (drawn)
-    if (!shot.empty()) EXPECT_TRUE(browser.screenshot(shot));
-    return browser.html();
+    const auto html = profile.parent_path() / (profile.filename().string() + ".html");
+    const std::string command = "/usr/bin/python3 '" + std::string(LIDARSCOUT_SOURCE_DIR) +
+                                "/tests/serve/chromium_page.py' '" + url + "' --profile '" + profile.string() +
+                                "' --html '" + html.string() + "'" +
+                                (shot.empty() ? "" : " --screenshot '" + shot.string() + "'");
+    EXPECT_EQ(std::system(command.c_str()), 0) << "the page became idle: " << command;
+    std::ifstream in(html);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // The mean absolute difference of the R, G and B channels of two images of one size, in levels.
