@@ -110,9 +110,14 @@ io::File whole_file(const std::string& path) {
 // The table EVLR's entries; throws Error when the file has none.
 std::vector<OverviewEntry> table_of(const io::File& file, const las::Header& header) {
     for (const auto& v : las::read_evlrs(file, header)) {
-        if (v.is(kOverviewUser, kOverviewTableRecord)) {
-            return parse_overview_table(v.data_loaded ? v.data : las::vlr_payload(file, v), file.path());
+        if (!v.is(kOverviewUser, kOverviewTableRecord)) continue;
+        if (v.data_loaded) return parse_overview_table(v.data, file.path());
+        // (a sidecar read whole is parsed where its table lies: a country's is 60 MB, copied first it was as
+        // many fresh pages)
+        if (const auto held = file.held(v.data_offset, v.data_size); !held.empty()) {
+            return parse_overview_table(held, file.path());
         }
+        return parse_overview_table(las::vlr_payload(file, v), file.path());
     }
     throw Error(file.path(), std::nullopt, "not an overview sidecar (no lidarscout tile table EVLR)");
 }

@@ -1,6 +1,8 @@
 // Reading a tile's metadata: header, VLRs, EVLRs, CRS, laszip VLR, chunk table, COPC info.
 #include "dataset/tile.hpp"
 
+#include <algorithm>
+
 #include "core/error.hpp"
 #include "geo/crs_definition.hpp"
 #include "geo/projection.hpp"
@@ -41,12 +43,30 @@ std::size_t hash_vlrs(const std::vector<las::Vlr>& vlrs, std::size_t seed) {
     return seed;
 }
 
+bool payloads_loaded(const std::vector<las::Vlr>& evlrs) {
+    return std::all_of(evlrs.begin(), evlrs.end(), [](const las::Vlr& e) { return e.data_loaded; });
+}
+
 }  // namespace
 
-std::shared_ptr<const TileRecords> SharedRecords::intern(std::shared_ptr<const TileRecords> records, bool wkt_flag) {
-    for (const auto& e : records->evlrs) {
-        if (!e.data_loaded) return records;
+std::shared_ptr<const TileRecords> SharedRecords::find(const std::vector<las::Vlr>& vlrs,
+                                                       const std::vector<las::Vlr>& evlrs, bool wkt_flag) const {
+    if (!payloads_loaded(evlrs)) return nullptr;
+    const std::size_t hash = hash_vlrs(evlrs, hash_vlrs(vlrs, wkt_flag));
+    std::lock_guard lock(mutex_);
+    auto [first, last] = entries_.equal_range(hash);
+    for (auto it = first; it != last; ++it) {
+        const Entry& e = it->second;
+        if (e.wkt_flag == wkt_flag && e.records->vlrs == vlrs && e.records->evlrs == evlrs &&
+            e.records->crs.warnings.empty()) {
+            return e.records;
+        }
     }
+    return nullptr;
+}
+
+std::shared_ptr<const TileRecords> SharedRecords::intern(std::shared_ptr<const TileRecords> records, bool wkt_flag) {
+    if (!payloads_loaded(records->evlrs)) return records;
     const std::size_t hash = hash_vlrs(records->evlrs, hash_vlrs(records->vlrs, wkt_flag));
     const auto alike = [&](const Entry& e) {
         const TileRecords& a = *e.records;
@@ -79,14 +99,26 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     const bool wkt_flag = (t.header.global_encoding & 0x10) != 0;
     r->vlrs = las::read_vlrs(file, t.header, &f->warnings);
     r->evlrs = las::read_evlrs(file, t.header);
-    r->crs = las::read_crs(r->vlrs, r->evlrs, file, wkt_flag);
-    geo::fall_back_to_horizontal(r->crs);
+    // Records equal to ones shared before, whose CRS came without a warning, give theirs: the CRS read from the
+    // same records is the same (a catalog's tiles mostly share theirs; read_crs was a sixth of a country's open
+    // from its overview sidecar).
+    auto known = options.shared_records ? options.shared_records->find(r->vlrs, r->evlrs, wkt_flag) : nullptr;
+    const auto read_crs = [&] {
+        r->crs = las::read_crs(r->vlrs, r->evlrs, file, wkt_flag);
+        geo::fall_back_to_horizontal(r->crs);
+        r->crs.warnings.attribute_to(f->path);
+    };
+    if (!known) read_crs();
     r->laz = read_laszip(file, t.header, r->vlrs);
+    if (known && known->laz != r->laz) known = nullptr, read_crs();  // (the same VLRs in a LAS file)
     t.copc = las::find_copc_info(r->vlrs, file.path());
     f->warnings.attribute_to(f->path);
-    r->crs.warnings.attribute_to(f->path);
     if (r->laz && options.chunk_table) f->chunks = laz::read_chunk_table(file, t.header, *r->laz);
-    f->records = options.shared_records ? options.shared_records->intern(std::move(r), wkt_flag) : std::move(r);
+    if (known) {
+        f->records = std::move(known);
+    } else {
+        f->records = options.shared_records ? options.shared_records->intern(std::move(r), wkt_flag) : std::move(r);
+    }
     t.file = std::move(f);
     return t;
 }

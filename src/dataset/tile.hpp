@@ -94,6 +94,10 @@ public:
     // LASzip VLRs too. Records with an EVLR whose payload was not loaded (read_crs may have read it
     // from the file) are never shared.
     std::shared_ptr<const TileRecords> intern(std::shared_ptr<const TileRecords> records, bool wkt_flag);
+    // Records given before with these VLRs, EVLRs (payloads loaded) and WKT bit whose CRS came without a warning
+    // (then the CRS read from these inputs is theirs); null when none.
+    std::shared_ptr<const TileRecords> find(const std::vector<las::Vlr>& vlrs, const std::vector<las::Vlr>& evlrs,
+                                            bool wkt_flag) const;
     // How many distinct records are held.
     std::size_t size() const;
 

@@ -90,6 +90,11 @@ const std::uint8_t* File::cached(std::uint64_t offset, std::size_t n) const {
     return nullptr;
 }
 
+std::span<const std::uint8_t> File::held(std::uint64_t offset, std::size_t n) const {
+    const std::uint8_t* bytes = cached(offset, n);
+    return bytes ? std::span(bytes, n) : std::span<const std::uint8_t>();
+}
+
 bool File::read_cached(std::uint64_t offset, std::span<std::uint8_t> out) const {
     const std::uint8_t* bytes = cached(offset, out.size());
     if (bytes) std::memcpy(out.data(), bytes, out.size());

@@ -60,6 +60,9 @@ public:
                     const char* what = "data") const;
     std::vector<std::uint8_t> read_vector(std::uint64_t offset, std::size_t n,
                                           const char* what = "data") const;
+    // The bytes [offset, offset + n) where the file holds them in memory (its edges; an in-memory file's head), as
+    // a view valid while the file lives; empty when they are not all held.
+    std::span<const std::uint8_t> held(std::uint64_t offset, std::size_t n) const;
 
     static constexpr std::size_t kCachedEdge = 4096;
 

@@ -20,6 +20,7 @@
 #include <variant>
 
 #include "core/sha256.hpp"
+#include "core/thread_priority.hpp"
 #include "net/url.hpp"
 
 namespace lidarscout::net {
@@ -33,6 +34,7 @@ constexpr std::string_view kMagic = "LSRANGE2";   // the entry format (8 bytes)
 constexpr std::size_t kDigest = 64;               // a part's SHA-256, in hex
 constexpr std::size_t kStagingBytes = RangeCache::kStagingBytes;
 constexpr std::size_t kDirectAlignment = RangeCache::kDirectAlignment;
+constexpr int kWriterNice = 10;                   // the writing thread's (write_queued)
 
 void put_u64(std::string& out, std::uint64_t v) {
     for (int i = 0; i < 8; ++i) out.push_back(static_cast<char>(v >> (8 * i)));
@@ -408,6 +410,9 @@ void RangeCache::flush() {
 }
 
 void RangeCache::write_queued() {
+    // The cache's writes yield to the reads, the parse and the frames: a country's catalog and sidecar (360 MB
+    // through SHA-256 and a copy) are written while its items are parsed on the same cores.
+    lower_thread_priority(kWriterNice);
     std::unique_lock lock(mutex_);
     while (true) {
         queued_.wait(lock, [&] { return stopping_ || !queue_.empty(); });

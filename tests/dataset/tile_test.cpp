@@ -143,5 +143,36 @@ TEST(SharedRecords, TheWktBitAndUnloadedEvlrsKeepRecordsApart) {
     EXPECT_EQ(shared.size(), 2u);
 }
 
+// find gives the records of the same VLRs, EVLRs and WKT bit, and only where their CRS came without a warning
+// (a tile reading its CRS would get the same); read_tile then skips its CRS read.
+TEST(SharedRecords, FindGivesRecordsWhoseCrsCameWithoutWarning) {
+    const auto path = (test::surveys_dir() / "ky-jmo335-eastern-kentucky/N117E379.laz").string();
+    const auto records = dataset::read_tile(io::File::open(path)).file->records;
+    ASSERT_TRUE(records->crs.warnings.empty());
+    dataset::SharedRecords shared;
+    EXPECT_EQ(shared.find(records->vlrs, records->evlrs, false), nullptr) << "nothing given yet";
+    const auto a = shared.intern(std::make_shared<dataset::TileRecords>(*records), false);
+    EXPECT_EQ(shared.find(records->vlrs, records->evlrs, false), a);
+    EXPECT_EQ(shared.find(records->vlrs, records->evlrs, true), nullptr) << "the WKT bit picks the CRS record";
+    auto other_vlrs = records->vlrs;
+    other_vlrs.back().data.push_back(0);
+    EXPECT_EQ(shared.find(other_vlrs, records->evlrs, false), nullptr);
+    auto unloaded = records->evlrs;
+    unloaded.push_back({"big", 7, "", true, 1000, 1060, 8u << 20, false, {}});
+    EXPECT_EQ(shared.find(records->vlrs, unloaded, false), nullptr) << "an EVLR on disk: its CRS is read";
+
+    auto warned = std::make_shared<dataset::TileRecords>(*records);
+    warned->crs.warnings.warn("a warning naming its file");
+    dataset::SharedRecords with_warning;
+    EXPECT_EQ(with_warning.intern(warned, false), warned);
+    EXPECT_EQ(with_warning.find(records->vlrs, records->evlrs, false), nullptr)
+        << "a CRS warning names the file it came from: another file reads its own";
+
+    dataset::TileOptions options;
+    options.shared_records = &shared;
+    const auto tile = dataset::read_tile(io::File::open(path), options);
+    EXPECT_EQ(tile.file->records, a) << "the tile takes the records found";
+}
+
 }  // namespace
 }  // namespace lidarscout

@@ -46,5 +46,30 @@ TEST(File, HugeOffsetsDoNotWrapIntoTheCache) {
     EXPECT_THROW(f.read_vector(f.size() - 10, 20), Error);
 }
 
+// held: a view of the bytes the file holds in memory (its edges, an in-memory file's head), equal to a read; empty
+// where they are not all held, and for offsets that would wrap.
+TEST(File, HeldBytesAreTheFilesWhereItHoldsThem) {
+    const auto path = (test::surveys_dir() / "ky-red-river-gorge" / "N105E348.laz").string();
+    const auto bytes = whole_file(path);
+    const auto f = File::open(path);
+    const std::uint64_t n = f.size();
+    const auto head = f.held(10, 100);
+    ASSERT_EQ(head.size(), 100u);
+    EXPECT_TRUE(std::equal(head.begin(), head.end(), bytes.begin() + 10));
+    const auto tail = f.held(n - 50, 50);
+    ASSERT_EQ(tail.size(), 50u);
+    EXPECT_TRUE(std::equal(tail.begin(), tail.end(), bytes.end() - 50));
+    EXPECT_TRUE(f.held(n / 2, 8).empty()) << "the middle is on disk";
+    EXPECT_TRUE(f.held(File::kCachedEdge - 4, 8).empty()) << "past the head's edge";
+    EXPECT_TRUE(f.held(~std::uint64_t{0} - 100, 200).empty());
+
+    const auto memory = File::in_memory("memory.laz", 1000, std::vector<std::uint8_t>(600, 7), {1, 2, 3});
+    EXPECT_EQ(memory.held(0, 600).size(), 600u);
+    EXPECT_TRUE(memory.held(500, 200).empty()) << "past the head, before the tail";
+    const auto last = memory.held(997, 3);
+    ASSERT_EQ(last.size(), 3u);
+    EXPECT_EQ(last[2], 3);
+}
+
 }  // namespace
 }  // namespace lidarscout::io
