@@ -112,7 +112,7 @@ std::vector<OverviewEntry> table_of(const io::File& file, const las::Header& hea
     for (const auto& v : las::read_evlrs(file, header)) {
         if (!v.is(kOverviewUser, kOverviewTableRecord)) continue;
         if (v.data_loaded) return parse_overview_table(v.data, file.path());
-        // (a sidecar read whole is parsed where its table lies: a country's is 60 MB, copied first it was as
+        // (a sidecar read whole is parsed where its table lies: a country's is 66 MB, copied first it was as
         // many fresh pages)
         if (const auto held = file.held(v.data_offset, v.data_size); !held.empty()) {
             return parse_overview_table(held, file.path());

@@ -49,37 +49,34 @@ bool payloads_loaded(const std::vector<las::Vlr>& evlrs) {
 
 }  // namespace
 
-std::shared_ptr<const TileRecords> SharedRecords::find(const std::vector<las::Vlr>& vlrs,
-                                                       const std::vector<las::Vlr>& evlrs, bool wkt_flag) const {
-    if (!payloads_loaded(evlrs)) return nullptr;
-    const std::size_t hash = hash_vlrs(evlrs, hash_vlrs(vlrs, wkt_flag));
-    std::lock_guard lock(mutex_);
-    auto [first, last] = entries_.equal_range(hash);
+std::shared_ptr<const TileRecords> SharedRecords::held_alike(
+    const std::vector<las::Vlr>& vlrs, const std::vector<las::Vlr>& evlrs, bool wkt_flag,
+    const std::function<bool(const TileRecords&)>& alike) const {
+    auto [first, last] = entries_.equal_range(hash_vlrs(evlrs, hash_vlrs(vlrs, wkt_flag)));
     for (auto it = first; it != last; ++it) {
         const Entry& e = it->second;
-        if (e.wkt_flag == wkt_flag && e.records->vlrs == vlrs && e.records->evlrs == evlrs &&
-            e.records->crs.warnings.empty()) {
+        if (e.wkt_flag == wkt_flag && e.records->vlrs == vlrs && e.records->evlrs == evlrs && alike(*e.records)) {
             return e.records;
         }
     }
     return nullptr;
 }
 
+std::shared_ptr<const TileRecords> SharedRecords::find(const std::vector<las::Vlr>& vlrs,
+                                                       const std::vector<las::Vlr>& evlrs, bool wkt_flag) const {
+    if (!payloads_loaded(evlrs)) return nullptr;
+    std::lock_guard lock(mutex_);
+    return held_alike(vlrs, evlrs, wkt_flag, [](const TileRecords& a) { return a.crs.warnings.empty(); });
+}
+
 std::shared_ptr<const TileRecords> SharedRecords::intern(std::shared_ptr<const TileRecords> records, bool wkt_flag) {
     if (!payloads_loaded(records->evlrs)) return records;
-    const std::size_t hash = hash_vlrs(records->evlrs, hash_vlrs(records->vlrs, wkt_flag));
-    const auto alike = [&](const Entry& e) {
-        const TileRecords& a = *e.records;
-        const TileRecords& b = *records;
-        return e.wkt_flag == wkt_flag && a.vlrs == b.vlrs && a.evlrs == b.evlrs && a.laz == b.laz &&
-               a.crs.warnings == b.crs.warnings;
-    };
     std::lock_guard lock(mutex_);
-    auto [first, last] = entries_.equal_range(hash);
-    for (auto it = first; it != last; ++it) {
-        if (alike(it->second)) return it->second.records;
-    }
-    entries_.emplace(hash, Entry{records, wkt_flag});
+    const auto alike = [&](const TileRecords& a) {
+        return a.laz == records->laz && a.crs.warnings == records->crs.warnings;
+    };
+    if (auto held = held_alike(records->vlrs, records->evlrs, wkt_flag, alike)) return held;
+    entries_.emplace(hash_vlrs(records->evlrs, hash_vlrs(records->vlrs, wkt_flag)), Entry{records, wkt_flag});
     return records;
 }
 
@@ -100,8 +97,8 @@ Tile read_tile(const io::File& file, const TileOptions& options) {
     r->vlrs = las::read_vlrs(file, t.header, &f->warnings);
     r->evlrs = las::read_evlrs(file, t.header);
     // Records equal to ones shared before, whose CRS came without a warning, give theirs: the CRS read from the
-    // same records is the same (a catalog's tiles mostly share theirs; read_crs was a sixth of a country's open
-    // from its overview sidecar).
+    // same records is the same (a catalog's tiles mostly share theirs; read_crs was a sixth of read_tile in a
+    // country's open from its overview sidecar).
     auto known = options.shared_records ? options.shared_records->find(r->vlrs, r->evlrs, wkt_flag) : nullptr;
     const auto read_crs = [&] {
         r->crs = las::read_crs(r->vlrs, r->evlrs, file, wkt_flag);

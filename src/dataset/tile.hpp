@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -106,6 +107,11 @@ private:
         std::shared_ptr<const TileRecords> records;
         bool wkt_flag = false;
     };
+    // With mutex_ held: the records held for these inputs that `alike` accepts; null when none.
+    std::shared_ptr<const TileRecords> held_alike(const std::vector<las::Vlr>& vlrs,
+                                                  const std::vector<las::Vlr>& evlrs, bool wkt_flag,
+                                                  const std::function<bool(const TileRecords&)>& alike) const;
+
     mutable std::mutex mutex_;
     std::unordered_multimap<std::size_t, Entry> entries_;  // by a hash of the VLRs and EVLRs
 };

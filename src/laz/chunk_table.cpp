@@ -153,7 +153,7 @@ private:
         entries.reserve(std::min<std::uint64_t>(count, kEntriesInFirstWindow));
         ArithmeticDecoder dec(coded);
         // One coder per thread, back to its start state for each table: a country's 152,100 tables had each
-        // built its models anew (their allocations were a quarter of its open from an overview sidecar).
+        // built its models anew (an eighth of the CPU while its tiles were placed from an overview sidecar).
         thread_local IntegerDecompressor ic(kEntryBits, 2);
         ic.reset();
         Entry previous;
