@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/io_options.hpp"
 #include "cli/region_options.hpp"
@@ -60,7 +61,7 @@ int run_catalog(const CatalogCliOptions& o) {
                             {"points", ds.point_count},
                             {"skipped", ds.skipped.size()}};
         if (overview) j["overview"] = overview_json(write.overview, *overview);
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
     } else {
         std::printf("%s: %zu tiles, %llu points%s\n", o.output.c_str(), r.items, (unsigned long long)ds.point_count,
                     r.without_crs ? (", " + std::to_string(r.without_crs) + " without a CRS PROJ knows").c_str() : "");

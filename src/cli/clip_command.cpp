@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/filter_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/region_options.hpp"
@@ -62,7 +63,7 @@ void print_result(const ClipCliOptions& o, const dataset::Dataset& ds, const pip
         j["bytes"] = r.bytes_written;
         j["notes"] = r.notes;
         j["seconds"] = seconds;
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
         return;
     }
     std::printf("%s: %llu points written of %llu read, %zu tiles touched, %llu decoded, %.2f s\n", o.output.c_str(),

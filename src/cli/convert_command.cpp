@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
@@ -71,7 +72,7 @@ int run_convert(const ConvertCliOptions& o) {
                             {"chunks", result.chunks},
                             {"bytes", result.bytes_written}, {"seconds", secs}, {"notes", result.notes},
                             {"warnings", result.warnings}};
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
     } else {
         std::printf("%s: %llu points, %llu bytes%s in %.2f s (%.2f M points/s)\n", o.out.c_str(),
                     (unsigned long long)result.points, (unsigned long long)result.bytes_written,

@@ -25,6 +25,7 @@
 #include <tuple>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/filter_options.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
@@ -144,7 +145,7 @@ void print_result(const DemCliOptions& o, const raster::DemRequest& r, const ras
             j["contour_points_estimate"] = std::llround(d.contour_points_estimate);
             j["seconds_contours"] = d.seconds_contours;
         }
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
         return;
     }
     std::string what = std::string(raster::dem_method_name(r.method));
@@ -194,7 +195,7 @@ int print_plan(const DemCliOptions& o, const dataset::Dataset& ds, const raster:
                               {"blocks", plan.blocks},       {"tiles", ds.tiles.size()},
                               {"points", total},             {"pieces", pieces}};
     if (o.json) {
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
         return 0;
     }
     std::printf("%d x %d texels of %g m in %lld blocks of %d texels, %zu tiles, %llu points; %d pieces:\n", grid.width,

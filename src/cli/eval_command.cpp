@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
@@ -185,7 +186,7 @@ int run_eval(const EvalCliOptions& o) {
                                   {"val_fraction", o.split_options.val_fraction},
                                   {"seed", o.split_options.seed}};
         }
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
     } else if (o.paths.size() > 1) {
         print_table("overall", all);
     }

@@ -1,5 +1,6 @@
 // The failure line and its JSON object.
 #include "cli/failure_output.hpp"
+#include "cli/json_output.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -24,8 +25,7 @@ void report_failure(const Failure& f, bool json) {
                                 {"file", or_null(display_text(f.file))},
                                 {"offset", f.offset ? nlohmann::json(*f.offset) : nlohmann::json(nullptr)},
                                 {"cause", display_text(f.cause.empty() ? f.message : f.cause)}}}};
-    std::printf("%s\n", j.dump(2).c_str());
-    std::fflush(stdout);
+    print_json_answer(j);
 }
 
 }  // namespace lidarscout::cli

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
@@ -231,7 +232,7 @@ int run_info(const InfoOptions& opt) {
         nlohmann::json arr = nlohmann::json::array();
         for (const auto& e : found.errors) arr.push_back(failed_tile_json(e.path, e.error));
         for (const auto& r : reports) arr.push_back(report_json(r, opt.chunks));
-        std::printf("%s\n", arr.dump(2).c_str());
+        print_json_answer(arr);
     } else {
         for (const auto& r : reports) print_text(r, opt.chunks);
         if (reports.size() > 1) print_summary(reports);

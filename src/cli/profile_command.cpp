@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/filter_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/number_options.hpp"
@@ -108,7 +109,7 @@ int run_profile(const ProfileCliOptions& o) {
     j["width"] = o.width;
     j["seconds"] = seconds;
     if (o.json) {
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
     } else {
         std::printf("%s: %llu points in a corridor %g long and %g wide, %zu tiles touched, %llu decoded, %.2f s\n",
                     o.output.c_str(), j["points_written"].get<unsigned long long>(), corridor(o).length(), o.width,

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
@@ -315,7 +316,7 @@ void print_json(const RenderCliOptions& o, const RenderPlan& plan, const RenderR
                         {"seconds", {{"headers", s.headers}, {"chunk_points", s.chunk_points},
                                      {"heightmaps", s.heightmaps}, {"full_res", s.full_res}, {"render", s.render}}}};
     if (plan.cnn) j["model"] = plan.model_path;
-    std::printf("%s\n", j.dump(2).c_str());
+    print_json_answer(j);
 }
 
 void print_summary(const RenderCliOptions& o, const RenderPlan& plan, const RenderReport& r) {

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/network_stats.hpp"
@@ -127,7 +128,7 @@ void print_json(const ScanResult& r) {
                         {"diagnostics", diagnostics_json(r.dataset.warnings)},
                         {"errors", error_list_json(r.errors)}};
     j.update(network_json(r.network, r.dataset.tiles.size()));
-    std::printf("%s\n", j.dump(2).c_str());
+    print_json_answer(j);
 }
 
 void print_text(const ScanResult& r) {

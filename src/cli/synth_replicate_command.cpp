@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/io_options.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/progress.hpp"
@@ -48,7 +49,7 @@ void print_summary(const synth::ReplicatePlan& plan, double secs, bool json, boo
                             {"points", plan.total_points}, {"seconds", secs}, {"gb_per_s", rate},
                             {"warnings", plan.warnings.messages()},
                             {"diagnostics", diagnostics_json(plan.warnings)}};
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
         return;
     }
     if (virtual_tiles) {

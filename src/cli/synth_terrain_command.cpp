@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
 #include "cli/thread_options.hpp"
@@ -55,7 +56,7 @@ int run_terrain(const TerrainCliOptions& o) {
     progress.finish();
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (o.json) {
-        std::printf("%s\n", to_json(result, o, secs).dump(2).c_str());
+        print_json_answer(to_json(result, o, secs));
     } else {
         std::printf(
             "%s: %zu tiles of 500 m (%.1f x %.1f km), %llu points (%.2f per m2), %llu bytes in %.2f s (%.2f M "

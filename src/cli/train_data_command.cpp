@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "cli/json_output.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/progress.hpp"
@@ -71,7 +72,7 @@ int run_train_data(const TrainDataCliOptions& o) {
         const nlohmann::json j = {{"output", o.out}, {"samples", s.samples}, {"train", s.train},
                                   {"validation", s.validation}, {"dropped_at_split_border", s.dropped_at_split_border},
                                   {"bytes", s.bytes}, {"seconds", secs}};
-        std::printf("%s\n", j.dump(2).c_str());
+        print_json_answer(j);
     } else {
         std::printf("%s: %zu samples (%zu train, %zu validation, %zu dropped at split borders), %.1f MB in %.1f s\n",
                     o.out.c_str(), s.samples, s.train, s.validation, s.dropped_at_split_border, s.bytes / 1e6, secs);

@@ -13,6 +13,7 @@
 #include "cli/commands.hpp"
 #include "cli/diagnostic_output.hpp"
 #include "cli/filter_options.hpp"
+#include "cli/json_output.hpp"
 #include "cli/number_options.hpp"
 #include "cli/io_options.hpp"
 #include "cli/network_stats.hpp"
@@ -140,7 +141,7 @@ void write_stats_json(const std::string& path, const viewer::app::ViewerTimings&
                         {"memory_note", t.budget_note},
                         {"overview_note", t.overview_note}};
     j.update(network_json(network, t.tiles));
-    const std::string text = j.dump(2) + "\n";
+    const std::string text = json_text(j) + "\n";
     io::AtomicOutputFile out(path);
     out.write({reinterpret_cast<const std::uint8_t*>(text.data()), text.size()});
     out.commit();

@@ -71,7 +71,7 @@ public:
         for (std::uint32_t i = 0; i < ds.tiles.size(); ++i) {
             if (ds.tiles[i].chunk_points == 0) continue;
             if (!ds.is_ready(i)) unread_.set_pending(i, true);  // (a placed tile always has bounds)
-            else if (!overview_records(ds.tiles[i].tile, ds.tiles[i].chunk_points).empty()) held_.push_back(i);
+            else if (overview_holds(ds.tiles[i].tile, ds.tiles[i].chunk_points)) held_.push_back(i);
             else if (ds.tiles[i].bounds_m.empty()) unplaced_.push_back(i);
             else index_.set_pending(i, true);
         }
@@ -195,6 +195,14 @@ public:
     // records (no read); with `release`, each block of records goes once its tiles' are published
     // (ChunkPointLoaderOptions::release_overview).
     void publish_held(bool release) {
+        // (a sidecar whose points are still being decoded is waited for here, on the loader's thread: the dataset
+        // opened meanwhile; a tile whose records did not come is read as any other)
+        std::erase_if(held_, [&](std::uint32_t id) {
+            if (!overview_records(ds_.tiles[id].tile, ds_.tiles[id].chunk_points).empty()) return false;
+            std::lock_guard lock(mutex_);
+            index_.set_pending(id, true);
+            return true;
+        });
         const auto [x, y] = focus();
         std::vector<std::pair<double, std::uint32_t>> by_distance;  // (each distance once: a country's are 150,000)
         by_distance.reserve(held_.size());

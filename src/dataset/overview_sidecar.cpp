@@ -6,9 +6,11 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <chrono>
 #include <condition_variable>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <future>
 #include <limits>
 #include <map>
@@ -122,8 +124,16 @@ std::vector<OverviewEntry> table_of(const io::File& file, const las::Header& hea
     throw Error(file.path(), std::nullopt, "not an overview sidecar (no lidarscout tile table EVLR)");
 }
 
+// Where a held entry's points lie in the sidecar and how they go back to its tile's (what decoding its records
+// needs of the table).
+struct HeldPoints {
+    std::uint64_t first_point = 0;
+    std::uint32_t points = 0;
+    std::array<std::int64_t, 3> delta{};
+};
+
 // Every record of the sidecar's tile `k` back to the tile's own (its X/Y/Z less the delta), appended.
-void take_records(std::span<const std::uint8_t> in, std::size_t in_length, const OverviewEntry& e, std::uint32_t k,
+void take_records(std::span<const std::uint8_t> in, std::size_t in_length, const HeldPoints& e, std::uint32_t k,
                   std::vector<std::uint8_t>& out, const std::string& file) {
     const std::size_t length = in_length - kOverviewTileField;
     for (std::size_t p = 0; p < e.points; ++p) {
@@ -145,7 +155,7 @@ void take_records(std::span<const std::uint8_t> in, std::size_t in_length, const
 
 // Whether the held entries' points lie in the order of the entries, none overlapping another (as the writer lays
 // them out): then they can be taken while the sidecar is decoded a piece at a time.
-bool entries_in_point_order(const std::vector<OverviewEntry>& entries) {
+bool entries_in_point_order(std::span<const HeldPoints> entries) {
     std::uint64_t end = 0;
     for (const auto& e : entries) {
         if (e.points == 0) continue;
@@ -199,36 +209,66 @@ private:
     std::size_t next_ = 0;  // the next unit to decode
 };
 
-// The sidecar's records decoded (on `pool`), each held entry's taken back to its tile's own.
-void decode_points(const io::File& file, const Tile& tile, OverviewSidecar& s, ThreadPool& pool) {
+// What filling a sidecar's blocks needs: per entry its points and its block (OverviewSidecar::block_of).
+struct Filling {
+    std::vector<HeldPoints> entries;
+    std::vector<std::shared_ptr<std::vector<std::uint8_t>>> blocks;
+    std::vector<std::uint32_t> block_of;
+};
+
+// Each entry's place in the blocks (an entry in one block, the next block begun once one holds
+// kOverviewBlockBytes), each block reserved to its final size; what filling them needs. Throws Error when the
+// records are too short or an entry's points lie past the sidecar's.
+Filling lay_out_blocks(const io::File& file, const Tile& tile, OverviewSidecar& s) {
     const std::size_t in_length = tile.header.record_length;
     if (in_length < kOverviewTileField + 20) throw Error(file.path(), 105, "records too short for an overview");
     s.record_length = static_cast<std::uint16_t>(in_length - kOverviewTileField);
-    std::optional<DecodedWindow> window;
-    std::vector<std::uint8_t> all;  // (an uncompressed sidecar's records, read at once)
-    if (tile.compressed()) {
-        window.emplace(file, tile, pool, !entries_in_point_order(s.entries));
-    } else {
-        all.resize(tile.header.point_count * in_length);
-        file.read_exact(tile.header.offset_to_point_data, all, "overview points");
-    }
+    Filling f;
+    f.entries.reserve(s.entries.size());
+    std::vector<std::size_t> sizes;
     for (std::uint32_t k = 0; k < s.entries.size(); ++k) {
         const auto& e = s.entries[k];
-        if (s.blocks.empty() || s.blocks.back()->size() >= kOverviewBlockBytes) {
-            s.blocks.push_back(std::make_shared<std::vector<std::uint8_t>>());
-            s.blocks.back()->reserve(kOverviewBlockBytes + kOverviewBlockBytes / 4);
-        }
-        s.block_of.push_back(static_cast<std::uint32_t>(s.blocks.size() - 1));
-        s.record_starts.push_back(s.blocks.back()->size());
+        if (sizes.empty() || sizes.back() >= kOverviewBlockBytes) sizes.push_back(0);
+        s.block_of.push_back(static_cast<std::uint32_t>(sizes.size() - 1));
+        s.record_starts.push_back(sizes.back());
+        f.entries.push_back({e.first_point, e.points, e.delta});
         if (e.points == 0) continue;
         if (e.first_point > tile.header.point_count || e.points > tile.header.point_count - e.first_point) {
             throw Error(file.path(), std::nullopt, "overview tile " + std::to_string(k) + " past the points");
         }
+        sizes.back() += std::size_t{e.points} * s.record_length;
+    }
+    for (const std::size_t size : sizes) {
+        s.blocks.push_back(std::make_shared<std::vector<std::uint8_t>>());
+        s.blocks.back()->reserve(size);
+    }
+    f.blocks = s.blocks;
+    f.block_of = s.block_of;
+    return f;
+}
+
+// The held entries' records decoded (on `pool`) into their blocks, each taken back to its tile's own; false when
+// `stop` said so before the end. Throws Error.
+bool fill_blocks(const io::File& file, const Tile& tile, const Filling& f, ThreadPool& pool,
+                 const std::function<bool()>& stop) {
+    const std::size_t in_length = tile.header.record_length;
+    std::optional<DecodedWindow> window;
+    std::vector<std::uint8_t> all;  // (an uncompressed sidecar's records, read at once)
+    if (tile.compressed()) {
+        window.emplace(file, tile, pool, !entries_in_point_order(f.entries));
+    } else {
+        all.resize(tile.header.point_count * in_length);
+        file.read_exact(tile.header.offset_to_point_data, all, "overview points");
+    }
+    for (std::uint32_t k = 0; k < f.entries.size(); ++k) {
+        const auto& e = f.entries[k];
+        if (e.points == 0) continue;
+        if (stop && stop()) return false;
         const auto records = window ? window->records(e.first_point, e.points)
                                     : std::span<const std::uint8_t>(all).subspan(e.first_point * in_length);
-        take_records(records, in_length, e, k, *s.blocks.back(), file.path());
+        take_records(records, in_length, e, k, *f.blocks[f.block_of[k]], file.path());
     }
-    for (auto& b : s.blocks) b->shrink_to_fit();
+    return true;
 }
 
 }  // namespace
@@ -300,7 +340,7 @@ OverviewSidecar sidecar_of(const io::File& file, ThreadPool& pool) {
     const Tile tile = read_tile(file);
     OverviewSidecar s;
     s.entries = table_of(file, tile.header);
-    decode_points(file, tile, s, pool);
+    fill_blocks(file, tile, lay_out_blocks(file, tile, s), pool, {});
     return s;
 }
 
@@ -324,22 +364,97 @@ struct Gate {
     }
 };
 
-// The one prefetch kept (prefetch_overview_sidecar).
+// What stale_tile_check and a failed decoding (OverviewDecoding::fail) have to say, for take_stale_tile_warnings.
+struct StaleWarnings {
+    std::mutex mutex;
+    std::set<std::string> named;
+    Diagnostics warnings;
+};
+StaleWarnings& stale_warnings() {
+    static StaleWarnings w;
+    return w;
+}
+
+// The one prefetch kept (prefetch_overview_sidecar), and the threads of those before, still decoding.
 struct Prefetch {
     std::mutex mutex;
     std::string path;
-    std::future<OverviewSidecar> sidecar;
+    std::future<OverviewSidecar> sidecar;  // its table read, its points being decoded
     std::shared_ptr<Gate> gate;
-    ~Prefetch() {  // (at exit: the future waits for its thread, which must not wait at the gate)
+    std::vector<std::future<void>> threads;
+    std::atomic<bool> exiting{false};
+    ~Prefetch() {  // (at exit: the futures wait for their threads, which must not wait at the gate nor decode on)
+        exiting = true;
         if (gate) gate->let_through();
     }
 };
 Prefetch& prefetch() {
+    stale_warnings();  // (made first, so that it outlives the prefetch threads: a failed decoding warns there)
     static Prefetch p;
     return p;
 }
 
+// A prefetch's work on its thread: the file read whole, then (once let through) its table into `sidecar`, then
+// its points decoded into the blocks while the sidecar's taker places its tiles; stops once nobody holds them.
+void run_prefetch(const std::string& path, Gate& gate, std::promise<OverviewSidecar>& sidecar) {
+    lower_thread_priority(kPrefetchNice);  // (the pool below inherits it)
+    std::optional<io::File> file;
+    Tile tile;
+    OverviewSidecar s;
+    Filling filling;
+    try {
+        file.emplace(whole_file(path));
+        gate.wait();
+        tile = read_tile(*file);
+        s.entries = table_of(*file, tile.header);
+        filling = lay_out_blocks(*file, tile, s);
+    } catch (...) {
+        return sidecar.set_exception(std::current_exception());
+    }
+    auto decoding = std::make_shared<OverviewDecoding>(file->path());
+    s.decoding = decoding;
+    sidecar.set_value(std::move(s));
+    const auto unused = [&] { return decoding.use_count() == 1 || prefetch().exiting.load(); };
+    try {
+        ThreadPool pool(ThreadPool::shared_size());
+        fill_blocks(*file, tile, filling, pool, unused) ? decoding->finish() : decoding->abandon();
+    } catch (const Error& e) {
+        decoding->fail(e.file() == file->path() ? e.cause() : e.what());  // (the warning names the sidecar)
+    }
+}
+
 }  // namespace
+
+void OverviewDecoding::finish() { end(kDone); }
+
+void OverviewDecoding::abandon() { end(kFailed); }
+
+void OverviewDecoding::fail(const std::string& cause) {
+    {
+        StaleWarnings& w = stale_warnings();
+        std::lock_guard lock(w.mutex);
+        w.warnings.add({DiagnosticLevel::warning, file_, std::nullopt,
+                        io::display_path(file_) + ": overview sidecar's points not used (" + cause +
+                            "): its tiles' chunk points are read from the tiles"});
+    }
+    end(kFailed);
+}
+
+void OverviewDecoding::end(int state) {
+    {
+        std::lock_guard lock(mutex_);
+        state_.store(state, std::memory_order_release);
+    }
+    ended_.notify_all();
+}
+
+bool OverviewDecoding::wait() const {
+    if (!ended()) {
+        std::unique_lock lock(mutex_);
+        ended_.wait(lock, [&] { return ended(); });
+    }
+    return state_.load(std::memory_order_acquire) == kDone;
+}
 
 OverviewSidecar read_overview_sidecar(const std::string& path) {
     std::future<OverviewSidecar> started;
@@ -358,16 +473,18 @@ OverviewSidecar read_overview_sidecar(const std::string& path) {
 void prefetch_overview_sidecar(const std::string& path) {
     if (!overview_sidecars_in_use()) return;
     forget_overview_prefetch();
-    std::lock_guard lock(prefetch().mutex);
-    prefetch().path = path;
-    prefetch().gate = std::make_shared<Gate>();
-    prefetch().sidecar = std::async(std::launch::async, [path, gate = prefetch().gate] {
-        lower_thread_priority(kPrefetchNice);  // (the pool below inherits it)
-        const io::File file = whole_file(path);
-        gate->wait();
-        ThreadPool pool(ThreadPool::shared_size());
-        return sidecar_of(file, pool);
+    Prefetch& p = prefetch();
+    std::lock_guard lock(p.mutex);
+    std::erase_if(p.threads, [](const std::future<void>& t) {
+        return t.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
     });
+    auto promise = std::make_shared<std::promise<OverviewSidecar>>();
+    p.path = path;
+    p.gate = std::make_shared<Gate>();
+    p.sidecar = promise->get_future();
+    p.threads.push_back(std::async(std::launch::async, [path, gate = p.gate, promise] {
+        run_prefetch(path, *gate, *promise);
+    }));
 }
 
 void decode_overview_prefetch() {
@@ -391,6 +508,7 @@ Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const
     const OverviewEntry& e = sidecar.entries.at(entry);
     auto overview = std::make_shared<TileOverview>();
     overview->made_from = e.made_from;
+    overview->decoding = sidecar.decoding;
     std::uint16_t record_length = 0;  // the tile's, from its header's bytes
     if (e.head.size() >= 107) std::memcpy(&record_length, e.head.data() + 105, 2);
     if (e.points > 0 && record_length == sidecar.record_length) {
@@ -424,27 +542,20 @@ void OverviewRelease::taken(const Tile& tile) {
     left_.erase(it);
 }
 
+bool overview_holds(const Tile& tile, std::uint64_t chunk_points) {
+    const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;
+    if (!o || !o->records || o->count == 0 || o->count != chunk_points) return false;
+    return !o->decoding || !o->decoding->ended() || o->decoding->wait();
+}
+
 std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points) {
     const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;
     if (!o || !o->records || o->count == 0 || o->count != chunk_points) return {};
+    if (o->decoding && !o->decoding->wait()) return {};
     const std::size_t length = tile.header.record_length;
     if (o->records->size() < (o->first + o->count) * length) return {};  // (released)
     return std::span(*o->records).subspan(o->first * length, o->count * length);
 }
-
-namespace {
-
-struct StaleWarnings {
-    std::mutex mutex;
-    std::set<std::string> named;
-    Diagnostics warnings;
-};
-StaleWarnings& stale_warnings() {
-    static StaleWarnings w;
-    return w;
-}
-
-}  // namespace
 
 std::optional<Tile> stale_tile_check(const Tile& tile, const io::File& file) {
     const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;

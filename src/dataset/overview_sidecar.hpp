@@ -28,8 +28,11 @@
 #pragma once
 
 #include <array>
+#include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -72,6 +75,33 @@ std::vector<std::uint8_t> serialize_overview_table(std::span<const OverviewEntry
 // Throws Error (naming `file`) when the table is malformed.
 std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> payload, const std::string& file);
 
+// The decoding of a sidecar's records into its blocks where it goes on after its table was read (a prefetch's: the
+// tiles are placed and the dataset opens meanwhile); overview_records waits for its end.
+class OverviewDecoding {
+public:
+    explicit OverviewDecoding(std::string file) : file_(std::move(file)) {}
+    // Every record is in.
+    void finish();
+    // The decoding stopped at `cause`: the records are not used (their tiles' own chunk points are read); one
+    // warning (take_stale_tile_warnings) names the sidecar and the cause.
+    void fail(const std::string& cause);
+    // Nobody reads the records any more: the decoding stopped (no warning).
+    void abandon();
+    // True once it ended, whether every record is in or not.
+    bool ended() const { return state_.load(std::memory_order_acquire) != kDecoding; }
+    // Waits for the end; true when every record is in.
+    bool wait() const;
+
+private:
+    enum : int { kDecoding, kDone, kFailed };
+    void end(int state);
+
+    std::string file_;
+    mutable std::mutex mutex_;
+    mutable std::condition_variable ended_;
+    std::atomic<int> state_{kDecoding};
+};
+
 struct OverviewSidecar {
     std::vector<OverviewEntry> entries;
     // Each held tile's chunk points as records of its own format (X/Y/Z its own), entry after entry, in
@@ -82,10 +112,12 @@ struct OverviewSidecar {
     std::vector<std::uint32_t> block_of;
     std::vector<std::size_t> record_starts;
     std::uint16_t record_length = 0;  // of the tiles' records (the sidecar's minus the tile field)
+    std::shared_ptr<const OverviewDecoding> decoding;  // where the blocks are still being filled (null: they are)
 };
 
 // Reads the sidecar at `path` (a file or URL) in a few large reads and decodes its points; throws Error.
-// Takes the prefetch of `path` when one was started (waiting for it; its Error thrown here).
+// Takes the prefetch of `path` when one was started (waiting for its table; its Error thrown here): its points
+// are then still being decoded (OverviewSidecar::decoding), and an error there leaves them unused.
 OverviewSidecar read_overview_sidecar(const std::string& path);
 
 // Starts reading the sidecar at `path` on a thread of its own, at a lower priority, for read_overview_sidecar to
@@ -106,8 +138,10 @@ Tile tile_from_overview(const OverviewSidecar& sidecar, std::size_t entry, const
                         SharedRecords* shared_records);
 
 // The chunk-point records a sidecar holds for `tile` (record_length each), empty when it holds none
-// or not `chunk_points` of them.
+// or not `chunk_points` of them; waits for them where they are still being decoded (empty when that failed).
 std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points);
+// Whether the sidecar holds `chunk_points` records for `tile`, or will once decoded (without waiting).
+bool overview_holds(const Tile& tile, std::uint64_t chunk_points);
 
 constexpr std::size_t kOverviewBlockBytes = 1 << 20;
 

@@ -51,11 +51,13 @@ struct FileValidator {
 
 // What an overview sidecar says of a tile it placed (dataset/overview_sidecar.hpp): the file it was
 // made from, and its chunk points' records in the tile's own format (none when the sidecar holds none).
+class OverviewDecoding;
 struct TileOverview {
     FileValidator made_from;
     // A block of the sidecar's, shared by its tiles; emptied by OverviewRelease once their reader took them.
     std::shared_ptr<std::vector<std::uint8_t>> records;
     std::size_t first = 0, count = 0;                          // this tile's: records [first, first + count)
+    std::shared_ptr<const OverviewDecoding> decoding;  // the records' decoding, where it went on (null: they are in)
 };
 
 // What a tile's file says besides its header and COPC info.

@@ -2,7 +2,11 @@
 // never parse an empty answer), beside its one line on stderr; usage errors too.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 
 #include "test_data.hpp"
 
@@ -66,6 +70,26 @@ TEST(FailureOutput, SharpEdgesAreOneClearLine) {
     EXPECT_EQ(out.rfind("bench_dem: ", 0), 0u) << out;
     EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
 #endif
+}
+
+// A path that is not UTF-8 (a tile list naming one) comes back in the JSON answer with U+FFFD where its bytes were;
+// it had made `scan --json` an internal error (the JSON library refuses to write such text).
+TEST(FailureOutput, TextThatIsNotUtf8IsReplacedNotAnInternalError) {
+    const std::filesystem::path list =
+        std::filesystem::temp_directory_path() / ("lidarscout_not_utf8_" + std::to_string(::getpid()) + ".txt");
+    const std::string tile = (test::surveys_dir() / "ky-jmo335-eastern-kentucky" / "N117E379.laz").string();
+    std::ofstream(list) << "/nonexistent/no\xA5such.laz\n" << tile << "\n";
+    std::string out;
+    const int status =
+        test::run_command(std::string(LIDARSCOUT_CLI) + " scan --json " + list.string() + " 2>/dev/null", out);
+    std::filesystem::remove(list);
+    EXPECT_EQ(status, 0) << out;
+    const auto j = nlohmann::json::parse(out, nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << out;
+    ASSERT_EQ(j.at("skipped").size(), 1u) << out;
+    const std::string error = j.at("skipped")[0].at("error");
+    EXPECT_NE(error.find("no\xEF\xBF\xBDsuch.laz"), std::string::npos) << error;
+    EXPECT_EQ(j.at("tiles"), 1) << out;
 }
 
 }  // namespace

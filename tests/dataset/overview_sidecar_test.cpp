@@ -289,8 +289,11 @@ TEST(OverviewSidecar, ACatalogNamesItsSidecarFirstAndItsPrefetchIsTakenOnce) {
     EXPECT_EQ(fs::canonical(told[0]), fs::canonical(sidecar));
 
     const OverviewSidecar direct = read_overview_sidecar(sidecar);
+    EXPECT_FALSE(direct.decoding) << "read without a prefetch: decoded before it is given";
     prefetch_overview_sidecar(sidecar);
     const OverviewSidecar taken = read_overview_sidecar(sidecar);
+    ASSERT_TRUE(taken.decoding) << "a prefetch's points are decoded while its taker goes on";
+    EXPECT_TRUE(taken.decoding->wait());
     ASSERT_EQ(taken.entries.size(), direct.entries.size());
     ASSERT_EQ(taken.blocks.size(), direct.blocks.size());
     for (std::size_t b = 0; b < direct.blocks.size(); ++b) EXPECT_EQ(*taken.blocks[b], *direct.blocks[b]);
@@ -299,6 +302,8 @@ TEST(OverviewSidecar, ACatalogNamesItsSidecarFirstAndItsPrefetchIsTakenOnce) {
     prefetch_overview_sidecar(sidecar);
     decode_overview_prefetch();
     const OverviewSidecar decoded = read_overview_sidecar(sidecar);
+    ASSERT_TRUE(decoded.decoding);
+    EXPECT_TRUE(decoded.decoding->wait());
     ASSERT_EQ(decoded.blocks.size(), direct.blocks.size());
     for (std::size_t b = 0; b < direct.blocks.size(); ++b) EXPECT_EQ(*decoded.blocks[b], *direct.blocks[b]);
 
@@ -338,6 +343,55 @@ TEST(OverviewSidecar, AnUnreadableSidecarIsOneWarningAndTheTilesAreRead) {
     EXPECT_EQ(std::count_if(placed_messages.begin(), placed_messages.end(),
                             [](const std::string& m) { return m.find("overview sidecar not used") != m.npos; }),
               1);
+    fs::remove_all(dir);
+}
+
+// A sidecar whose table reads but whose points do not decode (its first LAZ chunk's first bytes overwritten): the
+// catalog opens from its table, the points' decoding (going on after the open) fails with one warning naming the
+// sidecar, and every tile's chunk points come from the tile itself, also through the viewer's loader.
+TEST(OverviewSidecar, PointsThatDoNotDecodeAreOneWarningAndTheTilesGiveTheirOwn) {
+    const fs::path dir = fresh_dir("bad_points");
+    const std::string sidecar = write_with_overview(some_tiles(), dir);
+    {
+        const io::File file = io::File::open(sidecar);
+        const Tile t = read_tile(file);
+        std::fstream f(sidecar, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(static_cast<std::streamoff>(t.header.offset_to_point_data + 8));  // (past the chunk table's pointer)
+        const std::string junk(64, '\xA5');
+        f.write(junk.data(), static_cast<std::streamsize>(junk.size()));
+    }
+    take_stale_tile_warnings();
+    const Dataset read = open_dataset(some_tiles());
+    for (int round = 0; round < 2; ++round) {
+        const Dataset placed = open_dataset({(dir / "catalog.vpc").string()});
+        ASSERT_EQ(placed.tiles.size(), read.tiles.size());
+        for (std::size_t i = 0; i < placed.tiles.size(); ++i) {
+            const Tile& t = placed.tiles[i].tile;
+            ASSERT_TRUE(t.file->overview) << "placed from the sidecar's table";
+            EXPECT_TRUE(overview_records(t, placed.tiles[i].chunk_points).empty());
+            const auto own = tile_chunk_points(read.tiles[i].tile);
+            const auto got = tile_chunk_points(t);
+            ASSERT_EQ(got.size(), own.size());
+            for (std::size_t k = 0; k < own.size(); ++k) {
+                EXPECT_EQ(got[k].index, own[k].index);
+                EXPECT_EQ(got[k].point.x, own[k].point.x);
+                EXPECT_EQ(got[k].point.z, own[k].point.z);
+            }
+        }
+        const auto [ox, oy] = patch_grid_origin(placed);
+        PatchGrid grid(ox, oy);
+        ChunkPointLoaderOptions options;
+        options.release_overview = round == 1;
+        ChunkPointLoader loader(placed, grid, options);
+        loader.start();
+        loader.wait();
+        EXPECT_TRUE(loader.errors().empty());
+        EXPECT_EQ(grid.size(), placed.chunk_point_count);
+        const auto messages = take_stale_tile_warnings().messages();
+        ASSERT_EQ(messages.size(), 1u) << testing::PrintToString(messages);
+        EXPECT_NE(messages[0].find("catalog.overview.laz"), std::string::npos) << messages[0];
+        EXPECT_NE(messages[0].find("points not used"), std::string::npos) << messages[0];
+    }
     fs::remove_all(dir);
 }
 
