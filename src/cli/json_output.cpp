@@ -5,7 +5,9 @@
 
 namespace lidarscout::cli {
 
-std::string json_text(const nlohmann::json& j) { return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace); }
+std::string json_text(const nlohmann::json& j) {
+    return j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 void print_json_answer(const nlohmann::json& j) {
     std::printf("%s\n", json_text(j).c_str());
