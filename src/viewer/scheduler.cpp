@@ -780,6 +780,11 @@ std::shared_ptr<const SceneSnapshot> Scheduler::snapshot() const {
     auto snap = std::make_shared<SceneSnapshot>();
     const auto made = std::chrono::steady_clock::now();
     snap->version = s.version + residency + s.camera_version;
+    if (s.snapshot) {  // (about as many as the last: one allocation, not a doubling's; page faults were 213 of the
+                       // 341 samples of snapshots taken while a country loaded)
+        snap->heightmaps.reserve(s.snapshot->heightmaps.size() + s.snapshot->heightmaps.size() / 8);
+        snap->chunk_points.reserve(s.snapshot->chunk_points.size() + s.snapshot->chunk_points.size() / 8);
+    }
     // The blocks in view only (all without a camera): a country has 500,000 patches.
     const std::uint64_t before = s.work();
     const auto add = [&](CellBlocks::Block& b) {

@@ -260,6 +260,39 @@ TEST(RenderPointPass, ResultDoesNotDependOnThreadsOrChunks) {
     EXPECT_TRUE(std::equal(one.data(), one.data() + c.width * c.height, many.data()));
 }
 
+// Work items span batches (a country's view is 600,000 cells of a few points): the same points in batches of
+// uneven sizes, empty ones among them, give the one batch's picture whatever the points per item.
+TEST(RenderPointPass, ItemsAcrossManyBatchesDrawEveryPointOnce) {
+    const Camera c = test_camera();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> lateral(-60.0f, 60.0f), depth(20.0f, 200.0f);
+    std::vector<PointAttr> points(20'000);
+    for (PointAttr& p : points) {
+        p = attr(30.5 + lateral(rng), depth(rng) - 80.25, 12.0 + 0.5 * lateral(rng), static_cast<std::uint8_t>(rng()),
+                 static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()));
+    }
+    const PointBatch whole = batch_at(c, points);
+    std::vector<PointBatch> pieces;
+    const std::size_t sizes[] = {0, 1, 3, 17, 250, 2, 0, 999};
+    for (std::size_t at = 0, k = 0; at < points.size(); ++k) {
+        const std::size_t n = std::min(sizes[k % std::size(sizes)], points.size() - at);
+        pieces.push_back(batch_at(c, {}));
+        pieces.back().points = std::span(points).subspan(at, n);
+        at += n;
+    }
+    ThreadPool single(1), pool(3);
+    PointPassSettings s;
+    Framebuffer one(c.width, c.height);
+    draw_points(one, c, std::span(&whole, 1), s, single);
+    ASSERT_GT(covered(one), c.width * c.height / 2);
+    for (const std::size_t per_item : {1, 7, 1000, 50'000}) {
+        s.chunk_points = per_item;
+        Framebuffer split(c.width, c.height);
+        draw_points(split, c, pieces, s, pool);
+        EXPECT_TRUE(std::equal(one.data(), one.data() + c.width * c.height, split.data())) << per_item;
+    }
+}
+
 TEST(RenderPointPass, RejectsBadSettings) {
     const Camera c = test_camera();
     Framebuffer fb(c.width, c.height), other(32, 32);

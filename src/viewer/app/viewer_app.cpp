@@ -316,12 +316,13 @@ ProcessBudget process_budget(const ViewerOptions& o, GLFWwindow* window) {
     return ProcessBudget(o.memory_budget ? o.memory_budget : default_memory_budget(), resident_bytes(), o.cnn);
 }
 
-// The frame's picture: the snapshot drawn at the render scale, then the tile outlines;
-// `drawn` gets the snapshot drawn (the panels read it too: no second snapshot per frame).
-RenderedScene draw_frame(const Session& s, const CameraController& controller, const ViewSettings& v,
-                         const PanelState& panels, int fb_width, int fb_height, ThreadPool& pool,
-                         FrameRefiner& refiner, render::Camera& camera,
-                         std::shared_ptr<const SceneSnapshot>& drawn) {
+// The frame's picture into `frame`: the snapshot drawn at the render scale, then the tile outlines;
+// `drawn` gets the snapshot drawn (the panels read it too: no second snapshot per frame). The picture is copied
+// into `frame`'s pixels, not into new ones (a fresh 4 MB image a frame was 8% of the CPU while a country loaded,
+// most of it in page faults).
+void draw_frame(const Session& s, const CameraController& controller, const ViewSettings& v,
+                const PanelState& panels, int fb_width, int fb_height, ThreadPool& pool, FrameRefiner& refiner,
+                render::Camera& camera, std::shared_ptr<const SceneSnapshot>& drawn, RenderedScene& frame) {
     const int w = std::max(1, static_cast<int>(std::lround(fb_width * v.render_scale)));
     const int h = std::max(1, static_cast<int>(std::lround(fb_height * v.render_scale)));
     camera = controller.camera(w, h);
@@ -331,7 +332,7 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
     style.colour = colour_settings(v.style.colour.mode, s.dataset->bounds_m.min_z, s.dataset->bounds_m.max_z);
     const bool loading = s.scheduler->points_loading();  // before the snapshot: when false, it holds all
     drawn = s.scheduler->snapshot();
-    RenderedScene frame = refiner.draw(*drawn, camera, style, pool, v.layers, loading);
+    frame = refiner.draw(*drawn, camera, style, pool, v.layers, loading);
     if (v.tile_boxes) {
         draw_tile_boxes(frame.image, camera, *s.dataset, *s.places, render::pack_rgba(255, 200, 40), panels.selected);
     }
@@ -340,7 +341,6 @@ RenderedScene draw_frame(const Session& s, const CameraController& controller, c
         draw_segment(frame.image, camera, m.from[0], m.from[1], m.from[2], m.to[0], m.to[1], m.to[2],
                      render::pack_rgba(255, 220, 60));
     }
-    return frame;
 }
 
 // The picture while the first dataset opens: the footprints of the tiles read so far. `kept` is the last
@@ -606,14 +606,14 @@ private:
         }
         if (preview_) {  // a large catalog's centre among every footprint, until the dataset draws as much
             std::shared_ptr<const SceneSnapshot> shown;
-            last_ = draw_frame(*preview_, controller_, preview_settings_, panels_, fb_width_, fb_height_, pool_,
-                               refiner_, camera_, shown);
+            draw_frame(*preview_, controller_, preview_settings_, panels_, fb_width_, fb_height_, pool_, refiner_,
+                       camera_, shown, last_);
             draw_footprints(last_.image, camera_, footprints_, render::pack_rgba(255, 200, 40));
             with_heightmaps_ = !shown->heightmaps.empty();
             preview_heightmaps_ = shown->heightmaps.size();
         } else if (session_.open()) {
-            last_ = draw_frame(session_, controller_, settings_, panels_, fb_width_, fb_height_, pool_, refiner_,
-                               camera_, drawn_);
+            draw_frame(session_, controller_, settings_, panels_, fb_width_, fb_height_, pool_, refiner_, camera_,
+                       drawn_, last_);
             with_heightmaps_ = !drawn_->heightmaps.empty();
             draw_profile_corridor();
         } else {
