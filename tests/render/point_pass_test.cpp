@@ -49,6 +49,18 @@ PointAttr on_screen(double right_px, double down_px, double depth, std::uint8_t 
     return attr(30.5 + metres(right_px, depth), depth - 80.25, 12.0 - metres(down_px, depth), r, g, b);
 }
 
+// `n` points of random colours scattered 20-200 m ahead of the camera, relative to batch_at's origin.
+std::vector<PointAttr> random_points(std::size_t n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> lateral(-60.0f, 60.0f), depth(20.0f, 200.0f);
+    std::vector<PointAttr> points(n);
+    for (PointAttr& p : points) {
+        p = attr(30.5 + lateral(rng), depth(rng) - 80.25, 12.0 + 0.5 * lateral(rng), static_cast<std::uint8_t>(rng()),
+                 static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()));
+    }
+    return points;
+}
+
 int covered(const Framebuffer& fb) {
     int n = 0;
     for (int y = 0; y < fb.height(); ++y)
@@ -242,13 +254,7 @@ TEST(RenderPointPass, ColourModesUseTheAttributes) {
 
 TEST(RenderPointPass, ResultDoesNotDependOnThreadsOrChunks) {
     const Camera c = test_camera();
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> lateral(-60.0f, 60.0f), depth(20.0f, 200.0f);
-    std::vector<PointAttr> points(200'000);
-    for (PointAttr& p : points) {
-        p = attr(30.5 + lateral(rng), depth(rng) - 80.25, 12.0 + 0.5 * lateral(rng), static_cast<std::uint8_t>(rng()),
-                 static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()));
-    }
+    const std::vector<PointAttr> points = random_points(200'000, 7);
     const PointBatch batch = batch_at(c, points);
     Framebuffer one(c.width, c.height), many(c.width, c.height);
     ThreadPool single(1), pool(4);
@@ -264,13 +270,7 @@ TEST(RenderPointPass, ResultDoesNotDependOnThreadsOrChunks) {
 // uneven sizes, empty ones among them, give the one batch's picture whatever the points per item.
 TEST(RenderPointPass, ItemsAcrossManyBatchesDrawEveryPointOnce) {
     const Camera c = test_camera();
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> lateral(-60.0f, 60.0f), depth(20.0f, 200.0f);
-    std::vector<PointAttr> points(20'000);
-    for (PointAttr& p : points) {
-        p = attr(30.5 + lateral(rng), depth(rng) - 80.25, 12.0 + 0.5 * lateral(rng), static_cast<std::uint8_t>(rng()),
-                 static_cast<std::uint8_t>(rng()), static_cast<std::uint8_t>(rng()));
-    }
+    const std::vector<PointAttr> points = random_points(20'000, 11);
     const PointBatch whole = batch_at(c, points);
     std::vector<PointBatch> pieces;
     const std::size_t sizes[] = {0, 1, 3, 17, 250, 2, 0, 999};
