@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <future>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -215,31 +216,40 @@ public:
         // The tiles go into the grid in batches: one lookup of a cell and one callback for all a batch's points in
         // it, not one for each tile's (the nearest first, alone; then batches twice as large, up to kMostPoints).
         // A batch's tiles' points are decoded and placed by the shared pool's threads, each tile's on its own,
-        // then go into the grid in the tiles' order (the loader's thread had spent most of a country's open there).
+        // while the batch before goes into the grid on this thread, in the tiles' order (the grid's and the
+        // callback's work is this thread's alone: it had waited for each batch's placing, and had placed too).
         constexpr std::size_t kMostPoints = 1u << 16;
-        std::size_t batch_points = 1;
-        std::vector<std::vector<std::pair<CellKey, GridPoint>>> per_tile;
-        std::vector<std::pair<CellKey, GridPoint>> placed;
-        for (std::size_t first = 0; first < held_.size();) {
-            if (is_cancelled()) return;
+        std::vector<std::span<const std::uint32_t>> batches;
+        for (std::size_t first = 0, batch_points = 1; first < held_.size();) {
             std::size_t end = first, points = 0;
             while (end < held_.size() && (end == first || points < batch_points)) {
                 points += ds_.tiles[held_[end++]].chunk_points;
             }
-            const std::span<const std::uint32_t> batch(held_.data() + first, end - first);
-            per_tile.resize(batch.size());
-            ThreadPool::shared().for_each(batch.size(), [&](std::size_t k) { place_held(batch[k], per_tile[k]); });
-            for (auto& tile_placed : per_tile) {
-                placed.insert(placed.end(), tile_placed.begin(), tile_placed.end());
-                tile_placed.clear();
-            }
-            add_placed(batch, placed);
-            if (releasing) {
-                for (const std::uint32_t id : batch) releasing->taken(ds_.tiles[id].tile);
-            }
-            placed.clear();
+            batches.emplace_back(held_.data() + first, end - first);
             batch_points = std::min(2 * batch_points, kMostPoints);
             first = end;
+        }
+        using Placed = std::vector<std::pair<CellKey, GridPoint>>;
+        const auto place_batch = [this](std::span<const std::uint32_t> batch) {
+            std::vector<Placed> per_tile(batch.size());
+            ThreadPool::shared().for_each(batch.size(), [&](std::size_t k) { place_held(batch[k], per_tile[k]); });
+            Placed placed;
+            std::size_t n = 0;
+            for (const auto& tile_placed : per_tile) n += tile_placed.size();
+            placed.reserve(n);
+            for (const auto& tile_placed : per_tile) placed.insert(placed.end(), tile_placed.begin(), tile_placed.end());
+            return placed;
+        };
+        std::future<Placed> next;
+        if (!batches.empty()) next = std::async(std::launch::async, place_batch, batches[0]);
+        for (std::size_t b = 0; b < batches.size(); ++b) {
+            Placed placed = next.get();
+            if (is_cancelled()) return;
+            if (b + 1 < batches.size()) next = std::async(std::launch::async, place_batch, batches[b + 1]);
+            add_placed(batches[b], placed);
+            if (releasing) {
+                for (const std::uint32_t id : batches[b]) releasing->taken(ds_.tiles[id].tile);
+            }
         }
         if (releasing && !held_.empty()) trim_heap();  // the blocks' pages the grid did not take leave the process
         held_ = {};

@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "core/error.hpp"
+#include "core/process_memory.hpp"
 #include "core/thread_pool.hpp"
 #include "core/thread_priority.hpp"
 #include "dataset/chunk_points.hpp"
@@ -538,8 +539,13 @@ OverviewRelease::OverviewRelease(std::span<const DatasetTile> tiles, std::span<c
 void OverviewRelease::taken(const Tile& tile) {
     const auto it = left_.find(block_of(tile));
     if (it == left_.end() || --it->second > 0) return;
+    released_ += it->first->capacity();
     std::vector<std::uint8_t>().swap(*it->first);
     left_.erase(it);
+    // (the blocks were allocated by the sidecar's decoding thread: freed, they stay in its arena, which nothing
+    // else allocates from, while the reader's grid grows; a country's view peaked 180 MB over its budget's share
+    // until the heap was trimmed at the end)
+    if (released_ >= kTrimEvery) trim_heap(), released_ = 0;
 }
 
 bool overview_holds(const Tile& tile, std::uint64_t chunk_points) {

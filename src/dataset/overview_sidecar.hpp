@@ -156,7 +156,9 @@ public:
     void taken(const Tile& tile);
 
 private:
+    static constexpr std::size_t kTrimEvery = 32u << 20;  // bytes released between two trims of the heap
     std::unordered_map<std::vector<std::uint8_t>*, std::size_t> left_;  // per block, its tiles still to take
+    std::size_t released_ = 0;  // since the last trim
 };
 
 // For a reader about to read `tile` in full from `file`: nullopt when the tile was not placed from a
