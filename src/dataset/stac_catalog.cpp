@@ -146,7 +146,7 @@ std::optional<std::string> plain_join(const std::string& folder, std::string_vie
 
 // `href` of `document` as a path or URL: a local document's relative hrefs against its folder (URLs
 // and absolute paths as they are); a remote document's against its URL, keeping its origin. `folder`, when
-// given, is the local document's folder_prefix.
+// given, is a local document's folder_prefix or a remote one's plain_reference_prefix.
 std::optional<std::string> resolve(const std::string& document, const std::string& href, std::string& refusal,
                                    const std::optional<std::string>& folder = std::nullopt) {
     if (href.empty()) {
@@ -169,6 +169,9 @@ std::optional<std::string> resolve(const std::string& document, const std::strin
     if (other_scheme) {
         refusal = "\"" + shown(href) + "\" refused: a remote catalog names http(s) URLs only";
         return std::nullopt;
+    }
+    if (folder && !net::is_url(href) && href.front() != '/') {  // (plain segments: on the document's origin)
+        if (auto joined = plain_join(*folder, href)) return joined;
     }
     std::string url = net::resolve_url(document, href);
     refusal = net::derived_url_refusal(document, url);
@@ -228,10 +231,10 @@ const json* data_asset(const json& assets) {
 struct Document {
     Document(const std::string& p, CrsTexts& crs)
         : path(p), shown(lidarscout::dataset::shown(io::display_path(p))),
-          folder(net::is_url(p) ? std::nullopt : folder_prefix(p)), crs_texts(crs) {}
+          folder(net::is_url(p) ? net::plain_reference_prefix(p) : folder_prefix(p)), crs_texts(crs) {}
     const std::string& path;
     SharedText shown;
-    std::optional<std::string> folder;  // a local document's folder_prefix
+    std::optional<std::string> folder;  // a local document's folder_prefix, a remote one's plain_reference_prefix
     CrsTexts& crs_texts;
 
     // `text` as held once for the catalog.

@@ -289,4 +289,13 @@ std::string resolve_url(std::string_view base, std::string_view reference) {
     return origin + remove_dot_segments(path);
 }
 
+std::optional<std::string> plain_reference_prefix(std::string_view base) {
+    const std::string scheme = url_scheme(base);
+    if (scheme != "http" && scheme != "https") return std::nullopt;
+    std::string prefix = resolve_url(base, "x");  // (the folder as resolve_url makes it, whatever base's spelling)
+    if (!prefix.ends_with("/x") || url_origin(prefix) != url_origin(base)) return std::nullopt;
+    prefix.pop_back();
+    return prefix;
+}
+
 }  // namespace lidarscout::net

@@ -94,6 +94,25 @@ TEST(Url, RelativeReferencesResolveAgainstTheList) {
     EXPECT_EQ(resolve_url("http://h", "a.laz"), "http://h/a.laz");
 }
 
+// A plain reference resolved through the prefix equals resolve_url's answer for every base spelling, on base's
+// origin (a catalog's items take this way); anything but http(s) has no prefix.
+TEST(Url, PlainReferencesResolveThroughTheBasesPrefix) {
+    for (const std::string base : {"https://h:1/set/lists/tiles.txt?sig=1", "http://h", "http://h/", "http://h?q=/a/b",
+                                   "http://h/a/./b/../c/catalog.vpc#x", "https://u@h/a//b/search?bbox=1,2,3,4",
+                                   "http://h/a/b/"}) {
+        const auto prefix = plain_reference_prefix(base);
+        ASSERT_TRUE(prefix) << base;
+        for (const std::string ref : {"a.laz", "./a.laz", "x/y/z.laz", "./x/a b.laz", "a.laz?sig=2", "a#b"}) {
+            const std::string plain = ref.starts_with("./") ? ref.substr(2) : ref;
+            EXPECT_EQ(*prefix + plain, resolve_url(base, ref)) << base << " " << ref;
+            EXPECT_EQ(url_origin(*prefix + plain), url_origin(base)) << base << " " << ref;
+        }
+    }
+    EXPECT_FALSE(plain_reference_prefix("s3://bucket/a/catalog.vpc"));
+    EXPECT_FALSE(plain_reference_prefix("/local/catalog.vpc"));
+    EXPECT_FALSE(plain_reference_prefix("ftp://h/catalog.vpc"));
+}
+
 // The key as requested, or its refusal ("" key then).
 std::string key_or_refusal(std::string_view key, std::string_view prefix = {}) {
     std::string refusal;
