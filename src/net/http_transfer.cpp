@@ -241,9 +241,15 @@ std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, v
         t->body_started_ = true;
         if (!t->accept_body_start()) return 0;  // stops the transfer: nothing more is downloaded
         // A range's bytes in one allocation (a block of 8 MB grown by doubling is copied and its pages touched
-        // twice over); a whole GET's size is not known.
+        // twice over), and a whole GET's where the server says its length (up to the most accepted: a
+        // country's catalog, 245 MB, had been copied eight times while it came).
         if (!t->multi() && !t->job_->request.whole && t->status_ < 300) {
             t->body_.reserve(t->attempt_start_ + t->asked_now().length);
+        } else if (!t->multi() && t->status_ == 200) {
+            curl_off_t length = -1;
+            if (curl_easy_getinfo(t->easy_, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length) == CURLE_OK && length > 0) {
+                t->body_.reserve(t->attempt_start_ + std::min<std::uint64_t>(length, t->body_limit()));
+            }
         }
     }
     t->attempt_body_ += bytes;
