@@ -94,11 +94,26 @@ std::string list_repeated(const std::vector<std::pair<std::string, std::size_t>>
 // scheme and host in lower case, a port other than the default or none, no credentials, fragment or
 // percent-encoding, and no "." or ".." segment or empty one in its path. A country's 152,100 items are compared
 // without parsing each.
+// Whether `path` (from its leading '/') has a "." or ".." segment, or an empty one before another. (One pass: a
+// find for each spelling, and find_first_of, had been half of a country's duplicate check, 152,100 hrefs.)
+bool has_dot_or_empty_segment(std::string_view path) {
+    std::size_t start = 1;
+    for (std::size_t i = 1; i <= path.size(); ++i) {
+        if (i < path.size() && path[i] != '/') continue;
+        const std::string_view segment = path.substr(start, i - start);
+        if (segment == "." || segment == ".." || (segment.empty() && i < path.size())) return true;
+        start = i + 1;
+    }
+    return false;
+}
+
 bool already_normal(std::string_view url) {
     const std::size_t scheme = url.starts_with("http://") ? 4 : url.starts_with("https://") ? 5 : 0;
     if (scheme == 0) return false;
-    const std::size_t start = scheme + 3, end = url.find_first_of("/?#", start);
-    if (end == std::string_view::npos || url[end] != '/' || end == start) return false;
+    const std::size_t start = scheme + 3;
+    std::size_t end = start;
+    while (end < url.size() && url[end] != '/' && url[end] != '?' && url[end] != '#') ++end;
+    if (end == url.size() || url[end] != '/' || end == start) return false;
     const std::string_view authority = url.substr(start, end - start), rest = url.substr(end);
     const std::size_t colon = authority.find(':');
     const std::string_view host = authority.substr(0, colon);
@@ -112,12 +127,8 @@ bool already_normal(std::string_view url) {
         if (port.empty() || !std::all_of(port.begin(), port.end(), digit) || port.front() == '0') return false;
         if (port == (scheme == 4 ? "80" : "443")) return false;
     }
-    if (rest.find_first_of("%#\\") != std::string_view::npos) return false;
-    const std::string_view path = rest.substr(0, rest.find('?'));
-    for (const std::string_view bad : {"//", "/./", "/../"}) {
-        if (path.find(bad) != std::string_view::npos) return false;
-    }
-    return !path.ends_with("/.") && !path.ends_with("/..");
+    if (std::any_of(rest.begin(), rest.end(), [](char c) { return c == '%' || c == '#' || c == '\\'; })) return false;
+    return !has_dot_or_empty_segment(rest.substr(0, rest.find('?')));
 }
 
 }  // namespace
@@ -137,6 +148,7 @@ std::string normalised_url(std::string_view url) {
     // The path resolved as a relative reference to the origin's root ("." first: a path "//x" is no host).
     const std::string path = normalise_percent(p->path);
     std::string out = net::resolve_url(origin + "/", "." + (path.empty() ? std::string("/") : path));
+    if (out.size() == origin.size()) out += '/';  // ("/a/.." leaves no path: the root, as "http://h" is "http://h/")
     if (!p->query.empty()) out += "?" + normalise_percent(p->query);
     return out;
 }

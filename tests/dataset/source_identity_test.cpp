@@ -58,6 +58,13 @@ TEST(NormalisedUrl, AUrlInItsNormalFormIsItsOwnAndItsVariantsMeetIt) {
     }
     EXPECT_EQ(normalised_url("http://example.com:080/a"), "http://example.com:080/a") << "another port as written";
     EXPECT_EQ(normalised_url("http://example.com/a/."), "http://example.com/a/");
+    for (const std::string normal : {"http://h/a/", "http://h/", "http://h/.a/..b/c.", "http://h/a?x=//./../"}) {
+        EXPECT_EQ(normalised_url(normal), normal);
+    }
+    EXPECT_EQ(normalised_url("HTTP://h/a//"), "http://h/a//") << "an empty segment kept";
+    EXPECT_NE(normalised_url("http://h/a//b"), "http://h/a/b");
+    EXPECT_EQ(normalised_url("http://h/a/.."), "http://h/");
+    EXPECT_EQ(normalised_url("http://h/./a"), "http://h/a");
     EXPECT_EQ(normalised_url("http://example.com/a?q=%7e"), "http://example.com/a?q=~");
 }
 
