@@ -237,7 +237,9 @@ public:
             std::size_t n = 0;
             for (const auto& tile_placed : per_tile) n += tile_placed.size();
             placed.reserve(n);
-            for (const auto& tile_placed : per_tile) placed.insert(placed.end(), tile_placed.begin(), tile_placed.end());
+            for (const auto& tile_placed : per_tile) {
+                placed.insert(placed.end(), tile_placed.begin(), tile_placed.end());
+            }
             return placed;
         };
         std::future<Placed> next;
