@@ -382,8 +382,8 @@ struct Prefetch {
     std::string path;
     std::future<OverviewSidecar> sidecar;  // its table read, its points being decoded
     std::shared_ptr<Gate> gate;
+    std::atomic<bool> exiting{false};  // (before the threads: it outlives their joining)
     std::vector<std::future<void>> threads;
-    std::atomic<bool> exiting{false};
     ~Prefetch() {  // (at exit: the futures wait for their threads, which must not wait at the gate nor decode on)
         exiting = true;
         if (gate) gate->let_through();
@@ -421,6 +421,8 @@ void run_prefetch(const std::string& path, Gate& gate, std::promise<OverviewSide
         fill_blocks(*file, tile, filling, pool, unused) ? decoding->finish() : decoding->abandon();
     } catch (const Error& e) {
         decoding->fail(e.file() == file->path() ? e.cause() : e.what());  // (the warning names the sidecar)
+    } catch (const std::exception& e) {  // (out of memory: its readers must not wait for ever)
+        decoding->fail(e.what());
     }
 }
 

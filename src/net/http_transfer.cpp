@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cstdio>
 #include <map>
+#include <new>
 #include <optional>
 
 #include "core/error.hpp"
@@ -248,7 +249,10 @@ std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, v
         } else if (!t->multi() && t->status_ == 200) {
             curl_off_t length = -1;
             if (curl_easy_getinfo(t->easy_, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length) == CURLE_OK && length > 0) {
-                t->body_.reserve(t->attempt_start_ + std::min<std::uint64_t>(length, t->body_limit()));
+                try {  // (a length the memory cannot hold: the body grows as it comes, and the transfer says why)
+                    t->body_.reserve(t->attempt_start_ + std::min<std::uint64_t>(length, t->body_limit()));
+                } catch (const std::exception&) {
+                }
             }
         }
     }
@@ -261,7 +265,13 @@ std::size_t HttpTransfer::on_body(char* data, std::size_t size, std::size_t n, v
                           : std::string("the server sent more bytes than were asked for");
         return 0;
     }
-    t->body_.insert(t->body_.end(), data, data + bytes);
+    try {  // (an exception must not cross libcurl's C frames)
+        t->body_.insert(t->body_.end(), data, data + bytes);
+    } catch (const std::bad_alloc&) {
+        t->abort_ = TransferOutcome::Fail;
+        t->message_ = "out of memory for the response (" + std::to_string(t->body_.size()) + " bytes held)";
+        return 0;
+    }
     return bytes;
 }
 
