@@ -456,7 +456,7 @@ bool OverviewDecoding::wait() const {
         std::unique_lock lock(mutex_);
         ended_.wait(lock, [&] { return ended(); });
     }
-    return state_.load(std::memory_order_acquire) == kDone;
+    return !failed();
 }
 
 OverviewSidecar read_overview_sidecar(const std::string& path) {
@@ -553,7 +553,7 @@ void OverviewRelease::taken(const Tile& tile) {
 bool overview_holds(const Tile& tile, std::uint64_t chunk_points) {
     const TileOverview* o = tile.file ? tile.file->overview.get() : nullptr;
     if (!o || !o->records || o->count == 0 || o->count != chunk_points) return false;
-    return !o->decoding || !o->decoding->ended() || o->decoding->wait();
+    return !o->decoding || !o->decoding->failed();
 }
 
 std::span<const std::uint8_t> overview_records(const Tile& tile, std::uint64_t chunk_points) {

@@ -87,8 +87,9 @@ public:
     void fail(const std::string& cause);
     // Nobody reads the records any more: the decoding stopped (no warning).
     void abandon();
-    // True once it ended, whether every record is in or not.
+    // True once it ended, whether every record is in or not; failed: it ended without them (no wait).
     bool ended() const { return state_.load(std::memory_order_acquire) != kDecoding; }
+    bool failed() const { return state_.load(std::memory_order_acquire) == kFailed; }
     // Waits for the end; true when every record is in.
     bool wait() const;
 
