@@ -119,12 +119,15 @@ stage_pack() {
   mkdir -p "$tree"
   py lidarscout_train.window_pack pack "${files[@]}" --out "$(realpath "$tree")/windows.xz" --per-group "$per_group" \
     --surveys "$(cd "$surveys" && ls | paste -sd, -)"
-  # What travels to the device machine (this repository's files and the tree) is at most 64 MiB.
-  local bytes repo_bytes limit
+  # What travels to the device machine (this repository's files, the tree and the GPU checks' payload
+  # when packed) is at most 64 MiB. (One awk sum: xargs splits thousands of files into several `du -c`
+  # runs, and the last one's total alone counted only a part of them.)
+  local bytes repo_bytes checks_bytes=0 limit
   bytes=$(du -sb "$tree" | cut -f1)
-  repo_bytes=$(git ls-files -z | xargs -0 du -cb | tail -n 1 | cut -f1)
-  limit=$((64 * 1024 * 1024 - repo_bytes - 1024 * 1024))
-  echo "$tree: $bytes bytes (at most $limit beside the repository's $repo_bytes)"
+  repo_bytes=$(git ls-files -z | xargs -0 -r stat -c %s | awk '{ s += $1 } END { print s + 0 }')
+  [ -d .gpu-checks ] && checks_bytes=$(du -sb .gpu-checks | cut -f1)
+  limit=$((64 * 1024 * 1024 - repo_bytes - checks_bytes - 1024 * 1024))
+  echo "$tree: $bytes bytes (at most $limit beside the repository's $repo_bytes and .gpu-checks' $checks_bytes)"
   [ "$bytes" -le "$limit" ] || { echo "train_gpu.sh: $tree is too large for the device machine: fewer --per-group" >&2; exit 1; }
 }
 
