@@ -180,14 +180,14 @@ PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey c
     set.origin_x = grid.cell_min_x(cell);
     set.origin_y = grid.cell_min_y(cell);
     grid.read_points(cell, [&](std::span<const GridPoint> points) {  // (converted in place: no copy first)
-        set.points.reserve(points.size());
-        for (const auto& p : points) {
-            render::PointAttr a;
+        set.points.resize(points.size());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            const GridPoint& p = points[i];
+            render::PointAttr& a = set.points[i];
             a.dx = p.dx, a.dy = p.dy, a.dz = p.z;
             a.r = p.rgb.r, a.g = p.rgb.g, a.b = p.rgb.b;
             a.classification = p.classification;
             a.intensity = p.intensity;
-            set.points.push_back(a);
         }
     });
     return set;

@@ -493,13 +493,18 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
         });
         return any;
     };
-    for (const auto cell : cells) {
-        auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cell));
-        if (set->points.empty()) continue;
+    // The cells' point sets are made by the shared pool's threads, outside the lock (the grid's shards lock
+    // themselves): they were most of this thread's work while a country's chunk points came in, and the loader's
+    // thread is what the last of them waits for.
+    sets.resize(cells.size());
+    ThreadPool::shared().for_each(cells.size(), [&](std::size_t i) {
+        auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cells[i]));
+        if (set->points.empty()) return;
         if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
         set->cache_key = render::new_cache_key();  // complete: shared read-only from here
-        sets.push_back({cell, std::move(set), any_sparse && holds_sparse(cell)});
-    }
+        sets[i] = {cells[i], std::move(set), any_sparse && holds_sparse(cells[i])};
+    });
+    std::erase_if(sets, [](const CellSet& c) { return !c.set; });
     {
         std::lock_guard lock(s.mutex);
         for (auto& entry : sets) {  // not a structured binding: clang 14 cannot capture one
