@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "dataset/ept.hpp"
+#include "dataset/json_file.hpp"
 #include "dataset/s3_prefix.hpp"
 #include "dataset/overview_sidecar.hpp"
 #include "dataset/source_identity.hpp"
@@ -189,7 +190,10 @@ void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriv
         };
     }
     struct DecodeOnLeaving {  // (a read that throws leaves no prefetch waiting)
-        ~DecodeOnLeaving() { decode_overview_prefetch(); }
+        ~DecodeOnLeaving() {
+            decode_overview_prefetch();
+            forget_json_prefetch();  // (blocks of another document asked for early: not read on)
+        }
     } decode_on_leaving;
     Catalog catalog = read_catalog(path, {}, items_read, prefetch_overview_sidecar);
     decode_overview_prefetch();  // (its items read: the sidecar's decoding has the cores)

@@ -5,6 +5,7 @@
 #include <deque>
 #include <future>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -18,16 +19,74 @@ namespace {
 // A remote document read ahead: blocks of kBlock bytes, up to kInFlight of them asked at once, handed on
 // in order. Read in the reader's chunks (a megabyte at most), one request at a time, a country's catalog
 // (250 MB) over a link of 50 ms would spend 12 s waiting on round trips alone; and a STAC API search's
-// page of 1,000 items (1.6 MB: chunks of 64 KB doubling) five round trips where one does.
+// page of 1,000 items (1.6 MB: chunks of 64 KB doubling) five round trips where one does. Eight at once: with
+// four, a country's catalog waited on round trips at 50 ms once its blocks' page faults were gone (blocks read
+// into the memory of blocks read before): every footprint in 0.97 s against 1.19 (four alternating pairs).
+using Block = std::future<std::vector<std::uint8_t>>;
+constexpr std::uint64_t kBlock = 8u << 20;
+constexpr std::size_t kInFlight = 8;
+
+// Asks for the block at `next` of `file` (it must outlive the block's reading), written into `buffer`'s memory
+// where it holds it (io::File::read_vector), and moves `next` past it.
+Block ask_block(const io::File& file, std::uint64_t& next, std::vector<std::uint8_t> buffer = {}) {
+    const std::uint64_t offset = next, size = std::min(kBlock, file.size() - offset);
+    next += size;
+    return std::async(std::launch::async, [&file, offset, size, buffer = std::move(buffer)]() mutable {
+        return file.read_vector(offset, size, "JSON document", std::move(buffer));  // (a remote block as it came)
+    });
+}
+
+// Blocks asked for before their reader came (prefetch_json_document): the file they are read from and
+// the offset after them.
+struct EarlyBlocks {
+    std::shared_ptr<const io::File> file;
+    std::deque<Block> blocks;
+    std::uint64_t next = 0;
+};
+
+struct EarlyDocument {
+    std::mutex mutex;
+    std::string url;
+    std::future<EarlyBlocks> blocks;
+};
+
+EarlyDocument& early() {
+    static EarlyDocument e;
+    return e;
+}
+
+// The blocks asked for early of `url`, taken (none when none were, or their open failed).
+EarlyBlocks take_early(const std::string& url) {
+    std::future<EarlyBlocks> blocks;
+    {
+        std::lock_guard lock(early().mutex);
+        if (early().url != url || !early().blocks.valid()) return {};
+        blocks = std::move(early().blocks);
+        early().url.clear();
+    }
+    try {
+        return blocks.get();
+    } catch (const Error&) {  // (the reader's file opened where the early one did not: read as it comes)
+        return {};
+    }
+}
+
 class ReadAhead {
 public:
-    static constexpr std::uint64_t kBlock = 8u << 20;
-    static constexpr std::size_t kInFlight = 4;
-
-    explicit ReadAhead(const io::File& file) : file_(file) {}
+    explicit ReadAhead(const io::File& file) : file_(file) {
+        EarlyBlocks e = take_early(file.path());
+        if (e.file && e.file->size() == file.size()) {
+            early_file_ = std::move(e.file);
+            ahead_ = std::move(e.blocks);
+            next_ = e.next;
+        }
+    }
 
     std::size_t read(std::span<char> out) {
         while (at_ == block_.size()) {
+            if (block_.capacity() != 0) spare_.push_back(std::move(block_));  // (its memory for a block to come)
+            block_.clear();
+            at_ = 0;
             ask();
             if (ahead_.empty()) return 0;
             block_ = ahead_.front().get();  // (a read's Error is thrown here, on the reader's thread)
@@ -44,22 +103,45 @@ private:
     // Asks for the next blocks, up to kInFlight (never past the end: a request to learn nothing is there).
     void ask() {
         while (ahead_.size() < kInFlight && next_ < file_.size()) {
-            const std::uint64_t offset = next_, size = std::min(kBlock, file_.size() - offset);
-            next_ += size;
-            ahead_.push_back(std::async(std::launch::async, [this, offset, size] {
-                return file_.read_vector(offset, size, "JSON document");  // (a remote block as it came: no copy)
-            }));
+            std::vector<std::uint8_t> buffer;
+            if (!spare_.empty()) buffer = std::move(spare_.back()), spare_.pop_back();
+            ahead_.push_back(ask_block(file_, next_, std::move(buffer)));
         }
     }
 
     const io::File& file_;
+    std::shared_ptr<const io::File> early_file_;  // what the blocks asked for early read (declared before them)
     std::uint64_t next_ = 0;
-    std::deque<std::future<std::vector<std::uint8_t>>> ahead_;  // (their destructors wait for them)
+    std::deque<Block> ahead_;  // (their destructors wait for them)
+    std::vector<std::vector<std::uint8_t>> spare_;  // blocks read, their memory kept for the next (a few)
     std::vector<std::uint8_t> block_;
     std::size_t at_ = 0;
 };
 
 }  // namespace
+
+void prefetch_json_document(const std::string& url) {
+    if (!net::is_url(url)) return;
+    forget_json_prefetch();
+    std::lock_guard lock(early().mutex);
+    early().url = url;
+    early().blocks = std::async(std::launch::async, [url] {
+        EarlyBlocks e;
+        e.file = std::make_shared<const io::File>(io::File::open(url));
+        while (e.blocks.size() < kInFlight && e.next < e.file->size()) e.blocks.push_back(ask_block(*e.file, e.next));
+        return e;
+    });
+}
+
+void forget_json_prefetch() {
+    std::future<EarlyBlocks> dropped;
+    {
+        std::lock_guard lock(early().mutex);
+        dropped = std::move(early().blocks);
+        early().url.clear();
+    }
+    if (dropped.valid()) dropped.wait();  // (its blocks' futures wait for their reads as they go)
+}
 
 JsonSource file_json_source(const io::File& file) {
     if (net::is_url(file.path())) {

@@ -28,4 +28,12 @@ nlohmann::json read_json_object(const io::File& file, const JsonLimits& limits,
 // values it holds bounded by its size only (EPT metadata and hierarchies).
 nlohmann::json read_json_object(const io::File& file, std::uint64_t max_bytes);
 
+// A remote document's first blocks asked for before its reader comes (the viewer's window opens meanwhile: a
+// country's catalog was not asked for until that had taken a fifth of a second): the reader of the same URL
+// takes them, read or in flight. Local paths: nothing. A failed early open is no error (the reader's own
+// open says why).
+void prefetch_json_document(const std::string& url);
+// Drops what prefetch_json_document asked for where no reader took it.
+void forget_json_prefetch();
+
 }  // namespace lidarscout::dataset

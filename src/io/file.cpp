@@ -136,17 +136,18 @@ void File::read_exact(std::uint64_t offset, std::span<std::uint8_t> out, const c
     }
 }
 
-std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n, const char* what) const {
+std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n, const char* what,
+                                            std::vector<std::uint8_t> buffer) const {
     if (offset > size_ || n > size_ - offset) {
         throw Error(path_, offset,
                     std::string("the ") + what + " (" + std::to_string(n) +
                         " bytes) extends beyond the end of the file (" + std::to_string(size_) + " bytes)");
     }
     // A remote file's bytes as the response brought them (a catalog's 8 MB blocks, a sidecar: not copied again).
-    if (remote_ && n != 0 && !cached(offset, n)) return remote_->read_bytes(offset, n);
-    std::vector<std::uint8_t> v(n);
-    read_exact(offset, v, what);
-    return v;
+    if (remote_ && n != 0 && !cached(offset, n)) return remote_->read_bytes(offset, n, std::move(buffer));
+    buffer.resize(n);
+    read_exact(offset, buffer, what);
+    return buffer;
 }
 
 }  // namespace lidarscout::io

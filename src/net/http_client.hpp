@@ -87,6 +87,10 @@ struct RangeRequest {
     // not answer several ranges), but a 200 no larger than what was asked is taken as the whole file
     // (nginx answers so when the ranges add up to more than the file): RangeReply::whole_file.
     std::uint64_t suffix = 0;
+    // Memory the body of a request of one range is written into (its capacity kept, its bytes not: empty): a
+    // reader's used block, whose pages are the process's already (a fresh 8 MB block's page faults were most
+    // of the network thread's work while a country's catalog came). Copies of a request hold none.
+    std::vector<std::uint8_t> buffer;
     const std::string& asked() const { return target.empty() ? url : target; }
 };
 

@@ -58,7 +58,13 @@ bool retryable(CURLcode code) {
 }  // namespace
 
 HttpTransfer::HttpTransfer(std::shared_ptr<HttpJob> job, std::vector<std::size_t> ranges)
-    : job_(std::move(job)), ranges_(std::move(ranges)) {}
+    : job_(std::move(job)), ranges_(std::move(ranges)) {
+    RangeRequest& request = job_->request;  // (a request of one range: its buffer is the body's memory)
+    if (request.ranges.size() == 1 && ranges_.size() == 1 && !request.suffix && !request.whole) {
+        body_ = std::move(request.buffer);
+        body_.clear();
+    }
+}
 
 HttpTransfer::~HttpTransfer() {
     if (easy_) curl_easy_cleanup(easy_);

@@ -192,10 +192,11 @@ RemoteFile::RemoteFile(std::string url, RangeReply&& head)
     redirect_->keep(head);
 }
 
-RangeReply RemoteFile::fetch_now(std::vector<ByteRange> ranges) const {
+RangeReply RemoteFile::fetch_now(std::vector<ByteRange> ranges, std::vector<std::uint8_t> buffer) const {
     std::promise<RangeReply> promise;
     auto future = promise.get_future();
-    fetch_async(std::move(ranges), [&promise](RangeReply&& reply) { promise.set_value(std::move(reply)); });
+    fetch_async(
+        std::move(ranges), [&promise](RangeReply&& reply) { promise.set_value(std::move(reply)); }, std::move(buffer));
     return future.get();
 }
 
@@ -459,9 +460,10 @@ void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     std::copy(part.begin(), part.end(), out.begin());
 }
 
-std::vector<std::uint8_t> RemoteFile::read_bytes(std::uint64_t offset, std::uint64_t size) const {
+std::vector<std::uint8_t> RemoteFile::read_bytes(std::uint64_t offset, std::uint64_t size,
+                                                 std::vector<std::uint8_t> buffer) const {
     if (size == 0) return {};
-    RangeReply reply = fetch_now({{offset, size}});
+    RangeReply reply = fetch_now({{offset, size}}, std::move(buffer));
     if (!reply.error.empty()) throw_reply_error(url_, offset, reply.error);
     std::vector<std::uint8_t>& part = reply.parts.at(0);
     if (part.size() != size) {
@@ -515,7 +517,8 @@ std::optional<std::vector<std::uint8_t>> RemoteFile::held(const ByteRange& r) co
     return std::nullopt;
 }
 
-void RemoteFile::fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const {
+void RemoteFile::fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done,
+                             std::vector<std::uint8_t> buffer) const {
     auto reply = std::make_shared<RangeReply>();  // the parts the head and tail hold, the others to come
     reply->parts.resize(ranges.size());
     reply->total = size_;
@@ -535,6 +538,10 @@ void RemoteFile::fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback
     request.total = size_;  // (without a validator, the only sign that the file was replaced)
     auto merged = std::make_shared<const MergedRanges>(merge_ranges(asked, merge_gap(request)));
     request.ranges = merged->spans;
+    if (request.ranges.size() == 1 && asked.size() == 1) {
+        buffer.clear();  // (its capacity is what is reused)
+        request.buffer = std::move(buffer);
+    }
     fetch_following(std::move(request), redirect_,
                     [reply, merged, asked = std::move(asked), where = std::move(where),
                      done = std::move(done)](RangeReply&& got) {

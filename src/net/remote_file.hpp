@@ -57,17 +57,20 @@ public:
 
     // Reads exactly out.size() bytes at `offset` (one range request); throws Error.
     void read(std::uint64_t offset, std::span<std::uint8_t> out) const;
-    // The `size` bytes at `offset` as they came (one range request, no copy); throws Error.
-    std::vector<std::uint8_t> read_bytes(std::uint64_t offset, std::uint64_t size) const;
+    // The `size` bytes at `offset` as they came (one range request, no copy; written into `buffer` where its
+    // capacity holds them: RangeRequest::buffer); throws Error.
+    std::vector<std::uint8_t> read_bytes(std::uint64_t offset, std::uint64_t size,
+                                         std::vector<std::uint8_t> buffer = {}) const;
     // Fetches the ranges (multi-range where the server allows it); `done` runs on the
     // client's thread with one part per range, or with an error. Ranges the head or tail holds
     // are answered from them (when all are, `done` runs at once, on this thread, with no
     // request), and the others that lie close together go as one range (HttpSettings'
-    // merge gaps; net/byte_ranges.hpp: merge_ranges).
-    void fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done) const;
+    // net/byte_ranges.hpp: merge_ranges). `buffer`: RangeRequest::buffer of a request of one range.
+    void fetch_async(std::vector<ByteRange> ranges, HttpClient::Callback done,
+                     std::vector<std::uint8_t> buffer = {}) const;
 
     // Fetches the ranges and waits; the reply's error is set when it failed.
-    RangeReply fetch_now(std::vector<ByteRange> ranges) const;
+    RangeReply fetch_now(std::vector<ByteRange> ranges, std::vector<std::uint8_t> buffer = {}) const;
 
     RemoteFile(std::string url, RangeReply&& head);  // from the reply to the head request
     // Takes the second reply of an open: the rest of the head (its first part, when `more_head`),

@@ -545,7 +545,7 @@ TEST(StacCatalogRemote, ARemoteItemNestedDeepIsOneLine) {
     EXPECT_NE(c.errors[0].find("nested more than the limit of 256 deep"), std::string::npos) << c.errors[0];
 }
 
-// A remote catalog of several read-ahead blocks (dataset/json_file.cpp: 8 MiB each, four asked at once)
+// A remote catalog of several read-ahead blocks (dataset/json_file.cpp: 8 MiB each, eight asked at once)
 // is read whole and in order: the same items as from the file, each id where it was written.
 TEST(StacCatalogRemote, ACatalogOfSeveralReadAheadBlocksIsReadWholeAndInOrder) {
     const auto& server = test::NginxServer::instance();

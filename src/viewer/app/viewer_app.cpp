@@ -25,6 +25,7 @@
 #include "core/thread_pool.hpp"
 #include "core/throttle.hpp"
 #include "dataset/dataset.hpp"
+#include "dataset/json_file.hpp"
 #include "dataset/stac_catalog.hpp"
 #include "dataset/virtual_replica.hpp"
 #include "io/file.hpp"
@@ -1068,6 +1069,14 @@ int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
     // A remote path's first request goes out while the window opens (a software OpenGL's start takes a tenth of a
     // second, a new connection two round trips): its opening finds it open.
     io::File::prefetch(o.paths);
+    // A catalog's first blocks too: a country's (250 MB) had waited for the window before its first was asked for.
+    const auto catalog = std::find_if(o.paths.begin(), o.paths.end(), [](const std::string& p) {
+        return dataset::is_stac_catalog(p) && !dataset::is_virtual_replica(p);
+    });
+    if (catalog != o.paths.end()) dataset::prefetch_json_document(*catalog);
+    struct ForgetOnLeaving {  // (blocks no opening took are not read on after the window closed)
+        ~ForgetOnLeaving() { dataset::forget_json_prefetch(); }
+    } forget_on_leaving;
     ViewerLoop loop(o);
     while (loop.frame()) {
     }
