@@ -493,17 +493,24 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
         });
         return any;
     };
-    // The cells' point sets are made by the shared pool's threads, outside the lock (the grid's shards lock
+    // A batch's cells' point sets are made by the shared pool's threads, outside the lock (the grid's shards lock
     // themselves): they were most of this thread's work while a country's chunk points came in, and the loader's
-    // thread is what the last of them waits for.
+    // thread is what the last of them waits for. A tile's few cells are made here, as they come: waiting for the
+    // pool there let a tile read after another be done first.
     sets.resize(cells.size());
-    ThreadPool::shared().for_each(cells.size(), [&](std::size_t i) {
+    const auto make_set = [&](std::size_t i) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cells[i]));
         if (set->points.empty()) return;
         if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
         set->cache_key = render::new_cache_key();  // complete: shared read-only from here
         sets[i] = {cells[i], std::move(set), any_sparse && holds_sparse(cells[i])};
-    });
+    };
+    constexpr std::size_t kPoolFrom = 64;  // cells (a tile has about nine; a sidecar's batch thousands)
+    if (cells.size() >= kPoolFrom) {
+        ThreadPool::shared().for_each(cells.size(), make_set);
+    } else {
+        for (std::size_t i = 0; i < cells.size(); ++i) make_set(i);
+    }
     std::erase_if(sets, [](const CellSet& c) { return !c.set; });
     {
         std::lock_guard lock(s.mutex);
