@@ -495,8 +495,8 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
     };
     // A batch's cells' point sets are made by the shared pool's threads, outside the lock (the grid's shards lock
     // themselves): they were most of this thread's work while a country's chunk points came in, and the loader's
-    // thread is what the last of them waits for. A tile's few cells are made here, as before (a dispatch to the
-    // pool costs more than they do).
+    // thread is what the last of them waits for. A tile's few cells are made here, as before (not worth waking the
+    // pool for).
     sets.resize(cells.size());
     const auto make_set = [&](std::size_t i) {
         auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cells[i]));
