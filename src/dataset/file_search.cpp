@@ -8,6 +8,7 @@
 #include <system_error>
 
 #include "core/error.hpp"
+#include "core/thread_pool.hpp"
 #include "dataset/ept.hpp"
 #include "dataset/json_file.hpp"
 #include "dataset/s3_prefix.hpp"
@@ -205,11 +206,20 @@ void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriv
         out.errors.push_back({io::display_path(path), io::display_path(path) + ": a STAC catalog without items"});
     }
     const auto overview = catalog.overview.empty() ? nullptr : std::make_shared<const std::string>(catalog.overview);
-    for (auto& item : catalog.items) {
-        item.overview = overview;
-        out.files.push_back(item.href);
-        out.items.emplace_back(out.files.size() - 1, std::make_shared<const CatalogItem>(std::move(item)));
-    }
+    // Each item its file and its shared copy, by index in blocks on the shared pool (a country's 152,100, one
+    // after the other, had taken 40 ms before its footprints showed).
+    const std::size_t n = catalog.items.size(), files = out.files.size(), items = out.items.size();
+    out.files.resize(files + n);
+    out.items.resize(items + n);
+    constexpr std::size_t kBlock = 2048;
+    ThreadPool::shared().for_each((n + kBlock - 1) / kBlock, [&](std::size_t b) {
+        for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+            CatalogItem& item = catalog.items[i];
+            item.overview = overview;
+            out.files[files + i] = item.href;
+            out.items[items + i] = {files + i, std::make_shared<const CatalogItem>(std::move(item))};
+        }
+    });
 }
 
 // An s3 prefix: its LAS/LAZ objects.
@@ -301,6 +311,7 @@ FoundSources find_tile_sources(const std::vector<std::string>& given, const Sour
         if (!is_virtual_replica(p)) {
             FoundFiles found;
             expand(p, true, found, &arriving);
+            out.sources.reserve(out.sources.size() + found.files.size());
             auto item = found.items.begin();
             for (std::size_t i = 0; i < found.files.size(); ++i) {
                 const bool named = item != found.items.end() && item->first == i;

@@ -24,14 +24,17 @@ SessionOpening::~SessionOpening() {
 }
 
 // `placed`: catalog footprints of sources (looked up outside the lock); `sources`: how many there are in all,
-// once known.
+// once known; `every_placed`: every source's footprint is noted (the tiles read then add none: a country's
+// 152,100 had been drawn again, each frame's new ones, while its dataset opened).
 void SessionOpening::note_sources(std::optional<std::size_t> sources,
-                                  std::span<const std::optional<dataset::Bounds>> placed) {
+                                  std::span<const std::optional<dataset::Bounds>> placed, bool every_placed) {
     std::lock_guard lock(mutex_);
     if (sources) progress_.total = *sources;
+    footprints_.reserve(footprints_.size() + placed.size());
     for (const auto& b : placed) {
         if (b) footprints_.push_back(*b), progress_.extent.extend(*b);
     }
+    every_footprint_noted_ = every_placed;
     sources_noted_ = true;
     sources_known_.notify_all();
 }
@@ -116,7 +119,7 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
     d.tile_read = [this](const dataset::DatasetTile& t) {
         std::lock_guard lock(mutex_);
         ++progress_.read;
-        footprints_.push_back(t.bounds_m);
+        if (!every_footprint_noted_) footprints_.push_back(t.bounds_m);
         if (t.tile.header.point_count > 0) progress_.extent.extend(t.bounds_m);
     };
     d.progress = [this](std::size_t done, std::size_t total) {
@@ -145,7 +148,8 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         if (options.overview_cache) options.overview_cache->use(found.sources);
         first_pages = {};
         const auto placed = dataset::catalog_footprints(found.sources);
-        note_sources(found.sources.size(), std::span(placed).subspan(std::min(noted, placed.size())));
+        const bool every_placed = std::all_of(placed.begin(), placed.end(), [](const auto& b) { return b.has_value(); });
+        note_sources(found.sources.size(), std::span(placed).subspan(std::min(noted, placed.size())), every_placed);
         if (!dataset::opens_placed(found.sources, d)) open_preview(found.sources, placed, options);
         Session s;
         s.dataset = std::make_unique<dataset::Dataset>(dataset::open_sources(std::move(found), d));

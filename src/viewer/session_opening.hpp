@@ -99,7 +99,8 @@ public:
 
 private:
     void run(const std::vector<std::string>& paths, const SessionOptions& options);
-    void note_sources(std::optional<std::size_t> sources, std::span<const std::optional<dataset::Bounds>> placed);
+    void note_sources(std::optional<std::size_t> sources, std::span<const std::optional<dataset::Bounds>> placed,
+                      bool every_placed = false);
     std::shared_ptr<const Session> publish_preview(dataset::Dataset ds, const SessionOptions& options);
     bool open_page_preview(std::span<const dataset::TileSource> sources, const SessionOptions& options);
     void open_preview(std::span<const dataset::TileSource> sources,
@@ -114,6 +115,7 @@ private:
     std::atomic<bool> cancel_{false}, finished_{false};
     mutable std::condition_variable sources_known_;  // under mutex_: progress_.total set, or finished
     bool sources_noted_ = false;
+    bool every_footprint_noted_ = false;  // the items placed every source: a tile read adds no footprint
     std::thread thread_;
 };
 

@@ -9,6 +9,8 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <random>
+#include <set>
 
 #include "temp_dir_fixture.hpp"
 
@@ -119,6 +121,33 @@ TEST_F(SourceIdentity, DuplicatesAreDroppedWhetherOrNotAUrlIsWrittenInItsNormalF
     drop_duplicate_sources(reversed);
     ASSERT_EQ(reversed.sources.size(), 1u);
     EXPECT_EQ(reversed.sources[0].path, "HTTP://Example.COM/d/./t.laz");
+}
+
+// Thousands of sources (several of the blocks hashed at once), a third of them repeats in another spelling or
+// the same: the first of each tile kept, in order, as a set of normal forms keeps them; the count in the warning.
+TEST(DropDuplicateSources, ThousandsKeepTheFirstOfEachTileInOrder) {
+    FoundSources found;
+    std::mt19937 random(7);
+    for (int i = 0; i < 9000; ++i) {
+        const int tile = static_cast<int>(random() % 6000);
+        const std::string name = "/d/t" + std::to_string(tile) + ".laz";
+        found.sources.push_back({(random() % 2 ? "HTTP://Example.COM" : "http://example.com") + name, std::nullopt,
+                                 "", nullptr});
+    }
+    std::vector<std::string> expected;
+    std::set<std::string> seen;
+    for (const auto& s : found.sources) {
+        if (seen.insert(normalised_url(s.path)).second) expected.push_back(s.path);
+    }
+    ASSERT_LT(expected.size(), 7000u);
+    drop_duplicate_sources(found);
+    std::vector<std::string> kept;
+    for (const auto& s : found.sources) kept.push_back(s.path);
+    EXPECT_EQ(kept, expected);
+    const auto warnings = found.warnings.messages();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find(std::to_string(9000 - expected.size()) + " inputs name tiles already named"),
+              std::string::npos) << warnings[0];
 }
 
 }  // namespace

@@ -119,6 +119,9 @@ TEST(SessionOpening, ALargeCatalogOpensItsCentreFirstAsAPreview) {
     const Session session = opening.take();
     ASSERT_TRUE(session.open());
     EXPECT_EQ(session.dataset->tiles.size(), sources.size());
+    std::vector<dataset::Bounds> footprints;
+    opening.footprints(footprints);
+    EXPECT_EQ(footprints.size(), sources.size()) << "each tile's footprint once, its item's (a header read adds none)";
     const auto preview = opening.preview();
     ASSERT_NE(preview, nullptr);
     ASSERT_EQ(preview->dataset->tiles.size(), central.size());

@@ -2,7 +2,9 @@
 #include "viewer/app/overlay.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "render/framebuffer.hpp"
@@ -29,10 +31,11 @@ void plot_line(render::RgbaImage& image, double x0, double y0, double x1, double
     if (t0 > t1) return;
     const double ax = x0 + t0 * dx, ay = y0 + t0 * dy, bx = x0 + t1 * dx, by = y0 + t1 * dy;
     const int steps = static_cast<int>(std::ceil(std::max(std::abs(bx - ax), std::abs(by - ay)))) + 1;
+    // Rounded by adding a half and truncating (the clipped ends lie in the image: at or above zero), not by a call
+    // to lround per pixel: a country's 152,100 footprints are millions of pixels.
+    const double step_x = (bx - ax) / steps, step_y = (by - ay) / steps;
     for (int s = 0; s <= steps; ++s) {
-        const double t = static_cast<double>(s) / steps;
-        const int x = static_cast<int>(std::lround(ax + t * (bx - ax))),
-                  y = static_cast<int>(std::lround(ay + t * (by - ay)));
+        const int x = static_cast<int>(ax + s * step_x + 0.5), y = static_cast<int>(ay + s * step_y + 0.5);
         if (x >= 0 && y >= 0 && x < image.width && y < image.height) {
             image.pixels[static_cast<std::size_t>(y) * image.width + x] = rgba;
         }
@@ -54,10 +57,15 @@ void draw_outline(render::RgbaImage& image, const render::Camera& camera, const 
                   std::uint32_t rgba) {
     if (!box_in_view(camera, b)) return;
     const double z = b.min_z;
-    draw_segment(image, camera, b.min_x, b.min_y, z, b.max_x, b.min_y, z, rgba);
-    draw_segment(image, camera, b.max_x, b.min_y, z, b.max_x, b.max_y, z, rgba);
-    draw_segment(image, camera, b.max_x, b.max_y, z, b.min_x, b.max_y, z, rgba);
-    draw_segment(image, camera, b.min_x, b.max_y, z, b.min_x, b.min_y, z, rgba);
+    // Each corner projected once (a side whose end is not in front of the camera is not drawn).
+    const std::array<std::optional<render::ScreenPoint>, 4> corner = {
+        camera.project(b.min_x, b.min_y, z), camera.project(b.max_x, b.min_y, z),
+        camera.project(b.max_x, b.max_y, z), camera.project(b.min_x, b.max_y, z)};
+    for (std::size_t k = 0; k < corner.size(); ++k) {
+        const auto& a = corner[k];
+        const auto& e = corner[(k + 1) % corner.size()];
+        if (a && e) plot_line(image, a->x, a->y, e->x, e->y, rgba);
+    }
 }
 
 }  // namespace
