@@ -125,9 +125,18 @@ void prefetch_json_document(const std::string& url) {
     forget_json_prefetch();
     std::lock_guard lock(early().mutex);
     early().url = url;
-    early().blocks = std::async(std::launch::async, [url] {
+    // (the open's one request is the first block's; asked now: the reader's open of `url` waits for it)
+    auto opening = io::File::open_from_start(url, kBlock);
+    early().blocks = std::async(std::launch::async, [opening = std::move(opening)]() mutable {
         EarlyBlocks e;
-        e.file = std::make_shared<const io::File>(io::File::open(url));
+        auto [file, first] = opening.get();
+        e.file = std::make_shared<const io::File>(std::move(file));
+        if (!first.empty()) {
+            std::promise<std::vector<std::uint8_t>> held;
+            e.next = first.size();
+            held.set_value(std::move(first));
+            e.blocks.push_back(held.get_future());
+        }
         while (e.blocks.size() < kInFlight && e.next < e.file->size()) e.blocks.push_back(ask_block(*e.file, e.next));
         return e;
     });

@@ -19,9 +19,9 @@ namespace lidarscout::io {
 
 std::string display_path(const std::string& path) { return net::redact_url(path); }
 
-File File::open_remote(const std::string& url) {
+File File::of_remote(std::shared_ptr<const net::RemoteFile> remote) {
     File f;
-    f.remote_ = net::RemoteFile::open(url);
+    f.remote_ = std::move(remote);
     f.path_ = f.remote_->display_url();
     f.size_ = f.remote_->size();
     const auto head = f.remote_->head(), tail = f.remote_->tail();
@@ -32,8 +32,21 @@ File File::open_remote(const std::string& url) {
 
 void File::prefetch(std::span<const std::string> paths) { net::RemoteFile::prefetch(paths); }
 
+std::future<std::pair<File, std::vector<std::uint8_t>>> File::open_from_start(const std::string& path,
+                                                                               std::size_t first_bytes) {
+    if (!net::is_url(path)) {
+        return std::async(std::launch::deferred, [path] { return std::pair{open(path), std::vector<std::uint8_t>()}; });
+    }
+    auto opening = std::make_shared<std::future<net::RemoteFile::FromStart>>(
+        net::RemoteFile::open_from_start(path, first_bytes));
+    return std::async(std::launch::deferred, [opening] {
+        net::RemoteFile::FromStart opened = opening->get();
+        return std::pair{of_remote(std::move(opened.file)), std::move(opened.first)};
+    });
+}
+
 File File::open(const std::string& path) {
-    if (net::is_url(path)) return open_remote(path);
+    if (net::is_url(path)) return of_remote(net::RemoteFile::open(path));
     File f;
     f.path_ = path;
     f.fd_ = open_regular_file(path);  // a FIFO, device or folder refused before a read could hang

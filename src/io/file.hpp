@@ -11,9 +11,11 @@
 #pragma once
 
 #include <cstdint>
+#include <future>
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace lidarscout::net {
@@ -31,6 +33,12 @@ public:
     // when a local path is not a regular file (a FIFO, device, socket or folder: refused before any
     // read could wait forever, core/regular_file.hpp).
     static File open(const std::string& path);
+    // Starts opening `path` to be read from its start (a document read whole) and returns at once: a remote one in
+    // one request for its first `first_bytes`, which come with it (none for a file open already; a local one opens
+    // as open() opens it, when the future is asked); an open() of it waits for this one. The future throws
+    // lidarscout::Error as open() does.
+    static std::future<std::pair<File, std::vector<std::uint8_t>>> open_from_start(const std::string& path,
+                                                                                    std::size_t first_bytes);
     // Starts opening the remote files among `paths` together (many requests in flight) and
     // returns at once; the open() calls that follow wait only for their own file. Local paths
     // are left alone. Reports no error.
@@ -69,7 +77,7 @@ public:
     static constexpr std::size_t kCachedEdge = 4096;
 
 private:
-    static File open_remote(const std::string& url);
+    static File of_remote(std::shared_ptr<const net::RemoteFile> remote);
     // Copies [offset, offset + out.size()) from a cached edge; false when not fully inside one.
     bool read_cached(std::uint64_t offset, std::span<std::uint8_t> out) const;
     // Where the head or tail held in memory has the `n` bytes at `offset`; null when it has not.

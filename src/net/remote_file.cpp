@@ -408,6 +408,34 @@ std::shared_ptr<const RemoteFile> RemoteFile::open(const std::string& url) {
     }
 }
 
+std::future<RemoteFile::FromStart> RemoteFile::open_from_start(const std::string& url, std::uint64_t bytes) {
+    if (const std::string problem = url_problem(url); !problem.empty()) {
+        throw Error(redact_url(url), std::nullopt, problem);
+    }
+    auto opened = std::make_shared<std::promise<std::shared_ptr<const RemoteFile>>>();
+    const Found found = find_or_claim(url, opened->get_future().share());
+    if (found.file || found.pending) {  // (open() waits for the one in flight, or reports its failure again)
+        return std::async(std::launch::deferred, [url] { return FromStart{open(url), {}}; });
+    }
+    auto result = std::make_shared<std::promise<FromStart>>();
+    auto future = result->get_future();
+    fetch_cached(remote_request(url, {{0, std::max(bytes, kEdge)}}, {}), [url, opened, result](RangeReply&& reply) {
+        try {
+            if (!reply.error.empty()) throw_reply_error(url, 0, reply.error);
+            std::vector<std::uint8_t> first = std::move(reply.parts.at(0));
+            const auto edge = static_cast<std::ptrdiff_t>(std::min<std::uint64_t>(first.size(), kEdge));
+            reply.parts.at(0).assign(first.begin(), first.begin() + edge);
+            auto file = register_file(url, std::make_shared<RemoteFile>(url, std::move(reply)));
+            end_opening(url, *opened, file);
+            result->set_value({std::move(file), std::move(first)});
+        } catch (...) {
+            end_opening(url, *opened, nullptr);
+            result->set_exception(std::current_exception());
+        }
+    });
+    return future;
+}
+
 namespace {
 
 // Starts opening `url` on the client's thread; `opened` gets the file, or null when a request failed.

@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <future>
 #include <memory>
 #include <optional>
 #include <span>
@@ -40,6 +41,16 @@ public:
     // The remote file at `url`, opened (one request, or two: the head, then the rest of a LAS head and
     // the tail) on first use; throws Error.
     static std::shared_ptr<const RemoteFile> open(const std::string& url);
+    // A file opened from its start, and its first bytes (open_from_start).
+    struct FromStart {
+        std::shared_ptr<const RemoteFile> file;
+        std::vector<std::uint8_t> first;
+    };
+    // Starts opening `url` to be read from its start (a JSON document, not a LAS file: no tail is asked) and
+    // returns at once: one request for its first `bytes`, which come with the file (its head keeps kEdge of them).
+    // From the call on, an open() of `url` waits for this one. A file open or being opened already comes as it is,
+    // with nothing beside it. The future throws Error.
+    static std::future<FromStart> open_from_start(const std::string& url, std::uint64_t bytes);
     // Starts opening the files of `urls` not open yet, all requests in flight together, and
     // returns at once; open() of such a URL waits for its file. Failures are not reported
     // here: open() of that URL tries again and reports them.

@@ -75,6 +75,19 @@ TEST(JsonFileRemote, BlocksAskedForEarlyAreTakenByTheReader) {
     EXPECT_GE(plain, 5u) << "five blocks of 8 MiB asked (the last, short one may lie in the tail the open holds)";
 }
 
+// Prefetched before the document is opened, the open is the first block's request: opening and reading it then
+// ask for its blocks only (an open of its own had been two requests more: its head, then its tail).
+TEST(JsonFileRemote, AnEarlyOpenIsTheFirstBlocksRequest) {
+    const std::string text = numbered_document(2 * (8u << 20) + 999);
+    served("early_open.json", text);
+    const std::string url = test::NginxServer::instance().url("lists/early_open.json");
+    const std::uint64_t before = requests();
+    prefetch_json_document(url);
+    const io::File file = io::File::open(url);
+    EXPECT_EQ(read_all(file_json_source(file), 1 << 20), text);
+    EXPECT_EQ(requests() - before, 3u) << "three blocks of 8 MiB, the first the open's";
+}
+
 // Blocks no reader took are dropped (and their reads waited for); a reader of another URL does not take
 // them; an early open that fails says nothing, and the reader's own open names the URL.
 TEST(JsonFileRemote, EarlyBlocksOfAnotherUrlOrNoneAreNotTaken) {

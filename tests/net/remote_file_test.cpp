@@ -127,6 +127,41 @@ TEST(RemoteFile, ThreadsOpeningOneFileShareItsOpening) {
     EXPECT_LE(net::HttpClient::shared().stats().requests - before.requests, 2u);  // (one where its host is known)
 }
 
+// A document opened to be read from its start costs one request, whose bytes come with the file (its head keeps
+// the first 2 KiB, no tail asked); a small one comes whole; a file open already comes with nothing beside it, and
+// no request; a missing one is an Error, and open() reports it again.
+TEST(RemoteFile, OpenFromStartIsOneRequestForTheFirstBytes) {
+    const auto& server = test::NginxServer::instance();
+    net::RangeCache::configure({{}, 0});  // every range from the server
+    const auto bytes = whole_file(test::data_dir() / kTile);
+    // (a query makes the URL this test's own: a file registered by an earlier test would come open)
+    const std::string url = server.url(kTile) + "?from_start=1";
+    auto before = net::HttpClient::shared().stats().requests;
+    const auto [file, first] = RemoteFile::open_from_start(url, 10000).get();
+    EXPECT_EQ(net::HttpClient::shared().stats().requests - before, 1u);
+    EXPECT_EQ(file->size(), bytes.size());
+    ASSERT_EQ(first.size(), 10000u);
+    EXPECT_TRUE(std::equal(first.begin(), first.end(), bytes.begin()));
+    ASSERT_EQ(file->head().size(), RemoteFile::kEdge);
+    EXPECT_TRUE(std::equal(file->head().begin(), file->head().end(), bytes.begin()));
+    EXPECT_TRUE(file->tail().empty());
+    std::vector<std::uint8_t> end(8);
+    file->read(bytes.size() - 8, end);
+    EXPECT_TRUE(std::equal(end.begin(), end.end(), bytes.end() - 8)) << "a read past the first bytes";
+
+    before = net::HttpClient::shared().stats().requests;
+    const auto [again, nothing] = RemoteFile::open_from_start(url, 10000).get();
+    EXPECT_EQ(again, file);
+    EXPECT_TRUE(nothing.empty());
+    EXPECT_EQ(RemoteFile::open(url), file);
+    EXPECT_EQ(net::HttpClient::shared().stats().requests - before, 0u);
+
+    EXPECT_EQ(RemoteFile::open_from_start(server.url(kTile) + "?from_start=2", bytes.size() + 100).get().first, bytes);
+    auto missing = RemoteFile::open_from_start(server.url("surveys/missing.json"), 10000);
+    EXPECT_THROW(missing.get(), Error);
+    EXPECT_THROW(RemoteFile::open(server.url("surveys/missing.json")), Error) << "its failure reported again";
+}
+
 TEST(RemoteFile, TlsPeersAreVerified) {
     try {
         io::File::open(test::NginxServer::instance().https_url(kTile));

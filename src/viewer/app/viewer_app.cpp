@@ -10,6 +10,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <iterator>
 #include <filesystem>
 #include <chrono>
 #include <cmath>
@@ -1067,12 +1068,17 @@ private:
 
 int run_viewer(const ViewerOptions& o, ViewerTimings* timings) {
     // A remote path's first request goes out while the window opens (a software OpenGL's start takes a tenth of a
-    // second, a new connection two round trips): its opening finds it open.
-    io::File::prefetch(o.paths);
-    // A catalog's first blocks too: a country's (250 MB) had waited for the window before its first was asked for.
-    const auto catalog = std::find_if(o.paths.begin(), o.paths.end(), [](const std::string& p) {
+    // second, a new connection two round trips): its opening finds it open. A catalog's first blocks too, its open
+    // being the first block's request (a country's 250 MB had waited for the window, then for an open's two requests
+    // of a tile's edges, before its first was asked for).
+    const auto is_catalog = [](const std::string& p) {
         return dataset::is_stac_catalog(p) && !dataset::is_virtual_replica(p);
-    });
+    };
+    std::vector<std::string> others;
+    std::copy_if(o.paths.begin(), o.paths.end(), std::back_inserter(others),
+                 [&](const std::string& p) { return !is_catalog(p); });
+    io::File::prefetch(others);
+    const auto catalog = std::find_if(o.paths.begin(), o.paths.end(), is_catalog);
     if (catalog != o.paths.end()) dataset::prefetch_json_document(*catalog);
     struct ForgetOnLeaving {  // (blocks no opening took are not read on after the window closed)
         ~ForgetOnLeaving() { dataset::forget_json_prefetch(); }
