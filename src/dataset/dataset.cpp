@@ -162,10 +162,10 @@ private:
     std::map<std::string, std::shared_future<Result>> sources_;
 };
 
-// The tile of `source`: the one its overview sidecar placed, else read.
-std::optional<DatasetTile> read_one(const TileSource& source, std::optional<Tile>& placed, std::uint64_t las_stride,
-                                    TileReads& reads, std::string& error) {
-    std::optional<Tile> tile = placed ? std::move(placed) : reads.read(source, error);
+// The tile of `source`, read.
+std::optional<DatasetTile> read_one(const TileSource& source, std::uint64_t las_stride, TileReads& reads,
+                                    std::string& error) {
+    std::optional<Tile> tile = reads.read(source, error);
     if (!tile) return std::nullopt;
     return reading(source.path, error, [&] { return make_dataset_tile(std::move(*tile), las_stride); });
 }
@@ -358,11 +358,20 @@ void place_tiles(Dataset& ds, const DatasetOptions& options) {
     ds.tiles.erase(ds.tiles.begin() + static_cast<std::ptrdiff_t>(kept), ds.tiles.end());
 }
 
-// Places the sources `members` of the sidecar at `path` from it (by their items' ids) into `placed`; one
-// warning when the sidecar cannot be used (its tiles are then read), one for the items it does not hold.
+// Where an overview sidecar places tiles (overview_tiles): into the dataset's tiles, by source, each marked placed.
+struct SidecarPlacing {
+    std::span<DatasetTile> tiles;
+    std::vector<std::uint8_t>& placed;
+    std::uint64_t las_stride;
+    SharedRecords& records;
+};
+
+// Places the sources `members` of the sidecar at `path` from it (by their items' ids) into `into`; one
+// warning when the sidecar cannot be used (its tiles are then read), one for the items it does not hold (or whose
+// entry does not make a tile: read themselves too).
 void place_from_sidecar(const std::string& path, const std::vector<std::size_t>& members,
-                        std::span<const TileSource> sources, std::vector<std::optional<Tile>>& placed,
-                        SharedRecords& records, Diagnostics& warnings, ThreadPool& pool) {
+                        std::span<const TileSource> sources, SidecarPlacing& into, Diagnostics& warnings,
+                        ThreadPool& pool) {
     OverviewSidecar sidecar;
     try {
         sidecar = read_overview_sidecar(path);
@@ -382,7 +391,10 @@ void place_from_sidecar(const std::string& path, const std::vector<std::size_t>&
         const auto it = by_id.find(s.item->id);
         try {
             if (it == by_id.end() || it->second == kRepeated) throw Error("not in the sidecar");
-            placed[members[k]] = tile_from_overview(sidecar, it->second, s.path, &records);
+            const std::size_t i = members[k];
+            into.tiles[i] = make_dataset_tile(tile_from_overview(sidecar, it->second, s.path, &into.records),
+                                              into.las_stride);
+            into.placed[i] = 1;
         } catch (const Error&) {
             ++missing;
         }
@@ -399,17 +411,18 @@ bool reads_sidecar(const TileSource& source, const DatasetOptions& options) {
     return source.item && source.item->overview && !source.shift && options.use_overview && overview_sidecars_in_use();
 }
 
-// The tiles their catalogs' overview sidecars place, by source (none for a source no sidecar holds).
-std::vector<std::optional<Tile>> overview_tiles(std::span<const TileSource> sources, const DatasetOptions& options,
-                                                SharedRecords& records, Diagnostics& warnings, ThreadPool& pool) {
-    std::vector<std::optional<Tile>> placed(sources.size());
+// The tiles their catalogs' overview sidecars place, written into `tiles` (by source); whether each source's was
+// (a tile placed so, 600 bytes, had been made aside and moved: a country's 152,100 are 90 MB of fresh pages).
+std::vector<std::uint8_t> overview_tiles(std::span<const TileSource> sources, const DatasetOptions& options,
+                                         std::span<DatasetTile> tiles, SharedRecords& records, Diagnostics& warnings,
+                                         ThreadPool& pool) {
+    std::vector<std::uint8_t> placed(sources.size());
     std::map<std::string, std::vector<std::size_t>> by_sidecar;
     for (std::size_t i = 0; i < sources.size(); ++i) {
         if (reads_sidecar(sources[i], options)) by_sidecar[*sources[i].item->overview].push_back(i);
     }
-    for (const auto& [path, members] : by_sidecar) {
-        place_from_sidecar(path, members, sources, placed, records, warnings, pool);
-    }
+    SidecarPlacing into{tiles, placed, options.las_stride, records};
+    for (const auto& [path, members] : by_sidecar) place_from_sidecar(path, members, sources, into, warnings, pool);
     return placed;
 }
 
@@ -525,8 +538,7 @@ private:
     bool read(Dataset& ds, std::size_t i) {
         const TileSource& source = sources_[i];
         std::string error;
-        std::optional<Tile> none;
-        std::optional<DatasetTile> tile = read_one(source, none, las_stride_, reads_, error);
+        std::optional<DatasetTile> tile = read_one(source, las_stride_, reads_, error);
         if (tile) {
             try {
                 to_frame(*tile, ds.frame);
@@ -843,9 +855,9 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     TileReads reads;
     const bool sidecar_read = std::any_of(sources.begin(), sources.end(),
                                           [&](const TileSource& s) { return reads_sidecar(s, options); });
-    std::vector<std::optional<Tile>> placed = overview_tiles(sources, options, reads.records(), ds.warnings, pool);
+    const auto placed = overview_tiles(sources, options, tiles, reads.records(), ds.warnings, pool);
     forget_overview_prefetch();  // (one a catalog named, where this open did not take it)
-    if (sidecar_read && std::none_of(placed.begin(), placed.end(), [](const auto& t) { return t.has_value(); })) {
+    if (sidecar_read && std::none_of(placed.begin(), placed.end(), [](std::uint8_t p) { return p != 0; })) {
         // A sidecar that placed nothing (unreadable, damaged, missing: its warning said so): the items place the
         // tiles as any catalog's do, where they can, rather than every header being read first.
         DatasetOptions items_alone = options;
@@ -865,8 +877,10 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
     pool.for_each(n, [&](std::size_t i) {
         if (cancelled()) return;
-        if (auto tile = read_one(sources[i], placed[i], options.las_stride, reads, errors[i])) {
-            tiles[i] = std::move(*tile);
+        if (!placed[i]) {
+            if (auto tile = read_one(sources[i], options.las_stride, reads, errors[i])) tiles[i] = std::move(*tile);
+        }
+        if (tiles[i].tile.file) {
             if (sources[i].item) disagreements[i] = item_disagreement(*sources[i].item, tiles[i].tile);
             if (options.tile_read) options.tile_read(tiles[i]);
         }
