@@ -110,17 +110,17 @@ io::File whole_file(const std::string& path) {
     return io::File::in_memory(file.path(), file.size(), file.read_vector(0, file.size(), "overview sidecar"), {});
 }
 
-// The table EVLR's entries; throws Error when the file has none.
-std::vector<OverviewEntry> table_of(const io::File& file, const las::Header& header) {
+// The table EVLR's entries (made on `pool` where given); throws Error when the file has none.
+std::vector<OverviewEntry> table_of(const io::File& file, const las::Header& header, ThreadPool* pool = nullptr) {
     for (const auto& v : las::read_evlrs(file, header)) {
         if (!v.is(kOverviewUser, kOverviewTableRecord)) continue;
-        if (v.data_loaded) return parse_overview_table(v.data, file.path());
+        if (v.data_loaded) return parse_overview_table(v.data, file.path(), pool);
         // (a sidecar read whole is parsed where its table lies: a country's is 66 MB, copied first it was as
         // many fresh pages)
         if (const auto held = file.held(v.data_offset, v.data_size); !held.empty()) {
-            return parse_overview_table(held, file.path());
+            return parse_overview_table(held, file.path(), pool);
         }
-        return parse_overview_table(las::vlr_payload(file, v), file.path());
+        return parse_overview_table(las::vlr_payload(file, v), file.path(), pool);
     }
     throw Error(file.path(), std::nullopt, "not an overview sidecar (no lidarscout tile table EVLR)");
 }
@@ -316,7 +316,24 @@ std::vector<std::uint8_t> serialize_overview_table(std::span<const OverviewEntry
     return out;
 }
 
-std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> payload, const std::string& file) {
+namespace {
+
+// Moves `r` past one entry (put_entry's layout) without making it.
+void skip_entry(io::ByteReader& r) {
+    r.skip(r.u16("id length"), "id");
+    r.skip(8, "file size");
+    r.skip(r.u16("validator length"), "validator");
+    r.skip(8 + 4 + 3 * 8, "points and deltas");
+    r.skip(r.u16("header length"), "header");
+    r.skip(4, "VLR block");
+    r.skip(r.u16("after length"), "bytes after the VLRs");
+    r.skip(r.u32("tail length"), "tail");
+}
+
+}  // namespace
+
+std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> payload, const std::string& file,
+                                                ThreadPool* pool) {
     io::ByteReader r(payload, 0, file);
     const auto magic = r.bytes(4, "table signature");
     if (!std::equal(magic.begin(), magic.end(), kMagic)) throw Error(file, std::nullopt, "not an overview table");
@@ -329,8 +346,27 @@ std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> pa
         const auto bytes = r.bytes(r.u32("VLR block length"), "VLR block");
         blocks.emplace_back(bytes.begin(), bytes.end());
     }
-    std::vector<OverviewEntry> entries;
-    for (std::uint32_t k = 0; k < tiles; ++k) entries.push_back(parse_entry(r, blocks));
+    // Where each run of kRun entries starts (one pass over their lengths), then the runs made on `pool`: a country's
+    // table (152,100 entries, 64 MB) had been made on one thread while the open and the decoding waited for it.
+    constexpr std::uint32_t kRun = 1024;
+    std::vector<std::size_t> starts;
+    for (std::uint32_t k = 0; k < tiles; ++k) {
+        if (k % kRun == 0) starts.push_back(r.position());
+        if (pool) skip_entry(r);
+    }
+    std::vector<OverviewEntry> entries(pool ? tiles : 0);
+    if (!pool) {
+        entries.reserve(tiles);
+        for (std::uint32_t k = 0; k < tiles; ++k) entries.push_back(parse_entry(r, blocks));
+        return entries;
+    }
+    pool->for_each(starts.size(), [&](std::size_t run) {
+        io::ByteReader at(payload, 0, file);
+        at.skip(starts[run]);
+        for (std::size_t k = run * kRun; k < std::min<std::size_t>(tiles, (run + 1) * kRun); ++k) {
+            entries[k] = parse_entry(at, blocks);
+        }
+    });
     return entries;
 }
 
@@ -340,7 +376,7 @@ namespace {
 OverviewSidecar sidecar_of(const io::File& file, ThreadPool& pool) {
     const Tile tile = read_tile(file);
     OverviewSidecar s;
-    s.entries = table_of(file, tile.header);
+    s.entries = table_of(file, tile.header, &pool);
     fill_blocks(file, tile, lay_out_blocks(file, tile, s), pool, {});
     return s;
 }
@@ -403,11 +439,13 @@ void run_prefetch(const std::string& path, Gate& gate, std::promise<OverviewSide
     Tile tile;
     OverviewSidecar s;
     Filling filling;
+    std::optional<ThreadPool> pool;  // (its threads at this one's priority: the table's and the decoding's)
     try {
         file.emplace(whole_file(path));
         gate.wait();
         tile = read_tile(*file);
-        s.entries = table_of(*file, tile.header);
+        pool.emplace(ThreadPool::shared_size());
+        s.entries = table_of(*file, tile.header, &*pool);
         filling = lay_out_blocks(*file, tile, s);
     } catch (...) {
         return sidecar.set_exception(std::current_exception());
@@ -417,8 +455,7 @@ void run_prefetch(const std::string& path, Gate& gate, std::promise<OverviewSide
     sidecar.set_value(std::move(s));
     const auto unused = [&] { return decoding.use_count() == 1 || prefetch().exiting.load(); };
     try {
-        ThreadPool pool(ThreadPool::shared_size());
-        fill_blocks(*file, tile, filling, pool, unused) ? decoding->finish() : decoding->abandon();
+        fill_blocks(*file, tile, filling, *pool, unused) ? decoding->finish() : decoding->abandon();
     } catch (const Error& e) {
         decoding->fail(e.file() == file->path() ? e.cause() : e.what());  // (the warning names the sidecar)
     } catch (const std::exception& e) {  // (out of memory: its readers must not wait for ever)

@@ -39,6 +39,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "core/thread_pool.hpp"
 #include "dataset/dataset.hpp"
 #include "dataset/tile.hpp"
 
@@ -72,8 +73,9 @@ struct OverviewEntry {
 };
 
 std::vector<std::uint8_t> serialize_overview_table(std::span<const OverviewEntry> entries);
-// Throws Error (naming `file`) when the table is malformed.
-std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> payload, const std::string& file);
+// Throws Error (naming `file`) when the table is malformed. With a `pool`, runs of entries are made on its threads.
+std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> payload, const std::string& file,
+                                                ThreadPool* pool = nullptr);
 
 // The decoding of a sidecar's records into its blocks where it goes on after its table was read (a prefetch's: the
 // tiles are placed and the dataset opens meanwhile); overview_records waits for its end.

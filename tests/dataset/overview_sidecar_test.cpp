@@ -107,6 +107,41 @@ TEST(OverviewSidecar, TableRoundTripsAndAMalformedOneIsAnError) {
     EXPECT_THROW(parse_overview_table(std::span(payload).subspan(1), "t"), Error);
 }
 
+// Made on a pool, in runs of entries, a table of thousands is the one made on one thread (each entry at its place,
+// ids, heads, tails and points of different lengths); cut anywhere, it is an Error all the same.
+TEST(OverviewSidecar, ATableMadeOnAPoolIsTheOneMadeOnOneThread) {
+    std::vector<OverviewEntry> entries(3000);
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+        OverviewEntry& e = entries[k];
+        e.id = "tile-" + std::to_string(k * 7919);
+        e.made_from = {1000 + k, k % 3 ? "\"etag-" + std::to_string(k) + "\"" : ""};
+        e.head.assign(300 + k % 5, static_cast<std::uint8_t>(k));
+        e.head[94] = 227, e.head[95] = 0, e.head[96] = 0, e.head[97] = 0;  // no VLR block
+        e.tail.assign(k % 11, static_cast<std::uint8_t>(k + 1));
+        e.first_point = 38 * k, e.points = static_cast<std::uint32_t>(k % 40);
+        e.delta = {static_cast<std::int64_t>(k), -1, 2};
+    }
+    const auto payload = serialize_overview_table(entries);
+    ThreadPool pool(2);
+    const auto serial = parse_overview_table(payload, "t");
+    const auto pooled = parse_overview_table(payload, "t", &pool);
+    ASSERT_EQ(pooled.size(), entries.size());
+    ASSERT_EQ(serial.size(), entries.size());
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+        EXPECT_EQ(pooled[k].id, entries[k].id) << k;
+        EXPECT_EQ(pooled[k].head, entries[k].head) << k;
+        EXPECT_EQ(serial[k].head, entries[k].head) << k;
+        EXPECT_EQ(pooled[k].tail, entries[k].tail) << k;
+        EXPECT_EQ(pooled[k].made_from, entries[k].made_from) << k;
+        EXPECT_EQ(pooled[k].first_point, entries[k].first_point) << k;
+        EXPECT_EQ(pooled[k].points, entries[k].points) << k;
+        EXPECT_EQ(pooled[k].delta, entries[k].delta) << k;
+    }
+    for (const std::size_t cut : {payload.size() - 1, payload.size() / 2, std::size_t{20}}) {
+        EXPECT_THROW(parse_overview_table(std::span(payload).first(cut), "t", &pool), Error) << cut;
+    }
+}
+
 TEST(OverviewSidecar, HilbertOrderVisitsABlocksCellsOneStepApart) {
     std::vector<std::pair<std::uint64_t, std::pair<int, int>>> cells;
     for (int x = 0; x < 16; ++x) {
