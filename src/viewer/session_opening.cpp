@@ -148,7 +148,8 @@ void SessionOpening::run(const std::vector<std::string>& paths, const SessionOpt
         if (options.overview_cache) options.overview_cache->use(found.sources);
         first_pages = {};
         const auto placed = dataset::catalog_footprints(found.sources);
-        const bool every_placed = std::all_of(placed.begin(), placed.end(), [](const auto& b) { return b.has_value(); });
+        const bool every_placed =
+            std::all_of(placed.begin(), placed.end(), [](const auto& b) { return b.has_value(); });
         note_sources(found.sources.size(), std::span(placed).subspan(std::min(noted, placed.size())), every_placed);
         if (!dataset::opens_placed(found.sources, d)) open_preview(found.sources, placed, options);
         Session s;
