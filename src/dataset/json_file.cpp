@@ -123,10 +123,15 @@ private:
 void prefetch_json_document(const std::string& url) {
     if (!net::is_url(url)) return;
     forget_json_prefetch();
+    // (the open's one request is the first block's; asked now: the reader's open of `url` waits for it)
+    std::future<std::pair<io::File, std::vector<std::uint8_t>>> opening;
+    try {
+        opening = io::File::open_from_start(url, kBlock);
+    } catch (const Error&) {
+        return;  // (a URL that cannot be asked for: the reader's own open says why)
+    }
     std::lock_guard lock(early().mutex);
     early().url = url;
-    // (the open's one request is the first block's; asked now: the reader's open of `url` waits for it)
-    auto opening = io::File::open_from_start(url, kBlock);
     early().blocks = std::async(std::launch::async, [opening = std::move(opening)]() mutable {
         EarlyBlocks e;
         auto [file, first] = opening.get();

@@ -346,20 +346,21 @@ std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> pa
         const auto bytes = r.bytes(r.u32("VLR block length"), "VLR block");
         blocks.emplace_back(bytes.begin(), bytes.end());
     }
-    // Where each run of kRun entries starts (one pass over their lengths), then the runs made on `pool`: a country's
-    // table (152,100 entries, 64 MB) had been made on one thread while the open and the decoding waited for it.
+    if (!pool) {  // (no room made for `tiles` entries: the count is the file's word until its entries are there)
+        std::vector<OverviewEntry> entries;
+        for (std::uint32_t k = 0; k < tiles; ++k) entries.push_back(parse_entry(r, blocks));
+        return entries;
+    }
+    // Where each run of kRun entries starts (one pass over their lengths, which ends at the payload's end: a count
+    // the entries do not fill is an Error before any room is made), then the runs made on `pool`: a country's table
+    // (152,100 entries, 64 MB) had been made on one thread while the open and the decoding waited for it.
     constexpr std::uint32_t kRun = 1024;
     std::vector<std::size_t> starts;
     for (std::uint32_t k = 0; k < tiles; ++k) {
         if (k % kRun == 0) starts.push_back(r.position());
-        if (pool) skip_entry(r);
+        skip_entry(r);
     }
-    std::vector<OverviewEntry> entries(pool ? tiles : 0);
-    if (!pool) {
-        entries.reserve(tiles);
-        for (std::uint32_t k = 0; k < tiles; ++k) entries.push_back(parse_entry(r, blocks));
-        return entries;
-    }
+    std::vector<OverviewEntry> entries(tiles);
     pool->for_each(starts.size(), [&](std::size_t run) {
         io::ByteReader at(payload, 0, file);
         at.skip(starts[run]);

@@ -419,7 +419,14 @@ std::future<RemoteFile::FromStart> RemoteFile::open_from_start(const std::string
     }
     auto result = std::make_shared<std::promise<FromStart>>();
     auto future = result->get_future();
-    fetch_cached(remote_request(url, {{0, std::max(bytes, kEdge)}}, {}), [url, opened, result](RangeReply&& reply) {
+    RangeRequest request;
+    try {
+        request = remote_request(url, {{0, std::max(bytes, kEdge)}}, {});
+    } catch (...) {  // (an s3 URL whose signing cannot be made: the claim ends, or open() would wait for ever)
+        end_opening(url, *opened, nullptr);
+        throw;
+    }
+    fetch_cached(std::move(request), [url, opened, result](RangeReply&& reply) {
         try {
             if (!reply.error.empty()) throw_reply_error(url, 0, reply.error);
             std::vector<std::uint8_t> first = std::move(reply.parts.at(0));

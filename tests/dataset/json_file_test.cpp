@@ -104,6 +104,10 @@ TEST(JsonFileRemote, EarlyBlocksOfAnotherUrlOrNoneAreNotTaken) {
     EXPECT_THROW(io::File::open(server.url("lists/early_d_missing.json")), Error);
     prefetch_json_document("/a/local/path.json");  // (local: nothing asked)
     forget_json_prefetch();
+    const std::string bad_port = "http://127.0.0.1:8x/catalog.json";  // (refused before any request)
+    EXPECT_NO_THROW(prefetch_json_document(bad_port));
+    EXPECT_THROW(io::File::open(bad_port), Error) << "the reader's open says why";
+    forget_json_prefetch();
 }
 
 }  // namespace

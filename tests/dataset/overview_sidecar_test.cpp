@@ -140,6 +140,10 @@ TEST(OverviewSidecar, ATableMadeOnAPoolIsTheOneMadeOnOneThread) {
     for (const std::size_t cut : {payload.size() - 1, payload.size() / 2, std::size_t{20}}) {
         EXPECT_THROW(parse_overview_table(std::span(payload).first(cut), "t", &pool), Error) << cut;
     }
+    auto lying = payload;  // a count of 4 billion entries (after the signature, version and VLR blocks' count)
+    std::fill(lying.begin() + 12, lying.begin() + 16, 0xff);
+    EXPECT_THROW(parse_overview_table(lying, "t", &pool), Error) << "no room made for what is not there";
+    EXPECT_THROW(parse_overview_table(lying, "t"), Error);
 }
 
 TEST(OverviewSidecar, HilbertOrderVisitsABlocksCellsOneStepApart) {
