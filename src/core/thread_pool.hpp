@@ -5,6 +5,7 @@
 // threads (4 per core, at most 256): 100,000 threads stall the whole machine.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
@@ -38,6 +39,13 @@ public:
     void for_each(std::size_t n, Fn&& fn) {
         std::function<void(std::size_t)> f = std::forward<Fn>(fn);
         run_loop(n, f);
+    }
+
+    // Runs fn(begin, end) for the blocks of `block` indices that cover [0, n) (the last one shorter): a loop whose
+    // iterations are too small to be handed out one at a time.
+    template <typename Fn>
+    void for_each_block(std::size_t n, std::size_t block, Fn&& fn) {
+        for_each((n + block - 1) / block, [&](std::size_t b) { fn(b * block, std::min(n, (b + 1) * block)); });
     }
 
     // The pool shared by the library (created on first use with set_shared_threads' size,

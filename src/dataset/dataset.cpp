@@ -358,10 +358,9 @@ void place_tiles(Dataset& ds, const DatasetOptions& options) {
     ds.tiles.erase(ds.tiles.begin() + static_cast<std::ptrdiff_t>(kept), ds.tiles.end());
 }
 
-// Where an overview sidecar places tiles (overview_tiles): into the dataset's tiles, by source, each marked placed.
+// Where an overview sidecar places tiles (overview_tiles): into the dataset's tiles, by source.
 struct SidecarPlacing {
     std::span<DatasetTile> tiles;
-    std::vector<std::uint8_t>& placed;
     std::uint64_t las_stride;
     SharedRecords& records;
 };
@@ -394,7 +393,6 @@ void place_from_sidecar(const std::string& path, const std::vector<std::size_t>&
             const std::size_t i = members[k];
             into.tiles[i] = make_dataset_tile(tile_from_overview(sidecar, it->second, s.path, &into.records),
                                               into.las_stride);
-            into.placed[i] = 1;
         } catch (const Error&) {
             ++missing;
         }
@@ -411,19 +409,17 @@ bool reads_sidecar(const TileSource& source, const DatasetOptions& options) {
     return source.item && source.item->overview && !source.shift && options.use_overview && overview_sidecars_in_use();
 }
 
-// The tiles their catalogs' overview sidecars place, written into `tiles` (by source); whether each source's was
-// (a tile placed so, 600 bytes, had been made aside and moved: a country's 152,100 are 90 MB of fresh pages).
-std::vector<std::uint8_t> overview_tiles(std::span<const TileSource> sources, const DatasetOptions& options,
-                                         std::span<DatasetTile> tiles, SharedRecords& records, Diagnostics& warnings,
-                                         ThreadPool& pool) {
-    std::vector<std::uint8_t> placed(sources.size());
+// The tiles their catalogs' overview sidecars place, written into `tiles` (by source: a tile placed has its file,
+// one not placed none; a tile placed so, 600 bytes, had been made aside and moved: a country's 152,100 are 90 MB of
+// fresh pages).
+void overview_tiles(std::span<const TileSource> sources, const DatasetOptions& options, std::span<DatasetTile> tiles,
+                    SharedRecords& records, Diagnostics& warnings, ThreadPool& pool) {
     std::map<std::string, std::vector<std::size_t>> by_sidecar;
     for (std::size_t i = 0; i < sources.size(); ++i) {
         if (reads_sidecar(sources[i], options)) by_sidecar[*sources[i].item->overview].push_back(i);
     }
-    SidecarPlacing into{tiles, placed, options.las_stride, records};
+    SidecarPlacing into{tiles, options.las_stride, records};
     for (const auto& [path, members] : by_sidecar) place_from_sidecar(path, members, sources, into, warnings, pool);
-    return placed;
 }
 
 // The dataset's bounds and counts, from its tiles'.
@@ -855,9 +851,11 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     TileReads reads;
     const bool sidecar_read = std::any_of(sources.begin(), sources.end(),
                                           [&](const TileSource& s) { return reads_sidecar(s, options); });
-    const auto placed = overview_tiles(sources, options, tiles, reads.records(), ds.warnings, pool);
+    overview_tiles(sources, options, tiles, reads.records(), ds.warnings, pool);
     forget_overview_prefetch();  // (one a catalog named, where this open did not take it)
-    if (sidecar_read && std::none_of(placed.begin(), placed.end(), [](std::uint8_t p) { return p != 0; })) {
+    const auto placed = [&](std::size_t i) { return tiles[i].tile.file != nullptr; };  // (before its own read)
+    const bool any_placed = std::any_of(tiles.begin(), tiles.end(), [](const DatasetTile& t) { return t.tile.file; });
+    if (sidecar_read && !any_placed) {
         // A sidecar that placed nothing (unreadable, damaged, missing: its warning said so): the items place the
         // tiles as any catalog's do, where they can, rather than every header being read first.
         DatasetOptions items_alone = options;
@@ -870,14 +868,14 @@ Dataset open_sources(FoundSources found, const DatasetOptions& options) {
     }
     std::vector<std::string> source_paths;
     for (std::size_t i = 0; i < n; ++i) {
-        if (!placed[i]) source_paths.push_back(sources[i].path);
+        if (!placed(i)) source_paths.push_back(sources[i].path);
     }
     io::File::prefetch(source_paths);  // remote tiles: every header request in flight at once
     source_paths = {};
     const auto cancelled = [&] { return options.cancel && options.cancel->load(); };
     pool.for_each(n, [&](std::size_t i) {
         if (cancelled()) return;
-        if (!placed[i]) {
+        if (!placed(i)) {
             if (auto tile = read_one(sources[i], options.las_stride, reads, errors[i])) tiles[i] = std::move(*tile);
         }
         if (tiles[i].tile.file) {

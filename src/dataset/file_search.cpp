@@ -211,9 +211,8 @@ void expand_catalog(const std::string& path, FoundFiles& out, const SourcesArriv
     const std::size_t n = catalog.items.size(), files = out.files.size(), items = out.items.size();
     out.files.resize(files + n);
     out.items.resize(items + n);
-    constexpr std::size_t kBlock = 2048;
-    ThreadPool::shared().for_each((n + kBlock - 1) / kBlock, [&](std::size_t b) {
-        for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+    ThreadPool::shared().for_each_block(n, 2048, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
             CatalogItem& item = catalog.items[i];
             item.overview = overview;
             out.files[files + i] = item.href;

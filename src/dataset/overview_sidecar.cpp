@@ -361,12 +361,10 @@ std::vector<OverviewEntry> parse_overview_table(std::span<const std::uint8_t> pa
         skip_entry(r);
     }
     std::vector<OverviewEntry> entries(tiles);
-    pool->for_each(starts.size(), [&](std::size_t run) {
+    pool->for_each_block(tiles, kRun, [&](std::size_t begin, std::size_t end) {
         io::ByteReader at(payload, 0, file);
-        at.skip(starts[run]);
-        for (std::size_t k = run * kRun; k < std::min<std::size_t>(tiles, (run + 1) * kRun); ++k) {
-            entries[k] = parse_entry(at, blocks);
-        }
+        at.skip(starts[begin / kRun]);
+        for (std::size_t k = begin; k < end; ++k) entries[k] = parse_entry(at, blocks);
     });
     return entries;
 }

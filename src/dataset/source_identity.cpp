@@ -183,11 +183,10 @@ void drop_duplicate_sources(FoundSources& found) {
     const std::vector<TileSource>& sources = found.sources;
     const std::size_t n = sources.size();
     if (n < 2) return;
-    constexpr std::size_t kBlock = 2048;
     std::vector<std::size_t> hashes(n);
-    ThreadPool::shared().for_each((n + kBlock - 1) / kBlock, [&](std::size_t b) {
+    ThreadPool::shared().for_each_block(n, 2048, [&](std::size_t begin, std::size_t end) {
         std::string made;
-        for (std::size_t i = b * kBlock; i < std::min(n, (b + 1) * kBlock); ++i) {
+        for (std::size_t i = begin; i < end; ++i) {
             hashes[i] = std::hash<std::string_view>{}(identity_view(sources[i], made));
         }
     });

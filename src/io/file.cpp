@@ -37,10 +37,8 @@ std::future<std::pair<File, std::vector<std::uint8_t>>> File::open_from_start(co
     if (!net::is_url(path)) {
         return std::async(std::launch::deferred, [path] { return std::pair{open(path), std::vector<std::uint8_t>()}; });
     }
-    auto opening = std::make_shared<std::future<net::RemoteFile::FromStart>>(
-        net::RemoteFile::open_from_start(path, first_bytes));
-    return std::async(std::launch::deferred, [opening] {
-        net::RemoteFile::FromStart opened = opening->get();
+    return std::async(std::launch::deferred, [opening = net::RemoteFile::open_from_start(path, first_bytes)]() mutable {
+        net::RemoteFile::FromStart opened = opening.get();
         return std::pair{of_remote(std::move(opened.file)), std::move(opened.first)};
     });
 }

@@ -74,8 +74,7 @@ void append_records(PointSet& set, std::span<const std::uint8_t> records, const 
     const std::size_t record = convert.record_length;
     const std::size_t n = records.size() / record, first = set.points.size();
     set.points.resize(first + n);
-    pool.for_each((n + kConvertBlock - 1) / kConvertBlock, [&](std::size_t block) {
-        const std::size_t begin = block * kConvertBlock, end = std::min(n, begin + kConvertBlock);
+    pool.for_each_block(n, kConvertBlock, [&](std::size_t begin, std::size_t end) {
         convert_records(records.subspan(begin * record, (end - begin) * record),
                         std::span(set.points).subspan(first + begin, end - begin), convert);
     });

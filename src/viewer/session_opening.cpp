@@ -30,7 +30,6 @@ void SessionOpening::note_sources(std::optional<std::size_t> sources,
                                   std::span<const std::optional<dataset::Bounds>> placed, bool every_placed) {
     std::lock_guard lock(mutex_);
     if (sources) progress_.total = *sources;
-    footprints_.reserve(footprints_.size() + placed.size());
     for (const auto& b : placed) {
         if (b) footprints_.push_back(*b), progress_.extent.extend(*b);
     }
