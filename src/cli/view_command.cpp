@@ -130,6 +130,7 @@ void write_stats_json(const std::string& path, const viewer::app::ViewerTimings&
                         {"dataset_open_s", seconds(t.dataset_open_s)},
                         {"first_overview_s", seconds(t.first_overview_s)},
                         {"chunk_points_s", seconds(t.chunk_points_s)},
+                        {"nearest_full_s", seconds(t.nearest_full_s)},
                         {"frames_while_opening", t.frames_while_opening},
                         {"tiles", t.tiles},
                         {"skipped", t.skipped},
@@ -255,8 +256,9 @@ void register_view_command(CLI::App& app, std::function<int()>& run) {
                     "available, else cpu)");
     add_output(*cmd, "--stats-json", o->stats_json,
                "Write to this JSON file on exit the seconds from the start to the first frame, to the first with "
-               "every tile's footprint, to the dataset open, to the first frame with heightmaps and to all chunk "
-               "points in, and the HTTP requests and bytes of a remote dataset, also per tile (scripted use)",
+               "every tile's footprint, to the dataset open, to the first frame with heightmaps, to all chunk "
+               "points in and to the tile nearest the camera at full resolution, and the HTTP requests and bytes "
+               "of a remote dataset, also per tile (scripted use)",
                io::OutputKind::Json);
     cmd->callback([o, cmd, &run] {
         o->no_overview = cmd->count("--no-overview") > 0;

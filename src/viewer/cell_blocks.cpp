@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "render/cache_key.hpp"
+
 namespace lidarscout::viewer {
 namespace {
 
@@ -23,7 +25,45 @@ CellBlocks::CellBlocks(const lidarscout::PatchGrid& grid, const dataset::Bounds&
     for (auto& t : trees_) t = CountQuadtree(nx_, ny_);
 }
 
-CellBlocks::Key CellBlocks::key_of_cell(lidarscout::CellKey cell) const {
+std::uint64_t BlockChunks::bytes() const {
+    return sizeof(BlockChunks) + set.points.capacity() * sizeof(render::PointAttr) +
+           cells.capacity() * sizeof(lidarscout::CellKey) + ends.capacity() * sizeof(std::uint32_t);
+}
+
+std::shared_ptr<BlockChunks> read_block_chunks(const lidarscout::PatchGrid& grid, lidarscout::CellKey block,
+                                               std::span<const lidarscout::CellKey> cells) {
+    auto out = std::make_shared<BlockChunks>();
+    const lidarscout::CellKey corner{block.ix * CellBlocks::kBlockCells, block.iy * CellBlocks::kBlockCells};
+    out->set.origin_x = grid.cell_min_x(corner), out->set.origin_y = grid.cell_min_y(corner);
+    for (const auto cell : cells) {
+        const auto dx = static_cast<float>((cell.ix - corner.ix) * grid.patch_size());
+        const auto dy = static_cast<float>((cell.iy - corner.iy) * grid.patch_size());
+        grid.read_points(cell, [&](std::span<const GridPoint> points) {
+            for (const GridPoint& p : points) out->set.points.push_back(chunk_point_attr(p, dx, dy));
+        });
+        if (out->set.points.size() == (out->ends.empty() ? 0 : out->ends.back())) continue;  // none in it
+        out->cells.push_back(cell);
+        out->ends.push_back(static_cast<std::uint32_t>(out->set.points.size()));
+    }
+    out->set.points.shrink_to_fit();
+    out->set.cache_key = render::new_cache_key();
+    return out;
+}
+
+PointSet chunks_without(const BlockChunks& chunks, const std::function<bool(lidarscout::CellKey)>& hidden) {
+    PointSet out;
+    out.origin_x = chunks.set.origin_x, out.origin_y = chunks.set.origin_y, out.origin_z = chunks.set.origin_z;
+    const auto& all = chunks.set.points;
+    for (std::size_t k = 0, begin = 0; k < chunks.cells.size(); begin = chunks.ends[k++]) {
+        if (hidden(chunks.cells[k])) continue;
+        out.points.insert(out.points.end(), all.begin() + begin, all.begin() + chunks.ends[k]);
+    }
+    out.points.shrink_to_fit();
+    out.cache_key = render::new_cache_key();
+    return out;
+}
+
+CellBlocks::Key CellBlocks::key_of_cell(lidarscout::CellKey cell) {
     return {floor_div(cell.ix, kBlockCells), floor_div(cell.iy, kBlockCells)};
 }
 

@@ -11,9 +11,11 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -24,6 +26,25 @@
 #include "viewer/point_sets.hpp"
 
 namespace lidarscout::viewer {
+
+// A block's chunk points: those of every cell of it that has any, read from the grid cell by cell into one set
+// (origin: the block's min corner at z 0), so that a country's 600,000 cells of about nine chunk points each are
+// drawn and snapshot as a few thousand sets, not as a set (and a batch, a pointer in every snapshot) each.
+struct BlockChunks {
+    PointSet set;
+    std::vector<lidarscout::CellKey> cells;  // sorted (sort_cells)
+    std::vector<std::uint32_t> ends;         // cells[k]'s points end there in set.points (they start at ends[k-1])
+
+    // Heap bytes held (what the memory ledger counts).
+    std::uint64_t bytes() const;
+};
+
+// The chunk points of `cells` (sorted, in block `block`: CellBlocks::key_of_cell), read from `grid` (cells that
+// hold none left out); its set's origin the block's min corner at z 0, its cache key a new one.
+std::shared_ptr<BlockChunks> read_block_chunks(const lidarscout::PatchGrid& grid, lidarscout::CellKey block,
+                                               std::span<const lidarscout::CellKey> cells);
+// A copy of `chunks`' set without the points of the cells `hidden` says (a heightmap shows them), a new cache key.
+PointSet chunks_without(const BlockChunks& chunks, const std::function<bool(lidarscout::CellKey)>& hidden);
 
 class CellBlocks {
 public:
@@ -36,7 +57,10 @@ public:
         bool changed = true;  // a drawable cell of it changed since `shown` and `chunk_points` were listed
         // What its drawable cells show (the scheduler's per-block part of a snapshot).
         std::vector<std::shared_ptr<const PatchHeightmap>> shown;
-        std::vector<std::shared_ptr<const PointSet>> chunk_points;
+        std::vector<std::shared_ptr<const PointSet>> chunk_points;  // none, or its chunks' (or a copy without the
+                                                                    // cells that show a heightmap)
+        std::shared_ptr<const BlockChunks> chunks;                  // null: none of its cells has chunk points
+        std::uint64_t listed_bytes = 0;  // what chunk_points holds beyond `chunks` (a copy), in the ledger
     };
 
     CellBlocks() = default;
@@ -48,6 +72,8 @@ public:
     std::size_t size(List list) const { return sizes_[list]; }
     // The block holding `cell` (created when missing).
     Block& block_of(lidarscout::CellKey cell);
+    // The key of the block holding `cell` (Block::key).
+    static lidarscout::CellKey key_of_cell(lidarscout::CellKey cell);
     // The box of block `b`'s cells (metres, z_min..z_max).
     dataset::Bounds box(const Block& b) const { return block_box(b.key); }
 
@@ -113,7 +139,6 @@ public:
 
 private:
     using Key = lidarscout::CellKey;  // a block's (bx, by)
-    Key key_of_cell(lidarscout::CellKey cell) const;
     Key leaf_key(int x, int y) const { return {origin_.ix + x, origin_.iy + y}; }
     bool in_tree(Key key) const;
     void count(List list, lidarscout::CellKey cell, int delta);

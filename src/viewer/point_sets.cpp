@@ -180,16 +180,18 @@ PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey c
     set.origin_y = grid.cell_min_y(cell);
     grid.read_points(cell, [&](std::span<const GridPoint> points) {  // (converted in place: no copy first)
         set.points.resize(points.size());
-        for (std::size_t i = 0; i < points.size(); ++i) {
-            const GridPoint& p = points[i];
-            render::PointAttr& a = set.points[i];
-            a.dx = p.dx, a.dy = p.dy, a.dz = p.z;
-            a.r = p.rgb.r, a.g = p.rgb.g, a.b = p.rgb.b;
-            a.classification = p.classification;
-            a.intensity = p.intensity;
-        }
+        for (std::size_t i = 0; i < points.size(); ++i) set.points[i] = chunk_point_attr(points[i], 0, 0);
     });
     return set;
+}
+
+render::PointAttr chunk_point_attr(const GridPoint& p, float dx, float dy) {
+    render::PointAttr a;
+    a.dx = p.dx + dx, a.dy = p.dy + dy, a.dz = p.z;
+    a.r = p.rgb.r, a.g = p.rgb.g, a.b = p.rgb.b;
+    a.classification = p.classification;
+    a.intensity = p.intensity;
+    return a;
 }
 
 void paint_uncoloured(std::span<PointSet> sets) {

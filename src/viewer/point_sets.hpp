@@ -41,6 +41,8 @@ void count_classes(PointSet& set);
 
 // The chunk points stored in `cell` of the grid; origin = the cell's min corner at z = 0; no spacing.
 PointSet cell_point_set(const lidarscout::PatchGrid& grid, lidarscout::CellKey cell);
+// A grid point as drawn: its offset in its cell moved by (dx, dy) (to another origin), its z as is.
+render::PointAttr chunk_point_attr(const GridPoint& point, float dx, float dy);
 
 // The grey of surfaces without colour (as the heightmap pass draws untextured patches).
 inline constexpr std::uint8_t kUncolouredGrey = 170;

@@ -48,6 +48,9 @@ public:
     // Notes what the process holds now beyond the scheduler's ledger; the most seen is what counts
     // (the program may hold it again).
     void observe(std::uint64_t resident, std::uint64_t ledger_used);
+    // The dataset's opening is over (its catalog's blocks, its sidecar's buffers are gone): what was seen
+    // before is forgotten, so that they do not keep the data's share small for the rest of the run.
+    void opening_over() { seen_ = 0; }
     // What the program holds outside the data: the most seen, or what it held at start and the
     // network's share, if more.
     std::uint64_t outside() const;

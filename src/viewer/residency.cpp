@@ -351,6 +351,7 @@ ResidencyStats Residency::stats() const {
     st.released = released_;
     st.loads = loads_;
     st.wanted = policy_.wanted(), st.wanted_full = policy_.wanted_full();
+    st.largest_full = policy_.largest_full();
     st.bytes = held();
     st.decoding_bytes = decoding_bytes_;
     st.peak_bytes = peak_;

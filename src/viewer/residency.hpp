@@ -68,6 +68,7 @@ struct ResidencyStats {
     std::size_t full_tiles = 0, coarse_tiles = 0, released = 0;
     std::size_t loads = 0;  // tile decodes started (whole or in part)
     std::size_t wanted = 0, wanted_full = 0;  // visible tiles; those at full resolution
+    bool largest_full = false;  // the visible tile of most screen coverage is at full resolution (the policy's)
     std::uint64_t full_points = 0, lod_points = 0;  // points held at full resolution; in every block
     std::uint64_t bytes = 0, bytes_full = 0, decoding_bytes = 0, peak_bytes = 0, budget = 0;
     std::vector<ErrorRecord> errors;  // tiles that could not be decoded

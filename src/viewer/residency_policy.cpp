@@ -132,6 +132,8 @@ std::optional<ResidencyPolicy::Choice> ResidencyPolicy::choose(const Fractions& 
                                                                std::uint64_t budget) {
     ++tick_;
     wanted_ = wanted_full_ = 0;
+    double largest = 0;
+    largest_full_ = false;
     std::vector<std::pair<double, std::uint32_t>> candidates;  // (gain per byte, tile)
     for (const auto& [i, fraction] : fractions) {
         // (a tile whose header is not read yet waits: the chunk-point loader reads those in view first)
@@ -139,8 +141,10 @@ std::optional<ResidencyPolicy::Choice> ResidencyPolicy::choose(const Fractions& 
         ++wanted_;
         const auto it = entries_.find(i);
         if (it != entries_.end()) it->second.last_seen = tick_;
+        const bool whole = it != entries_.end() && it->second.level == Level::Full && !it->second.partial;
+        if (fraction > largest) largest = fraction, largest_full_ = whole;
         if (it != entries_.end() && it->second.level == Level::Full) {
-            wanted_full_ += !it->second.partial;
+            wanted_full_ += whole;
             continue;
         }
         candidates.emplace_back(gain_per_byte(i, fraction), i);

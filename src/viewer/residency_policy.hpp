@@ -83,6 +83,9 @@ public:
     std::uint64_t tick() const { return tick_; }  // looks so far
     std::size_t wanted() const { return wanted_; }            // tiles in view at the last choose
     std::size_t wanted_full() const { return wanted_full_; }  // of those, held whole at full resolution
+    // Whether the tile in view of most screen coverage at the last choose (the one nearest the camera, about)
+    // is held whole at full resolution; false when none was in view.
+    bool largest_full() const { return largest_full_; }
     std::uint64_t index_visits() const { return index_.visits(); }
 
 private:
@@ -120,6 +123,7 @@ private:
     Entries entries_;
     std::set<std::uint32_t> failed_;
     std::size_t wanted_ = 0, wanted_full_ = 0;
+    bool largest_full_ = false;
 };
 
 }  // namespace lidarscout::viewer

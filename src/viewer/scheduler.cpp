@@ -49,8 +49,8 @@ struct Patch {
     std::shared_ptr<const PatchHeightmap> base;   // linear or network
     bool base_is_cnn = false;
     std::shared_ptr<const PatchHeightmap> shown;  // base with the full-resolution detail laid over
-    std::shared_ptr<const PointSet> chunk;        // its chunk points
-    bool drawable = false;                        // listed in its block's drawable cells (has shown or chunk)
+    bool chunk = false;     // it has chunk points (in its block's BlockChunks: CellBlocks::Block::chunks)
+    bool drawable = false;  // listed in its block's drawable cells (has shown or chunk)
     std::uint64_t key_version = kNoVersion;       // camera version of `key`
     double key = 0;                               // priority: lower first
 };
@@ -310,24 +310,47 @@ struct Scheduler::State {
         if (p.base) (p.base_is_cnn ? shown_cnn : shown_linear) += delta;
     }
 
-    // The drawable content of block `b` (listed again when it changed).
+    // The drawable content of block `b` (listed again when it changed): its cells' heightmaps, and its chunk
+    // points, those of the cells that show a heightmap left out (a copy, counted in the ledger while listed).
     void list_block(CellBlocks::Block& b) {
         if (!b.changed) return;
         b.shown.clear(), b.chunk_points.clear();
+        bool any_shown = false;
         for (const auto cell : b.cells[CellBlocks::Drawable]) {
             ++patch_visits;
             const Patch& p = patches.at(cell);
-            if (p.shown) b.shown.push_back(p.shown);
-            else if (p.chunk) b.chunk_points.push_back(p.chunk);
+            if (p.shown) b.shown.push_back(p.shown), any_shown = true;
         }
+        std::shared_ptr<const PointSet> drawn;
+        if (b.chunks && !any_shown) {
+            drawn = std::shared_ptr<const PointSet>(b.chunks, &b.chunks->set);
+        } else if (b.chunks) {
+            drawn = std::make_shared<const PointSet>(chunks_without(*b.chunks, [&](CellKey cell) {
+                const Patch* p = patches.find(cell);
+                return p && p->shown;
+            }));
+        }
+        const std::uint64_t copy = drawn && drawn.get() != &b.chunks->set
+                                       ? sizeof(PointSet) + drawn->points.capacity() * sizeof(render::PointAttr)
+                                       : 0;
+        ledger->add_patch_bytes(static_cast<std::int64_t>(copy) - static_cast<std::int64_t>(b.listed_bytes));
+        b.listed_bytes = copy;
+        if (drawn && !drawn->points.empty()) b.chunk_points.push_back(std::move(drawn));
         b.changed = false;
+    }
+
+    // A block's chunk points made again (read_block_chunks), in the ledger in place of the old.
+    void set_chunks(CellBlocks::Block& b, std::shared_ptr<const BlockChunks> chunks) {
+        const std::uint64_t before = b.chunks ? b.chunks->bytes() : 0;
+        ledger->add_patch_bytes(static_cast<std::int64_t>(chunks->bytes()) - static_cast<std::int64_t>(before));
+        b.chunks = std::move(chunks);
+        b.changed = true;
     }
 
     static std::uint64_t bytes_of(const Patch& p) {
         std::uint64_t bytes = 0;
         if (p.base) bytes += heightmap_bytes(*p.base);
         if (p.shown && p.shown != p.base) bytes += heightmap_bytes(*p.shown);
-        if (p.chunk) bytes += p.chunk->points.capacity() * sizeof(render::PointAttr);
         return bytes;
     }
 };
@@ -478,47 +501,67 @@ void Scheduler::emit(const SchedulerEvent& event) const {
 
 void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<const CellKey> cells) {
     State& s = *state_;
-    struct CellSet {
-        CellKey cell;
-        std::shared_ptr<const PointSet> set;
-        bool sparse = false;  // it holds a sparse tile's point (its cells are those of its points)
-    };
-    std::vector<CellSet> sets;
-    bool all_in = false;
     const bool any_sparse = std::any_of(tiles.begin(), tiles.end(), [&](std::uint32_t t) { return s.sparse[t]; });
-    const auto holds_sparse = [&](CellKey cell) {
-        bool any = false;
-        grid_->read_points(cell, [&](std::span<const GridPoint> points) {
-            any = std::any_of(points.begin(), points.end(), [&](const GridPoint& g) { return s.sparse[g.tile]; });
-        });
-        return any;
-    };
-    // A batch's cells' point sets are made by the shared pool's threads, outside the lock (the grid's shards lock
-    // themselves): they were most of this thread's work while a country's chunk points came in, and the loader's
-    // thread is what the last of them waits for. A tile's few cells are made here, as before (not worth waking the
-    // pool for).
-    sets.resize(cells.size());
-    const auto make_set = [&](std::size_t i) {
-        auto set = std::make_shared<PointSet>(cell_point_set(*grid_, cells[i]));
-        if (set->points.empty()) return;
-        if (!has_rgb_) paint_uncoloured(std::span(set.get(), 1));
-        set->cache_key = render::new_cache_key();  // complete: shared read-only from here
-        sets[i] = {cells[i], std::move(set), any_sparse && holds_sparse(cells[i])};
-    };
-    constexpr std::size_t kPoolFrom = 64;  // cells (a tile has about nine; a sidecar's batch thousands)
-    if (cells.size() >= kPoolFrom) {
-        ThreadPool::shared().for_each(cells.size(), make_set);
-    } else {
-        for (std::size_t i = 0; i < cells.size(); ++i) make_set(i);
+    std::vector<char> sparse_cell(cells.size());  // the cell holds a sparse tile's point (its cells are its points')
+    if (any_sparse) {
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+            grid_->read_points(cells[i], [&](std::span<const GridPoint> points) {
+                sparse_cell[i] = std::any_of(points.begin(), points.end(), [&](const GridPoint& g) {
+                    return s.sparse[g.tile];
+                });
+            });
+        }
     }
-    std::erase_if(sets, [](const CellSet& c) { return !c.set; });
+    // The blocks these cells lie in are read again from the grid, a batch at a time (each from the cells its last
+    // reading had and this batch's), by the shared pool's threads outside the state lock: they were most of this
+    // thread's work while a country's chunk points came in, and the loader's thread is what the last waits for.
+    std::lock_guard batch(chunks_mutex_);
+    struct BlockWork {
+        CellKey block;
+        std::vector<CellKey> cells;
+        std::shared_ptr<const BlockChunks> chunks;
+    };
+    std::vector<BlockWork> work;
+    {
+        std::vector<std::pair<CellKey, CellKey>> by_block;  // (block, cell)
+        by_block.reserve(cells.size());
+        for (const CellKey cell : cells) by_block.emplace_back(CellBlocks::key_of_cell(cell), cell);
+        std::sort(by_block.begin(), by_block.end(), [](const auto& a, const auto& b) {
+            return std::pair(cell_order(a.first), cell_order(a.second)) <
+                   std::pair(cell_order(b.first), cell_order(b.second));
+        });
+        std::lock_guard lock(s.mutex);
+        for (const auto& [block, cell] : by_block) {
+            if (work.empty() || work.back().block != block) {
+                work.push_back({block, {}, nullptr});
+                if (const auto& had = s.blocks.block_of(cell).chunks) work.back().cells = had->cells;
+            }
+            work.back().cells.push_back(cell);
+        }
+    }
+    const auto read = [&](std::size_t i) {
+        BlockWork& w = work[i];
+        sort_cells(w.cells);
+        w.cells.erase(std::unique(w.cells.begin(), w.cells.end()), w.cells.end());
+        auto chunks = read_block_chunks(*grid_, w.block, w.cells);
+        if (!has_rgb_) paint_uncoloured(std::span(&chunks->set, 1));
+        w.chunks = std::move(chunks);
+    };
+    constexpr std::size_t kPoolFrom = 8;  // blocks (a tile's cells are in one to four; a sidecar's batch thousands)
+    if (work.size() >= kPoolFrom) {
+        ThreadPool::shared().for_each(work.size(), read);
+    } else {
+        for (std::size_t i = 0; i < work.size(); ++i) read(i);
+    }
+    bool all_in = false;
     {
         std::lock_guard lock(s.mutex);
-        for (auto& entry : sets) {  // not a structured binding: clang 14 cannot capture one
-            Patch& p = s.patches[entry.cell];
-            s.modify(entry.cell, p, [&] { p.chunk = std::move(entry.set); });
-            s.changed_patch(entry.cell, p);
-            if (entry.sparse && !p.candidate) s.add_sparse_candidate(entry.cell, p);
+        for (auto& w : work) s.set_chunks(s.blocks.block_of(w.cells.front()), std::move(w.chunks));
+        for (std::size_t i = 0; i < cells.size(); ++i) {
+            Patch& p = s.patches[cells[i]];
+            s.modify(cells[i], p, [&] { p.chunk = true; });
+            s.changed_patch(cells[i], p);
+            if (sparse_cell[i] && !p.candidate) s.add_sparse_candidate(cells[i], p);
         }
         s.count_table();
         s.for_window_cells_of(tiles, dataset_.tiles, [&](Patch& p, CellKey cell, int n) {
@@ -843,6 +886,7 @@ SchedulerStats Scheduler::stats() const {
     st.heightmaps_let_go = s.let_go;
     st.surface_pending = s.restyle.size() + s.restyling;
     st.full_res = {r.wanted_full, r.wanted};
+    st.full_res_nearest = r.largest_full;
     st.full_res_tiles = r.full_tiles;
     st.coarse_tiles = r.coarse_tiles;
     st.full_res_points = r.full_points;

@@ -28,7 +28,8 @@
 //      (version, idle); never the residency's own lock nor the loader's;
 //   2. the residency calls its hooks (on_detail, on_tile) without its own lock, so they may take
 //      the state lock; what each holds is in a MemoryLedger they share (atomics, no lock);
-//   3. the loader calls on_tile_done (on_tiles_done here) without its locks; set_focus takes a lock of its own only.
+//   3. the loader calls on_tile_done (on_tiles_done here) without its locks; set_focus takes a lock of its own only;
+//      on_tiles_done takes its own batch lock (chunks_mutex_, before the state lock: never taken under it).
 #pragma once
 
 #include <atomic>
@@ -106,6 +107,7 @@ struct SchedulerStats {
     std::size_t heightmaps_let_go = 0;  // heightmaps dropped to keep the budget (built again when near)
     std::size_t surface_pending = 0;   // patches still to be laid over again for the surface set last
     StageProgress full_res;            // wanted tiles resident / wanted tiles
+    bool full_res_nearest = false;     // the wanted tile of most screen coverage is resident (ResidencyStats)
     std::size_t full_res_tiles = 0, coarse_tiles = 0;  // tiles held at full resolution; at coarse levels only
     std::uint64_t full_res_points = 0, lod_points = 0;  // points of the full tiles; of every tile held
     std::size_t full_res_released = 0;  // tiles released so far
@@ -187,6 +189,8 @@ private:
     std::unique_ptr<lidarscout::PatchGrid> grid_;
     std::uint64_t overview_core_bytes_ = 0;  // SchedulerStats::overview_core_bytes
     std::unique_ptr<State> state_;
+    // The blocks of one batch of tiles' chunk points read again at a time (each from the cells its last held).
+    std::mutex chunks_mutex_;
     std::unique_ptr<Residency> residency_;
     std::unique_ptr<dataset::ChunkPointLoader> loader_;
     std::vector<std::thread> threads_;

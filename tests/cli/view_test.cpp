@@ -373,6 +373,20 @@ TEST_F(ViewCommand, ALargeCatalogShowsEveryFootprintFirstThenItsCentre) {
     EXPECT_EQ(j.at("tiles").get<std::size_t>(), 72u) << j.dump();  // (too few chunk points for a heightmap)
 }
 
+// Seen from 300 m above its middle, the IGN tile is the one nearest the camera: --stats-json times the first frame
+// with it whole at full resolution, after the dataset opened (null had it never come).
+TEST_F(ViewCommand, TheStatsTimeTheTileNearestTheCameraAtFullResolution) {
+    ASSERT_TRUE(have_xvfb()) << "xvfb-run not found (scripts/setup.sh installs the Debian package xvfb)";
+    const fs::path stats = dir_ / "stats.json";
+    std::string out;
+    ASSERT_EQ(run_xvfb("--session " + ign_from_above("near.lidarscout.json").string() +
+                       " --no-cnn --size 320x240 --memory 1G --quit-after 6 --stats-json " + stats.string(), out),
+              0) << out;
+    const auto j = test::read_json(stats);
+    ASSERT_TRUE(j.at("nearest_full_s").is_number()) << j.dump();
+    EXPECT_GE(j.at("nearest_full_s").get<double>(), j.at("dataset_open_s").get<double>()) << j.dump();
+}
+
 // The 35 KB pdrf6 file (bounds +-2.1e9 m) and the whole formats folder hung in the scheduler,
 // past 3 GB: each now opens (the hostile files skipped and counted) and the session ends. The
 // `timeout` only guards against a hang (exit 124); nothing here is timed.

@@ -29,6 +29,19 @@ TEST(ProcessBudget, TheMostSeenOutsideTheLedgerCounts) {
     EXPECT_EQ(b.outside(), 400 * MiB);
 }
 
+TEST(ProcessBudget, WhatTheOpeningHeldIsForgottenOnceItIsOver) {
+    ProcessBudget b(1024 * MiB, 150 * MiB, false);
+    b.observe(700 * MiB, 50 * MiB);  // a catalog's blocks and a sidecar's buffers: 650 MiB outside
+    EXPECT_EQ(b.plan().data, 374 * MiB);
+    b.opening_over();
+    EXPECT_EQ(b.outside(), 150 * MiB);  // what it held at start, until seen again
+    b.observe(800 * MiB, 400 * MiB);
+    EXPECT_EQ(b.outside(), 400 * MiB);
+    EXPECT_EQ(b.plan().data, 624 * MiB);
+    b.observe(900 * MiB, 550 * MiB);  // less outside: the most seen since stays
+    EXPECT_EQ(b.outside(), 400 * MiB);
+}
+
 TEST(ProcessBudget, TheNetworkOnlyWhereItFits) {
     const ProcessBudgetPlan p = ProcessBudget(256 * MiB, 150 * MiB, true).plan();
     EXPECT_FALSE(p.network);

@@ -2,7 +2,8 @@
 // ky-jmo335 tiles of 36 and 4,900 tiles, a close camera over the same spot of both, what a
 // snapshot, the choice of the next heightmap job and the residency's look examine (patches, cell
 // blocks, index nodes, tiles: counted, not timed) is alike, and a small part of the large one. And
-// a replica whose heightmaps do not all fit the budget keeps it: the nearest built, the farthest let go.
+// a replica whose heightmaps do not all fit the budget keeps it: the nearest built, the farthest let go. Its chunk
+// points are drawn as a set per block of cells.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include "temp_dir_fixture.hpp"
 #include "test_data.hpp"
 #include "viewer/cameras.hpp"
+#include "viewer/cell_blocks.hpp"
 #include "viewer/scheduler.hpp"
 #include "wait_until.hpp"
 
@@ -190,6 +192,60 @@ TEST_F(SchedulerScale, HeightmapsKeepTheBudgetNearestFirst) {
     const std::size_t let_go = st.heightmaps_let_go;
     std::this_thread::sleep_for(1s);
     EXPECT_EQ(scheduler.stats().heightmaps_let_go, let_go) << "a still view lets none go";
+}
+
+// A country's cells hold about nine chunk points each: they are drawn as one set per block of cells (not a set, a
+// batch and a snapshot entry each), every chunk point once where the grid has it, but those under a heightmap.
+TEST_F(SchedulerScale, ChunkPointsAreDrawnAsOneSetPerBlock) {
+    const auto ds = replica(20);
+    const auto& b = ds.bounds_m;
+    SchedulerOptions o;
+    o.cnn = false, o.full_res = false;
+    o.least_heightmaps = 16;    // and no room for more: the rest show their chunk points
+    o.memory_budget = 64 << 10;
+    o.camera = render::Camera::looking_at_bounds(b.min_x, b.min_y, b.min_z, b.max_x, b.max_y, b.max_z, 640, 360, 60);
+    Scheduler scheduler(ds, o);
+    ASSERT_TRUE(test::wait_until([&] {
+        const auto st = scheduler.stats();
+        return st.tiles_loaded.done == st.tiles_loaded.total && st.heightmaps_linear >= o.least_heightmaps;
+    }));
+    const auto snap = scheduler.snapshot();
+    const auto& grid = scheduler.grid();
+    std::vector<CellKey> shown;
+    for (const auto& h : snap->heightmaps) shown.push_back(h->cell);
+    ASSERT_GE(shown.size(), 1u);
+
+    struct Sums {
+        std::uint64_t n = 0;
+        double x = 0, y = 0, z = 0;
+        void add(double px, double py, double pz) { ++n, x += px - 2e6, y += py - 1.3e6, z += pz; }
+    } drawn, expected;
+    for (const auto& set : snap->chunk_points) {
+        for (const auto& p : set->points) drawn.add(set->origin_x + p.dx, set->origin_y + p.dy, set->origin_z + p.dz);
+    }
+    const std::vector<CellKey> cells = grid.cells();
+    std::vector<CellKey> blocks;
+    for (const CellKey cell : cells) {
+        blocks.push_back(CellBlocks::key_of_cell(cell));
+        if (std::find(shown.begin(), shown.end(), cell) != shown.end()) continue;
+        for (const auto& p : grid.points_in(cell)) {
+            const auto a = grid.to_absolute(cell, p);
+            expected.add(a.x, a.y, a.z);
+        }
+    }
+    sort_cells(blocks);
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    std::printf("%zu chunk points in %zu cells, %zu blocks: %zu sets drawn\n", grid.size(), cells.size(),
+                blocks.size(), snap->chunk_points.size());
+    ASSERT_GT(expected.n, 0u);
+    EXPECT_LT(expected.n, grid.size()) << "the heightmaps' cells left out";
+    EXPECT_EQ(drawn.n, expected.n);
+    const double n = static_cast<double>(expected.n);
+    EXPECT_NEAR(drawn.x, expected.x, n * 2e-3);  // (float offsets within a 10 km block: about a millimetre)
+    EXPECT_NEAR(drawn.y, expected.y, n * 2e-3);
+    EXPECT_NEAR(drawn.z, expected.z, n * 2e-3);
+    EXPECT_LE(snap->chunk_points.size(), blocks.size());
+    EXPECT_GT(cells.size(), 8 * blocks.size());
 }
 
 }  // namespace

@@ -386,7 +386,8 @@ void wait_for_next_frame(Clock::time_point frame_start) {
 }
 
 // Notes the times of the first frame presented, of the first with every tile's footprint (or the
-// dataset open), of the first with a heightmap, and of the first with every tile's chunk points in
+// dataset open), of the first with a heightmap, of the first with every tile's chunk points in, and of the first
+// with the tile nearest the camera at full resolution
 // (`stats`: the scheduler's, taken for this frame's panels).
 void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats& stats, bool every_footprint,
                  bool with_heightmaps, double seconds) {
@@ -398,6 +399,7 @@ void count_frame(ViewerTimings& t, const Session& session, const SchedulerStats&
         return;
     }
     if (!t.chunk_points_s && stats.tiles_loaded.done == stats.tiles_loaded.total) t.chunk_points_s = seconds;
+    if (!t.nearest_full_s && stats.full_res_nearest) t.nearest_full_s = seconds;
 }
 
 // The window loop's state and its steps, one method each: opening datasets, input, the frame,
@@ -554,6 +556,7 @@ private:
         if (opening_ && opening_->finished() && take_opening(opening_, session_, panels_)) {
             corrections_shown_ = 0;
             refiner_.invalidate();
+            loaded_at_.reset(), opening_over_ = false;  // (a dataset dropped: its opening is forgotten in turn)
             if (!moved_while_opening_) controller_.frame(session_.dataset->bounds_m, fb_width_, fb_height_);
             moved_while_opening_ = false;
             if (!opened_) {
@@ -724,6 +727,7 @@ private:
         if (!session_.open() || !budget_tick_.due(1)) return;
         budget_tick_.done();
         const SchedulerStats st = session_.scheduler->stats();
+        opening_step(st);
         budget_.observe(resident_bytes(), st.bytes_used);
         session_.scheduler->set_network_room(budget_.network_leaves_room(st.overview_core_bytes));
         if (st.network_declined && !budget_.declined()) {  // (its line written once)
@@ -733,6 +737,17 @@ private:
         apply_budget();
         report_overview_note(st);
         overview_cache_step(st);
+    }
+
+    // What the opening held beyond the data (a country's catalog blocks and sidecar buffers: 170 MB) forgotten
+    // by the budget a second after every tile's chunk points are in (and the grid's spare room given back).
+    void opening_step(const SchedulerStats& st) {
+        if (opening_over_ || st.tiles_loaded.done < st.tiles_loaded.total) return;
+        const auto now = Clock::now();
+        if (!loaded_at_) loaded_at_ = now;
+        if (now - *loaded_at_ < std::chrono::seconds(1)) return;
+        budget_.opening_over();
+        opening_over_ = true;
     }
 
     // The overview sidecar kept for a remote dataset: written once every tile's chunk points are in, and the
@@ -751,7 +766,8 @@ private:
     void report_overview_note(const SchedulerStats& st) {
         overview_note_ = overview_fills_note(st.bytes_used - st.bytes_full_res - st.bytes_decoding,
                                              st.memory_budget, st.tiles);
-        if (overview_note_.empty() || std::exchange(said_overview_, true)) return;
+        // (on stderr only once the opening is over: its buffers, forgotten then, may have been all that filled it)
+        if (overview_note_.empty() || !opening_over_ || std::exchange(said_overview_, true)) return;
         std::fprintf(stderr, "lidarscout: %s\n", overview_note_.c_str());
     }
 
@@ -1019,6 +1035,8 @@ private:
     bool said_below_ = false;         // the line saying the budget is below what the viewer needs was written
     bool said_overview_ = false;      // the overview's line (overview_fills_note) was written
     Throttle budget_tick_{std::chrono::milliseconds(250), 0};
+    std::optional<Clock::time_point> loaded_at_;  // every tile's chunk points in (opening_step)
+    bool opening_over_ = false;                   // the budget forgot the opening (opening_step)
     std::string budget_note_;         // the budget is below what the viewer needs (shown in the panel)
     std::string overview_note_;       // the overview leaves full resolution no room (overview_fills_note)
     std::unique_ptr<SessionOpening> opening_;

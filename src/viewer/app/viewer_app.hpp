@@ -55,6 +55,8 @@ struct ViewerTimings {
     std::optional<double> dataset_open_s;    // every tile's metadata read, the scheduler started
     std::optional<double> first_overview_s;  // the first frame presented with a heightmap
     std::optional<double> chunk_points_s;    // the first frame presented with every tile's chunk points in
+    std::optional<double> nearest_full_s;    // the first with the tile nearest the camera (of most screen
+                                             // coverage) whole at full resolution
     std::size_t frames_while_opening = 0;    // frames presented before the dataset was open
     std::size_t tiles = 0, skipped = 0;      // of the dataset shown at the end
     // Memory (viewer/process_budget.hpp), in bytes: the process's peak resident size (VmHWM), the
