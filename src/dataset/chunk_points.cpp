@@ -30,12 +30,16 @@ std::vector<ChunkPointLocation> chunk_point_locations(const Tile& tile, std::uin
 }
 
 std::vector<ChunkPoint> read_chunk_points(const io::File& file, const Tile& tile, std::uint64_t las_stride) {
-    std::vector<ChunkPoint> out;
-    std::vector<std::uint8_t> buf(tile.header.record_length);
+    const auto locations = chunk_point_locations(tile, las_stride);
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges;  // (read together: a remote tile's in one request)
+    ranges.reserve(locations.size());
+    for (const auto& at : locations) ranges.emplace_back(at.offset, tile.header.record_length);
+    const auto records = file.read_ranges(ranges, "chunk point record");
     const auto& fmt = las::point_format_info(tile.header.point_format);
-    for (const auto& at : chunk_point_locations(tile, las_stride)) {
-        file.read_exact(at.offset, buf, "chunk point record");
-        out.push_back({at.index, las::decode_point(buf, fmt, tile.header)});
+    std::vector<ChunkPoint> out;
+    out.reserve(locations.size());
+    for (std::size_t k = 0; k < locations.size(); ++k) {
+        out.push_back({locations[k].index, las::decode_point(records[k], fmt, tile.header)});
     }
     return out;
 }

@@ -34,6 +34,12 @@ std::size_t DecodeUnits::size() const { return layout_->units.size(); }
 std::uint64_t DecodeUnits::first_point(std::size_t u) const { return layout_->units.at(u).first_point; }
 std::uint64_t DecodeUnits::point_count(std::size_t u) const { return layout_->units.at(u).point_count; }
 std::uint64_t DecodeUnits::byte_offset(std::size_t u) const { return layout_->units.at(u).byte_offset; }
+std::uint64_t DecodeUnits::byte_size(std::size_t u) const { return layout_->units.at(u).byte_size; }
+
+void DecodeUnits::decode_bytes(const std::string& path, std::size_t u, std::span<const std::uint8_t> bytes,
+                               std::span<std::uint8_t> out, std::uint32_t fields) const {
+    laz::decode_unit_bytes(path, *layout_, u, bytes, out, fields);
+}
 
 void DecodeUnits::decode(const io::File& file, std::size_t u, std::span<std::uint8_t> out, std::uint32_t fields,
                          std::vector<std::uint8_t>& scratch) const {

@@ -79,11 +79,16 @@ public:
     std::uint64_t first_point(std::size_t u) const;  // index in the file of unit u's first point
     std::uint64_t point_count(std::size_t u) const;
     std::uint64_t byte_offset(std::size_t u) const;  // where unit u's compressed bytes start
+    std::uint64_t byte_size(std::size_t u) const;    // how many they are
     // Unit u's records into `out` (point_count(u) * record_length bytes), only `fields` (a las::fields
     // mask) decoded; `scratch` keeps the compressed bytes between calls (no allocation once grown).
     // Throws lidarscout::Error (file, chunk) when the unit cannot be decoded.
     void decode(const io::File& file, std::size_t u, std::span<std::uint8_t> out, std::uint32_t fields,
                 std::vector<std::uint8_t>& scratch) const;
+    // The same from unit u's compressed bytes, read already (a remote file's, fetched with others'); `path`: the
+    // file's, for errors.
+    void decode_bytes(const std::string& path, std::size_t u, std::span<const std::uint8_t> bytes,
+                      std::span<std::uint8_t> out, std::uint32_t fields) const;
     // Units [first, last) decoded in parallel on `pool`, their records back to back in `out`.
     void decode(const io::File& file, std::size_t first, std::size_t last, std::span<std::uint8_t> out,
                 std::uint32_t fields, ThreadPool& pool) const;

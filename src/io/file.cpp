@@ -147,6 +147,28 @@ void File::read_exact(std::uint64_t offset, std::span<std::uint8_t> out, const c
     }
 }
 
+std::vector<std::vector<std::uint8_t>> File::read_ranges(
+    std::span<const std::pair<std::uint64_t, std::uint64_t>> ranges, const char* what) const {
+    std::vector<std::vector<std::uint8_t>> out;
+    const bool fetch = remote_ && std::any_of(ranges.begin(), ranges.end(), [&](const auto& r) {
+        return r.second > 0 && !cached(r.first, r.second);
+    });
+    if (fetch) {
+        std::vector<net::ByteRange> asked;
+        for (const auto& [offset, n] : ranges) {
+            if (offset > size_ || n > size_ - offset) read_vector(offset, n, what);  // (throws: past the end)
+            if (n > 0) asked.push_back({offset, n});
+        }
+        auto parts = remote_->read_ranges(std::move(asked));
+        for (std::size_t k = 0, part = 0; k < ranges.size(); ++k) {
+            out.push_back(ranges[k].second > 0 ? std::move(parts[part++]) : std::vector<std::uint8_t>{});
+        }
+        return out;
+    }
+    for (const auto& [offset, n] : ranges) out.push_back(read_vector(offset, static_cast<std::size_t>(n), what));
+    return out;
+}
+
 std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n, const char* what,
                                             std::vector<std::uint8_t> buffer) const {
     if (offset > size_ || n > size_ - offset) {

@@ -70,6 +70,11 @@ public:
     // process's already: fresh ones cost a page fault each, and a country's 250 MB catalog came in 8 MB blocks).
     std::vector<std::uint8_t> read_vector(std::uint64_t offset, std::size_t n, const char* what = "data",
                                           std::vector<std::uint8_t> buffer = {}) const;
+    // The bytes of each range (offset, size), read together: a remote file's in one fetch (multi-range, or as one
+    // range where they lie close together: net::RemoteFile::read_ranges) where its edges do not hold them all, a
+    // local one's a read each. Throws Error when one is not there whole.
+    std::vector<std::vector<std::uint8_t>> read_ranges(std::span<const std::pair<std::uint64_t, std::uint64_t>> ranges,
+                                                       const char* what = "data") const;
     // The bytes [offset, offset + n) where the file holds them in memory (its edges; an in-memory file's head), as
     // a view valid while the file lives; empty when they are not all held.
     std::span<const std::uint8_t> held(std::uint64_t offset, std::size_t n) const;

@@ -22,19 +22,43 @@ std::vector<Chunk> decode_units(const las::Header& header, const las::LaszipVlr&
     return {Chunk{0, header.point_count, begin, end - begin}};
 }
 
-void decode_unit(const io::File& file, const LazLayout& layout, std::size_t index, std::span<std::uint8_t> out,
-                 std::uint32_t fields, std::vector<std::uint8_t>& scratch) {
-    const Chunk& c = layout.units.at(index);
-    scratch.resize(c.byte_size);
+namespace {
+
+// Runs `decode` (reading and decoding unit `index`), its errors named by the unit and `path`.
+template <class Decode>
+void in_unit(const std::string& path, const Chunk& c, std::size_t index, Decode&& decode) {
     try {
-        file.read_exact(c.byte_offset, scratch, "LAZ chunk");
-        decode_chunk(layout.laz, {scratch, c.point_count, out, fields});
+        decode();
     } catch (const Error& e) {
         const std::string where = "chunk " + std::to_string(index) + " (points " + std::to_string(c.first_point) +
                                   ".." + std::to_string(c.first_point + c.point_count) + "): ";
         if (!e.file().empty()) throw Error(e.file(), e.offset(), where + e.cause());
-        throw Error(file.path(), c.byte_offset + e.offset().value_or(0), where + e.cause());
+        throw Error(path, c.byte_offset + e.offset().value_or(0), where + e.cause());
     }
+}
+
+}  // namespace
+
+void decode_unit(const io::File& file, const LazLayout& layout, std::size_t index, std::span<std::uint8_t> out,
+                 std::uint32_t fields, std::vector<std::uint8_t>& scratch) {
+    const Chunk& c = layout.units.at(index);
+    scratch.resize(c.byte_size);
+    in_unit(file.path(), c, index, [&] {
+        file.read_exact(c.byte_offset, scratch, "LAZ chunk");
+        decode_chunk(layout.laz, {scratch, c.point_count, out, fields});
+    });
+}
+
+void decode_unit_bytes(const std::string& path, const LazLayout& layout, std::size_t index,
+                       std::span<const std::uint8_t> bytes, std::span<std::uint8_t> out, std::uint32_t fields) {
+    const Chunk& c = layout.units.at(index);
+    in_unit(path, c, index, [&] {
+        if (bytes.size() != c.byte_size) {
+            throw Error(path, c.byte_offset, "LAZ chunk: " + std::to_string(bytes.size()) + " bytes read of " +
+                                                 std::to_string(c.byte_size));
+        }
+        decode_chunk(layout.laz, {bytes, c.point_count, out, fields});
+    });
 }
 
 void decode_units_parallel(const io::File& file, const LazLayout& layout, std::size_t first, std::size_t last,

@@ -149,6 +149,9 @@ std::vector<Chunk> decode_units(const las::Header& header, const las::LaszipVlr&
 // `scratch` holds the compressed bytes between calls (no allocation per chunk once grown).
 void decode_unit(const io::File& file, const LazLayout& layout, std::size_t index, std::span<std::uint8_t> out,
                  std::uint32_t fields, std::vector<std::uint8_t>& scratch);
+// The same from the unit's compressed bytes, read already (`path`: the file they are of, for errors).
+void decode_unit_bytes(const std::string& path, const LazLayout& layout, std::size_t index,
+                       std::span<const std::uint8_t> bytes, std::span<std::uint8_t> out, std::uint32_t fields);
 
 // Decodes the units [first, last) in parallel into `out` (their records back to back).
 void decode_units_parallel(const io::File& file, const LazLayout& layout, std::size_t first, std::size_t last,

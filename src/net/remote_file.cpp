@@ -495,6 +495,24 @@ void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     std::copy(part.begin(), part.end(), out.begin());
 }
 
+std::vector<std::vector<std::uint8_t>> RemoteFile::read_ranges(std::vector<ByteRange> ranges) const {
+    if (ranges.empty()) return {};
+    const std::vector<ByteRange> asked = ranges;
+    RangeReply reply = fetch_now(std::move(ranges));
+    if (!reply.error.empty()) throw_reply_error(url_, asked.front().offset, reply.error);
+    if (reply.parts.size() != asked.size()) {
+        throw Error(display_url_, asked.front().offset, "the server answered " + std::to_string(reply.parts.size()) +
+                                                            " parts for " + std::to_string(asked.size()) + " ranges");
+    }
+    for (std::size_t k = 0; k < asked.size(); ++k) {
+        if (reply.parts[k].size() != asked[k].length) {
+            throw Error(display_url_, asked[k].offset, "the server's file ends before the " +
+                                                           std::to_string(asked[k].length) + " bytes asked for");
+        }
+    }
+    return std::move(reply.parts);
+}
+
 std::vector<std::uint8_t> RemoteFile::read_bytes(std::uint64_t offset, std::uint64_t size,
                                                  std::vector<std::uint8_t> buffer) const {
     if (size == 0) return {};

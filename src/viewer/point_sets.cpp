@@ -115,9 +115,17 @@ PointSet decode_piece(const io::File& file, const dataset::DecodeUnits& all, std
     for (std::size_t k = 0; k < units.size(); ++k) first[k + 1] = first[k] + all.point_count(units[k]);
     PointSet set = empty_tile_set(tile);
     set.points.resize(first.back());
+    // A remote tile's units are fetched together (one request where they lie close), not one round trip each.
+    std::vector<std::vector<std::uint8_t>> fetched;
+    if (file.remote()) {
+        std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges;
+        for (const std::size_t u : units) ranges.emplace_back(all.byte_offset(u), all.byte_size(u));
+        fetched = file.read_ranges(ranges, "LAZ chunk");
+    }
     pool.for_each(units.size(), [&](std::size_t k) {
         std::vector<std::uint8_t> scratch, records((first[k + 1] - first[k]) * record);
-        all.decode(file, units[k], records, kDrawnFields, scratch);
+        if (fetched.empty()) all.decode(file, units[k], records, kDrawnFields, scratch);
+        else all.decode_bytes(file.path(), units[k], fetched[k], records, kDrawnFields);
         convert_records(records, std::span(set.points).subspan(first[k], first[k + 1] - first[k]), convert);
     });
     return set;

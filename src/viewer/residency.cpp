@@ -77,6 +77,16 @@ void Residency::set_budget(std::uint64_t bytes) {
     wake_.notify_all();
 }
 
+void Residency::set_min_screen_fraction(double fraction) {
+    {
+        std::lock_guard lock(mutex_);
+        policy_.set_min_screen_fraction(fraction);
+        ++camera_version_;  // look again
+        refresh_idle();
+    }
+    wake_.notify_all();
+}
+
 std::uint64_t Residency::held() const {
     std::uint64_t bytes = details_bytes_;
     for (const auto& [tile, e] : policy_.entries()) bytes += e.bytes;

@@ -87,6 +87,8 @@ public:
     void stop();   // stops and joins the worker (a tile being decoded stops after its current piece)
     void set_camera(const render::Camera& camera);
     void set_budget(std::uint64_t bytes);
+    // Tiles covering this share of the image or less are not wanted from the next look on.
+    void set_min_screen_fraction(double fraction);
 
     // Every block held, full and coarse (shared, not copied).
     LodBlocks blocks() const;

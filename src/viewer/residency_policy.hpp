@@ -57,6 +57,8 @@ public:
 
     ResidencyPolicy(const dataset::Dataset& dataset, const PatchGrid& grid, const ResidencyOptions& options);
 
+    // Tiles covering this share of the image or less are not wanted (ResidencyOptions::min_screen_fraction).
+    void set_min_screen_fraction(double fraction) { min_screen_fraction_ = fraction; }
     // The camera of the looks that follow and its version (partial tiles remember the one they were loaded for).
     void set_camera(const render::Camera& camera, std::uint64_t version);
     const render::Camera& camera() const { return camera_; }

@@ -1,7 +1,8 @@
 // Every file the reference LASzip decodes (144: LAS and all LAZ variants) gives the same
 // SHA-256 over its point records through for_each_record_batch, whatever the batch size and
 // with or without read-ahead; and a LAZ file's decode units decoded one by one, last first
-// (DecodeUnits, as the viewer reads them), placed at their first point, give it too.
+// (DecodeUnits, as the viewer reads them: every other from its bytes read already), placed at their first
+// point, give it too.
 #include <gtest/gtest.h>
 
 #include "core/error.hpp"
@@ -67,7 +68,14 @@ TEST_P(PointsSha256, DecodeUnitsInAnyOrderMatchReference) {
     std::uint64_t covered = 0;
     for (std::size_t u = units.size(); u-- > 0;) {
         const auto out = std::span(records).subspan(units.first_point(u) * record, units.point_count(u) * record);
-        units.decode(file, u, out, las::fields::kAll, scratch);
+        if (u % 2 == 0) {
+            units.decode(file, u, out, las::fields::kAll, scratch);
+        } else {  // (every other from its bytes read already, as a remote tile's piece is)
+            const auto bytes = file.read_vector(units.byte_offset(u), units.byte_size(u));
+            units.decode_bytes(file.path(), u, bytes, out, las::fields::kAll);
+            EXPECT_THROW(units.decode_bytes(file.path(), u, std::span(bytes).first(bytes.size() - 1), out,
+                                            las::fields::kAll), Error) << "a chunk's bytes cut short";
+        }
         covered += units.point_count(u);
     }
     EXPECT_EQ(covered, tile.header.point_count);

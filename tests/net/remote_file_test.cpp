@@ -3,7 +3,7 @@
 // without credentials, a file that changes on the server during a session is an error, and
 // open() joins a prefetch in flight (threads opening one file at once share it); redirects are
 // kept per file and resolved again when they expire; a server without validator that switches
-// files is told by the file's size.
+// files is told by the file's size. Ranges read together are one request.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -71,6 +71,28 @@ TEST(RemoteFile, ManyRangesAreOneMultiRangeRequest) {
         ASSERT_EQ(reply.parts[i].size(), ranges[i].length);
         EXPECT_TRUE(std::equal(reply.parts[i].begin(), reply.parts[i].end(), bytes.begin() + ranges[i].offset)) << i;
     }
+}
+
+// io::File::read_ranges: a remote file's ranges in one request (a LAZ tile's chunks, a tile's chunk points, read
+// together), each equal to the local file's bytes, as a local file's are; a range past the end is an Error.
+TEST(RemoteFile, ReadRangesIsOneRequestEqualToTheLocalBytes) {
+    const auto& server = test::NginxServer::instance();
+    net::RangeCache::configure({{}, 0});  // every range from the server
+    const auto local = io::File::open((test::data_dir() / kTile).string());
+    const auto remote = io::File::open(server.url(kTile) + "?read_ranges=1");
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> ranges;
+    for (std::uint64_t i = 0; i < 40; ++i) ranges.emplace_back(10'000 + i * 50'021, 300 + i);
+    ranges.emplace_back(20, 0);  // (an empty one: empty bytes, no range asked)
+    const auto before = HttpClient::shared().stats().requests;
+    const auto got = remote.read_ranges(ranges);
+    EXPECT_EQ(HttpClient::shared().stats().requests - before, 1u);
+    EXPECT_EQ(got, local.read_ranges(ranges));
+    ASSERT_EQ(got.size(), ranges.size());
+    EXPECT_EQ(got[3], local.read_vector(ranges[3].first, ranges[3].second));
+    EXPECT_TRUE(got.back().empty());
+    const std::vector<std::pair<std::uint64_t, std::uint64_t>> past{{10, 5}, {remote.size() - 4, 8}};
+    EXPECT_THROW((void)remote.read_ranges(past), Error);
+    EXPECT_THROW((void)local.read_ranges(past), Error);
 }
 
 TEST(RemoteFile, CredentialsAreNeverShown) {
