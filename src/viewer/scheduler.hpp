@@ -33,6 +33,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -175,6 +176,9 @@ public:
 private:
     struct State;
     void on_tiles_done(std::span<const std::uint32_t> tiles, std::span<const lidarscout::CellKey> cells);
+    // The chunk points of `cells` into their blocks' sets, with those left by the batches before: now when `now`
+    // or the batch is large, else once kChunkReading passed since the last reading (the loader's watch asks too).
+    void show_chunk_points(std::span<const lidarscout::CellKey> cells, bool now);
     void heightmap_worker();
     void restyle_some(std::unique_lock<RankedMutex>& lock);
     void cnn_worker();
@@ -190,8 +194,11 @@ private:
     std::unique_ptr<lidarscout::PatchGrid> grid_;
     std::uint64_t overview_core_bytes_ = 0;  // SchedulerStats::overview_core_bytes
     std::unique_ptr<State> state_;
-    // The blocks of one batch of tiles' chunk points read again at a time (each from the cells its last held).
+    // The blocks' chunk points read again one reading at a time (each from the cells its last held), and the
+    // cells whose chunk points wait for the next reading (show_chunk_points).
     std::mutex chunks_mutex_;
+    std::vector<lidarscout::CellKey> pending_cells_;
+    std::chrono::steady_clock::time_point chunks_read_{};
     std::unique_ptr<Residency> residency_;
     std::unique_ptr<dataset::ChunkPointLoader> loader_;
     std::vector<std::thread> threads_;

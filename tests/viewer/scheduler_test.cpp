@@ -248,6 +248,8 @@ TEST(ViewerScheduler, WhileChunkPointsComeInTheSnapshotIsKeptForItsCamera) {
             const int n = ++done;
             if (n == 2) first = sched->snapshot();
             if (n == 5) {
+                // (a tile's chunk points are shown with the next tiles', or by the loader's watch 0.1 s on)
+                std::this_thread::sleep_for(std::chrono::milliseconds(300));
                 later = sched->snapshot();
                 render::Camera c = *o.camera;
                 c.z += 100;
