@@ -525,7 +525,6 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
             });
         }
     }
-    bool all_in = false;
     {
         std::lock_guard lock(s.mutex);
         for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -537,11 +536,8 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
         s.for_window_cells_of(tiles, dataset_.tiles, [&](Patch& p, CellKey cell, int n) {
             if ((p.deps -= n) == 0) s.push_ready(cell, p);
         });
-        s.tiles_done += tiles.size();
-        all_in = s.tiles_done == s.loadable;
     }
-    show_chunk_points(cells, all_in);
-    if (all_in) {  // the cells' spare capacity (up to an eighth of the grid: PatchGrid::add_in_cells) goes
+    if (show_chunk_points(cells, tiles.size(), false)) {  // the cells' spare capacity (up to an eighth of the grid: PatchGrid::add_in_cells) goes
         grid_->shrink_to_fit();
         trim_heap();
     }
@@ -549,13 +545,16 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
     for (const std::uint32_t tile : tiles) emit({SchedulerEvent::Kind::TileDone, tile, {}});
 }
 
-void Scheduler::show_chunk_points(std::span<const CellKey> cells, bool now) {
+bool Scheduler::show_chunk_points(std::span<const CellKey> cells, std::size_t tiles, bool now) {
     State& s = *state_;
     std::lock_guard batch(chunks_mutex_);
     pending_cells_.insert(pending_cells_.end(), cells.begin(), cells.end());
+    pending_tiles_ += tiles, arrived_tiles_ += tiles;
+    now = now || arrived_tiles_ == s.loadable;  // (the last batch: at once)
     const auto t = std::chrono::steady_clock::now();
-    if (pending_cells_.empty() || (!now && cells.size() < kChunkBatchCells && t - chunks_read_ < kChunkReading)) {
-        return;
+    if (pending_tiles_ == 0 ||
+        (!now && cells.size() < kChunkBatchCells && t - chunks_read_ < kChunkReading)) {
+        return false;
     }
     chunks_read_ = t;
     // The blocks these cells lie in are read again from the grid (each from the cells its last reading had and
@@ -607,6 +606,8 @@ void Scheduler::show_chunk_points(std::span<const CellKey> cells, bool now) {
         s.changed_patch(cell, p);
     }
     s.count_table();
+    s.tiles_done += std::exchange(pending_tiles_, 0);  // (a tile is done once its chunk points are shown)
+    return s.tiles_done == s.loadable;
 }
 
 void Scheduler::heightmap_worker() {
@@ -816,11 +817,11 @@ void Scheduler::cnn_worker() {
 void Scheduler::loader_watch() {
     State& s = *state_;
     while (!loader_->wait_for(kLoaderPoll)) {
-        show_chunk_points({}, false);  // (what the last batches left, kChunkReading after the last reading)
+        show_chunk_points({}, 0, false);  // (what the last batches left, kChunkReading after the last reading)
         std::lock_guard lock(s.mutex);
         if (s.stopping) return;
     }
-    show_chunk_points({}, true);
+    show_chunk_points({}, 0, true);
     residency_->set_min_screen_fraction(options_.residency.min_screen_fraction);  // (kLoadingScreenFraction)
     // Tiles that never loaded: build what can be. A country has 500,000 patches: they are queued a
     // few thousand at a time, so that no frame waits for all of them.

@@ -176,9 +176,10 @@ public:
 private:
     struct State;
     void on_tiles_done(std::span<const std::uint32_t> tiles, std::span<const lidarscout::CellKey> cells);
-    // The chunk points of `cells` into their blocks' sets, with those left by the batches before: now when `now`
-    // or the batch is large, else once kChunkReading passed since the last reading (the loader's watch asks too).
-    void show_chunk_points(std::span<const lidarscout::CellKey> cells, bool now);
+    // The chunk points of `cells` (of `tiles` tiles) into their blocks' sets, with those left by the batches
+    // before: now when `now`, for the last batch or a large one, else once kChunkReading passed since the last
+    // reading (the loader's watch asks too). Their tiles count as done then; true when that made every tile done.
+    bool show_chunk_points(std::span<const lidarscout::CellKey> cells, std::size_t tiles, bool now);
     void heightmap_worker();
     void restyle_some(std::unique_lock<RankedMutex>& lock);
     void cnn_worker();
@@ -198,6 +199,7 @@ private:
     // cells whose chunk points wait for the next reading (show_chunk_points).
     std::mutex chunks_mutex_;
     std::vector<lidarscout::CellKey> pending_cells_;
+    std::size_t pending_tiles_ = 0, arrived_tiles_ = 0;  // the tiles of those cells; of every batch so far
     std::chrono::steady_clock::time_point chunks_read_{};
     std::unique_ptr<Residency> residency_;
     std::unique_ptr<dataset::ChunkPointLoader> loader_;
