@@ -537,7 +537,8 @@ void Scheduler::on_tiles_done(std::span<const std::uint32_t> tiles, std::span<co
             if ((p.deps -= n) == 0) s.push_ready(cell, p);
         });
     }
-    if (show_chunk_points(cells, tiles.size(), false)) {  // the cells' spare capacity (up to an eighth of the grid: PatchGrid::add_in_cells) goes
+    if (show_chunk_points(cells, tiles.size(), false)) {
+        // (every tile's in: the cells' spare capacity, up to an eighth of the grid: PatchGrid::add_in_cells, goes)
         grid_->shrink_to_fit();
         trim_heap();
     }
