@@ -156,7 +156,7 @@ std::vector<std::vector<std::uint8_t>> File::read_ranges(
     if (fetch) {
         std::vector<net::ByteRange> asked;
         for (const auto& [offset, n] : ranges) {
-            if (offset > size_ || n > size_ - offset) read_vector(offset, n, what);  // (throws: past the end)
+            check_within(offset, n, what);
             if (n > 0) asked.push_back({offset, n});
         }
         auto parts = remote_->read_ranges(std::move(asked));
@@ -169,13 +169,17 @@ std::vector<std::vector<std::uint8_t>> File::read_ranges(
     return out;
 }
 
-std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n, const char* what,
-                                            std::vector<std::uint8_t> buffer) const {
+void File::check_within(std::uint64_t offset, std::uint64_t n, const char* what) const {
     if (offset > size_ || n > size_ - offset) {
         throw Error(path_, offset,
                     std::string("the ") + what + " (" + std::to_string(n) +
                         " bytes) extends beyond the end of the file (" + std::to_string(size_) + " bytes)");
     }
+}
+
+std::vector<std::uint8_t> File::read_vector(std::uint64_t offset, std::size_t n, const char* what,
+                                            std::vector<std::uint8_t> buffer) const {
+    check_within(offset, n, what);
     // A remote file's bytes as the response brought them (a catalog's 8 MB blocks, a sidecar: not copied again).
     if (remote_ && n != 0 && !cached(offset, n)) return remote_->read_bytes(offset, n, std::move(buffer));
     buffer.resize(n);

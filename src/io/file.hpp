@@ -87,6 +87,8 @@ private:
     bool read_cached(std::uint64_t offset, std::span<std::uint8_t> out) const;
     // Where the head or tail held in memory has the `n` bytes at `offset`; null when it has not.
     const std::uint8_t* cached(std::uint64_t offset, std::size_t n) const;
+    // Throws an Error naming `what` unless [offset, offset + n) lies within the file.
+    void check_within(std::uint64_t offset, std::uint64_t n, const char* what) const;
     std::size_t read_uncached(std::uint64_t offset, std::span<std::uint8_t> out) const;
 
     std::string path_;

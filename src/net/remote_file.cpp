@@ -495,10 +495,11 @@ void RemoteFile::read(std::uint64_t offset, std::span<std::uint8_t> out) const {
     std::copy(part.begin(), part.end(), out.begin());
 }
 
-std::vector<std::vector<std::uint8_t>> RemoteFile::read_ranges(std::vector<ByteRange> ranges) const {
+std::vector<std::vector<std::uint8_t>> RemoteFile::read_ranges(std::vector<ByteRange> ranges,
+                                                               std::vector<std::uint8_t> buffer) const {
     if (ranges.empty()) return {};
     const std::vector<ByteRange> asked = ranges;
-    RangeReply reply = fetch_now(std::move(ranges));
+    RangeReply reply = fetch_now(std::move(ranges), std::move(buffer));
     if (!reply.error.empty()) throw_reply_error(url_, asked.front().offset, reply.error);
     if (reply.parts.size() != asked.size()) {
         throw Error(display_url_, asked.front().offset, "the server answered " + std::to_string(reply.parts.size()) +
@@ -516,14 +517,7 @@ std::vector<std::vector<std::uint8_t>> RemoteFile::read_ranges(std::vector<ByteR
 std::vector<std::uint8_t> RemoteFile::read_bytes(std::uint64_t offset, std::uint64_t size,
                                                  std::vector<std::uint8_t> buffer) const {
     if (size == 0) return {};
-    RangeReply reply = fetch_now({{offset, size}}, std::move(buffer));
-    if (!reply.error.empty()) throw_reply_error(url_, offset, reply.error);
-    std::vector<std::uint8_t>& part = reply.parts.at(0);
-    if (part.size() != size) {
-        throw Error(display_url_, offset, "the server's file ends before the " + std::to_string(size) +
-                                              " bytes asked for");
-    }
-    return std::move(part);
+    return std::move(read_ranges({{offset, size}}, std::move(buffer)).at(0));
 }
 
 namespace {

@@ -73,8 +73,9 @@ public:
     std::vector<std::uint8_t> read_bytes(std::uint64_t offset, std::uint64_t size,
                                          std::vector<std::uint8_t> buffer = {}) const;
     // The bytes of each range, fetched together (fetch_async: one request where the server allows it or they lie
-    // close together), each whole; throws Error.
-    std::vector<std::vector<std::uint8_t>> read_ranges(std::vector<ByteRange> ranges) const;
+    // close together), each whole; throws Error. `buffer`: RangeRequest::buffer of a request of one range.
+    std::vector<std::vector<std::uint8_t>> read_ranges(std::vector<ByteRange> ranges,
+                                                       std::vector<std::uint8_t> buffer = {}) const;
     // Fetches the ranges (multi-range where the server allows it); `done` runs on the
     // client's thread with one part per range, or with an error. Ranges the head or tail holds
     // are answered from them (when all are, `done` runs at once, on this thread, with no

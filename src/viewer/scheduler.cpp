@@ -910,7 +910,6 @@ SchedulerStats Scheduler::stats() const {
     st.tiles = dataset_.tiles.size();
     st.chunk_points = {loader_->loaded() + loader_->failed(), loader_->total()};
     st.chunk_points_loaded = loader_->loaded();
-    st.loader_finished = loader_->finished();
     const auto loader_errors = loader_->errors();  // before our lock: the loader's own is taken
     const ResidencyStats r = residency_->stats();   // the same
     std::lock_guard lock(s.mutex);

@@ -99,7 +99,6 @@ struct StageProgress {
 struct SchedulerStats {
     std::size_t tiles = 0;
     StageProgress tiles_loaded;        // tiles whose chunk points are in
-    bool loader_finished = false;      // the chunk-point loader ended (its buffers let go, the heap trimmed)
     StageProgress chunk_points;        // chunk points read (loaded or failed) / all
     std::uint64_t chunk_points_loaded = 0;
     StageProgress linear;              // patches tried / patches the tiles cover

@@ -739,7 +739,7 @@ private:
         overview_cache_step(st);
     }
 
-    // What the opening held beyond the data (a country's catalog blocks and sidecar buffers: 170 MB) forgotten
+    // What the opening held beyond the data (a country's catalog blocks and sidecar buffers: ~250 MB) forgotten
     // by the budget a second after every tile's chunk points are in (and the grid's spare room given back).
     void opening_step(const SchedulerStats& st) {
         if (opening_over_ || st.tiles_loaded.done < st.tiles_loaded.total) return;
